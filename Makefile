@@ -1,0 +1,54 @@
+# wsgsim: a firmware-style emulator of the Weiss Robotics WSG gripper.
+#   make run     start the virtual gripper on TCP/UDP 1000
+#   make check   build everything and run all tests
+# Each area keeps its rules in mk/*.mk.
+
+CC ?= gcc
+BUILD := build
+CSTD := -std=c11
+WARN := -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wmissing-prototypes
+OPT ?= -O2 -g
+SAN ?= 0
+ifeq ($(SAN),1)
+  OPT := -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=all
+  BUILD := build/san
+endif
+CFLAGS_BASE := $(CSTD) $(WARN) $(OPT)
+LDFLAGS_BASE := $(if $(filter 1,$(SAN)),-fsanitize=address,undefined)
+
+# The portable core and the simulated hardware: no OS, no heap.
+FIRMWARE_SRC := $(sort $(wildcard firmware/*.c))
+SIM_SRC := $(sort $(wildcard hal/sim/*.c))
+CORE_INC := -Ifirmware -Ihal -Ihal/sim
+
+HOST_DEBS := build-essential pkg-config libinih-dev libcjson-dev
+CHECK_DEBS := $(HOST_DEBS) check python3
+
+.PHONY: all run check deps deps-check clean format format-check lint
+all: $(BUILD)/wsgsim
+
+deps:
+	@mk/deps.sh $(HOST_DEBS)
+
+deps-check:
+	@mk/deps.sh $(CHECK_DEBS)
+
+# Each mk/*.mk adds its test targets to CHECK_TARGETS.
+CHECK_TARGETS :=
+include mk/host.mk
+include $(filter-out mk/host.mk,$(sort $(wildcard mk/*.mk)))
+
+check: deps-check $(CHECK_TARGETS)
+	@echo "make check: all test suites passed"
+
+run: deps $(BUILD)/wsgsim
+	$(BUILD)/wsgsim $(ARGS)
+
+format:
+	clang-format -i $$(git ls-files '*.c' '*.h')
+
+format-check:
+	clang-format --dry-run --Werror $$(git ls-files '*.c' '*.h')
+
+clean:
+	rm -rf build

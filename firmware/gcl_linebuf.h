@@ -1,0 +1,40 @@
+/* Assembles a byte stream into lines: tolerates any split across writes,
+ * bounds memory, and flags lines that are too long or carry control bytes. */
+#ifndef GCL_LINEBUF_H
+#define GCL_LINEBUF_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "gcl_parse.h"
+
+typedef enum {
+    GCL_LINE_OK,
+    GCL_LINE_TOO_LONG, /* more than GCL_LINE_MAX bytes; the first ones are kept */
+    GCL_LINE_BAD_BYTE, /* NUL, another control byte or a non-ASCII byte */
+} gcl_line_status_t;
+
+typedef struct {
+    char text[GCL_LINE_MAX + 1];
+    size_t len;
+    bool too_long;
+    bool bad_byte;
+    bool complete; /* text holds a finished line */
+} gcl_linebuf_t;
+
+void gcl_linebuf_reset(gcl_linebuf_t *lb);
+
+/* Feeds one byte; returns true when it completed a line, which is then in
+ * lb->text / lb->len (NUL-terminated, without "\n" or a "\r" before it) and
+ * whose status gcl_linebuf_status() tells. The next call starts a new line. */
+bool gcl_linebuf_feed(gcl_linebuf_t *lb, uint8_t byte);
+
+/* Ends the pending line as if "\n" had arrived; false if nothing is pending. */
+bool gcl_linebuf_flush(gcl_linebuf_t *lb);
+
+gcl_line_status_t gcl_linebuf_status(const gcl_linebuf_t *lb);
+
+bool gcl_linebuf_pending(const gcl_linebuf_t *lb);
+
+#endif

@@ -1,0 +1,29 @@
+/* A bounded text builder for reply lines: appends never overflow; a line that
+ * would not fit is marked truncated instead. */
+#ifndef TEXTBUF_H
+#define TEXTBUF_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+typedef struct {
+    char *data;
+    size_t cap; /* including the terminating NUL */
+    size_t len;
+    bool overflow;
+} textbuf_t;
+
+void textbuf_init(textbuf_t *tb, char *storage, size_t cap);
+void textbuf_put_char(textbuf_t *tb, char c);
+void textbuf_put_str(textbuf_t *tb, const char *s);
+void textbuf_put_uint(textbuf_t *tb, uint32_t value);
+void textbuf_put_int(textbuf_t *tb, int32_t value);
+/* Fixed point, one to three decimals, never an exponent: 20.0, 20.05, -3.125. */
+void textbuf_put_float(textbuf_t *tb, float value);
+/* A quoted string: "text". */
+void textbuf_put_quoted(textbuf_t *tb, const char *s);
+/* A vector of 0/1 from bit 0 upwards: [1,0,...]. */
+void textbuf_put_bits(textbuf_t *tb, uint32_t bits, unsigned count);
+
+#endif

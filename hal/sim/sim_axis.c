@@ -1,0 +1,168 @@
+#include "sim_axis.h"
+
+#include <string.h>
+
+#define AT_TARGET_MM 1e-4f
+#define STILL_MM_S 1e-3f
+
+static float absf(float v)
+{
+    return v < 0.0f ? -v : v;
+}
+
+static float signf(float v)
+{
+    return v > 0.0f ? 1.0f : (v < 0.0f ? -1.0f : 0.0f);
+}
+
+void sim_axis_init(sim_axis_t *axis, float stroke_mm, float emergency_accel_mm_s2)
+{
+    memset(axis, 0, sizeof(*axis));
+    axis->stroke_mm = stroke_mm;
+    axis->emergency_accel_mm_s2 = emergency_accel_mm_s2;
+    axis->x_mm = stroke_mm / 2.0f; /* somewhere mid-stroke: unknown until homed */
+    axis->target_mm = axis->x_mm;
+    axis->amax_mm_s2 = emergency_accel_mm_s2;
+}
+
+void sim_axis_place_part(sim_axis_t *axis, float width_mm, float stiffness_n_mm)
+{
+    axis->part.present = true;
+    axis->part.width_mm = width_mm;
+    axis->part.stiffness_n_mm = stiffness_n_mm;
+    axis->part.side = axis->x_mm >= width_mm ? SIM_PART_INSIDE : SIM_PART_OUTSIDE;
+}
+
+void sim_axis_remove_part(sim_axis_t *axis)
+{
+    axis->part.present = false;
+}
+
+float sim_axis_position(const sim_axis_t *axis)
+{
+    return axis->x_mm + axis->offset_mm;
+}
+
+void sim_axis_move(sim_axis_t *axis, float target_mm, float speed_mm_s, float accel_mm_s2,
+                   float force_limit_n)
+{
+    axis->target_mm = target_mm - axis->offset_mm;
+    axis->vmax_mm_s = speed_mm_s;
+    axis->amax_mm_s2 = accel_mm_s2;
+    axis->fmax_n = force_limit_n;
+    axis->active = true;
+}
+
+void sim_axis_stop(sim_axis_t *axis, bool fast)
+{
+    float accel = fast ? axis->emergency_accel_mm_s2 : axis->amax_mm_s2;
+    if (accel <= 0.0f) {
+        accel = axis->emergency_accel_mm_s2;
+    }
+    float v = axis->v_mm_s;
+    axis->amax_mm_s2 = accel;
+    axis->target_mm = axis->x_mm + v * absf(v) / (2.0f * accel);
+    axis->active = absf(v) > STILL_MM_S;
+}
+
+void sim_axis_set_position(sim_axis_t *axis, float position_mm)
+{
+    float shift = position_mm - sim_axis_position(axis);
+    axis->offset_mm += shift;
+}
+
+/* One step of the trapezoidal profile, ignoring contact. */
+static void profile_step(sim_axis_t *axis, float dt)
+{
+    float to_go = axis->target_mm - axis->x_mm;
+    float dir = signf(to_go);
+    float v = axis->v_mm_s;
+    float a = axis->amax_mm_s2;
+    float stopping = v * v / (2.0f * a);
+    if (v * dir < 0.0f || stopping >= absf(to_go)) {
+        float dv = a * dt;
+        v = absf(v) <= dv ? 0.0f : v - signf(v) * dv; /* brake */
+    } else {
+        v += dir * a * dt;
+        if (absf(v) > axis->vmax_mm_s) {
+            v = signf(v) * axis->vmax_mm_s;
+        }
+    }
+    float x = axis->x_mm + v * dt;
+    bool crossed = signf(axis->target_mm - x) != dir;
+    bool arrived = absf(axis->target_mm - x) < AT_TARGET_MM && absf(v) < a * dt;
+    if (dir == 0.0f || crossed || arrived) {
+        x = axis->target_mm;
+        v = 0.0f;
+        axis->active = false;
+    }
+    axis->x_mm = x;
+    axis->v_mm_s = v;
+}
+
+typedef struct {
+    float surface_mm;  /* where contact begins */
+    float side;        /* -1: limits closing (a lower bound), +1: limits opening */
+    float stiffness;   /* N/mm, 0: rigid */
+} contact_t;
+
+/* Applies one contact: limits the jaws where the servo force is exhausted and
+ * returns the contact force. */
+static float apply_contact(sim_axis_t *axis, const contact_t *c)
+{
+    float penetration = (axis->x_mm - c->surface_mm) * c->side;
+    bool pushing = (axis->target_mm - axis->x_mm) * c->side > 0.0f ||
+                   (axis->target_mm - c->surface_mm) * c->side > 0.0f;
+    if (penetration <= 0.0f) {
+        return 0.0f;
+    }
+    float max_penetration = c->stiffness > 0.0f ? axis->fmax_n / c->stiffness : 0.0f;
+    if (penetration >= max_penetration) {
+        axis->x_mm = c->surface_mm + c->side * max_penetration;
+        axis->v_mm_s = 0.0f;
+        if (pushing && axis->active) {
+            axis->blocked = (int8_t)c->side;
+        }
+        return pushing ? axis->fmax_n : c->stiffness * max_penetration;
+    }
+    return c->stiffness * penetration;
+}
+
+static unsigned collect_contacts(const sim_axis_t *axis, contact_t *out)
+{
+    unsigned n = 0;
+    out[n++] = (contact_t){0.0f, -1.0f, 0.0f};
+    out[n++] = (contact_t){axis->stroke_mm, 1.0f, 0.0f};
+    if (axis->part.present) {
+        float side = axis->part.side == SIM_PART_INSIDE ? -1.0f : 1.0f;
+        out[n++] = (contact_t){axis->part.width_mm, side, axis->part.stiffness_n_mm};
+    }
+    return n;
+}
+
+static void step(sim_axis_t *axis, float dt)
+{
+    if (axis->active) {
+        profile_step(axis, dt);
+    }
+    contact_t contacts[3];
+    unsigned count = collect_contacts(axis, contacts);
+    axis->blocked = 0;
+    axis->force_n = 0.0f;
+    for (unsigned i = 0; i < count; i++) {
+        axis->force_n += apply_contact(axis, &contacts[i]);
+    }
+}
+
+void sim_axis_advance(sim_axis_t *axis, float dt_s)
+{
+    if (!axis->active && axis->v_mm_s == 0.0f) {
+        step(axis, 0.0f); /* at rest: only contacts can change (a part placed or removed) */
+        return;
+    }
+    while (dt_s > 0.0f) {
+        float dt = dt_s < SIM_AXIS_MAX_STEP_S ? dt_s : SIM_AXIS_MAX_STEP_S;
+        step(axis, dt);
+        dt_s -= dt;
+    }
+}

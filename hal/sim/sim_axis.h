@@ -1,0 +1,60 @@
+/* Simulated gripper mechanics: a servo with a trapezoidal profile and a
+ * force limit, rigid end stops, and an optional part between the jaws.
+ * Portable C (no heap, no OS): the host and the board build run the same. */
+#ifndef SIM_AXIS_H
+#define SIM_AXIS_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+typedef enum {
+    SIM_PART_INSIDE,  /* between the jaws: blocks closing below its width */
+    SIM_PART_OUTSIDE, /* around the jaws (a ring): blocks opening beyond it */
+} sim_part_side_t;
+
+typedef struct {
+    bool present;
+    sim_part_side_t side;
+    float width_mm;
+    float stiffness_n_mm; /* 0: rigid */
+} sim_part_t;
+
+typedef struct {
+    float stroke_mm;
+    float emergency_accel_mm_s2;
+    /* state, in physical jaw opening */
+    float x_mm;
+    float v_mm_s;
+    float offset_mm; /* reported position = x + offset */
+    /* servo command */
+    float target_mm;
+    float vmax_mm_s;
+    float amax_mm_s2;
+    float fmax_n;
+    bool active;
+    /* outputs of the last step */
+    float force_n;
+    int8_t blocked;
+    /* world */
+    sim_part_t part;
+    bool current_fault;
+    bool power_fault;
+} sim_axis_t;
+
+#define SIM_AXIS_MAX_STEP_S 0.0005f
+
+void sim_axis_init(sim_axis_t *axis, float stroke_mm, float emergency_accel_mm_s2);
+/* Places a part; its side follows from where the jaws are now. */
+void sim_axis_place_part(sim_axis_t *axis, float width_mm, float stiffness_n_mm);
+void sim_axis_remove_part(sim_axis_t *axis);
+/* Advances by dt seconds in steps of at most SIM_AXIS_MAX_STEP_S. */
+void sim_axis_advance(sim_axis_t *axis, float dt_s);
+
+/* Servo commands in reported (axis) coordinates. */
+void sim_axis_move(sim_axis_t *axis, float target_mm, float speed_mm_s, float accel_mm_s2,
+                   float force_limit_n);
+void sim_axis_stop(sim_axis_t *axis, bool fast);
+void sim_axis_set_position(sim_axis_t *axis, float position_mm);
+float sim_axis_position(const sim_axis_t *axis);
+
+#endif
