@@ -9,12 +9,14 @@ CSTD := -std=c11
 WARN := -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wmissing-prototypes
 OPT ?= -O2 -g
 SAN ?= 0
+SANITIZERS := -fsanitize=address,undefined
+LDFLAGS_BASE :=
 ifeq ($(SAN),1)
-  OPT := -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=all
+  OPT := -O1 -g -fno-omit-frame-pointer $(SANITIZERS) -fno-sanitize-recover=all
+  LDFLAGS_BASE := $(SANITIZERS)
   BUILD := build/san
 endif
 CFLAGS_BASE := $(CSTD) $(WARN) $(OPT)
-LDFLAGS_BASE := $(if $(filter 1,$(SAN)),-fsanitize=address,undefined)
 
 # The portable core and the simulated hardware: no OS, no heap.
 FIRMWARE_SRC := $(sort $(wildcard firmware/*.c))

@@ -53,5 +53,10 @@ void wsg_device_fast_stop(wsg_device_t *dev, const char *why)
     hal_axis_stop(true);
     flags_set(dev, SF_FAST_STOP, true);
     grip_set_state(dev, GS_ERROR);
-    hal_log(HAL_LOG_WARN, why);
+    char storage[96];
+    textbuf_t tb;
+    textbuf_init(&tb, storage, sizeof(storage));
+    textbuf_put_str(&tb, "FAST STOP: ");
+    textbuf_put_str(&tb, why);
+    hal_log(HAL_LOG_WARN, storage);
 }

@@ -1,0 +1,26 @@
+/* The single-threaded event loop: file descriptors with callbacks, woken by
+ * ppoll() until the device's next deadline on the simulated clock. */
+#ifndef HOST_LOOP_H
+#define HOST_LOOP_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#define LOOP_MAX_WATCHES 512
+
+typedef void (*loop_callback_t)(void *ctx, int fd, short revents);
+
+bool loop_watch(int fd, short events, loop_callback_t callback, void *ctx);
+void loop_set_events(int fd, short events);
+void loop_unwatch(int fd);
+
+/* Blocks SIGINT/SIGTERM outside the wait so a signal cannot be missed. */
+void loop_init(void);
+bool loop_stop_requested(void);
+void loop_request_stop(void);
+
+/* Waits for events or until simulated time deadline_us, then runs the
+ * callbacks of ready descriptors. */
+void loop_wait(uint64_t deadline_us);
+
+#endif

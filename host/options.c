@@ -1,0 +1,211 @@
+#include "options.h"
+
+#include <getopt.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sim_models.h"
+#include "version.h"
+
+#define DEFAULT_PORT 1000
+#define DEFAULT_MAX_CLIENTS 8
+#define MAX_CLIENTS_LIMIT 128
+#define DEFAULT_PART_STIFFNESS 100.0f
+
+static void print_help(void)
+{
+    printf("Usage: wsgsim [OPTION]...\n"
+           "A virtual Weiss Robotics WSG gripper serving GCL on TCP and UDP.\n\n"
+           "  --tcp-port N               TCP port (default %d)\n"
+           "  --udp-port N               UDP port (default %d)\n"
+           "  --no-tcp                   do not serve TCP\n"
+           "  --no-udp                   do not serve UDP\n"
+           "  --bind ADDR                listen address (default 0.0.0.0)\n"
+           "  --model NAME               gripper model (default %s; see --list-models)\n"
+           "  --list-models              list the simulated models and exit\n"
+           "  --part W[:K]               a part of width W mm (stiffness K N/mm, default %.0f)\n"
+           "                             between the jaws at start\n"
+           "  --max-clients N            simultaneous TCP clients (default %d, at most %d)\n"
+           "  --no-disconnect-faststop   a connection closed without BYE() does not raise\n"
+           "                             FAST STOP\n"
+           "  --trace                    log every line in and out on stderr\n"
+           "  --version                  print the version and exit\n"
+           "  --help                     print this help and exit\n",
+           DEFAULT_PORT, DEFAULT_PORT, sim_model_default()->name, (double)DEFAULT_PART_STIFFNESS,
+           DEFAULT_MAX_CLIENTS, MAX_CLIENTS_LIMIT);
+}
+
+static void list_models(void)
+{
+    for (unsigned i = 0; i < sim_model_count(); i++) {
+        const sim_model_t *m = sim_model_at(i);
+        printf("%-12s stroke %.0f mm, speed %.0f-%.0f mm/s, accel %.0f-%.0f mm/s^2, "
+               "force %.0f-%.0f N%s\n",
+               m->name, (double)m->stroke_mm, (double)m->speed_min_mm_s,
+               (double)m->speed_max_mm_s, (double)m->accel_min_mm_s2, (double)m->accel_max_mm_s2,
+               (double)m->force_min_n, (double)m->force_max_n,
+               m->estimated ? " (estimated figures)" : "");
+    }
+}
+
+static bool parse_int(const char *text, int min, int max, int *out)
+{
+    char *end = NULL;
+    long value = strtol(text, &end, 10);
+    if (end == text || *end != '\0' || value < min || value > max) {
+        return false;
+    }
+    *out = (int)value;
+    return true;
+}
+
+static bool parse_positive_float(const char *text, char **end, float *out)
+{
+    float value = strtof(text, end);
+    if (*end == text || !(value > 0.0f)) {
+        return false;
+    }
+    *out = value;
+    return true;
+}
+
+/* W or W:K */
+static bool parse_part(const char *text, host_options_t *opts)
+{
+    char *end = NULL;
+    if (!parse_positive_float(text, &end, &opts->part_width_mm)) {
+        return false;
+    }
+    if (*end == ':') {
+        const char *k = end + 1;
+        if (!parse_positive_float(k, &end, &opts->part_stiffness_n_mm)) {
+            return false;
+        }
+    }
+    opts->part_given = true;
+    return *end == '\0';
+}
+
+enum {
+    OPT_TCP_PORT = 256,
+    OPT_UDP_PORT,
+    OPT_NO_TCP,
+    OPT_NO_UDP,
+    OPT_BIND,
+    OPT_MODEL,
+    OPT_LIST_MODELS,
+    OPT_PART,
+    OPT_MAX_CLIENTS,
+    OPT_NO_DISCONNECT_FASTSTOP,
+    OPT_TRACE,
+    OPT_VERSION,
+    OPT_HELP,
+};
+
+static const struct option long_options[] = {
+    {"tcp-port", required_argument, NULL, OPT_TCP_PORT},
+    {"udp-port", required_argument, NULL, OPT_UDP_PORT},
+    {"no-tcp", no_argument, NULL, OPT_NO_TCP},
+    {"no-udp", no_argument, NULL, OPT_NO_UDP},
+    {"bind", required_argument, NULL, OPT_BIND},
+    {"model", required_argument, NULL, OPT_MODEL},
+    {"list-models", no_argument, NULL, OPT_LIST_MODELS},
+    {"part", required_argument, NULL, OPT_PART},
+    {"max-clients", required_argument, NULL, OPT_MAX_CLIENTS},
+    {"no-disconnect-faststop", no_argument, NULL, OPT_NO_DISCONNECT_FASTSTOP},
+    {"trace", no_argument, NULL, OPT_TRACE},
+    {"version", no_argument, NULL, OPT_VERSION},
+    {"help", no_argument, NULL, OPT_HELP},
+    {NULL, 0, NULL, 0},
+};
+
+static void set_defaults(host_options_t *opts)
+{
+    memset(opts, 0, sizeof(*opts));
+    opts->tcp_port = DEFAULT_PORT;
+    opts->udp_port = DEFAULT_PORT;
+    opts->tcp_enabled = true;
+    opts->udp_enabled = true;
+    opts->bind_addr = "0.0.0.0";
+    opts->model = sim_model_default()->name;
+    opts->part_stiffness_n_mm = DEFAULT_PART_STIFFNESS;
+    opts->max_clients = DEFAULT_MAX_CLIENTS;
+    opts->disconnect_faststop = true;
+}
+
+static options_result_t usage_error(const char *what, const char *value)
+{
+    fprintf(stderr, "wsgsim: invalid %s '%s' (see --help)\n", what, value);
+    return OPTIONS_EXIT_USAGE;
+}
+
+/* Applies one option; returns OPTIONS_RUN to go on. */
+static options_result_t apply_option(int opt, const char *arg, host_options_t *opts)
+{
+    switch (opt) {
+    case OPT_TCP_PORT:
+        return parse_int(arg, 0, 65535, &opts->tcp_port) ? OPTIONS_RUN
+                                                          : usage_error("--tcp-port", arg);
+    case OPT_UDP_PORT:
+        return parse_int(arg, 0, 65535, &opts->udp_port) ? OPTIONS_RUN
+                                                          : usage_error("--udp-port", arg);
+    case OPT_NO_TCP:
+        opts->tcp_enabled = false;
+        return OPTIONS_RUN;
+    case OPT_NO_UDP:
+        opts->udp_enabled = false;
+        return OPTIONS_RUN;
+    case OPT_BIND:
+        opts->bind_addr = arg;
+        return OPTIONS_RUN;
+    case OPT_MODEL:
+        opts->model = arg;
+        return sim_model_find(arg) != NULL ? OPTIONS_RUN : usage_error("--model", arg);
+    case OPT_LIST_MODELS:
+        list_models();
+        return OPTIONS_EXIT_OK;
+    case OPT_PART:
+        return parse_part(arg, opts) ? OPTIONS_RUN : usage_error("--part", arg);
+    case OPT_MAX_CLIENTS:
+        return parse_int(arg, 1, MAX_CLIENTS_LIMIT, &opts->max_clients)
+                   ? OPTIONS_RUN
+                   : usage_error("--max-clients", arg);
+    case OPT_NO_DISCONNECT_FASTSTOP:
+        opts->disconnect_faststop = false;
+        return OPTIONS_RUN;
+    case OPT_TRACE:
+        opts->trace = true;
+        return OPTIONS_RUN;
+    case OPT_VERSION:
+        printf("wsgsim %s (GCL firmware 4.0)\n", WSGSIM_VERSION);
+        return OPTIONS_EXIT_OK;
+    case OPT_HELP:
+        print_help();
+        return OPTIONS_EXIT_OK;
+    default:
+        fprintf(stderr, "wsgsim: see --help\n");
+        return OPTIONS_EXIT_USAGE;
+    }
+}
+
+options_result_t options_parse(int argc, char **argv, host_options_t *opts)
+{
+    set_defaults(opts);
+    int opt;
+    optind = 1;
+    while ((opt = getopt_long(argc, argv, "", long_options, NULL)) != -1) {
+        options_result_t result = apply_option(opt, optarg, opts);
+        if (result != OPTIONS_RUN) {
+            return result;
+        }
+    }
+    if (optind < argc) {
+        return usage_error("argument", argv[optind]);
+    }
+    if (!opts->tcp_enabled && !opts->udp_enabled) {
+        fprintf(stderr, "wsgsim: --no-tcp and --no-udp leave nothing to serve\n");
+        return OPTIONS_EXIT_USAGE;
+    }
+    return OPTIONS_RUN;
+}

@@ -1,0 +1,38 @@
+#include "trace.h"
+
+#include <stdio.h>
+
+#include "hal_clock.h"
+
+static void print_line(const wsg_session_t *s, char direction, const char *line, size_t len)
+{
+    while (len > 0 && (line[len - 1] == '\n' || line[len - 1] == '\r')) {
+        len--;
+    }
+    uint64_t now = hal_clock_now_us();
+    fprintf(stderr, "trace [%llu.%06llu] s%u%c %c %.*s\n", (unsigned long long)(now / 1000000u),
+            (unsigned long long)(now % 1000000u), (unsigned)s->generation,
+            s->transport == WSG_TRANSPORT_STREAM ? 't' : 'u', direction, (int)len, line);
+}
+
+static void on_line_in(void *ctx, const wsg_session_t *s, const char *line, size_t len)
+{
+    (void)ctx;
+    print_line(s, '<', line, len);
+}
+
+static void on_line_out(void *ctx, const wsg_session_t *s, const char *line, size_t len)
+{
+    (void)ctx;
+    print_line(s, '>', line, len);
+}
+
+static const wsg_device_hooks_t trace_hooks = {
+    .line_in = on_line_in,
+    .line_out = on_line_out,
+};
+
+void trace_attach(wsg_device_t *dev, bool enabled)
+{
+    wsg_device_set_hooks(dev, enabled ? &trace_hooks : NULL, NULL);
+}

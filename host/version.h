@@ -1,0 +1,6 @@
+#ifndef WSGSIM_VERSION_H
+#define WSGSIM_VERSION_H
+
+#define WSGSIM_VERSION "0.1.0"
+
+#endif

@@ -1,0 +1,19 @@
+/* One Check suite per concern; check_main.c runs them all. */
+#ifndef SUITES_H
+#define SUITES_H
+
+#include <check.h>
+
+Suite *parse_suite(void);
+Suite *linebuf_suite(void);
+Suite *format_suite(void);
+Suite *commands_suite(void);
+Suite *errors_suite(void);
+Suite *session_suite(void);
+Suite *flags_suite(void);
+Suite *motion_suite(void);
+Suite *grip_suite(void);
+Suite *autosend_suite(void);
+Suite *faults_suite(void);
+
+#endif
