@@ -1,0 +1,6 @@
+# End-to-end tests: build/wsgsim on loopback ports, driven over TCP and UDP.
+.PHONY: e2e-tests
+CHECK_TARGETS += e2e-tests
+
+e2e-tests: $(BUILD)/wsgsim
+	WSGSIM=$(abspath $(BUILD)/wsgsim) python3 tests/e2e/run.py
