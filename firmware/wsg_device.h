@@ -14,8 +14,10 @@
 #include "wsg_types.h"
 #include "hal_axis.h"
 
+/* Sessions the device serves at once. The host needs 128 TCP clients plus 16
+ * UDP peers; a board port defines a smaller number for its RAM. */
 #ifndef WSG_MAX_SESSIONS
-#define WSG_MAX_SESSIONS 16
+#define WSG_MAX_SESSIONS 144
 #endif
 
 #define WSG_REPLY_MAX 640 /* longest reply line (FDATA of a tactile finger) */
