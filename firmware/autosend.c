@@ -6,8 +6,9 @@
 #define AUTOSEND_MAX_INTERVAL_MS 3600000
 
 static const char *const value_names[AS_COUNT] = {
-    [AS_POS] = "POS",         [AS_SPEED] = "SPEED",       [AS_FORCE] = "FORCE",
-    [AS_GRIPSTATE] = "GRIPSTATE", [AS_SYSFLAGS] = "SYSFLAGS", [AS_TEMP] = "TEMP",
+    [AS_POS] = "POS",           [AS_SPEED] = "SPEED",
+    [AS_FORCE] = "FORCE",       [AS_GRIPSTATE] = "GRIPSTATE",
+    [AS_SYSFLAGS] = "SYSFLAGS", [AS_TEMP] = "TEMP",
 };
 
 bool autosend_value_by_name(const char *name, wsg_autosend_value_t *value)
@@ -32,8 +33,7 @@ static float numeric_value(const wsg_device_t *dev, wsg_autosend_value_t value)
     case AS_POS:
         return dev->axis.position_mm;
     case AS_SPEED:
-        return dev->axis.velocity_mm_s < 0.0f ? -dev->axis.velocity_mm_s
-                                              : dev->axis.velocity_mm_s;
+        return dev->axis.velocity_mm_s < 0.0f ? -dev->axis.velocity_mm_s : dev->axis.velocity_mm_s;
     case AS_FORCE:
         return dev->axis.force_n;
     case AS_TEMP:
@@ -59,8 +59,7 @@ void autosend_put_value(const wsg_device_t *dev, wsg_autosend_value_t value, tex
     }
 }
 
-static wsg_status_t read_option(cmd_ctx_t *ctx, wsg_autosend_value_t value,
-                                wsg_autosend_sub_t *sub)
+static wsg_status_t read_option(cmd_ctx_t *ctx, wsg_autosend_value_t value, wsg_autosend_sub_t *sub)
 {
     if (ctx->cmd->argc < 3) {
         return E_SUCCESS;

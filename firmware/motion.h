@@ -3,16 +3,16 @@
 #ifndef MOTION_H
 #define MOTION_H
 
-#define MOTION_TICK_US 1000u          /* control step while a motion runs */
-#define HOLD_TICK_US 10000u           /* grip monitoring while holding */
-#define IDLE_TICK_US 1000000u         /* fault and temperature polling */
-#define SETTLE_US 10000u              /* in-position time before FIN */
-#define BLOCKED_DEBOUNCE_US 20000u    /* saturated force before "blocked" */
-#define PART_LOST_DEBOUNCE_US 20000u  /* weak grip before PART LOST */
-#define HOME_TIMEOUT_US 30000000u     /* homing that finds no end stop */
-#define POSITION_TOLERANCE_MM 0.05f   /* in-position window */
-#define CONTACT_FORCE_N 1.0f          /* force that counts as touching a part */
-#define HOMING_FORCE_FRACTION 0.25f   /* homing pushes with this share of max force */
-#define LOST_FORCE_FRACTION 0.5f      /* grip force below this share means part lost */
+#define MOTION_TICK_US 1000u         /* control step while a motion runs */
+#define HOLD_TICK_US 10000u          /* grip monitoring while holding */
+#define IDLE_TICK_US 1000000u        /* fault and temperature polling */
+#define SETTLE_US 10000u             /* in-position time before FIN */
+#define BLOCKED_DEBOUNCE_US 20000u   /* saturated force before "blocked" */
+#define PART_LOST_DEBOUNCE_US 20000u /* weak grip before PART LOST */
+#define HOME_TIMEOUT_US 30000000u    /* homing that finds no end stop */
+#define POSITION_TOLERANCE_MM 0.05f  /* in-position window */
+#define CONTACT_FORCE_N 1.0f         /* force that counts as touching a part */
+#define HOMING_FORCE_FRACTION 0.25f  /* homing pushes with this share of max force */
+#define LOST_FORCE_FRACTION 0.5f     /* grip force below this share means part lost */
 
 #endif

@@ -140,8 +140,7 @@ void session_send_word(wsg_device_t *dev, wsg_session_t *s, const char *word, co
     session_send(dev, s, &tb, WSG_LINE_REPLY);
 }
 
-void session_send_error(wsg_device_t *dev, wsg_session_t *s, const char *name,
-                        wsg_status_t status)
+void session_send_error(wsg_device_t *dev, wsg_session_t *s, const char *name, wsg_status_t status)
 {
     char storage[WSG_REPLY_MAX];
     textbuf_t tb;

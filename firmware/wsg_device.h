@@ -69,7 +69,13 @@ typedef struct {
     uint32_t lines_out;
 } wsg_session_t;
 
-typedef enum { MOTION_NONE, MOTION_HOME, MOTION_MOVE, MOTION_GRIP, MOTION_RELEASE } wsg_motion_kind_t;
+typedef enum {
+    MOTION_NONE,
+    MOTION_HOME,
+    MOTION_MOVE,
+    MOTION_GRIP,
+    MOTION_RELEASE
+} wsg_motion_kind_t;
 
 typedef struct {
     wsg_motion_kind_t kind; /* the long command running, or MOTION_NONE */

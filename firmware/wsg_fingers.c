@@ -2,7 +2,7 @@
 
 #include <string.h>
 
-#define FINGER_FAULT_MASK                                                                     \
+#define FINGER_FAULT_MASK                                                                          \
     (WSG_FLAG(FF_POWER_FAULT) | WSG_FLAG(FF_COMM_FAULT) | WSG_FLAG(FF_INIT_FAULT))
 
 void wsg_fingers_reset(wsg_fingers_t *fingers)

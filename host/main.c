@@ -13,7 +13,8 @@
 
 static bool start_servers(const host_options_t *opts)
 {
-    if (opts->tcp_enabled && !tcp_server_start(opts->bind_addr, opts->tcp_port, opts->max_clients)) {
+    if (opts->tcp_enabled &&
+        !tcp_server_start(opts->bind_addr, opts->tcp_port, opts->max_clients)) {
         return false;
     }
     if (opts->udp_enabled && !udp_server_start(opts->bind_addr, opts->udp_port)) {
@@ -26,8 +27,8 @@ static void announce(const host_options_t *opts)
 {
     const wsg_device_t *dev = gripper_device();
     (void)dev;
-    host_logf(HAL_LOG_INFO, "virtual %s ready: tcp %s:%d, udp %s:%d", opts->model,
-              opts->bind_addr, tcp_server_port(), opts->bind_addr, udp_server_port());
+    host_logf(HAL_LOG_INFO, "virtual %s ready: tcp %s:%d, udp %s:%d", opts->model, opts->bind_addr,
+              tcp_server_port(), opts->bind_addr, udp_server_port());
 }
 
 int main(int argc, char **argv)

@@ -42,10 +42,9 @@ static void list_models(void)
         const sim_model_t *m = sim_model_at(i);
         printf("%-12s stroke %.0f mm, speed %.0f-%.0f mm/s, accel %.0f-%.0f mm/s^2, "
                "force %.0f-%.0f N%s\n",
-               m->name, (double)m->stroke_mm, (double)m->speed_min_mm_s,
-               (double)m->speed_max_mm_s, (double)m->accel_min_mm_s2, (double)m->accel_max_mm_s2,
-               (double)m->force_min_n, (double)m->force_max_n,
-               m->estimated ? " (estimated figures)" : "");
+               m->name, (double)m->stroke_mm, (double)m->speed_min_mm_s, (double)m->speed_max_mm_s,
+               (double)m->accel_min_mm_s2, (double)m->accel_max_mm_s2, (double)m->force_min_n,
+               (double)m->force_max_n, m->estimated ? " (estimated figures)" : "");
     }
 }
 
@@ -146,10 +145,10 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
     switch (opt) {
     case OPT_TCP_PORT:
         return parse_int(arg, 0, 65535, &opts->tcp_port) ? OPTIONS_RUN
-                                                          : usage_error("--tcp-port", arg);
+                                                         : usage_error("--tcp-port", arg);
     case OPT_UDP_PORT:
         return parse_int(arg, 0, 65535, &opts->udp_port) ? OPTIONS_RUN
-                                                          : usage_error("--udp-port", arg);
+                                                         : usage_error("--udp-port", arg);
     case OPT_NO_TCP:
         opts->tcp_enabled = false;
         return OPTIONS_RUN;

@@ -129,8 +129,8 @@ static void close_client(tcp_client_t *c)
     host_logf(HAL_LOG_INFO, "tcp %s: closed%s", c->peer,
               reason == WSG_CLOSE_DROPPED ? " without BYE" : "");
     if (c->dropped_autosend > 0) {
-        host_logf(HAL_LOG_INFO, "tcp %s: %lu AUTOSEND lines dropped (client not reading)",
-                  c->peer, c->dropped_autosend);
+        host_logf(HAL_LOG_INFO, "tcp %s: %lu AUTOSEND lines dropped (client not reading)", c->peer,
+                  c->dropped_autosend);
     }
     loop_unwatch(c->fd);
     close(c->fd);

@@ -101,9 +101,9 @@ static void profile_step(sim_axis_t *axis, float dt)
 }
 
 typedef struct {
-    float surface_mm;  /* where contact begins */
-    float side;        /* -1: limits closing (a lower bound), +1: limits opening */
-    float stiffness;   /* N/mm, 0: rigid */
+    float surface_mm; /* where contact begins */
+    float side;       /* -1: limits closing (a lower bound), +1: limits opening */
+    float stiffness;  /* N/mm, 0: rigid */
 } contact_t;
 
 /* Applies one contact: limits the jaws where the servo force is exhausted and

@@ -16,8 +16,7 @@ sim_world_t *sim_world(void)
 void sim_world_init(const hal_device_config_t *config, uint64_t now_us)
 {
     world.config = *config;
-    sim_axis_init(&world.axis, config->stroke_mm,
-                  EMERGENCY_ACCEL_FACTOR * config->accel_max_mm_s2);
+    sim_axis_init(&world.axis, config->stroke_mm, EMERGENCY_ACCEL_FACTOR * config->accel_max_mm_s2);
     sim_thermal_init(&world.thermal, AMBIENT_C);
     world.last_us = now_us;
 }
