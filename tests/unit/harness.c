@@ -38,8 +38,8 @@ void hal_log(hal_log_level_t level, const char *message)
 static void write_line(void *ctx, const char *line, size_t len, wsg_line_kind_t kind)
 {
     h_client_t *c = ctx;
-    bool one_line = len > 0 && line[len - 1] == '\n' && memchr(line, '\n', len - 1) == NULL &&
-                    len < H_LINE_LEN;
+    bool one_line =
+        len > 0 && line[len - 1] == '\n' && memchr(line, '\n', len - 1) == NULL && len < H_LINE_LEN;
     if (!one_line || c->count == H_LINES_MAX) {
         c->bad_line = true;
         return;

@@ -86,16 +86,15 @@ size_t h_log_count(void);
 double h_ms_since(uint64_t t0_us);
 
 #define expect_line(c, text) ck_assert_str_eq(h_next_line(c), (text))
-#define expect_no_line(c)                                                                      \
-    ck_assert_msg(h_unread(c) == 0, "unexpected line \"%s\"", h_next_line(c))
+#define expect_no_line(c) ck_assert_msg(h_unread(c) == 0, "unexpected line \"%s\"", h_next_line(c))
 #define SEND(text) send_line(&h_main, (text))
 #define EXPECT(text) expect_line(&h_main, (text))
 #define EXPECT_NONE() expect_no_line(&h_main)
 /* A command that answers with exactly one line. */
-#define ASK_EQ(line, reply)                                                                    \
-    do {                                                                                       \
-        ck_assert_str_eq(ask(&h_main, (line)), (reply));                                       \
-        EXPECT_NONE();                                                                         \
+#define ASK_EQ(line, reply)                                                                        \
+    do {                                                                                           \
+        ck_assert_str_eq(ask(&h_main, (line)), (reply));                                           \
+        EXPECT_NONE();                                                                             \
     } while (0)
 #define AWAIT(text, timeout_ms) ck_assert_str_eq(await_line(&h_main, (timeout_ms)), (text))
 

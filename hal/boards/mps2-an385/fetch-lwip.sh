@@ -9,6 +9,7 @@ dest=$1
 if [ -f "$dest/.fetched" ]; then
     exit 0
 fi
+# shellcheck disable=SC1091
 . /etc/os-release
 suite=${VERSION_CODENAME:?cannot tell the Debian suite from /etc/os-release}
 srcfile=/etc/apt/sources.list.d/wsgsim-deb-src.sources
@@ -19,8 +20,10 @@ has_deb_src() {
 
 if ! has_deb_src; then
     if [ "$(id -u)" != "0" ]; then
-        echo "fetch-lwip: apt has no deb-src entry; as root add one, e.g.:" >&2
-        echo "  printf 'Types: deb-src\\nURIs: http://deb.debian.org/debian\\nSuites: $suite\\nComponents: main\\nSigned-By: /usr/share/keyrings/debian-archive-keyring.gpg\\n' > $srcfile && apt-get update" >&2
+        echo "fetch-lwip: apt has no deb-src entry; as root, write $srcfile:" >&2
+        printf '  Types: deb-src\n  URIs: http://deb.debian.org/debian\n  Suites: %s\n  Components: main\n  Signed-By: /usr/share/keyrings/debian-archive-keyring.gpg\n' \
+            "$suite" >&2
+        echo "and run 'apt-get update', then build again" >&2
         exit 1
     fi
     echo "fetch-lwip: adding $srcfile" >&2
@@ -38,10 +41,10 @@ if ! (cd "$tmp" && apt-get source -qq lwip >&2); then
     exit 1
 fi
 srcdir=$(find "$tmp" -mindepth 1 -maxdepth 1 -type d -name 'lwip-*' | head -n 1)
-[ -n "$srcdir" ] && [ -d "$srcdir/src/core" ] || {
+if [ -z "$srcdir" ] || [ ! -d "$srcdir/src/core" ]; then
     echo "fetch-lwip: unexpected source layout in $tmp" >&2
     exit 1
-}
+fi
 rm -rf "$dest"
 mv "$srcdir" "$dest"
 rm -rf "$tmp"

@@ -1,0 +1,63 @@
+#include "app.h"
+
+#include "hal_clock.h"
+#include "sim_models.h"
+#include "sim_world.h"
+
+/* The simulated axis is advanced on a 1 ms grid, like a 1 kHz servo loop.
+ * Advancing it by a few microseconds at a time (each received byte could do
+ * that) moves the jaws by less than a float ulp, so the model loses contact
+ * with an end stop and homing never sees the axis blocked. */
+#define WORLD_PERIOD_US 1000u
+
+static wsg_device_t device;
+static uint64_t deadline_us;
+static uint64_t world_us;
+static bool input_seen;
+
+static void advance_world(uint64_t now)
+{
+    uint64_t behind = now - world_us;
+    if (behind >= WORLD_PERIOD_US) {
+        world_us = now - behind % WORLD_PERIOD_US;
+        sim_world_advance(world_us);
+    }
+}
+
+void app_init(void)
+{
+    hal_device_config_t cfg;
+    sim_model_config(sim_model_default(), &cfg);
+    uint64_t now = hal_clock_now_us();
+    sim_world_init(&cfg, now);
+    wsg_device_init(&device);
+    world_us = now;
+    deadline_us = now;
+}
+
+wsg_device_t *app_device(void)
+{
+    return &device;
+}
+
+void app_advance(void)
+{
+    advance_world(hal_clock_now_us());
+}
+
+void app_note_input(void)
+{
+    input_seen = true;
+}
+
+void app_poll(void)
+{
+    uint64_t now = hal_clock_now_us();
+    if (!input_seen && now < deadline_us) {
+        return;
+    }
+    input_seen = false;
+    advance_world(now);
+    wsg_device_step(&device);
+    deadline_us = wsg_device_next_deadline_us(&device);
+}

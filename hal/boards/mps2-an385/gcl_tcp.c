@@ -1,0 +1,202 @@
+#include "gcl_tcp.h"
+
+#include <string.h>
+
+#include "app.h"
+#include "board.h"
+#include "hal_log.h"
+#include "lwip/tcp.h"
+
+/* Lines wait here while lwIP's send buffer is full. Replies never get
+ * dropped: a client that lets this fill up loses its connection instead.
+ * AUTOSEND values are dropped when they do not fit (wsg_device.h). */
+#define TX_QUEUE 1024u
+
+typedef struct {
+    struct tcp_pcb *pcb; /* NULL: slot free */
+    wsg_session_t *session;
+    char tx[TX_QUEUE];
+    uint16_t tx_start;
+    uint16_t tx_len;
+    bool closing; /* BYE answered: close once everything is sent */
+    bool broken;  /* a reply did not fit: abort */
+} tcp_conn_t;
+
+static tcp_conn_t conns[GCL_TCP_MAX_CONNECTIONS];
+
+/* Hands queued bytes to lwIP as far as its send buffer allows. */
+static void flush(tcp_conn_t *c)
+{
+    while (c->tx_len > 0u) {
+        uint16_t chunk = (uint16_t)(TX_QUEUE - c->tx_start);
+        if (chunk > c->tx_len) {
+            chunk = c->tx_len;
+        }
+        if (chunk > tcp_sndbuf(c->pcb)) {
+            chunk = tcp_sndbuf(c->pcb);
+        }
+        if (chunk == 0u ||
+            tcp_write(c->pcb, &c->tx[c->tx_start], chunk, TCP_WRITE_FLAG_COPY) != ERR_OK) {
+            break;
+        }
+        c->tx_start = (uint16_t)((c->tx_start + chunk) % TX_QUEUE);
+        c->tx_len = (uint16_t)(c->tx_len - chunk);
+    }
+    (void)tcp_output(c->pcb);
+}
+
+static void write_line(void *ctx, const char *line, size_t len, wsg_line_kind_t kind)
+{
+    tcp_conn_t *c = ctx;
+    if (c->pcb == NULL || c->broken) {
+        return;
+    }
+    if (len > TX_QUEUE - c->tx_len) {
+        c->broken = kind == WSG_LINE_REPLY;
+        return;
+    }
+    for (size_t i = 0; i < len; i++) {
+        c->tx[(c->tx_start + c->tx_len + i) % TX_QUEUE] = line[i];
+    }
+    c->tx_len = (uint16_t)(c->tx_len + len);
+    flush(c);
+}
+
+static const wsg_session_io_t tcp_io = {write_line};
+
+/* Detaches the connection from its pcb and session; frees the slot. */
+static void release(tcp_conn_t *c, wsg_close_reason_t reason)
+{
+    if (c->session != NULL) {
+        wsg_session_close(app_device(), c->session, reason);
+    }
+    if (c->pcb != NULL) {
+        tcp_arg(c->pcb, NULL);
+        tcp_recv(c->pcb, NULL);
+        tcp_sent(c->pcb, NULL);
+        tcp_err(c->pcb, NULL);
+        tcp_poll(c->pcb, NULL, 0);
+    }
+    memset(c, 0, sizeof(*c));
+}
+
+/* Closes gracefully (queued data and FIN still go out); aborts if lwIP has
+ * no memory for that. Not for use inside this pcb's callbacks. */
+static void close_conn(tcp_conn_t *c, wsg_close_reason_t reason)
+{
+    struct tcp_pcb *pcb = c->pcb;
+    release(c, reason);
+    if (tcp_close(pcb) != ERR_OK) {
+        tcp_abort(pcb);
+    }
+}
+
+static void on_err(void *arg, err_t err)
+{
+    (void)err;
+    tcp_conn_t *c = arg;
+    if (c != NULL) {
+        c->pcb = NULL; /* lwIP has freed it already */
+        release(c, c->closing ? WSG_CLOSE_ANNOUNCED : WSG_CLOSE_DROPPED);
+        hal_log(HAL_LOG_INFO, "tcp: connection lost");
+    }
+}
+
+static err_t on_recv(void *arg, struct tcp_pcb *pcb, struct pbuf *p, err_t err)
+{
+    tcp_conn_t *c = arg;
+    if (p == NULL) { /* the client closed its side */
+        hal_log(HAL_LOG_INFO, c->closing ? "tcp: closed after BYE" : "tcp: closed without BYE");
+        release(c, c->closing ? WSG_CLOSE_ANNOUNCED : WSG_CLOSE_DROPPED);
+        if (tcp_close(pcb) != ERR_OK) {
+            tcp_abort(pcb);
+            return ERR_ABRT;
+        }
+        return ERR_OK;
+    }
+    if (err == ERR_OK && !c->closing) {
+        app_advance();
+        for (struct pbuf *q = p; q != NULL; q = q->next) {
+            wsg_session_input(app_device(), c->session, q->payload, q->len);
+        }
+        app_note_input();
+        c->closing = wsg_session_wants_close(c->session);
+    }
+    tcp_recved(pcb, p->tot_len);
+    pbuf_free(p);
+    return ERR_OK;
+}
+
+static err_t on_sent(void *arg, struct tcp_pcb *pcb, u16_t len)
+{
+    (void)pcb;
+    (void)len;
+    flush(arg);
+    return ERR_OK;
+}
+
+static err_t on_accept(void *arg, struct tcp_pcb *pcb, err_t err)
+{
+    (void)arg;
+    if (err != ERR_OK || pcb == NULL) {
+        return ERR_VAL;
+    }
+    tcp_conn_t *c = NULL;
+    for (unsigned i = 0; i < GCL_TCP_MAX_CONNECTIONS && c == NULL; i++) {
+        c = conns[i].pcb == NULL ? &conns[i] : NULL;
+    }
+    wsg_session_t *s =
+        c != NULL ? wsg_session_open(app_device(), WSG_TRANSPORT_STREAM, &tcp_io, c) : NULL;
+    if (s == NULL) {
+        hal_log(HAL_LOG_WARN, "tcp: connection refused, all sessions in use");
+        tcp_abort(pcb);
+        return ERR_ABRT;
+    }
+    c->pcb = pcb;
+    c->session = s;
+    tcp_arg(pcb, c);
+    tcp_recv(pcb, on_recv);
+    tcp_sent(pcb, on_sent);
+    tcp_err(pcb, on_err);
+    tcp_nagle_disable(pcb); /* a GCL line should leave at once */
+    ip_set_option(pcb, SOF_KEEPALIVE);
+    hal_log(HAL_LOG_INFO, "tcp: connection accepted");
+    return ERR_OK;
+}
+
+bool gcl_tcp_init(uint16_t port)
+{
+    struct tcp_pcb *pcb = tcp_new_ip_type(IPADDR_TYPE_V4);
+    if (pcb == NULL || tcp_bind(pcb, IP4_ADDR_ANY, port) != ERR_OK) {
+        return false;
+    }
+    struct tcp_pcb *listener = tcp_listen_with_backlog(pcb, GCL_TCP_MAX_CONNECTIONS);
+    if (listener == NULL) {
+        tcp_close(pcb);
+        return false;
+    }
+    tcp_accept(listener, on_accept);
+    return true;
+}
+
+void gcl_tcp_poll(void)
+{
+    for (unsigned i = 0; i < GCL_TCP_MAX_CONNECTIONS; i++) {
+        tcp_conn_t *c = &conns[i];
+        if (c->pcb == NULL) {
+            continue;
+        }
+        if (c->broken) {
+            hal_log(HAL_LOG_WARN, "tcp: client does not read its replies, aborting");
+            struct tcp_pcb *pcb = c->pcb;
+            release(c, WSG_CLOSE_DROPPED);
+            tcp_abort(pcb);
+            continue;
+        }
+        flush(c);
+        if (c->closing && c->tx_len == 0u) {
+            close_conn(c, WSG_CLOSE_ANNOUNCED);
+            board_log_stack_usage();
+        }
+    }
+}

@@ -1,0 +1,62 @@
+/* The Ethernet image (stage 2 of the board port): GCL on TCP 1000 and
+ * UDP 1000 through lwIP on the LAN9118, and on UART0 as in the serial image.
+ * The board takes the manual's factory address, 192.168.1.20/24. */
+#include "app.h"
+#include "board.h"
+#include "gcl_tcp.h"
+#include "gcl_udp.h"
+#include "hal_log.h"
+#include "lan9118_netif.h"
+#include "lwip/init.h"
+#include "lwip/netif.h"
+#include "lwip/timeouts.h"
+#include "netif/ethernet.h"
+#include "serial_port.h"
+
+#define GCL_PORT 1000u
+
+static struct netif eth;
+
+static bool network_init(void)
+{
+    ip4_addr_t addr, mask, gateway;
+    IP4_ADDR(&addr, 192, 168, 1, 20);
+    IP4_ADDR(&mask, 255, 255, 255, 0);
+    ip4_addr_set_zero(&gateway); /* GCL clients share the subnet */
+    lwip_init();
+    if (netif_add(&eth, &addr, &mask, &gateway, NULL, lan9118_netif_init, ethernet_input) == NULL) {
+        hal_log(HAL_LOG_ERROR, "lwip: no LAN9118 found, serial GCL only");
+        return false;
+    }
+    netif_set_default(&eth);
+    netif_set_up(&eth);
+    netif_set_link_up(&eth);
+    if (!gcl_tcp_init(GCL_PORT) || !gcl_udp_init(GCL_PORT)) {
+        hal_log(HAL_LOG_ERROR, "lwip: cannot listen on port 1000");
+        return false;
+    }
+    return true;
+}
+
+int main(void)
+{
+    board_clock_init();
+    board_log_init();
+    app_init();
+    serial_port_init();
+    bool network = network_init();
+    hal_log(HAL_LOG_INFO, network ? "wsgsim mps2-an385 lwIP image: GCL on 192.168.1.20 TCP 1000, "
+                                    "UDP 1000 and UART0, ready"
+                                  : "wsgsim mps2-an385 lwIP image: no network");
+    for (;;) {
+        serial_port_poll();
+        if (network) {
+            (void)lan9118_netif_poll(&eth);
+            sys_check_timeouts();
+            gcl_tcp_poll();
+            gcl_udp_poll();
+        }
+        app_poll();
+        board_sleep();
+    }
+}

@@ -1,0 +1,70 @@
+#include "serial_port.h"
+
+#include "app.h"
+#include "board.h"
+#include "cmsdk_uart.h"
+#include "hal_log.h"
+
+#define GCL_BAUD 115200u
+/* QEMU holds the UART while the host does not read its socket; a real line
+ * never stalls. Past this wait per byte the rest of the line is lost. */
+#define TX_STALL_US 200000u
+
+static cmsdk_uart_rx_t rx;
+static wsg_session_t *session;
+
+void UART0_RX_Handler(void);
+void UART0_RX_Handler(void)
+{
+    cmsdk_uart_rx_isr(&rx);
+    board_signal_event();
+}
+
+static void write_line(void *ctx, const char *line, size_t len, wsg_line_kind_t kind)
+{
+    (void)ctx;
+    cmsdk_uart_regs_t *uart = CMSDK_UART(UART0_BASE);
+    /* AUTOSEND values may be dropped under back-pressure, replies may not */
+    if (kind == WSG_LINE_AUTOSEND && !cmsdk_uart_tx_ready(uart)) {
+        return;
+    }
+    if (!cmsdk_uart_write(uart, line, len, TX_STALL_US)) {
+        hal_log(HAL_LOG_WARN, "serial: transmit stalled, line lost");
+    }
+}
+
+static const wsg_session_io_t serial_io = {write_line};
+
+static void open_session(void)
+{
+    session = wsg_session_open(app_device(), WSG_TRANSPORT_STREAM, &serial_io, NULL);
+    if (session == NULL) {
+        board_panic("serial: no free session");
+    }
+}
+
+void serial_port_init(void)
+{
+    cmsdk_uart_regs_t *uart = CMSDK_UART(UART0_BASE);
+    cmsdk_uart_rx_init(&rx, uart);
+    cmsdk_uart_init(uart, GCL_BAUD, true);
+    board_irq_enable(IRQ_UART0_RX);
+    open_session();
+}
+
+void serial_port_poll(void)
+{
+    uint8_t bytes[64];
+    size_t n;
+    while ((n = cmsdk_uart_rx_read(&rx, bytes, sizeof(bytes))) > 0) {
+        app_advance();
+        wsg_session_input(app_device(), session, bytes, n);
+        app_note_input();
+        if (wsg_session_wants_close(session)) {
+            wsg_session_close(app_device(), session, WSG_CLOSE_ANNOUNCED);
+            hal_log(HAL_LOG_INFO, "serial: BYE, new session");
+            board_log_stack_usage();
+            open_session();
+        }
+    }
+}

@@ -1,0 +1,132 @@
+#!/bin/bash
+# Boots a wsgsim board image in QEMU's mps2-an385 on free local ports.
+#
+# usage: boot.sh [--test] serial|lwip IMAGE.elf
+#   without --test  runs until QEMU exits (Ctrl-C) and prints how to connect
+#   with --test     waits for the board, runs tests/qemu/conversation.py
+#                   against it (serial: over UART0; lwip: over TCP and UDP
+#                   1000 through hostfwd) and always stops QEMU afterwards.
+# Ports: GCL_PORT (serial socket or forwarded TCP) and GCL_UDP_PORT default
+# to free ones. QEMU_TIMEOUT bounds the whole run in --test mode (seconds).
+set -euo pipefail
+
+here=$(cd "$(dirname "$0")" && pwd)
+test_mode=0
+if [ "${1:-}" = "--test" ]; then
+    test_mode=1
+    shift
+fi
+kind=${1:?usage: boot.sh [--test] serial|lwip IMAGE.elf}
+image=${2:?usage: boot.sh [--test] serial|lwip IMAGE.elf}
+case $kind in serial | lwip) ;; *)
+    echo "boot.sh: unknown image kind '$kind'" >&2
+    exit 2
+    ;;
+esac
+
+fail() {
+    echo "FAIL  qemu-$kind: $*" >&2
+    exit 1
+}
+
+command -v qemu-system-arm >/dev/null || fail "qemu-system-arm is not installed (make deps: qemu-system-arm)"
+command -v python3 >/dev/null || fail "python3 is not installed"
+[ -f "$image" ] || fail "no image $image (make firmware)"
+
+free_port() { # a port nobody listens on now (UDP or TCP)
+    python3 -c 'import socket,sys
+s = socket.socket(socket.AF_INET, getattr(socket, sys.argv[1]))
+s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])' "$1"
+}
+
+tcp_port=${GCL_PORT:-$(free_port SOCK_STREAM)}
+udp_port=${GCL_UDP_PORT:-$(free_port SOCK_DGRAM)}
+board_ip=192.168.1.20
+workdir=$(mktemp -d "${TMPDIR:-/tmp}/wsgsim-qemu.XXXXXX")
+
+# QEMU user networking: the guest sees only forwarded ports. restrict=on
+# isolates it completely, but libslirp (4.7, udp_input) then drops every UDP
+# datagram the guest sends, replies to hostfwd included; so UDP is served
+# with restrict=off. The board has no gateway and opens no connections.
+set_qemu_args() { # RESTRICT -> qemu_args (UART1 is added by the caller)
+    qemu_args=(-M mps2-an385 -nodefaults -display none -monitor none -kernel "$image")
+    if [ "$kind" = serial ]; then
+        qemu_args+=(-serial "tcp:127.0.0.1:$tcp_port,server=on,wait=off" -nic none)
+    else
+        # UART0 carries GCL too, but in this setup nothing listens to it.
+        local fwd="hostfwd=tcp:127.0.0.1:$tcp_port-$board_ip:1000,hostfwd=udp:127.0.0.1:$udp_port-$board_ip:1000"
+        qemu_args+=(-serial null -nic "user,model=lan9118,net=192.168.1.0/24,restrict=$1,$fwd")
+    fi
+}
+
+qemu_pid=""
+stop_qemu() {
+    if [ -n "$qemu_pid" ] && kill -0 "$qemu_pid" 2>/dev/null; then
+        kill "$qemu_pid" 2>/dev/null || true
+        wait "$qemu_pid" 2>/dev/null || true
+    fi
+    qemu_pid=""
+}
+cleanup() {
+    stop_qemu
+    rm -rf "$workdir"
+}
+trap cleanup EXIT
+trap 'exit 130' INT TERM
+
+if [ $test_mode = 0 ]; then
+    restrict=${QEMU_RESTRICT:-on}
+    echo "Booting $image on QEMU mps2-an385 (Ctrl-C to stop)."
+    if [ "$kind" = serial ]; then
+        echo "GCL on UART0:  nc 127.0.0.1 $tcp_port      (or: python3 tests/qemu/conversation.py 127.0.0.1 $tcp_port)"
+    else
+        echo "GCL over lwIP at $board_ip:1000 (user network, restrict=$restrict), forwarded to"
+        echo "  TCP:  nc 127.0.0.1 $tcp_port"
+        echo "  UDP:  nc -u 127.0.0.1 $udp_port"
+        echo "  or:   python3 tests/qemu/conversation.py 127.0.0.1 $tcp_port --udp $udp_port"
+        [ "$restrict" = on ] && echo "  note: with restrict=on QEMU drops the board's UDP replies; use QEMU_RESTRICT=off for UDP"
+    fi
+    echo "Device log (UART1) follows."
+    set_qemu_args "$restrict"
+    qemu-system-arm "${qemu_args[@]}" -serial stdio &
+    qemu_pid=$!
+    wait "$qemu_pid"
+    exit $?
+fi
+
+# Boots the image, waits for its "ready" line on UART1, runs the conversation
+# with the given arguments, and stops QEMU whatever happened.
+run_test() { # LABEL RESTRICT CONVERSATION-ARGS...
+    local label=$1 restrict=$2
+    shift 2
+    local log="$workdir/$label-uart1.log" err="$workdir/$label-qemu.err"
+    : >"$log"
+    set_qemu_args "$restrict"
+    timeout "${QEMU_TIMEOUT:-120}" qemu-system-arm "${qemu_args[@]}" -serial "file:$log" 2>"$err" &
+    qemu_pid=$!
+    for _ in $(seq 1 100); do
+        grep -q "ready" "$log" 2>/dev/null && break
+        kill -0 "$qemu_pid" 2>/dev/null || fail "QEMU exited early: $(cat "$err")"
+        sleep 0.1
+    done
+    grep -q "ready" "$log" || fail "the board did not report ready within 10 s; UART1: $(cat "$log")"
+    echo "$label: $(grep ready "$log" | head -n 1)"
+    local status=0
+    python3 "$here/conversation.py" 127.0.0.1 "$tcp_port" "$@" || status=$?
+    stop_qemu
+    if [ $status != 0 ]; then
+        echo "$label: device log (UART1):" >&2
+        sed 's/^/  | /' "$log" >&2
+        [ -s "$err" ] && sed 's/^/  qemu: /' "$err" >&2
+        fail "the GCL conversation failed"
+    fi
+    grep "stack:" "$log" | tail -n 1 | sed "s/^/$label: /" || true
+    echo "PASS  $label: GCL conversation"
+}
+
+if [ "$kind" = serial ]; then
+    run_test qemu-serial on --name uart0
+else
+    run_test qemu-lwip-tcp on --name tcp
+    run_test qemu-lwip-udp off --no-tcp --udp "$udp_port"
+fi

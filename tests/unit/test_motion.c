@@ -1,0 +1,375 @@
+/* HOME, MOVE, STOP and FASTSTOP in virtual time against the simulated axis. */
+#include <check.h>
+#include <math.h>
+#include <string.h>
+
+#include "harness.h"
+#include "motion.h"
+#include "suites.h"
+
+/* Duration of a trapezoidal (or triangular) move from rest to rest. */
+static double trapezoid_ms(double distance, double speed, double accel)
+{
+    double ramps = speed * speed / accel; /* distance of both ramps */
+    if (distance <= ramps) {
+        return 2000.0 * sqrt(distance / accel);
+    }
+    return 1000.0 * (2.0 * speed / accel + (distance - ramps) / speed);
+}
+
+/* Runs a MOVE already acknowledged to its FIN and returns how long it took. */
+static double time_to_fin(const char *fin, uint32_t timeout_ms)
+{
+    uint64_t t0 = h_now_us;
+    ck_assert_int_ge(run_until_line(&h_main, fin, timeout_ms), 0);
+    EXPECT_NONE();
+    return h_ms_since(t0);
+}
+
+static void assert_near(double value, double expected, double tolerance)
+{
+    ck_assert_msg(fabs(value - expected) <= tolerance, "%.3f is not within %.3f of %.3f", value,
+                  tolerance, expected);
+}
+
+/* --- HOME --- */
+
+START_TEST(home_takes_realistic_time)
+{
+    const hal_device_config_t *cfg = h_cfg();
+    ASK_EQ("HOME()", "ACK HOME");
+    double ms = time_to_fin("FIN HOME", 5000);
+    /* from mid-stroke to the end stop at homing speed, without braking */
+    double distance = cfg->stroke_mm / 2.0;
+    double v = cfg->homing_speed_mm_s;
+    double a = cfg->default_accel_mm_s2;
+    double expected =
+        1000.0 * (v / a + (distance - v * v / (2.0 * a)) / v) + BLOCKED_DEBOUNCE_US / 1000.0;
+    ck_assert_double_gt(ms, 500.0);
+    assert_near(ms, expected, 15.0);
+    ASK_EQ("POS?", "POS=110.0");
+    ASK_EQ("GRIPSTATE?", "GRIPSTATE=0");
+    ck_assert(h_log_contains(HAL_LOG_INFO, "homing done"));
+}
+END_TEST
+
+START_TEST(home_with_very_short_world_steps)
+{
+    /* a port may advance the world on every packet: 37 us steps must not make
+     * the end stop contact flicker (regression) */
+    ASK_EQ("HOME()", "ACK HOME");
+    for (unsigned i = 0; i < 60000u && h_unread(&h_main) == 0; i++) {
+        h_now_us += 37u;
+        sim_world_advance(h_now_us);
+        wsg_device_step(&h_dev);
+    }
+    ck_assert_msg(h_unread(&h_main) > 0, "no FIN within 2.2 s of 37 us steps");
+    EXPECT("FIN HOME");
+    ASK_EQ("POS?", "POS=110.0");
+}
+END_TEST
+
+START_TEST(home_state_while_running)
+{
+    ASK_EQ("HOME()", "ACK HOME");
+    advance_ms(500);
+    ASK_EQ("GRIPSTATE?", "GRIPSTATE=6");
+    ASK_EQ("SPEED?", "SPEED=52.5");
+    ck_assert_float_gt(ask_float("POS?"), 55.0f);
+}
+END_TEST
+
+START_TEST(home_negative)
+{
+    ASK_EQ("HOME(0)", "ACK HOME");
+    ck_assert_int_ge(run_until_line(&h_main, "FIN HOME", 5000), 0);
+    ASK_EQ("POS?", "POS=0.0");
+    ASK_EQ("MOVE(30)", "ACK MOVE");
+    time_to_fin("FIN MOVE", 3000);
+    ASK_EQ("POS?", "POS=30.0");
+}
+END_TEST
+
+START_TEST(home_direction_from_config)
+{
+    sim_world()->config.home_positive = false;
+    ASK_EQ("HOME()", "ACK HOME");
+    ck_assert_int_ge(run_until_line(&h_main, "FIN HOME", 5000), 0);
+    ASK_EQ("POS?", "POS=0.0");
+}
+END_TEST
+
+START_TEST(home_with_true_word)
+{
+    ASK_EQ("HOME(0)", "ACK HOME");
+    ck_assert_int_ge(run_until_line(&h_main, "FIN HOME", 5000), 0);
+    ASK_EQ("HOME(true)", "ACK HOME"); /* tolerated spelling of 1 */
+    ck_assert_int_ge(run_until_line(&h_main, "FIN HOME", 5000), 0);
+    ASK_EQ("POS?", "POS=110.0");
+}
+END_TEST
+
+START_TEST(home_redefines_the_origin)
+{
+    /* jaws put somewhere else before power-on: homing finds the end stop anyway */
+    sim_world()->axis.x_mm = 80.0f;
+    sim_world()->axis.target_mm = 80.0f;
+    ASK_EQ("HOME(0)", "ACK HOME");
+    uint64_t t0 = h_now_us;
+    ck_assert_int_ge(run_until_line(&h_main, "FIN HOME", 5000), 0);
+    ck_assert_double_gt(h_ms_since(t0), 1400.0); /* 80 mm at 52.5 mm/s */
+    ASK_EQ("POS?", "POS=0.0");
+}
+END_TEST
+
+START_TEST(home_into_an_obstacle_takes_a_wrong_origin)
+{
+    /* manual 2.2.1: a collision during homing gives a wrong reference point */
+    sim_axis_place_part(&sim_world()->axis, 80.0f, 0.0f);
+    ASK_EQ("HOME()", "ACK HOME");
+    ck_assert_int_ge(run_until_line(&h_main, "FIN HOME", 5000), 0);
+    ASK_EQ("POS?", "POS=110.0");
+    ck_assert_float_eq_tol(sim_world()->axis.x_mm, 80.0f, 0.01f);
+}
+END_TEST
+
+START_TEST(home_timeout)
+{
+    sim_world()->config.homing_speed_mm_s = 1.0f; /* 55 mm would take 55 s */
+    ASK_EQ("HOME()", "ACK HOME");
+    uint64_t t0 = h_now_us;
+    AWAIT("ERR HOME 7", 40000);
+    assert_near(h_ms_since(t0), HOME_TIMEOUT_US / 1000.0, 2.0);
+    ASK_EQ("GRIPSTATE?", "GRIPSTATE=7");
+    ck_assert_int_eq(ask_flag(SF_REFERENCED), 0);
+    ASK_EQ("MOVE(50)", "ERR MOVE 3");
+}
+END_TEST
+
+/* --- MOVE --- */
+
+START_TEST(move_trapezoid_timing)
+{
+    const hal_device_config_t *cfg = h_cfg();
+    ASK_EQ("MOVE(50)", "ACK MOVE");
+    double ms = time_to_fin("FIN MOVE", 3000);
+    double expected =
+        trapezoid_ms(60.0, cfg->default_speed_mm_s, cfg->default_accel_mm_s2) + SETTLE_US / 1000.0;
+    assert_near(ms, expected, 10.0);
+    ASK_EQ("POS?", "POS=50.0");
+    ASK_EQ("SPEED?", "SPEED=0.0");
+    ASK_EQ("GRIPSTATE?", "GRIPSTATE=0");
+}
+END_TEST
+
+START_TEST(move_triangle_timing)
+{
+    const hal_device_config_t *cfg = h_cfg();
+    ASK_EQ("MOVE(100)", "ACK MOVE");
+    double ms = time_to_fin("FIN MOVE", 3000);
+    double expected =
+        trapezoid_ms(10.0, cfg->default_speed_mm_s, cfg->default_accel_mm_s2) + SETTLE_US / 1000.0;
+    assert_near(ms, expected, 10.0);
+    ASK_EQ("POS?", "POS=100.0");
+}
+END_TEST
+
+START_TEST(move_with_speed_limit)
+{
+    const hal_device_config_t *cfg = h_cfg();
+    ASK_EQ("MOVE(60, 20)", "ACK MOVE");
+    advance_ms(1000);
+    ASK_EQ("SPEED?", "SPEED=20.0");
+    ASK_EQ("GRIPSTATE?", "GRIPSTATE=6");
+    double ms = 1000.0 + time_to_fin("FIN MOVE", 5000);
+    double expected = trapezoid_ms(50.0, 20.0, cfg->default_accel_mm_s2) + SETTLE_US / 1000.0;
+    assert_near(ms, expected, 10.0);
+    ASK_EQ("POS?", "POS=60.0");
+}
+END_TEST
+
+START_TEST(move_cruises_at_default_speed)
+{
+    ASK_EQ("MOVE(0)", "ACK MOVE");
+    advance_ms(300);
+    ASK_EQ("SPEED?", "SPEED=105.0");
+    time_to_fin("FIN MOVE", 3000);
+    ASK_EQ("POS?", "POS=0.0");
+}
+END_TEST
+
+START_TEST(fin_never_in_the_ack_pass)
+{
+    ASK_EQ("MOVE(110)", "ACK MOVE"); /* already there */
+    h_step();
+    EXPECT_NONE();
+    double ms = time_to_fin("FIN MOVE", 100);
+    ck_assert_double_ge(ms, SETTLE_US / 1000.0);
+    ck_assert_double_le(ms, SETTLE_US / 1000.0 + 2.0);
+}
+END_TEST
+
+START_TEST(move_after_move)
+{
+    ASK_EQ("MOVE(40)", "ACK MOVE");
+    time_to_fin("FIN MOVE", 3000);
+    ASK_EQ("MOVE(40.5)", "ACK MOVE");
+    time_to_fin("FIN MOVE", 3000);
+    ASK_EQ("POS?", "POS=40.5");
+}
+END_TEST
+
+/* --- STOP --- */
+
+START_TEST(stop_during_move)
+{
+    ASK_EQ("MOVE(10)", "ACK MOVE");
+    advance_ms(300);
+    ASK_EQ("STOP()", "ACK STOP"); /* the abort is reported by the next step */
+    AWAIT("ERR MOVE 19", 1);
+    EXPECT_NONE();
+    ASK_EQ("GRIPSTATE?", "GRIPSTATE=0");
+    float stopped_at = ask_float("POS?");
+    advance_ms(300);
+    ASK_EQ("SPEED?", "SPEED=0.0");
+    float rest = ask_float("POS?");
+    /* braking from 105 mm/s at 1000 mm/s^2 takes about 5.5 mm */
+    ck_assert_float_gt(stopped_at - rest, 4.5f);
+    ck_assert_float_lt(stopped_at - rest, 6.5f);
+    ck_assert_float_gt(rest, 10.5f);
+    EXPECT_NONE();
+}
+END_TEST
+
+START_TEST(stop_then_move_in_one_feed)
+{
+    ASK_EQ("MOVE(10)", "ACK MOVE");
+    advance_ms(300);
+    const char *text = "STOP()\nMOVE(80)\n";
+    h_send_bytes(&h_main, text, strlen(text));
+    EXPECT("ACK STOP");
+    EXPECT("ERR MOVE 19");
+    EXPECT("ACK MOVE");
+    EXPECT_NONE();
+    time_to_fin("FIN MOVE", 3000);
+    ASK_EQ("POS?", "POS=80.0");
+}
+END_TEST
+
+START_TEST(stop_while_idle)
+{
+    ASK_EQ("STOP()", "ACK STOP");
+    advance_ms(10);
+    EXPECT_NONE();
+    ASK_EQ("GRIPSTATE?", "GRIPSTATE=0");
+    ASK_EQ("MOVE(20)", "ACK MOVE");
+    time_to_fin("FIN MOVE", 3000);
+}
+END_TEST
+
+START_TEST(stop_during_home)
+{
+    ASK_EQ("HOME(0)", "ACK HOME");
+    advance_ms(200);
+    ASK_EQ("STOP()", "ACK STOP");
+    AWAIT("ERR HOME 19", 1);
+    /* homing redefines the origin: a stopped HOME leaves the device unreferenced */
+    ck_assert_int_eq(ask_flag(SF_REFERENCED), 0);
+    ASK_EQ("MOVE(50)", "ERR MOVE 3");
+}
+END_TEST
+
+/* --- FASTSTOP / FSACK --- */
+
+START_TEST(faststop_during_move)
+{
+    ASK_EQ("MOVE(10)", "ACK MOVE");
+    advance_ms(300);
+    float before = ask_float("POS?");
+    ASK_EQ("FASTSTOP()", "ACK FASTSTOP");
+    AWAIT("ERR MOVE 19", 1);
+    ASK_EQ("GRIPSTATE?", "GRIPSTATE=7");
+    advance_ms(100);
+    ASK_EQ("SPEED?", "SPEED=0.0");
+    /* the emergency deceleration stops well inside the normal braking distance */
+    ck_assert_float_lt(before - ask_float("POS?"), 1.0f);
+    ck_assert(h_log_contains(HAL_LOG_WARN, "FASTSTOP"));
+}
+END_TEST
+
+START_TEST(fsack_returns_to_normal)
+{
+    ASK_EQ("FASTSTOP()", "ACK FASTSTOP");
+    ASK_EQ("MOVE(50)", "ERR MOVE 16");
+    ASK_EQ("FSACK()", "ACK FSACK");
+    ASK_EQ("GRIPSTATE?", "GRIPSTATE=0");
+    ck_assert_int_eq(ask_flag(SF_FAST_STOP), 0);
+    ck_assert_int_eq(ask_flag(SF_REFERENCED), 1); /* FAST STOP keeps the reference */
+    ck_assert(h_log_contains(HAL_LOG_INFO, "acknowledged"));
+    ASK_EQ("MOVE(50)", "ACK MOVE");
+    time_to_fin("FIN MOVE", 3000);
+}
+END_TEST
+
+START_TEST(faststop_twice)
+{
+    ASK_EQ("FASTSTOP()", "ACK FASTSTOP");
+    ASK_EQ("FASTSTOP()", "ACK FASTSTOP");
+    ASK_EQ("FSACK()", "ACK FSACK");
+    ck_assert_int_eq(ask_flag(SF_FAST_STOP), 0);
+}
+END_TEST
+
+/* --- scheduling --- */
+
+START_TEST(deadline_follows_activity)
+{
+    h_step();
+    ck_assert_uint_eq(wsg_device_next_deadline_us(&h_dev), h_now_us + IDLE_TICK_US);
+    ASK_EQ("MOVE(50)", "ACK MOVE");
+    ck_assert_uint_eq(wsg_device_next_deadline_us(&h_dev), h_now_us + MOTION_TICK_US);
+    time_to_fin("FIN MOVE", 3000);
+    h_step();
+    ck_assert_uint_eq(wsg_device_next_deadline_us(&h_dev), h_now_us + IDLE_TICK_US);
+}
+END_TEST
+
+Suite *motion_suite(void)
+{
+    Suite *s = suite_create("motion");
+    TCase *home = tcase_create("home");
+    tcase_add_checked_fixture(home, h_setup, h_teardown);
+    tcase_add_test(home, home_takes_realistic_time);
+    tcase_add_test(home, home_with_very_short_world_steps);
+    tcase_add_test(home, home_state_while_running);
+    tcase_add_test(home, home_negative);
+    tcase_add_test(home, home_direction_from_config);
+    tcase_add_test(home, home_with_true_word);
+    tcase_add_test(home, home_redefines_the_origin);
+    tcase_add_test(home, home_into_an_obstacle_takes_a_wrong_origin);
+    tcase_add_test(home, home_timeout);
+    suite_add_tcase(s, home);
+
+    TCase *move = tcase_create("move");
+    tcase_add_checked_fixture(move, h_setup_homed, h_teardown);
+    tcase_add_test(move, move_trapezoid_timing);
+    tcase_add_test(move, move_triangle_timing);
+    tcase_add_test(move, move_with_speed_limit);
+    tcase_add_test(move, move_cruises_at_default_speed);
+    tcase_add_test(move, fin_never_in_the_ack_pass);
+    tcase_add_test(move, move_after_move);
+    tcase_add_test(move, deadline_follows_activity);
+    suite_add_tcase(s, move);
+
+    TCase *stop = tcase_create("stop");
+    tcase_add_checked_fixture(stop, h_setup_homed, h_teardown);
+    tcase_add_test(stop, stop_during_move);
+    tcase_add_test(stop, stop_then_move_in_one_feed);
+    tcase_add_test(stop, stop_while_idle);
+    tcase_add_test(stop, stop_during_home);
+    tcase_add_test(stop, faststop_during_move);
+    tcase_add_test(stop, fsack_returns_to_normal);
+    tcase_add_test(stop, faststop_twice);
+    suite_add_tcase(s, stop);
+    return s;
+}

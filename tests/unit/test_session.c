@@ -1,0 +1,367 @@
+/* Sessions: per-session settings, BYE and disconnects, several clients,
+ * datagram peers, slot reuse and the observer hooks. */
+#include <check.h>
+#include <string.h>
+
+#include "harness.h"
+#include "suites.h"
+
+/* --- per-session settings --- */
+
+START_TEST(pwt_clt_are_per_session)
+{
+    h_open(&h_other, WSG_TRANSPORT_STREAM);
+    ASK_EQ("PWT=5", "PWT=5.0");
+    ASK_EQ("CLT=3", "CLT=3.0");
+    ck_assert_str_eq(ask(&h_other, "PWT?"), "PWT=10.0");
+    ck_assert_str_eq(ask(&h_other, "CLT?"), "CLT=10.0");
+    ASK_EQ("PWT?", "PWT=5.0");
+    ASK_EQ("CLT?", "CLT=3.0");
+}
+END_TEST
+
+START_TEST(settings_reset_on_new_session)
+{
+    ASK_EQ("PWT=5", "PWT=5.0");
+    ASK_EQ("CLT=3", "CLT=3.0");
+    ASK_EQ("VERBOSE=1", "VERBOSE=1");
+    uint8_t slot = h_main.session->index;
+    ASK_EQ("BYE()", "ACK BYE");
+    h_close(&h_main, WSG_CLOSE_ANNOUNCED);
+    h_open(&h_main, WSG_TRANSPORT_STREAM);
+    ck_assert_uint_eq(h_main.session->index, slot); /* the same slot, fresh settings */
+    ASK_EQ("PWT?", "PWT=10.0");
+    ASK_EQ("CLT?", "CLT=10.0");
+    ASK_EQ("VERBOSE?", "VERBOSE=0");
+    ASK_EQ("FOO()", "ERR FOO 14");
+}
+END_TEST
+
+START_TEST(verbose_is_per_session)
+{
+    h_open(&h_other, WSG_TRANSPORT_STREAM);
+    ASK_EQ("VERBOSE=1", "VERBOSE=1");
+    ck_assert_str_eq(ask(&h_other, "FOO()"), "ERR FOO 14");
+    ASK_EQ("FOO()", "ERR FOO 14 Unknown command");
+}
+END_TEST
+
+/* --- BYE and disconnects --- */
+
+START_TEST(bye)
+{
+    ck_assert(!wsg_session_wants_close(h_main.session));
+    ASK_EQ("BYE()", "ACK BYE");
+    ck_assert(wsg_session_wants_close(h_main.session));
+    SEND("POS?"); /* input after BYE is ignored */
+    EXPECT_NONE();
+}
+END_TEST
+
+START_TEST(bye_ends_the_feed)
+{
+    const char *text = "BYE()\nPOS?\n";
+    h_send_bytes(&h_main, text, strlen(text));
+    EXPECT("ACK BYE");
+    EXPECT_NONE();
+}
+END_TEST
+
+START_TEST(close_after_bye_keeps_running)
+{
+    ASK_EQ("BYE()", "ACK BYE");
+    h_close(&h_main, WSG_CLOSE_DROPPED); /* the port may only notice the socket closing */
+    ck_assert(!h_dev.sessions[0].in_use);
+    h_open(&h_other, WSG_TRANSPORT_STREAM);
+    ck_assert_str_eq(ask(&h_other, "SYSFLAGS[12]?"), "SYSFLAGS[12]=0");
+    ck_assert_str_eq(ask(&h_other, "GRIPSTATE?"), "GRIPSTATE=0");
+}
+END_TEST
+
+START_TEST(drop_without_bye_raises_fast_stop)
+{
+    h_open(&h_other, WSG_TRANSPORT_STREAM);
+    h_close(&h_other, WSG_CLOSE_DROPPED);
+    ASK_EQ("SYSFLAGS[12]?", "SYSFLAGS[12]=1");
+    ASK_EQ("GRIPSTATE?", "GRIPSTATE=7");
+    ck_assert(h_log_contains(HAL_LOG_WARN, "without BYE"));
+    ASK_EQ("HOME()", "ERR HOME 16");
+    ASK_EQ("FSACK()", "ACK FSACK");
+    ASK_EQ("HOME()", "ACK HOME");
+}
+END_TEST
+
+START_TEST(drop_without_bye_can_be_disabled)
+{
+    sim_world()->config.disconnect_raises_faststop = false;
+    h_open(&h_other, WSG_TRANSPORT_STREAM);
+    h_close(&h_other, WSG_CLOSE_DROPPED);
+    ASK_EQ("SYSFLAGS[12]?", "SYSFLAGS[12]=0");
+}
+END_TEST
+
+START_TEST(drop_during_move_aborts_it)
+{
+    ASK_EQ("HOME()", "ACK HOME");
+    ck_assert_int_ge(run_until_line(&h_main, "FIN HOME", 3000), 0);
+    h_open(&h_other, WSG_TRANSPORT_STREAM);
+    ck_assert_str_eq(ask(&h_other, "MOVE(10)"), "ACK MOVE");
+    advance_ms(100);
+    h_close(&h_other, WSG_CLOSE_DROPPED);
+    advance_ms(100);
+    EXPECT_NONE(); /* the abort belonged to the dropped session */
+    ASK_EQ("SPEED?", "SPEED=0.0");
+    ASK_EQ("SYSFLAGS[12]?", "SYSFLAGS[12]=1");
+    ASK_EQ("SYSFLAGS[1]?", "SYSFLAGS[1]=0");
+    ck_assert_float_gt(ask_float("POS?"), 50.0f);
+}
+END_TEST
+
+START_TEST(datagram_peers)
+{
+    h_open(&h_other, WSG_TRANSPORT_DATAGRAM);
+    h_send_bytes(&h_other, "POS?", 4);
+    expect_no_line(&h_other);
+    wsg_session_end_datagram(&h_dev, h_other.session);
+    expect_line(&h_other, "POS=55.0");
+    wsg_session_end_datagram(&h_dev, h_other.session); /* nothing pending: nothing */
+    expect_no_line(&h_other);
+    h_close(&h_other, WSG_CLOSE_DROPPED); /* UDP has no connection to lose */
+    h_open(&h_third, WSG_TRANSPORT_DATAGRAM);
+    h_close(&h_third, WSG_CLOSE_EXPIRED);
+    ASK_EQ("SYSFLAGS[12]?", "SYSFLAGS[12]=0");
+}
+END_TEST
+
+START_TEST(datagram_with_newline)
+{
+    h_open(&h_other, WSG_TRANSPORT_DATAGRAM);
+    h_send_bytes(&h_other, "SN?\nTAG?\n", 9);
+    wsg_session_end_datagram(&h_dev, h_other.session);
+    expect_line(&h_other, "SN=12345678");
+    expect_line(&h_other, "TAG=\"wsgsim\"");
+    expect_no_line(&h_other);
+}
+END_TEST
+
+/* --- several clients --- */
+
+START_TEST(final_line_goes_to_issuer_only)
+{
+    h_open(&h_other, WSG_TRANSPORT_STREAM);
+    ck_assert_str_eq(ask(&h_other, "HOME()"), "ACK HOME");
+    EXPECT_NONE();
+    ASK_EQ("HOME()", "ERR HOME 4");
+    expect_no_line(&h_other);
+    ck_assert_int_ge(run_until_line(&h_other, "FIN HOME", 3000), 0);
+    EXPECT_NONE();
+    ASK_EQ("MOVE(30)", "ACK MOVE");
+    ck_assert_int_ge(run_until_line(&h_main, "FIN MOVE", 3000), 0);
+    expect_no_line(&h_other);
+}
+END_TEST
+
+START_TEST(stop_from_another_session)
+{
+    ASK_EQ("HOME()", "ACK HOME");
+    ck_assert_int_ge(run_until_line(&h_main, "FIN HOME", 3000), 0);
+    h_open(&h_other, WSG_TRANSPORT_STREAM);
+    ASK_EQ("MOVE(10)", "ACK MOVE");
+    advance_ms(100);
+    ck_assert_str_eq(ask(&h_other, "STOP()"), "ACK STOP");
+    EXPECT_NONE();
+    advance_ms(1);
+    EXPECT("ERR MOVE 19"); /* the abort goes to the session that moved */
+    expect_no_line(&h_other);
+}
+END_TEST
+
+START_TEST(queries_during_another_sessions_motion)
+{
+    h_open(&h_other, WSG_TRANSPORT_STREAM);
+    ck_assert_str_eq(ask(&h_other, "HOME()"), "ACK HOME");
+    advance_ms(200);
+    ASK_EQ("GRIPSTATE?", "GRIPSTATE=6");
+    ASK_EQ("SYSFLAGS[1]?", "SYSFLAGS[1]=1");
+    expect_no_line(&h_other);
+}
+END_TEST
+
+START_TEST(final_line_not_delivered_to_slot_reuser)
+{
+    ASK_EQ("HOME()", "ACK HOME");
+    uint8_t slot = h_main.session->index;
+    ASK_EQ("BYE()", "ACK BYE");
+    h_close(&h_main, WSG_CLOSE_ANNOUNCED);
+    h_open(&h_other, WSG_TRANSPORT_STREAM);
+    ck_assert_uint_eq(h_other.session->index, slot);
+    advance_ms(2000);
+    expect_no_line(&h_other);
+    ck_assert_str_eq(ask(&h_other, "SYSFLAGS[0]?"), "SYSFLAGS[0]=1"); /* homing did finish */
+}
+END_TEST
+
+static unsigned sink_lines;
+
+static void sink_write(void *ctx, const char *line, size_t len, wsg_line_kind_t kind)
+{
+    (void)ctx;
+    (void)line;
+    (void)len;
+    (void)kind;
+    sink_lines++;
+}
+
+START_TEST(session_slots_are_bounded)
+{
+    static const wsg_session_io_t sink = {sink_write};
+    wsg_session_t *last = NULL;
+    for (unsigned i = 1; i < WSG_MAX_SESSIONS; i++) {
+        last = wsg_session_open(&h_dev, WSG_TRANSPORT_STREAM, &sink, NULL);
+        ck_assert_ptr_nonnull(last);
+    }
+    ck_assert_ptr_null(wsg_session_open(&h_dev, WSG_TRANSPORT_STREAM, &sink, NULL));
+    wsg_session_input(&h_dev, last, (const uint8_t *)"SN?\n", 4);
+    ck_assert_uint_eq(sink_lines, 1);
+    ck_assert_str_eq(ask(&h_main, "BYE()"), "ACK BYE");
+    h_close(&h_main, WSG_CLOSE_ANNOUNCED);
+    ck_assert_ptr_nonnull(wsg_session_open(&h_dev, WSG_TRANSPORT_STREAM, &sink, NULL));
+}
+END_TEST
+
+START_TEST(closing_twice_is_harmless)
+{
+    wsg_session_t *s = h_main.session;
+    ASK_EQ("BYE()", "ACK BYE");
+    wsg_session_close(&h_dev, s, WSG_CLOSE_ANNOUNCED);
+    wsg_session_close(&h_dev, s, WSG_CLOSE_DROPPED);
+    h_main.session = NULL;
+    h_open(&h_other, WSG_TRANSPORT_STREAM);
+    ck_assert_str_eq(ask(&h_other, "SYSFLAGS[12]?"), "SYSFLAGS[12]=0");
+}
+END_TEST
+
+/* --- observer hooks --- */
+
+static struct {
+    unsigned lines_in, lines_out, done, tolerated, state_changes;
+    char last_done[16];
+    unsigned last_form, last_argc;
+    wsg_status_t last_status;
+    wsg_grip_state_t last_to;
+} seen;
+
+static void on_line_in(void *ctx, const wsg_session_t *s, const char *line, size_t len)
+{
+    (void)ctx, (void)s, (void)line, (void)len;
+    seen.lines_in++;
+}
+
+static void on_line_out(void *ctx, const wsg_session_t *s, const char *line, size_t len)
+{
+    (void)ctx, (void)s;
+    ck_assert(len > 0 && line[len - 1] == '\n');
+    seen.lines_out++;
+}
+
+static void on_state(void *ctx, wsg_grip_state_t from, wsg_grip_state_t to)
+{
+    (void)ctx;
+    ck_assert_int_ne(from, to);
+    seen.state_changes++;
+    seen.last_to = to;
+}
+
+static void on_done(void *ctx, const wsg_session_t *s, const char *name, unsigned form,
+                    unsigned argc, wsg_status_t status)
+{
+    (void)ctx, (void)s;
+    seen.done++;
+    strncpy(seen.last_done, name, sizeof(seen.last_done) - 1);
+    seen.last_form = form;
+    seen.last_argc = argc;
+    seen.last_status = status;
+}
+
+static void on_tolerated(void *ctx, const wsg_session_t *s, const char *name, const char *what)
+{
+    (void)ctx, (void)s, (void)name, (void)what;
+    seen.tolerated++;
+}
+
+static const wsg_device_hooks_t hooks = {on_line_in, on_line_out, on_state, on_done, on_tolerated};
+
+START_TEST(hooks_observe_the_device)
+{
+    memset(&seen, 0, sizeof(seen));
+    wsg_device_set_hooks(&h_dev, &hooks, NULL);
+    ASK_EQ("MOVE(1,2,3)", "ERR MOVE 12");
+    ck_assert_str_eq(seen.last_done, "MOVE");
+    ck_assert_uint_eq(seen.last_form, GCL_FORM_CALL);
+    ck_assert_uint_eq(seen.last_argc, 3);
+    ck_assert_int_eq(seen.last_status, E_NO_PARAM_EXPECTED);
+    ASK_EQ("AUTOSEND(POS,0)", "ACK AUTOSEND"); /* unquoted string: tolerated */
+    ck_assert_uint_eq(seen.tolerated, 1);
+    ASK_EQ("HOME()", "ACK HOME");
+    ck_assert_uint_eq(seen.state_changes, 1);
+    ck_assert_int_eq(seen.last_to, GS_POSITIONING);
+    ck_assert_uint_eq(seen.lines_in, 3);
+    ck_assert_uint_eq(seen.lines_out, 3);
+    ck_assert_uint_eq(seen.done, 3);
+    ck_assert_uint_eq(h_main.session->lines_in, 3);
+    ck_assert_uint_eq(h_main.session->lines_out, 3);
+}
+END_TEST
+
+START_TEST(hooks_survive_init)
+{
+    memset(&seen, 0, sizeof(seen));
+    wsg_device_set_hooks(&h_dev, &hooks, NULL);
+    wsg_device_init(&h_dev);
+    ck_assert_ptr_eq(h_dev.hooks, &hooks);
+    ck_assert(!h_dev.sessions[0].in_use); /* power-on: no sessions */
+    h_open(&h_main, WSG_TRANSPORT_STREAM);
+    ASK_EQ("SN?", "SN=12345678");
+    ck_assert_uint_eq(seen.lines_out, 1);
+}
+END_TEST
+
+Suite *session_suite(void)
+{
+    Suite *s = suite_create("session");
+    TCase *settings = tcase_create("settings");
+    tcase_add_checked_fixture(settings, h_setup, h_teardown);
+    tcase_add_test(settings, pwt_clt_are_per_session);
+    tcase_add_test(settings, settings_reset_on_new_session);
+    tcase_add_test(settings, verbose_is_per_session);
+    suite_add_tcase(s, settings);
+
+    TCase *closing = tcase_create("closing");
+    tcase_add_checked_fixture(closing, h_setup, h_teardown);
+    tcase_add_test(closing, bye);
+    tcase_add_test(closing, bye_ends_the_feed);
+    tcase_add_test(closing, close_after_bye_keeps_running);
+    tcase_add_test(closing, drop_without_bye_raises_fast_stop);
+    tcase_add_test(closing, drop_without_bye_can_be_disabled);
+    tcase_add_test(closing, drop_during_move_aborts_it);
+    tcase_add_test(closing, datagram_peers);
+    tcase_add_test(closing, datagram_with_newline);
+    tcase_add_test(closing, closing_twice_is_harmless);
+    suite_add_tcase(s, closing);
+
+    TCase *multi = tcase_create("multi");
+    tcase_add_checked_fixture(multi, h_setup, h_teardown);
+    tcase_add_test(multi, final_line_goes_to_issuer_only);
+    tcase_add_test(multi, stop_from_another_session);
+    tcase_add_test(multi, queries_during_another_sessions_motion);
+    tcase_add_test(multi, final_line_not_delivered_to_slot_reuser);
+    tcase_add_test(multi, session_slots_are_bounded);
+    suite_add_tcase(s, multi);
+
+    TCase *hook = tcase_create("hooks");
+    tcase_add_checked_fixture(hook, h_setup, h_teardown);
+    tcase_add_test(hook, hooks_observe_the_device);
+    tcase_add_test(hook, hooks_survive_init);
+    suite_add_tcase(s, hook);
+    return s;
+}
