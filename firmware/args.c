@@ -1,6 +1,8 @@
 /* Argument conversion and the small reply helpers handlers share. */
 #include "dispatch.h"
 
+#define FLOAT_ARG_LIMIT 1.0e30
+
 void note_tolerated(const cmd_ctx_t *ctx, const char *what)
 {
     const wsg_device_t *dev = ctx->dev;
@@ -14,6 +16,9 @@ wsg_status_t arg_float(const cmd_ctx_t *ctx, unsigned i, float *out)
     const gcl_arg_t *arg = &ctx->cmd->args[i];
     if (arg->kind != GCL_ARG_NUMBER) {
         return E_INVALID_PARAMETER;
+    }
+    if (arg->number > FLOAT_ARG_LIMIT || arg->number < -FLOAT_ARG_LIMIT) {
+        return E_RANGE_ERROR; /* beyond any physical value, and beyond a float */
     }
     *out = (float)arg->number;
     return E_SUCCESS;

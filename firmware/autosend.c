@@ -152,6 +152,9 @@ static void session_step(wsg_device_t *dev, wsg_session_t *s)
         }
         wsg_autosend_value_t value = (wsg_autosend_value_t)v;
         if (should_send(dev, value, sub)) {
+            if (!sub->sent_once) {
+                sub->next_due_us = dev->now_us; /* the period runs from the first value */
+            }
             sub->sent_once = true;
             sub->last_number = numeric_value(dev, value);
             sub->last_bits = state_value(dev, value);

@@ -95,7 +95,7 @@ wsg_status_t cmd_tare(cmd_ctx_t *ctx)
             return E_INDEX_OUT_OF_BOUNDS;
         }
     }
-    wsg_status_t status = wsg_fingers_tare(&ctx->dev->fingers, (int)index);
+    wsg_status_t status = finger_bus_tare(ctx->dev, (int)index);
     if (status != E_SUCCESS) {
         return status;
     }

@@ -148,9 +148,11 @@ wsg_status_t cmd_grip(cmd_ctx_t *ctx)
         return E_ACCESS_DENIED; /* manual 2.2.3: release first */
     }
     float clt = ctx->session->clt_mm;
-    /* Inside grip closes on the part; with a width beyond the jaws, grip outside. */
+    /* Inside grip closes on the part; with a width beyond the jaws, grip outside.
+     * Without a width the jaws close until something stops them (manual 2.2.3:
+     * they grip themselves), so aim past the closed position whatever the CLT. */
     int8_t direction = (a.has_width && a.width > dev->axis.position_mm) ? 1 : -1;
-    float target = a.has_width ? a.width + (float)direction * clt : -clt;
+    float target = a.has_width ? a.width + (float)direction * clt : -hal_device_config()->stroke_mm;
     dev->grip.direction = direction;
     dev->grip.force_n = a.force;
     dev->grip.clt_mm = clt;

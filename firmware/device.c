@@ -10,12 +10,14 @@ void wsg_device_init(wsg_device_t *dev)
 {
     const wsg_device_hooks_t *hooks = dev->hooks;
     void *hooks_ctx = dev->hooks_ctx;
+    const hal_can_t *can = dev->fbus.can;
     memset(dev, 0, sizeof(*dev));
     dev->hooks = hooks;
     dev->hooks_ctx = hooks_ctx;
     dev->grip.state = GS_IDLE;
     dev->grip.direction = -1;
     wsg_fingers_reset(&dev->fingers);
+    finger_bus_init(&dev->fbus, can);
     flags_refresh(dev);
 }
 
@@ -28,6 +30,7 @@ void wsg_device_set_hooks(wsg_device_t *dev, const wsg_device_hooks_t *hooks, vo
 void wsg_device_step(wsg_device_t *dev)
 {
     flags_refresh(dev);
+    finger_bus_step(dev);
     motion_step(dev);
     grip_monitor_step(dev);
     flags_refresh(dev);
@@ -44,7 +47,14 @@ uint64_t wsg_device_next_deadline_us(const wsg_device_t *dev)
     }
     uint64_t next = dev->now_us + tick;
     uint64_t autosend = autosend_next_due_us(dev);
+    uint64_t bus = finger_bus_next_deadline_us(&dev->fbus);
+    next = bus < next ? bus : next;
     return autosend < next ? autosend : next;
+}
+
+void wsg_device_attach_can(wsg_device_t *dev, const hal_can_t *can)
+{
+    finger_bus_init(&dev->fbus, can);
 }
 
 void wsg_device_fast_stop(wsg_device_t *dev, const char *why)

@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "dispatch.h"
+#include "hal_log.h"
 
 #define CALL GCL_FORM_CALL
 #define QUERY GCL_FORM_QUERY
@@ -38,6 +39,16 @@ static const cmd_entry_t commands[] = {
     {"FTYPE", QUERY | INDEXED, 0, 0, cmd_ftype},
     {"FFLAGS", QUERY | INDEXED, 0, 0, cmd_fflags},
 };
+
+unsigned dispatch_count(void)
+{
+    return (unsigned)(sizeof(commands) / sizeof(commands[0]));
+}
+
+const cmd_entry_t *dispatch_at(unsigned i)
+{
+    return i < dispatch_count() ? &commands[i] : NULL;
+}
 
 const cmd_entry_t *dispatch_find(const char *name)
 {
@@ -86,6 +97,28 @@ static wsg_status_t run_command(wsg_device_t *dev, wsg_session_t *s, const gcl_c
     return entry->handler(&ctx);
 }
 
+void wsg_device_inject_failure(wsg_device_t *dev, const char *name, wsg_status_t status)
+{
+    wsg_injected_failure_t *f = &dev->injected_failure;
+    strncpy(f->name, name, sizeof(f->name) - 1);
+    f->name[sizeof(f->name) - 1] = '\0';
+    f->status = status;
+    f->armed = true;
+}
+
+/* An armed injected failure for this command: consumes it. */
+static bool take_injected_failure(wsg_device_t *dev, const gcl_command_t *cmd, wsg_status_t *status)
+{
+    wsg_injected_failure_t *f = &dev->injected_failure;
+    if (!f->armed || strcmp(f->name, cmd->name) != 0) {
+        return false;
+    }
+    f->armed = false;
+    *status = f->status;
+    hal_log(HAL_LOG_WARN, "injected failure answered");
+    return true;
+}
+
 static bool is_blank(const char *line, size_t len)
 {
     for (size_t i = 0; i < len; i++) {
@@ -111,7 +144,7 @@ void dispatch_line(wsg_device_t *dev, wsg_session_t *s, const char *line, size_t
         status = E_CMD_FORMAT_ERROR;
     } else if (cmd.name[0] != '\0' && dispatch_find(cmd.name) == NULL) {
         status = E_CMD_UNKNOWN;
-    } else if (status == E_SUCCESS) {
+    } else if (status == E_SUCCESS && !take_injected_failure(dev, &cmd, &status)) {
         status = run_command(dev, s, &cmd);
     }
     if (status != E_SUCCESS) {

@@ -23,6 +23,9 @@ typedef struct {
 } cmd_entry_t;
 
 const cmd_entry_t *dispatch_find(const char *name);
+/* The command table in order (coverage reports enumerate it). */
+unsigned dispatch_count(void);
+const cmd_entry_t *dispatch_at(unsigned i);
 
 /* Argument converters: E_SUCCESS, E_INVALID_PARAMETER (wrong type) or
  * E_RANGE_ERROR (a bool that is neither 0 nor 1). */

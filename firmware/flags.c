@@ -86,6 +86,7 @@ void flags_refresh(wsg_device_t *dev)
 {
     dev->now_us = hal_clock_now_us();
     hal_axis_status(&dev->axis);
+    finger_bus_observe_axis(&dev->fbus, &dev->fingers, &dev->axis);
     dev->temperature_c = hal_temp_board_c();
     dev->flags = dev->latched_flags | derived_flags(dev);
     if (flags_severe_fault(dev) && !flags_get(dev, SF_FAST_STOP)) {

@@ -47,7 +47,8 @@ bool gcl_linebuf_feed(gcl_linebuf_t *lb, uint8_t byte)
         lb->bad_byte = true;
         return false;
     }
-    if (lb->len == GCL_LINE_MAX) {
+    /* a full line still takes the '\r' that may start its "\r\n" terminator */
+    if (lb->len >= GCL_LINE_MAX + (byte == '\r' ? 1u : 0u)) {
         lb->too_long = true;
         return false;
     }

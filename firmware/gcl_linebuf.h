@@ -16,7 +16,7 @@ typedef enum {
 } gcl_line_status_t;
 
 typedef struct {
-    char text[GCL_LINE_MAX + 1];
+    char text[GCL_LINE_MAX + 2]; /* room for the '\r' of a "\r\n" after a full line */
     size_t len;
     bool too_long;
     bool bad_byte;

@@ -65,9 +65,8 @@ static void finish(wsg_device_t *dev, wsg_status_t status)
     wsg_session_t *owner = session_lookup(dev, m->owner_index, m->owner_generation);
     m->kind = MOTION_NONE;
     m->abort_requested = false;
-    if (status != E_SUCCESS) {
-        flags_set(dev, SF_CMD_FAILURE, true);
-    }
+    /* the motion command's outcome is its last word: it sets or clears the flag */
+    flags_set(dev, SF_CMD_FAILURE, status != E_SUCCESS);
     if (owner == NULL) {
         return; /* the session that issued it has gone */
     }

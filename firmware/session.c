@@ -86,6 +86,16 @@ bool wsg_session_has_autosend(const wsg_session_t *s)
     return false;
 }
 
+/* The manual ends a connection with BYE(); the device copes without it. */
+static void note_missing_bye(wsg_device_t *dev, const wsg_session_t *s, wsg_close_reason_t reason)
+{
+    bool missing =
+        reason == WSG_CLOSE_DROPPED && !s->bye_received && s->transport == WSG_TRANSPORT_STREAM;
+    if (missing && dev->hooks != NULL && dev->hooks->tolerated != NULL) {
+        dev->hooks->tolerated(dev->hooks_ctx, s, "BYE", "connection closed without BYE()");
+    }
+}
+
 void wsg_session_close(wsg_device_t *dev, wsg_session_t *s, wsg_close_reason_t reason)
 {
     if (!s->in_use) {
@@ -94,6 +104,7 @@ void wsg_session_close(wsg_device_t *dev, wsg_session_t *s, wsg_close_reason_t r
     bool raise_fast_stop = reason == WSG_CLOSE_DROPPED && !s->bye_received &&
                            s->transport == WSG_TRANSPORT_STREAM &&
                            hal_device_config()->disconnect_raises_faststop;
+    note_missing_bye(dev, s, reason);
     s->in_use = false;
     s->io = NULL;
     if (raise_fast_stop) {

@@ -9,6 +9,7 @@
 #include <stdint.h>
 
 #include "gcl_linebuf.h"
+#include "finger_bus.h"
 #include "wsg_fingers.h"
 #include "wsg_status.h"
 #include "wsg_types.h"
@@ -20,7 +21,7 @@
 #define WSG_MAX_SESSIONS 144
 #endif
 
-#define WSG_REPLY_MAX 640 /* longest reply line (FDATA of a tactile finger) */
+#define WSG_REPLY_MAX 1024 /* longest reply line (FDATA of two tactile fingers) */
 
 typedef enum { WSG_TRANSPORT_STREAM, WSG_TRANSPORT_DATAGRAM } wsg_transport_t;
 
@@ -121,18 +122,28 @@ typedef struct {
     void (*tolerated)(void *ctx, const wsg_session_t *s, const char *name, const char *what);
 } wsg_device_hooks_t;
 
+/* Fault injection: the next command of this name fails with this status
+ * before it runs (set by the simulation's control channel). */
+typedef struct {
+    bool armed;
+    char name[GCL_NAME_MAX + 1];
+    wsg_status_t status;
+} wsg_injected_failure_t;
+
 typedef struct wsg_device {
     wsg_session_t sessions[WSG_MAX_SESSIONS];
     uint16_t next_generation;
     wsg_motion_t motion;
     wsg_grip_t grip;
     wsg_fingers_t fingers;
+    finger_bus_t fbus; /* the finger bus behind the slots (survives a reset) */
     bool referenced;
     uint32_t latched_flags; /* flags the core sets and clears itself */
     uint32_t flags;         /* latched_flags plus those derived from the hardware */
     hal_axis_status_t axis; /* last reading */
     float temperature_c;
     uint64_t now_us;
+    wsg_injected_failure_t injected_failure;
     const wsg_device_hooks_t *hooks;
     void *hooks_ctx;
 } wsg_device_t;
@@ -161,5 +172,13 @@ bool wsg_session_has_autosend(const wsg_session_t *s);
 
 /* Raises a FAST STOP as FASTSTOP() does (also used by fault handling). */
 void wsg_device_fast_stop(wsg_device_t *dev, const char *why);
+
+/* Connects the finger bus (NULL: none, both slots empty); the port calls it
+ * once after wsg_device_init(). */
+void wsg_device_attach_can(wsg_device_t *dev, const hal_can_t *can);
+
+/* Fault injection: the next well-formed command called `name` (upper case)
+ * answers ERR <name> <status> without running. A reset disarms it. */
+void wsg_device_inject_failure(wsg_device_t *dev, const char *name, wsg_status_t status);
 
 #endif

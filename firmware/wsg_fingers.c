@@ -41,7 +41,11 @@ void wsg_finger_put_data(textbuf_t *tb, const wsg_finger_t *finger)
         if (i > 0) {
             textbuf_put_char(tb, ',');
         }
-        textbuf_put_float(tb, finger->data[i]);
+        if (finger->type == FINGER_DSA) {
+            textbuf_put_uint(tb, (uint32_t)finger->data[i]); /* raw 12-bit cells */
+        } else {
+            textbuf_put_float(tb, finger->data[i]);
+        }
     }
     textbuf_put_char(tb, ']');
 }
@@ -66,11 +70,26 @@ bool wsg_fingers_force_control(const wsg_fingers_t *fingers)
     return false;
 }
 
+float wsg_fingers_measured_force(const wsg_fingers_t *fingers)
+{
+    float sum = 0.0f;
+    unsigned count = 0;
+    for (unsigned i = 0; i < WSG_FINGER_COUNT; i++) {
+        const wsg_finger_t *f = &fingers->slot[i];
+        if (f->type == FINGER_FMF && wsg_finger_has_data(f)) {
+            sum += f->data[0];
+            count++;
+        }
+    }
+    return count > 0u ? sum / (float)count : 0.0f;
+}
+
 wsg_status_t wsg_fingers_tare(wsg_fingers_t *fingers, int index)
 {
     bool found = false;
     for (int i = 0; i < WSG_FINGER_COUNT; i++) {
-        if ((index < 0 || index == i) && fingers->slot[i].type == FINGER_FMF) {
+        const wsg_finger_t *f = &fingers->slot[i];
+        if ((index < 0 || index == i) && f->type == FINGER_FMF && wsg_finger_has_data(f)) {
             found = true;
         }
     }

@@ -29,8 +29,8 @@ void wsg_fingers_reset(wsg_fingers_t *fingers);
 /* "none", "generic", "fmf", "dsa" */
 const char *wsg_finger_type_name(wsg_finger_type_t type);
 
-/* Writes one slot's FDATA value: a float (FMF), a vector (DSA) or [] when the
- * finger delivers no data. */
+/* Writes one slot's FDATA value: a float (FMF), a vector of integer cell
+ * values (DSA) or [] when the finger delivers no data. */
 void wsg_finger_put_data(textbuf_t *tb, const wsg_finger_t *finger);
 
 bool wsg_finger_has_data(const wsg_finger_t *finger);
@@ -41,7 +41,11 @@ bool wsg_fingers_faulted(const wsg_fingers_t *fingers);
 /* True when a force-measuring finger can close the force loop (SF_FORCECNTL_MODE). */
 bool wsg_fingers_force_control(const wsg_fingers_t *fingers);
 
-/* TARE(): index -1 tares every force finger. E_NOT_AVAILABLE without one. */
+/* The force the WSG-FMF fingers measure (their mean); 0 without one. */
+float wsg_fingers_measured_force(const wsg_fingers_t *fingers);
+
+/* TARE(): index -1 tares every force finger. E_NOT_AVAILABLE without one
+ * that is connected and delivering data. Checks only: finger_bus_tare() sends. */
 wsg_status_t wsg_fingers_tare(wsg_fingers_t *fingers, int index);
 
 #endif

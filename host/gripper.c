@@ -1,13 +1,16 @@
 #include "gripper.h"
 
+#include "finger_bus_host.h"
 #include "hal_clock.h"
 #include "log.h"
 #include "sim_models.h"
 #include "sim_world.h"
-#include "trace.h"
+#include "config_file.h"
+#include "simctl_hooks.h"
 
 static wsg_device_t device;
 static uint64_t next_deadline_us;
+static host_options_t start_opts; /* what gripper_reset() powers on with */
 
 wsg_device_t *gripper_device(void)
 {
@@ -34,13 +37,16 @@ void gripper_init(const host_options_t *opts)
 {
     hal_device_config_t cfg;
     sim_model_config(sim_model_find(opts->model), &cfg);
+    config_file_apply(&cfg);
     cfg.disconnect_raises_faststop = opts->disconnect_faststop;
+    start_opts = *opts;
     sim_world_init(&cfg, hal_clock_now_us());
     if (opts->part_given) {
         place_start_part(opts);
     }
-    trace_attach(&device, opts->trace);
+    simctl_hooks_attach(&device, opts->trace, opts->strict);
     wsg_device_init(&device);
+    wsg_device_attach_can(&device, finger_bus_host_can());
     next_deadline_us = hal_clock_now_us();
 }
 
@@ -53,6 +59,23 @@ uint64_t gripper_tick(void)
     }
     next_deadline_us = wsg_device_next_deadline_us(&device);
     return next_deadline_us;
+}
+
+uint64_t gripper_next_deadline_us(void)
+{
+    return next_deadline_us;
+}
+
+void gripper_step_now(void)
+{
+    next_deadline_us = hal_clock_now_us();
+    gripper_tick();
+}
+
+void gripper_reset(void)
+{
+    host_options_t opts = start_opts;
+    gripper_init(&opts);
 }
 
 void gripper_feed(wsg_session_t *s, const uint8_t *bytes, size_t len, int end_of_datagram)

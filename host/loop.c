@@ -19,6 +19,7 @@ static struct pollfd pollfds[LOOP_MAX_WATCHES];
 static unsigned watch_count;
 static volatile sig_atomic_t stop_requested;
 static sigset_t wait_mask;
+static void (*catch_up_fn)(void);
 
 static void on_signal(int signo)
 {
@@ -43,6 +44,11 @@ void loop_init(void)
     sigprocmask(SIG_BLOCK, &blocked, &wait_mask);
     sigdelset(&wait_mask, SIGINT);
     sigdelset(&wait_mask, SIGTERM);
+}
+
+void loop_set_catch_up(void (*catch_up)(void))
+{
+    catch_up_fn = catch_up;
 }
 
 bool loop_stop_requested(void)
@@ -128,6 +134,9 @@ void loop_wait(uint64_t deadline_us)
             loop_request_stop();
         }
         return;
+    }
+    if (catch_up_fn != NULL) {
+        catch_up_fn();
     }
     if (ready > 0) {
         dispatch(ready);

@@ -19,6 +19,10 @@ void loop_init(void);
 bool loop_stop_requested(void);
 void loop_request_stop(void);
 
+/* Runs after every wake-up, before any callback: brings simulated time up to
+ * date, so input is handled at the instant it arrived. */
+void loop_set_catch_up(void (*catch_up)(void));
+
 /* Waits for events or until simulated time deadline_us, then runs the
  * callbacks of ready descriptors. */
 void loop_wait(uint64_t deadline_us);

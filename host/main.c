@@ -1,11 +1,17 @@
 /* build/wsgsim: the virtual WSG gripper on a Linux host. */
 #include <stdio.h>
 
+#include "finger_bus_host.h"
 #include "gripper.h"
 #include "log.h"
 #include "loop.h"
 #include "options.h"
+#include "coverage.h"
+#include "record.h"
+#include "scenario.h"
 #include "simclock.h"
+#include "simctl.h"
+#include "simctl_run.h"
 #include "tcp_server.h"
 #include "udp_server.h"
 
@@ -23,12 +29,41 @@ static bool start_servers(const host_options_t *opts)
     return true;
 }
 
+/* Simulation control (docs/simctl.md): record, scenario, control channel. */
+static bool start_simulation(const host_options_t *opts)
+{
+    if (opts->record_path != NULL && !record_open(opts->record_path)) {
+        return false;
+    }
+    if (opts->scenario_path != NULL && !scenario_load(opts->scenario_path, 0)) {
+        return false;
+    }
+    return opts->sim_port < 0 || simctl_start(opts->sim_bind, opts->sim_port);
+}
+
+static int stop_simulation(const host_options_t *opts)
+{
+    simctl_stop();
+    scenario_unload();
+    record_close();
+    if (opts->coverage_path != NULL && !coverage_write(opts->coverage_path, opts->strict)) {
+        return 1;
+    }
+    return 0;
+}
+
 static void announce(const host_options_t *opts)
 {
     const wsg_device_t *dev = gripper_device();
     (void)dev;
-    host_logf(HAL_LOG_INFO, "virtual %s ready: tcp %s:%d, udp %s:%d", opts->model, opts->bind_addr,
-              tcp_server_port(), opts->bind_addr, udp_server_port());
+    host_logf(HAL_LOG_INFO, "virtual %s ready: tcp %s:%d, udp %s:%d%s", opts->model,
+              opts->bind_addr, tcp_server_port(), opts->bind_addr, udp_server_port(),
+              simctl_describe());
+}
+
+static void catch_up(void)
+{
+    (void)simctl_tick();
 }
 
 int main(int argc, char **argv)
@@ -40,21 +75,29 @@ int main(int argc, char **argv)
     }
     setvbuf(stderr, NULL, _IOLBF, 0);
     simclock_init();
+    if (opts.start_paused) {
+        simclock_start_paused(); /* simulated time stands at exactly 0 */
+    }
     loop_init();
+    loop_set_catch_up(catch_up);
+    if (!finger_bus_host_start(&opts)) {
+        return EXIT_STARTUP_FAILED;
+    }
     gripper_init(&opts);
-    if (!start_servers(&opts)) {
+    if (!start_servers(&opts) || !start_simulation(&opts)) {
         return EXIT_STARTUP_FAILED;
     }
     announce(&opts);
+    host_logf(HAL_LOG_INFO, "finger bus: %s", finger_bus_host_describe());
     while (!loop_stop_requested()) {
-        uint64_t deadline = gripper_tick();
+        uint64_t deadline = simctl_tick();
         loop_wait(deadline);
-        gripper_tick();
         tcp_server_reap();
         udp_server_reap();
     }
     host_logf(HAL_LOG_INFO, "shutting down");
     tcp_server_stop();
     udp_server_stop();
-    return 0;
+    finger_bus_host_stop();
+    return stop_simulation(&opts);
 }

@@ -5,6 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "config_file.h"
+#include "finger_node.h"
 #include "sim_models.h"
 #include "version.h"
 
@@ -30,6 +32,22 @@ static void print_help(void)
            "  --no-disconnect-faststop   a connection closed without BYE() does not raise\n"
            "                             FAST STOP\n"
            "  --trace                    log every line in and out on stderr\n"
+           "  --can IFACE                finger bus on the SocketCAN interface IFACE (e.g.\n"
+           "                             vcan0; run tools/fingersim there); default: an\n"
+           "                             in-process bus with simulated fingers\n"
+           "  --fingers A[,B]            fingers on the in-process bus, each none, generic,\n"
+           "                             fmf or dsa (default fmf,dsa)\n"
+           "  --config FILE              device configuration (INI, see\n"
+           "                             docs/wsgsim.example.ini); options override it\n"
+           "  --sim-port N               simulation control channel on TCP port N\n"
+           "                             (docs/simctl.md; 0 picks a free port)\n"
+           "  --sim-bind ADDR            control channel address (default 127.0.0.1)\n"
+           "  --scenario FILE            run timed control commands on the simulated clock\n"
+           "  --start-paused             start with the simulated clock paused at 0\n"
+           "  --record FILE              record every line in and out with timestamps\n"
+           "  --coverage FILE            write a protocol coverage report at exit\n"
+           "  --strict                   report input the manual does not allow but the\n"
+           "                             emulator tolerates (coverage report and trace)\n"
            "  --version                  print the version and exit\n"
            "  --help                     print this help and exit\n",
            DEFAULT_PORT, DEFAULT_PORT, sim_model_default()->name, (double)DEFAULT_PART_STIFFNESS,
@@ -98,6 +116,16 @@ enum {
     OPT_MAX_CLIENTS,
     OPT_NO_DISCONNECT_FASTSTOP,
     OPT_TRACE,
+    OPT_CAN,
+    OPT_FINGERS,
+    OPT_CONFIG,
+    OPT_SIM_PORT,
+    OPT_SIM_BIND,
+    OPT_SCENARIO,
+    OPT_START_PAUSED,
+    OPT_RECORD,
+    OPT_COVERAGE,
+    OPT_STRICT,
     OPT_VERSION,
     OPT_HELP,
 };
@@ -114,6 +142,16 @@ static const struct option long_options[] = {
     {"max-clients", required_argument, NULL, OPT_MAX_CLIENTS},
     {"no-disconnect-faststop", no_argument, NULL, OPT_NO_DISCONNECT_FASTSTOP},
     {"trace", no_argument, NULL, OPT_TRACE},
+    {"can", required_argument, NULL, OPT_CAN},
+    {"fingers", required_argument, NULL, OPT_FINGERS},
+    {"config", required_argument, NULL, OPT_CONFIG},
+    {"sim-port", required_argument, NULL, OPT_SIM_PORT},
+    {"sim-bind", required_argument, NULL, OPT_SIM_BIND},
+    {"scenario", required_argument, NULL, OPT_SCENARIO},
+    {"start-paused", no_argument, NULL, OPT_START_PAUSED},
+    {"record", required_argument, NULL, OPT_RECORD},
+    {"coverage", required_argument, NULL, OPT_COVERAGE},
+    {"strict", no_argument, NULL, OPT_STRICT},
     {"version", no_argument, NULL, OPT_VERSION},
     {"help", no_argument, NULL, OPT_HELP},
     {NULL, 0, NULL, 0},
@@ -131,12 +169,64 @@ static void set_defaults(host_options_t *opts)
     opts->part_stiffness_n_mm = DEFAULT_PART_STIFFNESS;
     opts->max_clients = DEFAULT_MAX_CLIENTS;
     opts->disconnect_faststop = true;
+    opts->sim_port = -1;
+    opts->fingers = "fmf,dsa";
 }
 
 static options_result_t usage_error(const char *what, const char *value)
 {
     fprintf(stderr, "wsgsim: invalid %s '%s' (see --help)\n", what, value);
     return OPTIONS_EXIT_USAGE;
+}
+
+/* The simulation control options (docs/simctl.md). */
+static options_result_t apply_simctl_option(int opt, const char *arg, host_options_t *opts)
+{
+    switch (opt) {
+    case OPT_CONFIG:
+        return OPTIONS_RUN; /* read before the other options (see options_parse) */
+    case OPT_SIM_PORT:
+        return parse_int(arg, 0, 65535, &opts->sim_port) ? OPTIONS_RUN
+                                                         : usage_error("--sim-port", arg);
+    case OPT_SIM_BIND:
+        opts->sim_bind = arg;
+        return OPTIONS_RUN;
+    case OPT_SCENARIO:
+        opts->scenario_path = arg;
+        return OPTIONS_RUN;
+    case OPT_START_PAUSED:
+        opts->start_paused = true;
+        return OPTIONS_RUN;
+    case OPT_RECORD:
+        opts->record_path = arg;
+        return OPTIONS_RUN;
+    case OPT_COVERAGE:
+        opts->coverage_path = arg;
+        return OPTIONS_RUN;
+    case OPT_STRICT:
+        opts->strict = true;
+        return OPTIONS_RUN;
+    default:
+        return OPTIONS_EXIT_USAGE;
+    }
+}
+
+/* --config FILE is read first so that every other option overrides it. */
+static bool load_config(int argc, char **argv, host_options_t *opts)
+{
+    for (int i = 1; i < argc; i++) {
+        const char *path = NULL;
+        if (strcmp(argv[i], "--config") == 0 && i + 1 < argc) {
+            path = argv[i + 1];
+        } else if (strncmp(argv[i], "--config=", 9) == 0) {
+            path = argv[i] + 9;
+        }
+        if (path != NULL) {
+            opts->config_path = path;
+            return config_file_load(path, opts);
+        }
+    }
+    return true;
 }
 
 /* Applies one option; returns OPTIONS_RUN to go on. */
@@ -176,6 +266,23 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
     case OPT_TRACE:
         opts->trace = true;
         return OPTIONS_RUN;
+    case OPT_CAN:
+        opts->can_iface = arg;
+        return OPTIONS_RUN;
+    case OPT_FINGERS: {
+        fbus_type_t types[FBUS_SLOTS];
+        opts->fingers = arg;
+        return finger_node_parse_pair(arg, types) ? OPTIONS_RUN : usage_error("--fingers", arg);
+    }
+    case OPT_CONFIG:
+    case OPT_SIM_PORT:
+    case OPT_SIM_BIND:
+    case OPT_SCENARIO:
+    case OPT_START_PAUSED:
+    case OPT_RECORD:
+    case OPT_COVERAGE:
+    case OPT_STRICT:
+        return apply_simctl_option(opt, arg, opts);
     case OPT_VERSION:
         printf("wsgsim %s (GCL firmware 4.0)\n", WSGSIM_VERSION);
         return OPTIONS_EXIT_OK;
@@ -191,6 +298,9 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
 options_result_t options_parse(int argc, char **argv, host_options_t *opts)
 {
     set_defaults(opts);
+    if (!load_config(argc, argv, opts)) {
+        return OPTIONS_EXIT_USAGE;
+    }
     int opt;
     optind = 1;
     while ((opt = getopt_long(argc, argv, "", long_options, NULL)) != -1) {
@@ -204,6 +314,9 @@ options_result_t options_parse(int argc, char **argv, host_options_t *opts)
     }
     if (!opts->tcp_enabled && !opts->udp_enabled) {
         fprintf(stderr, "wsgsim: --no-tcp and --no-udp leave nothing to serve\n");
+        return OPTIONS_EXIT_USAGE;
+    }
+    if (opts->config_path != NULL && !config_file_check(opts->model)) {
         return OPTIONS_EXIT_USAGE;
     }
     return OPTIONS_RUN;

@@ -17,6 +17,17 @@ typedef struct {
     int max_clients;
     bool disconnect_faststop;
     bool trace;
+    const char *can_iface; /* --can: finger bus on SocketCAN; NULL: loopback bus */
+    const char *fingers;   /* --fingers: the loopback bus' fingers, "fmf,dsa" */
+    /* simulation control (docs/simctl.md) */
+    int sim_port;              /* --sim-port: control channel; -1: none */
+    const char *sim_bind;      /* --sim-bind: NULL: 127.0.0.1 */
+    const char *config_path;   /* --config: INI device configuration */
+    const char *scenario_path; /* --scenario: timed control commands */
+    const char *record_path;   /* --record: traffic record */
+    const char *coverage_path; /* --coverage: report written at exit */
+    bool strict;               /* --strict: report tolerated input */
+    bool start_paused;         /* --start-paused: simulated clock paused at 0 */
 } host_options_t;
 
 typedef enum { OPTIONS_RUN, OPTIONS_EXIT_OK, OPTIONS_EXIT_USAGE } options_result_t;

@@ -7,6 +7,7 @@ static struct {
     uint64_t sim_base_us;
     double scale;
     bool paused;
+    uint64_t device_us;
 } clock_state;
 
 static uint64_t wall_ns(void)
@@ -22,6 +23,7 @@ void simclock_init(void)
     clock_state.sim_base_us = 0;
     clock_state.scale = 1.0;
     clock_state.paused = false;
+    clock_state.device_us = 0;
 }
 
 uint64_t simclock_now_us(void)
@@ -33,9 +35,25 @@ uint64_t simclock_now_us(void)
     return clock_state.sim_base_us + (uint64_t)(elapsed_ns / 1000.0);
 }
 
+uint64_t simclock_device_us(void)
+{
+    return clock_state.device_us;
+}
+
+void simclock_advance_device(uint64_t us)
+{
+    uint64_t target = simclock_now_us();
+    if (us > target) {
+        us = target;
+    }
+    if (us > clock_state.device_us) {
+        clock_state.device_us = us;
+    }
+}
+
 uint64_t hal_clock_now_us(void)
 {
-    return simclock_now_us();
+    return clock_state.device_us;
 }
 
 /* Re-anchors the mapping at the present instant before changing it. */
@@ -65,6 +83,13 @@ bool simclock_wall_wait(uint64_t deadline_us, struct timespec *wait)
 void simclock_pause(void)
 {
     rebase();
+    clock_state.paused = true;
+}
+
+void simclock_start_paused(void)
+{
+    clock_state.sim_base_us = 0;
+    clock_state.device_us = 0;
     clock_state.paused = true;
 }
 

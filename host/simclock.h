@@ -1,5 +1,8 @@
-/* The host's one clock: simulated time derived from the monotonic wall
- * clock, which can be paused, scaled and stepped. hal_clock_now_us() reads it. */
+/* The host's one clock. Its target time follows the monotonic wall clock
+ * and can be paused, scaled and stepped; the device time (what
+ * hal_clock_now_us() returns) is moved up to the target by the run loop,
+ * deadline by deadline, so every control step happens at its exact simulated
+ * instant whatever the scale. */
 #ifndef SIMCLOCK_H
 #define SIMCLOCK_H
 
@@ -11,12 +14,19 @@
 #define SIMCLOCK_SCALE_MAX 1000.0
 
 void simclock_init(void);
+/* The target: where simulated time stands now. */
 uint64_t simclock_now_us(void);
+/* The device time, never ahead of the target. */
+uint64_t simclock_device_us(void);
+/* Moves the device time forward (to at most the target). */
+void simclock_advance_device(uint64_t us);
 /* Wall time left until simulated time reaches deadline_us; false when the
  * clock is paused (only a step or resume will get there). */
 bool simclock_wall_wait(uint64_t deadline_us, struct timespec *wait);
 
 void simclock_pause(void);
+/* Right after init: paused with simulated time at exactly 0. */
+void simclock_start_paused(void);
 void simclock_resume(void);
 bool simclock_paused(void);
 /* 0.01x to 1000x; false when out of range. */

@@ -240,6 +240,21 @@ void tcp_server_reap(void)
     }
 }
 
+bool tcp_server_cut(const wsg_session_t *session)
+{
+    for (unsigned i = 0; i < CLIENTS_MAX; i++) {
+        tcp_client_t *c = &tcp.clients[i];
+        if (c->in_use && c->session == session) {
+            struct linger abort_close = {.l_onoff = 1, .l_linger = 0};
+            setsockopt(c->fd, SOL_SOCKET, SO_LINGER, &abort_close, sizeof(abort_close));
+            host_logf(HAL_LOG_WARN, "tcp %s: connection cut (control channel)", c->peer);
+            close_client(c);
+            return true;
+        }
+    }
+    return false;
+}
+
 void tcp_server_close_all(void)
 {
     for (unsigned i = 0; i < CLIENTS_MAX; i++) {

@@ -4,12 +4,17 @@
 
 #include <stdbool.h>
 
+#include "wsg_device.h"
+
 bool tcp_server_start(const char *addr, int port, int max_clients);
 int tcp_server_port(void);
 /* Closes connections that said BYE (once flushed) or failed. */
 void tcp_server_reap(void);
 /* Drops every connection as if its cable were pulled (no BYE). */
 void tcp_server_close_all(void);
+/* Pulls the cable of the connection that carries this session: the session
+ * ends without BYE and the socket is reset. False if none carries it. */
+bool tcp_server_cut(const wsg_session_t *session);
 void tcp_server_stop(void);
 
 #endif

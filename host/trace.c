@@ -1,6 +1,7 @@
 #include "trace.h"
 
 #include <stdio.h>
+#include <string.h>
 
 #include "hal_clock.h"
 
@@ -27,10 +28,22 @@ static void on_line_out(void *ctx, const wsg_session_t *s, const char *line, siz
     print_line(s, '>', line, len);
 }
 
+void trace_tolerated(const wsg_session_t *s, const char *name, const char *what)
+{
+    char text[160];
+    snprintf(text, sizeof(text), "strict: %s: %s", name, what);
+    print_line(s, '!', text, strlen(text));
+}
+
 static const wsg_device_hooks_t trace_hooks = {
     .line_in = on_line_in,
     .line_out = on_line_out,
 };
+
+const wsg_device_hooks_t *trace_device_hooks(void)
+{
+    return &trace_hooks;
+}
 
 void trace_attach(wsg_device_t *dev, bool enabled)
 {

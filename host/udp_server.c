@@ -143,6 +143,19 @@ void udp_server_reap(void)
     }
 }
 
+bool udp_server_cut(const wsg_session_t *session)
+{
+    for (unsigned i = 0; i < PEERS_MAX; i++) {
+        udp_peer_t *p = &udp.peers[i];
+        if (p->in_use && p->session == session) {
+            host_logf(HAL_LOG_WARN, "udp %s: peer cut (control channel)", p->name);
+            forget(p, WSG_CLOSE_DROPPED);
+            return true;
+        }
+    }
+    return false;
+}
+
 void udp_server_close_all(void)
 {
     for (unsigned i = 0; i < PEERS_MAX; i++) {

@@ -5,11 +5,16 @@
 
 #include <stdbool.h>
 
+#include "wsg_device.h"
+
 bool udp_server_start(const char *addr, int port);
 int udp_server_port(void);
 /* Forgets peers that said BYE or stayed silent too long. */
 void udp_server_reap(void);
 void udp_server_close_all(void);
+/* Forgets the peer that owns this session, as if it vanished without BYE.
+ * False if no peer owns it. */
+bool udp_server_cut(const wsg_session_t *session);
 void udp_server_stop(void);
 
 #endif

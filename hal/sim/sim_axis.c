@@ -28,6 +28,7 @@ void sim_axis_init(sim_axis_t *axis, float stroke_mm, float emergency_accel_mm_s
 void sim_axis_place_part(sim_axis_t *axis, float width_mm, float stiffness_n_mm)
 {
     axis->part.present = true;
+    axis->part.squeezed_s = 0.0f;
     axis->part.width_mm = width_mm;
     axis->part.stiffness_n_mm = stiffness_n_mm;
     axis->part.side = axis->x_mm >= width_mm ? SIM_PART_INSIDE : SIM_PART_OUTSIDE;
@@ -36,6 +37,37 @@ void sim_axis_place_part(sim_axis_t *axis, float width_mm, float stiffness_n_mm)
 void sim_axis_remove_part(sim_axis_t *axis)
 {
     axis->part.present = false;
+    axis->part.squeezed_s = 0.0f;
+}
+
+void sim_axis_set_part(sim_axis_t *axis, float width_mm, float stiffness_n_mm, float slip_force_n)
+{
+    if (!axis->part.present) {
+        sim_axis_place_part(axis, width_mm, stiffness_n_mm);
+    }
+    axis->part.width_mm = width_mm;
+    axis->part.stiffness_n_mm = stiffness_n_mm;
+    axis->part.slip_force_n = slip_force_n;
+}
+
+void sim_axis_slip_part(sim_axis_t *axis)
+{
+    if (axis->part.present) {
+        axis->part.slips++;
+        sim_axis_remove_part(axis);
+    }
+}
+
+void sim_axis_place_obstacle(sim_axis_t *axis, float width_mm)
+{
+    axis->obstacle.present = true;
+    axis->obstacle.width_mm = width_mm;
+    axis->obstacle.side = axis->x_mm >= width_mm ? SIM_PART_INSIDE : SIM_PART_OUTSIDE;
+}
+
+void sim_axis_remove_obstacle(sim_axis_t *axis)
+{
+    axis->obstacle.present = false;
 }
 
 float sim_axis_position(const sim_axis_t *axis)
@@ -113,7 +145,11 @@ static float apply_contact(sim_axis_t *axis, const contact_t *c)
     float penetration = (axis->x_mm - c->surface_mm) * c->side;
     bool pushing = (axis->target_mm - axis->x_mm) * c->side > 0.0f ||
                    (axis->target_mm - c->surface_mm) * c->side > 0.0f;
-    if (penetration <= 0.0f) {
+    /* A rigid surface held exactly (the clamp below puts the jaws there) still
+     * counts while the servo pushes: with very short steps the next increment
+     * would round away in float and the contact would flicker. */
+    bool resting_on_rigid = penetration == 0.0f && c->stiffness <= 0.0f && pushing;
+    if (penetration < 0.0f || (penetration == 0.0f && !resting_on_rigid)) {
         return 0.0f;
     }
     float max_penetration = c->stiffness > 0.0f ? axis->fmax_n / c->stiffness : 0.0f;
@@ -128,16 +164,38 @@ static float apply_contact(sim_axis_t *axis, const contact_t *c)
     return c->stiffness * penetration;
 }
 
+static float side_sign(sim_part_side_t side)
+{
+    return side == SIM_PART_INSIDE ? -1.0f : 1.0f;
+}
+
+/* The part comes last: step() reads its force from the last contact. */
 static unsigned collect_contacts(const sim_axis_t *axis, contact_t *out)
 {
     unsigned n = 0;
     out[n++] = (contact_t){0.0f, -1.0f, 0.0f};
     out[n++] = (contact_t){axis->stroke_mm, 1.0f, 0.0f};
+    if (axis->obstacle.present) {
+        out[n++] = (contact_t){axis->obstacle.width_mm, side_sign(axis->obstacle.side), 0.0f};
+    }
     if (axis->part.present) {
-        float side = axis->part.side == SIM_PART_INSIDE ? -1.0f : 1.0f;
+        float side = side_sign(axis->part.side);
         out[n++] = (contact_t){axis->part.width_mm, side, axis->part.stiffness_n_mm};
     }
     return n;
+}
+
+/* A part pressed by a servo whose force limit is below its slip force
+ * slips out of the jaws after SIM_PART_SLIP_DELAY_S. */
+static void check_slip(sim_axis_t *axis, float part_force_n, float dt)
+{
+    sim_part_t *part = &axis->part;
+    bool too_weak = part->present && part->slip_force_n > 0.0f && part_force_n > 0.0f &&
+                    axis->blocked != 0 && axis->fmax_n < part->slip_force_n;
+    part->squeezed_s = too_weak ? part->squeezed_s + dt : 0.0f;
+    if (part->squeezed_s >= SIM_PART_SLIP_DELAY_S) {
+        sim_axis_slip_part(axis);
+    }
 }
 
 static void step(sim_axis_t *axis, float dt)
@@ -145,13 +203,16 @@ static void step(sim_axis_t *axis, float dt)
     if (axis->active) {
         profile_step(axis, dt);
     }
-    contact_t contacts[3];
+    contact_t contacts[4];
     unsigned count = collect_contacts(axis, contacts);
     axis->blocked = 0;
     axis->force_n = 0.0f;
+    float last = 0.0f;
     for (unsigned i = 0; i < count; i++) {
-        axis->force_n += apply_contact(axis, &contacts[i]);
+        last = apply_contact(axis, &contacts[i]);
+        axis->force_n += last;
     }
+    check_slip(axis, axis->part.present ? last : 0.0f, dt);
 }
 
 void sim_axis_advance(sim_axis_t *axis, float dt_s)

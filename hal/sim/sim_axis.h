@@ -17,7 +17,20 @@ typedef struct {
     sim_part_side_t side;
     float width_mm;
     float stiffness_n_mm; /* 0: rigid */
+    float slip_force_n;   /* a grip weaker than this lets the part slip out; 0: never */
+    float squeezed_s;     /* how long the servo has pressed it with less than that */
+    unsigned slips;       /* times a part slipped out of the jaws */
 } sim_part_t;
+
+/* Something rigid in the jaws' path (a collision), placed like a part. */
+typedef struct {
+    bool present;
+    sim_part_side_t side;
+    float width_mm;
+} sim_obstacle_t;
+
+/* A part held with too little force slips out after this long. */
+#define SIM_PART_SLIP_DELAY_S 0.1f
 
 typedef struct {
     float stroke_mm;
@@ -37,6 +50,7 @@ typedef struct {
     int8_t blocked;
     /* world */
     sim_part_t part;
+    sim_obstacle_t obstacle;
     bool current_fault;
     bool power_fault;
 } sim_axis_t;
@@ -47,6 +61,13 @@ void sim_axis_init(sim_axis_t *axis, float stroke_mm, float emergency_accel_mm_s
 /* Places a part; its side follows from where the jaws are now. */
 void sim_axis_place_part(sim_axis_t *axis, float width_mm, float stiffness_n_mm);
 void sim_axis_remove_part(sim_axis_t *axis);
+/* Changes a present part's properties without moving it (its side stays). */
+void sim_axis_set_part(sim_axis_t *axis, float width_mm, float stiffness_n_mm, float slip_force_n);
+/* The part leaves the jaws now (it slipped). */
+void sim_axis_slip_part(sim_axis_t *axis);
+/* An obstacle at a width; its side follows from where the jaws are now. */
+void sim_axis_place_obstacle(sim_axis_t *axis, float width_mm);
+void sim_axis_remove_obstacle(sim_axis_t *axis);
 /* Advances by dt seconds in steps of at most SIM_AXIS_MAX_STEP_S. */
 void sim_axis_advance(sim_axis_t *axis, float dt_s);
 

@@ -152,10 +152,13 @@ class Wsgsim:
     def __init__(self, *args, binary=None):
         self.binary = binary or os.environ.get("WSGSIM", os.path.join(ROOT, "build", "wsgsim"))
         self.args = ["--bind", "127.0.0.1", "--tcp-port", "0", "--udp-port", "0"] + list(args)
+        # WSGSIM_PREFIX runs the server under a tool, e.g. "valgrind --error-exitcode=99"
+        self.prefix = os.environ.get("WSGSIM_PREFIX", "").split()
         self.proc = None
         self.tcp_port = None
         self.udp_port = None
         self.log = []
+        self._log_buffer = b""
 
     def __enter__(self):
         self.start()
@@ -167,8 +170,9 @@ class Wsgsim:
     def start(self, timeout=5.0):
         if not os.path.exists(self.binary):
             raise GclError("%s does not exist: run make first" % self.binary)
-        self.proc = subprocess.Popen([self.binary] + self.args, stderr=subprocess.PIPE,
-                                     stdin=subprocess.DEVNULL)
+        self._log_buffer = b""
+        self.proc = subprocess.Popen(self.prefix + [self.binary] + self.args,
+                                     stderr=subprocess.PIPE, stdin=subprocess.DEVNULL, bufsize=0)
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
             line = self._read_log_line(deadline - time.monotonic())
@@ -182,12 +186,22 @@ class Wsgsim:
         raise GclError("wsgsim did not start: %s" % "".join(self.log))
 
     def _read_log_line(self, timeout):
-        ready, _, _ = select.select([self.proc.stderr], [], [], max(timeout, 0))
-        if not ready:
-            return None
-        line = self.proc.stderr.readline().decode(errors="replace")
-        if not line:
-            return None
+        """One line of the server's stderr, or None after timeout / at its end.
+
+        Reads the raw descriptor into our own buffer: select() on a buffered
+        pipe object would miss lines Python had already buffered."""
+        deadline = time.monotonic() + max(timeout, 0)
+        while b"\n" not in self._log_buffer:
+            ready, _, _ = select.select([self.proc.stderr], [], [],
+                                        max(deadline - time.monotonic(), 0))
+            if not ready:
+                return None
+            chunk = os.read(self.proc.stderr.fileno(), 65536)
+            if not chunk:
+                return None
+            self._log_buffer += chunk
+        raw, self._log_buffer = self._log_buffer.split(b"\n", 1)
+        line = raw.decode(errors="replace") + "\n"
         self.log.append(line)
         return line
 
@@ -210,11 +224,14 @@ class Wsgsim:
             except subprocess.TimeoutExpired:
                 self.proc.kill()
                 self.proc.wait()
-        try:
-            rest = self.proc.stderr.read().decode(errors="replace")
-            self.log.append(rest)
-        except ValueError:
-            pass
+        rest = self._log_buffer
+        while True:
+            chunk = os.read(self.proc.stderr.fileno(), 65536)
+            if not chunk:
+                break
+            rest += chunk
+        self._log_buffer = b""
+        self.log.append(rest.decode(errors="replace"))
         self.proc.stderr.close()
         code = self.proc.returncode
         self.proc = None

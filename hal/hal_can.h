@@ -1,0 +1,78 @@
+/* A classic CAN 2.0 controller: send a frame, poll received frames, set
+ * acceptance filters. A port hands the core a hal_can_t; the core never sees
+ * the driver behind it (SocketCAN, an in-process bus, a microcontroller's
+ * CAN peripheral). */
+#ifndef HAL_CAN_H
+#define HAL_CAN_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#define HAL_CAN_MAX_DLC 8u
+#define HAL_CAN_STD_ID_MASK 0x7FFu
+#define HAL_CAN_EXT_ID_MASK 0x1FFFFFFFu
+#define HAL_CAN_MAX_FILTERS 8u
+
+#define HAL_CAN_FLAG_EXT 0x01u /* 29-bit identifier */
+#define HAL_CAN_FLAG_RTR 0x02u /* remote request */
+
+typedef struct {
+    uint32_t id;
+    uint8_t dlc; /* 0..8 */
+    uint8_t flags;
+    uint8_t data[HAL_CAN_MAX_DLC];
+} hal_can_frame_t;
+
+/* Accepts a frame when (frame.id & mask) == (id & mask) and the frame's
+ * EXT flag equals the filter's. */
+typedef struct {
+    uint32_t id;
+    uint32_t mask;
+    uint8_t flags;
+} hal_can_filter_t;
+
+typedef struct {
+    /* Queues one frame; false when the controller cannot take it now. */
+    bool (*send)(void *ctx, const hal_can_frame_t *frame);
+    /* Takes the oldest received frame; false when none is waiting. */
+    bool (*recv)(void *ctx, hal_can_frame_t *frame);
+    /* Replaces the acceptance filters; count 0 accepts every frame. */
+    bool (*set_filters)(void *ctx, const hal_can_filter_t *filters, unsigned count);
+    void *ctx;
+} hal_can_t;
+
+static inline bool hal_can_send(const hal_can_t *can, const hal_can_frame_t *frame)
+{
+    return can->send(can->ctx, frame);
+}
+
+static inline bool hal_can_recv(const hal_can_t *can, hal_can_frame_t *frame)
+{
+    return can->recv(can->ctx, frame);
+}
+
+static inline bool hal_can_set_filters(const hal_can_t *can, const hal_can_filter_t *filters,
+                                       unsigned count)
+{
+    return can->set_filters(can->ctx, filters, count);
+}
+
+/* The software form of the filters, for drivers without hardware filtering. */
+static inline bool hal_can_filters_accept(const hal_can_filter_t *filters, unsigned count,
+                                          const hal_can_frame_t *frame)
+{
+    if (count == 0u) {
+        return true;
+    }
+    for (unsigned i = 0; i < count; i++) {
+        const hal_can_filter_t *f = &filters[i];
+        bool ext = (frame->flags & HAL_CAN_FLAG_EXT) != 0u;
+        bool want_ext = (f->flags & HAL_CAN_FLAG_EXT) != 0u;
+        if (ext == want_ext && (frame->id & f->mask) == (f->id & f->mask)) {
+            return true;
+        }
+    }
+    return false;
+}
+
+#endif

@@ -1,0 +1,74 @@
+/* A simulated finger on the finger bus (docs/finger-bus.md): a WSG-FMF
+ * force-measuring finger, a WSG-DSA tactile finger or a generic finger
+ * without sensor. It follows the gripper's STATE broadcast, so it needs
+ * nothing but the bus: tools/fingersim runs it on SocketCAN, wsgsim on its
+ * in-process loopback bus. Portable: no heap, no OS; time is passed in. */
+#ifndef FINGER_NODE_H
+#define FINGER_NODE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "finger_proto.h"
+#include "hal_can.h"
+
+typedef struct {
+    float offset_n; /* FMF: force reading with nothing touching, until TARE */
+    float noise_n;  /* FMF: standard deviation of the reading */
+    uint32_t seed;  /* noise generator seed (0: a fixed default) */
+} finger_node_params_t;
+
+typedef struct {
+    fbus_type_t type;
+    uint8_t node;
+    finger_node_params_t params;
+    const hal_can_t *bus;
+    /* power and lifecycle */
+    bool powered;
+    bool operational;
+    uint64_t powered_at_us;
+    uint64_t last_state_us;
+    uint8_t sim_faults; /* FBUS_FAULT_*: injected through SIMCTL */
+    /* what the gripper last broadcast */
+    fbus_state_t state;
+    bool have_state;
+    /* schedule */
+    uint64_t next_heartbeat_us;
+    uint64_t next_data_us;
+    uint8_t heartbeat_counter;
+    uint8_t data_counter;
+    /* FMF */
+    uint32_t rng;
+    float average_n; /* running mean of the raw reading, the tare reference */
+    float tare_n;
+    bool tared;
+    uint8_t tare_count;
+    int32_t last_milli;
+    /* DSA */
+    uint16_t cells[FBUS_DSA_ROWS * FBUS_DSA_COLS];
+    uint32_t frames_sent;
+} finger_node_t;
+
+void finger_node_defaults(finger_node_params_t *params);
+void finger_node_init(finger_node_t *node, fbus_type_t type, unsigned slot,
+                      const finger_node_params_t *params, const hal_can_t *bus);
+
+/* The filters the node needs on its controller (at most 3). */
+unsigned finger_node_filters(const finger_node_t *node, hal_can_filter_t *out);
+
+/* Handles one frame from the bus (STATE, COMMAND, SIMCTL for this node). */
+void finger_node_receive(finger_node_t *node, const hal_can_frame_t *frame, uint64_t now_us);
+/* Sends whatever is due at now_us. */
+void finger_node_step(finger_node_t *node, uint64_t now_us);
+/* When finger_node_step() must run next (UINT64_MAX: only a frame wakes it). */
+uint64_t finger_node_next_due_us(const finger_node_t *node);
+
+/* The DSA pressure pattern for a contact force (exposed for tests). */
+void finger_node_dsa_pattern(float force_n, uint16_t *cells);
+
+/* "none", "generic", "fmf", "dsa" -> type; false when unknown. */
+bool finger_node_parse_type(const char *name, fbus_type_t *type);
+/* "A,B" or "A" (slot 1 none) -> two types; false when malformed. */
+bool finger_node_parse_pair(const char *text, fbus_type_t types[FBUS_SLOTS]);
+
+#endif

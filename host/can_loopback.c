@@ -1,0 +1,142 @@
+/* The in-process finger bus (can_loopback.h). */
+#include "can_loopback.h"
+
+#include <string.h>
+
+#include "hal_clock.h"
+
+#define LOOPBACK_RING 512u
+#define GRIPPER (-1)
+
+typedef struct {
+    finger_node_t node;
+    hal_can_t port;
+    hal_can_filter_t filters[HAL_CAN_MAX_FILTERS];
+    unsigned filter_count;
+} loopback_node_t;
+
+static struct {
+    loopback_node_t nodes[FBUS_SLOTS];
+    hal_can_t port;
+    hal_can_filter_t filters[HAL_CAN_MAX_FILTERS];
+    unsigned filter_count;
+    hal_can_frame_t ring[LOOPBACK_RING];
+    unsigned head, count;
+    uint32_t frames;
+    uint32_t overruns;
+} bus;
+
+static void to_gripper(const hal_can_frame_t *frame)
+{
+    if (!hal_can_filters_accept(bus.filters, bus.filter_count, frame)) {
+        return;
+    }
+    if (bus.count == LOOPBACK_RING) {
+        bus.overruns++;
+        bus.head = (bus.head + 1u) % LOOPBACK_RING;
+        bus.count--;
+    }
+    bus.ring[(bus.head + bus.count) % LOOPBACK_RING] = *frame;
+    bus.count++;
+}
+
+/* Every other participant sees the frame, as on a real bus. */
+static void deliver(const hal_can_frame_t *frame, int from)
+{
+    bus.frames++;
+    if (from != GRIPPER) {
+        to_gripper(frame);
+    }
+    uint64_t now = hal_clock_now_us();
+    for (int i = 0; i < (int)FBUS_SLOTS; i++) {
+        loopback_node_t *n = &bus.nodes[i];
+        if (i != from && hal_can_filters_accept(n->filters, n->filter_count, frame)) {
+            finger_node_receive(&n->node, frame, now);
+        }
+    }
+}
+
+static bool node_send(void *ctx, const hal_can_frame_t *frame)
+{
+    deliver(frame, (int)(intptr_t)ctx);
+    return true;
+}
+
+static bool node_recv(void *ctx, hal_can_frame_t *frame)
+{
+    (void)ctx;
+    (void)frame;
+    return false; /* frames reach nodes by delivery, never by polling */
+}
+
+static bool node_set_filters(void *ctx, const hal_can_filter_t *filters, unsigned count)
+{
+    loopback_node_t *n = &bus.nodes[(intptr_t)ctx];
+    if (count > HAL_CAN_MAX_FILTERS) {
+        return false;
+    }
+    memcpy(n->filters, filters, count * sizeof(filters[0]));
+    n->filter_count = count;
+    return true;
+}
+
+static bool gripper_send(void *ctx, const hal_can_frame_t *frame)
+{
+    (void)ctx;
+    deliver(frame, GRIPPER);
+    return true;
+}
+
+/* Lets the nodes catch up with the simulated clock, then hands out a frame. */
+static bool gripper_recv(void *ctx, hal_can_frame_t *frame)
+{
+    (void)ctx;
+    if (bus.count == 0u) {
+        uint64_t now = hal_clock_now_us();
+        for (unsigned i = 0; i < FBUS_SLOTS; i++) {
+            finger_node_step(&bus.nodes[i].node, now);
+        }
+    }
+    if (bus.count == 0u) {
+        return false;
+    }
+    *frame = bus.ring[bus.head];
+    bus.head = (bus.head + 1u) % LOOPBACK_RING;
+    bus.count--;
+    return true;
+}
+
+static bool gripper_set_filters(void *ctx, const hal_can_filter_t *filters, unsigned count)
+{
+    (void)ctx;
+    if (count > HAL_CAN_MAX_FILTERS) {
+        return false;
+    }
+    memcpy(bus.filters, filters, count * sizeof(filters[0]));
+    bus.filter_count = count;
+    return true;
+}
+
+void can_loopback_init(const fbus_type_t types[FBUS_SLOTS], const finger_node_params_t *params)
+{
+    memset(&bus, 0, sizeof(bus));
+    bus.port = (hal_can_t){gripper_send, gripper_recv, gripper_set_filters, NULL};
+    for (unsigned i = 0; i < FBUS_SLOTS; i++) {
+        loopback_node_t *n = &bus.nodes[i];
+        n->port = (hal_can_t){node_send, node_recv, node_set_filters, (void *)(intptr_t)i};
+        finger_node_init(&n->node, types[i], i, params, &n->port);
+        hal_can_filter_t filters[HAL_CAN_MAX_FILTERS];
+        unsigned count = finger_node_filters(&n->node, filters);
+        node_set_filters((void *)(intptr_t)i, filters, count);
+    }
+}
+
+const hal_can_t *can_loopback_bus(void)
+{
+    return &bus.port;
+}
+
+uint32_t can_loopback_frames(void)
+{
+    return bus.frames;
+}

@@ -1,0 +1,390 @@
+#include "config_file.h"
+
+#include <arpa/inet.h>
+#include <errno.h>
+#include <ini.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include "sim_models.h"
+
+#define TEXT_MAX HAL_DEVICE_STRING_MAX
+#define MAX_CLIENTS_LIMIT 128
+
+typedef enum {
+    K_TEXT,      /* printable, no '"', shorter than HAL_DEVICE_STRING_MAX */
+    K_MODEL,     /* a model sim_model_find() knows */
+    K_SERIAL,    /* 0..4294967295 */
+    K_NUMBER,    /* a finite number; ranges are checked against the model */
+    K_BOOL,      /* yes/no, true/false, on/off, 1/0 */
+    K_DIRECTION, /* positive/negative */
+    K_PORT,      /* 0..65535 */
+    K_PORT_OFF,  /* 0..65535 or "off" (-1) */
+    K_CLIENTS,   /* 1..128 */
+    K_ADDR,      /* an IPv4 or IPv6 address */
+    K_LOOPBACK,  /* a loopback address only */
+} kind_t;
+
+typedef enum {
+    DEV_MODEL,
+    DEV_SERIAL,
+    DEV_TAG,
+    DEV_VERSION,
+    MOT_FORCE,
+    MOT_SPEED,
+    MOT_ACCEL,
+    MOT_PULLBACK,
+    MOT_PWT,
+    MOT_CLT,
+    MOT_SOFT_LIMITS,
+    MOT_SOFT_MINUS,
+    MOT_SOFT_PLUS,
+    MOT_HOMING,
+    NET_TCP_PORT,
+    NET_UDP_PORT,
+    NET_BIND,
+    NET_MAX_CLIENTS,
+    NET_DISCONNECT_FASTSTOP,
+    NET_SIM_PORT,
+    NET_SIM_BIND,
+    KEY_COUNT
+} key_id_t;
+
+static const struct {
+    const char *section;
+    const char *name;
+    kind_t kind;
+} keys[KEY_COUNT] = {
+    [DEV_MODEL] = {"device", "model", K_MODEL},
+    [DEV_SERIAL] = {"device", "serial", K_SERIAL},
+    [DEV_TAG] = {"device", "tag", K_TEXT},
+    [DEV_VERSION] = {"device", "firmware_version", K_TEXT},
+    [MOT_FORCE] = {"motion", "default_force", K_NUMBER},
+    [MOT_SPEED] = {"motion", "default_speed", K_NUMBER},
+    [MOT_ACCEL] = {"motion", "default_acceleration", K_NUMBER},
+    [MOT_PULLBACK] = {"motion", "default_pullback", K_NUMBER},
+    [MOT_PWT] = {"motion", "part_width_tolerance", K_NUMBER},
+    [MOT_CLT] = {"motion", "clamping_travel", K_NUMBER},
+    [MOT_SOFT_LIMITS] = {"motion", "soft_limits", K_BOOL},
+    [MOT_SOFT_MINUS] = {"motion", "soft_limit_minus", K_NUMBER},
+    [MOT_SOFT_PLUS] = {"motion", "soft_limit_plus", K_NUMBER},
+    [MOT_HOMING] = {"motion", "homing_direction", K_DIRECTION},
+    [NET_TCP_PORT] = {"network", "tcp_port", K_PORT},
+    [NET_UDP_PORT] = {"network", "udp_port", K_PORT},
+    [NET_BIND] = {"network", "bind", K_ADDR},
+    [NET_MAX_CLIENTS] = {"network", "max_clients", K_CLIENTS},
+    [NET_DISCONNECT_FASTSTOP] = {"network", "disconnect_faststop", K_BOOL},
+    [NET_SIM_PORT] = {"network", "sim_port", K_PORT_OFF},
+    [NET_SIM_BIND] = {"network", "sim_bind", K_LOOPBACK},
+};
+
+typedef struct {
+    bool set;
+    int line;
+    double number;
+    char text[128]; /* as written (texts are checked against TEXT_MAX) */
+} value_t;
+
+static struct {
+    char path[256];
+    value_t values[KEY_COUNT];
+} loaded;
+
+/* What the parser is doing: the reader counts lines for the handler. */
+typedef struct {
+    FILE *file;
+    int line;
+    bool failed;
+} parse_state_t;
+
+static bool fail_at(int line, const char *section, const char *name, const char *why)
+{
+    fprintf(stderr, "wsgsim: %s:%d: [%s] %s: %s\n", loaded.path, line, section, name, why);
+    return false;
+}
+
+static bool parse_number(const char *text, double *out)
+{
+    char *end = NULL;
+    errno = 0;
+    double v = strtod(text, &end);
+    if (end == text || *end != '\0' || errno != 0 || !isfinite(v)) {
+        return false;
+    }
+    *out = v;
+    return true;
+}
+
+static bool parse_bool(const char *text, double *out)
+{
+    static const char *const yes[] = {"yes", "true", "on", "1"};
+    static const char *const no[] = {"no", "false", "off", "0"};
+    for (unsigned i = 0; i < 4; i++) {
+        if (strcasecmp(text, yes[i]) == 0 || strcasecmp(text, no[i]) == 0) {
+            *out = strcasecmp(text, yes[i]) == 0 ? 1.0 : 0.0;
+            return true;
+        }
+    }
+    return false;
+}
+
+static bool parse_int_range(const char *text, double min, double max, double *out)
+{
+    return parse_number(text, out) && *out == floor(*out) && *out >= min && *out <= max;
+}
+
+static bool is_loopback(const char *addr)
+{
+    struct in_addr v4;
+    struct in6_addr v6;
+    if (inet_pton(AF_INET, addr, &v4) == 1) {
+        return (ntohl(v4.s_addr) >> 24) == 127u;
+    }
+    return inet_pton(AF_INET6, addr, &v6) == 1 && IN6_IS_ADDR_LOOPBACK(&v6);
+}
+
+static bool is_address(const char *addr)
+{
+    unsigned char buf[sizeof(struct in6_addr)];
+    return inet_pton(AF_INET, addr, buf) == 1 || inet_pton(AF_INET6, addr, buf) == 1;
+}
+
+static bool text_ok(const char *text)
+{
+    for (const char *p = text; *p != '\0'; p++) {
+        if (*p < 0x20 || *p > 0x7e || *p == '"') {
+            return false;
+        }
+    }
+    return strlen(text) < TEXT_MAX;
+}
+
+/* Converts one value by its kind; NULL when fine, else why not. */
+static const char *convert(kind_t kind, const char *text, value_t *v)
+{
+    snprintf(v->text, sizeof(v->text), "%s", text);
+    switch (kind) {
+    case K_TEXT:
+        return text_ok(text) ? NULL : "expected printable text without '\"', at most 47 characters";
+    case K_MODEL:
+        return sim_model_find(text) != NULL ? NULL : "unknown model (see wsgsim --list-models)";
+    case K_SERIAL:
+        return parse_int_range(text, 0, 4294967295.0, &v->number)
+                   ? NULL
+                   : "expected an integer 0-4294967295";
+    case K_NUMBER:
+        return parse_number(text, &v->number) ? NULL : "expected a number";
+    case K_BOOL:
+        return parse_bool(text, &v->number) ? NULL : "expected yes/no, true/false, on/off or 1/0";
+    case K_DIRECTION:
+        v->number = strcasecmp(text, "positive") == 0 ? 1.0 : 0.0;
+        return strcasecmp(text, "positive") == 0 || strcasecmp(text, "negative") == 0
+                   ? NULL
+                   : "expected positive or negative";
+    case K_PORT:
+        return parse_int_range(text, 0, 65535, &v->number) ? NULL : "expected a port 0-65535";
+    case K_PORT_OFF:
+        v->number = -1.0;
+        return strcasecmp(text, "off") == 0 || parse_int_range(text, 0, 65535, &v->number)
+                   ? NULL
+                   : "expected a port 0-65535 or off";
+    case K_CLIENTS:
+        return parse_int_range(text, 1, MAX_CLIENTS_LIMIT, &v->number) ? NULL : "expected 1-128";
+    case K_ADDR:
+        return is_address(text) ? NULL : "expected an IPv4 or IPv6 address";
+    case K_LOOPBACK:
+        return is_loopback(text) ? NULL
+                                 : "the control port may only be bound to a loopback address "
+                                   "here; use --sim-bind on the command line to expose it";
+    default:
+        return "unsupported";
+    }
+}
+
+/* Surrounding double quotes are optional in the file. */
+static void unquote(const char *value, char *out, size_t cap)
+{
+    size_t len = strlen(value);
+    if (len >= 2 && value[0] == '"' && value[len - 1] == '"') {
+        snprintf(out, cap, "%.*s", (int)(len - 2), value + 1);
+    } else {
+        snprintf(out, cap, "%s", value);
+    }
+}
+
+static int on_key(void *user, const char *section, const char *name, const char *value)
+{
+    parse_state_t *st = user;
+    char text[128];
+    unquote(value, text, sizeof(text));
+    for (unsigned i = 0; i < KEY_COUNT; i++) {
+        if (strcasecmp(keys[i].section, section) != 0 || strcasecmp(keys[i].name, name) != 0) {
+            continue;
+        }
+        const char *why = convert(keys[i].kind, text, &loaded.values[i]);
+        if (why != NULL) {
+            st->failed = true;
+            return fail_at(st->line, section, name, why);
+        }
+        loaded.values[i].set = true;
+        loaded.values[i].line = st->line;
+        return 1;
+    }
+    st->failed = true;
+    return fail_at(st->line, section, name, "unknown key (see docs/wsgsim.example.ini)");
+}
+
+static char *read_line(char *str, int num, void *stream)
+{
+    parse_state_t *st = stream;
+    char *got = fgets(str, num, st->file);
+    if (got != NULL) {
+        st->line++;
+    }
+    return got;
+}
+
+static void apply_host(host_options_t *opts)
+{
+    const value_t *v = loaded.values;
+    if (v[DEV_MODEL].set) {
+        opts->model = v[DEV_MODEL].text;
+    }
+    if (v[NET_TCP_PORT].set) {
+        opts->tcp_port = (int)v[NET_TCP_PORT].number;
+    }
+    if (v[NET_UDP_PORT].set) {
+        opts->udp_port = (int)v[NET_UDP_PORT].number;
+    }
+    if (v[NET_BIND].set) {
+        opts->bind_addr = v[NET_BIND].text;
+    }
+    if (v[NET_MAX_CLIENTS].set) {
+        opts->max_clients = (int)v[NET_MAX_CLIENTS].number;
+    }
+    if (v[NET_DISCONNECT_FASTSTOP].set) {
+        opts->disconnect_faststop = v[NET_DISCONNECT_FASTSTOP].number != 0.0;
+    }
+    if (v[NET_SIM_PORT].set) {
+        opts->sim_port = (int)v[NET_SIM_PORT].number;
+    }
+    if (v[NET_SIM_BIND].set) {
+        opts->sim_bind = v[NET_SIM_BIND].text;
+    }
+}
+
+bool config_file_load(const char *path, host_options_t *opts)
+{
+    config_file_forget();
+    snprintf(loaded.path, sizeof(loaded.path), "%s", path);
+    parse_state_t st = {fopen(path, "r"), 0, false};
+    if (st.file == NULL) {
+        fprintf(stderr, "wsgsim: cannot read --config file %s: %s\n", path, strerror(errno));
+        return false;
+    }
+    int result = ini_parse_stream(read_line, &st, on_key, &st);
+    fclose(st.file);
+    if (result > 0 && !st.failed) {
+        fprintf(stderr, "wsgsim: %s:%d: not a section header or key = value line\n", path, result);
+    }
+    if (result != 0) {
+        return false;
+    }
+    apply_host(opts);
+    return true;
+}
+
+static bool check_range(key_id_t id, double min, double max)
+{
+    const value_t *v = &loaded.values[id];
+    if (!v->set || (v->number >= min && v->number <= max)) {
+        return true;
+    }
+    char why[96];
+    snprintf(why, sizeof(why), "%s is outside %g..%g for this model", v->text, min, max);
+    return fail_at(v->line, keys[id].section, keys[id].name, why);
+}
+
+static bool check_soft_limits(const hal_device_config_t *cfg)
+{
+    float minus = cfg->soft_limit_minus_mm;
+    float plus = cfg->soft_limit_plus_mm;
+    if (minus < plus) {
+        return true;
+    }
+    key_id_t id = loaded.values[MOT_SOFT_PLUS].set ? MOT_SOFT_PLUS : MOT_SOFT_MINUS;
+    return fail_at(loaded.values[id].line, "motion", keys[id].name,
+                   "soft_limit_minus must be below soft_limit_plus");
+}
+
+bool config_file_check(const char *model)
+{
+    const sim_model_t *m = sim_model_find(model);
+    if (m == NULL) {
+        return false;
+    }
+    hal_device_config_t cfg;
+    sim_model_config(m, &cfg);
+    float fmax = m->force_overdrive_n > 0.0f ? m->force_overdrive_n : m->force_max_n;
+    bool ok = check_range(MOT_FORCE, m->force_min_n, fmax) &&
+              check_range(MOT_SPEED, m->speed_min_mm_s, m->speed_max_mm_s) &&
+              check_range(MOT_ACCEL, m->accel_min_mm_s2, m->accel_max_mm_s2) &&
+              check_range(MOT_PULLBACK, 0.0, m->stroke_mm) &&
+              check_range(MOT_PWT, 0.0, m->stroke_mm) && check_range(MOT_CLT, 0.0, m->stroke_mm) &&
+              check_range(MOT_SOFT_MINUS, 0.0, m->stroke_mm) &&
+              check_range(MOT_SOFT_PLUS, 0.0, m->stroke_mm);
+    if (!ok) {
+        return false;
+    }
+    config_file_apply(&cfg);
+    return check_soft_limits(&cfg);
+}
+
+static void set_text(char *dst, key_id_t id)
+{
+    if (loaded.values[id].set) {
+        size_t len = strnlen(loaded.values[id].text, HAL_DEVICE_STRING_MAX - 1);
+        memcpy(dst, loaded.values[id].text, len); /* checked shorter on load */
+        dst[len] = '\0';
+    }
+}
+
+static void set_float(float *dst, key_id_t id)
+{
+    if (loaded.values[id].set) {
+        *dst = (float)loaded.values[id].number;
+    }
+}
+
+void config_file_apply(hal_device_config_t *cfg)
+{
+    const value_t *v = loaded.values;
+    set_text(cfg->tag, DEV_TAG);
+    set_text(cfg->version, DEV_VERSION);
+    if (v[DEV_SERIAL].set) {
+        cfg->serial = (uint32_t)v[DEV_SERIAL].number;
+    }
+    set_float(&cfg->default_force_n, MOT_FORCE);
+    set_float(&cfg->default_speed_mm_s, MOT_SPEED);
+    set_float(&cfg->default_accel_mm_s2, MOT_ACCEL);
+    set_float(&cfg->default_pullback_mm, MOT_PULLBACK);
+    set_float(&cfg->default_pwt_mm, MOT_PWT);
+    set_float(&cfg->default_clt_mm, MOT_CLT);
+    set_float(&cfg->soft_limit_minus_mm, MOT_SOFT_MINUS);
+    set_float(&cfg->soft_limit_plus_mm, MOT_SOFT_PLUS);
+    if (v[MOT_SOFT_LIMITS].set) {
+        cfg->soft_limits_enabled = v[MOT_SOFT_LIMITS].number != 0.0;
+    }
+    if (v[MOT_HOMING].set) {
+        cfg->home_positive = v[MOT_HOMING].number != 0.0;
+    }
+    /* disconnect_faststop reaches the device through the options */
+}
+
+void config_file_forget(void)
+{
+    memset(&loaded, 0, sizeof(loaded));
+}

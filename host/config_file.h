@@ -1,0 +1,23 @@
+/* --config FILE: the settings the real WSG keeps in its configuration memory
+ * and edits through its web interface, in INI form (parsed with libinih).
+ * docs/wsgsim.example.ini lists every key. */
+#ifndef HOST_CONFIG_FILE_H
+#define HOST_CONFIG_FILE_H
+
+#include <stdbool.h>
+
+#include "hal_device.h"
+#include "options.h"
+
+/* Reads the file: host settings (ports, clients, ...) go into opts, device
+ * settings are kept for config_file_apply(). On an unknown section or key or
+ * a bad value prints "wsgsim: FILE:LINE: ..." and returns false. */
+bool config_file_load(const char *path, host_options_t *opts);
+/* Checks the device settings against the model's ranges (same message form). */
+bool config_file_check(const char *model);
+/* Overrides the model's factory configuration with the file's settings. */
+void config_file_apply(hal_device_config_t *cfg);
+/* Forgets a loaded file (tests). */
+void config_file_forget(void);
+
+#endif

@@ -1,0 +1,434 @@
+#include "coverage.h"
+
+#include <cjson/cJSON.h>
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "dispatch.h"
+#include "simctl_names.h"
+
+#define COMMANDS_MAX 64
+#define CALL_SLOTS (GCL_ARGS_MAX + 1) /* argc 0..GCL_ARGS_MAX (more counts as the last) */
+#define SLOT_QUERY CALL_SLOTS
+#define SLOT_INDEXED (CALL_SLOTS + 1)
+#define SLOT_SET (CALL_SLOTS + 2)
+#define SLOTS (CALL_SLOTS + 3)
+#define NAMES_MAX 32
+#define WHAT_MAX 96
+
+typedef struct {
+    char name[GCL_NAME_MAX + 1];
+    char what[WHAT_MAX];
+    unsigned count;
+    unsigned first_session;
+} tolerated_t;
+
+typedef struct {
+    char name[GCL_NAME_MAX + 1];
+    unsigned count;
+} unknown_t;
+
+static struct {
+    unsigned forms[COMMANDS_MAX][SLOTS];
+    unknown_t unknown[NAMES_MAX];
+    unsigned unknown_count;
+    unsigned errors[WSG_STATUS_COUNT];
+    uint64_t error_commands[WSG_STATUS_COUNT]; /* bit i: command table entry i */
+    unsigned transitions[GS_COUNT][GS_COUNT];
+    uint32_t flags_seen;
+    tolerated_t tolerated[NAMES_MAX];
+    unsigned tolerated_count;
+    unsigned sessions;
+    uint8_t session_seen[65536 / 8]; /* by session id (generation) */
+} cov;
+
+/* Codes the emulator can answer by itself (injected failures add others). */
+static const wsg_status_t produced_codes[] = {
+    E_NOT_AVAILABLE,       E_NOT_INITIALIZED,   E_ALREADY_RUNNING, E_TIMEOUT,
+    E_NO_PARAM_EXPECTED,   E_NOT_ENOUGH_PARAMS, E_CMD_UNKNOWN,     E_CMD_FORMAT_ERROR,
+    E_ACCESS_DENIED,       E_CMD_FAILED,        E_CMD_ABORTED,     E_INVALID_PARAMETER,
+    E_INDEX_OUT_OF_BOUNDS, E_OVERRUN,           E_RANGE_ERROR,     E_AXIS_BLOCKED,
+};
+
+/* Transitions the emulator's grip state machine produces (Appendix D). */
+static const wsg_grip_state_t known_transitions[][2] = {
+    {GS_IDLE, GS_POSITIONING},    {GS_POSITIONING, GS_IDLE}, {GS_POSITIONING, GS_ERROR},
+    {GS_IDLE, GS_GRASPING},       {GS_GRASPING, GS_HOLDING}, {GS_GRASPING, GS_NO_PART},
+    {GS_GRASPING, GS_ERROR},      {GS_GRASPING, GS_IDLE},    {GS_HOLDING, GS_PART_LOST},
+    {GS_HOLDING, GS_RELEASING},   {GS_HOLDING, GS_ERROR},    {GS_NO_PART, GS_RELEASING},
+    {GS_PART_LOST, GS_RELEASING}, {GS_RELEASING, GS_IDLE},   {GS_RELEASING, GS_ERROR},
+    {GS_IDLE, GS_ERROR},          {GS_ERROR, GS_IDLE},       {GS_ERROR, GS_POSITIONING},
+};
+
+void coverage_reset(void)
+{
+    memset(&cov, 0, sizeof(cov));
+}
+
+static int command_index(const char *name)
+{
+    for (unsigned i = 0; i < dispatch_count() && i < COMMANDS_MAX; i++) {
+        if (strcmp(dispatch_at(i)->name, name) == 0) {
+            return (int)i;
+        }
+    }
+    return -1;
+}
+
+static int form_slot(unsigned form, unsigned argc)
+{
+    switch (form) {
+    case GCL_FORM_CALL:
+        return (int)(argc < CALL_SLOTS ? argc : CALL_SLOTS - 1);
+    case GCL_FORM_QUERY:
+        return SLOT_QUERY;
+    case GCL_FORM_INDEXED_QUERY:
+        return SLOT_INDEXED;
+    case GCL_FORM_SET:
+        return SLOT_SET;
+    default:
+        return -1;
+    }
+}
+
+static void note_unknown(const char *name)
+{
+    for (unsigned i = 0; i < cov.unknown_count; i++) {
+        if (strcmp(cov.unknown[i].name, name) == 0) {
+            cov.unknown[i].count++;
+            return;
+        }
+    }
+    if (cov.unknown_count < NAMES_MAX) {
+        unknown_t *u = &cov.unknown[cov.unknown_count++];
+        snprintf(u->name, sizeof(u->name), "%s", name);
+        u->count = 1;
+    }
+}
+
+void coverage_command(const char *name, unsigned form, unsigned argc, wsg_status_t status)
+{
+    if (name[0] == '\0') {
+        return; /* a line without a command name */
+    }
+    int index = command_index(name);
+    int slot = form_slot(form, argc);
+    if (index < 0) {
+        note_unknown(name);
+    } else if (slot >= 0 && status != E_CMD_FORMAT_ERROR) {
+        cov.forms[index][slot]++;
+    }
+}
+
+/* "ERR NAME CODE[ text]" */
+void coverage_line_out(const char *line, size_t len)
+{
+    char text[64];
+    char name[GCL_NAME_MAX + 2];
+    unsigned code = 0;
+    if (len < 4 || strncmp(line, "ERR ", 4) != 0) {
+        return;
+    }
+    snprintf(text, sizeof(text), "%.*s", (int)(len < 63 ? len : 63), line);
+    if (sscanf(text, "ERR %16s %u", name, &code) != 2 || code >= WSG_STATUS_COUNT) {
+        return;
+    }
+    cov.errors[code]++;
+    int index = command_index(name);
+    if (index >= 0) {
+        cov.error_commands[code] |= 1ull << index;
+    }
+}
+
+void coverage_grip(wsg_grip_state_t from, wsg_grip_state_t to)
+{
+    if ((unsigned)from < GS_COUNT && (unsigned)to < GS_COUNT) {
+        cov.transitions[from][to]++;
+    }
+}
+
+void coverage_flags(uint32_t flags)
+{
+    cov.flags_seen |= flags;
+}
+
+void coverage_tolerated(const wsg_session_t *s, const char *name, const char *what)
+{
+    for (unsigned i = 0; i < cov.tolerated_count; i++) {
+        tolerated_t *t = &cov.tolerated[i];
+        if (strcmp(t->name, name) == 0 && strcmp(t->what, what) == 0) {
+            t->count++;
+            return;
+        }
+    }
+    if (cov.tolerated_count < NAMES_MAX) {
+        tolerated_t *t = &cov.tolerated[cov.tolerated_count++];
+        snprintf(t->name, sizeof(t->name), "%s", name);
+        snprintf(t->what, sizeof(t->what), "%s", what);
+        t->count = 1;
+        t->first_session = s != NULL ? s->generation : 0u;
+    }
+}
+
+void coverage_line_in(const wsg_session_t *s)
+{
+    uint8_t *byte = &cov.session_seen[s->generation / 8u];
+    uint8_t bit = (uint8_t)(1u << (s->generation % 8u));
+    if ((*byte & bit) == 0u) {
+        *byte |= bit;
+        cov.sessions++;
+    }
+}
+
+/* ---- the report ---- */
+
+/* "GRIP(_,_)", "POS?", "SYSFLAGS[_]?", "VERBOSE=_" */
+static void slot_label(const char *name, int slot, char *out, size_t cap)
+{
+    if (slot == SLOT_QUERY) {
+        snprintf(out, cap, "%s?", name);
+    } else if (slot == SLOT_INDEXED) {
+        snprintf(out, cap, "%s[_]?", name);
+    } else if (slot == SLOT_SET) {
+        snprintf(out, cap, "%s=_", name);
+    } else {
+        static const char *const args[CALL_SLOTS] = {"", "_", "_,_", "_,_,_", "_,_,_,_"};
+        snprintf(out, cap, "%s(%s)", name, args[slot]);
+    }
+}
+
+static bool slot_allowed(const cmd_entry_t *e, int slot)
+{
+    if (slot < CALL_SLOTS) {
+        return (e->forms & GCL_FORM_CALL) != 0u && (unsigned)slot >= e->min_args &&
+               (unsigned)slot <= e->max_args;
+    }
+    unsigned form = slot == SLOT_QUERY     ? GCL_FORM_QUERY
+                    : slot == SLOT_INDEXED ? GCL_FORM_INDEXED_QUERY
+                                           : GCL_FORM_SET;
+    return (e->forms & form) != 0u;
+}
+
+typedef struct {
+    cJSON *used;
+    cJSON *never;
+    cJSON *not_allowed;
+    unsigned total;
+    unsigned covered;
+} forms_acc_t;
+
+static void add_count(cJSON *array, const char *key, const char *value, unsigned count)
+{
+    cJSON *item = cJSON_CreateObject();
+    cJSON_AddStringToObject(item, key, value);
+    cJSON_AddNumberToObject(item, "count", count);
+    cJSON_AddItemToArray(array, item);
+}
+
+static void report_command(unsigned i, forms_acc_t *acc)
+{
+    const cmd_entry_t *e = dispatch_at(i);
+    for (int slot = 0; slot < SLOTS; slot++) {
+        char label[40];
+        bool allowed = slot_allowed(e, slot);
+        unsigned count = cov.forms[i][slot];
+        slot_label(e->name, slot, label, sizeof(label));
+        acc->total += allowed ? 1u : 0u;
+        acc->covered += allowed && count > 0 ? 1u : 0u;
+        if (count > 0) {
+            add_count(allowed ? acc->used : acc->not_allowed, "form", label, count);
+        } else if (allowed) {
+            cJSON_AddItemToArray(acc->never, cJSON_CreateString(label));
+        }
+    }
+}
+
+static cJSON *report_commands(cJSON *summary)
+{
+    forms_acc_t acc = {cJSON_CreateArray(), cJSON_CreateArray(), cJSON_CreateArray(), 0, 0};
+    for (unsigned i = 0; i < dispatch_count() && i < COMMANDS_MAX; i++) {
+        report_command(i, &acc);
+    }
+    cJSON *unknown = cJSON_CreateArray();
+    for (unsigned i = 0; i < cov.unknown_count; i++) {
+        add_count(unknown, "name", cov.unknown[i].name, cov.unknown[i].count);
+    }
+    cJSON *out = cJSON_CreateObject();
+    cJSON_AddItemToObject(out, "used", acc.used);
+    cJSON_AddItemToObject(out, "never_used", acc.never);
+    cJSON_AddItemToObject(out, "invalid_forms_sent", acc.not_allowed);
+    cJSON_AddItemToObject(out, "unknown_commands_sent", unknown);
+    cJSON_AddNumberToObject(summary, "forms_total", acc.total);
+    cJSON_AddNumberToObject(summary, "forms_used", acc.covered);
+    return out;
+}
+
+static cJSON *error_commands(unsigned code)
+{
+    cJSON *names = cJSON_CreateArray();
+    for (unsigned i = 0; i < dispatch_count() && i < COMMANDS_MAX; i++) {
+        if ((cov.error_commands[code] >> i) & 1u) {
+            cJSON_AddItemToArray(names, cJSON_CreateString(dispatch_at(i)->name));
+        }
+    }
+    return names;
+}
+
+static cJSON *report_errors(cJSON *summary)
+{
+    cJSON *returned = cJSON_CreateArray();
+    cJSON *never = cJSON_CreateArray();
+    for (unsigned code = 1; code < WSG_STATUS_COUNT; code++) {
+        if (cov.errors[code] == 0) {
+            continue;
+        }
+        cJSON *item = cJSON_CreateObject();
+        cJSON_AddNumberToObject(item, "code", code);
+        cJSON_AddStringToObject(item, "name", simctl_status_name((wsg_status_t)code));
+        cJSON_AddNumberToObject(item, "count", cov.errors[code]);
+        cJSON_AddItemToObject(item, "commands", error_commands(code));
+        cJSON_AddItemToArray(returned, item);
+    }
+    unsigned seen = 0;
+    for (size_t i = 0; i < sizeof(produced_codes) / sizeof(produced_codes[0]); i++) {
+        wsg_status_t code = produced_codes[i];
+        seen += cov.errors[code] > 0 ? 1u : 0u;
+        if (cov.errors[code] == 0) {
+            cJSON_AddItemToArray(never, cJSON_CreateString(simctl_status_name(code)));
+        }
+    }
+    cJSON *out = cJSON_CreateObject();
+    cJSON_AddItemToObject(out, "returned", returned);
+    cJSON_AddItemToObject(out, "never_returned", never);
+    cJSON_AddNumberToObject(summary, "error_codes_total",
+                            (double)(sizeof(produced_codes) / sizeof(produced_codes[0])));
+    cJSON_AddNumberToObject(summary, "error_codes_returned", seen);
+    return out;
+}
+
+static void transition_label(wsg_grip_state_t from, wsg_grip_state_t to, char *out, size_t cap)
+{
+    snprintf(out, cap, "%s -> %s", simctl_grip_state_name(from), simctl_grip_state_name(to));
+}
+
+static cJSON *report_states(cJSON *summary)
+{
+    cJSON *seen = cJSON_CreateArray();
+    cJSON *never = cJSON_CreateArray();
+    cJSON *states_never = cJSON_CreateArray();
+    char label[48];
+    bool entered[GS_COUNT] = {[GS_IDLE] = true}; /* the power-on state */
+    for (unsigned f = 0; f < GS_COUNT; f++) {
+        for (unsigned t = 0; t < GS_COUNT; t++) {
+            if (cov.transitions[f][t] > 0) {
+                entered[t] = true;
+                transition_label((wsg_grip_state_t)f, (wsg_grip_state_t)t, label, sizeof(label));
+                add_count(seen, "transition", label, cov.transitions[f][t]);
+            }
+        }
+    }
+    size_t known = sizeof(known_transitions) / sizeof(known_transitions[0]);
+    unsigned covered = 0;
+    for (size_t i = 0; i < known; i++) {
+        wsg_grip_state_t f = known_transitions[i][0];
+        wsg_grip_state_t t = known_transitions[i][1];
+        covered += cov.transitions[f][t] > 0 ? 1u : 0u;
+        if (cov.transitions[f][t] == 0) {
+            transition_label(f, t, label, sizeof(label));
+            cJSON_AddItemToArray(never, cJSON_CreateString(label));
+        }
+    }
+    for (unsigned s = 0; s < GS_COUNT; s++) {
+        if (!entered[s]) {
+            cJSON_AddItemToArray(states_never,
+                                 cJSON_CreateString(simctl_grip_state_name((wsg_grip_state_t)s)));
+        }
+    }
+    cJSON *out = cJSON_CreateObject();
+    cJSON_AddItemToObject(out, "transitions", seen);
+    cJSON_AddItemToObject(out, "transitions_never_seen", never);
+    cJSON_AddItemToObject(out, "states_never_entered", states_never);
+    cJSON_AddNumberToObject(summary, "transitions_total", (double)known);
+    cJSON_AddNumberToObject(summary, "transitions_seen", covered);
+    return out;
+}
+
+static cJSON *report_flags(cJSON *summary)
+{
+    cJSON *raised = cJSON_CreateArray();
+    cJSON *never = cJSON_CreateArray();
+    unsigned total = 0;
+    unsigned count = 0;
+    for (unsigned bit = 0; bit < WSG_SYSFLAG_COUNT; bit++) {
+        const char *name = simctl_sysflag_name(bit);
+        if (name == NULL) {
+            continue;
+        }
+        bool on = ((cov.flags_seen >> bit) & 1u) != 0u;
+        total++;
+        count += on ? 1u : 0u;
+        cJSON_AddItemToArray(on ? raised : never, cJSON_CreateString(name));
+    }
+    cJSON *out = cJSON_CreateObject();
+    cJSON_AddItemToObject(out, "raised", raised);
+    cJSON_AddItemToObject(out, "never_raised", never);
+    cJSON_AddNumberToObject(summary, "flags_total", total);
+    cJSON_AddNumberToObject(summary, "flags_raised", count);
+    return out;
+}
+
+static cJSON *report_tolerated(void)
+{
+    cJSON *list = cJSON_CreateArray();
+    for (unsigned i = 0; i < cov.tolerated_count; i++) {
+        const tolerated_t *t = &cov.tolerated[i];
+        cJSON *item = cJSON_CreateObject();
+        cJSON_AddStringToObject(item, "command", t->name);
+        cJSON_AddStringToObject(item, "what", t->what);
+        cJSON_AddNumberToObject(item, "count", t->count);
+        cJSON_AddNumberToObject(item, "first_session", t->first_session);
+        cJSON_AddItemToArray(list, item);
+    }
+    return list;
+}
+
+static cJSON *build_report(bool strict)
+{
+    cJSON *root = cJSON_CreateObject();
+    cJSON *summary = cJSON_AddObjectToObject(root, "summary");
+    cJSON_AddNumberToObject(summary, "sessions", cov.sessions);
+    cJSON_AddItemToObject(root, "commands", report_commands(summary));
+    cJSON_AddItemToObject(root, "errors", report_errors(summary));
+    cJSON_AddItemToObject(root, "grip_states", report_states(summary));
+    cJSON_AddItemToObject(root, "flags", report_flags(summary));
+    cJSON_AddBoolToObject(root, "strict", strict);
+    if (strict) {
+        cJSON_AddItemToObject(root, "tolerated", report_tolerated());
+    }
+    return root;
+}
+
+char *coverage_report_json(bool strict, bool pretty)
+{
+    cJSON *root = build_report(strict);
+    char *text = pretty ? cJSON_Print(root) : cJSON_PrintUnformatted(root);
+    cJSON_Delete(root);
+    return text;
+}
+
+bool coverage_write(const char *path, bool strict)
+{
+    char *text = coverage_report_json(strict, true);
+    FILE *f = fopen(path, "w");
+    bool ok = f != NULL && text != NULL && fputs(text, f) >= 0 && fputc('\n', f) != EOF;
+    if (f != NULL && fclose(f) != 0) {
+        ok = false;
+    }
+    if (!ok) {
+        fprintf(stderr, "wsgsim: cannot write --coverage file %s: %s\n", path, strerror(errno));
+    }
+    free(text);
+    return ok;
+}

@@ -1,0 +1,29 @@
+/* Protocol coverage: what the clients exercised (command forms, error codes,
+ * grip-state transitions, flags) and what they never touched; with --strict
+ * also the input the emulator tolerated but the manual does not allow. */
+#ifndef HOST_COVERAGE_H
+#define HOST_COVERAGE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "wsg_device.h"
+
+void coverage_reset(void);
+
+/* Observations (called by the device hooks and the control step). */
+void coverage_command(const char *name, unsigned form, unsigned argc, wsg_status_t status);
+void coverage_line_out(const char *line, size_t len);
+void coverage_grip(wsg_grip_state_t from, wsg_grip_state_t to);
+void coverage_flags(uint32_t flags);
+void coverage_tolerated(const wsg_session_t *s, const char *name, const char *what);
+/* Counts the sessions that sent at least one line. */
+void coverage_line_in(const wsg_session_t *s);
+
+/* The report as JSON text (malloc'd; free() it). pretty: indented. */
+char *coverage_report_json(bool strict, bool pretty);
+/* Writes the indented report to path; false with a message on stderr. */
+bool coverage_write(const char *path, bool strict);
+
+#endif

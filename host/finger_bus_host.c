@@ -1,0 +1,125 @@
+/* The host's finger bus (finger_bus_host.h). */
+#include "finger_bus_host.h"
+
+#include <poll.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "can_loopback.h"
+#include "can_socketcan.h"
+#include "finger_proto.h"
+#include "log.h"
+#include "loop.h"
+
+static can_socketcan_t sock;
+static const hal_can_t *active_bus;
+static char description[64];
+static uint8_t injected[FBUS_SLOTS];
+
+static void on_readable(void *ctx, int fd, short revents)
+{
+    (void)ctx;
+    can_socketcan_drain(&sock);
+    if ((revents & (POLLERR | POLLHUP | POLLNVAL)) != 0) {
+        host_logf(HAL_LOG_ERROR, "finger bus: CAN socket error (%s); no longer watching it",
+                  strerror(-sock.last_error));
+        loop_unwatch(fd);
+    }
+}
+
+static bool start_socketcan(const char *iface)
+{
+    char err[160];
+    if (!can_socketcan_open(&sock, iface, err, sizeof(err))) {
+        host_logf(HAL_LOG_ERROR, "finger bus: %s", err);
+        return false;
+    }
+    if (!loop_watch(can_socketcan_fd(&sock), POLLIN, on_readable, NULL)) {
+        host_logf(HAL_LOG_ERROR, "finger bus: too many watched descriptors");
+        can_socketcan_close(&sock);
+        return false;
+    }
+    active_bus = can_socketcan_bus(&sock);
+    snprintf(description, sizeof(description), "SocketCAN %s", iface);
+    return true;
+}
+
+bool finger_bus_host_start(const host_options_t *opts)
+{
+    memset(injected, 0, sizeof(injected));
+    sock.fd = -1;
+    if (opts->can_iface != NULL) {
+        if (!start_socketcan(opts->can_iface)) {
+            return false;
+        }
+    } else {
+        fbus_type_t types[FBUS_SLOTS];
+        finger_node_params_t params;
+        finger_node_defaults(&params);
+        if (!finger_node_parse_pair(opts->fingers, types)) {
+            host_logf(HAL_LOG_ERROR, "finger bus: bad finger list '%s'", opts->fingers);
+            return false;
+        }
+        can_loopback_init(types, &params);
+        active_bus = can_loopback_bus();
+        snprintf(description, sizeof(description), "loopback bus (%s)", opts->fingers);
+    }
+    return true; /* main logs the description after the ready line */
+}
+
+void finger_bus_host_stop(void)
+{
+    if (sock.fd >= 0) {
+        loop_unwatch(sock.fd);
+        can_socketcan_close(&sock);
+    }
+    active_bus = NULL;
+}
+
+const hal_can_t *finger_bus_host_can(void)
+{
+    return active_bus;
+}
+
+const char *finger_bus_host_describe(void)
+{
+    return description;
+}
+
+static uint8_t fault_bit(finger_fault_t fault)
+{
+    switch (fault) {
+    case FINGER_FAULT_POWER:
+        return FBUS_FAULT_POWER;
+    case FINGER_FAULT_INIT:
+        return FBUS_FAULT_INIT;
+    case FINGER_FAULT_UNPLUG:
+    default:
+        return FBUS_FAULT_UNPLUG;
+    }
+}
+
+bool finger_bus_host_inject(unsigned slot, finger_fault_t fault, bool active)
+{
+    if (slot >= FBUS_SLOTS || active_bus == NULL) {
+        return false;
+    }
+    uint8_t bit = fault_bit(fault);
+    injected[slot] = active ? (uint8_t)(injected[slot] | bit) : (uint8_t)(injected[slot] & ~bit);
+    hal_can_frame_t f;
+    fbus_pack_simctl(&f, FBUS_NODE_ID(slot), injected[slot]);
+    host_logf(HAL_LOG_INFO, "finger %u: fault injection now 0x%02x", slot, injected[slot]);
+    return hal_can_send(active_bus, &f);
+}
+
+bool finger_bus_host_fault_by_name(const char *name, finger_fault_t *fault)
+{
+    static const char *const names[] = {"power", "init", "unplug"};
+    for (unsigned i = 0; i < 3u; i++) {
+        if (strcmp(name, names[i]) == 0) {
+            *fault = (finger_fault_t)i;
+            return true;
+        }
+    }
+    return false;
+}

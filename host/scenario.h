@@ -1,0 +1,20 @@
+/* --scenario FILE: control commands at given simulated times, so a test run
+ * replays the same physical story every time. Format in docs/simctl.md. */
+#ifndef HOST_SCENARIO_H
+#define HOST_SCENARIO_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+/* Reads and checks the whole file (times relative to start_us); prints
+ * "wsgsim: FILE:LINE: ..." and returns false on the first bad line. */
+bool scenario_load(const char *path, uint64_t start_us);
+/* Runs the commands due at or before now_us, in file order. */
+void scenario_run_due(uint64_t now_us);
+/* When the next command is due, or UINT64_MAX. */
+uint64_t scenario_next_us(void);
+/* Commands not yet run. */
+unsigned scenario_pending(void);
+void scenario_unload(void);
+
+#endif

@@ -1,0 +1,16 @@
+/* --sim-port: the simulation control channel, a line-based text port beside
+ * the device protocol (docs/simctl.md). Loopback only unless --sim-bind. */
+#ifndef SIMCTL_H
+#define SIMCTL_H
+
+#include <stdbool.h>
+
+/* Listens on addr:port (addr NULL: 127.0.0.1); false after a clear message. */
+bool simctl_start(const char *addr, int port);
+int simctl_port(void);
+const char *simctl_address(void);
+/* ", control 127.0.0.1:7000" for the ready line; "" without a channel. */
+const char *simctl_describe(void);
+void simctl_stop(void);
+
+#endif

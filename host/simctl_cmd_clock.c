@@ -1,0 +1,73 @@
+/* PAUSE, RESUME, STEP, SCALE, SIMTIME: the one simulated clock. */
+#include "hal_clock.h"
+#include "log.h"
+#include "simclock.h"
+#include "simctl_cmd_internal.h"
+#include "simctl_run.h"
+
+#define STEP_MAX_MS 3600000.0 /* one hour of simulated time per STEP */
+
+wsg_status_t sc_pause(simctl_ctx_t *ctx)
+{
+    (void)ctx;
+    if (!simclock_paused()) {
+        simctl_tick(); /* everything due up to now runs before time stops */
+        simclock_pause();
+        host_logf(HAL_LOG_INFO, "clock paused");
+    }
+    return E_SUCCESS;
+}
+
+wsg_status_t sc_resume(simctl_ctx_t *ctx)
+{
+    (void)ctx;
+    if (simclock_paused()) {
+        simclock_resume();
+        host_logf(HAL_LOG_INFO, "clock resumed at %.3fx", simclock_scale());
+    }
+    return E_SUCCESS;
+}
+
+wsg_status_t sc_step(simctl_ctx_t *ctx)
+{
+    double ms = 0.0;
+    if (!sc_number(ctx, 0, &ms)) {
+        return E_INVALID_PARAMETER;
+    }
+    if (!simclock_paused()) {
+        return sc_fail(ctx, E_ACCESS_DENIED, "the clock is running; PAUSE() first");
+    }
+    if (!(ms > 0.0 && ms <= STEP_MAX_MS)) {
+        return sc_fail(ctx, E_RANGE_ERROR, "ms must be above 0 and at most %.0f", STEP_MAX_MS);
+    }
+    simctl_step((uint64_t)(ms * 1000.0 + 0.5));
+    sc_reply(ctx, "%.3f", (double)hal_clock_now_us() / 1000.0);
+    return E_SUCCESS;
+}
+
+wsg_status_t sc_scale(simctl_ctx_t *ctx)
+{
+    if (ctx->cmd->form == GCL_FORM_SET) {
+        double scale = 0.0;
+        if (!sc_number(ctx, 0, &scale)) {
+            return E_INVALID_PARAMETER;
+        }
+        simctl_tick(); /* the old rate applies up to now */
+        if (!simclock_set_scale(scale)) {
+            return sc_fail(ctx, E_RANGE_ERROR, "the scale must be %g to %g", SIMCLOCK_SCALE_MIN,
+                           SIMCLOCK_SCALE_MAX);
+        }
+        simctl_reset_max_lag();
+        host_logf(HAL_LOG_INFO, "clock scale %.3fx", scale);
+    }
+    sc_reply(ctx, "%g", simclock_scale());
+    return E_SUCCESS;
+}
+
+/* SIMTIME=[simulated ms, lag ms] */
+wsg_status_t sc_simtime(simctl_ctx_t *ctx)
+{
+    sc_reply(ctx, "[%.3f,%.3f]", (double)hal_clock_now_us() / 1000.0,
+             (double)simctl_lag_us() / 1000.0);
+    return E_SUCCESS;
+}

@@ -1,0 +1,198 @@
+/* FAULT, CLEAR, FAULTS, DELAY, FAILNEXT, CUT: injected faults. */
+#include <stdlib.h>
+#include <strings.h>
+
+#include "dispatch.h"
+#include "gripper.h"
+#include "log.h"
+#include "simctl_cmd_internal.h"
+#include "simctl_delay.h"
+#include "simctl_faults.h"
+#include "state_json.h"
+#include "tcp_server.h"
+#include "udp_server.h"
+
+#define DELAY_MAX_MS 600000.0
+
+/* FAULT(name[,finger]) / CLEAR(name[,finger]): which hardware fault. */
+static bool read_fault(simctl_ctx_t *ctx, simctl_fault_t *fault)
+{
+    const char *name = NULL;
+    double finger = -1.0;
+    if (!sc_text(ctx, 0, &name) || (sc_has_arg(ctx, 1) && !sc_number(ctx, 1, &finger))) {
+        return false;
+    }
+    if (!simctl_fault_by_name(name, (int)finger, fault)) {
+        sc_fail(ctx, E_INVALID_PARAMETER,
+                "unknown fault %s (TEMP_WARNING, TEMP_FAULT, POWER, CURRENT, "
+                "FINGER_POWER|FINGER_INIT|FINGER_UNPLUG with finger 0 or 1)",
+                name);
+        return false;
+    }
+    return true;
+}
+
+wsg_status_t sc_fault(simctl_ctx_t *ctx)
+{
+    simctl_fault_t fault;
+    if (!read_fault(ctx, &fault)) {
+        return ctx->failed;
+    }
+    simctl_fault_raise(fault);
+    sc_world_changed();
+    return E_SUCCESS;
+}
+
+static void clear_failnext(void)
+{
+    wsg_injected_failure_t *f = &gripper_device()->injected_failure;
+    if (f->armed) {
+        f->armed = false;
+        host_logf(HAL_LOG_INFO, "fault cleared: FAILNEXT %s", f->name);
+    }
+}
+
+static void clear_delays(void)
+{
+    simctl_delay_info_t info;
+    if (simctl_delay_info(0, &info)) {
+        simctl_delay_clear_all(true);
+        host_logf(HAL_LOG_INFO, "fault cleared: DELAY (held lines delivered)");
+    }
+}
+
+/* CLEAR("DELAY") and CLEAR("FAILNEXT"): the protocol faults. */
+static bool clear_protocol(const char *name)
+{
+    if (strcasecmp(name, "DELAY") == 0) {
+        clear_delays();
+        return true;
+    }
+    if (strcasecmp(name, "FAILNEXT") == 0) {
+        clear_failnext();
+        return true;
+    }
+    return false;
+}
+
+wsg_status_t sc_clear(simctl_ctx_t *ctx)
+{
+    const char *name = NULL;
+    if (!sc_has_arg(ctx, 0)) {
+        simctl_fault_clear_all();
+        clear_delays();
+        clear_failnext();
+    } else if (sc_text(ctx, 0, &name) && clear_protocol(name)) {
+        return E_SUCCESS;
+    } else {
+        simctl_fault_t fault;
+        if (!read_fault(ctx, &fault)) {
+            return ctx->failed;
+        }
+        simctl_fault_clear(fault);
+    }
+    sc_world_changed();
+    return E_SUCCESS;
+}
+
+wsg_status_t sc_faults(simctl_ctx_t *ctx)
+{
+    cJSON *list = state_json_faults();
+    sc_reply_owned(ctx, cJSON_PrintUnformatted(list));
+    cJSON_Delete(list);
+    return E_SUCCESS;
+}
+
+static wsg_status_t delay_session(wsg_session_t *s, double ms)
+{
+    simctl_delay_arm(s, (uint32_t)(ms * 1000.0 + 0.5));
+    host_logf(HAL_LOG_WARN, "fault injected: DELAY next reply of session %u by %.3f ms",
+              (unsigned)s->generation, ms);
+    return E_SUCCESS;
+}
+
+wsg_status_t sc_delay(simctl_ctx_t *ctx)
+{
+    double ms = 0.0;
+    if (!sc_number(ctx, 0, &ms)) {
+        return ctx->failed;
+    }
+    if (!(ms > 0.0 && ms <= DELAY_MAX_MS)) {
+        return sc_fail(ctx, E_RANGE_ERROR, "ms must be above 0 and at most %.0f", DELAY_MAX_MS);
+    }
+    if (sc_has_arg(ctx, 1)) {
+        wsg_session_t *s = sc_session(ctx, 1);
+        return s != NULL ? delay_session(s, ms) : ctx->failed;
+    }
+    unsigned armed = 0;
+    wsg_device_t *dev = gripper_device();
+    for (unsigned i = 0; i < WSG_MAX_SESSIONS; i++) {
+        if (dev->sessions[i].in_use) {
+            delay_session(&dev->sessions[i], ms);
+            armed++;
+        }
+    }
+    return armed > 0 ? E_SUCCESS : sc_fail(ctx, E_NOT_FOUND, "no GCL session is open");
+}
+
+/* The GCL name in upper case, if the device knows the command. */
+static bool gcl_command_name(const char *text, char *upper, size_t cap)
+{
+    size_t n = 0;
+    for (; text[n] != '\0' && n + 1 < cap; n++) {
+        char c = text[n];
+        upper[n] = (c >= 'a' && c <= 'z') ? (char)(c - 'a' + 'A') : c;
+    }
+    upper[n] = '\0';
+    return text[n] == '\0' && dispatch_find(upper) != NULL;
+}
+
+wsg_status_t sc_failnext(simctl_ctx_t *ctx)
+{
+    const char *name = NULL;
+    double code = 0.0;
+    char upper[GCL_NAME_MAX + 1];
+    if (!sc_text(ctx, 0, &name) || !sc_number(ctx, 1, &code)) {
+        return ctx->failed;
+    }
+    if (!gcl_command_name(name, upper, sizeof(upper))) {
+        return sc_fail(ctx, E_INVALID_PARAMETER, "%s is not a GCL command", name);
+    }
+    if (!(code >= 1.0 && code < (double)WSG_STATUS_COUNT && code == (double)(int)code)) {
+        return sc_fail(ctx, E_RANGE_ERROR, "code must be an integer 1 to %d", WSG_STATUS_COUNT - 1);
+    }
+    wsg_device_inject_failure(gripper_device(), upper, (wsg_status_t)(int)code);
+    host_logf(HAL_LOG_WARN, "fault injected: FAILNEXT %s answers ERR %s %d", upper, upper,
+              (int)code);
+    return E_SUCCESS;
+}
+
+static bool cut_session(wsg_session_t *s)
+{
+    unsigned id = s->generation;
+    bool stream = s->transport == WSG_TRANSPORT_STREAM;
+    bool cut = stream ? tcp_server_cut(s) : udp_server_cut(s);
+    if (cut) {
+        host_logf(HAL_LOG_WARN, "fault injected: CUT session %u (%s)", id, stream ? "tcp" : "udp");
+    }
+    return cut;
+}
+
+wsg_status_t sc_cut(simctl_ctx_t *ctx)
+{
+    if (sc_has_arg(ctx, 0)) {
+        wsg_session_t *s = sc_session(ctx, 0);
+        if (s == NULL) {
+            return ctx->failed;
+        }
+        return cut_session(s) ? E_SUCCESS
+                              : sc_fail(ctx, E_NOT_FOUND, "session has no connection to cut");
+    }
+    unsigned cut = 0;
+    wsg_device_t *dev = gripper_device();
+    for (unsigned i = 0; i < WSG_MAX_SESSIONS; i++) {
+        wsg_session_t *s = &dev->sessions[i];
+        cut += s->in_use && s->transport == WSG_TRANSPORT_STREAM && cut_session(s) ? 1u : 0u;
+    }
+    return cut > 0 ? E_SUCCESS : sc_fail(ctx, E_NOT_FOUND, "no TCP connection is open");
+}

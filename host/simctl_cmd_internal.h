@@ -1,0 +1,85 @@
+/* What the control command handlers share. */
+#ifndef SIMCTL_CMD_INTERNAL_H
+#define SIMCTL_CMD_INTERNAL_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "gcl_parse.h"
+#include "wsg_device.h"
+
+typedef struct {
+    const gcl_command_t *cmd;
+    char *reply; /* malloc'd reply; NULL: "ACK NAME" */
+    char why[192];
+    wsg_status_t failed; /* the status sc_fail() set last */
+    bool close;
+} simctl_ctx_t;
+
+typedef wsg_status_t (*simctl_handler_t)(simctl_ctx_t *ctx);
+
+typedef struct {
+    const char *name;
+    unsigned forms; /* gcl_form_t mask */
+    unsigned min_args;
+    unsigned max_args;
+    simctl_handler_t handler;
+    const char *usage;
+    bool in_scenario; /* a scenario may run it */
+} simctl_entry_t;
+
+unsigned simctl_table_count(void);
+const simctl_entry_t *simctl_table_at(unsigned i);
+
+/* Sets the reason of an ERR reply and returns status. */
+wsg_status_t sc_fail(simctl_ctx_t *ctx, wsg_status_t status, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+/* Sets the reply line ("NAME=value" is up to the handler). */
+void sc_reply(simctl_ctx_t *ctx, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* NAME=<text>; takes ownership of text (from cJSON or asprintf). */
+void sc_reply_owned(simctl_ctx_t *ctx, char *text);
+
+/* Argument i as a number / text (quoted string or bare word); false (with
+ * the reason and ctx->failed set) when it has another type. */
+bool sc_number(simctl_ctx_t *ctx, unsigned i, double *out);
+bool sc_text(simctl_ctx_t *ctx, unsigned i, const char **out);
+bool sc_has_arg(const simctl_ctx_t *ctx, unsigned i);
+/* Argument i as a session id of an open session; NULL (reason set) if not. */
+wsg_session_t *sc_session(simctl_ctx_t *ctx, unsigned i);
+/* The device noticed a change of the world at once (a control step now). */
+void sc_world_changed(void);
+
+/* simctl_cmd_clock.c */
+wsg_status_t sc_pause(simctl_ctx_t *ctx);
+wsg_status_t sc_resume(simctl_ctx_t *ctx);
+wsg_status_t sc_step(simctl_ctx_t *ctx);
+wsg_status_t sc_scale(simctl_ctx_t *ctx);
+wsg_status_t sc_simtime(simctl_ctx_t *ctx);
+
+/* simctl_cmd_world.c */
+wsg_status_t sc_part(simctl_ctx_t *ctx);
+wsg_status_t sc_part_remove(simctl_ctx_t *ctx);
+wsg_status_t sc_part_slip(simctl_ctx_t *ctx);
+wsg_status_t sc_obstacle(simctl_ctx_t *ctx);
+wsg_status_t sc_obstacle_remove(simctl_ctx_t *ctx);
+wsg_status_t sc_ambient(simctl_ctx_t *ctx);
+
+/* simctl_cmd_fault.c */
+wsg_status_t sc_fault(simctl_ctx_t *ctx);
+wsg_status_t sc_clear(simctl_ctx_t *ctx);
+wsg_status_t sc_faults(simctl_ctx_t *ctx);
+wsg_status_t sc_delay(simctl_ctx_t *ctx);
+wsg_status_t sc_failnext(simctl_ctx_t *ctx);
+wsg_status_t sc_cut(simctl_ctx_t *ctx);
+
+/* simctl_cmd_state.c */
+wsg_status_t sc_state(simctl_ctx_t *ctx);
+wsg_status_t sc_sessions(simctl_ctx_t *ctx);
+wsg_status_t sc_reset(simctl_ctx_t *ctx);
+wsg_status_t sc_coverage(simctl_ctx_t *ctx);
+wsg_status_t sc_coverage_reset(simctl_ctx_t *ctx);
+wsg_status_t sc_help(simctl_ctx_t *ctx);
+wsg_status_t sc_log(simctl_ctx_t *ctx);
+wsg_status_t sc_bye(simctl_ctx_t *ctx);
+
+#endif

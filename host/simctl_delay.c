@@ -1,0 +1,163 @@
+#include "simctl_delay.h"
+
+#include <stddef.h>
+#include <string.h>
+
+#include "gripper.h"
+#include "hal_clock.h"
+#include "log.h"
+
+#define HELD_BYTES 16384u
+#define RECORD_HEADER 3u /* kind, length high byte, length low byte */
+
+typedef struct {
+    bool armed;
+    bool holding;
+    uint16_t generation;
+    uint32_t delay_us;
+    uint64_t release_us;
+    const wsg_session_io_t *io; /* the port's own I/O, restored on release */
+    void *io_ctx;
+    unsigned lines;
+    size_t used;
+    uint8_t held[HELD_BYTES];
+} delay_slot_t;
+
+static delay_slot_t slots[WSG_MAX_SESSIONS];
+
+static void hold_line(delay_slot_t *d, const char *line, size_t len, wsg_line_kind_t kind)
+{
+    if (len > 0xffffu || d->used + RECORD_HEADER + len > HELD_BYTES) {
+        host_logf(HAL_LOG_WARN, "delayed session s%u: hold buffer full, line dropped",
+                  (unsigned)d->generation);
+        return;
+    }
+    uint8_t *p = &d->held[d->used];
+    p[0] = (uint8_t)kind;
+    p[1] = (uint8_t)(len >> 8);
+    p[2] = (uint8_t)len;
+    memcpy(p + RECORD_HEADER, line, len);
+    d->used += RECORD_HEADER + len;
+    d->lines++;
+}
+
+static void delayed_write(void *ctx, const char *line, size_t len, wsg_line_kind_t kind)
+{
+    delay_slot_t *d = ctx;
+    if (!d->holding && kind == WSG_LINE_REPLY) {
+        d->holding = true;
+        d->release_us = hal_clock_now_us() + d->delay_us;
+    }
+    if (d->holding) {
+        hold_line(d, line, len, kind);
+    } else {
+        d->io->write_line(d->io_ctx, line, len, kind); /* AUTOSEND before the reply */
+    }
+}
+
+static const wsg_session_io_t delayed_io = {.write_line = delayed_write};
+
+void simctl_delay_arm(wsg_session_t *s, uint32_t delay_us)
+{
+    delay_slot_t *d = &slots[s->index];
+    if (d->armed && d->generation == s->generation && s->io == &delayed_io) {
+        d->delay_us = delay_us; /* re-armed before it took effect */
+        return;
+    }
+    memset(d, 0, offsetof(delay_slot_t, held));
+    d->armed = true;
+    d->generation = s->generation;
+    d->delay_us = delay_us;
+    d->io = s->io;
+    d->io_ctx = s->io_ctx;
+    s->io = &delayed_io;
+    s->io_ctx = d;
+}
+
+/* The session the slot stands in for, if it still exists. */
+static wsg_session_t *owner(unsigned index, const delay_slot_t *d)
+{
+    wsg_session_t *s = &gripper_device()->sessions[index];
+    bool same = s->in_use && s->generation == d->generation && s->io == &delayed_io;
+    return same ? s : NULL;
+}
+
+static void deliver(const delay_slot_t *d)
+{
+    size_t at = 0;
+    while (at < d->used) {
+        const uint8_t *p = &d->held[at];
+        size_t len = ((size_t)p[1] << 8) | p[2];
+        d->io->write_line(d->io_ctx, (const char *)(p + RECORD_HEADER), len, (wsg_line_kind_t)p[0]);
+        at += RECORD_HEADER + len;
+    }
+}
+
+/* Gives the session its own I/O back and hands over what was held. */
+static void release(unsigned index, bool send)
+{
+    delay_slot_t *d = &slots[index];
+    wsg_session_t *s = owner(index, d);
+    d->armed = false;
+    d->holding = false;
+    if (s == NULL) {
+        return; /* the session went away: its lines have no receiver */
+    }
+    s->io = d->io;
+    s->io_ctx = d->io_ctx;
+    if (send) {
+        deliver(d);
+    }
+}
+
+unsigned simctl_delay_release_due(uint64_t now_us)
+{
+    unsigned released = 0;
+    for (unsigned i = 0; i < WSG_MAX_SESSIONS; i++) {
+        delay_slot_t *d = &slots[i];
+        if (d->armed && owner(i, d) == NULL) {
+            d->armed = false; /* closed while armed */
+        } else if (d->armed && d->holding && now_us >= d->release_us) {
+            release(i, true);
+            released++;
+        }
+    }
+    return released;
+}
+
+uint64_t simctl_delay_next_us(void)
+{
+    uint64_t next = UINT64_MAX;
+    for (unsigned i = 0; i < WSG_MAX_SESSIONS; i++) {
+        if (slots[i].armed && slots[i].holding && slots[i].release_us < next) {
+            next = slots[i].release_us;
+        }
+    }
+    return next;
+}
+
+void simctl_delay_clear_all(bool send)
+{
+    for (unsigned i = 0; i < WSG_MAX_SESSIONS; i++) {
+        if (slots[i].armed) {
+            release(i, send);
+        }
+    }
+}
+
+bool simctl_delay_info(unsigned i, simctl_delay_info_t *out)
+{
+    unsigned seen = 0;
+    for (unsigned k = 0; k < WSG_MAX_SESSIONS; k++) {
+        const delay_slot_t *d = &slots[k];
+        if (!d->armed || owner(k, d) == NULL) {
+            continue;
+        }
+        if (seen++ == i) {
+            *out = (simctl_delay_info_t){d->generation, d->delay_us, d->holding, d->release_us,
+                                         d->lines};
+            return true;
+        }
+    }
+    return false;
+}

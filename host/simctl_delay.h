@@ -1,0 +1,33 @@
+/* Injected reply delay: the next reply line of a session, and everything
+ * after it, is held back for a while of simulated time, then delivered in
+ * order. Works for TCP and UDP alike by standing in for the session's I/O. */
+#ifndef SIMCTL_DELAY_H
+#define SIMCTL_DELAY_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "wsg_device.h"
+
+/* Arms a delay of delay_us for the session's next reply line. */
+void simctl_delay_arm(wsg_session_t *s, uint32_t delay_us);
+/* Delivers what is due at now_us; returns how many sessions were released. */
+unsigned simctl_delay_release_due(uint64_t now_us);
+/* Earliest pending release, or UINT64_MAX. */
+uint64_t simctl_delay_next_us(void);
+/* Drops every delay (armed or holding); held lines are delivered first when
+ * send is true, otherwise discarded. */
+void simctl_delay_clear_all(bool send);
+
+typedef struct {
+    uint16_t session_id;
+    uint32_t delay_us;
+    bool holding;        /* a reply arrived and is being held */
+    uint64_t release_us; /* when holding */
+    unsigned lines_held;
+} simctl_delay_info_t;
+
+/* The i-th active delay (0-based); false past the last. */
+bool simctl_delay_info(unsigned i, simctl_delay_info_t *out);
+
+#endif

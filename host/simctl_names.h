@@ -1,0 +1,18 @@
+/* Names of the device model's enumerations, for the state dump, the
+ * coverage report and the control channel's replies. */
+#ifndef SIMCTL_NAMES_H
+#define SIMCTL_NAMES_H
+
+#include "wsg_status.h"
+#include "wsg_types.h"
+
+/* "IDLE", "NO PART", ...; "?" outside the table. */
+const char *simctl_grip_state_name(wsg_grip_state_t state);
+/* "SF_REFERENCED", ...; NULL for a reserved bit. */
+const char *simctl_sysflag_name(unsigned bit);
+/* "E_RANGE_ERROR", ...; "?" outside the table. */
+const char *simctl_status_name(wsg_status_t status);
+/* "POS", "SPEED", ... */
+const char *simctl_autosend_name(wsg_autosend_value_t value);
+
+#endif

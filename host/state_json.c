@@ -1,0 +1,281 @@
+#include "state_json.h"
+
+#include <stdlib.h>
+
+#include "gripper.h"
+#include "hal_clock.h"
+#include "sim_world.h"
+#include "simclock.h"
+#include "simctl_delay.h"
+#include "simctl_faults.h"
+#include "simctl_names.h"
+#include "simctl_run.h"
+
+static double ms(uint64_t us)
+{
+    return (double)us / 1000.0;
+}
+
+static cJSON *time_json(void)
+{
+    cJSON *t = cJSON_CreateObject();
+    cJSON_AddNumberToObject(t, "sim_ms", ms(hal_clock_now_us()));
+    cJSON_AddNumberToObject(t, "lag_ms", ms(simctl_lag_us()));
+    cJSON_AddNumberToObject(t, "max_lag_ms", ms(simctl_max_lag_us()));
+    cJSON_AddBoolToObject(t, "paused", simclock_paused());
+    cJSON_AddNumberToObject(t, "scale", simclock_scale());
+    return t;
+}
+
+static cJSON *device_json(const hal_device_config_t *cfg)
+{
+    cJSON *d = cJSON_CreateObject();
+    cJSON_AddStringToObject(d, "model", cfg->devtype);
+    cJSON_AddNumberToObject(d, "serial", cfg->serial);
+    cJSON_AddStringToObject(d, "tag", cfg->tag);
+    cJSON_AddStringToObject(d, "firmware_version", cfg->version);
+    cJSON_AddNumberToObject(d, "stroke_mm", cfg->stroke_mm);
+    cJSON_AddNumberToObject(d, "default_force_n", cfg->default_force_n);
+    cJSON_AddNumberToObject(d, "default_speed_mm_s", cfg->default_speed_mm_s);
+    cJSON_AddNumberToObject(d, "default_accel_mm_s2", cfg->default_accel_mm_s2);
+    cJSON_AddNumberToObject(d, "default_pullback_mm", cfg->default_pullback_mm);
+    cJSON_AddNumberToObject(d, "default_pwt_mm", cfg->default_pwt_mm);
+    cJSON_AddNumberToObject(d, "default_clt_mm", cfg->default_clt_mm);
+    cJSON_AddBoolToObject(d, "soft_limits", cfg->soft_limits_enabled);
+    cJSON_AddNumberToObject(d, "soft_limit_minus_mm", cfg->soft_limit_minus_mm);
+    cJSON_AddNumberToObject(d, "soft_limit_plus_mm", cfg->soft_limit_plus_mm);
+    cJSON_AddStringToObject(d, "homing_direction", cfg->home_positive ? "positive" : "negative");
+    cJSON_AddBoolToObject(d, "disconnect_faststop", cfg->disconnect_raises_faststop);
+    return d;
+}
+
+static cJSON *axis_json(const wsg_device_t *dev)
+{
+    const hal_axis_status_t *a = &dev->axis;
+    float speed = a->velocity_mm_s < 0.0f ? -a->velocity_mm_s : a->velocity_mm_s;
+    cJSON *j = cJSON_CreateObject();
+    cJSON_AddNumberToObject(j, "position_mm", a->position_mm);
+    cJSON_AddNumberToObject(j, "speed_mm_s", speed);
+    cJSON_AddNumberToObject(j, "force_n", a->force_n);
+    cJSON_AddNumberToObject(j, "blocked", a->blocked);
+    cJSON_AddBoolToObject(j, "referenced", dev->referenced);
+    return j;
+}
+
+static cJSON *motion_json(const wsg_device_t *dev)
+{
+    const wsg_motion_t *m = &dev->motion;
+    cJSON *j = cJSON_CreateObject();
+    if (m->kind == MOTION_NONE) {
+        cJSON_AddNullToObject(j, "command");
+        return j;
+    }
+    static const char *const names[] = {"", "HOME", "MOVE", "GRIP", "RELEASE"};
+    cJSON_AddStringToObject(j, "command", names[m->kind]);
+    cJSON_AddNumberToObject(j, "target_mm", m->target_mm);
+    cJSON_AddNumberToObject(j, "speed_mm_s", m->speed_mm_s);
+    cJSON_AddNumberToObject(j, "force_n", m->force_n);
+    const wsg_session_t *owner = &dev->sessions[m->owner_index];
+    bool alive = owner->in_use && owner->generation == m->owner_generation;
+    cJSON_AddNumberToObject(j, "session", alive ? owner->generation : 0);
+    return j;
+}
+
+static cJSON *grip_json(const wsg_device_t *dev)
+{
+    const wsg_grip_t *g = &dev->grip;
+    cJSON *j = cJSON_CreateObject();
+    cJSON_AddNumberToObject(j, "state", g->state);
+    cJSON_AddStringToObject(j, "state_name", simctl_grip_state_name(g->state));
+    cJSON_AddNumberToObject(j, "force_n", g->force_n);
+    cJSON_AddNumberToObject(j, "hold_mm", g->hold_mm);
+    cJSON *stats = cJSON_AddObjectToObject(j, "stats");
+    cJSON_AddNumberToObject(stats, "grips", g->stats[0]);
+    cJSON_AddNumberToObject(stats, "no_part", g->stats[1]);
+    cJSON_AddNumberToObject(stats, "part_lost", g->stats[2]);
+    return j;
+}
+
+static cJSON *flags_json(uint32_t flags)
+{
+    cJSON *j = cJSON_CreateObject();
+    cJSON_AddNumberToObject(j, "value", flags);
+    cJSON *set = cJSON_AddArrayToObject(j, "set");
+    for (unsigned bit = 0; bit < WSG_SYSFLAG_COUNT; bit++) {
+        const char *name = simctl_sysflag_name(bit);
+        if (((flags >> bit) & 1u) != 0u) {
+            cJSON_AddItemToArray(set, cJSON_CreateString(name != NULL ? name : "reserved"));
+        }
+    }
+    return j;
+}
+
+static cJSON *world_json(const wsg_device_t *dev)
+{
+    const sim_world_t *w = sim_world();
+    const sim_part_t *p = &w->axis.part;
+    const sim_obstacle_t *o = &w->axis.obstacle;
+    cJSON *j = cJSON_CreateObject();
+    cJSON_AddNumberToObject(j, "board_temp_c", dev->temperature_c);
+    cJSON_AddNumberToObject(j, "ambient_c", w->thermal.ambient_c);
+    cJSON *part =
+        p->present ? cJSON_AddObjectToObject(j, "part") : cJSON_AddNullToObject(j, "part");
+    if (p->present) {
+        cJSON_AddNumberToObject(part, "width_mm", p->width_mm);
+        cJSON_AddNumberToObject(part, "stiffness_n_mm", p->stiffness_n_mm);
+        cJSON_AddNumberToObject(part, "slip_force_n", p->slip_force_n);
+        cJSON_AddStringToObject(part, "side", p->side == SIM_PART_INSIDE ? "inside" : "outside");
+    }
+    cJSON_AddNumberToObject(j, "part_slips", p->slips);
+    cJSON *obst =
+        o->present ? cJSON_AddObjectToObject(j, "obstacle") : cJSON_AddNullToObject(j, "obstacle");
+    if (o->present) {
+        cJSON_AddNumberToObject(obst, "width_mm", o->width_mm);
+        cJSON_AddStringToObject(obst, "side", o->side == SIM_PART_INSIDE ? "inside" : "outside");
+    }
+    return j;
+}
+
+static cJSON *fingers_json(const wsg_device_t *dev)
+{
+    cJSON *list = cJSON_CreateArray();
+    for (unsigned i = 0; i < WSG_FINGER_COUNT; i++) {
+        const wsg_finger_t *f = &dev->fingers.slot[i];
+        cJSON *j = cJSON_CreateObject();
+        cJSON_AddStringToObject(j, "type", wsg_finger_type_name(f->type));
+        cJSON_AddNumberToObject(j, "flags", f->flags);
+        cJSON_AddItemToArray(list, j);
+    }
+    return list;
+}
+
+static void add_hardware_faults(cJSON *list)
+{
+    for (unsigned i = 0; i < SIMCTL_FAULT_COUNT; i++) {
+        simctl_fault_t f = (simctl_fault_t)i;
+        if (!simctl_fault_active(f)) {
+            continue;
+        }
+        cJSON *j = cJSON_CreateObject();
+        cJSON_AddStringToObject(j, "fault", simctl_fault_name(f));
+        cJSON_AddStringToObject(j, "description", simctl_fault_description(f));
+        cJSON_AddNumberToObject(j, "since_ms", ms(simctl_fault_since_us(f)));
+        cJSON_AddItemToArray(list, j);
+    }
+}
+
+static void add_protocol_faults(cJSON *list)
+{
+    simctl_delay_info_t d;
+    for (unsigned i = 0; simctl_delay_info(i, &d); i++) {
+        cJSON *j = cJSON_CreateObject();
+        cJSON_AddStringToObject(j, "fault", "DELAY");
+        cJSON_AddNumberToObject(j, "session", d.session_id);
+        cJSON_AddNumberToObject(j, "delay_ms", ms(d.delay_us));
+        cJSON_AddBoolToObject(j, "holding", d.holding);
+        cJSON_AddNumberToObject(j, "lines_held", d.lines_held);
+        if (d.holding) {
+            cJSON_AddNumberToObject(j, "release_ms", ms(d.release_us));
+        }
+        cJSON_AddItemToArray(list, j);
+    }
+    const wsg_injected_failure_t *f = &gripper_device()->injected_failure;
+    if (f->armed) {
+        cJSON *j = cJSON_CreateObject();
+        cJSON_AddStringToObject(j, "fault", "FAILNEXT");
+        cJSON_AddStringToObject(j, "command", f->name);
+        cJSON_AddNumberToObject(j, "code", f->status);
+        cJSON_AddItemToArray(list, j);
+    }
+}
+
+cJSON *state_json_faults(void)
+{
+    cJSON *list = cJSON_CreateArray();
+    add_hardware_faults(list);
+    add_protocol_faults(list);
+    return list;
+}
+
+static cJSON *autosend_json(const wsg_session_t *s)
+{
+    cJSON *list = cJSON_CreateArray();
+    for (unsigned v = 0; v < AS_COUNT; v++) {
+        const wsg_autosend_sub_t *sub = &s->autosend[v];
+        if (sub->interval_ms == 0u) {
+            continue;
+        }
+        cJSON *j = cJSON_CreateObject();
+        cJSON_AddStringToObject(j, "value", simctl_autosend_name((wsg_autosend_value_t)v));
+        cJSON_AddNumberToObject(j, "interval_ms", sub->interval_ms);
+        if (sub->use_delta) {
+            cJSON_AddNumberToObject(j, "delta", sub->delta);
+        }
+        cJSON_AddBoolToObject(j, "on_change", sub->on_change);
+        cJSON_AddNumberToObject(j, "missed", sub->missed);
+        cJSON_AddItemToArray(list, j);
+    }
+    return list;
+}
+
+static const char *transport_name(const wsg_session_t *s)
+{
+    return s->transport == WSG_TRANSPORT_STREAM ? "tcp" : "udp";
+}
+
+static cJSON *session_json(const wsg_session_t *s)
+{
+    cJSON *j = cJSON_CreateObject();
+    cJSON_AddNumberToObject(j, "id", s->generation);
+    cJSON_AddStringToObject(j, "transport", transport_name(s));
+    cJSON_AddBoolToObject(j, "verbose", s->verbose);
+    cJSON_AddNumberToObject(j, "pwt_mm", s->pwt_mm);
+    cJSON_AddNumberToObject(j, "clt_mm", s->clt_mm);
+    cJSON_AddBoolToObject(j, "bye", s->bye_received);
+    cJSON_AddNumberToObject(j, "lines_in", s->lines_in);
+    cJSON_AddNumberToObject(j, "lines_out", s->lines_out);
+    cJSON_AddItemToObject(j, "autosend", autosend_json(s));
+    return j;
+}
+
+static cJSON *sessions_json(const wsg_device_t *dev, bool full)
+{
+    cJSON *list = cJSON_CreateArray();
+    for (unsigned i = 0; i < WSG_MAX_SESSIONS; i++) {
+        const wsg_session_t *s = &dev->sessions[i];
+        if (!s->in_use) {
+            continue;
+        }
+        cJSON *j = full ? session_json(s) : cJSON_CreateObject();
+        if (!full) {
+            cJSON_AddNumberToObject(j, "id", s->generation);
+            cJSON_AddStringToObject(j, "transport", transport_name(s));
+        }
+        cJSON_AddItemToArray(list, j);
+    }
+    return list;
+}
+
+cJSON *state_json_session_list(void)
+{
+    return sessions_json(gripper_device(), false);
+}
+
+char *state_json(bool pretty)
+{
+    const wsg_device_t *dev = gripper_device();
+    cJSON *root = cJSON_CreateObject();
+    cJSON_AddItemToObject(root, "time", time_json());
+    cJSON_AddItemToObject(root, "device", device_json(hal_device_config()));
+    cJSON_AddItemToObject(root, "axis", axis_json(dev));
+    cJSON_AddItemToObject(root, "motion", motion_json(dev));
+    cJSON_AddItemToObject(root, "grip", grip_json(dev));
+    cJSON_AddItemToObject(root, "flags", flags_json(dev->flags));
+    cJSON_AddItemToObject(root, "world", world_json(dev));
+    cJSON_AddItemToObject(root, "fingers", fingers_json(dev));
+    cJSON_AddItemToObject(root, "faults", state_json_faults());
+    cJSON_AddItemToObject(root, "sessions", sessions_json(dev, true));
+    char *text = pretty ? cJSON_Print(root) : cJSON_PrintUnformatted(root);
+    cJSON_Delete(root);
+    return text;
+}

@@ -1,0 +1,55 @@
+# The finger bus (docs/finger-bus.md): build/fingersim, the Check unit tests
+# of the protocol (build/tests/can_tests) and the SocketCAN integration test
+# on vcan0, inside a user-mode Linux kernel when this kernel has no CAN.
+#   make can-unit-tests     protocol, node and core tests (also with SAN=1)
+#   make can-vcan-tests     wsgsim + fingersim + candump on a real vcan0
+CAN_DEBS := user-mode-linux kmod can-utils python3-canmatrix iproute2
+CAN_PYTHON := /usr/bin/python3
+FINGERSIM_SRC := $(sort $(wildcard tools/fingersim/*.c))
+FINGERSIM_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(FINGERSIM_SRC)) \
+	$(BUILD)/obj/host/can_socketcan.o $(BUILD)/obj/host/can_socketcan_adapt.o
+CAN_TEST_SRC := $(sort $(wildcard tests/can/*.c))
+CAN_TEST_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(CAN_TEST_SRC)) $(BUILD)/obj/host/can_loopback.o
+CAN_TEST_BIN := $(BUILD)/tests/can_tests
+CAN_TEST_CFLAGS = $(CFLAGS_BASE) $(CORE_INC) -Itests/can -Ihost $(shell pkg-config --cflags check)
+CAN_TEST_LIBS = $(shell pkg-config --libs check) -lm
+
+.PHONY: can-deps can-unit-tests can-vcan-tests fingersim
+CHECK_TARGETS += can-unit-tests can-vcan-tests
+
+can-deps:
+	@mk/deps.sh $(CAN_DEBS)
+
+fingersim: $(BUILD)/fingersim
+
+$(BUILD)/obj/tools/fingersim/%.o: tools/fingersim/%.c
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) -MMD -MP -c $< -o $@
+
+$(BUILD)/fingersim: $(FINGERSIM_OBJ) $(BUILD)/libwsgcore.a
+	$(CC) $(LDFLAGS_BASE) -o $@ $(FINGERSIM_OBJ) $(BUILD)/libwsgcore.a -lm
+
+$(BUILD)/obj/tests/can/%.o: tests/can/%.c
+	@mkdir -p $(dir $@)
+	$(CC) $(CAN_TEST_CFLAGS) -MMD -MP -c $< -o $@
+
+$(CAN_TEST_BIN): $(CAN_TEST_OBJ) $(BUILD)/libwsgcore.a
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS_BASE) -o $@ $(CAN_TEST_OBJ) $(BUILD)/libwsgcore.a $(CAN_TEST_LIBS)
+
+can-unit-tests: $(CAN_TEST_BIN)
+	$(CAN_TEST_BIN)
+
+# Runs natively where vcan works, otherwise boots linux.uml; fails (never
+# skips) when neither is possible. ASan's shadow memory does not fit the
+# address space of a UML guest's processes, so with SAN=1 the guest runs the
+# plain build (native vcan runs the sanitized one).
+can-vcan-tests: can-deps $(BUILD)/wsgsim $(BUILD)/fingersim
+ifeq ($(SAN),1)
+	$(MAKE) SAN=0 build/wsgsim build/fingersim
+endif
+	$(CAN_PYTHON) tests/can/run_vcan.py --wsgsim $(abspath $(BUILD)/wsgsim) \
+		--fingersim $(abspath $(BUILD)/fingersim) --dbc $(abspath docs/finger-bus.dbc) \
+		--uml-wsgsim $(abspath build/wsgsim) --uml-fingersim $(abspath build/fingersim)
+
+-include $(FINGERSIM_OBJ:.o=.d) $(CAN_TEST_OBJ:.o=.d)

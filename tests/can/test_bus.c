@@ -1,0 +1,253 @@
+/* The core on the loopback bus: FTYPE/FFLAGS/FDATA/TARE, force control,
+ * comm-fault detection and recovery, fault injection. */
+#include <stdio.h>
+#include <string.h>
+
+#include "can_harness.h"
+#include "can_loopback.h"
+#include "sim_world.h"
+
+#define FLAGS_OK "[1,1,1,0,0,0,0,0,0,0,0,0,0,0,0,0]"
+
+static void inject(unsigned slot, uint8_t faults)
+{
+    hal_can_frame_t f;
+    fbus_pack_simctl(&f, FBUS_NODE_ID(slot), faults);
+    ck_assert(hal_can_send(can_loopback_bus(), &f));
+}
+
+START_TEST(without_a_bus_the_slots_are_empty)
+{
+    t_start(NULL);
+    t_run_ms(500);
+    ck_assert_str_eq(t_ask("FTYPE?"), "FTYPE=[\"none\",\"none\"]");
+    ck_assert_str_eq(t_ask("FDATA?"), "ERR FDATA 1");
+    ck_assert_str_eq(t_ask("TARE()"), "ERR TARE 1");
+    ck_assert_str_eq(t_ask("SYSFLAGS[9]?"), "SYSFLAGS[9]=0");
+}
+END_TEST
+
+START_TEST(fingers_appear_within_50_ms)
+{
+    t_start("fmf,dsa");
+    int ms = t_until("FTYPE?", "FTYPE=[\"fmf\",\"dsa\"]", 200);
+    ck_assert_int_ge(ms, 0);
+    ck_assert_int_le(ms, 50);
+    t_run_ms(60);
+    ck_assert_str_eq(t_ask("FFLAGS?"), "FFLAGS=[" FLAGS_OK "," FLAGS_OK "]");
+    ck_assert_str_eq(t_ask("FFLAGS[1]?"), "FFLAGS[1]=" FLAGS_OK);
+    ck_assert_str_eq(t_ask("FTYPE[1]?"), "FTYPE[1]=\"dsa\"");
+    ck_assert_str_eq(t_ask("SYSFLAGS[9]?"), "SYSFLAGS[9]=1");
+    ck_assert_str_eq(t_ask("SYSFLAGS[17]?"), "SYSFLAGS[17]=0");
+}
+END_TEST
+
+START_TEST(empty_and_generic_slots)
+{
+    t_start("generic,none");
+    t_run_ms(200);
+    ck_assert_str_eq(t_ask("FTYPE?"), "FTYPE=[\"generic\",\"none\"]");
+    ck_assert_str_eq(t_ask("FFLAGS[1]?"), "FFLAGS[1]=[0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0]");
+    ck_assert_str_eq(t_ask("FFLAGS[0]?"), "FFLAGS[0]=" FLAGS_OK);
+    ck_assert_str_eq(t_ask("FDATA[0]?"), "ERR FDATA 1");
+    ck_assert_str_eq(t_ask("TARE()"), "ERR TARE 1");
+    ck_assert_str_eq(t_ask("SYSFLAGS[9]?"), "SYSFLAGS[9]=0");
+    ck_assert_str_eq(t_ask("SYSFLAGS[17]?"), "SYSFLAGS[17]=0");
+}
+END_TEST
+
+START_TEST(fdata_fmf_offset_and_tare)
+{
+    t_start("fmf,dsa");
+    t_run_ms(300);
+    float before = t_ask_float("FDATA[0]?");
+    ck_assert_float_eq_tol(before, 0.6f, 0.1f);
+    ck_assert_float_eq_tol(t_ask_float("FORCE?"), before, 0.0001f); /* force control */
+    ck_assert_str_eq(t_ask("TARE(1)"), "ERR TARE 1");               /* a DSA measures no force */
+    ck_assert_str_eq(t_ask("TARE(2)"), "ERR TARE 25");
+    ck_assert_str_eq(t_ask("TARE(0)"), "ACK TARE");
+    t_run_ms(30);
+    ck_assert_float_eq_tol(t_ask_float("FDATA[0]?"), 0.0f, 0.08f);
+    ck_assert_str_eq(t_ask("TARE()"), "ACK TARE");
+}
+END_TEST
+
+START_TEST(fdata_dsa_vector_and_both)
+{
+    t_start("fmf,dsa");
+    t_run_ms(300);
+    const char *reply = t_ask("FDATA[1]?");
+    ck_assert_str_eq(reply, "FDATA[1]=[0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,"
+                            "0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,"
+                            "0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0]");
+    reply = t_ask("FDATA?");
+    ck_assert_msg(strncmp(reply, "FDATA=[0.", 9) == 0, "%s", reply);
+    ck_assert_msg(strstr(reply, ",[0,0,") != NULL, "%s", reply);
+}
+END_TEST
+
+START_TEST(two_dsa_fingers_fit_one_reply)
+{
+    t_start("dsa,dsa");
+    t_run_ms(300);
+    sim_world()->axis.force_n = 0.0f;
+    const char *reply = t_ask("FDATA?");
+    ck_assert_msg(strncmp(reply, "FDATA=[[", 8) == 0, "%s", reply);
+    ck_assert_msg(strcmp(reply + strlen(reply) - 2, "]]") == 0, "%s", reply);
+}
+END_TEST
+
+/* GRIP on a 40 mm part; returns after the grip settled for settle_ms. */
+static void grip_part(float force, uint32_t settle_ms)
+{
+    sim_axis_place_part(&sim_world()->axis, 40.0f, 100.0f);
+    ck_assert_str_eq(t_ask("HOME()"), "ACK HOME");
+    t_run_ms(3000);
+    char line[32];
+    snprintf(line, sizeof(line), "GRIP(%g)", (double)force);
+    ck_assert_str_eq(t_ask(line), "ACK GRIP");
+    t_run_ms(2000 + settle_ms);
+    ck_assert_str_eq(t_ask("GRIPSTATE?"), "GRIPSTATE=4");
+}
+
+START_TEST(force_control_regulates_on_the_fmf)
+{
+    t_start("fmf,dsa");
+    grip_part(30.0f, 1000);
+    /* untared: the finger reads 0.6 N too much, so the jaws push 0.6 N less */
+    ck_assert_float_eq_tol(t_ask_float("FORCE?"), 30.0f, 0.1f);
+    ck_assert_float_eq_tol(t_ask_float("FDATA[0]?"), 30.0f, 0.1f);
+    ck_assert_float_eq_tol(sim_world()->axis.force_n, 29.4f, 0.1f);
+    ck_assert_float_eq_tol(t_dev.fbus.motor_force_n, 29.4f, 0.1f);
+    ck_assert_str_eq(t_ask("SYSFLAGS[9]?"), "SYSFLAGS[9]=1");
+    const char *dsa = t_ask("FDATA[1]?");
+    ck_assert_msg(strstr(dsa, ",0,0,0,0,0,") != NULL && strstr(dsa, "1") != NULL, "%s", dsa);
+}
+END_TEST
+
+START_TEST(tared_fmf_gives_the_true_force)
+{
+    t_start("fmf,none");
+    t_run_ms(300);
+    ck_assert_str_eq(t_ask("TARE()"), "ACK TARE");
+    t_run_ms(50);
+    grip_part(40.0f, 1500);
+    ck_assert_float_eq_tol(sim_world()->axis.force_n, 40.0f, 0.1f);
+    ck_assert_float_eq_tol(t_ask_float("FORCE?"), 40.0f, 0.1f);
+}
+END_TEST
+
+START_TEST(comm_fault_within_timeout_and_recovery)
+{
+    t_start("fmf,dsa");
+    t_run_ms(300);
+    inject(0, FBUS_FAULT_UNPLUG);
+    int ms = t_until("FFLAGS[0]?", "FFLAGS[0]=[1,1,0,0,0,0,0,0,0,1,0,0,0,0,0,0]", 1000);
+    ck_assert_int_ge(ms, 280);
+    ck_assert_int_le(ms, 320);
+    ck_assert_str_eq(t_ask("SYSFLAGS[17]?"), "SYSFLAGS[17]=1");
+    ck_assert_str_eq(t_ask("SYSFLAGS[9]?"), "SYSFLAGS[9]=0");
+    ck_assert_str_eq(t_ask("FDATA[0]?"), "ERR FDATA 1");
+    ck_assert_str_eq(t_ask("TARE()"), "ERR TARE 1");
+    ck_assert_str_eq(t_ask("FTYPE?"), "FTYPE=[\"fmf\",\"dsa\"]");
+    ck_assert(t_log_contains("finger 0: communication fault"));
+    inject(0, 0);
+    ms = t_until("FFLAGS[0]?", "FFLAGS[0]=" FLAGS_OK, 1000);
+    ck_assert_int_ge(ms, 0);
+    ck_assert_int_le(ms, 60);
+    t_run_ms(20);
+    ck_assert_str_eq(t_ask("SYSFLAGS[17]?"), "SYSFLAGS[17]=0");
+    ck_assert_str_eq(t_ask("SYSFLAGS[9]?"), "SYSFLAGS[9]=1");
+    ck_assert_float_eq_tol(t_ask_float("FDATA[0]?"), 0.6f, 0.1f);
+    ck_assert(t_log_contains("finger 0: communication restored"));
+}
+END_TEST
+
+START_TEST(power_and_init_faults)
+{
+    t_start("fmf,dsa");
+    t_run_ms(300);
+    inject(1, FBUS_FAULT_POWER);
+    ck_assert_int_ge(t_until("FFLAGS[1]?", "FFLAGS[1]=[1,1,1,0,0,0,0,0,1,0,0,0,0,0,0,0]", 200), 0);
+    ck_assert_str_eq(t_ask("SYSFLAGS[17]?"), "SYSFLAGS[17]=1");
+    ck_assert_str_eq(t_ask("FDATA[1]?"), "ERR FDATA 1");
+    inject(1, 0);
+    ck_assert_int_ge(t_until("FFLAGS[1]?", "FFLAGS[1]=" FLAGS_OK, 200), 0);
+    ck_assert_int_ge(t_until("SYSFLAGS[17]?", "SYSFLAGS[17]=0", 50), 0);
+    t_run_ms(100);
+    const char *dsa = t_ask("FDATA[1]?");
+    ck_assert_msg(strncmp(dsa, "FDATA[1]=[0,0,", 14) == 0, "%s", dsa);
+    inject(0, FBUS_FAULT_INIT);
+    ck_assert_int_ge(t_until("FFLAGS[0]?", "FFLAGS[0]=[1,1,1,0,0,0,0,0,0,0,1,0,0,0,0,0]", 200), 0);
+    ck_assert_str_eq(t_ask("SYSFLAGS[17]?"), "SYSFLAGS[17]=1");
+    ck_assert_str_eq(t_ask("SYSFLAGS[9]?"), "SYSFLAGS[9]=0");
+}
+END_TEST
+
+START_TEST(init_fault_at_power_on_has_no_config)
+{
+    t_start("fmf,dsa");
+    inject(0, FBUS_FAULT_INIT);
+    t_run_ms(300);
+    ck_assert_str_eq(t_ask("FFLAGS[0]?"), "FFLAGS[0]=[1,0,1,0,0,0,0,0,0,0,1,0,0,0,0,0]");
+    ck_assert_str_eq(t_ask("FTYPE[0]?"), "FTYPE[0]=\"none\"");
+    inject(0, 0);
+    ck_assert_int_ge(t_until("FTYPE[0]?", "FTYPE[0]=\"fmf\"", 200), 0);
+}
+END_TEST
+
+START_TEST(clock_jumps_keep_loopback_fingers)
+{
+    t_start("fmf,dsa");
+    t_run_ms(300);
+    ck_assert_str_eq(t_ask("TARE()"), "ACK TARE");
+    t_run_ms(50);
+    for (int i = 0; i < 3; i++) {
+        t_now_us += 5000000u; /* a paused clock stepped by 5 s */
+        sim_world_advance(t_now_us);
+        wsg_device_step(&t_dev);
+        ck_assert_str_eq(t_ask("FFLAGS[0]?"), "FFLAGS[0]=" FLAGS_OK);
+    }
+    t_run_ms(20);
+    ck_assert_float_eq_tol(t_ask_float("FDATA[0]?"), 0.0f, 0.08f); /* still tared */
+    ck_assert_uint_eq(t_dev.fbus.comm_faults, 0);
+}
+END_TEST
+
+START_TEST(bus_frame_rates)
+{
+    t_start("fmf,dsa");
+    t_run_ms(500);
+    uint32_t before = can_loopback_frames();
+    uint32_t tx = t_dev.fbus.tx_frames;
+    t_run_ms(1000);
+    ck_assert_uint_ge(t_dev.fbus.tx_frames - tx, 99);
+    ck_assert_uint_le(t_dev.fbus.tx_frames - tx, 101);
+    /* 100 STATE + 100 MEASURE + 20 x 28 BULK + 20 heartbeats */
+    uint32_t frames = can_loopback_frames() - before;
+    ck_assert_uint_ge(frames, 770);
+    ck_assert_uint_le(frames, 790);
+}
+END_TEST
+
+Suite *bus_suite(void)
+{
+    Suite *s = suite_create("finger bus in the core");
+    TCase *tc = tcase_create("bus");
+    tcase_set_timeout(tc, 30);
+    tcase_add_test(tc, without_a_bus_the_slots_are_empty);
+    tcase_add_test(tc, fingers_appear_within_50_ms);
+    tcase_add_test(tc, empty_and_generic_slots);
+    tcase_add_test(tc, fdata_fmf_offset_and_tare);
+    tcase_add_test(tc, fdata_dsa_vector_and_both);
+    tcase_add_test(tc, two_dsa_fingers_fit_one_reply);
+    tcase_add_test(tc, force_control_regulates_on_the_fmf);
+    tcase_add_test(tc, tared_fmf_gives_the_true_force);
+    tcase_add_test(tc, comm_fault_within_timeout_and_recovery);
+    tcase_add_test(tc, power_and_init_faults);
+    tcase_add_test(tc, init_fault_at_power_on_has_no_config);
+    tcase_add_test(tc, clock_jumps_keep_loopback_fingers);
+    tcase_add_test(tc, bus_frame_rates);
+    suite_add_tcase(s, tc);
+    return s;
+}

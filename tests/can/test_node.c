@@ -1,0 +1,313 @@
+/* The simulated finger node on a recording bus, driven frame by frame. */
+#include <string.h>
+
+#include "can_harness.h"
+#include "finger_node.h"
+
+#define REC_MAX 2048
+
+static hal_can_frame_t sent[REC_MAX];
+static unsigned sent_count;
+
+static bool rec_send(void *ctx, const hal_can_frame_t *f)
+{
+    (void)ctx;
+    ck_assert_uint_lt(sent_count, REC_MAX);
+    sent[sent_count++] = *f;
+    return true;
+}
+
+static bool rec_recv(void *ctx, hal_can_frame_t *f)
+{
+    (void)ctx;
+    (void)f;
+    return false;
+}
+
+static bool rec_filters(void *ctx, const hal_can_filter_t *f, unsigned n)
+{
+    (void)ctx;
+    (void)f;
+    (void)n;
+    return true;
+}
+
+static const hal_can_t rec_bus = {rec_send, rec_recv, rec_filters, NULL};
+static finger_node_t node;
+static uint64_t now;
+
+static void start(fbus_type_t type, unsigned slot)
+{
+    finger_node_params_t p;
+    finger_node_defaults(&p);
+    finger_node_init(&node, type, slot, &p, &rec_bus);
+    sent_count = 0;
+    now = 1000000u;
+}
+
+static void state(float force, uint8_t power)
+{
+    fbus_state_t s = {30.0f, force, power, 0, 0};
+    hal_can_frame_t f;
+    fbus_pack_state(&f, &s);
+    finger_node_receive(&node, &f, now);
+}
+
+/* Runs 1 ms steps, feeding STATE every 10 ms as the gripper does. */
+static void run(unsigned ms, float force, uint8_t power)
+{
+    for (unsigned i = 0; i < ms; i++) {
+        if (i % 10u == 0u) {
+            state(force, power);
+        }
+        now += 1000u;
+        finger_node_step(&node, now);
+    }
+}
+
+static unsigned count_id(uint32_t id)
+{
+    unsigned n = 0;
+    for (unsigned i = 0; i < sent_count; i++) {
+        n += sent[i].id == id ? 1u : 0u;
+    }
+    return n;
+}
+
+static const hal_can_frame_t *last_id(uint32_t id)
+{
+    for (unsigned i = sent_count; i > 0; i--) {
+        if (sent[i - 1].id == id) {
+            return &sent[i - 1];
+        }
+    }
+    return NULL;
+}
+
+static float last_force(void)
+{
+    fbus_measure_t m;
+    const hal_can_frame_t *f = last_id(0x181);
+    ck_assert_ptr_nonnull(f);
+    ck_assert(fbus_unpack_measure(f, &m));
+    return (float)m.value_milli / 1000.0f;
+}
+
+START_TEST(silent_without_supply)
+{
+    start(FBUS_TYPE_FMF, 0);
+    run(500, 0.0f, 0x2); /* only slot 1 powered */
+    ck_assert_uint_eq(sent_count, 0);
+    ck_assert_uint_eq(finger_node_next_due_us(&node), UINT64_MAX);
+}
+END_TEST
+
+START_TEST(boots_then_describes_itself)
+{
+    start(FBUS_TYPE_FMF, 0);
+    run(1, 0.0f, 0x3);
+    ck_assert_uint_eq(sent_count, 1);
+    fbus_heartbeat_t hb;
+    ck_assert(fbus_unpack_heartbeat(&sent[0], &hb));
+    ck_assert_uint_eq(hb.state, FBUS_NODE_BOOT);
+    run(30, 0.0f, 0x3);
+    fbus_descriptor_t d;
+    ck_assert(fbus_unpack_descriptor(last_id(0x101), &d));
+    ck_assert_uint_eq(d.type, FBUS_TYPE_FMF);
+    ck_assert_uint_eq(d.encoding, FBUS_ENC_MEASURE);
+    ck_assert(fbus_unpack_heartbeat(last_id(0x701), &hb));
+    ck_assert_uint_eq(hb.state, FBUS_NODE_OPERATIONAL);
+}
+END_TEST
+
+START_TEST(fmf_rates_and_offset)
+{
+    start(FBUS_TYPE_FMF, 0);
+    run(100, 0.0f, 0x1);
+    sent_count = 0;
+    run(1000, 0.0f, 0x1);
+    ck_assert_uint_ge(count_id(0x181), 99);
+    ck_assert_uint_le(count_id(0x181), 101);
+    ck_assert_uint_ge(count_id(0x701), 9);
+    ck_assert_uint_le(count_id(0x701), 11);
+    ck_assert_float_eq_tol(last_force(), 0.6f, 0.1f);
+}
+END_TEST
+
+START_TEST(fmf_follows_force_and_tares)
+{
+    start(FBUS_TYPE_FMF, 0);
+    run(300, 25.0f, 0x1);
+    ck_assert_float_eq_tol(last_force(), 25.6f, 0.1f);
+    run(300, 0.0f, 0x1);
+    hal_can_frame_t f;
+    fbus_pack_command(&f, 1, FBUS_CMD_TARE);
+    finger_node_receive(&node, &f, now);
+    run(20, 0.0f, 0x1);
+    ck_assert_float_eq_tol(last_force(), 0.0f, 0.08f);
+    fbus_measure_t m;
+    ck_assert(fbus_unpack_measure(last_id(0x181), &m));
+    ck_assert_uint_eq(m.tare_count, 1);
+    ck_assert_uint_eq(m.status & FBUS_MEASURE_TARED, FBUS_MEASURE_TARED);
+    run(300, 25.0f, 0x1);
+    ck_assert_float_eq_tol(last_force(), 25.0f, 0.1f);
+}
+END_TEST
+
+START_TEST(tare_is_lost_on_power_cycle)
+{
+    start(FBUS_TYPE_FMF, 0);
+    run(300, 0.0f, 0x1);
+    hal_can_frame_t f;
+    fbus_pack_command(&f, 1, FBUS_CMD_TARE);
+    finger_node_receive(&node, &f, now);
+    run(50, 0.0f, 0x0);
+    run(300, 0.0f, 0x1);
+    ck_assert_float_eq_tol(last_force(), 0.6f, 0.1f);
+}
+END_TEST
+
+START_TEST(goes_quiet_when_the_gripper_vanishes)
+{
+    start(FBUS_TYPE_FMF, 0);
+    run(100, 0.0f, 0x1);
+    for (unsigned i = 0; i < 1100u; i++) {
+        now += 1000u;
+        finger_node_step(&node, now);
+    }
+    unsigned before = sent_count;
+    for (unsigned i = 0; i < 500u; i++) {
+        now += 1000u;
+        finger_node_step(&node, now);
+    }
+    ck_assert_uint_eq(sent_count, before);
+}
+END_TEST
+
+START_TEST(dsa_sends_84_cells_in_28_segments)
+{
+    start(FBUS_TYPE_DSA, 1);
+    run(100, 30.0f, 0x2);
+    sent_count = 0;
+    run(1000, 30.0f, 0x2);
+    unsigned frames = count_id(0x202);
+    ck_assert_uint_ge(frames, 19u * 28u);
+    ck_assert_uint_le(frames, 21u * 28u);
+    fbus_bulk_rx_t rx;
+    fbus_bulk_rx_reset(&rx);
+    bool done = false;
+    for (unsigned i = 0; i < sent_count; i++) {
+        fbus_bulk_t b;
+        if (fbus_unpack_bulk(&sent[i], &b) && fbus_bulk_rx_feed(&rx, &b)) {
+            done = true;
+        }
+    }
+    ck_assert(done);
+    ck_assert_uint_eq(rx.count, 84);
+    uint16_t want[84];
+    finger_node_dsa_pattern(30.0f, want);
+    ck_assert_mem_eq(rx.values, want, sizeof(want));
+}
+END_TEST
+
+START_TEST(dsa_pattern_follows_contact)
+{
+    uint16_t cells[84];
+    uint16_t harder[84];
+    finger_node_dsa_pattern(0.0f, cells);
+    for (unsigned i = 0; i < 84u; i++) {
+        ck_assert_uint_eq(cells[i], 0);
+    }
+    finger_node_dsa_pattern(10.0f, cells);
+    finger_node_dsa_pattern(60.0f, harder);
+    unsigned touched = 0, touched_harder = 0;
+    for (unsigned i = 0; i < 84u; i++) {
+        touched += cells[i] > 0u ? 1u : 0u;
+        touched_harder += harder[i] > 0u ? 1u : 0u;
+        ck_assert_uint_le(harder[i], FBUS_DSA_CELL_MAX);
+        ck_assert_uint_eq(cells[i], cells[83u - i]); /* centred patch */
+    }
+    ck_assert_uint_gt(touched, 0);
+    ck_assert_uint_gt(touched_harder, touched);
+    ck_assert_uint_gt(harder[6 * 6 + 2], cells[6 * 6 + 2]);
+    ck_assert_uint_eq(cells[0], 0);
+}
+END_TEST
+
+START_TEST(generic_only_heartbeats)
+{
+    start(FBUS_TYPE_GENERIC, 0);
+    run(1000, 10.0f, 0x1);
+    ck_assert_uint_eq(count_id(0x181), 0);
+    ck_assert_uint_eq(count_id(0x201), 0);
+    ck_assert_uint_ge(count_id(0x701), 10);
+    fbus_descriptor_t d;
+    ck_assert(fbus_unpack_descriptor(last_id(0x101), &d));
+    ck_assert_uint_eq(d.type, FBUS_TYPE_GENERIC);
+    ck_assert_uint_eq(d.encoding, FBUS_ENC_NONE);
+}
+END_TEST
+
+START_TEST(injected_faults)
+{
+    start(FBUS_TYPE_FMF, 0);
+    hal_can_frame_t f;
+    fbus_pack_simctl(&f, 1, FBUS_FAULT_INIT);
+    finger_node_receive(&node, &f, now);
+    run(200, 0.0f, 0x1);
+    ck_assert_uint_eq(count_id(0x101), 0); /* no descriptor */
+    ck_assert_uint_eq(count_id(0x181), 0); /* no data */
+    fbus_heartbeat_t hb;
+    ck_assert(fbus_unpack_heartbeat(last_id(0x701), &hb));
+    ck_assert_uint_eq(hb.state, FBUS_NODE_FAULT);
+    ck_assert_uint_eq(hb.faults, FBUS_FAULT_INIT);
+    fbus_pack_simctl(&f, 1, FBUS_FAULT_UNPLUG);
+    finger_node_receive(&node, &f, now);
+    sent_count = 0;
+    run(500, 0.0f, 0x1);
+    ck_assert_uint_eq(sent_count, 0);
+    fbus_pack_simctl(&f, 2, 0); /* another node's: ignored */
+    finger_node_receive(&node, &f, now);
+    run(100, 0.0f, 0x1);
+    ck_assert_uint_eq(sent_count, 0);
+    fbus_pack_simctl(&f, 1, 0);
+    finger_node_receive(&node, &f, now);
+    run(100, 0.0f, 0x1);
+    ck_assert_uint_eq(count_id(0x101), 1);
+    ck_assert_uint_gt(count_id(0x181), 5);
+}
+END_TEST
+
+START_TEST(parses_finger_lists)
+{
+    fbus_type_t t[2];
+    ck_assert(finger_node_parse_pair("fmf,dsa", t));
+    ck_assert_int_eq(t[0], FBUS_TYPE_FMF);
+    ck_assert_int_eq(t[1], FBUS_TYPE_DSA);
+    ck_assert(finger_node_parse_pair("GENERIC", t));
+    ck_assert_int_eq(t[0], FBUS_TYPE_GENERIC);
+    ck_assert_int_eq(t[1], FBUS_TYPE_NONE);
+    ck_assert(!finger_node_parse_pair("fmf,", t));
+    ck_assert(!finger_node_parse_pair("fm", t));
+    ck_assert(!finger_node_parse_pair("fmfx,dsa", t));
+}
+END_TEST
+
+Suite *node_suite(void)
+{
+    Suite *s = suite_create("finger node");
+    TCase *tc = tcase_create("node");
+    tcase_add_test(tc, silent_without_supply);
+    tcase_add_test(tc, boots_then_describes_itself);
+    tcase_add_test(tc, fmf_rates_and_offset);
+    tcase_add_test(tc, fmf_follows_force_and_tares);
+    tcase_add_test(tc, tare_is_lost_on_power_cycle);
+    tcase_add_test(tc, goes_quiet_when_the_gripper_vanishes);
+    tcase_add_test(tc, dsa_sends_84_cells_in_28_segments);
+    tcase_add_test(tc, dsa_pattern_follows_contact);
+    tcase_add_test(tc, generic_only_heartbeats);
+    tcase_add_test(tc, injected_faults);
+    tcase_add_test(tc, parses_finger_lists);
+    suite_add_tcase(s, tc);
+    return s;
+}

@@ -1,0 +1,290 @@
+#!/usr/bin/env python3
+"""The finger bus end to end on a real SocketCAN interface (vcan0):
+wsgsim --can vcan0, tools fingersim on the same bus, candump capturing every
+frame, a GCL client over TCP. Asserts FTYPE/FFLAGS/FDATA/TARE, force control,
+the comm fault on a killed fingersim and the recovery on restart, fault
+injection by a SIMCTL frame (cansend), and that the captured frames decode
+with docs/finger-bus.dbc (canmatrix) to the values FDATA reported.
+
+usage: vcan_scenario.py --wsgsim BIN --fingersim BIN --dbc FILE --iface vcan0 --workdir DIR
+Prints 'vcan: N passed, 0 failed' and exits 0 only when every check held.
+"""
+import argparse
+import os
+import signal
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "e2e"))
+from gclclient import Wsgsim  # noqa: E402
+
+FLAGS_OK = "[1,1,1,0,0,0,0,0,0,0,0,0,0,0,0,0]"
+COMM_FAULT = "[1,1,0,0,0,0,0,0,0,1,0,0,0,0,0,0]"
+POWER_FAULT = "[1,1,1,0,0,0,0,0,1,0,0,0,0,0,0,0]"
+
+
+class Checks:
+    def __init__(self):
+        self.passed = 0
+        self.failed = 0
+        self.measured = {}
+
+    def check(self, what, ok, detail=""):
+        if ok:
+            self.passed += 1
+            print("  ok   %s" % what)
+        else:
+            self.failed += 1
+            print("  FAIL %s %s" % (what, detail))
+        sys.stdout.flush()
+        return ok
+
+
+def wait_reply(client, query, expected, timeout):
+    """Polls query until it answers expected; elapsed seconds or None."""
+    start = time.monotonic()
+    reply = None
+    while time.monotonic() - start < timeout:
+        reply = client.command(query)
+        if reply == expected:
+            return time.monotonic() - start
+        time.sleep(0.005)
+    print("    last reply to %s: %r" % (query, reply))
+    return None
+
+
+def value_of(reply):
+    return reply.split("=", 1)[1]
+
+
+class Fingersim:
+    def __init__(self, binary, iface, log_path):
+        self.binary, self.iface, self.log_path = binary, iface, log_path
+        self.proc = None
+
+    def start(self):
+        log = open(self.log_path, "ab")
+        self.proc = subprocess.Popen([self.binary, "--can", self.iface, "--fingers", "fmf,dsa"],
+                                     stdout=log, stderr=log, stdin=subprocess.DEVNULL)
+        log.close()
+
+    def kill(self):
+        if self.proc is not None and self.proc.poll() is None:
+            self.proc.send_signal(signal.SIGKILL)
+            self.proc.wait()
+        self.proc = None
+
+    def stop(self):
+        if self.proc is not None and self.proc.poll() is None:
+            self.proc.send_signal(signal.SIGTERM)
+            self.proc.wait(timeout=5)
+        self.proc = None
+
+
+def basics(c, gcl, checks):
+    checks.check("FTYPE shows both fingers within 1 s",
+                 wait_reply(gcl, "FTYPE?", 'FTYPE=["fmf","dsa"]', 1.0) is not None)
+    checks.check("FFLAGS: powered, configured, communicating",
+                 wait_reply(gcl, "FFLAGS?", "FFLAGS=[%s,%s]" % (FLAGS_OK, FLAGS_OK), 1.0)
+                 is not None)
+    checks.check("SF_FORCECNTL_MODE set with an FMF", gcl.command("SYSFLAGS[9]?") == "SYSFLAGS[9]=1")
+    checks.check("SF_FINGER_FAULT clear", gcl.command("SYSFLAGS[17]?") == "SYSFLAGS[17]=0")
+    untared = float(value_of(gcl.command("FDATA[0]?")))
+    checks.check("FMF reads its offset before TARE (0.6 N)", abs(untared - 0.6) < 0.1, untared)
+    checks.check("TARE(1) on a DSA is not available", gcl.command("TARE(1)") == "ERR TARE 1")
+    checks.check("TARE() acknowledged", gcl.command("TARE()") == "ACK TARE")
+    time.sleep(0.1)
+    tared = float(value_of(gcl.command("FDATA[0]?")))
+    checks.check("FMF reads about 0 after TARE", abs(tared) < 0.08, tared)
+    c["fmf_values"].append(tared)
+
+
+def grip(c, gcl, checks):
+    checks.check("HOME", gcl.long_command("HOME()", "HOME", timeout=10) == "FIN HOME")
+    checks.check("GRIP(30) holds the part", gcl.long_command("GRIP(30)", "GRIP", timeout=10) == "FIN GRIP")
+    time.sleep(1.0)
+    force = float(value_of(gcl.command("FORCE?")))
+    checks.check("FORCE? is the FMF measurement, regulated to 30 N", abs(force - 30.0) < 0.3, force)
+    for _ in range(3):
+        reply = gcl.command("FDATA[0]?")
+        c["fmf_values"].append(float(value_of(reply)))
+        time.sleep(0.03)
+    dsa = gcl.command("FDATA[1]?")
+    cells = [int(v) for v in value_of(dsa).strip("[]").split(",")]
+    checks.check("DSA FDATA is a vector of 84 cells", len(cells) == 84, len(cells))
+    checks.check("DSA pattern shows the contact", max(cells) > 1000 and cells[0] == 0, max(cells))
+    c["dsa_vectors"].append(cells)
+    both = gcl.command("FDATA?")
+    checks.check("FDATA? carries both fingers", both.startswith("FDATA=[") and both.endswith("]]"))
+
+
+def comm_fault(c, gcl, finger, checks, args):
+    finger.kill()
+    elapsed = wait_reply(gcl, "FFLAGS[0]?", "FFLAGS[0]=" + COMM_FAULT, 2.0)
+    checks.check("killed fingersim raises FF_COMM_FAULT", elapsed is not None)
+    if elapsed is not None:
+        checks.measured["comm_fault_detection_s"] = round(elapsed, 3)
+        checks.check("... within the 300 ms timeout (+ 150 ms)", 0.2 <= elapsed <= 0.45, elapsed)
+    checks.check("SF_FINGER_FAULT set", gcl.command("SYSFLAGS[17]?") == "SYSFLAGS[17]=1")
+    checks.check("FDATA[0] not available", gcl.command("FDATA[0]?") == "ERR FDATA 1")
+    checks.check("FTYPE keeps the known fingers", gcl.command("FTYPE?") == 'FTYPE=["fmf","dsa"]')
+    start = time.monotonic()
+    finger.start()
+    elapsed = wait_reply(gcl, "FFLAGS?", "FFLAGS=[%s,%s]" % (FLAGS_OK, FLAGS_OK), 3.0)
+    checks.check("restarted fingersim clears the fault", elapsed is not None)
+    if elapsed is not None:
+        checks.measured["recovery_s"] = round(time.monotonic() - start, 3)
+    checks.check("SF_FINGER_FAULT clear again",
+                 wait_reply(gcl, "SYSFLAGS[17]?", "SYSFLAGS[17]=0", 0.5) is not None)
+
+
+def injection(gcl, checks, args):
+    subprocess.run(["cansend", args.iface, "7E2#0100000000000000"], check=True)
+    checks.check("SIMCTL power fault -> FF_POWER_FAULT",
+                 wait_reply(gcl, "FFLAGS[1]?", "FFLAGS[1]=" + POWER_FAULT, 0.5) is not None)
+    checks.check("... and SF_FINGER_FAULT", gcl.command("SYSFLAGS[17]?") == "SYSFLAGS[17]=1")
+    subprocess.run(["cansend", args.iface, "7E2#0000000000000000"], check=True)
+    checks.check("cleared power fault",
+                 wait_reply(gcl, "FFLAGS[1]?", "FFLAGS[1]=" + FLAGS_OK, 0.5) is not None)
+
+
+def read_capture(path):
+    frames = []
+    with open(path) as f:
+        for line in f:
+            parts = line.split()
+            if len(parts) != 3 or "#" not in parts[2]:
+                continue
+            ident, data = parts[2].split("#", 1)
+            frames.append((float(parts[0].strip("()")), int(ident, 16), bytes.fromhex(data)))
+    return frames
+
+
+def decode_all(dbc_path, frames):
+    import logging
+    logging.getLogger("canmatrix").setLevel(logging.ERROR)  # optional formats it lacks
+    import canmatrix
+    import canmatrix.formats
+    db = canmatrix.formats.loadp_flat(dbc_path)
+    decoded = []
+    for ts, ident, data in frames:
+        frame = db.frame_by_id(canmatrix.ArbitrationId(ident))
+        if frame is None:
+            raise AssertionError("frame 0x%03X is not in the DBC" % ident)
+        values = {k: float(v.phys_value) for k, v in frame.decode(bytearray(data)).items()}
+        decoded.append((ts, ident, frame.name, values))
+    return decoded
+
+
+def dsa_transfers(decoded, ident):
+    transfers, current = [], None
+    for _, fid, _, v in decoded:
+        if fid != ident:
+            continue
+        seg = int(v["Segment"])
+        if seg == 0:
+            current = {"transfer": v["Transfer"], "cells": {}}
+        if current is None or v["Transfer"] != current["transfer"]:
+            current = None
+            continue
+        for k in range(3 * seg, 3 * seg + 3):
+            current["cells"][k] = int(v["Cell_%d" % k])
+        if v["Last"] == 1:
+            transfers.append([current["cells"][k] for k in range(84)])
+            current = None
+    return transfers
+
+
+def rates(decoded):
+    by_name = {}
+    for ts, _, name, _ in decoded:
+        by_name.setdefault(name, []).append(ts)
+    out = {}
+    for name, stamps in by_name.items():
+        span = stamps[-1] - stamps[0]
+        if len(stamps) > 10 and span > 0:
+            out[name] = round((len(stamps) - 1) / span, 1)
+    return out
+
+
+def check_capture(c, checks, args):
+    frames = read_capture(c["capture"])
+    checks.check("candump captured frames", len(frames) > 1000, len(frames))
+    try:
+        decoded = decode_all(args.dbc, frames)
+    except Exception as exc:  # the DBC must describe every frame on the bus
+        checks.check("every frame decodes with the DBC", False, exc)
+        return
+    checks.check("every frame decodes with the DBC", True)
+    forces = {round(v["Force"], 3) for _, i, _, v in decoded if i == 0x181}
+    for value in c["fmf_values"]:
+        checks.check("FDATA[0]=%.3f is a decoded FINGER0_MEASURE Force" % value,
+                     round(value, 3) in forces)
+    transfers = dsa_transfers(decoded, 0x202)
+    checks.check("DSA transfers reassemble from BULK segments", len(transfers) > 10, len(transfers))
+    for cells in c["dsa_vectors"]:
+        checks.check("FDATA[1] equals a decoded FINGER1_BULK transfer", cells in transfers)
+    motor = [v["MotorForce"] for _, i, _, v in decoded if i == 0x080 and v["GripState"] == 4]
+    checks.check("GRIPPER_STATE MotorForce about 30 N while holding (tared FMF)",
+                 bool(motor) and abs(motor[-1] - 30.0) < 0.5, motor[-1:] if motor else None)
+    tared = [int(v["Tared"]) for _, i, _, v in decoded if i == 0x181]
+    checks.check("FMF frames say tared, and not after its power cycle",
+                 1 in tared and tared[-1] == 0, tared[-1:])
+    types = {int(v["Type"]) for _, i, _, v in decoded if i in (0x101, 0x102)}
+    checks.check("descriptors say fmf (2) and dsa (3)", types == {2, 3}, types)
+    checks.measured["frame_rates_per_s"] = rates(decoded)
+    checks.measured["frames_captured"] = len(frames)
+
+
+def run(args, checks):
+    c = {"fmf_values": [], "dsa_vectors": [], "capture": os.path.join(args.workdir, "candump.log")}
+    capture = open(c["capture"], "w")
+    candump = subprocess.Popen(["candump", "-L", args.iface], stdout=capture,
+                               stderr=subprocess.STDOUT)
+    finger = Fingersim(args.fingersim, args.iface, os.path.join(args.workdir, "fingersim.log"))
+    sim = Wsgsim("--can", args.iface, "--part", "40", binary=args.wsgsim)
+    try:
+        time.sleep(0.2)
+        finger.start()
+        sim.start(timeout=10)
+        gcl = sim.tcp()
+        basics(c, gcl, checks)
+        grip(c, gcl, checks)
+        injection(gcl, checks, args)
+        comm_fault(c, gcl, finger, checks, args)
+        gcl.command("BYE()")
+        gcl.close()
+    finally:
+        finger.stop()
+        code = sim.stop()
+        candump.send_signal(signal.SIGINT)
+        candump.wait(timeout=5)
+        capture.close()
+        with open(os.path.join(args.workdir, "wsgsim.log"), "w") as f:
+            f.write("".join(sim.log))
+    checks.check("wsgsim exits cleanly", code == 0, code)
+    check_capture(c, checks, args)
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    for name in ("--wsgsim", "--fingersim", "--dbc", "--workdir"):
+        parser.add_argument(name, required=True)
+    parser.add_argument("--iface", default="vcan0")
+    args = parser.parse_args()
+    checks = Checks()
+    print("vcan: finger bus on %s (kernel %s)" % (args.iface, os.uname().release))
+    try:
+        run(args, checks)
+    except Exception as exc:
+        checks.check("scenario ran to the end", False, repr(exc))
+    for key, value in sorted(checks.measured.items()):
+        print("  measured %s: %s" % (key, value))
+    print("vcan: %d passed, %d failed" % (checks.passed, checks.failed))
+    return 0 if checks.failed == 0 and checks.passed > 0 else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

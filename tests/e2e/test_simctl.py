@@ -1,0 +1,365 @@
+"""Simulation control (docs/simctl.md) end to end: a real GCL client and the
+control channel together, on build/wsgsim."""
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+from gclclient import GclError, GclTcp, Wsgsim, ROOT
+
+CONTROL = re.compile(r"ready: .*, control ([^ ,]+):(\d+)")
+WSGCTL = os.path.join(ROOT, "tools", "wsgctl")
+
+
+class Control(GclTcp):
+    """The control channel: one reply line per command."""
+
+    def __call__(self, line, timeout=None):
+        self.send(line)
+        return self.read_line(timeout)
+
+    def json(self, query):
+        reply = self(query)
+        name, _, value = reply.partition("=")
+        if name + "?" != query:
+            raise GclError("%s: unexpected %r" % (query, reply))
+        return json.loads(value)
+
+
+class SimctlCase(unittest.TestCase):
+    def start(self, *args):
+        sim = Wsgsim("--sim-port", "0", *args)
+        sim.start()
+        self.addCleanup(sim.stop)
+        match = CONTROL.search("".join(sim.log))
+        self.assertIsNotNone(match, "no control channel in the ready line")
+        sim.sim_addr, sim.sim_port = match.group(1), int(match.group(2))
+        ctl = Control("127.0.0.1", sim.sim_port)
+        self.addCleanup(ctl.close)
+        return sim, ctl
+
+    def temp(self, text, suffix=""):
+        fd, path = tempfile.mkstemp(suffix=suffix)
+        with os.fdopen(fd, "w") as f:
+            f.write(text)
+        self.addCleanup(os.remove, path)
+        return path
+
+    def home(self, ctl, gcl):
+        self.assertEqual(gcl.command("HOME()"), "ACK HOME")
+        self.assertRegex(ctl("STEP(2000)"), r"^STEP=")
+        self.assertEqual(gcl.read_line(1), "FIN HOME")
+
+
+def grip_cycle_transcript(extra_args=()):
+    """A whole grip cycle on the paused clock; returns every line the client
+    received (AUTOSEND included) and the record's sim-time columns."""
+    record = tempfile.mktemp(prefix="wsgsim_record_")
+    sim = Wsgsim("--sim-port", "0", "--start-paused", "--part", "40:120", "--record", record,
+                 *extra_args)
+    sim.start()
+    try:
+        port = int(CONTROL.search("".join(sim.log)).group(2))
+        ctl = Control("127.0.0.1", port)
+        gcl = sim.tcp()
+        lines = []
+
+        def drain():
+            while True:
+                try:
+                    lines.append(gcl.read_line(0.2))
+                except GclError:
+                    return
+
+        script = [("gcl", "AUTOSEND(\"POS\",20)"), ("gcl", "HOME()"), ("ctl", "STEP(1500)"),
+                  ("gcl", "GRIP(30)"), ("ctl", "STEP(800)"), ("gcl", "FORCE?"),
+                  ("gcl", "GRIPSTATE?"), ("gcl", "RELEASE()"), ("ctl", "STEP(400)"),
+                  ("gcl", "MOVE(62.5, 50)"), ("ctl", "STEP(1500)"), ("gcl", "TEMP?"),
+                  ("gcl", "BYE()")]
+        for channel, line in script:
+            if channel == "gcl":
+                gcl.send(line)
+            else:
+                assert ctl(line).startswith("STEP=")
+            drain()
+        ctl.close()
+        gcl.close()
+    finally:
+        sim.stop()
+    with open(record) as f:
+        columns = [" ".join(l.split(" ")[:1] + l.split(" ")[2:]) for l in f]
+    os.remove(record)
+    return lines, columns
+
+
+class TestPausedClock(SimctlCase):
+    def test_transcripts_are_byte_identical_across_runs(self):
+        first, record1 = grip_cycle_transcript()
+        second, record2 = grip_cycle_transcript()
+        self.assertGreater(len(first), 100, first)
+        self.assertIn("FIN GRIP", first)
+        self.assertIn("FIN MOVE", first)
+        self.assertEqual(first, second)
+        gcl_records = [r for r in record1 if " s1t " in r]
+        self.assertGreater(len(gcl_records), 100)
+        self.assertEqual(record1, record2)
+
+    def test_time_stands_still_until_stepped(self):
+        sim, ctl = self.start("--start-paused")
+        gcl = sim.tcp()
+        self.assertEqual(ctl("SIMTIME?"), "SIMTIME=[0.000,0.000]")
+        self.assertEqual(gcl.command("HOME()"), "ACK HOME")
+        time.sleep(0.3)
+        self.assertEqual(gcl.command("POS?"), "POS=55.0")
+        self.assertEqual(ctl("STEP(10)"), "STEP=10.000")
+        self.assertEqual(ctl("SIMTIME?"), "SIMTIME=[10.000,0.000]")
+        self.assertEqual(ctl("RESUME()"), "ACK RESUME")
+        self.assertEqual(gcl.read_line(5), "FIN HOME")
+
+
+class TestScale(SimctlCase):
+    def measure(self, ctl, gcl, target):
+        t0 = ctl.json("STATE?")["time"]["sim_ms"]
+        wall = time.monotonic()
+        self.assertEqual(gcl.command("MOVE(%d)" % target), "ACK MOVE")
+        self.assertEqual(gcl.read_line(10), "FIN MOVE")
+        wall = time.monotonic() - wall
+        sim_ms = ctl.json("STATE?")["time"]["sim_ms"] - t0
+        return sim_ms, wall * 1000.0
+
+    def test_scaled_clock_keeps_its_rate(self):
+        sim, ctl = self.start()
+        gcl = sim.tcp()
+        self.assertEqual(gcl.command("HOME()"), "ACK HOME")
+        self.assertEqual(gcl.read_line(5), "FIN HOME")
+        sim_1x, wall_1x = self.measure(ctl, gcl, 10)
+        self.assertEqual(ctl("SCALE=10"), "SCALE=10")
+        sim_10x, wall_10x = self.measure(ctl, gcl, 110)
+        self.assertEqual(ctl("SCALE=0.5"), "SCALE=0.5")
+        sim_half, wall_half = self.measure(ctl, gcl, 60)
+        # the motion takes the same simulated time at any rate...
+        self.assertAlmostEqual(sim_10x, sim_1x, delta=0.05 * sim_1x)
+        # ...and wall time follows the scale
+        self.assertAlmostEqual(wall_1x / sim_1x, 1.0, delta=0.1)
+        self.assertAlmostEqual(wall_10x / sim_10x, 0.1, delta=0.05)
+        self.assertAlmostEqual(wall_half / sim_half, 2.0, delta=0.2)
+        print("\n    scale 1x: %.1f ms sim / %.1f ms wall; 10x: %.1f / %.1f; 0.5x: %.1f / %.1f"
+              % (sim_1x, wall_1x, sim_10x, wall_10x, sim_half, wall_half), file=sys.stderr)
+
+
+class TestWorld(SimctlCase):
+    def test_slipping_part_is_lost_and_counted(self):
+        sim, ctl = self.start("--start-paused")
+        gcl = sim.tcp()
+        self.home(ctl, gcl)
+        self.assertEqual(ctl("PART(40,100)"), "ACK PART")
+        self.assertEqual(gcl.command("GRIP(40)"), "ACK GRIP")
+        ctl("STEP(1000)")
+        self.assertEqual(gcl.read_line(1), "FIN GRIP")
+        self.assertEqual(gcl.command("GRIPSTATE?"), "GRIPSTATE=4")
+        self.assertEqual(ctl("PART_SLIP()"), "ACK PART_SLIP")
+        ctl("STEP(100)")
+        self.assertEqual(gcl.command("GRIPSTATE?"), "GRIPSTATE=3")
+        self.assertEqual(gcl.command("GRIPSTATS[2]?"), "GRIPSTATS[2]=1")
+        self.assertEqual(ctl.json("STATE?")["grip"]["stats"]["part_lost"], 1)
+
+    def test_obstacle_blocks_a_move(self):
+        sim, ctl = self.start("--start-paused")
+        gcl = sim.tcp()
+        self.home(ctl, gcl)
+        self.assertEqual(ctl("OBSTACLE(50)"), "ACK OBSTACLE")
+        self.assertEqual(gcl.command("MOVE(20)"), "ACK MOVE")
+        ctl("STEP(2000)")
+        self.assertEqual(gcl.read_line(1), "ERR MOVE 29")
+
+    def test_scenario_replays_the_same_story(self):
+        scenario = self.temp("# the part slips 1500 ms after start\n"
+                             "0 PART(40, 100)\n"
+                             "1500 PART_SLIP()\n"
+                             "+500 LOG(\"story told\")\n")
+        sim, ctl = self.start("--start-paused", "--scenario", scenario)
+        gcl = sim.tcp()
+        self.home(ctl, gcl)  # 0..2000 ms: the slip happens while idle
+        self.assertEqual(ctl("PART?"), "PART=[0,40,100,0]")
+        self.assertEqual(ctl.json("STATE?")["world"]["part_slips"], 1)
+        sim.stop()
+        log = "".join(sim.log)
+        self.assertIn("%s:3: PART_SLIP() -> ACK PART_SLIP" % scenario, log)
+        self.assertIn("control: story told", log)
+
+    def test_bad_scenario_names_file_and_line(self):
+        scenario = self.temp("100 PAUSE()\n200 TELEPORT(3)\n")
+        sim = Wsgsim("--scenario", scenario)
+        with self.assertRaises(GclError):
+            sim.start()
+        self.assertIn("%s:2: unknown control command" % scenario, "".join(sim.log))
+
+
+class TestFaults(SimctlCase):
+    def test_temperature_fault_refuses_move_until_cleared_and_acknowledged(self):
+        sim, ctl = self.start()
+        gcl = sim.tcp()
+        self.assertEqual(gcl.command("HOME()"), "ACK HOME")
+        self.assertEqual(gcl.read_line(5), "FIN HOME")
+        self.assertEqual(ctl("FAULT(\"TEMP_FAULT\")"), "ACK FAULT")
+        self.assertEqual(gcl.command("SYSFLAGS[14]?"), "SYSFLAGS[14]=1")
+        self.assertEqual(gcl.command("MOVE(50)"), "ERR MOVE 16")
+        self.assertEqual(gcl.command("FSACK()"), "ERR FSACK 16")
+        self.assertIn("TEMP_FAULT", ctl("FAULTS?"))
+        self.assertEqual(ctl("CLEAR(\"TEMP_FAULT\")"), "ACK CLEAR")
+        self.assertEqual(gcl.command("MOVE(50)"), "ERR MOVE 16")
+        self.assertEqual(gcl.command("FSACK()"), "ACK FSACK")
+        self.assertEqual(gcl.command("MOVE(50)"), "ACK MOVE")
+        self.assertEqual(gcl.read_line(5), "FIN MOVE")
+        sim.stop()
+        log = "".join(sim.log)
+        self.assertIn("fault injected: TEMP_FAULT", log)
+        self.assertIn("fault cleared: TEMP_FAULT", log)
+
+    def test_cut_connection_raises_fast_stop(self):
+        sim, ctl = self.start()
+        victim = sim.tcp()
+        self.assertEqual(victim.command("SYSFLAGS[12]?"), "SYSFLAGS[12]=0")
+        session = ctl.json("SESSIONS?")[0]["id"]
+        self.assertEqual(ctl("CUT(%d)" % session), "ACK CUT")
+        self.assertTrue(victim.closed_by_peer())
+        other = sim.tcp()
+        self.assertEqual(other.command("SYSFLAGS[12]?"), "SYSFLAGS[12]=1")
+        self.assertEqual(other.command("GRIPSTATE?"), "GRIPSTATE=7")
+        self.assertEqual(ctl("CUT(%d)" % session).split(" ")[:3], ["ERR", "CUT", "21"])
+
+    def test_delayed_reply_arrives_late(self):
+        sim, ctl = self.start()
+        gcl = sim.tcp()
+        self.assertEqual(ctl("DELAY(300)"), "ACK DELAY")
+        started = time.monotonic()
+        self.assertEqual(gcl.command("POS?"), "POS=55.0")
+        waited = time.monotonic() - started
+        self.assertGreaterEqual(waited, 0.28)
+        self.assertLess(waited, 1.0)
+        started = time.monotonic()
+        self.assertEqual(gcl.command("POS?"), "POS=55.0")
+        self.assertLess(time.monotonic() - started, 0.1)
+
+    def test_failnext_over_udp(self):
+        sim, ctl = self.start()
+        udp = sim.udp()
+        self.assertEqual(udp.command("POS?"), "POS=55.0")
+        self.assertEqual(ctl("FAILNEXT(\"POS\",23)"), "ACK FAILNEXT")
+        self.assertEqual(udp.command("POS?"), "ERR POS 23")
+        self.assertEqual(udp.command("POS?"), "POS=55.0")
+
+
+class TestChannel(SimctlCase):
+    @staticmethod
+    def listening_address(port):
+        """The local address /proc/net/tcp shows for a listening port."""
+        for table, family in (("/proc/net/tcp", 4), ("/proc/net/tcp6", 6)):
+            with open(table) as f:
+                for row in f.readlines()[1:]:
+                    local, state = row.split()[1], row.split()[3]
+                    addr, hexport = local.split(":")
+                    if state == "0A" and int(hexport, 16) == port:
+                        return family, addr
+        raise AssertionError("port %d is not listening" % port)
+
+    def test_control_port_is_loopback_only_by_default(self):
+        sim, ctl = self.start("--bind", "0.0.0.0")
+        self.assertEqual(sim.sim_addr, "127.0.0.1")
+        self.assertEqual(self.listening_address(sim.sim_port), (4, "0100007F"))
+
+    def test_non_loopback_bind_needs_sim_bind(self):
+        sim, ctl = self.start("--sim-bind", "0.0.0.0")
+        self.assertEqual(self.listening_address(sim.sim_port), (4, "00000000"))
+        config = self.temp("[network]\nsim_bind = 0.0.0.0\n", ".ini")
+        refused = subprocess.run([sim.binary, "--config", config, "--sim-port", "0"],
+                                 capture_output=True, text=True, timeout=10)
+        self.assertEqual(refused.returncode, 2)
+        self.assertIn("%s:2: [network] sim_bind: the control port may only be bound to a "
+                      "loopback address" % config, refused.stderr)
+
+    def test_bad_config_line_names_file_and_line(self):
+        config = self.temp("[device]\nserial = 42\n[motion]\ndefault_speed = warp\n", ".ini")
+        binary = Wsgsim().binary
+        result = subprocess.run([binary, "--config", config], capture_output=True, text=True,
+                                timeout=10)
+        self.assertEqual(result.returncode, 2)
+        self.assertEqual(result.stderr,
+                         "wsgsim: %s:4: [motion] default_speed: expected a number\n" % config)
+
+    def test_example_config_is_valid_and_applied(self):
+        example = os.path.join(ROOT, "docs", "wsgsim.example.ini")
+        sim, ctl = self.start("--config", example, "--tcp-port", "0", "--udp-port", "0")
+        gcl = sim.tcp()
+        self.assertEqual(gcl.command("TAG?"), "TAG=\"assembly cell 3\"")
+        self.assertEqual(gcl.command("SN?"), "SN=20240117")
+
+    def test_wsgctl_talks_to_the_channel(self):
+        sim, ctl = self.start("--start-paused")
+        run = lambda *cmds: subprocess.run([sys.executable, WSGCTL, "--port", str(sim.sim_port)]
+                                           + list(cmds), capture_output=True, text=True,
+                                           timeout=10)
+        ok = run("STEP(5)", "SIMTIME?")
+        self.assertEqual(ok.returncode, 0, ok.stderr)
+        self.assertEqual(ok.stdout, "STEP=5.000\nSIMTIME=[5.000,0.000]\n")
+        bad = run("STEP(-1)")
+        self.assertEqual(bad.returncode, 1)
+        self.assertTrue(bad.stdout.startswith("ERR STEP 28 "), bad.stdout)
+
+    def test_reset_restores_power_on_without_restarting(self):
+        sim, ctl = self.start()
+        gcl = sim.tcp()
+        self.assertEqual(gcl.command("HOME()"), "ACK HOME")
+        self.assertEqual(gcl.read_line(5), "FIN HOME")
+        self.assertEqual(ctl("FAULT(POWER)"), "ACK FAULT")
+        self.assertEqual(ctl("RESET()"), "ACK RESET")
+        self.assertTrue(gcl.closed_by_peer())
+        gcl = sim.tcp()
+        self.assertEqual(gcl.command("SYSFLAGS?"), "SYSFLAGS=[%s]" % ",".join(["0"] * 32))
+        self.assertEqual(gcl.command("POS?"), "POS=55.0")
+        self.assertEqual(ctl("FAULTS?"), "FAULTS=[]")
+        self.assertTrue(sim.alive())
+
+
+class TestRecordAndCoverage(SimctlCase):
+    def test_strict_coverage_lists_tolerated_input(self):
+        report = tempfile.mktemp(suffix=".json")
+        record = tempfile.mktemp()
+        self.addCleanup(lambda: [os.remove(p) for p in (report, record) if os.path.exists(p)])
+        sim, ctl = self.start("--coverage", report, "--strict", "--trace", "--record", record)
+        gcl = sim.tcp()
+        self.assertEqual(gcl.command("AUTOSEND(POS,0)"), "ACK AUTOSEND")
+        self.assertEqual(gcl.command("VERBOSE=true"), "VERBOSE=1")
+        self.assertEqual(gcl.command("MOVE(5)"), "ERR MOVE 3 Device was not initialized")
+        live = ctl.json("COVERAGE?")
+        gcl.close()  # no BYE
+        ctl("STATE?")
+        time.sleep(0.1)
+        self.assertEqual(sim.stop(), 0)
+        with open(report) as f:
+            final = json.load(f)
+        tolerated = {(t["command"], t["what"]) for t in final["tolerated"]}
+        self.assertIn(("AUTOSEND", "an unquoted string"), tolerated)
+        self.assertIn(("VERBOSE", "true/false where the manual expects 1/0"), tolerated)
+        self.assertIn(("BYE", "connection closed without BYE()"), tolerated)
+        self.assertEqual(live["commands"]["used"][0]["form"], "VERBOSE=_")
+        errors = {e["code"]: e["commands"] for e in final["errors"]["returned"]}
+        self.assertEqual(errors, {3: ["MOVE"]})
+        self.assertIn("GRIP(_,_,_)", final["commands"]["never_used"])
+        self.assertIn("HOLDING -> PART LOST", final["grip_states"]["transitions_never_seen"])
+        self.assertIn("SF_FAST_STOP", final["flags"]["raised"])
+        self.assertIn("strict: AUTOSEND: an unquoted string", "".join(sim.log))
+        with open(record) as f:
+            rows = [line.rstrip("\n").split(" ", 4) for line in f if not line.startswith("#")]
+        self.assertIn(["s1t", "<", "MOVE(5)"], [r[2:] for r in rows])
+        self.assertIn(["ctl1", "<", "COVERAGE?"], [r[2:] for r in rows])
+        self.assertTrue(all(re.match(r"^\d+\.\d{6}$", r[0]) and re.match(r"^\d+\.\d{6}$", r[1])
+                            for r in rows))
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,185 @@
+#include "harness.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "coverage.h"
+#include "finger_bus_host.h"
+#include "gripper.h"
+#include "hal_clock.h"
+#include "options.h"
+#include "simclock.h"
+#include "simctl_cmd.h"
+#include "simctl_delay.h"
+
+t_client_t t_gcl;
+static char *last_reply;
+
+static void write_line(void *ctx, const char *line, size_t len, wsg_line_kind_t kind)
+{
+    t_client_t *c = ctx;
+    (void)kind;
+    ck_assert_msg(len > 0 && line[len - 1] == '\n' && len < T_LINE_LEN, "not one line");
+    ck_assert_uint_lt(c->count, T_LINES_MAX);
+    memcpy(c->lines[c->count], line, len - 1);
+    c->lines[c->count][len - 1] = '\0';
+    c->count++;
+}
+
+static const wsg_session_io_t capture_io = {write_line};
+
+void t_setup(void)
+{
+    static char *argv[] = {"wsgsim", NULL};
+    host_options_t opts;
+    ck_assert_int_eq(options_parse(1, argv, &opts), OPTIONS_RUN);
+    simclock_init();
+    simclock_start_paused();
+    ck_assert(finger_bus_host_start(&opts));
+    gripper_init(&opts);
+    coverage_reset();
+    t_reopen();
+}
+
+void t_reopen(void)
+{
+    memset(&t_gcl, 0, sizeof(t_gcl));
+    t_gcl.session = wsg_session_open(gripper_device(), WSG_TRANSPORT_STREAM, &capture_io, &t_gcl);
+    ck_assert_ptr_nonnull(t_gcl.session);
+}
+
+void t_setup_homed(void)
+{
+    t_setup();
+    GCL_EQ("HOME()", "ACK HOME");
+    ck_assert_int_ge(t_until("FIN HOME", 5000), 0);
+}
+
+void t_teardown(void)
+{
+    simctl_delay_clear_all(false);
+    finger_bus_host_stop();
+    free(last_reply);
+    last_reply = NULL;
+}
+
+const char *ctl(const char *line)
+{
+    free(last_reply);
+    last_reply = simctl_exec(line, strlen(line), NULL);
+    ck_assert_ptr_nonnull(last_reply);
+    return last_reply;
+}
+
+int t_err_code(const char *reply)
+{
+    char name[32];
+    int code = -1;
+    if (sscanf(reply, "ERR %31s %d", name, &code) != 2) {
+        return -1;
+    }
+    return code;
+}
+
+size_t gcl_unread(void)
+{
+    return t_gcl.count - t_gcl.read;
+}
+
+const char *gcl_next(void)
+{
+    return t_gcl.read < t_gcl.count ? t_gcl.lines[t_gcl.read++] : "<no line>";
+}
+
+void gcl_discard(void)
+{
+    t_gcl.read = t_gcl.count;
+}
+
+const char *gcl(const char *line)
+{
+    char buf[512];
+    size_t len = strlen(line);
+    ck_assert_uint_lt(len + 1, sizeof(buf));
+    memcpy(buf, line, len);
+    buf[len] = '\n';
+    size_t before = t_gcl.count;
+    gripper_feed(t_gcl.session, (const uint8_t *)buf, len + 1, 0);
+    return t_gcl.count > before ? gcl_next() : "<no reply>";
+}
+
+void t_step_ms(double ms)
+{
+    char line[64];
+    snprintf(line, sizeof(line), "STEP(%g)", ms);
+    const char *reply = ctl(line);
+    ck_assert_msg(strncmp(reply, "STEP=", 5) == 0, "%s -> %s", line, reply);
+}
+
+int t_until(const char *text, int timeout_ms)
+{
+    for (int waited = 0; waited <= timeout_ms; waited++) {
+        while (gcl_unread() > 0) {
+            if (strcmp(gcl_next(), text) == 0) {
+                return waited;
+            }
+        }
+        t_step_ms(1);
+    }
+    return -1;
+}
+
+int t_flag(int bit)
+{
+    char query[32];
+    char expect[40];
+    snprintf(query, sizeof(query), "SYSFLAGS[%d]?", bit);
+    snprintf(expect, sizeof(expect), "SYSFLAGS[%d]=", bit);
+    const char *reply = gcl(query);
+    size_t n = strlen(expect);
+    return strncmp(reply, expect, n) == 0 ? reply[n] - '0' : -1;
+}
+
+int t_gripstate(void)
+{
+    int state = -1;
+    return sscanf(gcl("GRIPSTATE?"), "GRIPSTATE=%d", &state) == 1 ? state : -1;
+}
+
+uint64_t t_now_us(void)
+{
+    return hal_clock_now_us();
+}
+
+const char *t_temp_file(const char *text)
+{
+    static char path[64];
+    snprintf(path, sizeof(path), "/tmp/simctl_test_XXXXXX");
+    int fd = mkstemp(path);
+    ck_assert_int_ge(fd, 0);
+    size_t len = strlen(text);
+    ck_assert_int_eq(write(fd, text, len), (ssize_t)len);
+    close(fd);
+    return path;
+}
+
+const char *t_capture_stderr(bool (*fn)(void *), void *arg, bool *result)
+{
+    static char text[4096];
+    fflush(stderr);
+    FILE *tmp = tmpfile();
+    ck_assert_ptr_nonnull(tmp);
+    int saved = dup(fileno(stderr));
+    dup2(fileno(tmp), fileno(stderr));
+    *result = fn(arg);
+    fflush(stderr);
+    dup2(saved, fileno(stderr));
+    close(saved);
+    rewind(tmp);
+    size_t n = fread(text, 1, sizeof(text) - 1, tmp);
+    text[n] = '\0';
+    fclose(tmp);
+    return text;
+}

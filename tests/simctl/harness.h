@@ -1,0 +1,66 @@
+/* Test harness for the simulation control commands: the real host device
+ * (gripper.c) on a paused simulated clock, a captured GCL session, and
+ * helpers that run control lines and GCL lines. */
+#ifndef SIMCTL_HARNESS_H
+#define SIMCTL_HARNESS_H
+
+#include <check.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "wsg_device.h"
+
+#define T_LINES_MAX 4096
+#define T_LINE_LEN (WSG_REPLY_MAX + 1)
+
+typedef struct {
+    wsg_session_t *session;
+    char lines[T_LINES_MAX][T_LINE_LEN];
+    size_t count;
+    size_t read;
+} t_client_t;
+
+extern t_client_t t_gcl; /* the GCL session every test starts with */
+
+/* Fixtures: power-on, clock paused; the homed variant also ran HOME(). */
+void t_setup(void);
+void t_setup_homed(void);
+void t_teardown(void);
+/* Opens t_gcl again (after a reset or re-init closed it). */
+void t_reopen(void);
+
+/* One control line; the reply stays valid until the next call. */
+const char *ctl(const char *line);
+/* One GCL line from t_gcl; returns its first reply line (or "<no reply>"). */
+const char *gcl(const char *line);
+/* Next unread GCL line, or "<no line>". */
+const char *gcl_next(void);
+size_t gcl_unread(void);
+void gcl_discard(void);
+/* STEP(ms) through the control channel, asserting it succeeds. */
+void t_step_ms(double ms);
+/* Steps 1 ms at a time until the GCL session receives `text`; ms or -1. */
+int t_until(const char *text, int timeout_ms);
+int t_flag(int bit);
+int t_gripstate(void);
+uint64_t t_now_us(void);
+/* Writes text to a fresh temporary file; returns its path (static). */
+const char *t_temp_file(const char *text);
+/* Runs fn with stderr captured; returns what it printed (static). */
+const char *t_capture_stderr(bool (*fn)(void *), void *arg, bool *result);
+
+#define CTL_EQ(line, reply) ck_assert_str_eq(ctl(line), (reply))
+#define GCL_EQ(line, reply) ck_assert_str_eq(gcl(line), (reply))
+#define CTL_ERR(line, code)                                                                        \
+    ck_assert_msg(t_err_code(ctl(line)) == (code), "%s: expected ERR code %d", (line), (code))
+
+int t_err_code(const char *reply);
+
+Suite *clock_suite(void);
+Suite *world_suite(void);
+Suite *faults_suite(void);
+Suite *state_suite(void);
+Suite *files_suite(void);
+
+#endif

@@ -1,0 +1,122 @@
+/* PAUSE, RESUME, STEP, SCALE, SIMTIME: the one clock. */
+#include <stdio.h>
+#include <string.h>
+
+#include "gripper.h"
+#include "harness.h"
+#include "simclock.h"
+
+static const char *expected_time(const char *name, uint64_t us)
+{
+    static char text[64];
+    snprintf(text, sizeof(text), "%s=%.3f", name, (double)us / 1000.0);
+    return text;
+}
+
+START_TEST(step_advances_simulated_time_exactly)
+{
+    uint64_t t0 = t_now_us();
+    CTL_EQ("STEP(250)", expected_time("STEP", t0 + 250000u));
+    ck_assert_uint_eq(t_now_us() - t0, 250000u);
+    CTL_EQ("STEP(0.5)", expected_time("STEP", t0 + 250500u));
+    char simtime[64];
+    snprintf(simtime, sizeof(simtime), "SIMTIME=[%.3f,0.000]", (double)(t0 + 250500u) / 1000.0);
+    CTL_EQ("SIMTIME?", simtime);
+}
+END_TEST
+
+START_TEST(step_runs_a_motion_to_its_end)
+{
+    GCL_EQ("HOME()", "ACK HOME");
+    ck_assert_uint_eq(gcl_unread(), 0);
+    t_step_ms(2000);
+    ck_assert_str_eq(gcl_next(), "FIN HOME");
+    ck_assert_int_eq(t_flag(0), 1);
+}
+END_TEST
+
+START_TEST(motion_does_not_depend_on_step_size)
+{
+    /* 100 ms of a MOVE in one STEP and in 100 steps of 1 ms end alike */
+    char one_step[32];
+    GCL_EQ("HOME()", "ACK HOME");
+    ck_assert_int_ge(t_until("FIN HOME", 3000), 0);
+    GCL_EQ("MOVE(20)", "ACK MOVE");
+    t_step_ms(100);
+    snprintf(one_step, sizeof(one_step), "%s", gcl("POS?"));
+    ck_assert_int_ge(t_until("FIN MOVE", 3000), 0);
+    GCL_EQ("MOVE(110)", "ACK MOVE");
+    ck_assert_int_ge(t_until("FIN MOVE", 3000), 0);
+    GCL_EQ("MOVE(20)", "ACK MOVE");
+    for (int i = 0; i < 100; i++) {
+        t_step_ms(1);
+    }
+    ck_assert_str_eq(gcl("POS?"), one_step);
+    ck_assert_str_ne(one_step, "POS=110.0");
+}
+END_TEST
+
+START_TEST(step_is_refused_while_the_clock_runs)
+{
+    CTL_EQ("RESUME()", "ACK RESUME");
+    ck_assert(!simclock_paused());
+    ck_assert_str_eq(ctl("STEP(10)"), "ERR STEP 16 the clock is running; PAUSE() first");
+    CTL_EQ("PAUSE()", "ACK PAUSE");
+    ck_assert(simclock_paused());
+}
+END_TEST
+
+START_TEST(step_rejects_bad_durations)
+{
+    uint64_t t0 = t_now_us();
+    CTL_ERR("STEP(0)", 28);
+    CTL_ERR("STEP(-5)", 28);
+    CTL_ERR("STEP(3600001)", 28);
+    CTL_ERR("STEP(\"x\")", 24);
+    CTL_ERR("STEP()", 13);
+    CTL_ERR("STEP(1,2)", 12);
+    ck_assert_uint_eq(t_now_us(), t0);
+}
+END_TEST
+
+START_TEST(scale_accepts_its_range_only)
+{
+    CTL_EQ("SCALE?", "SCALE=1");
+    CTL_EQ("SCALE=0.01", "SCALE=0.01");
+    CTL_EQ("SCALE=1000", "SCALE=1000");
+    CTL_ERR("SCALE=1001", 28);
+    CTL_ERR("SCALE=0.001", 28);
+    CTL_ERR("SCALE=fast", 24);
+    ck_assert(simclock_scale() == 1000.0);
+}
+END_TEST
+
+START_TEST(autosend_follows_the_stepped_clock)
+{
+    GCL_EQ("AUTOSEND(\"POS\",100)", "ACK AUTOSEND");
+    t_step_ms(1);
+    ck_assert_str_eq(gcl_next(), "@POS=55.0");
+    t_step_ms(98);
+    ck_assert_uint_eq(gcl_unread(), 0);
+    t_step_ms(1);
+    ck_assert_str_eq(gcl_next(), "@POS=55.0");
+    t_step_ms(1000);
+    ck_assert_uint_eq(gcl_unread(), 10);
+}
+END_TEST
+
+Suite *clock_suite(void)
+{
+    Suite *s = suite_create("clock");
+    TCase *tc = tcase_create("clock");
+    tcase_add_checked_fixture(tc, t_setup, t_teardown);
+    tcase_add_test(tc, step_advances_simulated_time_exactly);
+    tcase_add_test(tc, step_runs_a_motion_to_its_end);
+    tcase_add_test(tc, motion_does_not_depend_on_step_size);
+    tcase_add_test(tc, step_is_refused_while_the_clock_runs);
+    tcase_add_test(tc, step_rejects_bad_durations);
+    tcase_add_test(tc, scale_accepts_its_range_only);
+    tcase_add_test(tc, autosend_follows_the_stepped_clock);
+    suite_add_tcase(s, tc);
+    return s;
+}

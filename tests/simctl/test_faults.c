@@ -1,0 +1,189 @@
+/* FAULT, CLEAR, FAULTS, DELAY, FAILNEXT, CUT: injected faults and the core. */
+#include <stdio.h>
+#include <string.h>
+
+#include "harness.h"
+#include "wsg_types.h"
+
+START_TEST(temperature_fault_refuses_motion_until_cleared_and_acknowledged)
+{
+    CTL_EQ("FAULT(\"TEMP_FAULT\")", "ACK FAULT");
+    ck_assert_int_eq(t_flag(SF_TEMP_FAULT), 1);
+    ck_assert_int_eq(t_flag(SF_FAST_STOP), 1);
+    GCL_EQ("MOVE(50)", "ERR MOVE 16");
+    GCL_EQ("FSACK()", "ERR FSACK 16"); /* the cause persists */
+    CTL_EQ("CLEAR(\"TEMP_FAULT\")", "ACK CLEAR");
+    ck_assert_int_eq(t_flag(SF_TEMP_FAULT), 0);
+    GCL_EQ("MOVE(50)", "ERR MOVE 16"); /* still needs the acknowledge */
+    GCL_EQ("FSACK()", "ACK FSACK");
+    GCL_EQ("MOVE(50)", "ACK MOVE");
+    ck_assert_int_ge(t_until("FIN MOVE", 3000), 0);
+}
+END_TEST
+
+START_TEST(temperature_warning_only_warns)
+{
+    CTL_EQ("FAULT(TEMP_WARNING)", "ACK FAULT");
+    ck_assert_int_eq(t_flag(SF_TEMP_WARNING), 1);
+    ck_assert_int_eq(t_flag(SF_TEMP_FAULT), 0);
+    ck_assert_int_eq(t_flag(SF_FAST_STOP), 0);
+    GCL_EQ("TEMP?", "TEMP=65.0");
+    GCL_EQ("MOVE(50)", "ACK MOVE");
+    CTL_EQ("CLEAR(TEMP_WARNING)", "ACK CLEAR");
+    ck_assert_int_eq(t_flag(SF_TEMP_WARNING), 0);
+}
+END_TEST
+
+static void check_severe(const char *fault, int flag)
+{
+    char line[64];
+    snprintf(line, sizeof(line), "FAULT(\"%s\")", fault);
+    CTL_EQ(line, "ACK FAULT");
+    ck_assert_int_eq(t_flag(flag), 1);
+    ck_assert_int_eq(t_flag(SF_FAST_STOP), 1);
+    ck_assert_int_eq(t_gripstate(), GS_ERROR);
+    GCL_EQ("FSACK()", "ERR FSACK 16");
+    snprintf(line, sizeof(line), "CLEAR(\"%s\")", fault);
+    CTL_EQ(line, "ACK CLEAR");
+    ck_assert_int_eq(t_flag(flag), 0);
+    GCL_EQ("FSACK()", "ACK FSACK");
+    ck_assert_int_eq(t_flag(SF_FAST_STOP), 0);
+}
+
+START_TEST(power_fault_needs_clearing_and_acknowledging)
+{
+    check_severe("POWER", SF_POWER_FAULT);
+}
+END_TEST
+
+START_TEST(motor_current_fault_needs_clearing_and_acknowledging)
+{
+    check_severe("CURRENT", SF_CURR_FAULT);
+}
+END_TEST
+
+START_TEST(unknown_fault_is_refused_and_changes_nothing)
+{
+    ck_assert_str_eq(ctl("FAULTS?"), "FAULTS=[]");
+    CTL_ERR("FAULT(\"MELTDOWN\")", 24);
+    CTL_ERR("FAULT(3)", 24);
+    CTL_ERR("FAULT(\"FINGER\",2)", 24);
+    CTL_ERR("FAULT()", 13);
+    ck_assert_str_eq(ctl("FAULTS?"), "FAULTS=[]");
+    ck_assert_int_eq(t_flag(SF_FAST_STOP), 0);
+}
+END_TEST
+
+START_TEST(faults_are_listed_until_cleared)
+{
+    CTL_EQ("FAULT(POWER)", "ACK FAULT");
+    CTL_EQ("FAILNEXT(\"GRIP\",18)", "ACK FAILNEXT");
+    const char *list = ctl("FAULTS?");
+    ck_assert_ptr_nonnull(strstr(list, "\"fault\":\"POWER\""));
+    ck_assert_ptr_nonnull(strstr(list, "\"fault\":\"FAILNEXT\",\"command\":\"GRIP\",\"code\":18"));
+    CTL_EQ("CLEAR()", "ACK CLEAR");
+    CTL_EQ("FAULTS?", "FAULTS=[]");
+}
+END_TEST
+
+START_TEST(failnext_fails_the_next_command_once)
+{
+    CTL_EQ("FAILNEXT(move,18)", "ACK FAILNEXT");
+    GCL_EQ("POS?", "POS=110.0"); /* other commands are not affected */
+    GCL_EQ("MOVE(50)", "ERR MOVE 18");
+    ck_assert_int_eq(t_flag(SF_CMD_FAILURE), 1);
+    GCL_EQ("MOVE(50)", "ACK MOVE");
+    CTL_EQ("FAULTS?", "FAULTS=[]");
+}
+END_TEST
+
+START_TEST(failnext_rejects_bad_input)
+{
+    CTL_ERR("FAILNEXT(\"FLY\",18)", 24);
+    CTL_ERR("FAILNEXT(\"MOVE\",0)", 28);
+    CTL_ERR("FAILNEXT(\"MOVE\",31)", 28);
+    CTL_ERR("FAILNEXT(\"MOVE\",2.5)", 28);
+    CTL_ERR("FAILNEXT(18,\"MOVE\")", 24);
+    CTL_EQ("FAULTS?", "FAULTS=[]");
+    GCL_EQ("MOVE(50)", "ACK MOVE");
+}
+END_TEST
+
+static char session_arg[32];
+
+static const char *with_session(const char *fmt)
+{
+    snprintf(session_arg, sizeof(session_arg), fmt, (unsigned)t_gcl.session->generation);
+    return session_arg;
+}
+
+START_TEST(delay_holds_the_next_reply_on_the_simulated_clock)
+{
+    CTL_EQ(with_session("DELAY(50,%u)"), "ACK DELAY");
+    ck_assert_str_eq(gcl("POS?"), "<no reply>");
+    ck_assert_str_eq(gcl("SPEED?"), "<no reply>"); /* later replies queue behind it */
+    t_step_ms(49);
+    ck_assert_uint_eq(gcl_unread(), 0);
+    t_step_ms(1);
+    ck_assert_str_eq(gcl_next(), "POS=110.0");
+    ck_assert_str_eq(gcl_next(), "SPEED=0.0");
+    GCL_EQ("POS?", "POS=110.0"); /* only the next reply was delayed */
+    CTL_EQ("FAULTS?", "FAULTS=[]");
+}
+END_TEST
+
+START_TEST(delay_shows_and_clears)
+{
+    CTL_EQ("DELAY(100)", "ACK DELAY");
+    ck_assert_ptr_nonnull(strstr(ctl("FAULTS?"), "\"fault\":\"DELAY\""));
+    ck_assert_str_eq(gcl("POS?"), "<no reply>");
+    CTL_EQ("CLEAR(\"DELAY\")", "ACK CLEAR"); /* held lines are delivered */
+    ck_assert_str_eq(gcl_next(), "POS=110.0");
+    CTL_EQ("FAULTS?", "FAULTS=[]");
+    CTL_ERR("DELAY(0)", 28);
+    CTL_ERR("DELAY(10,999)", 21);
+}
+END_TEST
+
+START_TEST(cut_needs_a_connection)
+{
+    /* this session has no socket behind it: the e2e tests cut real ones */
+    CTL_ERR(with_session("CUT(%u)"), 21);
+    CTL_ERR("CUT(999)", 21);
+    CTL_ERR("CUT()", 21);
+    GCL_EQ("POS?", "POS=110.0");
+}
+END_TEST
+
+START_TEST(finger_fault_reaches_the_finger)
+{
+    CTL_EQ("FAULT(\"FINGER_POWER\",0)", "ACK FAULT");
+    ck_assert_ptr_nonnull(strstr(ctl("FAULTS?"), "FINGER0_POWER"));
+    t_step_ms(500);
+    ck_assert_int_eq(t_flag(SF_FINGER_FAULT), 1);
+    CTL_EQ("CLEAR(\"FINGER_POWER\",0)", "ACK CLEAR");
+    t_step_ms(500);
+    ck_assert_int_eq(t_flag(SF_FINGER_FAULT), 0);
+}
+END_TEST
+
+Suite *faults_suite(void)
+{
+    Suite *s = suite_create("faults");
+    TCase *tc = tcase_create("faults");
+    tcase_add_checked_fixture(tc, t_setup_homed, t_teardown);
+    tcase_add_test(tc, temperature_fault_refuses_motion_until_cleared_and_acknowledged);
+    tcase_add_test(tc, temperature_warning_only_warns);
+    tcase_add_test(tc, power_fault_needs_clearing_and_acknowledging);
+    tcase_add_test(tc, motor_current_fault_needs_clearing_and_acknowledging);
+    tcase_add_test(tc, unknown_fault_is_refused_and_changes_nothing);
+    tcase_add_test(tc, faults_are_listed_until_cleared);
+    tcase_add_test(tc, failnext_fails_the_next_command_once);
+    tcase_add_test(tc, failnext_rejects_bad_input);
+    tcase_add_test(tc, delay_holds_the_next_reply_on_the_simulated_clock);
+    tcase_add_test(tc, delay_shows_and_clears);
+    tcase_add_test(tc, cut_needs_a_connection);
+    tcase_add_test(tc, finger_fault_reaches_the_finger);
+    suite_add_tcase(s, tc);
+    return s;
+}

@@ -1,0 +1,216 @@
+/* --scenario, --config and --record files. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "config_file.h"
+#include "gripper.h"
+#include "harness.h"
+#include "options.h"
+#include "record.h"
+#include "scenario.h"
+#include "wsg_types.h"
+
+static bool load_scenario(void *path)
+{
+    return scenario_load(path, 0);
+}
+
+START_TEST(scenario_runs_on_the_simulated_clock)
+{
+    const char *path = t_temp_file("# a part slips out 500 ms into the hold\n"
+                                   "100 PART(40, 100)\n"
+                                   "\n"
+                                   "+1400 PART_SLIP()\n"
+                                   "2000 FAULT(\"POWER\")\n");
+    uint64_t start = t_now_us();
+    ck_assert(scenario_load(path, start));
+    ck_assert_uint_eq(scenario_pending(), 3);
+    ck_assert_uint_eq(scenario_next_us(), start + 100000u);
+    t_step_ms(99);
+    ck_assert_str_eq(ctl("PART?"), "PART=[0,0,0,0]");
+    t_step_ms(1);
+    ck_assert_str_eq(ctl("PART?"), "PART=[1,40,100,0]");
+    GCL_EQ("GRIP(40)", "ACK GRIP");
+    ck_assert_int_ge(t_until("FIN GRIP", 1000), 0);
+    ck_assert_int_eq(t_gripstate(), GS_HOLDING);
+    t_step_ms((double)(start + 1500000u - t_now_us()) / 1000.0);
+    ck_assert_uint_eq(scenario_pending(), 1);
+    t_step_ms(100);
+    ck_assert_int_eq(t_gripstate(), GS_PART_LOST);
+    t_step_ms(400);
+    ck_assert_uint_eq(scenario_pending(), 0);
+    ck_assert_int_eq(t_flag(SF_POWER_FAULT), 1);
+    remove(path);
+    scenario_unload();
+}
+END_TEST
+
+static void expect_scenario_error(const char *text, const char *message)
+{
+    const char *path = t_temp_file(text);
+    bool ok = true;
+    const char *err = t_capture_stderr(load_scenario, (void *)path, &ok);
+    ck_assert(!ok);
+    char expect[256];
+    snprintf(expect, sizeof(expect), "wsgsim: %s:%s", path, message);
+    ck_assert_msg(strstr(err, expect) != NULL, "got: %s want: %s", err, expect);
+    remove(path);
+}
+
+START_TEST(bad_scenario_lines_name_file_and_line)
+{
+    expect_scenario_error("100 PAUSE()\nsoon PART(40)\n",
+                          "2: expected a time in ms (e.g. 1500 or +200): soon");
+    expect_scenario_error("100 PAUSE()\n50 RESUME()\n", "2: times must not go backwards: 50");
+    expect_scenario_error("# c\n\n100 WARP()\n",
+                          "3: unknown control command (HELP? lists them): WARP()");
+    expect_scenario_error("100 STEP(5)\n", "1: STEP cannot be used in a scenario: STEP(5)");
+    expect_scenario_error("100 PART()\n", "1: not enough arguments; usage: "
+                                          "PART(width[,stiffness[,slip_force]]) | PART?: PART()");
+}
+END_TEST
+
+typedef struct {
+    const char *path;
+    host_options_t *opts;
+} config_args_t;
+
+static bool load_config(void *arg)
+{
+    config_args_t *a = arg;
+    return config_file_load(a->path, a->opts) && config_file_check(a->opts->model);
+}
+
+static const char *config_error(const char *text, bool *ok)
+{
+    static char *argv[] = {"wsgsim", NULL};
+    static host_options_t opts;
+    options_parse(1, argv, &opts);
+    config_args_t a = {t_temp_file(text), &opts};
+    static char out[512];
+    snprintf(out, sizeof(out), "%s", t_capture_stderr(load_config, &a, ok));
+    char *at = strstr(out, a.path);
+    remove(a.path);
+    return at != NULL ? at + strlen(a.path) : out;
+}
+
+START_TEST(config_sets_the_device_like_its_web_interface)
+{
+    static char *argv[] = {"wsgsim", NULL};
+    host_options_t opts;
+    options_parse(1, argv, &opts);
+    const char *path = t_temp_file("; web interface settings\n"
+                                   "[device]\nmodel = WSG 32-068\nserial = 4711\n"
+                                   "tag = \"cell 3\"\nfirmware_version = 4.1.2\n"
+                                   "[motion]\ndefault_force = 20\ndefault_speed = 50\n"
+                                   "default_acceleration = 800\ndefault_pullback = 5\n"
+                                   "part_width_tolerance = 3\nclamping_travel = 4\n"
+                                   "soft_limits = yes\nsoft_limit_minus = 2\n"
+                                   "soft_limit_plus = 60\nhoming_direction = negative\n"
+                                   "[network]\ntcp_port = 1500\nudp_port = 1501\n"
+                                   "max_clients = 3\ndisconnect_faststop = no\n"
+                                   "sim_port = 7000\nsim_bind = ::1\n");
+    ck_assert(config_file_load(path, &opts));
+    ck_assert(config_file_check(opts.model));
+    ck_assert_int_eq(opts.tcp_port, 1500);
+    ck_assert_int_eq(opts.udp_port, 1501);
+    ck_assert_int_eq(opts.max_clients, 3);
+    ck_assert(!opts.disconnect_faststop);
+    ck_assert_int_eq(opts.sim_port, 7000);
+    ck_assert_str_eq(opts.sim_bind, "::1");
+    gripper_init(&opts);
+    const hal_device_config_t *cfg = hal_device_config();
+    ck_assert_str_eq(cfg->devtype, "WSG 32-068");
+    ck_assert_uint_eq(cfg->serial, 4711);
+    ck_assert_str_eq(cfg->tag, "cell 3");
+    ck_assert_str_eq(cfg->version, "4.1.2");
+    ck_assert_float_eq(cfg->default_force_n, 20.0f);
+    ck_assert_float_eq(cfg->default_clt_mm, 4.0f);
+    ck_assert(cfg->soft_limits_enabled);
+    ck_assert(!cfg->home_positive);
+    ck_assert(!cfg->disconnect_raises_faststop);
+    /* and the device answers with it */
+    t_reopen();
+    GCL_EQ("TAG?", "TAG=\"cell 3\"");
+    GCL_EQ("SN?", "SN=4711");
+    GCL_EQ("CLT?", "CLT=4.0");
+    remove(path);
+}
+END_TEST
+
+START_TEST(bad_config_lines_name_file_and_line)
+{
+    bool ok = true;
+    ck_assert_str_eq(config_error("[motion]\ndefault_force = 20\ncolour = red\n", &ok),
+                     ":3: [motion] colour: unknown key (see docs/wsgsim.example.ini)\n");
+    ck_assert(!ok);
+    ck_assert_str_eq(config_error("[motion]\n\ndefault_speed = fast\n", &ok),
+                     ":3: [motion] default_speed: expected a number\n");
+    ck_assert_str_eq(config_error("[gripper]\nspeed = 1\n", &ok),
+                     ":2: [gripper] speed: unknown key (see docs/wsgsim.example.ini)\n");
+    ck_assert_str_eq(config_error("[motion]\ndefault_force = 500\n", &ok),
+                     ":2: [motion] default_force: 500 is outside 5..80 for this model\n");
+    ck_assert_str_eq(config_error("[network]\nsim_bind = 0.0.0.0\n", &ok),
+                     ":2: [network] sim_bind: the control port may only be bound to a loopback "
+                     "address here; use --sim-bind on the command line to expose it\n");
+    ck_assert_str_eq(config_error("[motion]\nsoft_limit_minus = 50\nsoft_limit_plus = 20\n", &ok),
+                     ":3: [motion] soft_limit_plus: soft_limit_minus must be below "
+                     "soft_limit_plus\n");
+    ck_assert_str_eq(config_error("[device]\nmodel = WSG 99\n", &ok),
+                     ":2: [device] model: unknown model (see wsgsim --list-models)\n");
+    ck_assert_str_eq(config_error("[device\n", &ok),
+                     ":1: not a section header or key = value line\n");
+    ck_assert(!ok);
+}
+END_TEST
+
+START_TEST(record_writes_every_line_with_both_clocks)
+{
+    char path[] = "/tmp/simctl_record_XXXXXX";
+    int fd = mkstemp(path);
+    ck_assert_int_ge(fd, 0);
+    ck_assert(record_open(path));
+    t_step_ms(5);
+    GCL_EQ("POS?", "POS=110.0");
+    record_control("ctl1", '<', "PAUSE()", 7);
+    record_close();
+    FILE *f = fdopen(fd, "r");
+    char lines[5][160] = {{0}};
+    for (int i = 0; i < 5 && fgets(lines[i], sizeof(lines[i]), f) != NULL; i++) {
+    }
+    fclose(f);
+    remove(path);
+    ck_assert_str_eq(lines[0], "# wsgsim record 1\n");
+    unsigned long long sim_s = 0;
+    unsigned long sim_us = 0;
+    unsigned long long wall_s = 0;
+    char channel[16];
+    char dir = 0;
+    char text[64];
+    ck_assert_int_eq(sscanf(lines[2], "%llu.%6lu %llu.%*6u %15s %c %63[^\n]", &sim_s, &sim_us,
+                            &wall_s, channel, &dir, text),
+                     6);
+    ck_assert_uint_eq(sim_s * 1000000u + sim_us, t_now_us());
+    ck_assert_uint_gt(wall_s, 1600000000u);
+    ck_assert_str_eq(channel, "s1t");
+    ck_assert_int_eq(dir, '<');
+    ck_assert_str_eq(text, "POS?");
+    ck_assert_ptr_nonnull(strstr(lines[3], " s1t > POS=110.0\n"));
+    ck_assert_ptr_nonnull(strstr(lines[4], " ctl1 < PAUSE()\n"));
+}
+END_TEST
+
+Suite *files_suite(void)
+{
+    Suite *s = suite_create("files");
+    TCase *tc = tcase_create("files");
+    tcase_add_checked_fixture(tc, t_setup_homed, t_teardown);
+    tcase_add_test(tc, scenario_runs_on_the_simulated_clock);
+    tcase_add_test(tc, bad_scenario_lines_name_file_and_line);
+    tcase_add_test(tc, config_sets_the_device_like_its_web_interface);
+    tcase_add_test(tc, bad_config_lines_name_file_and_line);
+    tcase_add_test(tc, record_writes_every_line_with_both_clocks);
+    suite_add_tcase(s, tc);
+    return s;
+}
