@@ -85,6 +85,12 @@ void sc_reply_owned(simctl_ctx_t *ctx, char *text)
     free(text);
 }
 
+void sc_reply_json(simctl_ctx_t *ctx, cJSON *json)
+{
+    sc_reply_owned(ctx, cJSON_PrintUnformatted(json));
+    cJSON_Delete(json);
+}
+
 void sc_reply(simctl_ctx_t *ctx, const char *fmt, ...)
 {
     char *text = NULL;

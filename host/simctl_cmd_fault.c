@@ -98,8 +98,7 @@ wsg_status_t sc_clear(simctl_ctx_t *ctx)
 wsg_status_t sc_faults(simctl_ctx_t *ctx)
 {
     cJSON *list = state_json_faults();
-    sc_reply_owned(ctx, cJSON_PrintUnformatted(list));
-    cJSON_Delete(list);
+    sc_reply_json(ctx, list);
     return E_SUCCESS;
 }
 

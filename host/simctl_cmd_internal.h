@@ -5,6 +5,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include <cJSON.h>
+
 #include "gcl_parse.h"
 #include "wsg_device.h"
 
@@ -38,6 +40,8 @@ wsg_status_t sc_fail(simctl_ctx_t *ctx, wsg_status_t status, const char *fmt, ..
 void sc_reply(simctl_ctx_t *ctx, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 /* NAME=<text>; takes ownership of text (from cJSON or asprintf). */
 void sc_reply_owned(simctl_ctx_t *ctx, char *text);
+/* NAME=<compact JSON of json>; takes ownership of json. */
+void sc_reply_json(simctl_ctx_t *ctx, cJSON *json);
 
 /* Argument i as a number / text (quoted string or bare word); false (with
  * the reason and ctx->failed set) when it has another type. */

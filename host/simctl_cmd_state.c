@@ -23,8 +23,7 @@ wsg_status_t sc_state(simctl_ctx_t *ctx)
 wsg_status_t sc_sessions(simctl_ctx_t *ctx)
 {
     cJSON *list = state_json_session_list();
-    sc_reply_owned(ctx, cJSON_PrintUnformatted(list));
-    cJSON_Delete(list);
+    sc_reply_json(ctx, list);
     return E_SUCCESS;
 }
 
@@ -73,8 +72,7 @@ wsg_status_t sc_help(simctl_ctx_t *ctx)
     for (unsigned i = 0; i < simctl_table_count(); i++) {
         cJSON_AddItemToArray(list, cJSON_CreateString(simctl_table_at(i)->usage));
     }
-    sc_reply_owned(ctx, cJSON_PrintUnformatted(list));
-    cJSON_Delete(list);
+    sc_reply_json(ctx, list);
     return E_SUCCESS;
 }
 

@@ -19,7 +19,40 @@ class GclError(AssertionError):
     pass
 
 
-class GclTcp:
+class _GclLines:
+    """What both transports do on top of read_line() and send()."""
+
+    def read_line_skipping_autosend(self, timeout=None):
+        while True:
+            line = self.read_line(timeout)
+            if not line.startswith("@"):
+                return line
+
+    def command(self, line, timeout=None):
+        """Sends a line and returns the first reply that is not an AUTOSEND value."""
+        self.send(line)
+        return self.read_line_skipping_autosend(timeout)
+
+    def expect(self, line, expected, timeout=None):
+        reply = self.command(line, timeout)
+        if reply != expected:
+            raise GclError("%s: expected %r, got %r" % (line, expected, reply))
+        return reply
+
+    def long_command(self, line, name, timeout=10.0):
+        """ACK then FIN (or ERR) of a motion command; returns the final line."""
+        self.expect(line, "ACK " + name)
+        return self.read_line_skipping_autosend(timeout)
+
+    def query_float(self, name):
+        reply = self.command(name + "?")
+        prefix = name + "="
+        if not reply.startswith(prefix):
+            raise GclError("%s?: unexpected %r" % (name, reply))
+        return float(reply[len(prefix):])
+
+
+class GclTcp(_GclLines):
     """One TCP connection; lines are read one at a time, as a driver would."""
 
     def __init__(self, host, port, timeout=DEFAULT_TIMEOUT):
@@ -54,35 +87,6 @@ class GclTcp:
         line, self.buffer = self.buffer.split(b"\n", 1)
         return line.decode("ascii")
 
-    def read_line_skipping_autosend(self, timeout=None):
-        while True:
-            line = self.read_line(timeout)
-            if not line.startswith("@"):
-                return line
-
-    def command(self, line, timeout=None):
-        """Sends a line and returns the first reply that is not an AUTOSEND value."""
-        self.send(line)
-        return self.read_line_skipping_autosend(timeout)
-
-    def expect(self, line, expected, timeout=None):
-        reply = self.command(line, timeout)
-        if reply != expected:
-            raise GclError("%s: expected %r, got %r" % (line, expected, reply))
-        return reply
-
-    def long_command(self, line, name, timeout=10.0):
-        """ACK then FIN (or ERR) of a motion command; returns the final line."""
-        self.expect(line, "ACK " + name)
-        return self.read_line_skipping_autosend(timeout)
-
-    def query_float(self, name):
-        reply = self.command(name + "?")
-        prefix = name + "="
-        if not reply.startswith(prefix):
-            raise GclError("%s?: unexpected %r" % (name, reply))
-        return float(reply[len(prefix):])
-
     def closed_by_peer(self, timeout=2.0):
         """True once the server has closed the connection."""
         deadline = time.monotonic() + timeout
@@ -99,7 +103,7 @@ class GclTcp:
         return False
 
 
-class GclUdp:
+class GclUdp(_GclLines):
     """A UDP peer: one datagram per command, replies as datagrams."""
 
     def __init__(self, host, port, timeout=DEFAULT_TIMEOUT):
@@ -121,26 +125,6 @@ class GclUdp:
         if not data.endswith(b"\n") or data.count(b"\n") != 1:
             raise GclError("datagram is not exactly one line: %r" % data)
         return data[:-1].decode("ascii")
-
-    def read_line_skipping_autosend(self, timeout=None):
-        while True:
-            line = self.read_line(timeout)
-            if not line.startswith("@"):
-                return line
-
-    def command(self, line, timeout=None):
-        self.send(line)
-        return self.read_line_skipping_autosend(timeout)
-
-    def expect(self, line, expected, timeout=None):
-        reply = self.command(line, timeout)
-        if reply != expected:
-            raise GclError("%s: expected %r, got %r" % (line, expected, reply))
-        return reply
-
-    def long_command(self, line, name, timeout=10.0):
-        self.expect(line, "ACK " + name)
-        return self.read_line_skipping_autosend(timeout)
 
 
 READY = re.compile(r"ready: tcp [^ ]+:(-?\d+), udp [^ ]+:(-?\d+)")
