@@ -1,0 +1,61 @@
+# Robustness checks (issue 6), part of `make check` (and of `make check SAN=1`):
+#   fuzz-regress     the fuzz seed corpus and every regression input through the
+#                    fuzz target, built with $(CC) (ASan+UBSan under SAN=1)
+#   valgrind-tests   the end-to-end tests with build/wsgsim under valgrind
+#                    memcheck; fails on any memory error or leak. Under SAN=1 it
+#                    runs on the plain build (valgrind and ASan do not mix).
+#   abuse-tests      tests/e2e/test_abuse.py alone (e2e-tests runs it as well,
+#                    so it is not added to CHECK_TARGETS a second time)
+VALGRIND_DEBS := valgrind
+VALGRIND_TESTS ?= test_*.py
+VALGRIND_LOGS := build/valgrind
+VALGRIND_CMD := valgrind --leak-check=full --show-leak-kinds=all \
+	--errors-for-leak-kinds=definite,indirect,possible --error-exitcode=99 \
+	--log-file=$(abspath $(VALGRIND_LOGS))/vg.%p.log
+FUZZ_REPLAY := $(BUILD)/tests/fuzz_replay
+FUZZ_INPUTS := tests/fuzz/corpus tests/fuzz/regressions
+
+.PHONY: fuzz-regress valgrind-tests valgrind-deps abuse-tests
+CHECK_TARGETS += fuzz-regress valgrind-tests
+
+# The fuzz target also runs the host's loopback finger bus (host/can_loopback.c).
+FUZZ_REPLAY_OBJ := $(BUILD)/obj/host/can_loopback.o
+
+$(FUZZ_REPLAY): tests/fuzz/fuzz_session.c tests/fuzz/replay_main.c $(FUZZ_REPLAY_OBJ) \
+		$(BUILD)/libwsgcore.a
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_BASE) $(CORE_INC) -Ihost $(LDFLAGS_BASE) -o $@ tests/fuzz/fuzz_session.c \
+		tests/fuzz/replay_main.c $(FUZZ_REPLAY_OBJ) $(BUILD)/libwsgcore.a -lm
+
+fuzz-regress: $(FUZZ_REPLAY)
+	$(FUZZ_REPLAY) $(FUZZ_INPUTS)
+
+abuse-tests: $(BUILD)/wsgsim
+	WSGSIM=$(abspath $(BUILD)/wsgsim) python3 tests/e2e/run.py test_abuse.py
+
+valgrind-deps:
+	@mk/deps.sh $(VALGRIND_DEBS)
+
+ifeq ($(SAN),1)
+valgrind-tests:
+	$(MAKE) --no-print-directory SAN=0 valgrind-tests
+else
+# Every wsgsim the tests start writes one log; each must end with no errors
+# (leaks count as errors) and a log without a summary means it was killed.
+valgrind-tests: $(BUILD)/wsgsim | valgrind-deps
+	@rm -rf $(VALGRIND_LOGS) && mkdir -p $(VALGRIND_LOGS)
+	WSGSIM=$(abspath $(BUILD)/wsgsim) WSGSIM_PREFIX="$(VALGRIND_CMD)" \
+		python3 tests/e2e/run.py '$(VALGRIND_TESTS)'
+	@n=0; bad=0; \
+	for f in $(VALGRIND_LOGS)/vg.*.log; do \
+		[ -e "$$f" ] || continue; n=$$((n + 1)); \
+		if ! grep -q "ERROR SUMMARY: 0 errors" "$$f"; then \
+			echo "valgrind: errors, leaks or no summary in $$f:"; \
+			grep -E "ERROR SUMMARY|definitely|indirectly|possibly|Invalid|uninitialised" "$$f" | head -20; \
+			bad=1; \
+		fi; \
+	done; \
+	[ $$n -gt 0 ] || { echo "valgrind: no wsgsim run was logged"; exit 1; }; \
+	[ $$bad -eq 0 ] || exit 1; \
+	echo "valgrind: $$n wsgsim runs under memcheck, no errors, no leaks"
+endif

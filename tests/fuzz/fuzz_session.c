@@ -1,0 +1,247 @@
+/* libFuzzer target: arbitrary bytes through the session input path of the
+ * device core (line assembly, parser, dispatcher, motion and grip state
+ * machine, AUTOSEND) on a virtual clock.
+ *
+ * The finger bus runs too: the host's loopback CAN bus with two simulated
+ * finger nodes (host/can_loopback.c), plus raw frames from the input.
+ *
+ * Input layout: byte 0 picks the model (bits 0-4), the finger pair (bits 5-6)
+ * and whether a dropped connection raises FAST STOP (bit 7). The rest is a
+ * list of segments separated by 0xFF; each segment starts with a control byte:
+ *   bits 0-1  session 0..3 (0 and 1 stream, 2 and 3 datagram)
+ *   bits 2-3  0 feed, 1 feed and end the datagram, 2 close and reopen the
+ *             session (close reason from the payload length; on session 3:
+ *             deliver the payload to the core as raw CAN frames of 13 bytes:
+ *             id (4, little endian), flags, dlc, data (7 of 8)), 3 feed, then
+ *             run HOME-length time
+ *   bits 4-7  virtual time to run afterwards (index into run_ms)
+ * and the payload bytes follow. Every line the core writes is checked: one
+ * whole, printable, '\n'-terminated line no longer than WSG_REPLY_MAX. */
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "can_loopback.h"
+#include "hal_can.h"
+#include "hal_clock.h"
+#include "hal_log.h"
+#include "sim_models.h"
+#include "sim_world.h"
+#include "wsg_device.h"
+
+#define FUZZ_SESSIONS 4
+#define SEPARATOR 0xffu
+#define START_US 5000000u
+#define MOTION_TICK_MAX_US 1000u
+#define RAW_FRAME_BYTES 13u
+#define RAW_FRAMES_MAX 64u
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+static wsg_device_t device;
+static uint64_t now_us;
+static wsg_session_t *sessions[FUZZ_SESSIONS];
+static const char *const finger_pairs[4] = {"fmf,dsa", "dsa,generic", "none,fmf", "generic,none"};
+static struct {
+    hal_can_frame_t frames[RAW_FRAMES_MAX];
+    unsigned head, count;
+    hal_can_filter_t filters[HAL_CAN_MAX_FILTERS];
+    unsigned filter_count;
+    const hal_can_t *loopback;
+} raw;
+static const uint32_t run_ms[16] = {0,   1,   2,   5,    10,   20,   50,   100,
+                                    200, 300, 500, 1000, 2000, 3000, 5000, 10000};
+
+uint64_t hal_clock_now_us(void)
+{
+    return now_us;
+}
+
+void hal_log(hal_log_level_t level, const char *message)
+{
+    (void)level;
+    if (strlen(message) > 1024) {
+        abort(); /* a log line must be a bounded C string */
+    }
+}
+
+static void check_line(void *ctx, const char *line, size_t len, wsg_line_kind_t kind)
+{
+    (void)ctx;
+    if (len == 0 || len > WSG_REPLY_MAX || line[len - 1] != '\n') {
+        abort();
+    }
+    for (size_t i = 0; i + 1 < len; i++) {
+        unsigned char c = (unsigned char)line[i];
+        if (c < 0x20u || c >= 0x7fu) {
+            abort();
+        }
+    }
+    if (kind == WSG_LINE_AUTOSEND && line[0] != '@') {
+        abort();
+    }
+}
+
+static const wsg_session_io_t fuzz_io = {.write_line = check_line};
+
+/* The core's CAN controller: the loopback bus, with raw frames from the
+ * input received first (through the filters, as a driver applies them). */
+static bool can_send(void *ctx, const hal_can_frame_t *frame)
+{
+    (void)ctx;
+    if (frame->dlc > HAL_CAN_MAX_DLC) {
+        abort(); /* the core never builds an invalid frame */
+    }
+    return hal_can_send(raw.loopback, frame);
+}
+
+static bool can_recv(void *ctx, hal_can_frame_t *frame)
+{
+    (void)ctx;
+    while (raw.count > 0) {
+        *frame = raw.frames[raw.head];
+        raw.head = (raw.head + 1u) % RAW_FRAMES_MAX;
+        raw.count--;
+        if (hal_can_filters_accept(raw.filters, raw.filter_count, frame)) {
+            return true;
+        }
+    }
+    return hal_can_recv(raw.loopback, frame);
+}
+
+static bool can_set_filters(void *ctx, const hal_can_filter_t *filters, unsigned count)
+{
+    (void)ctx;
+    if (count > HAL_CAN_MAX_FILTERS) {
+        return false;
+    }
+    memcpy(raw.filters, filters, count * sizeof(*filters));
+    raw.filter_count = count;
+    return hal_can_set_filters(raw.loopback, filters, count);
+}
+
+static const hal_can_t fuzz_can = {can_send, can_recv, can_set_filters, NULL};
+
+static void queue_raw_frames(const uint8_t *p, size_t n)
+{
+    for (; n >= RAW_FRAME_BYTES && raw.count < RAW_FRAMES_MAX;
+         p += RAW_FRAME_BYTES, n -= RAW_FRAME_BYTES) {
+        hal_can_frame_t f;
+        memset(&f, 0, sizeof(f));
+        f.id = (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+        f.flags = p[4] & (HAL_CAN_FLAG_EXT | HAL_CAN_FLAG_RTR);
+        f.id &= (f.flags & HAL_CAN_FLAG_EXT) != 0 ? HAL_CAN_EXT_ID_MASK : HAL_CAN_STD_ID_MASK;
+        f.dlc = p[5] % (HAL_CAN_MAX_DLC + 1u);
+        memcpy(f.data, p + 6, RAW_FRAME_BYTES - 6u);
+        raw.frames[(raw.head + raw.count) % RAW_FRAMES_MAX] = f;
+        raw.count++;
+    }
+}
+
+static wsg_transport_t transport_of(unsigned slot)
+{
+    return slot < 2 ? WSG_TRANSPORT_STREAM : WSG_TRANSPORT_DATAGRAM;
+}
+
+static void open_slot(unsigned slot)
+{
+    sessions[slot] = wsg_session_open(&device, transport_of(slot), &fuzz_io, NULL);
+    if (sessions[slot] == NULL) {
+        abort(); /* only FUZZ_SESSIONS < WSG_MAX_SESSIONS are ever open */
+    }
+}
+
+/* Runs the port's loop: steps at every deadline the core asks for. */
+static void run_for(uint64_t us)
+{
+    uint64_t end = now_us + us;
+    while (now_us < end) {
+        uint64_t next = wsg_device_next_deadline_us(&device);
+        if (next > end) {
+            next = end;
+        }
+        if (next > now_us + 100000u * MOTION_TICK_MAX_US) {
+            next = now_us + 100000u * MOTION_TICK_MAX_US;
+        }
+        now_us = next > now_us ? next : now_us + 1u;
+        sim_world_advance(now_us);
+        wsg_device_step(&device);
+    }
+}
+
+static void close_reopen(unsigned slot, size_t payload_len)
+{
+    static const wsg_close_reason_t reasons[3] = {WSG_CLOSE_ANNOUNCED, WSG_CLOSE_DROPPED,
+                                                  WSG_CLOSE_EXPIRED};
+    wsg_session_close(&device, sessions[slot], reasons[payload_len % 3]);
+    open_slot(slot);
+}
+
+static void run_segment(const uint8_t *seg, size_t len)
+{
+    if (len == 0) {
+        return;
+    }
+    unsigned slot = seg[0] & 3u;
+    unsigned op = (seg[0] >> 2) & 3u;
+    const uint8_t *payload = seg + 1;
+    size_t n = len - 1;
+    if (op == 2 && slot == 3) {
+        queue_raw_frames(payload, n);
+    } else if (op == 2) {
+        close_reopen(slot, n);
+    } else {
+        sim_world_advance(now_us);
+        wsg_session_input(&device, sessions[slot], payload, n);
+        if (op == 1) {
+            wsg_session_end_datagram(&device, sessions[slot]);
+        }
+    }
+    /* the port reopens a session the client closed with BYE() */
+    if (wsg_session_wants_close(sessions[slot])) {
+        close_reopen(slot, 0);
+    }
+    run_for((uint64_t)run_ms[seg[0] >> 4] * 1000u + (op == 3 ? 3000000u : 0u));
+}
+
+static void power_on(uint8_t config_byte)
+{
+    hal_device_config_t cfg;
+    unsigned model = (config_byte & 0x1fu) % sim_model_count();
+    fbus_type_t types[FBUS_SLOTS];
+    finger_node_params_t params;
+    finger_node_defaults(&params);
+    if (!finger_node_parse_pair(finger_pairs[(config_byte >> 5) & 3u], types)) {
+        abort();
+    }
+    sim_model_config(sim_model_at(model), &cfg);
+    cfg.disconnect_raises_faststop = (config_byte & 0x80u) != 0;
+    now_us = START_US;
+    sim_world_init(&cfg, now_us);
+    memset(&device, 0, sizeof(device));
+    memset(&raw, 0, sizeof(raw));
+    can_loopback_init(types, &params);
+    raw.loopback = can_loopback_bus();
+    wsg_device_init(&device);
+    wsg_device_attach_can(&device, &fuzz_can);
+    for (unsigned i = 0; i < FUZZ_SESSIONS; i++) {
+        open_slot(i);
+    }
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    if (size == 0) {
+        return 0;
+    }
+    power_on(data[0]);
+    size_t start = 1;
+    for (size_t i = 1; i <= size; i++) {
+        if (i == size || data[i] == SEPARATOR) {
+            run_segment(data + start, i - start);
+            start = i + 1;
+        }
+    }
+    run_for(100000u); /* let pending AUTOSEND and final replies go out */
+    return 0;
+}

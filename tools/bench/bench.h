@@ -1,0 +1,101 @@
+/* wsgbench: measures build/wsgsim side by side with a minimal C line-echo
+ * server (the loopback limit of this machine) and the core's virtual-time
+ * speed in-process. libc only. */
+#ifndef BENCH_H
+#define BENCH_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <sys/types.h>
+
+#define BENCH_PERIOD_MS 10
+
+/* A server under test: wsgsim or the echo baseline, in a child process. */
+typedef struct {
+    const char *name;
+    pid_t pid;
+    int tcp_port;
+    int udp_port;
+    int ctl_port; /* simulation control channel, 0: none */
+} server_t;
+
+/* Samples in microseconds. */
+typedef struct {
+    double *v;
+    size_t n;
+    size_t cap;
+} samples_t;
+
+void samples_init(samples_t *s, size_t cap);
+void samples_free(samples_t *s);
+void samples_add(samples_t *s, double us);
+void samples_sort(samples_t *s);
+/* q in [0,1] of sorted samples; 0 when empty. */
+double samples_quantile(const samples_t *s, double q);
+double samples_max(const samples_t *s);
+
+double now_us(void);
+void die(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
+/* proc.c */
+#define WSGSIM_EXTRA_ARGS_MAX 8
+/* Appends an argument to every wsgsim the benchmark starts. */
+void server_add_wsgsim_arg(const char *arg);
+/* paused: --start-paused with a control channel and a 30 mm part (for
+ * vtime_ctl_run()); otherwise a free-running server. */
+bool server_start_wsgsim(server_t *srv, const char *binary, const char *log_path, bool paused);
+bool server_start_echo(server_t *srv);
+void server_stop(server_t *srv);
+/* Kills every server still running (die() calls it). */
+void server_kill_all(void);
+/* CPU time (user+system) of a process in microseconds. */
+double proc_cpu_us(pid_t pid);
+/* VmRSS / VmHWM in KiB; -1 when unknown. */
+long proc_rss_kib(pid_t pid);
+long proc_hwm_kib(pid_t pid);
+long proc_ctx_switches(pid_t pid);
+
+/* echo.c: serves until SIGTERM; never returns. */
+void echo_server_run(int tcp_fd, int udp_fd) __attribute__((noreturn));
+
+/* client.c */
+typedef struct {
+    int fd;
+    char buf[8192];
+    size_t len;
+} conn_t;
+
+int tcp_connect(int port);
+int udp_connect(int port);
+/* Sends a line (adds '\n') and reads one reply line into out. */
+bool conn_send(conn_t *c, const char *line);
+bool conn_read_line(conn_t *c, char *out, size_t cap, int timeout_ms);
+bool rtt_tcp(conn_t *c, const char *req, double *us);
+bool rtt_udp(int fd, const char *req, double *us);
+/* Pipelined replies per second over `clients` connections for `seconds`. */
+double throughput(int port, int clients, double seconds);
+
+typedef struct {
+    samples_t error_us; /* |interval - period| over all clients */
+    long lines;
+    long missed;
+    int clients_ok;
+} autosend_result_t;
+/* `clients` connections subscribe AUTOSEND("POS",10) for `seconds`. */
+void autosend_run(int port, int clients, double seconds, autosend_result_t *r);
+
+/* vtime.c: HOME/MOVE/GRIP/RELEASE cycles in stepped virtual time. */
+typedef struct {
+    int cycles_done;
+    int cycles_failed;
+    double virtual_s;
+    double wall_s;
+    long steps;
+} vtime_result_t;
+void vtime_run(int cycles, vtime_result_t *r);
+/* The same cycles through a paused wsgsim and STEP(step_ms) on its control
+ * channel (docs/simctl.md). */
+void vtime_ctl_run(const server_t *srv, int cycles, int step_ms, vtime_result_t *r);
+
+#endif

@@ -1,0 +1,257 @@
+/* Child processes under test and what /proc tells about them. */
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/prctl.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "bench.h"
+
+#define START_TIMEOUT_US 10e6
+#define CHILDREN_MAX 4
+
+static pid_t children[CHILDREN_MAX];
+
+static void remember(pid_t pid)
+{
+    for (int i = 0; i < CHILDREN_MAX; i++) {
+        if (children[i] == 0) {
+            children[i] = pid;
+            return;
+        }
+    }
+}
+
+static void forget(pid_t pid)
+{
+    for (int i = 0; i < CHILDREN_MAX; i++) {
+        if (children[i] == pid) {
+            children[i] = 0;
+        }
+    }
+}
+
+void server_kill_all(void)
+{
+    for (int i = 0; i < CHILDREN_MAX; i++) {
+        if (children[i] > 0) {
+            kill(children[i], SIGKILL);
+            waitpid(children[i], NULL, 0);
+            children[i] = 0;
+        }
+    }
+}
+
+/* In the child: die with the benchmark, however it ends. */
+static void follow_parent(void)
+{
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+}
+
+static const char *extra_args[WSGSIM_EXTRA_ARGS_MAX];
+static int extra_count;
+
+void server_add_wsgsim_arg(const char *arg)
+{
+    if (extra_count == WSGSIM_EXTRA_ARGS_MAX) {
+        die("too many --wsgsim-arg options");
+    }
+    extra_args[extra_count++] = arg;
+}
+
+static void exec_wsgsim(const char *binary, const char *log_path, bool paused)
+{
+    static const char *const common[] = {
+        "--bind", "127.0.0.1", "--tcp-port", "0", "--udp-port", "0", "--no-disconnect-faststop"};
+    static const char *const paused_args[] = {"--part", "30", "--sim-port", "0", "--start-paused"};
+    static const char *const load_args[] = {"--max-clients", "128"};
+    const char *argv[32];
+    int n = 0;
+    argv[n++] = binary;
+    for (size_t i = 0; i < sizeof(common) / sizeof(common[0]); i++) {
+        argv[n++] = common[i];
+    }
+    for (size_t i = 0; paused && i < sizeof(paused_args) / sizeof(paused_args[0]); i++) {
+        argv[n++] = paused_args[i];
+    }
+    for (size_t i = 0; !paused && i < sizeof(load_args) / sizeof(load_args[0]); i++) {
+        argv[n++] = load_args[i];
+    }
+    for (int i = 0; i < extra_count; i++) {
+        argv[n++] = extra_args[i];
+    }
+    argv[n] = NULL;
+    follow_parent();
+    int fd = open(log_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd < 0) {
+        _exit(126);
+    }
+    dup2(fd, STDERR_FILENO);
+    close(fd);
+    execv(binary, (char *const *)argv);
+    _exit(127);
+}
+
+static bool read_ready(const char *log_path, server_t *srv)
+{
+    FILE *f = fopen(log_path, "r");
+    if (f == NULL) {
+        return false;
+    }
+    char line[512];
+    bool found = false;
+    while (!found && fgets(line, sizeof(line), f) != NULL) {
+        const char *at = strstr(line, "ready: tcp ");
+        srv->ctl_port = 0;
+        found = at != NULL && sscanf(at, "ready: tcp %*[^:]:%d, udp %*[^:]:%d, control %*[^:]:%d",
+                                     &srv->tcp_port, &srv->udp_port, &srv->ctl_port) >= 2;
+    }
+    fclose(f);
+    return found;
+}
+
+bool server_start_wsgsim(server_t *srv, const char *binary, const char *log_path, bool paused)
+{
+    memset(srv, 0, sizeof(*srv));
+    srv->name = "wsgsim";
+    unlink(log_path); /* never read the ready line of an earlier run */
+    srv->pid = fork();
+    if (srv->pid == 0) {
+        exec_wsgsim(binary, log_path, paused);
+    }
+    remember(srv->pid);
+    double deadline = now_us() + START_TIMEOUT_US;
+    while (now_us() < deadline) {
+        if (read_ready(log_path, srv)) {
+            return true;
+        }
+        if (waitpid(srv->pid, NULL, WNOHANG) == srv->pid) {
+            forget(srv->pid);
+            srv->pid = 0;
+            return false;
+        }
+        usleep(10000);
+    }
+    server_stop(srv);
+    return false;
+}
+
+static int bound_socket(int type, int *port)
+{
+    int fd = socket(AF_INET, type | SOCK_CLOEXEC, 0);
+    struct sockaddr_in sa = {.sin_family = AF_INET, .sin_port = 0};
+    sa.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t len = sizeof(sa);
+    if (fd < 0 || bind(fd, (struct sockaddr *)&sa, sizeof(sa)) != 0 ||
+        (type == SOCK_STREAM && listen(fd, 256) != 0) ||
+        getsockname(fd, (struct sockaddr *)&sa, &len) != 0) {
+        die("echo server: cannot bind a loopback socket");
+    }
+    *port = ntohs(sa.sin_port);
+    return fd;
+}
+
+bool server_start_echo(server_t *srv)
+{
+    memset(srv, 0, sizeof(*srv));
+    srv->name = "echo";
+    int tcp_fd = bound_socket(SOCK_STREAM, &srv->tcp_port);
+    int udp_fd = bound_socket(SOCK_DGRAM, &srv->udp_port);
+    srv->pid = fork();
+    if (srv->pid == 0) {
+        follow_parent();
+        echo_server_run(tcp_fd, udp_fd);
+    }
+    remember(srv->pid);
+    close(tcp_fd);
+    close(udp_fd);
+    return srv->pid > 0;
+}
+
+void server_stop(server_t *srv)
+{
+    if (srv->pid <= 0) {
+        return;
+    }
+    forget(srv->pid);
+    kill(srv->pid, SIGTERM);
+    for (int i = 0; i < 500; i++) {
+        if (waitpid(srv->pid, NULL, WNOHANG) == srv->pid) {
+            srv->pid = 0;
+            return;
+        }
+        usleep(10000);
+    }
+    kill(srv->pid, SIGKILL);
+    waitpid(srv->pid, NULL, 0);
+    srv->pid = 0;
+}
+
+/* /proc/PID/schedstat: nanoseconds on the CPU (finer than the 10 ms ticks
+ * of /proc/PID/stat). */
+double proc_cpu_us(pid_t pid)
+{
+    char path[64];
+    snprintf(path, sizeof(path), "/proc/%d/schedstat", (int)pid);
+    FILE *f = fopen(path, "r");
+    unsigned long long ns = 0;
+    if (f != NULL) {
+        int got = fscanf(f, "%llu", &ns);
+        fclose(f);
+        if (got == 1) {
+            return (double)ns / 1e3;
+        }
+    }
+    snprintf(path, sizeof(path), "/proc/%d/stat", (int)pid);
+    f = fopen(path, "r");
+    unsigned long ut = 0, st = 0;
+    if (f == NULL) {
+        return -1.0;
+    }
+    int got = fscanf(f, "%*d %*s %*c %*d %*d %*d %*d %*d %*u %*u %*u %*u %*u %lu %lu", &ut, &st);
+    fclose(f);
+    return got == 2 ? (double)(ut + st) * 1e6 / (double)sysconf(_SC_CLK_TCK) : -1.0;
+}
+
+static long status_field(pid_t pid, const char *key)
+{
+    char path[64];
+    char line[256];
+    long value = -1;
+    size_t klen = strlen(key);
+    snprintf(path, sizeof(path), "/proc/%d/status", (int)pid);
+    FILE *f = fopen(path, "r");
+    if (f == NULL) {
+        return -1;
+    }
+    while (fgets(line, sizeof(line), f) != NULL) {
+        if (strncmp(line, key, klen) == 0 && line[klen] == ':') {
+            value = strtol(line + klen + 1, NULL, 10);
+        }
+    }
+    fclose(f);
+    return value;
+}
+
+long proc_rss_kib(pid_t pid)
+{
+    return status_field(pid, "VmRSS");
+}
+
+long proc_hwm_kib(pid_t pid)
+{
+    return status_field(pid, "VmHWM");
+}
+
+long proc_ctx_switches(pid_t pid)
+{
+    long v = status_field(pid, "voluntary_ctxt_switches");
+    long n = status_field(pid, "nonvoluntary_ctxt_switches");
+    return v < 0 || n < 0 ? -1 : v + n;
+}

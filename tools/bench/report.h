@@ -1,0 +1,38 @@
+/* Results of one benchmark run: the table, results.json and the plot. */
+#ifndef BENCH_REPORT_H
+#define BENCH_REPORT_H
+
+#include <stdio.h>
+
+#include "bench.h"
+
+#define LOAD_STEPS 4
+
+/* Index 0: wsgsim, 1: echo baseline. */
+typedef struct {
+    char machine[256];
+    char placement[96]; /* CPU placement of the round trips */
+    double idle_pct[2];
+    long idle_wakeups[2];
+    double idle_conn_pct[2];
+    long idle_conn_wakeups[2];
+    long rss_idle_kib[2];
+    long rss_peak_kib[2];
+    samples_t rtt_tcp[2];
+    samples_t rtt_udp[2];
+    long udp_lost[2];
+    int load_clients[LOAD_STEPS];
+    double load_rps[LOAD_STEPS][2];
+    autosend_result_t autosend[2];
+    int autosend_clients;
+    vtime_result_t vtime;
+    vtime_result_t vtime_ctl; /* through wsgsim's control channel; 0 cycles: not run */
+    int vtime_ctl_step_ms;
+} results_t;
+
+void report_print(const results_t *res, FILE *out);
+void report_write_json(const results_t *res, const char *dir);
+/* PNG latency histogram and CDF with gnuplot, if it is installed. */
+void report_plot(const results_t *res, const char *dir);
+
+#endif

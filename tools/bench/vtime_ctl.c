@@ -1,0 +1,84 @@
+/* Virtual-time speed through wsgsim itself: started with --start-paused and
+ * a control channel (docs/simctl.md), a driver sends each GCL command and
+ * then STEP(step_ms) on the control channel until the command's FIN. */
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "bench.h"
+
+#define STEPS_PER_COMMAND_MAX 600
+
+static bool final_seen(conn_t *gcl, const char *name, bool *failed)
+{
+    char line[256];
+    while (conn_read_line(gcl, line, sizeof(line), 0)) {
+        if (strncmp(line, "FIN ", 4) == 0 && strcmp(line + 4, name) == 0) {
+            return true;
+        }
+        if (strncmp(line, "ERR ", 4) == 0) {
+            fprintf(stderr, "wsgbench: %s answered '%s'\n", name, line);
+            *failed = true;
+            return true;
+        }
+    }
+    return false;
+}
+
+/* Returns the simulated ms it took (in whole steps); -1 on failure. */
+static double run_command(conn_t *gcl, conn_t *ctl, const char *cmd, const char *name, int step_ms)
+{
+    char step[32];
+    char reply[256];
+    snprintf(step, sizeof(step), "STEP(%d)", step_ms);
+    if (!conn_send(gcl, cmd)) {
+        return -1;
+    }
+    bool failed = false;
+    for (int i = 1; i <= STEPS_PER_COMMAND_MAX; i++) {
+        if (!conn_send(ctl, step) || !conn_read_line(ctl, reply, sizeof(reply), 5000) ||
+            strncmp(reply, "STEP=", 5) != 0) {
+            die("control channel: %s answered '%s'", step, reply);
+        }
+        if (final_seen(gcl, name, &failed)) {
+            return failed ? -1.0 : (double)i * step_ms;
+        }
+    }
+    return -1.0;
+}
+
+static bool run_cycle(conn_t *gcl, conn_t *ctl, int step_ms, double *sim_ms)
+{
+    static const char *const cmds[4][2] = {
+        {"HOME()", "HOME"}, {"MOVE(80)", "MOVE"}, {"GRIP(20)", "GRIP"}, {"RELEASE(10)", "RELEASE"}};
+    for (int i = 0; i < 4; i++) {
+        double ms = run_command(gcl, ctl, cmds[i][0], cmds[i][1], step_ms);
+        if (ms < 0) {
+            return false;
+        }
+        *sim_ms += ms;
+    }
+    return true;
+}
+
+void vtime_ctl_run(const server_t *srv, int cycles, int step_ms, vtime_result_t *r)
+{
+    conn_t gcl = {.fd = tcp_connect(srv->tcp_port)};
+    conn_t ctl = {.fd = tcp_connect(srv->ctl_port)};
+    double sim_ms = 0;
+    memset(r, 0, sizeof(*r));
+    double t0 = now_us();
+    for (int i = 0; i < cycles; i++) {
+        if (run_cycle(&gcl, &ctl, step_ms, &sim_ms)) {
+            r->cycles_done++;
+        } else {
+            r->cycles_failed++;
+        }
+    }
+    r->wall_s = (now_us() - t0) / 1e6;
+    r->virtual_s = sim_ms / 1e3;
+    r->steps = (long)(sim_ms / step_ms);
+    conn_send(&gcl, "BYE()");
+    close(gcl.fd);
+    close(ctl.fd);
+}
