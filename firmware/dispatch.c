@@ -86,9 +86,9 @@ static void report_done(wsg_device_t *dev, const wsg_session_t *s, const gcl_com
     }
 }
 
-static wsg_status_t run_command(wsg_device_t *dev, wsg_session_t *s, const gcl_command_t *cmd)
+static wsg_status_t run_command(wsg_device_t *dev, wsg_session_t *s, const cmd_entry_t *entry,
+                                const gcl_command_t *cmd)
 {
-    const cmd_entry_t *entry = dispatch_find(cmd->name);
     wsg_status_t status = check_shape(entry, cmd);
     if (status != E_SUCCESS) {
         return status;
@@ -140,12 +140,13 @@ void dispatch_line(wsg_device_t *dev, wsg_session_t *s, const char *line, size_t
     gcl_command_t cmd;
     wsg_status_t status = gcl_parse_line(line, len, &cmd);
     flags_refresh(dev); /* answer from the newest hardware reading */
+    const cmd_entry_t *entry = cmd.name[0] != '\0' ? dispatch_find(cmd.name) : NULL;
     if (line_status != GCL_LINE_OK) {
         status = E_CMD_FORMAT_ERROR;
-    } else if (cmd.name[0] != '\0' && dispatch_find(cmd.name) == NULL) {
+    } else if (cmd.name[0] != '\0' && entry == NULL) {
         status = E_CMD_UNKNOWN;
     } else if (status == E_SUCCESS && !take_injected_failure(dev, &cmd, &status)) {
-        status = run_command(dev, s, &cmd);
+        status = run_command(dev, s, entry, &cmd);
     }
     if (status != E_SUCCESS) {
         session_send_error(dev, s, cmd.name, status);

@@ -67,14 +67,12 @@ void coverage_reset(void)
     memset(&cov, 0, sizeof(cov));
 }
 
+/* The command's row in the dispatcher's table, or -1 if it has none. */
 static int command_index(const char *name)
 {
-    for (unsigned i = 0; i < dispatch_count() && i < COMMANDS_MAX; i++) {
-        if (strcmp(dispatch_at(i)->name, name) == 0) {
-            return (int)i;
-        }
-    }
-    return -1;
+    const cmd_entry_t *entry = dispatch_find(name);
+    long index = entry != NULL ? (long)(entry - dispatch_at(0)) : -1;
+    return index < COMMANDS_MAX ? (int)index : -1;
 }
 
 static int form_slot(unsigned form, unsigned argc)

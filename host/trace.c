@@ -44,8 +44,3 @@ const wsg_device_hooks_t *trace_device_hooks(void)
 {
     return &trace_hooks;
 }
-
-void trace_attach(wsg_device_t *dev, bool enabled)
-{
-    wsg_device_set_hooks(dev, enabled ? &trace_hooks : NULL, NULL);
-}

@@ -6,7 +6,6 @@
 
 #include "wsg_device.h"
 
-void trace_attach(wsg_device_t *dev, bool enabled);
 /* The trace's observers, for a module that fans the device hooks out. */
 const wsg_device_hooks_t *trace_device_hooks(void);
 /* --strict: input the manual does not allow, as a trace line marked '!'. */
