@@ -12,43 +12,40 @@ static void start_line(gcl_linebuf_t *lb)
 void gcl_linebuf_reset(gcl_linebuf_t *lb)
 {
     start_line(lb);
+    lb->ended_by_cr = false;
 }
 
 static bool is_bad_byte(uint8_t byte)
 {
-    return (byte < 0x20u && byte != '\t' && byte != '\r') || byte >= 0x7fu;
+    return (byte < 0x20u && byte != '\t') || byte >= 0x7fu;
 }
 
 static void finish_line(gcl_linebuf_t *lb)
 {
-    if (lb->len > 0 && lb->text[lb->len - 1] == '\r') {
-        lb->len--;
-    }
     lb->text[lb->len] = '\0';
     lb->complete = true;
-    /* a '\r' anywhere but right before the '\n' is a stray control byte */
-    for (size_t i = 0; i < lb->len; i++) {
-        if (lb->text[i] == '\r') {
-            lb->bad_byte = true;
-        }
-    }
 }
 
 bool gcl_linebuf_feed(gcl_linebuf_t *lb, uint8_t byte)
 {
+    bool after_cr = lb->ended_by_cr;
+    lb->ended_by_cr = false;
+    if (byte == '\n' && after_cr) {
+        return false; /* the second half of a "\r\n": that line has ended already */
+    }
     if (lb->complete) {
         start_line(lb); /* the previous line has been handed out */
     }
-    if (byte == '\n') {
+    if (byte == '\n' || byte == '\r') {
         finish_line(lb);
+        lb->ended_by_cr = byte == '\r';
         return true;
     }
     if (is_bad_byte(byte)) {
         lb->bad_byte = true;
         return false;
     }
-    /* a full line still takes the '\r' that may start its "\r\n" terminator */
-    if (lb->len >= GCL_LINE_MAX + (byte == '\r' ? 1u : 0u)) {
+    if (lb->len >= GCL_LINE_MAX) {
         lb->too_long = true;
         return false;
     }

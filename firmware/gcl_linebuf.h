@@ -1,5 +1,7 @@
 /* Assembles a byte stream into lines: tolerates any split across writes,
- * bounds memory, and flags lines that are too long or carry control bytes. */
+ * bounds memory, and flags lines that are too long or carry control bytes.
+ * A line ends with '\n', '\r' (manual 1.2) or "\r\n", which is one end even
+ * when its two bytes arrive in separate writes. */
 #ifndef GCL_LINEBUF_H
 #define GCL_LINEBUF_H
 
@@ -16,17 +18,18 @@ typedef enum {
 } gcl_line_status_t;
 
 typedef struct {
-    char text[GCL_LINE_MAX + 2]; /* room for the '\r' of a "\r\n" after a full line */
+    char text[GCL_LINE_MAX + 1];
     size_t len;
     bool too_long;
     bool bad_byte;
-    bool complete; /* text holds a finished line */
+    bool complete;    /* text holds a finished line */
+    bool ended_by_cr; /* the last line ended with '\r': a '\n' next completes "\r\n" */
 } gcl_linebuf_t;
 
 void gcl_linebuf_reset(gcl_linebuf_t *lb);
 
 /* Feeds one byte; returns true when it completed a line, which is then in
- * lb->text / lb->len (NUL-terminated, without "\n" or a "\r" before it) and
+ * lb->text / lb->len (NUL-terminated, without its line end) and
  * whose status gcl_linebuf_status() tells. The next call starts a new line. */
 bool gcl_linebuf_feed(gcl_linebuf_t *lb, uint8_t byte);
 

@@ -58,6 +58,36 @@ START_TEST(crlf_is_stripped)
 }
 END_TEST
 
+/* manual 1.2: 0x0d terminates a command as well */
+START_TEST(cr_alone_ends_a_line)
+{
+    ck_assert_uint_eq(feed_str("POS?\r"), 1);
+    ck_assert_str_eq(lb.text, "POS?");
+    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_OK);
+    ck_assert_uint_eq(feed_str("SN?\rTAG?\r"), 2);
+    ck_assert_str_eq(lb.text, "TAG?");
+}
+END_TEST
+
+/* "\r\n" is one line end, also when a write ends between its two bytes */
+START_TEST(crlf_split_across_feeds_is_one_end)
+{
+    ck_assert_uint_eq(feed_str("POS?\r"), 1);
+    ck_assert_uint_eq(feed_str("\n"), 0);
+    ck_assert(!gcl_linebuf_pending(&lb));
+    ck_assert_uint_eq(feed_str("SN?\r"), 1);
+    ck_assert_uint_eq(feed_str("\nTAG?\n"), 1);
+    ck_assert_str_eq(lb.text, "TAG?");
+}
+END_TEST
+
+START_TEST(lf_cr_is_two_ends)
+{
+    ck_assert_uint_eq(feed_str("POS?\n\r"), 2);
+    ck_assert_uint_eq(lb.len, 0);
+}
+END_TEST
+
 START_TEST(next_line_starts_fresh)
 {
     ck_assert_uint_eq(feed_str("A\x01\n"), 1);
@@ -78,12 +108,13 @@ START_TEST(empty_line)
 }
 END_TEST
 
-START_TEST(stray_cr_is_a_bad_byte)
+START_TEST(cr_inside_splits_the_line)
 {
-    ck_assert_uint_eq(feed_str("PO\rS?\n"), 1);
-    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_BAD_BYTE);
-    ck_assert_uint_eq(feed_str("POS?\r\r\n"), 1);
-    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_BAD_BYTE);
+    ck_assert_uint_eq(feed_str("PO\rS?\n"), 2);
+    ck_assert_str_eq(lb.text, "S?");
+    ck_assert_uint_eq(feed_str("POS?\r\r\n"), 2); /* "POS?" and an empty line */
+    ck_assert_uint_eq(lb.len, 0);
+    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_OK);
 }
 END_TEST
 
@@ -132,13 +163,13 @@ START_TEST(longest_line_with_crlf)
 }
 END_TEST
 
-START_TEST(full_line_then_cr_and_more_is_too_long)
+START_TEST(full_line_then_one_more_is_too_long)
 {
     char line[GCL_LINE_MAX + 4];
     fill(line, GCL_LINE_MAX, 'a');
-    strcat(line, "\rb\n");
+    strcat(line, "b\r\n");
     ck_assert_uint_eq(feed_str(line), 1);
-    ck_assert_int_ne(gcl_linebuf_status(&lb), GCL_LINE_OK);
+    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_TOO_LONG);
     ck_assert_uint_eq(lb.len, GCL_LINE_MAX);
     ck_assert_uint_eq(strlen(lb.text), GCL_LINE_MAX);
 }
@@ -212,6 +243,30 @@ START_TEST(device_several_lines_in_one_feed)
     EXPECT("POS=55.0");
     EXPECT("GRIPSTATE=0");
     EXPECT("SN=12345678");
+    EXPECT_NONE();
+}
+END_TEST
+
+/* a client ending lines with "\r\n" in two writes gets one reply per line,
+ * and the device counts no extra (empty) lines */
+START_TEST(device_crlf_in_two_writes)
+{
+    h_send_bytes(&h_main, "POS?\r", 5);
+    EXPECT("POS=55.0");
+    h_send_bytes(&h_main, "\n", 1);
+    h_send_bytes(&h_main, "SN?\r", 4);
+    EXPECT("SN=12345678");
+    EXPECT_NONE();
+    ck_assert_uint_eq(h_main.session->lines_in, 2);
+}
+END_TEST
+
+START_TEST(device_cr_terminated_commands)
+{
+    const char *text = "VERBOSE=1\rPOS?\r";
+    h_send_bytes(&h_main, text, strlen(text));
+    EXPECT("VERBOSE=1");
+    EXPECT("POS=55.0");
     EXPECT_NONE();
 }
 END_TEST
@@ -306,12 +361,15 @@ Suite *linebuf_suite(void)
     tcase_add_test(unit, crlf_is_stripped);
     tcase_add_test(unit, next_line_starts_fresh);
     tcase_add_test(unit, empty_line);
-    tcase_add_test(unit, stray_cr_is_a_bad_byte);
+    tcase_add_test(unit, cr_alone_ends_a_line);
+    tcase_add_test(unit, crlf_split_across_feeds_is_one_end);
+    tcase_add_test(unit, lf_cr_is_two_ends);
+    tcase_add_test(unit, cr_inside_splits_the_line);
     tcase_add_test(unit, tab_is_allowed);
     tcase_add_test(unit, bad_bytes);
     tcase_add_test(unit, longest_line);
     tcase_add_test(unit, longest_line_with_crlf);
-    tcase_add_test(unit, full_line_then_cr_and_more_is_too_long);
+    tcase_add_test(unit, full_line_then_one_more_is_too_long);
     tcase_add_test(unit, too_long_then_resync);
     tcase_add_test(unit, very_long_line_is_bounded);
     tcase_add_test(unit, flush);
@@ -322,6 +380,8 @@ Suite *linebuf_suite(void)
     tcase_add_checked_fixture(device, h_setup, h_teardown);
     tcase_add_test(device, device_split_bytes);
     tcase_add_test(device, device_several_lines_in_one_feed);
+    tcase_add_test(device, device_crlf_in_two_writes);
+    tcase_add_test(device, device_cr_terminated_commands);
     tcase_add_test(device, device_ignores_blank_lines);
     tcase_add_test(device, device_bad_byte_with_name);
     tcase_add_test(device, device_bad_byte_without_name);
