@@ -43,15 +43,17 @@ static float numeric_value(const wsg_device_t *dev, wsg_autosend_value_t value)
     }
 }
 
-static uint32_t state_value(const wsg_device_t *dev, wsg_autosend_value_t value)
+static uint32_t state_value(const wsg_device_t *dev, const wsg_session_t *s,
+                            wsg_autosend_value_t value)
 {
-    return value == AS_SYSFLAGS ? dev->flags : (uint32_t)dev->grip.state;
+    return value == AS_SYSFLAGS ? flags_for_session(dev, s) : (uint32_t)dev->grip.state;
 }
 
-void autosend_put_value(const wsg_device_t *dev, wsg_autosend_value_t value, textbuf_t *tb)
+void autosend_put_value(const wsg_device_t *dev, const wsg_session_t *s, wsg_autosend_value_t value,
+                        textbuf_t *tb)
 {
     if (value == AS_SYSFLAGS) {
-        textbuf_put_bits(tb, dev->flags, WSG_SYSFLAG_COUNT);
+        textbuf_put_bits(tb, flags_for_session(dev, s), WSG_SYSFLAG_COUNT);
     } else if (value == AS_GRIPSTATE) {
         textbuf_put_uint(tb, (uint32_t)dev->grip.state);
     } else {
@@ -106,7 +108,7 @@ wsg_status_t cmd_autosend(cmd_ctx_t *ctx)
     return E_SUCCESS;
 }
 
-static bool should_send(const wsg_device_t *dev, wsg_autosend_value_t value,
+static bool should_send(const wsg_device_t *dev, const wsg_session_t *s, wsg_autosend_value_t value,
                         const wsg_autosend_sub_t *sub)
 {
     if (!sub->sent_once) {
@@ -116,7 +118,7 @@ static bool should_send(const wsg_device_t *dev, wsg_autosend_value_t value,
         float change = numeric_value(dev, value) - sub->last_number;
         return !sub->use_delta || (change < 0.0f ? -change : change) >= sub->delta;
     }
-    return !sub->on_change || state_value(dev, value) != sub->last_bits;
+    return !sub->on_change || state_value(dev, s, value) != sub->last_bits;
 }
 
 static void send_value(wsg_device_t *dev, wsg_session_t *s, wsg_autosend_value_t value)
@@ -127,7 +129,7 @@ static void send_value(wsg_device_t *dev, wsg_session_t *s, wsg_autosend_value_t
     textbuf_put_char(&tb, '@');
     textbuf_put_str(&tb, value_names[value]);
     textbuf_put_char(&tb, '=');
-    autosend_put_value(dev, value, &tb);
+    autosend_put_value(dev, s, value, &tb);
     session_send(dev, s, &tb, WSG_LINE_AUTOSEND);
 }
 
@@ -151,13 +153,13 @@ static void session_step(wsg_device_t *dev, wsg_session_t *s)
             continue;
         }
         wsg_autosend_value_t value = (wsg_autosend_value_t)v;
-        if (should_send(dev, value, sub)) {
+        if (should_send(dev, s, value, sub)) {
             if (!sub->sent_once) {
                 sub->next_due_us = dev->now_us; /* the period runs from the first value */
             }
             sub->sent_once = true;
             sub->last_number = numeric_value(dev, value);
-            sub->last_bits = state_value(dev, value);
+            sub->last_bits = state_value(dev, s, value);
             send_value(dev, s, value);
         }
         schedule_next(sub, dev->now_us);

@@ -50,6 +50,8 @@ static float clamp_to_travel(float target)
 static void start(cmd_ctx_t *ctx, wsg_motion_kind_t kind, float target, float speed, float force)
 {
     wsg_device_t *dev = ctx->dev;
+    /* manual 2.2.4: RELEASE follows a GRIP, and nothing else in between */
+    dev->grip.release_permitted = kind == MOTION_GRIP;
     motion_begin(dev, ctx->session, kind);
     dev->motion.target_mm = target;
     dev->motion.speed_mm_s = speed;
@@ -96,6 +98,8 @@ wsg_status_t cmd_move(cmd_ctx_t *ctx)
     if (!target_ok(target) || !speed_ok(speed)) {
         return E_RANGE_ERROR;
     }
+    /* streaming clients send the next MOVE while one runs: it takes over */
+    motion_supersede_move(ctx->dev);
     status = motion_check_allowed(ctx->dev, true);
     if (status != E_SUCCESS) {
         return status;
@@ -166,11 +170,6 @@ wsg_status_t cmd_grip(cmd_ctx_t *ctx)
     return E_SUCCESS;
 }
 
-static bool release_allowed(wsg_grip_state_t state)
-{
-    return state == GS_HOLDING || state == GS_NO_PART || state == GS_PART_LOST;
-}
-
 wsg_status_t cmd_release(cmd_ctx_t *ctx)
 {
     const hal_device_config_t *cfg = hal_device_config();
@@ -191,7 +190,7 @@ wsg_status_t cmd_release(cmd_ctx_t *ctx)
     if (status != E_SUCCESS) {
         return status;
     }
-    if (!release_allowed(dev->grip.state)) {
+    if (!dev->grip.release_permitted) {
         return E_ACCESS_DENIED; /* manual 2.2.4: only after a GRIP */
     }
     float target = clamp_to_travel(dev->axis.position_mm - (float)dev->grip.direction * distance);
@@ -200,16 +199,31 @@ wsg_status_t cmd_release(cmd_ctx_t *ctx)
     return E_SUCCESS;
 }
 
+/* The outcome of a grip (HOLDING, NO PART, PART LOST): STOP leaves it. */
+static bool is_grip_result(wsg_grip_state_t state)
+{
+    return state == GS_HOLDING || state == GS_NO_PART || state == GS_PART_LOST;
+}
+
+/* Manual 3.2.1: STOP ends a movement, with the drive's maximum deceleration;
+ * it does not end a grip: a held part stays clamped and HOLDING. */
 wsg_status_t cmd_stop(cmd_ctx_t *ctx)
 {
     wsg_device_t *dev = ctx->dev;
     reply_ack(ctx);
+    /* a drive still leaning on a block (after ERR 29) lets go as well */
+    bool halt = dev->motion.kind != MOTION_NONE || flags_get(dev, SF_MOVING) ||
+                flags_get(dev, SF_BLOCKED_MINUS) || flags_get(dev, SF_BLOCKED_PLUS);
     motion_abort(dev, E_CMD_ABORTED);
-    hal_axis_stop(false);
+    if (halt) {
+        hal_axis_stop(true);
+    }
     flags_set(dev, SF_AXIS_STOPPED, true);
     flags_set(dev, SF_BLOCKED_MINUS, false);
     flags_set(dev, SF_BLOCKED_PLUS, false);
-    if (!flags_get(dev, SF_FAST_STOP)) {
+    bool keep = flags_get(dev, SF_FAST_STOP) ||
+                (dev->motion.kind == MOTION_NONE && is_grip_result(dev->grip.state));
+    if (!keep) {
         grip_set_state(dev, GS_IDLE);
     }
     return E_SUCCESS;

@@ -75,7 +75,7 @@ wsg_status_t cmd_sysflags(cmd_ctx_t *ctx)
 {
     char storage[128];
     textbuf_t tb;
-    uint32_t flags = ctx->dev->flags;
+    uint32_t flags = flags_for_session(ctx->dev, ctx->session);
     if (ctx->cmd->form == GCL_FORM_INDEXED_QUERY) {
         int32_t index = ctx->cmd->index;
         if (index < 0 || index >= WSG_SYSFLAG_COUNT) {

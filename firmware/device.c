@@ -33,6 +33,7 @@ void wsg_device_step(wsg_device_t *dev)
     finger_bus_step(dev);
     motion_step(dev);
     grip_monitor_step(dev);
+    motion_block_watch_step(dev);
     flags_refresh(dev);
     autosend_step(dev);
 }
@@ -42,7 +43,8 @@ uint64_t wsg_device_next_deadline_us(const wsg_device_t *dev)
     uint32_t tick = IDLE_TICK_US;
     if (dev->motion.kind != MOTION_NONE || flags_get(dev, SF_MOVING)) {
         tick = MOTION_TICK_US;
-    } else if (dev->grip.state == GS_HOLDING) {
+    } else if (dev->grip.state == GS_HOLDING || flags_get(dev, SF_BLOCKED_MINUS) ||
+               flags_get(dev, SF_BLOCKED_PLUS)) {
         tick = HOLD_TICK_US;
     }
     uint64_t next = dev->now_us + tick;
@@ -60,7 +62,7 @@ void wsg_device_attach_can(wsg_device_t *dev, const hal_can_t *can)
 void wsg_device_fast_stop(wsg_device_t *dev, const char *why)
 {
     motion_abort(dev, E_CMD_ABORTED);
-    hal_axis_stop(true);
+    hal_axis_disable(); /* manual 3.2.2: a held part is no longer clamped */
     flags_set(dev, SF_FAST_STOP, true);
     grip_set_state(dev, GS_ERROR);
     char storage[96];

@@ -151,6 +151,7 @@ void dispatch_line(wsg_device_t *dev, wsg_session_t *s, const char *line, size_t
     if (status != E_SUCCESS) {
         session_send_error(dev, s, cmd.name, status);
     } else {
+        s->cmd_failed = false;
         flags_set(dev, SF_CMD_FAILURE, false);
     }
     report_done(dev, s, &cmd, status);

@@ -32,6 +32,12 @@ bool flags_severe_fault(const wsg_device_t *dev)
            dev->temperature_c >= hal_device_config()->temp_fault_c;
 }
 
+uint32_t flags_for_session(const wsg_device_t *dev, const wsg_session_t *s)
+{
+    uint32_t own = s->cmd_failed ? WSG_FLAG(SF_CMD_FAILURE) : 0u;
+    return (dev->flags & ~WSG_FLAG(SF_CMD_FAILURE)) | own;
+}
+
 static uint32_t soft_limit_flags(const wsg_device_t *dev, const hal_device_config_t *cfg)
 {
     uint32_t flags = 0;

@@ -70,6 +70,7 @@ static void finish(wsg_device_t *dev, wsg_status_t status)
     if (owner == NULL) {
         return; /* the session that issued it has gone */
     }
+    owner->cmd_failed = status != E_SUCCESS;
     if (status == E_SUCCESS) {
         session_send_word(dev, owner, "FIN", name);
     } else {
@@ -96,6 +97,16 @@ wsg_status_t motion_check_allowed(wsg_device_t *dev, bool needs_reference)
     return E_SUCCESS;
 }
 
+bool motion_supersede_move(wsg_device_t *dev)
+{
+    const wsg_motion_t *m = &dev->motion;
+    if (m->kind != MOTION_MOVE || m->abort_requested || !hal_device_config()->move_retarget) {
+        return false;
+    }
+    finish(dev, E_CMD_ABORTED);
+    return true;
+}
+
 void motion_begin(wsg_device_t *dev, wsg_session_t *owner, wsg_motion_kind_t kind)
 {
     wsg_motion_t *m = &dev->motion;
@@ -105,7 +116,10 @@ void motion_begin(wsg_device_t *dev, wsg_session_t *owner, wsg_motion_kind_t kin
     m->started_us = dev->now_us;
     m->condition_holding = false;
     m->abort_requested = false;
+    m->force_clear = dev->axis.force_n < CONTACT_FORCE_N;
     m->contact_seen = false;
+    m->home_released = false;
+    m->block_clearing = false;
     flags_set(dev, SF_AXIS_STOPPED, false);
     flags_set(dev, SF_TARGET_POS_REACHED, false);
     flags_set(dev, SF_BLOCKED_MINUS, false);
@@ -120,30 +134,51 @@ void motion_abort(wsg_device_t *dev, wsg_status_t status)
     }
 }
 
-/* Stops the axis after a failure and leaves the blocked direction latched
- * until the next motion command or STOP. */
+/* Ends a command on a blocked axis (ERR 29). The drive stays where it is,
+ * leaning on the block with the command's force, so that it notices when the
+ * block goes away (Appendix B); the flag stays latched until then, the next
+ * motion command or STOP. */
 static void fail_blocked(wsg_device_t *dev, int8_t direction)
 {
-    hal_axis_stop(false);
+    const hal_device_config_t *cfg = hal_device_config();
+    float hold_mm = dev->axis.position_mm + (float)direction * BLOCK_PRELOAD_MM;
+    hal_axis_move(hold_mm, cfg->speed_min_mm_s, cfg->default_accel_mm_s2, dev->motion.force_n);
     flags_set(dev, direction < 0 ? SF_BLOCKED_MINUS : SF_BLOCKED_PLUS, true);
     grip_set_state(dev, GS_ERROR);
     finish(dev, E_AXIS_BLOCKED);
 }
 
+static void home_done(wsg_device_t *dev)
+{
+    dev->referenced = true;
+    flags_set(dev, SF_REFERENCED, true);
+    flags_set(dev, SF_TARGET_POS_REACHED, true);
+    grip_set_state(dev, GS_IDLE);
+    hal_log(HAL_LOG_INFO, "homing done");
+    finish(dev, E_SUCCESS);
+}
+
+/* Homing drives into the end stop until the drive has seen it blocked for
+ * HOME_BLOCK_DETECT_US, takes the origin there and stops pushing; FIN waits
+ * until the force reading has fallen (an FMF reports with a delay), so that
+ * neither FORCE? nor the next GRIP sees the end stop's force. */
 static void home_step(wsg_device_t *dev)
 {
     const hal_device_config_t *cfg = hal_device_config();
     wsg_motion_t *m = &dev->motion;
-    if (held_for(dev, dev->axis.blocked != 0, BLOCKED_DEBOUNCE_US)) {
-        bool positive = m->target_mm > 0.0f;
+    bool positive = m->target_mm > 0.0f;
+    if (m->home_released) {
+        bool settled = dev->axis.force_n < CONTACT_FORCE_N;
+        if (settled || dev->now_us - m->condition_since_us >= HOME_SETTLE_MAX_US) {
+            home_done(dev);
+        }
+        return;
+    }
+    if (held_for(dev, dev->axis.blocked == (positive ? 1 : -1), HOME_BLOCK_DETECT_US)) {
         hal_axis_set_position(positive ? cfg->stroke_mm : 0.0f);
         hal_axis_stop(false);
-        dev->referenced = true;
-        flags_set(dev, SF_REFERENCED, true);
-        flags_set(dev, SF_TARGET_POS_REACHED, true);
-        grip_set_state(dev, GS_IDLE);
-        hal_log(HAL_LOG_INFO, "homing done");
-        finish(dev, E_SUCCESS);
+        m->home_released = true;
+        m->condition_since_us = dev->now_us;
     } else if (dev->now_us - m->started_us >= HOME_TIMEOUT_US) {
         hal_axis_stop(false);
         grip_set_state(dev, GS_ERROR);
@@ -190,12 +225,28 @@ static void grip_no_part(wsg_device_t *dev)
     finish(dev, E_CMD_FAILED);
 }
 
+/* Part detection counts a contact met in the grip's direction: the jaws are
+ * blocked that way, or the force rose after the grip started (not a reading
+ * left from homing or from leaning on a block behind them) while they move
+ * that way. */
+static bool new_contact(wsg_device_t *dev, int8_t direction)
+{
+    wsg_motion_t *m = &dev->motion;
+    const hal_axis_status_t *axis = &dev->axis;
+    if (axis->force_n < CONTACT_FORCE_N) {
+        m->force_clear = true;
+        return false;
+    }
+    bool rose_ahead = m->force_clear && axis->velocity_mm_s * (float)direction > 0.0f;
+    return !m->contact_seen && (rose_ahead || axis->blocked == direction);
+}
+
 static void grip_step(wsg_device_t *dev)
 {
     wsg_motion_t *m = &dev->motion;
     const hal_axis_status_t *axis = &dev->axis;
     int8_t direction = dev->grip.direction;
-    if (!m->contact_seen && axis->force_n >= CONTACT_FORCE_N) {
+    if (new_contact(dev, direction)) {
         m->contact_seen = true;
         m->contact_mm = axis->position_mm;
         float early = (m->contact_mm - m->grip_width_mm) * (float)-direction;
@@ -204,8 +255,9 @@ static void grip_step(wsg_device_t *dev)
             return;
         }
     }
-    if (held_for(dev, axis->blocked != 0, SETTLE_US)) {
+    if (held_for(dev, axis->blocked == direction, SETTLE_US)) {
         dev->grip.hold_mm = axis->position_mm;
+        dev->grip.monitored = m->grip_has_width; /* manual 2.2.3: cases 3 and 4 only */
         grip_set_state(dev, GS_HOLDING);
         finish(dev, E_SUCCESS);
         return;
@@ -253,7 +305,7 @@ void motion_step(wsg_device_t *dev)
 void grip_monitor_step(wsg_device_t *dev)
 {
     wsg_grip_t *grip = &dev->grip;
-    if (grip->state != GS_HOLDING || dev->motion.kind != MOTION_NONE) {
+    if (grip->state != GS_HOLDING || !grip->monitored || dev->motion.kind != MOTION_NONE) {
         return;
     }
     float moved_on = (dev->axis.position_mm - grip->hold_mm) * (float)grip->direction;
@@ -271,5 +323,28 @@ void grip_monitor_step(wsg_device_t *dev)
         grip->stats[2]++;
         grip_set_state(dev, GS_PART_LOST);
         hal_log(HAL_LOG_WARN, "part lost");
+    }
+}
+
+/* Appendix B: SF_BLOCKED_± also clear once the blocking condition is gone,
+ * i.e. the jaws no longer press on anything for BLOCKED_DEBOUNCE_US. */
+void motion_block_watch_step(wsg_device_t *dev)
+{
+    wsg_motion_t *m = &dev->motion;
+    bool latched = flags_get(dev, SF_BLOCKED_MINUS) || flags_get(dev, SF_BLOCKED_PLUS);
+    if (!latched || m->kind != MOTION_NONE || dev->axis.force_n >= CONTACT_FORCE_N) {
+        m->block_clearing = false;
+        return;
+    }
+    if (!m->block_clearing) {
+        m->block_clearing = true;
+        m->block_clearing_since_us = dev->now_us;
+    }
+    if (dev->now_us - m->block_clearing_since_us >= BLOCKED_DEBOUNCE_US) {
+        m->block_clearing = false;
+        hal_axis_stop(false);
+        flags_set(dev, SF_BLOCKED_MINUS, false);
+        flags_set(dev, SF_BLOCKED_PLUS, false);
+        hal_log(HAL_LOG_INFO, "axis no longer blocked");
     }
 }

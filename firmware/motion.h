@@ -3,11 +3,15 @@
 #ifndef MOTION_H
 #define MOTION_H
 
-#define MOTION_TICK_US 1000u         /* control step while a motion runs */
-#define HOLD_TICK_US 10000u          /* grip monitoring while holding */
-#define IDLE_TICK_US 1000000u        /* fault and temperature polling */
-#define SETTLE_US 10000u             /* in-position time before FIN */
-#define BLOCKED_DEBOUNCE_US 20000u   /* saturated force before "blocked" */
+#define MOTION_TICK_US 1000u       /* control step while a motion runs */
+#define HOLD_TICK_US 10000u        /* grip monitoring while holding */
+#define IDLE_TICK_US 1000000u      /* fault and temperature polling */
+#define SETTLE_US 10000u           /* in-position time before FIN */
+#define BLOCKED_DEBOUNCE_US 20000u /* saturated force before "blocked" */
+#define HOME_BLOCK_DETECT_US                                                                       \
+    100000u /* homing: blocked at the end stop before the origin (estimate) */
+#define HOME_SETTLE_MAX_US 100000u /* homing: longest wait for the force reading to fall */
+#define BLOCK_PRELOAD_MM 0.05f /* after ERR 29 the drive keeps leaning this far into the block */
 #define PART_LOST_DEBOUNCE_US 20000u /* weak grip before PART LOST */
 #define HOME_TIMEOUT_US 30000000u    /* homing that finds no end stop */
 #define POSITION_TOLERANCE_MM 0.05f  /* in-position window */

@@ -165,5 +165,6 @@ void session_send_error(wsg_device_t *dev, wsg_session_t *s, const char *name, w
         textbuf_put_str(&tb, wsg_status_description(status));
     }
     session_send(dev, s, &tb, WSG_LINE_REPLY);
+    s->cmd_failed = true;
     flags_set(dev, SF_CMD_FAILURE, true);
 }

@@ -65,6 +65,7 @@ typedef struct {
     float pwt_mm;
     float clt_mm;
     bool bye_received;
+    bool cmd_failed; /* SF_CMD_FAILURE as this session sees it: its last command failed */
     wsg_autosend_sub_t autosend[AS_COUNT];
     uint32_t lines_in;
     uint32_t lines_out;
@@ -91,13 +92,19 @@ typedef struct {
     float grip_width_mm;
     float grip_pwt_mm;
     float grip_clt_mm;
+    bool force_clear; /* the force read below contact level since the start */
     bool contact_seen;
     float contact_mm;
+    /* HOME: the origin is taken; FIN waits for the force reading to settle */
+    bool home_released;
     /* completion tracking */
     uint64_t condition_since_us; /* when the finishing condition first held */
     bool condition_holding;
     bool abort_requested;
     wsg_status_t abort_status;
+    /* after ERR 29: how long the latched SF_BLOCKED_± has looked resolved */
+    bool block_clearing;
+    uint64_t block_clearing_since_us;
 } wsg_motion_t;
 
 typedef struct {
@@ -106,6 +113,8 @@ typedef struct {
     float force_n;    /* force of the last grip */
     float hold_mm;    /* where the jaws settled on the part */
     float clt_mm;
+    bool monitored;         /* grip monitoring runs while HOLDING (forms with a width) */
+    bool release_permitted; /* the last motion command was a GRIP (manual 2.2.4) */
     uint64_t weak_since_us;
     bool weak;
     uint32_t stats[3]; /* total grips, no part, part lost */

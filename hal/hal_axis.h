@@ -9,7 +9,7 @@
 typedef struct {
     float position_mm;   /* jaw opening in axis coordinates */
     float velocity_mm_s; /* signed: positive while opening */
-    float force_n;       /* contact force on the jaws, >= 0 */
+    float force_n;       /* contact force on the jaws (not the end stops'), >= 0 */
     int8_t blocked;      /* -1 blocked while closing, +1 while opening, 0 free */
     bool profile_active; /* the motion profile has not reached its target */
     bool current_fault;  /* motor over-current / thermal overload */
@@ -22,6 +22,10 @@ void hal_axis_move(float target_mm, float speed_mm_s, float accel_mm_s2, float f
 
 /* Decelerate (fast: with the emergency deceleration) and hold where it ends. */
 void hal_axis_stop(bool fast);
+
+/* FAST STOP: decelerate the fastest way and switch the drive off; the jaws
+ * exert no force until the next hal_axis_move(). */
+void hal_axis_disable(void);
 
 /* Redefine the current position (used by homing). */
 void hal_axis_set_position(float position_mm);

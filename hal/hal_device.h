@@ -37,6 +37,7 @@ typedef struct {
 
     /* behaviour */
     bool disconnect_raises_faststop;
+    bool move_retarget; /* a MOVE during a MOVE retargets it; false: ERR MOVE 4 */
     float temp_warning_c, temp_fault_c;
 } hal_device_config_t;
 

@@ -43,6 +43,7 @@ typedef enum {
     MOT_SOFT_MINUS,
     MOT_SOFT_PLUS,
     MOT_HOMING,
+    MOT_MOVE_RETARGET,
     NET_TCP_PORT,
     NET_UDP_PORT,
     NET_BIND,
@@ -72,6 +73,7 @@ static const struct {
     [MOT_SOFT_MINUS] = {"motion", "soft_limit_minus", K_NUMBER},
     [MOT_SOFT_PLUS] = {"motion", "soft_limit_plus", K_NUMBER},
     [MOT_HOMING] = {"motion", "homing_direction", K_DIRECTION},
+    [MOT_MOVE_RETARGET] = {"motion", "move_retarget", K_BOOL},
     [NET_TCP_PORT] = {"network", "tcp_port", K_PORT},
     [NET_UDP_PORT] = {"network", "udp_port", K_PORT},
     [NET_BIND] = {"network", "bind", K_ADDR},
@@ -380,6 +382,9 @@ void config_file_apply(hal_device_config_t *cfg)
     }
     if (v[MOT_HOMING].set) {
         cfg->home_positive = v[MOT_HOMING].number != 0.0;
+    }
+    if (v[MOT_MOVE_RETARGET].set) {
+        cfg->move_retarget = v[MOT_MOVE_RETARGET].number != 0.0;
     }
     /* disconnect_faststop reaches the device through the options */
 }

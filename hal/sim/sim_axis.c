@@ -97,6 +97,12 @@ void sim_axis_stop(sim_axis_t *axis, bool fast)
     axis->active = absf(v) > STILL_MM_S;
 }
 
+void sim_axis_disable(sim_axis_t *axis)
+{
+    axis->fmax_n = 0.0f;
+    sim_axis_stop(axis, true);
+}
+
 void sim_axis_set_position(sim_axis_t *axis, float position_mm)
 {
     float shift = position_mm - sim_axis_position(axis);
@@ -114,6 +120,10 @@ static void profile_step(sim_axis_t *axis, float dt)
     if (v * dir < 0.0f || stopping >= absf(to_go)) {
         float dv = a * dt;
         v = absf(v) <= dv ? 0.0f : v - signf(v) * dv; /* brake */
+    } else if (absf(v) > axis->vmax_mm_s) {
+        /* a new, lower speed limit (a retargeted move): brake down to it */
+        float slower = absf(v) - a * dt;
+        v = signf(v) * (slower > axis->vmax_mm_s ? slower : axis->vmax_mm_s);
     } else {
         v += dir * a * dt;
         if (absf(v) > axis->vmax_mm_s) {
@@ -136,6 +146,7 @@ typedef struct {
     float surface_mm; /* where contact begins */
     float side;       /* -1: limits closing (a lower bound), +1: limits opening */
     float stiffness;  /* N/mm, 0: rigid */
+    bool on_jaws;     /* the force acts on the fingers (what an FMF measures) */
 } contact_t;
 
 /* Applies one contact: limits the jaws where the servo force is exhausted and
@@ -173,14 +184,16 @@ static float side_sign(sim_part_side_t side)
 static unsigned collect_contacts(const sim_axis_t *axis, contact_t *out)
 {
     unsigned n = 0;
-    out[n++] = (contact_t){0.0f, -1.0f, 0.0f};
-    out[n++] = (contact_t){axis->stroke_mm, 1.0f, 0.0f};
+    /* Closed, the fingers press on each other ("the gripper grips itself");
+     * fully open, the drive leans on its internal end stop, not on the fingers. */
+    out[n++] = (contact_t){0.0f, -1.0f, 0.0f, true};
+    out[n++] = (contact_t){axis->stroke_mm, 1.0f, 0.0f, false};
     if (axis->obstacle.present) {
-        out[n++] = (contact_t){axis->obstacle.width_mm, side_sign(axis->obstacle.side), 0.0f};
+        out[n++] = (contact_t){axis->obstacle.width_mm, side_sign(axis->obstacle.side), 0.0f, true};
     }
     if (axis->part.present) {
         float side = side_sign(axis->part.side);
-        out[n++] = (contact_t){axis->part.width_mm, side, axis->part.stiffness_n_mm};
+        out[n++] = (contact_t){axis->part.width_mm, side, axis->part.stiffness_n_mm, true};
     }
     return n;
 }
@@ -210,7 +223,7 @@ static void step(sim_axis_t *axis, float dt)
     float last = 0.0f;
     for (unsigned i = 0; i < count; i++) {
         last = apply_contact(axis, &contacts[i]);
-        axis->force_n += last;
+        axis->force_n += contacts[i].on_jaws ? last : 0.0f;
     }
     check_slip(axis, axis->part.present ? last : 0.0f, dt);
 }

@@ -46,7 +46,7 @@ typedef struct {
     float fmax_n;
     bool active;
     /* outputs of the last step */
-    float force_n;
+    float force_n; /* on the jaws: parts, obstacles, the jaws closed on each other */
     int8_t blocked;
     /* world */
     sim_part_t part;
@@ -75,6 +75,8 @@ void sim_axis_advance(sim_axis_t *axis, float dt_s);
 void sim_axis_move(sim_axis_t *axis, float target_mm, float speed_mm_s, float accel_mm_s2,
                    float force_limit_n);
 void sim_axis_stop(sim_axis_t *axis, bool fast);
+/* Emergency stop with the drive switched off: no force until the next move. */
+void sim_axis_disable(sim_axis_t *axis);
 void sim_axis_set_position(sim_axis_t *axis, float position_mm);
 float sim_axis_position(const sim_axis_t *axis);
 

@@ -91,6 +91,7 @@ void sim_model_config(const sim_model_t *model, hal_device_config_t *cfg)
     cfg->home_positive = true;
     cfg->homing_speed_mm_s = model->speed_max_mm_s / 8.0f;
     cfg->disconnect_raises_faststop = true;
+    cfg->move_retarget = true;
     cfg->temp_warning_c = 60.0f;
     cfg->temp_fault_c = 70.0f;
 }

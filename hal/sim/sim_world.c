@@ -50,6 +50,11 @@ void hal_axis_stop(bool fast)
     sim_axis_stop(&world.axis, fast);
 }
 
+void hal_axis_disable(void)
+{
+    sim_axis_disable(&world.axis);
+}
+
 void hal_axis_set_position(float position_mm)
 {
     sim_axis_set_position(&world.axis, position_mm);

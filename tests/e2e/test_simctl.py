@@ -157,7 +157,7 @@ class TestWorld(SimctlCase):
         gcl = sim.tcp()
         self.home(ctl, gcl)
         self.assertEqual(ctl("PART(40,100)"), "ACK PART")
-        self.assertEqual(gcl.command("GRIP(40)"), "ACK GRIP")
+        self.assertEqual(gcl.command("GRIP(40, 40)"), "ACK GRIP")
         ctl("STEP(1000)")
         self.assertEqual(gcl.read_line(1), "FIN GRIP")
         self.assertEqual(gcl.command("GRIPSTATE?"), "GRIPSTATE=4")

@@ -31,7 +31,7 @@ START_TEST(scenario_runs_on_the_simulated_clock)
     ck_assert_str_eq(ctl("PART?"), "PART=[0,0,0,0]");
     t_step_ms(1);
     ck_assert_str_eq(ctl("PART?"), "PART=[1,40,100,0]");
-    GCL_EQ("GRIP(40)", "ACK GRIP");
+    GCL_EQ("GRIP(40, 40)", "ACK GRIP");
     ck_assert_int_ge(t_until("FIN GRIP", 1000), 0);
     ck_assert_int_eq(t_gripstate(), GS_HOLDING);
     t_step_ms((double)(start + 1500000u - t_now_us()) / 1000.0);

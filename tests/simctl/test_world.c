@@ -5,9 +5,10 @@
 #include "sim_world.h"
 #include "wsg_types.h"
 
+/* with the part's width: grip monitoring runs (manual 2.2.3) */
 static void grip_part(void)
 {
-    GCL_EQ("GRIP(40)", "ACK GRIP");
+    GCL_EQ("GRIP(40, 40)", "ACK GRIP");
     ck_assert_int_ge(t_until("FIN GRIP", 3000), 0);
     ck_assert_int_eq(t_gripstate(), GS_HOLDING);
 }
@@ -40,7 +41,7 @@ START_TEST(weak_grip_lets_a_part_slip_by_itself)
 {
     /* the part needs 60 N; GRIP(30) holds it briefly, then it slips out */
     CTL_EQ("PART(40,100,60)", "ACK PART");
-    GCL_EQ("GRIP(30)", "ACK GRIP");
+    GCL_EQ("GRIP(30, 40)", "ACK GRIP");
     ck_assert_int_ge(t_until("FIN GRIP", 3000), 0);
     ck_assert_int_eq(t_gripstate(), GS_HOLDING);
     t_step_ms(200);

@@ -43,6 +43,8 @@ extern h_client_t h_third;
 /* Fixtures: power-on with h_main open; the homed variant also ran HOME(). */
 void h_setup(void);
 void h_setup_homed(void);
+/* Homed, with a WSG-FMF force finger in slot 0 (the host's default fingers). */
+void h_setup_fmf_homed(void);
 void h_teardown(void);
 
 /* The configuration the simulated device runs with. */

@@ -15,5 +15,6 @@ Suite *motion_suite(void);
 Suite *grip_suite(void);
 Suite *autosend_suite(void);
 Suite *faults_suite(void);
+Suite *fmf_suite(void);
 
 #endif

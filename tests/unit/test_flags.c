@@ -168,6 +168,56 @@ START_TEST(blocked_plus_after_collision)
 }
 END_TEST
 
+/* Appendix B: the flag also resets when the blocking condition is resolved */
+START_TEST(blocked_clears_when_the_obstacle_goes)
+{
+    home();
+    sim_axis_place_obstacle(&sim_world()->axis, 50.0f);
+    ASK_EQ("MOVE(20)", "ACK MOVE");
+    AWAIT("ERR MOVE 29", 3000);
+    advance_ms(500);
+    ck_assert_int_eq(ask_flag(SF_BLOCKED_MINUS), 1); /* still leaning on it */
+    ck_assert_float_eq_tol(ask_float("POS?"), 50.0f, 0.06f);
+    sim_axis_remove_obstacle(&sim_world()->axis);
+    advance_ms(50);
+    ck_assert_int_eq(ask_flag(SF_BLOCKED_MINUS), 0);
+    ck_assert_float_eq_tol(ask_float("POS?"), 50.0f, 0.06f); /* no motion of its own */
+    advance_ms(100);
+    ASK_EQ("SPEED?", "SPEED=0.0");
+    ck_assert_float_eq_tol(ask_float("POS?"), 50.0f, 0.06f);
+    ASK_EQ("GRIPSTATE?", "GRIPSTATE=7"); /* the failed MOVE's state stays */
+}
+END_TEST
+
+/* SF_CMD_FAILURE: "the last command returned an error", per session */
+START_TEST(cmd_failure_is_per_session)
+{
+    h_open(&h_other, WSG_TRANSPORT_STREAM);
+    ASK_EQ("MOVE(500)", "ERR MOVE 28");
+    ck_assert_str_eq(ask(&h_other, "POS?"), "POS=55.0");
+    ck_assert_str_eq(ask(&h_other, "SYSFLAGS[18]?"), "SYSFLAGS[18]=0");
+    ck_assert_int_eq(ask_flag(SF_CMD_FAILURE), 1); /* another session's success */
+    ck_assert_int_eq(ask_flag(SF_CMD_FAILURE), 0); /* own success clears it */
+}
+END_TEST
+
+START_TEST(cmd_failure_of_a_motion_goes_to_its_issuer)
+{
+    home();
+    h_open(&h_other, WSG_TRANSPORT_STREAM);
+    sim_axis_place_obstacle(&sim_world()->axis, 50.0f);
+    ck_assert_str_eq(ask(&h_other, "MOVE(20)"), "ACK MOVE");
+    ck_assert_str_eq(await_line(&h_other, 3000), "ERR MOVE 29");
+    ck_assert_int_eq(ask_flag(SF_CMD_FAILURE), 0);
+    ck_assert_str_eq(ask(&h_other, "SYSFLAGS?"),
+                     "SYSFLAGS=[1,0,1,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,1,0,0,0,0,0,0,0,0,0,0,0,0,0]");
+    SEND("AUTOSEND(\"SYSFLAGS\",10)");
+    EXPECT("ACK AUTOSEND");
+    advance_ms(1);
+    EXPECT("@SYSFLAGS=[1,0,1,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0]");
+}
+END_TEST
+
 START_TEST(soft_limits)
 {
     hal_device_config_t *cfg = &sim_world()->config;
@@ -268,6 +318,9 @@ Suite *flags_suite(void)
     tcase_add_test(tc, cmd_failure_set_by_a_failed_motion);
     tcase_add_test(tc, blocked_minus_after_collision);
     tcase_add_test(tc, blocked_plus_after_collision);
+    tcase_add_test(tc, blocked_clears_when_the_obstacle_goes);
+    tcase_add_test(tc, cmd_failure_is_per_session);
+    tcase_add_test(tc, cmd_failure_of_a_motion_goes_to_its_issuer);
     tcase_add_test(tc, soft_limits);
     tcase_add_test(tc, overdrive_mode);
     tcase_add_test(tc, finger_flags);

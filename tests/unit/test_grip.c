@@ -130,7 +130,8 @@ START_TEST(grip_width_part_far_outside_tolerance)
     ck_assert_int_eq(ask_flag(SF_BLOCKED_MINUS), 1);
     ASK_EQ("POS?", "POS=45.0");
     ASK_EQ("GRIPSTATS?", "GRIPSTATS=[1,0,0]");
-    ASK_EQ("RELEASE()", "ERR RELEASE 16");
+    release("RELEASE()"); /* opening after a collision is allowed (2.2.4) */
+    ASK_EQ("POS?", "POS=55.0");
 }
 END_TEST
 
@@ -249,6 +250,81 @@ START_TEST(stop_during_grip)
     ASK_EQ("STOP()", "ACK STOP");
     AWAIT("ERR GRIP 19", 1);
     ASK_EQ("GRIPSTATE?", "GRIPSTATE=0");
+    /* manual 2.2.4: the last motion command was a GRIP, whatever its outcome */
+    release("RELEASE()");
+}
+END_TEST
+
+/* manual 3.2.1: STOP ends a movement, not a grip */
+START_TEST(stop_while_holding_keeps_the_grip)
+{
+    place_part(30.0f, STIFF_PART_N_MM);
+    grip("GRIP(20,30)", "FIN GRIP");
+    ASK_EQ("STOP()", "ACK STOP");
+    advance_ms(100);
+    EXPECT_NONE();
+    ASK_EQ("GRIPSTATE?", "GRIPSTATE=4");
+    ASK_EQ("FORCE?", "FORCE=20.0"); /* still clamped */
+    ck_assert_int_eq(ask_flag(SF_AXIS_STOPPED), 1);
+    ASK_EQ("GRIP(20,30)", "ERR GRIP 16");
+    release("RELEASE(10)");
+    ASK_EQ("GRIPSTATE?", "GRIPSTATE=0");
+}
+END_TEST
+
+START_TEST(stop_keeps_no_part)
+{
+    grip("GRIP(40, 40)", "ERR GRIP 18");
+    ASK_EQ("STOP()", "ACK STOP");
+    ASK_EQ("GRIPSTATE?", "GRIPSTATE=2");
+    release("RELEASE()");
+}
+END_TEST
+
+/* FAST STOP disables the drive (manual 3.2.2): the part is no longer
+ * clamped; after FSACK the grip is over (IDLE) but RELEASE may open the jaws */
+START_TEST(faststop_while_holding_then_release)
+{
+    place_part(30.0f, STIFF_PART_N_MM);
+    grip("GRIP(20,30)", "FIN GRIP");
+    ASK_EQ("FASTSTOP()", "ACK FASTSTOP");
+    advance_ms(20);
+    ASK_EQ("FORCE?", "FORCE=0.0");
+    ASK_EQ("GRIPSTATE?", "GRIPSTATE=7");
+    ASK_EQ("RELEASE()", "ERR RELEASE 16"); /* motion during FAST STOP */
+    ASK_EQ("FSACK()", "ACK FSACK");
+    ASK_EQ("GRIPSTATE?", "GRIPSTATE=0");
+    advance_ms(100);
+    ASK_EQ("FORCE?", "FORCE=0.0");
+    ASK_EQ("GRIPSTATS[2]?", "GRIPSTATS[2]=0"); /* not a lost part: the grip was ended */
+    release("RELEASE(10)");
+    assert_pos(40.0f, 0.05f);
+    ASK_EQ("RELEASE()", "ERR RELEASE 16");
+}
+END_TEST
+
+START_TEST(dropped_connection_while_holding_then_release)
+{
+    place_part(30.0f, STIFF_PART_N_MM);
+    h_open(&h_other, WSG_TRANSPORT_STREAM);
+    ck_assert_str_eq(ask(&h_other, "GRIP(20,30)"), "ACK GRIP");
+    ck_assert_str_eq(await_line(&h_other, 3000), "FIN GRIP");
+    h_close(&h_other, WSG_CLOSE_DROPPED);
+    ck_assert_int_eq(ask_flag(SF_FAST_STOP), 1);
+    ASK_EQ("FSACK()", "ACK FSACK");
+    release("RELEASE()");
+}
+END_TEST
+
+START_TEST(release_only_right_after_a_grip)
+{
+    grip("GRIP()", "FIN GRIP");
+    move_to("MOVE(60)");
+    ASK_EQ("RELEASE()", "ERR RELEASE 16");
+    grip("GRIP()", "FIN GRIP");
+    SEND("HOME()");
+    EXPECT("ACK HOME");
+    ck_assert_int_ge(run_until_line(&h_main, "FIN HOME", 5000), 0);
     ASK_EQ("RELEASE()", "ERR RELEASE 16");
 }
 END_TEST
@@ -321,7 +397,7 @@ END_TEST
 START_TEST(part_lost_is_debounced)
 {
     place_part(30.0f, STIFF_PART_N_MM);
-    grip("GRIP()", "FIN GRIP");
+    grip("GRIP(40,30)", "FIN GRIP");
     sim_axis_remove_part(&sim_world()->axis);
     advance_ms(5);
     ASK_EQ("GRIPSTATE?", "GRIPSTATE=4");
@@ -341,13 +417,32 @@ START_TEST(gripstats_count_every_outcome)
     release("RELEASE()");
     move_to("MOVE(60)");
     place_part(30.0f, STIFF_PART_N_MM);
-    grip("GRIP()", "FIN GRIP");
+    grip("GRIP(40, 30)", "FIN GRIP");
     sim_axis_remove_part(&sim_world()->axis);
     advance_ms(100);
     ASK_EQ("GRIPSTATS?", "GRIPSTATS=[3,1,1]");
     ASK_EQ("GRIPSTATS[0]?", "GRIPSTATS[0]=3");
     ASK_EQ("GRIPSTATS[1]?", "GRIPSTATS[1]=1");
     ASK_EQ("GRIPSTATS[2]?", "GRIPSTATS[2]=1");
+}
+END_TEST
+
+/* manual 2.2.3: Grip Monitoring only for the forms with a part width */
+START_TEST(grip_without_width_is_not_monitored)
+{
+    place_part(30.0f, STIFF_PART_N_MM);
+    grip("GRIP()", "FIN GRIP");
+    sim_axis_remove_part(&sim_world()->axis);
+    advance_ms(500);
+    ASK_EQ("GRIPSTATE?", "GRIPSTATE=4");
+    ASK_EQ("GRIPSTATS[2]?", "GRIPSTATS[2]=0");
+    release("RELEASE(40)");
+    place_part(30.0f, STIFF_PART_N_MM); /* GRIP(force) is not monitored either */
+    grip("GRIP(20)", "FIN GRIP");
+    sim_axis_remove_part(&sim_world()->axis);
+    advance_ms(500);
+    ASK_EQ("GRIPSTATE?", "GRIPSTATE=4");
+    ASK_EQ("GRIPSTATS[2]?", "GRIPSTATS[2]=0");
 }
 END_TEST
 
@@ -371,6 +466,11 @@ Suite *grip_suite(void)
     tcase_add_test(plain, grip_without_width_ignores_clt);
     tcase_add_test(plain, grip_while_holding_is_denied);
     tcase_add_test(plain, stop_during_grip);
+    tcase_add_test(plain, stop_while_holding_keeps_the_grip);
+    tcase_add_test(plain, stop_keeps_no_part);
+    tcase_add_test(plain, faststop_while_holding_then_release);
+    tcase_add_test(plain, dropped_connection_while_holding_then_release);
+    tcase_add_test(plain, release_only_right_after_a_grip);
     suite_add_tcase(s, plain);
 
     TCase *width = tcase_create("part_detection");
@@ -402,6 +502,7 @@ Suite *grip_suite(void)
     tcase_add_test(monitor, part_removed_while_holding);
     tcase_add_test(monitor, part_lost_is_debounced);
     tcase_add_test(monitor, gripstats_count_every_outcome);
+    tcase_add_test(monitor, grip_without_width_is_not_monitored);
     tcase_add_test(monitor, holding_deadline);
     suite_add_tcase(s, monitor);
     return s;
