@@ -36,7 +36,7 @@ wsg_session_t *wsg_session_open(wsg_device_t *dev, wsg_transport_t transport,
     return NULL;
 }
 
-wsg_session_t *session_lookup(wsg_device_t *dev, uint8_t index, uint16_t generation)
+wsg_session_t *session_lookup(wsg_device_t *dev, uint8_t index, uint64_t generation)
 {
     if (index >= WSG_MAX_SESSIONS) {
         return NULL;

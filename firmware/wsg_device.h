@@ -56,7 +56,7 @@ typedef struct {
 typedef struct {
     bool in_use;
     uint8_t index;
-    uint16_t generation; /* tells a reused slot from its previous owner */
+    uint64_t generation; /* tells a reused slot from its previous owner; never wraps in practice */
     wsg_transport_t transport;
     const wsg_session_io_t *io;
     void *io_ctx;
@@ -82,7 +82,7 @@ typedef enum {
 typedef struct {
     wsg_motion_kind_t kind; /* the long command running, or MOTION_NONE */
     uint8_t owner_index;
-    uint16_t owner_generation;
+    uint64_t owner_generation;
     uint64_t started_us;
     float target_mm;
     float speed_mm_s;
@@ -141,7 +141,7 @@ typedef struct {
 
 typedef struct wsg_device {
     wsg_session_t sessions[WSG_MAX_SESSIONS];
-    uint16_t next_generation;
+    uint64_t next_generation;
     wsg_motion_t motion;
     wsg_grip_t grip;
     wsg_fingers_t fingers;

@@ -11,7 +11,7 @@ void session_send(wsg_device_t *dev, wsg_session_t *s, textbuf_t *tb, wsg_line_k
 void session_send_text(wsg_device_t *dev, wsg_session_t *s, const char *text);
 void session_send_word(wsg_device_t *dev, wsg_session_t *s, const char *word, const char *name);
 void session_send_error(wsg_device_t *dev, wsg_session_t *s, const char *name, wsg_status_t status);
-wsg_session_t *session_lookup(wsg_device_t *dev, uint8_t index, uint16_t generation);
+wsg_session_t *session_lookup(wsg_device_t *dev, uint8_t index, uint64_t generation);
 void session_reset_settings(wsg_session_t *s);
 
 /* dispatch.c */

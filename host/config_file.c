@@ -15,17 +15,19 @@
 #define MAX_CLIENTS_LIMIT 128
 
 typedef enum {
-    K_TEXT,      /* printable, no '"', shorter than HAL_DEVICE_STRING_MAX */
-    K_MODEL,     /* a model sim_model_find() knows */
-    K_SERIAL,    /* 0..4294967295 */
-    K_NUMBER,    /* a finite number; ranges are checked against the model */
-    K_BOOL,      /* yes/no, true/false, on/off, 1/0 */
-    K_DIRECTION, /* positive/negative */
-    K_PORT,      /* 0..65535 */
-    K_PORT_OFF,  /* 0..65535 or "off" (-1) */
-    K_CLIENTS,   /* 1..128 */
-    K_ADDR,      /* an IPv4 or IPv6 address */
-    K_LOOPBACK,  /* a loopback address only */
+    K_TEXT,        /* printable, no '"', shorter than HAL_DEVICE_STRING_MAX */
+    K_MODEL,       /* a model sim_model_find() knows */
+    K_SERIAL,      /* 0..4294967295 */
+    K_NUMBER,      /* a finite number; ranges are checked against the model */
+    K_BOOL,        /* yes/no, true/false, on/off, 1/0 */
+    K_DIRECTION,   /* positive/negative */
+    K_PORT,        /* 0..65535 */
+    K_PORT_OFF,    /* 0..65535 or "off" (-1) */
+    K_CLIENTS,     /* 1..128 */
+    K_SECONDS,     /* 1..86400 */
+    K_SECONDS_OFF, /* 0..86400 or "off" (0) */
+    K_ADDR,        /* an IPv4 or IPv6 address */
+    K_LOOPBACK,    /* a loopback address only */
 } kind_t;
 
 typedef enum {
@@ -49,6 +51,8 @@ typedef enum {
     NET_BIND,
     NET_MAX_CLIENTS,
     NET_DISCONNECT_FASTSTOP,
+    NET_IDLE_TIMEOUT,
+    NET_UDP_PEER_TIMEOUT,
     NET_SIM_PORT,
     NET_SIM_BIND,
     KEY_COUNT
@@ -79,6 +83,8 @@ static const struct {
     [NET_BIND] = {"network", "bind", K_ADDR},
     [NET_MAX_CLIENTS] = {"network", "max_clients", K_CLIENTS},
     [NET_DISCONNECT_FASTSTOP] = {"network", "disconnect_faststop", K_BOOL},
+    [NET_IDLE_TIMEOUT] = {"network", "idle_timeout", K_SECONDS_OFF},
+    [NET_UDP_PEER_TIMEOUT] = {"network", "udp_peer_timeout", K_SECONDS},
     [NET_SIM_PORT] = {"network", "sim_port", K_PORT_OFF},
     [NET_SIM_BIND] = {"network", "sim_bind", K_LOOPBACK},
 };
@@ -195,6 +201,13 @@ static const char *convert(kind_t kind, const char *text, value_t *v)
                    : "expected a port 0-65535 or off";
     case K_CLIENTS:
         return parse_int_range(text, 1, MAX_CLIENTS_LIMIT, &v->number) ? NULL : "expected 1-128";
+    case K_SECONDS:
+        return parse_int_range(text, 1, 86400, &v->number) ? NULL : "expected seconds 1-86400";
+    case K_SECONDS_OFF:
+        v->number = 0.0;
+        return strcasecmp(text, "off") == 0 || parse_int_range(text, 0, 86400, &v->number)
+                   ? NULL
+                   : "expected seconds 0-86400 or off";
     case K_ADDR:
         return is_address(text) ? NULL : "expected an IPv4 or IPv6 address";
     case K_LOOPBACK:
@@ -269,6 +282,12 @@ static void apply_host(host_options_t *opts)
     }
     if (v[NET_DISCONNECT_FASTSTOP].set) {
         opts->disconnect_faststop = v[NET_DISCONNECT_FASTSTOP].number != 0.0;
+    }
+    if (v[NET_IDLE_TIMEOUT].set) {
+        opts->idle_timeout_s = (int)v[NET_IDLE_TIMEOUT].number;
+    }
+    if (v[NET_UDP_PEER_TIMEOUT].set) {
+        opts->udp_peer_timeout_s = (int)v[NET_UDP_PEER_TIMEOUT].number;
     }
     if (v[NET_SIM_PORT].set) {
         opts->sim_port = (int)v[NET_SIM_PORT].number;

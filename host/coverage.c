@@ -22,7 +22,7 @@ typedef struct {
     char name[GCL_NAME_MAX + 1];
     char what[WHAT_MAX];
     unsigned count;
-    unsigned first_session;
+    uint64_t first_session;
 } tolerated_t;
 
 typedef struct {
@@ -41,7 +41,7 @@ static struct {
     tolerated_t tolerated[NAMES_MAX];
     unsigned tolerated_count;
     unsigned sessions;
-    uint8_t session_seen[65536 / 8]; /* by session id (generation) */
+    uint64_t counted[WSG_MAX_SESSIONS]; /* per slot: the session id last counted */
 } cov;
 
 /* Codes the emulator can answer by itself (injected failures add others). */
@@ -172,10 +172,9 @@ void coverage_tolerated(const wsg_session_t *s, const char *name, const char *wh
 
 void coverage_line_in(const wsg_session_t *s)
 {
-    uint8_t *byte = &cov.session_seen[s->generation / 8u];
-    uint8_t bit = (uint8_t)(1u << (s->generation % 8u));
-    if ((*byte & bit) == 0u) {
-        *byte |= bit;
+    /* ids are unique and never 0: a slot's new session has a new id */
+    if (cov.counted[s->index] != s->generation) {
+        cov.counted[s->index] = s->generation;
         cov.sessions++;
     }
 }

@@ -20,6 +20,7 @@ static unsigned watch_count;
 static volatile sig_atomic_t stop_requested;
 static sigset_t wait_mask;
 static void (*catch_up_fn)(void);
+static uint64_t wall_wakeup_ns; /* 0: none */
 
 static void on_signal(int signo)
 {
@@ -123,11 +124,57 @@ static void dispatch(int ready)
     }
 }
 
+uint64_t loop_monotonic_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (uint64_t)ts.tv_sec * 1000000000u + (uint64_t)ts.tv_nsec;
+}
+
+void loop_wake_at_wall(uint64_t monotonic_ns)
+{
+    if (wall_wakeup_ns == 0 || monotonic_ns < wall_wakeup_ns) {
+        wall_wakeup_ns = monotonic_ns;
+    }
+}
+
+/* Shortens the simulated-clock wait to the wall-clock wake-up, if any. */
+static bool apply_wall_wakeup(bool timed, struct timespec *wait)
+{
+    if (wall_wakeup_ns == 0) {
+        return timed;
+    }
+    uint64_t now = loop_monotonic_ns();
+    uint64_t left = wall_wakeup_ns > now ? wall_wakeup_ns - now : 0;
+    uint64_t current = (uint64_t)wait->tv_sec * 1000000000u + (uint64_t)wait->tv_nsec;
+    if (!timed || left < current) {
+        wait->tv_sec = (time_t)(left / 1000000000u);
+        wait->tv_nsec = (long)(left % 1000000000u);
+    }
+    if (left == 0) {
+        wall_wakeup_ns = 0;
+    }
+    return true;
+}
+
+/* ppoll() reports ready descriptors before pending signals, and restores
+ * the mask that blocks them on return: under a steady input flood a signal
+ * would wait for a quiet moment. Look for it after every wake-up instead. */
+static void notice_pending_signals(void)
+{
+    sigset_t pending;
+    if (sigpending(&pending) == 0 &&
+        (sigismember(&pending, SIGINT) == 1 || sigismember(&pending, SIGTERM) == 1)) {
+        stop_requested = 1;
+    }
+}
+
 void loop_wait(uint64_t deadline_us)
 {
-    struct timespec wait;
-    bool timed = simclock_wall_wait(deadline_us, &wait);
+    struct timespec wait = {0, 0};
+    bool timed = apply_wall_wakeup(simclock_wall_wait(deadline_us, &wait), &wait);
     int ready = ppoll(pollfds, watch_count, timed ? &wait : NULL, &wait_mask);
+    notice_pending_signals();
     if (ready < 0) {
         if (errno != EINTR) {
             host_logf(HAL_LOG_ERROR, "ppoll: %s", strerror(errno));

@@ -14,7 +14,8 @@ bool loop_watch(int fd, short events, loop_callback_t callback, void *ctx);
 void loop_set_events(int fd, short events);
 void loop_unwatch(int fd);
 
-/* Blocks SIGINT/SIGTERM outside the wait so a signal cannot be missed. */
+/* Blocks SIGINT/SIGTERM outside the wait so a signal cannot be missed; a
+ * pending one is noticed after every wake-up, however busy the loop is. */
 void loop_init(void);
 bool loop_stop_requested(void);
 void loop_request_stop(void);
@@ -22,6 +23,12 @@ void loop_request_stop(void);
 /* Runs after every wake-up, before any callback: brings simulated time up to
  * date, so input is handled at the instant it arrived. */
 void loop_set_catch_up(void (*catch_up)(void));
+
+/* CLOCK_MONOTONIC in ns. */
+uint64_t loop_monotonic_ns(void);
+/* Makes loop_wait() return by this wall-clock instant at the latest (for
+ * back-offs that must not depend on the simulated clock, which may be paused). */
+void loop_wake_at_wall(uint64_t monotonic_ns);
 
 /* Waits for events or until simulated time deadline_us, then runs the
  * callbacks of ready descriptors. */

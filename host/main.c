@@ -19,11 +19,12 @@
 
 static bool start_servers(const host_options_t *opts)
 {
-    if (opts->tcp_enabled &&
-        !tcp_server_start(opts->bind_addr, opts->tcp_port, opts->max_clients)) {
+    if (opts->tcp_enabled && !tcp_server_start(opts->bind_addr, opts->tcp_port, opts->max_clients,
+                                               opts->idle_timeout_s)) {
         return false;
     }
-    if (opts->udp_enabled && !udp_server_start(opts->bind_addr, opts->udp_port)) {
+    if (opts->udp_enabled &&
+        !udp_server_start(opts->bind_addr, opts->udp_port, opts->udp_peer_timeout_s)) {
         return false;
     }
     return true;
@@ -74,6 +75,7 @@ int main(int argc, char **argv)
         return parsed == OPTIONS_EXIT_OK ? 0 : EXIT_STARTUP_FAILED;
     }
     setvbuf(stderr, NULL, _IOLBF, 0);
+    host_log_init();
     simclock_init();
     if (opts.start_paused) {
         simclock_start_paused(); /* simulated time stands at exactly 0 */

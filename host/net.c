@@ -3,6 +3,7 @@
 #include <arpa/inet.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <ifaddrs.h>
 #include <netinet/in.h>
 #include <stdio.h>
 #include <string.h>
@@ -11,6 +12,22 @@
 /* A small backlog makes Linux drop the SYN of a client that reconnects
  * quickly after closing (a 1 s retransmit stall every ~17 connections). */
 #define LISTEN_BACKLOG 128
+/* The server's own sockets: GCL TCP and UDP, control channel. */
+#define OWN_SOCKETS_MAX 8
+
+static struct {
+    struct sockaddr_storage addr[OWN_SOCKETS_MAX];
+    unsigned count;
+} own;
+
+static void remember_own_socket(int fd)
+{
+    socklen_t len = sizeof(own.addr[0]);
+    if (own.count < OWN_SOCKETS_MAX &&
+        getsockname(fd, (struct sockaddr *)&own.addr[own.count], &len) == 0) {
+        own.count++;
+    }
+}
 
 static bool parse_addr(const char *addr, int port, struct sockaddr_storage *ss, socklen_t *len)
 {
@@ -44,7 +61,9 @@ int net_listen(int type, const char *addr, int port)
     }
     int fd = socket(ss.ss_family, type | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
     int one = 1;
-    if (fd >= 0) {
+    /* TCP: restart while old connections linger in TIME_WAIT. Never for
+     * UDP, where SO_REUSEADDR would let another socket share the port. */
+    if (fd >= 0 && type == SOCK_STREAM) {
         setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof(one));
     }
     if (fd < 0 || bind(fd, (struct sockaddr *)&ss, len) != 0 ||
@@ -58,6 +77,7 @@ int net_listen(int type, const char *addr, int port)
         }
         return -1;
     }
+    remember_own_socket(fd);
     return fd;
 }
 
@@ -89,4 +109,93 @@ void net_format_peer(const struct sockaddr_storage *ss, char *out, size_t cap)
     inet_ntop(AF_INET, &v4->sin_addr, host, sizeof(host));
     port = ntohs(v4->sin_port);
     snprintf(out, cap, "%s:%d", host, port);
+}
+
+/* An IPv4-mapped IPv6 address (::ffff:a.b.c.d) as plain IPv4. */
+static void unmap(const struct sockaddr_storage *in, struct sockaddr_storage *out)
+{
+    *out = *in;
+    const struct sockaddr_in6 *v6 = (const struct sockaddr_in6 *)in;
+    if (in->ss_family != AF_INET6 || !IN6_IS_ADDR_V4MAPPED(&v6->sin6_addr)) {
+        return;
+    }
+    struct sockaddr_in v4;
+    memset(&v4, 0, sizeof(v4));
+    v4.sin_family = AF_INET;
+    v4.sin_port = v6->sin6_port;
+    memcpy(&v4.sin_addr, &v6->sin6_addr.s6_addr[12], 4);
+    memset(out, 0, sizeof(*out));
+    memcpy(out, &v4, sizeof(v4));
+}
+
+static int port_of(const struct sockaddr_storage *ss)
+{
+    return ss->ss_family == AF_INET6 ? ntohs(((const struct sockaddr_in6 *)ss)->sin6_port)
+                                     : ntohs(((const struct sockaddr_in *)ss)->sin_port);
+}
+
+static bool same_host(const struct sockaddr_storage *a, const struct sockaddr *b)
+{
+    if (a->ss_family != b->sa_family) {
+        return false;
+    }
+    if (a->ss_family == AF_INET) {
+        return ((const struct sockaddr_in *)a)->sin_addr.s_addr ==
+               ((const struct sockaddr_in *)b)->sin_addr.s_addr;
+    }
+    return memcmp(&((const struct sockaddr_in6 *)a)->sin6_addr,
+                  &((const struct sockaddr_in6 *)b)->sin6_addr, sizeof(struct in6_addr)) == 0;
+}
+
+static bool is_wildcard(const struct sockaddr_storage *ss)
+{
+    if (ss->ss_family == AF_INET) {
+        return ((const struct sockaddr_in *)ss)->sin_addr.s_addr == htonl(INADDR_ANY);
+    }
+    return IN6_IS_ADDR_UNSPECIFIED(&((const struct sockaddr_in6 *)ss)->sin6_addr);
+}
+
+/* One of this host's addresses: loopback, or configured on an interface. */
+static bool is_local_host(const struct sockaddr_storage *ss)
+{
+    if (ss->ss_family == AF_INET &&
+        (ntohl(((const struct sockaddr_in *)ss)->sin_addr.s_addr) >> 24) == 127u) {
+        return true;
+    }
+    if (ss->ss_family == AF_INET6 &&
+        IN6_IS_ADDR_LOOPBACK(&((const struct sockaddr_in6 *)ss)->sin6_addr)) {
+        return true;
+    }
+    struct ifaddrs *list = NULL;
+    if (getifaddrs(&list) != 0) {
+        return true; /* cannot tell: assume the worst, it is our own */
+    }
+    bool found = false;
+    for (const struct ifaddrs *i = list; i != NULL && !found; i = i->ifa_next) {
+        found = i->ifa_addr != NULL && same_host(ss, i->ifa_addr);
+    }
+    freeifaddrs(list);
+    return found;
+}
+
+bool net_is_own_address(const struct sockaddr_storage *peer)
+{
+    struct sockaddr_storage src;
+    unmap(peer, &src);
+    for (unsigned i = 0; i < own.count; i++) {
+        struct sockaddr_storage mine;
+        unmap(&own.addr[i], &mine);
+        if (port_of(&mine) != port_of(&src)) {
+            continue;
+        }
+        bool dual_stack = mine.ss_family == AF_INET6 && is_wildcard(&mine);
+        if (mine.ss_family != src.ss_family && !dual_stack) {
+            continue;
+        }
+        if (is_wildcard(&mine) ? is_local_host(&src)
+                               : same_host(&mine, (const struct sockaddr *)&src)) {
+            return true;
+        }
+    }
+    return false;
 }

@@ -10,6 +10,10 @@
 int net_listen(int type, const char *addr, int port);
 /* The port a socket is bound to (useful with port 0). */
 int net_local_port(int fd);
+/* True when the address and port are one of this server's own sockets (a
+ * GCL or control port, on its bound address or, when bound to a wildcard,
+ * on any address of this host): such a datagram is never answered. */
+bool net_is_own_address(const struct sockaddr_storage *peer);
 void net_format_peer(const struct sockaddr_storage *ss, char *out, size_t cap);
 
 #endif

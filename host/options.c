@@ -14,6 +14,8 @@
 #define DEFAULT_MAX_CLIENTS 8
 #define MAX_CLIENTS_LIMIT 128
 #define DEFAULT_PART_STIFFNESS 100.0f
+#define DEFAULT_UDP_PEER_TIMEOUT_S 60
+#define TIMEOUT_LIMIT_S 86400
 
 static void print_help(void)
 {
@@ -31,6 +33,10 @@ static void print_help(void)
            "  --max-clients N            simultaneous TCP clients (default %d, at most %d)\n"
            "  --no-disconnect-faststop   a connection closed without BYE() does not raise\n"
            "                             FAST STOP\n"
+           "  --idle-timeout S           close a TCP connection that sent nothing for S\n"
+           "                             simulated seconds (default: never)\n"
+           "  --udp-peer-timeout S       forget a UDP peer (and end its AUTOSEND) after S\n"
+           "                             simulated seconds without a datagram (default %d)\n"
            "  --trace                    log every line in and out on stderr\n"
            "  --can IFACE                finger bus on the SocketCAN interface IFACE (e.g.\n"
            "                             vcan0; run tools/fingersim there); default: an\n"
@@ -51,7 +57,7 @@ static void print_help(void)
            "  --version                  print the version and exit\n"
            "  --help                     print this help and exit\n",
            DEFAULT_PORT, DEFAULT_PORT, sim_model_default()->name, (double)DEFAULT_PART_STIFFNESS,
-           DEFAULT_MAX_CLIENTS, MAX_CLIENTS_LIMIT);
+           DEFAULT_MAX_CLIENTS, MAX_CLIENTS_LIMIT, DEFAULT_UDP_PEER_TIMEOUT_S);
 }
 
 static void list_models(void)
@@ -115,6 +121,8 @@ enum {
     OPT_PART,
     OPT_MAX_CLIENTS,
     OPT_NO_DISCONNECT_FASTSTOP,
+    OPT_IDLE_TIMEOUT,
+    OPT_UDP_PEER_TIMEOUT,
     OPT_TRACE,
     OPT_CAN,
     OPT_FINGERS,
@@ -141,6 +149,8 @@ static const struct option long_options[] = {
     {"part", required_argument, NULL, OPT_PART},
     {"max-clients", required_argument, NULL, OPT_MAX_CLIENTS},
     {"no-disconnect-faststop", no_argument, NULL, OPT_NO_DISCONNECT_FASTSTOP},
+    {"idle-timeout", required_argument, NULL, OPT_IDLE_TIMEOUT},
+    {"udp-peer-timeout", required_argument, NULL, OPT_UDP_PEER_TIMEOUT},
     {"trace", no_argument, NULL, OPT_TRACE},
     {"can", required_argument, NULL, OPT_CAN},
     {"fingers", required_argument, NULL, OPT_FINGERS},
@@ -169,6 +179,7 @@ static void set_defaults(host_options_t *opts)
     opts->part_stiffness_n_mm = DEFAULT_PART_STIFFNESS;
     opts->max_clients = DEFAULT_MAX_CLIENTS;
     opts->disconnect_faststop = true;
+    opts->udp_peer_timeout_s = DEFAULT_UDP_PEER_TIMEOUT_S;
     opts->sim_port = -1;
     opts->fingers = "fmf,dsa";
 }
@@ -263,6 +274,14 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
     case OPT_NO_DISCONNECT_FASTSTOP:
         opts->disconnect_faststop = false;
         return OPTIONS_RUN;
+    case OPT_IDLE_TIMEOUT:
+        return parse_int(arg, 0, TIMEOUT_LIMIT_S, &opts->idle_timeout_s)
+                   ? OPTIONS_RUN
+                   : usage_error("--idle-timeout", arg);
+    case OPT_UDP_PEER_TIMEOUT:
+        return parse_int(arg, 1, TIMEOUT_LIMIT_S, &opts->udp_peer_timeout_s)
+                   ? OPTIONS_RUN
+                   : usage_error("--udp-peer-timeout", arg);
     case OPT_TRACE:
         opts->trace = true;
         return OPTIONS_RUN;

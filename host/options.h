@@ -15,6 +15,8 @@ typedef struct {
     float part_width_mm;
     float part_stiffness_n_mm;
     int max_clients;
+    int idle_timeout_s;     /* --idle-timeout: close TCP connections silent this long; 0: off */
+    int udp_peer_timeout_s; /* --udp-peer-timeout: forget UDP peers silent this long */
     bool disconnect_faststop;
     bool trace;
     const char *can_iface; /* --can: finger bus on SocketCAN; NULL: loopback bus */

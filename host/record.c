@@ -63,8 +63,8 @@ void record_gcl(const wsg_session_t *s, char direction, const char *line, size_t
     if (out == NULL) {
         return;
     }
-    char channel[16];
-    snprintf(channel, sizeof(channel), "s%u%c", (unsigned)s->generation,
+    char channel[32];
+    snprintf(channel, sizeof(channel), "s%llu%c", (unsigned long long)s->generation,
              s->transport == WSG_TRANSPORT_STREAM ? 't' : 'u');
     put_record(channel, direction, line, len);
 }

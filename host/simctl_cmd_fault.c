@@ -105,8 +105,8 @@ wsg_status_t sc_faults(simctl_ctx_t *ctx)
 static wsg_status_t delay_session(wsg_session_t *s, double ms)
 {
     simctl_delay_arm(s, (uint32_t)(ms * 1000.0 + 0.5));
-    host_logf(HAL_LOG_WARN, "fault injected: DELAY next reply of session %u by %.3f ms",
-              (unsigned)s->generation, ms);
+    host_logf(HAL_LOG_WARN, "fault injected: DELAY next reply of session %llu by %.3f ms",
+              (unsigned long long)s->generation, ms);
     return E_SUCCESS;
 }
 
@@ -168,11 +168,12 @@ wsg_status_t sc_failnext(simctl_ctx_t *ctx)
 
 static bool cut_session(wsg_session_t *s)
 {
-    unsigned id = s->generation;
+    unsigned long long id = s->generation;
     bool stream = s->transport == WSG_TRANSPORT_STREAM;
     bool cut = stream ? tcp_server_cut(s) : udp_server_cut(s);
     if (cut) {
-        host_logf(HAL_LOG_WARN, "fault injected: CUT session %u (%s)", id, stream ? "tcp" : "udp");
+        host_logf(HAL_LOG_WARN, "fault injected: CUT session %llu (%s)", id,
+                  stream ? "tcp" : "udp");
     }
     return cut;
 }

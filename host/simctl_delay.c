@@ -13,7 +13,7 @@
 typedef struct {
     bool armed;
     bool holding;
-    uint16_t generation;
+    uint64_t generation;
     uint32_t delay_us;
     uint64_t release_us;
     const wsg_session_io_t *io; /* the port's own I/O, restored on release */
@@ -28,8 +28,8 @@ static delay_slot_t slots[WSG_MAX_SESSIONS];
 static void hold_line(delay_slot_t *d, const char *line, size_t len, wsg_line_kind_t kind)
 {
     if (len > 0xffffu || d->used + RECORD_HEADER + len > HELD_BYTES) {
-        host_logf(HAL_LOG_WARN, "delayed session s%u: hold buffer full, line dropped",
-                  (unsigned)d->generation);
+        host_logf(HAL_LOG_WARN, "delayed session s%llu: hold buffer full, line dropped",
+                  (unsigned long long)d->generation);
         return;
     }
     uint8_t *p = &d->held[d->used];

@@ -20,7 +20,7 @@ uint64_t simctl_delay_next_us(void);
 void simctl_delay_clear_all(bool send);
 
 typedef struct {
-    uint16_t session_id;
+    uint64_t session_id;
     uint32_t delay_us;
     bool holding;        /* a reply arrived and is being held */
     uint64_t release_us; /* when holding */

@@ -9,23 +9,40 @@
 #include <unistd.h>
 
 #include "gripper.h"
+#include "hal_clock.h"
 #include "log.h"
 #include "loop.h"
 #include "net.h"
 #include "outq.h"
+#include "simctl_delay.h"
 
 #define CLIENTS_MAX 128
 #define OUTQ_BYTES (16u * 1024u)
 /* Above this fill level AUTOSEND lines are dropped to keep room for replies. */
 #define OUTQ_AUTOSEND_LIMIT (OUTQ_BYTES / 2u)
 #define READ_CHUNK 4096
+/* With every slot taken, a connection that has not sent a byte for this
+ * long gives its slot to a newcomer: real clients speak first. */
+#define SILENT_GRACE_US (30u * 1000000u)
+/* Keepalive: probes after 60 s without traffic, every 10 s, 6 unanswered
+ * ones end the connection (a dead peer goes within two minutes). */
+#define KEEPALIVE_IDLE_S 60
+#define KEEPALIVE_INTERVAL_S 10
+#define KEEPALIVE_PROBES 6
+/* Out of descriptors: accept() is retried this often (wall clock). */
+#define ACCEPT_RETRY_NS 100000000u
 
 typedef struct {
     bool in_use;
     int fd;
     wsg_session_t *session;
     outq_t outq;
-    bool dead; /* failed or overflowed: close at the next reap */
+    bool dead;    /* failed or overflowed: close at the next reap */
+    bool eof;     /* the client shut its side: answer, flush, then close */
+    bool expired; /* closed by the server for silence: not a lost link */
+    uint64_t connected_us;
+    uint64_t heard_us; /* last input, or connected_us */
+    bool spoke;        /* sent at least one byte */
     unsigned long dropped_autosend;
     char peer[64];
 } tcp_client_t;
@@ -33,6 +50,9 @@ typedef struct {
 static struct {
     int listen_fd;
     int max_clients;
+    uint64_t idle_timeout_us; /* 0: off */
+    bool starved;             /* out of descriptors: listener paused */
+    uint64_t retry_ns;        /* when to try accept() again */
     tcp_client_t clients[CLIENTS_MAX];
 } tcp = {.listen_fd = -1};
 
@@ -47,7 +67,7 @@ static unsigned open_count(void)
 
 static void update_events(tcp_client_t *c)
 {
-    loop_set_events(c->fd, (short)(POLLIN | (outq_empty(&c->outq) ? 0 : POLLOUT)));
+    loop_set_events(c->fd, (short)((c->eof ? 0 : POLLIN) | (outq_empty(&c->outq) ? 0 : POLLOUT)));
 }
 
 /* Sends one line with one send(); returns bytes sent, or -1 on a fatal error. */
@@ -122,21 +142,37 @@ static void flush(tcp_client_t *c)
     update_events(c);
 }
 
+static wsg_close_reason_t close_reason(const tcp_client_t *c)
+{
+    if (wsg_session_wants_close(c->session)) {
+        return WSG_CLOSE_ANNOUNCED;
+    }
+    return c->expired ? WSG_CLOSE_EXPIRED : WSG_CLOSE_DROPPED;
+}
+
 static void close_client(tcp_client_t *c)
 {
-    wsg_close_reason_t reason =
-        wsg_session_wants_close(c->session) ? WSG_CLOSE_ANNOUNCED : WSG_CLOSE_DROPPED;
-    host_logf(HAL_LOG_INFO, "tcp %s: closed%s", c->peer,
-              reason == WSG_CLOSE_DROPPED ? " without BYE" : "");
+    wsg_close_reason_t reason = close_reason(c);
+    host_log_peer(HAL_LOG_INFO, "tcp %s: closed%s", c->peer,
+                  reason == WSG_CLOSE_DROPPED ? " without BYE" : "");
     if (c->dropped_autosend > 0) {
-        host_logf(HAL_LOG_INFO, "tcp %s: %lu AUTOSEND lines dropped (client not reading)", c->peer,
-                  c->dropped_autosend);
+        host_log_peer(HAL_LOG_INFO, "tcp %s: %lu AUTOSEND lines dropped (client not reading)",
+                      c->peer, c->dropped_autosend);
     }
     loop_unwatch(c->fd);
     close(c->fd);
     wsg_session_close(gripper_device(), c->session, reason);
     outq_free(&c->outq);
     c->in_use = false;
+    tcp.retry_ns = 0; /* a descriptor is free: a waiting client may come in */
+}
+
+/* End of input: every command before it has been answered; the
+ * connection closes once its queued replies are out (see tcp_server_reap). */
+static void on_end_of_input(tcp_client_t *c)
+{
+    c->eof = true;
+    update_events(c);
 }
 
 static void on_client(void *ctx, int fd, short revents)
@@ -146,20 +182,61 @@ static void on_client(void *ctx, int fd, short revents)
     if ((revents & POLLOUT) != 0) {
         flush(c);
     }
+    if (c->eof) {
+        /* only the reply direction is left: a hang-up or error ends it */
+        c->dead = c->dead || (revents & (POLLHUP | POLLERR)) != 0;
+        return;
+    }
     if ((revents & (POLLIN | POLLHUP | POLLERR)) == 0 || c->dead) {
         return;
     }
     uint8_t buf[READ_CHUNK];
     ssize_t n = recv(c->fd, buf, sizeof(buf), MSG_DONTWAIT);
     if (n > 0) {
+        c->heard_us = hal_clock_now_us();
+        c->spoke = true;
         gripper_feed(c->session, buf, (size_t)n, 0);
-    } else if (n == 0 || (errno != EAGAIN && errno != EINTR)) {
+    } else if (n == 0) {
+        on_end_of_input(c);
+    } else if (errno != EAGAIN && errno != EINTR) {
         c->dead = true;
+    }
+}
+
+/* The connection that has sent nothing at all for longest, if that is
+ * beyond the grace; its slot goes to a waiting client. */
+static tcp_client_t *silent_connection(void)
+{
+    uint64_t now = hal_clock_now_us();
+    tcp_client_t *silent = NULL;
+    for (unsigned i = 0; i < CLIENTS_MAX; i++) {
+        tcp_client_t *c = &tcp.clients[i];
+        bool candidate = c->in_use && !c->spoke && now - c->connected_us >= SILENT_GRACE_US;
+        if (candidate && (silent == NULL || c->connected_us < silent->connected_us)) {
+            silent = c;
+        }
+    }
+    return silent;
+}
+
+static void reclaim_silent_slot(void)
+{
+    tcp_client_t *c = silent_connection();
+    if (c != NULL) {
+        host_log_peer(HAL_LOG_INFO,
+                      "tcp %s: silent since it connected; slot given to a waiting "
+                      "client",
+                      c->peer);
+        c->expired = true;
+        close_client(c);
     }
 }
 
 static tcp_client_t *free_slot(void)
 {
+    if ((int)open_count() >= tcp.max_clients) {
+        reclaim_silent_slot();
+    }
     if ((int)open_count() >= tcp.max_clients) {
         return NULL;
     }
@@ -176,8 +253,15 @@ static bool setup_client(tcp_client_t *c, int fd, const struct sockaddr_storage 
     memset(c, 0, sizeof(*c));
     c->fd = fd;
     net_format_peer(ss, c->peer, sizeof(c->peer));
+    c->connected_us = hal_clock_now_us();
+    c->heard_us = c->connected_us;
     int one = 1;
+    int idle = KEEPALIVE_IDLE_S, interval = KEEPALIVE_INTERVAL_S, probes = KEEPALIVE_PROBES;
     setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof(one));
+    setsockopt(fd, SOL_SOCKET, SO_KEEPALIVE, &one, sizeof(one));
+    setsockopt(fd, IPPROTO_TCP, TCP_KEEPIDLE, &idle, sizeof(idle));
+    setsockopt(fd, IPPROTO_TCP, TCP_KEEPINTVL, &interval, sizeof(interval));
+    setsockopt(fd, IPPROTO_TCP, TCP_KEEPCNT, &probes, sizeof(probes));
     if (!outq_init(&c->outq, OUTQ_BYTES)) {
         return false;
     }
@@ -195,6 +279,30 @@ static bool setup_client(tcp_client_t *c, int fd, const struct sockaddr_storage 
     return true;
 }
 
+/* Out of descriptors, the waiting connection stays in the backlog and the
+ * listener stays readable: stop polling it until a descriptor is freed or
+ * ACCEPT_RETRY_NS has passed, instead of spinning on accept(). */
+static void pause_listener(int err)
+{
+    if (!tcp.starved) {
+        tcp.starved = true;
+        host_logf(HAL_LOG_ERROR,
+                  "tcp: cannot accept a connection: %s; out of descriptors, waiting "
+                  "clients wait (see ulimit -n)",
+                  strerror(err));
+    }
+    loop_set_events(tcp.listen_fd, 0);
+    tcp.retry_ns = loop_monotonic_ns() + ACCEPT_RETRY_NS;
+    loop_wake_at_wall(tcp.retry_ns);
+}
+
+static void resume_listener_when_due(void)
+{
+    if (tcp.listen_fd >= 0 && tcp.starved && loop_monotonic_ns() >= tcp.retry_ns) {
+        loop_set_events(tcp.listen_fd, POLLIN);
+    }
+}
+
 static void on_accept(void *ctx, int fd, short revents)
 {
     (void)ctx;
@@ -203,24 +311,32 @@ static void on_accept(void *ctx, int fd, short revents)
     socklen_t len = sizeof(ss);
     int client_fd = accept4(fd, (struct sockaddr *)&ss, &len, SOCK_NONBLOCK | SOCK_CLOEXEC);
     if (client_fd < 0) {
+        if (errno == EMFILE || errno == ENFILE || errno == ENOBUFS || errno == ENOMEM) {
+            pause_listener(errno);
+        }
         return;
+    }
+    if (tcp.starved) {
+        tcp.starved = false;
+        host_logf(HAL_LOG_INFO, "tcp: accepting connections again");
     }
     tcp_client_t *c = free_slot();
     if (c == NULL || !setup_client(c, client_fd, &ss)) {
         char peer[64];
         net_format_peer(&ss, peer, sizeof(peer));
-        host_logf(HAL_LOG_WARN, "tcp %s: refused, %d clients connected (--max-clients)", peer,
-                  tcp.max_clients);
+        host_log_peer(HAL_LOG_WARN, "tcp %s: refused, %d clients connected (--max-clients)", peer,
+                      tcp.max_clients);
         close(client_fd);
         return;
     }
-    host_logf(HAL_LOG_INFO, "tcp %s: connected", c->peer);
+    host_log_peer(HAL_LOG_INFO, "tcp %s: connected", c->peer);
 }
 
-bool tcp_server_start(const char *addr, int port, int max_clients)
+bool tcp_server_start(const char *addr, int port, int max_clients, int idle_timeout_s)
 {
     tcp.listen_fd = net_listen(SOCK_STREAM, addr, port);
     tcp.max_clients = max_clients;
+    tcp.idle_timeout_us = (uint64_t)idle_timeout_s * 1000000u;
     return tcp.listen_fd >= 0 && loop_watch(tcp.listen_fd, POLLIN, on_accept, NULL);
 }
 
@@ -229,15 +345,48 @@ int tcp_server_port(void)
     return tcp.listen_fd >= 0 ? net_local_port(tcp.listen_fd) : -1;
 }
 
+/* Replies held back by an injected DELAY (control channel) still count as
+ * queued: a half-closed connection waits for them too. */
+static bool replies_held(const wsg_session_t *s)
+{
+    simctl_delay_info_t info;
+    for (unsigned i = 0; simctl_delay_info(i, &info); i++) {
+        if (info.session_id == s->generation && info.holding) {
+            return true;
+        }
+    }
+    return false;
+}
+
+static bool idle_too_long(tcp_client_t *c, uint64_t now)
+{
+    if (tcp.idle_timeout_us == 0 || now - c->heard_us < tcp.idle_timeout_us) {
+        return false;
+    }
+    host_log_peer(HAL_LOG_INFO, "tcp %s: idle for %llu s (--idle-timeout); closed", c->peer,
+                  (unsigned long long)(tcp.idle_timeout_us / 1000000u));
+    c->expired = true;
+    return true;
+}
+
+static bool finished(tcp_client_t *c, uint64_t now)
+{
+    bool flushed = outq_empty(&c->outq);
+    bool said_bye = wsg_session_wants_close(c->session);
+    bool input_done = c->eof && flushed && !replies_held(c->session);
+    return c->dead || (said_bye && flushed) || input_done || idle_too_long(c, now);
+}
+
 void tcp_server_reap(void)
 {
+    uint64_t now = hal_clock_now_us();
     for (unsigned i = 0; i < CLIENTS_MAX; i++) {
         tcp_client_t *c = &tcp.clients[i];
-        bool said_bye = c->in_use && wsg_session_wants_close(c->session);
-        if (c->in_use && (c->dead || (said_bye && outq_empty(&c->outq)))) {
+        if (c->in_use && finished(c, now)) {
             close_client(c);
         }
     }
+    resume_listener_when_due();
 }
 
 bool tcp_server_cut(const wsg_session_t *session)

@@ -1,4 +1,6 @@
-/* GCL over TCP: one session per connection, each reply line its own send(). */
+/* GCL over TCP: one session per connection, each reply line its own send().
+ * Connections have TCP keepalive; a half-closed one is answered and flushed
+ * before it closes; idle_timeout_s (0: off) closes quiet connections. */
 #ifndef HOST_TCP_SERVER_H
 #define HOST_TCP_SERVER_H
 
@@ -6,7 +8,7 @@
 
 #include "wsg_device.h"
 
-bool tcp_server_start(const char *addr, int port, int max_clients);
+bool tcp_server_start(const char *addr, int port, int max_clients, int idle_timeout_s);
 int tcp_server_port(void);
 /* Closes connections that said BYE (once flushed) or failed. */
 void tcp_server_reap(void);

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "hal_clock.h"
+#include "log.h"
 
 static void print_line(const wsg_session_t *s, char direction, const char *line, size_t len)
 {
@@ -11,9 +12,9 @@ static void print_line(const wsg_session_t *s, char direction, const char *line,
         len--;
     }
     uint64_t now = hal_clock_now_us();
-    fprintf(stderr, "trace [%llu.%06llu] s%u%c %c %.*s\n", (unsigned long long)(now / 1000000u),
-            (unsigned long long)(now % 1000000u), (unsigned)s->generation,
-            s->transport == WSG_TRANSPORT_STREAM ? 't' : 'u', direction, (int)len, line);
+    host_log_line("trace [%llu.%06llu] s%llu%c %c %.*s", (unsigned long long)(now / 1000000u),
+                  (unsigned long long)(now % 1000000u), (unsigned long long)s->generation,
+                  s->transport == WSG_TRANSPORT_STREAM ? 't' : 'u', direction, (int)len, line);
 }
 
 static void on_line_in(void *ctx, const wsg_session_t *s, const char *line, size_t len)

@@ -14,8 +14,17 @@
 
 #define PEERS_MAX 16
 #define DATAGRAM_MAX 65536
-/* A peer without AUTOSEND that sends nothing for this long is forgotten. */
-#define PEER_IDLE_US (60u * 1000000u)
+/* A peer heard from this recently is never pushed out for a new one. */
+#define PEER_RECENT_US (2u * 1000000u)
+/* Reply budget (docs/behaviour.md, "UDP peers"): every datagram a peer sends
+ * earns it REPLY_MULTIPLE times its size in reply bytes, headers counted. */
+#define UDP_HEADER_BYTES 28u
+#define REPLY_MULTIPLE 8u
+#define REPLY_CREDIT_MAX (64u * 1024u)
+/* And whatever it earned, at most PEER_BURST datagrams, refilled at
+ * PEER_RATE per simulated second (AUTOSEND at most 600/s included). */
+#define PEER_BURST 1000.0
+#define PEER_RATE 1000.0
 
 typedef struct {
     bool in_use;
@@ -23,26 +32,74 @@ typedef struct {
     socklen_t addr_len;
     wsg_session_t *session;
     uint64_t last_seen_us;
+    uint32_t credit;    /* reply bytes it may still be sent */
+    double tokens;      /* datagrams it may still be sent now */
+    uint64_t refill_us; /* when tokens were last topped up */
+    unsigned long dropped;
     char name[64];
 } udp_peer_t;
 
 static struct {
     int fd;
+    uint64_t peer_timeout_us;
     udp_peer_t peers[PEERS_MAX];
 } udp = {.fd = -1};
 
+static void refill(udp_peer_t *p, uint64_t now)
+{
+    if (now > p->refill_us) {
+        p->tokens += (double)(now - p->refill_us) * PEER_RATE / 1e6;
+        p->tokens = p->tokens < PEER_BURST ? p->tokens : PEER_BURST;
+        p->refill_us = now;
+    }
+}
+
+static bool silent_too_long(const udp_peer_t *p, uint64_t now)
+{
+    return now - p->last_seen_us > udp.peer_timeout_us;
+}
+
+/* Whether this line may go out; AUTOSEND lines are paid for by the peer
+ * speaking within the timeout, replies by the bytes it sent. */
+static bool within_budget(udp_peer_t *p, size_t len, wsg_line_kind_t kind)
+{
+    uint64_t now = hal_clock_now_us();
+    uint32_t cost = (uint32_t)len + UDP_HEADER_BYTES;
+    if (kind == WSG_LINE_AUTOSEND && silent_too_long(p, now)) {
+        return false; /* the reap ends the subscription and says so */
+    }
+    refill(p, now);
+    if (p->tokens < 1.0 || (kind != WSG_LINE_AUTOSEND && p->credit < cost)) {
+        if (p->dropped++ == 0) {
+            host_log_peer(HAL_LOG_WARN, "udp %s: reply budget spent; lines dropped", p->name);
+        }
+        return false;
+    }
+    p->tokens -= 1.0;
+    if (kind != WSG_LINE_AUTOSEND) {
+        p->credit -= cost;
+    }
+    return true;
+}
+
 static void write_line(void *ctx, const char *line, size_t len, wsg_line_kind_t kind)
 {
-    const udp_peer_t *p = ctx;
-    (void)kind; /* a datagram that cannot go out now is lost, as on the wire */
-    sendto(udp.fd, line, len, MSG_DONTWAIT | MSG_NOSIGNAL, (const struct sockaddr *)&p->addr,
-           p->addr_len);
+    udp_peer_t *p = ctx;
+    /* a datagram that cannot go out now is lost, as on the wire */
+    if (within_budget(p, len, kind)) {
+        sendto(udp.fd, line, len, MSG_DONTWAIT | MSG_NOSIGNAL, (const struct sockaddr *)&p->addr,
+               p->addr_len);
+    }
 }
 
 static const wsg_session_io_t udp_io = {.write_line = write_line};
 
 static void forget(udp_peer_t *p, wsg_close_reason_t reason)
 {
+    if (p->dropped > 0) {
+        host_log_peer(HAL_LOG_INFO, "udp %s: %lu lines dropped over the reply budget", p->name,
+                      p->dropped);
+    }
     wsg_session_close(gripper_device(), p->session, reason);
     p->in_use = false;
 }
@@ -58,31 +115,52 @@ static udp_peer_t *find_peer(const struct sockaddr_storage *ss, socklen_t len)
     return NULL;
 }
 
-/* A free slot, or the least recently heard peer's. */
+static bool owns_motion(const wsg_session_t *s)
+{
+    const wsg_motion_t *m = &gripper_device()->motion;
+    return m->kind != MOTION_NONE && m->owner_index == s->index &&
+           m->owner_generation == s->generation;
+}
+
+/* Running a motion, listening to AUTOSEND (it ends with the peer timeout)
+ * or heard from lately: its FIN, stream and settings must stay. */
+static bool is_live(const udp_peer_t *p, uint64_t now)
+{
+    return owns_motion(p->session) || wsg_session_has_autosend(p->session) ||
+           now - p->last_seen_us < PEER_RECENT_US;
+}
+
+/* A free slot, or the least recently heard idle peer's; NULL when every
+ * peer is live. */
 static udp_peer_t *claim_slot(void)
 {
-    udp_peer_t *oldest = &udp.peers[0];
+    uint64_t now = hal_clock_now_us();
+    udp_peer_t *oldest = NULL;
     for (unsigned i = 0; i < PEERS_MAX; i++) {
         udp_peer_t *p = &udp.peers[i];
         if (!p->in_use) {
             return p;
         }
-        if (p->last_seen_us < oldest->last_seen_us) {
+        if (!is_live(p, now) && (oldest == NULL || p->last_seen_us < oldest->last_seen_us)) {
             oldest = p;
         }
     }
-    host_logf(HAL_LOG_INFO, "udp %s: forgotten to make room for a new peer", oldest->name);
-    forget(oldest, WSG_CLOSE_EXPIRED);
+    if (oldest != NULL) {
+        host_log_peer(HAL_LOG_INFO, "udp %s: forgotten to make room for a new peer", oldest->name);
+        forget(oldest, WSG_CLOSE_EXPIRED);
+    }
     return oldest;
 }
 
-static udp_peer_t *peer_for(const struct sockaddr_storage *ss, socklen_t len)
+static udp_peer_t *new_peer(const struct sockaddr_storage *ss, socklen_t len)
 {
-    udp_peer_t *p = find_peer(ss, len);
-    if (p != NULL) {
-        return p;
+    udp_peer_t *p = claim_slot();
+    if (p == NULL) {
+        char name[64];
+        net_format_peer(ss, name, sizeof(name));
+        host_log_peer(HAL_LOG_WARN, "udp %s: refused, %d live peers", name, PEERS_MAX);
+        return NULL;
     }
-    p = claim_slot();
     memset(p, 0, sizeof(*p));
     p->session = wsg_session_open(gripper_device(), WSG_TRANSPORT_DATAGRAM, &udp_io, p);
     if (p->session == NULL) {
@@ -91,9 +169,24 @@ static udp_peer_t *peer_for(const struct sockaddr_storage *ss, socklen_t len)
     p->in_use = true;
     p->addr = *ss;
     p->addr_len = len;
+    p->tokens = PEER_BURST;
+    p->refill_us = hal_clock_now_us();
     net_format_peer(ss, p->name, sizeof(p->name));
-    host_logf(HAL_LOG_INFO, "udp %s: new peer", p->name);
+    host_log_peer(HAL_LOG_INFO, "udp %s: new peer", p->name);
     return p;
+}
+
+/* A datagram from one of our own sockets would start the server answering
+ * itself (or a twin on the same host); it is dropped unanswered. */
+static bool from_ourselves(const struct sockaddr_storage *ss)
+{
+    if (!net_is_own_address(ss)) {
+        return false;
+    }
+    char name[64];
+    net_format_peer(ss, name, sizeof(name));
+    host_log_peer(HAL_LOG_WARN, "udp %s: datagram from the server's own address ignored", name);
+    return true;
 }
 
 static void on_datagram(void *ctx, int fd, short revents)
@@ -105,19 +198,22 @@ static void on_datagram(void *ctx, int fd, short revents)
     socklen_t len = sizeof(ss);
     memset(&ss, 0, sizeof(ss));
     ssize_t n = recvfrom(fd, buf, sizeof(buf), MSG_DONTWAIT, (struct sockaddr *)&ss, &len);
-    if (n < 0) {
+    if (n < 0 || from_ourselves(&ss)) {
         return;
     }
-    udp_peer_t *p = peer_for(&ss, len);
-    if (p == NULL) {
+    udp_peer_t *p = find_peer(&ss, len);
+    if (p == NULL && (p = new_peer(&ss, len)) == NULL) {
         return;
     }
     p->last_seen_us = hal_clock_now_us();
+    uint64_t earned = ((uint64_t)n + UDP_HEADER_BYTES) * REPLY_MULTIPLE + p->credit;
+    p->credit = earned < REPLY_CREDIT_MAX ? (uint32_t)earned : REPLY_CREDIT_MAX;
     gripper_feed(p->session, buf, (size_t)n, 1);
 }
 
-bool udp_server_start(const char *addr, int port)
+bool udp_server_start(const char *addr, int port, int peer_timeout_s)
 {
+    udp.peer_timeout_us = (uint64_t)peer_timeout_s * 1000000u;
     udp.fd = net_listen(SOCK_DGRAM, addr, port);
     return udp.fd >= 0 && loop_watch(udp.fd, POLLIN, on_datagram, NULL);
 }
@@ -137,7 +233,10 @@ void udp_server_reap(void)
         }
         if (wsg_session_wants_close(p->session)) {
             forget(p, WSG_CLOSE_ANNOUNCED);
-        } else if (!wsg_session_has_autosend(p->session) && now - p->last_seen_us > PEER_IDLE_US) {
+        } else if (silent_too_long(p, now) && !owns_motion(p->session)) {
+            host_log_peer(HAL_LOG_INFO, "udp %s: silent for %llu s; forgotten%s", p->name,
+                          (unsigned long long)(udp.peer_timeout_us / 1000000u),
+                          wsg_session_has_autosend(p->session) ? " (AUTOSEND ended)" : "");
             forget(p, WSG_CLOSE_EXPIRED);
         }
     }

@@ -203,6 +203,29 @@ END_TEST
 
 static unsigned sink_lines;
 
+static void sink_write(void *ctx, const char *line, size_t len, wsg_line_kind_t kind);
+
+/* Regression: 16-bit session ids wrapped after 65536 sessions, and a reused
+ * slot's new session then took the FIN of a motion its predecessor started. */
+START_TEST(final_line_not_delivered_after_65536_sessions)
+{
+    static const wsg_session_io_t sink = {sink_write};
+    ASK_EQ("HOME()", "ACK HOME");
+    uint8_t slot = h_main.session->index;
+    h_close(&h_main, WSG_CLOSE_EXPIRED);
+    for (unsigned i = 0; i < 65535u; i++) {
+        wsg_session_t *s = wsg_session_open(&h_dev, WSG_TRANSPORT_DATAGRAM, &sink, NULL);
+        ck_assert_uint_eq(s->index, slot);
+        wsg_session_close(&h_dev, s, WSG_CLOSE_EXPIRED);
+    }
+    h_open(&h_other, WSG_TRANSPORT_DATAGRAM);
+    ck_assert_uint_eq(h_other.session->index, slot);
+    advance_ms(2000);
+    expect_no_line(&h_other);
+    ck_assert_str_eq(ask(&h_other, "SYSFLAGS[0]?"), "SYSFLAGS[0]=1"); /* homing did finish */
+}
+END_TEST
+
 static void sink_write(void *ctx, const char *line, size_t len, wsg_line_kind_t kind)
 {
     (void)ctx;
@@ -355,6 +378,7 @@ Suite *session_suite(void)
     tcase_add_test(multi, stop_from_another_session);
     tcase_add_test(multi, queries_during_another_sessions_motion);
     tcase_add_test(multi, final_line_not_delivered_to_slot_reuser);
+    tcase_add_test(multi, final_line_not_delivered_after_65536_sessions);
     tcase_add_test(multi, session_slots_are_bounded);
     suite_add_tcase(s, multi);
 
