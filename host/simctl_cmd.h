@@ -11,8 +11,9 @@
  * *close (if given) becomes true when the line asked to end the channel. */
 char *simctl_exec(const char *line, size_t len, bool *close);
 
-/* True when the line is a known control command in a form it accepts; else
- * why not. for_scenario also refuses commands a scenario cannot run. */
+/* True when the line is a known control command in a form it accepts, with
+ * valid arguments (checked without acting; a session id only for its form);
+ * else why not. for_scenario also refuses commands a scenario cannot run. */
 bool simctl_check(const char *line, size_t len, bool for_scenario, char *why, size_t cap);
 
 #endif

@@ -34,11 +34,14 @@ wsg_status_t sc_step(simctl_ctx_t *ctx)
     if (!sc_number(ctx, 0, &ms)) {
         return E_INVALID_PARAMETER;
     }
-    if (!simclock_paused()) {
-        return sc_fail(ctx, E_ACCESS_DENIED, "the clock is running; PAUSE() first");
-    }
     if (!(ms > 0.0 && ms <= STEP_MAX_MS)) {
         return sc_fail(ctx, E_RANGE_ERROR, "ms must be above 0 and at most %.0f", STEP_MAX_MS);
+    }
+    if (sc_checking(ctx)) {
+        return E_SUCCESS;
+    }
+    if (!simclock_paused()) {
+        return sc_fail(ctx, E_ACCESS_DENIED, "the clock is running; PAUSE() first");
     }
     simctl_step((uint64_t)(ms * 1000.0 + 0.5));
     sc_reply(ctx, "%.3f", (double)hal_clock_now_us() / 1000.0);
@@ -52,11 +55,15 @@ wsg_status_t sc_scale(simctl_ctx_t *ctx)
         if (!sc_number(ctx, 0, &scale)) {
             return E_INVALID_PARAMETER;
         }
-        simctl_tick(); /* the old rate applies up to now */
-        if (!simclock_set_scale(scale)) {
+        if (!(scale >= SIMCLOCK_SCALE_MIN && scale <= SIMCLOCK_SCALE_MAX)) {
             return sc_fail(ctx, E_RANGE_ERROR, "the scale must be %g to %g", SIMCLOCK_SCALE_MIN,
                            SIMCLOCK_SCALE_MAX);
         }
+        if (sc_checking(ctx)) {
+            return E_SUCCESS;
+        }
+        simctl_tick();                   /* the old rate applies up to now */
+        (void)simclock_set_scale(scale); /* in range: checked above */
         simctl_reset_max_lag();
         host_logf(HAL_LOG_INFO, "clock scale %.3fx", scale);
     }

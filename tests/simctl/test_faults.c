@@ -67,10 +67,37 @@ START_TEST(unknown_fault_is_refused_and_changes_nothing)
     ck_assert_str_eq(ctl("FAULTS?"), "FAULTS=[]");
     CTL_ERR("FAULT(\"MELTDOWN\")", 24);
     CTL_ERR("FAULT(3)", 24);
-    CTL_ERR("FAULT(\"FINGER\",2)", 24);
+    CTL_ERR("FAULT(\"FINGER\",2)", 28);
     CTL_ERR("FAULT()", 13);
     ck_assert_str_eq(ctl("FAULTS?"), "FAULTS=[]");
     ck_assert_int_eq(t_flag(SF_FAST_STOP), 0);
+}
+END_TEST
+
+START_TEST(integer_arguments_are_whole_numbers_in_range)
+{
+    /* a fraction is not rounded to a finger, a huge value is not converted */
+    CTL_ERR("FAULT(\"FINGER_POWER\",0.9)", 28);
+    CTL_ERR("FAULT(\"FINGER_POWER\",-0.5)", 28);
+    CTL_ERR("FAULT(\"FINGER_POWER\",1e300)", 28);
+    CTL_ERR("FAULT(\"FINGER_POWER\",-1e300)", 28);
+    CTL_ERR("FAULT(\"FINGER_POWER\",\"0\")", 24);
+    CTL_ERR("CLEAR(\"POWER\",2147483648)", 28);
+    CTL_ERR("CLEAR(\"POWER\",1)", 12); /* POWER has no finger */
+    CTL_ERR("CLEAR(\"DELAY\",1)", 12);
+    CTL_ERR("FAILNEXT(\"MOVE\",1e300)", 28);
+    CTL_ERR("FAILNEXT(\"MOVE\",-1e300)", 28);
+    CTL_ERR("DELAY(10,1e300)", 28);
+    CTL_ERR("DELAY(10,0.5)", 28);
+    CTL_ERR("CUT(-1)", 28);
+    CTL_ERR("CUT(4294967297.5)", 28);
+    ck_assert_str_eq(ctl("FAULTS?"), "FAULTS=[]");
+    ck_assert_str_eq(ctl("FAULT(\"FINGER_POWER\",1e-300)"),
+                     "ERR FAULT 28 the finger must be an integer 0 to 1");
+    CTL_EQ("FAULT(\"FINGER_POWER\",1.0)", "ACK FAULT"); /* 1.0 is the integer 1 */
+    ck_assert_ptr_nonnull(strstr(ctl("FAULTS?"), "FINGER1_POWER"));
+    CTL_EQ("CLEAR(\"FINGER_POWER\",1)", "ACK CLEAR");
+    CTL_EQ("FAULTS?", "FAULTS=[]");
 }
 END_TEST
 
@@ -177,6 +204,7 @@ Suite *faults_suite(void)
     tcase_add_test(tc, power_fault_needs_clearing_and_acknowledging);
     tcase_add_test(tc, motor_current_fault_needs_clearing_and_acknowledging);
     tcase_add_test(tc, unknown_fault_is_refused_and_changes_nothing);
+    tcase_add_test(tc, integer_arguments_are_whole_numbers_in_range);
     tcase_add_test(tc, faults_are_listed_until_cleared);
     tcase_add_test(tc, failnext_fails_the_next_command_once);
     tcase_add_test(tc, failnext_rejects_bad_input);

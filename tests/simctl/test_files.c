@@ -71,6 +71,36 @@ START_TEST(bad_scenario_lines_name_file_and_line)
 }
 END_TEST
 
+START_TEST(scenario_arguments_are_checked_at_start)
+{
+    expect_scenario_error("0 PART(40)\n0 PART(400)\n",
+                          "2: ERR PART 28 width must be above 0 and below the 110 mm stroke: "
+                          "PART(400)");
+    expect_scenario_error("0 FAULT(\"FINGER_POWER\",0.5)\n",
+                          "1: ERR FAULT 28 the finger must be an integer 0 to 1: "
+                          "FAULT(\"FINGER_POWER\",0.5)");
+    expect_scenario_error("0 FAULT(\"MELTDOWN\")\n", "1: ERR FAULT 24 unknown fault MELTDOWN");
+    expect_scenario_error("0 DELAY(10,0.5)\n", "1: ERR DELAY 28 the session id must be");
+    expect_scenario_error("0 AMBIENT=900\n", "1: ERR AMBIENT 28 ambient must be -40 to 150 C");
+    expect_scenario_error("0 SCALE=0\n", "1: ERR SCALE 28 the scale must be");
+    expect_scenario_error("0 FAILNEXT(\"MOVE\",99)\n", "1: ERR FAILNEXT 28 the code must be");
+    expect_scenario_error("0 CLEAR(\"FAILNEXT\",1)\n", "1: ERR CLEAR 12 FAILNEXT takes no finger");
+    expect_scenario_error("0 LOG(12)\n", "1: ERR LOG 24 argument 1 must be a name");
+    /* checking changes nothing; what depends on the state is left to run time */
+    const char *path = t_temp_file("0 PART(40)\n0 FAULT(POWER)\n0 SCALE=2\n0 AMBIENT=30\n"
+                                   "0 DELAY(10,99)\n0 CUT(98)\n0 PART_REMOVE()\n"
+                                   "0 OBSTACLE(30)\n0 FAILNEXT(MOVE,18)\n0 LOG(hello)\n");
+    ck_assert(scenario_load(path, t_now_us() + 1000u));
+    ck_assert_str_eq(ctl("PART?"), "PART=[0,0,0,0]");
+    ck_assert_str_eq(ctl("OBSTACLE?"), "OBSTACLE=[0,0]");
+    ck_assert_str_eq(ctl("FAULTS?"), "FAULTS=[]");
+    ck_assert_str_eq(ctl("SCALE?"), "SCALE=1");
+    ck_assert_str_eq(ctl("AMBIENT?"), "AMBIENT=25");
+    remove(path);
+    scenario_unload();
+}
+END_TEST
+
 typedef struct {
     const char *path;
     host_options_t *opts;
@@ -208,6 +238,7 @@ Suite *files_suite(void)
     tcase_add_checked_fixture(tc, t_setup_homed, t_teardown);
     tcase_add_test(tc, scenario_runs_on_the_simulated_clock);
     tcase_add_test(tc, bad_scenario_lines_name_file_and_line);
+    tcase_add_test(tc, scenario_arguments_are_checked_at_start);
     tcase_add_test(tc, config_sets_the_device_like_its_web_interface);
     tcase_add_test(tc, bad_config_lines_name_file_and_line);
     tcase_add_test(tc, record_writes_every_line_with_both_clocks);
