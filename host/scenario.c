@@ -139,12 +139,15 @@ static void run_event(const event_t *e)
     free(reply);
 }
 
-void scenario_run_due(uint64_t now_us)
+unsigned scenario_run_due(uint64_t now_us, unsigned max)
 {
-    while (sc.next < sc.count && sc.events[sc.next].at_us <= now_us) {
+    unsigned ran = 0;
+    while (ran < max && sc.next < sc.count && sc.events[sc.next].at_us <= now_us) {
         const event_t *e = &sc.events[sc.next++];
         run_event(e);
+        ran++;
     }
+    return ran;
 }
 
 uint64_t scenario_next_us(void)

@@ -11,6 +11,7 @@
 #include "hal_clock.h"
 #include "sim_world.h"
 #include "simctl_cmd_internal.h"
+#include "simctl_run.h"
 
 #define CALL GCL_FORM_CALL
 #define QUERY GCL_FORM_QUERY
@@ -265,7 +266,7 @@ static char *ack_line(const char *name)
     return asprintf(&text, "ACK %s", name) < 0 ? NULL : text;
 }
 
-char *simctl_exec(const char *line, size_t len, bool *close)
+char *simctl_exec(const char *line, size_t len, simctl_outcome_t *outcome)
 {
     gcl_command_t cmd;
     wsg_status_t status = E_SUCCESS;
@@ -275,8 +276,16 @@ char *simctl_exec(const char *line, size_t len, bool *close)
     if (e != NULL) {
         status = e->handler(&ctx);
     }
-    if (close != NULL) {
-        *close = ctx.close;
+    if (outcome != NULL) {
+        outcome->close = ctx.close;
+        outcome->deferred = ctx.deferred;
+    }
+    if (ctx.deferred && outcome != NULL) {
+        return NULL;
+    }
+    if (ctx.deferred) {
+        simctl_step_finish();
+        ctx.reply = simctl_step_reply();
     }
     if (status != E_SUCCESS) {
         free(ctx.reply);

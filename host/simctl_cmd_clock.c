@@ -1,7 +1,10 @@
 /* PAUSE, RESUME, STEP, SCALE, SIMTIME: the one simulated clock. */
+#include <stdio.h>
+
 #include "hal_clock.h"
 #include "log.h"
 #include "simclock.h"
+#include "simctl_cmd.h"
 #include "simctl_cmd_internal.h"
 #include "simctl_run.h"
 
@@ -43,9 +46,18 @@ wsg_status_t sc_step(simctl_ctx_t *ctx)
     if (!simclock_paused()) {
         return sc_fail(ctx, E_ACCESS_DENIED, "the clock is running; PAUSE() first");
     }
-    simctl_step((uint64_t)(ms * 1000.0 + 0.5));
-    sc_reply(ctx, "%.3f", (double)hal_clock_now_us() / 1000.0);
+    simctl_step_begin((uint64_t)(ms * 1000.0 + 0.5));
+    ctx->deferred = true;
     return E_SUCCESS;
+}
+
+char *simctl_step_reply(void)
+{
+    char *text = NULL;
+    if (asprintf(&text, "STEP=%.3f", (double)hal_clock_now_us() / 1000.0) < 0) {
+        return NULL;
+    }
+    return text;
 }
 
 wsg_status_t sc_scale(simctl_ctx_t *ctx)

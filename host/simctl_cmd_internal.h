@@ -16,6 +16,7 @@ typedef struct {
     char why[192];
     wsg_status_t failed; /* the status sc_fail() set last */
     bool close;
+    bool deferred;   /* a STEP started: the reply comes when it has run */
     bool check_only; /* only check the arguments (a scenario at start-up) */
 } simctl_ctx_t;
 

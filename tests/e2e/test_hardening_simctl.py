@@ -3,8 +3,10 @@
 
 No assertion here depends on how fast the machine is: every check is on
 replies, exit statuses and simulated time."""
+import json
 import os
 import re
+import select
 import subprocess
 import tempfile
 import unittest
@@ -87,6 +89,69 @@ class TestInputFiles(StartupCase):
         config = self.temp("[device]\n#%s\ncolour = red\n" % ("x" * 300), ".ini")
         self.assert_refused(["--config", config], "wsgsim: %s:3: [device] colour: unknown key"
                             % config)
+
+
+SUBSCRIPTIONS = ("AUTOSEND(\"POS\",1000,0.5)\nAUTOSEND(\"SPEED\",1000,0.5)\n"
+                 "AUTOSEND(\"FORCE\",1000,0.5)\nAUTOSEND(\"TEMP\",1000,0.5)\n"
+                 "AUTOSEND(\"GRIPSTATE\",1000)\nAUTOSEND(\"SYSFLAGS\",1000)\n")
+
+
+def nothing_to_read(conn):
+    """True when no byte waits on the connection (without waiting)."""
+    if conn.buffer:
+        return False
+    ready, _, _ = select.select([conn.sock], [], [], 0)
+    return not ready
+
+
+class TestLargeReplies(SimctlCase):
+    def test_state_of_every_session_with_subscriptions(self):
+        sim, ctl = self.start("--start-paused", "--max-clients", "128")
+        sessions = [sim.tcp() for _ in range(128)] + [sim.udp() for _ in range(16)]
+        for conn in sessions:
+            self.addCleanup(conn.close)
+            if hasattr(conn, "send_raw"):
+                conn.send_raw(SUBSCRIPTIONS.encode())
+            else:
+                for line in SUBSCRIPTIONS.splitlines():
+                    conn.send(line)
+            for _ in range(6):
+                self.assertEqual(conn.read_line_skipping_autosend(30), "ACK AUTOSEND")
+        state = ctl.json("STATE?")
+        self.assertEqual(len(state["sessions"]), 144)
+        self.assertTrue(all(len(s["autosend"]) == 6 for s in state["sessions"]))
+        self.assertGreater(len(json.dumps(state, separators=(",", ":"))), 65536)
+        # a client that asks many times before reading is slowed, not cut off
+        ctl.send_raw(b"STATE?\n" * 12 + b"SIMTIME?\n")
+        replies = [ctl.read_line(60) for _ in range(13)]
+        self.assertTrue(all(r.startswith("STATE={") for r in replies[:12]))
+        self.assertEqual(len(set(replies[:12])), 1)
+        self.assertEqual(replies[12], "SIMTIME=[0.000,0.000]")
+
+
+class TestSlicedTime(SimctlCase):
+    def test_gcl_is_answered_while_a_long_step_runs(self):
+        record = self.temp("")
+        sim, ctl = self.start("--start-paused", "--record", record)
+        gcl = sim.tcp()
+        self.assertEqual(gcl.command("AUTOSEND(\"POS\",1000)"), "ACK AUTOSEND")
+        self.assertEqual(ctl("STEP(1)", 60), "STEP=1.000")
+        self.assertEqual(gcl.read_line(60), "@POS=55.0")  # the first, at 1 ms
+        ctl.send("STEP(3600000)")  # an hour of simulated time
+        # the next @POS is due at 1001 ms: it exists only once the STEP runs, so
+        # the POS? below reaches wsgsim while the STEP is running
+        self.assertEqual(gcl.read_line(60), "@POS=55.0")
+        self.assertEqual(gcl.command("POS?", 60), "POS=55.0")
+        # the STEP is still running: its reply has not come
+        self.assertTrue(nothing_to_read(ctl), "the STEP answered before the GCL query")
+        self.assertEqual(ctl.read_line(900), "STEP=3600001.000")
+        self.assertEqual(ctl("SIMTIME?"), "SIMTIME=[3600001.000,0.000]")
+        with open(record) as f:
+            rows = [line.split(" ", 4) for line in f if not line.startswith("#")]
+        pos = [r for r in rows if r[2] == "s1t" and r[4] == "POS?\n"]
+        self.assertEqual(len(pos), 1)
+        # answered at the simulated instant the step had reached, before its end
+        self.assertLess(float(pos[0][0]), 3600.0)
 
 
 if __name__ == "__main__":
