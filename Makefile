@@ -9,7 +9,7 @@ CSTD := -std=c11
 WARN := -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wmissing-prototypes
 OPT ?= -O2 -g
 SAN ?= 0
-SANITIZERS := -fsanitize=address,undefined
+SANITIZERS := -fsanitize=address,undefined,float-cast-overflow
 LDFLAGS_BASE :=
 ifeq ($(SAN),1)
   OPT := -O1 -g -fno-omit-frame-pointer $(SANITIZERS) -fno-sanitize-recover=all

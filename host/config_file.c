@@ -10,9 +10,12 @@
 #include <strings.h>
 
 #include "sim_models.h"
+#include "text_file.h"
 
 #define TEXT_MAX HAL_DEVICE_STRING_MAX
 #define MAX_CLIENTS_LIMIT 128
+#define FILE_LINE_MAX 4096        /* a comment line may be this long */
+#define FILE_BYTES_MAX (1u << 20) /* a device configuration is a few KiB */
 
 typedef enum {
     K_TEXT,        /* printable, no '"', shorter than HAL_DEVICE_STRING_MAX */
@@ -103,7 +106,7 @@ static struct {
 
 /* What the parser is doing: the reader counts lines for the handler. */
 typedef struct {
-    FILE *file;
+    text_file_t file;
     int line;
     bool failed;
 } parse_state_t;
@@ -252,14 +255,38 @@ static int on_key(void *user, const char *section, const char *name, const char 
     return fail_at(st->line, section, name, "unknown key (see docs/wsgsim.example.ini)");
 }
 
+static bool is_comment(const char *text)
+{
+    const char *p = text + strspn(text, " \t");
+    return *p == ';' || *p == '#';
+}
+
+/* libinih's reader: hands it one whole line per call. A comment line of any
+ * length becomes an empty line; any other line must fit libinih's line
+ * buffer (num bytes with "\n" and NUL), else it is refused, never split. */
 static char *read_line(char *str, int num, void *stream)
 {
     parse_state_t *st = stream;
-    char *got = fgets(str, num, st->file);
-    if (got != NULL) {
-        st->line++;
+    text_file_read_t got = st->failed ? TEXT_FILE_END : text_file_next(&st->file);
+    st->failed = st->failed || got == TEXT_FILE_ERROR;
+    if (got != TEXT_FILE_LINE) {
+        return NULL;
     }
-    return got;
+    st->line = st->file.number;
+    const char *text = is_comment(st->file.line) ? "" : st->file.line;
+    size_t len = strlen(text);
+    if (num < 2 || len > (size_t)num - 2) {
+        st->failed = true;
+        text_file_fail(&st->file,
+                       "line too long for a section or key line (at most %d characters; a "
+                       "comment goes on a line of its own)",
+                       num - 2);
+        return NULL;
+    }
+    memcpy(str, text, len);
+    str[len] = '\n';
+    str[len + 1] = '\0';
+    return str;
 }
 
 static void apply_host(host_options_t *opts)
@@ -301,17 +328,16 @@ bool config_file_load(const char *path, host_options_t *opts)
 {
     config_file_forget();
     snprintf(loaded.path, sizeof(loaded.path), "%s", path);
-    parse_state_t st = {fopen(path, "r"), 0, false};
-    if (st.file == NULL) {
-        fprintf(stderr, "wsgsim: cannot read --config file %s: %s\n", path, strerror(errno));
+    parse_state_t st = {.line = 0, .failed = false};
+    if (!text_file_open(&st.file, path, "--config", FILE_LINE_MAX, FILE_BYTES_MAX)) {
         return false;
     }
     int result = ini_parse_stream(read_line, &st, on_key, &st);
-    fclose(st.file);
+    text_file_close(&st.file);
     if (result > 0 && !st.failed) {
         fprintf(stderr, "wsgsim: %s:%d: not a section header or key = value line\n", path, result);
     }
-    if (result != 0) {
+    if (result != 0 || st.failed) {
         return false;
     }
     apply_host(opts);

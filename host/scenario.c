@@ -9,8 +9,9 @@
 #include "log.h"
 #include "record.h"
 #include "simctl_cmd.h"
+#include "text_file.h"
 
-#define LINE_MAX_LEN 512
+#define LINE_MAX_LEN 4096
 
 typedef struct {
     uint64_t at_us;
@@ -67,21 +68,27 @@ static bool parse_time(const char *token, uint64_t previous_ms_us, uint64_t *at_
     return true;
 }
 
+/* Cuts a "# comment" (outside a quoted string) and the blanks before it. */
 static void strip(char *text)
 {
-    size_t len = strlen(text);
-    while (len > 0 && (text[len - 1] == '\n' || text[len - 1] == '\r' || text[len - 1] == ' ' ||
-                       text[len - 1] == '\t')) {
-        text[--len] = '\0';
+    bool quoted = false;
+    size_t len = 0;
+    for (; text[len] != '\0' && (quoted || text[len] != '#'); len++) {
+        quoted = text[len] == '"' ? !quoted : quoted;
     }
+    while (len > 0 && (text[len - 1] == ' ' || text[len - 1] == '\t')) {
+        len--;
+    }
+    text[len] = '\0';
 }
 
 /* One non-empty, non-comment line: TIME COMMAND. */
 static bool parse_line(char *text, int line, uint64_t *previous_us, uint64_t start_us)
 {
+    strip(text);
     char *p = text + strspn(text, " \t");
-    if (*p == '\0' || *p == '#') {
-        return true;
+    if (*p == '\0') {
+        return true; /* blank or comment only */
     }
     size_t time_len = strcspn(p, " \t");
     char token[64];
@@ -94,7 +101,7 @@ static bool parse_line(char *text, int line, uint64_t *previous_us, uint64_t sta
     if (at_us < *previous_us) {
         return fail(line, "times must not go backwards", token);
     }
-    char why[160];
+    char why[256];
     if (!simctl_check(command, strlen(command), true, why, sizeof(why))) {
         return fail(line, why, command);
     }
@@ -106,24 +113,18 @@ bool scenario_load(const char *path, uint64_t start_us)
 {
     scenario_unload();
     snprintf(sc.path, sizeof(sc.path), "%s", path);
-    FILE *f = fopen(path, "r");
-    if (f == NULL) {
-        fprintf(stderr, "wsgsim: cannot read --scenario file %s: %s\n", path, strerror(errno));
+    text_file_t file;
+    if (!text_file_open(&file, path, "--scenario", LINE_MAX_LEN, 0)) {
         return false;
     }
-    char text[LINE_MAX_LEN];
     uint64_t previous_us = 0;
+    text_file_read_t got = TEXT_FILE_LINE;
     bool ok = true;
-    for (int line = 1; ok && fgets(text, sizeof(text), f) != NULL; line++) {
-        if (strchr(text, '\n') == NULL && !feof(f)) {
-            ok = fail(line, "line too long", "");
-            break;
-        }
-        strip(text);
-        ok = parse_line(text, line, &previous_us, start_us);
+    while (ok && (got = text_file_next(&file)) == TEXT_FILE_LINE) {
+        ok = parse_line(file.line, file.number, &previous_us, start_us);
     }
-    fclose(f);
-    return ok;
+    text_file_close(&file);
+    return ok && got == TEXT_FILE_END;
 }
 
 static void run_event(const event_t *e)
@@ -138,12 +139,15 @@ static void run_event(const event_t *e)
     free(reply);
 }
 
-void scenario_run_due(uint64_t now_us)
+unsigned scenario_run_due(uint64_t now_us, unsigned max)
 {
-    while (sc.next < sc.count && sc.events[sc.next].at_us <= now_us) {
+    unsigned ran = 0;
+    while (ran < max && sc.next < sc.count && sc.events[sc.next].at_us <= now_us) {
         const event_t *e = &sc.events[sc.next++];
         run_event(e);
+        ran++;
     }
+    return ran;
 }
 
 uint64_t scenario_next_us(void)

@@ -65,8 +65,12 @@ static void rebase(void)
 
 bool simclock_wall_wait(uint64_t deadline_us, struct timespec *wait)
 {
-    if (clock_state.paused) {
+    if (clock_state.paused && clock_state.device_us >= clock_state.sim_base_us) {
         return false;
+    }
+    if (clock_state.paused) { /* a STEP's device time is still catching up */
+        *wait = (struct timespec){0, 0};
+        return true;
     }
     uint64_t now = simclock_now_us();
     uint64_t sim_left_us = deadline_us > now ? deadline_us - now : 0;

@@ -21,7 +21,8 @@ uint64_t simclock_device_us(void);
 /* Moves the device time forward (to at most the target). */
 void simclock_advance_device(uint64_t us);
 /* Wall time left until simulated time reaches deadline_us; false when the
- * clock is paused (only a step or resume will get there). */
+ * clock is paused (only a step or resume will get there), unless the device
+ * time is still behind a step: then no wait at all. */
 bool simclock_wall_wait(uint64_t deadline_us, struct timespec *wait);
 
 void simclock_pause(void);

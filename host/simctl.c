@@ -15,9 +15,16 @@
 #include "outq.h"
 #include "record.h"
 #include "simctl_cmd.h"
+#include "simctl_run.h"
 
 #define CONTROL_CLIENTS_MAX 8
-#define CONTROL_OUTQ_BYTES (256u * 1024u)
+/* Replies wait here for a slow reader. A command runs only while less than
+ * CONTROL_OUTQ_LOW is queued, so the queue always has room for the largest
+ * reply (a STATE? of every session is about 70 KB) and a client that sends
+ * faster than it reads is slowed down, not cut off. */
+#define CONTROL_OUTQ_BYTES (512u * 1024u)
+#define CONTROL_OUTQ_LOW (64u * 1024u)
+#define OUTQ_RECORD_MAX 0xffffu /* outq_push() takes at most this per call */
 #define READ_CHUNK 4096
 #define DEFAULT_ADDR "127.0.0.1"
 
@@ -25,9 +32,13 @@ typedef struct {
     bool in_use;
     bool closing; /* BYE answered: close once flushed */
     bool dead;    /* the peer went away or failed: close now */
+    bool eof;     /* the peer sent everything: answer it, then close */
     int fd;
     unsigned number; /* ctl<number> in logs and records */
     gcl_linebuf_t input;
+    uint8_t pending[READ_CHUNK]; /* received, not yet run (while a STEP runs) */
+    size_t pending_len;
+    size_t pending_at;
     outq_t outq;
 } control_client_t;
 
@@ -35,6 +46,7 @@ static struct {
     int listen_fd;
     const char *addr;
     unsigned connections;
+    control_client_t *stepper; /* waits for the reply of its STEP */
     control_client_t clients[CONTROL_CLIENTS_MAX];
 } ctl = {.listen_fd = -1};
 
@@ -45,6 +57,9 @@ static void channel_name(const control_client_t *c, char *out, size_t cap)
 
 static void close_client(control_client_t *c)
 {
+    if (ctl.stepper == c) {
+        ctl.stepper = NULL; /* the STEP itself runs on */
+    }
     loop_unwatch(c->fd);
     close(c->fd);
     outq_free(&c->outq);
@@ -52,9 +67,23 @@ static void close_client(control_client_t *c)
     host_logf(HAL_LOG_INFO, "control ctl%u: closed", c->number);
 }
 
+static bool input_left(const control_client_t *c)
+{
+    return c->pending_at < c->pending_len;
+}
+
+/* POLLIN once the received bytes have run; POLLOUT while replies wait (or
+ * to be called back when a STEP ended and queued input can run). */
+static void update_events(control_client_t *c, bool wake)
+{
+    bool want_input = !c->eof && !input_left(c);
+    bool want_output = wake || !outq_empty(&c->outq);
+    loop_set_events(c->fd, (short)((want_input ? POLLIN : 0) | (want_output ? POLLOUT : 0)));
+}
+
 static void flush(control_client_t *c)
 {
-    static char line[CONTROL_OUTQ_BYTES];
+    static char line[OUTQ_RECORD_MAX];
     while (!outq_empty(&c->outq)) {
         size_t len = outq_peek(&c->outq, line, sizeof(line));
         ssize_t sent = send(c->fd, line, len, MSG_NOSIGNAL | MSG_DONTWAIT);
@@ -71,24 +100,47 @@ static void flush(control_client_t *c)
         }
         outq_pop(&c->outq);
     }
-    loop_set_events(c->fd, (short)(POLLIN | (outq_empty(&c->outq) ? 0 : POLLOUT)));
+    update_events(c, false);
+}
+
+/* Queues reply + "\n" in pieces outq takes (a short reply is one piece, so
+ * one send()); a reply of any size fits while commands run only with
+ * CONTROL_OUTQ_LOW or less queued. */
+static bool queue_reply(control_client_t *c, const char *reply)
+{
+    size_t len = strlen(reply) + 1;
+    char *line = malloc(len);
+    if (line == NULL || len > outq_capacity(&c->outq) - outq_used(&c->outq) - CONTROL_OUTQ_LOW) {
+        free(line);
+        return false;
+    }
+    memcpy(line, reply, len - 1);
+    line[len - 1] = '\n';
+    bool queued = true;
+    for (size_t at = 0; queued && at < len;) {
+        size_t n = len - at < OUTQ_RECORD_MAX ? len - at : OUTQ_RECORD_MAX;
+        queued = outq_push(&c->outq, line + at, n);
+        at += n;
+    }
+    free(line);
+    return queued;
 }
 
 static void send_reply(control_client_t *c, const char *reply)
 {
-    size_t len = strlen(reply);
-    char *line = malloc(len + 1);
-    if (line == NULL) {
-        return;
-    }
-    memcpy(line, reply, len);
-    line[len] = '\n';
-    if (len + 1 > 0xffffu || !outq_push(&c->outq, line, len + 1)) {
+    if (!queue_reply(c, reply)) {
         host_logf(HAL_LOG_WARN, "control ctl%u: reply too long or not read; closing", c->number);
         c->dead = true;
     }
-    free(line);
     flush(c);
+}
+
+static void record_and_send(control_client_t *c, const char *reply)
+{
+    char channel[16];
+    channel_name(c, channel, sizeof(channel));
+    record_control(channel, '>', reply, strlen(reply));
+    send_reply(c, reply);
 }
 
 static void handle_line(control_client_t *c)
@@ -101,19 +153,83 @@ static void handle_line(control_client_t *c)
     }
     record_control(channel, '<', lb->text, lb->len);
     char *reply = NULL;
-    bool close_after = false;
+    simctl_outcome_t outcome = {false, false};
     if (gcl_linebuf_status(lb) != GCL_LINE_OK) {
         reply = strdup("ERR ? 15 line too long or with control bytes");
     } else {
-        reply = simctl_exec(lb->text, lb->len, &close_after);
+        reply = simctl_exec(lb->text, lb->len, &outcome);
+    }
+    if (outcome.deferred) {
+        ctl.stepper = c; /* the reply comes when the STEP has run */
+        return;
     }
     if (reply == NULL) {
         return;
     }
-    record_control(channel, '>', reply, strlen(reply));
-    send_reply(c, reply);
+    record_and_send(c, reply);
     free(reply);
-    c->closing = c->closing || close_after;
+    c->closing = c->closing || outcome.close;
+}
+
+/* Control commands run one at a time, in order, on every connection: none
+ * while a STEP runs (GCL clients are served meanwhile) or while this
+ * client has not read what it was sent. */
+static bool may_run(const control_client_t *c)
+{
+    return !c->closing && !c->dead && !simctl_step_running() &&
+           outq_used(&c->outq) < CONTROL_OUTQ_LOW;
+}
+
+static void run_pending(control_client_t *c)
+{
+    while (input_left(c) && may_run(c)) {
+        if (gcl_linebuf_feed(&c->input, c->pending[c->pending_at++])) {
+            handle_line(c);
+        }
+    }
+}
+
+static void receive(control_client_t *c)
+{
+    ssize_t n = recv(c->fd, c->pending, sizeof(c->pending), MSG_DONTWAIT);
+    if (n > 0) {
+        c->pending_len = (size_t)n;
+        c->pending_at = 0;
+    } else if (n == 0) {
+        c->eof = true;
+    } else if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
+        c->dead = true;
+    }
+}
+
+static void answer_step_if_done(control_client_t *c)
+{
+    if (ctl.stepper != c || simctl_step_running()) {
+        return;
+    }
+    ctl.stepper = NULL;
+    char *reply = simctl_step_reply();
+    if (reply != NULL) {
+        record_and_send(c, reply);
+        free(reply);
+    }
+}
+
+/* A STEP ended: every connection is called back (POLLOUT) to send the STEP
+ * reply or run what it received meanwhile. */
+static void on_step_done(void)
+{
+    for (unsigned i = 0; i < CONTROL_CLIENTS_MAX; i++) {
+        if (ctl.clients[i].in_use) {
+            update_events(&ctl.clients[i], true);
+        }
+    }
+}
+
+static bool finished(const control_client_t *c)
+{
+    bool nothing_left = c->eof && !input_left(c) && ctl.stepper != c;
+    return c->dead || ((c->closing || nothing_left) && outq_empty(&c->outq));
 }
 
 static void on_client(void *ctx, int fd, short revents)
@@ -123,19 +239,17 @@ static void on_client(void *ctx, int fd, short revents)
     if ((revents & POLLOUT) != 0) {
         flush(c);
     }
-    uint8_t buf[READ_CHUNK];
-    ssize_t n = 0;
-    if ((revents & (POLLIN | POLLHUP | POLLERR)) != 0 && !c->dead) {
-        n = recv(c->fd, buf, sizeof(buf), MSG_DONTWAIT);
-        c->dead = n == 0 || (n < 0 && errno != EAGAIN && errno != EINTR);
+    answer_step_if_done(c);
+    run_pending(c);
+    bool readable = (revents & (POLLIN | POLLHUP | POLLERR)) != 0;
+    if (readable && !input_left(c) && !c->eof && !c->dead && !c->closing) {
+        receive(c);
+        run_pending(c);
     }
-    for (ssize_t i = 0; i < n && !c->closing && !c->dead; i++) {
-        if (gcl_linebuf_feed(&c->input, buf[i])) {
-            handle_line(c);
-        }
-    }
-    if (c->dead || (c->closing && outq_empty(&c->outq))) {
+    if (finished(c)) {
         close_client(c);
+    } else {
+        update_events(c, false);
     }
 }
 
@@ -167,6 +281,9 @@ static void on_accept(void *ctx, int fd, short revents)
     c->fd = client_fd;
     c->closing = false;
     c->dead = false;
+    c->eof = false;
+    c->pending_len = 0;
+    c->pending_at = 0;
     c->number = ++ctl.connections;
     gcl_linebuf_reset(&c->input);
     if (!loop_watch(client_fd, POLLIN, on_client, c)) {
@@ -181,6 +298,7 @@ static void on_accept(void *ctx, int fd, short revents)
 bool simctl_start(const char *addr, int port)
 {
     ctl.addr = addr != NULL ? addr : DEFAULT_ADDR;
+    simctl_step_on_done(on_step_done);
     ctl.listen_fd = net_listen(SOCK_STREAM, ctl.addr, port);
     if (ctl.listen_fd < 0 || !loop_watch(ctl.listen_fd, POLLIN, on_accept, NULL)) {
         return false;

@@ -1,6 +1,7 @@
 /* Control line -> command -> handler -> reply line. */
 #include "simctl_cmd.h"
 
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -10,6 +11,7 @@
 #include "hal_clock.h"
 #include "sim_world.h"
 #include "simctl_cmd_internal.h"
+#include "simctl_run.h"
 
 #define CALL GCL_FORM_CALL
 #define QUERY GCL_FORM_QUERY
@@ -130,20 +132,45 @@ bool sc_text(simctl_ctx_t *ctx, unsigned i, const char **out)
     return true;
 }
 
+bool sc_integer(simctl_ctx_t *ctx, unsigned i, const char *what, int64_t min, int64_t max,
+                int64_t *out)
+{
+    double v = 0.0;
+    if (!sc_number(ctx, i, &v)) {
+        return false;
+    }
+    /* compared as doubles first: only a value known to fit is converted */
+    if (!(v >= (double)min && v <= (double)max && v == floor(v))) {
+        sc_fail(ctx, E_RANGE_ERROR, "%s must be an integer %lld to %lld", what, (long long)min,
+                (long long)max);
+        return false;
+    }
+    *out = (int64_t)v;
+    return true;
+}
+
+bool sc_checking(const simctl_ctx_t *ctx)
+{
+    return ctx->check_only;
+}
+
+/* Session ids are counted from 1; every exact integer a double holds. */
+#define SESSION_ID_MAX ((int64_t)1 << 53)
+
 wsg_session_t *sc_session(simctl_ctx_t *ctx, unsigned i)
 {
-    double id = 0.0;
-    if (!sc_number(ctx, i, &id)) {
+    int64_t id = 0;
+    if (!sc_integer(ctx, i, "the session id", 1, SESSION_ID_MAX, &id) || sc_checking(ctx)) {
         return NULL;
     }
     wsg_device_t *dev = gripper_device();
     for (unsigned k = 0; k < WSG_MAX_SESSIONS; k++) {
         wsg_session_t *s = &dev->sessions[k];
-        if (s->in_use && (double)s->generation == id) {
+        if (s->in_use && (uint64_t)s->generation == (uint64_t)id) {
             return s;
         }
     }
-    sc_fail(ctx, E_NOT_FOUND, "no open session %g (see SESSIONS?)", id);
+    sc_fail(ctx, E_NOT_FOUND, "no open session %lld (see SESSIONS?)", (long long)id);
     return NULL;
 }
 
@@ -194,6 +221,24 @@ static const simctl_entry_t *resolve(const char *line, size_t len, gcl_command_t
     return *status == E_SUCCESS ? e : NULL;
 }
 
+/* Runs the handler in check-only mode when the command has arguments (what
+ * a command without them can meet, e.g. no part to remove, depends on the
+ * state when it runs). */
+static bool check_arguments(const simctl_entry_t *e, const gcl_command_t *cmd, char *why,
+                            size_t cap)
+{
+    if (cmd->form == GCL_FORM_QUERY || cmd->argc == 0) {
+        return true;
+    }
+    simctl_ctx_t ctx = {.cmd = cmd, .check_only = true};
+    wsg_status_t status = e->handler(&ctx);
+    free(ctx.reply);
+    if (status != E_SUCCESS) {
+        snprintf(why, cap, "ERR %s %d %s", e->name, (int)status, ctx.why);
+    }
+    return status == E_SUCCESS;
+}
+
 bool simctl_check(const char *line, size_t len, bool for_scenario, char *why, size_t cap)
 {
     gcl_command_t cmd;
@@ -203,7 +248,7 @@ bool simctl_check(const char *line, size_t len, bool for_scenario, char *why, si
         snprintf(why, cap, "%s cannot be used in a scenario", e->name);
         return false;
     }
-    return e != NULL;
+    return e != NULL && check_arguments(e, &cmd, why, cap);
 }
 
 static char *error_line(const char *name, wsg_status_t status, const char *why)
@@ -221,7 +266,7 @@ static char *ack_line(const char *name)
     return asprintf(&text, "ACK %s", name) < 0 ? NULL : text;
 }
 
-char *simctl_exec(const char *line, size_t len, bool *close)
+char *simctl_exec(const char *line, size_t len, simctl_outcome_t *outcome)
 {
     gcl_command_t cmd;
     wsg_status_t status = E_SUCCESS;
@@ -231,8 +276,16 @@ char *simctl_exec(const char *line, size_t len, bool *close)
     if (e != NULL) {
         status = e->handler(&ctx);
     }
-    if (close != NULL) {
-        *close = ctx.close;
+    if (outcome != NULL) {
+        outcome->close = ctx.close;
+        outcome->deferred = ctx.deferred;
+    }
+    if (ctx.deferred && outcome != NULL) {
+        return NULL;
+    }
+    if (ctx.deferred) {
+        simctl_step_finish();
+        ctx.reply = simctl_step_reply();
     }
     if (status != E_SUCCESS) {
         free(ctx.reply);

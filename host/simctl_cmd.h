@@ -6,13 +6,23 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+typedef struct {
+    bool close;    /* the line asked to end the channel (BYE) */
+    bool deferred; /* a STEP runs on: its reply is simctl_step_reply() once
+                    * simctl_step_running() turns false */
+} simctl_outcome_t;
+
 /* Runs one control line (without its terminator) and returns the reply line
  * (malloc'd, no '\n'): "ACK NAME", "NAME=value" or "ERR NAME code reason".
- * *close (if given) becomes true when the line asked to end the channel. */
-char *simctl_exec(const char *line, size_t len, bool *close);
+ * With an outcome, a STEP only starts: NULL is returned and the STEP runs in
+ * slices from the event loop. Without one, a STEP runs to its end first. */
+char *simctl_exec(const char *line, size_t len, simctl_outcome_t *outcome);
+/* "STEP=<simulated ms>", the reply of a STEP that has run (malloc'd). */
+char *simctl_step_reply(void);
 
-/* True when the line is a known control command in a form it accepts; else
- * why not. for_scenario also refuses commands a scenario cannot run. */
+/* True when the line is a known control command in a form it accepts, with
+ * valid arguments (checked without acting; a session id only for its form);
+ * else why not. for_scenario also refuses commands a scenario cannot run. */
 bool simctl_check(const char *line, size_t len, bool for_scenario, char *why, size_t cap);
 
 #endif

@@ -1,7 +1,10 @@
 /* PAUSE, RESUME, STEP, SCALE, SIMTIME: the one simulated clock. */
+#include <stdio.h>
+
 #include "hal_clock.h"
 #include "log.h"
 #include "simclock.h"
+#include "simctl_cmd.h"
 #include "simctl_cmd_internal.h"
 #include "simctl_run.h"
 
@@ -34,15 +37,27 @@ wsg_status_t sc_step(simctl_ctx_t *ctx)
     if (!sc_number(ctx, 0, &ms)) {
         return E_INVALID_PARAMETER;
     }
-    if (!simclock_paused()) {
-        return sc_fail(ctx, E_ACCESS_DENIED, "the clock is running; PAUSE() first");
-    }
     if (!(ms > 0.0 && ms <= STEP_MAX_MS)) {
         return sc_fail(ctx, E_RANGE_ERROR, "ms must be above 0 and at most %.0f", STEP_MAX_MS);
     }
-    simctl_step((uint64_t)(ms * 1000.0 + 0.5));
-    sc_reply(ctx, "%.3f", (double)hal_clock_now_us() / 1000.0);
+    if (sc_checking(ctx)) {
+        return E_SUCCESS;
+    }
+    if (!simclock_paused()) {
+        return sc_fail(ctx, E_ACCESS_DENIED, "the clock is running; PAUSE() first");
+    }
+    simctl_step_begin((uint64_t)(ms * 1000.0 + 0.5));
+    ctx->deferred = true;
     return E_SUCCESS;
+}
+
+char *simctl_step_reply(void)
+{
+    char *text = NULL;
+    if (asprintf(&text, "STEP=%.3f", (double)hal_clock_now_us() / 1000.0) < 0) {
+        return NULL;
+    }
+    return text;
 }
 
 wsg_status_t sc_scale(simctl_ctx_t *ctx)
@@ -52,11 +67,15 @@ wsg_status_t sc_scale(simctl_ctx_t *ctx)
         if (!sc_number(ctx, 0, &scale)) {
             return E_INVALID_PARAMETER;
         }
-        simctl_tick(); /* the old rate applies up to now */
-        if (!simclock_set_scale(scale)) {
+        if (!(scale >= SIMCLOCK_SCALE_MIN && scale <= SIMCLOCK_SCALE_MAX)) {
             return sc_fail(ctx, E_RANGE_ERROR, "the scale must be %g to %g", SIMCLOCK_SCALE_MIN,
                            SIMCLOCK_SCALE_MAX);
         }
+        if (sc_checking(ctx)) {
+            return E_SUCCESS;
+        }
+        simctl_tick();                   /* the old rate applies up to now */
+        (void)simclock_set_scale(scale); /* in range: checked above */
         simctl_reset_max_lag();
         host_logf(HAL_LOG_INFO, "clock scale %.3fx", scale);
     }

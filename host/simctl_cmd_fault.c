@@ -14,12 +14,18 @@
 
 #define DELAY_MAX_MS 600000.0
 
-/* FAULT(name[,finger]) / CLEAR(name[,finger]): which hardware fault. */
+/* FAULT(name[,finger]) / CLEAR(name[,finger]): which hardware fault. The
+ * finger is an integer 0 or 1, given for the finger faults only. */
 static bool read_fault(simctl_ctx_t *ctx, simctl_fault_t *fault)
 {
     const char *name = NULL;
-    double finger = -1.0;
-    if (!sc_text(ctx, 0, &name) || (sc_has_arg(ctx, 1) && !sc_number(ctx, 1, &finger))) {
+    int64_t finger = -1;
+    if (!sc_text(ctx, 0, &name) ||
+        (sc_has_arg(ctx, 1) && !sc_integer(ctx, 1, "the finger", 0, 1, &finger))) {
+        return false;
+    }
+    if (sc_has_arg(ctx, 1) && simctl_fault_by_name(name, -1, fault)) {
+        sc_fail(ctx, E_NO_PARAM_EXPECTED, "%s takes no finger", name);
         return false;
     }
     if (!simctl_fault_by_name(name, (int)finger, fault)) {
@@ -37,6 +43,9 @@ wsg_status_t sc_fault(simctl_ctx_t *ctx)
     simctl_fault_t fault;
     if (!read_fault(ctx, &fault)) {
         return ctx->failed;
+    }
+    if (sc_checking(ctx)) {
+        return E_SUCCESS;
     }
     simctl_fault_raise(fault);
     sc_world_changed();
@@ -61,34 +70,45 @@ static void clear_delays(void)
     }
 }
 
-/* CLEAR("DELAY") and CLEAR("FAILNEXT"): the protocol faults. */
-static bool clear_protocol(const char *name)
+/* DELAY and FAILNEXT: the protocol faults, cleared by name alone. */
+static bool is_protocol_fault(const char *name)
 {
+    return strcasecmp(name, "DELAY") == 0 || strcasecmp(name, "FAILNEXT") == 0;
+}
+
+static wsg_status_t clear_protocol(simctl_ctx_t *ctx, const char *name)
+{
+    if (sc_has_arg(ctx, 1)) {
+        return sc_fail(ctx, E_NO_PARAM_EXPECTED, "%s takes no finger", name);
+    }
+    if (sc_checking(ctx)) {
+        return E_SUCCESS;
+    }
     if (strcasecmp(name, "DELAY") == 0) {
         clear_delays();
-        return true;
-    }
-    if (strcasecmp(name, "FAILNEXT") == 0) {
+    } else {
         clear_failnext();
-        return true;
     }
-    return false;
+    return E_SUCCESS;
 }
 
 wsg_status_t sc_clear(simctl_ctx_t *ctx)
 {
     const char *name = NULL;
+    simctl_fault_t fault;
     if (!sc_has_arg(ctx, 0)) {
         simctl_fault_clear_all();
         clear_delays();
         clear_failnext();
-    } else if (sc_text(ctx, 0, &name) && clear_protocol(name)) {
+    } else if (!sc_text(ctx, 0, &name)) {
+        return ctx->failed;
+    } else if (is_protocol_fault(name)) {
+        return clear_protocol(ctx, name);
+    } else if (!read_fault(ctx, &fault)) {
+        return ctx->failed;
+    } else if (sc_checking(ctx)) {
         return E_SUCCESS;
     } else {
-        simctl_fault_t fault;
-        if (!read_fault(ctx, &fault)) {
-            return ctx->failed;
-        }
         simctl_fault_clear(fault);
     }
     sc_world_changed();
@@ -121,7 +141,13 @@ wsg_status_t sc_delay(simctl_ctx_t *ctx)
     }
     if (sc_has_arg(ctx, 1)) {
         wsg_session_t *s = sc_session(ctx, 1);
+        if (sc_checking(ctx)) {
+            return ctx->failed;
+        }
         return s != NULL ? delay_session(s, ms) : ctx->failed;
+    }
+    if (sc_checking(ctx)) {
+        return E_SUCCESS;
     }
     unsigned armed = 0;
     wsg_device_t *dev = gripper_device();
@@ -149,16 +175,19 @@ static bool gcl_command_name(const char *text, char *upper, size_t cap)
 wsg_status_t sc_failnext(simctl_ctx_t *ctx)
 {
     const char *name = NULL;
-    double code = 0.0;
+    int64_t code = 0;
     char upper[GCL_NAME_MAX + 1];
-    if (!sc_text(ctx, 0, &name) || !sc_number(ctx, 1, &code)) {
+    if (!sc_text(ctx, 0, &name)) {
         return ctx->failed;
     }
     if (!gcl_command_name(name, upper, sizeof(upper))) {
         return sc_fail(ctx, E_INVALID_PARAMETER, "%s is not a GCL command", name);
     }
-    if (!(code >= 1.0 && code < (double)WSG_STATUS_COUNT && code == (double)(int)code)) {
-        return sc_fail(ctx, E_RANGE_ERROR, "code must be an integer 1 to %d", WSG_STATUS_COUNT - 1);
+    if (!sc_integer(ctx, 1, "the code", 1, WSG_STATUS_COUNT - 1, &code)) {
+        return ctx->failed;
+    }
+    if (sc_checking(ctx)) {
+        return E_SUCCESS;
     }
     wsg_device_inject_failure(gripper_device(), upper, (wsg_status_t)(int)code);
     host_logf(HAL_LOG_WARN, "fault injected: FAILNEXT %s answers ERR %s %d", upper, upper,
@@ -183,7 +212,7 @@ wsg_status_t sc_cut(simctl_ctx_t *ctx)
     if (sc_has_arg(ctx, 0)) {
         wsg_session_t *s = sc_session(ctx, 0);
         if (s == NULL) {
-            return ctx->failed;
+            return ctx->failed; /* E_SUCCESS while only checking a good id */
         }
         return cut_session(s) ? E_SUCCESS
                               : sc_fail(ctx, E_NOT_FOUND, "session has no connection to cut");

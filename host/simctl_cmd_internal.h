@@ -16,6 +16,8 @@ typedef struct {
     char why[192];
     wsg_status_t failed; /* the status sc_fail() set last */
     bool close;
+    bool deferred;   /* a STEP started: the reply comes when it has run */
+    bool check_only; /* only check the arguments (a scenario at start-up) */
 } simctl_ctx_t;
 
 typedef wsg_status_t (*simctl_handler_t)(simctl_ctx_t *ctx);
@@ -48,8 +50,17 @@ void sc_reply_json(simctl_ctx_t *ctx, cJSON *json);
 bool sc_number(simctl_ctx_t *ctx, unsigned i, double *out);
 bool sc_text(simctl_ctx_t *ctx, unsigned i, const char **out);
 bool sc_has_arg(const simctl_ctx_t *ctx, unsigned i);
-/* Argument i as a session id of an open session; NULL (reason set) if not. */
+/* Argument i as an integer min..max (what names it in the reason): false with
+ * ERR 24 when it is not a number, ERR 28 when it has a fraction or is out of
+ * range. Never converts an out-of-range double. */
+bool sc_integer(simctl_ctx_t *ctx, unsigned i, const char *what, int64_t min, int64_t max,
+                int64_t *out);
+/* Argument i as a session id of an open session; NULL (reason set) if not.
+ * While only checking, any well-formed id passes (returns NULL, no failure). */
 wsg_session_t *sc_session(simctl_ctx_t *ctx, unsigned i);
+/* True while the handler only checks its arguments: it must change nothing
+ * and return E_SUCCESS once they are valid. */
+bool sc_checking(const simctl_ctx_t *ctx);
 /* The device noticed a change of the world at once (a control step now). */
 void sc_world_changed(void);
 

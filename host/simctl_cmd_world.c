@@ -68,6 +68,9 @@ wsg_status_t sc_part(simctl_ctx_t *ctx)
         !read_optional(ctx, 2, now->present ? now->slip_force_n : 0.0, &slip)) {
         return ctx->failed;
     }
+    if (sc_checking(ctx)) {
+        return E_SUCCESS;
+    }
     sim_axis_set_part(&sim_world()->axis, (float)width, (float)stiffness, (float)slip);
     host_logf(HAL_LOG_INFO, "world: part %.2f mm, %.1f N/mm, slips below %.1f N", width, stiffness,
               slip);
@@ -108,6 +111,9 @@ wsg_status_t sc_obstacle(simctl_ctx_t *ctx)
     if (!read_width(ctx, 0, &width)) {
         return ctx->failed;
     }
+    if (sc_checking(ctx)) {
+        return E_SUCCESS;
+    }
     sim_axis_place_obstacle(&sim_world()->axis, (float)width);
     host_logf(HAL_LOG_INFO, "world: obstacle at %.2f mm", width);
     sc_world_changed();
@@ -136,6 +142,9 @@ wsg_status_t sc_ambient(simctl_ctx_t *ctx)
         if (!(celsius >= AMBIENT_MIN_C && celsius <= AMBIENT_MAX_C)) {
             return sc_fail(ctx, E_RANGE_ERROR, "ambient must be %g to %g C", AMBIENT_MIN_C,
                            AMBIENT_MAX_C);
+        }
+        if (sc_checking(ctx)) {
+            return E_SUCCESS;
         }
         thermal->ambient_c = (float)celsius;
         host_logf(HAL_LOG_INFO, "world: ambient %.1f C", celsius);

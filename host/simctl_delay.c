@@ -1,13 +1,18 @@
 #include "simctl_delay.h"
 
 #include <stddef.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "gripper.h"
 #include "hal_clock.h"
 #include "log.h"
 
-#define HELD_BYTES 16384u
+/* What one delayed session may hold: past it the delay ends early and every
+ * held line is delivered (a reply is never dropped). 256 KiB is about half a
+ * minute of the fastest AUTOSEND streams. */
+#define HELD_MAX_BYTES (256u * 1024u)
+#define HELD_FIRST_BYTES 4096u
 #define RECORD_HEADER 3u /* kind, length high byte, length low byte */
 
 typedef struct {
@@ -20,17 +25,48 @@ typedef struct {
     void *io_ctx;
     unsigned lines;
     size_t used;
-    uint8_t held[HELD_BYTES];
+    size_t cap;
+    uint8_t *held; /* malloc'd, grows up to HELD_MAX_BYTES */
 } delay_slot_t;
 
 static delay_slot_t slots[WSG_MAX_SESSIONS];
 
-static void hold_line(delay_slot_t *d, const char *line, size_t len, wsg_line_kind_t kind)
+/* Room for need more bytes; false past HELD_MAX_BYTES (or out of memory). */
+static bool make_room(delay_slot_t *d, size_t need)
 {
-    if (len > 0xffffu || d->used + RECORD_HEADER + len > HELD_BYTES) {
-        host_logf(HAL_LOG_WARN, "delayed session s%llu: hold buffer full, line dropped",
-                  (unsigned long long)d->generation);
-        return;
+    if (d->used + need <= d->cap) {
+        return true;
+    }
+    if (d->used + need > HELD_MAX_BYTES) {
+        return false;
+    }
+    size_t cap = d->cap == 0 ? HELD_FIRST_BYTES : d->cap;
+    while (cap < d->used + need) {
+        cap *= 2;
+    }
+    cap = cap < HELD_MAX_BYTES ? cap : HELD_MAX_BYTES;
+    uint8_t *grown = realloc(d->held, cap);
+    if (grown == NULL) {
+        return false;
+    }
+    d->held = grown;
+    d->cap = cap;
+    return true;
+}
+
+static void drop_held(delay_slot_t *d)
+{
+    free(d->held);
+    d->held = NULL;
+    d->used = 0;
+    d->cap = 0;
+    d->lines = 0;
+}
+
+static bool hold_line(delay_slot_t *d, const char *line, size_t len, wsg_line_kind_t kind)
+{
+    if (len > 0xffffu || !make_room(d, RECORD_HEADER + len)) {
+        return false;
     }
     uint8_t *p = &d->held[d->used];
     p[0] = (uint8_t)kind;
@@ -39,6 +75,23 @@ static void hold_line(delay_slot_t *d, const char *line, size_t len, wsg_line_ki
     memcpy(p + RECORD_HEADER, line, len);
     d->used += RECORD_HEADER + len;
     d->lines++;
+    return true;
+}
+
+static void release(unsigned index, bool send);
+
+/* The hold is full: the delay ends now, everything held goes out in order,
+ * then this line. Logged once per DELAY, since the delay is over. */
+static void overflow(delay_slot_t *d, const char *line, size_t len, wsg_line_kind_t kind)
+{
+    host_logf(HAL_LOG_WARN,
+              "DELAY of session %llu ended early: more than %u KiB of lines held; "
+              "delivering them now",
+              (unsigned long long)d->generation, HELD_MAX_BYTES / 1024u);
+    const wsg_session_io_t *io = d->io;
+    void *io_ctx = d->io_ctx;
+    release((unsigned)(d - slots), true);
+    io->write_line(io_ctx, line, len, kind);
 }
 
 static void delayed_write(void *ctx, const char *line, size_t len, wsg_line_kind_t kind)
@@ -48,10 +101,10 @@ static void delayed_write(void *ctx, const char *line, size_t len, wsg_line_kind
         d->holding = true;
         d->release_us = hal_clock_now_us() + d->delay_us;
     }
-    if (d->holding) {
-        hold_line(d, line, len, kind);
-    } else {
+    if (!d->holding) {
         d->io->write_line(d->io_ctx, line, len, kind); /* AUTOSEND before the reply */
+    } else if (!hold_line(d, line, len, kind)) {
+        overflow(d, line, len, kind);
     }
 }
 
@@ -64,7 +117,8 @@ void simctl_delay_arm(wsg_session_t *s, uint32_t delay_us)
         d->delay_us = delay_us; /* re-armed before it took effect */
         return;
     }
-    memset(d, 0, offsetof(delay_slot_t, held));
+    drop_held(d);
+    memset(d, 0, sizeof(*d));
     d->armed = true;
     d->generation = s->generation;
     d->delay_us = delay_us;
@@ -100,14 +154,14 @@ static void release(unsigned index, bool send)
     wsg_session_t *s = owner(index, d);
     d->armed = false;
     d->holding = false;
-    if (s == NULL) {
-        return; /* the session went away: its lines have no receiver */
+    if (s != NULL) { /* else the session went away: its lines have no receiver */
+        s->io = d->io;
+        s->io_ctx = d->io_ctx;
+        if (send) {
+            deliver(d);
+        }
     }
-    s->io = d->io;
-    s->io_ctx = d->io_ctx;
-    if (send) {
-        deliver(d);
-    }
+    drop_held(d);
 }
 
 unsigned simctl_delay_release_due(uint64_t now_us)
@@ -116,7 +170,7 @@ unsigned simctl_delay_release_due(uint64_t now_us)
     for (unsigned i = 0; i < WSG_MAX_SESSIONS; i++) {
         delay_slot_t *d = &slots[i];
         if (d->armed && owner(i, d) == NULL) {
-            d->armed = false; /* closed while armed */
+            release(i, false); /* closed while armed */
         } else if (d->armed && d->holding && now_us >= d->release_us) {
             release(i, true);
             released++;

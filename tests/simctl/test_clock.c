@@ -1,10 +1,14 @@
 /* PAUSE, RESUME, STEP, SCALE, SIMTIME: the one clock. */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "gripper.h"
 #include "harness.h"
+#include "scenario.h"
 #include "simclock.h"
+#include "simctl_cmd.h"
+#include "simctl_run.h"
 
 static const char *expected_time(const char *name, uint64_t us)
 {
@@ -105,6 +109,106 @@ START_TEST(autosend_follows_the_stepped_clock)
 }
 END_TEST
 
+/* STEP as the control channel runs it: started, then sliced by the loop. */
+static void start_step(const char *line)
+{
+    simctl_outcome_t outcome = {false, false};
+    char *reply = simctl_exec(line, strlen(line), &outcome);
+    ck_assert_ptr_null(reply);
+    ck_assert(outcome.deferred);
+    ck_assert(simctl_step_running());
+}
+
+START_TEST(a_long_step_is_sliced_and_gcl_is_served_between_slices)
+{
+    uint64_t t0 = t_now_us();
+    GCL_EQ("HOME()", "ACK HOME");
+    start_step("STEP(3600000)");
+    simctl_tick(); /* one slice, as the event loop runs it between polls */
+    uint64_t mid = t_now_us();
+    ck_assert_uint_gt(mid, t0);
+    ck_assert_uint_lt(mid, t0 + 3600000000u);
+    ck_assert(simctl_step_running());
+    /* a GCL command between two slices is answered at the instant reached */
+    ck_assert_str_ne(gcl("POS?"), "<no reply>");
+    ck_assert_uint_eq(t_now_us(), mid);
+    simctl_step_finish();
+    ck_assert(!simctl_step_running());
+    ck_assert_uint_eq(t_now_us(), t0 + 3600000000u);
+    char *reply = simctl_step_reply();
+    ck_assert_str_eq(reply, expected_time("STEP", t0 + 3600000000u));
+    free(reply);
+}
+END_TEST
+
+/* Every line a HOME with AUTOSEND produces in 1500 ms, stepped either way. */
+static void home_transcript(bool sliced, char lines[][T_LINE_LEN], size_t *count)
+{
+    GCL_EQ("AUTOSEND(\"POS\",10)", "ACK AUTOSEND");
+    GCL_EQ("HOME()", "ACK HOME");
+    if (sliced) {
+        start_step("STEP(1500)");
+        while (simctl_step_running()) {
+            simctl_tick();
+        }
+    } else {
+        for (int i = 0; i < 1500; i++) {
+            t_step_ms(1);
+        }
+    }
+    *count = gcl_unread();
+    for (size_t i = 0; i < *count; i++) {
+        snprintf(lines[i], T_LINE_LEN, "%s", gcl_next());
+    }
+}
+
+START_TEST(a_sliced_step_ends_as_one_millisecond_steps_do)
+{
+    static char sliced[T_LINES_MAX][T_LINE_LEN];
+    static char stepped[T_LINES_MAX][T_LINE_LEN];
+    size_t n_sliced = 0;
+    size_t n_stepped = 0;
+    home_transcript(true, sliced, &n_sliced);
+    t_teardown();
+    t_setup();
+    home_transcript(false, stepped, &n_stepped);
+    ck_assert_uint_gt(n_sliced, 140);
+    ck_assert_uint_eq(n_sliced, n_stepped);
+    bool homed = false;
+    for (size_t i = 0; i < n_sliced; i++) {
+        ck_assert_str_eq(sliced[i], stepped[i]);
+        homed = homed || strcmp(sliced[i], "FIN HOME") == 0;
+    }
+    ck_assert(homed);
+}
+END_TEST
+
+START_TEST(many_events_at_one_instant_are_sliced_at_that_instant)
+{
+    enum { EVENTS = 2000 };
+    static char text[EVENTS * 16];
+    size_t at = 0;
+    for (int i = 0; i < EVENTS; i++) {
+        at += (size_t)snprintf(text + at, sizeof(text) - at, "0 AMBIENT=%d\n", i % 100);
+    }
+    const char *path = t_temp_file(text);
+    uint64_t t0 = t_now_us();
+    ck_assert(scenario_load(path, t0));
+    remove(path);
+    simctl_tick(); /* one slice */
+    ck_assert_uint_gt(scenario_pending(), 0);
+    ck_assert_uint_lt(scenario_pending(), EVENTS);
+    ck_assert_uint_eq(t_now_us(), t0); /* the rest still runs at its own instant */
+    ck_assert_str_ne(gcl("POS?"), "<no reply>");
+    while (scenario_pending() > 0) {
+        simctl_tick();
+    }
+    ck_assert_uint_eq(t_now_us(), t0);
+    CTL_EQ("AMBIENT?", "AMBIENT=99");
+    scenario_unload();
+}
+END_TEST
+
 Suite *clock_suite(void)
 {
     Suite *s = suite_create("clock");
@@ -117,6 +221,9 @@ Suite *clock_suite(void)
     tcase_add_test(tc, step_rejects_bad_durations);
     tcase_add_test(tc, scale_accepts_its_range_only);
     tcase_add_test(tc, autosend_follows_the_stepped_clock);
+    tcase_add_test(tc, a_long_step_is_sliced_and_gcl_is_served_between_slices);
+    tcase_add_test(tc, a_sliced_step_ends_as_one_millisecond_steps_do);
+    tcase_add_test(tc, many_events_at_one_instant_are_sliced_at_that_instant);
     suite_add_tcase(s, tc);
     return s;
 }

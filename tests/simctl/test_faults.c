@@ -2,6 +2,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "gripper.h"
 #include "harness.h"
 #include "wsg_types.h"
 
@@ -67,10 +68,37 @@ START_TEST(unknown_fault_is_refused_and_changes_nothing)
     ck_assert_str_eq(ctl("FAULTS?"), "FAULTS=[]");
     CTL_ERR("FAULT(\"MELTDOWN\")", 24);
     CTL_ERR("FAULT(3)", 24);
-    CTL_ERR("FAULT(\"FINGER\",2)", 24);
+    CTL_ERR("FAULT(\"FINGER\",2)", 28);
     CTL_ERR("FAULT()", 13);
     ck_assert_str_eq(ctl("FAULTS?"), "FAULTS=[]");
     ck_assert_int_eq(t_flag(SF_FAST_STOP), 0);
+}
+END_TEST
+
+START_TEST(integer_arguments_are_whole_numbers_in_range)
+{
+    /* a fraction is not rounded to a finger, a huge value is not converted */
+    CTL_ERR("FAULT(\"FINGER_POWER\",0.9)", 28);
+    CTL_ERR("FAULT(\"FINGER_POWER\",-0.5)", 28);
+    CTL_ERR("FAULT(\"FINGER_POWER\",1e300)", 28);
+    CTL_ERR("FAULT(\"FINGER_POWER\",-1e300)", 28);
+    CTL_ERR("FAULT(\"FINGER_POWER\",\"0\")", 24);
+    CTL_ERR("CLEAR(\"POWER\",2147483648)", 28);
+    CTL_ERR("CLEAR(\"POWER\",1)", 12); /* POWER has no finger */
+    CTL_ERR("CLEAR(\"DELAY\",1)", 12);
+    CTL_ERR("FAILNEXT(\"MOVE\",1e300)", 28);
+    CTL_ERR("FAILNEXT(\"MOVE\",-1e300)", 28);
+    CTL_ERR("DELAY(10,1e300)", 28);
+    CTL_ERR("DELAY(10,0.5)", 28);
+    CTL_ERR("CUT(-1)", 28);
+    CTL_ERR("CUT(4294967297.5)", 28);
+    ck_assert_str_eq(ctl("FAULTS?"), "FAULTS=[]");
+    ck_assert_str_eq(ctl("FAULT(\"FINGER_POWER\",1e-300)"),
+                     "ERR FAULT 28 the finger must be an integer 0 to 1");
+    CTL_EQ("FAULT(\"FINGER_POWER\",1.0)", "ACK FAULT"); /* 1.0 is the integer 1 */
+    ck_assert_ptr_nonnull(strstr(ctl("FAULTS?"), "FINGER1_POWER"));
+    CTL_EQ("CLEAR(\"FINGER_POWER\",1)", "ACK CLEAR");
+    CTL_EQ("FAULTS?", "FAULTS=[]");
 }
 END_TEST
 
@@ -145,6 +173,66 @@ START_TEST(delay_shows_and_clears)
 }
 END_TEST
 
+/* A GCL session that counts its lines and checks they alternate SN / TAG. */
+typedef struct {
+    unsigned lines;
+    unsigned out_of_order;
+} counting_client_t;
+
+static void count_line(void *ctx, const char *line, size_t len, wsg_line_kind_t kind)
+{
+    counting_client_t *c = ctx;
+    (void)kind;
+    const char *expect = c->lines % 2 == 0 ? "SN=" : "TAG=";
+    c->out_of_order += len < 4 || strncmp(line, expect, strlen(expect)) != 0 ? 1u : 0u;
+    c->lines++;
+}
+
+#define FLOOD_LINES 40000u /* about 560 KB of replies, past the 256 KiB hold */
+
+static bool flood_delayed_session(void *arg)
+{
+    wsg_session_t *s = arg;
+    for (unsigned i = 0; i < FLOOD_LINES; i++) {
+        const char *line = i % 2 == 0 ? "SN?\n" : "TAG?\n";
+        gripper_feed(s, (const uint8_t *)line, strlen(line), 0);
+    }
+    return true;
+}
+
+static unsigned count_of(const char *text, const char *what)
+{
+    unsigned n = 0;
+    for (const char *p = strstr(text, what); p != NULL; p = strstr(p + 1, what)) {
+        n++;
+    }
+    return n;
+}
+
+START_TEST(delay_never_drops_a_reply)
+{
+    static const wsg_session_io_t counting_io = {count_line};
+    counting_client_t client = {0, 0};
+    wsg_session_t *s =
+        wsg_session_open(gripper_device(), WSG_TRANSPORT_STREAM, &counting_io, &client);
+    ck_assert_ptr_nonnull(s);
+    char line[48];
+    snprintf(line, sizeof(line), "DELAY(60000,%u)", (unsigned)s->generation);
+    CTL_EQ(line, "ACK DELAY");
+    bool ok = false;
+    const char *log = t_capture_stderr(flood_delayed_session, s, &ok);
+    /* the hold overflowed: the delay ended early and every reply went out */
+    ck_assert_uint_eq(client.lines, FLOOD_LINES);
+    ck_assert_uint_eq(client.out_of_order, 0);
+    ck_assert_uint_eq(count_of(log, "ended early"), 1);
+    ck_assert_ptr_nonnull(strstr(log, "warning: DELAY of session"));
+    CTL_EQ("FAULTS?", "FAULTS=[]");
+    t_step_ms(60000);
+    ck_assert_uint_eq(client.lines, FLOOD_LINES);
+    wsg_session_close(gripper_device(), s, WSG_CLOSE_ANNOUNCED);
+}
+END_TEST
+
 START_TEST(cut_needs_a_connection)
 {
     /* this session has no socket behind it: the e2e tests cut real ones */
@@ -177,11 +265,13 @@ Suite *faults_suite(void)
     tcase_add_test(tc, power_fault_needs_clearing_and_acknowledging);
     tcase_add_test(tc, motor_current_fault_needs_clearing_and_acknowledging);
     tcase_add_test(tc, unknown_fault_is_refused_and_changes_nothing);
+    tcase_add_test(tc, integer_arguments_are_whole_numbers_in_range);
     tcase_add_test(tc, faults_are_listed_until_cleared);
     tcase_add_test(tc, failnext_fails_the_next_command_once);
     tcase_add_test(tc, failnext_rejects_bad_input);
     tcase_add_test(tc, delay_holds_the_next_reply_on_the_simulated_clock);
     tcase_add_test(tc, delay_shows_and_clears);
+    tcase_add_test(tc, delay_never_drops_a_reply);
     tcase_add_test(tc, cut_needs_a_connection);
     tcase_add_test(tc, finger_fault_reaches_the_finger);
     suite_add_tcase(s, tc);

@@ -2,6 +2,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "config_file.h"
 #include "gripper.h"
@@ -68,6 +69,36 @@ START_TEST(bad_scenario_lines_name_file_and_line)
     expect_scenario_error("100 STEP(5)\n", "1: STEP cannot be used in a scenario: STEP(5)");
     expect_scenario_error("100 PART()\n", "1: not enough arguments; usage: "
                                           "PART(width[,stiffness[,slip_force]]) | PART?: PART()");
+}
+END_TEST
+
+START_TEST(scenario_arguments_are_checked_at_start)
+{
+    expect_scenario_error("0 PART(40)\n0 PART(400)\n",
+                          "2: ERR PART 28 width must be above 0 and below the 110 mm stroke: "
+                          "PART(400)");
+    expect_scenario_error("0 FAULT(\"FINGER_POWER\",0.5)\n",
+                          "1: ERR FAULT 28 the finger must be an integer 0 to 1: "
+                          "FAULT(\"FINGER_POWER\",0.5)");
+    expect_scenario_error("0 FAULT(\"MELTDOWN\")\n", "1: ERR FAULT 24 unknown fault MELTDOWN");
+    expect_scenario_error("0 DELAY(10,0.5)\n", "1: ERR DELAY 28 the session id must be");
+    expect_scenario_error("0 AMBIENT=900\n", "1: ERR AMBIENT 28 ambient must be -40 to 150 C");
+    expect_scenario_error("0 SCALE=0\n", "1: ERR SCALE 28 the scale must be");
+    expect_scenario_error("0 FAILNEXT(\"MOVE\",99)\n", "1: ERR FAILNEXT 28 the code must be");
+    expect_scenario_error("0 CLEAR(\"FAILNEXT\",1)\n", "1: ERR CLEAR 12 FAILNEXT takes no finger");
+    expect_scenario_error("0 LOG(12)\n", "1: ERR LOG 24 argument 1 must be a name");
+    /* checking changes nothing; what depends on the state is left to run time */
+    const char *path = t_temp_file("0 PART(40)\n0 FAULT(POWER)\n0 SCALE=2\n0 AMBIENT=30\n"
+                                   "0 DELAY(10,99)\n0 CUT(98)\n0 PART_REMOVE()\n"
+                                   "0 OBSTACLE(30)\n0 FAILNEXT(MOVE,18)\n0 LOG(hello)\n");
+    ck_assert(scenario_load(path, t_now_us() + 1000u));
+    ck_assert_str_eq(ctl("PART?"), "PART=[0,0,0,0]");
+    ck_assert_str_eq(ctl("OBSTACLE?"), "OBSTACLE=[0,0]");
+    ck_assert_str_eq(ctl("FAULTS?"), "FAULTS=[]");
+    ck_assert_str_eq(ctl("SCALE?"), "SCALE=1");
+    ck_assert_str_eq(ctl("AMBIENT?"), "AMBIENT=25");
+    remove(path);
+    scenario_unload();
 }
 END_TEST
 
@@ -165,6 +196,110 @@ START_TEST(bad_config_lines_name_file_and_line)
 }
 END_TEST
 
+/* A 199-character comment whose tail libinih's 200-byte line buffer used to
+ * cut off and parse as a key line. */
+static char *long_comment_then(const char *after)
+{
+    static char text[1024];
+    char comment[200];
+    memset(comment, 'x', sizeof(comment));
+    comment[0] = '#';
+    snprintf(text, sizeof(text), "[device]\n%.*sserial = 999\n%s", (int)sizeof(comment) - 1,
+             comment, after);
+    return text;
+}
+
+START_TEST(config_lines_are_read_whole_or_refused)
+{
+    static char *argv[] = {"wsgsim", NULL};
+    host_options_t opts;
+    options_parse(1, argv, &opts);
+    const char *path = t_temp_file(long_comment_then("tag = long comments\n"));
+    ck_assert(config_file_load(path, &opts));
+    ck_assert(config_file_check(opts.model));
+    remove(path);
+    gripper_init(&opts);
+    t_reopen();
+    GCL_EQ("SN?", "SN=12345678"); /* the comment set nothing */
+    GCL_EQ("TAG?", "TAG=\"long comments\"");
+    bool ok = true;
+    /* line numbers after a long line stay right */
+    ck_assert_str_eq(config_error(long_comment_then("colour = red\n"), &ok),
+                     ":3: [device] colour: unknown key (see docs/wsgsim.example.ini)\n");
+    char key_line[400];
+    snprintf(key_line, sizeof(key_line), "[device]\ntag = %0300d\n", 7);
+    ck_assert_ptr_nonnull(strstr(config_error(key_line, &ok),
+                                 ":2: line too long for a section or key line (at most "));
+    ck_assert(!ok);
+    ck_assert_str_eq(config_error("[device]\ntag = a\001b\n", &ok),
+                     ":2: [device] tag: expected printable text without '\"', at most 47 "
+                     "characters\n");
+}
+END_TEST
+
+static bool load_config_path(void *path)
+{
+    static char *argv[] = {"wsgsim", NULL};
+    host_options_t opts;
+    options_parse(1, argv, &opts);
+    return config_file_load(path, &opts);
+}
+
+/* What loading `path` as a config and as a scenario prints (both must fail). */
+static void expect_both_refuse(const char *path, const char *message)
+{
+    bool ok = true;
+    char expect[256];
+    snprintf(expect, sizeof(expect), message, path);
+    const char *err = t_capture_stderr(load_config_path, (void *)path, &ok);
+    ck_assert(!ok);
+    ck_assert_msg(strstr(err, expect) != NULL, "config: got %s want %s", err, expect);
+    err = t_capture_stderr(load_scenario, (void *)path, &ok);
+    ck_assert(!ok);
+    ck_assert_msg(strstr(err, expect) != NULL, "scenario: got %s want %s", err, expect);
+}
+
+START_TEST(unreadable_files_are_refused_clearly)
+{
+    char dir[] = "/tmp/simctl_dir_XXXXXX";
+    ck_assert_ptr_nonnull(mkdtemp(dir));
+    char message[160];
+    snprintf(message, sizeof(message), "file %%s: it is a directory");
+    expect_both_refuse(dir, message);
+    rmdir(dir);
+    expect_both_refuse("/dev/zero", "wsgsim: %s:1: NUL byte at column 1");
+    char path[] = "/tmp/simctl_nul_XXXXXX";
+    int fd = mkstemp(path);
+    ck_assert_int_eq(write(fd, "# ok\n0 LOG(a\0b)\n", 17), 17);
+    close(fd);
+    expect_both_refuse(path, "wsgsim: %s:2: NUL byte at column 8");
+    remove(path);
+}
+END_TEST
+
+START_TEST(scenario_lines_take_trailing_comments)
+{
+    const char *path = t_temp_file("0 PART(40, 100)   # a part\n"
+                                   "+10 LOG(\"# not a comment\") # but this is\n"
+                                   "20\tOBSTACLE(60)#tight\n");
+    ck_assert(scenario_load(path, t_now_us()));
+    remove(path);
+    ck_assert_uint_eq(scenario_pending(), 3);
+    t_step_ms(20);
+    ck_assert_uint_eq(scenario_pending(), 0);
+    ck_assert_str_eq(ctl("PART?"), "PART=[1,40,100,0]");
+    ck_assert_str_eq(ctl("OBSTACLE?"), "OBSTACLE=[1,60]");
+    scenario_unload();
+    char *text = malloc(5000);
+    memset(text, ' ', 4999);
+    memcpy(text, "0 PART(40)", 10);
+    text[4998] = '\n';
+    text[4999] = '\0';
+    expect_scenario_error(text, "1: line too long (more than 4096 characters)");
+    free(text);
+}
+END_TEST
+
 START_TEST(record_writes_every_line_with_both_clocks)
 {
     char path[] = "/tmp/simctl_record_XXXXXX";
@@ -208,6 +343,10 @@ Suite *files_suite(void)
     tcase_add_checked_fixture(tc, t_setup_homed, t_teardown);
     tcase_add_test(tc, scenario_runs_on_the_simulated_clock);
     tcase_add_test(tc, bad_scenario_lines_name_file_and_line);
+    tcase_add_test(tc, scenario_arguments_are_checked_at_start);
+    tcase_add_test(tc, scenario_lines_take_trailing_comments);
+    tcase_add_test(tc, config_lines_are_read_whole_or_refused);
+    tcase_add_test(tc, unreadable_files_are_refused_clearly);
     tcase_add_test(tc, config_sets_the_device_like_its_web_interface);
     tcase_add_test(tc, bad_config_lines_name_file_and_line);
     tcase_add_test(tc, record_writes_every_line_with_both_clocks);
