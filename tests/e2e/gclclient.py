@@ -237,6 +237,7 @@ class Wsgsim:
         self.udp_port = None
         self.log = []
         self._log_buffer = b""
+        self.returncode = None  # the exit status, once stopped
 
     def __enter__(self):
         self.start()
@@ -311,7 +312,7 @@ class Wsgsim:
         self._log_buffer = b""
         self.log.append(rest.decode(errors="replace"))
         self.proc.stderr.close()
-        code = self.proc.returncode
+        code = self.returncode = self.proc.returncode
         self.proc = None
         return code
 

@@ -335,6 +335,18 @@ class TestChannel(SimctlCase):
 
 
 class TestRecordAndCoverage(SimctlCase):
+    def test_unwritable_report_files_stop_the_start(self):
+        missing = os.path.join(tempfile.mkdtemp(prefix="wsgsim_"), "missing", "report")
+        self.addCleanup(os.rmdir, os.path.dirname(os.path.dirname(missing)))
+        for option in ("--record", "--coverage"):
+            sim = Wsgsim(option, missing)
+            self.addCleanup(sim.stop)  # were it to start after all
+            with self.assertRaises(GclError, msg=option):
+                sim.start()
+            self.assertEqual(sim.returncode, 2, option)
+            self.assertIn("wsgsim: cannot write %s file %s: No such file or directory"
+                          % (option, missing), "".join(sim.log))
+
     def test_strict_coverage_lists_tolerated_input(self):
         report = tempfile.mktemp(suffix=".json")
         record = tempfile.mktemp()
