@@ -307,6 +307,29 @@ class TestChannel(SimctlCase):
         self.assertEqual(gcl.command("TAG?"), "TAG=\"assembly cell 3\"")
         self.assertEqual(gcl.command("SN?"), "SN=20240117")
 
+    def test_example_config_works_with_every_model(self):
+        example = os.path.join(ROOT, "docs", "wsgsim.example.ini")
+        listed = subprocess.run([Wsgsim().binary, "--list-models"], capture_output=True,
+                                text=True, timeout=DEFAULT_TIMEOUT)
+        models = [line.split("  ")[0] for line in listed.stdout.splitlines()]
+        self.assertGreaterEqual(len(models), 4, listed.stdout)
+        with open(example) as f:
+            text = f.read()
+        model_key = re.compile(r"^;? *model = .*$", re.M)
+        self.assertEqual(len(model_key.findall(text)), 1, "no model key in the example")
+        for model in models:
+            # chosen on the command line, and by the file's own model key
+            in_file = self.temp(model_key.sub("model = " + model, text), ".ini")
+            for args in (("--config", example, "--model", model), ("--config", in_file)):
+                sim = Wsgsim(*args)
+                sim.start()
+                self.addCleanup(sim.stop)
+                gcl = sim.tcp()
+                self.assertEqual(gcl.command("DEVTYPE?"), "DEVTYPE=\"%s\"" % model, args)
+                self.assertEqual(gcl.command("TAG?"), "TAG=\"assembly cell 3\"", args)
+                gcl.close()
+                sim.stop()
+
     def test_wsgctl_talks_to_the_channel(self):
         sim, ctl = self.start("--start-paused")
         run = lambda *cmds: subprocess.run([sys.executable, WSGCTL, "--port", str(sim.sim_port)]
