@@ -96,6 +96,20 @@ class GclTcp(_GclLines):
         line, self.buffer = self.buffer.split(b"\n", 1)
         return line.decode("ascii")
 
+    def lines_before_reply(self, query="GRIPSTATE?"):
+        """Sends query and returns every line that arrived before its reply.
+        The server sends in order on a connection, so these are all the lines
+        it sent before it read the query: a barrier that, unlike a look at
+        what has arrived, does not depend on how fast the kernel delivers."""
+        self.send(query)
+        prefix = query.rstrip("?") + "="
+        lines = []
+        while True:
+            line = self.read_line()
+            if line.startswith(prefix):
+                return lines
+            lines.append(line)
+
     def pending(self):
         """True when a whole line can be read without waiting."""
         while b"\n" not in self.buffer:
@@ -199,12 +213,11 @@ class Control(GclTcp):
             if not reply.startswith("STEP="):
                 raise GclError("STEP(%d): unexpected %r" % (step_ms, reply))
             stepped += step_ms
-            # STEP answers after every line it produced was sent
-            while client.pending():
-                line = client.read_line_skipping_autosend()
+            for line in client.lines_before_reply():
                 if line == final:
                     return stepped
-                raise GclError("waiting for %r: got %r" % (final, line))
+                if not line.startswith("@"):
+                    raise GclError("waiting for %r: got %r" % (final, line))
         raise GclError("no %r within %d ms of simulated time" % (final, limit_ms))
 
 

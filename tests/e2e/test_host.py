@@ -161,9 +161,7 @@ class PausedDriverSequences(HostCase):
         self.assertEqual(self.ctl("STEP(1000)"), "STEP=1000.000")
         counts = []
         for client in (fast, slow):
-            lines = []
-            while client.pending():  # STEP answers once its lines were sent
-                lines.append(client.read_line())
+            lines = client.lines_before_reply()
             self.assertTrue(all(line.startswith("@") for line in lines), lines)
             counts.append(len(lines))
         # the first value goes out when the stream starts, then one per

@@ -248,7 +248,6 @@ class TestFaults(SimctlCase):
         self.assertEqual(ctl("STEP(299)"), "STEP=299.000")
         self.assertFalse(gcl.pending(), "the reply came before its 300 ms delay")
         self.assertEqual(ctl("STEP(1)"), "STEP=300.000")
-        self.assertTrue(gcl.pending(), "the reply did not come after its 300 ms delay")
         self.assertEqual(gcl.read_line(), "POS=55.0")
         # only the next reply was delayed: the clock stands still, so this
         # one can only arrive if it is not held
