@@ -55,10 +55,12 @@ class Suite:
     def summary(self):
         if self.counted:
             detail = "%d passed, %d failed" % (self.passed, self.failed)
+        elif self.ok():
+            detail = self.last_line.decode("ascii", "replace")[:60]
         else:
-            detail = self.last_line.decode("ascii", "replace")[:60] or "no output"
+            detail = "no test count: the build or the run failed (see above)"
         if not self.ok():
-            detail += " (make exit status %d)" % self.status
+            detail += ", make exit status %d" % self.status
         return "  %-4s  %-16s %5.0f s  %s" % ("ok" if self.ok() else "FAIL", self.name,
                                              self.seconds, detail)
 
