@@ -9,8 +9,8 @@ import tempfile
 import time
 import unittest
 
-from gclclient import (DEFAULT_TIMEOUT, GclError, Wsgsim, ROOT, read_record, wait_for,
-                       wait_for_reply)
+from gclclient import DEFAULT_TIMEOUT, GclError, Wsgsim, ROOT, read_record, wait_for
+from gclclient import Control  # noqa: F401 (other suites import it from here)
 
 WSGCTL = os.path.join(ROOT, "tools", "wsgctl")
 
