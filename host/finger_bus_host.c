@@ -7,7 +7,7 @@
 
 #include "can_loopback.h"
 #include "can_socketcan.h"
-#include "finger_proto.h"
+#include "wsg/finger_proto.h"
 #include "log.h"
 #include "loop.h"
 

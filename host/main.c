@@ -58,8 +58,6 @@ static int stop_simulation(const host_options_t *opts)
 
 static void announce(const host_options_t *opts)
 {
-    const wsg_device_t *dev = gripper_device();
-    (void)dev;
     host_logf(HAL_LOG_INFO, "virtual %s ready: tcp %s:%d, udp %s:%d%s", opts->model,
               opts->bind_addr, tcp_server_port(), opts->bind_addr, udp_server_port(),
               simctl_describe());
@@ -88,7 +86,9 @@ int main(int argc, char **argv)
     if (!finger_bus_host_start(&opts)) {
         return EXIT_STARTUP_FAILED;
     }
-    gripper_init(&opts);
+    static gripper_t gripper; /* the device this process serves */
+    gripper_init(&gripper, &opts);
+    gripper_serve(&gripper);
     if (!start_servers(&opts) || !start_simulation(&opts)) {
         return EXIT_STARTUP_FAILED;
     }

@@ -6,8 +6,8 @@
 #include <string.h>
 
 #include "config_file.h"
-#include "finger_node.h"
-#include "sim_models.h"
+#include "sim/finger_node.h"
+#include "sim/sim_models.h"
 #include "version.h"
 
 #define DEFAULT_PORT 1000

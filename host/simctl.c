@@ -8,7 +8,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include "gcl_linebuf.h"
+#include "wsg/gcl_linebuf.h"
 #include "log.h"
 #include "loop.h"
 #include "net.h"
