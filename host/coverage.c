@@ -415,16 +415,34 @@ char *coverage_report_json(bool strict, bool pretty)
     return text;
 }
 
-bool coverage_write(const char *path, bool strict)
+/* The report file, opened at start so that an unwritable path is an error
+ * before the run rather than after it. */
+static FILE *report_file;
+static const char *report_path;
+
+bool coverage_open(const char *path)
+{
+    report_file = fopen(path, "w");
+    if (report_file == NULL) {
+        fprintf(stderr, "wsgsim: cannot write --coverage file %s: %s\n", path, strerror(errno));
+        return false;
+    }
+    report_path = path;
+    return true;
+}
+
+bool coverage_write(bool strict)
 {
     char *text = coverage_report_json(strict, true);
-    FILE *f = fopen(path, "w");
+    FILE *f = report_file;
     bool ok = f != NULL && text != NULL && fputs(text, f) >= 0 && fputc('\n', f) != EOF;
     if (f != NULL && fclose(f) != 0) {
         ok = false;
     }
+    report_file = NULL;
     if (!ok) {
-        fprintf(stderr, "wsgsim: cannot write --coverage file %s: %s\n", path, strerror(errno));
+        fprintf(stderr, "wsgsim: cannot write --coverage file %s: %s\n", report_path,
+                strerror(errno));
     }
     free(text);
     return ok;

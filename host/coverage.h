@@ -23,7 +23,11 @@ void coverage_line_in(const wsg_session_t *s);
 
 /* The report as JSON text (malloc'd; free() it). pretty: indented. */
 char *coverage_report_json(bool strict, bool pretty);
-/* Writes the indented report to path; false with a message on stderr. */
-bool coverage_write(const char *path, bool strict);
+/* Opens (truncates) the report file at start; false with a message on
+ * stderr when it cannot be written. */
+bool coverage_open(const char *path);
+/* Writes the indented report to the opened file and closes it; false with a
+ * message on stderr. */
+bool coverage_write(bool strict);
 
 #endif

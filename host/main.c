@@ -36,6 +36,9 @@ static bool start_simulation(const host_options_t *opts)
     if (opts->record_path != NULL && !record_open(opts->record_path)) {
         return false;
     }
+    if (opts->coverage_path != NULL && !coverage_open(opts->coverage_path)) {
+        return false;
+    }
     if (opts->scenario_path != NULL && !scenario_load(opts->scenario_path, 0)) {
         return false;
     }
@@ -47,7 +50,7 @@ static int stop_simulation(const host_options_t *opts)
     simctl_stop();
     scenario_unload();
     record_close();
-    if (opts->coverage_path != NULL && !coverage_write(opts->coverage_path, opts->strict)) {
+    if (opts->coverage_path != NULL && !coverage_write(opts->strict)) {
         return 1;
     }
     return 0;

@@ -38,7 +38,7 @@ $(CAN_TEST_BIN): $(CAN_TEST_OBJ) $(BUILD)/libwsgcore.a
 	$(CC) $(LDFLAGS_BASE) -o $@ $(CAN_TEST_OBJ) $(BUILD)/libwsgcore.a $(CAN_TEST_LIBS)
 
 can-unit-tests: $(CAN_TEST_BIN)
-	$(CAN_TEST_BIN)
+	$(CHECK_ENV) $(CAN_TEST_BIN)
 
 # Runs natively where vcan works, otherwise boots linux.uml; fails (never
 # skips) when neither is possible. ASan's shadow memory does not fit the

@@ -21,7 +21,7 @@ $(SIMCTL_TEST_BIN): $(SIMCTL_TEST_OBJ) $(filter-out %/host/main.o,$(HOST_OBJ)) $
 
 .PHONY: simctl-tests simctl-e2e
 simctl-tests: $(SIMCTL_TEST_BIN)
-	$(SIMCTL_TEST_BIN)
+	$(CHECK_ENV) $(SIMCTL_TEST_BIN)
 
 simctl-e2e: $(BUILD)/wsgsim
 	WSGSIM=$(abspath $(BUILD)/wsgsim) python3 tests/e2e/run.py 'test_simctl*.py'

@@ -18,7 +18,7 @@ $(UNIT_BIN): $(UNIT_OBJ) $(BUILD)/libwsgcore.a
 # Check prints its summary line; the binary exits non-zero on any failure.
 .PHONY: unit-tests
 unit-tests: $(UNIT_BIN)
-	$(UNIT_BIN)
+	$(CHECK_ENV) $(UNIT_BIN)
 
 CHECK_TARGETS += unit-tests
 

@@ -20,6 +20,12 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "e2e"))
 from gclclient import Wsgsim  # noqa: E402
 
+# Upper bounds against hangs, never assertions on speed: the scenario runs
+# inside a user-mode Linux guest on busy machines. Timing of the finger bus
+# itself (the 300 ms comm-fault timeout) is asserted on virtual time by the
+# Check tests (tests/can/test_bus.c); here it is only measured and reported.
+WAIT_S = 30.0
+
 FLAGS_OK = "[1,1,1,0,0,0,0,0,0,0,0,0,0,0,0,0]"
 COMM_FAULT = "[1,1,0,0,0,0,0,0,0,1,0,0,0,0,0,0]"
 POWER_FAULT = "[1,1,1,0,0,0,0,0,1,0,0,0,0,0,0,0]"
@@ -42,7 +48,7 @@ class Checks:
         return ok
 
 
-def wait_reply(client, query, expected, timeout):
+def wait_reply(client, query, expected, timeout=WAIT_S):
     """Polls query until it answers expected; elapsed seconds or None."""
     start = time.monotonic()
     reply = None
@@ -79,15 +85,25 @@ class Fingersim:
     def stop(self):
         if self.proc is not None and self.proc.poll() is None:
             self.proc.send_signal(signal.SIGTERM)
-            self.proc.wait(timeout=5)
+            self.proc.wait(timeout=WAIT_S)
         self.proc = None
 
 
+def wait_value(client, query, accept, timeout=WAIT_S):
+    """Polls a float query until accept(value); the last value read."""
+    start = time.monotonic()
+    while True:
+        value = float(value_of(client.command(query)))
+        if accept(value) or time.monotonic() - start > timeout:
+            return value
+        time.sleep(0.01)
+
+
 def basics(c, gcl, checks):
-    checks.check("FTYPE shows both fingers within 1 s",
-                 wait_reply(gcl, "FTYPE?", 'FTYPE=["fmf","dsa"]', 1.0) is not None)
+    checks.check("FTYPE shows both fingers",
+                 wait_reply(gcl, "FTYPE?", 'FTYPE=["fmf","dsa"]') is not None)
     checks.check("FFLAGS: powered, configured, communicating",
-                 wait_reply(gcl, "FFLAGS?", "FFLAGS=[%s,%s]" % (FLAGS_OK, FLAGS_OK), 1.0)
+                 wait_reply(gcl, "FFLAGS?", "FFLAGS=[%s,%s]" % (FLAGS_OK, FLAGS_OK))
                  is not None)
     checks.check("SF_FORCECNTL_MODE set with an FMF", gcl.command("SYSFLAGS[9]?") == "SYSFLAGS[9]=1")
     checks.check("SF_FINGER_FAULT clear", gcl.command("SYSFLAGS[17]?") == "SYSFLAGS[17]=0")
@@ -95,17 +111,17 @@ def basics(c, gcl, checks):
     checks.check("FMF reads its offset before TARE (0.6 N)", abs(untared - 0.6) < 0.1, untared)
     checks.check("TARE(1) on a DSA is not available", gcl.command("TARE(1)") == "ERR TARE 1")
     checks.check("TARE() acknowledged", gcl.command("TARE()") == "ACK TARE")
-    time.sleep(0.1)
-    tared = float(value_of(gcl.command("FDATA[0]?")))
+    # the finger tares when the request reaches it over the bus
+    tared = wait_value(gcl, "FDATA[0]?", lambda v: abs(v) < 0.08)
     checks.check("FMF reads about 0 after TARE", abs(tared) < 0.08, tared)
     c["fmf_values"].append(tared)
 
 
 def grip(c, gcl, checks):
-    checks.check("HOME", gcl.long_command("HOME()", "HOME", timeout=10) == "FIN HOME")
-    checks.check("GRIP(30) holds the part", gcl.long_command("GRIP(30)", "GRIP", timeout=10) == "FIN GRIP")
-    time.sleep(1.0)
-    force = float(value_of(gcl.command("FORCE?")))
+    checks.check("HOME", gcl.long_command("HOME()", "HOME") == "FIN HOME")
+    checks.check("GRIP(30) holds the part", gcl.long_command("GRIP(30)", "GRIP") == "FIN GRIP")
+    # force control settles on the FMF's measurements as they come over the bus
+    force = wait_value(gcl, "FORCE?", lambda v: abs(v - 30.0) < 0.3)
     checks.check("FORCE? is the FMF measurement, regulated to 30 N", abs(force - 30.0) < 0.3, force)
     for _ in range(3):
         reply = gcl.command("FDATA[0]?")
@@ -122,32 +138,31 @@ def grip(c, gcl, checks):
 
 def comm_fault(c, gcl, finger, checks, args):
     finger.kill()
-    elapsed = wait_reply(gcl, "FFLAGS[0]?", "FFLAGS[0]=" + COMM_FAULT, 2.0)
+    elapsed = wait_reply(gcl, "FFLAGS[0]?", "FFLAGS[0]=" + COMM_FAULT)
     checks.check("killed fingersim raises FF_COMM_FAULT", elapsed is not None)
     if elapsed is not None:
         checks.measured["comm_fault_detection_s"] = round(elapsed, 3)
-        checks.check("... within the 300 ms timeout (+ 150 ms)", 0.2 <= elapsed <= 0.45, elapsed)
     checks.check("SF_FINGER_FAULT set", gcl.command("SYSFLAGS[17]?") == "SYSFLAGS[17]=1")
     checks.check("FDATA[0] not available", gcl.command("FDATA[0]?") == "ERR FDATA 1")
     checks.check("FTYPE keeps the known fingers", gcl.command("FTYPE?") == 'FTYPE=["fmf","dsa"]')
     start = time.monotonic()
     finger.start()
-    elapsed = wait_reply(gcl, "FFLAGS?", "FFLAGS=[%s,%s]" % (FLAGS_OK, FLAGS_OK), 3.0)
+    elapsed = wait_reply(gcl, "FFLAGS?", "FFLAGS=[%s,%s]" % (FLAGS_OK, FLAGS_OK))
     checks.check("restarted fingersim clears the fault", elapsed is not None)
     if elapsed is not None:
         checks.measured["recovery_s"] = round(time.monotonic() - start, 3)
     checks.check("SF_FINGER_FAULT clear again",
-                 wait_reply(gcl, "SYSFLAGS[17]?", "SYSFLAGS[17]=0", 0.5) is not None)
+                 wait_reply(gcl, "SYSFLAGS[17]?", "SYSFLAGS[17]=0") is not None)
 
 
 def injection(gcl, checks, args):
     subprocess.run(["cansend", args.iface, "7E2#0100000000000000"], check=True)
     checks.check("SIMCTL power fault -> FF_POWER_FAULT",
-                 wait_reply(gcl, "FFLAGS[1]?", "FFLAGS[1]=" + POWER_FAULT, 0.5) is not None)
+                 wait_reply(gcl, "FFLAGS[1]?", "FFLAGS[1]=" + POWER_FAULT) is not None)
     checks.check("... and SF_FINGER_FAULT", gcl.command("SYSFLAGS[17]?") == "SYSFLAGS[17]=1")
     subprocess.run(["cansend", args.iface, "7E2#0000000000000000"], check=True)
     checks.check("cleared power fault",
-                 wait_reply(gcl, "FFLAGS[1]?", "FFLAGS[1]=" + FLAGS_OK, 0.5) is not None)
+                 wait_reply(gcl, "FFLAGS[1]?", "FFLAGS[1]=" + FLAGS_OK) is not None)
 
 
 def read_capture(path):
@@ -238,17 +253,31 @@ def check_capture(c, checks, args):
     checks.measured["frames_captured"] = len(frames)
 
 
+def wait_capturing(capture, iface):
+    """Sends a harmless frame (clear every injected fault, before any node
+    is up) until candump shows it: from then on it records every frame."""
+    start = time.monotonic()
+    while time.monotonic() - start < WAIT_S:
+        subprocess.run(["cansend", iface, "7E2#0000000000000000"], check=True)
+        time.sleep(0.05)
+        with open(capture) as f:
+            if "7E2#0000000000000000" in f.read():
+                return
+    raise AssertionError("candump did not start capturing within %.0f s" % WAIT_S)
+
+
 def run(args, checks):
     c = {"fmf_values": [], "dsa_vectors": [], "capture": os.path.join(args.workdir, "candump.log")}
     capture = open(c["capture"], "w")
-    candump = subprocess.Popen(["candump", "-L", args.iface], stdout=capture,
+    # line-buffered, so that the capture shows when candump is listening
+    candump = subprocess.Popen(["stdbuf", "-oL", "candump", "-L", args.iface], stdout=capture,
                                stderr=subprocess.STDOUT)
     finger = Fingersim(args.fingersim, args.iface, os.path.join(args.workdir, "fingersim.log"))
     sim = Wsgsim("--can", args.iface, "--part", "40", binary=args.wsgsim)
     try:
-        time.sleep(0.2)
+        wait_capturing(c["capture"], args.iface)
         finger.start()
-        sim.start(timeout=10)
+        sim.start()
         gcl = sim.tcp()
         basics(c, gcl, checks)
         grip(c, gcl, checks)
@@ -260,7 +289,7 @@ def run(args, checks):
         finger.stop()
         code = sim.stop()
         candump.send_signal(signal.SIGINT)
-        candump.wait(timeout=5)
+        candump.wait(timeout=WAIT_S)
         capture.close()
         with open(os.path.join(args.workdir, "wsgsim.log"), "w") as f:
             f.write("".join(sim.log))

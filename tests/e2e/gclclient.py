@@ -1,8 +1,14 @@
 """GCL test client and wsgsim launcher for end-to-end tests (stdlib only).
 
 GclTcp / GclUdp talk to any GCL server (wsgsim, or the QEMU board images);
-Wsgsim starts build/wsgsim on free loopback ports and stops it again.
+Wsgsim starts build/wsgsim on free loopback ports and stops it again;
+Control is its simulation control channel (docs/simctl.md).
+
+Timeouts here are upper bounds against hangs, never assertions on speed: the
+tests run on busy machines and under valgrind (10-50x slower), so every wait
+ends as soon as its condition holds and only gives up after a generous bound.
 """
+import json
 import os
 import re
 import select
@@ -12,7 +18,10 @@ import subprocess
 import time
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-DEFAULT_TIMEOUT = 5.0
+DEFAULT_TIMEOUT = 30.0  # a reply line
+MOTION_TIMEOUT = 60.0  # the FIN of a motion command
+START_TIMEOUT = 60.0  # wsgsim up and listening
+STOP_TIMEOUT = 60.0  # wsgsim gone after SIGTERM (valgrind checks leaks at exit)
 
 
 class GclError(AssertionError):
@@ -39,7 +48,7 @@ class _GclLines:
             raise GclError("%s: expected %r, got %r" % (line, expected, reply))
         return reply
 
-    def long_command(self, line, name, timeout=10.0):
+    def long_command(self, line, name, timeout=MOTION_TIMEOUT):
         """ACK then FIN (or ERR) of a motion command; returns the final line."""
         self.expect(line, "ACK " + name)
         return self.read_line_skipping_autosend(timeout)
@@ -87,7 +96,33 @@ class GclTcp(_GclLines):
         line, self.buffer = self.buffer.split(b"\n", 1)
         return line.decode("ascii")
 
-    def closed_by_peer(self, timeout=2.0):
+    def lines_before_reply(self, query="GRIPSTATE?"):
+        """Sends query and returns every line that arrived before its reply.
+        The server sends in order on a connection, so these are all the lines
+        it sent before it read the query: a barrier that, unlike a look at
+        what has arrived, does not depend on how fast the kernel delivers."""
+        self.send(query)
+        prefix = query.rstrip("?") + "="
+        lines = []
+        while True:
+            line = self.read_line()
+            if line.startswith(prefix):
+                return lines
+            lines.append(line)
+
+    def pending(self):
+        """True when a whole line can be read without waiting."""
+        while b"\n" not in self.buffer:
+            ready, _, _ = select.select([self.sock], [], [], 0)
+            if not ready:
+                return False
+            data = self.sock.recv(65536)
+            if not data:
+                return False
+            self.buffer += data
+        return True
+
+    def closed_by_peer(self, timeout=DEFAULT_TIMEOUT):
         """True once the server has closed the connection."""
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
@@ -127,7 +162,79 @@ class GclUdp(_GclLines):
         return data[:-1].decode("ascii")
 
 
+def wait_for(what, condition, timeout=DEFAULT_TIMEOUT, interval=0.01):
+    """Polls condition() until it returns a true value, which it returns;
+    GclError naming what after timeout."""
+    deadline = time.monotonic() + timeout
+    while True:
+        value = condition()
+        if value:
+            return value
+        if time.monotonic() > deadline:
+            raise GclError("gave up after %.0f s waiting for %s" % (timeout, what))
+        time.sleep(interval)
+
+
+def wait_for_reply(client, query, expected, timeout=DEFAULT_TIMEOUT):
+    """Repeats query until it answers expected (a state the server reaches
+    on its own, e.g. after it noticed a closed connection)."""
+    replies = []
+
+    def answered():
+        replies.append(client.command(query))
+        return replies[-1] == expected
+
+    try:
+        wait_for("%s to answer %s" % (query, expected), answered, timeout)
+    except GclError as exc:
+        raise GclError("%s (last reply %r)" % (exc, replies[-1:])) from None
+
+
+class Control(GclTcp):
+    """The simulation control channel: one reply line per command."""
+
+    def __call__(self, line, timeout=None):
+        self.send(line)
+        return self.read_line(timeout)
+
+    def json(self, query):
+        reply = self(query)
+        name, _, value = reply.partition("=")
+        if name + "?" != query:
+            raise GclError("%s: unexpected %r" % (query, reply))
+        return json.loads(value)
+
+    def step_until(self, client, final, step_ms=100, limit_ms=60000):
+        """STEPs the paused clock until client receives the line final
+        (AUTOSEND values are skipped); returns the simulated ms stepped."""
+        stepped = 0
+        while stepped < limit_ms:
+            reply = self("STEP(%d)" % step_ms)
+            if not reply.startswith("STEP="):
+                raise GclError("STEP(%d): unexpected %r" % (step_ms, reply))
+            stepped += step_ms
+            for line in client.lines_before_reply():
+                if line == final:
+                    return stepped
+                if not line.startswith("@"):
+                    raise GclError("waiting for %r: got %r" % (final, line))
+        raise GclError("no %r within %d ms of simulated time" % (final, limit_ms))
+
+
+def read_record(path):
+    """The rows of a --record file: (sim_s, wall_s, channel, dir, text)."""
+    rows = []
+    with open(path) as f:
+        for line in f:
+            if line.startswith("#"):
+                continue
+            sim_s, wall_s, channel, direction, text = line.rstrip("\n").split(" ", 4)
+            rows.append((float(sim_s), float(wall_s), channel, direction, text))
+    return rows
+
+
 READY = re.compile(r"ready: tcp [^ ]+:(-?\d+), udp [^ ]+:(-?\d+)")
+CONTROL = re.compile(r"ready: .*, control ([^ ,]+):(\d+)")
 
 
 class Wsgsim:
@@ -143,6 +250,7 @@ class Wsgsim:
         self.udp_port = None
         self.log = []
         self._log_buffer = b""
+        self.returncode = None  # the exit status, once stopped
 
     def __enter__(self):
         self.start()
@@ -151,7 +259,7 @@ class Wsgsim:
     def __exit__(self, *exc):
         self.stop()
 
-    def start(self, timeout=5.0):
+    def start(self, timeout=START_TIMEOUT):
         if not os.path.exists(self.binary):
             raise GclError("%s does not exist: run make first" % self.binary)
         self._log_buffer = b""
@@ -204,7 +312,7 @@ class Wsgsim:
         if self.proc.poll() is None:
             self.proc.send_signal(signal.SIGTERM)
             try:
-                self.proc.wait(timeout=5)
+                self.proc.wait(timeout=STOP_TIMEOUT)
             except subprocess.TimeoutExpired:
                 self.proc.kill()
                 self.proc.wait()
@@ -217,7 +325,7 @@ class Wsgsim:
         self._log_buffer = b""
         self.log.append(rest.decode(errors="replace"))
         self.proc.stderr.close()
-        code = self.proc.returncode
+        code = self.returncode = self.proc.returncode
         self.proc = None
         return code
 
@@ -226,3 +334,11 @@ class Wsgsim:
 
     def udp(self, timeout=DEFAULT_TIMEOUT):
         return GclUdp("127.0.0.1", self.udp_port, timeout)
+
+    def control(self, timeout=DEFAULT_TIMEOUT):
+        """A connection to the control channel (started with --sim-port)."""
+        match = CONTROL.search("".join(self.log))
+        if match is None:
+            raise GclError("no control channel in the ready line: start with --sim-port 0")
+        self.sim_addr, self.sim_port = match.group(1), int(match.group(2))
+        return Control("127.0.0.1", self.sim_port, timeout)

@@ -12,10 +12,12 @@ import struct
 import time
 import unittest
 
-from gclclient import GclError, GclTcp, Wsgsim
+from gclclient import DEFAULT_TIMEOUT, GclError, GclTcp, Wsgsim, wait_for
 
 POSITION = 42.0
 MIB = 1024 * 1024
+LISTEN_BACKLOG = 128  # host/net.c
+TCP_INFO_TOTAL_RETRANS = 100  # offset of tcpi_total_retrans in struct tcp_info
 
 
 def rss_kib(pid):
@@ -30,18 +32,65 @@ def open_fds(pid):
     return len(os.listdir("/proc/%d/fd" % pid))
 
 
+def wait_for_fds(sim, count):
+    """Waits until the server has accepted every connection and closed what
+    it should have (on its own time); returns how many descriptors it has
+    open."""
+    pid, port = sim.proc.pid, sim.tcp_port
+    try:
+        wait_for("descriptors to close",
+                 lambda: accept_queue(port) == 0 and open_fds(pid) <= count)
+    except GclError:
+        pass
+    return open_fds(pid)
+
+
+def retransmitted(sock):
+    """True when the kernel had to retransmit on this connection: a SYN the
+    listener dropped because its accept queue was full costs a retransmit
+    (and a 1 s stall), however fast or slow the machine is."""
+    info = sock.getsockopt(socket.IPPROTO_TCP, socket.TCP_INFO, TCP_INFO_TOTAL_RETRANS + 4)
+    return struct.unpack_from("I", info, TCP_INFO_TOTAL_RETRANS)[0] > 0
+
+
+def accept_queue(port):
+    """Connections waiting in the listener's accept queue (/proc/net/tcp)."""
+    for table in ("/proc/net/tcp", "/proc/net/tcp6"):
+        with open(table) as f:
+            for row in f.readlines()[1:]:
+                fields = row.split()
+                if fields[3] == "0A" and int(fields[1].split(":")[1], 16) == port:
+                    return int(fields[4].split(":")[1], 16)
+    raise AssertionError("port %d is not listening" % port)
+
+
+def connect_in_bursts(port, i, burst=LISTEN_BACKLOG // 4):
+    """The i-th of many quick connections, in bursts of a quarter backlog:
+    each burst starts once the server has accepted the previous one. A client
+    may outrun a slow server (valgrind) by a whole burst, which still fits
+    the backlog; the test is about the backlog, not about who is faster."""
+    if i % burst == 0:
+        wait_for("the server to accept", lambda: accept_queue(port) == 0)
+    return socket.create_connection(("127.0.0.1", port), timeout=DEFAULT_TIMEOUT)
+
+
 class AbuseCase(unittest.TestCase):
     server_args = ()
+    paused = False  # True: the clock starts paused, self.ctl steps it
 
     def setUp(self):
-        self.sim = Wsgsim(*self.server_args)
+        args = self.server_args + (("--sim-port", "0", "--start-paused") if self.paused else ())
+        self.sim = Wsgsim(*args)
         self.sim.start()
         self.clients = []
+        if self.paused:
+            self.ctl = self.sim.control()
+            self.clients.append(self.ctl)
         self.keeper = self.tcp()
         k = self.keeper
         k.expect("FSACK()", "ACK FSACK")
-        self.assertEqual(k.long_command("HOME()", "HOME"), "FIN HOME")
-        self.assertEqual(k.long_command("MOVE(%.1f)" % POSITION, "MOVE"), "FIN MOVE")
+        self.motion(k, "HOME()")
+        self.motion(k, "MOVE(%.1f)" % POSITION)
         k.expect("VERBOSE=1", "VERBOSE=1")
         k.expect("PWT=3.5", "PWT=3.5")
         self.gripstats = k.command("GRIPSTATS[0]?")
@@ -53,9 +102,18 @@ class AbuseCase(unittest.TestCase):
         self.assertEqual(code, 0, "wsgsim did not shut down cleanly:\n" + "".join(self.sim.log))
 
     def tcp(self, timeout=None):
-        client = self.sim.tcp(timeout or 10.0)
+        client = self.sim.tcp(timeout or DEFAULT_TIMEOUT)
         self.clients.append(client)
         return client
+
+    def motion(self, client, command):
+        """Runs a motion command to its FIN, stepping a paused clock."""
+        name = command.split("(")[0]
+        if self.paused:
+            client.expect(command, "ACK " + name)
+            self.ctl.step_until(client, "FIN " + name)
+        else:
+            self.assertEqual(client.long_command(command, name), "FIN " + name)
 
     def forget(self, client):
         self.clients.remove(client)
@@ -75,7 +133,7 @@ class AbuseCase(unittest.TestCase):
         k.expect("PWT?", "PWT=3.5")
         k.expect("GRIPSTATS[0]?", self.gripstats)
         # and the device still moves on command
-        self.assertEqual(k.long_command("MOVE(60)", "MOVE"), "FIN MOVE")
+        self.motion(k, "MOVE(60)")
         self.assertAlmostEqual(k.query_float("POS"), 60.0, places=1)
         fresh = self.tcp()
         fresh.expect("VERBOSE?", "VERBOSE=0")  # new sessions start from defaults
@@ -163,9 +221,8 @@ class StreamAbuse(AbuseCase):
         fds_before = open_fds(pid)
         stalls = 0
         for i in range(500):
-            started = time.monotonic()
-            c = GclTcp("127.0.0.1", self.sim.tcp_port, timeout=5.0)
-            stalls += time.monotonic() - started > 0.5
+            c = GclTcp("127.0.0.1", self.sim.tcp_port)
+            stalls += retransmitted(c.sock)
             if i % 50 == 0:
                 self.sim.drain_log(0)  # keep the server's log pipe flowing
             if i % 2 == 0:
@@ -175,14 +232,10 @@ class StreamAbuse(AbuseCase):
                 c.expect("GRIPSTATE?", "GRIPSTATE=0")
                 c.send("BYE()")  # closes at once without reading the ACK
             c.close()
-        deadline = time.monotonic() + 5
-        while open_fds(pid) > fds_before and time.monotonic() < deadline:
-            time.sleep(0.05)
-        self.assertEqual(open_fds(pid), fds_before, "descriptors leaked")
+        self.assertEqual(wait_for_fds(self.sim, fds_before), fds_before, "descriptors leaked")
         # regression: a listen backlog of 16 dropped a SYN every ~17 quick
-        # reconnects (about 30 stalls of 1 s here); a slow server (valgrind,
-        # a loaded machine) may still fall behind the client now and then
-        self.assertLess(stalls, 10, "reconnecting clients waited for SYN retransmits")
+        # reconnects (about 30 stalls of 1 s here)
+        self.assertEqual(stalls, 0, "reconnecting clients waited for SYN retransmits")
         self.assert_state_kept()
 
     def test_peer_resets_mid_reply(self):
@@ -192,10 +245,11 @@ class StreamAbuse(AbuseCase):
             # RST at once: SO_LINGER with a zero timeout
             c.sock.setsockopt(socket.SOL_SOCKET, socket.SO_LINGER, struct.pack("ii", 1, 0))
             self.forget(c)
-        time.sleep(0.2)
+        # the server notices the resets on its own time
+        wait_for("the server to close all 20 connections",
+                 lambda: self.sim.drain_log(0).count(": closed without BYE") >= 20)
         # a dropped connection without BYE raises FAST STOP by design (manual 2.1.2)
         self.assert_state_kept(fast_stop_expected=True)
-        self.assertIn("without BYE", self.sim.drain_log())
 
 
 class StreamAbuseNoFastStop(AbuseCase):
@@ -206,9 +260,8 @@ class StreamAbuseNoFastStop(AbuseCase):
         fds_before = open_fds(pid)
         stalls = 0
         for i in range(500):
-            started = time.monotonic()
-            s = socket.create_connection(("127.0.0.1", self.sim.tcp_port), timeout=5)
-            stalls += time.monotonic() - started > 0.5
+            s = connect_in_bursts(self.sim.tcp_port, i)
+            stalls += retransmitted(s)
             if i % 50 == 0:
                 self.sim.drain_log(0)  # keep the server's log pipe flowing
             if i % 3 == 1:
@@ -216,14 +269,10 @@ class StreamAbuseNoFastStop(AbuseCase):
             elif i % 3 == 2:
                 s.setsockopt(socket.SOL_SOCKET, socket.SO_LINGER, struct.pack("ii", 1, 0))
             s.close()
-        deadline = time.monotonic() + 5
-        while open_fds(pid) > fds_before and time.monotonic() < deadline:
-            time.sleep(0.05)
-        self.assertEqual(open_fds(pid), fds_before, "descriptors leaked")
+        self.assertEqual(wait_for_fds(self.sim, fds_before), fds_before, "descriptors leaked")
         # regression: a listen backlog of 16 dropped a SYN every ~17 quick
-        # reconnects (about 30 stalls of 1 s here); a slow server (valgrind,
-        # a loaded machine) may still fall behind the client now and then
-        self.assertLess(stalls, 10, "reconnecting clients waited for SYN retransmits")
+        # reconnects (about 30 stalls of 1 s here)
+        self.assertEqual(stalls, 0, "reconnecting clients waited for SYN retransmits")
         self.assert_state_kept()
 
 
@@ -254,6 +303,16 @@ class ClientLimits(AbuseCase):
 
 
 class SlowReader(AbuseCase):
+    paused = True  # simulated time: every period is counted, at any machine speed
+    STEP_MS = 100
+
+    def step(self, total_ms, watchers, received):
+        """Steps the paused clock and reads what each watcher got."""
+        for _ in range(total_ms // self.STEP_MS):
+            self.assertRegex(self.ctl("STEP(%d)" % self.STEP_MS), r"^STEP=")
+            for w, lines in zip(watchers, received):
+                lines.extend(w.lines_before_reply())
+
     def test_autosend_subscriber_that_never_reads(self):
         pid = self.sim.proc.pid
         stalled = self.tcp()
@@ -262,23 +321,14 @@ class SlowReader(AbuseCase):
         watchers = [self.tcp() for _ in range(3)]
         for w in watchers:
             w.expect("AUTOSEND(\"POS\",10)", "ACK AUTOSEND")
-        time.sleep(1.0)  # the stalled client's socket buffers fill up
+        received = [[] for _ in watchers]
+        self.step(10000, watchers, received)  # the stalled client's buffers fill up
         rss_before = rss_kib(pid)
-        arrivals = [[] for _ in watchers]
-        end = time.monotonic() + 4.0
-        while time.monotonic() < end:
-            for w, times in zip(watchers, arrivals):
-                while b"\n" in w.buffer or self._readable(w):
-                    line = w.read_line()
-                    if line.startswith("@POS="):
-                        times.append(time.monotonic())
-        for times in arrivals:
-            times = times[10:]  # skip the backlog read at the start
-            intervals = sorted(b - a for a, b in zip(times, times[1:]))
-            self.assertGreater(len(intervals), 250, "a watcher lost its 10 ms stream")
-            median = intervals[len(intervals) // 2]
-            self.assertAlmostEqual(median, 0.010, delta=0.002)
-            self.assertLess(intervals[int(len(intervals) * 0.9)], 0.02)
+        self.step(4000, watchers, received)
+        for lines in received:
+            # the first value goes out at once, then one per 10 ms period
+            self.assertEqual(len(lines), 1401, "a watcher lost values of its 10 ms stream")
+            self.assertEqual(set(lines), {"@POS=%.1f" % POSITION})
         self.assertLess(rss_kib(pid) - rss_before, 1024, "memory grows with a stalled reader")
         # the stalled client is still connected and gets whole lines once it reads
         stalled.send("AUTOSEND(\"POS\",0)")
@@ -292,19 +342,8 @@ class SlowReader(AbuseCase):
             w.send("AUTOSEND(\"POS\",0)")
             while w.read_line() != "ACK AUTOSEND":
                 pass
+        self.sim.drain_log(0)
         self.assert_state_kept()
-
-    @staticmethod
-    def _readable(client):
-        import select
-        ready, _, _ = select.select([client.sock], [], [], 0.001)
-        if not ready:
-            return False
-        data = client.sock.recv(65536)
-        if not data:
-            raise GclError("watcher connection closed")
-        client.buffer += data
-        return b"\n" in client.buffer
 
 
 class DatagramAbuse(AbuseCase):
@@ -330,16 +369,22 @@ class DatagramAbuse(AbuseCase):
         u = self.sim.udp()
         self.clients.append(u)
         # the flood may still fill the server's receive buffer: a UDP client
-        # retries a datagram that got no answer, as drivers do
-        for _ in range(5):
+        # retries a datagram that got no answer, as drivers do, for as long
+        # as the server takes to work through the flood
+        deadline = time.monotonic() + DEFAULT_TIMEOUT
+        reply = None
+        while reply is None and time.monotonic() < deadline:
             try:
                 reply = u.command("POS?", timeout=1.0)
-                break
             except GclError:
                 continue
         self.assertEqual(reply, "POS=%.1f" % POSITION)
-        u.expect("POS?", "POS=%.1f" % POSITION)
-        u.expect("GRIPSTATE?", "GRIPSTATE=0")
+        # a retry answered late arrives now: skip those replies
+        u.send("GRIPSTATE?")
+        line = u.read_line()
+        while line == "POS=%.1f" % POSITION:
+            line = u.read_line()
+        self.assertEqual(line, "GRIPSTATE=0")
         self.assert_state_kept()
 
 

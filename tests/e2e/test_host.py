@@ -1,19 +1,26 @@
 """End-to-end: build/wsgsim over real TCP and UDP sockets, driven the way
 real drivers drive the gripper."""
+import os
 import socket
+import tempfile
 import time
 import unittest
 
-from gclclient import GclError, Wsgsim
+from gclclient import GclError, Wsgsim, read_record, wait_for_reply
 
 
 class HostCase(unittest.TestCase):
     server_args = ()
+    paused = False  # True: the clock starts paused, self.ctl steps it
 
     def setUp(self):
-        self.sim = Wsgsim(*self.server_args)
+        args = self.server_args + (("--sim-port", "0", "--start-paused") if self.paused else ())
+        self.sim = Wsgsim(*args)
         self.sim.start()
         self.clients = []
+        if self.paused:
+            self.ctl = self.sim.control()
+            self.clients.append(self.ctl)
 
     def tearDown(self):
         for client in self.clients:
@@ -33,20 +40,35 @@ class HostCase(unittest.TestCase):
 
     def home(self, client):
         client.expect("FSACK()", "ACK FSACK")
-        self.assertEqual(client.long_command("HOME()", "HOME"), "FIN HOME")
+        if self.paused:
+            client.expect("HOME()", "ACK HOME")
+            self.ctl.step_until(client, "FIN HOME")
+        else:
+            self.assertEqual(client.long_command("HOME()", "HOME"), "FIN HOME")
 
 
 class DriverSequences(HostCase):
+    def setUp(self):
+        fd, self.record = tempfile.mkstemp(prefix="wsgsim_record_")
+        os.close(fd)
+        self.addCleanup(os.remove, self.record)
+        self.server_args = ("--record", self.record)
+        super().setUp()
+
+    def sim_times(self, text):
+        """Simulated seconds of each line text wsgsim sent (its --record)."""
+        return [row[0] for row in read_record(self.record) if row[3:] == (">", text)]
+
     def test_connect_sequence_of_common_drivers(self):
         c = self.tcp()
         c.expect("FSACK()", "ACK FSACK")
         c.expect("VERBOSE=1", "VERBOSE=1")
         c.expect("MOVE(10)", "ERR MOVE 3 Device was not initialized")
-        started = time.monotonic()
         self.assertEqual(c.long_command("HOME()", "HOME"), "FIN HOME")
-        self.assertGreater(time.monotonic() - started, 0.3, "homing should take real time")
         self.assertEqual(c.command("POS?"), "POS=110.0")
         self.assertEqual(c.command("SYSFLAGS[0]?"), "SYSFLAGS[0]=1")
+        (ack,), (fin,) = self.sim_times("ACK HOME"), self.sim_times("FIN HOME")
+        self.assertGreater(fin - ack, 0.3, "homing should take (simulated) time")
 
     def test_move_grip_release_cycle(self):
         c = self.tcp()
@@ -61,26 +83,17 @@ class DriverSequences(HostCase):
         self.assertAlmostEqual(c.query_float("POS"), 20.0, places=2)
         self.assertEqual(c.command("GRIPSTATS?"), "GRIPSTATS=[1,0,0]")
 
-    def test_every_reply_line_arrives_in_its_own_segment(self):
-        c = self.tcp()
-        self.home(c)
-        c.send("MOVE(60)")
-        first = c.sock.recv(4096)
-        second = c.sock.recv(4096)
-        self.assertEqual(first, b"ACK MOVE\n")
-        self.assertEqual(second, b"FIN MOVE\n")
-
     def test_lenient_input_forms(self):
         c = self.tcp()
         self.home(c)
         c.send_raw(b"  mOvE ( 50.00 ,\t100 )\r\n")
         self.assertEqual(c.read_line(), "ACK MOVE")
-        self.assertEqual(c.read_line(10), "FIN MOVE")
+        self.assertEqual(c.read_line(), "FIN MOVE")
         for chunk in (b"MO", b"VE(2", b"0.0000", b"00)", b"\n"):
             c.send_raw(chunk)
             time.sleep(0.01)
         self.assertEqual(c.read_line(), "ACK MOVE")
-        self.assertEqual(c.read_line(10), "FIN MOVE")
+        self.assertEqual(c.read_line(), "FIN MOVE")
         c.send_raw(b"POS?\nGRIPSTATE?\nTEMP?\n")
         self.assertEqual(c.read_line(), "POS=20.0")
         self.assertEqual(c.read_line(), "GRIPSTATE=0")
@@ -114,33 +127,49 @@ class DriverSequences(HostCase):
         self.assertEqual(c.command("SYSFLAGS[40]?"), "ERR SYSFLAGS 25 Index out of bounds")
 
 
-class AutosendStreams(HostCase):
-    def count_lines(self, clients, seconds):
-        """Reads every client for the same wall-time window; counts @ lines each."""
-        counts = [0] * len(clients)
-        deadline = time.monotonic() + seconds
-        while time.monotonic() < deadline:
-            for i, client in enumerate(clients):
-                try:
-                    line = client.read_line(timeout=0.002)
-                except GclError:
-                    continue
-                counts[i] += 1 if line.startswith("@") else 0
-        return counts
+class PausedDriverSequences(HostCase):
+    paused = True
+
+    def test_every_reply_line_arrives_in_its_own_segment(self):
+        c = self.tcp()
+        self.home(c)
+        c.send("MOVE(60)")
+        first = c.sock.recv(4096)
+        # the paused clock keeps FIN MOVE back until the client has read
+        # the ACK, however slowly the client runs
+        self.assertRegex(self.ctl("STEP(2000)"), r"^STEP=")
+        second = c.sock.recv(4096)
+        self.assertEqual(first, b"ACK MOVE\n")
+        self.assertEqual(second, b"FIN MOVE\n")
+
+    def test_final_reply_goes_to_the_issuing_session(self):
+        mover = self.tcp()
+        watcher = self.tcp()
+        self.home(mover)
+        mover.expect("MOVE(40)", "ACK MOVE")
+        # the paused clock holds the motion: STOP always comes while it runs
+        watcher.expect("STOP()", "ACK STOP")
+        self.ctl.step_until(mover, "ERR MOVE 19")
+        self.assertEqual(watcher.command("GRIPSTATE?"), "GRIPSTATE=0")
+        self.assertEqual(watcher.command("SYSFLAGS[6]?"), "SYSFLAGS[6]=1")
 
     def test_streams_at_10_and_50_ms(self):
         fast = self.tcp()
         slow = self.tcp()
         fast.expect('AUTOSEND("POS",10)', "ACK AUTOSEND")
         slow.expect('AUTOSEND("SYSFLAGS",50)', "ACK AUTOSEND")
-        fast.read_line()
-        slow.read_line()  # both streams run: count one second of each
-        fast_count, slow_count = self.count_lines([fast, slow], 1.0)
-        self.assertGreaterEqual(fast_count, 85)
-        self.assertLessEqual(fast_count, 112)
-        self.assertGreaterEqual(slow_count, 17)
-        self.assertLessEqual(slow_count, 23)
+        self.assertEqual(self.ctl("STEP(1000)"), "STEP=1000.000")
+        counts = []
+        for client in (fast, slow):
+            lines = client.lines_before_reply()
+            self.assertTrue(all(line.startswith("@") for line in lines), lines)
+            counts.append(len(lines))
+        # the first value goes out when the stream starts, then one per
+        # period: one second of simulated time is 100 and 20 periods
+        self.assertEqual(counts, [101, 21])
 
+
+class AutosendStreams(HostCase):
     def test_autosend_lines_never_break_replies(self):
         c = self.tcp()
         self.home(c)
@@ -164,8 +193,8 @@ class SessionsAndTransports(HostCase):
         first.close()
         self.clients.remove(first)
         second = self.tcp()
-        time.sleep(0.05)
-        self.assertEqual(second.command("SYSFLAGS[12]?"), "SYSFLAGS[12]=1")
+        # the server notices the lost connection on its own time
+        wait_for_reply(second, "SYSFLAGS[12]?", "SYSFLAGS[12]=1")
         self.assertEqual(second.command("MOVE(10)"), "ERR MOVE 16")
         self.assertEqual(second.command("GRIPSTATE?"), "GRIPSTATE=7")
         second.expect("FSACK()", "ACK FSACK")
@@ -187,16 +216,6 @@ class SessionsAndTransports(HostCase):
         second = self.tcp()
         self.assertEqual(second.command("PWT?"), "PWT=10.0")
         self.assertEqual(second.command("NOSUCH()"), "ERR NOSUCH 14")
-
-    def test_final_reply_goes_to_the_issuing_session(self):
-        mover = self.tcp()
-        watcher = self.tcp()
-        self.home(mover)
-        mover.expect("MOVE(40)", "ACK MOVE")
-        watcher.expect("STOP()", "ACK STOP")
-        self.assertEqual(mover.read_line(), "ERR MOVE 19")
-        self.assertEqual(watcher.command("GRIPSTATE?"), "GRIPSTATE=0")
-        self.assertEqual(watcher.command("SYSFLAGS[6]?"), "SYSFLAGS[6]=1")
 
     def test_udp_commands_and_peers(self):
         u = self.udp()
@@ -233,25 +252,24 @@ class CommandLine(unittest.TestCase):
             sim = Wsgsim("--tcp-port", str(port), "--no-udp")
             sim.args = ["--bind", "127.0.0.1", "--tcp-port", str(port), "--no-udp"]
             with self.assertRaises(GclError):
-                sim.start(timeout=3)
+                sim.start()
             self.assertIn("Address already in use", "".join(sim.log))
         finally:
             blocker.close()
 
     def test_privileged_port_without_permission(self):
-        import os
         if os.geteuid() == 0:
             # root may bind port 1000; prove the error path with an address we do not own
             sim = Wsgsim()
             sim.args = ["--bind", "192.0.2.1", "--tcp-port", "1000", "--no-udp"]
             with self.assertRaises(GclError):
-                sim.start(timeout=3)
+                sim.start()
             self.assertIn("cannot listen on TCP 192.0.2.1:1000", "".join(sim.log))
         else:
             sim = Wsgsim()
             sim.args = ["--bind", "127.0.0.1", "--tcp-port", "1000", "--no-udp"]
             with self.assertRaises(GclError):
-                sim.start(timeout=3)
+                sim.start()
             self.assertIn("below 1024", "".join(sim.log))
 
 

@@ -16,10 +16,13 @@ import socket
 import sys
 import time
 
-REPLY_TIMEOUT_S = 3.0  # an ACK or a query answer
-MOTION_TIMEOUT_S = 15.0  # a FIN of HOME/MOVE/GRIP/RELEASE
+# Timeouts are upper bounds against hangs, never assertions on speed: QEMU
+# on a busy machine runs the board much slower than real time.
+REPLY_TIMEOUT_S = 30.0  # an ACK or a query answer
+MOTION_TIMEOUT_S = 60.0  # a FIN of HOME/MOVE/GRIP/RELEASE
+PROBE_TIMEOUT_S = 3.0  # one attempt to reach a booting board (retried)
 AUTOSEND_PERIOD_MS = 50
-AUTOSEND_WINDOW_S = 1.0
+AUTOSEND_LINES = 20  # values to read from the stream (1 s at its period)
 POS_TOLERANCE_MM = 0.5
 SYSFLAG_COUNT = 32
 GS_HOLDING = 4
@@ -176,19 +179,17 @@ def step_sysflags(link):
 def step_autosend_on(link):
     link.send(f'AUTOSEND("POS",{AUTOSEND_PERIOD_MS})')
     expect(link, "ACK AUTOSEND", REPLY_TIMEOUT_S, "AUTOSEND")
-    count = 0
-    deadline = time.monotonic() + AUTOSEND_WINDOW_S
-    while True:
-        line = link.readline(deadline)
+    # the stream's period accuracy depends on how fast the host runs QEMU;
+    # it is reported, not asserted (make bench measures the host build's)
+    started = time.monotonic()
+    for count in range(AUTOSEND_LINES):
+        line = link.readline(time.monotonic() + REPLY_TIMEOUT_S)
         if line is None:
-            break
+            raise ConversationError(f"the stream stopped after {count} @POS lines")
         if not re.fullmatch(r"@POS=-?[0-9.]+", line):
             raise ConversationError(f"unexpected line in the stream: '{line}'")
-        count += 1
-    wanted = AUTOSEND_WINDOW_S * 1000 / AUTOSEND_PERIOD_MS
-    if not 0.7 * wanted <= count <= 1.3 * wanted:
-        raise ConversationError(f"{count} @POS lines in {AUTOSEND_WINDOW_S} s, expected ~{wanted:.0f}")
-    return f"{count} @POS lines in {AUTOSEND_WINDOW_S:.0f} s"
+    elapsed = time.monotonic() - started
+    return f"{AUTOSEND_LINES} @POS lines in {elapsed:.2f} s (period {AUTOSEND_PERIOD_MS} ms)"
 
 
 def step_autosend_off(link):
@@ -227,9 +228,10 @@ def open_link(make_link, host, port, connect_timeout_s):
     while time.monotonic() < deadline:
         link = None
         try:
-            link = make_link(host, port, REPLY_TIMEOUT_S)
-            result = step_fsack(link)
-            return link, result
+            link = make_link(host, port, PROBE_TIMEOUT_S)
+            link.send("FSACK()")
+            expect(link, "ACK FSACK", PROBE_TIMEOUT_S, "FSACK")
+            return link, "ACK FSACK"
         except (OSError, ConversationError) as exc:
             last_error = str(exc) or type(exc).__name__
             if link is not None:
@@ -276,7 +278,7 @@ def main(argv=None):
     parser.add_argument("port", type=int, help="GCL stream (TCP) port")
     parser.add_argument("--udp", type=int, metavar="PORT", help="also run over UDP")
     parser.add_argument("--no-tcp", action="store_true", help="UDP only")
-    parser.add_argument("--connect-timeout", type=float, default=30.0, metavar="S")
+    parser.add_argument("--connect-timeout", type=float, default=120.0, metavar="S")
     parser.add_argument("--name", default="tcp", help="label of the stream in the report")
     args = parser.parse_args(argv)
     passed = failed = 0

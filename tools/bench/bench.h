@@ -98,4 +98,13 @@ void vtime_run(int cycles, vtime_result_t *r);
  * channel (docs/simctl.md). */
 void vtime_ctl_run(const server_t *srv, int cycles, int step_ms, vtime_result_t *r);
 
+/* scale.c: simulated ms per wall ms at each SCALE, over `seconds` each, on
+ * a server with a control channel. */
+#define SCALE_STEPS 3
+typedef struct {
+    double scale[SCALE_STEPS]; /* set by the caller */
+    double rate[SCALE_STEPS];  /* measured; 0: not run */
+} scale_result_t;
+void scale_run(const server_t *srv, double seconds, scale_result_t *r);
+
 #endif

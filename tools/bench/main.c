@@ -2,7 +2,7 @@
  * usage: wsgbench [--wsgsim PATH] [--wsgsim-arg ARG]... [--out DIR] [--quick] [--rtt N]
  *                 [--only SECTION]
  * --wsgsim-arg appends ARG to every wsgsim command line (e.g. --fingers=none).
- * --only runs one section (vtime, idle, rtt, load, autosend) for profiling;
+ * --only runs one section (vtime, scale, idle, rtt, load, autosend) for profiling;
  * the table then shows zeros for the others. */
 #include <errno.h>
 #include <sched.h>
@@ -32,13 +32,15 @@ typedef struct {
     double load_s;
     double autosend_s;
     int cycles;
+    double scale_s;   /* per SCALE value */
     const char *only; /* NULL: every section */
     const char *pin;  /* round trips: "same", "cross" or "none" */
 } config_t;
 
 static void parse_args(int argc, char **argv, config_t *cfg)
 {
-    *cfg = (config_t){"build/wsgsim", "build/bench", 20000, 10.0, 2.0, 10.0, 1000, NULL, "same"};
+    *cfg =
+        (config_t){"build/wsgsim", "build/bench", 20000, 10.0, 2.0, 10.0, 1000, 2.0, NULL, "same"};
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--wsgsim") == 0 && i + 1 < argc) {
             cfg->wsgsim = argv[++i];
@@ -47,7 +49,8 @@ static void parse_args(int argc, char **argv, config_t *cfg)
         } else if (strcmp(argv[i], "--rtt") == 0 && i + 1 < argc) {
             cfg->rtt_n = atoi(argv[++i]);
         } else if (strcmp(argv[i], "--quick") == 0) {
-            *cfg = (config_t){cfg->wsgsim, cfg->out, 4000, 2.0, 0.5, 3.0, 100, cfg->only, cfg->pin};
+            *cfg = (config_t){cfg->wsgsim, cfg->out, 4000, 2.0,       0.5,
+                              3.0,         100,      0.5,  cfg->only, cfg->pin};
         } else if (strcmp(argv[i], "--pin") == 0 && i + 1 < argc) {
             cfg->pin = argv[++i];
         } else if (strcmp(argv[i], "--wsgsim-arg") == 0 && i + 1 < argc) {
@@ -56,7 +59,7 @@ static void parse_args(int argc, char **argv, config_t *cfg)
             cfg->only = argv[++i];
         } else {
             die("usage: wsgbench [--wsgsim PATH] [--wsgsim-arg ARG]... [--out DIR] [--quick] "
-                "[--rtt N] [--only vtime|idle|rtt|load|autosend] [--pin same|cross|none]");
+                "[--rtt N] [--only vtime|scale|idle|rtt|load|autosend] [--pin same|cross|none]");
         }
     }
     if (cfg->rtt_n < RTT_BLOCKS) {
@@ -291,6 +294,22 @@ static void run_vtime_ctl(const config_t *cfg, results_t *res)
     server_stop(&paused);
 }
 
+/* The scaled clock's rate, on a server of its own (resumed from paused). */
+static void run_scale(const config_t *cfg, results_t *res)
+{
+    static const double scales[SCALE_STEPS] = {1.0, 10.0, 0.5};
+    char log_path[512];
+    server_t srv;
+    snprintf(log_path, sizeof(log_path), "%s/wsgsim-scale.log", cfg->out);
+    if (!server_start_wsgsim(&srv, cfg->wsgsim, log_path, true) || srv.ctl_port == 0) {
+        die("%s did not start with a control channel (see %s)", cfg->wsgsim, log_path);
+    }
+    fprintf(stderr, "wsgbench: scaled clock at 1x, 10x, 0.5x (%.1f s each)\n", cfg->scale_s);
+    memcpy(res->scale.scale, scales, sizeof(scales));
+    scale_run(&srv, cfg->scale_s, &res->scale);
+    server_stop(&srv);
+}
+
 static void describe_machine(results_t *res)
 {
     struct utsname u;
@@ -318,6 +337,9 @@ int main(int argc, char **argv)
     server_t echo;
     if (wanted(&cfg, "vtime")) {
         run_vtime_ctl(&cfg, &res);
+    }
+    if (wanted(&cfg, "scale")) {
+        run_scale(&cfg, &res);
     }
     if (!server_start_wsgsim(&wsg, cfg.wsgsim, log_path, false)) {
         die("%s did not start (see %s)", cfg.wsgsim, log_path);

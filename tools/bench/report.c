@@ -121,6 +121,22 @@ static void add_vtime(table_t *t, const results_t *res)
     }
 }
 
+/* A scaled clock within 5 % of its rate (the e2e tests no longer time it). */
+static void add_scale(table_t *t, const results_t *res)
+{
+    for (int i = 0; i < SCALE_STEPS; i++) {
+        double scale = res->scale.scale[i];
+        double rate = res->scale.rate[i];
+        if (rate <= 0.0) {
+            continue;
+        }
+        char name[64];
+        snprintf(name, sizeof(name), "simulated/wall time at SCALE=%g", scale);
+        row_t *r = add(t, name, "x", rate, -1.0);
+        target(r, "within 5 %", rate >= 0.95 * scale && rate <= 1.05 * scale);
+    }
+}
+
 static void build(const results_t *res, table_t *t)
 {
     t->n = 0;
@@ -131,6 +147,7 @@ static void build(const results_t *res, table_t *t)
     add_autosend(t, res);
     add_idle(t, res);
     add_vtime(t, res);
+    add_scale(t, res);
 }
 
 static const char *met_text(int met)

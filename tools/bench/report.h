@@ -28,6 +28,7 @@ typedef struct {
     vtime_result_t vtime;
     vtime_result_t vtime_ctl; /* through wsgsim's control channel; 0 cycles: not run */
     int vtime_ctl_step_ms;
+    scale_result_t scale; /* the scaled clock's rate; rate 0: not run */
 } results_t;
 
 void report_print(const results_t *res, FILE *out);
