@@ -1,5 +1,7 @@
 /* The single-threaded event loop: file descriptors with callbacks, woken by
- * ppoll() until the device's next deadline on the simulated clock. */
+ * epoll until the device's next deadline on the simulated clock. A wake-up
+ * costs in proportion to the descriptors that are ready, not to those that
+ * are watched; with nothing due it sleeps without a timeout. */
 #ifndef HOST_LOOP_H
 #define HOST_LOOP_H
 
@@ -10,12 +12,17 @@
 
 typedef void (*loop_callback_t)(void *ctx, int fd, short revents);
 
+/* events and revents are poll()'s bits (POLLIN, POLLOUT, POLLHUP, POLLERR).
+ * A callback may unwatch any descriptor, and may watch a new one that got
+ * the same number: events reported for the old one are not delivered. */
 bool loop_watch(int fd, short events, loop_callback_t callback, void *ctx);
 void loop_set_events(int fd, short events);
+/* Call before close(fd). */
 void loop_unwatch(int fd);
 
-/* Blocks SIGINT/SIGTERM outside the wait so a signal cannot be missed; a
- * pending one is noticed after every wake-up, however busy the loop is. */
+/* Starts afresh (forgets every watch). Blocks SIGINT/SIGTERM and receives
+ * them through a descriptor in the set, so a pending one is noticed at the
+ * next wake-up, however busy the loop is. */
 void loop_init(void);
 bool loop_stop_requested(void);
 void loop_request_stop(void);

@@ -99,6 +99,7 @@ int main(int argc, char **argv)
         loop_wait(deadline);
         tcp_server_reap();
         udp_server_reap();
+        simctl_reap();
     }
     host_logf(HAL_LOG_INFO, "shutting down");
     tcp_server_stop();

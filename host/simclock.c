@@ -72,6 +72,9 @@ bool simclock_wall_wait(uint64_t deadline_us, struct timespec *wait)
         *wait = (struct timespec){0, 0};
         return true;
     }
+    if (deadline_us == UINT64_MAX) { /* nothing due: no timeout */
+        return false;
+    }
     uint64_t now = simclock_now_us();
     uint64_t sim_left_us = deadline_us > now ? deadline_us - now : 0;
     double wall_left_ns = (double)sim_left_us * 1000.0 / clock_state.scale;

@@ -22,7 +22,8 @@ uint64_t simclock_device_us(void);
 void simclock_advance_device(uint64_t us);
 /* Wall time left until simulated time reaches deadline_us; false when the
  * clock is paused (only a step or resume will get there), unless the device
- * time is still behind a step: then no wait at all. */
+ * time is still behind a step: then no wait at all; false as well when
+ * deadline_us is UINT64_MAX (nothing is due). */
 bool simclock_wall_wait(uint64_t deadline_us, struct timespec *wait);
 
 void simclock_pause(void);

@@ -8,7 +8,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include "wsg/gcl_linebuf.h"
+#include "listener.h"
 #include "log.h"
 #include "loop.h"
 #include "net.h"
@@ -16,6 +16,7 @@
 #include "record.h"
 #include "simctl_cmd.h"
 #include "simctl_run.h"
+#include "wsg/gcl_linebuf.h"
 
 #define CONTROL_CLIENTS_MAX 8
 /* Replies wait here for a slow reader. A command runs only while less than
@@ -43,12 +44,12 @@ typedef struct {
 } control_client_t;
 
 static struct {
-    int listen_fd;
+    listener_t listener;
     const char *addr;
     unsigned connections;
     control_client_t *stepper; /* waits for the reply of its STEP */
     control_client_t clients[CONTROL_CLIENTS_MAX];
-} ctl = {.listen_fd = -1};
+} ctl = {.listener = {.fd = -1}};
 
 static void channel_name(const control_client_t *c, char *out, size_t cap)
 {
@@ -62,6 +63,7 @@ static void close_client(control_client_t *c)
     }
     loop_unwatch(c->fd);
     close(c->fd);
+    listener_fd_freed(&ctl.listener);
     outq_free(&c->outq);
     c->in_use = false;
     host_logf(HAL_LOG_INFO, "control ctl%u: closed", c->number);
@@ -266,8 +268,11 @@ static control_client_t *free_slot(void)
 static void on_accept(void *ctx, int fd, short revents)
 {
     (void)ctx;
+    (void)fd;
     (void)revents;
-    int client_fd = accept4(fd, NULL, NULL, SOCK_NONBLOCK | SOCK_CLOEXEC);
+    struct sockaddr_storage peer;
+    socklen_t peer_len = sizeof(peer);
+    int client_fd = listener_accept(&ctl.listener, &peer, &peer_len);
     if (client_fd < 0) {
         return;
     }
@@ -299,16 +304,12 @@ bool simctl_start(const char *addr, int port)
 {
     ctl.addr = addr != NULL ? addr : DEFAULT_ADDR;
     simctl_step_on_done(on_step_done);
-    ctl.listen_fd = net_listen(SOCK_STREAM, ctl.addr, port);
-    if (ctl.listen_fd < 0 || !loop_watch(ctl.listen_fd, POLLIN, on_accept, NULL)) {
-        return false;
-    }
-    return true;
+    return listener_start(&ctl.listener, "control", ctl.addr, port, on_accept, NULL);
 }
 
 int simctl_port(void)
 {
-    return ctl.listen_fd >= 0 ? net_local_port(ctl.listen_fd) : -1;
+    return ctl.listener.fd >= 0 ? net_local_port(ctl.listener.fd) : -1;
 }
 
 const char *simctl_address(void)
@@ -319,11 +320,16 @@ const char *simctl_address(void)
 const char *simctl_describe(void)
 {
     static char text[96];
-    if (ctl.listen_fd < 0) {
+    if (ctl.listener.fd < 0) {
         return "";
     }
     snprintf(text, sizeof(text), ", control %s:%d", ctl.addr, simctl_port());
     return text;
+}
+
+void simctl_reap(void)
+{
+    listener_resume_when_due(&ctl.listener);
 }
 
 void simctl_stop(void)
@@ -333,9 +339,5 @@ void simctl_stop(void)
             close_client(&ctl.clients[i]);
         }
     }
-    if (ctl.listen_fd >= 0) {
-        loop_unwatch(ctl.listen_fd);
-        close(ctl.listen_fd);
-        ctl.listen_fd = -1;
-    }
+    listener_stop(&ctl.listener);
 }

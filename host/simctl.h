@@ -11,6 +11,8 @@ int simctl_port(void);
 const char *simctl_address(void);
 /* ", control 127.0.0.1:7000" for the ready line; "" without a channel. */
 const char *simctl_describe(void);
+/* Once per loop pass: a listener paused at the descriptor limit tries again. */
+void simctl_reap(void);
 void simctl_stop(void);
 
 #endif

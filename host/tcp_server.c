@@ -10,6 +10,7 @@
 
 #include "gripper.h"
 #include "hal_clock.h"
+#include "listener.h"
 #include "log.h"
 #include "loop.h"
 #include "net.h"
@@ -31,7 +32,6 @@
 #define KEEPALIVE_INTERVAL_S 10
 #define KEEPALIVE_PROBES 6
 /* Out of descriptors: accept() is retried this often (wall clock). */
-#define ACCEPT_RETRY_NS 100000000u
 
 typedef struct {
     bool in_use;
@@ -49,13 +49,11 @@ typedef struct {
 } tcp_client_t;
 
 static struct {
-    int listen_fd;
+    listener_t listener;
     int max_clients;
     uint64_t idle_timeout_us; /* 0: off */
-    bool starved;             /* out of descriptors: listener paused */
-    uint64_t retry_ns;        /* when to try accept() again */
     tcp_client_t clients[CLIENTS_MAX];
-} tcp = {.listen_fd = -1};
+} tcp = {.listener = {.fd = -1}};
 
 static unsigned open_count(void)
 {
@@ -165,7 +163,7 @@ static void close_client(tcp_client_t *c)
     wsg_conn_close(&c->conn, reason);
     outq_free(&c->outq);
     c->in_use = false;
-    tcp.retry_ns = 0; /* a descriptor is free: a waiting client may come in */
+    listener_fd_freed(&tcp.listener);
 }
 
 /* End of input: every command before it has been answered; the
@@ -277,46 +275,16 @@ static bool setup_client(tcp_client_t *c, int fd, const struct sockaddr_storage 
     return true;
 }
 
-/* Out of descriptors, the waiting connection stays in the backlog and the
- * listener stays readable: stop polling it until a descriptor is freed or
- * ACCEPT_RETRY_NS has passed, instead of spinning on accept(). */
-static void pause_listener(int err)
-{
-    if (!tcp.starved) {
-        tcp.starved = true;
-        host_logf(HAL_LOG_ERROR,
-                  "tcp: cannot accept a connection: %s; out of descriptors, waiting "
-                  "clients wait (see ulimit -n)",
-                  strerror(err));
-    }
-    loop_set_events(tcp.listen_fd, 0);
-    tcp.retry_ns = loop_monotonic_ns() + ACCEPT_RETRY_NS;
-    loop_wake_at_wall(tcp.retry_ns);
-}
-
-static void resume_listener_when_due(void)
-{
-    if (tcp.listen_fd >= 0 && tcp.starved && loop_monotonic_ns() >= tcp.retry_ns) {
-        loop_set_events(tcp.listen_fd, POLLIN);
-    }
-}
-
 static void on_accept(void *ctx, int fd, short revents)
 {
     (void)ctx;
+    (void)fd;
     (void)revents;
     struct sockaddr_storage ss;
     socklen_t len = sizeof(ss);
-    int client_fd = accept4(fd, (struct sockaddr *)&ss, &len, SOCK_NONBLOCK | SOCK_CLOEXEC);
+    int client_fd = listener_accept(&tcp.listener, &ss, &len);
     if (client_fd < 0) {
-        if (errno == EMFILE || errno == ENFILE || errno == ENOBUFS || errno == ENOMEM) {
-            pause_listener(errno);
-        }
         return;
-    }
-    if (tcp.starved) {
-        tcp.starved = false;
-        host_logf(HAL_LOG_INFO, "tcp: accepting connections again");
     }
     tcp_client_t *c = free_slot();
     if (c == NULL || !setup_client(c, client_fd, &ss)) {
@@ -332,15 +300,14 @@ static void on_accept(void *ctx, int fd, short revents)
 
 bool tcp_server_start(const char *addr, int port, int max_clients, int idle_timeout_s)
 {
-    tcp.listen_fd = net_listen(SOCK_STREAM, addr, port);
     tcp.max_clients = max_clients;
     tcp.idle_timeout_us = (uint64_t)idle_timeout_s * 1000000u;
-    return tcp.listen_fd >= 0 && loop_watch(tcp.listen_fd, POLLIN, on_accept, NULL);
+    return listener_start(&tcp.listener, "tcp", addr, port, on_accept, NULL);
 }
 
 int tcp_server_port(void)
 {
-    return tcp.listen_fd >= 0 ? net_local_port(tcp.listen_fd) : -1;
+    return tcp.listener.fd >= 0 ? net_local_port(tcp.listener.fd) : -1;
 }
 
 /* Replies held back by an injected DELAY (control channel) still count as
@@ -378,7 +345,7 @@ void tcp_server_reap(void)
             close_client(c);
         }
     }
-    resume_listener_when_due();
+    listener_resume_when_due(&tcp.listener);
 }
 
 bool tcp_server_cut(const wsg_conn_t *conn)
@@ -408,9 +375,5 @@ void tcp_server_close_all(void)
 void tcp_server_stop(void)
 {
     tcp_server_close_all();
-    if (tcp.listen_fd >= 0) {
-        loop_unwatch(tcp.listen_fd);
-        close(tcp.listen_fd);
-        tcp.listen_fd = -1;
-    }
+    listener_stop(&tcp.listener);
 }

@@ -462,6 +462,43 @@ class DescriptorExhaustion(NetCase):
         self.assertGreaterEqual(answered, 1, "no waiting client was served")
         clients[1].expect("GRIPSTATE?", "GRIPSTATE=0")
 
+    def test_control_listener_backs_off_at_the_descriptor_limit(self):
+        sim, ctl = self.start(control=True)
+        self.assertTrue(ctl("SIMTIME?").startswith("SIMTIME="))  # ctl has its descriptor
+        pid = sim.proc.pid
+        low_fds = [int(fd) for fd in os.listdir("/proc/%d/fd" % pid) if int(fd) < 256]
+        _, hard = resource.prlimit(pid, resource.RLIMIT_NOFILE)
+        resource.prlimit(pid, resource.RLIMIT_NOFILE, (max(low_fds) + 2, hard))
+        gcl = self.tcp(sim)  # takes the last free descriptor
+        gcl.expect("GRIPSTATE?", "GRIPSTATE=0")
+        control_port = ctl.sock.getpeername()[1]
+        waiting = [socket.create_connection(("127.0.0.1", control_port)) for _ in range(3)]
+        for w in waiting:
+            self.addCleanup(w.close)
+            w.sendall(b"SIMTIME?\n")
+        self.assertTrue(wait_for_log(sim, "control: cannot accept"), "no log of the starved listener")
+        used_before = cpu_seconds(pid)
+        time.sleep(2.0)
+        used = cpu_seconds(pid) - used_before
+        self.assertLess(used, 1.0, "the loop spins at the descriptor limit (%.2f s CPU in 2 s)"
+                        % used)
+        self.assertTrue(ctl("SIMTIME?").startswith("SIMTIME="), "the open control client is served")
+        self.assertEqual(sim.drain_log().count("control: cannot accept"), 1, "logged once")
+        gcl.expect("BYE()", "ACK BYE")
+        self.assertTrue(gcl.closed_by_peer(5))
+        ready, _, _ = select.select(waiting, [], [], 30)
+        self.assertTrue(ready, "no waiting control client was served after a descriptor freed")
+        self.assertTrue(ready[0].recv(100).startswith(b"SIMTIME="))
+
+
+def wait_for_log(sim, text, bound=30.0):
+    """Waits (at most `bound` seconds, a hang guard) until the server logged text."""
+    deadline = time.monotonic() + bound
+    while time.monotonic() < deadline:
+        if text in sim.drain_log():
+            return True
+    return False
+
 
 if __name__ == "__main__":
     unittest.main()

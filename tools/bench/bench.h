@@ -36,17 +36,26 @@ double samples_quantile(const samples_t *s, double q);
 double samples_max(const samples_t *s);
 
 double now_us(void);
-void die(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+void die(const char *fmt, ...) __attribute__((format(printf, 1, 2), noreturn));
 
 /* proc.c */
 #define WSGSIM_EXTRA_ARGS_MAX 8
 /* Appends an argument to every wsgsim the benchmark starts. */
 void server_add_wsgsim_arg(const char *arg);
-/* paused: --start-paused with a control channel and a 30 mm part (for
- * vtime_ctl_run()); otherwise a free-running server. */
+/* wsgsim's command line (NULL-terminated in argv, at most cap entries);
+ * returns the count. paused: --start-paused with a control channel and a
+ * 30 mm part; otherwise a free-running server. */
+int wsgsim_argv(const char **argv, int cap, const char *binary, bool paused);
 bool server_start_wsgsim(server_t *srv, const char *binary, const char *log_path, bool paused);
+/* Any command that logs "ready: tcp HOST:PORT, udp HOST:PORT[, control
+ * HOST:PORT]" to stderr (wsgsim, `wsgbench --serve-echo`, either under
+ * valgrind); stderr goes to log_path. */
+bool server_start_cmd(server_t *srv, const char *name, const char *const *argv,
+                      const char *log_path, double timeout_s);
 bool server_start_echo(server_t *srv);
 void server_stop(server_t *srv);
+/* SIGTERM, then SIGKILL after `seconds`; true when it ended by itself. */
+bool server_stop_within(server_t *srv, double seconds);
 /* Kills every server still running (die() calls it). */
 void server_kill_all(void);
 /* CPU time (user+system) of a process in microseconds. */
@@ -55,9 +64,15 @@ double proc_cpu_us(pid_t pid);
 long proc_rss_kib(pid_t pid);
 long proc_hwm_kib(pid_t pid);
 long proc_ctx_switches(pid_t pid);
+/* Times the process went to sleep (voluntary context switches): each
+ * sleep ends in one wake-up. */
+long proc_wakeups(pid_t pid);
 
 /* echo.c: serves until SIGTERM; never returns. */
 void echo_server_run(int tcp_fd, int udp_fd) __attribute__((noreturn));
+/* `wsgbench --serve-echo`: the echo server on free loopback ports as a
+ * program of its own (to run it under callgrind); logs its ready line. */
+void echo_server_main(void) __attribute__((noreturn));
 
 /* client.c */
 typedef struct {
@@ -106,5 +121,41 @@ typedef struct {
     double rate[SCALE_STEPS];  /* measured; 0: not run */
 } scale_result_t;
 void scale_run(const server_t *srv, double seconds, scale_result_t *r);
+
+/* instr.c: instructions the server executes per POS? (callgrind);
+ * index 0: wsgsim, 1: echo baseline; 0: not measured. */
+typedef struct {
+    double sequential[2];
+    double pipelined[2];
+} instr_result_t;
+void instr_run(const char *wsgsim, const char *self_exe, const char *out_dir, int seq_n, int pipe_n,
+               instr_result_t *r);
+
+/* subscribers.c: `clients` AUTOSEND("POS",10) subscriptions made while the
+ * clock is paused (so they share one phase), then the clock resumed. */
+typedef struct {
+    int clients;
+    int clients_ok;       /* subscriptions that delivered values */
+    long lines;           /* values received in the window */
+    long server_missed;   /* "missed" of every subscription (STATE?) */
+    long client_gaps;     /* periods missing between arrivals */
+    double wakeups_per_s; /* server context switches */
+    double seconds;
+} subscribers_result_t;
+void subscribers_run(const char *wsgsim, const char *log_path, int clients, double seconds,
+                     subscribers_result_t *r);
+
+/* fleet.c: `--devices N` when wsgsim has it. */
+typedef struct {
+    bool available; /* false: wsgsim has no --devices option */
+    int devices;
+    double start_s; /* until the ready line */
+    double idle_wakeups_per_s;
+    double kib_per_device; /* RSS growth per device over a single device */
+    double rtt_p50_us;     /* the slowest sampled device */
+    double single_rtt_p50_us;
+} fleet_result_t;
+void fleet_run(const char *wsgsim, const char *out_dir, int devices, double idle_s,
+               fleet_result_t *r);
 
 #endif

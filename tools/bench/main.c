@@ -1,9 +1,11 @@
 /* wsgbench: see bench.h and docs/benchmark.md.
  * usage: wsgbench [--wsgsim PATH] [--wsgsim-arg ARG]... [--out DIR] [--quick] [--rtt N]
- *                 [--only SECTION]
+ *                 [--only SECTION] [--pin same|cross|none] [--firmware-sizes FILE]
+ *        wsgbench --serve-echo      (the echo baseline alone, for callgrind)
  * --wsgsim-arg appends ARG to every wsgsim command line (e.g. --fingers=none).
- * --only runs one section (vtime, scale, idle, rtt, load, autosend) for profiling;
- * the table then shows zeros for the others. */
+ * --only runs one section (instr, idle, subscribers, vtime, fleet, scale, rtt,
+ * load, autosend); the table then leaves out the others.
+ * --firmware-sizes reads the Cortex-M image sizes `make bench` wrote. */
 #include <errno.h>
 #include <sched.h>
 #include <stdio.h>
@@ -18,8 +20,10 @@
 
 #define RTT_BLOCKS 20
 #define RTT_WARMUP 1000
-#define IDLE_CONNECTIONS 8
+#define IDLE_CONNECTIONS 120
 #define AUTOSEND_CLIENTS 16
+#define SUBSCRIBERS 128
+#define FLEET_DEVICES 1000
 #define CTL_STEP_MS 100
 
 static const int load_clients[LOAD_STEPS] = {1, 4, 16, 64};
@@ -32,15 +36,39 @@ typedef struct {
     double load_s;
     double autosend_s;
     int cycles;
-    double scale_s;   /* per SCALE value */
-    const char *only; /* NULL: every section */
-    const char *pin;  /* round trips: "same", "cross" or "none" */
+    double scale_s;             /* per SCALE value */
+    int instr_seq_n;            /* callgrind: sequential POS? added over the base run */
+    int instr_pipe_n;           /* callgrind: pipelined lines added over the base run */
+    const char *only;           /* NULL: every section */
+    const char *pin;            /* round trips: "same", "cross" or "none" */
+    const char *firmware_sizes; /* NULL: not given */
 } config_t;
+
+static void quick(config_t *cfg)
+{
+    cfg->rtt_n = 4000;
+    cfg->idle_s = 2.0;
+    cfg->load_s = 0.5;
+    cfg->autosend_s = 3.0;
+    cfg->cycles = 100;
+    cfg->scale_s = 0.5;
+    cfg->instr_seq_n = 500;
+    cfg->instr_pipe_n = 5000;
+}
 
 static void parse_args(int argc, char **argv, config_t *cfg)
 {
-    *cfg =
-        (config_t){"build/wsgsim", "build/bench", 20000, 10.0, 2.0, 10.0, 1000, 2.0, NULL, "same"};
+    *cfg = (config_t){.wsgsim = "build/wsgsim",
+                      .out = "build/bench",
+                      .rtt_n = 20000,
+                      .idle_s = 10.0,
+                      .load_s = 2.0,
+                      .autosend_s = 10.0,
+                      .cycles = 1000,
+                      .scale_s = 2.0,
+                      .instr_seq_n = 2000,
+                      .instr_pipe_n = 20000,
+                      .pin = "same"};
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--wsgsim") == 0 && i + 1 < argc) {
             cfg->wsgsim = argv[++i];
@@ -49,17 +77,19 @@ static void parse_args(int argc, char **argv, config_t *cfg)
         } else if (strcmp(argv[i], "--rtt") == 0 && i + 1 < argc) {
             cfg->rtt_n = atoi(argv[++i]);
         } else if (strcmp(argv[i], "--quick") == 0) {
-            *cfg = (config_t){cfg->wsgsim, cfg->out, 4000, 2.0,       0.5,
-                              3.0,         100,      0.5,  cfg->only, cfg->pin};
+            quick(cfg);
         } else if (strcmp(argv[i], "--pin") == 0 && i + 1 < argc) {
             cfg->pin = argv[++i];
         } else if (strcmp(argv[i], "--wsgsim-arg") == 0 && i + 1 < argc) {
             server_add_wsgsim_arg(argv[++i]);
         } else if (strcmp(argv[i], "--only") == 0 && i + 1 < argc) {
             cfg->only = argv[++i];
+        } else if (strcmp(argv[i], "--firmware-sizes") == 0 && i + 1 < argc) {
+            cfg->firmware_sizes = argv[++i];
         } else {
             die("usage: wsgbench [--wsgsim PATH] [--wsgsim-arg ARG]... [--out DIR] [--quick] "
-                "[--rtt N] [--only vtime|scale|idle|rtt|load|autosend] [--pin same|cross|none]");
+                "[--rtt N] [--only instr|idle|subscribers|vtime|fleet|scale|rtt|load|autosend] "
+                "[--pin same|cross|none] [--firmware-sizes FILE]");
         }
     }
     if (cfg->rtt_n < RTT_BLOCKS) {
@@ -72,36 +102,54 @@ static bool wanted(const config_t *cfg, const char *section)
     return cfg->only == NULL || strcmp(cfg->only, section) == 0;
 }
 
-/* Idle CPU ------------------------------------------------------------- */
+/* Idle CPU and wake-ups ------------------------------------------------ */
 
 static void measure_idle(server_t *srv[2], double seconds, double pct[2], long wakeups[2])
 {
     double cpu0[2];
-    long ctx0[2];
+    long sleeps0[2];
     for (int k = 0; k < 2; k++) {
         cpu0[k] = proc_cpu_us(srv[k]->pid);
-        ctx0[k] = proc_ctx_switches(srv[k]->pid);
+        sleeps0[k] = proc_wakeups(srv[k]->pid);
     }
     double t0 = now_us();
     usleep((useconds_t)(seconds * 1e6));
     double wall = now_us() - t0;
     for (int k = 0; k < 2; k++) {
         pct[k] = 100.0 * (proc_cpu_us(srv[k]->pid) - cpu0[k]) / wall;
-        wakeups[k] = proc_ctx_switches(srv[k]->pid) - ctx0[k];
+        wakeups[k] = proc_wakeups(srv[k]->pid) - sleeps0[k];
+        if (cpu0[k] < 0 || sleeps0[k] < 0 || wakeups[k] < 0) {
+            die("cannot read /proc of %s", srv[k]->name);
+        }
+    }
+}
+
+/* Idle connections: each sends one POS? (so it is accepted and served),
+ * then stays silent. */
+static void connect_idle(const server_t *srv, int fds[IDLE_CONNECTIONS])
+{
+    char line[256];
+    for (int i = 0; i < IDLE_CONNECTIONS; i++) {
+        conn_t c = {.fd = tcp_connect(srv->tcp_port)};
+        if (!conn_send(&c, "POS?") || !conn_read_line(&c, line, sizeof(line), 5000)) {
+            die("%s: idle connection %d not served", srv->name, i);
+        }
+        fds[i] = c.fd;
     }
 }
 
 static void run_idle(server_t *srv[2], const config_t *cfg, results_t *res)
 {
-    fprintf(stderr, "wsgbench: idle CPU, no clients (%.0f s)\n", cfg->idle_s);
+    res->idle_s = cfg->idle_s;
+    res->idle_connections = IDLE_CONNECTIONS;
+    fprintf(stderr, "wsgbench: idle, no clients (%.0f s)\n", cfg->idle_s);
     measure_idle(srv, cfg->idle_s, res->idle_pct, res->idle_wakeups);
-    int fds[2][IDLE_CONNECTIONS];
+    static int fds[2][IDLE_CONNECTIONS];
     for (int k = 0; k < 2; k++) {
-        for (int i = 0; i < IDLE_CONNECTIONS; i++) {
-            fds[k][i] = tcp_connect(srv[k]->tcp_port);
-        }
+        connect_idle(srv[k], fds[k]);
     }
-    fprintf(stderr, "wsgbench: idle CPU, %d idle connections (%.0f s)\n", IDLE_CONNECTIONS,
+    usleep(200000); /* the connections' own wake-ups are over */
+    fprintf(stderr, "wsgbench: idle, %d idle connections (%.0f s)\n", IDLE_CONNECTIONS,
             cfg->idle_s);
     measure_idle(srv, cfg->idle_s, res->idle_conn_pct, res->idle_conn_wakeups);
     for (int k = 0; k < 2; k++) {
@@ -318,8 +366,101 @@ static void describe_machine(results_t *res)
              u.machine, sysconf(_SC_NPROCESSORS_ONLN));
 }
 
+/* The image sizes `make bench` wrote: "NAME FLASH FLASH_MAX RAM RAM_MAX". */
+static void read_firmware_sizes(const char *path, results_t *res)
+{
+    FILE *f = fopen(path, "r");
+    if (f == NULL) {
+        die("cannot read %s", path);
+    }
+    firmware_size_t fw;
+    while (res->firmware_count < FIRMWARE_IMAGES_MAX &&
+           fscanf(f, "%31s %ld %ld %ld %ld", fw.name, &fw.flash, &fw.flash_max, &fw.ram,
+                  &fw.ram_max) == 5) {
+        res->firmware[res->firmware_count++] = fw;
+    }
+    fclose(f);
+    if (res->firmware_count == 0) {
+        die("no image sizes in %s", path);
+    }
+    res->firmware_read = true;
+}
+
+/* Sections that start servers of their own (under callgrind, paused, a
+ * fleet), before the pair of servers the others share. */
+static void run_own_server_sections(const config_t *cfg, results_t *res)
+{
+    char path[512];
+    if (wanted(cfg, "instr")) {
+        char self[512];
+        ssize_t n = readlink("/proc/self/exe", self, sizeof(self) - 1);
+        if (n <= 0) {
+            die("cannot find my own executable");
+        }
+        self[n] = '\0';
+        instr_run(cfg->wsgsim, self, cfg->out, cfg->instr_seq_n, cfg->instr_pipe_n, &res->instr);
+    }
+    if (wanted(cfg, "vtime")) {
+        fprintf(stderr, "wsgbench: virtual time, %d HOME/MOVE/GRIP/RELEASE cycles\n", cfg->cycles);
+        vtime_run(cfg->cycles, &res->vtime);
+        run_vtime_ctl(cfg, res);
+    }
+    if (wanted(cfg, "subscribers")) {
+        fprintf(stderr, "wsgbench: AUTOSEND %d subscribers x 10 ms, one phase (%.0f s)\n",
+                SUBSCRIBERS, cfg->autosend_s);
+        snprintf(path, sizeof(path), "%s/wsgsim-subscribers.log", cfg->out);
+        subscribers_run(cfg->wsgsim, path, SUBSCRIBERS, cfg->autosend_s, &res->subscribers);
+    }
+    if (wanted(cfg, "fleet")) {
+        fprintf(stderr, "wsgbench: fleet of %d devices\n", FLEET_DEVICES);
+        fleet_run(cfg->wsgsim, cfg->out, FLEET_DEVICES, cfg->idle_s, &res->fleet);
+    }
+    if (wanted(cfg, "scale")) {
+        run_scale(cfg, res);
+    }
+}
+
+static void run_shared_server_sections(const config_t *cfg, results_t *res)
+{
+    char log_path[512];
+    snprintf(log_path, sizeof(log_path), "%s/wsgsim.log", cfg->out);
+    server_t wsg;
+    server_t echo;
+    if (!server_start_wsgsim(&wsg, cfg->wsgsim, log_path, false)) {
+        die("%s did not start (see %s)", cfg->wsgsim, log_path);
+    }
+    if (!server_start_echo(&echo)) {
+        die("the echo server did not start");
+    }
+    server_t *srv[2] = {&wsg, &echo};
+    fprintf(stderr, "wsgbench: wsgsim pid %d, echo pid %d\n", (int)wsg.pid, (int)echo.pid);
+    if (wanted(cfg, "idle")) {
+        run_idle(srv, cfg, res);
+    }
+    if (wanted(cfg, "rtt")) {
+        pin_round_trips(srv, cfg->pin, res);
+        fprintf(stderr, "wsgbench: round trips with %s\n", res->placement);
+        run_rtt_tcp(srv, cfg, res);
+        run_rtt_udp(srv, cfg, res);
+        unpin(srv);
+    }
+    if (wanted(cfg, "load")) {
+        run_load(srv, cfg, res);
+    }
+    if (wanted(cfg, "autosend")) {
+        run_autosend(srv, cfg, res);
+    }
+    res->rss_peak_kib[0] = proc_hwm_kib(wsg.pid);
+    res->rss_peak_kib[1] = proc_hwm_kib(echo.pid);
+    server_stop(&wsg);
+    server_stop(&echo);
+}
+
 int main(int argc, char **argv)
 {
+    if (argc == 2 && strcmp(argv[1], "--serve-echo") == 0) {
+        echo_server_main();
+    }
     config_t cfg;
     parse_args(argc, argv, &cfg);
     if (mkdir(cfg.out, 0755) != 0 && errno != EEXIST) {
@@ -327,48 +468,15 @@ int main(int argc, char **argv)
     }
     static results_t res;
     describe_machine(&res);
-    char log_path[512];
-    snprintf(log_path, sizeof(log_path), "%s/wsgsim.log", cfg.out);
-    if (wanted(&cfg, "vtime")) {
-        fprintf(stderr, "wsgbench: virtual time, %d HOME/MOVE/GRIP/RELEASE cycles\n", cfg.cycles);
-        vtime_run(cfg.cycles, &res.vtime);
+    if (cfg.firmware_sizes != NULL) {
+        read_firmware_sizes(cfg.firmware_sizes, &res);
     }
-    server_t wsg;
-    server_t echo;
-    if (wanted(&cfg, "vtime")) {
-        run_vtime_ctl(&cfg, &res);
+    res.firmware_expected = cfg.only == NULL;
+    run_own_server_sections(&cfg, &res);
+    if (wanted(&cfg, "idle") || wanted(&cfg, "rtt") || wanted(&cfg, "load") ||
+        wanted(&cfg, "autosend")) {
+        run_shared_server_sections(&cfg, &res);
     }
-    if (wanted(&cfg, "scale")) {
-        run_scale(&cfg, &res);
-    }
-    if (!server_start_wsgsim(&wsg, cfg.wsgsim, log_path, false)) {
-        die("%s did not start (see %s)", cfg.wsgsim, log_path);
-    }
-    if (!server_start_echo(&echo)) {
-        die("the echo server did not start");
-    }
-    server_t *srv[2] = {&wsg, &echo};
-    fprintf(stderr, "wsgbench: wsgsim pid %d, echo pid %d\n", (int)wsg.pid, (int)echo.pid);
-    if (wanted(&cfg, "idle")) {
-        run_idle(srv, &cfg, &res);
-    }
-    if (wanted(&cfg, "rtt")) {
-        pin_round_trips(srv, cfg.pin, &res);
-        fprintf(stderr, "wsgbench: round trips with %s\n", res.placement);
-        run_rtt_tcp(srv, &cfg, &res);
-        run_rtt_udp(srv, &cfg, &res);
-        unpin(srv);
-    }
-    if (wanted(&cfg, "load")) {
-        run_load(srv, &cfg, &res);
-    }
-    if (wanted(&cfg, "autosend")) {
-        run_autosend(srv, &cfg, &res);
-    }
-    res.rss_peak_kib[0] = proc_hwm_kib(wsg.pid);
-    res.rss_peak_kib[1] = proc_hwm_kib(echo.pid);
-    server_stop(&wsg);
-    server_stop(&echo);
     report_print(&res, stdout);
     report_write_json(&res, cfg.out);
     report_plot(&res, cfg.out);

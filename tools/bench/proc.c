@@ -65,13 +65,18 @@ void server_add_wsgsim_arg(const char *arg)
     extra_args[extra_count++] = arg;
 }
 
-static void exec_wsgsim(const char *binary, const char *log_path, bool paused)
+int wsgsim_argv(const char **argv, int cap, const char *binary, bool paused)
 {
-    static const char *const common[] = {
-        "--bind", "127.0.0.1", "--tcp-port", "0", "--udp-port", "0", "--no-disconnect-faststop"};
+    static const char *const common[] = {"--bind",
+                                         "127.0.0.1",
+                                         "--tcp-port",
+                                         "0",
+                                         "--udp-port",
+                                         "0",
+                                         "--max-clients",
+                                         "128",
+                                         "--no-disconnect-faststop"};
     static const char *const paused_args[] = {"--part", "30", "--sim-port", "0", "--start-paused"};
-    static const char *const load_args[] = {"--max-clients", "128"};
-    const char *argv[32];
     int n = 0;
     argv[n++] = binary;
     for (size_t i = 0; i < sizeof(common) / sizeof(common[0]); i++) {
@@ -80,13 +85,19 @@ static void exec_wsgsim(const char *binary, const char *log_path, bool paused)
     for (size_t i = 0; paused && i < sizeof(paused_args) / sizeof(paused_args[0]); i++) {
         argv[n++] = paused_args[i];
     }
-    for (size_t i = 0; !paused && i < sizeof(load_args) / sizeof(load_args[0]); i++) {
-        argv[n++] = load_args[i];
-    }
     for (int i = 0; i < extra_count; i++) {
         argv[n++] = extra_args[i];
     }
+    if (n >= cap) {
+        die("too many wsgsim arguments");
+    }
     argv[n] = NULL;
+    return n;
+}
+
+/* In the child: stderr to the log, then the command. */
+static void exec_logged(const char *const *argv, const char *log_path)
+{
     follow_parent();
     int fd = open(log_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (fd < 0) {
@@ -94,7 +105,7 @@ static void exec_wsgsim(const char *binary, const char *log_path, bool paused)
     }
     dup2(fd, STDERR_FILENO);
     close(fd);
-    execv(binary, (char *const *)argv);
+    execvp(argv[0], (char *const *)argv);
     _exit(127);
 }
 
@@ -116,17 +127,18 @@ static bool read_ready(const char *log_path, server_t *srv)
     return found;
 }
 
-bool server_start_wsgsim(server_t *srv, const char *binary, const char *log_path, bool paused)
+bool server_start_cmd(server_t *srv, const char *name, const char *const *argv,
+                      const char *log_path, double timeout_s)
 {
     memset(srv, 0, sizeof(*srv));
-    srv->name = "wsgsim";
+    srv->name = name;
     unlink(log_path); /* never read the ready line of an earlier run */
     srv->pid = fork();
     if (srv->pid == 0) {
-        exec_wsgsim(binary, log_path, paused);
+        exec_logged(argv, log_path);
     }
     remember(srv->pid);
-    double deadline = now_us() + START_TIMEOUT_US;
+    double deadline = now_us() + timeout_s * 1e6;
     while (now_us() < deadline) {
         if (read_ready(log_path, srv)) {
             return true;
@@ -142,6 +154,13 @@ bool server_start_wsgsim(server_t *srv, const char *binary, const char *log_path
     return false;
 }
 
+bool server_start_wsgsim(server_t *srv, const char *binary, const char *log_path, bool paused)
+{
+    const char *argv[48];
+    wsgsim_argv(argv, 48, binary, paused);
+    return server_start_cmd(srv, "wsgsim", argv, log_path, START_TIMEOUT_US / 1e6);
+}
+
 static int bound_socket(int type, int *port)
 {
     int fd = socket(AF_INET, type | SOCK_CLOEXEC, 0);
@@ -155,6 +174,16 @@ static int bound_socket(int type, int *port)
     }
     *port = ntohs(sa.sin_port);
     return fd;
+}
+
+void echo_server_main(void)
+{
+    int tcp_port;
+    int udp_port;
+    int tcp_fd = bound_socket(SOCK_STREAM, &tcp_port);
+    int udp_fd = bound_socket(SOCK_DGRAM, &udp_port);
+    fprintf(stderr, "echo ready: tcp 127.0.0.1:%d, udp 127.0.0.1:%d\n", tcp_port, udp_port);
+    echo_server_run(tcp_fd, udp_fd);
 }
 
 bool server_start_echo(server_t *srv)
@@ -174,23 +203,30 @@ bool server_start_echo(server_t *srv)
     return srv->pid > 0;
 }
 
-void server_stop(server_t *srv)
+bool server_stop_within(server_t *srv, double seconds)
 {
     if (srv->pid <= 0) {
-        return;
+        return true;
     }
     forget(srv->pid);
     kill(srv->pid, SIGTERM);
-    for (int i = 0; i < 500; i++) {
-        if (waitpid(srv->pid, NULL, WNOHANG) == srv->pid) {
+    int status = 0;
+    for (double waited = 0; waited < seconds; waited += 0.01) {
+        if (waitpid(srv->pid, &status, WNOHANG) == srv->pid) {
             srv->pid = 0;
-            return;
+            return WIFEXITED(status) || (WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM);
         }
         usleep(10000);
     }
     kill(srv->pid, SIGKILL);
     waitpid(srv->pid, NULL, 0);
     srv->pid = 0;
+    return false;
+}
+
+void server_stop(server_t *srv)
+{
+    server_stop_within(srv, 5.0);
 }
 
 /* /proc/PID/schedstat: nanoseconds on the CPU (finer than the 10 ms ticks
@@ -254,4 +290,9 @@ long proc_ctx_switches(pid_t pid)
     long v = status_field(pid, "voluntary_ctxt_switches");
     long n = status_field(pid, "nonvoluntary_ctxt_switches");
     return v < 0 || n < 0 ? -1 : v + n;
+}
+
+long proc_wakeups(pid_t pid)
+{
+    return status_field(pid, "voluntary_ctxt_switches");
 }

@@ -8,12 +8,23 @@
 
 #define LOAD_STEPS 4
 
+#define FIRMWARE_IMAGES_MAX 4
+
+/* One Cortex-M image against its budgets (bytes), from `make bench`. */
+typedef struct {
+    char name[32];
+    long flash, flash_max;
+    long ram, ram_max;
+} firmware_size_t;
+
 /* Index 0: wsgsim, 1: echo baseline. */
 typedef struct {
     char machine[256];
     char placement[96]; /* CPU placement of the round trips */
+    double idle_s;      /* each idle window; 0: not run */
+    int idle_connections;
     double idle_pct[2];
-    long idle_wakeups[2];
+    long idle_wakeups[2]; /* sleeps (voluntary context switches) in the window */
     double idle_conn_pct[2];
     long idle_conn_wakeups[2];
     long rss_idle_kib[2];
@@ -28,6 +39,13 @@ typedef struct {
     vtime_result_t vtime;
     vtime_result_t vtime_ctl; /* through wsgsim's control channel; 0 cycles: not run */
     int vtime_ctl_step_ms;
+    instr_result_t instr;
+    subscribers_result_t subscribers;
+    fleet_result_t fleet;
+    bool firmware_expected; /* a full run: the sizes belong in it */
+    bool firmware_read;     /* --firmware-sizes given */
+    int firmware_count;
+    firmware_size_t firmware[FIRMWARE_IMAGES_MAX];
     scale_result_t scale; /* the scaled clock's rate; rate 0: not run */
 } results_t;
 
