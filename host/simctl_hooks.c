@@ -39,12 +39,6 @@ static void on_grip_state(void *ctx, wsg_grip_state_t from, wsg_grip_state_t to)
     coverage_grip(from, to);
 }
 
-static void on_stepped(void *ctx, wsg_device_t *dev)
-{
-    (void)ctx;
-    coverage_flags(wsg_device_snapshot(dev)->flags);
-}
-
 static void on_command_done(void *ctx, const wsg_conn_t *c, const char *name, int index,
                             unsigned form, unsigned argc, wsg_status_t status)
 {
@@ -78,7 +72,6 @@ static const wsg_conn_observer_t message_observer = {
 
 static const wsg_device_observer_t device_observer = {
     .grip_state_changed = on_grip_state,
-    .stepped = on_stepped,
 };
 
 static const wsg_gcl_observer_t coverage_observer = {
@@ -112,6 +105,13 @@ void simctl_hooks_detach(wsg_device_t *dev)
     wsg_conn_observe(dev, NULL, NULL);
     wsg_device_observe(dev, NULL, NULL);
     wsg_gcl_observe(dev, NULL, NULL);
+}
+
+void simctl_hooks_after_tick(wsg_device_t *dev)
+{
+    if (hub.coverage) {
+        coverage_flags(wsg_device_snapshot(dev)->flags);
+    }
 }
 
 bool simctl_hooks_strict(void)

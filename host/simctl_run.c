@@ -66,6 +66,7 @@ static bool run_due(unsigned *budget, uint64_t *next)
         return false;
     }
     *next = gripper_tick(gripper_served());
+    simctl_hooks_after_tick(&gripper_served()->device);
     simctl_delay_release_due(now);
     *next = earliest(*next, scenario_next_us());
     *next = earliest(*next, simctl_delay_next_us());

@@ -75,9 +75,6 @@ void wsg_device_step(wsg_device_t *device)
     motion_block_watch_step(dev);
     sense_and_react(dev); /* what the step changed, for the timers below */
     timer_run_due(&dev->timers, dev->sensed.now_us);
-    if (dev->observer != NULL && dev->observer->stepped != NULL) {
-        dev->observer->stepped(dev->observer_ctx, device);
-    }
 }
 
 uint64_t wsg_device_next_deadline_us(const wsg_device_t *device)

@@ -193,7 +193,6 @@ const wsg_snapshot_t *wsg_device_snapshot(wsg_device_t *dev);
  * observers pays one pointer test per event. */
 typedef struct {
     void (*grip_state_changed)(void *ctx, wsg_grip_state_t from, wsg_grip_state_t to);
-    void (*stepped)(void *ctx, wsg_device_t *dev);
 } wsg_device_observer_t;
 
 void wsg_device_observe(wsg_device_t *dev, const wsg_device_observer_t *observer, void *ctx);
