@@ -1,6 +1,7 @@
 # The binary command protocol's codec (firmware/bin: CRC, request framer,
 # reply encoder, field helpers; docs/binary-protocol.md) and its tests:
-#   make bin-tests         the Check tests (build/tests/bin_tests)
+#   make bin-tests         the Check tests (build/tests/bin_tests) and the
+#                          unittest of the Python client's codec (tools/wsgbinproto.py)
 #   make bin-tests SAN=1   the same under ASan/UBSan
 # The codec depends on nothing else in the tree: it builds into its own
 # library, libwsgbin.a.
@@ -29,10 +30,12 @@ $(BIN_TEST_BIN): $(BIN_TEST_OBJ) $(BUILD)/libwsgbin.a
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS_BASE) -o $@ $(BIN_TEST_OBJ) $(BUILD)/libwsgbin.a $(BIN_TEST_LIBS)
 
-# Check prints its summary line; the binary exits non-zero on any failure.
+# Check prints its summary line, the Python tests 'N passed, N failed'; both
+# binaries exit non-zero on any failure, and the Python tests run either way.
 .PHONY: bin-tests
 bin-tests: $(BIN_TEST_BIN)
-	$(CHECK_ENV) $(BIN_TEST_BIN)
+	@status=0; $(CHECK_ENV) $(BIN_TEST_BIN) || status=1; \
+	python3 tests/bin/test_wsgbinproto.py || status=1; exit $$status
 
 CHECK_TARGETS += bin-tests
 
