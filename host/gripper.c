@@ -1,23 +1,14 @@
 #include "gripper.h"
 
+#include <stdio.h>
+#include <string.h>
+
 #include "config_file.h"
 #include "finger_bus_host.h"
 #include "hal_clock.h"
 #include "log.h"
 #include "sim/sim_models.h"
 #include "simctl_hooks.h"
-
-static gripper_t *served;
-
-void gripper_serve(gripper_t *g)
-{
-    served = g;
-}
-
-gripper_t *gripper_served(void)
-{
-    return served;
-}
 
 /* A part given at start sits between the jaws: open them beyond it. */
 static void place_start_part(gripper_t *g)
@@ -45,18 +36,36 @@ static void power_on_world(gripper_t *g)
     g->next_deadline_us = hal_clock_now_us();
 }
 
-void gripper_init(gripper_t *g, const host_options_t *opts)
+/* Device index of a fleet: serial + index, tag "<tag>-<index>" (cut to fit). */
+static void set_identity(wsg_config_t *cfg, unsigned index)
+{
+    if (index == 0) {
+        return;
+    }
+    cfg->serial += index;
+    char suffix[16];
+    int len = snprintf(suffix, sizeof(suffix), "-%u", index);
+    size_t keep = sizeof(cfg->tag) - 1u - (size_t)len;
+    size_t tag_len = strnlen(cfg->tag, keep);
+    memcpy(&cfg->tag[tag_len], suffix, (size_t)len + 1u);
+}
+
+void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
 {
     g->opts = *opts;
+    g->index = index;
     sim_model_config(sim_model_find(opts->model), &g->config);
     config_file_apply(&g->config);
+    set_identity(&g->config, index);
     g->config.disconnect_raises_faststop = opts->disconnect_faststop;
     power_on_world(g);
     wsg_hal_t hal;
     sim_world_hal(&g->world, &hal);
-    hal.can = finger_bus_host_can();
+    hal.can = index == 0 ? finger_bus_host_can() : NULL;
     wsg_device_init(&g->device, &g->config, &hal);
-    simctl_hooks_attach(&g->device, opts);
+    if (index == 0) {
+        simctl_hooks_attach(&g->device, opts);
+    }
 }
 
 uint64_t gripper_tick(gripper_t *g)
@@ -67,6 +76,7 @@ uint64_t gripper_tick(gripper_t *g)
         wsg_device_step(&g->device);
     }
     g->next_deadline_us = wsg_device_next_deadline_us(&g->device);
+    g->touched = false;
     return g->next_deadline_us;
 }
 
@@ -100,4 +110,5 @@ void gripper_feed(gripper_t *g, wsg_conn_t *c, const uint8_t *bytes, size_t len,
     uint64_t soonest = hal_clock_now_us() + 1u;
     due = due > soonest ? due : soonest;
     g->next_deadline_us = due < g->next_deadline_us ? due : g->next_deadline_us;
+    g->touched = true;
 }

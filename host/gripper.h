@@ -1,7 +1,7 @@
 /* One virtual gripper of the host: the device core, its simulated world and
  * the configuration it powers on with, kept on the simulated clock. Every
- * entry point first brings the world up to now. An instance: the fleet holds
- * several; today main.c holds one and serves it (gripper_served()). */
+ * entry point first brings the world up to now. An instance: the fleet
+ * (host/fleet.c) holds one per device and hands it to that device's servers. */
 #ifndef HOST_GRIPPER_H
 #define HOST_GRIPPER_H
 
@@ -13,17 +13,25 @@
 #include "wsg/wsg_conn.h"
 #include "wsg/wsg_device.h"
 
-typedef struct {
+typedef struct gripper {
     wsg_device_t device;
     sim_world_t world;
     wsg_config_t config; /* what a reset powers on with */
     host_options_t opts;
     uint64_t next_deadline_us;
+    bool touched;   /* fed, or a connection closed, since the last tick: the
+                     * next tick recomputes its deadline even if not due */
+    unsigned index; /* its number in the fleet: 0 for the first */
 } gripper_t;
 
-/* Power-on state from the options (model, configuration file, part). */
-void gripper_init(gripper_t *g, const host_options_t *opts);
-/* Runs the control step if it is due; returns the next deadline. */
+/* Power-on state from the options (model, configuration file, part) for
+ * device `index` of the fleet: its serial number is the configured one plus
+ * index, its tag the configured one with "-<index>" appended (device 0 keeps
+ * both as configured). Only device 0 has the finger bus and the observers
+ * (trace, record, coverage). */
+void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index);
+/* Runs the control step if it is due; returns the next deadline. The fleet
+ * calls it when the deadline has come or the gripper was touched. */
 uint64_t gripper_tick(gripper_t *g);
 void gripper_feed(gripper_t *g, wsg_conn_t *c, const uint8_t *bytes, size_t len,
                   int end_of_datagram);
@@ -32,10 +40,5 @@ void gripper_step_now(gripper_t *g);
 /* Power-on again: world, configuration and device state; the ports close
  * their connections first, any left over is closed here. */
 void gripper_reset(gripper_t *g);
-
-/* The instance the servers and the control channel serve (one device per
- * process until the fleet: set once by main). */
-void gripper_serve(gripper_t *g);
-gripper_t *gripper_served(void);
 
 #endif

@@ -18,7 +18,7 @@ _Static_assert(EPOLLIN == POLLIN && EPOLLOUT == POLLOUT && EPOLLERR == POLLERR &
 
 #define POLL_BITS (EPOLLIN | EPOLLOUT | EPOLLERR | EPOLLHUP | EPOLLPRI)
 /* Descriptors are found by fd through a small hash: fd % FD_BUCKETS. */
-#define FD_BUCKETS 256
+#define FD_BUCKETS 1024
 #define NO_SLOT (-1)
 
 /* A watched descriptor. Its epoll registration carries the slot and the

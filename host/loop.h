@@ -8,7 +8,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#define LOOP_MAX_WATCHES 512
+#define LOOP_MAX_WATCHES 4096 /* --devices 1024: two listeners each, and clients */
 
 typedef void (*loop_callback_t)(void *ctx, int fd, short revents);
 

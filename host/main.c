@@ -2,7 +2,7 @@
 #include <stdio.h>
 
 #include "finger_bus_host.h"
-#include "gripper.h"
+#include "fleet.h"
 #include "log.h"
 #include "loop.h"
 #include "options.h"
@@ -16,19 +16,6 @@
 #include "udp_server.h"
 
 #define EXIT_STARTUP_FAILED 2
-
-static bool start_servers(const host_options_t *opts)
-{
-    if (opts->tcp_enabled && !tcp_server_start(opts->bind_addr, opts->tcp_port, opts->max_clients,
-                                               opts->idle_timeout_s)) {
-        return false;
-    }
-    if (opts->udp_enabled &&
-        !udp_server_start(opts->bind_addr, opts->udp_port, opts->udp_peer_timeout_s)) {
-        return false;
-    }
-    return true;
-}
 
 /* Simulation control (docs/simctl.md): record, scenario, control channel. */
 static bool start_simulation(const host_options_t *opts)
@@ -56,13 +43,6 @@ static int stop_simulation(const host_options_t *opts)
     return 0;
 }
 
-static void announce(const host_options_t *opts)
-{
-    host_logf(HAL_LOG_INFO, "virtual %s ready: tcp %s:%d, udp %s:%d%s", opts->model,
-              opts->bind_addr, tcp_server_port(), opts->bind_addr, udp_server_port(),
-              simctl_describe());
-}
-
 static void catch_up(void)
 {
     (void)simctl_tick();
@@ -86,13 +66,10 @@ int main(int argc, char **argv)
     if (!finger_bus_host_start(&opts)) {
         return EXIT_STARTUP_FAILED;
     }
-    static gripper_t gripper; /* the device this process serves */
-    gripper_init(&gripper, &opts);
-    gripper_serve(&gripper);
-    if (!start_servers(&opts) || !start_simulation(&opts)) {
+    if (!fleet_start(&opts) || !start_simulation(&opts)) {
         return EXIT_STARTUP_FAILED;
     }
-    announce(&opts);
+    fleet_announce(simctl_describe());
     host_logf(HAL_LOG_INFO, "finger bus: %s", finger_bus_host_describe());
     while (!loop_stop_requested()) {
         uint64_t deadline = simctl_tick();
@@ -102,8 +79,7 @@ int main(int argc, char **argv)
         simctl_reap();
     }
     host_logf(HAL_LOG_INFO, "shutting down");
-    tcp_server_stop();
-    udp_server_stop();
+    fleet_stop();
     finger_bus_host_stop();
     return stop_simulation(&opts);
 }

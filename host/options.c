@@ -26,6 +26,8 @@ static void print_help(void)
            "  --no-tcp                   do not serve TCP\n"
            "  --no-udp                   do not serve UDP\n"
            "  --bind ADDR                listen address (default 0.0.0.0)\n"
+           "  --devices N                serve N independent grippers (1..%d); device i on\n"
+           "                             TCP and UDP port + i (port 0: free ports each)\n"
            "  --model NAME               gripper model (default %s; see --list-models)\n"
            "  --list-models              list the simulated models and exit\n"
            "  --part W[:K]               a part of width W mm (stiffness K N/mm, default %.0f)\n"
@@ -56,8 +58,9 @@ static void print_help(void)
            "                             emulator tolerates (coverage report and trace)\n"
            "  --version                  print the version and exit\n"
            "  --help                     print this help and exit\n",
-           DEFAULT_PORT, DEFAULT_PORT, sim_model_default()->name, (double)DEFAULT_PART_STIFFNESS,
-           DEFAULT_MAX_CLIENTS, MAX_CLIENTS_LIMIT, DEFAULT_UDP_PEER_TIMEOUT_S);
+           DEFAULT_PORT, DEFAULT_PORT, HOST_DEVICES_MAX, sim_model_default()->name,
+           (double)DEFAULT_PART_STIFFNESS, DEFAULT_MAX_CLIENTS, MAX_CLIENTS_LIMIT,
+           DEFAULT_UDP_PEER_TIMEOUT_S);
 }
 
 static void list_models(void)
@@ -120,6 +123,7 @@ enum {
     OPT_LIST_MODELS,
     OPT_PART,
     OPT_MAX_CLIENTS,
+    OPT_DEVICES,
     OPT_NO_DISCONNECT_FASTSTOP,
     OPT_IDLE_TIMEOUT,
     OPT_UDP_PEER_TIMEOUT,
@@ -148,6 +152,7 @@ static const struct option long_options[] = {
     {"list-models", no_argument, NULL, OPT_LIST_MODELS},
     {"part", required_argument, NULL, OPT_PART},
     {"max-clients", required_argument, NULL, OPT_MAX_CLIENTS},
+    {"devices", required_argument, NULL, OPT_DEVICES},
     {"no-disconnect-faststop", no_argument, NULL, OPT_NO_DISCONNECT_FASTSTOP},
     {"idle-timeout", required_argument, NULL, OPT_IDLE_TIMEOUT},
     {"udp-peer-timeout", required_argument, NULL, OPT_UDP_PEER_TIMEOUT},
@@ -178,6 +183,7 @@ static void set_defaults(host_options_t *opts)
     opts->model = sim_model_default()->name;
     opts->part_stiffness_n_mm = DEFAULT_PART_STIFFNESS;
     opts->max_clients = DEFAULT_MAX_CLIENTS;
+    opts->devices = 1;
     opts->disconnect_faststop = true;
     opts->udp_peer_timeout_s = DEFAULT_UDP_PEER_TIMEOUT_S;
     opts->sim_port = -1;
@@ -267,6 +273,9 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
         return OPTIONS_EXIT_OK;
     case OPT_PART:
         return parse_part(arg, opts) ? OPTIONS_RUN : usage_error("--part", arg);
+    case OPT_DEVICES:
+        return parse_int(arg, 1, HOST_DEVICES_MAX, &opts->devices) ? OPTIONS_RUN
+                                                                   : usage_error("--devices", arg);
     case OPT_MAX_CLIENTS:
         return parse_int(arg, 1, MAX_CLIENTS_LIMIT, &opts->max_clients)
                    ? OPTIONS_RUN

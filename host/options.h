@@ -4,6 +4,9 @@
 
 #include <stdbool.h>
 
+/* --devices: at most this many grippers in one process. */
+#define HOST_DEVICES_MAX 1024
+
 typedef struct {
     int tcp_port;
     int udp_port;
@@ -15,6 +18,7 @@ typedef struct {
     float part_width_mm;
     float part_stiffness_n_mm;
     int max_clients;
+    int devices;            /* --devices: grippers served, device i on port + i */
     int idle_timeout_s;     /* --idle-timeout: close TCP connections silent this long; 0: off */
     int udp_peer_timeout_s; /* --udp-peer-timeout: forget UDP peers silent this long */
     bool disconnect_faststop;

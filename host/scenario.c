@@ -131,7 +131,7 @@ static void run_event(const event_t *e)
 {
     size_t len = strlen(e->command);
     record_control("scn", '<', e->command, len);
-    char *reply = simctl_exec(e->command, len, NULL);
+    char *reply = simctl_exec(e->command, len, NULL, NULL);
     record_control("scn", '>', reply, strlen(reply));
     bool failed = strncmp(reply, "ERR", 3) == 0;
     host_logf(failed ? HAL_LOG_WARN : HAL_LOG_INFO, "scenario %s:%d: %s -> %s", sc.path, e->line,

@@ -36,6 +36,7 @@ typedef struct {
     bool eof;     /* the peer sent everything: answer it, then close */
     int fd;
     unsigned number; /* ctl<number> in logs and records */
+    unsigned device; /* the device its commands address (DEVICE=) */
     gcl_linebuf_t input;
     uint8_t pending[READ_CHUNK]; /* received, not yet run (while a STEP runs) */
     size_t pending_len;
@@ -159,7 +160,7 @@ static void handle_line(control_client_t *c)
     if (gcl_linebuf_status(lb) != GCL_LINE_OK) {
         reply = strdup("ERR ? 15 line too long or with control bytes");
     } else {
-        reply = simctl_exec(lb->text, lb->len, &outcome);
+        reply = simctl_exec(lb->text, lb->len, &c->device, &outcome);
     }
     if (outcome.deferred) {
         ctl.stepper = c; /* the reply comes when the STEP has run */
@@ -290,6 +291,7 @@ static void on_accept(void *ctx, int fd, short revents)
     c->pending_len = 0;
     c->pending_at = 0;
     c->number = ++ctl.connections;
+    c->device = 0;
     gcl_linebuf_reset(&c->input);
     if (!loop_watch(client_fd, POLLIN, on_client, c)) {
         outq_free(&c->outq);

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "gripper.h"
+#include "fleet.h"
 #include "hal_clock.h"
 #include "sim/sim_world.h"
 #include "simctl_cmd_internal.h"
@@ -42,6 +42,8 @@ static const simctl_entry_t table[] = {
     {"COVERAGE_RESET", CALL, 0, 0, sc_coverage_reset, "COVERAGE_RESET()", true},
     {"LOG", CALL, 1, 1, sc_log, "LOG(text)", true},
     {"HELP", QUERY, 0, 0, sc_help, "HELP?", true},
+    {"DEVICE", SET | QUERY, 0, 0, sc_device, "DEVICE=index | DEVICE?", false},
+    {"DEVICES", QUERY, 0, 0, sc_devices, "DEVICES?", true},
     {"BYE", CALL, 0, 0, sc_bye, "BYE()", false},
 };
 
@@ -163,7 +165,7 @@ wsg_conn_t *sc_session(simctl_ctx_t *ctx, unsigned i)
     if (!sc_integer(ctx, i, "the session id", 1, SESSION_ID_MAX, &id) || sc_checking(ctx)) {
         return NULL;
     }
-    wsg_conn_t *c = wsg_device_conn_by_id(&gripper_served()->device, (uint64_t)id);
+    wsg_conn_t *c = wsg_device_conn_by_id(&ctx->gripper->device, (uint64_t)id);
     if (c != NULL) {
         return c;
     }
@@ -171,9 +173,18 @@ wsg_conn_t *sc_session(simctl_ctx_t *ctx, unsigned i)
     return NULL;
 }
 
-void sc_world_changed(void)
+void sc_world_changed(simctl_ctx_t *ctx)
 {
-    gripper_step_now(gripper_served());
+    gripper_step_now(ctx->gripper);
+}
+
+bool sc_first_device(simctl_ctx_t *ctx)
+{
+    if (ctx->gripper->index == 0) {
+        return true;
+    }
+    sc_fail(ctx, E_FEATURE_NOT_SUPPORTED, "hardware faults are injected on device 0 only");
+    return false;
 }
 
 /* ---- dispatch ---- */
@@ -227,7 +238,7 @@ static bool check_arguments(const simctl_entry_t *e, const gcl_command_t *cmd, c
     if (cmd->form == GCL_FORM_QUERY || cmd->argc == 0) {
         return true;
     }
-    simctl_ctx_t ctx = {.cmd = cmd, .check_only = true};
+    simctl_ctx_t ctx = {.cmd = cmd, .gripper = fleet_gripper(0), .check_only = true};
     wsg_status_t status = e->handler(&ctx);
     free(ctx.reply);
     if (status != E_SUCCESS) {
@@ -263,16 +274,17 @@ static char *ack_line(const char *name)
     return asprintf(&text, "ACK %s", name) < 0 ? NULL : text;
 }
 
-char *simctl_exec(const char *line, size_t len, simctl_outcome_t *outcome)
+char *simctl_exec(const char *line, size_t len, unsigned *selected, simctl_outcome_t *outcome)
 {
     gcl_command_t cmd;
     wsg_status_t status = E_SUCCESS;
-    simctl_ctx_t ctx = {.cmd = &cmd};
+    unsigned index = selected != NULL && *selected < fleet_count() ? *selected : 0u;
+    simctl_ctx_t ctx = {.cmd = &cmd, .gripper = fleet_gripper(index), .selected = selected};
     const simctl_entry_t *e = resolve(line, len, &cmd, &status, ctx.why, sizeof(ctx.why));
-    sim_world_advance(&gripper_served()->world,
-                      hal_clock_now_us()); /* act on the world as it is now */
+    sim_world_advance(&ctx.gripper->world, hal_clock_now_us()); /* act on the world as it is now */
     if (e != NULL) {
         status = e->handler(&ctx);
+        ctx.gripper->touched = true; /* its deadline may have moved */
     }
     if (outcome != NULL) {
         outcome->close = ctx.close;

@@ -14,9 +14,10 @@ typedef struct {
 
 /* Runs one control line (without its terminator) and returns the reply line
  * (malloc'd, no '\n'): "ACK NAME", "NAME=value" or "ERR NAME code reason".
+ * selected: the channel's device (DEVICE= changes it); NULL: device 0.
  * With an outcome, a STEP only starts: NULL is returned and the STEP runs in
  * slices from the event loop. Without one, a STEP runs to its end first. */
-char *simctl_exec(const char *line, size_t len, simctl_outcome_t *outcome);
+char *simctl_exec(const char *line, size_t len, unsigned *selected, simctl_outcome_t *outcome);
 /* "STEP=<simulated ms>", the reply of a STEP that has run (malloc'd). */
 char *simctl_step_reply(void);
 

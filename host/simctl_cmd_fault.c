@@ -40,20 +40,20 @@ static bool read_fault(simctl_ctx_t *ctx, simctl_fault_t *fault)
 wsg_status_t sc_fault(simctl_ctx_t *ctx)
 {
     simctl_fault_t fault;
-    if (!read_fault(ctx, &fault)) {
+    if (!read_fault(ctx, &fault) || !sc_first_device(ctx)) {
         return ctx->failed;
     }
     if (sc_checking(ctx)) {
         return E_SUCCESS;
     }
     simctl_fault_raise(fault);
-    sc_world_changed();
+    sc_world_changed(ctx);
     return E_SUCCESS;
 }
 
-static void clear_failnext(void)
+static void clear_failnext(simctl_ctx_t *ctx)
 {
-    wsg_device_t *dev = &gripper_served()->device;
+    wsg_device_t *dev = &ctx->gripper->device;
     const wsg_snapshot_t *snap = wsg_device_snapshot(dev);
     if (snap->injected_armed) {
         host_logf(HAL_LOG_INFO, "fault cleared: FAILNEXT %s", snap->injected_name);
@@ -62,11 +62,16 @@ static void clear_failnext(void)
     }
 }
 
-static void clear_delays(void)
+static void clear_delays(simctl_ctx_t *ctx)
 {
+    const wsg_device_t *dev = &ctx->gripper->device;
     simctl_delay_info_t info;
-    if (simctl_delay_info(0, &info)) {
-        simctl_delay_clear_all(true);
+    bool any = false;
+    for (unsigned i = 0; simctl_delay_info(i, &info); i++) {
+        any = any || info.device == dev;
+    }
+    if (any) {
+        simctl_delay_clear_all(dev, true);
         host_logf(HAL_LOG_INFO, "fault cleared: DELAY (held lines delivered)");
     }
 }
@@ -86,9 +91,9 @@ static wsg_status_t clear_protocol(simctl_ctx_t *ctx, const char *name)
         return E_SUCCESS;
     }
     if (strcasecmp(name, "DELAY") == 0) {
-        clear_delays();
+        clear_delays(ctx);
     } else {
-        clear_failnext();
+        clear_failnext(ctx);
     }
     return E_SUCCESS;
 }
@@ -98,27 +103,29 @@ wsg_status_t sc_clear(simctl_ctx_t *ctx)
     const char *name = NULL;
     simctl_fault_t fault;
     if (!sc_has_arg(ctx, 0)) {
-        simctl_fault_clear_all();
-        clear_delays();
-        clear_failnext();
+        if (ctx->gripper->index == 0) {
+            simctl_fault_clear_all(); /* hardware faults live on device 0 only */
+        }
+        clear_delays(ctx);
+        clear_failnext(ctx);
     } else if (!sc_text(ctx, 0, &name)) {
         return ctx->failed;
     } else if (is_protocol_fault(name)) {
         return clear_protocol(ctx, name);
-    } else if (!read_fault(ctx, &fault)) {
+    } else if (!read_fault(ctx, &fault) || !sc_first_device(ctx)) {
         return ctx->failed;
     } else if (sc_checking(ctx)) {
         return E_SUCCESS;
     } else {
         simctl_fault_clear(fault);
     }
-    sc_world_changed();
+    sc_world_changed(ctx);
     return E_SUCCESS;
 }
 
 wsg_status_t sc_faults(simctl_ctx_t *ctx)
 {
-    cJSON *list = state_json_faults();
+    cJSON *list = state_json_faults(ctx->gripper);
     sc_reply_json(ctx, list);
     return E_SUCCESS;
 }
@@ -151,7 +158,7 @@ wsg_status_t sc_delay(simctl_ctx_t *ctx)
         return E_SUCCESS;
     }
     unsigned armed = 0;
-    wsg_device_t *dev = &gripper_served()->device;
+    wsg_device_t *dev = &ctx->gripper->device;
     for (wsg_conn_t *c = wsg_device_conn_first(dev); c != NULL; c = wsg_conn_next(c)) {
         delay_session(c, ms);
         armed++;
@@ -188,7 +195,7 @@ wsg_status_t sc_failnext(simctl_ctx_t *ctx)
     if (sc_checking(ctx)) {
         return E_SUCCESS;
     }
-    wsg_device_inject_failure(&gripper_served()->device, upper, (wsg_status_t)(int)code);
+    wsg_device_inject_failure(&ctx->gripper->device, upper, (wsg_status_t)(int)code);
     host_logf(HAL_LOG_WARN, "fault injected: FAILNEXT %s answers ERR %s %d", upper, upper,
               (int)code);
     return E_SUCCESS;
@@ -217,7 +224,7 @@ wsg_status_t sc_cut(simctl_ctx_t *ctx)
                               : sc_fail(ctx, E_NOT_FOUND, "session has no connection to cut");
     }
     unsigned cut = 0;
-    wsg_device_t *dev = &gripper_served()->device;
+    wsg_device_t *dev = &ctx->gripper->device;
     wsg_conn_t *c = wsg_device_conn_first(dev);
     while (c != NULL) {
         wsg_conn_t *next = wsg_conn_next(c); /* cutting closes c */

@@ -13,7 +13,9 @@
 
 typedef struct {
     const gcl_command_t *cmd;
-    char *reply; /* malloc'd reply; NULL: "ACK NAME" */
+    struct gripper *gripper; /* the device the command addresses */
+    unsigned *selected;      /* the channel's DEVICE= selection; NULL: a scenario */
+    char *reply;             /* malloc'd reply; NULL: "ACK NAME" */
     char why[192];
     wsg_status_t failed; /* the status sc_fail() set last */
     bool close;
@@ -63,7 +65,10 @@ wsg_conn_t *sc_session(simctl_ctx_t *ctx, unsigned i);
  * and return E_SUCCESS once they are valid. */
 bool sc_checking(const simctl_ctx_t *ctx);
 /* The device noticed a change of the world at once (a control step now). */
-void sc_world_changed(void);
+void sc_world_changed(simctl_ctx_t *ctx);
+/* False (ERR 5, reason set) unless device 0 is addressed: the injected
+ * hardware faults act on device 0 only. */
+bool sc_first_device(simctl_ctx_t *ctx);
 
 /* simctl_cmd_clock.c */
 wsg_status_t sc_pause(simctl_ctx_t *ctx);
@@ -96,6 +101,8 @@ wsg_status_t sc_coverage(simctl_ctx_t *ctx);
 wsg_status_t sc_coverage_reset(simctl_ctx_t *ctx);
 wsg_status_t sc_help(simctl_ctx_t *ctx);
 wsg_status_t sc_log(simctl_ctx_t *ctx);
+wsg_status_t sc_device(simctl_ctx_t *ctx);
+wsg_status_t sc_devices(simctl_ctx_t *ctx);
 wsg_status_t sc_bye(simctl_ctx_t *ctx);
 
 #endif

@@ -3,7 +3,7 @@
 #include <stdlib.h>
 
 #include "coverage.h"
-#include "gripper.h"
+#include "fleet.h"
 #include "log.h"
 #include "simctl_cmd_internal.h"
 #include "simctl_delay.h"
@@ -11,18 +11,16 @@
 #include "simctl_hooks.h"
 #include "simctl_run.h"
 #include "state_json.h"
-#include "tcp_server.h"
-#include "udp_server.h"
 
 wsg_status_t sc_state(simctl_ctx_t *ctx)
 {
-    sc_reply_owned(ctx, state_json(false));
+    sc_reply_owned(ctx, state_json(ctx->gripper, false));
     return E_SUCCESS;
 }
 
 wsg_status_t sc_sessions(simctl_ctx_t *ctx)
 {
-    cJSON *list = state_json_session_list();
+    cJSON *list = state_json_session_list(ctx->gripper);
     sc_reply_json(ctx, list);
     return E_SUCCESS;
 }
@@ -31,17 +29,59 @@ wsg_status_t sc_sessions(simctl_ctx_t *ctx)
  * doing), injected faults go, and the device starts as configured. */
 wsg_status_t sc_reset(simctl_ctx_t *ctx)
 {
-    (void)ctx;
-    gripper_t *g = gripper_served();
-    simctl_hooks_detach(&g->device);
-    simctl_delay_clear_all(false);
-    tcp_server_close_all();
-    udp_server_close_all();
-    simctl_fault_clear_all();
+    gripper_t *g = ctx->gripper;
+    bool first = g->index == 0; /* with the observers and the hardware faults */
+    if (first) {
+        simctl_hooks_detach(&g->device);
+    }
+    simctl_delay_clear_all(&g->device, false);
+    fleet_close_connections(g->index);
+    if (first) {
+        simctl_fault_clear_all();
+    }
     gripper_reset(g);
-    simctl_hooks_attach(&g->device, &g->opts);
+    if (first) {
+        simctl_hooks_attach(&g->device, &g->opts);
+    }
     simctl_reset_max_lag();
-    host_logf(HAL_LOG_INFO, "device reset to power-on defaults");
+    host_logf(HAL_LOG_INFO, "device %u reset to power-on defaults", g->index);
+    return E_SUCCESS;
+}
+
+/* DEVICE=index selects the device the channel's next commands address. */
+wsg_status_t sc_device(simctl_ctx_t *ctx)
+{
+    if (ctx->cmd->form == GCL_FORM_SET) {
+        int64_t index = 0;
+        if (!sc_integer(ctx, 0, "the device index", 0, (int64_t)fleet_count() - 1, &index)) {
+            return ctx->failed;
+        }
+        if (ctx->selected == NULL) {
+            return sc_fail(ctx, E_ACCESS_DENIED, "only a control connection selects a device");
+        }
+        *ctx->selected = (unsigned)index;
+        ctx->gripper = fleet_gripper((unsigned)index);
+    }
+    sc_reply(ctx, "%u", ctx->gripper->index);
+    return E_SUCCESS;
+}
+
+/* DEVICES? [{"index":..,"tcp":..,"udp":..,"serial":..,"tag":..,"model":..}, ...] */
+wsg_status_t sc_devices(simctl_ctx_t *ctx)
+{
+    cJSON *list = cJSON_CreateArray();
+    for (unsigned i = 0; i < fleet_count(); i++) {
+        const wsg_config_t *cfg = wsg_device_snapshot(&fleet_gripper(i)->device)->config;
+        cJSON *j = cJSON_CreateObject();
+        cJSON_AddNumberToObject(j, "index", i);
+        cJSON_AddNumberToObject(j, "tcp", fleet_tcp_port(i));
+        cJSON_AddNumberToObject(j, "udp", fleet_udp_port(i));
+        cJSON_AddNumberToObject(j, "serial", cfg->serial);
+        cJSON_AddStringToObject(j, "tag", cfg->tag);
+        cJSON_AddStringToObject(j, "model", cfg->devtype);
+        cJSON_AddItemToArray(list, j);
+    }
+    sc_reply_json(ctx, list);
     return E_SUCCESS;
 }
 

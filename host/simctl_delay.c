@@ -4,7 +4,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "gripper.h"
 #include "hal_clock.h"
 #include "log.h"
 
@@ -19,6 +18,7 @@
 typedef struct {
     bool armed;
     bool holding;
+    const wsg_device_t *device; /* whose connection (ids are per device) */
     uint64_t conn_id;
     uint32_t delay_us;
     uint64_t release_us;
@@ -112,14 +112,13 @@ static void delayed_write(void *ctx, const char *line, size_t len, wsg_msg_kind_
 
 static const wsg_conn_io_t delayed_io = {.write = delayed_write};
 
-static delay_slot_t *slot_of(uint64_t conn_id)
+/* The slot that stands in for the connection's I/O, if it is delayed. */
+static delay_slot_t *slot_of(const wsg_conn_t *c)
 {
-    for (unsigned i = 0; i < DELAYS_MAX && armed_count > 0; i++) {
-        if (slots[i].armed && slots[i].conn_id == conn_id) {
-            return &slots[i];
-        }
-    }
-    return NULL;
+    const wsg_conn_io_t *io = NULL;
+    void *io_ctx = NULL;
+    wsg_conn_get_io(c, &io, &io_ctx);
+    return io == &delayed_io ? io_ctx : NULL;
 }
 
 static delay_slot_t *free_slot(void)
@@ -134,14 +133,14 @@ static delay_slot_t *free_slot(void)
 
 void simctl_delay_arm(wsg_conn_t *c, uint32_t delay_us)
 {
-    const wsg_conn_io_t *io = NULL;
-    void *io_ctx = NULL;
-    wsg_conn_get_io(c, &io, &io_ctx);
-    delay_slot_t *d = slot_of(wsg_conn_id(c));
-    if (d != NULL && io == &delayed_io) {
+    delay_slot_t *d = slot_of(c);
+    if (d != NULL) {
         d->delay_us = delay_us; /* re-armed before it took effect */
         return;
     }
+    const wsg_conn_io_t *io = NULL;
+    void *io_ctx = NULL;
+    wsg_conn_get_io(c, &io, &io_ctx);
     d = free_slot();
     if (d == NULL) {
         host_logf(HAL_LOG_WARN, "DELAY: every delay slot is taken");
@@ -150,6 +149,7 @@ void simctl_delay_arm(wsg_conn_t *c, uint32_t delay_us)
     drop_held(d);
     memset(d, 0, sizeof(*d));
     d->armed = true;
+    d->device = wsg_conn_device(c);
     d->conn_id = wsg_conn_id(c);
     d->delay_us = delay_us;
     d->io = io;
@@ -161,8 +161,7 @@ void simctl_delay_arm(wsg_conn_t *c, uint32_t delay_us)
 /* The connection the slot stands in for, if it is still open. */
 static wsg_conn_t *owner(const delay_slot_t *d)
 {
-    gripper_t *g = gripper_served();
-    wsg_conn_t *c = g != NULL ? wsg_device_conn_by_id(&g->device, d->conn_id) : NULL;
+    wsg_conn_t *c = wsg_device_conn_by_id((wsg_device_t *)d->device, d->conn_id);
     if (c == NULL) {
         return NULL;
     }
@@ -225,19 +224,19 @@ uint64_t simctl_delay_next_us(void)
     return next;
 }
 
-void simctl_delay_clear_all(bool send)
+void simctl_delay_clear_all(const wsg_device_t *device, bool send)
 {
     for (unsigned i = 0; i < DELAYS_MAX && armed_count > 0; i++) {
-        if (slots[i].armed) {
+        if (slots[i].armed && slots[i].device == device) {
             release(&slots[i], send);
         }
     }
 }
 
-bool simctl_delay_holding(uint64_t conn_id)
+bool simctl_delay_holding(const wsg_conn_t *c)
 {
-    const delay_slot_t *d = slot_of(conn_id);
-    return d != NULL && d->holding && owner(d) != NULL;
+    const delay_slot_t *d = slot_of(c);
+    return d != NULL && d->holding;
 }
 
 bool simctl_delay_info(unsigned i, simctl_delay_info_t *out)
@@ -249,8 +248,8 @@ bool simctl_delay_info(unsigned i, simctl_delay_info_t *out)
             continue;
         }
         if (seen++ == i) {
-            *out =
-                (simctl_delay_info_t){d->conn_id, d->delay_us, d->holding, d->release_us, d->lines};
+            *out = (simctl_delay_info_t){d->device,  d->conn_id,    d->delay_us,
+                                         d->holding, d->release_us, d->lines};
             return true;
         }
     }

@@ -17,9 +17,10 @@ unsigned simctl_delay_release_due(uint64_t now_us);
 uint64_t simctl_delay_next_us(void);
 /* Drops every delay (armed or holding); held lines are delivered first when
  * send is true, otherwise discarded. */
-void simctl_delay_clear_all(bool send);
+void simctl_delay_clear_all(const wsg_device_t *device, bool send);
 
 typedef struct {
+    const wsg_device_t *device;
     uint64_t session_id;
     uint32_t delay_us;
     bool holding;        /* a reply arrived and is being held */
@@ -28,7 +29,7 @@ typedef struct {
 } simctl_delay_info_t;
 
 /* True while the connection's replies are held back. */
-bool simctl_delay_holding(uint64_t conn_id);
+bool simctl_delay_holding(const wsg_conn_t *c);
 
 /* The i-th active delay (0-based); false past the last. */
 bool simctl_delay_info(unsigned i, simctl_delay_info_t *out);

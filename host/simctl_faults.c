@@ -1,4 +1,4 @@
-#include "gripper.h"
+#include "fleet.h"
 #include "simctl_faults.h"
 
 #include <strings.h>
@@ -73,8 +73,8 @@ const char *simctl_fault_description(simctl_fault_t fault)
 /* The board temperature the active temperature faults force. */
 static void apply_temperature(void)
 {
-    const wsg_config_t *cfg = wsg_device_snapshot(&gripper_served()->device)->config;
-    sim_thermal_t *thermal = &gripper_served()->world.thermal;
+    const wsg_config_t *cfg = wsg_device_snapshot(&fleet_gripper(0)->device)->config;
+    sim_thermal_t *thermal = &fleet_gripper(0)->world.thermal;
     thermal->override_c = NO_OVERRIDE;
     if (faults.active[SIMCTL_FAULT_TEMP_WARNING]) {
         thermal->override_c = (cfg->temp_warning_c + cfg->temp_fault_c) / 2.0f;
@@ -99,7 +99,7 @@ static void apply_finger(simctl_fault_t fault, bool on)
 static void apply(simctl_fault_t fault)
 {
     bool on = faults.active[fault];
-    sim_axis_t *axis = &gripper_served()->world.axis;
+    sim_axis_t *axis = &fleet_gripper(0)->world.axis;
     switch (fault) {
     case SIMCTL_FAULT_TEMP_WARNING:
     case SIMCTL_FAULT_TEMP_FAULT:

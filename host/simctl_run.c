@@ -2,7 +2,7 @@
 
 #include <stdbool.h>
 
-#include "gripper.h"
+#include "fleet.h"
 #include "hal_clock.h"
 #include "scenario.h"
 #include "simclock.h"
@@ -65,8 +65,8 @@ static bool run_due(unsigned *budget, uint64_t *next)
     if (scenario_next_us() <= now) {
         return false;
     }
-    *next = gripper_tick(gripper_served());
-    simctl_hooks_after_tick(&gripper_served()->device);
+    *next = fleet_tick();
+    simctl_hooks_after_tick(&fleet_gripper(0)->device); /* observers: device 0's */
     simctl_delay_release_due(now);
     *next = earliest(*next, scenario_next_us());
     *next = earliest(*next, simctl_delay_next_us());

@@ -169,10 +169,13 @@ static void add_hardware_faults(cJSON *list)
     }
 }
 
-static void add_protocol_faults(cJSON *list)
+static void add_protocol_faults(cJSON *list, gripper_t *g)
 {
     simctl_delay_info_t d;
     for (unsigned i = 0; simctl_delay_info(i, &d); i++) {
+        if (d.device != &g->device) {
+            continue;
+        }
         cJSON *j = cJSON_CreateObject();
         cJSON_AddStringToObject(j, "fault", "DELAY");
         cJSON_AddNumberToObject(j, "session", d.session_id);
@@ -184,7 +187,7 @@ static void add_protocol_faults(cJSON *list)
         }
         cJSON_AddItemToArray(list, j);
     }
-    const wsg_snapshot_t *snap = wsg_device_snapshot(&gripper_served()->device);
+    const wsg_snapshot_t *snap = wsg_device_snapshot(&g->device);
     if (snap->injected_armed) {
         cJSON *j = cJSON_CreateObject();
         cJSON_AddStringToObject(j, "fault", "FAILNEXT");
@@ -194,11 +197,13 @@ static void add_protocol_faults(cJSON *list)
     }
 }
 
-cJSON *state_json_faults(void)
+cJSON *state_json_faults(gripper_t *g)
 {
     cJSON *list = cJSON_CreateArray();
-    add_hardware_faults(list);
-    add_protocol_faults(list);
+    if (g->index == 0) {
+        add_hardware_faults(list); /* injected on device 0 only */
+    }
+    add_protocol_faults(list, g);
     return list;
 }
 
@@ -259,14 +264,13 @@ static cJSON *sessions_json(wsg_device_t *dev, bool full)
     return list;
 }
 
-cJSON *state_json_session_list(void)
+cJSON *state_json_session_list(gripper_t *g)
 {
-    return sessions_json(&gripper_served()->device, false);
+    return sessions_json(&g->device, false);
 }
 
-char *state_json(bool pretty)
+char *state_json(gripper_t *g, bool pretty)
 {
-    gripper_t *g = gripper_served();
     wsg_device_t *dev = &g->device;
     const wsg_snapshot_t *snap = wsg_device_snapshot(dev);
     cJSON *root = cJSON_CreateObject();
@@ -278,7 +282,7 @@ char *state_json(bool pretty)
     cJSON_AddItemToObject(root, "flags", flags_json(snap->flags));
     cJSON_AddItemToObject(root, "world", world_json(&g->world, snap));
     cJSON_AddItemToObject(root, "fingers", fingers_json(snap));
-    cJSON_AddItemToObject(root, "faults", state_json_faults());
+    cJSON_AddItemToObject(root, "faults", state_json_faults(g));
     cJSON_AddItemToObject(root, "sessions", sessions_json(dev, true));
     char *text = pretty ? cJSON_Print(root) : cJSON_PrintUnformatted(root);
     cJSON_Delete(root);

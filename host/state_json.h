@@ -7,11 +7,13 @@
 
 #include <cjson/cJSON.h>
 
+#include "gripper.h"
+
 /* The dump as JSON text (malloc'd; free() it). */
-char *state_json(bool pretty);
+char *state_json(gripper_t *g, bool pretty);
 /* The active injected faults as a JSON array (also part of the dump). */
-cJSON *state_json_faults(void);
+cJSON *state_json_faults(gripper_t *g);
 /* The open sessions: [{"id":..,"transport":..}, ...]. */
-cJSON *state_json_session_list(void);
+cJSON *state_json_session_list(gripper_t *g);
 
 #endif

@@ -4,11 +4,11 @@
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <poll.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include "gripper.h"
 #include "hal_clock.h"
 #include "listener.h"
 #include "log.h"
@@ -18,7 +18,6 @@
 #include "simctl_delay.h"
 #include "wsg/wsg_gcl.h"
 
-#define CLIENTS_MAX 128
 #define OUTQ_BYTES (16u * 1024u)
 /* Above this fill level AUTOSEND lines are dropped to keep room for replies. */
 #define OUTQ_AUTOSEND_LIMIT (OUTQ_BYTES / 2u)
@@ -33,8 +32,9 @@
 #define KEEPALIVE_PROBES 6
 /* Out of descriptors: accept() is retried this often (wall clock). */
 
-typedef struct {
-    bool in_use;
+struct tcp_client {
+    tcp_server_t *server;
+    tcp_client_t *prev, *next; /* every server's open connections, oldest first */
     int fd;
     wsg_conn_t conn;
     outq_t outq;
@@ -46,22 +46,41 @@ typedef struct {
     bool spoke;        /* sent at least one byte */
     unsigned long dropped_autosend;
     char peer[64];
-} tcp_client_t;
+};
 
+/* What the module keeps across servers: the open connections (the reap
+ * visits these only) and the servers whose listener waits for descriptors. */
 static struct {
-    listener_t listener;
-    int max_clients;
-    uint64_t idle_timeout_us; /* 0: off */
-    tcp_client_t clients[CLIENTS_MAX];
-} tcp = {.listener = {.fd = -1}};
+    tcp_client_t *first, *last;
+    tcp_server_t *waiting;
+} tcp;
 
-static unsigned open_count(void)
+static void link_client(tcp_client_t *c)
 {
-    unsigned n = 0;
-    for (unsigned i = 0; i < CLIENTS_MAX; i++) {
-        n += tcp.clients[i].in_use ? 1u : 0u;
+    c->prev = tcp.last;
+    c->next = NULL;
+    if (tcp.last != NULL) {
+        tcp.last->next = c;
+    } else {
+        tcp.first = c;
     }
-    return n;
+    tcp.last = c;
+    c->server->open++;
+}
+
+static void unlink_client(tcp_client_t *c)
+{
+    if (c->prev != NULL) {
+        c->prev->next = c->next;
+    } else {
+        tcp.first = c->next;
+    }
+    if (c->next != NULL) {
+        c->next->prev = c->prev;
+    } else {
+        tcp.last = c->prev;
+    }
+    c->server->open--;
 }
 
 static void update_events(tcp_client_t *c)
@@ -161,9 +180,11 @@ static void close_client(tcp_client_t *c)
     loop_unwatch(c->fd);
     close(c->fd);
     wsg_conn_close(&c->conn, reason);
+    c->server->gripper->touched = true; /* e.g. FAST STOP on a lost link */
     outq_free(&c->outq);
-    c->in_use = false;
-    listener_fd_freed(&tcp.listener);
+    unlink_client(c);
+    listener_fd_freed(&c->server->listener);
+    free(c);
 }
 
 /* End of input: every command before it has been answered; the
@@ -194,7 +215,7 @@ static void on_client(void *ctx, int fd, short revents)
     if (n > 0) {
         c->heard_us = hal_clock_now_us();
         c->spoke = true;
-        gripper_feed(gripper_served(), &c->conn, buf, (size_t)n, 0);
+        gripper_feed(c->server->gripper, &c->conn, buf, (size_t)n, 0);
     } else if (n == 0) {
         on_end_of_input(c);
     } else if (errno != EAGAIN && errno != EINTR) {
@@ -204,23 +225,20 @@ static void on_client(void *ctx, int fd, short revents)
 
 /* The connection that has sent nothing at all for longest, if that is
  * beyond the grace; its slot goes to a waiting client. */
-static tcp_client_t *silent_connection(void)
+static tcp_client_t *silent_connection(const tcp_server_t *s)
 {
     uint64_t now = hal_clock_now_us();
-    tcp_client_t *silent = NULL;
-    for (unsigned i = 0; i < CLIENTS_MAX; i++) {
-        tcp_client_t *c = &tcp.clients[i];
-        bool candidate = c->in_use && !c->spoke && now - c->connected_us >= SILENT_GRACE_US;
-        if (candidate && (silent == NULL || c->connected_us < silent->connected_us)) {
-            silent = c;
+    for (tcp_client_t *c = tcp.first; c != NULL; c = c->next) { /* oldest first */
+        if (c->server == s && !c->spoke && now - c->connected_us >= SILENT_GRACE_US) {
+            return c;
         }
     }
-    return silent;
+    return NULL;
 }
 
-static void reclaim_silent_slot(void)
+static void reclaim_silent_slot(const tcp_server_t *s)
 {
-    tcp_client_t *c = silent_connection();
+    tcp_client_t *c = silent_connection(s);
     if (c != NULL) {
         host_log_peer(HAL_LOG_INFO,
                       "tcp %s: silent since it connected; slot given to a waiting "
@@ -231,25 +249,24 @@ static void reclaim_silent_slot(void)
     }
 }
 
-static tcp_client_t *free_slot(void)
+/* Storage for a new connection, or NULL when --max-clients are open. */
+static tcp_client_t *new_client(tcp_server_t *s)
 {
-    if ((int)open_count() >= tcp.max_clients) {
-        reclaim_silent_slot();
+    if ((int)s->open >= s->max_clients) {
+        reclaim_silent_slot(s);
     }
-    if ((int)open_count() >= tcp.max_clients) {
+    if ((int)s->open >= s->max_clients) {
         return NULL;
     }
-    for (unsigned i = 0; i < CLIENTS_MAX; i++) {
-        if (!tcp.clients[i].in_use) {
-            return &tcp.clients[i];
-        }
+    tcp_client_t *c = calloc(1, sizeof(*c));
+    if (c != NULL) {
+        c->server = s;
     }
-    return NULL;
+    return c;
 }
 
 static bool setup_client(tcp_client_t *c, int fd, const struct sockaddr_storage *ss)
 {
-    memset(c, 0, sizeof(*c));
     c->fd = fd;
     net_format_peer(ss, c->peer, sizeof(c->peer));
     c->connected_us = hal_clock_now_us();
@@ -264,66 +281,82 @@ static bool setup_client(tcp_client_t *c, int fd, const struct sockaddr_storage 
     if (!outq_init(&c->outq, OUTQ_BYTES)) {
         return false;
     }
-    wsg_conn_open(&c->conn, &gripper_served()->device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM,
+    wsg_conn_open(&c->conn, &c->server->gripper->device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM,
                   &tcp_io, c);
     if (!loop_watch(fd, POLLIN, on_client, c)) {
         wsg_conn_close(&c->conn, WSG_CLOSE_ANNOUNCED);
         outq_free(&c->outq);
         return false;
     }
-    c->in_use = true;
+    link_client(c);
     return true;
+}
+
+static void wait_for_descriptors(tcp_server_t *s)
+{
+    if (s->listener.starved && !s->waits_for_fds) {
+        s->waits_for_fds = true;
+        s->next_waiting = tcp.waiting;
+        tcp.waiting = s;
+    }
 }
 
 static void on_accept(void *ctx, int fd, short revents)
 {
-    (void)ctx;
+    tcp_server_t *s = ctx;
     (void)fd;
     (void)revents;
     struct sockaddr_storage ss;
     socklen_t len = sizeof(ss);
-    int client_fd = listener_accept(&tcp.listener, &ss, &len);
+    int client_fd = listener_accept(&s->listener, &ss, &len);
     if (client_fd < 0) {
+        wait_for_descriptors(s);
         return;
     }
-    tcp_client_t *c = free_slot();
+    tcp_client_t *c = new_client(s);
     if (c == NULL || !setup_client(c, client_fd, &ss)) {
+        free(c);
         char peer[64];
         net_format_peer(&ss, peer, sizeof(peer));
         host_log_peer(HAL_LOG_WARN, "tcp %s: refused, %d clients connected (--max-clients)", peer,
-                      tcp.max_clients);
+                      s->max_clients);
         close(client_fd);
         return;
     }
     host_log_peer(HAL_LOG_INFO, "tcp %s: connected", c->peer);
 }
 
-bool tcp_server_start(const char *addr, int port, int max_clients, int idle_timeout_s)
+bool tcp_server_start(tcp_server_t *s, gripper_t *g, const char *addr, int port, int max_clients,
+                      int idle_timeout_s)
 {
-    tcp.max_clients = max_clients;
-    tcp.idle_timeout_us = (uint64_t)idle_timeout_s * 1000000u;
-    return listener_start(&tcp.listener, "tcp", addr, port, on_accept, NULL);
+    memset(s, 0, sizeof(*s));
+    s->listener.fd = -1;
+    s->gripper = g;
+    s->max_clients = max_clients;
+    s->idle_timeout_us = (uint64_t)idle_timeout_s * 1000000u;
+    return listener_start(&s->listener, "tcp", addr, port, on_accept, s);
 }
 
-int tcp_server_port(void)
+int tcp_server_port(const tcp_server_t *s)
 {
-    return tcp.listener.fd >= 0 ? net_local_port(tcp.listener.fd) : -1;
+    return s->listener.fd >= 0 ? net_local_port(s->listener.fd) : -1;
 }
 
 /* Replies held back by an injected DELAY (control channel) still count as
  * queued: a half-closed connection waits for them too. */
 static bool replies_held(const wsg_conn_t *conn)
 {
-    return simctl_delay_holding(wsg_conn_id(conn));
+    return simctl_delay_holding(conn);
 }
 
 static bool idle_too_long(tcp_client_t *c, uint64_t now)
 {
-    if (tcp.idle_timeout_us == 0 || now - c->heard_us < tcp.idle_timeout_us) {
+    uint64_t timeout = c->server->idle_timeout_us;
+    if (timeout == 0 || now - c->heard_us < timeout) {
         return false;
     }
     host_log_peer(HAL_LOG_INFO, "tcp %s: idle for %llu s (--idle-timeout); closed", c->peer,
-                  (unsigned long long)(tcp.idle_timeout_us / 1000000u));
+                  (unsigned long long)(timeout / 1000000u));
     c->expired = true;
     return true;
 }
@@ -336,23 +369,50 @@ static bool finished(tcp_client_t *c, uint64_t now)
     return c->dead || (said_bye && flushed) || input_done || idle_too_long(c, now);
 }
 
+static void resume_listeners(void)
+{
+    tcp_server_t **link = &tcp.waiting;
+    while (*link != NULL) {
+        tcp_server_t *s = *link;
+        listener_resume_when_due(&s->listener);
+        if (s->listener.starved && s->listener.fd >= 0) {
+            link = &s->next_waiting;
+        } else {
+            s->waits_for_fds = false;
+            *link = s->next_waiting;
+        }
+    }
+}
+
 void tcp_server_reap(void)
 {
     uint64_t now = hal_clock_now_us();
-    for (unsigned i = 0; i < CLIENTS_MAX; i++) {
-        tcp_client_t *c = &tcp.clients[i];
-        if (c->in_use && finished(c, now)) {
+    tcp_client_t *next;
+    for (tcp_client_t *c = tcp.first; c != NULL; c = next) {
+        next = c->next;
+        if (finished(c, now)) {
             close_client(c);
         }
     }
-    listener_resume_when_due(&tcp.listener);
+    resume_listeners();
+}
+
+uint64_t tcp_server_next_deadline_us(void)
+{
+    uint64_t due = UINT64_MAX;
+    for (tcp_client_t *c = tcp.first; c != NULL; c = c->next) {
+        uint64_t timeout = c->server->idle_timeout_us;
+        if (timeout != 0 && c->heard_us + timeout < due) {
+            due = c->heard_us + timeout;
+        }
+    }
+    return due;
 }
 
 bool tcp_server_cut(const wsg_conn_t *conn)
 {
-    for (unsigned i = 0; i < CLIENTS_MAX; i++) {
-        tcp_client_t *c = &tcp.clients[i];
-        if (c->in_use && &c->conn == conn) {
+    for (tcp_client_t *c = tcp.first; c != NULL; c = c->next) {
+        if (&c->conn == conn) {
             struct linger abort_close = {.l_onoff = 1, .l_linger = 0};
             setsockopt(c->fd, SOL_SOCKET, SO_LINGER, &abort_close, sizeof(abort_close));
             host_logf(HAL_LOG_WARN, "tcp %s: connection cut (control channel)", c->peer);
@@ -363,17 +423,19 @@ bool tcp_server_cut(const wsg_conn_t *conn)
     return false;
 }
 
-void tcp_server_close_all(void)
+void tcp_server_close_all(tcp_server_t *s)
 {
-    for (unsigned i = 0; i < CLIENTS_MAX; i++) {
-        if (tcp.clients[i].in_use) {
-            close_client(&tcp.clients[i]);
+    tcp_client_t *next;
+    for (tcp_client_t *c = tcp.first; c != NULL; c = next) {
+        next = c->next;
+        if (c->server == s) {
+            close_client(c);
         }
     }
 }
 
-void tcp_server_stop(void)
+void tcp_server_stop(tcp_server_t *s)
 {
-    tcp_server_close_all();
-    listener_stop(&tcp.listener);
+    tcp_server_close_all(s);
+    listener_stop(&s->listener);
 }

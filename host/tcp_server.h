@@ -1,22 +1,46 @@
 /* GCL over TCP: one session per connection, each reply line its own send().
- * Connections have TCP keepalive; a half-closed one is answered and flushed
- * before it closes; idle_timeout_s (0: off) closes quiet connections. */
+ * One server per device (the fleet has one per gripper); connection storage
+ * is allocated on accept and freed on close, so an idle server costs only
+ * its listener. Connections have TCP keepalive; a half-closed one is
+ * answered and flushed before it closes; idle_timeout_s (0: off) closes
+ * quiet connections at their own deadline (tcp_server_next_deadline_us). */
 #ifndef HOST_TCP_SERVER_H
 #define HOST_TCP_SERVER_H
 
 #include <stdbool.h>
+#include <stdint.h>
 
+#include "gripper.h"
+#include "listener.h"
 #include "wsg/wsg_conn.h"
 
-bool tcp_server_start(const char *addr, int port, int max_clients, int idle_timeout_s);
-int tcp_server_port(void);
-/* Closes connections that said BYE (once flushed) or failed. */
+typedef struct tcp_client tcp_client_t;
+
+typedef struct tcp_server_s {
+    listener_t listener;
+    gripper_t *gripper; /* the device its connections talk to */
+    int max_clients;
+    uint64_t idle_timeout_us; /* 0: off */
+    unsigned open;            /* connections open */
+    bool waits_for_fds;       /* its listener is paused (out of descriptors) */
+    struct tcp_server_s *next_waiting;
+} tcp_server_t;
+
+bool tcp_server_start(tcp_server_t *s, gripper_t *g, const char *addr, int port, int max_clients,
+                      int idle_timeout_s);
+int tcp_server_port(const tcp_server_t *s);
+/* Drops every connection of the server as if its cable were pulled (no BYE). */
+void tcp_server_close_all(tcp_server_t *s);
+void tcp_server_stop(tcp_server_t *s);
+
+/* Across every server: closes connections that said BYE (once flushed),
+ * failed or stayed quiet beyond --idle-timeout. Visits open connections only. */
 void tcp_server_reap(void);
-/* Drops every connection as if its cable were pulled (no BYE). */
-void tcp_server_close_all(void);
+/* The earliest --idle-timeout of an open connection (simulated clock), or
+ * UINT64_MAX: the loop must wake for it even when the device is idle. */
+uint64_t tcp_server_next_deadline_us(void);
 /* Pulls the cable of the connection that carries this session: the session
  * ends without BYE and the socket is reset. False if none carries it. */
 bool tcp_server_cut(const wsg_conn_t *conn);
-void tcp_server_stop(void);
 
 #endif

@@ -2,11 +2,11 @@
 
 #include <errno.h>
 #include <poll.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include "gripper.h"
 #include "hal_clock.h"
 #include "log.h"
 #include "loop.h"
@@ -27,8 +27,9 @@
 #define PEER_BURST 1000.0
 #define PEER_RATE 1000.0
 
-typedef struct {
-    bool in_use;
+struct udp_peer {
+    udp_server_t *server;
+    udp_peer_t *prev, *next; /* every server's peers, oldest first */
     struct sockaddr_storage addr;
     socklen_t addr_len;
     wsg_conn_t conn;
@@ -38,13 +39,40 @@ typedef struct {
     uint64_t refill_us; /* when tokens were last topped up */
     unsigned long dropped;
     char name[64];
-} udp_peer_t;
+};
 
+/* The peers of every server: the reap and the deadline visit these only. */
 static struct {
-    int fd;
-    uint64_t peer_timeout_us;
-    udp_peer_t peers[PEERS_MAX];
-} udp = {.fd = -1};
+    udp_peer_t *first, *last;
+} udp;
+
+static void link_peer(udp_peer_t *p)
+{
+    p->prev = udp.last;
+    p->next = NULL;
+    if (udp.last != NULL) {
+        udp.last->next = p;
+    } else {
+        udp.first = p;
+    }
+    udp.last = p;
+    p->server->peers++;
+}
+
+static void unlink_peer(udp_peer_t *p)
+{
+    if (p->prev != NULL) {
+        p->prev->next = p->next;
+    } else {
+        udp.first = p->next;
+    }
+    if (p->next != NULL) {
+        p->next->prev = p->prev;
+    } else {
+        udp.last = p->prev;
+    }
+    p->server->peers--;
+}
 
 static void refill(udp_peer_t *p, uint64_t now)
 {
@@ -57,7 +85,7 @@ static void refill(udp_peer_t *p, uint64_t now)
 
 static bool silent_too_long(const udp_peer_t *p, uint64_t now)
 {
-    return now - p->last_seen_us > udp.peer_timeout_us;
+    return now - p->last_seen_us > p->server->peer_timeout_us;
 }
 
 /* Whether this line may go out; AUTOSEND lines are paid for by the peer
@@ -88,8 +116,8 @@ static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t k
     udp_peer_t *p = ctx;
     /* a datagram that cannot go out now is lost, as on the wire */
     if (within_budget(p, len, kind)) {
-        sendto(udp.fd, line, len, MSG_DONTWAIT | MSG_NOSIGNAL, (const struct sockaddr *)&p->addr,
-               p->addr_len);
+        sendto(p->server->fd, line, len, MSG_DONTWAIT | MSG_NOSIGNAL,
+               (const struct sockaddr *)&p->addr, p->addr_len);
     }
 }
 
@@ -102,14 +130,16 @@ static void forget(udp_peer_t *p, wsg_close_reason_t reason)
                       p->dropped);
     }
     wsg_conn_close(&p->conn, reason);
-    p->in_use = false;
+    p->server->gripper->touched = true;
+    unlink_peer(p);
+    free(p);
 }
 
-static udp_peer_t *find_peer(const struct sockaddr_storage *ss, socklen_t len)
+static udp_peer_t *find_peer(const udp_server_t *s, const struct sockaddr_storage *ss,
+                             socklen_t len)
 {
-    for (unsigned i = 0; i < PEERS_MAX; i++) {
-        udp_peer_t *p = &udp.peers[i];
-        if (p->in_use && p->addr_len == len && memcmp(&p->addr, ss, len) == 0) {
+    for (udp_peer_t *p = udp.first; p != NULL; p = p->next) {
+        if (p->server == s && p->addr_len == len && memcmp(&p->addr, ss, len) == 0) {
             return p;
         }
     }
@@ -123,18 +153,19 @@ static bool is_live(const udp_peer_t *p, uint64_t now)
     return wsg_conn_busy(&p->conn) || now - p->last_seen_us < PEER_RECENT_US;
 }
 
-/* A free slot, or the least recently heard idle peer's; NULL when every
- * peer is live. */
-static udp_peer_t *claim_slot(void)
+/* Room for one more peer: true while fewer than PEERS_MAX are known, or
+ * after forgetting the least recently heard idle one; false when every peer
+ * is live. */
+static bool make_room(const udp_server_t *s)
 {
+    if (s->peers < PEERS_MAX) {
+        return true;
+    }
     uint64_t now = hal_clock_now_us();
     udp_peer_t *oldest = NULL;
-    for (unsigned i = 0; i < PEERS_MAX; i++) {
-        udp_peer_t *p = &udp.peers[i];
-        if (!p->in_use) {
-            return p;
-        }
-        if (!is_live(p, now) && (oldest == NULL || p->last_seen_us < oldest->last_seen_us)) {
+    for (udp_peer_t *p = udp.first; p != NULL; p = p->next) {
+        bool idle = p->server == s && !is_live(p, now);
+        if (idle && (oldest == NULL || p->last_seen_us < oldest->last_seen_us)) {
             oldest = p;
         }
     }
@@ -142,22 +173,22 @@ static udp_peer_t *claim_slot(void)
         host_log_peer(HAL_LOG_INFO, "udp %s: forgotten to make room for a new peer", oldest->name);
         forget(oldest, WSG_CLOSE_EXPIRED);
     }
-    return oldest;
+    return oldest != NULL;
 }
 
-static udp_peer_t *new_peer(const struct sockaddr_storage *ss, socklen_t len)
+static udp_peer_t *new_peer(udp_server_t *s, const struct sockaddr_storage *ss, socklen_t len)
 {
-    udp_peer_t *p = claim_slot();
+    udp_peer_t *p = make_room(s) ? calloc(1, sizeof(*p)) : NULL;
     if (p == NULL) {
         char name[64];
         net_format_peer(ss, name, sizeof(name));
         host_log_peer(HAL_LOG_WARN, "udp %s: refused, %d live peers", name, PEERS_MAX);
         return NULL;
     }
-    memset(p, 0, sizeof(*p));
-    wsg_conn_open(&p->conn, &gripper_served()->device, &wsg_gcl_driver, WSG_TRANSPORT_DATAGRAM,
-                  &udp_io, p);
-    p->in_use = true;
+    p->server = s;
+    wsg_conn_open(&p->conn, &s->gripper->device, &wsg_gcl_driver, WSG_TRANSPORT_DATAGRAM, &udp_io,
+                  p);
+    link_peer(p);
     p->addr = *ss;
     p->addr_len = len;
     p->tokens = PEER_BURST;
@@ -182,7 +213,7 @@ static bool from_ourselves(const struct sockaddr_storage *ss)
 
 static void on_datagram(void *ctx, int fd, short revents)
 {
-    (void)ctx;
+    udp_server_t *s = ctx;
     (void)revents;
     static uint8_t buf[DATAGRAM_MAX];
     struct sockaddr_storage ss;
@@ -192,52 +223,65 @@ static void on_datagram(void *ctx, int fd, short revents)
     if (n < 0 || from_ourselves(&ss)) {
         return;
     }
-    udp_peer_t *p = find_peer(&ss, len);
-    if (p == NULL && (p = new_peer(&ss, len)) == NULL) {
+    udp_peer_t *p = find_peer(s, &ss, len);
+    if (p == NULL && (p = new_peer(s, &ss, len)) == NULL) {
         return;
     }
     p->last_seen_us = hal_clock_now_us();
     uint64_t earned = ((uint64_t)n + UDP_HEADER_BYTES) * REPLY_MULTIPLE + p->credit;
     p->credit = earned < REPLY_CREDIT_MAX ? (uint32_t)earned : REPLY_CREDIT_MAX;
-    gripper_feed(gripper_served(), &p->conn, buf, (size_t)n, 1);
+    gripper_feed(s->gripper, &p->conn, buf, (size_t)n, 1);
 }
 
-bool udp_server_start(const char *addr, int port, int peer_timeout_s)
+bool udp_server_start(udp_server_t *s, gripper_t *g, const char *addr, int port, int peer_timeout_s)
 {
-    udp.peer_timeout_us = (uint64_t)peer_timeout_s * 1000000u;
-    udp.fd = net_listen(SOCK_DGRAM, addr, port);
-    return udp.fd >= 0 && loop_watch(udp.fd, POLLIN, on_datagram, NULL);
+    memset(s, 0, sizeof(*s));
+    s->gripper = g;
+    s->peer_timeout_us = (uint64_t)peer_timeout_s * 1000000u;
+    s->fd = net_listen(SOCK_DGRAM, addr, port);
+    return s->fd >= 0 && loop_watch(s->fd, POLLIN, on_datagram, s);
 }
 
-int udp_server_port(void)
+int udp_server_port(const udp_server_t *s)
 {
-    return udp.fd >= 0 ? net_local_port(udp.fd) : -1;
+    return s->fd >= 0 ? net_local_port(s->fd) : -1;
 }
 
 void udp_server_reap(void)
 {
     uint64_t now = hal_clock_now_us();
-    for (unsigned i = 0; i < PEERS_MAX; i++) {
-        udp_peer_t *p = &udp.peers[i];
-        if (!p->in_use) {
-            continue;
-        }
+    udp_peer_t *next;
+    for (udp_peer_t *p = udp.first; p != NULL; p = next) {
+        next = p->next;
         if (wsg_conn_wants_close(&p->conn)) {
             forget(p, WSG_CLOSE_ANNOUNCED);
         } else if (silent_too_long(p, now) && !wsg_conn_owns_motion(&p->conn)) {
             host_log_peer(HAL_LOG_INFO, "udp %s: silent for %llu s; forgotten%s", p->name,
-                          (unsigned long long)(udp.peer_timeout_us / 1000000u),
+                          (unsigned long long)(p->server->peer_timeout_us / 1000000u),
                           wsg_conn_busy(&p->conn) ? " (AUTOSEND ended)" : "");
             forget(p, WSG_CLOSE_EXPIRED);
         }
     }
 }
 
+/* A peer is forgotten once silent for longer than the timeout: due one
+ * microsecond past it. One kept past it for its running motion is looked at
+ * again when the motion's own deadlines wake the loop. */
+uint64_t udp_server_next_deadline_us(void)
+{
+    uint64_t now = hal_clock_now_us();
+    uint64_t due = UINT64_MAX;
+    for (udp_peer_t *p = udp.first; p != NULL; p = p->next) {
+        uint64_t silent_at = p->last_seen_us + p->server->peer_timeout_us + 1u;
+        due = silent_at > now && silent_at < due ? silent_at : due;
+    }
+    return due;
+}
+
 bool udp_server_cut(const wsg_conn_t *conn)
 {
-    for (unsigned i = 0; i < PEERS_MAX; i++) {
-        udp_peer_t *p = &udp.peers[i];
-        if (p->in_use && &p->conn == conn) {
+    for (udp_peer_t *p = udp.first; p != NULL; p = p->next) {
+        if (&p->conn == conn) {
             host_logf(HAL_LOG_WARN, "udp %s: peer cut (control channel)", p->name);
             forget(p, WSG_CLOSE_DROPPED);
             return true;
@@ -246,21 +290,23 @@ bool udp_server_cut(const wsg_conn_t *conn)
     return false;
 }
 
-void udp_server_close_all(void)
+void udp_server_close_all(udp_server_t *s)
 {
-    for (unsigned i = 0; i < PEERS_MAX; i++) {
-        if (udp.peers[i].in_use) {
-            forget(&udp.peers[i], WSG_CLOSE_EXPIRED);
+    udp_peer_t *next;
+    for (udp_peer_t *p = udp.first; p != NULL; p = next) {
+        next = p->next;
+        if (p->server == s) {
+            forget(p, WSG_CLOSE_EXPIRED);
         }
     }
 }
 
-void udp_server_stop(void)
+void udp_server_stop(udp_server_t *s)
 {
-    udp_server_close_all();
-    if (udp.fd >= 0) {
-        loop_unwatch(udp.fd);
-        close(udp.fd);
-        udp.fd = -1;
+    udp_server_close_all(s);
+    if (s->fd >= 0) {
+        loop_unwatch(s->fd);
+        close(s->fd);
+        s->fd = -1;
     }
 }

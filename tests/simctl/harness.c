@@ -7,7 +7,7 @@
 
 #include "coverage.h"
 #include "finger_bus_host.h"
-#include "gripper.h"
+#include "fleet.h"
 #include "hal_clock.h"
 #include "options.h"
 #include "simclock.h"
@@ -29,7 +29,6 @@ static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t k
 }
 
 static const wsg_conn_io_t capture_io = {write_line};
-static gripper_t gripper;
 
 void t_setup(void)
 {
@@ -40,8 +39,9 @@ void t_setup(void)
     simclock_start_paused();
     opts.sim_port = 0; /* the tests drive the control channel: coverage is observed */
     ck_assert(finger_bus_host_start(&opts));
-    gripper_init(&gripper, &opts);
-    gripper_serve(&gripper);
+    opts.tcp_enabled = false; /* one device, no sockets: the tests feed it */
+    opts.udp_enabled = false;
+    ck_assert(fleet_start(&opts));
     coverage_reset();
     t_reopen();
 }
@@ -49,8 +49,8 @@ void t_setup(void)
 void t_reopen(void)
 {
     memset(&t_gcl, 0, sizeof(t_gcl));
-    wsg_conn_open(&t_gcl.conn, &gripper.device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM, &capture_io,
-                  &t_gcl);
+    wsg_conn_open(&t_gcl.conn, &fleet_gripper(0)->device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM,
+                  &capture_io, &t_gcl);
 }
 
 void t_setup_homed(void)
@@ -62,7 +62,8 @@ void t_setup_homed(void)
 
 void t_teardown(void)
 {
-    simctl_delay_clear_all(false);
+    simctl_delay_clear_all(&fleet_gripper(0)->device, false);
+    fleet_stop();
     finger_bus_host_stop();
     free(last_reply);
     last_reply = NULL;
@@ -71,7 +72,7 @@ void t_teardown(void)
 const char *ctl(const char *line)
 {
     free(last_reply);
-    last_reply = simctl_exec(line, strlen(line), NULL);
+    last_reply = simctl_exec(line, strlen(line), NULL, NULL);
     ck_assert_ptr_nonnull(last_reply);
     return last_reply;
 }
@@ -109,7 +110,7 @@ const char *gcl(const char *line)
     memcpy(buf, line, len);
     buf[len] = '\n';
     size_t before = t_gcl.count;
-    gripper_feed(&gripper, &t_gcl.conn, (const uint8_t *)buf, len + 1, 0);
+    gripper_feed(fleet_gripper(0), &t_gcl.conn, (const uint8_t *)buf, len + 1, 0);
     return t_gcl.count > before ? gcl_next() : "<no reply>";
 }
 

@@ -5,6 +5,8 @@
 
 #include "gripper.h"
 #include "harness.h"
+
+#include "fleet.h"
 #include "scenario.h"
 #include "simclock.h"
 #include "simctl_cmd.h"
@@ -113,7 +115,7 @@ END_TEST
 static void start_step(const char *line)
 {
     simctl_outcome_t outcome = {false, false};
-    char *reply = simctl_exec(line, strlen(line), &outcome);
+    char *reply = simctl_exec(line, strlen(line), NULL, &outcome);
     ck_assert_ptr_null(reply);
     ck_assert(outcome.deferred);
     ck_assert(simctl_step_running());

@@ -4,6 +4,8 @@
 
 #include "gripper.h"
 #include "harness.h"
+
+#include "fleet.h"
 #include "wsg/wsg_types.h"
 
 START_TEST(temperature_fault_refuses_motion_until_cleared_and_acknowledged)
@@ -195,7 +197,7 @@ static bool flood_delayed_session(void *arg)
     wsg_conn_t *s = arg;
     for (unsigned i = 0; i < FLOOD_LINES; i++) {
         const char *line = i % 2 == 0 ? "SN?\n" : "TAG?\n";
-        gripper_feed(gripper_served(), s, (const uint8_t *)line, strlen(line), 0);
+        gripper_feed(fleet_gripper(0), s, (const uint8_t *)line, strlen(line), 0);
     }
     return true;
 }
@@ -215,7 +217,7 @@ START_TEST(delay_never_drops_a_reply)
     static wsg_conn_t conn;
     wsg_conn_t *s = &conn;
     counting_client_t client = {0, 0};
-    wsg_conn_open(s, &gripper_served()->device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM, &counting_io,
+    wsg_conn_open(s, &fleet_gripper(0)->device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM, &counting_io,
                   &client);
     char line[48];
     snprintf(line, sizeof(line), "DELAY(60000,%u)", (unsigned)wsg_conn_id(s));

@@ -1,0 +1,169 @@
+#include "fleet.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <sys/resource.h>
+
+#include "hal_clock.h"
+#include "log.h"
+#include "tcp_server.h"
+#include "udp_server.h"
+
+/* Descriptors besides the listeners: the loop, signals, control channel,
+ * log, CAN, and a few clients. */
+#define FDS_SPARE 64u
+
+typedef struct {
+    gripper_t gripper;
+    tcp_server_t tcp;
+    udp_server_t udp;
+} fleet_device_t;
+
+static struct {
+    fleet_device_t *devices;
+    unsigned count;
+    const host_options_t *opts;
+} fleet;
+
+/* A fleet needs two listening sockets per device: the soft limit of open
+ * descriptors is raised towards the hard one when it is too low. */
+static void raise_descriptor_limit(unsigned devices)
+{
+    rlim_t need = (rlim_t)devices * 2u + FDS_SPARE;
+    struct rlimit lim;
+    if (devices <= 1 || getrlimit(RLIMIT_NOFILE, &lim) != 0 || lim.rlim_cur >= need) {
+        return;
+    }
+    lim.rlim_cur = lim.rlim_max == RLIM_INFINITY || lim.rlim_max >= need ? need : lim.rlim_max;
+    if (setrlimit(RLIMIT_NOFILE, &lim) == 0) {
+        host_logf(HAL_LOG_INFO, "open file limit raised to %llu for %u devices",
+                  (unsigned long long)lim.rlim_cur, devices);
+    }
+}
+
+/* Device i's port: base + i, or 0 (a free one) when the base is 0. */
+static bool device_port(const char *what, int base, unsigned i, int *port)
+{
+    *port = base == 0 ? 0 : base + (int)i;
+    if (*port <= 65535) {
+        return true;
+    }
+    host_logf(HAL_LOG_ERROR, "--devices: device %u would need %s port %d", i, what, *port);
+    return false;
+}
+
+static bool start_device(fleet_device_t *d, const host_options_t *opts, unsigned i)
+{
+    int tcp_port = 0;
+    int udp_port = 0;
+    d->tcp.listener.fd = -1;
+    d->udp.fd = -1;
+    gripper_init(&d->gripper, opts, i);
+    if (!device_port("TCP", opts->tcp_port, i, &tcp_port) ||
+        !device_port("UDP", opts->udp_port, i, &udp_port)) {
+        return false;
+    }
+    if (opts->tcp_enabled && !tcp_server_start(&d->tcp, &d->gripper, opts->bind_addr, tcp_port,
+                                               opts->max_clients, opts->idle_timeout_s)) {
+        return false;
+    }
+    return !opts->udp_enabled || udp_server_start(&d->udp, &d->gripper, opts->bind_addr, udp_port,
+                                                  opts->udp_peer_timeout_s);
+}
+
+bool fleet_start(const host_options_t *opts)
+{
+    unsigned n = (unsigned)opts->devices;
+    raise_descriptor_limit(n);
+    fleet.devices = calloc(n, sizeof(*fleet.devices));
+    if (fleet.devices == NULL) {
+        host_logf(HAL_LOG_ERROR, "--devices %u: out of memory", n);
+        return false;
+    }
+    fleet.opts = opts;
+    for (fleet.count = 0; fleet.count < n; fleet.count++) {
+        if (!start_device(&fleet.devices[fleet.count], opts, fleet.count)) {
+            fleet.count++; /* stopped with the others */
+            return false;
+        }
+    }
+    return true;
+}
+
+unsigned fleet_count(void)
+{
+    return fleet.count;
+}
+
+gripper_t *fleet_gripper(unsigned i)
+{
+    return &fleet.devices[i].gripper;
+}
+
+int fleet_tcp_port(unsigned i)
+{
+    return tcp_server_port(&fleet.devices[i].tcp);
+}
+
+int fleet_udp_port(unsigned i)
+{
+    return udp_server_port(&fleet.devices[i].udp);
+}
+
+static uint64_t earliest(uint64_t a, uint64_t b)
+{
+    return a < b ? a : b;
+}
+
+uint64_t fleet_tick(void)
+{
+    uint64_t now = hal_clock_now_us();
+    uint64_t next = earliest(tcp_server_next_deadline_us(), udp_server_next_deadline_us());
+    for (unsigned i = 0; i < fleet.count; i++) {
+        gripper_t *g = &fleet.devices[i].gripper;
+        bool due = g->touched || now >= g->next_deadline_us;
+        next = earliest(next, due ? gripper_tick(g) : g->next_deadline_us);
+    }
+    return next;
+}
+
+void fleet_close_connections(unsigned i)
+{
+    tcp_server_close_all(&fleet.devices[i].tcp);
+    udp_server_close_all(&fleet.devices[i].udp);
+}
+
+static void announce_device(unsigned i)
+{
+    const fleet_device_t *d = &fleet.devices[i];
+    const char *addr = fleet.opts->bind_addr;
+    host_logf(HAL_LOG_INFO, "device %u: tcp %s:%d, udp %s:%d, serial %u, tag %s", i, addr,
+              tcp_server_port(&d->tcp), addr, udp_server_port(&d->udp),
+              (unsigned)d->gripper.config.serial, d->gripper.config.tag);
+}
+
+void fleet_announce(const char *extra)
+{
+    for (unsigned i = 1; i < fleet.count; i++) {
+        announce_device(i);
+    }
+    const fleet_device_t *d = &fleet.devices[0];
+    const char *addr = fleet.opts->bind_addr;
+    char devices[32] = "";
+    if (fleet.count > 1) {
+        snprintf(devices, sizeof(devices), ", devices %u", fleet.count);
+    }
+    host_logf(HAL_LOG_INFO, "virtual %s ready: tcp %s:%d, udp %s:%d%s%s", d->gripper.opts.model,
+              addr, tcp_server_port(&d->tcp), addr, udp_server_port(&d->udp), extra, devices);
+}
+
+void fleet_stop(void)
+{
+    for (unsigned i = 0; i < fleet.count; i++) {
+        tcp_server_stop(&fleet.devices[i].tcp);
+        udp_server_stop(&fleet.devices[i].udp);
+    }
+    free(fleet.devices);
+    fleet.devices = NULL;
+    fleet.count = 0;
+}

@@ -1,0 +1,33 @@
+/* The grippers this process serves (--devices N): device i has its own
+ * simulated world, device state, identity and servers, on TCP and UDP port
+ * (base + i), or on free ports of its own when the base is 0. */
+#ifndef HOST_FLEET_H
+#define HOST_FLEET_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "gripper.h"
+#include "options.h"
+
+/* Creates opts->devices grippers and starts their servers; false (logged)
+ * when a port cannot be had. */
+bool fleet_start(const host_options_t *opts);
+unsigned fleet_count(void);
+/* Device i (i < fleet_count()). */
+gripper_t *fleet_gripper(unsigned i);
+/* Device i's listening ports (-1: that server is off). */
+int fleet_tcp_port(unsigned i);
+int fleet_udp_port(unsigned i);
+/* Steps the devices whose deadline has come; returns the earliest deadline
+ * of the fleet and of its connections' timeouts (UINT64_MAX: none). */
+uint64_t fleet_tick(void);
+/* Closes the connections and peers of device i (a reset). */
+void fleet_close_connections(unsigned i);
+/* Logs one line per device after the first, then the ready line (device 0's
+ * ports first, as with one device; ", devices N" at its end for a fleet);
+ * extra is appended before it (the control channel). */
+void fleet_announce(const char *extra);
+void fleet_stop(void);
+
+#endif

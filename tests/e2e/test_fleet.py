@@ -1,0 +1,166 @@
+"""--devices N: N independent grippers in one process (issue 11, point 3).
+
+Device i listens on TCP and UDP port (base + i), or on free ports of its own
+when the base is 0; its serial number is the configured one plus i and its
+tag the configured one with "-i" appended. The control channel addresses one
+device per connection (DEVICE=i, default 0) and lists them (DEVICES?).
+No test asserts on speed: timeouts are generous upper bounds against hangs.
+"""
+import re
+import socket
+import unittest
+
+from gclclient import GclTcp, GclUdp, Wsgsim
+
+DEVICE_LINE = re.compile(r"device (\d+): tcp [^ ]+:(\d+), udp [^ ]+:(\d+), serial (\d+), tag (.*)")
+
+
+def port_free(kind, port):
+    s = socket.socket(socket.AF_INET, kind)
+    try:
+        s.bind(("127.0.0.1", port))
+        return True
+    except OSError:
+        return False
+    finally:
+        s.close()
+
+
+def free_port_range(count):
+    """A base port with count free TCP and UDP ports from it on."""
+    for base in range(20000, 60000, count + 7):
+        if all(port_free(socket.SOCK_STREAM, base + i) and port_free(socket.SOCK_DGRAM, base + i)
+               for i in range(count)):
+            return base
+    raise AssertionError("no %d free loopback ports in a row" % count)
+
+
+def device_ports(sim, count):
+    """{index: (tcp, udp)} from the start-up log; device 0 from the ready line."""
+    ports = {0: (sim.tcp_port, sim.udp_port)}
+    for match in DEVICE_LINE.finditer("".join(sim.log)):
+        ports[int(match.group(1))] = (int(match.group(2)), int(match.group(3)))
+    assert len(ports) == count, "device lines: %r" % ports
+    return ports
+
+
+class Fleet(unittest.TestCase):
+    def start(self, *args):
+        sim = Wsgsim(*args)
+        sim.start()
+        self.addCleanup(sim.stop)
+        return sim
+
+    def tcp(self, port):
+        c = GclTcp("127.0.0.1", port)
+        self.addCleanup(c.close)
+        return c
+
+    def test_devices_listen_on_base_plus_index(self):
+        base = free_port_range(3)
+        sim = self.start("--devices", "3", "--tcp-port", str(base), "--udp-port", str(base))
+        self.assertEqual((sim.tcp_port, sim.udp_port), (base, base))
+        self.assertEqual(device_ports(sim, 3), {i: (base + i, base + i) for i in range(3)})
+        self.assertIn(", devices 3", sim.drain_log())
+        for i in range(3):
+            self.tcp(base + i).expect("SN?", "SN=%d" % (12345678 + i))
+            u = GclUdp("127.0.0.1", base + i)
+            self.addCleanup(u.close)
+            u.expect("SN?", "SN=%d" % (12345678 + i))
+
+    def test_port_zero_gives_each_device_free_ports(self):
+        sim = self.start("--devices", "3")
+        ports = device_ports(sim, 3)
+        self.assertEqual(len({p for pair in ports.values() for p in pair[:1]}), 3)
+        for i, (tcp, _) in ports.items():
+            self.tcp(tcp).expect("SN?", "SN=%d" % (12345678 + i))
+
+    def test_identity_differs(self):
+        sim = self.start("--devices", "3")
+        ports = device_ports(sim, 3)
+        tags = {self.tcp(ports[i][0]).command("TAG?") for i in range(3)}
+        self.assertEqual(len(tags), 3, tags)
+        first = self.tcp(ports[0][0]).command("TAG?")
+        self.assertEqual(self.tcp(ports[2][0]).command("TAG?"), first[:-1] + '-2"')
+
+    def test_home_on_one_device_moves_no_other(self):
+        sim = self.start("--devices", "3", "--fingers", "none,none")
+        ports = device_ports(sim, 3)
+        c = [self.tcp(ports[i][0]) for i in range(3)]
+        before = [c[i].command("POS?") for i in (0, 2)]
+        self.assertEqual(c[1].long_command("HOME()", "HOME"), "FIN HOME")
+        self.assertEqual([c[i].command("POS?") for i in (0, 2)], before)
+        self.assertEqual(c[0].command("MOVE(10)"), "ERR MOVE 3")  # device 0 is not referenced
+
+    def test_fast_stop_on_one_device_only(self):
+        sim = self.start("--devices", "3", "--fingers", "none,none")
+        ports = device_ports(sim, 3)
+        c = [self.tcp(ports[i][0]) for i in range(3)]
+        c[1].expect("FASTSTOP()", "ACK FASTSTOP")
+        self.assertTrue(c[1].command("HOME()").startswith("ERR HOME"))
+        self.assertEqual(c[0].long_command("HOME()", "HOME"), "FIN HOME")
+        self.assertEqual(c[2].long_command("HOME()", "HOME"), "FIN HOME")
+
+    def test_control_channel_addresses_each_device(self):
+        sim = self.start("--devices", "3", "--sim-port", "0", "--fingers", "none,none")
+        ports = device_ports(sim, 3)
+        ctl = sim.control()
+        self.addCleanup(ctl.close)
+        self.assertEqual(ctl("DEVICE?"), "DEVICE=0")
+        self.assertEqual(ctl("PART?"), "PART=[0,0,0,0]")
+        self.assertEqual(ctl("DEVICE=2"), "DEVICE=2")
+        self.assertEqual(ctl("PART(20)"), "ACK PART")
+        self.assertTrue(ctl("PART?").startswith("PART=[1,20,"))
+        self.assertTrue(ctl("DEVICE=3").startswith("ERR DEVICE 28"))
+        self.assertEqual(ctl("DEVICE?"), "DEVICE=2")  # a bad selection changes nothing
+        state = ctl.json("STATE?")
+        self.assertEqual(state["device"]["serial"], 12345680)
+        other = sim.control()
+        self.addCleanup(other.close)
+        self.assertEqual(other("PART?"), "PART=[0,0,0,0]")  # each connection selects its own
+        devices = ctl.json("DEVICES?")
+        self.assertEqual([(d["index"], d["tcp"], d["udp"]) for d in devices],
+                         [(i, ports[i][0], ports[i][1]) for i in range(3)])
+        self.assertEqual([d["serial"] for d in devices], [12345678, 12345679, 12345680])
+        c2 = self.tcp(ports[2][0])
+        c2.expect("GRIPSTATE?", "GRIPSTATE=0")
+        self.assertEqual([s["transport"] for s in ctl.json("SESSIONS?")], ["tcp"])
+        self.assertEqual(other.json("SESSIONS?"), [])
+        self.assertTrue(ctl("FAULT(POWER)").startswith("ERR FAULT 5"))  # device 0 only
+
+    def test_reset_of_one_device_closes_only_its_connections(self):
+        sim = self.start("--devices", "2", "--sim-port", "0", "--fingers", "none,none")
+        ports = device_ports(sim, 2)
+        c0, c1 = self.tcp(ports[0][0]), self.tcp(ports[1][0])
+        c0.expect("GRIPSTATE?", "GRIPSTATE=0")
+        c1.expect("GRIPSTATE?", "GRIPSTATE=0")
+        ctl = sim.control()
+        self.addCleanup(ctl.close)
+        self.assertEqual(ctl("DEVICE=1"), "DEVICE=1")
+        self.assertEqual(ctl("RESET()"), "ACK RESET")
+        self.assertTrue(c1.closed_by_peer(10))
+        c0.expect("GRIPSTATE?", "GRIPSTATE=0")
+
+    def test_two_hundred_devices_answer(self):
+        sim = self.start("--devices", "200", "--fingers", "none,none")
+        ports = device_ports(sim, 200)
+        for i in (0, 1, 57, 100, 199):
+            c = self.tcp(ports[i][0])
+            self.assertTrue(c.command("POS?").startswith("POS="))
+            c.expect("SN?", "SN=%d" % (12345678 + i))
+
+    def test_devices_beyond_the_port_range_refuse_to_start(self):
+        sim = Wsgsim("--devices", "3", "--tcp-port", "65534", "--udp-port", "0")
+        with self.assertRaises(AssertionError):
+            sim.start()
+        self.assertIn("device 2 would need TCP port 65536", "".join(sim.log))
+
+    def test_device_count_is_checked(self):
+        for bad in ("0", "1025", "x"):
+            sim = Wsgsim("--devices", bad)
+            with self.assertRaises(AssertionError):
+                sim.start()
+
+
+if __name__ == "__main__":
+    unittest.main()
