@@ -99,9 +99,38 @@ typedef struct {
     char text[128]; /* as written (texts are checked against TEXT_MAX) */
 } value_t;
 
+/* [device.N]: one device of a fleet declared on its own; its keys override
+ * the global ones for that device (docs/simctl.md, "Device configuration"). */
+typedef enum {
+    SEC_MODEL,
+    SEC_SERIAL,
+    SEC_TAG,
+    SEC_TCP_PORT,
+    SEC_UDP_PORT,
+    SEC_KEY_COUNT
+} sec_key_t;
+
+static const struct {
+    const char *name;
+    kind_t kind;
+} sec_keys[SEC_KEY_COUNT] = {
+    [SEC_MODEL] = {"model", K_MODEL},      [SEC_SERIAL] = {"serial", K_SERIAL},
+    [SEC_TAG] = {"tag", K_TEXT},           [SEC_TCP_PORT] = {"tcp_port", K_PORT},
+    [SEC_UDP_PORT] = {"udp_port", K_PORT},
+};
+
+#define DEVICE_SECTION "device."
+
+typedef struct {
+    unsigned index;
+    value_t values[SEC_KEY_COUNT];
+} device_section_t;
+
 static struct {
     char path[256];
     value_t values[KEY_COUNT];
+    device_section_t *sections; /* malloc'd, in the order of the file */
+    unsigned section_count;
 } loaded;
 
 /* What the parser is doing: the reader counts lines for the handler. */
@@ -233,11 +262,75 @@ static void unquote(const char *value, char *out, size_t cap)
     }
 }
 
+/* The section of device index, added when new; NULL when out of memory. */
+static device_section_t *section_of(unsigned index)
+{
+    for (unsigned i = 0; i < loaded.section_count; i++) {
+        if (loaded.sections[i].index == index) {
+            return &loaded.sections[i];
+        }
+    }
+    device_section_t *grown =
+        realloc(loaded.sections, (loaded.section_count + 1u) * sizeof(*loaded.sections));
+    if (grown == NULL) {
+        return NULL;
+    }
+    loaded.sections = grown;
+    device_section_t *d = &loaded.sections[loaded.section_count++];
+    memset(d, 0, sizeof(*d));
+    d->index = index;
+    return d;
+}
+
+/* N of "[device.N]", 0..HOST_DEVICES_MAX-1; false for anything else. */
+static bool section_index(const char *section, unsigned *index)
+{
+    const char *digits = section + strlen(DEVICE_SECTION);
+    double n = 0.0;
+    bool plain = digits[0] != '\0' && strspn(digits, "0123456789") == strlen(digits);
+    if (!plain || !parse_int_range(digits, 0, HOST_DEVICES_MAX - 1, &n)) {
+        return false;
+    }
+    *index = (unsigned)n;
+    return true;
+}
+
+static int on_device_key(parse_state_t *st, const char *section, const char *name, const char *text)
+{
+    unsigned index = 0;
+    if (!section_index(section, &index)) {
+        st->failed = true;
+        return fail_at(st->line, section, name, "a device section is [device.N], N 0-1023");
+    }
+    device_section_t *d = section_of(index);
+    for (unsigned k = 0; k < SEC_KEY_COUNT && d != NULL; k++) {
+        if (strcasecmp(sec_keys[k].name, name) != 0) {
+            continue;
+        }
+        const char *why = convert(sec_keys[k].kind, text, &d->values[k]);
+        if (why != NULL) {
+            st->failed = true;
+            return fail_at(st->line, section, name, why);
+        }
+        d->values[k].set = true;
+        d->values[k].line = st->line;
+        return 1;
+    }
+    st->failed = true;
+    return fail_at(st->line, section, name,
+                   d == NULL ? "out of memory"
+                             : "unknown key in a device section (model, serial, tag, tcp_port, "
+                               "udp_port)");
+}
+
 static int on_key(void *user, const char *section, const char *name, const char *value)
 {
     parse_state_t *st = user;
     char text[128];
     unquote(value, text, sizeof(text));
+    if (strncasecmp(section, DEVICE_SECTION, strlen(DEVICE_SECTION)) == 0) {
+        return on_device_key(st, section, name, text);
+    }
     for (unsigned i = 0; i < KEY_COUNT; i++) {
         if (strcasecmp(keys[i].section, section) != 0 || strcasecmp(keys[i].name, name) != 0) {
             continue;
@@ -367,7 +460,7 @@ static bool check_soft_limits(const wsg_config_t *cfg)
                    "soft_limit_minus must be below soft_limit_plus");
 }
 
-bool config_file_check(const char *model)
+static bool check_model(const char *model)
 {
     const sim_model_t *m = sim_model_find(model);
     if (m == NULL) {
@@ -388,6 +481,70 @@ bool config_file_check(const char *model)
     }
     config_file_apply(&cfg);
     return check_soft_limits(&cfg);
+}
+
+/* The motion settings are checked against every model a device runs. */
+bool config_file_check(const char *model)
+{
+    bool ok = check_model(model);
+    for (unsigned i = 0; i < loaded.section_count && ok; i++) {
+        const value_t *m = &loaded.sections[i].values[SEC_MODEL];
+        ok = !m->set || check_model(m->text);
+    }
+    return ok;
+}
+
+static const device_section_t *find_section(unsigned index)
+{
+    for (unsigned i = 0; i < loaded.section_count; i++) {
+        if (loaded.sections[i].index == index) {
+            return &loaded.sections[i];
+        }
+    }
+    return NULL;
+}
+
+unsigned config_file_devices(void)
+{
+    unsigned count = 0;
+    for (unsigned i = 0; i < loaded.section_count; i++) {
+        unsigned after = loaded.sections[i].index + 1u;
+        count = after > count ? after : count;
+    }
+    return count;
+}
+
+const char *config_file_device_model(unsigned index, const char *fallback)
+{
+    const device_section_t *d = find_section(index);
+    return d != NULL && d->values[SEC_MODEL].set ? d->values[SEC_MODEL].text : fallback;
+}
+
+bool config_file_device_port(unsigned index, bool udp, int *port)
+{
+    const device_section_t *d = find_section(index);
+    const value_t *v = d != NULL ? &d->values[udp ? SEC_UDP_PORT : SEC_TCP_PORT] : NULL;
+    if (v == NULL || !v->set) {
+        return false;
+    }
+    *port = (int)v->number;
+    return true;
+}
+
+void config_file_apply_device(unsigned index, wsg_config_t *cfg)
+{
+    const device_section_t *d = find_section(index);
+    if (d == NULL) {
+        return;
+    }
+    if (d->values[SEC_SERIAL].set) {
+        cfg->serial = (uint32_t)d->values[SEC_SERIAL].number;
+    }
+    if (d->values[SEC_TAG].set) {
+        size_t len = strnlen(d->values[SEC_TAG].text, WSG_CONFIG_STRING_MAX - 1);
+        memcpy(cfg->tag, d->values[SEC_TAG].text, len); /* checked shorter on load */
+        cfg->tag[len] = '\0';
+    }
 }
 
 static void set_text(char *dst, key_id_t id)
@@ -436,5 +593,6 @@ void config_file_apply(wsg_config_t *cfg)
 
 void config_file_forget(void)
 {
+    free(loaded.sections);
     memset(&loaded, 0, sizeof(loaded));
 }

@@ -17,6 +17,14 @@ bool config_file_load(const char *path, host_options_t *opts);
 bool config_file_check(const char *model);
 /* Overrides the model's factory configuration with the file's settings. */
 void config_file_apply(wsg_config_t *cfg);
+/* The [device.N] sections (a fleet's devices declared one by one): how many
+ * devices they declare (highest N + 1; 0: none), device index's model (or
+ * fallback), its ports (false: not given) and its identity (serial, tag),
+ * applied over what config_file_apply() and the fleet's numbering set. */
+unsigned config_file_devices(void);
+const char *config_file_device_model(unsigned index, const char *fallback);
+bool config_file_device_port(unsigned index, bool udp, int *port);
+void config_file_apply_device(unsigned index, wsg_config_t *cfg);
 /* Forgets a loaded file (tests). */
 void config_file_forget(void);
 

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <sys/resource.h>
 
+#include "config_file.h"
 #include "hal_clock.h"
 #include "log.h"
 #include "tcp_server.h"
@@ -41,9 +42,13 @@ static void raise_descriptor_limit(unsigned devices)
     }
 }
 
-/* Device i's port: base + i, or 0 (a free one) when the base is 0. */
+/* Device i's port: its [device.i] section's, else base + i, or 0 (a free
+ * one) when the base is 0. */
 static bool device_port(const char *what, int base, unsigned i, int *port)
 {
+    if (config_file_device_port(i, what[0] == 'U', port)) {
+        return true;
+    }
     *port = base == 0 ? 0 : base + (int)i;
     if (*port <= 65535) {
         return true;
@@ -73,7 +78,8 @@ static bool start_device(fleet_device_t *d, const host_options_t *opts, unsigned
 
 bool fleet_start(const host_options_t *opts)
 {
-    unsigned n = (unsigned)opts->devices;
+    unsigned declared = config_file_devices(); /* [device.N] sections */
+    unsigned n = declared > (unsigned)opts->devices ? declared : (unsigned)opts->devices;
     raise_descriptor_limit(n);
     fleet.devices = calloc(n, sizeof(*fleet.devices));
     if (fleet.devices == NULL) {

@@ -53,10 +53,12 @@ static void set_identity(wsg_config_t *cfg, unsigned index)
 void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
 {
     g->opts = *opts;
+    g->opts.model = config_file_device_model(index, opts->model);
     g->index = index;
-    sim_model_config(sim_model_find(opts->model), &g->config);
+    sim_model_config(sim_model_find(g->opts.model), &g->config);
     config_file_apply(&g->config);
     set_identity(&g->config, index);
+    config_file_apply_device(index, &g->config);
     g->config.disconnect_raises_faststop = opts->disconnect_faststop;
     power_on_world(g);
     wsg_hal_t hal;

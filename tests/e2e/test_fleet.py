@@ -6,8 +6,10 @@ tag the configured one with "-i" appended. The control channel addresses one
 device per connection (DEVICE=i, default 0) and lists them (DEVICES?).
 No test asserts on speed: timeouts are generous upper bounds against hangs.
 """
+import os
 import re
 import socket
+import tempfile
 import unittest
 
 from gclclient import GclTcp, GclUdp, Wsgsim
@@ -154,6 +156,40 @@ class Fleet(unittest.TestCase):
         with self.assertRaises(AssertionError):
             sim.start()
         self.assertIn("device 2 would need TCP port 65536", "".join(sim.log))
+
+    def config(self, text):
+        fd, path = tempfile.mkstemp(suffix=".ini")
+        with os.fdopen(fd, "w") as f:
+            f.write(text)
+        self.addCleanup(os.remove, path)
+        return path
+
+    def test_config_file_declares_devices_one_by_one(self):
+        base = free_port_range(1)
+        path = self.config("[device]\nserial = 100\ntag = cell\n"
+                           "[device.1]\nmodel = WSG 32-068\nserial = 777\ntag = left\n"
+                           "[device.2]\nmodel = WSG 25-064\ntcp_port = %d\n" % base)
+        sim = self.start("--config", path)  # three devices without --devices
+        ports = device_ports(sim, 3)
+        self.assertEqual(ports[2][0], base)
+        c = [self.tcp(ports[i][0]) for i in range(3)]
+        self.assertEqual([x.command("DEVTYPE?") for x in c],
+                         ['DEVTYPE="WSG 50-110"', 'DEVTYPE="WSG 32-068"', 'DEVTYPE="WSG 25-064"'])
+        self.assertEqual([x.command("SN?") for x in c], ["SN=100", "SN=777", "SN=102"])
+        self.assertEqual([x.command("TAG?") for x in c], ['TAG="cell"', 'TAG="left"', 'TAG="cell-2"'])
+
+    def test_bad_device_sections_are_refused_with_file_and_line(self):
+        for text, why in (("[device.x]\nserial = 1\n", "[device.N], N 0-1023"),
+                          ("[device.1024]\nserial = 1\n", "[device.N], N 0-1023"),
+                          ("[device.1]\nforce = 1\n", "unknown key in a device section"),
+                          ("[device.1]\nmodel = WSG 99\n", "unknown model"),
+                          ("[motion]\ndefault_force = 70\n[device.1]\nmodel = WSG 25-064\n",
+                           "outside")):
+            path = self.config(text)
+            sim = Wsgsim("--config", path)
+            with self.assertRaises(AssertionError):
+                sim.start()
+            self.assertIn(why, "".join(sim.log), text)
 
     def test_device_count_is_checked(self):
         for bad in ("0", "1025", "x"):
