@@ -22,6 +22,8 @@ typedef struct {
 
 static struct {
     fleet_device_t *devices;
+    uint64_t *due_us; /* device i's next deadline, side by side: one pass
+                       * reads N words, not N grippers */
     unsigned count;
     const host_options_t *opts;
 } fleet;
@@ -82,7 +84,8 @@ bool fleet_start(const host_options_t *opts)
     unsigned n = declared > (unsigned)opts->devices ? declared : (unsigned)opts->devices;
     raise_descriptor_limit(n);
     fleet.devices = calloc(n, sizeof(*fleet.devices));
-    if (fleet.devices == NULL) {
+    fleet.due_us = calloc(n, sizeof(*fleet.due_us)); /* 0: every device ticks first */
+    if (fleet.devices == NULL || fleet.due_us == NULL) {
         host_logf(HAL_LOG_ERROR, "--devices %u: out of memory", n);
         return false;
     }
@@ -121,14 +124,25 @@ static uint64_t earliest(uint64_t a, uint64_t b)
     return a < b ? a : b;
 }
 
+/* Each device is ticked at most once per pass, as a lone gripper was: a
+ * touched one by the list (its deadline may have moved), any other when its
+ * deadline has come. */
 uint64_t fleet_tick(void)
 {
     uint64_t now = hal_clock_now_us();
-    uint64_t next = earliest(tcp_server_next_deadline_us(), udp_server_next_deadline_us());
     for (unsigned i = 0; i < fleet.count; i++) {
         gripper_t *g = &fleet.devices[i].gripper;
-        bool due = g->touched || now >= g->next_deadline_us;
-        next = earliest(next, due ? gripper_tick(g) : g->next_deadline_us);
+        if (now >= fleet.due_us[i] && !g->touched) {
+            fleet.due_us[i] = gripper_tick(g);
+        }
+    }
+    gripper_t *touched;
+    while ((touched = gripper_take_touched()) != NULL) {
+        fleet.due_us[touched->index] = gripper_tick(touched);
+    }
+    uint64_t next = earliest(tcp_server_next_deadline_us(), udp_server_next_deadline_us());
+    for (unsigned i = 0; i < fleet.count; i++) {
+        next = earliest(next, fleet.due_us[i]);
     }
     return next;
 }
@@ -169,7 +183,11 @@ void fleet_stop(void)
         tcp_server_stop(&fleet.devices[i].tcp);
         udp_server_stop(&fleet.devices[i].udp);
     }
+    while (gripper_take_touched() != NULL) {
+    }
     free(fleet.devices);
+    free(fleet.due_us);
     fleet.devices = NULL;
+    fleet.due_us = NULL;
     fleet.count = 0;
 }

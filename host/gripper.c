@@ -78,7 +78,6 @@ uint64_t gripper_tick(gripper_t *g)
         wsg_device_step(&g->device);
     }
     g->next_deadline_us = wsg_device_next_deadline_us(&g->device);
-    g->touched = false;
     return g->next_deadline_us;
 }
 
@@ -112,5 +111,26 @@ void gripper_feed(gripper_t *g, wsg_conn_t *c, const uint8_t *bytes, size_t len,
     uint64_t soonest = hal_clock_now_us() + 1u;
     due = due > soonest ? due : soonest;
     g->next_deadline_us = due < g->next_deadline_us ? due : g->next_deadline_us;
-    g->touched = true;
+    gripper_touch(g);
+}
+
+static gripper_t *touched_first;
+
+void gripper_touch(gripper_t *g)
+{
+    if (!g->touched) {
+        g->touched = true;
+        g->next_touched = touched_first;
+        touched_first = g;
+    }
+}
+
+gripper_t *gripper_take_touched(void)
+{
+    gripper_t *g = touched_first;
+    if (g != NULL) {
+        touched_first = g->next_touched;
+        g->touched = false;
+    }
+    return g;
 }

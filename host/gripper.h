@@ -19,8 +19,8 @@ typedef struct gripper {
     wsg_config_t config; /* what a reset powers on with */
     host_options_t opts;
     uint64_t next_deadline_us;
-    bool touched;   /* fed, or a connection closed, since the last tick: the
-                     * next tick recomputes its deadline even if not due */
+    bool touched; /* on the touched list (gripper_touch) */
+    struct gripper *next_touched;
     unsigned index; /* its number in the fleet: 0 for the first */
 } gripper_t;
 
@@ -35,6 +35,11 @@ void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index);
 uint64_t gripper_tick(gripper_t *g);
 void gripper_feed(gripper_t *g, wsg_conn_t *c, const uint8_t *bytes, size_t len,
                   int end_of_datagram);
+/* Something may have moved its deadline (input, a closed connection, a
+ * control command): the fleet ticks it at the next pass even if not due.
+ * The touched grippers form one list, taken one by one. */
+void gripper_touch(gripper_t *g);
+gripper_t *gripper_take_touched(void);
 /* Runs a control step now (the control channel changed the world). */
 void gripper_step_now(gripper_t *g);
 /* Power-on again: world, configuration and device state; the ports close

@@ -284,7 +284,7 @@ char *simctl_exec(const char *line, size_t len, unsigned *selected, simctl_outco
     sim_world_advance(&ctx.gripper->world, hal_clock_now_us()); /* act on the world as it is now */
     if (e != NULL) {
         status = e->handler(&ctx);
-        ctx.gripper->touched = true; /* its deadline may have moved */
+        gripper_touch(ctx.gripper); /* its deadline may have moved */
     }
     if (outcome != NULL) {
         outcome->close = ctx.close;

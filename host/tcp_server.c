@@ -180,7 +180,7 @@ static void close_client(tcp_client_t *c)
     loop_unwatch(c->fd);
     close(c->fd);
     wsg_conn_close(&c->conn, reason);
-    c->server->gripper->touched = true; /* e.g. FAST STOP on a lost link */
+    gripper_touch(c->server->gripper); /* e.g. FAST STOP on a lost link */
     outq_free(&c->outq);
     unlink_client(c);
     listener_fd_freed(&c->server->listener);

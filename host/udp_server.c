@@ -130,7 +130,7 @@ static void forget(udp_peer_t *p, wsg_close_reason_t reason)
                       p->dropped);
     }
     wsg_conn_close(&p->conn, reason);
-    p->server->gripper->touched = true;
+    gripper_touch(p->server->gripper);
     unlink_peer(p);
     free(p);
 }
