@@ -1,10 +1,13 @@
 /* build/wsgsim: the virtual WSG gripper on a Linux host. */
 #include <stdio.h>
 
+#include "can_log.h"
 #include "finger_bus_host.h"
 #include "gripper.h"
 #include "log.h"
 #include "loop.h"
+#include "net.h"
+#include "notify.h"
 #include "options.h"
 #include "coverage.h"
 #include "record.h"
@@ -56,13 +59,38 @@ static int stop_simulation(const host_options_t *opts)
     return 0;
 }
 
-static void announce(const host_options_t *opts)
+static bool announce(const host_options_t *opts)
 {
-    const wsg_device_t *dev = gripper_device();
-    (void)dev;
-    host_logf(HAL_LOG_INFO, "virtual %s ready: tcp %s:%d, udp %s:%d%s", opts->model,
-              opts->bind_addr, tcp_server_port(), opts->bind_addr, udp_server_port(),
-              simctl_describe());
+    char tcp[96], udp[96], line[320];
+    net_format_endpoint(opts->bind_addr, tcp_server_port(), tcp, sizeof(tcp));
+    net_format_endpoint(opts->bind_addr, udp_server_port(), udp, sizeof(udp));
+    snprintf(line, sizeof(line), "virtual %s ready: tcp %s, udp %s%s", opts->model, tcp, udp,
+             simctl_describe());
+    if (!notify_prepare(opts->ready_file)) {
+        return false;
+    }
+    host_logf(HAL_LOG_INFO, "%s", line);
+    return notify_ready(opts->ready_file, line);
+}
+
+/* Logging and supervision options, before anything logs. */
+static bool start_logging(const host_options_t *opts)
+{
+    host_log_set_level(opts->log_level);
+    host_log_set_timestamps(opts->log_timestamps);
+    return opts->log_file == NULL || host_log_open_file(opts->log_file);
+}
+
+/* SIGHUP (log rotation): every file wsgsim appends to is opened again. */
+static void reopen_files(void)
+{
+    host_log_reopen();
+    if (!record_reopen()) {
+        host_logf(HAL_LOG_ERROR, "cannot reopen the --record file (still writing the old one)");
+    }
+    if (!can_log_reopen()) {
+        host_logf(HAL_LOG_ERROR, "cannot reopen the --can-log file (still writing the old one)");
+    }
 }
 
 static void catch_up(void)
@@ -79,20 +107,26 @@ int main(int argc, char **argv)
     }
     setvbuf(stderr, NULL, _IOLBF, 0);
     host_log_init();
+    if (!start_logging(&opts)) {
+        return EXIT_STARTUP_FAILED;
+    }
     simclock_init();
     if (opts.start_paused) {
         simclock_start_paused(); /* simulated time stands at exactly 0 */
     }
     loop_init();
     loop_set_catch_up(catch_up);
-    if (!finger_bus_host_start(&opts)) {
+    loop_set_hangup(reopen_files);
+    if (!finger_bus_host_start(&opts) || (opts.can_log != NULL && !can_log_open(opts.can_log))) {
         return EXIT_STARTUP_FAILED;
     }
     gripper_init(&opts);
     if (!start_servers(&opts) || !start_simulation(&opts)) {
         return EXIT_STARTUP_FAILED;
     }
-    announce(&opts);
+    if (!announce(&opts)) {
+        return EXIT_STARTUP_FAILED;
+    }
     host_logf(HAL_LOG_INFO, "finger bus: %s", finger_bus_host_describe());
     while (!loop_stop_requested()) {
         uint64_t deadline = simctl_tick();
@@ -102,8 +136,10 @@ int main(int argc, char **argv)
         simctl_reap();
     }
     host_logf(HAL_LOG_INFO, "shutting down");
+    notify_stopping(opts.ready_file);
     tcp_server_stop();
     udp_server_stop();
     finger_bus_host_stop();
+    can_log_close();
     return stop_simulation(&opts);
 }

@@ -2,7 +2,7 @@
 # The session table's host size (128 TCP + 16 UDP) is the default in
 # firmware/wsg_device.h, so everything linking libwsgcore.a agrees on it.
 HOST_SRC := $(sort $(wildcard host/*.c))
-HOST_PKGS := inih libcjson
+HOST_PKGS := inih libcjson libsystemd
 HOST_CFLAGS = $(CFLAGS_BASE) -D_GNU_SOURCE $(CORE_INC) -Ihost $(shell pkg-config --cflags $(HOST_PKGS) 2>/dev/null)
 HOST_LIBS = $(shell pkg-config --libs $(HOST_PKGS) 2>/dev/null) -lm
 
