@@ -12,9 +12,9 @@ DEB_ARCH := $(shell dpkg --print-architecture 2>/dev/null)
 DEB_SRC := $(DEB_DIR)/wsgsim-$(DEB_VERSION)
 DEB_FILES := $(DEB_DIR)/wsgsim_$(DEB_VERSION)_$(DEB_ARCH).deb \
 	$(DEB_DIR)/python3-wsgsim_$(DEB_VERSION)_all.deb
-# Every file of the source tree but build/ and .git.
-DEB_INPUTS := $(shell find . -path ./build -prune -o -path ./.git -prune -o -type f -print \
-	2>/dev/null)
+# Every file of the source tree but build/, .git and Python's caches.
+DEB_INPUTS := $(shell find . \( -path ./build -o -path ./.git -o -name __pycache__ \) -prune \
+	-o -type f -print 2>/dev/null)
 
 .PHONY: deb deb-deps
 deb: $(DEB_FILES)
@@ -24,7 +24,7 @@ deb-deps:
 
 $(DEB_FILES) &: $(DEB_INPUTS) | deb-deps
 	rm -rf $(DEB_DIR) && mkdir -p $(DEB_SRC)
-	tar -cf - --exclude=./build --exclude=./.git . | tar -xf - -C $(DEB_SRC)
+	tar -cf - --exclude=./build --exclude=./.git --exclude=__pycache__ . | tar -xf - -C $(DEB_SRC)
 	cd $(DEB_SRC) && PATH=$(DEB_PATH) dpkg-buildpackage -us -uc -b > ../build.log 2>&1 || \
 		{ tail -40 ../build.log; echo "deb: dpkg-buildpackage failed, see $(DEB_DIR)/build.log"; exit 1; }
 	@ls $(DEB_FILES)
