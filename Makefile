@@ -19,10 +19,17 @@ ifeq ($(SAN),1)
 endif
 CFLAGS_BASE := $(CSTD) $(WARN) $(OPT)
 
-# The portable core and the simulated hardware: no OS, no heap.
-FIRMWARE_SRC := $(sort $(wildcard firmware/*.c))
+# The portable core (libwsgfw.a) and the simulated hardware (libwsgsim.a):
+# no OS, no heap. Ports compile against the public headers only:
+# include/wsg/ and hal/ (PUBLIC_INC) plus their build's wsgopts.h; the
+# firmware's own modules also see firmware/ (priv/, gcl/).
+FIRMWARE_SRC := $(sort $(wildcard firmware/*/*.c))
 SIM_SRC := $(sort $(wildcard hal/sim/*.c))
-CORE_INC := -Ifirmware -Ihal -Ihal/sim
+HOST_OPTS_INC := -Ihost/opts
+PUBLIC_INC := -Iinclude -Ihal $(HOST_OPTS_INC)
+FIRMWARE_INC := $(PUBLIC_INC) -Ifirmware
+# White-box builds (unit tests, fuzzing, the benchmark's in-process core).
+CORE_INC := $(FIRMWARE_INC) -Ihal/sim
 
 # Check's per-test timeouts (4 s unless a test case sets its own) only guard
 # against hangs: scaled up so that a busy machine or a sanitizer build, not a

@@ -1,5 +1,6 @@
 /* The motor axis: one jaw-opening coordinate driven by a servo with a
- * trapezoidal profile and a force (current) limit. */
+ * trapezoidal profile and a force (current) limit. Per instance: the port
+ * hands each device an ops table and its context (Zephyr dev->api style). */
 #ifndef HAL_AXIS_H
 #define HAL_AXIS_H
 
@@ -16,20 +17,24 @@ typedef struct {
     bool power_fault;    /* supply voltage out of range */
 } hal_axis_status_t;
 
-/* Drive towards target with the given limits. The servo stops pushing once the
- * contact force reaches force_limit_n and then reports itself blocked. */
-void hal_axis_move(float target_mm, float speed_mm_s, float accel_mm_s2, float force_limit_n);
+typedef struct {
+    /* Drive towards target with the given limits. The servo stops pushing once
+     * the contact force reaches force_limit_n and then reports itself blocked. */
+    void (*move)(void *ctx, float target_mm, float speed_mm_s, float accel_mm_s2,
+                 float force_limit_n);
+    /* Decelerate (fast: with the emergency deceleration) and hold where it ends. */
+    void (*stop)(void *ctx, bool fast);
+    /* FAST STOP: decelerate the fastest way and switch the drive off; the jaws
+     * exert no force until the next move. */
+    void (*disable)(void *ctx);
+    /* Redefine the current position (used by homing). */
+    void (*set_position)(void *ctx, float position_mm);
+    void (*status)(void *ctx, hal_axis_status_t *status);
+} hal_axis_ops_t;
 
-/* Decelerate (fast: with the emergency deceleration) and hold where it ends. */
-void hal_axis_stop(bool fast);
-
-/* FAST STOP: decelerate the fastest way and switch the drive off; the jaws
- * exert no force until the next hal_axis_move(). */
-void hal_axis_disable(void);
-
-/* Redefine the current position (used by homing). */
-void hal_axis_set_position(float position_mm);
-
-void hal_axis_status(hal_axis_status_t *status);
+typedef struct {
+    const hal_axis_ops_t *ops;
+    void *ctx;
+} hal_axis_t;
 
 #endif

@@ -1,7 +1,10 @@
-/* Controller board temperature sensor. */
+/* Controller board temperature sensor, per instance. */
 #ifndef HAL_TEMP_H
 #define HAL_TEMP_H
 
-float hal_temp_board_c(void);
+typedef struct {
+    float (*board_c)(void *ctx);
+    void *ctx;
+} hal_temp_t;
 
 #endif

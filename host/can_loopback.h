@@ -6,7 +6,7 @@
 
 #include <stdint.h>
 
-#include "finger_node.h"
+#include "sim/finger_node.h"
 #include "hal_can.h"
 
 void can_loopback_init(const fbus_type_t types[FBUS_SLOTS], const finger_node_params_t *params);

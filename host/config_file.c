@@ -9,16 +9,16 @@
 #include <string.h>
 #include <strings.h>
 
-#include "sim_models.h"
+#include "sim/sim_models.h"
 #include "text_file.h"
 
-#define TEXT_MAX HAL_DEVICE_STRING_MAX
+#define TEXT_MAX WSG_CONFIG_STRING_MAX
 #define MAX_CLIENTS_LIMIT 128
 #define FILE_LINE_MAX 4096        /* a comment line may be this long */
 #define FILE_BYTES_MAX (1u << 20) /* a device configuration is a few KiB */
 
 typedef enum {
-    K_TEXT,        /* printable, no '"', shorter than HAL_DEVICE_STRING_MAX */
+    K_TEXT,        /* printable, no '"', shorter than WSG_CONFIG_STRING_MAX */
     K_MODEL,       /* a model sim_model_find() knows */
     K_SERIAL,      /* 0..4294967295 */
     K_NUMBER,      /* a finite number; ranges are checked against the model */
@@ -355,7 +355,7 @@ static bool check_range(key_id_t id, double min, double max)
     return fail_at(v->line, keys[id].section, keys[id].name, why);
 }
 
-static bool check_soft_limits(const hal_device_config_t *cfg)
+static bool check_soft_limits(const wsg_config_t *cfg)
 {
     float minus = cfg->soft_limit_minus_mm;
     float plus = cfg->soft_limit_plus_mm;
@@ -373,7 +373,7 @@ bool config_file_check(const char *model)
     if (m == NULL) {
         return false;
     }
-    hal_device_config_t cfg;
+    wsg_config_t cfg;
     sim_model_config(m, &cfg);
     float fmax = m->force_overdrive_n > 0.0f ? m->force_overdrive_n : m->force_max_n;
     bool ok = check_range(MOT_FORCE, m->force_min_n, fmax) &&
@@ -393,7 +393,7 @@ bool config_file_check(const char *model)
 static void set_text(char *dst, key_id_t id)
 {
     if (loaded.values[id].set) {
-        size_t len = strnlen(loaded.values[id].text, HAL_DEVICE_STRING_MAX - 1);
+        size_t len = strnlen(loaded.values[id].text, WSG_CONFIG_STRING_MAX - 1);
         memcpy(dst, loaded.values[id].text, len); /* checked shorter on load */
         dst[len] = '\0';
     }
@@ -406,7 +406,7 @@ static void set_float(float *dst, key_id_t id)
     }
 }
 
-void config_file_apply(hal_device_config_t *cfg)
+void config_file_apply(wsg_config_t *cfg)
 {
     const value_t *v = loaded.values;
     set_text(cfg->tag, DEV_TAG);

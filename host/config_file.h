@@ -6,7 +6,7 @@
 
 #include <stdbool.h>
 
-#include "hal_device.h"
+#include "wsg/wsg_config.h"
 #include "options.h"
 
 /* Reads the file: host settings (ports, clients, ...) go into opts, device
@@ -16,7 +16,7 @@ bool config_file_load(const char *path, host_options_t *opts);
 /* Checks the device settings against the model's ranges (same message form). */
 bool config_file_check(const char *model);
 /* Overrides the model's factory configuration with the file's settings. */
-void config_file_apply(hal_device_config_t *cfg);
+void config_file_apply(wsg_config_t *cfg);
 /* Forgets a loaded file (tests). */
 void config_file_forget(void);
 

@@ -6,11 +6,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "dispatch.h"
 #include "simctl_names.h"
 
 #define COMMANDS_MAX 64
-#define CALL_SLOTS (GCL_ARGS_MAX + 1) /* argc 0..GCL_ARGS_MAX (more counts as the last) */
+#define CALL_SLOTS (WSG_GCL_ARGS_MAX + 1) /* argc 0..WSG_GCL_ARGS_MAX (more counts as the last) */
 #define SLOT_QUERY CALL_SLOTS
 #define SLOT_INDEXED (CALL_SLOTS + 1)
 #define SLOT_SET (CALL_SLOTS + 2)
@@ -19,14 +18,14 @@
 #define WHAT_MAX 96
 
 typedef struct {
-    char name[GCL_NAME_MAX + 1];
+    char name[WSG_GCL_NAME_MAX + 1];
     char what[WHAT_MAX];
     unsigned count;
     uint64_t first_session;
 } tolerated_t;
 
 typedef struct {
-    char name[GCL_NAME_MAX + 1];
+    char name[WSG_GCL_NAME_MAX + 1];
     unsigned count;
 } unknown_t;
 
@@ -41,7 +40,7 @@ static struct {
     tolerated_t tolerated[NAMES_MAX];
     unsigned tolerated_count;
     unsigned sessions;
-    uint64_t counted[WSG_MAX_SESSIONS]; /* per slot: the session id last counted */
+    uint64_t last_counted; /* ids grow: a connection is new when its id is above it */
 } cov;
 
 /* Codes the emulator can answer by itself (injected failures add others). */
@@ -67,24 +66,16 @@ void coverage_reset(void)
     memset(&cov, 0, sizeof(cov));
 }
 
-/* The command's row in the dispatcher's table, or -1 if it has none. */
-static int command_index(const char *name)
-{
-    const cmd_entry_t *entry = dispatch_find(name);
-    long index = entry != NULL ? (long)(entry - dispatch_at(0)) : -1;
-    return index < COMMANDS_MAX ? (int)index : -1;
-}
-
 static int form_slot(unsigned form, unsigned argc)
 {
     switch (form) {
-    case GCL_FORM_CALL:
+    case WSG_GCL_FORM_CALL:
         return (int)(argc < CALL_SLOTS ? argc : CALL_SLOTS - 1);
-    case GCL_FORM_QUERY:
+    case WSG_GCL_FORM_QUERY:
         return SLOT_QUERY;
-    case GCL_FORM_INDEXED_QUERY:
+    case WSG_GCL_FORM_INDEXED:
         return SLOT_INDEXED;
-    case GCL_FORM_SET:
+    case WSG_GCL_FORM_SET:
         return SLOT_SET;
     default:
         return -1;
@@ -106,12 +97,15 @@ static void note_unknown(const char *name)
     }
 }
 
-void coverage_command(const char *name, unsigned form, unsigned argc, wsg_status_t status)
+void coverage_command(const char *name, int index, unsigned form, unsigned argc,
+                      wsg_status_t status)
 {
     if (name[0] == '\0') {
         return; /* a line without a command name */
     }
-    int index = command_index(name);
+    if (index >= COMMANDS_MAX) {
+        index = -1;
+    }
     int slot = form_slot(form, argc);
     if (index < 0) {
         note_unknown(name);
@@ -120,23 +114,14 @@ void coverage_command(const char *name, unsigned form, unsigned argc, wsg_status
     }
 }
 
-/* "ERR NAME CODE[ text]" */
-void coverage_line_out(const char *line, size_t len)
+void coverage_error(int index, wsg_status_t status)
 {
-    char text[64];
-    char name[GCL_NAME_MAX + 2];
-    unsigned code = 0;
-    if (len < 4 || strncmp(line, "ERR ", 4) != 0) {
+    if ((unsigned)status >= WSG_STATUS_COUNT) {
         return;
     }
-    snprintf(text, sizeof(text), "%.*s", (int)(len < 63 ? len : 63), line);
-    if (sscanf(text, "ERR %16s %u", name, &code) != 2 || code >= WSG_STATUS_COUNT) {
-        return;
-    }
-    cov.errors[code]++;
-    int index = command_index(name);
-    if (index >= 0) {
-        cov.error_commands[code] |= 1ull << index;
+    cov.errors[status]++;
+    if (index >= 0 && index < COMMANDS_MAX) {
+        cov.error_commands[status] |= 1ull << index;
     }
 }
 
@@ -152,7 +137,7 @@ void coverage_flags(uint32_t flags)
     cov.flags_seen |= flags;
 }
 
-void coverage_tolerated(const wsg_session_t *s, const char *name, const char *what)
+void coverage_tolerated(const wsg_conn_t *c, const char *name, const char *what)
 {
     for (unsigned i = 0; i < cov.tolerated_count; i++) {
         tolerated_t *t = &cov.tolerated[i];
@@ -166,15 +151,17 @@ void coverage_tolerated(const wsg_session_t *s, const char *name, const char *wh
         snprintf(t->name, sizeof(t->name), "%s", name);
         snprintf(t->what, sizeof(t->what), "%s", what);
         t->count = 1;
-        t->first_session = s != NULL ? s->generation : 0u;
+        t->first_session = c != NULL ? wsg_conn_id(c) : 0u;
     }
 }
 
-void coverage_line_in(const wsg_session_t *s)
+void coverage_line_in(const wsg_conn_t *c)
 {
-    /* ids are unique and never 0: a slot's new session has a new id */
-    if (cov.counted[s->index] != s->generation) {
-        cov.counted[s->index] = s->generation;
+    /* ids are unique, never 0 and grow: a connection not yet counted has a
+     * larger id than every counted one */
+    uint64_t id = wsg_conn_id(c);
+    if (id > cov.last_counted) {
+        cov.last_counted = id;
         cov.sessions++;
     }
 }
@@ -196,15 +183,15 @@ static void slot_label(const char *name, int slot, char *out, size_t cap)
     }
 }
 
-static bool slot_allowed(const cmd_entry_t *e, int slot)
+static bool slot_allowed(const wsg_gcl_command_t *e, int slot)
 {
     if (slot < CALL_SLOTS) {
-        return (e->forms & GCL_FORM_CALL) != 0u && (unsigned)slot >= e->min_args &&
+        return (e->forms & WSG_GCL_FORM_CALL) != 0u && (unsigned)slot >= e->min_args &&
                (unsigned)slot <= e->max_args;
     }
-    unsigned form = slot == SLOT_QUERY     ? GCL_FORM_QUERY
-                    : slot == SLOT_INDEXED ? GCL_FORM_INDEXED_QUERY
-                                           : GCL_FORM_SET;
+    unsigned form = slot == SLOT_QUERY     ? WSG_GCL_FORM_QUERY
+                    : slot == SLOT_INDEXED ? WSG_GCL_FORM_INDEXED
+                                           : WSG_GCL_FORM_SET;
     return (e->forms & form) != 0u;
 }
 
@@ -226,7 +213,7 @@ static void add_count(cJSON *array, const char *key, const char *value, unsigned
 
 static void report_command(unsigned i, forms_acc_t *acc)
 {
-    const cmd_entry_t *e = dispatch_at(i);
+    const wsg_gcl_command_t *e = wsg_gcl_command_at(i);
     for (int slot = 0; slot < SLOTS; slot++) {
         char label[40];
         bool allowed = slot_allowed(e, slot);
@@ -245,7 +232,7 @@ static void report_command(unsigned i, forms_acc_t *acc)
 static cJSON *report_commands(cJSON *summary)
 {
     forms_acc_t acc = {cJSON_CreateArray(), cJSON_CreateArray(), cJSON_CreateArray(), 0, 0};
-    for (unsigned i = 0; i < dispatch_count() && i < COMMANDS_MAX; i++) {
+    for (unsigned i = 0; i < wsg_gcl_command_count() && i < COMMANDS_MAX; i++) {
         report_command(i, &acc);
     }
     cJSON *unknown = cJSON_CreateArray();
@@ -265,9 +252,9 @@ static cJSON *report_commands(cJSON *summary)
 static cJSON *error_commands(unsigned code)
 {
     cJSON *names = cJSON_CreateArray();
-    for (unsigned i = 0; i < dispatch_count() && i < COMMANDS_MAX; i++) {
+    for (unsigned i = 0; i < wsg_gcl_command_count() && i < COMMANDS_MAX; i++) {
         if ((cov.error_commands[code] >> i) & 1u) {
-            cJSON_AddItemToArray(names, cJSON_CreateString(dispatch_at(i)->name));
+            cJSON_AddItemToArray(names, cJSON_CreateString(wsg_gcl_command_at(i)->name));
         }
     }
     return names;

@@ -8,18 +8,19 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "wsg_device.h"
+#include "wsg/wsg_gcl.h"
 
 void coverage_reset(void);
 
 /* Observations (called by the device hooks and the control step). */
-void coverage_command(const char *name, unsigned form, unsigned argc, wsg_status_t status);
-void coverage_line_out(const char *line, size_t len);
+void coverage_command(const char *name, int index, unsigned form, unsigned argc,
+                      wsg_status_t status);
+void coverage_error(int index, wsg_status_t status);
 void coverage_grip(wsg_grip_state_t from, wsg_grip_state_t to);
 void coverage_flags(uint32_t flags);
-void coverage_tolerated(const wsg_session_t *s, const char *name, const char *what);
+void coverage_tolerated(const wsg_conn_t *c, const char *name, const char *what);
 /* Counts the sessions that sent at least one line. */
-void coverage_line_in(const wsg_session_t *s);
+void coverage_line_in(const wsg_conn_t *c);
 
 /* The report as JSON text (malloc'd; free() it). pretty: indented. */
 char *coverage_report_json(bool strict, bool pretty);

@@ -7,7 +7,7 @@
 
 #include "can_loopback.h"
 #include "can_socketcan.h"
-#include "finger_proto.h"
+#include "wsg/finger_proto.h"
 #include "log.h"
 #include "loop.h"
 
@@ -59,6 +59,12 @@ bool finger_bus_host_start(const host_options_t *opts)
         if (!finger_node_parse_pair(opts->fingers, types)) {
             host_logf(HAL_LOG_ERROR, "finger bus: bad finger list '%s'", opts->fingers);
             return false;
+        }
+        if (types[0] == FBUS_TYPE_NONE && types[1] == FBUS_TYPE_NONE) {
+            /* no finger on it: no bus, so an idle device has nothing to do */
+            active_bus = NULL;
+            snprintf(description, sizeof(description), "none (no fingers)");
+            return true;
         }
         can_loopback_init(types, &params);
         active_bus = can_loopback_bus();

@@ -1,26 +1,29 @@
 #include "gripper.h"
 
+#include "config_file.h"
 #include "finger_bus_host.h"
 #include "hal_clock.h"
 #include "log.h"
-#include "sim_models.h"
-#include "sim_world.h"
-#include "config_file.h"
+#include "sim/sim_models.h"
 #include "simctl_hooks.h"
 
-static wsg_device_t device;
-static uint64_t next_deadline_us;
-static host_options_t start_opts; /* what gripper_reset() powers on with */
+static gripper_t *served;
 
-wsg_device_t *gripper_device(void)
+void gripper_serve(gripper_t *g)
 {
-    return &device;
+    served = g;
+}
+
+gripper_t *gripper_served(void)
+{
+    return served;
 }
 
 /* A part given at start sits between the jaws: open them beyond it. */
-static void place_start_part(const host_options_t *opts)
+static void place_start_part(gripper_t *g)
 {
-    sim_axis_t *axis = &sim_world()->axis;
+    sim_axis_t *axis = &g->world.axis;
+    const host_options_t *opts = &g->opts;
     if (opts->part_width_mm >= axis->stroke_mm) {
         host_logf(HAL_LOG_WARN, "part of %.1f mm does not fit a %.0f mm stroke; ignored",
                   (double)opts->part_width_mm, (double)axis->stroke_mm);
@@ -33,56 +36,68 @@ static void place_start_part(const host_options_t *opts)
     sim_axis_place_part(axis, opts->part_width_mm, opts->part_stiffness_n_mm);
 }
 
-void gripper_init(const host_options_t *opts)
+static void power_on_world(gripper_t *g)
 {
-    hal_device_config_t cfg;
-    sim_model_config(sim_model_find(opts->model), &cfg);
-    config_file_apply(&cfg);
-    cfg.disconnect_raises_faststop = opts->disconnect_faststop;
-    start_opts = *opts;
-    sim_world_init(&cfg, hal_clock_now_us());
-    if (opts->part_given) {
-        place_start_part(opts);
+    sim_world_init(&g->world, &g->config, hal_clock_now_us());
+    if (g->opts.part_given) {
+        place_start_part(g);
     }
-    simctl_hooks_attach(&device, opts->trace, opts->strict);
-    wsg_device_init(&device);
-    wsg_device_attach_can(&device, finger_bus_host_can());
-    next_deadline_us = hal_clock_now_us();
+    g->next_deadline_us = hal_clock_now_us();
 }
 
-uint64_t gripper_tick(void)
+void gripper_init(gripper_t *g, const host_options_t *opts)
+{
+    g->opts = *opts;
+    sim_model_config(sim_model_find(opts->model), &g->config);
+    config_file_apply(&g->config);
+    g->config.disconnect_raises_faststop = opts->disconnect_faststop;
+    power_on_world(g);
+    wsg_hal_t hal;
+    sim_world_hal(&g->world, &hal);
+    hal.can = finger_bus_host_can();
+    wsg_device_init(&g->device, &g->config, &hal);
+    simctl_hooks_attach(&g->device, opts);
+}
+
+uint64_t gripper_tick(gripper_t *g)
 {
     uint64_t now = hal_clock_now_us();
-    sim_world_advance(now);
-    if (now >= next_deadline_us) {
-        wsg_device_step(&device);
+    sim_world_advance(&g->world, now);
+    if (now >= g->next_deadline_us) {
+        wsg_device_step(&g->device);
     }
-    next_deadline_us = wsg_device_next_deadline_us(&device);
-    return next_deadline_us;
+    g->next_deadline_us = wsg_device_next_deadline_us(&g->device);
+    return g->next_deadline_us;
 }
 
-uint64_t gripper_next_deadline_us(void)
+void gripper_step_now(gripper_t *g)
 {
-    return next_deadline_us;
+    g->next_deadline_us = hal_clock_now_us();
+    gripper_tick(g);
 }
 
-void gripper_step_now(void)
+void gripper_reset(gripper_t *g)
 {
-    next_deadline_us = hal_clock_now_us();
-    gripper_tick();
+    wsg_conn_t *c;
+    while ((c = wsg_device_conn_first(&g->device)) != NULL) {
+        wsg_conn_close(c, WSG_CLOSE_EXPIRED); /* one without a port behind it */
+    }
+    power_on_world(g);
+    wsg_device_reset(&g->device, &g->config);
 }
 
-void gripper_reset(void)
+void gripper_feed(gripper_t *g, wsg_conn_t *c, const uint8_t *bytes, size_t len,
+                  int end_of_datagram)
 {
-    host_options_t opts = start_opts;
-    gripper_init(&opts);
-}
-
-void gripper_feed(wsg_session_t *s, const uint8_t *bytes, size_t len, int end_of_datagram)
-{
-    sim_world_advance(hal_clock_now_us());
-    wsg_session_input(&device, s, bytes, len);
+    sim_world_advance(&g->world, hal_clock_now_us());
+    wsg_conn_input(c, bytes, len);
     if (end_of_datagram) {
-        wsg_session_end_datagram(&device, s);
+        wsg_conn_end_datagram(c);
     }
+    /* What the input started is due from the next instant on, never at
+     * this one: a paused clock runs it at the next STEP, as before. */
+    uint64_t due = wsg_device_next_deadline_us(&g->device);
+    uint64_t soonest = hal_clock_now_us() + 1u;
+    due = due > soonest ? due : soonest;
+    g->next_deadline_us = due < g->next_deadline_us ? due : g->next_deadline_us;
 }

@@ -120,7 +120,9 @@ int main(int argc, char **argv)
     if (!finger_bus_host_start(&opts) || (opts.can_log != NULL && !can_log_open(opts.can_log))) {
         return EXIT_STARTUP_FAILED;
     }
-    gripper_init(&opts);
+    static gripper_t gripper; /* the device this process serves */
+    gripper_init(&gripper, &opts);
+    gripper_serve(&gripper);
     if (!start_servers(&opts) || !start_simulation(&opts)) {
         return EXIT_STARTUP_FAILED;
     }

@@ -7,9 +7,9 @@
 #include <string.h>
 
 #include "config_file.h"
-#include "finger_node.h"
 #include "log.h"
-#include "sim_models.h"
+#include "sim/finger_node.h"
+#include "sim/sim_models.h"
 #include "version.h"
 
 #define DEFAULT_PORT 1000

@@ -51,11 +51,6 @@ bool record_reopen(void)
     return true;
 }
 
-bool record_enabled(void)
-{
-    return out != NULL;
-}
-
 /* Printable ASCII as is; backslash and anything else escaped. */
 static void put_text(const char *line, size_t len)
 {
@@ -86,14 +81,14 @@ static void put_record(const char *channel, char direction, const char *line, si
     fputc('\n', out);
 }
 
-void record_gcl(const wsg_session_t *s, char direction, const char *line, size_t len)
+void record_gcl(const wsg_conn_t *c, char direction, const char *line, size_t len)
 {
     if (out == NULL) {
         return;
     }
     char channel[32];
-    snprintf(channel, sizeof(channel), "s%llu%c", (unsigned long long)s->generation,
-             s->transport == WSG_TRANSPORT_STREAM ? 't' : 'u');
+    snprintf(channel, sizeof(channel), "s%llu%c", (unsigned long long)wsg_conn_id(c),
+             wsg_conn_transport(c) == WSG_TRANSPORT_STREAM ? 't' : 'u');
     put_record(channel, direction, line, len);
 }
 

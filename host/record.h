@@ -6,16 +6,15 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "wsg_device.h"
+#include "wsg/wsg_conn.h"
 
 /* Opens (truncates) the file and writes the header; false with a message. */
 bool record_open(const char *path);
-bool record_enabled(void);
 /* Opens the file again by its path, appending (log rotation: the old one was
  * moved away); false, keeping the old file, when that fails. */
 bool record_reopen(void);
 /* direction: '<' into the emulator, '>' out of it. */
-void record_gcl(const wsg_session_t *s, char direction, const char *line, size_t len);
+void record_gcl(const wsg_conn_t *c, char direction, const char *line, size_t len);
 /* channel: "ctl1", "scn", ... */
 void record_control(const char *channel, char direction, const char *line, size_t len);
 void record_close(void);

@@ -8,7 +8,6 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include "gcl_linebuf.h"
 #include "listener.h"
 #include "log.h"
 #include "loop.h"
@@ -17,6 +16,7 @@
 #include "record.h"
 #include "simctl_cmd.h"
 #include "simctl_run.h"
+#include "wsg/gcl_linebuf.h"
 
 #define CONTROL_CLIENTS_MAX 8
 /* Replies wait here for a slow reader. A command runs only while less than

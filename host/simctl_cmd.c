@@ -9,7 +9,7 @@
 
 #include "gripper.h"
 #include "hal_clock.h"
-#include "sim_world.h"
+#include "sim/sim_world.h"
 #include "simctl_cmd_internal.h"
 #include "simctl_run.h"
 
@@ -157,18 +157,15 @@ bool sc_checking(const simctl_ctx_t *ctx)
 /* Session ids are counted from 1; every exact integer a double holds. */
 #define SESSION_ID_MAX ((int64_t)1 << 53)
 
-wsg_session_t *sc_session(simctl_ctx_t *ctx, unsigned i)
+wsg_conn_t *sc_session(simctl_ctx_t *ctx, unsigned i)
 {
     int64_t id = 0;
     if (!sc_integer(ctx, i, "the session id", 1, SESSION_ID_MAX, &id) || sc_checking(ctx)) {
         return NULL;
     }
-    wsg_device_t *dev = gripper_device();
-    for (unsigned k = 0; k < WSG_MAX_SESSIONS; k++) {
-        wsg_session_t *s = &dev->sessions[k];
-        if (s->in_use && (uint64_t)s->generation == (uint64_t)id) {
-            return s;
-        }
+    wsg_conn_t *c = wsg_device_conn_by_id(&gripper_served()->device, (uint64_t)id);
+    if (c != NULL) {
+        return c;
     }
     sc_fail(ctx, E_NOT_FOUND, "no open session %lld (see SESSIONS?)", (long long)id);
     return NULL;
@@ -176,7 +173,7 @@ wsg_session_t *sc_session(simctl_ctx_t *ctx, unsigned i)
 
 void sc_world_changed(void)
 {
-    gripper_step_now();
+    gripper_step_now(gripper_served());
 }
 
 /* ---- dispatch ---- */
@@ -272,7 +269,8 @@ char *simctl_exec(const char *line, size_t len, simctl_outcome_t *outcome)
     wsg_status_t status = E_SUCCESS;
     simctl_ctx_t ctx = {.cmd = &cmd};
     const simctl_entry_t *e = resolve(line, len, &cmd, &status, ctx.why, sizeof(ctx.why));
-    sim_world_advance(hal_clock_now_us()); /* act on the world as it is now */
+    sim_world_advance(&gripper_served()->world,
+                      hal_clock_now_us()); /* act on the world as it is now */
     if (e != NULL) {
         status = e->handler(&ctx);
     }

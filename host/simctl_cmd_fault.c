@@ -2,7 +2,6 @@
 #include <stdlib.h>
 #include <strings.h>
 
-#include "dispatch.h"
 #include "gripper.h"
 #include "log.h"
 #include "simctl_cmd_internal.h"
@@ -54,10 +53,12 @@ wsg_status_t sc_fault(simctl_ctx_t *ctx)
 
 static void clear_failnext(void)
 {
-    wsg_injected_failure_t *f = &gripper_device()->injected_failure;
-    if (f->armed) {
-        f->armed = false;
-        host_logf(HAL_LOG_INFO, "fault cleared: FAILNEXT %s", f->name);
+    wsg_device_t *dev = &gripper_served()->device;
+    const wsg_snapshot_t *snap = wsg_device_snapshot(dev);
+    if (snap->injected_armed) {
+        host_logf(HAL_LOG_INFO, "fault cleared: FAILNEXT %s", snap->injected_name);
+        wsg_device_inject_failure(dev, "", E_SUCCESS);
+        wsg_device_take_injected_failure(dev, "", &(wsg_status_t){E_SUCCESS});
     }
 }
 
@@ -122,11 +123,11 @@ wsg_status_t sc_faults(simctl_ctx_t *ctx)
     return E_SUCCESS;
 }
 
-static wsg_status_t delay_session(wsg_session_t *s, double ms)
+static wsg_status_t delay_session(wsg_conn_t *c, double ms)
 {
-    simctl_delay_arm(s, (uint32_t)(ms * 1000.0 + 0.5));
+    simctl_delay_arm(c, (uint32_t)(ms * 1000.0 + 0.5));
     host_logf(HAL_LOG_WARN, "fault injected: DELAY next reply of session %llu by %.3f ms",
-              (unsigned long long)s->generation, ms);
+              (unsigned long long)wsg_conn_id(c), ms);
     return E_SUCCESS;
 }
 
@@ -140,7 +141,7 @@ wsg_status_t sc_delay(simctl_ctx_t *ctx)
         return sc_fail(ctx, E_RANGE_ERROR, "ms must be above 0 and at most %.0f", DELAY_MAX_MS);
     }
     if (sc_has_arg(ctx, 1)) {
-        wsg_session_t *s = sc_session(ctx, 1);
+        wsg_conn_t *s = sc_session(ctx, 1);
         if (sc_checking(ctx)) {
             return ctx->failed;
         }
@@ -150,12 +151,10 @@ wsg_status_t sc_delay(simctl_ctx_t *ctx)
         return E_SUCCESS;
     }
     unsigned armed = 0;
-    wsg_device_t *dev = gripper_device();
-    for (unsigned i = 0; i < WSG_MAX_SESSIONS; i++) {
-        if (dev->sessions[i].in_use) {
-            delay_session(&dev->sessions[i], ms);
-            armed++;
-        }
+    wsg_device_t *dev = &gripper_served()->device;
+    for (wsg_conn_t *c = wsg_device_conn_first(dev); c != NULL; c = wsg_conn_next(c)) {
+        delay_session(c, ms);
+        armed++;
     }
     return armed > 0 ? E_SUCCESS : sc_fail(ctx, E_NOT_FOUND, "no GCL session is open");
 }
@@ -169,14 +168,14 @@ static bool gcl_command_name(const char *text, char *upper, size_t cap)
         upper[n] = (c >= 'a' && c <= 'z') ? (char)(c - 'a' + 'A') : c;
     }
     upper[n] = '\0';
-    return text[n] == '\0' && dispatch_find(upper) != NULL;
+    return text[n] == '\0' && wsg_gcl_command_index(upper) >= 0;
 }
 
 wsg_status_t sc_failnext(simctl_ctx_t *ctx)
 {
     const char *name = NULL;
     int64_t code = 0;
-    char upper[GCL_NAME_MAX + 1];
+    char upper[WSG_GCL_NAME_MAX + 1];
     if (!sc_text(ctx, 0, &name)) {
         return ctx->failed;
     }
@@ -189,16 +188,16 @@ wsg_status_t sc_failnext(simctl_ctx_t *ctx)
     if (sc_checking(ctx)) {
         return E_SUCCESS;
     }
-    wsg_device_inject_failure(gripper_device(), upper, (wsg_status_t)(int)code);
+    wsg_device_inject_failure(&gripper_served()->device, upper, (wsg_status_t)(int)code);
     host_logf(HAL_LOG_WARN, "fault injected: FAILNEXT %s answers ERR %s %d", upper, upper,
               (int)code);
     return E_SUCCESS;
 }
 
-static bool cut_session(wsg_session_t *s)
+static bool cut_session(wsg_conn_t *s)
 {
-    unsigned long long id = s->generation;
-    bool stream = s->transport == WSG_TRANSPORT_STREAM;
+    unsigned long long id = wsg_conn_id(s);
+    bool stream = wsg_conn_transport(s) == WSG_TRANSPORT_STREAM;
     bool cut = stream ? tcp_server_cut(s) : udp_server_cut(s);
     if (cut) {
         host_logf(HAL_LOG_WARN, "fault injected: CUT session %llu (%s)", id,
@@ -210,7 +209,7 @@ static bool cut_session(wsg_session_t *s)
 wsg_status_t sc_cut(simctl_ctx_t *ctx)
 {
     if (sc_has_arg(ctx, 0)) {
-        wsg_session_t *s = sc_session(ctx, 0);
+        wsg_conn_t *s = sc_session(ctx, 0);
         if (s == NULL) {
             return ctx->failed; /* E_SUCCESS while only checking a good id */
         }
@@ -218,10 +217,12 @@ wsg_status_t sc_cut(simctl_ctx_t *ctx)
                               : sc_fail(ctx, E_NOT_FOUND, "session has no connection to cut");
     }
     unsigned cut = 0;
-    wsg_device_t *dev = gripper_device();
-    for (unsigned i = 0; i < WSG_MAX_SESSIONS; i++) {
-        wsg_session_t *s = &dev->sessions[i];
-        cut += s->in_use && s->transport == WSG_TRANSPORT_STREAM && cut_session(s) ? 1u : 0u;
+    wsg_device_t *dev = &gripper_served()->device;
+    wsg_conn_t *c = wsg_device_conn_first(dev);
+    while (c != NULL) {
+        wsg_conn_t *next = wsg_conn_next(c); /* cutting closes c */
+        cut += wsg_conn_transport(c) == WSG_TRANSPORT_STREAM && cut_session(c) ? 1u : 0u;
+        c = next;
     }
     return cut > 0 ? E_SUCCESS : sc_fail(ctx, E_NOT_FOUND, "no TCP connection is open");
 }

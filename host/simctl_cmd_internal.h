@@ -7,8 +7,9 @@
 
 #include <cJSON.h>
 
-#include "gcl_parse.h"
-#include "wsg_device.h"
+#include "wsg/gcl_parse.h"
+#include "wsg/wsg_gcl.h"
+#include "wsg/wsg_conn.h"
 
 typedef struct {
     const gcl_command_t *cmd;
@@ -57,7 +58,7 @@ bool sc_integer(simctl_ctx_t *ctx, unsigned i, const char *what, int64_t min, in
                 int64_t *out);
 /* Argument i as a session id of an open session; NULL (reason set) if not.
  * While only checking, any well-formed id passes (returns NULL, no failure). */
-wsg_session_t *sc_session(simctl_ctx_t *ctx, unsigned i);
+wsg_conn_t *sc_session(simctl_ctx_t *ctx, unsigned i);
 /* True while the handler only checks its arguments: it must change nothing
  * and return E_SUCCESS once they are valid. */
 bool sc_checking(const simctl_ctx_t *ctx);

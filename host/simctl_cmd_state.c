@@ -32,12 +32,14 @@ wsg_status_t sc_sessions(simctl_ctx_t *ctx)
 wsg_status_t sc_reset(simctl_ctx_t *ctx)
 {
     (void)ctx;
-    wsg_device_set_hooks(gripper_device(), NULL, NULL);
+    gripper_t *g = gripper_served();
+    simctl_hooks_detach(&g->device);
     simctl_delay_clear_all(false);
     tcp_server_close_all();
     udp_server_close_all();
     simctl_fault_clear_all();
-    gripper_reset();
+    gripper_reset(g);
+    simctl_hooks_attach(&g->device, &g->opts);
     simctl_reset_max_lag();
     host_logf(HAL_LOG_INFO, "device reset to power-on defaults");
     return E_SUCCESS;

@@ -1,8 +1,9 @@
 /* PART, PART_REMOVE, PART_SLIP, OBSTACLE, OBSTACLE_REMOVE, AMBIENT: the
  * simulated world around the jaws. */
-#include "hal_device.h"
+#include "gripper.h"
+#include "wsg/wsg_config.h"
 #include "log.h"
-#include "sim_world.h"
+#include "sim/sim_world.h"
 #include "simctl_cmd_internal.h"
 
 #define AMBIENT_MIN_C (-40.0)
@@ -11,7 +12,7 @@
 
 static double stroke_mm(void)
 {
-    return (double)hal_device_config()->stroke_mm;
+    return (double)wsg_device_snapshot(&gripper_served()->device)->config->stroke_mm;
 }
 
 /* A width strictly inside the stroke. */
@@ -47,7 +48,7 @@ static bool read_optional(simctl_ctx_t *ctx, unsigned i, double fallback, double
 
 static wsg_status_t reply_part(simctl_ctx_t *ctx)
 {
-    const sim_part_t *p = &sim_world()->axis.part;
+    const sim_part_t *p = &gripper_served()->world.axis.part;
     sc_reply(ctx, "[%d,%g,%g,%g]", p->present ? 1 : 0, (double)p->width_mm,
              (double)p->stiffness_n_mm, (double)p->slip_force_n);
     return E_SUCCESS;
@@ -58,7 +59,7 @@ wsg_status_t sc_part(simctl_ctx_t *ctx)
     if (ctx->cmd->form == GCL_FORM_QUERY) {
         return reply_part(ctx);
     }
-    const sim_part_t *now = &sim_world()->axis.part;
+    const sim_part_t *now = &gripper_served()->world.axis.part;
     double width = 0.0;
     double stiffness = 0.0;
     double slip = 0.0;
@@ -71,7 +72,7 @@ wsg_status_t sc_part(simctl_ctx_t *ctx)
     if (sc_checking(ctx)) {
         return E_SUCCESS;
     }
-    sim_axis_set_part(&sim_world()->axis, (float)width, (float)stiffness, (float)slip);
+    sim_axis_set_part(&gripper_served()->world.axis, (float)width, (float)stiffness, (float)slip);
     host_logf(HAL_LOG_INFO, "world: part %.2f mm, %.1f N/mm, slips below %.1f N", width, stiffness,
               slip);
     sc_world_changed();
@@ -80,10 +81,10 @@ wsg_status_t sc_part(simctl_ctx_t *ctx)
 
 wsg_status_t sc_part_remove(simctl_ctx_t *ctx)
 {
-    if (!sim_world()->axis.part.present) {
+    if (!gripper_served()->world.axis.part.present) {
         return sc_fail(ctx, E_NOT_AVAILABLE, "there is no part");
     }
-    sim_axis_remove_part(&sim_world()->axis);
+    sim_axis_remove_part(&gripper_served()->world.axis);
     host_logf(HAL_LOG_INFO, "world: part removed");
     sc_world_changed();
     return E_SUCCESS;
@@ -91,10 +92,10 @@ wsg_status_t sc_part_remove(simctl_ctx_t *ctx)
 
 wsg_status_t sc_part_slip(simctl_ctx_t *ctx)
 {
-    if (!sim_world()->axis.part.present) {
+    if (!gripper_served()->world.axis.part.present) {
         return sc_fail(ctx, E_NOT_AVAILABLE, "there is no part");
     }
-    sim_axis_slip_part(&sim_world()->axis);
+    sim_axis_slip_part(&gripper_served()->world.axis);
     host_logf(HAL_LOG_INFO, "world: part slipped out of the jaws");
     sc_world_changed();
     return E_SUCCESS;
@@ -102,7 +103,7 @@ wsg_status_t sc_part_slip(simctl_ctx_t *ctx)
 
 wsg_status_t sc_obstacle(simctl_ctx_t *ctx)
 {
-    const sim_obstacle_t *o = &sim_world()->axis.obstacle;
+    const sim_obstacle_t *o = &gripper_served()->world.axis.obstacle;
     if (ctx->cmd->form == GCL_FORM_QUERY) {
         sc_reply(ctx, "[%d,%g]", o->present ? 1 : 0, (double)o->width_mm);
         return E_SUCCESS;
@@ -114,7 +115,7 @@ wsg_status_t sc_obstacle(simctl_ctx_t *ctx)
     if (sc_checking(ctx)) {
         return E_SUCCESS;
     }
-    sim_axis_place_obstacle(&sim_world()->axis, (float)width);
+    sim_axis_place_obstacle(&gripper_served()->world.axis, (float)width);
     host_logf(HAL_LOG_INFO, "world: obstacle at %.2f mm", width);
     sc_world_changed();
     return E_SUCCESS;
@@ -122,10 +123,10 @@ wsg_status_t sc_obstacle(simctl_ctx_t *ctx)
 
 wsg_status_t sc_obstacle_remove(simctl_ctx_t *ctx)
 {
-    if (!sim_world()->axis.obstacle.present) {
+    if (!gripper_served()->world.axis.obstacle.present) {
         return sc_fail(ctx, E_NOT_AVAILABLE, "there is no obstacle");
     }
-    sim_axis_remove_obstacle(&sim_world()->axis);
+    sim_axis_remove_obstacle(&gripper_served()->world.axis);
     host_logf(HAL_LOG_INFO, "world: obstacle removed");
     sc_world_changed();
     return E_SUCCESS;
@@ -133,7 +134,7 @@ wsg_status_t sc_obstacle_remove(simctl_ctx_t *ctx)
 
 wsg_status_t sc_ambient(simctl_ctx_t *ctx)
 {
-    sim_thermal_t *thermal = &sim_world()->thermal;
+    sim_thermal_t *thermal = &gripper_served()->world.thermal;
     if (ctx->cmd->form == GCL_FORM_SET) {
         double celsius = 0.0;
         if (!sc_number(ctx, 0, &celsius)) {

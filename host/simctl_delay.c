@@ -8,20 +8,21 @@
 #include "hal_clock.h"
 #include "log.h"
 
-/* What one delayed session may hold: past it the delay ends early and every
- * held line is delivered (a reply is never dropped). 256 KiB is about half a
- * minute of the fastest AUTOSEND streams. */
+/* What one delayed connection may hold: past it the delay ends early and
+ * every held line is delivered (a reply is never dropped). 256 KiB is about
+ * half a minute of the fastest AUTOSEND streams. */
 #define HELD_MAX_BYTES (256u * 1024u)
 #define HELD_FIRST_BYTES 4096u
 #define RECORD_HEADER 3u /* kind, length high byte, length low byte */
+#define DELAYS_MAX 144u  /* as many as connections the host serves */
 
 typedef struct {
     bool armed;
     bool holding;
-    uint64_t generation;
+    uint64_t conn_id;
     uint32_t delay_us;
     uint64_t release_us;
-    const wsg_session_io_t *io; /* the port's own I/O, restored on release */
+    const wsg_conn_io_t *io; /* the port's own I/O, restored on release */
     void *io_ctx;
     unsigned lines;
     size_t used;
@@ -29,7 +30,8 @@ typedef struct {
     uint8_t *held; /* malloc'd, grows up to HELD_MAX_BYTES */
 } delay_slot_t;
 
-static delay_slot_t slots[WSG_MAX_SESSIONS];
+static delay_slot_t slots[DELAYS_MAX];
+static unsigned armed_count; /* nothing to scan while it is 0 */
 
 /* Room for need more bytes; false past HELD_MAX_BYTES (or out of memory). */
 static bool make_room(delay_slot_t *d, size_t need)
@@ -63,7 +65,7 @@ static void drop_held(delay_slot_t *d)
     d->lines = 0;
 }
 
-static bool hold_line(delay_slot_t *d, const char *line, size_t len, wsg_line_kind_t kind)
+static bool hold_line(delay_slot_t *d, const char *line, size_t len, wsg_msg_kind_t kind)
 {
     if (len > 0xffffu || !make_room(d, RECORD_HEADER + len)) {
         return false;
@@ -78,62 +80,96 @@ static bool hold_line(delay_slot_t *d, const char *line, size_t len, wsg_line_ki
     return true;
 }
 
-static void release(unsigned index, bool send);
+static void release(delay_slot_t *d, bool send);
 
 /* The hold is full: the delay ends now, everything held goes out in order,
  * then this line. Logged once per DELAY, since the delay is over. */
-static void overflow(delay_slot_t *d, const char *line, size_t len, wsg_line_kind_t kind)
+static void overflow(delay_slot_t *d, const char *line, size_t len, wsg_msg_kind_t kind)
 {
     host_logf(HAL_LOG_WARN,
               "DELAY of session %llu ended early: more than %u KiB of lines held; "
               "delivering them now",
-              (unsigned long long)d->generation, HELD_MAX_BYTES / 1024u);
-    const wsg_session_io_t *io = d->io;
+              (unsigned long long)d->conn_id, HELD_MAX_BYTES / 1024u);
+    const wsg_conn_io_t *io = d->io;
     void *io_ctx = d->io_ctx;
-    release((unsigned)(d - slots), true);
-    io->write_line(io_ctx, line, len, kind);
+    release(d, true);
+    io->write(io_ctx, line, len, kind);
 }
 
-static void delayed_write(void *ctx, const char *line, size_t len, wsg_line_kind_t kind)
+static void delayed_write(void *ctx, const char *line, size_t len, wsg_msg_kind_t kind)
 {
     delay_slot_t *d = ctx;
-    if (!d->holding && kind == WSG_LINE_REPLY) {
+    if (!d->holding && kind == WSG_MSG_REPLY) {
         d->holding = true;
         d->release_us = hal_clock_now_us() + d->delay_us;
     }
     if (!d->holding) {
-        d->io->write_line(d->io_ctx, line, len, kind); /* AUTOSEND before the reply */
+        d->io->write(d->io_ctx, line, len, kind); /* AUTOSEND before the reply */
     } else if (!hold_line(d, line, len, kind)) {
         overflow(d, line, len, kind);
     }
 }
 
-static const wsg_session_io_t delayed_io = {.write_line = delayed_write};
+static const wsg_conn_io_t delayed_io = {.write = delayed_write};
 
-void simctl_delay_arm(wsg_session_t *s, uint32_t delay_us)
+static delay_slot_t *slot_of(uint64_t conn_id)
 {
-    delay_slot_t *d = &slots[s->index];
-    if (d->armed && d->generation == s->generation && s->io == &delayed_io) {
+    for (unsigned i = 0; i < DELAYS_MAX && armed_count > 0; i++) {
+        if (slots[i].armed && slots[i].conn_id == conn_id) {
+            return &slots[i];
+        }
+    }
+    return NULL;
+}
+
+static delay_slot_t *free_slot(void)
+{
+    for (unsigned i = 0; i < DELAYS_MAX; i++) {
+        if (!slots[i].armed) {
+            return &slots[i];
+        }
+    }
+    return NULL;
+}
+
+void simctl_delay_arm(wsg_conn_t *c, uint32_t delay_us)
+{
+    const wsg_conn_io_t *io = NULL;
+    void *io_ctx = NULL;
+    wsg_conn_get_io(c, &io, &io_ctx);
+    delay_slot_t *d = slot_of(wsg_conn_id(c));
+    if (d != NULL && io == &delayed_io) {
         d->delay_us = delay_us; /* re-armed before it took effect */
+        return;
+    }
+    d = free_slot();
+    if (d == NULL) {
+        host_logf(HAL_LOG_WARN, "DELAY: every delay slot is taken");
         return;
     }
     drop_held(d);
     memset(d, 0, sizeof(*d));
     d->armed = true;
-    d->generation = s->generation;
+    d->conn_id = wsg_conn_id(c);
     d->delay_us = delay_us;
-    d->io = s->io;
-    d->io_ctx = s->io_ctx;
-    s->io = &delayed_io;
-    s->io_ctx = d;
+    d->io = io;
+    d->io_ctx = io_ctx;
+    armed_count++;
+    wsg_conn_set_io(c, &delayed_io, d);
 }
 
-/* The session the slot stands in for, if it still exists. */
-static wsg_session_t *owner(unsigned index, const delay_slot_t *d)
+/* The connection the slot stands in for, if it is still open. */
+static wsg_conn_t *owner(const delay_slot_t *d)
 {
-    wsg_session_t *s = &gripper_device()->sessions[index];
-    bool same = s->in_use && s->generation == d->generation && s->io == &delayed_io;
-    return same ? s : NULL;
+    gripper_t *g = gripper_served();
+    wsg_conn_t *c = g != NULL ? wsg_device_conn_by_id(&g->device, d->conn_id) : NULL;
+    if (c == NULL) {
+        return NULL;
+    }
+    const wsg_conn_io_t *io = NULL;
+    void *io_ctx = NULL;
+    wsg_conn_get_io(c, &io, &io_ctx);
+    return io == &delayed_io && io_ctx == d ? c : NULL;
 }
 
 static void deliver(const delay_slot_t *d)
@@ -142,21 +178,20 @@ static void deliver(const delay_slot_t *d)
     while (at < d->used) {
         const uint8_t *p = &d->held[at];
         size_t len = ((size_t)p[1] << 8) | p[2];
-        d->io->write_line(d->io_ctx, (const char *)(p + RECORD_HEADER), len, (wsg_line_kind_t)p[0]);
+        d->io->write(d->io_ctx, (const char *)(p + RECORD_HEADER), len, (wsg_msg_kind_t)p[0]);
         at += RECORD_HEADER + len;
     }
 }
 
-/* Gives the session its own I/O back and hands over what was held. */
-static void release(unsigned index, bool send)
+/* Gives the connection its own I/O back and hands over what was held. */
+static void release(delay_slot_t *d, bool send)
 {
-    delay_slot_t *d = &slots[index];
-    wsg_session_t *s = owner(index, d);
+    wsg_conn_t *c = owner(d);
     d->armed = false;
     d->holding = false;
-    if (s != NULL) { /* else the session went away: its lines have no receiver */
-        s->io = d->io;
-        s->io_ctx = d->io_ctx;
+    armed_count--;
+    if (c != NULL) { /* else the connection went away: its lines have no receiver */
+        wsg_conn_set_io(c, d->io, d->io_ctx);
         if (send) {
             deliver(d);
         }
@@ -167,12 +202,12 @@ static void release(unsigned index, bool send)
 unsigned simctl_delay_release_due(uint64_t now_us)
 {
     unsigned released = 0;
-    for (unsigned i = 0; i < WSG_MAX_SESSIONS; i++) {
+    for (unsigned i = 0; i < DELAYS_MAX && armed_count > 0; i++) {
         delay_slot_t *d = &slots[i];
-        if (d->armed && owner(i, d) == NULL) {
-            release(i, false); /* closed while armed */
+        if (d->armed && owner(d) == NULL) {
+            release(d, false); /* closed while armed */
         } else if (d->armed && d->holding && now_us >= d->release_us) {
-            release(i, true);
+            release(d, true);
             released++;
         }
     }
@@ -182,7 +217,7 @@ unsigned simctl_delay_release_due(uint64_t now_us)
 uint64_t simctl_delay_next_us(void)
 {
     uint64_t next = UINT64_MAX;
-    for (unsigned i = 0; i < WSG_MAX_SESSIONS; i++) {
+    for (unsigned i = 0; i < DELAYS_MAX && armed_count > 0; i++) {
         if (slots[i].armed && slots[i].holding && slots[i].release_us < next) {
             next = slots[i].release_us;
         }
@@ -192,24 +227,30 @@ uint64_t simctl_delay_next_us(void)
 
 void simctl_delay_clear_all(bool send)
 {
-    for (unsigned i = 0; i < WSG_MAX_SESSIONS; i++) {
+    for (unsigned i = 0; i < DELAYS_MAX && armed_count > 0; i++) {
         if (slots[i].armed) {
-            release(i, send);
+            release(&slots[i], send);
         }
     }
+}
+
+bool simctl_delay_holding(uint64_t conn_id)
+{
+    const delay_slot_t *d = slot_of(conn_id);
+    return d != NULL && d->holding && owner(d) != NULL;
 }
 
 bool simctl_delay_info(unsigned i, simctl_delay_info_t *out)
 {
     unsigned seen = 0;
-    for (unsigned k = 0; k < WSG_MAX_SESSIONS; k++) {
+    for (unsigned k = 0; k < DELAYS_MAX && armed_count > 0; k++) {
         const delay_slot_t *d = &slots[k];
-        if (!d->armed || owner(k, d) == NULL) {
+        if (!d->armed || owner(d) == NULL) {
             continue;
         }
         if (seen++ == i) {
-            *out = (simctl_delay_info_t){d->generation, d->delay_us, d->holding, d->release_us,
-                                         d->lines};
+            *out =
+                (simctl_delay_info_t){d->conn_id, d->delay_us, d->holding, d->release_us, d->lines};
             return true;
         }
     }

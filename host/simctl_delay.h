@@ -7,10 +7,10 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "wsg_device.h"
+#include "wsg/wsg_conn.h"
 
-/* Arms a delay of delay_us for the session's next reply line. */
-void simctl_delay_arm(wsg_session_t *s, uint32_t delay_us);
+/* Arms a delay of delay_us for the connection's next reply line. */
+void simctl_delay_arm(wsg_conn_t *c, uint32_t delay_us);
 /* Delivers what is due at now_us; returns how many sessions were released. */
 unsigned simctl_delay_release_due(uint64_t now_us);
 /* Earliest pending release, or UINT64_MAX. */
@@ -26,6 +26,9 @@ typedef struct {
     uint64_t release_us; /* when holding */
     unsigned lines_held;
 } simctl_delay_info_t;
+
+/* True while the connection's replies are held back. */
+bool simctl_delay_holding(uint64_t conn_id);
 
 /* The i-th active delay (0-based); false past the last. */
 bool simctl_delay_info(unsigned i, simctl_delay_info_t *out);

@@ -1,3 +1,4 @@
+#include "gripper.h"
 #include "simctl_faults.h"
 
 #include <strings.h>
@@ -5,7 +6,7 @@
 #include "finger_bus_host.h"
 #include "hal_clock.h"
 #include "log.h"
-#include "sim_world.h"
+#include "sim/sim_world.h"
 
 #define NO_OVERRIDE (-1000.0f)
 #define TEMP_FAULT_MARGIN_C 5.0f
@@ -72,8 +73,8 @@ const char *simctl_fault_description(simctl_fault_t fault)
 /* The board temperature the active temperature faults force. */
 static void apply_temperature(void)
 {
-    const hal_device_config_t *cfg = hal_device_config();
-    sim_thermal_t *thermal = &sim_world()->thermal;
+    const wsg_config_t *cfg = wsg_device_snapshot(&gripper_served()->device)->config;
+    sim_thermal_t *thermal = &gripper_served()->world.thermal;
     thermal->override_c = NO_OVERRIDE;
     if (faults.active[SIMCTL_FAULT_TEMP_WARNING]) {
         thermal->override_c = (cfg->temp_warning_c + cfg->temp_fault_c) / 2.0f;
@@ -98,7 +99,7 @@ static void apply_finger(simctl_fault_t fault, bool on)
 static void apply(simctl_fault_t fault)
 {
     bool on = faults.active[fault];
-    sim_axis_t *axis = &sim_world()->axis;
+    sim_axis_t *axis = &gripper_served()->world.axis;
     switch (fault) {
     case SIMCTL_FAULT_TEMP_WARNING:
     case SIMCTL_FAULT_TEMP_FAULT:

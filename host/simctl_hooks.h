@@ -1,15 +1,21 @@
-/* The one owner of the device hooks: fans every observation out to the
- * trace, the record and the coverage report. */
+/* The observer hub: attaches the trace, the record and the coverage report
+ * to a device only when the options ask for one of them (a plain run pays
+ * nothing), and fans every observation out to them. */
 #ifndef SIMCTL_HOOKS_H
 #define SIMCTL_HOOKS_H
 
 #include <stdbool.h>
 
-#include "wsg_device.h"
+#include "options.h"
+#include "wsg/wsg_device.h"
 
-void simctl_hooks_attach(wsg_device_t *dev, bool trace, bool strict);
+void simctl_hooks_attach(wsg_device_t *dev, const host_options_t *opts);
+/* Detached, a device's events go unobserved (a reset's closures). */
+void simctl_hooks_detach(wsg_device_t *dev);
 bool simctl_hooks_strict(void);
-/* After a control step: samples what the report tracks over time (flags). */
-void simctl_hooks_after_step(const wsg_device_t *dev);
+/* After every loop pass over the device: samples what the coverage report
+ * tracks over time (the flags, also those raised outside a control step,
+ * such as FAST STOP on a dropped connection). Nothing without coverage. */
+void simctl_hooks_after_tick(wsg_device_t *dev);
 
 #endif

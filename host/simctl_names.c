@@ -69,12 +69,6 @@ static const char *const statuses[WSG_STATUS_COUNT] = {
     [E_FILE_EXISTS] = "E_FILE_EXISTS",
 };
 
-static const char *const autosend_values[AS_COUNT] = {
-    [AS_POS] = "POS",           [AS_SPEED] = "SPEED",
-    [AS_FORCE] = "FORCE",       [AS_GRIPSTATE] = "GRIPSTATE",
-    [AS_SYSFLAGS] = "SYSFLAGS", [AS_TEMP] = "TEMP",
-};
-
 const char *simctl_grip_state_name(wsg_grip_state_t state)
 {
     return (unsigned)state < GS_COUNT ? grip_states[state] : "?";
@@ -88,9 +82,4 @@ const char *simctl_sysflag_name(unsigned bit)
 const char *simctl_status_name(wsg_status_t status)
 {
     return (unsigned)status < WSG_STATUS_COUNT ? statuses[status] : "?";
-}
-
-const char *simctl_autosend_name(wsg_autosend_value_t value)
-{
-    return (unsigned)value < AS_COUNT ? autosend_values[value] : "?";
 }

@@ -3,8 +3,8 @@
 #ifndef SIMCTL_NAMES_H
 #define SIMCTL_NAMES_H
 
-#include "wsg_status.h"
-#include "wsg_types.h"
+#include "wsg/wsg_status.h"
+#include "wsg/wsg_types.h"
 
 /* "IDLE", "NO PART", ...; "?" outside the table. */
 const char *simctl_grip_state_name(wsg_grip_state_t state);
@@ -12,7 +12,5 @@ const char *simctl_grip_state_name(wsg_grip_state_t state);
 const char *simctl_sysflag_name(unsigned bit);
 /* "E_RANGE_ERROR", ...; "?" outside the table. */
 const char *simctl_status_name(wsg_status_t status);
-/* "POS", "SPEED", ... */
-const char *simctl_autosend_name(wsg_autosend_value_t value);
 
 #endif

@@ -65,8 +65,8 @@ static bool run_due(unsigned *budget, uint64_t *next)
     if (scenario_next_us() <= now) {
         return false;
     }
-    *next = gripper_tick();
-    simctl_hooks_after_step(gripper_device());
+    *next = gripper_tick(gripper_served());
+    simctl_hooks_after_tick(&gripper_served()->device);
     simctl_delay_release_due(now);
     *next = earliest(*next, scenario_next_us());
     *next = earliest(*next, simctl_delay_next_us());

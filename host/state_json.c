@@ -3,8 +3,9 @@
 #include <stdlib.h>
 
 #include "gripper.h"
+#include "wsg/wsg_gcl.h"
 #include "hal_clock.h"
-#include "sim_world.h"
+#include "sim/sim_world.h"
 #include "simclock.h"
 #include "simctl_delay.h"
 #include "simctl_faults.h"
@@ -27,7 +28,7 @@ static cJSON *time_json(void)
     return t;
 }
 
-static cJSON *device_json(const hal_device_config_t *cfg)
+static cJSON *device_json(const wsg_config_t *cfg)
 {
     cJSON *d = cJSON_CreateObject();
     cJSON_AddStringToObject(d, "model", cfg->devtype);
@@ -49,50 +50,55 @@ static cJSON *device_json(const hal_device_config_t *cfg)
     return d;
 }
 
-static cJSON *axis_json(const wsg_device_t *dev)
+static cJSON *axis_json(const wsg_snapshot_t *snap)
 {
-    const hal_axis_status_t *a = &dev->axis;
-    float speed = a->velocity_mm_s < 0.0f ? -a->velocity_mm_s : a->velocity_mm_s;
     cJSON *j = cJSON_CreateObject();
-    cJSON_AddNumberToObject(j, "position_mm", a->position_mm);
-    cJSON_AddNumberToObject(j, "speed_mm_s", speed);
-    cJSON_AddNumberToObject(j, "force_n", a->force_n);
-    cJSON_AddNumberToObject(j, "blocked", a->blocked);
-    cJSON_AddBoolToObject(j, "referenced", dev->referenced);
+    cJSON_AddNumberToObject(j, "position_mm", snap->position_mm);
+    cJSON_AddNumberToObject(j, "speed_mm_s", snap->speed_mm_s);
+    cJSON_AddNumberToObject(j, "force_n", snap->force_n);
+    cJSON_AddNumberToObject(j, "blocked", snap->blocked);
+    cJSON_AddBoolToObject(j, "referenced", snap->referenced);
     return j;
 }
 
-static cJSON *motion_json(const wsg_device_t *dev)
+/* The id of the connection whose owner runs the motion; 0 when it closed. */
+static uint64_t owner_id(wsg_device_t *dev, const wsg_owner_t *owner)
 {
-    const wsg_motion_t *m = &dev->motion;
+    for (wsg_conn_t *c = wsg_device_conn_first(dev); c != NULL; c = wsg_conn_next(c)) {
+        if (wsg_conn_owner(c) == owner) {
+            return wsg_conn_id(c);
+        }
+    }
+    return 0u;
+}
+
+static cJSON *motion_json(wsg_device_t *dev, const wsg_snapshot_t *snap)
+{
     cJSON *j = cJSON_CreateObject();
-    if (m->kind == MOTION_NONE) {
+    if (snap->motion == WSG_MOTION_NONE) {
         cJSON_AddNullToObject(j, "command");
         return j;
     }
     static const char *const names[] = {"", "HOME", "MOVE", "GRIP", "RELEASE"};
-    cJSON_AddStringToObject(j, "command", names[m->kind]);
-    cJSON_AddNumberToObject(j, "target_mm", m->target_mm);
-    cJSON_AddNumberToObject(j, "speed_mm_s", m->speed_mm_s);
-    cJSON_AddNumberToObject(j, "force_n", m->force_n);
-    const wsg_session_t *owner = &dev->sessions[m->owner_index];
-    bool alive = owner->in_use && owner->generation == m->owner_generation;
-    cJSON_AddNumberToObject(j, "session", alive ? owner->generation : 0);
+    cJSON_AddStringToObject(j, "command", names[snap->motion]);
+    cJSON_AddNumberToObject(j, "target_mm", snap->motion_target_mm);
+    cJSON_AddNumberToObject(j, "speed_mm_s", snap->motion_speed_mm_s);
+    cJSON_AddNumberToObject(j, "force_n", snap->motion_force_n);
+    cJSON_AddNumberToObject(j, "session", owner_id(dev, snap->motion_owner));
     return j;
 }
 
-static cJSON *grip_json(const wsg_device_t *dev)
+static cJSON *grip_json(const wsg_snapshot_t *snap)
 {
-    const wsg_grip_t *g = &dev->grip;
     cJSON *j = cJSON_CreateObject();
-    cJSON_AddNumberToObject(j, "state", g->state);
-    cJSON_AddStringToObject(j, "state_name", simctl_grip_state_name(g->state));
-    cJSON_AddNumberToObject(j, "force_n", g->force_n);
-    cJSON_AddNumberToObject(j, "hold_mm", g->hold_mm);
+    cJSON_AddNumberToObject(j, "state", snap->grip_state);
+    cJSON_AddStringToObject(j, "state_name", simctl_grip_state_name(snap->grip_state));
+    cJSON_AddNumberToObject(j, "force_n", snap->grip_force_n);
+    cJSON_AddNumberToObject(j, "hold_mm", snap->grip_hold_mm);
     cJSON *stats = cJSON_AddObjectToObject(j, "stats");
-    cJSON_AddNumberToObject(stats, "grips", g->stats[0]);
-    cJSON_AddNumberToObject(stats, "no_part", g->stats[1]);
-    cJSON_AddNumberToObject(stats, "part_lost", g->stats[2]);
+    cJSON_AddNumberToObject(stats, "grips", snap->grip_stats[0]);
+    cJSON_AddNumberToObject(stats, "no_part", snap->grip_stats[1]);
+    cJSON_AddNumberToObject(stats, "part_lost", snap->grip_stats[2]);
     return j;
 }
 
@@ -110,13 +116,12 @@ static cJSON *flags_json(uint32_t flags)
     return j;
 }
 
-static cJSON *world_json(const wsg_device_t *dev)
+static cJSON *world_json(const sim_world_t *w, const wsg_snapshot_t *snap)
 {
-    const sim_world_t *w = sim_world();
     const sim_part_t *p = &w->axis.part;
     const sim_obstacle_t *o = &w->axis.obstacle;
     cJSON *j = cJSON_CreateObject();
-    cJSON_AddNumberToObject(j, "board_temp_c", dev->temperature_c);
+    cJSON_AddNumberToObject(j, "board_temp_c", snap->temperature_c);
     cJSON_AddNumberToObject(j, "ambient_c", w->thermal.ambient_c);
     cJSON *part =
         p->present ? cJSON_AddObjectToObject(j, "part") : cJSON_AddNullToObject(j, "part");
@@ -136,11 +141,11 @@ static cJSON *world_json(const wsg_device_t *dev)
     return j;
 }
 
-static cJSON *fingers_json(const wsg_device_t *dev)
+static cJSON *fingers_json(const wsg_snapshot_t *snap)
 {
     cJSON *list = cJSON_CreateArray();
     for (unsigned i = 0; i < WSG_FINGER_COUNT; i++) {
-        const wsg_finger_t *f = &dev->fingers.slot[i];
+        const wsg_finger_t *f = &snap->fingers->slot[i];
         cJSON *j = cJSON_CreateObject();
         cJSON_AddStringToObject(j, "type", wsg_finger_type_name(f->type));
         cJSON_AddNumberToObject(j, "flags", f->flags);
@@ -179,12 +184,12 @@ static void add_protocol_faults(cJSON *list)
         }
         cJSON_AddItemToArray(list, j);
     }
-    const wsg_injected_failure_t *f = &gripper_device()->injected_failure;
-    if (f->armed) {
+    const wsg_snapshot_t *snap = wsg_device_snapshot(&gripper_served()->device);
+    if (snap->injected_armed) {
         cJSON *j = cJSON_CreateObject();
         cJSON_AddStringToObject(j, "fault", "FAILNEXT");
-        cJSON_AddStringToObject(j, "command", f->name);
-        cJSON_AddNumberToObject(j, "code", f->status);
+        cJSON_AddStringToObject(j, "command", snap->injected_name);
+        cJSON_AddNumberToObject(j, "code", snap->injected_status);
         cJSON_AddItemToArray(list, j);
     }
 }
@@ -197,16 +202,16 @@ cJSON *state_json_faults(void)
     return list;
 }
 
-static cJSON *autosend_json(const wsg_session_t *s)
+static cJSON *autosend_json(const wsg_gcl_conn_info_t *info)
 {
     cJSON *list = cJSON_CreateArray();
     for (unsigned v = 0; v < AS_COUNT; v++) {
-        const wsg_autosend_sub_t *sub = &s->autosend[v];
+        const wsg_gcl_autosend_info_t *sub = &info->autosend[v];
         if (sub->interval_ms == 0u) {
             continue;
         }
         cJSON *j = cJSON_CreateObject();
-        cJSON_AddStringToObject(j, "value", simctl_autosend_name((wsg_autosend_value_t)v));
+        cJSON_AddStringToObject(j, "value", wsg_gcl_autosend_name((wsg_autosend_value_t)v));
         cJSON_AddNumberToObject(j, "interval_ms", sub->interval_ms);
         if (sub->use_delta) {
             cJSON_AddNumberToObject(j, "delta", sub->delta);
@@ -218,38 +223,36 @@ static cJSON *autosend_json(const wsg_session_t *s)
     return list;
 }
 
-static const char *transport_name(const wsg_session_t *s)
+static const char *transport_name(const wsg_conn_t *c)
 {
-    return s->transport == WSG_TRANSPORT_STREAM ? "tcp" : "udp";
+    return wsg_conn_transport(c) == WSG_TRANSPORT_STREAM ? "tcp" : "udp";
 }
 
-static cJSON *session_json(const wsg_session_t *s)
+static cJSON *session_json(const wsg_conn_t *c)
 {
+    wsg_gcl_conn_info_t info = {0};
+    wsg_gcl_conn_info(c, &info);
     cJSON *j = cJSON_CreateObject();
-    cJSON_AddNumberToObject(j, "id", s->generation);
-    cJSON_AddStringToObject(j, "transport", transport_name(s));
-    cJSON_AddBoolToObject(j, "verbose", s->verbose);
-    cJSON_AddNumberToObject(j, "pwt_mm", s->pwt_mm);
-    cJSON_AddNumberToObject(j, "clt_mm", s->clt_mm);
-    cJSON_AddBoolToObject(j, "bye", s->bye_received);
-    cJSON_AddNumberToObject(j, "lines_in", s->lines_in);
-    cJSON_AddNumberToObject(j, "lines_out", s->lines_out);
-    cJSON_AddItemToObject(j, "autosend", autosend_json(s));
+    cJSON_AddNumberToObject(j, "id", wsg_conn_id(c));
+    cJSON_AddStringToObject(j, "transport", transport_name(c));
+    cJSON_AddBoolToObject(j, "verbose", info.verbose);
+    cJSON_AddNumberToObject(j, "pwt_mm", info.pwt_mm);
+    cJSON_AddNumberToObject(j, "clt_mm", info.clt_mm);
+    cJSON_AddBoolToObject(j, "bye", wsg_conn_wants_close(c));
+    cJSON_AddNumberToObject(j, "lines_in", info.lines_in);
+    cJSON_AddNumberToObject(j, "lines_out", info.lines_out);
+    cJSON_AddItemToObject(j, "autosend", autosend_json(&info));
     return j;
 }
 
-static cJSON *sessions_json(const wsg_device_t *dev, bool full)
+static cJSON *sessions_json(wsg_device_t *dev, bool full)
 {
     cJSON *list = cJSON_CreateArray();
-    for (unsigned i = 0; i < WSG_MAX_SESSIONS; i++) {
-        const wsg_session_t *s = &dev->sessions[i];
-        if (!s->in_use) {
-            continue;
-        }
-        cJSON *j = full ? session_json(s) : cJSON_CreateObject();
+    for (wsg_conn_t *c = wsg_device_conn_first(dev); c != NULL; c = wsg_conn_next(c)) {
+        cJSON *j = full ? session_json(c) : cJSON_CreateObject();
         if (!full) {
-            cJSON_AddNumberToObject(j, "id", s->generation);
-            cJSON_AddStringToObject(j, "transport", transport_name(s));
+            cJSON_AddNumberToObject(j, "id", wsg_conn_id(c));
+            cJSON_AddStringToObject(j, "transport", transport_name(c));
         }
         cJSON_AddItemToArray(list, j);
     }
@@ -258,21 +261,23 @@ static cJSON *sessions_json(const wsg_device_t *dev, bool full)
 
 cJSON *state_json_session_list(void)
 {
-    return sessions_json(gripper_device(), false);
+    return sessions_json(&gripper_served()->device, false);
 }
 
 char *state_json(bool pretty)
 {
-    const wsg_device_t *dev = gripper_device();
+    gripper_t *g = gripper_served();
+    wsg_device_t *dev = &g->device;
+    const wsg_snapshot_t *snap = wsg_device_snapshot(dev);
     cJSON *root = cJSON_CreateObject();
     cJSON_AddItemToObject(root, "time", time_json());
-    cJSON_AddItemToObject(root, "device", device_json(hal_device_config()));
-    cJSON_AddItemToObject(root, "axis", axis_json(dev));
-    cJSON_AddItemToObject(root, "motion", motion_json(dev));
-    cJSON_AddItemToObject(root, "grip", grip_json(dev));
-    cJSON_AddItemToObject(root, "flags", flags_json(dev->flags));
-    cJSON_AddItemToObject(root, "world", world_json(dev));
-    cJSON_AddItemToObject(root, "fingers", fingers_json(dev));
+    cJSON_AddItemToObject(root, "device", device_json(snap->config));
+    cJSON_AddItemToObject(root, "axis", axis_json(snap));
+    cJSON_AddItemToObject(root, "motion", motion_json(dev, snap));
+    cJSON_AddItemToObject(root, "grip", grip_json(snap));
+    cJSON_AddItemToObject(root, "flags", flags_json(snap->flags));
+    cJSON_AddItemToObject(root, "world", world_json(&g->world, snap));
+    cJSON_AddItemToObject(root, "fingers", fingers_json(snap));
     cJSON_AddItemToObject(root, "faults", state_json_faults());
     cJSON_AddItemToObject(root, "sessions", sessions_json(dev, true));
     char *text = pretty ? cJSON_Print(root) : cJSON_PrintUnformatted(root);

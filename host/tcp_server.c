@@ -16,6 +16,7 @@
 #include "net.h"
 #include "outq.h"
 #include "simctl_delay.h"
+#include "wsg/wsg_gcl.h"
 
 #define CLIENTS_MAX 128
 #define OUTQ_BYTES (16u * 1024u)
@@ -35,7 +36,7 @@
 typedef struct {
     bool in_use;
     int fd;
-    wsg_session_t *session;
+    wsg_conn_t conn;
     outq_t outq;
     bool dead;    /* failed or overflowed: close at the next reap */
     bool eof;     /* the client shut its side: answer, flush, then close */
@@ -78,15 +79,15 @@ static ssize_t send_line(tcp_client_t *c, const char *line, size_t len)
     return sent;
 }
 
-static void enqueue(tcp_client_t *c, const char *line, size_t len, wsg_line_kind_t kind)
+static void enqueue(tcp_client_t *c, const char *line, size_t len, wsg_msg_kind_t kind)
 {
     bool crowded = outq_used(&c->outq) >= OUTQ_AUTOSEND_LIMIT;
-    if (kind == WSG_LINE_AUTOSEND && crowded) {
+    if (kind == WSG_MSG_UPDATE && crowded) {
         c->dropped_autosend++;
         return;
     }
     if (!outq_push(&c->outq, line, len)) {
-        if (kind == WSG_LINE_AUTOSEND) {
+        if (kind == WSG_MSG_UPDATE) {
             c->dropped_autosend++;
             return;
         }
@@ -97,7 +98,7 @@ static void enqueue(tcp_client_t *c, const char *line, size_t len, wsg_line_kind
     update_events(c);
 }
 
-static void write_line(void *ctx, const char *line, size_t len, wsg_line_kind_t kind)
+static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t kind)
 {
     tcp_client_t *c = ctx;
     if (c->dead) {
@@ -114,12 +115,12 @@ static void write_line(void *ctx, const char *line, size_t len, wsg_line_kind_t 
         }
         line += sent;
         len -= (size_t)sent;
-        kind = WSG_LINE_REPLY; /* a started line must be finished */
+        kind = WSG_MSG_REPLY; /* a started line must be finished */
     }
     enqueue(c, line, len, kind);
 }
 
-static const wsg_session_io_t tcp_io = {.write_line = write_line};
+static const wsg_conn_io_t tcp_io = {.write = write_line};
 
 static void flush(tcp_client_t *c)
 {
@@ -142,7 +143,7 @@ static void flush(tcp_client_t *c)
 
 static wsg_close_reason_t close_reason(const tcp_client_t *c)
 {
-    if (wsg_session_wants_close(c->session)) {
+    if (wsg_conn_wants_close(&c->conn)) {
         return WSG_CLOSE_ANNOUNCED;
     }
     return c->expired ? WSG_CLOSE_EXPIRED : WSG_CLOSE_DROPPED;
@@ -159,7 +160,7 @@ static void close_client(tcp_client_t *c)
     }
     loop_unwatch(c->fd);
     close(c->fd);
-    wsg_session_close(gripper_device(), c->session, reason);
+    wsg_conn_close(&c->conn, reason);
     outq_free(&c->outq);
     c->in_use = false;
     listener_fd_freed(&tcp.listener);
@@ -193,7 +194,7 @@ static void on_client(void *ctx, int fd, short revents)
     if (n > 0) {
         c->heard_us = hal_clock_now_us();
         c->spoke = true;
-        gripper_feed(c->session, buf, (size_t)n, 0);
+        gripper_feed(gripper_served(), &c->conn, buf, (size_t)n, 0);
     } else if (n == 0) {
         on_end_of_input(c);
     } else if (errno != EAGAIN && errno != EINTR) {
@@ -263,13 +264,10 @@ static bool setup_client(tcp_client_t *c, int fd, const struct sockaddr_storage 
     if (!outq_init(&c->outq, OUTQ_BYTES)) {
         return false;
     }
-    c->session = wsg_session_open(gripper_device(), WSG_TRANSPORT_STREAM, &tcp_io, c);
-    if (c->session == NULL) {
-        outq_free(&c->outq);
-        return false;
-    }
+    wsg_conn_open(&c->conn, &gripper_served()->device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM,
+                  &tcp_io, c);
     if (!loop_watch(fd, POLLIN, on_client, c)) {
-        wsg_session_close(gripper_device(), c->session, WSG_CLOSE_ANNOUNCED);
+        wsg_conn_close(&c->conn, WSG_CLOSE_ANNOUNCED);
         outq_free(&c->outq);
         return false;
     }
@@ -314,15 +312,9 @@ int tcp_server_port(void)
 
 /* Replies held back by an injected DELAY (control channel) still count as
  * queued: a half-closed connection waits for them too. */
-static bool replies_held(const wsg_session_t *s)
+static bool replies_held(const wsg_conn_t *conn)
 {
-    simctl_delay_info_t info;
-    for (unsigned i = 0; simctl_delay_info(i, &info); i++) {
-        if (info.session_id == s->generation && info.holding) {
-            return true;
-        }
-    }
-    return false;
+    return simctl_delay_holding(wsg_conn_id(conn));
 }
 
 static bool idle_too_long(tcp_client_t *c, uint64_t now)
@@ -339,8 +331,8 @@ static bool idle_too_long(tcp_client_t *c, uint64_t now)
 static bool finished(tcp_client_t *c, uint64_t now)
 {
     bool flushed = outq_empty(&c->outq);
-    bool said_bye = wsg_session_wants_close(c->session);
-    bool input_done = c->eof && flushed && !replies_held(c->session);
+    bool said_bye = wsg_conn_wants_close(&c->conn);
+    bool input_done = c->eof && flushed && !replies_held(&c->conn);
     return c->dead || (said_bye && flushed) || input_done || idle_too_long(c, now);
 }
 
@@ -356,11 +348,11 @@ void tcp_server_reap(void)
     listener_resume_when_due(&tcp.listener);
 }
 
-bool tcp_server_cut(const wsg_session_t *session)
+bool tcp_server_cut(const wsg_conn_t *conn)
 {
     for (unsigned i = 0; i < CLIENTS_MAX; i++) {
         tcp_client_t *c = &tcp.clients[i];
-        if (c->in_use && c->session == session) {
+        if (c->in_use && &c->conn == conn) {
             struct linger abort_close = {.l_onoff = 1, .l_linger = 0};
             setsockopt(c->fd, SOL_SOCKET, SO_LINGER, &abort_close, sizeof(abort_close));
             host_logf(HAL_LOG_WARN, "tcp %s: connection cut (control channel)", c->peer);

@@ -6,7 +6,7 @@
 
 #include <stdbool.h>
 
-#include "wsg_device.h"
+#include "wsg/wsg_conn.h"
 
 bool tcp_server_start(const char *addr, int port, int max_clients, int idle_timeout_s);
 int tcp_server_port(void);
@@ -16,7 +16,7 @@ void tcp_server_reap(void);
 void tcp_server_close_all(void);
 /* Pulls the cable of the connection that carries this session: the session
  * ends without BYE and the socket is reset. False if none carries it. */
-bool tcp_server_cut(const wsg_session_t *session);
+bool tcp_server_cut(const wsg_conn_t *conn);
 void tcp_server_stop(void);
 
 #endif

@@ -1,14 +1,12 @@
-/* --trace: every GCL line in and out on stderr, with time and session. */
+/* --trace: every line in and out on stderr, with the simulated time. */
 #ifndef HOST_TRACE_H
 #define HOST_TRACE_H
 
-#include <stdbool.h>
+#include <stddef.h>
 
-#include "wsg_device.h"
+#include "wsg/wsg_conn.h"
 
-/* The trace's observers, for a module that fans the device hooks out. */
-const wsg_device_hooks_t *trace_device_hooks(void);
-/* --strict: input the manual does not allow, as a trace line marked '!'. */
-void trace_tolerated(const wsg_session_t *s, const char *name, const char *what);
+void trace_line(const wsg_conn_t *c, char direction, const char *line, size_t len);
+void trace_tolerated(const wsg_conn_t *c, const char *name, const char *what);
 
 #endif

@@ -11,6 +11,7 @@
 #include "log.h"
 #include "loop.h"
 #include "net.h"
+#include "wsg/wsg_gcl.h"
 
 #define PEERS_MAX 16
 #define DATAGRAM_MAX 65536
@@ -30,7 +31,7 @@ typedef struct {
     bool in_use;
     struct sockaddr_storage addr;
     socklen_t addr_len;
-    wsg_session_t *session;
+    wsg_conn_t conn;
     uint64_t last_seen_us;
     uint32_t credit;    /* reply bytes it may still be sent */
     double tokens;      /* datagrams it may still be sent now */
@@ -61,28 +62,28 @@ static bool silent_too_long(const udp_peer_t *p, uint64_t now)
 
 /* Whether this line may go out; AUTOSEND lines are paid for by the peer
  * speaking within the timeout, replies by the bytes it sent. */
-static bool within_budget(udp_peer_t *p, size_t len, wsg_line_kind_t kind)
+static bool within_budget(udp_peer_t *p, size_t len, wsg_msg_kind_t kind)
 {
     uint64_t now = hal_clock_now_us();
     uint32_t cost = (uint32_t)len + UDP_HEADER_BYTES;
-    if (kind == WSG_LINE_AUTOSEND && silent_too_long(p, now)) {
+    if (kind == WSG_MSG_UPDATE && silent_too_long(p, now)) {
         return false; /* the reap ends the subscription and says so */
     }
     refill(p, now);
-    if (p->tokens < 1.0 || (kind != WSG_LINE_AUTOSEND && p->credit < cost)) {
+    if (p->tokens < 1.0 || (kind != WSG_MSG_UPDATE && p->credit < cost)) {
         if (p->dropped++ == 0) {
             host_log_peer(HAL_LOG_WARN, "udp %s: reply budget spent; lines dropped", p->name);
         }
         return false;
     }
     p->tokens -= 1.0;
-    if (kind != WSG_LINE_AUTOSEND) {
+    if (kind != WSG_MSG_UPDATE) {
         p->credit -= cost;
     }
     return true;
 }
 
-static void write_line(void *ctx, const char *line, size_t len, wsg_line_kind_t kind)
+static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t kind)
 {
     udp_peer_t *p = ctx;
     /* a datagram that cannot go out now is lost, as on the wire */
@@ -92,7 +93,7 @@ static void write_line(void *ctx, const char *line, size_t len, wsg_line_kind_t 
     }
 }
 
-static const wsg_session_io_t udp_io = {.write_line = write_line};
+static const wsg_conn_io_t udp_io = {.write = write_line};
 
 static void forget(udp_peer_t *p, wsg_close_reason_t reason)
 {
@@ -100,7 +101,7 @@ static void forget(udp_peer_t *p, wsg_close_reason_t reason)
         host_log_peer(HAL_LOG_INFO, "udp %s: %lu lines dropped over the reply budget", p->name,
                       p->dropped);
     }
-    wsg_session_close(gripper_device(), p->session, reason);
+    wsg_conn_close(&p->conn, reason);
     p->in_use = false;
 }
 
@@ -115,19 +116,11 @@ static udp_peer_t *find_peer(const struct sockaddr_storage *ss, socklen_t len)
     return NULL;
 }
 
-static bool owns_motion(const wsg_session_t *s)
-{
-    const wsg_motion_t *m = &gripper_device()->motion;
-    return m->kind != MOTION_NONE && m->owner_index == s->index &&
-           m->owner_generation == s->generation;
-}
-
 /* Running a motion, listening to AUTOSEND (it ends with the peer timeout)
  * or heard from lately: its FIN, stream and settings must stay. */
 static bool is_live(const udp_peer_t *p, uint64_t now)
 {
-    return owns_motion(p->session) || wsg_session_has_autosend(p->session) ||
-           now - p->last_seen_us < PEER_RECENT_US;
+    return wsg_conn_busy(&p->conn) || now - p->last_seen_us < PEER_RECENT_US;
 }
 
 /* A free slot, or the least recently heard idle peer's; NULL when every
@@ -162,10 +155,8 @@ static udp_peer_t *new_peer(const struct sockaddr_storage *ss, socklen_t len)
         return NULL;
     }
     memset(p, 0, sizeof(*p));
-    p->session = wsg_session_open(gripper_device(), WSG_TRANSPORT_DATAGRAM, &udp_io, p);
-    if (p->session == NULL) {
-        return NULL;
-    }
+    wsg_conn_open(&p->conn, &gripper_served()->device, &wsg_gcl_driver, WSG_TRANSPORT_DATAGRAM,
+                  &udp_io, p);
     p->in_use = true;
     p->addr = *ss;
     p->addr_len = len;
@@ -208,7 +199,7 @@ static void on_datagram(void *ctx, int fd, short revents)
     p->last_seen_us = hal_clock_now_us();
     uint64_t earned = ((uint64_t)n + UDP_HEADER_BYTES) * REPLY_MULTIPLE + p->credit;
     p->credit = earned < REPLY_CREDIT_MAX ? (uint32_t)earned : REPLY_CREDIT_MAX;
-    gripper_feed(p->session, buf, (size_t)n, 1);
+    gripper_feed(gripper_served(), &p->conn, buf, (size_t)n, 1);
 }
 
 bool udp_server_start(const char *addr, int port, int peer_timeout_s)
@@ -231,22 +222,22 @@ void udp_server_reap(void)
         if (!p->in_use) {
             continue;
         }
-        if (wsg_session_wants_close(p->session)) {
+        if (wsg_conn_wants_close(&p->conn)) {
             forget(p, WSG_CLOSE_ANNOUNCED);
-        } else if (silent_too_long(p, now) && !owns_motion(p->session)) {
+        } else if (silent_too_long(p, now) && !wsg_conn_owns_motion(&p->conn)) {
             host_log_peer(HAL_LOG_INFO, "udp %s: silent for %llu s; forgotten%s", p->name,
                           (unsigned long long)(udp.peer_timeout_us / 1000000u),
-                          wsg_session_has_autosend(p->session) ? " (AUTOSEND ended)" : "");
+                          wsg_conn_busy(&p->conn) ? " (AUTOSEND ended)" : "");
             forget(p, WSG_CLOSE_EXPIRED);
         }
     }
 }
 
-bool udp_server_cut(const wsg_session_t *session)
+bool udp_server_cut(const wsg_conn_t *conn)
 {
     for (unsigned i = 0; i < PEERS_MAX; i++) {
         udp_peer_t *p = &udp.peers[i];
-        if (p->in_use && p->session == session) {
+        if (p->in_use && &p->conn == conn) {
             host_logf(HAL_LOG_WARN, "udp %s: peer cut (control channel)", p->name);
             forget(p, WSG_CLOSE_DROPPED);
             return true;

@@ -7,7 +7,7 @@
 
 #include <stdbool.h>
 
-#include "wsg_device.h"
+#include "wsg/wsg_conn.h"
 
 bool udp_server_start(const char *addr, int port, int peer_timeout_s);
 int udp_server_port(void);
@@ -17,7 +17,7 @@ void udp_server_reap(void);
 void udp_server_close_all(void);
 /* Forgets the peer that owns this session, as if it vanished without BYE.
  * False if no peer owns it. */
-bool udp_server_cut(const wsg_session_t *session);
+bool udp_server_cut(const wsg_conn_t *conn);
 void udp_server_stop(void);
 
 #endif

@@ -26,16 +26,16 @@ $(BUILD)/obj/tools/fingersim/%.o: tools/fingersim/%.c
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -MMD -MP -c $< -o $@
 
-$(BUILD)/fingersim: $(FINGERSIM_OBJ) $(BUILD)/libwsgcore.a
-	$(CC) $(LDFLAGS_BASE) -o $@ $(FINGERSIM_OBJ) $(BUILD)/libwsgcore.a -lm
+$(BUILD)/fingersim: $(FINGERSIM_OBJ) $(CORE_LIBS)
+	$(CC) $(LDFLAGS_BASE) -o $@ $(FINGERSIM_OBJ) $(CORE_LIBS) -lm
 
 $(BUILD)/obj/tests/can/%.o: tests/can/%.c
 	@mkdir -p $(dir $@)
 	$(CC) $(CAN_TEST_CFLAGS) -MMD -MP -c $< -o $@
 
-$(CAN_TEST_BIN): $(CAN_TEST_OBJ) $(BUILD)/libwsgcore.a
+$(CAN_TEST_BIN): $(CAN_TEST_OBJ) $(CORE_LIBS)
 	@mkdir -p $(dir $@)
-	$(CC) $(LDFLAGS_BASE) -o $@ $(CAN_TEST_OBJ) $(BUILD)/libwsgcore.a $(CAN_TEST_LIBS)
+	$(CC) $(LDFLAGS_BASE) -o $@ $(CAN_TEST_OBJ) $(CORE_LIBS) $(CAN_TEST_LIBS)
 
 can-unit-tests: $(CAN_TEST_BIN)
 	$(CHECK_ENV) $(CAN_TEST_BIN)

@@ -28,17 +28,16 @@ FW_SERIAL_RAM_MAX := 16384
 FW_LWIP_FLASH_MAX := 163840
 FW_LWIP_RAM_MAX := 65536
 
-# Sessions: the serial image has one line; the lwIP image serves UART0 plus
-# up to 4 TCP connections and 4 UDP peers.
-FW_SERIAL_SESSIONS := 1
-FW_LWIP_SESSIONS := 9
+# Connections: the serial image has one line; the lwIP image serves UART0
+# plus up to 4 TCP connections and 4 UDP peers (static storage in the board's
+# ports). Capacities and options: $(FW_BOARD)/wsgopts.h (lwIP-style).
 FW_SERIAL_STACK := 4096
 FW_LWIP_STACK := 6144
 
 FW_ARCH := -mcpu=cortex-m3 -mthumb -mfloat-abi=soft
 FW_CFLAGS_COMMON := $(CSTD) $(FW_ARCH) -Os -g -ffunction-sections -fdata-sections -fno-common \
 	-MMD -MP
-FW_CFLAGS := $(FW_CFLAGS_COMMON) $(WARN) -I$(FW_BOARD) $(CORE_INC)
+FW_CFLAGS := $(FW_CFLAGS_COMMON) $(WARN) -I$(FW_BOARD) -Iinclude -Ihal -Ifirmware
 FW_LWIP_INC := -I$(FW_BOARD)/lwip -I$(FW_LWIP_DIR)/src/include
 # lwIP is third-party code: built with -Werror too, under the warnings it
 # was written for (it predates -Wshadow/-Wmissing-prototypes hygiene).
@@ -83,11 +82,11 @@ $(FW_LWIP_STAMP):
 
 $(FW_OUT)/obj/serial/%.o: %.c | fw-deps
 	@mkdir -p $(dir $@)
-	$(FW_CC) $(FW_CFLAGS) -DWSG_MAX_SESSIONS=$(FW_SERIAL_SESSIONS) -c $< -o $@
+	$(FW_CC) $(FW_CFLAGS) -c $< -o $@
 
 $(FW_OUT)/obj/lwip/%.o: %.c | fw-deps $(FW_LWIP_STAMP)
 	@mkdir -p $(dir $@)
-	$(FW_CC) $(FW_CFLAGS) $(FW_LWIP_INC) -DWSG_MAX_SESSIONS=$(FW_LWIP_SESSIONS) -c $< -o $@
+	$(FW_CC) $(FW_CFLAGS) $(FW_LWIP_INC) -c $< -o $@
 
 $(FW_OUT)/obj/lwip/lwip-lib/%.o: $(FW_LWIP_STAMP) | fw-deps
 	@mkdir -p $(dir $@)

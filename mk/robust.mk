@@ -22,10 +22,10 @@ CHECK_TARGETS += fuzz-regress valgrind-tests
 FUZZ_REPLAY_OBJ := $(BUILD)/obj/host/can_loopback.o
 
 $(FUZZ_REPLAY): tests/fuzz/fuzz_session.c tests/fuzz/replay_main.c $(FUZZ_REPLAY_OBJ) \
-		$(BUILD)/libwsgcore.a
+		$(CORE_LIBS)
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_BASE) $(CORE_INC) -Ihost $(LDFLAGS_BASE) -o $@ tests/fuzz/fuzz_session.c \
-		tests/fuzz/replay_main.c $(FUZZ_REPLAY_OBJ) $(BUILD)/libwsgcore.a -lm
+		tests/fuzz/replay_main.c $(FUZZ_REPLAY_OBJ) $(CORE_LIBS) -lm
 
 fuzz-regress: $(FUZZ_REPLAY)
 	$(FUZZ_REPLAY) $(FUZZ_INPUTS)

@@ -14,10 +14,10 @@ $(BUILD)/obj/tests/simctl/%.o: tests/simctl/%.c | deps
 	@mkdir -p $(dir $@)
 	$(CC) $(SIMCTL_TEST_CFLAGS) -MMD -MP -c $< -o $@
 
-$(SIMCTL_TEST_BIN): $(SIMCTL_TEST_OBJ) $(filter-out %/host/main.o,$(HOST_OBJ)) $(BUILD)/libwsgcore.a
+$(SIMCTL_TEST_BIN): $(SIMCTL_TEST_OBJ) $(filter-out %/host/main.o,$(HOST_OBJ)) $(CORE_LIBS)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS_BASE) -o $@ $(SIMCTL_TEST_OBJ) $(filter-out %/host/main.o,$(HOST_OBJ)) \
-		$(BUILD)/libwsgcore.a $(SIMCTL_TEST_LIBS)
+		$(CORE_LIBS) $(SIMCTL_TEST_LIBS)
 
 .PHONY: simctl-tests simctl-e2e
 simctl-tests: $(SIMCTL_TEST_BIN)

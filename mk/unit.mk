@@ -11,9 +11,9 @@ $(BUILD)/obj/tests/unit/%.o: tests/unit/%.c
 	@mkdir -p $(dir $@)
 	$(CC) $(UNIT_CFLAGS) -MMD -MP -c $< -o $@
 
-$(UNIT_BIN): $(UNIT_OBJ) $(BUILD)/libwsgcore.a
+$(UNIT_BIN): $(UNIT_OBJ) $(CORE_LIBS)
 	@mkdir -p $(dir $@)
-	$(CC) $(LDFLAGS_BASE) -o $@ $(UNIT_OBJ) $(BUILD)/libwsgcore.a $(UNIT_LIBS)
+	$(CC) $(LDFLAGS_BASE) -o $@ $(UNIT_OBJ) $(CORE_LIBS) $(UNIT_LIBS)
 
 # Check prints its summary line; the binary exits non-zero on any failure.
 .PHONY: unit-tests

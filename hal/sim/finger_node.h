@@ -9,7 +9,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "finger_proto.h"
+#include "wsg/finger_proto.h"
 #include "hal_can.h"
 
 typedef struct {

@@ -61,11 +61,11 @@ const sim_model_t *sim_model_find(const char *name)
 
 static void copy_string(char *dst, const char *src)
 {
-    strncpy(dst, src, HAL_DEVICE_STRING_MAX - 1);
-    dst[HAL_DEVICE_STRING_MAX - 1] = '\0';
+    strncpy(dst, src, WSG_CONFIG_STRING_MAX - 1);
+    dst[WSG_CONFIG_STRING_MAX - 1] = '\0';
 }
 
-void sim_model_config(const sim_model_t *model, hal_device_config_t *cfg)
+void sim_model_config(const sim_model_t *model, wsg_config_t *cfg)
 {
     memset(cfg, 0, sizeof(*cfg));
     copy_string(cfg->devtype, model->name);

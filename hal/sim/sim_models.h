@@ -5,7 +5,7 @@
 
 #include <stdbool.h>
 
-#include "hal_device.h"
+#include "wsg/wsg_config.h"
 
 typedef struct {
     const char *name; /* DEVTYPE, e.g. "WSG 50-110" */
@@ -24,6 +24,6 @@ const sim_model_t *sim_model_find(const char *name);
 const sim_model_t *sim_model_default(void);
 
 /* Factory configuration of a device of this model. */
-void sim_model_config(const sim_model_t *model, hal_device_config_t *cfg);
+void sim_model_config(const sim_model_t *model, wsg_config_t *cfg);
 
 #endif

@@ -1,68 +1,54 @@
 #include "sim_world.h"
 
-#include "hal_axis.h"
-#include "hal_temp.h"
+#include <stddef.h>
 
 #define AMBIENT_C 25.0f
 #define EMERGENCY_ACCEL_FACTOR 2.0f
 
-static sim_world_t world;
-
-sim_world_t *sim_world(void)
+void sim_world_init(sim_world_t *world, const wsg_config_t *config, uint64_t now_us)
 {
-    return &world;
+    sim_axis_init(&world->axis, config->stroke_mm,
+                  EMERGENCY_ACCEL_FACTOR * config->accel_max_mm_s2);
+    sim_thermal_init(&world->thermal, AMBIENT_C);
+    world->last_us = now_us;
 }
 
-void sim_world_init(const hal_device_config_t *config, uint64_t now_us)
+void sim_world_advance(sim_world_t *world, uint64_t now_us)
 {
-    world.config = *config;
-    sim_axis_init(&world.axis, config->stroke_mm, EMERGENCY_ACCEL_FACTOR * config->accel_max_mm_s2);
-    sim_thermal_init(&world.thermal, AMBIENT_C);
-    world.last_us = now_us;
-}
-
-void sim_world_advance(uint64_t now_us)
-{
-    if (now_us <= world.last_us) {
-        sim_axis_advance(&world.axis, 0.0f);
+    if (now_us <= world->last_us) {
+        sim_axis_advance(&world->axis, 0.0f);
         return;
     }
-    float dt = (float)(now_us - world.last_us) * 1e-6f;
-    world.last_us = now_us;
-    sim_axis_advance(&world.axis, dt);
-    sim_thermal_advance(&world.thermal, world.axis.force_n, dt);
+    float dt = (float)(now_us - world->last_us) * 1e-6f;
+    world->last_us = now_us;
+    sim_axis_advance(&world->axis, dt);
+    sim_thermal_advance(&world->thermal, world->axis.force_n, dt);
 }
 
-/* hal_device.h */
-const hal_device_config_t *hal_device_config(void)
+static void axis_move(void *ctx, float target_mm, float speed_mm_s, float accel_mm_s2,
+                      float force_limit_n)
 {
-    return &world.config;
+    sim_axis_move(&((sim_world_t *)ctx)->axis, target_mm, speed_mm_s, accel_mm_s2, force_limit_n);
 }
 
-/* hal_axis.h */
-void hal_axis_move(float target_mm, float speed_mm_s, float accel_mm_s2, float force_limit_n)
+static void axis_stop(void *ctx, bool fast)
 {
-    sim_axis_move(&world.axis, target_mm, speed_mm_s, accel_mm_s2, force_limit_n);
+    sim_axis_stop(&((sim_world_t *)ctx)->axis, fast);
 }
 
-void hal_axis_stop(bool fast)
+static void axis_disable(void *ctx)
 {
-    sim_axis_stop(&world.axis, fast);
+    sim_axis_disable(&((sim_world_t *)ctx)->axis);
 }
 
-void hal_axis_disable(void)
+static void axis_set_position(void *ctx, float position_mm)
 {
-    sim_axis_disable(&world.axis);
+    sim_axis_set_position(&((sim_world_t *)ctx)->axis, position_mm);
 }
 
-void hal_axis_set_position(float position_mm)
+static void axis_status(void *ctx, hal_axis_status_t *status)
 {
-    sim_axis_set_position(&world.axis, position_mm);
-}
-
-void hal_axis_status(hal_axis_status_t *status)
-{
-    const sim_axis_t *axis = &world.axis;
+    const sim_axis_t *axis = &((const sim_world_t *)ctx)->axis;
     status->position_mm = sim_axis_position(axis);
     status->velocity_mm_s = axis->v_mm_s;
     status->force_n = axis->force_n;
@@ -72,8 +58,22 @@ void hal_axis_status(hal_axis_status_t *status)
     status->power_fault = axis->power_fault;
 }
 
-/* hal_temp.h */
-float hal_temp_board_c(void)
+static const hal_axis_ops_t axis_ops = {
+    .move = axis_move,
+    .stop = axis_stop,
+    .disable = axis_disable,
+    .set_position = axis_set_position,
+    .status = axis_status,
+};
+
+static float board_c(void *ctx)
 {
-    return sim_thermal_board_c(&world.thermal);
+    return sim_thermal_board_c(&((const sim_world_t *)ctx)->thermal);
+}
+
+void sim_world_hal(sim_world_t *world, wsg_hal_t *hal)
+{
+    hal->axis = (hal_axis_t){&axis_ops, world};
+    hal->temp = (hal_temp_t){board_c, world};
+    hal->can = NULL;
 }

@@ -1,29 +1,29 @@
-/* The simulated world behind the HAL: device configuration, mechanics and
- * thermal model. Implements hal_axis.h, hal_temp.h and hal_device.h for any
- * target without a real motor. The port advances it to the clock's time
- * before every device step. */
+/* The simulated world behind one device's HAL: mechanics and thermal model.
+ * An object: a process may hold as many as it simulates devices. The port
+ * advances it to the clock's time before every device step. */
 #ifndef SIM_WORLD_H
 #define SIM_WORLD_H
 
 #include <stdint.h>
 
-#include "hal_device.h"
+#include "hal.h"
 #include "sim_axis.h"
 #include "sim_thermal.h"
+#include "wsg/wsg_config.h"
 
 typedef struct {
-    hal_device_config_t config;
     sim_axis_t axis;
     sim_thermal_t thermal;
     uint64_t last_us;
 } sim_world_t;
 
-sim_world_t *sim_world(void);
-
-/* Power-on: a device with this configuration, the jaws mid-stroke. */
-void sim_world_init(const hal_device_config_t *config, uint64_t now_us);
+/* Power-on: a device with this configuration's mechanics, the jaws mid-stroke. */
+void sim_world_init(sim_world_t *world, const wsg_config_t *config, uint64_t now_us);
 
 /* Integrates mechanics and temperature up to now_us. */
-void sim_world_advance(uint64_t now_us);
+void sim_world_advance(sim_world_t *world, uint64_t now_us);
+
+/* The HAL handles of this world (axis and temperature; can is left NULL). */
+void sim_world_hal(sim_world_t *world, wsg_hal_t *hal);
 
 #endif

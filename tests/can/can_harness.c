@@ -7,16 +7,17 @@
 #include "can_loopback.h"
 #include "hal_clock.h"
 #include "hal_log.h"
-#include "sim_models.h"
-#include "sim_world.h"
+#include "sim/sim_models.h"
+#include "wsg/wsg_gcl.h"
 
 #define T_START_US 3000000u
 #define T_LINE 1100
 
 wsg_device_t t_dev;
+sim_world_t t_world;
 static uint64_t next_due;
 uint64_t t_now_us;
-static wsg_session_t *session;
+static wsg_conn_t conn;
 static char last_line[T_LINE];
 static bool have_line;
 static char log_text[8192];
@@ -38,10 +39,10 @@ bool t_log_contains(const char *text)
     return strstr(log_text, text) != NULL;
 }
 
-static void write_line(void *ctx, const char *line, size_t len, wsg_line_kind_t kind)
+static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t kind)
 {
     (void)ctx;
-    if (kind != WSG_LINE_REPLY || have_line) {
+    if (kind != WSG_MSG_REPLY || have_line) {
         return; /* keeps the first reply of a command */
     }
     size_t n = len > 0 && line[len - 1] == '\n' ? len - 1 : len;
@@ -51,35 +52,40 @@ static void write_line(void *ctx, const char *line, size_t len, wsg_line_kind_t 
     have_line = true;
 }
 
-static const wsg_session_io_t io = {write_line};
+static const wsg_conn_io_t io = {write_line};
+
+wsg_dev_t *t_devp(void)
+{
+    return dev_of(&t_dev);
+}
 
 void t_start(const char *fingers)
 {
-    hal_device_config_t cfg;
+    wsg_config_t cfg;
     t_now_us = T_START_US;
     next_due = 0;
     log_text[0] = '\0';
     sim_model_config(sim_model_default(), &cfg);
-    sim_world_init(&cfg, t_now_us);
-    memset(&t_dev, 0, sizeof(t_dev));
-    wsg_device_init(&t_dev);
+    sim_world_init(&t_world, &cfg, t_now_us);
+    wsg_hal_t hal;
+    sim_world_hal(&t_world, &hal);
     if (fingers != NULL) {
         fbus_type_t types[FBUS_SLOTS];
         finger_node_params_t params;
         finger_node_defaults(&params);
         ck_assert(finger_node_parse_pair(fingers, types));
         can_loopback_init(types, &params);
-        wsg_device_attach_can(&t_dev, can_loopback_bus());
+        hal.can = can_loopback_bus();
     }
-    session = wsg_session_open(&t_dev, WSG_TRANSPORT_STREAM, &io, NULL);
-    ck_assert_ptr_nonnull(session);
+    wsg_device_init(&t_dev, &cfg, &hal);
+    wsg_conn_open(&conn, &t_dev, &wsg_gcl_driver, WSG_TRANSPORT_STREAM, &io, NULL);
 }
 
 void t_run_ms(uint32_t ms)
 {
     for (uint32_t i = 0; i < ms; i++) {
         t_now_us += 1000u;
-        sim_world_advance(t_now_us);
+        sim_world_advance(&t_world, t_now_us);
         if (t_now_us >= next_due || i == 0) {
             wsg_device_step(&t_dev);
             next_due = wsg_device_next_deadline_us(&t_dev);
@@ -92,7 +98,7 @@ const char *t_ask(const char *line)
     char buffer[128];
     have_line = false;
     int n = snprintf(buffer, sizeof(buffer), "%s\n", line);
-    wsg_session_input(&t_dev, session, (const uint8_t *)buffer, (size_t)n);
+    wsg_conn_input(&conn, (const uint8_t *)buffer, (size_t)n);
     return have_line ? last_line : "<no reply>";
 }
 

@@ -8,10 +8,15 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "finger_node.h"
-#include "wsg_device.h"
+#include "priv/wsg_dev.h"
+#include "sim/finger_node.h"
+#include "sim/sim_world.h"
+#include "wsg/wsg_conn.h"
 
 extern wsg_device_t t_dev;
+extern sim_world_t t_world;
+/* The device's private state (white box). */
+wsg_dev_t *t_devp(void);
 extern uint64_t t_now_us;
 
 /* Power-on with the given fingers on the loopback bus (NULL: no bus). */

@@ -5,7 +5,7 @@
 
 #include "can_harness.h"
 #include "can_loopback.h"
-#include "sim_world.h"
+#include "sim/sim_world.h"
 
 #define FLAGS_OK "[1,1,1,0,0,0,0,0,0,0,0,0,0,0,0,0]"
 
@@ -90,7 +90,7 @@ START_TEST(two_dsa_fingers_fit_one_reply)
 {
     t_start("dsa,dsa");
     t_run_ms(300);
-    sim_world()->axis.force_n = 0.0f;
+    t_world.axis.force_n = 0.0f;
     const char *reply = t_ask("FDATA?");
     ck_assert_msg(strncmp(reply, "FDATA=[[", 8) == 0, "%s", reply);
     ck_assert_msg(strcmp(reply + strlen(reply) - 2, "]]") == 0, "%s", reply);
@@ -100,7 +100,7 @@ END_TEST
 /* GRIP on a 40 mm part; returns after the grip settled for settle_ms. */
 static void grip_part(float force, uint32_t settle_ms)
 {
-    sim_axis_place_part(&sim_world()->axis, 40.0f, 100.0f);
+    sim_axis_place_part(&t_world.axis, 40.0f, 100.0f);
     ck_assert_str_eq(t_ask("HOME()"), "ACK HOME");
     t_run_ms(3000);
     char line[32];
@@ -117,8 +117,8 @@ START_TEST(force_control_regulates_on_the_fmf)
     /* untared: the finger reads 0.6 N too much, so the jaws push 0.6 N less */
     ck_assert_float_eq_tol(t_ask_float("FORCE?"), 30.0f, 0.1f);
     ck_assert_float_eq_tol(t_ask_float("FDATA[0]?"), 30.0f, 0.1f);
-    ck_assert_float_eq_tol(sim_world()->axis.force_n, 29.4f, 0.1f);
-    ck_assert_float_eq_tol(t_dev.fbus.motor_force_n, 29.4f, 0.1f);
+    ck_assert_float_eq_tol(t_world.axis.force_n, 29.4f, 0.1f);
+    ck_assert_float_eq_tol(wsg_device_snapshot(&t_dev)->motor_force_n, 29.4f, 0.1f);
     ck_assert_str_eq(t_ask("SYSFLAGS[9]?"), "SYSFLAGS[9]=1");
     const char *dsa = t_ask("FDATA[1]?");
     ck_assert_msg(strstr(dsa, ",0,0,0,0,0,") != NULL && strstr(dsa, "1") != NULL, "%s", dsa);
@@ -132,7 +132,7 @@ START_TEST(tared_fmf_gives_the_true_force)
     ck_assert_str_eq(t_ask("TARE()"), "ACK TARE");
     t_run_ms(50);
     grip_part(40.0f, 1500);
-    ck_assert_float_eq_tol(sim_world()->axis.force_n, 40.0f, 0.1f);
+    ck_assert_float_eq_tol(t_world.axis.force_n, 40.0f, 0.1f);
     ck_assert_float_eq_tol(t_ask_float("FORCE?"), 40.0f, 0.1f);
 }
 END_TEST
@@ -204,13 +204,13 @@ START_TEST(clock_jumps_keep_loopback_fingers)
     t_run_ms(50);
     for (int i = 0; i < 3; i++) {
         t_now_us += 5000000u; /* a paused clock stepped by 5 s */
-        sim_world_advance(t_now_us);
+        sim_world_advance(&t_world, t_now_us);
         wsg_device_step(&t_dev);
         ck_assert_str_eq(t_ask("FFLAGS[0]?"), "FFLAGS[0]=" FLAGS_OK);
     }
     t_run_ms(20);
     ck_assert_float_eq_tol(t_ask_float("FDATA[0]?"), 0.0f, 0.08f); /* still tared */
-    ck_assert_uint_eq(t_dev.fbus.comm_faults, 0);
+    ck_assert_uint_eq(t_devp()->fbus.comm_faults, 0);
 }
 END_TEST
 
@@ -219,10 +219,10 @@ START_TEST(bus_frame_rates)
     t_start("fmf,dsa");
     t_run_ms(500);
     uint32_t before = can_loopback_frames();
-    uint32_t tx = t_dev.fbus.tx_frames;
+    uint32_t tx = t_devp()->fbus.tx_frames;
     t_run_ms(1000);
-    ck_assert_uint_ge(t_dev.fbus.tx_frames - tx, 99);
-    ck_assert_uint_le(t_dev.fbus.tx_frames - tx, 101);
+    ck_assert_uint_ge(t_devp()->fbus.tx_frames - tx, 99);
+    ck_assert_uint_le(t_devp()->fbus.tx_frames - tx, 101);
     /* 100 STATE + 100 MEASURE + 20 x 28 BULK + 20 heartbeats */
     uint32_t frames = can_loopback_frames() - before;
     ck_assert_uint_ge(frames, 770);

@@ -2,7 +2,7 @@
 #include <string.h>
 
 #include "can_harness.h"
-#include "finger_node.h"
+#include "sim/finger_node.h"
 
 #define REC_MAX 2048
 

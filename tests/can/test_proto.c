@@ -2,7 +2,7 @@
 #include <string.h>
 
 #include "can_harness.h"
-#include "finger_proto.h"
+#include "wsg/finger_proto.h"
 
 START_TEST(ids_follow_slots)
 {

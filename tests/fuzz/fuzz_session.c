@@ -25,9 +25,10 @@
 #include "hal_can.h"
 #include "hal_clock.h"
 #include "hal_log.h"
-#include "sim_models.h"
-#include "sim_world.h"
-#include "wsg_device.h"
+#include "sim/sim_models.h"
+#include "sim/sim_world.h"
+#include "wsg/wsg_conn.h"
+#include "wsg/wsg_gcl.h"
 
 #define FUZZ_SESSIONS 4
 #define SEPARATOR 0xffu
@@ -39,8 +40,9 @@
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 static wsg_device_t device;
+static sim_world_t world;
 static uint64_t now_us;
-static wsg_session_t *sessions[FUZZ_SESSIONS];
+static wsg_conn_t sessions[FUZZ_SESSIONS];
 static const char *const finger_pairs[4] = {"fmf,dsa", "dsa,generic", "none,fmf", "generic,none"};
 static struct {
     hal_can_frame_t frames[RAW_FRAMES_MAX];
@@ -65,7 +67,7 @@ void hal_log(hal_log_level_t level, const char *message)
     }
 }
 
-static void check_line(void *ctx, const char *line, size_t len, wsg_line_kind_t kind)
+static void check_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t kind)
 {
     (void)ctx;
     if (len == 0 || len > WSG_REPLY_MAX || line[len - 1] != '\n') {
@@ -77,12 +79,12 @@ static void check_line(void *ctx, const char *line, size_t len, wsg_line_kind_t 
             abort();
         }
     }
-    if (kind == WSG_LINE_AUTOSEND && line[0] != '@') {
+    if (kind == WSG_MSG_UPDATE && line[0] != '@') {
         abort();
     }
 }
 
-static const wsg_session_io_t fuzz_io = {.write_line = check_line};
+static const wsg_conn_io_t fuzz_io = {.write = check_line};
 
 /* The core's CAN controller: the loopback bus, with raw frames from the
  * input received first (through the filters, as a driver applies them). */
@@ -145,10 +147,7 @@ static wsg_transport_t transport_of(unsigned slot)
 
 static void open_slot(unsigned slot)
 {
-    sessions[slot] = wsg_session_open(&device, transport_of(slot), &fuzz_io, NULL);
-    if (sessions[slot] == NULL) {
-        abort(); /* only FUZZ_SESSIONS < WSG_MAX_SESSIONS are ever open */
-    }
+    wsg_conn_open(&sessions[slot], &device, &wsg_gcl_driver, transport_of(slot), &fuzz_io, NULL);
 }
 
 /* Runs the port's loop: steps at every deadline the core asks for. */
@@ -164,7 +163,7 @@ static void run_for(uint64_t us)
             next = now_us + 100000u * MOTION_TICK_MAX_US;
         }
         now_us = next > now_us ? next : now_us + 1u;
-        sim_world_advance(now_us);
+        sim_world_advance(&world, now_us);
         wsg_device_step(&device);
     }
 }
@@ -173,7 +172,7 @@ static void close_reopen(unsigned slot, size_t payload_len)
 {
     static const wsg_close_reason_t reasons[3] = {WSG_CLOSE_ANNOUNCED, WSG_CLOSE_DROPPED,
                                                   WSG_CLOSE_EXPIRED};
-    wsg_session_close(&device, sessions[slot], reasons[payload_len % 3]);
+    wsg_conn_close(&sessions[slot], reasons[payload_len % 3]);
     open_slot(slot);
 }
 
@@ -191,14 +190,14 @@ static void run_segment(const uint8_t *seg, size_t len)
     } else if (op == 2) {
         close_reopen(slot, n);
     } else {
-        sim_world_advance(now_us);
-        wsg_session_input(&device, sessions[slot], payload, n);
+        sim_world_advance(&world, now_us);
+        wsg_conn_input(&sessions[slot], payload, n);
         if (op == 1) {
-            wsg_session_end_datagram(&device, sessions[slot]);
+            wsg_conn_end_datagram(&sessions[slot]);
         }
     }
     /* the port reopens a session the client closed with BYE() */
-    if (wsg_session_wants_close(sessions[slot])) {
+    if (wsg_conn_wants_close(&sessions[slot])) {
         close_reopen(slot, 0);
     }
     run_for((uint64_t)run_ms[seg[0] >> 4] * 1000u + (op == 3 ? 3000000u : 0u));
@@ -206,7 +205,7 @@ static void run_segment(const uint8_t *seg, size_t len)
 
 static void power_on(uint8_t config_byte)
 {
-    hal_device_config_t cfg;
+    wsg_config_t cfg;
     unsigned model = (config_byte & 0x1fu) % sim_model_count();
     fbus_type_t types[FBUS_SLOTS];
     finger_node_params_t params;
@@ -217,13 +216,14 @@ static void power_on(uint8_t config_byte)
     sim_model_config(sim_model_at(model), &cfg);
     cfg.disconnect_raises_faststop = (config_byte & 0x80u) != 0;
     now_us = START_US;
-    sim_world_init(&cfg, now_us);
-    memset(&device, 0, sizeof(device));
+    sim_world_init(&world, &cfg, now_us);
     memset(&raw, 0, sizeof(raw));
     can_loopback_init(types, &params);
     raw.loopback = can_loopback_bus();
-    wsg_device_init(&device);
-    wsg_device_attach_can(&device, &fuzz_can);
+    wsg_hal_t hal;
+    sim_world_hal(&world, &hal);
+    hal.can = &fuzz_can;
+    wsg_device_init(&device, &cfg, &hal);
     for (unsigned i = 0; i < FUZZ_SESSIONS; i++) {
         open_slot(i);
     }

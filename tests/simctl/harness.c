@@ -17,7 +17,7 @@
 t_client_t t_gcl;
 static char *last_reply;
 
-static void write_line(void *ctx, const char *line, size_t len, wsg_line_kind_t kind)
+static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t kind)
 {
     t_client_t *c = ctx;
     (void)kind;
@@ -28,7 +28,8 @@ static void write_line(void *ctx, const char *line, size_t len, wsg_line_kind_t 
     c->count++;
 }
 
-static const wsg_session_io_t capture_io = {write_line};
+static const wsg_conn_io_t capture_io = {write_line};
+static gripper_t gripper;
 
 void t_setup(void)
 {
@@ -37,8 +38,10 @@ void t_setup(void)
     ck_assert_int_eq(options_parse(1, argv, &opts), OPTIONS_RUN);
     simclock_init();
     simclock_start_paused();
+    opts.sim_port = 0; /* the tests drive the control channel: coverage is observed */
     ck_assert(finger_bus_host_start(&opts));
-    gripper_init(&opts);
+    gripper_init(&gripper, &opts);
+    gripper_serve(&gripper);
     coverage_reset();
     t_reopen();
 }
@@ -46,8 +49,8 @@ void t_setup(void)
 void t_reopen(void)
 {
     memset(&t_gcl, 0, sizeof(t_gcl));
-    t_gcl.session = wsg_session_open(gripper_device(), WSG_TRANSPORT_STREAM, &capture_io, &t_gcl);
-    ck_assert_ptr_nonnull(t_gcl.session);
+    wsg_conn_open(&t_gcl.conn, &gripper.device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM, &capture_io,
+                  &t_gcl);
 }
 
 void t_setup_homed(void)
@@ -106,7 +109,7 @@ const char *gcl(const char *line)
     memcpy(buf, line, len);
     buf[len] = '\n';
     size_t before = t_gcl.count;
-    gripper_feed(t_gcl.session, (const uint8_t *)buf, len + 1, 0);
+    gripper_feed(&gripper, &t_gcl.conn, (const uint8_t *)buf, len + 1, 0);
     return t_gcl.count > before ? gcl_next() : "<no reply>";
 }
 

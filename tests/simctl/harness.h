@@ -9,13 +9,15 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "wsg_device.h"
+#include "gripper.h"
+#include "wsg/wsg_conn.h"
+#include "wsg/wsg_gcl.h"
 
 #define T_LINES_MAX 4096
 #define T_LINE_LEN (WSG_REPLY_MAX + 1)
 
 typedef struct {
-    wsg_session_t *session;
+    wsg_conn_t conn;
     char lines[T_LINES_MAX][T_LINE_LEN];
     size_t count;
     size_t read;

@@ -4,7 +4,7 @@
 
 #include "gripper.h"
 #include "harness.h"
-#include "wsg_types.h"
+#include "wsg/wsg_types.h"
 
 START_TEST(temperature_fault_refuses_motion_until_cleared_and_acknowledged)
 {
@@ -141,7 +141,7 @@ static char session_arg[32];
 
 static const char *with_session(const char *fmt)
 {
-    snprintf(session_arg, sizeof(session_arg), fmt, (unsigned)t_gcl.session->generation);
+    snprintf(session_arg, sizeof(session_arg), fmt, (unsigned)wsg_conn_id(&t_gcl.conn));
     return session_arg;
 }
 
@@ -179,7 +179,7 @@ typedef struct {
     unsigned out_of_order;
 } counting_client_t;
 
-static void count_line(void *ctx, const char *line, size_t len, wsg_line_kind_t kind)
+static void count_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t kind)
 {
     counting_client_t *c = ctx;
     (void)kind;
@@ -192,10 +192,10 @@ static void count_line(void *ctx, const char *line, size_t len, wsg_line_kind_t 
 
 static bool flood_delayed_session(void *arg)
 {
-    wsg_session_t *s = arg;
+    wsg_conn_t *s = arg;
     for (unsigned i = 0; i < FLOOD_LINES; i++) {
         const char *line = i % 2 == 0 ? "SN?\n" : "TAG?\n";
-        gripper_feed(s, (const uint8_t *)line, strlen(line), 0);
+        gripper_feed(gripper_served(), s, (const uint8_t *)line, strlen(line), 0);
     }
     return true;
 }
@@ -211,13 +211,14 @@ static unsigned count_of(const char *text, const char *what)
 
 START_TEST(delay_never_drops_a_reply)
 {
-    static const wsg_session_io_t counting_io = {count_line};
+    static const wsg_conn_io_t counting_io = {count_line};
+    static wsg_conn_t conn;
+    wsg_conn_t *s = &conn;
     counting_client_t client = {0, 0};
-    wsg_session_t *s =
-        wsg_session_open(gripper_device(), WSG_TRANSPORT_STREAM, &counting_io, &client);
-    ck_assert_ptr_nonnull(s);
+    wsg_conn_open(s, &gripper_served()->device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM, &counting_io,
+                  &client);
     char line[48];
-    snprintf(line, sizeof(line), "DELAY(60000,%u)", (unsigned)s->generation);
+    snprintf(line, sizeof(line), "DELAY(60000,%u)", (unsigned)wsg_conn_id(s));
     CTL_EQ(line, "ACK DELAY");
     bool ok = false;
     const char *log = t_capture_stderr(flood_delayed_session, s, &ok);
@@ -229,7 +230,7 @@ START_TEST(delay_never_drops_a_reply)
     CTL_EQ("FAULTS?", "FAULTS=[]");
     t_step_ms(60000);
     ck_assert_uint_eq(client.lines, FLOOD_LINES);
-    wsg_session_close(gripper_device(), s, WSG_CLOSE_ANNOUNCED);
+    wsg_conn_close(s, WSG_CLOSE_ANNOUNCED);
 }
 END_TEST
 

@@ -10,7 +10,7 @@
 #include "options.h"
 #include "record.h"
 #include "scenario.h"
-#include "wsg_types.h"
+#include "wsg/wsg_types.h"
 
 static bool load_scenario(void *path)
 {
@@ -150,8 +150,8 @@ START_TEST(config_sets_the_device_like_its_web_interface)
     ck_assert(!opts.disconnect_faststop);
     ck_assert_int_eq(opts.sim_port, 7000);
     ck_assert_str_eq(opts.sim_bind, "::1");
-    gripper_init(&opts);
-    const hal_device_config_t *cfg = hal_device_config();
+    gripper_init(gripper_served(), &opts);
+    const wsg_config_t *cfg = wsg_device_snapshot(&gripper_served()->device)->config;
     ck_assert_str_eq(cfg->devtype, "WSG 32-068");
     ck_assert_uint_eq(cfg->serial, 4711);
     ck_assert_str_eq(cfg->tag, "cell 3");
@@ -218,7 +218,7 @@ START_TEST(config_lines_are_read_whole_or_refused)
     ck_assert(config_file_load(path, &opts));
     ck_assert(config_file_check(opts.model));
     remove(path);
-    gripper_init(&opts);
+    gripper_init(gripper_served(), &opts);
     t_reopen();
     GCL_EQ("SN?", "SN=12345678"); /* the comment set nothing */
     GCL_EQ("TAG?", "TAG=\"long comments\"");

@@ -6,7 +6,7 @@
 #include "gripper.h"
 #include "harness.h"
 #include "simctl_cmd.h"
-#include "wsg_types.h"
+#include "wsg/wsg_types.h"
 
 /* The JSON after "NAME=" of a reply; the caller deletes it. */
 static cJSON *reply_json(const char *line)
@@ -51,7 +51,7 @@ START_TEST(state_dump_shows_the_device)
     ck_assert_ptr_nonnull(strstr(faults, "\"TEMP_WARNING\""));
     cJSON_free(faults);
     const cJSON *session = cJSON_GetArrayItem(cJSON_GetObjectItem(s, "sessions"), 0);
-    ck_assert_double_eq(cJSON_GetObjectItem(session, "id")->valuedouble, t_gcl.session->generation);
+    ck_assert_double_eq(cJSON_GetObjectItem(session, "id")->valuedouble, wsg_conn_id(&t_gcl.conn));
     char *subs = cJSON_PrintUnformatted(cJSON_GetObjectItem(session, "autosend"));
     ck_assert_str_eq(subs, "[{\"value\":\"FORCE\",\"interval_ms\":50,\"delta\":1.5,"
                            "\"on_change\":false,\"missed\":0}]");
@@ -64,7 +64,7 @@ START_TEST(sessions_lists_the_open_sessions)
 {
     char expect[64];
     snprintf(expect, sizeof(expect), "SESSIONS=[{\"id\":%u,\"transport\":\"tcp\"}]",
-             (unsigned)t_gcl.session->generation);
+             (unsigned)wsg_conn_id(&t_gcl.conn));
     CTL_EQ("SESSIONS?", expect);
 }
 END_TEST
@@ -76,11 +76,11 @@ START_TEST(reset_returns_to_power_on)
     CTL_EQ("FAILNEXT(MOVE,4)", "ACK FAILNEXT");
     CTL_EQ("AMBIENT=40", "AMBIENT=40");
     CTL_EQ("RESET()", "ACK RESET");
-    wsg_device_t *dev = gripper_device();
-    ck_assert(!t_gcl.session->in_use); /* a power cycle ends every session */
-    ck_assert(!dev->referenced);
-    ck_assert_int_eq(dev->grip.state, GS_IDLE);
-    ck_assert_uint_eq(dev->flags & WSG_FLAG(SF_FAST_STOP), 0);
+    const wsg_snapshot_t *snap = wsg_device_snapshot(&gripper_served()->device);
+    ck_assert(!wsg_conn_is_open(&t_gcl.conn)); /* a power cycle ends every session */
+    ck_assert(!snap->referenced);
+    ck_assert_int_eq(snap->grip_state, GS_IDLE);
+    ck_assert_uint_eq(snap->flags & WSG_FLAG(SF_FAST_STOP), 0);
     CTL_EQ("FAULTS?", "FAULTS=[]");
     CTL_EQ("PART?", "PART=[0,0,0,0]");
     CTL_EQ("AMBIENT?", "AMBIENT=25");

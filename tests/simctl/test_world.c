@@ -2,8 +2,8 @@
 #include <stdio.h>
 
 #include "harness.h"
-#include "sim_world.h"
-#include "wsg_types.h"
+#include "sim/sim_world.h"
+#include "wsg/wsg_types.h"
 
 /* with the part's width: grip monitoring runs (manual 2.2.3) */
 static void grip_part(void)
@@ -33,7 +33,7 @@ START_TEST(slipping_part_turns_holding_into_part_lost)
     ck_assert_int_eq(t_gripstate(), GS_PART_LOST);
     GCL_EQ("GRIPSTATS[2]?", "GRIPSTATS[2]=1");
     CTL_EQ("PART?", "PART=[0,40,100,0]");
-    ck_assert_uint_eq(sim_world()->axis.part.slips, 1);
+    ck_assert_uint_eq(gripper_served()->world.axis.part.slips, 1);
 }
 END_TEST
 
@@ -67,7 +67,7 @@ START_TEST(removed_part_is_lost)
     t_step_ms(100);
     ck_assert_int_eq(t_gripstate(), GS_PART_LOST);
     GCL_EQ("GRIPSTATS?", "GRIPSTATS=[1,0,1]");
-    ck_assert_uint_eq(sim_world()->axis.part.slips, 0);
+    ck_assert_uint_eq(gripper_served()->world.axis.part.slips, 0);
 }
 END_TEST
 

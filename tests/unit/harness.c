@@ -7,12 +7,13 @@
 #include "sim_models.h"
 
 wsg_device_t h_dev;
+sim_world_t h_world;
 uint64_t h_now_us;
 h_client_t h_main;
 h_client_t h_other;
 h_client_t h_third;
 
-static hal_device_config_t config;
+static wsg_config_t config;
 
 static struct {
     hal_log_level_t level[H_LOG_MAX];
@@ -35,7 +36,7 @@ void hal_log(hal_log_level_t level, const char *message)
     logbook.count++;
 }
 
-static void write_line(void *ctx, const char *line, size_t len, wsg_line_kind_t kind)
+static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t kind)
 {
     h_client_t *c = ctx;
     bool one_line =
@@ -51,7 +52,7 @@ static void write_line(void *ctx, const char *line, size_t len, wsg_line_kind_t 
     out->at_us = h_now_us;
 }
 
-static const wsg_session_io_t capture_io = {write_line};
+static const wsg_conn_io_t capture_io = {write_line};
 
 static void reset_client(h_client_t *c)
 {
@@ -61,19 +62,22 @@ static void reset_client(h_client_t *c)
 void h_open(h_client_t *c, wsg_transport_t transport)
 {
     reset_client(c);
-    c->session = wsg_session_open(&h_dev, transport, &capture_io, c);
-    ck_assert_ptr_nonnull(c->session);
+    wsg_conn_open(&c->conn, &h_dev, &wsg_gcl_driver, transport, &capture_io, c);
 }
 
 void h_close(h_client_t *c, wsg_close_reason_t reason)
 {
-    wsg_session_close(&h_dev, c->session, reason);
-    c->session = NULL;
+    wsg_conn_close(&c->conn, reason);
 }
 
-const hal_device_config_t *h_cfg(void)
+wsg_config_t *h_cfg(void)
 {
-    return hal_device_config();
+    return &h_devp()->cfg;
+}
+
+wsg_dev_t *h_devp(void)
+{
+    return dev_of(&h_dev);
 }
 
 void h_setup(void)
@@ -85,8 +89,10 @@ void h_setup(void)
     reset_client(&h_third);
     h_now_us = H_START_US;
     sim_model_config(sim_model_default(), &config);
-    sim_world_init(&config, h_now_us);
-    wsg_device_init(&h_dev);
+    sim_world_init(&h_world, &config, h_now_us);
+    wsg_hal_t hal;
+    sim_world_hal(&h_world, &hal);
+    wsg_device_init(&h_dev, &config, &hal);
     h_open(&h_main, WSG_TRANSPORT_STREAM);
 }
 
@@ -107,7 +113,7 @@ void h_teardown(void)
 
 void h_send_bytes(h_client_t *c, const void *bytes, size_t len)
 {
-    wsg_session_input(&h_dev, c->session, bytes, len);
+    wsg_conn_input(&c->conn, bytes, len);
 }
 
 void send_line(h_client_t *c, const char *line)
@@ -122,7 +128,7 @@ void send_line(h_client_t *c, const char *line)
 
 void h_step(void)
 {
-    sim_world_advance(h_now_us);
+    sim_world_advance(&h_world, h_now_us);
     wsg_device_step(&h_dev);
 }
 
@@ -281,4 +287,18 @@ size_t h_log_count(void)
 double h_ms_since(uint64_t t0_us)
 {
     return (double)(h_now_us - t0_us) / 1000.0;
+}
+
+uint32_t h_gcl_lines_in(const h_client_t *c)
+{
+    wsg_gcl_conn_info_t info;
+    ck_assert(wsg_gcl_conn_info(&c->conn, &info));
+    return info.lines_in;
+}
+
+uint32_t h_gcl_lines_out(const h_client_t *c)
+{
+    wsg_gcl_conn_info_t info;
+    ck_assert(wsg_gcl_conn_info(&c->conn, &info));
+    return info.lines_out;
 }

@@ -9,10 +9,11 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "hal_device.h"
 #include "hal_log.h"
+#include "priv/wsg_dev.h"
 #include "sim_world.h"
-#include "wsg_device.h"
+#include "wsg/wsg_conn.h"
+#include "wsg/wsg_gcl.h"
 
 #define H_LINES_MAX 1024
 #define H_LINE_LEN (WSG_REPLY_MAX + 1)
@@ -22,12 +23,12 @@
 
 typedef struct {
     char text[H_LINE_LEN]; /* without its '\n' */
-    wsg_line_kind_t kind;
+    wsg_msg_kind_t kind;
     uint64_t at_us;
 } h_line_t;
 
 typedef struct {
-    wsg_session_t *session;
+    wsg_conn_t conn;
     h_line_t lines[H_LINES_MAX];
     size_t count;  /* lines captured */
     size_t read;   /* lines consumed by the expect helpers */
@@ -35,6 +36,7 @@ typedef struct {
 } h_client_t;
 
 extern wsg_device_t h_dev;
+extern sim_world_t h_world;
 extern uint64_t h_now_us;
 extern h_client_t h_main; /* the session every test starts with */
 extern h_client_t h_other;
@@ -47,8 +49,10 @@ void h_setup_homed(void);
 void h_setup_fmf_homed(void);
 void h_teardown(void);
 
-/* The configuration the simulated device runs with. */
-const hal_device_config_t *h_cfg(void);
+/* The configuration the device runs with (white box: tests may change it). */
+wsg_config_t *h_cfg(void);
+/* The device's private state (white box). */
+wsg_dev_t *h_devp(void);
 
 void h_open(h_client_t *c, wsg_transport_t transport);
 void h_close(h_client_t *c, wsg_close_reason_t reason);
@@ -74,6 +78,10 @@ int run_until_line(h_client_t *c, const char *text, uint32_t timeout_ms);
 /* Lines captured so far that start with prefix, and drops them all as read. */
 size_t h_count_prefix(h_client_t *c, const char *prefix);
 void h_discard(h_client_t *c);
+
+/* Lines the GCL driver counted in on this client's connection. */
+uint32_t h_gcl_lines_in(const h_client_t *c);
+uint32_t h_gcl_lines_out(const h_client_t *c);
 
 /* Protocol shortcuts on h_main; -1 when the reply is malformed. */
 int ask_flag(int bit);

@@ -91,7 +91,8 @@ void h_setup_fmf_homed(void)
     finger_node_defaults(&params);
     finger_node_init(&fmf.node, FBUS_TYPE_FMF, 0, &params, &node_port);
     fmf.node_filter_count = finger_node_filters(&fmf.node, fmf.node_filters);
-    wsg_device_attach_can(&h_dev, &device_port);
+    h_devp()->hal.can = &device_port; /* the finger bus wired in after power-on */
+    finger_bus_init(&h_devp()->fbus, &device_port);
     advance_ms(200); /* the finger boots and delivers data */
     ck_assert_int_eq(ask_flag(SF_FORCECNTL_MODE), 1);
     SEND("HOME()");

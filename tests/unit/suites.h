@@ -16,5 +16,6 @@ Suite *grip_suite(void);
 Suite *autosend_suite(void);
 Suite *faults_suite(void);
 Suite *fmf_suite(void);
+Suite *ops_suite(void);
 
 #endif

@@ -146,7 +146,7 @@ END_TEST
 
 static void install_fmf_finger(void)
 {
-    wsg_finger_t *f = &h_dev.fingers.slot[0];
+    wsg_finger_t *f = &h_devp()->fingers.slot[0];
     f->type = FINGER_FMF;
     f->flags =
         (uint16_t)(WSG_FLAG(FF_POWER_ON) | WSG_FLAG(FF_CONFIG_AVAIL) | WSG_FLAG(FF_COMM_OPEN));
@@ -177,7 +177,7 @@ END_TEST
 
 START_TEST(fdata_of_tactile_finger)
 {
-    wsg_finger_t *f = &h_dev.fingers.slot[1];
+    wsg_finger_t *f = &h_devp()->fingers.slot[1];
     f->type = FINGER_DSA;
     f->data_count = 3;
     f->data[0] = 1.0f;
@@ -192,7 +192,7 @@ END_TEST
 
 START_TEST(fdata_of_a_full_tactile_finger_fits)
 {
-    wsg_finger_t *f = &h_dev.fingers.slot[0];
+    wsg_finger_t *f = &h_devp()->fingers.slot[0];
     f->type = FINGER_DSA;
     f->data_count = WSG_FINGER_DATA_MAX;
     for (unsigned i = 0; i < WSG_FINGER_DATA_MAX; i++) {
@@ -207,7 +207,7 @@ END_TEST
 START_TEST(fdata_of_two_full_tactile_fingers_fits)
 {
     for (unsigned s = 0; s < WSG_FINGER_COUNT; s++) {
-        wsg_finger_t *f = &h_dev.fingers.slot[s];
+        wsg_finger_t *f = &h_devp()->fingers.slot[s];
         f->type = FINGER_DSA;
         f->data_count = WSG_FINGER_DATA_MAX;
         for (unsigned i = 0; i < WSG_FINGER_DATA_MAX; i++) {

@@ -7,7 +7,7 @@
 
 START_TEST(current_fault_raises_fast_stop)
 {
-    sim_world()->axis.current_fault = true;
+    h_world.axis.current_fault = true;
     advance_ms(1);
     ck_assert_int_eq(ask_flag(SF_FAST_STOP), 1);
     ck_assert_int_eq(ask_flag(SF_CURR_FAULT), 1);
@@ -19,13 +19,13 @@ END_TEST
 
 START_TEST(fsack_refused_while_fault_persists)
 {
-    sim_world()->axis.current_fault = true;
+    h_world.axis.current_fault = true;
     advance_ms(1);
     ASK_EQ("FSACK()", "ERR FSACK 16");
     advance_ms(100);
     ASK_EQ("FSACK()", "ERR FSACK 16");
     ASK_EQ("MOVE(50)", "ERR MOVE 16");
-    sim_world()->axis.current_fault = false;
+    h_world.axis.current_fault = false;
     advance_ms(1);
     ck_assert_int_eq(ask_flag(SF_CURR_FAULT), 0);
     ck_assert_int_eq(ask_flag(SF_FAST_STOP), 1); /* latched until acknowledged */
@@ -41,7 +41,7 @@ START_TEST(fault_aborts_running_motion)
 {
     ASK_EQ("MOVE(10)", "ACK MOVE");
     advance_ms(100);
-    sim_world()->axis.current_fault = true;
+    h_world.axis.current_fault = true;
     AWAIT("ERR MOVE 19", 1);
     EXPECT_NONE();
     advance_ms(100);
@@ -51,19 +51,19 @@ END_TEST
 
 START_TEST(fault_seen_by_a_command_between_steps)
 {
-    sim_world()->axis.current_fault = true;
+    h_world.axis.current_fault = true;
     ASK_EQ("MOVE(50)", "ERR MOVE 16"); /* the command reads the hardware first */
 }
 END_TEST
 
 START_TEST(power_fault)
 {
-    sim_world()->axis.power_fault = true;
+    h_world.axis.power_fault = true;
     advance_ms(1);
     ck_assert_int_eq(ask_flag(SF_POWER_FAULT), 1);
     ck_assert_int_eq(ask_flag(SF_FAST_STOP), 1);
     ASK_EQ("FSACK()", "ERR FSACK 16");
-    sim_world()->axis.power_fault = false;
+    h_world.axis.power_fault = false;
     ASK_EQ("FSACK()", "ACK FSACK");
     ck_assert_int_eq(ask_flag(SF_POWER_FAULT), 0);
 }
@@ -71,14 +71,14 @@ END_TEST
 
 START_TEST(temperature_fault)
 {
-    sim_world()->thermal.override_c = 75.0f;
+    h_world.thermal.override_c = 75.0f;
     advance_ms(1);
     ASK_EQ("TEMP?", "TEMP=75.0");
     ck_assert_int_eq(ask_flag(SF_TEMP_FAULT), 1);
     ck_assert_int_eq(ask_flag(SF_TEMP_WARNING), 1);
     ck_assert_int_eq(ask_flag(SF_FAST_STOP), 1);
     ASK_EQ("FSACK()", "ERR FSACK 16");
-    sim_world()->thermal.override_c = 50.0f;
+    h_world.thermal.override_c = 50.0f;
     ASK_EQ("FSACK()", "ACK FSACK");
     ck_assert_int_eq(ask_flag(SF_TEMP_FAULT), 0);
     ck_assert_int_eq(ask_flag(SF_TEMP_WARNING), 0);
@@ -87,7 +87,7 @@ END_TEST
 
 START_TEST(fault_raised_once)
 {
-    sim_world()->axis.current_fault = true;
+    h_world.axis.current_fault = true;
     advance_ms(1);
     size_t logged = h_log_count();
     advance_ms(500);
@@ -97,7 +97,7 @@ END_TEST
 
 START_TEST(faststop_command_while_faulted)
 {
-    sim_world()->axis.current_fault = true;
+    h_world.axis.current_fault = true;
     advance_ms(1);
     ASK_EQ("FASTSTOP()", "ACK FASTSTOP");
     ASK_EQ("FSACK()", "ERR FSACK 16");

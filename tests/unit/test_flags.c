@@ -140,7 +140,7 @@ END_TEST
 START_TEST(blocked_minus_after_collision)
 {
     home();
-    sim_axis_place_part(&sim_world()->axis, 30.0f, 0.0f);
+    sim_axis_place_part(&h_world.axis, 30.0f, 0.0f);
     ASK_EQ("MOVE(20)", "ACK MOVE");
     AWAIT("ERR MOVE 29", 3000);
     ck_assert_int_eq(ask_flag(SF_BLOCKED_MINUS), 1);
@@ -157,7 +157,7 @@ START_TEST(blocked_plus_after_collision)
 {
     home();
     move_to("MOVE(20)");
-    sim_axis_place_part(&sim_world()->axis, 40.0f, 0.0f); /* a ring around the jaws */
+    sim_axis_place_part(&h_world.axis, 40.0f, 0.0f); /* a ring around the jaws */
     ASK_EQ("MOVE(60)", "ACK MOVE");
     AWAIT("ERR MOVE 29", 3000);
     ck_assert_int_eq(ask_flag(SF_BLOCKED_PLUS), 1);
@@ -172,13 +172,13 @@ END_TEST
 START_TEST(blocked_clears_when_the_obstacle_goes)
 {
     home();
-    sim_axis_place_obstacle(&sim_world()->axis, 50.0f);
+    sim_axis_place_obstacle(&h_world.axis, 50.0f);
     ASK_EQ("MOVE(20)", "ACK MOVE");
     AWAIT("ERR MOVE 29", 3000);
     advance_ms(500);
     ck_assert_int_eq(ask_flag(SF_BLOCKED_MINUS), 1); /* still leaning on it */
     ck_assert_float_eq_tol(ask_float("POS?"), 50.0f, 0.06f);
-    sim_axis_remove_obstacle(&sim_world()->axis);
+    sim_axis_remove_obstacle(&h_world.axis);
     advance_ms(50);
     ck_assert_int_eq(ask_flag(SF_BLOCKED_MINUS), 0);
     ck_assert_float_eq_tol(ask_float("POS?"), 50.0f, 0.06f); /* no motion of its own */
@@ -205,7 +205,7 @@ START_TEST(cmd_failure_of_a_motion_goes_to_its_issuer)
 {
     home();
     h_open(&h_other, WSG_TRANSPORT_STREAM);
-    sim_axis_place_obstacle(&sim_world()->axis, 50.0f);
+    sim_axis_place_obstacle(&h_world.axis, 50.0f);
     ck_assert_str_eq(ask(&h_other, "MOVE(20)"), "ACK MOVE");
     ck_assert_str_eq(await_line(&h_other, 3000), "ERR MOVE 29");
     ck_assert_int_eq(ask_flag(SF_CMD_FAILURE), 0);
@@ -220,7 +220,7 @@ END_TEST
 
 START_TEST(soft_limits)
 {
-    hal_device_config_t *cfg = &sim_world()->config;
+    wsg_config_t *cfg = h_cfg();
     cfg->soft_limits_enabled = true;
     cfg->soft_limit_minus_mm = 10.0f;
     cfg->soft_limit_plus_mm = 100.0f;
@@ -239,7 +239,7 @@ END_TEST
 
 START_TEST(overdrive_mode)
 {
-    hal_device_config_t *cfg = &sim_world()->config;
+    wsg_config_t *cfg = h_cfg();
     ck_assert_int_eq(ask_flag(SF_OVERDRIVE_MODE), 0);
     home();
     ASK_EQ("GRIP(100)", "ERR GRIP 28");
@@ -253,19 +253,19 @@ END_TEST
 
 START_TEST(finger_flags)
 {
-    wsg_finger_t *f = &h_dev.fingers.slot[0];
+    wsg_finger_t *f = &h_devp()->fingers.slot[0];
     f->type = FINGER_FMF;
     f->data_count = 1;
     ck_assert_int_eq(ask_flag(SF_FORCECNTL_MODE), 1);
     ck_assert_int_eq(ask_flag(SF_FINGER_FAULT), 0);
-    h_dev.fingers.slot[1].flags = (uint16_t)WSG_FLAG(FF_COMM_FAULT);
+    h_devp()->fingers.slot[1].flags = (uint16_t)WSG_FLAG(FF_COMM_FAULT);
     ck_assert_int_eq(ask_flag(SF_FINGER_FAULT), 1);
 }
 END_TEST
 
 START_TEST(temperature_warning)
 {
-    sim_world()->thermal.override_c = 65.0f;
+    h_world.thermal.override_c = 65.0f;
     ASK_EQ("TEMP?", "TEMP=65.0");
     ck_assert_int_eq(ask_flag(SF_TEMP_WARNING), 1);
     ck_assert_int_eq(ask_flag(SF_TEMP_FAULT), 0);
@@ -275,14 +275,14 @@ END_TEST
 
 START_TEST(temperature_thresholds)
 {
-    sim_world()->thermal.override_c = 59.9f;
+    h_world.thermal.override_c = 59.9f;
     ck_assert_int_eq(ask_flag(SF_TEMP_WARNING), 0);
-    sim_world()->thermal.override_c = 60.0f;
+    h_world.thermal.override_c = 60.0f;
     ck_assert_int_eq(ask_flag(SF_TEMP_WARNING), 1);
-    sim_world()->thermal.override_c = 69.9f;
+    h_world.thermal.override_c = 69.9f;
     ck_assert_int_eq(ask_flag(SF_TEMP_FAULT), 0);
     ck_assert_int_eq(ask_flag(SF_FAST_STOP), 0);
-    sim_world()->thermal.override_c = 70.0f;
+    h_world.thermal.override_c = 70.0f;
     ck_assert_int_eq(ask_flag(SF_TEMP_FAULT), 1);
     ck_assert_int_eq(ask_flag(SF_FAST_STOP), 1);
 }

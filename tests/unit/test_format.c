@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "suites.h"
-#include "textbuf.h"
+#include "priv/textbuf.h"
 
 static char storage[128];
 static textbuf_t tb;

@@ -3,7 +3,7 @@
 #include <check.h>
 #include <string.h>
 
-#include "gcl_linebuf.h"
+#include "wsg/gcl_linebuf.h"
 #include "harness.h"
 #include "suites.h"
 
@@ -257,7 +257,7 @@ START_TEST(device_crlf_in_two_writes)
     h_send_bytes(&h_main, "SN?\r", 4);
     EXPECT("SN=12345678");
     EXPECT_NONE();
-    ck_assert_uint_eq(h_main.session->lines_in, 2);
+    ck_assert_uint_eq(h_gcl_lines_in(&h_main), 2);
 }
 END_TEST
 

@@ -4,7 +4,7 @@
 #include <string.h>
 
 #include "harness.h"
-#include "motion.h"
+#include "priv/motion_tuning.h"
 #include "suites.h"
 
 /* Duration of a trapezoidal (or triangular) move from rest to rest. */
@@ -36,7 +36,7 @@ static void assert_near(double value, double expected, double tolerance)
 
 START_TEST(home_takes_realistic_time)
 {
-    const hal_device_config_t *cfg = h_cfg();
+    const wsg_config_t *cfg = h_cfg();
     ASK_EQ("HOME()", "ACK HOME");
     double ms = time_to_fin("FIN HOME", 5000);
     /* from mid-stroke to the end stop at homing speed, without braking */
@@ -74,7 +74,7 @@ START_TEST(home_with_very_short_world_steps)
     ASK_EQ("HOME()", "ACK HOME");
     for (unsigned i = 0; i < 60000u && h_unread(&h_main) == 0; i++) {
         h_now_us += 37u;
-        sim_world_advance(h_now_us);
+        sim_world_advance(&h_world, h_now_us);
         wsg_device_step(&h_dev);
     }
     ck_assert_msg(h_unread(&h_main) > 0, "no FIN within 2.2 s of 37 us steps");
@@ -106,7 +106,7 @@ END_TEST
 
 START_TEST(home_direction_from_config)
 {
-    sim_world()->config.home_positive = false;
+    h_cfg()->home_positive = false;
     ASK_EQ("HOME()", "ACK HOME");
     ck_assert_int_ge(run_until_line(&h_main, "FIN HOME", 5000), 0);
     ASK_EQ("POS?", "POS=0.0");
@@ -126,8 +126,8 @@ END_TEST
 START_TEST(home_redefines_the_origin)
 {
     /* jaws put somewhere else before power-on: homing finds the end stop anyway */
-    sim_world()->axis.x_mm = 80.0f;
-    sim_world()->axis.target_mm = 80.0f;
+    h_world.axis.x_mm = 80.0f;
+    h_world.axis.target_mm = 80.0f;
     ASK_EQ("HOME(0)", "ACK HOME");
     uint64_t t0 = h_now_us;
     ck_assert_int_ge(run_until_line(&h_main, "FIN HOME", 5000), 0);
@@ -139,17 +139,17 @@ END_TEST
 START_TEST(home_into_an_obstacle_takes_a_wrong_origin)
 {
     /* manual 2.2.1: a collision during homing gives a wrong reference point */
-    sim_axis_place_part(&sim_world()->axis, 80.0f, 0.0f);
+    sim_axis_place_part(&h_world.axis, 80.0f, 0.0f);
     ASK_EQ("HOME()", "ACK HOME");
     ck_assert_int_ge(run_until_line(&h_main, "FIN HOME", 5000), 0);
     ASK_EQ("POS?", "POS=110.0");
-    ck_assert_float_eq_tol(sim_world()->axis.x_mm, 80.0f, 0.01f);
+    ck_assert_float_eq_tol(h_world.axis.x_mm, 80.0f, 0.01f);
 }
 END_TEST
 
 START_TEST(home_timeout)
 {
-    sim_world()->config.homing_speed_mm_s = 1.0f; /* 55 mm would take 55 s */
+    h_cfg()->homing_speed_mm_s = 1.0f; /* 55 mm would take 55 s */
     ASK_EQ("HOME()", "ACK HOME");
     uint64_t t0 = h_now_us;
     AWAIT("ERR HOME 7", 40000);
@@ -164,7 +164,7 @@ END_TEST
 
 START_TEST(move_trapezoid_timing)
 {
-    const hal_device_config_t *cfg = h_cfg();
+    const wsg_config_t *cfg = h_cfg();
     ASK_EQ("MOVE(50)", "ACK MOVE");
     double ms = time_to_fin("FIN MOVE", 3000);
     double expected =
@@ -178,7 +178,7 @@ END_TEST
 
 START_TEST(move_triangle_timing)
 {
-    const hal_device_config_t *cfg = h_cfg();
+    const wsg_config_t *cfg = h_cfg();
     ASK_EQ("MOVE(100)", "ACK MOVE");
     double ms = time_to_fin("FIN MOVE", 3000);
     double expected =
@@ -190,7 +190,7 @@ END_TEST
 
 START_TEST(move_with_speed_limit)
 {
-    const hal_device_config_t *cfg = h_cfg();
+    const wsg_config_t *cfg = h_cfg();
     ASK_EQ("MOVE(60, 20)", "ACK MOVE");
     advance_ms(1000);
     ASK_EQ("SPEED?", "SPEED=20.0");
@@ -279,7 +279,7 @@ END_TEST
 /* move_retarget = no in the configuration: the strict rejection */
 START_TEST(move_during_move_rejected_when_configured)
 {
-    sim_world()->config.move_retarget = false;
+    h_cfg()->move_retarget = false;
     ASK_EQ("MOVE(10)", "ACK MOVE");
     advance_ms(5);
     ASK_EQ("MOVE(20)", "ERR MOVE 4");
@@ -437,15 +437,17 @@ END_TEST
 
 /* --- scheduling --- */
 
+/* Idle (no motion, nothing held, no subscription, no finger bus), nothing
+ * can change by itself: no deadline at all (it used to be a 1 s poll). */
 START_TEST(deadline_follows_activity)
 {
     h_step();
-    ck_assert_uint_eq(wsg_device_next_deadline_us(&h_dev), h_now_us + IDLE_TICK_US);
+    ck_assert_uint_eq(wsg_device_next_deadline_us(&h_dev), UINT64_MAX);
     ASK_EQ("MOVE(50)", "ACK MOVE");
     ck_assert_uint_eq(wsg_device_next_deadline_us(&h_dev), h_now_us + MOTION_TICK_US);
     time_to_fin("FIN MOVE", 3000);
     h_step();
-    ck_assert_uint_eq(wsg_device_next_deadline_us(&h_dev), h_now_us + IDLE_TICK_US);
+    ck_assert_uint_eq(wsg_device_next_deadline_us(&h_dev), UINT64_MAX);
 }
 END_TEST
 

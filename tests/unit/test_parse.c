@@ -2,7 +2,7 @@
 #include <check.h>
 #include <string.h>
 
-#include "gcl_parse.h"
+#include "wsg/gcl_parse.h"
 #include "suites.h"
 
 static gcl_command_t cmd;

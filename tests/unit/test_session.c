@@ -25,11 +25,11 @@ START_TEST(settings_reset_on_new_session)
     ASK_EQ("PWT=5", "PWT=5.0");
     ASK_EQ("CLT=3", "CLT=3.0");
     ASK_EQ("VERBOSE=1", "VERBOSE=1");
-    uint8_t slot = h_main.session->index;
+    uint64_t id = wsg_conn_id(&h_main.conn);
     ASK_EQ("BYE()", "ACK BYE");
     h_close(&h_main, WSG_CLOSE_ANNOUNCED);
-    h_open(&h_main, WSG_TRANSPORT_STREAM);
-    ck_assert_uint_eq(h_main.session->index, slot); /* the same slot, fresh settings */
+    h_open(&h_main, WSG_TRANSPORT_STREAM); /* the same storage, fresh settings */
+    ck_assert_uint_gt(wsg_conn_id(&h_main.conn), id);
     ASK_EQ("PWT?", "PWT=10.0");
     ASK_EQ("CLT?", "CLT=10.0");
     ASK_EQ("VERBOSE?", "VERBOSE=0");
@@ -50,9 +50,9 @@ END_TEST
 
 START_TEST(bye)
 {
-    ck_assert(!wsg_session_wants_close(h_main.session));
+    ck_assert(!wsg_conn_wants_close(&h_main.conn));
     ASK_EQ("BYE()", "ACK BYE");
-    ck_assert(wsg_session_wants_close(h_main.session));
+    ck_assert(wsg_conn_wants_close(&h_main.conn));
     SEND("POS?"); /* input after BYE is ignored */
     EXPECT_NONE();
 }
@@ -71,7 +71,7 @@ START_TEST(close_after_bye_keeps_running)
 {
     ASK_EQ("BYE()", "ACK BYE");
     h_close(&h_main, WSG_CLOSE_DROPPED); /* the port may only notice the socket closing */
-    ck_assert(!h_dev.sessions[0].in_use);
+    ck_assert(!wsg_conn_is_open(&h_main.conn));
     h_open(&h_other, WSG_TRANSPORT_STREAM);
     ck_assert_str_eq(ask(&h_other, "SYSFLAGS[12]?"), "SYSFLAGS[12]=0");
     ck_assert_str_eq(ask(&h_other, "GRIPSTATE?"), "GRIPSTATE=0");
@@ -93,7 +93,7 @@ END_TEST
 
 START_TEST(drop_without_bye_can_be_disabled)
 {
-    sim_world()->config.disconnect_raises_faststop = false;
+    h_cfg()->disconnect_raises_faststop = false;
     h_open(&h_other, WSG_TRANSPORT_STREAM);
     h_close(&h_other, WSG_CLOSE_DROPPED);
     ASK_EQ("SYSFLAGS[12]?", "SYSFLAGS[12]=0");
@@ -122,9 +122,9 @@ START_TEST(datagram_peers)
     h_open(&h_other, WSG_TRANSPORT_DATAGRAM);
     h_send_bytes(&h_other, "POS?", 4);
     expect_no_line(&h_other);
-    wsg_session_end_datagram(&h_dev, h_other.session);
+    wsg_conn_end_datagram(&h_other.conn);
     expect_line(&h_other, "POS=55.0");
-    wsg_session_end_datagram(&h_dev, h_other.session); /* nothing pending: nothing */
+    wsg_conn_end_datagram(&h_other.conn); /* nothing pending: nothing */
     expect_no_line(&h_other);
     h_close(&h_other, WSG_CLOSE_DROPPED); /* UDP has no connection to lose */
     h_open(&h_third, WSG_TRANSPORT_DATAGRAM);
@@ -137,7 +137,7 @@ START_TEST(datagram_with_newline)
 {
     h_open(&h_other, WSG_TRANSPORT_DATAGRAM);
     h_send_bytes(&h_other, "SN?\nTAG?\n", 9);
-    wsg_session_end_datagram(&h_dev, h_other.session);
+    wsg_conn_end_datagram(&h_other.conn);
     expect_line(&h_other, "SN=12345678");
     expect_line(&h_other, "TAG=\"wsgsim\"");
     expect_no_line(&h_other);
@@ -190,43 +190,18 @@ END_TEST
 START_TEST(final_line_not_delivered_to_slot_reuser)
 {
     ASK_EQ("HOME()", "ACK HOME");
-    uint8_t slot = h_main.session->index;
     ASK_EQ("BYE()", "ACK BYE");
     h_close(&h_main, WSG_CLOSE_ANNOUNCED);
-    h_open(&h_other, WSG_TRANSPORT_STREAM);
-    ck_assert_uint_eq(h_other.session->index, slot);
+    h_open(&h_main, WSG_TRANSPORT_STREAM); /* a new connection in the same storage */
     advance_ms(2000);
-    expect_no_line(&h_other);
-    ck_assert_str_eq(ask(&h_other, "SYSFLAGS[0]?"), "SYSFLAGS[0]=1"); /* homing did finish */
+    EXPECT_NONE();
+    ASK_EQ("SYSFLAGS[0]?", "SYSFLAGS[0]=1"); /* homing did finish */
 }
 END_TEST
 
 static unsigned sink_lines;
 
-static void sink_write(void *ctx, const char *line, size_t len, wsg_line_kind_t kind);
-
-/* Regression: 16-bit session ids wrapped after 65536 sessions, and a reused
- * slot's new session then took the FIN of a motion its predecessor started. */
-START_TEST(final_line_not_delivered_after_65536_sessions)
-{
-    static const wsg_session_io_t sink = {sink_write};
-    ASK_EQ("HOME()", "ACK HOME");
-    uint8_t slot = h_main.session->index;
-    h_close(&h_main, WSG_CLOSE_EXPIRED);
-    for (unsigned i = 0; i < 65535u; i++) {
-        wsg_session_t *s = wsg_session_open(&h_dev, WSG_TRANSPORT_DATAGRAM, &sink, NULL);
-        ck_assert_uint_eq(s->index, slot);
-        wsg_session_close(&h_dev, s, WSG_CLOSE_EXPIRED);
-    }
-    h_open(&h_other, WSG_TRANSPORT_DATAGRAM);
-    ck_assert_uint_eq(h_other.session->index, slot);
-    advance_ms(2000);
-    expect_no_line(&h_other);
-    ck_assert_str_eq(ask(&h_other, "SYSFLAGS[0]?"), "SYSFLAGS[0]=1"); /* homing did finish */
-}
-END_TEST
-
-static void sink_write(void *ctx, const char *line, size_t len, wsg_line_kind_t kind)
+static void sink_write(void *ctx, const char *line, size_t len, wsg_msg_kind_t kind)
 {
     (void)ctx;
     (void)line;
@@ -235,30 +210,57 @@ static void sink_write(void *ctx, const char *line, size_t len, wsg_line_kind_t 
     sink_lines++;
 }
 
-START_TEST(session_slots_are_bounded)
+/* Regression: 16-bit session ids wrapped after 65536 sessions, and a reused
+ * slot's new session then took the FIN of a motion its predecessor started.
+ * Now the owner is detached on close: no id is compared at all. */
+START_TEST(final_line_not_delivered_after_65536_sessions)
 {
-    static const wsg_session_io_t sink = {sink_write};
-    wsg_session_t *last = NULL;
-    for (unsigned i = 1; i < WSG_MAX_SESSIONS; i++) {
-        last = wsg_session_open(&h_dev, WSG_TRANSPORT_STREAM, &sink, NULL);
-        ck_assert_ptr_nonnull(last);
+    static const wsg_conn_io_t sink = {sink_write};
+    static wsg_conn_t reused;
+    ASK_EQ("HOME()", "ACK HOME");
+    h_close(&h_main, WSG_CLOSE_EXPIRED);
+    for (unsigned i = 0; i < 65535u; i++) {
+        wsg_conn_open(&reused, &h_dev, &wsg_gcl_driver, WSG_TRANSPORT_DATAGRAM, &sink, NULL);
+        wsg_conn_close(&reused, WSG_CLOSE_EXPIRED);
     }
-    ck_assert_ptr_null(wsg_session_open(&h_dev, WSG_TRANSPORT_STREAM, &sink, NULL));
-    wsg_session_input(&h_dev, last, (const uint8_t *)"SN?\n", 4);
+    h_open(&h_main, WSG_TRANSPORT_DATAGRAM);
+    advance_ms(2000);
+    EXPECT_NONE();
+    ck_assert_uint_eq(sink_lines, 0);
+    ASK_EQ("SYSFLAGS[0]?", "SYSFLAGS[0]=1"); /* homing did finish */
+}
+END_TEST
+
+/* The port owns connection storage: the device serves as many as it is
+ * given, and iterates only the open ones. */
+START_TEST(connections_are_the_ports)
+{
+    static const wsg_conn_io_t sink = {sink_write};
+    static wsg_conn_t many[200];
+    sink_lines = 0;
+    for (unsigned i = 0; i < 200u; i++) {
+        wsg_conn_open(&many[i], &h_dev, &wsg_gcl_driver, WSG_TRANSPORT_STREAM, &sink, NULL);
+    }
+    wsg_conn_input(&many[199], (const uint8_t *)"SN?\n", 4);
     ck_assert_uint_eq(sink_lines, 1);
-    ck_assert_str_eq(ask(&h_main, "BYE()"), "ACK BYE");
-    h_close(&h_main, WSG_CLOSE_ANNOUNCED);
-    ck_assert_ptr_nonnull(wsg_session_open(&h_dev, WSG_TRANSPORT_STREAM, &sink, NULL));
+    unsigned open = 0;
+    for (wsg_conn_t *c = wsg_device_conn_first(&h_dev); c != NULL; c = wsg_conn_next(c)) {
+        open++;
+    }
+    ck_assert_uint_eq(open, 201); /* h_main too */
+    for (unsigned i = 0; i < 200u; i++) {
+        wsg_conn_close(&many[i], WSG_CLOSE_EXPIRED);
+    }
+    ck_assert_ptr_eq(wsg_device_conn_first(&h_dev), &h_main.conn);
+    ck_assert_ptr_null(wsg_conn_next(&h_main.conn));
 }
 END_TEST
 
 START_TEST(closing_twice_is_harmless)
 {
-    wsg_session_t *s = h_main.session;
     ASK_EQ("BYE()", "ACK BYE");
-    wsg_session_close(&h_dev, s, WSG_CLOSE_ANNOUNCED);
-    wsg_session_close(&h_dev, s, WSG_CLOSE_DROPPED);
-    h_main.session = NULL;
+    wsg_conn_close(&h_main.conn, WSG_CLOSE_ANNOUNCED);
+    wsg_conn_close(&h_main.conn, WSG_CLOSE_DROPPED);
     h_open(&h_other, WSG_TRANSPORT_STREAM);
     ck_assert_str_eq(ask(&h_other, "SYSFLAGS[12]?"), "SYSFLAGS[12]=0");
 }
@@ -274,15 +276,15 @@ static struct {
     wsg_grip_state_t last_to;
 } seen;
 
-static void on_line_in(void *ctx, const wsg_session_t *s, const char *line, size_t len)
+static void on_line_in(void *ctx, const wsg_conn_t *c, const char *line, size_t len)
 {
-    (void)ctx, (void)s, (void)line, (void)len;
+    (void)ctx, (void)c, (void)line, (void)len;
     seen.lines_in++;
 }
 
-static void on_line_out(void *ctx, const wsg_session_t *s, const char *line, size_t len)
+static void on_line_out(void *ctx, const wsg_conn_t *c, const char *line, size_t len)
 {
-    (void)ctx, (void)s;
+    (void)ctx, (void)c;
     ck_assert(len > 0 && line[len - 1] == '\n');
     seen.lines_out++;
 }
@@ -295,10 +297,11 @@ static void on_state(void *ctx, wsg_grip_state_t from, wsg_grip_state_t to)
     seen.last_to = to;
 }
 
-static void on_done(void *ctx, const wsg_session_t *s, const char *name, unsigned form,
+static void on_done(void *ctx, const wsg_conn_t *c, const char *name, int index, unsigned form,
                     unsigned argc, wsg_status_t status)
 {
-    (void)ctx, (void)s;
+    (void)ctx, (void)c;
+    ck_assert_int_eq(index, wsg_gcl_command_index(name));
     seen.done++;
     strncpy(seen.last_done, name, sizeof(seen.last_done) - 1);
     seen.last_form = form;
@@ -306,21 +309,30 @@ static void on_done(void *ctx, const wsg_session_t *s, const char *name, unsigne
     seen.last_status = status;
 }
 
-static void on_tolerated(void *ctx, const wsg_session_t *s, const char *name, const char *what)
+static void on_tolerated(void *ctx, const wsg_conn_t *c, const char *name, const char *what)
 {
-    (void)ctx, (void)s, (void)name, (void)what;
+    (void)ctx, (void)c, (void)name, (void)what;
     seen.tolerated++;
 }
 
-static const wsg_device_hooks_t hooks = {on_line_in, on_line_out, on_state, on_done, on_tolerated};
+static const wsg_conn_observer_t conn_hooks = {on_line_in, on_line_out};
+static const wsg_device_observer_t device_hooks = {.grip_state_changed = on_state};
+static const wsg_gcl_observer_t gcl_hooks = {.command_done = on_done, .tolerated = on_tolerated};
+
+static void attach_all(void)
+{
+    memset(&seen, 0, sizeof(seen));
+    wsg_conn_observe(&h_dev, &conn_hooks, NULL);
+    wsg_device_observe(&h_dev, &device_hooks, NULL);
+    wsg_gcl_observe(&h_dev, &gcl_hooks, NULL);
+}
 
 START_TEST(hooks_observe_the_device)
 {
-    memset(&seen, 0, sizeof(seen));
-    wsg_device_set_hooks(&h_dev, &hooks, NULL);
+    attach_all();
     ASK_EQ("MOVE(1,2,3)", "ERR MOVE 12");
     ck_assert_str_eq(seen.last_done, "MOVE");
-    ck_assert_uint_eq(seen.last_form, GCL_FORM_CALL);
+    ck_assert_uint_eq(seen.last_form, WSG_GCL_FORM_CALL);
     ck_assert_uint_eq(seen.last_argc, 3);
     ck_assert_int_eq(seen.last_status, E_NO_PARAM_EXPECTED);
     ASK_EQ("AUTOSEND(POS,0)", "ACK AUTOSEND"); /* unquoted string: tolerated */
@@ -331,18 +343,19 @@ START_TEST(hooks_observe_the_device)
     ck_assert_uint_eq(seen.lines_in, 3);
     ck_assert_uint_eq(seen.lines_out, 3);
     ck_assert_uint_eq(seen.done, 3);
-    ck_assert_uint_eq(h_main.session->lines_in, 3);
-    ck_assert_uint_eq(h_main.session->lines_out, 3);
+    ck_assert_uint_eq(h_gcl_lines_in(&h_main), 3);
+    ck_assert_uint_eq(h_gcl_lines_out(&h_main), 3);
 }
 END_TEST
 
-START_TEST(hooks_survive_init)
+/* Observers survive a reset (power-on keeps them, as the control channel's
+ * RESET expects its own re-attachment to be the only change). */
+START_TEST(hooks_survive_reset)
 {
-    memset(&seen, 0, sizeof(seen));
-    wsg_device_set_hooks(&h_dev, &hooks, NULL);
-    wsg_device_init(&h_dev);
-    ck_assert_ptr_eq(h_dev.hooks, &hooks);
-    ck_assert(!h_dev.sessions[0].in_use); /* power-on: no sessions */
+    attach_all();
+    h_close(&h_main, WSG_CLOSE_EXPIRED);
+    wsg_device_reset(&h_dev, h_cfg());
+    ck_assert_ptr_null(wsg_device_conn_first(&h_dev)); /* power-on: no connections */
     h_open(&h_main, WSG_TRANSPORT_STREAM);
     ASK_EQ("SN?", "SN=12345678");
     ck_assert_uint_eq(seen.lines_out, 1);
@@ -379,13 +392,13 @@ Suite *session_suite(void)
     tcase_add_test(multi, queries_during_another_sessions_motion);
     tcase_add_test(multi, final_line_not_delivered_to_slot_reuser);
     tcase_add_test(multi, final_line_not_delivered_after_65536_sessions);
-    tcase_add_test(multi, session_slots_are_bounded);
+    tcase_add_test(multi, connections_are_the_ports);
     suite_add_tcase(s, multi);
 
     TCase *hook = tcase_create("hooks");
     tcase_add_checked_fixture(hook, h_setup, h_teardown);
     tcase_add_test(hook, hooks_observe_the_device);
-    tcase_add_test(hook, hooks_survive_init);
+    tcase_add_test(hook, hooks_survive_reset);
     suite_add_tcase(s, hook);
     return s;
 }

@@ -10,7 +10,8 @@
 #include "hal_log.h"
 #include "sim_models.h"
 #include "sim_world.h"
-#include "wsg_device.h"
+#include "wsg/wsg_conn.h"
+#include "wsg/wsg_gcl.h"
 
 #define PART_MM 30.0f
 #define PART_STIFFNESS 100.0f
@@ -32,36 +33,37 @@ void hal_log(hal_log_level_t level, const char *message)
 }
 
 /* Keeps the last FIN/ERR line. */
-static void capture(void *ctx, const char *line, size_t len, wsg_line_kind_t kind)
+static void capture(void *ctx, const char *line, size_t len, wsg_msg_kind_t kind)
 {
     (void)ctx;
-    if (kind == WSG_LINE_REPLY && len > 4 &&
+    if (kind == WSG_MSG_REPLY && len > 4 &&
         (memcmp(line, "FIN ", 4) == 0 || memcmp(line, "ERR ", 4) == 0)) {
         memcpy(last_final, line, len - 1);
         last_final[len - 1] = '\0';
     }
 }
 
-static const wsg_session_io_t capture_io = {.write_line = capture};
+static const wsg_conn_io_t capture_io = {.write = capture};
+static sim_world_t world;
 
 static void step_to_deadline(wsg_device_t *dev, long *steps)
 {
     uint64_t next = wsg_device_next_deadline_us(dev);
     fake_now_us = next > fake_now_us ? next : fake_now_us + 1u;
-    sim_world_advance(fake_now_us);
+    sim_world_advance(&world, fake_now_us);
     wsg_device_step(dev);
     (*steps)++;
 }
 
 /* Sends a long command and steps until its FIN; false on ERR or timeout. */
-static bool run_command(wsg_device_t *dev, wsg_session_t *s, const char *line, const char *name,
+static bool run_command(wsg_device_t *dev, wsg_conn_t *s, const char *line, const char *name,
                         long *steps)
 {
     char fin[64];
     snprintf(fin, sizeof(fin), "FIN %s", name);
     last_final[0] = '\0';
-    sim_world_advance(fake_now_us);
-    wsg_session_input(dev, s, (const uint8_t *)line, strlen(line));
+    sim_world_advance(&world, fake_now_us);
+    wsg_conn_input(s, (const uint8_t *)line, strlen(line));
     uint64_t deadline = fake_now_us + COMMAND_TIMEOUT_US;
     while (last_final[0] == '\0' && fake_now_us < deadline) {
         step_to_deadline(dev, steps);
@@ -69,7 +71,7 @@ static bool run_command(wsg_device_t *dev, wsg_session_t *s, const char *line, c
     return strcmp(last_final, fin) == 0;
 }
 
-static bool run_cycle(wsg_device_t *dev, wsg_session_t *s, long *steps)
+static bool run_cycle(wsg_device_t *dev, wsg_conn_t *s, long *steps)
 {
     return run_command(dev, s, "HOME()\n", "HOME", steps) &&
            run_command(dev, s, "MOVE(80)\n", "MOVE", steps) &&
@@ -80,13 +82,17 @@ static bool run_cycle(wsg_device_t *dev, wsg_session_t *s, long *steps)
 void vtime_run(int cycles, vtime_result_t *r)
 {
     static wsg_device_t dev;
-    hal_device_config_t cfg;
+    static wsg_conn_t conn;
+    wsg_config_t cfg;
     sim_model_config(sim_model_default(), &cfg);
     fake_now_us = START_US;
-    sim_world_init(&cfg, fake_now_us);
-    sim_axis_place_part(&sim_world()->axis, PART_MM, PART_STIFFNESS);
-    wsg_device_init(&dev);
-    wsg_session_t *s = wsg_session_open(&dev, WSG_TRANSPORT_STREAM, &capture_io, NULL);
+    sim_world_init(&world, &cfg, fake_now_us);
+    sim_axis_place_part(&world.axis, PART_MM, PART_STIFFNESS);
+    wsg_hal_t hal;
+    sim_world_hal(&world, &hal);
+    wsg_device_init(&dev, &cfg, &hal);
+    wsg_conn_t *s = &conn;
+    wsg_conn_open(s, &dev, &wsg_gcl_driver, WSG_TRANSPORT_STREAM, &capture_io, NULL);
     memset(r, 0, sizeof(*r));
     double t0 = now_us();
     for (int i = 0; i < cycles; i++) {

@@ -11,7 +11,7 @@
 #include <time.h>
 
 #include "can_socketcan.h"
-#include "finger_node.h"
+#include "sim/finger_node.h"
 #include "version.h"
 
 typedef struct {

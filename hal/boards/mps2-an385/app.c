@@ -1,8 +1,8 @@
 #include "app.h"
 
 #include "hal_clock.h"
-#include "sim_models.h"
-#include "sim_world.h"
+#include "sim/sim_models.h"
+#include "sim/sim_world.h"
 
 /* The simulated axis is advanced on a 1 ms grid, like a 1 kHz servo loop.
  * Advancing it by a few microseconds at a time (each received byte could do
@@ -11,6 +11,7 @@
 #define WORLD_PERIOD_US 1000u
 
 static wsg_device_t device;
+static sim_world_t world;
 static uint64_t deadline_us;
 static uint64_t world_us;
 static bool input_seen;
@@ -20,17 +21,19 @@ static void advance_world(uint64_t now)
     uint64_t behind = now - world_us;
     if (behind >= WORLD_PERIOD_US) {
         world_us = now - behind % WORLD_PERIOD_US;
-        sim_world_advance(world_us);
+        sim_world_advance(&world, world_us);
     }
 }
 
 void app_init(void)
 {
-    hal_device_config_t cfg;
+    wsg_config_t cfg;
     sim_model_config(sim_model_default(), &cfg);
     uint64_t now = hal_clock_now_us();
-    sim_world_init(&cfg, now);
-    wsg_device_init(&device);
+    sim_world_init(&world, &cfg, now);
+    wsg_hal_t hal;
+    sim_world_hal(&world, &hal);
+    wsg_device_init(&device, &cfg, &hal);
     world_us = now;
     deadline_us = now;
 }

@@ -6,7 +6,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "wsg_device.h"
+#include "wsg/wsg_conn.h"
+#include "wsg/wsg_gcl.h"
 
 /* Power-on: the default gripper model, the jaws mid-stroke. */
 void app_init(void);

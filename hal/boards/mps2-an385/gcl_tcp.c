@@ -9,12 +9,13 @@
 
 /* Lines wait here while lwIP's send buffer is full. Replies never get
  * dropped: a client that lets this fill up loses its connection instead.
- * AUTOSEND values are dropped when they do not fit (wsg_device.h). */
+ * AUTOSEND values are dropped when they do not fit (wsg_conn.h). */
 #define TX_QUEUE 1024u
 
 typedef struct {
     struct tcp_pcb *pcb; /* NULL: slot free */
-    wsg_session_t *session;
+    wsg_conn_t conn;
+    bool has_conn;
     char tx[TX_QUEUE];
     uint16_t tx_start;
     uint16_t tx_len;
@@ -45,14 +46,14 @@ static void flush(tcp_conn_t *c)
     (void)tcp_output(c->pcb);
 }
 
-static void write_line(void *ctx, const char *line, size_t len, wsg_line_kind_t kind)
+static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t kind)
 {
     tcp_conn_t *c = ctx;
     if (c->pcb == NULL || c->broken) {
         return;
     }
     if (len > TX_QUEUE - c->tx_len) {
-        c->broken = kind == WSG_LINE_REPLY;
+        c->broken = kind == WSG_MSG_REPLY;
         return;
     }
     for (size_t i = 0; i < len; i++) {
@@ -62,13 +63,13 @@ static void write_line(void *ctx, const char *line, size_t len, wsg_line_kind_t 
     flush(c);
 }
 
-static const wsg_session_io_t tcp_io = {write_line};
+static const wsg_conn_io_t tcp_io = {write_line};
 
 /* Detaches the connection from its pcb and session; frees the slot. */
 static void release(tcp_conn_t *c, wsg_close_reason_t reason)
 {
-    if (c->session != NULL) {
-        wsg_session_close(app_device(), c->session, reason);
+    if (c->has_conn) {
+        wsg_conn_close(&c->conn, reason);
     }
     if (c->pcb != NULL) {
         tcp_arg(c->pcb, NULL);
@@ -117,10 +118,10 @@ static err_t on_recv(void *arg, struct tcp_pcb *pcb, struct pbuf *p, err_t err)
     if (err == ERR_OK && !c->closing) {
         app_advance();
         for (struct pbuf *q = p; q != NULL; q = q->next) {
-            wsg_session_input(app_device(), c->session, q->payload, q->len);
+            wsg_conn_input(&c->conn, q->payload, q->len);
         }
         app_note_input();
-        c->closing = wsg_session_wants_close(c->session);
+        c->closing = wsg_conn_wants_close(&c->conn);
     }
     tcp_recved(pcb, p->tot_len);
     pbuf_free(p);
@@ -145,15 +146,14 @@ static err_t on_accept(void *arg, struct tcp_pcb *pcb, err_t err)
     for (unsigned i = 0; i < GCL_TCP_MAX_CONNECTIONS && c == NULL; i++) {
         c = conns[i].pcb == NULL ? &conns[i] : NULL;
     }
-    wsg_session_t *s =
-        c != NULL ? wsg_session_open(app_device(), WSG_TRANSPORT_STREAM, &tcp_io, c) : NULL;
-    if (s == NULL) {
+    if (c == NULL) {
         hal_log(HAL_LOG_WARN, "tcp: connection refused, all sessions in use");
         tcp_abort(pcb);
         return ERR_ABRT;
     }
+    wsg_conn_open(&c->conn, app_device(), &wsg_gcl_driver, WSG_TRANSPORT_STREAM, &tcp_io, c);
+    c->has_conn = true;
     c->pcb = pcb;
-    c->session = s;
     tcp_arg(pcb, c);
     tcp_recv(pcb, on_recv);
     tcp_sent(pcb, on_sent);

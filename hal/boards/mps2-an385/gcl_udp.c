@@ -12,7 +12,8 @@
 #define PEER_IDLE_MS 300000u
 
 typedef struct {
-    wsg_session_t *session; /* NULL: slot free */
+    bool in_use;
+    wsg_conn_t conn;
     ip_addr_t addr;
     u16_t port;
     u32_t last_ms;
@@ -21,7 +22,7 @@ typedef struct {
 static struct udp_pcb *udp;
 static udp_peer_t peers[GCL_UDP_MAX_PEERS];
 
-static void write_line(void *ctx, const char *line, size_t len, wsg_line_kind_t kind)
+static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t kind)
 {
     (void)kind; /* UDP may lose any datagram; the peer retries */
     udp_peer_t *peer = ctx;
@@ -34,11 +35,11 @@ static void write_line(void *ctx, const char *line, size_t len, wsg_line_kind_t 
     pbuf_free(p);
 }
 
-static const wsg_session_io_t udp_io = {write_line};
+static const wsg_conn_io_t udp_io = {write_line};
 
 static void forget(udp_peer_t *peer, wsg_close_reason_t reason)
 {
-    wsg_session_close(app_device(), peer->session, reason);
+    wsg_conn_close(&peer->conn, reason);
     memset(peer, 0, sizeof(*peer));
 }
 
@@ -47,7 +48,7 @@ static udp_peer_t *find_or_add(const ip_addr_t *addr, u16_t port)
     udp_peer_t *free_slot = NULL;
     for (unsigned i = 0; i < GCL_UDP_MAX_PEERS; i++) {
         udp_peer_t *peer = &peers[i];
-        if (peer->session == NULL) {
+        if (!peer->in_use) {
             free_slot = free_slot != NULL ? free_slot : peer;
         } else if (peer->port == port && ip_addr_cmp(&peer->addr, addr)) {
             return peer;
@@ -56,10 +57,9 @@ static udp_peer_t *find_or_add(const ip_addr_t *addr, u16_t port)
     if (free_slot == NULL) {
         return NULL;
     }
-    free_slot->session = wsg_session_open(app_device(), WSG_TRANSPORT_DATAGRAM, &udp_io, free_slot);
-    if (free_slot->session == NULL) {
-        return NULL;
-    }
+    wsg_conn_open(&free_slot->conn, app_device(), &wsg_gcl_driver, WSG_TRANSPORT_DATAGRAM, &udp_io,
+                  free_slot);
+    free_slot->in_use = true;
     ip_addr_copy(free_slot->addr, *addr);
     free_slot->port = port;
     return free_slot;
@@ -78,13 +78,13 @@ static void on_recv(void *arg, struct udp_pcb *pcb, struct pbuf *p, const ip_add
     }
     app_advance();
     for (struct pbuf *q = p; q != NULL; q = q->next) {
-        wsg_session_input(app_device(), peer->session, q->payload, q->len);
+        wsg_conn_input(&peer->conn, q->payload, q->len);
     }
-    wsg_session_end_datagram(app_device(), peer->session);
+    wsg_conn_end_datagram(&peer->conn);
     app_note_input();
     pbuf_free(p);
     peer->last_ms = sys_now();
-    if (wsg_session_wants_close(peer->session)) {
+    if (wsg_conn_wants_close(&peer->conn)) {
         forget(peer, WSG_CLOSE_ANNOUNCED);
     }
 }
@@ -104,8 +104,7 @@ void gcl_udp_poll(void)
     u32_t now = sys_now();
     for (unsigned i = 0; i < GCL_UDP_MAX_PEERS; i++) {
         udp_peer_t *peer = &peers[i];
-        if (peer->session != NULL && !wsg_session_has_autosend(peer->session) &&
-            now - peer->last_ms > PEER_IDLE_MS) {
+        if (peer->in_use && !wsg_conn_busy(&peer->conn) && now - peer->last_ms > PEER_IDLE_MS) {
             forget(peer, WSG_CLOSE_EXPIRED);
         }
     }

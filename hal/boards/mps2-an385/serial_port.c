@@ -11,7 +11,7 @@
 #define TX_STALL_US 200000u
 
 static cmsdk_uart_rx_t rx;
-static wsg_session_t *session;
+static wsg_conn_t conn;
 
 void UART0_RX_Handler(void);
 void UART0_RX_Handler(void)
@@ -20,12 +20,12 @@ void UART0_RX_Handler(void)
     board_signal_event();
 }
 
-static void write_line(void *ctx, const char *line, size_t len, wsg_line_kind_t kind)
+static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t kind)
 {
     (void)ctx;
     cmsdk_uart_regs_t *uart = CMSDK_UART(UART0_BASE);
     /* AUTOSEND values may be dropped under back-pressure, replies may not */
-    if (kind == WSG_LINE_AUTOSEND && !cmsdk_uart_tx_ready(uart)) {
+    if (kind == WSG_MSG_UPDATE && !cmsdk_uart_tx_ready(uart)) {
         return;
     }
     if (!cmsdk_uart_write(uart, line, len, TX_STALL_US)) {
@@ -33,14 +33,11 @@ static void write_line(void *ctx, const char *line, size_t len, wsg_line_kind_t 
     }
 }
 
-static const wsg_session_io_t serial_io = {write_line};
+static const wsg_conn_io_t serial_io = {write_line};
 
 static void open_session(void)
 {
-    session = wsg_session_open(app_device(), WSG_TRANSPORT_STREAM, &serial_io, NULL);
-    if (session == NULL) {
-        board_panic("serial: no free session");
-    }
+    wsg_conn_open(&conn, app_device(), &wsg_gcl_driver, WSG_TRANSPORT_STREAM, &serial_io, NULL);
 }
 
 void serial_port_init(void)
@@ -58,10 +55,10 @@ void serial_port_poll(void)
     size_t n;
     while ((n = cmsdk_uart_rx_read(&rx, bytes, sizeof(bytes))) > 0) {
         app_advance();
-        wsg_session_input(app_device(), session, bytes, n);
+        wsg_conn_input(&conn, bytes, n);
         app_note_input();
-        if (wsg_session_wants_close(session)) {
-            wsg_session_close(app_device(), session, WSG_CLOSE_ANNOUNCED);
+        if (wsg_conn_wants_close(&conn)) {
+            wsg_conn_close(&conn, WSG_CLOSE_ANNOUNCED);
             hal_log(HAL_LOG_INFO, "serial: BYE, new session");
             board_log_stack_usage();
             open_session();

@@ -1,0 +1,143 @@
+/* The device aggregate: init and reset, the control step, its deadline,
+ * observers, fault injection and the snapshot. */
+#include <string.h>
+
+#include "priv/motion_tuning.h"
+#include "priv/textbuf.h"
+#include "priv/wsg_dev.h"
+
+void device_log(hal_log_level_t level, const char *prefix, const char *what)
+{
+    char storage[128];
+    textbuf_t tb;
+    textbuf_init(&tb, storage, sizeof(storage));
+    textbuf_put_str(&tb, prefix);
+    textbuf_put_str(&tb, what);
+    hal_log(level, storage);
+}
+
+static void power_on(wsg_dev_t *dev, const wsg_config_t *cfg)
+{
+    memset(&dev->motion, 0, sizeof(dev->motion));
+    memset(&dev->grip, 0, sizeof(dev->grip));
+    memset(&dev->injected_failure, 0, sizeof(dev->injected_failure));
+    dev->cfg = *cfg;
+    dev->grip.state = GS_IDLE;
+    dev->grip.direction = -1;
+    dev->referenced = false;
+    dev->latched_flags = 0;
+    dev->flags = 0;
+    wsg_fingers_reset(&dev->fingers);
+    finger_bus_init(&dev->fbus, dev->hal.can);
+    sense(dev);
+}
+
+void wsg_device_init(wsg_device_t *device, const wsg_config_t *cfg, const wsg_hal_t *hal)
+{
+    wsg_dev_t *dev = dev_of(device);
+    memset(dev, 0, sizeof(*dev));
+    dev->hal = *hal;
+    timer_queue_init(&dev->timers);
+    power_on(dev, cfg);
+}
+
+void wsg_device_reset(wsg_device_t *device, const wsg_config_t *cfg)
+{
+    wsg_dev_t *dev = dev_of(device);
+    power_on(dev, cfg);
+}
+
+void wsg_device_observe(wsg_device_t *device, const wsg_device_observer_t *observer, void *ctx)
+{
+    wsg_dev_t *dev = dev_of(device);
+    dev->observer = observer;
+    dev->observer_ctx = ctx;
+}
+
+void wsg_device_step(wsg_device_t *device)
+{
+    wsg_dev_t *dev = dev_of(device);
+    sense_and_react(dev);
+    finger_bus_step(
+        &dev->fbus, &dev->fingers,
+        &(fbus_input_t){
+            .now_us = dev->sensed.now_us,
+            .position_mm = dev->sensed.axis.position_mm,
+            .motor_force_n = dev->sensed.axis.force_n,
+            .grip_state = (uint8_t)dev->grip.state,
+            .holding = dev->grip.state == GS_HOLDING && dev->motion.kind == WSG_MOTION_NONE,
+            .grip_force_n = dev->grip.force_n,
+            .force_max_n = wsg_config_force_max(&dev->cfg),
+        });
+    motion_apply_force_request(dev);
+    motion_step(dev);
+    grip_monitor_step(dev);
+    motion_block_watch_step(dev);
+    sense_and_react(dev); /* what the step changed, for the timers below */
+    timer_run_due(&dev->timers, dev->sensed.now_us);
+}
+
+uint64_t wsg_device_next_deadline_us(const wsg_device_t *device)
+{
+    const wsg_dev_t *dev = dev_of_const(device);
+    uint32_t tick = motion_tick_us(dev);
+    uint64_t next = tick != 0u ? dev->sensed.now_us + tick : UINT64_MAX;
+    uint64_t timers = timer_next_due(&dev->timers);
+    uint64_t bus = finger_bus_next_deadline_us(&dev->fbus);
+    next = bus < next ? bus : next;
+    return timers < next ? timers : next;
+}
+
+void device_fast_stop(wsg_dev_t *dev, const char *why)
+{
+    motion_abort(dev, E_CMD_ABORTED);
+    motion_disable(dev); /* manual 3.2.2: a held part is no longer clamped */
+    flags_set(dev, SF_FAST_STOP, true);
+    grip_set_state(dev, GS_ERROR);
+    device_log(HAL_LOG_WARN, "FAST STOP: ", why);
+}
+
+void wsg_device_inject_failure(wsg_device_t *device, const char *name, wsg_status_t status)
+{
+    dev_injected_failure_t *f = &dev_of(device)->injected_failure;
+    strncpy(f->name, name, sizeof(f->name) - 1);
+    f->name[sizeof(f->name) - 1] = '\0';
+    f->status = status;
+    f->armed = true;
+}
+
+bool wsg_device_take_injected_failure(wsg_device_t *device, const char *name, wsg_status_t *status)
+{
+    dev_injected_failure_t *f = &dev_of(device)->injected_failure;
+    if (!f->armed || strcmp(f->name, name) != 0) {
+        return false;
+    }
+    f->armed = false;
+    *status = f->status;
+    hal_log(HAL_LOG_WARN, "injected failure answered");
+    return true;
+}
+
+void wsg_device_note_result(wsg_device_t *device, wsg_status_t status)
+{
+    flags_set(dev_of(device), SF_CMD_FAILURE, status != E_SUCCESS);
+}
+
+uint64_t wsg_device_next_conn_id(wsg_device_t *device)
+{
+    return ++dev_of(device)->next_conn_id;
+}
+
+void wsg_device_detach(wsg_device_t *device, const wsg_owner_t *owner)
+{
+    wsg_dev_t *dev = dev_of(device);
+    if (owner != NULL && dev->motion.owner == owner) {
+        dev->motion.owner = NULL; /* the motion runs on; its end has no receiver */
+    }
+}
+
+bool wsg_device_owns_motion(const wsg_device_t *device, const wsg_owner_t *owner)
+{
+    const wsg_dev_t *dev = dev_of_const(device);
+    return dev->motion.kind != WSG_MOTION_NONE && owner != NULL && dev->motion.owner == owner;
+}

@@ -1,0 +1,86 @@
+/* The system state flag register (Appendix B): flags the core latches itself
+ * plus flags derived from the sensed readings. Pure: reads no hardware. */
+#include "priv/wsg_dev.h"
+
+#define MOVING_SPEED_MM_S 0.01f
+#define LIMIT_WINDOW_MM 0.01f
+
+void flags_set(wsg_dev_t *dev, wsg_sysflag_t flag, bool on)
+{
+    uint32_t bit = WSG_FLAG(flag);
+    if (on) {
+        dev->latched_flags |= bit;
+        dev->flags |= bit;
+    } else {
+        dev->latched_flags &= ~bit;
+        dev->flags &= ~bit;
+    }
+}
+
+bool flags_get(const wsg_dev_t *dev, wsg_sysflag_t flag)
+{
+    return (dev->flags & WSG_FLAG(flag)) != 0u;
+}
+
+bool flags_severe_fault(const wsg_dev_t *dev)
+{
+    const dev_sensed_t *s = &dev->sensed;
+    return s->axis.current_fault || s->axis.power_fault ||
+           s->temperature_c >= dev->cfg.temp_fault_c;
+}
+
+static uint32_t soft_limit_flags(const wsg_dev_t *dev)
+{
+    const wsg_config_t *cfg = &dev->cfg;
+    uint32_t flags = 0;
+    if (!cfg->soft_limits_enabled || !dev->referenced) {
+        return 0;
+    }
+    float position = dev->sensed.axis.position_mm;
+    if (position <= cfg->soft_limit_minus_mm + LIMIT_WINDOW_MM) {
+        flags |= WSG_FLAG(SF_SOFT_LIMIT_MINUS);
+    }
+    if (position >= cfg->soft_limit_plus_mm - LIMIT_WINDOW_MM) {
+        flags |= WSG_FLAG(SF_SOFT_LIMIT_PLUS);
+    }
+    return flags;
+}
+
+static uint32_t derived_flags(const wsg_dev_t *dev)
+{
+    const wsg_config_t *cfg = &dev->cfg;
+    const hal_axis_status_t *axis = &dev->sensed.axis;
+    float temperature = dev->sensed.temperature_c;
+    uint32_t flags = soft_limit_flags(dev);
+    float speed = axis->velocity_mm_s < 0.0f ? -axis->velocity_mm_s : axis->velocity_mm_s;
+    if (axis->profile_active || speed > MOVING_SPEED_MM_S) {
+        flags |= WSG_FLAG(SF_MOVING);
+    }
+    if (cfg->overdrive_mode && cfg->force_overdrive_n > 0.0f) {
+        flags |= WSG_FLAG(SF_OVERDRIVE_MODE);
+    }
+    if (wsg_fingers_force_control(&dev->fingers)) {
+        flags |= WSG_FLAG(SF_FORCECNTL_MODE);
+    }
+    if (temperature >= cfg->temp_warning_c) {
+        flags |= WSG_FLAG(SF_TEMP_WARNING);
+    }
+    if (temperature >= cfg->temp_fault_c) {
+        flags |= WSG_FLAG(SF_TEMP_FAULT);
+    }
+    if (axis->power_fault) {
+        flags |= WSG_FLAG(SF_POWER_FAULT);
+    }
+    if (axis->current_fault) {
+        flags |= WSG_FLAG(SF_CURR_FAULT);
+    }
+    if (wsg_fingers_faulted(&dev->fingers)) {
+        flags |= WSG_FLAG(SF_FINGER_FAULT);
+    }
+    return flags;
+}
+
+void flags_derive(wsg_dev_t *dev)
+{
+    dev->flags = dev->latched_flags | derived_flags(dev);
+}

@@ -1,0 +1,373 @@
+/* The motion supervisor: watches the axis while HOME, MOVE, GRIP or RELEASE
+ * runs and decides when it has finished, failed or been aborted; and grip
+ * monitoring while a part is held. It is the only writer of the axis (the
+ * finger bus's force loop hands it a force request). Completion goes to the
+ * operation's owner as an event, only from the control step, never from
+ * the call that started the operation. */
+#include "priv/motion_tuning.h"
+#include "priv/wsg_dev.h"
+
+static float absf(float v)
+{
+    return v < 0.0f ? -v : v;
+}
+
+void grip_set_state(wsg_dev_t *dev, wsg_grip_state_t state)
+{
+    wsg_grip_state_t from = dev->grip.state;
+    if (from == state) {
+        return;
+    }
+    dev->grip.state = state;
+    dev->grip.weak = false;
+    if (dev->observer != NULL && dev->observer->grip_state_changed != NULL) {
+        dev->observer->grip_state_changed(dev->observer_ctx, from, state);
+    }
+}
+
+/* True once `condition` has held without a break for `duration_us`. */
+static bool held_for(wsg_dev_t *dev, bool condition, uint64_t duration_us)
+{
+    dev_motion_t *m = &dev->motion;
+    if (!condition) {
+        m->condition_holding = false;
+        return false;
+    }
+    if (!m->condition_holding) {
+        m->condition_holding = true;
+        m->condition_since_us = dev->sensed.now_us;
+    }
+    return dev->sensed.now_us - m->condition_since_us >= duration_us;
+}
+
+/* The operation's outcome is its owner's event; the device keeps it as
+ * SF_CMD_FAILURE (the motion command's last word sets or clears it). */
+static void finish(wsg_dev_t *dev, wsg_status_t status)
+{
+    dev_motion_t *m = &dev->motion;
+    wsg_owner_t *owner = m->owner;
+    wsg_op_t op = m->kind == WSG_MOTION_HOME   ? WSG_OP_HOME
+                  : m->kind == WSG_MOTION_MOVE ? WSG_OP_MOVE
+                  : m->kind == WSG_MOTION_GRIP ? WSG_OP_GRIP
+                                               : WSG_OP_RELEASE;
+    m->kind = WSG_MOTION_NONE;
+    m->owner = NULL;
+    m->abort_requested = false;
+    flags_set(dev, SF_CMD_FAILURE, status != E_SUCCESS);
+    if (owner != NULL) { /* else its connection has gone */
+        owner->done(owner, op, status);
+    }
+}
+
+void motion_drive(wsg_dev_t *dev, float target_mm, float speed_mm_s, float force_n)
+{
+    dev->hal.axis.ops->move(dev->hal.axis.ctx, target_mm, speed_mm_s, dev->cfg.default_accel_mm_s2,
+                            force_n);
+}
+
+void motion_halt(wsg_dev_t *dev, bool fast)
+{
+    dev->hal.axis.ops->stop(dev->hal.axis.ctx, fast);
+}
+
+void motion_disable(wsg_dev_t *dev)
+{
+    dev->hal.axis.ops->disable(dev->hal.axis.ctx);
+}
+
+/* The finger bus's force loop asks, the supervisor drives. */
+void motion_apply_force_request(wsg_dev_t *dev)
+{
+    float limit = 0.0f;
+    if (finger_bus_take_force_request(&dev->fbus, &limit)) {
+        motion_drive(dev, dev->motion.target_mm, dev->motion.speed_mm_s, limit);
+    }
+}
+
+uint32_t motion_tick_us(const wsg_dev_t *dev)
+{
+    if (dev->motion.kind != WSG_MOTION_NONE || flags_get(dev, SF_MOVING)) {
+        return MOTION_TICK_US;
+    }
+    if (dev->grip.state == GS_HOLDING || flags_get(dev, SF_BLOCKED_MINUS) ||
+        flags_get(dev, SF_BLOCKED_PLUS)) {
+        return HOLD_TICK_US;
+    }
+    return 0u;
+}
+
+/* A pending abort is reported before a new motion takes the axis over, so
+ * STOP() followed at once by MOVE() works. */
+wsg_status_t motion_check_allowed(wsg_dev_t *dev, bool needs_reference)
+{
+    if (dev->motion.kind != WSG_MOTION_NONE && dev->motion.abort_requested) {
+        finish(dev, dev->motion.abort_status);
+    }
+    if (flags_get(dev, SF_FAST_STOP)) {
+        return E_ACCESS_DENIED;
+    }
+    if (dev->motion.kind != WSG_MOTION_NONE) {
+        return E_ALREADY_RUNNING;
+    }
+    if (needs_reference && !dev->referenced) {
+        return E_NOT_INITIALIZED;
+    }
+    return E_SUCCESS;
+}
+
+bool motion_supersede_move(wsg_dev_t *dev)
+{
+    const dev_motion_t *m = &dev->motion;
+    if (m->kind != WSG_MOTION_MOVE || m->abort_requested || !dev->cfg.move_retarget) {
+        return false;
+    }
+    finish(dev, E_CMD_ABORTED);
+    return true;
+}
+
+void motion_begin(wsg_dev_t *dev, wsg_owner_t *owner, wsg_motion_kind_t kind)
+{
+    dev_motion_t *m = &dev->motion;
+    m->kind = kind;
+    m->owner = owner;
+    m->stop_on_block = false;
+    m->started_us = dev->sensed.now_us;
+    m->condition_holding = false;
+    m->abort_requested = false;
+    m->force_clear = dev->sensed.force_n < CONTACT_FORCE_N;
+    m->contact_seen = false;
+    m->home_released = false;
+    m->block_clearing = false;
+    flags_set(dev, SF_AXIS_STOPPED, false);
+    flags_set(dev, SF_TARGET_POS_REACHED, false);
+    flags_set(dev, SF_BLOCKED_MINUS, false);
+    flags_set(dev, SF_BLOCKED_PLUS, false);
+}
+
+void motion_abort(wsg_dev_t *dev, wsg_status_t status)
+{
+    if (dev->motion.kind != WSG_MOTION_NONE && !dev->motion.abort_requested) {
+        dev->motion.abort_requested = true;
+        dev->motion.abort_status = status;
+    }
+}
+
+/* Ends a command on a blocked axis (ERR 29). The drive stays where it is,
+ * leaning on the block with the command's force, so that it notices when the
+ * block goes away (Appendix B); the flag stays latched until then, the next
+ * motion command or STOP. */
+static void fail_blocked(wsg_dev_t *dev, int8_t direction)
+{
+    const wsg_config_t *cfg = &dev->cfg;
+    float hold_mm = dev->sensed.axis.position_mm + (float)direction * BLOCK_PRELOAD_MM;
+    if (dev->motion.stop_on_block) {
+        motion_halt(dev, false); /* binary pre-position: stop, do not lean */
+    } else {
+        motion_drive(dev, hold_mm, cfg->speed_min_mm_s, dev->motion.force_n);
+    }
+    flags_set(dev, direction < 0 ? SF_BLOCKED_MINUS : SF_BLOCKED_PLUS, true);
+    grip_set_state(dev, GS_ERROR);
+    finish(dev, E_AXIS_BLOCKED);
+}
+
+static void home_done(wsg_dev_t *dev)
+{
+    dev->referenced = true;
+    flags_set(dev, SF_REFERENCED, true);
+    flags_set(dev, SF_TARGET_POS_REACHED, true);
+    grip_set_state(dev, GS_IDLE);
+    hal_log(HAL_LOG_INFO, "homing done");
+    finish(dev, E_SUCCESS);
+}
+
+/* Homing drives into the end stop until the drive has seen it blocked for
+ * HOME_BLOCK_DETECT_US, takes the origin there and stops pushing; FIN waits
+ * until the force reading has fallen (an FMF reports with a delay), so that
+ * neither FORCE? nor the next GRIP sees the end stop's force. */
+static void home_step(wsg_dev_t *dev)
+{
+    const wsg_config_t *cfg = &dev->cfg;
+    dev_motion_t *m = &dev->motion;
+    bool positive = m->target_mm > 0.0f;
+    if (m->home_released) {
+        bool settled = dev->sensed.force_n < CONTACT_FORCE_N;
+        if (settled || dev->sensed.now_us - m->condition_since_us >= HOME_SETTLE_MAX_US) {
+            home_done(dev);
+        }
+        return;
+    }
+    if (held_for(dev, dev->sensed.axis.blocked == (positive ? 1 : -1), HOME_BLOCK_DETECT_US)) {
+        dev->hal.axis.ops->set_position(dev->hal.axis.ctx, positive ? cfg->stroke_mm : 0.0f);
+        motion_halt(dev, false);
+        m->home_released = true;
+        m->condition_since_us = dev->sensed.now_us;
+    } else if (dev->sensed.now_us - m->started_us >= HOME_TIMEOUT_US) {
+        motion_halt(dev, false);
+        grip_set_state(dev, GS_ERROR);
+        finish(dev, E_TIMEOUT);
+    }
+}
+
+/* MOVE and RELEASE: reach the target or report the axis blocked. */
+static void position_step(wsg_dev_t *dev)
+{
+    const hal_axis_status_t *axis = &dev->sensed.axis;
+    if (axis->blocked != 0) {
+        if (held_for(dev, true, BLOCKED_DEBOUNCE_US)) {
+            fail_blocked(dev, axis->blocked);
+        }
+        return;
+    }
+    bool in_position = !axis->profile_active &&
+                       absf(axis->position_mm - dev->motion.target_mm) <= POSITION_TOLERANCE_MM;
+    if (held_for(dev, in_position, SETTLE_US)) {
+        flags_set(dev, SF_TARGET_POS_REACHED, true);
+        grip_set_state(dev, GS_IDLE);
+        finish(dev, E_SUCCESS);
+    }
+}
+
+/* Where the jaws may travel to before "no part" is declared (manual 2.2.6):
+ * clamping travel from the contact point if the part was met before the
+ * nominal width, otherwise from the nominal width. */
+static float grip_travel_limit(const dev_motion_t *m, int8_t direction)
+{
+    float from = m->grip_width_mm;
+    if (m->contact_seen && (m->contact_mm - m->grip_width_mm) * (float)-direction > 0.0f) {
+        from = m->contact_mm;
+    }
+    return from + (float)direction * m->grip_clt_mm;
+}
+
+static void grip_no_part(wsg_dev_t *dev)
+{
+    motion_halt(dev, false);
+    dev->grip.stats[1]++;
+    grip_set_state(dev, GS_NO_PART);
+    finish(dev, E_CMD_FAILED);
+}
+
+/* Part detection counts a contact met in the grip's direction: the jaws are
+ * blocked that way, or the force rose after the grip started (not a reading
+ * left from homing or from leaning on a block behind them) while they move
+ * that way. */
+static bool new_contact(wsg_dev_t *dev, int8_t direction)
+{
+    dev_motion_t *m = &dev->motion;
+    const hal_axis_status_t *axis = &dev->sensed.axis;
+    if (dev->sensed.force_n < CONTACT_FORCE_N) {
+        m->force_clear = true;
+        return false;
+    }
+    bool rose_ahead = m->force_clear && axis->velocity_mm_s * (float)direction > 0.0f;
+    return !m->contact_seen && (rose_ahead || axis->blocked == direction);
+}
+
+static void grip_step(wsg_dev_t *dev)
+{
+    dev_motion_t *m = &dev->motion;
+    const hal_axis_status_t *axis = &dev->sensed.axis;
+    int8_t direction = dev->grip.direction;
+    if (new_contact(dev, direction)) {
+        m->contact_seen = true;
+        m->contact_mm = axis->position_mm;
+        float early = (m->contact_mm - m->grip_width_mm) * (float)-direction;
+        if (m->grip_has_width && early > m->grip_pwt_mm) {
+            fail_blocked(dev, direction); /* collision before the tolerance band */
+            return;
+        }
+    }
+    if (held_for(dev, axis->blocked == direction, SETTLE_US)) {
+        dev->grip.hold_mm = axis->position_mm;
+        dev->grip.monitored = m->grip_has_width; /* manual 2.2.3: cases 3 and 4 only */
+        grip_set_state(dev, GS_HOLDING);
+        finish(dev, E_SUCCESS);
+        return;
+    }
+    if (axis->blocked != 0) {
+        return;
+    }
+    bool travel_used = m->grip_has_width &&
+                       (axis->position_mm - grip_travel_limit(m, direction)) * (float)direction >=
+                           -POSITION_TOLERANCE_MM;
+    if (travel_used || !axis->profile_active) {
+        grip_no_part(dev);
+    }
+}
+
+void motion_step(wsg_dev_t *dev)
+{
+    dev_motion_t *m = &dev->motion;
+    if (m->kind == WSG_MOTION_NONE) {
+        return;
+    }
+    if (m->abort_requested) {
+        finish(dev, m->abort_status);
+        return;
+    }
+    switch (m->kind) {
+    case WSG_MOTION_HOME:
+        home_step(dev);
+        break;
+    case WSG_MOTION_MOVE:
+    case WSG_MOTION_RELEASE:
+        position_step(dev);
+        break;
+    case WSG_MOTION_GRIP:
+        grip_step(dev);
+        break;
+    case WSG_MOTION_NONE:
+    default:
+        break;
+    }
+}
+
+/* Grip monitoring (manual 2.2.3): a held part that gives way or vanishes
+ * turns HOLDING into PART LOST. */
+void grip_monitor_step(wsg_dev_t *dev)
+{
+    dev_grip_t *grip = &dev->grip;
+    if (grip->state != GS_HOLDING || !grip->monitored || dev->motion.kind != WSG_MOTION_NONE) {
+        return;
+    }
+    float moved_on = (dev->sensed.axis.position_mm - grip->hold_mm) * (float)grip->direction;
+    bool weak =
+        dev->sensed.force_n < LOST_FORCE_FRACTION * grip->force_n || moved_on > grip->clt_mm;
+    if (!weak) {
+        grip->weak = false;
+        return;
+    }
+    if (!grip->weak) {
+        grip->weak = true;
+        grip->weak_since_us = dev->sensed.now_us;
+    }
+    if (dev->sensed.now_us - grip->weak_since_us >= PART_LOST_DEBOUNCE_US) {
+        motion_halt(dev, false);
+        grip->stats[2]++;
+        grip_set_state(dev, GS_PART_LOST);
+        hal_log(HAL_LOG_WARN, "part lost");
+    }
+}
+
+/* Appendix B: SF_BLOCKED_± also clear once the blocking condition is gone,
+ * i.e. the jaws no longer press on anything for BLOCKED_DEBOUNCE_US. */
+void motion_block_watch_step(wsg_dev_t *dev)
+{
+    dev_motion_t *m = &dev->motion;
+    bool latched = flags_get(dev, SF_BLOCKED_MINUS) || flags_get(dev, SF_BLOCKED_PLUS);
+    if (!latched || m->kind != WSG_MOTION_NONE || dev->sensed.force_n >= CONTACT_FORCE_N) {
+        m->block_clearing = false;
+        return;
+    }
+    if (!m->block_clearing) {
+        m->block_clearing = true;
+        m->block_clearing_since_us = dev->sensed.now_us;
+    }
+    if (dev->sensed.now_us - m->block_clearing_since_us >= BLOCKED_DEBOUNCE_US) {
+        m->block_clearing = false;
+        motion_halt(dev, false);
+        flags_set(dev, SF_BLOCKED_MINUS, false);
+        flags_set(dev, SF_BLOCKED_PLUS, false);
+        hal_log(HAL_LOG_INFO, "axis no longer blocked");
+    }
+}

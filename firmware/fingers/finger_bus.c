@@ -1,0 +1,317 @@
+/* The gripper side of the finger bus (finger_bus.h). */
+#include "priv/finger_bus.h"
+
+#include <string.h>
+
+#include "hal_log.h"
+#include "priv/textbuf.h"
+
+void finger_bus_init(finger_bus_t *bus, const hal_can_t *can)
+{
+    memset(bus, 0, sizeof(*bus));
+    bus->can = can;
+    if (can == NULL) {
+        return;
+    }
+    static const hal_can_filter_t filters[] = {
+        {FBUS_ID_DESCRIPTOR, 0x7FCu, 0},
+        {FBUS_ID_MEASURE, 0x7FCu, 0},
+        {FBUS_ID_BULK, 0x7FCu, 0},
+        {FBUS_ID_HEARTBEAT, 0x7FCu, 0},
+    };
+    hal_can_set_filters(can, filters, sizeof(filters) / sizeof(filters[0]));
+    bus->power_mask = (uint8_t)((1u << FBUS_SLOTS) - 1u);
+}
+
+uint64_t finger_bus_next_deadline_us(const finger_bus_t *bus)
+{
+    return bus->can != NULL ? bus->next_state_us : UINT64_MAX;
+}
+
+static void send(finger_bus_t *bus, const hal_can_frame_t *frame)
+{
+    if (hal_can_send(bus->can, frame)) {
+        bus->tx_frames++;
+    } else {
+        bus->tx_errors++;
+    }
+}
+
+static void slot_log(hal_log_level_t level, unsigned slot, const char *what)
+{
+    char storage[80];
+    textbuf_t tb;
+    textbuf_init(&tb, storage, sizeof(storage));
+    textbuf_put_str(&tb, "finger ");
+    textbuf_put_uint(&tb, slot);
+    textbuf_put_str(&tb, ": ");
+    textbuf_put_str(&tb, what);
+    hal_log(level, storage);
+}
+
+/* Forgets what the node told (a reboot may bring another finger). */
+static void forget_node(fbus_slot_t *s, wsg_finger_t *finger)
+{
+    s->config = false;
+    s->desc_request_us = 0;
+    fbus_bulk_rx_reset(&s->bulk);
+    finger->data_count = 0;
+}
+
+static wsg_finger_type_t finger_type(uint8_t type)
+{
+    switch (type) {
+    case FBUS_TYPE_GENERIC:
+        return FINGER_GENERIC;
+    case FBUS_TYPE_FMF:
+        return FINGER_FMF;
+    case FBUS_TYPE_DSA:
+        return FINGER_DSA;
+    default:
+        return FINGER_NONE;
+    }
+}
+
+static void on_heartbeat(fbus_slot_t *s, wsg_finger_t *finger, const fbus_heartbeat_t *hb)
+{
+    if (hb->state == FBUS_NODE_BOOT && s->config) {
+        forget_node(s, finger);
+    }
+    s->node_state = hb->state;
+    s->node_faults = hb->faults;
+    if (hb->state != FBUS_NODE_OPERATIONAL) {
+        finger->data_count = 0;
+    }
+}
+
+static void on_descriptor(fbus_slot_t *s, wsg_finger_t *finger, const fbus_descriptor_t *d)
+{
+    unsigned values = (unsigned)d->rows * d->cols;
+    bool usable = d->version == FBUS_PROTO_VERSION && values <= WSG_FINGER_DATA_MAX &&
+                  finger_type(d->type) != FINGER_NONE;
+    if (!usable) {
+        return; /* FF_CONFIG_AVAIL stays off */
+    }
+    if (s->config && memcmp(&s->desc, d, sizeof(*d)) != 0) {
+        finger->data_count = 0;
+    }
+    s->desc = *d;
+    s->config = true;
+}
+
+static void on_measure(fbus_slot_t *s, wsg_finger_t *finger, const fbus_measure_t *m)
+{
+    if (!s->config || s->desc.encoding != FBUS_ENC_MEASURE ||
+        s->node_state != FBUS_NODE_OPERATIONAL) {
+        return;
+    }
+    finger->data[0] = (float)m->value_milli / 1000.0f;
+    finger->data_count = 1;
+    s->tare_count = m->tare_count;
+}
+
+static void on_bulk(fbus_slot_t *s, wsg_finger_t *finger, const fbus_bulk_t *b)
+{
+    if (!s->config || s->desc.encoding != FBUS_ENC_BULK || s->node_state != FBUS_NODE_OPERATIONAL ||
+        !fbus_bulk_rx_feed(&s->bulk, b)) {
+        return;
+    }
+    unsigned values = (unsigned)s->desc.rows * s->desc.cols;
+    if (s->bulk.count < values) {
+        return; /* a short transfer: keep the previous data */
+    }
+    for (unsigned i = 0; i < values; i++) {
+        finger->data[i] = (float)s->bulk.values[i];
+    }
+    finger->data_count = (uint16_t)values;
+}
+
+static void dispatch_frame(fbus_slot_t *s, wsg_finger_t *finger, const hal_can_frame_t *f)
+{
+    fbus_heartbeat_t hb;
+    fbus_descriptor_t d;
+    fbus_measure_t m;
+    fbus_bulk_t b;
+    if (fbus_unpack_heartbeat(f, &hb)) {
+        on_heartbeat(s, finger, &hb);
+    } else if (fbus_unpack_descriptor(f, &d)) {
+        on_descriptor(s, finger, &d);
+    } else if (fbus_unpack_measure(f, &m)) {
+        on_measure(s, finger, &m);
+    } else if (fbus_unpack_bulk(f, &b)) {
+        on_bulk(s, finger, &b);
+    }
+}
+
+static void receive_all(finger_bus_t *bus, wsg_fingers_t *fingers, uint64_t now_us)
+{
+    hal_can_frame_t f;
+    while (hal_can_recv(bus->can, &f)) {
+        bus->rx_frames++;
+        int slot = fbus_slot_of_node(fbus_node_of(f.id));
+        if (slot < 0 || (bus->power_mask & (1u << slot)) == 0u) {
+            continue;
+        }
+        fbus_slot_t *s = &bus->slot[slot];
+        if (s->comm_fault) {
+            slot_log(HAL_LOG_INFO, (unsigned)slot, "communication restored");
+        }
+        s->heard = true;
+        s->comm_fault = false;
+        s->last_rx_us = now_us;
+        s->rx_frames++;
+        dispatch_frame(s, &fingers->slot[slot], &f);
+    }
+}
+
+static void supervise(finger_bus_t *bus, unsigned slot, wsg_finger_t *finger, uint64_t now_us)
+{
+    fbus_slot_t *s = &bus->slot[slot];
+    if (!s->heard || s->comm_fault) {
+        return;
+    }
+    if (now_us - s->last_rx_us > FBUS_COMM_TIMEOUT_US) {
+        s->comm_fault = true;
+        finger->data_count = 0;
+        fbus_bulk_rx_reset(&s->bulk);
+        bus->comm_faults++;
+        slot_log(HAL_LOG_WARN, slot, "communication fault (no frame within the timeout)");
+        return;
+    }
+    bool waiting = !s->config && s->node_state == FBUS_NODE_OPERATIONAL;
+    if (waiting && now_us - s->desc_request_us >= FBUS_DESCRIPTOR_RETRY_US) {
+        hal_can_frame_t f;
+        fbus_pack_command(&f, FBUS_NODE_ID(slot), FBUS_CMD_REQ_DESCRIPTOR);
+        send(bus, &f);
+        s->desc_request_us = now_us;
+    }
+}
+
+/* The slot as FTYPE and FFLAGS show it (Appendix C). */
+static void publish(const finger_bus_t *bus, unsigned slot, wsg_finger_t *finger)
+{
+    const fbus_slot_t *s = &bus->slot[slot];
+    uint16_t flags = 0;
+    if ((bus->power_mask & (1u << slot)) != 0u && s->heard) {
+        flags |= (uint16_t)WSG_FLAG(FF_POWER_ON);
+    }
+    if (s->config) {
+        flags |= (uint16_t)WSG_FLAG(FF_CONFIG_AVAIL);
+    }
+    if (s->heard && !s->comm_fault) {
+        flags |= (uint16_t)WSG_FLAG(FF_COMM_OPEN);
+    }
+    if ((s->node_faults & FBUS_FAULT_POWER) != 0u) {
+        flags |= (uint16_t)WSG_FLAG(FF_POWER_FAULT);
+    }
+    if (s->comm_fault) {
+        flags |= (uint16_t)WSG_FLAG(FF_COMM_FAULT);
+    }
+    if ((s->node_faults & FBUS_FAULT_INIT) != 0u) {
+        flags |= (uint16_t)WSG_FLAG(FF_INIT_FAULT);
+    }
+    finger->flags = flags;
+    finger->type = s->config ? finger_type(s->desc.type) : FINGER_NONE;
+}
+
+static void broadcast_state(finger_bus_t *bus, const fbus_input_t *in)
+{
+    fbus_state_t st = {in->position_mm, in->motor_force_n, bus->power_mask, in->grip_state,
+                       bus->counter++};
+    hal_can_frame_t f;
+    fbus_pack_state(&f, &st);
+    send(bus, &f);
+    bus->next_state_us += FBUS_STATE_PERIOD_US;
+    if (bus->next_state_us <= in->now_us) {
+        bus->next_state_us = in->now_us + FBUS_STATE_PERIOD_US;
+    }
+}
+
+static float clampf(float v, float lo, float hi)
+{
+    return v < lo ? lo : (v > hi ? hi : v);
+}
+
+static float absf(float v)
+{
+    return v < 0.0f ? -v : v;
+}
+
+static void request_force(finger_bus_t *bus, float limit_n)
+{
+    bus->limit_n = limit_n;
+    bus->force_request = true;
+}
+
+/* While a part is held, integrates the FMF's error into a trim of the
+ * motor's force limit so that the measured force reaches the grip force. */
+static void regulate(finger_bus_t *bus, const wsg_fingers_t *fingers, const fbus_input_t *in)
+{
+    bool on = wsg_fingers_force_control(fingers) && in->holding;
+    if (!on) {
+        if (bus->regulating && in->holding) {
+            request_force(bus, in->grip_force_n); /* the FMF went away: the motor's estimate */
+        }
+        bus->regulating = false;
+        bus->trim_n = 0.0f;
+        return;
+    }
+    float target = in->grip_force_n;
+    float dt = bus->regulating ? (float)(in->now_us - bus->regulated_us) * 1e-6f : 0.0f;
+    if (!bus->regulating) {
+        bus->limit_n = target;
+    }
+    bus->regulating = true;
+    bus->regulated_us = in->now_us;
+    float error = target - wsg_fingers_measured_force(fingers);
+    float span = FBUS_FORCE_TRIM_SHARE * target;
+    bus->trim_n = clampf(bus->trim_n + FBUS_FORCE_KI_PER_S * error * dt, -span, span);
+    float limit = clampf(target + bus->trim_n, 0.0f, in->force_max_n);
+    if (absf(limit - bus->limit_n) >= 0.005f) {
+        request_force(bus, limit);
+    }
+}
+
+bool finger_bus_take_force_request(finger_bus_t *bus, float *limit_n)
+{
+    if (!bus->force_request) {
+        return false;
+    }
+    bus->force_request = false;
+    *limit_n = bus->limit_n;
+    return true;
+}
+
+void finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in)
+{
+    if (bus->can == NULL) {
+        return;
+    }
+    if (in->now_us >= bus->next_state_us) {
+        broadcast_state(bus, in); /* first: the supply reaches the fingers before polling */
+    }
+    receive_all(bus, fingers, in->now_us);
+    for (unsigned i = 0; i < FBUS_SLOTS; i++) {
+        supervise(bus, i, &fingers->slot[i], in->now_us);
+        publish(bus, i, &fingers->slot[i]);
+    }
+    regulate(bus, fingers, in);
+}
+
+wsg_status_t finger_bus_tare(finger_bus_t *bus, wsg_fingers_t *fingers, int index)
+{
+    wsg_status_t status = wsg_fingers_tare(fingers, index);
+    if (status != E_SUCCESS || bus->can == NULL) {
+        return status;
+    }
+    for (int i = 0; i < (int)FBUS_SLOTS; i++) {
+        const wsg_finger_t *finger = &fingers->slot[i];
+        if ((index < 0 || index == i) && finger->type == FINGER_FMF &&
+            wsg_finger_has_data(finger)) {
+            hal_can_frame_t f;
+            fbus_pack_command(&f, FBUS_NODE_ID(i), FBUS_CMD_TARE);
+            send(bus, &f);
+        }
+    }
+    return E_SUCCESS;
+}

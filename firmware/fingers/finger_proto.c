@@ -1,0 +1,235 @@
+/* Packing and unpacking of finger-bus frames (finger_proto.h). */
+#include "wsg/finger_proto.h"
+
+#include <string.h>
+
+static void put_u16(uint8_t *p, uint16_t v)
+{
+    p[0] = (uint8_t)(v & 0xFFu);
+    p[1] = (uint8_t)(v >> 8);
+}
+
+static uint16_t get_u16(const uint8_t *p)
+{
+    return (uint16_t)(p[0] | (p[1] << 8));
+}
+
+static void put_u32(uint8_t *p, uint32_t v)
+{
+    put_u16(p, (uint16_t)(v & 0xFFFFu));
+    put_u16(p + 2, (uint16_t)(v >> 16));
+}
+
+static uint32_t get_u32(const uint8_t *p)
+{
+    return (uint32_t)get_u16(p) | ((uint32_t)get_u16(p + 2) << 16);
+}
+
+/* A physical value in units of `step`, rounded and clamped to 0..65535. */
+static uint16_t to_u16(float value, float step)
+{
+    float raw = value / step + 0.5f;
+    if (!(raw > 0.0f)) {
+        return 0;
+    }
+    return raw >= 65535.0f ? 65535u : (uint16_t)raw;
+}
+
+static void begin(hal_can_frame_t *f, uint32_t id, uint8_t dlc)
+{
+    memset(f, 0, sizeof(*f));
+    f->id = id;
+    f->dlc = dlc;
+}
+
+static bool is(const hal_can_frame_t *f, uint32_t func, uint8_t min_dlc)
+{
+    return (f->flags & (HAL_CAN_FLAG_EXT | HAL_CAN_FLAG_RTR)) == 0u &&
+           fbus_func_of(f->id) == func && f->dlc >= min_dlc;
+}
+
+uint32_t fbus_id(uint32_t func, uint8_t node)
+{
+    return func + (uint32_t)(node & FBUS_NODE_MASK);
+}
+
+int fbus_slot_of_node(uint8_t node)
+{
+    return (node >= 1u && node <= FBUS_SLOTS) ? (int)node - 1 : -1;
+}
+
+void fbus_pack_state(hal_can_frame_t *f, const fbus_state_t *s)
+{
+    begin(f, FBUS_ID_STATE, 8);
+    put_u16(&f->data[0], to_u16(s->position_mm, 0.01f));
+    put_u16(&f->data[2], to_u16(s->force_n, 0.01f));
+    f->data[4] = s->power_mask;
+    f->data[5] = s->grip_state;
+    f->data[6] = s->counter;
+}
+
+bool fbus_unpack_state(const hal_can_frame_t *f, fbus_state_t *s)
+{
+    if (!is(f, FBUS_ID_STATE, 7) || fbus_node_of(f->id) != 0u) {
+        return false;
+    }
+    s->position_mm = (float)get_u16(&f->data[0]) * 0.01f;
+    s->force_n = (float)get_u16(&f->data[2]) * 0.01f;
+    s->power_mask = f->data[4];
+    s->grip_state = f->data[5];
+    s->counter = f->data[6];
+    return true;
+}
+
+void fbus_pack_command(hal_can_frame_t *f, uint8_t node, uint8_t command)
+{
+    begin(f, fbus_id(FBUS_ID_COMMAND, node), 8);
+    f->data[0] = command;
+}
+
+bool fbus_unpack_command(const hal_can_frame_t *f, uint8_t *command)
+{
+    if (!is(f, FBUS_ID_COMMAND, 1)) {
+        return false;
+    }
+    *command = f->data[0];
+    return true;
+}
+
+void fbus_pack_descriptor(hal_can_frame_t *f, uint8_t node, const fbus_descriptor_t *d)
+{
+    begin(f, fbus_id(FBUS_ID_DESCRIPTOR, node), 8);
+    f->data[0] = d->type;
+    f->data[1] = d->version;
+    f->data[2] = d->rows;
+    f->data[3] = d->cols;
+    f->data[4] = d->encoding;
+    f->data[5] = d->features;
+    put_u16(&f->data[6], d->firmware);
+}
+
+bool fbus_unpack_descriptor(const hal_can_frame_t *f, fbus_descriptor_t *d)
+{
+    if (!is(f, FBUS_ID_DESCRIPTOR, 8)) {
+        return false;
+    }
+    d->type = f->data[0];
+    d->version = f->data[1];
+    d->rows = f->data[2];
+    d->cols = f->data[3];
+    d->encoding = f->data[4];
+    d->features = f->data[5];
+    d->firmware = get_u16(&f->data[6]);
+    return true;
+}
+
+void fbus_pack_measure(hal_can_frame_t *f, uint8_t node, const fbus_measure_t *m)
+{
+    begin(f, fbus_id(FBUS_ID_MEASURE, node), 8);
+    put_u32(&f->data[0], (uint32_t)m->value_milli);
+    f->data[4] = m->counter;
+    f->data[5] = m->status;
+    f->data[6] = m->tare_count;
+}
+
+bool fbus_unpack_measure(const hal_can_frame_t *f, fbus_measure_t *m)
+{
+    if (!is(f, FBUS_ID_MEASURE, 7)) {
+        return false;
+    }
+    m->value_milli = (int32_t)get_u32(&f->data[0]);
+    m->counter = f->data[4];
+    m->status = f->data[5];
+    m->tare_count = f->data[6];
+    return true;
+}
+
+void fbus_pack_bulk(hal_can_frame_t *f, uint8_t node, const fbus_bulk_t *b)
+{
+    begin(f, fbus_id(FBUS_ID_BULK, node), 8);
+    f->data[0] = (uint8_t)((b->segment & 0x7Fu) | (b->last ? 0x80u : 0u));
+    f->data[1] = b->transfer;
+    for (unsigned i = 0; i < FBUS_BULK_VALUES_PER_FRAME; i++) {
+        put_u16(&f->data[2 + 2 * i], b->values[i]);
+    }
+}
+
+bool fbus_unpack_bulk(const hal_can_frame_t *f, fbus_bulk_t *b)
+{
+    if (!is(f, FBUS_ID_BULK, 8)) {
+        return false;
+    }
+    b->segment = f->data[0] & 0x7Fu;
+    b->last = (f->data[0] & 0x80u) != 0u;
+    b->transfer = f->data[1];
+    for (unsigned i = 0; i < FBUS_BULK_VALUES_PER_FRAME; i++) {
+        b->values[i] = get_u16(&f->data[2 + 2 * i]);
+    }
+    return true;
+}
+
+void fbus_pack_heartbeat(hal_can_frame_t *f, uint8_t node, const fbus_heartbeat_t *h)
+{
+    begin(f, fbus_id(FBUS_ID_HEARTBEAT, node), 8);
+    f->data[0] = h->state;
+    f->data[1] = h->faults;
+    f->data[2] = h->counter;
+}
+
+bool fbus_unpack_heartbeat(const hal_can_frame_t *f, fbus_heartbeat_t *h)
+{
+    if (!is(f, FBUS_ID_HEARTBEAT, 3)) {
+        return false;
+    }
+    h->state = f->data[0];
+    h->faults = f->data[1];
+    h->counter = f->data[2];
+    return true;
+}
+
+void fbus_pack_simctl(hal_can_frame_t *f, uint8_t node, uint8_t faults)
+{
+    begin(f, fbus_id(FBUS_ID_SIMCTL, node), 8);
+    f->data[0] = faults;
+}
+
+bool fbus_unpack_simctl(const hal_can_frame_t *f, uint8_t *faults)
+{
+    if (!is(f, FBUS_ID_SIMCTL, 1)) {
+        return false;
+    }
+    *faults = f->data[0];
+    return true;
+}
+
+void fbus_bulk_rx_reset(fbus_bulk_rx_t *rx)
+{
+    rx->active = false;
+    rx->next_segment = 0;
+    rx->count = 0;
+}
+
+bool fbus_bulk_rx_feed(fbus_bulk_rx_t *rx, const fbus_bulk_t *segment)
+{
+    if (segment->segment == 0u) {
+        rx->active = true;
+        rx->transfer = segment->transfer;
+        rx->next_segment = 0;
+    }
+    unsigned first = (unsigned)segment->segment * FBUS_BULK_VALUES_PER_FRAME;
+    if (!rx->active || segment->transfer != rx->transfer || segment->segment != rx->next_segment ||
+        first + FBUS_BULK_VALUES_PER_FRAME > FBUS_BULK_MAX_VALUES) {
+        fbus_bulk_rx_reset(rx); /* a lost or foreign segment spoils the transfer */
+        return false;
+    }
+    for (unsigned i = 0; i < FBUS_BULK_VALUES_PER_FRAME; i++) {
+        rx->values[first + i] = segment->values[i];
+    }
+    rx->next_segment++;
+    if (!segment->last) {
+        return false;
+    }
+    rx->active = false;
+    rx->count = (uint16_t)(first + FBUS_BULK_VALUES_PER_FRAME);
+    return true;
+}

@@ -1,0 +1,149 @@
+/* Line → command → handler, and the one place that turns a failed
+ * handler into an ERR line. */
+#include <string.h>
+
+#include "gcl/gcl_internal.h"
+
+#define CALL WSG_GCL_FORM_CALL
+#define QUERY WSG_GCL_FORM_QUERY
+#define INDEXED WSG_GCL_FORM_INDEXED
+#define SET WSG_GCL_FORM_SET
+
+_Static_assert(CALL == GCL_FORM_CALL && QUERY == GCL_FORM_QUERY &&
+                   INDEXED == GCL_FORM_INDEXED_QUERY && SET == GCL_FORM_SET,
+               "the public form bits are the parser's");
+_Static_assert(WSG_GCL_NAME_MAX == GCL_NAME_MAX && WSG_GCL_ARGS_MAX == GCL_ARGS_MAX,
+               "the public limits are the parser's");
+
+static const cmd_entry_t commands[] = {
+    {{"VERBOSE", SET | QUERY, 0, 0}, cmd_verbose},
+    {{"BYE", CALL, 0, 0}, cmd_bye},
+    {{"HOME", CALL, 0, 1}, cmd_home},
+    {{"MOVE", CALL, 1, 2}, cmd_move},
+    {{"GRIP", CALL, 0, 3}, cmd_grip},
+    {{"RELEASE", CALL, 0, 2}, cmd_release},
+    {{"PWT", QUERY | SET, 0, 0}, cmd_pwt},
+    {{"CLT", QUERY | SET, 0, 0}, cmd_clt},
+    {{"POS", QUERY, 0, 0}, cmd_pos},
+    {{"SPEED", QUERY, 0, 0}, cmd_speed},
+    {{"FORCE", QUERY, 0, 0}, cmd_force},
+    {{"GRIPSTATE", QUERY, 0, 0}, cmd_gripstate},
+    {{"DEVTYPE", QUERY, 0, 0}, cmd_devtype},
+    {{"VERSION", QUERY, 0, 0}, cmd_version},
+    {{"SN", QUERY, 0, 0}, cmd_sn},
+    {{"TAG", QUERY, 0, 0}, cmd_tag},
+    {{"SYSFLAGS", QUERY | INDEXED, 0, 0}, cmd_sysflags},
+    {{"TEMP", QUERY, 0, 0}, cmd_temp},
+    {{"AUTOSEND", CALL, 2, 3}, cmd_autosend},
+    {{"STOP", CALL, 0, 0}, cmd_stop},
+    {{"FASTSTOP", CALL, 0, 0}, cmd_faststop},
+    {{"FSACK", CALL, 0, 0}, cmd_fsack},
+    {{"TARE", CALL, 0, 1}, cmd_tare},
+    {{"GRIPSTATS", QUERY | INDEXED, 0, 0}, cmd_gripstats},
+    {{"FDATA", QUERY | INDEXED, 0, 0}, cmd_fdata},
+    {{"FTYPE", QUERY | INDEXED, 0, 0}, cmd_ftype},
+    {{"FFLAGS", QUERY | INDEXED, 0, 0}, cmd_fflags},
+};
+
+unsigned wsg_gcl_command_count(void)
+{
+    return (unsigned)(sizeof(commands) / sizeof(commands[0]));
+}
+
+const wsg_gcl_command_t *wsg_gcl_command_at(unsigned i)
+{
+    return i < wsg_gcl_command_count() ? &commands[i].info : NULL;
+}
+
+const cmd_entry_t *dispatch_find(const char *name)
+{
+    for (size_t i = 0; i < sizeof(commands) / sizeof(commands[0]); i++) {
+        if (strcmp(commands[i].info.name, name) == 0) {
+            return &commands[i];
+        }
+    }
+    return NULL;
+}
+
+int wsg_gcl_command_index(const char *name)
+{
+    const cmd_entry_t *entry = dispatch_find(name);
+    return entry != NULL ? (int)(entry - commands) : -1;
+}
+
+static wsg_status_t check_shape(const cmd_entry_t *entry, const gcl_command_t *cmd)
+{
+    if ((entry->info.forms & (unsigned)cmd->form) == 0u) {
+        return E_CMD_FORMAT_ERROR;
+    }
+    if (cmd->form != GCL_FORM_CALL) {
+        return E_SUCCESS;
+    }
+    if (cmd->argc < entry->info.min_args) {
+        return E_NOT_ENOUGH_PARAMS;
+    }
+    if (cmd->argc > entry->info.max_args) {
+        return E_NO_PARAM_EXPECTED;
+    }
+    return E_SUCCESS;
+}
+
+static void report_done(gcl_conn_t *g, const gcl_command_t *cmd, const cmd_entry_t *entry,
+                        wsg_status_t status)
+{
+    const wsg_gcl_observer_t *o = gcl_observer(g);
+    if (o != NULL && o->command_done != NULL) {
+        int index = entry != NULL ? (int)(entry - commands) : -1;
+        o->command_done(gcl_observer_ctx(g), conn_public(g->conn), cmd->name, index,
+                        (unsigned)cmd->form, cmd->argc, status);
+    }
+}
+
+static wsg_status_t run_command(gcl_conn_t *g, const cmd_entry_t *entry, const gcl_command_t *cmd)
+{
+    wsg_status_t status = check_shape(entry, cmd);
+    if (status != E_SUCCESS) {
+        return status;
+    }
+    cmd_ctx_t ctx = {g, gcl_device(g), cmd};
+    return entry->handler(&ctx);
+}
+
+static bool is_blank(const char *line, size_t len)
+{
+    for (size_t i = 0; i < len; i++) {
+        if (line[i] != ' ' && line[i] != '\t') {
+            return false;
+        }
+    }
+    return true;
+}
+
+/* Which error a line earns is decided in this order: a bad line (too long,
+ * control bytes), an unknown name, a syntax error, then the handler's own.
+ * The outcome sets SF_CMD_FAILURE, here and only here (and in the final
+ * reply's event for long commands). */
+void dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_status_t line_status)
+{
+    if (line_status == GCL_LINE_OK && is_blank(line, len)) {
+        return; /* empty lines ("\r\n" keep-alives) are ignored */
+    }
+    wsg_device_t *dev = gcl_device(g);
+    gcl_command_t cmd;
+    wsg_status_t status = gcl_parse_line(line, len, &cmd);
+    wsg_device_sense(dev); /* answer from the newest reading */
+    const cmd_entry_t *entry = cmd.name[0] != '\0' ? dispatch_find(cmd.name) : NULL;
+    if (line_status != GCL_LINE_OK) {
+        status = E_CMD_FORMAT_ERROR;
+    } else if (cmd.name[0] != '\0' && entry == NULL) {
+        status = E_CMD_UNKNOWN;
+    } else if (status == E_SUCCESS && !wsg_device_take_injected_failure(dev, cmd.name, &status)) {
+        status = run_command(g, entry, &cmd);
+    }
+    if (status != E_SUCCESS) {
+        gcl_send_error(g, cmd.name, status);
+    }
+    g->cmd_failed = status != E_SUCCESS;
+    wsg_device_note_result(dev, status);
+    report_done(g, &cmd, entry, status);
+}

@@ -1,0 +1,170 @@
+/* The GCL protocol driver (wsg_gcl.h): lines in, whole reply lines out, and
+ * the formatting of every GCL message, final replies included. */
+#include <stddef.h>
+#include <string.h>
+
+#include "gcl/gcl_internal.h"
+
+static void gcl_open(wsg_conn_t *c)
+{
+    gcl_conn_t *g = gcl_of(c);
+    const wsg_config_t *cfg = &conn_of(c)->dev->cfg;
+    memset(g, 0, sizeof(*g));
+    g->conn = conn_of(c);
+    g->pwt_mm = cfg->default_pwt_mm;
+    g->clt_mm = cfg->default_clt_mm;
+    g->autosend_timer.fire = autosend_fire;
+    gcl_linebuf_reset(&g->input);
+}
+
+static void handle_completed_line(gcl_conn_t *g)
+{
+    const gcl_linebuf_t *lb = &g->input;
+    g->lines_in++;
+    conn_note_input(g->conn, lb->text, lb->len);
+    dispatch_line(g, lb->text, lb->len, gcl_linebuf_status(lb));
+}
+
+static void gcl_input(wsg_conn_t *c, const uint8_t *bytes, size_t len)
+{
+    gcl_conn_t *g = gcl_of(c);
+    for (size_t i = 0; i < len && !g->conn->said_goodbye; i++) {
+        if (gcl_linebuf_feed(&g->input, bytes[i])) {
+            handle_completed_line(g);
+        }
+    }
+}
+
+static void gcl_end_datagram(wsg_conn_t *c)
+{
+    gcl_conn_t *g = gcl_of(c);
+    if (!g->conn->said_goodbye && gcl_linebuf_flush(&g->input)) {
+        handle_completed_line(g);
+    }
+}
+
+static const char *const op_names[WSG_OP_COUNT] = {
+    [WSG_OP_HOME] = "HOME",
+    [WSG_OP_MOVE] = "MOVE",
+    [WSG_OP_GRIP] = "GRIP",
+    [WSG_OP_RELEASE] = "RELEASE",
+};
+
+/* The final reply of a long command: FIN NAME or ERR NAME code. */
+static void gcl_done(wsg_conn_t *c, wsg_op_t op, wsg_status_t status)
+{
+    gcl_conn_t *g = gcl_of(c);
+    const char *name = (unsigned)op < WSG_OP_COUNT ? op_names[op] : "?";
+    g->cmd_failed = status != E_SUCCESS;
+    if (status == E_SUCCESS) {
+        gcl_send_word(g, "FIN", name);
+    } else {
+        gcl_send_error(g, name, status);
+    }
+}
+
+static bool gcl_busy(const wsg_conn_t *c)
+{
+    return autosend_any(gcl_of_const(c));
+}
+
+/* The manual ends a connection with BYE(); the device copes without it. */
+static void gcl_close(wsg_conn_t *c, wsg_close_reason_t why)
+{
+    gcl_conn_t *g = gcl_of(c);
+    conn_t *conn = g->conn;
+    const wsg_gcl_observer_t *o = gcl_observer(g);
+    bool missing =
+        why == WSG_CLOSE_DROPPED && !conn->said_goodbye && conn->transport == WSG_TRANSPORT_STREAM;
+    if (missing && o != NULL && o->tolerated != NULL) {
+        o->tolerated(gcl_observer_ctx(g), c, "BYE", "connection closed without BYE()");
+    }
+    timer_cancel(&conn->dev->timers, &g->autosend_timer);
+}
+
+const wsg_proto_driver_t wsg_gcl_driver = {
+    .name = "gcl",
+    .open = gcl_open,
+    .input = gcl_input,
+    .end_datagram = gcl_end_datagram,
+    .done = gcl_done,
+    .busy = gcl_busy,
+    .close = gcl_close,
+};
+
+void gcl_send(gcl_conn_t *g, textbuf_t *tb, wsg_msg_kind_t kind)
+{
+    textbuf_put_char(tb, '\n');
+    if (tb->overflow) {
+        /* never hand out a cut line: report the overrun instead */
+        textbuf_init(tb, tb->data, tb->cap);
+        textbuf_put_str(tb, "ERR REPLY 27\n");
+        const wsg_gcl_observer_t *o = gcl_observer(g);
+        if (o != NULL && o->error_sent != NULL) {
+            o->error_sent(gcl_observer_ctx(g), conn_public(g->conn), -1, E_OVERRUN);
+        }
+    }
+    g->lines_out++;
+    conn_write(g->conn, tb->data, tb->len, kind);
+}
+
+/* "ACK HOME", "FIN MOVE" */
+void gcl_send_word(gcl_conn_t *g, const char *word, const char *name)
+{
+    char storage[64];
+    textbuf_t tb;
+    textbuf_init(&tb, storage, sizeof(storage));
+    textbuf_put_str(&tb, word);
+    textbuf_put_char(&tb, ' ');
+    textbuf_put_str(&tb, name);
+    gcl_send(g, &tb, WSG_MSG_REPLY);
+}
+
+void gcl_send_error(gcl_conn_t *g, const char *name, wsg_status_t status)
+{
+    char storage[128];
+    textbuf_t tb;
+    textbuf_init(&tb, storage, sizeof(storage));
+    textbuf_put_str(&tb, "ERR ");
+    textbuf_put_str(&tb, name[0] != '\0' ? name : "?");
+    textbuf_put_char(&tb, ' ');
+    textbuf_put_uint(&tb, (uint32_t)status);
+    if (g->verbose) {
+        textbuf_put_char(&tb, ' ');
+        textbuf_put_str(&tb, wsg_status_description(status));
+    }
+    const wsg_gcl_observer_t *o = gcl_observer(g);
+    if (o != NULL && o->error_sent != NULL) {
+        o->error_sent(gcl_observer_ctx(g), conn_public(g->conn), wsg_gcl_command_index(name),
+                      status);
+    }
+    gcl_send(g, &tb, WSG_MSG_REPLY);
+}
+
+void wsg_gcl_observe(wsg_device_t *dev, const wsg_gcl_observer_t *observer, void *ctx)
+{
+    dev_of(dev)->gcl_observer = observer;
+    dev_of(dev)->gcl_observer_ctx = ctx;
+}
+
+bool wsg_gcl_conn_info(const wsg_conn_t *c, wsg_gcl_conn_info_t *info)
+{
+    const conn_t *conn = conn_of_const(c);
+    if (!conn->open || conn->drv != &wsg_gcl_driver) {
+        return false;
+    }
+    const gcl_conn_t *g = gcl_of_const(c);
+    info->verbose = g->verbose;
+    info->pwt_mm = g->pwt_mm;
+    info->clt_mm = g->clt_mm;
+    info->cmd_failed = g->cmd_failed;
+    info->lines_in = g->lines_in;
+    info->lines_out = g->lines_out;
+    for (unsigned v = 0; v < AS_COUNT; v++) {
+        const gcl_autosend_sub_t *sub = &g->autosend[v];
+        info->autosend[v] =
+            (wsg_gcl_autosend_info_t){sub->interval_ms, sub->next_due_us, sub->use_delta,
+                                      sub->delta,       sub->on_change,   sub->missed};
+    }
+    return true;
+}

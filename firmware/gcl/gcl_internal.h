@@ -1,0 +1,146 @@
+/* The GCL driver's own declarations: its per-connection state, the command
+ * table, the handlers' context, argument converters and reply formatting.
+ * Nothing outside firmware/gcl includes this. */
+#ifndef GCL_INTERNAL_H
+#define GCL_INTERNAL_H
+
+#include "wsg/gcl_linebuf.h"
+#include "wsg/gcl_parse.h"
+#include "priv/conn.h"
+#include "priv/textbuf.h"
+#include "priv/timer.h"
+#include "wsg/wsg_gcl.h"
+
+typedef struct {
+    uint32_t interval_ms; /* 0: off */
+    uint64_t next_due_us;
+    bool use_delta;
+    float delta;
+    bool on_change;
+    bool sent_once;
+    float last_number;
+    uint32_t last_bits;
+    uint32_t missed; /* periods skipped because the device ran late */
+} gcl_autosend_sub_t;
+
+/* A GCL connection's state, inside its wsg_conn_t. */
+typedef struct {
+    conn_t *conn;
+    gcl_linebuf_t input;
+    bool verbose;
+    float pwt_mm;
+    float clt_mm;
+    bool cmd_failed; /* SF_CMD_FAILURE as this connection sees it: its last command failed */
+    gcl_autosend_sub_t autosend[AS_COUNT];
+    wsg_timer_t autosend_timer; /* due at the earliest subscription */
+    uint32_t lines_in;
+    uint32_t lines_out;
+} gcl_conn_t;
+
+_Static_assert(sizeof(gcl_conn_t) <= CONN_PROTO_BYTES,
+               "WSG_CONN_STORAGE_BYTES (wsg_opts.h) is too small for a GCL connection");
+
+static inline gcl_conn_t *gcl_of(wsg_conn_t *c)
+{
+    return (gcl_conn_t *)(void *)conn_of(c)->proto;
+}
+
+static inline const gcl_conn_t *gcl_of_const(const wsg_conn_t *c)
+{
+    return (const gcl_conn_t *)(const void *)conn_of_const(c)->proto;
+}
+
+static inline wsg_device_t *gcl_device(const gcl_conn_t *g)
+{
+    return dev_public(g->conn->dev);
+}
+
+/* The GCL observer attached to the connection's device, or NULL. */
+static inline const wsg_gcl_observer_t *gcl_observer(const gcl_conn_t *g)
+{
+    return (const wsg_gcl_observer_t *)g->conn->dev->gcl_observer;
+}
+
+static inline void *gcl_observer_ctx(const gcl_conn_t *g)
+{
+    return g->conn->dev->gcl_observer_ctx;
+}
+
+typedef struct {
+    gcl_conn_t *gcl;
+    wsg_device_t *dev;
+    const gcl_command_t *cmd;
+} cmd_ctx_t;
+
+typedef wsg_status_t (*cmd_handler_t)(cmd_ctx_t *ctx);
+
+typedef struct {
+    wsg_gcl_command_t info;
+    cmd_handler_t handler;
+} cmd_entry_t;
+
+/* dispatch.c */
+const cmd_entry_t *dispatch_find(const char *name);
+void dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_status_t line_status);
+
+/* driver.c: formatting and sending; sending changes no state */
+void gcl_send(gcl_conn_t *g, textbuf_t *tb, wsg_msg_kind_t kind);
+void gcl_send_word(gcl_conn_t *g, const char *word, const char *name);
+void gcl_send_error(gcl_conn_t *g, const char *name, wsg_status_t status);
+
+/* autosend.c */
+bool autosend_value_by_name(const char *name, wsg_autosend_value_t *value);
+void autosend_reschedule(gcl_conn_t *g);
+void autosend_fire(wsg_timer_t *timer, uint64_t now_us);
+bool autosend_any(const gcl_conn_t *g);
+uint32_t gcl_flags(const gcl_conn_t *g, const wsg_snapshot_t *snap);
+
+/* args.c: E_SUCCESS, E_INVALID_PARAMETER (wrong type) or E_RANGE_ERROR (a
+ * bool that is neither 0 nor 1) */
+wsg_status_t arg_float(const cmd_ctx_t *ctx, unsigned i, float *out);
+wsg_status_t arg_int(const cmd_ctx_t *ctx, unsigned i, int32_t *out);
+wsg_status_t arg_bool(const cmd_ctx_t *ctx, unsigned i, bool *out);
+/* A quoted string, or (tolerated) a bare word. */
+wsg_status_t arg_text(const cmd_ctx_t *ctx, unsigned i, const char **out);
+/* Optional float argument i, or the fallback when it was not given. */
+wsg_status_t arg_optional_float(const cmd_ctx_t *ctx, unsigned i, float fallback, float *out);
+/* Reports input the manual does not allow but the device accepts. */
+void note_tolerated(const cmd_ctx_t *ctx, const char *what);
+
+/* Reply helpers */
+void reply_ack(cmd_ctx_t *ctx);
+void reply_float(cmd_ctx_t *ctx, float value);
+void reply_int(cmd_ctx_t *ctx, int32_t value);
+void reply_quoted(cmd_ctx_t *ctx, const char *value);
+void reply_text(cmd_ctx_t *ctx, textbuf_t *tb);
+
+/* Handlers */
+wsg_status_t cmd_verbose(cmd_ctx_t *ctx);
+wsg_status_t cmd_bye(cmd_ctx_t *ctx);
+wsg_status_t cmd_home(cmd_ctx_t *ctx);
+wsg_status_t cmd_move(cmd_ctx_t *ctx);
+wsg_status_t cmd_grip(cmd_ctx_t *ctx);
+wsg_status_t cmd_release(cmd_ctx_t *ctx);
+wsg_status_t cmd_stop(cmd_ctx_t *ctx);
+wsg_status_t cmd_faststop(cmd_ctx_t *ctx);
+wsg_status_t cmd_fsack(cmd_ctx_t *ctx);
+wsg_status_t cmd_pwt(cmd_ctx_t *ctx);
+wsg_status_t cmd_clt(cmd_ctx_t *ctx);
+wsg_status_t cmd_pos(cmd_ctx_t *ctx);
+wsg_status_t cmd_speed(cmd_ctx_t *ctx);
+wsg_status_t cmd_force(cmd_ctx_t *ctx);
+wsg_status_t cmd_gripstate(cmd_ctx_t *ctx);
+wsg_status_t cmd_gripstats(cmd_ctx_t *ctx);
+wsg_status_t cmd_sysflags(cmd_ctx_t *ctx);
+wsg_status_t cmd_temp(cmd_ctx_t *ctx);
+wsg_status_t cmd_devtype(cmd_ctx_t *ctx);
+wsg_status_t cmd_version(cmd_ctx_t *ctx);
+wsg_status_t cmd_sn(cmd_ctx_t *ctx);
+wsg_status_t cmd_tag(cmd_ctx_t *ctx);
+wsg_status_t cmd_autosend(cmd_ctx_t *ctx);
+wsg_status_t cmd_tare(cmd_ctx_t *ctx);
+wsg_status_t cmd_fdata(cmd_ctx_t *ctx);
+wsg_status_t cmd_ftype(cmd_ctx_t *ctx);
+wsg_status_t cmd_fflags(cmd_ctx_t *ctx);
+
+#endif

@@ -1,0 +1,222 @@
+/* Protocol-neutral connections (wsg_conn.h): the device's list of open
+ * connections, the protocol driver hook and the close rule. */
+#include <stddef.h>
+#include <string.h>
+
+#include "priv/conn.h"
+#include "wsg/wsg_gcl.h"
+
+/* Appended: the list is in opening order. */
+static void link_conn(wsg_dev_t *dev, conn_t *c)
+{
+    c->next = NULL;
+    c->prev = dev->conns_tail;
+    if (dev->conns_tail != NULL) {
+        dev->conns_tail->next = c;
+    } else {
+        dev->conns = c;
+    }
+    dev->conns_tail = c;
+}
+
+static void unlink_conn(wsg_dev_t *dev, conn_t *c)
+{
+    if (c->prev != NULL) {
+        c->prev->next = c->next;
+    } else {
+        dev->conns = c->next;
+    }
+    if (c->next != NULL) {
+        c->next->prev = c->prev;
+    } else {
+        dev->conns_tail = c->prev;
+    }
+    c->next = NULL;
+    c->prev = NULL;
+}
+
+static void owner_done(wsg_owner_t *owner, wsg_op_t op, wsg_status_t status)
+{
+    conn_t *c = (conn_t *)(void *)((char *)owner - offsetof(conn_t, owner));
+    if (c->open && c->drv != NULL) {
+        c->drv->done(conn_public(c), op, status);
+    }
+}
+
+void wsg_conn_open(wsg_conn_t *conn, wsg_device_t *device, const wsg_proto_driver_t *drv,
+                   wsg_transport_t transport, const wsg_conn_io_t *io, void *io_ctx)
+{
+    conn_t *c = conn_of(conn);
+    memset(c, 0, sizeof(*c));
+    c->dev = dev_of(device);
+    c->io = io;
+    c->io_ctx = io_ctx;
+    c->transport = transport;
+    c->id = wsg_device_next_conn_id(device);
+    c->owner.done = owner_done;
+    c->open = true;
+    link_conn(c->dev, c);
+    c->drv = drv;
+    if (drv != NULL) {
+        drv->open(conn);
+    }
+}
+
+/* The protocol auto-detection hook: the first byte of a connection opened
+ * without a driver chooses one. Only GCL exists; a binary driver (issue 12)
+ * claims 0xAA here, the preamble of its frames. */
+static const wsg_proto_driver_t *detect(uint8_t first_byte)
+{
+    (void)first_byte;
+    return &wsg_gcl_driver;
+}
+
+void wsg_conn_input(wsg_conn_t *conn, const uint8_t *bytes, size_t len)
+{
+    conn_t *c = conn_of(conn);
+    if (!c->open || len == 0) {
+        return;
+    }
+    if (c->drv == NULL) {
+        c->drv = detect(bytes[0]);
+        c->drv->open(conn);
+    }
+    c->drv->input(conn, bytes, len);
+}
+
+void wsg_conn_end_datagram(wsg_conn_t *conn)
+{
+    conn_t *c = conn_of(conn);
+    if (c->open && c->drv != NULL) {
+        c->drv->end_datagram(conn);
+    }
+}
+
+bool wsg_conn_wants_close(const wsg_conn_t *conn)
+{
+    return conn_of_const(conn)->said_goodbye;
+}
+
+void wsg_conn_close(wsg_conn_t *conn, wsg_close_reason_t why)
+{
+    conn_t *c = conn_of(conn);
+    if (!c->open) {
+        return;
+    }
+    bool raise_fast_stop = why == WSG_CLOSE_DROPPED && !c->said_goodbye &&
+                           c->transport == WSG_TRANSPORT_STREAM &&
+                           c->dev->cfg.disconnect_raises_faststop;
+    wsg_device_detach(dev_public(c->dev), &c->owner);
+    if (c->drv != NULL) {
+        c->drv->close(conn, why); /* ends its timers */
+    }
+    unlink_conn(c->dev, c);
+    c->open = false;
+    c->io = NULL;
+    if (raise_fast_stop) {
+        device_fast_stop(c->dev, "connection closed without BYE");
+    }
+}
+
+bool wsg_conn_is_open(const wsg_conn_t *conn)
+{
+    return conn_of_const(conn)->open;
+}
+
+uint64_t wsg_conn_id(const wsg_conn_t *conn)
+{
+    return conn_of_const(conn)->id;
+}
+
+wsg_transport_t wsg_conn_transport(const wsg_conn_t *conn)
+{
+    return conn_of_const(conn)->transport;
+}
+
+wsg_device_t *wsg_conn_device(const wsg_conn_t *conn)
+{
+    return dev_public(conn_of_const(conn)->dev);
+}
+
+wsg_owner_t *wsg_conn_owner(wsg_conn_t *conn)
+{
+    return &conn_of(conn)->owner;
+}
+
+bool wsg_conn_owns_motion(const wsg_conn_t *conn)
+{
+    const conn_t *c = conn_of_const(conn);
+    return c->open && wsg_device_owns_motion(dev_public(c->dev), &c->owner);
+}
+
+bool wsg_conn_busy(const wsg_conn_t *conn)
+{
+    const conn_t *c = conn_of_const(conn);
+    if (!c->open) {
+        return false;
+    }
+    return wsg_conn_owns_motion(conn) || (c->drv != NULL && c->drv->busy(conn));
+}
+
+void wsg_conn_get_io(const wsg_conn_t *conn, const wsg_conn_io_t **io, void **io_ctx)
+{
+    const conn_t *c = conn_of_const(conn);
+    *io = c->io;
+    *io_ctx = c->io_ctx;
+}
+
+void wsg_conn_set_io(wsg_conn_t *conn, const wsg_conn_io_t *io, void *io_ctx)
+{
+    conn_t *c = conn_of(conn);
+    c->io = io;
+    c->io_ctx = io_ctx;
+}
+
+void wsg_conn_observe(wsg_device_t *device, const wsg_conn_observer_t *observer, void *ctx)
+{
+    wsg_dev_t *dev = dev_of(device);
+    dev->conn_observer = observer;
+    dev->conn_observer_ctx = ctx;
+}
+
+void conn_note_input(conn_t *c, const char *bytes, size_t len)
+{
+    const wsg_conn_observer_t *o = c->dev->conn_observer;
+    if (o != NULL && o->message_in != NULL) {
+        o->message_in(c->dev->conn_observer_ctx, conn_public(c), bytes, len);
+    }
+}
+
+void conn_write(conn_t *c, const char *bytes, size_t len, wsg_msg_kind_t kind)
+{
+    if (!c->open || c->io == NULL) {
+        return;
+    }
+    const wsg_conn_observer_t *o = c->dev->conn_observer;
+    if (o != NULL && o->message_out != NULL) {
+        o->message_out(c->dev->conn_observer_ctx, conn_public(c), bytes, len);
+    }
+    c->io->write(c->io_ctx, bytes, len, kind);
+}
+
+wsg_conn_t *wsg_device_conn_first(wsg_device_t *device)
+{
+    conn_t *c = dev_of(device)->conns;
+    return c != NULL ? conn_public(c) : NULL;
+}
+
+wsg_conn_t *wsg_conn_next(const wsg_conn_t *conn)
+{
+    conn_t *c = conn_of_const(conn)->next;
+    return c != NULL ? conn_public(c) : NULL;
+}
+
+wsg_conn_t *wsg_device_conn_by_id(wsg_device_t *device, uint64_t id)
+{
+    for (conn_t *c = dev_of(device)->conns; c != NULL; c = c->next) {
+        if (c->id == id) {
+            return conn_public(c);
+        }
+    }
+    return NULL;
+}

@@ -1,0 +1,46 @@
+/* A connection's private state and what protocol drivers use of it. */
+#ifndef WSG_CONN_PRIV_H
+#define WSG_CONN_PRIV_H
+
+#include "priv/wsg_dev.h"
+
+#define CONN_PROTO_BYTES (WSG_CONN_STORAGE_BYTES - 96)
+
+typedef struct wsg_conn_impl {
+    wsg_dev_t *dev;
+    const wsg_proto_driver_t *drv; /* NULL until the first byte chose one */
+    const wsg_conn_io_t *io;
+    void *io_ctx;
+    uint64_t id;
+    wsg_transport_t transport;
+    wsg_owner_t owner; /* what the device's completion events reach */
+    bool open;
+    bool said_goodbye; /* the protocol's goodbye was answered: close after flushing */
+    struct wsg_conn_impl *next, *prev;                 /* the device's open connections */
+    WSG_ALIGNED unsigned char proto[CONN_PROTO_BYTES]; /* the driver's state */
+} conn_t;
+
+_Static_assert(sizeof(conn_t) <= sizeof(wsg_conn_t),
+               "WSG_CONN_STORAGE_BYTES (wsg_opts.h) is too small for a connection");
+
+static inline conn_t *conn_of(wsg_conn_t *c)
+{
+    return (conn_t *)(void *)c;
+}
+
+static inline const conn_t *conn_of_const(const wsg_conn_t *c)
+{
+    return (const conn_t *)(const void *)c;
+}
+
+static inline wsg_conn_t *conn_public(conn_t *c)
+{
+    return (wsg_conn_t *)(void *)c;
+}
+
+/* One whole message out: observers, then the port's write. */
+void conn_write(conn_t *c, const char *bytes, size_t len, wsg_msg_kind_t kind);
+/* A message in, as the driver framed it (observers only). */
+void conn_note_input(conn_t *c, const char *bytes, size_t len);
+
+#endif

@@ -1,0 +1,76 @@
+/* The gripper side of the finger bus (docs/finger-bus.md): powers the two
+ * finger slots, broadcasts the jaw state, supervises each node (heartbeat,
+ * descriptor, comm-fault timeout), collects measurements and multi-frame
+ * transfers into the finger slots FTYPE/FDATA/FFLAGS read, sends TARE, and
+ * computes the grip-force loop on a WSG-FMF measurement: it hands a force
+ * limit to the motion supervisor, which alone drives the axis. */
+#ifndef FINGER_BUS_H
+#define FINGER_BUS_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "hal_can.h"
+#include "wsg/finger_proto.h"
+#include "wsg/wsg_fingers.h"
+#include "wsg/wsg_status.h"
+
+#define FBUS_FORCE_KI_PER_S 4.0f   /* integral gain of the grip-force loop */
+#define FBUS_FORCE_TRIM_SHARE 0.5f /* the loop may trim the motor force by this share */
+
+typedef struct {
+    bool heard; /* a frame arrived since the slot was powered */
+    bool comm_fault;
+    uint64_t last_rx_us;
+    uint8_t node_state; /* fbus_node_state_t from the last heartbeat */
+    uint8_t node_faults;
+    bool config; /* descriptor received */
+    fbus_descriptor_t desc;
+    uint64_t desc_request_us;
+    uint8_t tare_count; /* as the node last reported it */
+    fbus_bulk_rx_t bulk;
+    uint32_t rx_frames;
+} fbus_slot_t;
+
+typedef struct {
+    const hal_can_t *can; /* NULL: no finger bus, both slots empty */
+    fbus_slot_t slot[FBUS_SLOTS];
+    uint8_t power_mask;
+    uint8_t counter;
+    uint64_t next_state_us;
+    /* grip-force loop */
+    bool regulating;
+    uint64_t regulated_us;
+    float trim_n;
+    float limit_n;
+    bool force_request; /* limit_n waits for the supervisor */
+    /* statistics */
+    uint32_t rx_frames;
+    uint32_t tx_frames;
+    uint32_t tx_errors;
+    uint32_t comm_faults;
+} finger_bus_t;
+
+/* What the bus hears from the core each step. */
+typedef struct {
+    uint64_t now_us;
+    float position_mm;
+    float motor_force_n; /* the axis' own (motor-current) force reading */
+    uint8_t grip_state;
+    bool holding; /* HOLDING with no motion running: the force loop may run */
+    float grip_force_n;
+    float force_max_n;
+} fbus_input_t;
+
+/* Power-on state; can may be NULL. Sets the controller's filters. */
+void finger_bus_init(finger_bus_t *bus, const hal_can_t *can);
+/* One control step: broadcast the jaw state when due, receive, supervise,
+ * publish to fingers and compute the grip-force loop. */
+void finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in);
+uint64_t finger_bus_next_deadline_us(const finger_bus_t *bus);
+/* The force limit the loop asks the supervisor to drive with, once. */
+bool finger_bus_take_force_request(finger_bus_t *bus, float *limit_n);
+/* TARE() (index -1) or TARE(i): E_NOT_AVAILABLE without a connected FMF. */
+wsg_status_t finger_bus_tare(finger_bus_t *bus, wsg_fingers_t *fingers, int index);
+
+#endif

@@ -1,0 +1,32 @@
+/* A queue of real deadlines, sorted, intrusive: the elements live in their
+ * owners (an AUTOSEND subscription inside its connection), the queue only
+ * links them. Insertion walks the list (there are a handful of distinct
+ * periods per connection); the next deadline is the head; running what is
+ * due touches only what is due. */
+#ifndef WSG_TIMER_H
+#define WSG_TIMER_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+typedef struct wsg_timer {
+    uint64_t due_us;
+    void (*fire)(struct wsg_timer *timer, uint64_t now_us);
+    struct wsg_timer *next;
+    bool queued;
+} wsg_timer_t;
+
+typedef struct {
+    wsg_timer_t *head;
+} wsg_timer_queue_t;
+
+void timer_queue_init(wsg_timer_queue_t *q);
+/* (Re)schedules t at due_us; equal deadlines keep their insertion order. */
+void timer_schedule(wsg_timer_queue_t *q, wsg_timer_t *t, uint64_t due_us);
+void timer_cancel(wsg_timer_queue_t *q, wsg_timer_t *t);
+uint64_t timer_next_due(const wsg_timer_queue_t *q);
+/* Fires every timer due at now_us, in deadline order, each at most once per
+ * call (a timer that reschedules itself into the past waits for the next). */
+void timer_run_due(wsg_timer_queue_t *q, uint64_t now_us);
+
+#endif

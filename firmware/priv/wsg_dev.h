@@ -1,0 +1,150 @@
+/* The device's private state and what the core's modules share. Never on a
+ * port's include path: ports use include/wsg/ only. */
+#ifndef WSG_DEV_H
+#define WSG_DEV_H
+
+#include "hal_log.h"
+#include "priv/finger_bus.h"
+#include "priv/timer.h"
+#include "wsg/wsg_conn.h"
+#include "wsg/wsg_device.h"
+
+typedef struct {
+    wsg_motion_kind_t kind; /* the long operation running, or WSG_MOTION_NONE */
+    wsg_owner_t *owner;     /* detached (NULL) when its connection closed */
+    uint64_t started_us;
+    float target_mm;
+    float speed_mm_s;
+    float force_n;
+    bool stop_on_block;
+    /* GRIP */
+    bool grip_has_width;
+    float grip_width_mm;
+    float grip_pwt_mm;
+    float grip_clt_mm;
+    bool force_clear; /* the force read below contact level since the start */
+    bool contact_seen;
+    float contact_mm;
+    /* HOME: the origin is taken; FIN waits for the force reading to settle */
+    bool home_released;
+    /* completion tracking */
+    uint64_t condition_since_us; /* when the finishing condition first held */
+    bool condition_holding;
+    bool abort_requested;
+    wsg_status_t abort_status;
+    /* after ERR 29: how long the latched SF_BLOCKED_± has looked resolved */
+    bool block_clearing;
+    uint64_t block_clearing_since_us;
+} dev_motion_t;
+
+typedef struct {
+    wsg_grip_state_t state;
+    int8_t direction; /* -1: last grip closed on the part (inside), +1: outside */
+    float force_n;    /* force of the last grip */
+    float hold_mm;    /* where the jaws settled on the part */
+    float clt_mm;
+    bool monitored;         /* grip monitoring runs while HOLDING (forms with a width) */
+    bool release_permitted; /* the last motion command was a GRIP (manual 2.2.4) */
+    uint64_t weak_since_us;
+    bool weak;
+    uint32_t stats[3]; /* total grips, no part, part lost */
+} dev_grip_t;
+
+/* What the sense step read: the only place hardware readings enter. */
+typedef struct {
+    uint64_t now_us;
+    hal_axis_status_t axis; /* axis.force_n: the motor's own estimate */
+    float finger_force_n;   /* WSG-FMF measurement (0 without one) */
+    float force_n;          /* the force the device acts on and reports */
+    float temperature_c;
+} dev_sensed_t;
+
+typedef struct {
+    bool armed;
+    char name[16]; /* a command name, upper case */
+    wsg_status_t status;
+} dev_injected_failure_t;
+
+struct wsg_conn_impl;
+
+typedef struct wsg_dev {
+    wsg_config_t cfg; /* with the run-time settings applied */
+    wsg_hal_t hal;
+    dev_sensed_t sensed;
+    dev_motion_t motion;
+    dev_grip_t grip;
+    wsg_fingers_t fingers;
+    finger_bus_t fbus;
+    bool referenced;
+    uint32_t latched_flags; /* flags the core sets and clears itself */
+    uint32_t flags;         /* latched_flags plus those derived from the readings */
+    dev_injected_failure_t injected_failure;
+    wsg_timer_queue_t timers;    /* AUTOSEND subscriptions and other real deadlines */
+    struct wsg_conn_impl *conns; /* open connections (intrusive list, oldest first) */
+    struct wsg_conn_impl *conns_tail;
+    uint64_t next_conn_id;
+    wsg_snapshot_t snapshot;
+    /* observers: NULL unless attached */
+    const wsg_device_observer_t *observer;
+    void *observer_ctx;
+    const wsg_conn_observer_t *conn_observer;
+    void *conn_observer_ctx;
+    const void *gcl_observer; /* const wsg_gcl_observer_t *, owned by the GCL driver */
+    void *gcl_observer_ctx;
+} wsg_dev_t;
+
+_Static_assert(sizeof(wsg_dev_t) <= sizeof(wsg_device_t),
+               "WSG_DEVICE_STORAGE_BYTES (wsg_opts.h) is too small for the device");
+
+static inline wsg_dev_t *dev_of(wsg_device_t *dev)
+{
+    return (wsg_dev_t *)(void *)dev;
+}
+
+static inline const wsg_dev_t *dev_of_const(const wsg_device_t *dev)
+{
+    return (const wsg_dev_t *)(const void *)dev;
+}
+
+static inline wsg_device_t *dev_public(wsg_dev_t *dev)
+{
+    return (wsg_device_t *)(void *)dev;
+}
+
+/* sense.c: reads the clock, the axis and the temperature once; derives the
+ * flag register. */
+void sense(wsg_dev_t *dev);
+/* sense(), then a severe fault raises FAST STOP. */
+void sense_and_react(wsg_dev_t *dev);
+/* The force FORCE? reports: the finger measurement in force-control mode,
+ * else the motor's estimate. */
+float sense_reported_force(const wsg_dev_t *dev);
+
+/* flags.c: the register (pure) */
+void flags_set(wsg_dev_t *dev, wsg_sysflag_t flag, bool on);
+bool flags_get(const wsg_dev_t *dev, wsg_sysflag_t flag);
+void flags_derive(wsg_dev_t *dev);
+/* A cause that raises FAST STOP by itself and blocks its acknowledge. */
+bool flags_severe_fault(const wsg_dev_t *dev);
+
+/* motion.c: the supervisor, the only writer of the axis */
+void motion_drive(wsg_dev_t *dev, float target_mm, float speed_mm_s, float force_n);
+void motion_halt(wsg_dev_t *dev, bool fast);
+void motion_disable(wsg_dev_t *dev);
+wsg_status_t motion_check_allowed(wsg_dev_t *dev, bool needs_reference);
+bool motion_supersede_move(wsg_dev_t *dev);
+void motion_begin(wsg_dev_t *dev, wsg_owner_t *owner, wsg_motion_kind_t kind);
+void motion_abort(wsg_dev_t *dev, wsg_status_t status);
+void motion_step(wsg_dev_t *dev);
+void motion_apply_force_request(wsg_dev_t *dev);
+void grip_set_state(wsg_dev_t *dev, wsg_grip_state_t state);
+void grip_monitor_step(wsg_dev_t *dev);
+void motion_block_watch_step(wsg_dev_t *dev);
+/* How often the supervisor must look: 0 when nothing can change by itself. */
+uint32_t motion_tick_us(const wsg_dev_t *dev);
+
+/* device.c */
+void device_fast_stop(wsg_dev_t *dev, const char *why);
+void device_log(hal_log_level_t level, const char *prefix, const char *what);
+
+#endif

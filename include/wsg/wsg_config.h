@@ -1,0 +1,65 @@
+/* Device identity and configuration: what the real WSG keeps in its
+ * configuration memory and edits through its web interface. The port fills
+ * one in and hands it to wsg_device_init(); the device keeps its own copy,
+ * which run-time settings (wsg_device.h) then change. */
+#ifndef WSG_CONFIG_H
+#define WSG_CONFIG_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "wsg_opts.h"
+
+#define WSG_CONFIG_STRING_MAX 48
+
+typedef struct {
+    /* identity */
+    char devtype[WSG_CONFIG_STRING_MAX]; /* e.g. "WSG 50-110" */
+    char version[WSG_CONFIG_STRING_MAX]; /* firmware version string, e.g. "4.0.0" */
+    char tag[WSG_CONFIG_STRING_MAX];     /* descriptor string (device tag) */
+    uint32_t serial;
+
+    /* mechanics of the model */
+    float stroke_mm;
+    float speed_min_mm_s, speed_max_mm_s;
+    float accel_min_mm_s2, accel_max_mm_s2;
+    float force_min_n, force_max_n; /* nominal gripping force range */
+    float force_overdrive_n;        /* 0: the model has no overdrive mode */
+    bool overdrive_mode;            /* overdrive enabled in the configuration */
+
+    /* motion configuration (web interface "Motion Configuration") */
+    float default_speed_mm_s;
+    float default_accel_mm_s2;
+    float default_force_n;
+    float default_pullback_mm;
+    float default_pwt_mm; /* part width tolerance */
+    float default_clt_mm; /* clamping travel */
+    bool soft_limits_enabled;
+    float soft_limit_minus_mm, soft_limit_plus_mm;
+    bool home_positive; /* default homing direction */
+    float homing_speed_mm_s;
+
+    /* behaviour */
+    bool disconnect_raises_faststop;
+    bool move_retarget; /* a MOVE during a MOVE retargets it; false: ERR MOVE 4 */
+    float temp_warning_c, temp_fault_c;
+} wsg_config_t;
+
+/* The device's policy, stated once (firmware/core/policy.c): every
+ * protocol, the configuration file and the control channel use these. */
+
+/* The largest grip force: the overdrive force when the model has one and
+ * overdrive mode is on, else the nominal maximum. */
+float wsg_config_force_max(const wsg_config_t *cfg);
+bool wsg_config_force_ok(const wsg_config_t *cfg, float force_n);
+bool wsg_config_speed_ok(const wsg_config_t *cfg, float speed_mm_s);
+bool wsg_config_accel_ok(const wsg_config_t *cfg, float accel_mm_s2);
+/* The travel a target may have: the stroke, narrowed by soft limits. */
+void wsg_config_travel(const wsg_config_t *cfg, float *low_mm, float *high_mm);
+bool wsg_config_target_ok(const wsg_config_t *cfg, float target_mm);
+/* A length within the stroke (PWT, CLT, pull-back, a grip width). */
+bool wsg_config_length_ok(const wsg_config_t *cfg, float mm);
+/* Soft limits inside the stroke and in order; false with a reason. */
+bool wsg_config_check(const wsg_config_t *cfg, const char **why);
+
+#endif

@@ -1,0 +1,97 @@
+/* Protocol-neutral connections and the protocol driver interface.
+ *
+ * A connection is bytes in, whole messages out, close. The port owns its
+ * storage (a pool per server, a static array on a board) and moves bytes;
+ * a protocol driver (GCL now, the binary protocol next) owns everything
+ * protocol-specific: its per-connection state lives inside the connection,
+ * it parses, calls the device's operations and formats every message.
+ * The shape follows TinyUSB's usbd_class_driver_t. */
+#ifndef WSG_CONN_H
+#define WSG_CONN_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "wsg_device.h"
+
+typedef enum { WSG_TRANSPORT_STREAM, WSG_TRANSPORT_DATAGRAM } wsg_transport_t;
+
+typedef enum {
+    WSG_MSG_REPLY,  /* answers and final replies: a port never drops one */
+    WSG_MSG_UPDATE, /* unsolicited values (AUTOSEND): may be dropped under back-pressure */
+} wsg_msg_kind_t;
+
+typedef enum {
+    WSG_CLOSE_ANNOUNCED, /* the protocol said goodbye (BYE) */
+    WSG_CLOSE_DROPPED,   /* the connection went away without it */
+    WSG_CLOSE_EXPIRED,   /* a datagram peer that the port forgot, or a server-side timeout */
+} wsg_close_reason_t;
+
+/* How a connection hands out its messages: one call per whole message (a
+ * GCL line with its '\n', a binary frame), which the port sends with one
+ * send(): real clients compare one recv() with one reply. */
+typedef struct {
+    void (*write)(void *ctx, const char *bytes, size_t len, wsg_msg_kind_t kind);
+} wsg_conn_io_t;
+
+typedef struct wsg_conn {
+    WSG_ALIGNED unsigned char storage[WSG_CONN_STORAGE_BYTES];
+} wsg_conn_t;
+
+typedef struct wsg_proto_driver {
+    const char *name;
+    void (*open)(wsg_conn_t *c);
+    void (*input)(wsg_conn_t *c, const uint8_t *bytes, size_t len);
+    void (*end_datagram)(wsg_conn_t *c);
+    /* a long operation this connection started has ended (its owner's event) */
+    void (*done)(wsg_conn_t *c, wsg_op_t op, wsg_status_t status);
+    /* true while the driver keeps the connection busy (subscriptions) */
+    bool (*busy)(const wsg_conn_t *c);
+    void (*close)(wsg_conn_t *c, wsg_close_reason_t why);
+} wsg_proto_driver_t;
+
+/* drv NULL: the driver is chosen by the first byte that arrives
+ * (wsg_conn_detect; only GCL exists so far). */
+void wsg_conn_open(wsg_conn_t *c, wsg_device_t *dev, const wsg_proto_driver_t *drv,
+                   wsg_transport_t transport, const wsg_conn_io_t *io, void *io_ctx);
+void wsg_conn_input(wsg_conn_t *c, const uint8_t *bytes, size_t len);
+/* A datagram ends any message it left open (UDP clients may omit the '\n'). */
+void wsg_conn_end_datagram(wsg_conn_t *c);
+/* True once the protocol said goodbye: the port closes after flushing. */
+bool wsg_conn_wants_close(const wsg_conn_t *c);
+/* Detaches it from the device (no completion reaches it afterwards) and,
+ * for a stream dropped without goodbye, raises FAST STOP when configured. */
+void wsg_conn_close(wsg_conn_t *c, wsg_close_reason_t why);
+
+bool wsg_conn_is_open(const wsg_conn_t *c);
+uint64_t wsg_conn_id(const wsg_conn_t *c);
+wsg_transport_t wsg_conn_transport(const wsg_conn_t *c);
+wsg_device_t *wsg_conn_device(const wsg_conn_t *c);
+/* Runs a motion, or the driver keeps it busy (subscriptions): a port must
+ * not forget it to make room for another peer. */
+bool wsg_conn_busy(const wsg_conn_t *c);
+bool wsg_conn_owns_motion(const wsg_conn_t *c);
+/* The owner a driver starts long operations with: its done() event reaches
+ * the driver's done(); closing the connection detaches it. */
+wsg_owner_t *wsg_conn_owner(wsg_conn_t *c);
+
+/* The port may interpose on its own output (the control channel's DELAY). */
+void wsg_conn_get_io(const wsg_conn_t *c, const wsg_conn_io_t **io, void **io_ctx);
+void wsg_conn_set_io(wsg_conn_t *c, const wsg_conn_io_t *io, void *io_ctx);
+
+/* The device's open connections, oldest first (NULL at the end). */
+wsg_conn_t *wsg_device_conn_first(wsg_device_t *dev);
+wsg_conn_t *wsg_conn_next(const wsg_conn_t *c);
+/* The open connection with this id, or NULL. */
+wsg_conn_t *wsg_device_conn_by_id(wsg_device_t *dev, uint64_t id);
+
+/* Message observers (trace, record): attached only when asked for. */
+typedef struct {
+    void (*message_in)(void *ctx, const wsg_conn_t *c, const char *bytes, size_t len);
+    void (*message_out)(void *ctx, const wsg_conn_t *c, const char *bytes, size_t len);
+} wsg_conn_observer_t;
+
+void wsg_conn_observe(wsg_device_t *dev, const wsg_conn_observer_t *observer, void *ctx);
+
+#endif

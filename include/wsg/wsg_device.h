@@ -1,0 +1,203 @@
+/* One virtual WSG device: its life cycle, the operations every protocol
+ * driver calls, the read-only snapshot and the observers.
+ *
+ * The port allocates the storage (static on a board, a pool or an array on
+ * the host); the firmware never allocates. The layout is private: the
+ * storage is a byte array of a size fixed by wsg_opts.h, FreeRTOS
+ * StaticTask_t style, and the core checks at compile time that it fits. */
+#ifndef WSG_DEVICE_H
+#define WSG_DEVICE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "hal.h"
+#include "wsg_config.h"
+#include "wsg_fingers.h"
+#include "wsg_opts.h"
+#include "wsg_status.h"
+#include "wsg_types.h"
+
+#define WSG_ALIGNED _Alignas(8)
+
+typedef struct wsg_device {
+    WSG_ALIGNED unsigned char storage[WSG_DEVICE_STORAGE_BYTES];
+} wsg_device_t;
+
+/* ---- life cycle ---------------------------------------------------------- */
+
+/* Once: binds the configuration (copied) and the hardware, then powers on. */
+void wsg_device_init(wsg_device_t *dev, const wsg_config_t *cfg, const wsg_hal_t *hal);
+/* Power-on state again: keeps configuration, hardware and observers; every
+ * connection must have been closed first. Run-time settings go back to cfg. */
+void wsg_device_reset(wsg_device_t *dev, const wsg_config_t *cfg);
+/* One control step: sense (clock, axis, temperature), supervise the motion,
+ * monitor the grip, then run every timer that is due. */
+void wsg_device_step(wsg_device_t *dev);
+/* The sense step alone: reads the hardware now, so that a command between
+ * steps acts on the newest reading; a severe fault raises FAST STOP here. */
+void wsg_device_sense(wsg_device_t *dev);
+/* When wsg_device_step() must run next; UINT64_MAX when nothing can change
+ * without an outside event (a command, a control-channel change). */
+uint64_t wsg_device_next_deadline_us(const wsg_device_t *dev);
+
+/* ---- owners and completion events ---------------------------------------- */
+
+typedef enum { WSG_OP_HOME, WSG_OP_MOVE, WSG_OP_GRIP, WSG_OP_RELEASE, WSG_OP_COUNT } wsg_op_t;
+
+/* Who started a long operation: embedded in a connection (or a web
+ * request). Its done() hears the final status exactly once; detaching it
+ * (on close) means no completion can ever reach it, or a later owner in the
+ * same storage. */
+typedef struct wsg_owner {
+    void (*done)(struct wsg_owner *owner, wsg_op_t op, wsg_status_t status);
+} wsg_owner_t;
+
+void wsg_device_detach(wsg_device_t *dev, const wsg_owner_t *owner);
+/* True while this owner's operation runs. */
+bool wsg_device_owns_motion(const wsg_device_t *dev, const wsg_owner_t *owner);
+
+/* ---- operations ------------------------------------------------------------
+ * Long operations return E_SUCCESS when started (the driver acknowledges) or
+ * the immediate error; the final status arrives through owner->done() from
+ * a later wsg_device_step(), never from within the call that started it.
+ * A running operation that a new one ends (a MOVE superseding a MOVE, a
+ * pending STOP) reports to its owner before the new one starts. */
+
+typedef enum { WSG_HOME_DEFAULT, WSG_HOME_POSITIVE, WSG_HOME_NEGATIVE } wsg_home_dir_t;
+
+typedef struct {
+    wsg_home_dir_t direction;
+} wsg_home_args_t;
+
+typedef struct {
+    float position_mm; /* absolute, or a distance when relative */
+    float speed_mm_s;
+    bool relative;
+    bool stop_on_block; /* binary protocol: a block ends the move as success */
+} wsg_move_args_t;
+
+typedef struct {
+    float force_n;  /* the binary protocol passes the force limit setting */
+    bool has_width; /* a nominal part width: part detection and monitoring */
+    float width_mm;
+    float speed_mm_s;
+    float pwt_mm; /* part width tolerance */
+    float clt_mm; /* clamping travel */
+} wsg_grip_args_t;
+
+typedef struct {
+    float distance_mm; /* pull-back distance, away from the part */
+    float speed_mm_s;
+    bool to_width; /* binary protocol: open to width_mm instead */
+    float width_mm;
+} wsg_release_args_t;
+
+wsg_status_t wsg_op_home(wsg_device_t *dev, wsg_owner_t *owner, const wsg_home_args_t *args);
+wsg_status_t wsg_op_move(wsg_device_t *dev, wsg_owner_t *owner, const wsg_move_args_t *args);
+wsg_status_t wsg_op_grip(wsg_device_t *dev, wsg_owner_t *owner, const wsg_grip_args_t *args);
+wsg_status_t wsg_op_release(wsg_device_t *dev, wsg_owner_t *owner, const wsg_release_args_t *args);
+/* Manual 3.2.1: ends a movement (its owner hears E_CMD_ABORTED); a grip
+ * result (HOLDING, NO PART, PART LOST) stays. */
+wsg_status_t wsg_op_stop(wsg_device_t *dev);
+/* Manual 3.2.2: why goes to the log. */
+wsg_status_t wsg_op_fast_stop(wsg_device_t *dev, const char *why);
+/* E_ACCESS_DENIED while a severe fault lasts. */
+wsg_status_t wsg_op_fsack(wsg_device_t *dev);
+/* finger -1: every force finger. E_INDEX_OUT_OF_BOUNDS, E_NOT_AVAILABLE. */
+wsg_status_t wsg_op_tare(wsg_device_t *dev, int finger);
+wsg_status_t wsg_op_reset_grip_stats(wsg_device_t *dev);
+
+/* Settings: device state shared by every protocol, validated here. */
+typedef enum {
+    WSG_SET_ACCEL,         /* mm/s^2 */
+    WSG_SET_FORCE_LIMIT,   /* N: default grip force */
+    WSG_SET_SOFT_LIMITS,   /* 0/1 */
+    WSG_SET_SOFT_MINUS,    /* mm */
+    WSG_SET_SOFT_PLUS,     /* mm */
+    WSG_SET_OVERDRIVE,     /* 0/1 */
+    WSG_SET_DEFAULT_SPEED, /* mm/s */
+    WSG_SET_DEFAULT_PWT,   /* mm */
+    WSG_SET_DEFAULT_CLT,   /* mm */
+    WSG_SET_COUNT
+} wsg_setting_t;
+
+wsg_status_t wsg_op_set(wsg_device_t *dev, wsg_setting_t which, float value);
+/* The device tag (descriptor string); E_RANGE_ERROR when too long. */
+wsg_status_t wsg_op_set_tag(wsg_device_t *dev, const char *tag);
+
+/* Fault injection (control channel): the next command called `name` (upper
+ * case) fails with status before it runs. A reset disarms it. */
+void wsg_device_inject_failure(wsg_device_t *dev, const char *name, wsg_status_t status);
+/* Consumes an armed injected failure for this command name. */
+bool wsg_device_take_injected_failure(wsg_device_t *dev, const char *name, wsg_status_t *status);
+
+/* The outcome of a command on any connection (SF_CMD_FAILURE as the device
+ * state reports it); protocol drivers call it from their dispatcher. */
+void wsg_device_note_result(wsg_device_t *dev, wsg_status_t status);
+
+/* ---- the snapshot ---------------------------------------------------------- */
+
+typedef enum {
+    WSG_MOTION_NONE,
+    WSG_MOTION_HOME,
+    WSG_MOTION_MOVE,
+    WSG_MOTION_GRIP,
+    WSG_MOTION_RELEASE
+} wsg_motion_kind_t;
+
+typedef struct {
+    uint64_t now_us; /* when it was sensed */
+    /* axis */
+    float position_mm;
+    float speed_mm_s;     /* >= 0 */
+    float velocity_mm_s;  /* signed */
+    float force_n;        /* what FORCE? reports (wsg_snapshot_force policy) */
+    float motor_force_n;  /* the motor current's estimate */
+    float finger_force_n; /* the WSG-FMF measurement; 0 without one */
+    int8_t blocked;
+    bool profile_active;
+    bool current_fault, power_fault;
+    bool referenced;
+    float temperature_c;
+    uint32_t flags; /* Appendix B, SF_CMD_FAILURE as the device last saw it */
+    /* motion in progress */
+    wsg_motion_kind_t motion;
+    const wsg_owner_t *motion_owner;
+    uint64_t motion_started_us;
+    float motion_target_mm, motion_speed_mm_s, motion_force_n;
+    bool motion_abort_requested;
+    /* grip */
+    wsg_grip_state_t grip_state;
+    int8_t grip_direction;
+    float grip_force_n, grip_hold_mm, grip_clt_mm;
+    bool grip_monitored, release_permitted;
+    uint32_t grip_stats[3]; /* total, no part, part lost */
+    /* fingers, configuration (with run-time settings applied) */
+    const wsg_fingers_t *fingers;
+    const wsg_config_t *config;
+    /* fault injection */
+    bool injected_armed;
+    const char *injected_name;
+    wsg_status_t injected_status;
+} wsg_snapshot_t;
+
+/* Fills the device's snapshot from its last sense and returns it; valid
+ * until the next call on the device. */
+const wsg_snapshot_t *wsg_device_snapshot(wsg_device_t *dev);
+
+/* ---- observers ------------------------------------------------------------- */
+
+/* Attached only when asked for (trace, record, coverage): a device without
+ * observers pays one pointer test per event. */
+typedef struct {
+    void (*grip_state_changed)(void *ctx, wsg_grip_state_t from, wsg_grip_state_t to);
+} wsg_device_observer_t;
+
+void wsg_device_observe(wsg_device_t *dev, const wsg_device_observer_t *observer, void *ctx);
+
+/* A device's 64-bit connection ids (logs, trace): never 0, never reused. */
+uint64_t wsg_device_next_conn_id(wsg_device_t *dev);
+
+#endif

@@ -1,0 +1,41 @@
+/* Capacities and options of the device core, lwIP opt.h style: each build
+ * provides a "wsgopts.h" (host/wsgopts.h, hal/boards/<board>/wsgopts.h,
+ * tests/fake/wsgopts.h) that overrides what it needs; everything else takes
+ * the default below. Never pass these as -D flags: every translation unit
+ * of one build must see the same values, since they size public storage. */
+#ifndef WSG_OPTS_H
+#define WSG_OPTS_H
+
+#include "wsgopts.h"
+
+/* Longest reply message a driver formats (FDATA of two tactile fingers). */
+#ifndef WSG_REPLY_MAX
+#define WSG_REPLY_MAX 1024
+#endif
+
+/* Longest GCL command line accepted, without its line end. */
+#ifndef WSG_GCL_LINE_MAX
+#define WSG_GCL_LINE_MAX 256
+#endif
+
+/* Values one finger may deliver (WSG-DSA: 6 x 14 tactile cells). */
+#ifndef WSG_FINGER_DATA_MAX
+#define WSG_FINGER_DATA_MAX 84
+#endif
+
+/* Storage the port provides per device and per connection (bytes). The
+ * core checks at compile time that its private state fits. */
+#ifndef WSG_DEVICE_STORAGE_BYTES
+#define WSG_DEVICE_STORAGE_BYTES 3072
+#endif
+#ifndef WSG_CONN_STORAGE_BYTES
+#define WSG_CONN_STORAGE_BYTES 768
+#endif
+
+/* Observers (trace, record, coverage): 0 compiles their calls out (a board
+ * without a debug port saves the flash). */
+#ifndef WSG_OBSERVERS
+#define WSG_OBSERVERS 1
+#endif
+
+#endif
