@@ -18,10 +18,14 @@ SYSTEMDUNITDIR ?= $(PREFIX)/lib/systemd/system
 INSTALL ?= install
 
 # Each program once; the C ones are built, the Python ones are scripts.
-# The binary-protocol client (tools/wsgbin) joins this list when it lands.
+# The binary protocol client needs its module beside it: both go to
+# $(PRIVATE_DIR), and $(BINDIR)/wsgbin is a relative link to it.
 C_PROGRAMS := $(BUILD)/wsgsim $(BUILD)/fingersim
 SCRIPT_PROGRAMS := tools/wsgctl tools/wsgplot
-PROGRAMS := $(C_PROGRAMS) $(SCRIPT_PROGRAMS)
+BIN_CLIENT := tools/wsgbin
+BIN_CLIENT_MODULE := tools/wsgbinproto.py
+PRIVATE_DIR = $(DATADIR)/wsgsim
+PROGRAMS := $(C_PROGRAMS) $(SCRIPT_PROGRAMS) $(BIN_CLIENT)
 PROGRAM_NAMES := $(notdir $(PROGRAMS))
 MAN_PAGES := $(patsubst %,$(BUILD)/man/%.1,$(PROGRAM_NAMES))
 UNITS := wsgsim.service wsgsim@.service
@@ -44,6 +48,7 @@ $(BUILD)/man/wsgsim.1: $(BUILD)/wsgsim
 $(BUILD)/man/fingersim.1: $(BUILD)/fingersim
 $(BUILD)/man/wsgctl.1: tools/wsgctl
 $(BUILD)/man/wsgplot.1: tools/wsgplot
+$(BUILD)/man/wsgbin.1: tools/wsgbin $(BIN_CLIENT_MODULE)
 
 .PHONY: man-deps
 man-deps:
@@ -52,8 +57,12 @@ man-deps:
 # The units name the installed paths, so they are written at install time.
 install: $(PROGRAMS) man
 	$(INSTALL) -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(SYSTEMDUNITDIR) \
-		$(DESTDIR)$(DOCDIR)/examples $(DESTDIR)$(DATADIR)/wsgsim
-	$(INSTALL) -m 755 $(PROGRAMS) $(DESTDIR)$(BINDIR)/
+		$(DESTDIR)$(DOCDIR)/examples $(DESTDIR)$(PRIVATE_DIR)
+	$(INSTALL) -m 755 $(C_PROGRAMS) $(SCRIPT_PROGRAMS) $(DESTDIR)$(BINDIR)/
+	$(INSTALL) -m 755 $(BIN_CLIENT) $(DESTDIR)$(PRIVATE_DIR)/
+	$(INSTALL) -m 644 $(BIN_CLIENT_MODULE) $(DESTDIR)$(PRIVATE_DIR)/
+	ln -sf $$(realpath -m --relative-to=$(BINDIR) $(PRIVATE_DIR)/$(notdir $(BIN_CLIENT))) \
+		$(DESTDIR)$(BINDIR)/$(notdir $(BIN_CLIENT))
 	$(INSTALL) -m 644 $(MAN_PAGES) $(DESTDIR)$(MANDIR)/man1/
 	for unit in $(UNITS); do \
 		sed -e 's|@BINDIR@|$(BINDIR)|g' -e 's|@SYSCONFDIR@|$(SYSCONFDIR)|g' \
@@ -63,15 +72,16 @@ install: $(PROGRAMS) man
 	done
 	$(INSTALL) -m 644 $(DOCS) $(DESTDIR)$(DOCDIR)/
 	$(INSTALL) -m 644 docs/wsgsim.example.ini $(DESTDIR)$(DOCDIR)/examples/
-	$(INSTALL) -m 644 docs/finger-bus.dbc $(DESTDIR)$(DATADIR)/wsgsim/
+	$(INSTALL) -m 644 docs/finger-bus.dbc $(DESTDIR)$(PRIVATE_DIR)/
 
 uninstall:
 	rm -f $(addprefix $(DESTDIR)$(BINDIR)/,$(PROGRAM_NAMES)) \
 		$(patsubst %,$(DESTDIR)$(MANDIR)/man1/%.1,$(PROGRAM_NAMES)) \
 		$(addprefix $(DESTDIR)$(SYSTEMDUNITDIR)/,$(UNITS)) \
-		$(DESTDIR)$(DATADIR)/wsgsim/finger-bus.dbc
-	rm -rf $(DESTDIR)$(DOCDIR)
-	-rmdir $(DESTDIR)$(DATADIR)/wsgsim 2>/dev/null
+		$(addprefix $(DESTDIR)$(PRIVATE_DIR)/,finger-bus.dbc $(notdir $(BIN_CLIENT) \
+			$(BIN_CLIENT_MODULE)))
+	rm -rf $(DESTDIR)$(DOCDIR) $(DESTDIR)$(PRIVATE_DIR)/__pycache__
+	-rmdir $(DESTDIR)$(PRIVATE_DIR) 2>/dev/null
 
 # A deterministic run on the paused clock, drawn by tools/wsgplot.
 docs-plot: $(BUILD)/wsgsim

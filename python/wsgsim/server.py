@@ -193,6 +193,7 @@ class Wsgsim:
         self.sim_addr = LOOPBACK.get(bind, bind)
         return Control(self.sim_addr, self.sim_port, timeout)
 
-    def binary(self, timeout=DEFAULT_TIMEOUT):
-        """A client of the WSG binary protocol (wsgsim.binary)."""
+    def binary_protocol(self, timeout=DEFAULT_TIMEOUT):
+        """A client of the WSG binary protocol (wsgsim.binary). (self.binary
+        is the program's path.)"""
         return binary_client(self, timeout)

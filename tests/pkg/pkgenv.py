@@ -24,7 +24,8 @@ DEB_DIR = env_path("DEB_DIR", "build/deb")
 DBC = os.path.join(ROOT, "docs", "finger-bus.dbc")
 PROGRAMS = {"wsgsim": WSGSIM, "fingersim": FINGERSIM,
             "wsgctl": os.path.join(ROOT, "tools", "wsgctl"),
-            "wsgplot": os.path.join(ROOT, "tools", "wsgplot")}
+            "wsgplot": os.path.join(ROOT, "tools", "wsgplot"),
+            "wsgbin": os.path.join(ROOT, "tools", "wsgbin")}
 
 
 def run(argv, **kw):

@@ -52,8 +52,8 @@ class Packages(unittest.TestCase):
         self.assertIn("[pytest11]\nwsgsim = wsgsim.pytest_plugin", open(entry_points[0]).read())
 
     def test_scripts_use_debians_python(self):
-        for name in ("wsgctl", "wsgplot"):
-            with open(self.path("usr/bin", name)) as f:
+        for name in ("wsgctl", "wsgplot", "wsgbin"):
+            with open(self.path("usr/bin", name)) as f:  # wsgbin: a link into /usr/share/wsgsim
                 self.assertEqual(f.readline(), "#!/usr/bin/python3\n", name)
 
     def test_fields(self):

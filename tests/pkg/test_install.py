@@ -41,6 +41,8 @@ class Install(unittest.TestCase):
     def test_destdir_tree_runs_and_uninstalls(self):
         make("install", "DESTDIR=" + self.tmp, "PREFIX=/usr")
         files = files_under(self.tmp)
+        self.assertEqual(os.readlink(os.path.join(self.tmp, "usr/bin/wsgbin")),
+                         "../share/wsgsim/wsgbin", "relative, so the tree runs where it lies")
         for name in PROGRAMS:
             self.assertIn("usr/bin/" + name, files)
             self.assertIn("usr/share/man/man1/%s.1" % name, files)
@@ -49,7 +51,7 @@ class Install(unittest.TestCase):
                          "usr/share/doc/wsgsim/examples/wsgsim.example.ini",
                          "usr/share/doc/wsgsim/README.md", "usr/share/doc/wsgsim/simctl.md",
                          "usr/share/doc/wsgsim/testing-your-driver.md",
-                         "usr/share/wsgsim/finger-bus.dbc"):
+                         "usr/share/wsgsim/finger-bus.dbc", "usr/share/wsgsim/wsgbinproto.py"):
             self.assertIn(expected, files)
         bindir = os.path.join(self.tmp, "usr", "bin")
         for name in PROGRAMS:

@@ -15,6 +15,7 @@ BAD_USES = {
     "fingersim": [["--bogus"], ["-x"], ["--can"], [], ["--can", "vcan0", "--noise", "x"]],
     "wsgctl": [["--bogus"], ["--port"], ["--port", "x"], ["--timeout", "x", "--port", "1"]],
     "wsgplot": [["--bogus"], [], ["record.txt"], ["/nonexistent.txt", "-o", "x.png"]],
+    "wsgbin": [["--bogus"], [], ["nosuchcommand"], ["--port", "x", "ack"]],
 }
 
 
@@ -90,6 +91,9 @@ class Versions(unittest.TestCase):
             self.assertRegex(f.readline(), r"^wsgsim \(%s(-\d+)?\) " % re.escape(version))
         with open(os.path.join(ROOT, "python", "wsgsim", "__init__.py")) as f:
             self.assertIn('__version__ = "%s"' % version, f.read())
+        for script in ("wsgctl", "wsgplot", "wsgbin"):
+            with open(os.path.join(ROOT, "tools", script)) as f:
+                self.assertIn('VERSION = "%s"' % version, f.read(), script)
 
 
 if __name__ == "__main__":
