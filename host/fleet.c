@@ -7,6 +7,7 @@
 #include "config_file.h"
 #include "hal_clock.h"
 #include "log.h"
+#include "net.h"
 #include "tcp_server.h"
 #include "udp_server.h"
 
@@ -153,28 +154,34 @@ void fleet_close_connections(unsigned i)
     udp_server_close_all(&fleet.devices[i].udp);
 }
 
-static void announce_device(unsigned i)
+static void format_endpoints(unsigned i, char *tcp, char *udp, size_t cap)
 {
     const fleet_device_t *d = &fleet.devices[i];
-    const char *addr = fleet.opts->bind_addr;
-    host_logf(HAL_LOG_INFO, "device %u: tcp %s:%d, udp %s:%d, serial %u, tag %s", i, addr,
-              tcp_server_port(&d->tcp), addr, udp_server_port(&d->udp),
-              (unsigned)d->gripper.config.serial, d->gripper.config.tag);
+    net_format_endpoint(fleet.opts->bind_addr, tcp_server_port(&d->tcp), tcp, cap);
+    net_format_endpoint(fleet.opts->bind_addr, udp_server_port(&d->udp), udp, cap);
 }
 
-void fleet_announce(const char *extra)
+void fleet_announce_devices(void)
 {
+    char tcp[96], udp[96];
     for (unsigned i = 1; i < fleet.count; i++) {
-        announce_device(i);
+        const wsg_config_t *cfg = &fleet.devices[i].gripper.config;
+        format_endpoints(i, tcp, udp, sizeof(tcp));
+        host_logf(HAL_LOG_INFO, "device %u: tcp %s, udp %s, serial %u, tag %s", i, tcp, udp,
+                  (unsigned)cfg->serial, cfg->tag);
     }
-    const fleet_device_t *d = &fleet.devices[0];
-    const char *addr = fleet.opts->bind_addr;
+}
+
+void fleet_ready_line(const char *extra, char *line, size_t cap)
+{
+    char tcp[96], udp[96];
     char devices[32] = "";
+    format_endpoints(0, tcp, udp, sizeof(tcp));
     if (fleet.count > 1) {
         snprintf(devices, sizeof(devices), ", devices %u", fleet.count);
     }
-    host_logf(HAL_LOG_INFO, "virtual %s ready: tcp %s:%d, udp %s:%d%s%s", d->gripper.opts.model,
-              addr, tcp_server_port(&d->tcp), addr, udp_server_port(&d->udp), extra, devices);
+    snprintf(line, cap, "virtual %s ready: tcp %s, udp %s%s%s", fleet.devices[0].gripper.opts.model,
+             tcp, udp, extra, devices);
 }
 
 void fleet_stop(void)

@@ -5,6 +5,7 @@
 #define HOST_FLEET_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "gripper.h"
@@ -24,10 +25,12 @@ int fleet_udp_port(unsigned i);
 uint64_t fleet_tick(void);
 /* Closes the connections and peers of device i (a reset). */
 void fleet_close_connections(unsigned i);
-/* Logs one line per device after the first, then the ready line (device 0's
- * ports first, as with one device; ", devices N" at its end for a fleet);
- * extra is appended before it (the control channel). */
-void fleet_announce(const char *extra);
+/* Logs one line per device after the first: "device i: tcp ADDR:P, udp
+ * ADDR:P, serial S, tag T". */
+void fleet_announce_devices(void);
+/* The ready line: device 0's ports first, as with one device, then extra
+ * (the control channel) and, for a fleet, ", devices N". */
+void fleet_ready_line(const char *extra, char *line, size_t cap);
 void fleet_stop(void);
 
 #endif

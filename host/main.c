@@ -1,10 +1,13 @@
 /* build/wsgsim: the virtual WSG gripper on a Linux host. */
 #include <stdio.h>
 
+#include "can_log.h"
 #include "finger_bus_host.h"
 #include "fleet.h"
 #include "log.h"
 #include "loop.h"
+#include "net.h"
+#include "notify.h"
 #include "options.h"
 #include "coverage.h"
 #include "record.h"
@@ -43,6 +46,39 @@ static int stop_simulation(const host_options_t *opts)
     return 0;
 }
 
+/* One line per further device of a fleet, then the ready line. */
+static bool announce(const host_options_t *opts)
+{
+    char line[400];
+    fleet_ready_line(simctl_describe(), line, sizeof(line));
+    if (!notify_prepare(opts->ready_file)) {
+        return false;
+    }
+    fleet_announce_devices();
+    host_logf(HAL_LOG_INFO, "%s", line);
+    return notify_ready(opts->ready_file, line);
+}
+
+/* Logging and supervision options, before anything logs. */
+static bool start_logging(const host_options_t *opts)
+{
+    host_log_set_level(opts->log_level);
+    host_log_set_timestamps(opts->log_timestamps);
+    return opts->log_file == NULL || host_log_open_file(opts->log_file);
+}
+
+/* SIGHUP (log rotation): every file wsgsim appends to is opened again. */
+static void reopen_files(void)
+{
+    host_log_reopen();
+    if (!record_reopen()) {
+        host_logf(HAL_LOG_ERROR, "cannot reopen the --record file (still writing the old one)");
+    }
+    if (!can_log_reopen()) {
+        host_logf(HAL_LOG_ERROR, "cannot reopen the --can-log file (still writing the old one)");
+    }
+}
+
 static void catch_up(void)
 {
     (void)simctl_tick();
@@ -57,19 +93,25 @@ int main(int argc, char **argv)
     }
     setvbuf(stderr, NULL, _IOLBF, 0);
     host_log_init();
+    if (!start_logging(&opts)) {
+        return EXIT_STARTUP_FAILED;
+    }
     simclock_init();
     if (opts.start_paused) {
         simclock_start_paused(); /* simulated time stands at exactly 0 */
     }
     loop_init();
     loop_set_catch_up(catch_up);
-    if (!finger_bus_host_start(&opts)) {
+    loop_set_hangup(reopen_files);
+    if (!finger_bus_host_start(&opts) || (opts.can_log != NULL && !can_log_open(opts.can_log))) {
         return EXIT_STARTUP_FAILED;
     }
     if (!fleet_start(&opts) || !start_simulation(&opts)) {
         return EXIT_STARTUP_FAILED;
     }
-    fleet_announce(simctl_describe());
+    if (!announce(&opts)) {
+        return EXIT_STARTUP_FAILED;
+    }
     host_logf(HAL_LOG_INFO, "finger bus: %s", finger_bus_host_describe());
     while (!loop_stop_requested()) {
         uint64_t deadline = simctl_tick();
@@ -79,7 +121,9 @@ int main(int argc, char **argv)
         simctl_reap();
     }
     host_logf(HAL_LOG_INFO, "shutting down");
+    notify_stopping(opts.ready_file);
     fleet_stop();
     finger_bus_host_stop();
+    can_log_close();
     return stop_simulation(&opts);
 }

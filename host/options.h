@@ -4,6 +4,8 @@
 
 #include <stdbool.h>
 
+#include "hal_log.h"
+
 /* --devices: at most this many grippers in one process. */
 #define HOST_DEVICES_MAX 1024
 
@@ -34,6 +36,12 @@ typedef struct {
     const char *coverage_path; /* --coverage: report written at exit */
     bool strict;               /* --strict: report tolerated input */
     bool start_paused;         /* --start-paused: simulated clock paused at 0 */
+    /* logging and supervision */
+    hal_log_level_t log_level; /* --log-level, --quiet */
+    bool log_timestamps;       /* --log-timestamps: wall-clock ISO 8601 on each line */
+    const char *log_file;      /* --log-file: NULL: stderr */
+    const char *ready_file;    /* --ready-file: written once serving */
+    const char *can_log;       /* --can-log: candump -L file of the in-process bus */
 } host_options_t;
 
 typedef enum { OPTIONS_RUN, OPTIONS_EXIT_OK, OPTIONS_EXIT_USAGE } options_result_t;
