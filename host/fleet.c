@@ -23,8 +23,12 @@ typedef struct {
 
 static struct {
     fleet_device_t *devices;
-    uint64_t *due_us; /* device i's next deadline, side by side: one pass
-                       * reads N words, not N grippers */
+    /* The devices' deadlines as a binary min-heap of device numbers, so a
+     * pass looks at the devices that are due and nothing else. */
+    uint64_t *due_us; /* device i's next deadline */
+    unsigned *heap;   /* device numbers, earliest deadline first */
+    unsigned *slot;   /* device i's place in heap */
+    unsigned *ready;  /* the devices due in this pass */
     unsigned count;
     const host_options_t *opts;
 } fleet;
@@ -86,11 +90,19 @@ bool fleet_start(const host_options_t *opts)
     raise_descriptor_limit(n);
     fleet.devices = calloc(n, sizeof(*fleet.devices));
     fleet.due_us = calloc(n, sizeof(*fleet.due_us)); /* 0: every device ticks first */
-    if (fleet.devices == NULL || fleet.due_us == NULL) {
+    fleet.heap = calloc(n, sizeof(*fleet.heap));
+    fleet.slot = calloc(n, sizeof(*fleet.slot));
+    fleet.ready = calloc(n, sizeof(*fleet.ready));
+    if (fleet.devices == NULL || fleet.due_us == NULL || fleet.heap == NULL || fleet.slot == NULL ||
+        fleet.ready == NULL) {
         host_logf(HAL_LOG_ERROR, "--devices %u: out of memory", n);
         return false;
     }
     fleet.opts = opts;
+    for (unsigned i = 0; i < n; i++) { /* all due at 0: any order is a heap */
+        fleet.heap[i] = i;
+        fleet.slot[i] = i;
+    }
     for (fleet.count = 0; fleet.count < n; fleet.count++) {
         if (!start_device(&fleet.devices[fleet.count], opts, fleet.count)) {
             fleet.count++; /* stopped with the others */
@@ -125,27 +137,81 @@ static uint64_t earliest(uint64_t a, uint64_t b)
     return a < b ? a : b;
 }
 
+static uint64_t due_at(unsigned place)
+{
+    return fleet.due_us[fleet.heap[place]];
+}
+
+static void swap_places(unsigned a, unsigned b)
+{
+    unsigned device = fleet.heap[a];
+    fleet.heap[a] = fleet.heap[b];
+    fleet.heap[b] = device;
+    fleet.slot[fleet.heap[a]] = a;
+    fleet.slot[fleet.heap[b]] = b;
+}
+
+static void sift_up(unsigned place)
+{
+    while (place > 0 && due_at((place - 1u) / 2u) > due_at(place)) {
+        swap_places(place, (place - 1u) / 2u);
+        place = (place - 1u) / 2u;
+    }
+}
+
+static void sift_down(unsigned place)
+{
+    for (;;) {
+        unsigned least = place;
+        unsigned left = 2u * place + 1u;
+        if (left < fleet.count && due_at(left) < due_at(least)) {
+            least = left;
+        }
+        if (left + 1u < fleet.count && due_at(left + 1u) < due_at(least)) {
+            least = left + 1u;
+        }
+        if (least == place) {
+            return;
+        }
+        swap_places(place, least);
+        place = least;
+    }
+}
+
+static void set_due(unsigned device, uint64_t due_us)
+{
+    bool earlier = due_us < fleet.due_us[device];
+    fleet.due_us[device] = due_us;
+    if (earlier) {
+        sift_up(fleet.slot[device]);
+    } else {
+        sift_down(fleet.slot[device]);
+    }
+}
+
 /* Each device is ticked at most once per pass, as a lone gripper was: a
  * touched one by the list (its deadline may have moved), any other when its
  * deadline has come. */
 uint64_t fleet_tick(void)
 {
     uint64_t now = hal_clock_now_us();
-    for (unsigned i = 0; i < fleet.count; i++) {
-        gripper_t *g = &fleet.devices[i].gripper;
-        if (now >= fleet.due_us[i] && !g->touched) {
-            fleet.due_us[i] = gripper_tick(g);
+    unsigned due = 0;
+    while (fleet.count > 0 && due_at(0) <= now) {
+        fleet.ready[due++] = fleet.heap[0];
+        set_due(fleet.heap[0], UINT64_MAX); /* until ticked below */
+    }
+    for (unsigned k = 0; k < due; k++) {
+        gripper_t *g = &fleet.devices[fleet.ready[k]].gripper;
+        if (!g->touched) {
+            set_due(fleet.ready[k], gripper_tick(g));
         }
     }
     gripper_t *touched;
     while ((touched = gripper_take_touched()) != NULL) {
-        fleet.due_us[touched->index] = gripper_tick(touched);
+        set_due(touched->index, gripper_tick(touched));
     }
     uint64_t next = earliest(tcp_server_next_deadline_us(), udp_server_next_deadline_us());
-    for (unsigned i = 0; i < fleet.count; i++) {
-        next = earliest(next, fleet.due_us[i]);
-    }
-    return next;
+    return fleet.count > 0 ? earliest(next, due_at(0)) : next;
 }
 
 void fleet_close_connections(unsigned i)
@@ -194,7 +260,13 @@ void fleet_stop(void)
     }
     free(fleet.devices);
     free(fleet.due_us);
+    free(fleet.heap);
+    free(fleet.slot);
+    free(fleet.ready);
     fleet.devices = NULL;
     fleet.due_us = NULL;
+    fleet.heap = NULL;
+    fleet.slot = NULL;
+    fleet.ready = NULL;
     fleet.count = 0;
 }
