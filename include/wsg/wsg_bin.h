@@ -1,0 +1,10 @@
+/* The binary command protocol driver (docs/binary-protocol.md): frames in,
+ * one reply frame per write out, on the device's operations API. */
+#ifndef WSG_BIN_H
+#define WSG_BIN_H
+
+#include "wsg_conn.h"
+
+extern const wsg_proto_driver_t wsg_bin_driver;
+
+#endif
