@@ -51,6 +51,7 @@ void gripper_init(gripper_t *g, const host_options_t *opts)
     sim_model_config(sim_model_find(opts->model), &g->config);
     config_file_apply(&g->config);
     g->config.disconnect_raises_faststop = opts->disconnect_faststop;
+    g->config.bin_crc_unchecked = !opts->binary_crc;
     power_on_world(g);
     wsg_hal_t hal;
     sim_world_hal(&g->world, &hal);

@@ -14,8 +14,29 @@
 #include "simctl_run.h"
 #include "tcp_server.h"
 #include "udp_server.h"
+#include "bin_udp_server.h"
 
 #define EXIT_STARTUP_FAILED 2
+
+static bin_udp_server_t bin_udp = {.fd = -1};
+
+/* The binary protocol over UDP; its default port, when taken, is skipped. */
+static bool start_bin_udp(gripper_t *g, const host_options_t *opts)
+{
+    if (!opts->udp_enabled || opts->binary_udp_port == 0) {
+        return true;
+    }
+    if (bin_udp_server_start(&bin_udp, g, opts->bind_addr, opts->binary_udp_port,
+                             opts->binary_udp_reply_port, opts->udp_peer_timeout_s)) {
+        return true;
+    }
+    bin_udp_server_stop(&bin_udp);
+    if (!opts->binary_udp_port_given) {
+        host_logf(HAL_LOG_WARN, "binary udp port %d taken: binary protocol on TCP only",
+                  opts->binary_udp_port);
+    }
+    return !opts->binary_udp_port_given;
+}
 
 static bool start_servers(const host_options_t *opts)
 {
@@ -58,9 +79,9 @@ static int stop_simulation(const host_options_t *opts)
 
 static void announce(const host_options_t *opts)
 {
-    host_logf(HAL_LOG_INFO, "virtual %s ready: tcp %s:%d, udp %s:%d%s", opts->model,
+    host_logf(HAL_LOG_INFO, "virtual %s ready: tcp %s:%d, udp %s:%d, binary udp %d%s", opts->model,
               opts->bind_addr, tcp_server_port(), opts->bind_addr, udp_server_port(),
-              simctl_describe());
+              bin_udp_server_port(&bin_udp), simctl_describe());
 }
 
 static void catch_up(void)
@@ -89,7 +110,7 @@ int main(int argc, char **argv)
     static gripper_t gripper; /* the device this process serves */
     gripper_init(&gripper, &opts);
     gripper_serve(&gripper);
-    if (!start_servers(&opts) || !start_simulation(&opts)) {
+    if (!start_servers(&opts) || !start_bin_udp(&gripper, &opts) || !start_simulation(&opts)) {
         return EXIT_STARTUP_FAILED;
     }
     announce(&opts);
@@ -99,11 +120,13 @@ int main(int argc, char **argv)
         loop_wait(deadline);
         tcp_server_reap();
         udp_server_reap();
+        bin_udp_server_reap(&bin_udp);
         simctl_reap();
     }
     host_logf(HAL_LOG_INFO, "shutting down");
     tcp_server_stop();
     udp_server_stop();
+    bin_udp_server_stop(&bin_udp);
     finger_bus_host_stop();
     return stop_simulation(&opts);
 }

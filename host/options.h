@@ -4,6 +4,9 @@
 
 #include <stdbool.h>
 
+/* --protocol: what a TCP connection speaks (docs/binary-protocol.md) */
+typedef enum { HOST_PROTOCOL_AUTO, HOST_PROTOCOL_GCL, HOST_PROTOCOL_BINARY } host_protocol_t;
+
 typedef struct {
     int tcp_port;
     int udp_port;
@@ -30,11 +33,19 @@ typedef struct {
     const char *coverage_path; /* --coverage: report written at exit */
     bool strict;               /* --strict: report tolerated input */
     bool start_paused;         /* --start-paused: simulated clock paused at 0 */
+    /* the binary protocol (docs/binary-protocol.md) */
+    host_protocol_t protocol;
+    int binary_udp_port;        /* 0: off */
+    bool binary_udp_port_given; /* set explicitly: failing to bind it is fatal */
+    int binary_udp_reply_port;  /* 0: the sender's own port */
+    bool binary_crc;            /* checksums of requests checked */
 } host_options_t;
 
 typedef enum { OPTIONS_RUN, OPTIONS_EXIT_OK, OPTIONS_EXIT_USAGE } options_result_t;
 
 /* Parses argv; prints help, version, model list or a usage error itself. */
 options_result_t options_parse(int argc, char **argv, host_options_t *opts);
+/* "auto", "gcl" or "binary" (the option and the configuration key). */
+bool options_parse_protocol(const char *text, host_protocol_t *out);
 
 #endif

@@ -43,6 +43,22 @@ static uint16_t firmware_nibbles(const char *version)
     return value;
 }
 
+/* The 0x50 device type code of a model name (spec §5: 1 WSG 50, 2 WSG 32,
+ * 5 WSG 25, 6 WSG 70; 0 unknown). */
+static uint8_t device_type(const char *devtype)
+{
+    static const struct {
+        const char *prefix;
+        uint8_t code;
+    } types[] = {{"WSG 50", 1}, {"WSG 32", 2}, {"WSG 25", 5}, {"WSG 70", 6}};
+    for (size_t i = 0; i < sizeof(types) / sizeof(types[0]); i++) {
+        if (strncmp(devtype, types[i].prefix, strlen(types[i].prefix)) == 0) {
+            return types[i].code;
+        }
+    }
+    return 0;
+}
+
 wsg_status_t bin_system_info(bin_req_t *req)
 {
     wsg_status_t status = bin_expect_none(req);
@@ -51,7 +67,7 @@ wsg_status_t bin_system_info(bin_req_t *req)
     }
     const wsg_config_t *cfg = wsg_device_snapshot(req->dev)->config;
     uint8_t v[8];
-    v[0] = 4; /* device type: WSG 50 */
+    v[0] = device_type(cfg->devtype);
     v[1] = 1; /* hardware revision */
     wsg_bin_put_u16(v + 2, firmware_nibbles(cfg->version));
     wsg_bin_put_u32(v + 4, cfg->serial);
