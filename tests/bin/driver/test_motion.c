@@ -118,6 +118,45 @@ START_TEST(target_in_soft_limit_zone_is_range_error)
 }
 END_TEST
 
+static void set_soft_limits(float minus, float plus)
+{
+    uint8_t p[8];
+    wsg_bin_put_f32(p, minus);
+    wsg_bin_put_f32(p + 4, plus);
+    bc_send(&bc_main, 0x34, p, 8);
+    bc_expect(&bc_main, 0x34, E_SUCCESS);
+}
+
+/* A move to the limit itself stops there, with the limit's flag. */
+START_TEST(move_to_a_soft_limit_sets_its_flag)
+{
+    set_soft_limits(20.0f, 80.0f);
+    bc_move(&bc_main, 0, 20.0f, 100.0f);
+    bc_expect(&bc_main, 0x21, E_CMD_PENDING);
+    bc_await_expect(&bc_main, 0x21, E_SUCCESS, 5000);
+    uint32_t flags = wsg_device_snapshot(&h_dev)->flags;
+    ck_assert_uint_ne(flags & WSG_FLAG(SF_SOFT_LIMIT_MINUS), 0);
+    ck_assert_uint_eq(flags & WSG_FLAG(SF_FAST_STOP), 0);
+}
+END_TEST
+
+/* A grasp that finds no part closes on into the zone: FAST STOP, and the
+ * grasp ends aborted. */
+START_TEST(grasp_into_a_soft_limit_zone_raises_fast_stop)
+{
+    set_soft_limits(20.0f, 110.0f);
+    uint8_t p[8];
+    wsg_bin_put_f32(p, 21.0f); /* the clamping travel takes it past 20 */
+    wsg_bin_put_f32(p + 4, 100.0f);
+    bc_send(&bc_main, 0x25, p, 8);
+    bc_expect(&bc_main, 0x25, E_CMD_PENDING);
+    bc_await_expect(&bc_main, 0x25, E_CMD_ABORTED, 5000);
+    const wsg_snapshot_t *snap = wsg_device_snapshot(&h_dev);
+    ck_assert_uint_ne(snap->flags & WSG_FLAG(SF_FAST_STOP), 0);
+    ck_assert_float_gt(snap->position_mm, 15.0f);
+}
+END_TEST
+
 START_TEST(grasp_and_release)
 {
     sim_axis_place_part(&h_world.axis, 40.0f, 100.0f);
@@ -194,6 +233,8 @@ Suite *bin_motion_suite(void)
     tcase_add_test(tc, stop_reply_comes_before_the_aborted_final);
     tcase_add_test(tc, stop_and_move_together_keep_their_order);
     tcase_add_test(tc, target_in_soft_limit_zone_is_range_error);
+    tcase_add_test(tc, move_to_a_soft_limit_sets_its_flag);
+    tcase_add_test(tc, grasp_into_a_soft_limit_zone_raises_fast_stop);
     tcase_add_test(tc, grasp_and_release);
     tcase_add_test(tc, fast_stop_and_ack);
     tcase_add_test(tc, gcl_move_visible_and_stopped_from_binary);
