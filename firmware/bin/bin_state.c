@@ -190,8 +190,11 @@ wsg_status_t bin_get_temp(bin_req_t *req)
     if (status != E_SUCCESS) {
         return status;
     }
-    float tenths = roundf(wsg_device_snapshot(req->dev)->temperature_c * 10.0f);
+    float tenths =
+        bin_clamp(wsg_device_snapshot(req->dev)->temperature_c * 10.0f, -32768.0f, 32767.0f);
+    /* rounded half away from zero (no roundf on the boards' C library) */
+    int16_t value = (int16_t)(tenths + (tenths < 0.0f ? -0.5f : 0.5f));
     uint8_t v[2];
-    wsg_bin_put_u16(v, (uint16_t)(int16_t)bin_clamp(tenths, -32768.0f, 32767.0f));
+    wsg_bin_put_u16(v, (uint16_t)value);
     return bin_reply_values(req, v, sizeof(v));
 }
