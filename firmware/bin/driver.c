@@ -9,57 +9,64 @@
 
 typedef struct {
     uint8_t id;
+    const char *name; /* as tools/wsgbin names it */
     bin_handler_t handler;
 } bin_command_t;
 
 static const bin_command_t commands[] = {
-    {0x06, bin_loop},
-    {0x07, bin_disconnect},
-    {0x20, bin_homing},
-    {0x21, bin_preposition},
-    {0x22, bin_stop},
-    {0x23, bin_fast_stop},
-    {0x24, bin_ack},
-    {0x25, bin_grasp},
-    {0x26, bin_release},
-    {0x30, bin_set_acc},
-    {0x31, bin_get_acc},
-    {0x32, bin_set_force},
-    {0x33, bin_get_force_limit},
-    {0x34, bin_set_soft_limits},
-    {0x35, bin_get_soft_limits},
-    {0x36, bin_clear_soft_limits},
-    {0x37, bin_overdrive},
-    {0x38, bin_tare},
-    {0x40, bin_get_state},
-    {0x41, bin_get_grasp_state},
-    {0x42, bin_get_stats},
-    {0x43, bin_get_width},
-    {0x44, bin_get_speed},
-    {0x45, bin_get_force},
-    {0x46, bin_get_temp},
-    {0x50, bin_system_info},
-    {0x51, bin_set_tag},
-    {0x52, bin_get_tag},
-    {0x53, bin_get_limits},
-    {0x60, bin_finger_info},
-    {0x61, bin_finger_flags},
-    {0x62, bin_finger_power},
-    {0x63, bin_finger_data},
-    {0x70, bin_finger_info},
-    {0x71, bin_finger_flags},
-    {0x72, bin_finger_power},
-    {0x73, bin_finger_data},
+    {0x06, "loop", bin_loop},
+    {0x07, "disconnect", bin_disconnect},
+    {0x20, "homing", bin_homing},
+    {0x21, "preposition", bin_preposition},
+    {0x22, "stop", bin_stop},
+    {0x23, "fast-stop", bin_fast_stop},
+    {0x24, "ack", bin_ack},
+    {0x25, "grasp", bin_grasp},
+    {0x26, "release", bin_release},
+    {0x30, "set-acc", bin_set_acc},
+    {0x31, "get-acc", bin_get_acc},
+    {0x32, "set-force", bin_set_force},
+    {0x33, "get-force-limit", bin_get_force_limit},
+    {0x34, "set-soft-limits", bin_set_soft_limits},
+    {0x35, "get-soft-limits", bin_get_soft_limits},
+    {0x36, "clear-soft-limits", bin_clear_soft_limits},
+    {0x37, "overdrive", bin_overdrive},
+    {0x38, "tare", bin_tare},
+    {0x40, "get-state", bin_get_state},
+    {0x41, "get-grasp-state", bin_get_grasp_state},
+    {0x42, "get-stats", bin_get_stats},
+    {0x43, "get-width", bin_get_width},
+    {0x44, "get-speed", bin_get_speed},
+    {0x45, "get-force", bin_get_force},
+    {0x46, "get-temp", bin_get_temp},
+    {0x50, "system-info", bin_system_info},
+    {0x51, "set-tag", bin_set_tag},
+    {0x52, "get-tag", bin_get_tag},
+    {0x53, "get-limits", bin_get_limits},
+    {0x60, "finger1-info", bin_finger_info},
+    {0x61, "finger1-flags", bin_finger_flags},
+    {0x62, "finger1-power", bin_finger_power},
+    {0x63, "finger1-data", bin_finger_data},
+    {0x70, "finger2-info", bin_finger_info},
+    {0x71, "finger2-flags", bin_finger_flags},
+    {0x72, "finger2-power", bin_finger_power},
+    {0x73, "finger2-data", bin_finger_data},
 };
 
-static bin_handler_t find_handler(uint8_t id)
+static const bin_command_t *find_command(uint8_t id)
 {
     for (size_t i = 0; i < sizeof(commands) / sizeof(commands[0]); i++) {
         if (commands[i].id == id) {
-            return commands[i].handler;
+            return &commands[i];
         }
     }
     return NULL;
+}
+
+const char *wsg_bin_command_name(uint8_t id)
+{
+    const bin_command_t *cmd = find_command(id);
+    return cmd != NULL ? cmd->name : NULL;
 }
 
 void bin_send(bin_conn_t *b, uint8_t id, wsg_status_t status, const uint8_t *values, size_t len,
@@ -116,8 +123,8 @@ static wsg_status_t run_frame(bin_conn_t *b, const wsg_bin_frame_t *frame)
     if (b->announced) {
         return E_ACCESS_DENIED;
     }
-    bin_handler_t handler = find_handler(frame->id);
-    if (handler == NULL) {
+    const bin_command_t *cmd = find_command(frame->id);
+    if (cmd == NULL) {
         return E_CMD_UNKNOWN;
     }
     if (frame->too_long) {
@@ -125,12 +132,28 @@ static wsg_status_t run_frame(bin_conn_t *b, const wsg_bin_frame_t *frame)
     }
     bin_req_t req = {b, bin_device(b), frame->id, frame->payload, frame->length};
     wsg_device_sense(req.dev);
-    return handler(&req);
+    return cmd->handler(&req);
+}
+
+/* The request as it arrived, for the observers (trace, record): the framer
+ * keeps only the payload, so the frame is built again with its own CRC
+ * bytes. */
+static void note_request(bin_conn_t *b, const wsg_bin_frame_t *frame)
+{
+    if (b->conn->dev->conn_observer == NULL) {
+        return;
+    }
+    uint8_t raw[WSG_BIN_HEADER_LEN + WSG_BIN_PAYLOAD_MAX + WSG_BIN_CRC_LEN];
+    size_t n = wsg_bin_encode_frame(raw, sizeof(raw), frame->id, frame->payload,
+                                    frame->too_long ? 0 : frame->length);
+    wsg_bin_put_u16(raw + 4, frame->length); /* as declared, also when too long */
+    wsg_bin_put_u16(raw + n - WSG_BIN_CRC_LEN, frame->crc);
+    conn_note_input(b->conn, (const char *)raw, n);
 }
 
 static void handle_frame(bin_conn_t *b, const wsg_bin_frame_t *frame)
 {
-    conn_note_input(b->conn, (const char *)frame->payload, frame->too_long ? 0 : frame->length);
+    note_request(b, frame);
     wsg_status_t status = run_frame(b, frame);
     if (status == BIN_REPLIED) {
         wsg_device_note_result(bin_device(b), E_SUCCESS);

@@ -7,4 +7,8 @@
 
 extern const wsg_proto_driver_t wsg_bin_driver;
 
+/* The command's name as tools/wsgbin spells it ("preposition"), or NULL for
+ * an ID the device does not know. */
+const char *wsg_bin_command_name(uint8_t id);
+
 #endif

@@ -3,9 +3,11 @@ auto-detected and forced, UDP with the reply port, the start-up sequences
 of the ROS, UMI and Drake drivers, one device shared with a GCL client.
 Anything timed runs on a paused simulated clock advanced with STEP."""
 import os
+import shutil
 import socket
 import struct
 import sys
+import tempfile
 import unittest
 
 from gclclient import GclError, Wsgsim, wait_for_reply
@@ -127,6 +129,26 @@ class TcpTransport(BinaryCase):
         self.reply(binary, 0x51, b"lab")
         self.assertEqual(self.reply(binary, 0x52).values, b"lab")
         self.assertEqual(self.gcl().command("TAG?"), 'TAG="lab"')
+
+
+class Tools(BinaryCase):
+    def test_trace_decodes_frames_and_record_keeps_their_bytes(self):
+        record = os.path.join(self.tmp(), "record.txt")
+        self.start("--trace", "--record", record)
+        binary = self.bin_tcp()
+        self.reply(binary, 0x21, move_payload(50.0, 100.0), status=3)  # not homed
+        log = self.sim.drain_log()
+        self.assertIn("< 0x21 preposition [9] 00 00 00 48 42 00 00 c8 42", log)
+        self.assertIn("> 0x21 preposition status 3 (", log)
+        self.sim.stop()
+        with open(record) as f:
+            text = f.read()
+        self.assertIn("< \\xaa\\xaa\\xaa!\\x09\\x00", text)
+
+    def tmp(self):
+        path = tempfile.mkdtemp(prefix="wsgsim-binary-")
+        self.addCleanup(shutil.rmtree, path, True)
+        return path
 
 
 class Drivers(BinaryCase):
