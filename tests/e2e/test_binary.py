@@ -2,6 +2,7 @@
 auto-detected and forced, UDP with the reply port, the start-up sequences
 of the ROS, UMI and Drake drivers, one device shared with a GCL client.
 Anything timed runs on a paused simulated clock advanced with STEP."""
+import json
 import os
 import shutil
 import socket
@@ -144,6 +145,25 @@ class Tools(BinaryCase):
         with open(record) as f:
             text = f.read()
         self.assertIn("< \\xaa\\xaa\\xaa!\\x09\\x00", text)
+
+    def test_coverage_lists_ids_and_statuses(self):
+        report = os.path.join(self.tmp(), "coverage.json")
+        self.start("--coverage", report)
+        binary = self.bin_tcp()
+        self.reply(binary, 0x21, move_payload(50.0, 100.0), status=3)
+        self.reply(binary, 0x90, status=E_CMD_UNKNOWN)
+        self.reply(binary, 0x07)
+        binary.close()
+        self.assertEqual(self.sim.stop(), 0)
+        with open(report) as f:
+            data = json.load(f)
+        section = data["binary"]
+        used = {item["id"]: item["statuses"] for item in section["used"]}
+        self.assertEqual(used["0x21 preposition"], ["E_NOT_INITIALIZED"])
+        self.assertEqual(used["0x07 disconnect"], ["E_SUCCESS"])
+        self.assertEqual(section["unknown_ids_sent"][0]["id"], "0x90")
+        self.assertIn("0x20 homing", section["never_used"])
+        self.assertEqual(data["summary"]["binary_commands_used"], 2)
 
     def tmp(self):
         path = tempfile.mkdtemp(prefix="wsgsim-binary-")
