@@ -12,6 +12,14 @@
 #include "wsg/wsg_bin.h"
 
 #define DATAGRAM_MAX 65536
+/* Reply budget, as for GCL over UDP (docs/behaviour.md, "UDP peers"): each
+ * datagram a peer sends earns it REPLY_MULTIPLE times its size in reply
+ * bytes, headers counted, so a spoofed sender cannot make the device send
+ * much more than it received. Automatic updates are paid for by the peer
+ * speaking within the peer timeout. */
+#define UDP_HEADER_BYTES 28u
+#define REPLY_MULTIPLE 8u
+#define REPLY_CREDIT_MAX (64u * 1024u)
 
 static bool silent_too_long(const bin_udp_peer_t *p, uint64_t now)
 {
@@ -23,8 +31,12 @@ static bool silent_too_long(const bin_udp_peer_t *p, uint64_t now)
 static void write_frame(void *ctx, const char *bytes, size_t len, wsg_msg_kind_t kind)
 {
     bin_udp_peer_t *p = ctx;
-    if (kind == WSG_MSG_UPDATE && silent_too_long(p, hal_clock_now_us())) {
-        return;
+    uint32_t cost = (uint32_t)len + UDP_HEADER_BYTES;
+    if (kind == WSG_MSG_UPDATE ? silent_too_long(p, hal_clock_now_us()) : p->credit < cost) {
+        return; /* lost, as a datagram may be */
+    }
+    if (kind != WSG_MSG_UPDATE) {
+        p->credit -= cost;
     }
     socklen_t len_to = p->reply_to.ss_family == AF_INET6 ? sizeof(struct sockaddr_in6)
                                                          : sizeof(struct sockaddr_in);
@@ -127,6 +139,8 @@ static void on_datagram(void *ctx, int fd, short revents)
         return;
     }
     p->last_seen_us = hal_clock_now_us();
+    uint64_t earned = ((uint64_t)n + UDP_HEADER_BYTES) * REPLY_MULTIPLE + p->credit;
+    p->credit = earned < REPLY_CREDIT_MAX ? (uint32_t)earned : REPLY_CREDIT_MAX;
     gripper_feed(s->gripper, &p->conn, buf, (size_t)n, 1);
 }
 

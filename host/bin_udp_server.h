@@ -25,6 +25,7 @@ typedef struct {
     struct sockaddr_storage reply_to; /* its IP at the reply port */
     wsg_conn_t conn;
     uint64_t last_seen_us;
+    uint32_t credit; /* reply bytes it may still be sent */
     char name[64];
 } bin_udp_peer_t;
 

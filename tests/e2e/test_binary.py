@@ -223,6 +223,24 @@ class Drivers(BinaryCase):
         self.assertEqual(len(self.reply(drake, 0x53).values), 32)
 
 
+class UdpBudget(BinaryCase):
+    def test_replies_are_bounded_by_what_the_peer_sent(self):
+        """20 requests for the tactile finger's 168 bytes in one 160-byte
+        datagram: the peer earned 8 x (160 + 28) bytes, each reply costs
+        178 + 28, so 7 replies go out (docs/binary-protocol.md, UDP)."""
+        reply_port = free_udp_port()
+        self.start("--binary-udp-reply-port", str(reply_port))
+        self.ctl("STEP(500)")  # the finger bus delivers the DSA's data
+        peer = wb.BinUdp("127.0.0.1", self.bin_udp_port, reply_port=reply_port, timeout=30.0,
+                         bind_host="127.0.0.1")
+        self.addCleanup(peer.close)
+        peer.send(wb.encode_frame(0x73) * 20)
+        first = peer.wait_for(0x73)
+        self.assertEqual((first.status, len(first.values)), (E_SUCCESS, 168))
+        self.reply(peer, 0x31)  # answered in order after what went out
+        self.assertEqual(len(peer.received), 6)
+
+
 class SharedDevice(BinaryCase):
     def test_gcl_move_seen_and_stopped_by_binary(self):
         self.start()
