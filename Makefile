@@ -37,8 +37,9 @@ CORE_INC := $(FIRMWARE_INC) -Ihal/sim
 CK_TIMEOUT_MULTIPLIER ?= 10
 CHECK_ENV = CK_TIMEOUT_MULTIPLIER=$(CK_TIMEOUT_MULTIPLIER)
 
-HOST_DEBS := build-essential pkg-config libinih-dev libcjson-dev
-CHECK_DEBS := $(HOST_DEBS) check python3
+# Declared once, in debian/control (see mk/deps.sh).
+HOST_DEBS = $(shell mk/deps.sh --list build)
+CHECK_DEBS = $(shell mk/deps.sh --list check)
 
 .PHONY: all run check deps deps-check clean format format-check lint
 all: $(BUILD)/wsgsim

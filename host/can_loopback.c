@@ -26,6 +26,8 @@ static struct {
     uint32_t overruns;
 } bus;
 
+static can_loopback_tap_t tap; /* outside bus: can_loopback_init() keeps it */
+
 static void to_gripper(const hal_can_frame_t *frame)
 {
     if (!hal_can_filters_accept(bus.filters, bus.filter_count, frame)) {
@@ -43,11 +45,14 @@ static void to_gripper(const hal_can_frame_t *frame)
 /* Every other participant sees the frame, as on a real bus. */
 static void deliver(const hal_can_frame_t *frame, int from)
 {
+    uint64_t now = hal_clock_now_us();
     bus.frames++;
+    if (tap != NULL) {
+        tap(frame, now);
+    }
     if (from != GRIPPER) {
         to_gripper(frame);
     }
-    uint64_t now = hal_clock_now_us();
     for (int i = 0; i < (int)FBUS_SLOTS; i++) {
         loopback_node_t *n = &bus.nodes[i];
         if (i != from && hal_can_filters_accept(n->filters, n->filter_count, frame)) {
@@ -129,6 +134,11 @@ void can_loopback_init(const fbus_type_t types[FBUS_SLOTS], const finger_node_pa
         unsigned count = finger_node_filters(&n->node, filters);
         node_set_filters((void *)(intptr_t)i, filters, count);
     }
+}
+
+void can_loopback_set_tap(can_loopback_tap_t new_tap)
+{
+    tap = new_tap;
 }
 
 const hal_can_t *can_loopback_bus(void)

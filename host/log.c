@@ -6,6 +6,7 @@
 #include <stdarg.h>
 #include <stdbool.h>
 #include <stdio.h>
+#include <string.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <time.h>
@@ -38,11 +39,71 @@ static struct {
     unsigned long suppressed;
 } peer_limit = {LOG_PEER_BURST, -1.0, 0};
 
-static int log_verbose;
+static hal_log_level_t min_level = HAL_LOG_INFO;
+static bool wall_timestamps;
+static const char *log_path; /* --log-file; NULL: stderr */
 
-void host_log_set_verbose(int verbose)
+void host_log_set_level(hal_log_level_t level)
 {
-    log_verbose = verbose;
+    min_level = level;
+}
+
+bool host_log_parse_level(const char *name, hal_log_level_t *level)
+{
+    static const struct {
+        const char *name;
+        hal_log_level_t level;
+    } names[] = {{"error", HAL_LOG_ERROR},
+                 {"warn", HAL_LOG_WARN},
+                 {"warning", HAL_LOG_WARN},
+                 {"info", HAL_LOG_INFO},
+                 {"debug", HAL_LOG_DEBUG}};
+    for (size_t i = 0; i < sizeof(names) / sizeof(names[0]); i++) {
+        if (strcmp(name, names[i].name) == 0) {
+            *level = names[i].level;
+            return true;
+        }
+    }
+    return false;
+}
+
+void host_log_set_timestamps(bool on)
+{
+    wall_timestamps = on;
+}
+
+static int open_log_file(const char *path)
+{
+    return open(path, O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+}
+
+bool host_log_open_file(const char *path)
+{
+    int fd = open_log_file(path);
+    if (fd < 0) {
+        fprintf(stderr, "wsgsim: cannot write --log-file %s: %s\n", path, strerror(errno));
+        return false;
+    }
+    log_path = path;
+    sink.kind = SINK_FILE;
+    sink.fd = fd;
+    return true;
+}
+
+void host_log_reopen(void)
+{
+    if (log_path == NULL) {
+        return;
+    }
+    int fd = open_log_file(log_path);
+    if (fd < 0) {
+        host_logf(HAL_LOG_ERROR, "cannot reopen --log-file %s: %s (still writing the old file)",
+                  log_path, strerror(errno));
+        return;
+    }
+    close(sink.fd);
+    sink.fd = fd;
+    host_logf(HAL_LOG_INFO, "log file reopened");
 }
 
 /* The pipe or terminal gets a file description of its own, so O_NONBLOCK
@@ -88,12 +149,30 @@ static bool write_now(const char *text, size_t len)
     return n > 0; /* a terminal may take part of a line: the rest is lost, not waited for */
 }
 
+/* "2024-05-01T12:00:00.123Z " when --log-timestamps is on, else nothing. */
+static size_t wall_stamp(char *out, size_t cap)
+{
+    struct timespec now;
+    struct tm utc;
+    if (!wall_timestamps || clock_gettime(CLOCK_REALTIME, &now) != 0 ||
+        gmtime_r(&now.tv_sec, &utc) == NULL) {
+        return 0;
+    }
+    size_t len = strftime(out, cap, "%Y-%m-%dT%H:%M:%S", &utc);
+    int n = snprintf(out + len, cap - len, ".%03ldZ ", now.tv_nsec / 1000000L);
+    return n < 0 ? len : len + (size_t)n;
+}
+
+/* Simulated time in brackets: it orders the log with the --record file. */
 static size_t stamp(char *out, size_t cap, const char *what)
 {
+    size_t len = wall_stamp(out, cap);
     uint64_t now = hal_clock_now_us();
-    int n = snprintf(out, cap, "wsgsim [%llu.%06llu] %s: ", (unsigned long long)(now / 1000000u),
+    int n = snprintf(out + len, cap - len,
+                     "wsgsim [%llu.%06llu] %s: ", (unsigned long long)(now / 1000000u),
                      (unsigned long long)(now % 1000000u), what);
-    return n < 0 ? 0 : ((size_t)n < cap ? (size_t)n : cap - 1);
+    len += n < 0 ? 0 : (size_t)n;
+    return len < cap ? len : cap - 1;
 }
 
 /* Reports lines lost earlier before the next one goes out. */
@@ -154,7 +233,7 @@ void hal_log(hal_log_level_t level, const char *message)
 
 void host_logf(hal_log_level_t level, const char *fmt, ...)
 {
-    if (level == HAL_LOG_DEBUG && !log_verbose) {
+    if (level < min_level) {
         return;
     }
     va_list args;
@@ -191,7 +270,7 @@ static bool peer_line_allowed(void)
 
 void host_log_peer(hal_log_level_t level, const char *fmt, ...)
 {
-    if ((level == HAL_LOG_DEBUG && !log_verbose) || !peer_line_allowed()) {
+    if (level < min_level || !peer_line_allowed()) {
         return;
     }
     if (peer_limit.suppressed > 0) {
@@ -208,11 +287,12 @@ void host_log_peer(hal_log_level_t level, const char *fmt, ...)
 void host_log_line(const char *fmt, ...)
 {
     char line[LOG_LINE_MAX];
+    size_t len = wall_stamp(line, sizeof(line));
     va_list args;
     va_start(args, fmt);
-    int n = vsnprintf(line, sizeof(line) - 1, fmt, args);
+    int n = vsnprintf(line + len, sizeof(line) - len - 1, fmt, args);
     va_end(args);
-    size_t len = n < 0 ? 0 : (size_t)n;
+    len += n < 0 ? 0 : (size_t)n;
     emit(line, len < sizeof(line) - 2 ? len : sizeof(line) - 2);
 }
 

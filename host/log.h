@@ -1,4 +1,5 @@
-/* Host logging: hal_log() and the server's own messages go to stderr.
+/* Host logging: hal_log() and the server's own messages go to stderr, or to
+ * a file (--log-file) that host_log_reopen() reopens for log rotation.
  *
  * Logging never blocks the event loop: a line that stderr cannot take at
  * once (a pipe nobody reads, a stalled terminal) is dropped and counted, and
@@ -7,12 +8,25 @@
 #ifndef HOST_LOG_H
 #define HOST_LOG_H
 
+#include <stdbool.h>
+
 #include "hal_log.h"
 
 /* Prepares the non-blocking writer for whatever stderr is (pipe, terminal,
  * socket or file); call once at start, before logging. */
 void host_log_init(void);
-void host_log_set_verbose(int verbose);
+/* Messages below level are not logged (--log-level, --quiet; default info). */
+void host_log_set_level(hal_log_level_t level);
+/* Parses error, warn, info or debug; false for anything else. */
+bool host_log_parse_level(const char *name, hal_log_level_t *level);
+/* Starts every line with the wall-clock time, ISO 8601 in UTC (--log-timestamps). */
+void host_log_set_timestamps(bool on);
+/* Logs to the file at path (appending) instead of stderr; false after a
+ * message on stderr when it cannot be opened. */
+bool host_log_open_file(const char *path);
+/* Opens the --log-file path again (after logrotate moved it); the old file
+ * stays in use if the new one cannot be opened. No-op when logging to stderr. */
+void host_log_reopen(void);
 void host_logf(hal_log_level_t level, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 /* A message a remote peer caused (connections, refusals, peers): at most a
  * burst of LOG_PEER_BURST, then LOG_PEER_RATE per second; the rest is counted. */

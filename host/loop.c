@@ -45,6 +45,7 @@ static int signal_fd = -1;
 static bool stop_requested;
 static bool epoll_pwait2_missing; /* kernels before 5.11: millisecond waits */
 static void (*catch_up_fn)(void);
+static void (*hangup_fn)(void);
 static uint64_t wall_wakeup_ns; /* 0: none */
 
 static int bucket_of(int fd)
@@ -92,21 +93,26 @@ static void on_signal_fd(void *ctx, int fd, short revents)
     (void)revents;
     struct signalfd_siginfo info;
     while (read(fd, &info, sizeof(info)) == (ssize_t)sizeof(info)) {
-        stop_requested = true;
+        if (info.ssi_signo != SIGHUP) {
+            stop_requested = true;
+        } else if (hangup_fn != NULL) {
+            hangup_fn();
+        }
     }
 }
 
-/* SIGINT and SIGTERM stay blocked and arrive through a descriptor in the
- * epoll set: a wake-up that reports ready sockets reports a pending signal
- * too, however busy the loop is, and nothing runs in a signal handler. */
+/* SIGINT, SIGTERM and SIGHUP stay blocked and arrive through a descriptor in
+ * the epoll set: a wake-up that reports ready sockets reports a pending
+ * signal too, however busy the loop is, and nothing runs in a signal handler. */
 static bool watch_signals(void)
 {
-    sigset_t stop_signals;
-    sigemptyset(&stop_signals);
-    sigaddset(&stop_signals, SIGINT);
-    sigaddset(&stop_signals, SIGTERM);
-    sigprocmask(SIG_BLOCK, &stop_signals, NULL);
-    signal_fd = signalfd(-1, &stop_signals, SFD_NONBLOCK | SFD_CLOEXEC);
+    sigset_t signals;
+    sigemptyset(&signals);
+    sigaddset(&signals, SIGINT);
+    sigaddset(&signals, SIGTERM);
+    sigaddset(&signals, SIGHUP);
+    sigprocmask(SIG_BLOCK, &signals, NULL);
+    signal_fd = signalfd(-1, &signals, SFD_NONBLOCK | SFD_CLOEXEC);
     return signal_fd >= 0 && loop_watch(signal_fd, POLLIN, on_signal_fd, NULL);
 }
 
@@ -127,6 +133,11 @@ void loop_init(void)
 void loop_set_catch_up(void (*catch_up)(void))
 {
     catch_up_fn = catch_up;
+}
+
+void loop_set_hangup(void (*on_hangup)(void))
+{
+    hangup_fn = on_hangup;
 }
 
 bool loop_stop_requested(void)

@@ -20,10 +20,13 @@ void loop_set_events(int fd, short events);
 /* Call before close(fd). */
 void loop_unwatch(int fd);
 
-/* Starts afresh (forgets every watch). Blocks SIGINT/SIGTERM and receives
- * them through a descriptor in the set, so a pending one is noticed at the
- * next wake-up, however busy the loop is. */
+/* Starts afresh (forgets every watch). Blocks SIGINT/SIGTERM/SIGHUP and
+ * receives them through a descriptor in the set, so a pending one is noticed
+ * at the next wake-up, however busy the loop is. */
 void loop_init(void);
+/* SIGHUP runs on_hangup (from the loop, not a signal handler); without one
+ * SIGHUP is ignored. */
+void loop_set_hangup(void (*on_hangup)(void));
 bool loop_stop_requested(void);
 void loop_request_stop(void);
 

@@ -1,10 +1,13 @@
 /* build/wsgsim: the virtual WSG gripper on a Linux host. */
 #include <stdio.h>
 
+#include "can_log.h"
 #include "finger_bus_host.h"
 #include "gripper.h"
 #include "log.h"
 #include "loop.h"
+#include "net.h"
+#include "notify.h"
 #include "options.h"
 #include "coverage.h"
 #include "record.h"
@@ -77,11 +80,38 @@ static int stop_simulation(const host_options_t *opts)
     return 0;
 }
 
-static void announce(const host_options_t *opts)
+static bool announce(const host_options_t *opts)
 {
-    host_logf(HAL_LOG_INFO, "virtual %s ready: tcp %s:%d, udp %s:%d, binary udp %d%s", opts->model,
-              opts->bind_addr, tcp_server_port(), opts->bind_addr, udp_server_port(),
-              bin_udp_server_port(&bin_udp), simctl_describe());
+    char tcp[96], udp[96], line[320];
+    net_format_endpoint(opts->bind_addr, tcp_server_port(), tcp, sizeof(tcp));
+    net_format_endpoint(opts->bind_addr, udp_server_port(), udp, sizeof(udp));
+    snprintf(line, sizeof(line), "virtual %s ready: tcp %s, udp %s, binary udp %d%s", opts->model,
+             tcp, udp, bin_udp_server_port(&bin_udp), simctl_describe());
+    if (!notify_prepare(opts->ready_file)) {
+        return false;
+    }
+    host_logf(HAL_LOG_INFO, "%s", line);
+    return notify_ready(opts->ready_file, line);
+}
+
+/* Logging and supervision options, before anything logs. */
+static bool start_logging(const host_options_t *opts)
+{
+    host_log_set_level(opts->log_level);
+    host_log_set_timestamps(opts->log_timestamps);
+    return opts->log_file == NULL || host_log_open_file(opts->log_file);
+}
+
+/* SIGHUP (log rotation): every file wsgsim appends to is opened again. */
+static void reopen_files(void)
+{
+    host_log_reopen();
+    if (!record_reopen()) {
+        host_logf(HAL_LOG_ERROR, "cannot reopen the --record file (still writing the old one)");
+    }
+    if (!can_log_reopen()) {
+        host_logf(HAL_LOG_ERROR, "cannot reopen the --can-log file (still writing the old one)");
+    }
 }
 
 static void catch_up(void)
@@ -98,13 +128,17 @@ int main(int argc, char **argv)
     }
     setvbuf(stderr, NULL, _IOLBF, 0);
     host_log_init();
+    if (!start_logging(&opts)) {
+        return EXIT_STARTUP_FAILED;
+    }
     simclock_init();
     if (opts.start_paused) {
         simclock_start_paused(); /* simulated time stands at exactly 0 */
     }
     loop_init();
     loop_set_catch_up(catch_up);
-    if (!finger_bus_host_start(&opts)) {
+    loop_set_hangup(reopen_files);
+    if (!finger_bus_host_start(&opts) || (opts.can_log != NULL && !can_log_open(opts.can_log))) {
         return EXIT_STARTUP_FAILED;
     }
     static gripper_t gripper; /* the device this process serves */
@@ -113,7 +147,9 @@ int main(int argc, char **argv)
     if (!start_servers(&opts) || !start_bin_udp(&gripper, &opts) || !start_simulation(&opts)) {
         return EXIT_STARTUP_FAILED;
     }
-    announce(&opts);
+    if (!announce(&opts)) {
+        return EXIT_STARTUP_FAILED;
+    }
     host_logf(HAL_LOG_INFO, "finger bus: %s", finger_bus_host_describe());
     while (!loop_stop_requested()) {
         uint64_t deadline = simctl_tick();
@@ -124,9 +160,11 @@ int main(int argc, char **argv)
         simctl_reap();
     }
     host_logf(HAL_LOG_INFO, "shutting down");
+    notify_stopping(opts.ready_file);
     tcp_server_stop();
     udp_server_stop();
     bin_udp_server_stop(&bin_udp);
     finger_bus_host_stop();
+    can_log_close();
     return stop_simulation(&opts);
 }

@@ -4,6 +4,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <ifaddrs.h>
+#include <netdb.h>
 #include <netinet/in.h>
 #include <stdio.h>
 #include <string.h>
@@ -20,6 +21,8 @@ static struct {
     unsigned count;
 } own;
 
+static bool is_wildcard(const struct sockaddr_storage *ss);
+
 static void remember_own_socket(int fd)
 {
     socklen_t len = sizeof(own.addr[0]);
@@ -27,6 +30,31 @@ static void remember_own_socket(int fd)
         getsockname(fd, (struct sockaddr *)&own.addr[own.count], &len) == 0) {
         own.count++;
     }
+}
+
+/* A host name such as localhost: its IPv4 address if it has one (clients
+ * given "localhost" try both families; those given 127.0.0.1 only IPv4),
+ * else its first IPv6 address. */
+static bool resolve_name(const char *name, int port, struct sockaddr_storage *ss, socklen_t *len)
+{
+    static const int families[] = {AF_INET, AF_INET6};
+    for (size_t i = 0; i < sizeof(families) / sizeof(families[0]); i++) {
+        struct addrinfo hints = {.ai_family = families[i], .ai_flags = AI_PASSIVE};
+        struct addrinfo *found = NULL;
+        if (getaddrinfo(name, NULL, &hints, &found) != 0 || found == NULL) {
+            continue;
+        }
+        memcpy(ss, found->ai_addr, found->ai_addrlen);
+        *len = found->ai_addrlen;
+        freeaddrinfo(found);
+        if (ss->ss_family == AF_INET6) {
+            ((struct sockaddr_in6 *)ss)->sin6_port = htons((uint16_t)port);
+        } else {
+            ((struct sockaddr_in *)ss)->sin_port = htons((uint16_t)port);
+        }
+        return true;
+    }
+    return false;
 }
 
 static bool parse_addr(const char *addr, int port, struct sockaddr_storage *ss, socklen_t *len)
@@ -46,7 +74,7 @@ static bool parse_addr(const char *addr, int port, struct sockaddr_storage *ss, 
         *len = sizeof(*v6);
         return true;
     }
-    return false;
+    return resolve_name(addr, port, ss, len);
 }
 
 int net_listen(int type, const char *addr, int port)
@@ -55,8 +83,8 @@ int net_listen(int type, const char *addr, int port)
     struct sockaddr_storage ss;
     socklen_t len = 0;
     if (!parse_addr(addr, port, &ss, &len)) {
-        fprintf(stderr, "wsgsim: cannot listen on %s %s:%d: not an IP address\n", proto, addr,
-                port);
+        fprintf(stderr, "wsgsim: cannot listen on %s %s:%d: not an IP address or known host name\n",
+                proto, addr, port);
         return -1;
     }
     int fd = socket(ss.ss_family, type | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
@@ -65,6 +93,11 @@ int net_listen(int type, const char *addr, int port)
      * UDP, where SO_REUSEADDR would let another socket share the port. */
     if (fd >= 0 && type == SOCK_STREAM) {
         setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof(one));
+    }
+    /* "::" serves IPv4 too (as ::ffff:a.b.c.d), whatever net.ipv6.bindv6only says. */
+    int v6only = 0;
+    if (fd >= 0 && ss.ss_family == AF_INET6 && is_wildcard(&ss)) {
+        setsockopt(fd, IPPROTO_IPV6, IPV6_V6ONLY, &v6only, sizeof(v6only));
     }
     if (fd < 0 || bind(fd, (struct sockaddr *)&ss, len) != 0 ||
         (type == SOCK_STREAM && listen(fd, LISTEN_BACKLOG) != 0)) {
@@ -92,6 +125,11 @@ int net_local_port(int fd)
         return ntohs(((struct sockaddr_in6 *)&ss)->sin6_port);
     }
     return ntohs(((struct sockaddr_in *)&ss)->sin_port);
+}
+
+void net_format_endpoint(const char *addr, int port, char *out, size_t cap)
+{
+    snprintf(out, cap, strchr(addr, ':') != NULL ? "[%s]:%d" : "%s:%d", addr, port);
 }
 
 void net_format_peer(const struct sockaddr_storage *ss, char *out, size_t cap)

@@ -14,6 +14,8 @@ int net_local_port(int fd);
  * GCL or control port, on its bound address or, when bound to a wildcard,
  * on any address of this host): such a datagram is never answered. */
 bool net_is_own_address(const struct sockaddr_storage *peer);
+/* addr:port, with an IPv6 address in brackets ([::1]:1000). */
+void net_format_endpoint(const char *addr, int port, char *out, size_t cap);
 void net_format_peer(const struct sockaddr_storage *ss, char *out, size_t cap);
 
 #endif

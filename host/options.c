@@ -1,11 +1,13 @@
 #include "options.h"
 
+#include <cjson/cJSON.h>
 #include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "config_file.h"
+#include "log.h"
 #include "sim/finger_node.h"
 #include "sim/sim_models.h"
 #include "version.h"
@@ -27,9 +29,11 @@ static void print_help(void)
            "  --udp-port N               UDP port (default %d)\n"
            "  --no-tcp                   do not serve TCP\n"
            "  --no-udp                   do not serve UDP\n"
-           "  --bind ADDR                listen address (default 0.0.0.0)\n"
+           "  --bind ADDR                listen address: IPv4, IPv6 or a host name such as\n"
+           "                             localhost (default 0.0.0.0; :: serves IPv6 and IPv4)\n"
            "  --model NAME               gripper model (default %s; see --list-models)\n"
            "  --list-models              list the simulated models and exit\n"
+           "  --json                     with --list-models: print the list as JSON\n"
            "  --part W[:K]               a part of width W mm (stiffness K N/mm, default %.0f)\n"
            "                             between the jaws at start\n"
            "  --max-clients N            simultaneous TCP clients (default %d, at most %d)\n"
@@ -45,6 +49,8 @@ static void print_help(void)
            "                             in-process bus with simulated fingers\n"
            "  --fingers A[,B]            fingers on the in-process bus, each none, generic,\n"
            "                             fmf or dsa (default fmf,dsa)\n"
+           "  --can-log FILE             write every frame of the in-process bus to FILE in\n"
+           "                             candump -L format (simulated time stamps)\n"
            "  --config FILE              device configuration (INI, see\n"
            "                             docs/wsgsim.example.ini); options override it\n"
            "  --sim-port N               simulation control channel on TCP port N\n"
@@ -64,13 +70,49 @@ static void print_help(void)
            "  --binary-udp-reply-port N  binary UDP replies go to the sender's address at\n"
            "                             port N (default 1501; 0: the sender's own port)\n"
            "  --binary-no-crc            binary requests' checksums are read and ignored\n"
-           "  --version                  print the version and exit\n"
-           "  --help                     print this help and exit\n",
+           "  --log-level LEVEL          log error, warn, info or debug messages and above\n"
+           "                             (default info)\n"
+           "  --quiet                    log errors only (--log-level error)\n"
+           "  --log-timestamps           start each log line with the wall-clock time\n"
+           "                             (ISO 8601, UTC)\n"
+           "  --log-file FILE            log to FILE (appending) instead of stderr; SIGHUP\n"
+           "                             reopens it and the --record and --can-log files\n"
+           "  --ready-file FILE          once serving, write pid and ports to FILE\n"
+           "                             (removed at exit); under systemd, wsgsim also\n"
+           "                             reports READY=1 (Type=notify)\n"
+           "  -V, --version              print the version and exit\n"
+           "  -h, --help                 print this help and exit\n",
            DEFAULT_PORT, DEFAULT_PORT, sim_model_default()->name, (double)DEFAULT_PART_STIFFNESS,
            DEFAULT_MAX_CLIENTS, MAX_CLIENTS_LIMIT, DEFAULT_UDP_PEER_TIMEOUT_S);
 }
 
-static void list_models(void)
+static void list_models_json(void)
+{
+    cJSON *list = cJSON_CreateArray();
+    for (unsigned i = 0; list != NULL && i < sim_model_count(); i++) {
+        const sim_model_t *m = sim_model_at(i);
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddStringToObject(o, "name", m->name);
+        cJSON_AddBoolToObject(o, "default", m == sim_model_default());
+        cJSON_AddNumberToObject(o, "stroke_mm", (double)m->stroke_mm);
+        cJSON_AddNumberToObject(o, "speed_min_mm_s", (double)m->speed_min_mm_s);
+        cJSON_AddNumberToObject(o, "speed_max_mm_s", (double)m->speed_max_mm_s);
+        cJSON_AddNumberToObject(o, "accel_min_mm_s2", (double)m->accel_min_mm_s2);
+        cJSON_AddNumberToObject(o, "accel_max_mm_s2", (double)m->accel_max_mm_s2);
+        cJSON_AddNumberToObject(o, "force_min_n", (double)m->force_min_n);
+        cJSON_AddNumberToObject(o, "force_max_n", (double)m->force_max_n);
+        cJSON_AddBoolToObject(o, "estimated", m->estimated);
+        cJSON_AddItemToArray(list, o);
+    }
+    char *text = cJSON_PrintUnformatted(list);
+    if (text != NULL) {
+        printf("%s\n", text);
+    }
+    cJSON_free(text);
+    cJSON_Delete(list);
+}
+
+static void list_models_text(void)
 {
     for (unsigned i = 0; i < sim_model_count(); i++) {
         const sim_model_t *m = sim_model_at(i);
@@ -148,9 +190,17 @@ enum {
     OPT_BINARY_UDP_PORT,
     OPT_BINARY_UDP_REPLY_PORT,
     OPT_BINARY_NO_CRC,
-    OPT_VERSION,
-    OPT_HELP,
+    OPT_JSON,
+    OPT_CAN_LOG,
+    OPT_LOG_LEVEL,
+    OPT_QUIET,
+    OPT_LOG_TIMESTAMPS,
+    OPT_LOG_FILE,
+    OPT_READY_FILE,
+    OPT_VERSION = 'V',
+    OPT_HELP = 'h',
 };
+#define SHORT_OPTIONS ":hV" /* leading ':': a missing argument returns ':' */
 
 static const struct option long_options[] = {
     {"tcp-port", required_argument, NULL, OPT_TCP_PORT},
@@ -180,14 +230,29 @@ static const struct option long_options[] = {
     {"binary-udp-port", required_argument, NULL, OPT_BINARY_UDP_PORT},
     {"binary-udp-reply-port", required_argument, NULL, OPT_BINARY_UDP_REPLY_PORT},
     {"binary-no-crc", no_argument, NULL, OPT_BINARY_NO_CRC},
+    {"json", no_argument, NULL, OPT_JSON},
+    {"can-log", required_argument, NULL, OPT_CAN_LOG},
+    {"log-level", required_argument, NULL, OPT_LOG_LEVEL},
+    {"quiet", no_argument, NULL, OPT_QUIET},
+    {"log-timestamps", no_argument, NULL, OPT_LOG_TIMESTAMPS},
+    {"log-file", required_argument, NULL, OPT_LOG_FILE},
+    {"ready-file", required_argument, NULL, OPT_READY_FILE},
     {"version", no_argument, NULL, OPT_VERSION},
     {"help", no_argument, NULL, OPT_HELP},
     {NULL, 0, NULL, 0},
 };
 
+/* --list-models [--json] prints once every option is read. */
+static struct {
+    bool list_models;
+    bool json;
+} listing;
+
 static void set_defaults(host_options_t *opts)
 {
     memset(opts, 0, sizeof(*opts));
+    memset(&listing, 0, sizeof(listing));
+    opts->log_level = HAL_LOG_INFO;
     opts->tcp_port = DEFAULT_PORT;
     opts->udp_port = DEFAULT_PORT;
     opts->tcp_enabled = true;
@@ -281,6 +346,54 @@ static options_result_t apply_simctl_option(int opt, const char *arg, host_optio
     }
 }
 
+/* Logging, supervision and listing options. */
+static options_result_t apply_service_option(int opt, const char *arg, host_options_t *opts)
+{
+    switch (opt) {
+    case OPT_LOG_LEVEL:
+        return host_log_parse_level(arg, &opts->log_level) ? OPTIONS_RUN
+                                                           : usage_error("--log-level", arg);
+    case OPT_QUIET:
+        opts->log_level = HAL_LOG_ERROR;
+        return OPTIONS_RUN;
+    case OPT_LOG_TIMESTAMPS:
+        opts->log_timestamps = true;
+        return OPTIONS_RUN;
+    case OPT_LOG_FILE:
+        opts->log_file = arg;
+        return OPTIONS_RUN;
+    case OPT_READY_FILE:
+        opts->ready_file = arg;
+        return OPTIONS_RUN;
+    case OPT_CAN_LOG:
+        opts->can_log = arg;
+        return OPTIONS_RUN;
+    case OPT_LIST_MODELS:
+        listing.list_models = true;
+        return OPTIONS_RUN;
+    case OPT_JSON:
+        listing.json = true;
+        return OPTIONS_RUN;
+    default:
+        return OPTIONS_EXIT_USAGE;
+    }
+}
+
+/* getopt's own messages name argv[0] (a path when installed): these name
+ * the program, in the one style of every wsgsim error. */
+static options_result_t unknown_option(int opt, char **argv)
+{
+    const char *given = argv[optind - 1];
+    if (opt == ':') {
+        fprintf(stderr, "wsgsim: option '%s' needs an argument (see --help)\n", given);
+    } else if (given[1] != '-') {
+        fprintf(stderr, "wsgsim: unknown option '-%c' (see --help)\n", optopt);
+    } else {
+        fprintf(stderr, "wsgsim: unknown option '%s' (see --help)\n", given);
+    }
+    return OPTIONS_EXIT_USAGE;
+}
+
 /* --config FILE is read first so that every other option overrides it. */
 static bool load_config(int argc, char **argv, host_options_t *opts)
 {
@@ -321,9 +434,6 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
     case OPT_MODEL:
         opts->model = arg;
         return sim_model_find(arg) != NULL ? OPTIONS_RUN : usage_error("--model", arg);
-    case OPT_LIST_MODELS:
-        list_models();
-        return OPTIONS_EXIT_OK;
     case OPT_PART:
         return parse_part(arg, opts) ? OPTIONS_RUN : usage_error("--part", arg);
     case OPT_MAX_CLIENTS:
@@ -366,6 +476,15 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
     case OPT_BINARY_UDP_REPLY_PORT:
     case OPT_BINARY_NO_CRC:
         return apply_binary_option(opt, arg, opts);
+    case OPT_LOG_LEVEL:
+    case OPT_QUIET:
+    case OPT_LOG_TIMESTAMPS:
+    case OPT_LOG_FILE:
+    case OPT_READY_FILE:
+    case OPT_CAN_LOG:
+    case OPT_LIST_MODELS:
+    case OPT_JSON:
+        return apply_service_option(opt, arg, opts);
     case OPT_VERSION:
         printf("wsgsim %s (GCL firmware 4.0)\n", WSGSIM_VERSION);
         return OPTIONS_EXIT_OK;
@@ -373,9 +492,39 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
         print_help();
         return OPTIONS_EXIT_OK;
     default:
-        fprintf(stderr, "wsgsim: see --help\n");
         return OPTIONS_EXIT_USAGE;
     }
+}
+
+static options_result_t check_combinations(const host_options_t *opts)
+{
+    if (listing.list_models) {
+        if (listing.json) {
+            list_models_json();
+        } else {
+            list_models_text();
+        }
+        return OPTIONS_EXIT_OK;
+    }
+    if (listing.json) {
+        fprintf(stderr, "wsgsim: --json goes with --list-models\n");
+        return OPTIONS_EXIT_USAGE;
+    }
+    if (opts->can_log != NULL && opts->can_iface != NULL) {
+        fprintf(stderr,
+                "wsgsim: --can-log records the in-process bus; with --can %s use "
+                "candump -L %s\n",
+                opts->can_iface, opts->can_iface);
+        return OPTIONS_EXIT_USAGE;
+    }
+    if (!opts->tcp_enabled && !opts->udp_enabled) {
+        fprintf(stderr, "wsgsim: --no-tcp and --no-udp leave nothing to serve\n");
+        return OPTIONS_EXIT_USAGE;
+    }
+    if (opts->config_path != NULL && !config_file_check(opts->model)) {
+        return OPTIONS_EXIT_USAGE;
+    }
+    return OPTIONS_RUN;
 }
 
 options_result_t options_parse(int argc, char **argv, host_options_t *opts)
@@ -386,7 +535,11 @@ options_result_t options_parse(int argc, char **argv, host_options_t *opts)
     }
     int opt;
     optind = 1;
-    while ((opt = getopt_long(argc, argv, "", long_options, NULL)) != -1) {
+    opterr = 0;
+    while ((opt = getopt_long(argc, argv, SHORT_OPTIONS, long_options, NULL)) != -1) {
+        if (opt == '?' || opt == ':') {
+            return unknown_option(opt, argv);
+        }
         options_result_t result = apply_option(opt, optarg, opts);
         if (result != OPTIONS_RUN) {
             return result;
@@ -395,12 +548,5 @@ options_result_t options_parse(int argc, char **argv, host_options_t *opts)
     if (optind < argc) {
         return usage_error("argument", argv[optind]);
     }
-    if (!opts->tcp_enabled && !opts->udp_enabled) {
-        fprintf(stderr, "wsgsim: --no-tcp and --no-udp leave nothing to serve\n");
-        return OPTIONS_EXIT_USAGE;
-    }
-    if (opts->config_path != NULL && !config_file_check(opts->model)) {
-        return OPTIONS_EXIT_USAGE;
-    }
-    return OPTIONS_RUN;
+    return check_combinations(opts);
 }

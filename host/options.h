@@ -4,6 +4,7 @@
 
 #include <stdbool.h>
 
+#include "hal_log.h"
 /* --protocol: what a TCP connection speaks (docs/binary-protocol.md) */
 typedef enum { HOST_PROTOCOL_AUTO, HOST_PROTOCOL_GCL, HOST_PROTOCOL_BINARY } host_protocol_t;
 
@@ -39,6 +40,12 @@ typedef struct {
     bool binary_udp_port_given; /* set explicitly: failing to bind it is fatal */
     int binary_udp_reply_port;  /* 0: the sender's own port */
     bool binary_crc;            /* checksums of requests checked */
+    /* logging and supervision */
+    hal_log_level_t log_level; /* --log-level, --quiet */
+    bool log_timestamps;       /* --log-timestamps: wall-clock ISO 8601 on each line */
+    const char *log_file;      /* --log-file: NULL: stderr */
+    const char *ready_file;    /* --ready-file: written once serving */
+    const char *can_log;       /* --can-log: candump -L file of the in-process bus */
 } host_options_t;
 
 typedef enum { OPTIONS_RUN, OPTIONS_EXIT_OK, OPTIONS_EXIT_USAGE } options_result_t;

@@ -10,16 +10,44 @@
 #define RECORD_VERSION 1
 
 static FILE *out;
+static const char *out_path;
+
+/* mode "w" truncates, "a" appends; a file that starts empty gets the header. */
+static FILE *open_record(const char *path, const char *mode)
+{
+    FILE *f = fopen(path, mode);
+    if (f == NULL) {
+        return NULL;
+    }
+    setvbuf(f, NULL, _IOLBF, 0);
+    if (fseek(f, 0, SEEK_END) == 0 && ftell(f) == 0) {
+        fprintf(f, "# wsgsim record %d\n# sim_s wall_s channel dir text\n", RECORD_VERSION);
+    }
+    return f;
+}
 
 bool record_open(const char *path)
 {
-    out = fopen(path, "w");
+    out = open_record(path, "w");
     if (out == NULL) {
         fprintf(stderr, "wsgsim: cannot write --record file %s: %s\n", path, strerror(errno));
         return false;
     }
-    setvbuf(out, NULL, _IOLBF, 0);
-    fprintf(out, "# wsgsim record %d\n# sim_s wall_s channel dir text\n", RECORD_VERSION);
+    out_path = path;
+    return true;
+}
+
+bool record_reopen(void)
+{
+    if (out == NULL) {
+        return true;
+    }
+    FILE *f = open_record(out_path, "a");
+    if (f == NULL) {
+        return false;
+    }
+    fclose(out);
+    out = f;
     return true;
 }
 

@@ -10,6 +10,9 @@
 
 /* Opens (truncates) the file and writes the header; false with a message. */
 bool record_open(const char *path);
+/* Opens the file again by its path, appending (log rotation: the old one was
+ * moved away); false, keeping the old file, when that fails. */
+bool record_reopen(void);
 /* direction: '<' into the emulator, '>' out of it. */
 void record_gcl(const wsg_conn_t *c, char direction, const char *line, size_t len);
 /* channel: "ctl1", "scn", ... */

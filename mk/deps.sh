@@ -1,9 +1,53 @@
 #!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
 # Ensures the Debian packages a make target needs are installed.
-# usage: mk/deps.sh PACKAGE...
+# usage: mk/deps.sh PACKAGE...     these packages
+#        mk/deps.sh --list SET     print a set read from debian/control:
+#            build  what `make` needs: Build-Depends-Arch without <!nocheck>
+#            check  what `make check` needs (it also builds the .deb): every
+#                   build dependency, the <!nocheck> test tools included
+#        build-essential, implied by Debian policy, is part of both sets.
 # As root it installs what is missing with apt-get; otherwise it prints the
 # exact command to run and fails.
 set -eu
+CONTROL="$(dirname "$0")/../debian/control"
+
+# The dependencies of the named fields, one package per line: the first of
+# alternatives, without versions, architectures or profiles; entries
+# restricted to <!nocheck> only with keep_check=1.
+control_packages() {
+    keep_check=$1
+    shift
+    awk -v fields="$*" '
+        BEGIN { n = split(fields, f, " "); for (i = 1; i <= n; i++) want[f[i] ":"] = 1 }
+        /^#/ { next }
+        /^[^ \t]/ { on = ($1 in want); if (on) { sub(/^[^:]*:/, ""); print }; next }
+        on { print }
+    ' "$CONTROL" | tr ',' '\n' | while IFS= read -r entry; do
+        case "$entry" in *"<!nocheck>"*) [ "$keep_check" = 1 ] || continue ;; esac
+        pkg=$(printf '%s\n' "$entry" | sed -e 's/|.*//' -e 's/[([<].*//' -e 's/:[a-z]*//' \
+            -e 's/[[:space:]]//g')
+        [ -n "$pkg" ] || continue
+        # debhelper-compat is a virtual package that debhelper provides
+        [ "$pkg" = debhelper-compat ] && pkg=debhelper
+        echo "$pkg"
+    done
+}
+
+if [ "${1:-}" = "--list" ]; then
+    case "${2:-}" in
+    build) packages=$(control_packages 0 Build-Depends-Arch) ;;
+    check) packages=$(control_packages 1 Build-Depends Build-Depends-Arch Build-Depends-Indep) ;;
+    *)
+        echo "deps: usage: mk/deps.sh --list build|check" >&2
+        exit 2
+        ;;
+    esac
+    # shellcheck disable=SC2086
+    echo build-essential $packages
+    exit 0
+fi
+
 missing=""
 for pkg in "$@"; do
     if ! dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed"; then

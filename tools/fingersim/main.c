@@ -12,6 +12,7 @@
 
 #include "can_socketcan.h"
 #include "sim/finger_node.h"
+#include "version.h"
 
 typedef struct {
     const char *iface;
@@ -47,7 +48,15 @@ static void usage(FILE *out)
             "  --offset N       FMF reading with nothing touching, until TARE (default 0.6 N)\n"
             "  --noise N        FMF noise, standard deviation (default 0.02 N)\n"
             "  --seed N         noise seed (default fixed)\n"
-            "  --help           print this help and exit\n");
+            "  -V, --version    print the version and exit\n"
+            "  -h, --help       print this help and exit\n");
+}
+
+/* The one style of every wsgsim program's errors: "fingersim: ...". */
+static int usage_error(const char *what, const char *value)
+{
+    fprintf(stderr, "fingersim: %s '%s' (see --help)\n", what, value);
+    return 2;
 }
 
 static bool parse_float(const char *text, float *out)
@@ -65,20 +74,17 @@ static bool parse_float(const char *text, float *out)
 static int parse_options(int argc, char **argv, fingersim_options_t *o)
 {
     static const struct option longopts[] = {
-        {"can", required_argument, NULL, 'c'},
-        {"fingers", required_argument, NULL, 'f'},
-        {"offset", required_argument, NULL, 'o'},
-        {"noise", required_argument, NULL, 'n'},
-        {"seed", required_argument, NULL, 's'},
-        {"help", no_argument, NULL, 'h'},
-        {NULL, 0, NULL, 0},
+        {"can", required_argument, NULL, 'c'},    {"fingers", required_argument, NULL, 'f'},
+        {"offset", required_argument, NULL, 'o'}, {"noise", required_argument, NULL, 'n'},
+        {"seed", required_argument, NULL, 's'},   {"help", no_argument, NULL, 'h'},
+        {"version", no_argument, NULL, 'V'},      {NULL, 0, NULL, 0},
     };
     memset(o, 0, sizeof(*o));
     o->fingers = "fmf,dsa";
     finger_node_defaults(&o->params);
     int opt;
-    bool ok = true;
-    while (ok && (opt = getopt_long(argc, argv, "", longopts, NULL)) != -1) {
+    opterr = 0;
+    while ((opt = getopt_long(argc, argv, ":hV", longopts, NULL)) != -1) {
         switch (opt) {
         case 'c':
             o->iface = optarg;
@@ -87,10 +93,14 @@ static int parse_options(int argc, char **argv, fingersim_options_t *o)
             o->fingers = optarg;
             break;
         case 'o':
-            ok = parse_float(optarg, &o->params.offset_n);
+            if (!parse_float(optarg, &o->params.offset_n)) {
+                return usage_error("invalid --offset", optarg);
+            }
             break;
         case 'n':
-            ok = parse_float(optarg, &o->params.noise_n) && o->params.noise_n >= 0.0f;
+            if (!parse_float(optarg, &o->params.noise_n) || o->params.noise_n < 0.0f) {
+                return usage_error("invalid --noise", optarg);
+            }
             break;
         case 's':
             o->params.seed = (uint32_t)strtoul(optarg, NULL, 0);
@@ -98,12 +108,22 @@ static int parse_options(int argc, char **argv, fingersim_options_t *o)
         case 'h':
             usage(stdout);
             return 1;
+        case 'V':
+            printf("fingersim %s\n", WSGSIM_VERSION);
+            return 1;
+        case ':':
+            fprintf(stderr, "fingersim: option '%s' needs an argument (see --help)\n",
+                    argv[optind - 1]);
+            return 2;
         default:
-            ok = false;
+            return usage_error("unknown option", argv[optind - 1]);
         }
     }
-    if (!ok || o->iface == NULL || optind < argc) {
-        usage(stderr);
+    if (optind < argc) {
+        return usage_error("invalid argument", argv[optind]);
+    }
+    if (o->iface == NULL) {
+        fprintf(stderr, "fingersim: --can IFACE is required (see --help)\n");
         return 2;
     }
     return 0;
@@ -179,8 +199,7 @@ int main(int argc, char **argv)
         return parsed == 1 ? 0 : 2;
     }
     if (!finger_node_parse_pair(o.fingers, types)) {
-        fprintf(stderr, "fingersim: bad finger list '%s'\n", o.fingers);
-        return 2;
+        return usage_error("invalid --fingers", o.fingers);
     }
     setvbuf(stderr, NULL, _IOLBF, 0);
     signal(SIGINT, on_signal);

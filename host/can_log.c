@@ -1,0 +1,75 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/* The candump -L writer (can_log.h). */
+#include "can_log.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "can_loopback.h"
+
+static FILE *out;
+static const char *out_path;
+
+int can_log_format(const hal_can_frame_t *frame, uint64_t time_us, char *out_line)
+{
+    bool ext = (frame->flags & HAL_CAN_FLAG_EXT) != 0u;
+    unsigned dlc = frame->dlc <= HAL_CAN_MAX_DLC ? frame->dlc : HAL_CAN_MAX_DLC;
+    int n =
+        snprintf(out_line, CAN_LOG_LINE_MAX,
+                 ext ? "(%010llu.%06llu) %s %08lX#" : "(%010llu.%06llu) %s %03lX#",
+                 (unsigned long long)(time_us / 1000000u), (unsigned long long)(time_us % 1000000u),
+                 CAN_LOG_IFACE,
+                 (unsigned long)(frame->id & (ext ? HAL_CAN_EXT_ID_MASK : HAL_CAN_STD_ID_MASK)));
+    if ((frame->flags & HAL_CAN_FLAG_RTR) != 0u) {
+        n += dlc > 0u ? snprintf(out_line + n, CAN_LOG_LINE_MAX - (size_t)n, "R%u", dlc)
+                      : snprintf(out_line + n, CAN_LOG_LINE_MAX - (size_t)n, "R");
+        return n;
+    }
+    for (unsigned i = 0; i < dlc; i++) {
+        n += snprintf(out_line + n, CAN_LOG_LINE_MAX - (size_t)n, "%02X", frame->data[i]);
+    }
+    return n;
+}
+
+static void log_frame(const hal_can_frame_t *frame, uint64_t time_us)
+{
+    char line[CAN_LOG_LINE_MAX];
+    int n = can_log_format(frame, time_us, line);
+    fprintf(out, "%.*s\n", n, line);
+}
+
+bool can_log_open(const char *path)
+{
+    out = fopen(path, "w");
+    if (out == NULL) {
+        fprintf(stderr, "wsgsim: cannot write --can-log file %s: %s\n", path, strerror(errno));
+        return false;
+    }
+    out_path = path;
+    can_loopback_set_tap(log_frame);
+    return true;
+}
+
+bool can_log_reopen(void)
+{
+    if (out == NULL) {
+        return true;
+    }
+    FILE *f = fopen(out_path, "a");
+    if (f == NULL) {
+        return false;
+    }
+    fclose(out);
+    out = f;
+    return true;
+}
+
+void can_log_close(void)
+{
+    if (out != NULL) {
+        can_loopback_set_tap(NULL);
+        fclose(out);
+        out = NULL;
+    }
+}

@@ -1,0 +1,30 @@
+# SPDX-License-Identifier: BSD-3-Clause
+# The Debian packages (debian/): wsgsim and python3-wsgsim.
+#   make deb    build/deb/wsgsim_VERSION_ARCH.deb and python3-wsgsim_VERSION_all.deb
+# dpkg-buildpackage runs on a copy of the tree in build/deb/ (its clean step
+# would otherwise wipe this tree's build/), and only when a source file
+# changed since the last package build. It runs with the system's PATH: a
+# package is built with Debian's toolchain and Python, not a user's.
+DEB_PATH := /usr/sbin:/usr/bin:/sbin:/bin
+DEB_DIR := build/deb
+DEB_VERSION := $(shell dpkg-parsechangelog -l debian/changelog -S Version 2>/dev/null)
+DEB_ARCH := $(shell dpkg --print-architecture 2>/dev/null)
+DEB_SRC := $(DEB_DIR)/wsgsim-$(DEB_VERSION)
+DEB_FILES := $(DEB_DIR)/wsgsim_$(DEB_VERSION)_$(DEB_ARCH).deb \
+	$(DEB_DIR)/python3-wsgsim_$(DEB_VERSION)_all.deb
+# Every file of the source tree but build/, .git and Python's caches.
+DEB_INPUTS := $(shell find . \( -path ./build -o -path ./.git -o -name __pycache__ \) -prune \
+	-o -type f -print 2>/dev/null)
+
+.PHONY: deb deb-deps
+deb: $(DEB_FILES)
+
+deb-deps:
+	@mk/deps.sh $(CHECK_DEBS)
+
+$(DEB_FILES) &: $(DEB_INPUTS) | deb-deps
+	rm -rf $(DEB_DIR) && mkdir -p $(DEB_SRC)
+	tar -cf - --exclude=./build --exclude=./.git --exclude=__pycache__ . | tar -xf - -C $(DEB_SRC)
+	cd $(DEB_SRC) && PATH=$(DEB_PATH) dpkg-buildpackage -us -uc -b > ../build.log 2>&1 || \
+		{ tail -40 ../build.log; echo "deb: dpkg-buildpackage failed, see $(DEB_DIR)/build.log"; exit 1; }
+	@ls $(DEB_FILES)

@@ -1,0 +1,91 @@
+# SPDX-License-Identifier: BSD-3-Clause
+# Installing wsgsim (issue 14):
+#   make programs                 every program and its man page
+#   make install [PREFIX=/usr/local] [DESTDIR=]   programs, man pages, units,
+#                                 example configuration, DBC and docs
+#   make uninstall                removes exactly what install put there
+#   make docs-plot                regenerates docs/wsgplot-demo.png
+# The man pages are generated from each program's --help and --version by
+# help2man (man/*.h2m add the sections --help has no room for), so a new
+# option is in the page as soon as it is in --help.
+PREFIX ?= /usr/local
+BINDIR ?= $(PREFIX)/bin
+DATADIR ?= $(PREFIX)/share
+MANDIR ?= $(DATADIR)/man
+DOCDIR ?= $(DATADIR)/doc/wsgsim
+SYSCONFDIR ?= /etc
+SYSTEMDUNITDIR ?= $(PREFIX)/lib/systemd/system
+INSTALL ?= install
+
+# Each program once; the C ones are built, the Python ones are scripts.
+# The binary protocol client needs its module beside it: both go to
+# $(PRIVATE_DIR), and $(BINDIR)/wsgbin is a relative link to it.
+C_PROGRAMS := $(BUILD)/wsgsim $(BUILD)/fingersim
+SCRIPT_PROGRAMS := tools/wsgctl tools/wsgplot
+BIN_CLIENT := tools/wsgbin
+BIN_CLIENT_MODULE := tools/wsgbinproto.py
+PRIVATE_DIR = $(DATADIR)/wsgsim
+PROGRAMS := $(C_PROGRAMS) $(SCRIPT_PROGRAMS) $(BIN_CLIENT)
+PROGRAM_NAMES := $(notdir $(PROGRAMS))
+MAN_PAGES := $(patsubst %,$(BUILD)/man/%.1,$(PROGRAM_NAMES))
+UNITS := wsgsim.service wsgsim@.service
+DOCS := README.md $(wildcard docs/*.md docs/*.png)
+MAN_DEBS := help2man
+
+.PHONY: programs man install uninstall docs-plot
+programs: $(PROGRAMS) man
+
+man: $(MAN_PAGES)
+
+# help2man runs the program: the page says what this build does.
+# SOURCE_DATE_EPOCH (set by dpkg-buildpackage) fixes the date in the page.
+$(BUILD)/man/%.1: man/%.h2m | man-deps
+	@mkdir -p $(dir $@)
+	help2man --no-info --include=$< --output=$@.tmp \
+		$(filter %/$*,$(PROGRAMS)) && mv $@.tmp $@
+
+$(BUILD)/man/wsgsim.1: $(BUILD)/wsgsim
+$(BUILD)/man/fingersim.1: $(BUILD)/fingersim
+$(BUILD)/man/wsgctl.1: tools/wsgctl
+$(BUILD)/man/wsgplot.1: tools/wsgplot
+$(BUILD)/man/wsgbin.1: tools/wsgbin $(BIN_CLIENT_MODULE)
+
+.PHONY: man-deps
+man-deps:
+	@mk/deps.sh $(MAN_DEBS)
+
+# The units name the installed paths, so they are written at install time.
+install: $(PROGRAMS) man
+	$(INSTALL) -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(SYSTEMDUNITDIR) \
+		$(DESTDIR)$(DOCDIR)/examples $(DESTDIR)$(PRIVATE_DIR)
+	$(INSTALL) -m 755 $(C_PROGRAMS) $(SCRIPT_PROGRAMS) $(DESTDIR)$(BINDIR)/
+	$(INSTALL) -m 755 $(BIN_CLIENT) $(DESTDIR)$(PRIVATE_DIR)/
+	$(INSTALL) -m 644 $(BIN_CLIENT_MODULE) $(DESTDIR)$(PRIVATE_DIR)/
+	ln -sf $$(realpath -m --relative-to=$(BINDIR) $(PRIVATE_DIR)/$(notdir $(BIN_CLIENT))) \
+		$(DESTDIR)$(BINDIR)/$(notdir $(BIN_CLIENT))
+	$(INSTALL) -m 644 $(MAN_PAGES) $(DESTDIR)$(MANDIR)/man1/
+	for unit in $(UNITS); do \
+		sed -e 's|@BINDIR@|$(BINDIR)|g' -e 's|@SYSCONFDIR@|$(SYSCONFDIR)|g' \
+			-e 's|@DOCDIR@|$(DOCDIR)|g' dist/systemd/$$unit.in \
+			> $(DESTDIR)$(SYSTEMDUNITDIR)/$$unit && chmod 644 $(DESTDIR)$(SYSTEMDUNITDIR)/$$unit \
+			|| exit 1; \
+	done
+	$(INSTALL) -m 644 $(DOCS) $(DESTDIR)$(DOCDIR)/
+	$(INSTALL) -m 644 docs/wsgsim.example.ini $(DESTDIR)$(DOCDIR)/examples/
+	$(INSTALL) -m 644 docs/finger-bus.dbc $(DESTDIR)$(PRIVATE_DIR)/
+
+uninstall:
+	rm -f $(addprefix $(DESTDIR)$(BINDIR)/,$(PROGRAM_NAMES)) \
+		$(patsubst %,$(DESTDIR)$(MANDIR)/man1/%.1,$(PROGRAM_NAMES)) \
+		$(addprefix $(DESTDIR)$(SYSTEMDUNITDIR)/,$(UNITS)) \
+		$(addprefix $(DESTDIR)$(PRIVATE_DIR)/,finger-bus.dbc $(notdir $(BIN_CLIENT) \
+			$(BIN_CLIENT_MODULE)))
+	rm -rf $(DESTDIR)$(DOCDIR) $(DESTDIR)$(PRIVATE_DIR)/__pycache__
+	-rmdir $(DESTDIR)$(PRIVATE_DIR) 2>/dev/null
+
+# A deterministic run on the paused clock, drawn by tools/wsgplot.
+docs-plot: $(BUILD)/wsgsim
+	@mk/deps.sh gnuplot-nox
+	python3 tests/pkg/demo_record.py $(BUILD)/wsgsim $(BUILD)/demo-record.txt
+	tools/wsgplot $(BUILD)/demo-record.txt -o docs/wsgplot-demo.png \
+		--title "wsgsim: HOME, GRIP a 40 mm part, RELEASE (paused clock, 20 ms steps)"

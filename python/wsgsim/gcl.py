@@ -1,0 +1,186 @@
+# SPDX-License-Identifier: BSD-3-Clause
+"""GCL clients over TCP and UDP, for wsgsim or a real WSG gripper.
+
+Timeouts are upper bounds against hangs, never assertions on speed: every
+wait ends as soon as its condition holds and only gives up after a generous
+bound (tests run on busy machines and under valgrind).
+"""
+import select
+import socket
+import time
+
+DEFAULT_TIMEOUT = 30.0  # a reply line
+MOTION_TIMEOUT = 60.0  # the FIN of a motion command
+
+
+class GclError(AssertionError):
+    """A reply that was not the one expected, a timeout or a closed link."""
+
+
+class _GclLines:
+    """What both transports do on top of read_line() and send()."""
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def read_line_skipping_autosend(self, timeout=None):
+        while True:
+            line = self.read_line(timeout)
+            if not line.startswith("@"):
+                return line
+
+    def command(self, line, timeout=None):
+        """Sends a line and returns the first reply that is not an AUTOSEND value."""
+        self.send(line)
+        return self.read_line_skipping_autosend(timeout)
+
+    def expect(self, line, expected, timeout=None):
+        reply = self.command(line, timeout)
+        if reply != expected:
+            raise GclError("%s: expected %r, got %r" % (line, expected, reply))
+        return reply
+
+    def long_command(self, line, name, timeout=MOTION_TIMEOUT):
+        """ACK then FIN (or ERR) of a motion command; returns the final line."""
+        self.expect(line, "ACK " + name)
+        return self.read_line_skipping_autosend(timeout)
+
+    def query_float(self, name):
+        reply = self.command(name + "?")
+        prefix = name + "="
+        if not reply.startswith(prefix):
+            raise GclError("%s?: unexpected %r" % (name, reply))
+        return float(reply[len(prefix):])
+
+
+class GclTcp(_GclLines):
+    """One TCP connection; lines are read one at a time, as a driver would."""
+
+    def __init__(self, host, port, timeout=DEFAULT_TIMEOUT):
+        self.sock = socket.create_connection((host, port), timeout=timeout)
+        self.sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        self.buffer = b""
+        self.timeout = timeout
+
+    def close(self):
+        self.sock.close()
+
+    def send_raw(self, data):
+        self.sock.sendall(data)
+
+    def send(self, line):
+        self.send_raw(line.encode() + b"\n")
+
+    def read_line(self, timeout=None):
+        """Next line without its newline; GclError on timeout or close."""
+        deadline = time.monotonic() + (timeout or self.timeout)
+        while b"\n" not in self.buffer:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                raise GclError("timed out waiting for a line (have %r)" % self.buffer)
+            ready, _, _ = select.select([self.sock], [], [], left)
+            if not ready:
+                continue
+            data = self.sock.recv(65536)
+            if not data:
+                raise GclError("connection closed (have %r)" % self.buffer)
+            self.buffer += data
+        line, self.buffer = self.buffer.split(b"\n", 1)
+        return line.decode("ascii")
+
+    def lines_before_reply(self, query="GRIPSTATE?"):
+        """Sends query and returns every line that arrived before its reply.
+        The server sends in order on a connection, so these are all the lines
+        it sent before it read the query: a barrier that, unlike a look at
+        what has arrived, does not depend on how fast the kernel delivers."""
+        self.send(query)
+        prefix = query.rstrip("?") + "="
+        lines = []
+        while True:
+            line = self.read_line()
+            if line.startswith(prefix):
+                return lines
+            lines.append(line)
+
+    def pending(self):
+        """True when a whole line can be read without waiting."""
+        while b"\n" not in self.buffer:
+            ready, _, _ = select.select([self.sock], [], [], 0)
+            if not ready:
+                return False
+            data = self.sock.recv(65536)
+            if not data:
+                return False
+            self.buffer += data
+        return True
+
+    def closed_by_peer(self, timeout=DEFAULT_TIMEOUT):
+        """True once the server has closed the connection."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            ready, _, _ = select.select([self.sock], [], [], deadline - time.monotonic())
+            if ready:
+                try:
+                    data = self.sock.recv(65536)
+                except ConnectionResetError:
+                    return True
+                if not data:
+                    return True
+                self.buffer += data
+        return False
+
+
+class GclUdp(_GclLines):
+    """A UDP peer: one datagram per command, replies as datagrams."""
+
+    def __init__(self, host, port, timeout=DEFAULT_TIMEOUT):
+        family, kind, proto, _, address = socket.getaddrinfo(host, port, type=socket.SOCK_DGRAM)[0]
+        self.sock = socket.socket(family, kind, proto)
+        self.sock.connect(address)
+        self.timeout = timeout
+
+    def close(self):
+        self.sock.close()
+
+    def send(self, line):
+        self.sock.send(line.encode() + b"\n")
+
+    def read_line(self, timeout=None):
+        ready, _, _ = select.select([self.sock], [], [], timeout or self.timeout)
+        if not ready:
+            raise GclError("timed out waiting for a datagram")
+        data = self.sock.recv(65536)
+        if not data.endswith(b"\n") or data.count(b"\n") != 1:
+            raise GclError("datagram is not exactly one line: %r" % data)
+        return data[:-1].decode("ascii")
+
+
+def wait_for(what, condition, timeout=DEFAULT_TIMEOUT, interval=0.01):
+    """Polls condition() until it returns a true value, which it returns;
+    GclError naming what after timeout."""
+    deadline = time.monotonic() + timeout
+    while True:
+        value = condition()
+        if value:
+            return value
+        if time.monotonic() > deadline:
+            raise GclError("gave up after %.0f s waiting for %s" % (timeout, what))
+        time.sleep(interval)
+
+
+def wait_for_reply(client, query, expected, timeout=DEFAULT_TIMEOUT):
+    """Repeats query until it answers expected (a state the server reaches
+    on its own, e.g. after it noticed a closed connection)."""
+    replies = []
+
+    def answered():
+        replies.append(client.command(query))
+        return replies[-1] == expected
+
+    try:
+        wait_for("%s to answer %s" % (query, expected), answered, timeout)
+    except GclError as exc:
+        raise GclError("%s (last reply %r)" % (exc, replies[-1:])) from None

@@ -1,0 +1,47 @@
+# SPDX-License-Identifier: BSD-3-Clause
+"""What the tests/pkg suites share: where the built things are, and how to
+run a program and start a wsgsim (the wsgsim Python package of this tree)."""
+import os
+import subprocess
+import sys
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+sys.path.insert(0, os.path.join(ROOT, "python"))
+
+from wsgsim import GclError, Wsgsim, read_record  # noqa: E402,F401
+
+TIMEOUT = 120  # an upper bound against hangs only
+
+
+def env_path(name, default):
+    return os.path.abspath(os.environ.get(name, os.path.join(ROOT, default)))
+
+
+WSGSIM = env_path("WSGSIM", "build/wsgsim")
+FINGERSIM = env_path("FINGERSIM", "build/fingersim")
+MAN_DIR = env_path("MAN_DIR", "build/man")
+DEB_DIR = env_path("DEB_DIR", "build/deb")
+DBC = os.path.join(ROOT, "docs", "finger-bus.dbc")
+PROGRAMS = {"wsgsim": WSGSIM, "fingersim": FINGERSIM,
+            "wsgctl": os.path.join(ROOT, "tools", "wsgctl"),
+            "wsgplot": os.path.join(ROOT, "tools", "wsgplot"),
+            "wsgbin": os.path.join(ROOT, "tools", "wsgbin")}
+
+
+def run(argv, **kw):
+    """argv's result, text, nothing on stdin."""
+    kw.setdefault("stdin", subprocess.DEVNULL)
+    return subprocess.run(argv, capture_output=True, text=True, timeout=TIMEOUT, **kw)
+
+
+def gcl_exchange(binary):
+    """Starts binary as a virtual gripper and has a short GCL conversation;
+    returns the replies."""
+    with Wsgsim("--part", "40", binary=binary) as sim:
+        with sim.tcp() as gcl:
+            replies = [gcl.command("GRIPSTATE?"), gcl.command("SN?"),
+                       gcl.long_command("HOME()", "HOME"), gcl.command("BYE()")]
+        code = sim.stop()
+    if code != 0:
+        raise GclError("%s exited with %s:\n%s" % (binary, code, "".join(sim.log)))
+    return replies

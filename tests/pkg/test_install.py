@@ -1,0 +1,95 @@
+# SPDX-License-Identifier: BSD-3-Clause
+"""make install DESTDIR=... gives a tree that runs; make uninstall removes
+it; the units name the installed paths and pass systemd-analyze verify."""
+import os
+import re
+import shutil
+import subprocess
+import tempfile
+import unittest
+
+from pkgenv import PROGRAMS, ROOT, TIMEOUT, gcl_exchange, run
+
+UNITS = ("wsgsim.service", "wsgsim@.service")
+
+
+def make(*args):
+    """make in the source tree, as the calling make was run (SAN=1 ...) but
+    without its job server, whose descriptors are not passed on."""
+    env = dict(os.environ)
+    env["MAKEFLAGS"] = re.sub(r"--jobserver-\S+|-j\d*", "", env.get("MAKEFLAGS", ""))
+    env.pop("MFLAGS", None)
+    result = subprocess.run(["make", "-s", "--no-print-directory", "-C", ROOT] + list(args),
+                            capture_output=True, text=True, timeout=TIMEOUT * 5, env=env)
+    if result.returncode != 0:
+        raise AssertionError("make %s failed:\n%s%s" % (" ".join(args), result.stdout,
+                                                         result.stderr))
+    return result
+
+
+def files_under(root):
+    return sorted(os.path.relpath(os.path.join(d, f), root)
+                  for d, _, names in os.walk(root) for f in names)
+
+
+class Install(unittest.TestCase):
+    def setUp(self):
+        tmp = tempfile.TemporaryDirectory()
+        self.addCleanup(tmp.cleanup)
+        self.tmp = tmp.name
+
+    def test_destdir_tree_runs_and_uninstalls(self):
+        make("install", "DESTDIR=" + self.tmp, "PREFIX=/usr")
+        files = files_under(self.tmp)
+        self.assertEqual(os.readlink(os.path.join(self.tmp, "usr/bin/wsgbin")),
+                         "../share/wsgsim/wsgbin", "relative, so the tree runs where it lies")
+        for name in PROGRAMS:
+            self.assertIn("usr/bin/" + name, files)
+            self.assertIn("usr/share/man/man1/%s.1" % name, files)
+        for expected in ("usr/lib/systemd/system/wsgsim.service",
+                         "usr/lib/systemd/system/wsgsim@.service",
+                         "usr/share/doc/wsgsim/examples/wsgsim.example.ini",
+                         "usr/share/doc/wsgsim/README.md", "usr/share/doc/wsgsim/simctl.md",
+                         "usr/share/doc/wsgsim/testing-your-driver.md",
+                         "usr/share/wsgsim/finger-bus.dbc", "usr/share/wsgsim/wsgbinproto.py"):
+            self.assertIn(expected, files)
+        bindir = os.path.join(self.tmp, "usr", "bin")
+        for name in PROGRAMS:
+            with self.subTest(program=name):
+                result = run([os.path.join(bindir, name), "--version"])
+                self.assertEqual(result.returncode, 0, result.stderr)
+                self.assertTrue(result.stdout.startswith(name + " "))
+        replies = gcl_exchange(os.path.join(bindir, "wsgsim"))
+        self.assertEqual(replies[0], "GRIPSTATE=0")
+        self.assertEqual(replies[2:], ["FIN HOME", "ACK BYE"])
+        unit = open(os.path.join(self.tmp, "usr/lib/systemd/system/wsgsim@.service")).read()
+        self.assertIn("ExecStart=/usr/bin/wsgsim --config /etc/wsgsim/%i.ini", unit)
+        make("uninstall", "DESTDIR=" + self.tmp, "PREFIX=/usr")
+        self.assertEqual(files_under(self.tmp), [], "uninstall left files behind")
+
+    def test_default_prefix_is_usr_local(self):
+        make("install", "DESTDIR=" + self.tmp)
+        unit = open(os.path.join(self.tmp, "usr/local/lib/systemd/system/wsgsim.service")).read()
+        self.assertIn("ExecStart=/usr/local/bin/wsgsim $WSGSIM_OPTIONS", unit)
+        self.assertTrue(os.access(os.path.join(self.tmp, "usr/local/bin/wsgsim"), os.X_OK))
+
+    def test_units_pass_systemd_analyze_verify(self):
+        """Installed under a real prefix (no DESTDIR) so that the programs the
+        units name exist: verify checks that ExecStart is executable."""
+        analyze = shutil.which("systemd-analyze")
+        self.assertIsNotNone(analyze, "systemd-analyze is missing: install the systemd package "
+                             "(make check's dependencies, debian/control, include it)")
+        prefix = os.path.join(self.tmp, "usr")
+        make("install", "PREFIX=" + prefix, "SYSCONFDIR=" + os.path.join(self.tmp, "etc"))
+        unitdir = os.path.join(prefix, "lib", "systemd", "system")
+        # the template is verified through an instance, as systemd would load it
+        units = [os.path.join(unitdir, "wsgsim.service"),
+                 os.path.join(unitdir, "wsgsim@left.service")]
+        shutil.copy(os.path.join(unitdir, "wsgsim@.service"), units[1])
+        result = run([analyze, "verify", "--man=no"] + units)
+        # verify exits 0 on some problems it only warns about: any output fails
+        self.assertEqual((result.returncode, result.stdout + result.stderr), (0, ""))
+
+
+if __name__ == "__main__":
+    unittest.main()
