@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 #include "bin_coverage.h"
 
 #include <stdint.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Protocol coverage of the binary protocol (part of --coverage): which
  * command IDs the clients used, with which reply statuses, and which of the
  * device's commands they never touched. Counted from the reply frames. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 #include "bin_udp_server.h"
 
 #include <netinet/in.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The binary protocol over UDP (docs/binary-protocol.md): requests on the
  * binary UDP port, one frame per datagram; each reply (automatic updates
  * included) goes to the sender's IP at the configured reply port, as

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Finger commands, firmware-4 style (docs/binary-protocol.md): 0x6x finger
  * 1, 0x7x finger 2, no index byte. */
 #include "bin/bin_internal.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The binary driver's own declarations: its per-connection state, the
  * command table's handler type and the reply helpers. Nothing outside
  * firmware/bin includes this. */

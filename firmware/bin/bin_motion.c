@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Motion commands 0x20-0x26 (spec §5): long ones answer E_CMD_PENDING and a
  * final frame with the same ID; widths, speeds and forces are clamped to
  * the device's limits, a target in a soft-limit zone is E_RANGE_ERROR. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Motion configuration 0x30-0x38 (spec §5): device settings, shared with
  * GCL; acceleration and force are clamped to the device's limits. */
 #include "bin/bin_internal.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* State queries 0x40-0x46 and their automatic updates (spec §6): periodic
  * or change-sensitive, several per connection, driven by one timer in the
  * device's queue, due at the earliest subscription. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Connection and system commands: 0x06 loop, 0x07 disconnect, 0x50-0x53. */
 #include <string.h>
 

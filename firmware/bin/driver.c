@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The binary protocol driver (wsg_bin.h): frames in, one reply frame per
  * write out; the checks every request passes in the documented order, the
  * command table, pending and final replies. */

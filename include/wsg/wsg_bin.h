@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The binary command protocol driver (docs/binary-protocol.md): frames in,
  * one reply frame per write out, on the device's operations API. */
 #ifndef WSG_BIN_H

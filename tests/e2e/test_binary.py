@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The binary command protocol end to end (docs/binary-protocol.md): TCP
 auto-detected and forced, UDP with the reply port, the start-up sequences
 of the ROS, UMI and Drake drivers, one device shared with a GCL client.

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """The binary protocol against a board image over TCP (the lwIP image's
 port 1000, forwarded by QEMU): acknowledge, homing with its pending and
 final frames, a query, the disconnect announcement. Prints PASS/FAIL lines

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* A binary protocol client for the driver's tests: sends framed requests
  * into a connection of the unit harness' device (tests/unit/harness.h) and
  * keeps every reply frame it gets, decoded, in order. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Runs the binary protocol driver's suites on the device core in virtual
  * time. CK_RUN_SUITE / CK_RUN_CASE select a subset. */
 #include <stdlib.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The binary protocol driver's suites; check_main.c runs them all. */
 #ifndef BIN_DRIVER_SUITES_H
 #define BIN_DRIVER_SUITES_H

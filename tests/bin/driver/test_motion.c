@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Long commands: pending and final frames, immediate errors, stop and its
  * ordering, E_ALREADY_RUNNING, clamping and soft-limit zones, and one
  * device shared with a GCL client. */

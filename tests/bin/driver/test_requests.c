@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Requests that need no motion: framing errors in their documented order,
  * queries, settings shared with GCL, system and finger commands. */
 #include <string.h>

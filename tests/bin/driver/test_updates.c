@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Automatic updates of 0x40, 0x41, 0x43, 0x44, 0x45 in virtual time. */
 #include "bin_client.h"
 #include "suites.h"
