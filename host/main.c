@@ -87,6 +87,8 @@ static bool announce(const host_options_t *opts)
     net_format_endpoint(opts->bind_addr, udp_server_port(), udp, sizeof(udp));
     snprintf(line, sizeof(line), "virtual %s ready: tcp %s, udp %s, binary udp %d%s", opts->model,
              tcp, udp, bin_udp_server_port(&bin_udp), simctl_describe());
+    bool bin_tcp = opts->tcp_enabled && opts->protocol != HOST_PROTOCOL_GCL;
+    notify_set_binary_ports(bin_tcp ? tcp_server_port() : -1, bin_udp_server_port(&bin_udp));
     if (!notify_prepare(opts->ready_file)) {
         return false;
     }

@@ -14,6 +14,15 @@
 #include "tcp_server.h"
 #include "udp_server.h"
 
+static int bin_tcp_port = -1;
+static int bin_udp_port = -1;
+
+void notify_set_binary_ports(int tcp_port, int udp_port)
+{
+    bin_tcp_port = tcp_port;
+    bin_udp_port = udp_port;
+}
+
 static void put_port(FILE *f, const char *name, int port)
 {
     if (port >= 0) {
@@ -44,6 +53,8 @@ bool notify_prepare(const char *ready_file)
         put_port(f, "tcp_port", tcp_server_port());
         put_port(f, "udp_port", udp_server_port());
         put_port(f, "sim_port", simctl_port());
+        put_port(f, "bin_tcp_port", bin_tcp_port);
+        put_port(f, "bin_udp_port", bin_udp_port);
         bool written = ferror(f) == 0;
         if (fclose(f) == 0 && written) {
             return true;
