@@ -31,6 +31,7 @@ typedef enum {
     K_SECONDS_OFF, /* 0..86400 or "off" (0) */
     K_ADDR,        /* an IPv4 or IPv6 address */
     K_LOOPBACK,    /* a loopback address only */
+    K_PROTOCOL,    /* auto, gcl or binary */
 } kind_t;
 
 typedef enum {
@@ -58,6 +59,10 @@ typedef enum {
     NET_UDP_PEER_TIMEOUT,
     NET_SIM_PORT,
     NET_SIM_BIND,
+    NET_PROTOCOL,
+    NET_BINARY_UDP_PORT,
+    NET_BINARY_UDP_REPLY_PORT,
+    NET_BINARY_CRC,
     KEY_COUNT
 } key_id_t;
 
@@ -90,6 +95,10 @@ static const struct {
     [NET_UDP_PEER_TIMEOUT] = {"network", "udp_peer_timeout", K_SECONDS},
     [NET_SIM_PORT] = {"network", "sim_port", K_PORT_OFF},
     [NET_SIM_BIND] = {"network", "sim_bind", K_LOOPBACK},
+    [NET_PROTOCOL] = {"network", "protocol", K_PROTOCOL},
+    [NET_BINARY_UDP_PORT] = {"network", "binary_udp_port", K_PORT},
+    [NET_BINARY_UDP_REPLY_PORT] = {"network", "binary_udp_reply_port", K_PORT},
+    [NET_BINARY_CRC] = {"network", "binary_crc", K_BOOL},
 };
 
 typedef struct {
@@ -242,6 +251,12 @@ static const char *convert(kind_t kind, const char *text, value_t *v)
                    : "expected seconds 0-86400 or off";
     case K_ADDR:
         return is_address(text) ? NULL : "expected an IPv4 or IPv6 address";
+    case K_PROTOCOL: {
+        host_protocol_t protocol = HOST_PROTOCOL_AUTO;
+        bool ok = options_parse_protocol(text, &protocol);
+        v->number = (double)protocol;
+        return ok ? NULL : "expected auto, gcl or binary";
+    }
     case K_LOOPBACK:
         return is_loopback(text) ? NULL
                                  : "the control port may only be bound to a loopback address "
@@ -382,6 +397,24 @@ static char *read_line(char *str, int num, void *stream)
     return str;
 }
 
+static void apply_binary(host_options_t *opts)
+{
+    const value_t *v = loaded.values;
+    if (v[NET_PROTOCOL].set) {
+        opts->protocol = (host_protocol_t)v[NET_PROTOCOL].number;
+    }
+    if (v[NET_BINARY_UDP_PORT].set) {
+        opts->binary_udp_port = (int)v[NET_BINARY_UDP_PORT].number;
+        opts->binary_udp_port_given = true;
+    }
+    if (v[NET_BINARY_UDP_REPLY_PORT].set) {
+        opts->binary_udp_reply_port = (int)v[NET_BINARY_UDP_REPLY_PORT].number;
+    }
+    if (v[NET_BINARY_CRC].set) {
+        opts->binary_crc = v[NET_BINARY_CRC].number != 0.0;
+    }
+}
+
 static void apply_host(host_options_t *opts)
 {
     const value_t *v = loaded.values;
@@ -415,6 +448,7 @@ static void apply_host(host_options_t *opts)
     if (v[NET_SIM_BIND].set) {
         opts->sim_bind = v[NET_SIM_BIND].text;
     }
+    apply_binary(opts);
 }
 
 bool config_file_load(const char *path, host_options_t *opts)

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bin_coverage.h"
 #include "simctl_names.h"
 
 #define COMMANDS_MAX 64
@@ -64,6 +65,7 @@ static const wsg_grip_state_t known_transitions[][2] = {
 void coverage_reset(void)
 {
     memset(&cov, 0, sizeof(cov));
+    bin_coverage_reset();
 }
 
 static int form_slot(unsigned form, unsigned argc)
@@ -387,6 +389,7 @@ static cJSON *build_report(bool strict)
     cJSON_AddItemToObject(root, "errors", report_errors(summary));
     cJSON_AddItemToObject(root, "grip_states", report_states(summary));
     cJSON_AddItemToObject(root, "flags", report_flags(summary));
+    cJSON_AddItemToObject(root, "binary", bin_coverage_report(summary));
     cJSON_AddBoolToObject(root, "strict", strict);
     if (strict) {
         cJSON_AddItemToObject(root, "tolerated", report_tolerated());

@@ -60,6 +60,7 @@ void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
     set_identity(&g->config, index);
     config_file_apply_device(index, &g->config);
     g->config.disconnect_raises_faststop = opts->disconnect_faststop;
+    g->config.bin_crc_unchecked = !opts->binary_crc;
     power_on_world(g);
     wsg_hal_t hal;
     sim_world_hal(&g->world, &hal);

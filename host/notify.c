@@ -13,6 +13,15 @@
 #include "log.h"
 #include "simctl.h"
 
+static int bin_tcp_port = -1;
+static int bin_udp_port = -1;
+
+void notify_set_binary_ports(int tcp_port, int udp_port)
+{
+    bin_tcp_port = tcp_port;
+    bin_udp_port = udp_port;
+}
+
 static void put_port(FILE *f, const char *name, int port)
 {
     if (port >= 0) {
@@ -43,6 +52,8 @@ bool notify_prepare(const char *ready_file)
         put_port(f, "tcp_port", fleet_tcp_port(0)); /* device 0 */
         put_port(f, "udp_port", fleet_udp_port(0));
         put_port(f, "sim_port", simctl_port());
+        put_port(f, "bin_tcp_port", bin_tcp_port);
+        put_port(f, "bin_udp_port", bin_udp_port);
         bool written = ferror(f) == 0;
         if (fclose(f) == 0 && written) {
             return true;

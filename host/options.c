@@ -17,6 +17,8 @@
 #define MAX_CLIENTS_LIMIT 128
 #define DEFAULT_PART_STIFFNESS 100.0f
 #define DEFAULT_UDP_PEER_TIMEOUT_S 60
+#define DEFAULT_BINARY_UDP_PORT 1500
+#define DEFAULT_BINARY_UDP_REPLY_PORT 1501
 #define TIMEOUT_LIMIT_S 86400
 
 static void print_help(void)
@@ -62,6 +64,14 @@ static void print_help(void)
            "  --coverage FILE            write a protocol coverage report at exit\n"
            "  --strict                   report input the manual does not allow but the\n"
            "                             emulator tolerates (coverage report and trace)\n"
+           "  --protocol P               what TCP connections speak: auto (default: a first\n"
+           "                             byte 0xAA is the binary protocol, else GCL), gcl\n"
+           "                             or binary\n"
+           "  --binary-udp-port N        binary protocol over UDP on port N (default 1500;\n"
+           "                             0: off; the default is skipped when taken)\n"
+           "  --binary-udp-reply-port N  binary UDP replies go to the sender's address at\n"
+           "                             port N (default 1501; 0: the sender's own port)\n"
+           "  --binary-no-crc            binary requests' checksums are read and ignored\n"
            "  --log-level LEVEL          log error, warn, info or debug messages and above\n"
            "                             (default info)\n"
            "  --quiet                    log errors only (--log-level error)\n"
@@ -180,6 +190,10 @@ enum {
     OPT_RECORD,
     OPT_COVERAGE,
     OPT_STRICT,
+    OPT_PROTOCOL,
+    OPT_BINARY_UDP_PORT,
+    OPT_BINARY_UDP_REPLY_PORT,
+    OPT_BINARY_NO_CRC,
     OPT_JSON,
     OPT_CAN_LOG,
     OPT_LOG_LEVEL,
@@ -217,6 +231,10 @@ static const struct option long_options[] = {
     {"record", required_argument, NULL, OPT_RECORD},
     {"coverage", required_argument, NULL, OPT_COVERAGE},
     {"strict", no_argument, NULL, OPT_STRICT},
+    {"protocol", required_argument, NULL, OPT_PROTOCOL},
+    {"binary-udp-port", required_argument, NULL, OPT_BINARY_UDP_PORT},
+    {"binary-udp-reply-port", required_argument, NULL, OPT_BINARY_UDP_REPLY_PORT},
+    {"binary-no-crc", no_argument, NULL, OPT_BINARY_NO_CRC},
     {"json", no_argument, NULL, OPT_JSON},
     {"can-log", required_argument, NULL, OPT_CAN_LOG},
     {"log-level", required_argument, NULL, OPT_LOG_LEVEL},
@@ -253,6 +271,47 @@ static void set_defaults(host_options_t *opts)
     opts->udp_peer_timeout_s = DEFAULT_UDP_PEER_TIMEOUT_S;
     opts->sim_port = -1;
     opts->fingers = "fmf,dsa";
+    opts->binary_udp_port = DEFAULT_BINARY_UDP_PORT;
+    opts->binary_udp_reply_port = DEFAULT_BINARY_UDP_REPLY_PORT;
+    opts->binary_crc = true;
+}
+
+bool options_parse_protocol(const char *text, host_protocol_t *out)
+{
+    static const char *const names[] = {"auto", "gcl", "binary"};
+    for (unsigned i = 0; i < 3; i++) {
+        if (strcmp(text, names[i]) == 0) {
+            *out = (host_protocol_t)i;
+            return true;
+        }
+    }
+    return false;
+}
+
+static options_result_t usage_error(const char *what, const char *value);
+
+/* The binary protocol's options (docs/binary-protocol.md). */
+static options_result_t apply_binary_option(int opt, const char *arg, host_options_t *opts)
+{
+    switch (opt) {
+    case OPT_PROTOCOL:
+        return options_parse_protocol(arg, &opts->protocol) ? OPTIONS_RUN
+                                                            : usage_error("--protocol", arg);
+    case OPT_BINARY_UDP_PORT:
+        opts->binary_udp_port_given = true;
+        return parse_int(arg, 0, 65535, &opts->binary_udp_port)
+                   ? OPTIONS_RUN
+                   : usage_error("--binary-udp-port", arg);
+    case OPT_BINARY_UDP_REPLY_PORT:
+        return parse_int(arg, 0, 65535, &opts->binary_udp_reply_port)
+                   ? OPTIONS_RUN
+                   : usage_error("--binary-udp-reply-port", arg);
+    case OPT_BINARY_NO_CRC:
+        opts->binary_crc = false;
+        return OPTIONS_RUN;
+    default:
+        return OPTIONS_EXIT_USAGE;
+    }
 }
 
 static options_result_t usage_error(const char *what, const char *value)
@@ -421,6 +480,11 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
     case OPT_COVERAGE:
     case OPT_STRICT:
         return apply_simctl_option(opt, arg, opts);
+    case OPT_PROTOCOL:
+    case OPT_BINARY_UDP_PORT:
+    case OPT_BINARY_UDP_REPLY_PORT:
+    case OPT_BINARY_NO_CRC:
+        return apply_binary_option(opt, arg, opts);
     case OPT_LOG_LEVEL:
     case OPT_QUIET:
     case OPT_LOG_TIMESTAMPS:

@@ -5,6 +5,8 @@
 #include <stdbool.h>
 
 #include "hal_log.h"
+/* --protocol: what a TCP connection speaks (docs/binary-protocol.md) */
+typedef enum { HOST_PROTOCOL_AUTO, HOST_PROTOCOL_GCL, HOST_PROTOCOL_BINARY } host_protocol_t;
 
 /* --devices: at most this many grippers in one process. */
 #define HOST_DEVICES_MAX 1024
@@ -36,6 +38,12 @@ typedef struct {
     const char *coverage_path; /* --coverage: report written at exit */
     bool strict;               /* --strict: report tolerated input */
     bool start_paused;         /* --start-paused: simulated clock paused at 0 */
+    /* the binary protocol (docs/binary-protocol.md) */
+    host_protocol_t protocol;
+    int binary_udp_port;        /* 0: off */
+    bool binary_udp_port_given; /* set explicitly: failing to bind it is fatal */
+    int binary_udp_reply_port;  /* 0: the sender's own port */
+    bool binary_crc;            /* checksums of requests checked */
     /* logging and supervision */
     hal_log_level_t log_level; /* --log-level, --quiet */
     bool log_timestamps;       /* --log-timestamps: wall-clock ISO 8601 on each line */
@@ -48,5 +56,7 @@ typedef enum { OPTIONS_RUN, OPTIONS_EXIT_OK, OPTIONS_EXIT_USAGE } options_result
 
 /* Parses argv; prints help, version, model list or a usage error itself. */
 options_result_t options_parse(int argc, char **argv, host_options_t *opts);
+/* "auto", "gcl" or "binary" (the option and the configuration key). */
+bool options_parse_protocol(const char *text, host_protocol_t *out);
 
 #endif

@@ -1,5 +1,6 @@
 #include "simctl_hooks.h"
 
+#include "bin_coverage.h"
 #include "coverage.h"
 #include "record.h"
 #include "trace.h"
@@ -27,6 +28,9 @@ static void on_message_in(void *ctx, const wsg_conn_t *c, const char *line, size
 static void on_message_out(void *ctx, const wsg_conn_t *c, const char *line, size_t len)
 {
     (void)ctx;
+    if (hub.coverage) {
+        bin_coverage_frame_out((const unsigned char *)line, len);
+    }
     if (hub.trace) {
         trace_line(c, '>', line, len);
     }

@@ -16,6 +16,7 @@
 #include "net.h"
 #include "outq.h"
 #include "simctl_delay.h"
+#include "wsg/wsg_bin.h"
 #include "wsg/wsg_gcl.h"
 
 #define OUTQ_BYTES (16u * 1024u)
@@ -281,8 +282,11 @@ static bool setup_client(tcp_client_t *c, int fd, const struct sockaddr_storage 
     if (!outq_init(&c->outq, OUTQ_BYTES)) {
         return false;
     }
-    wsg_conn_open(&c->conn, &c->server->gripper->device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM,
-                  &tcp_io, c);
+    /* --protocol auto: the connection's first byte chooses (firmware/net/conn.c) */
+    static const wsg_proto_driver_t *const drivers[] = {NULL, &wsg_gcl_driver, &wsg_bin_driver};
+    gripper_t *g = c->server->gripper;
+    wsg_conn_open(&c->conn, &g->device, drivers[g->opts.protocol], WSG_TRANSPORT_STREAM, &tcp_io,
+                  c);
     if (!loop_watch(fd, POLLIN, on_client, c)) {
         wsg_conn_close(&c->conn, WSG_CLOSE_ANNOUNCED);
         outq_free(&c->outq);

@@ -5,9 +5,45 @@
 
 #include "hal_clock.h"
 #include "log.h"
+#include "wsg/wsg_bin.h"
+
+#define FRAME_HEADER 6u
+#define FRAME_HEX_MAX 48u /* payload bytes shown; longer ones end in "..." */
+
+/* A binary frame decoded: "0x21 preposition [9] 00 00 00 48 42 ..." in,
+ * "0x21 preposition status 26 (Command pending)" and its values out. */
+static size_t describe_frame(char direction, const uint8_t *f, size_t len, char *out, size_t cap)
+{
+    const char *name = wsg_bin_command_name(f[3]);
+    size_t declared = len >= FRAME_HEADER ? (size_t)f[4] | (size_t)f[5] << 8 : 0;
+    size_t have = len >= FRAME_HEADER + 2u ? len - FRAME_HEADER - 2u : 0;
+    const uint8_t *p = f + FRAME_HEADER;
+    int n = snprintf(out, cap, "0x%02X %s", f[3], name != NULL ? name : "(unknown)");
+    if (direction == '>' && have >= 2) {
+        unsigned status = (unsigned)p[0] | (unsigned)p[1] << 8;
+        n += snprintf(out + n, cap - (size_t)n, " status %u (%s)", status,
+                      wsg_status_description((wsg_status_t)status));
+        p += 2;
+        have -= 2;
+    } else {
+        n += snprintf(out + n, cap - (size_t)n, " [%zu]", declared);
+    }
+    for (size_t i = 0; i < have && i < FRAME_HEX_MAX; i++) {
+        n += snprintf(out + n, cap - (size_t)n, " %02x", p[i]);
+    }
+    if (have > FRAME_HEX_MAX) {
+        n += snprintf(out + n, cap - (size_t)n, " ...");
+    }
+    return (size_t)n < cap ? (size_t)n : cap - 1;
+}
 
 void trace_line(const wsg_conn_t *c, char direction, const char *line, size_t len)
 {
+    char decoded[256];
+    if (len >= FRAME_HEADER && (unsigned char)line[0] == 0xAAu) {
+        len = describe_frame(direction, (const uint8_t *)line, len, decoded, sizeof(decoded));
+        line = decoded;
+    }
     while (len > 0 && (line[len - 1] == '\n' || line[len - 1] == '\r')) {
         len--;
     }

@@ -3,18 +3,24 @@
 #   make bin-tests         the Check tests (build/tests/bin_tests) and the
 #                          unittest of the Python client's codec (tools/wsgbinproto.py)
 #   make bin-tests SAN=1   the same under ASan/UBSan
-# The codec depends on nothing else in the tree: it builds into its own
-# library, libwsgbin.a.
-BIN_SRC := $(sort $(wildcard firmware/bin/*.c))
+# The codec (wsg_bin_*.c) depends on nothing else in the tree: it builds into
+# its own library, libwsgbin.a; the protocol driver beside it (driver.c,
+# bin_*.c) is part of the device core's libwsgfw.a.
+BIN_SRC := $(sort $(wildcard firmware/bin/wsg_bin_*.c))
 BIN_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(BIN_SRC))
 BIN_TEST_SRC := $(sort $(wildcard tests/bin/*.c))
+# The driver's tests run on the device core with the unit tests' harness.
+BIN_DRV_TEST_SRC := $(sort $(wildcard tests/bin/driver/*.c))
+BIN_DRV_TEST_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(BIN_DRV_TEST_SRC))
+BIN_DRV_HARNESS_OBJ := $(BUILD)/obj/tests/unit/harness.o $(BUILD)/obj/tests/unit/harness_fmf.o
+BIN_DRV_TEST_BIN := $(BUILD)/tests/bin_driver_tests
 BIN_TEST_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(BIN_TEST_SRC))
 BIN_TEST_BIN := $(BUILD)/tests/bin_tests
 BIN_TEST_CFLAGS = $(CFLAGS_BASE) -Ifirmware/bin -Itests/bin $(shell pkg-config --cflags check)
 BIN_TEST_LIBS = $(shell pkg-config --libs check) -lm
 
 # More specific than the firmware/%.o rule, so the codec sees only its own folder.
-$(BUILD)/obj/firmware/bin/%.o: firmware/bin/%.c
+$(BUILD)/obj/firmware/bin/wsg_bin_%.o: firmware/bin/wsg_bin_%.c
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_BASE) -Ifirmware/bin -ffreestanding -MMD -MP -c $< -o $@
 
@@ -26,6 +32,14 @@ $(BUILD)/obj/tests/bin/%.o: tests/bin/%.c
 	@mkdir -p $(dir $@)
 	$(CC) $(BIN_TEST_CFLAGS) -MMD -MP -c $< -o $@
 
+$(BUILD)/obj/tests/bin/driver/%.o: tests/bin/driver/%.c
+	@mkdir -p $(dir $@)
+	$(CC) $(UNIT_CFLAGS) -Itests/bin/driver -MMD -MP -c $< -o $@
+
+$(BIN_DRV_TEST_BIN): $(BIN_DRV_TEST_OBJ) $(BIN_DRV_HARNESS_OBJ) $(CORE_LIBS)
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS_BASE) -o $@ $(BIN_DRV_TEST_OBJ) $(BIN_DRV_HARNESS_OBJ) $(CORE_LIBS) $(UNIT_LIBS)
+
 $(BIN_TEST_BIN): $(BIN_TEST_OBJ) $(BUILD)/libwsgbin.a
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS_BASE) -o $@ $(BIN_TEST_OBJ) $(BUILD)/libwsgbin.a $(BIN_TEST_LIBS)
@@ -33,10 +47,11 @@ $(BIN_TEST_BIN): $(BIN_TEST_OBJ) $(BUILD)/libwsgbin.a
 # Check prints its summary line, the Python tests 'N passed, N failed'; both
 # binaries exit non-zero on any failure, and the Python tests run either way.
 .PHONY: bin-tests
-bin-tests: $(BIN_TEST_BIN)
+bin-tests: $(BIN_TEST_BIN) $(BIN_DRV_TEST_BIN)
 	@status=0; $(CHECK_ENV) $(BIN_TEST_BIN) || status=1; \
+	$(CHECK_ENV) $(BIN_DRV_TEST_BIN) || status=1; \
 	python3 tests/bin/test_wsgbinproto.py || status=1; exit $$status
 
 CHECK_TARGETS += bin-tests
 
--include $(BIN_OBJ:.o=.d) $(BIN_TEST_OBJ:.o=.d)
+-include $(BIN_OBJ:.o=.d) $(BIN_TEST_OBJ:.o=.d) $(BIN_DRV_TEST_OBJ:.o=.d)

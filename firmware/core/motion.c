@@ -295,6 +295,23 @@ static void grip_step(wsg_dev_t *dev)
     }
 }
 
+/* Soft limits (manual App. B SF_SOFT_LIMIT_±: "a further movement into this
+ * direction is not allowed"; binary S1 §3.3.5): a motion heading on into a
+ * soft-limit zone raises FAST STOP. Homing ignores them (manual 2.x). Targets
+ * are checked against the limits already, so only a grip closing on no part
+ * or a block giving way gets here. */
+static bool runs_into_soft_limit(const wsg_dev_t *dev)
+{
+    const wsg_config_t *cfg = &dev->cfg;
+    if (!cfg->soft_limits_enabled || !dev->referenced || dev->motion.kind == WSG_MOTION_HOME) {
+        return false;
+    }
+    float x = dev->sensed.axis.position_mm;
+    float v = dev->sensed.axis.velocity_mm_s;
+    return (x < cfg->soft_limit_minus_mm - SOFT_LIMIT_MARGIN_MM && v < 0.0f) ||
+           (x > cfg->soft_limit_plus_mm + SOFT_LIMIT_MARGIN_MM && v > 0.0f);
+}
+
 void motion_step(wsg_dev_t *dev)
 {
     dev_motion_t *m = &dev->motion;
@@ -303,6 +320,10 @@ void motion_step(wsg_dev_t *dev)
     }
     if (m->abort_requested) {
         finish(dev, m->abort_status);
+        return;
+    }
+    if (runs_into_soft_limit(dev)) {
+        device_fast_stop(dev, "soft limit reached");
         return;
     }
     switch (m->kind) {

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "priv/conn.h"
+#include "wsg/wsg_bin.h"
 #include "wsg/wsg_gcl.h"
 
 /* Appended: the list is in opening order. */
@@ -63,12 +64,10 @@ void wsg_conn_open(wsg_conn_t *conn, wsg_device_t *device, const wsg_proto_drive
 }
 
 /* The protocol auto-detection hook: the first byte of a connection opened
- * without a driver chooses one. Only GCL exists; a binary driver (issue 12)
- * claims 0xAA here, the preamble of its frames. */
+ * without a driver chooses one: 0xAA, the binary preamble, no GCL line. */
 static const wsg_proto_driver_t *detect(uint8_t first_byte)
 {
-    (void)first_byte;
-    return &wsg_gcl_driver;
+    return first_byte == 0xAAu ? &wsg_bin_driver : &wsg_gcl_driver;
 }
 
 void wsg_conn_input(wsg_conn_t *conn, const uint8_t *bytes, size_t len)
@@ -103,7 +102,7 @@ void wsg_conn_close(wsg_conn_t *conn, wsg_close_reason_t why)
     if (!c->open) {
         return;
     }
-    bool raise_fast_stop = why == WSG_CLOSE_DROPPED && !c->said_goodbye &&
+    bool raise_fast_stop = why == WSG_CLOSE_DROPPED && !c->said_goodbye && !c->close_announced &&
                            c->transport == WSG_TRANSPORT_STREAM &&
                            c->dev->cfg.disconnect_raises_faststop;
     wsg_device_detach(dev_public(c->dev), &c->owner);

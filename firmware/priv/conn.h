@@ -15,7 +15,8 @@ typedef struct wsg_conn_impl {
     wsg_transport_t transport;
     wsg_owner_t owner; /* what the device's completion events reach */
     bool open;
-    bool said_goodbye; /* the protocol's goodbye was answered: close after flushing */
+    bool said_goodbye;    /* the protocol's goodbye was answered: close after flushing */
+    bool close_announced; /* the protocol announced its close: dropping it is no fault */
     struct wsg_conn_impl *next, *prev;                 /* the device's open connections */
     WSG_ALIGNED unsigned char proto[CONN_PROTO_BYTES]; /* the driver's state */
 } conn_t;

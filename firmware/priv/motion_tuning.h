@@ -18,5 +18,6 @@
 #define CONTACT_FORCE_N 1.0f         /* force that counts as touching a part */
 #define HOMING_FORCE_FRACTION 0.25f  /* homing pushes with this share of max force */
 #define LOST_FORCE_FRACTION 0.5f     /* grip force below this share means part lost */
+#define SOFT_LIMIT_MARGIN_MM 0.1f    /* past a soft limit by this much: FAST STOP */
 
 #endif

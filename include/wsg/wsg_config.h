@@ -41,7 +41,8 @@ typedef struct {
 
     /* behaviour */
     bool disconnect_raises_faststop;
-    bool move_retarget; /* a MOVE during a MOVE retargets it; false: ERR MOVE 4 */
+    bool bin_crc_unchecked; /* binary protocol: checksums read and ignored (default: checked) */
+    bool move_retarget;     /* a MOVE during a MOVE retargets it; false: ERR MOVE 4 */
     float temp_warning_c, temp_fault_c;
 } wsg_config_t;
 

@@ -7,9 +7,9 @@ the command table, reply decoding and the BinTcp / BinUdp clients that
 tools/wsgbin uses. It is found in this source tree (tools/) or where the
 wsgsim package installs it (/usr/share/wsgsim, /usr/local/share/wsgsim).
 
-Wsgsim.binary_protocol() connects a BinTcp to a started Wsgsim once wsgsim serves
-the binary protocol and names its port in the ready file (bin_tcp_port);
-until then it says plainly that the simulator does not serve it.
+Wsgsim.binary_protocol() connects a BinTcp to a started Wsgsim through the port
+its ready file names (bin_tcp_port: the TCP port unless --protocol gcl);
+a wsgsim that does not serve it (--protocol gcl, --no-tcp) says so plainly.
 """
 import importlib.util
 import os

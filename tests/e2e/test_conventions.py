@@ -219,7 +219,7 @@ class Readiness(Case):
         ready = self.path("ready")
         self.start("--ready-file", ready, "--no-udp")
         keys = [line.split("=")[0] for line in open(ready).read().splitlines()]
-        self.assertEqual(keys, ["pid", "tcp_port"])
+        self.assertEqual(keys, ["pid", "tcp_port", "bin_tcp_port"])  # binary UDP is UDP too
 
     def test_systemd_notify_socket_gets_ready(self):
         sock = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)

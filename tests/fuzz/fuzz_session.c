@@ -15,12 +15,15 @@
  *             id (4, little endian), flags, dlc, data (7 of 8)), 3 feed, then
  *             run HOME-length time
  *   bits 4-7  virtual time to run afterwards (index into run_ms)
- * and the payload bytes follow. Every line the core writes is checked: one
- * whole, printable, '\n'-terminated line no longer than WSG_REPLY_MAX. */
+ * and the payload bytes follow. Sessions choose their protocol by their first
+ * byte (0xAA: the binary protocol, else GCL). Every line the core writes is
+ * checked: one whole, printable, '\n'-terminated line no longer than
+ * WSG_REPLY_MAX; every binary frame: one whole frame with a valid CRC. */
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "bin/wsg_bin_frame.h"
 #include "can_loopback.h"
 #include "hal_can.h"
 #include "hal_clock.h"
@@ -67,9 +70,24 @@ void hal_log(hal_log_level_t level, const char *message)
     }
 }
 
+static void check_frame(const uint8_t *frame, size_t len)
+{
+    if (len < WSG_BIN_HEADER_LEN + WSG_BIN_STATUS_LEN + WSG_BIN_CRC_LEN ||
+        len > WSG_BIN_REPLY_MAX || frame[1] != WSG_BIN_PREAMBLE_BYTE ||
+        frame[2] != WSG_BIN_PREAMBLE_BYTE ||
+        wsg_bin_get_u16(frame + 4) + WSG_BIN_HEADER_LEN + WSG_BIN_CRC_LEN != len ||
+        wsg_bin_crc(frame, len) != 0) {
+        abort();
+    }
+}
+
 static void check_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t kind)
 {
     (void)ctx;
+    if (len > 0 && (unsigned char)line[0] == WSG_BIN_PREAMBLE_BYTE) {
+        check_frame((const uint8_t *)line, len);
+        return;
+    }
     if (len == 0 || len > WSG_REPLY_MAX || line[len - 1] != '\n') {
         abort();
     }
@@ -147,7 +165,7 @@ static wsg_transport_t transport_of(unsigned slot)
 
 static void open_slot(unsigned slot)
 {
-    wsg_conn_open(&sessions[slot], &device, &wsg_gcl_driver, transport_of(slot), &fuzz_io, NULL);
+    wsg_conn_open(&sessions[slot], &device, NULL, transport_of(slot), &fuzz_io, NULL);
 }
 
 /* Runs the port's loop: steps at every deadline the core asks for. */

@@ -23,7 +23,13 @@ class Package(unittest.TestCase):
         frame = proto.encode_frame(0x40)
         decoded = proto.deframe(frame)[0]
         self.assertEqual((decoded.id, decoded.crc_ok), (0x40, True))
-        with wsgsim.Wsgsim(binary=WSGSIM) as sim:
+        with wsgsim.Wsgsim("--binary-udp-port", "0", binary=WSGSIM) as sim:
+            client = sim.binary_protocol()
+            try:
+                self.assertEqual(client.request(0x31).status, 0)  # get acceleration
+            finally:
+                client.close()
+        with wsgsim.Wsgsim("--protocol", "gcl", binary=WSGSIM) as sim:
             with self.assertRaisesRegex(wsgsim.BinaryProtocolUnavailable, "does not serve"):
                 sim.binary_protocol()
 

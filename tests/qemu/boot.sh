@@ -114,6 +114,9 @@ run_test() { # LABEL RESTRICT CONVERSATION-ARGS...
     echo "$label: $(grep ready "$log" | head -n 1)"
     local status=0
     python3 "$here/conversation.py" 127.0.0.1 "$tcp_port" "$@" || status=$?
+    if [ "$label" = qemu-lwip-tcp ] && [ $status = 0 ]; then
+        python3 "$here/binary_conversation.py" 127.0.0.1 "$tcp_port" || status=$?
+    fi
     stop_qemu
     if [ $status != 0 ]; then
         echo "$label: device log (UART1):" >&2

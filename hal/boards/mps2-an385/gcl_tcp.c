@@ -151,7 +151,8 @@ static err_t on_accept(void *arg, struct tcp_pcb *pcb, err_t err)
         tcp_abort(pcb);
         return ERR_ABRT;
     }
-    wsg_conn_open(&c->conn, app_device(), &wsg_gcl_driver, WSG_TRANSPORT_STREAM, &tcp_io, c);
+    /* the first byte chooses the protocol: 0xAA binary, else GCL */
+    wsg_conn_open(&c->conn, app_device(), NULL, WSG_TRANSPORT_STREAM, &tcp_io, c);
     c->has_conn = true;
     c->pcb = pcb;
     tcp_arg(pcb, c);

@@ -1,0 +1,103 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+#include "bin_coverage.h"
+
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "simctl_names.h"
+#include "wsg/wsg_bin.h"
+
+#define IDS 256u
+#define FRAME_MIN 10u /* header, status, CRC */
+
+static struct {
+    unsigned frames[IDS];
+    uint32_t statuses[IDS]; /* bit s: status s answered */
+    unsigned status_count[WSG_STATUS_COUNT];
+} bcov;
+
+void bin_coverage_reset(void)
+{
+    memset(&bcov, 0, sizeof(bcov));
+}
+
+void bin_coverage_frame_out(const unsigned char *frame, size_t len)
+{
+    if (len < FRAME_MIN || frame[0] != 0xAAu) {
+        return;
+    }
+    unsigned id = frame[3];
+    unsigned status = (unsigned)frame[6] | (unsigned)frame[7] << 8;
+    bcov.frames[id]++;
+    if (status < WSG_STATUS_COUNT) {
+        bcov.statuses[id] |= 1UL << status;
+        bcov.status_count[status]++;
+    }
+}
+
+static void id_label(unsigned id, char *out, size_t cap)
+{
+    const char *name = wsg_bin_command_name((uint8_t)id);
+    snprintf(out, cap, "0x%02X%s%s", id, name != NULL ? " " : "", name != NULL ? name : "");
+}
+
+static cJSON *status_names(uint32_t bits)
+{
+    cJSON *names = cJSON_CreateArray();
+    for (unsigned s = 0; s < WSG_STATUS_COUNT; s++) {
+        if ((bits >> s) & 1u) {
+            cJSON_AddItemToArray(names, cJSON_CreateString(simctl_status_name((wsg_status_t)s)));
+        }
+    }
+    return names;
+}
+
+static cJSON *report_statuses(void)
+{
+    cJSON *out = cJSON_CreateArray();
+    for (unsigned s = 0; s < WSG_STATUS_COUNT; s++) {
+        if (bcov.status_count[s] > 0) {
+            cJSON *item = cJSON_CreateObject();
+            cJSON_AddStringToObject(item, "name", simctl_status_name((wsg_status_t)s));
+            cJSON_AddNumberToObject(item, "count", bcov.status_count[s]);
+            cJSON_AddItemToArray(out, item);
+        }
+    }
+    return out;
+}
+
+cJSON *bin_coverage_report(cJSON *summary)
+{
+    cJSON *used = cJSON_CreateArray();
+    cJSON *never = cJSON_CreateArray();
+    cJSON *unknown = cJSON_CreateArray();
+    unsigned total = 0;
+    unsigned covered = 0;
+    for (unsigned id = 0; id < IDS; id++) {
+        char label[48];
+        bool known = wsg_bin_command_name((uint8_t)id) != NULL;
+        id_label(id, label, sizeof(label));
+        total += known ? 1u : 0u;
+        if (bcov.frames[id] == 0) {
+            if (known) {
+                cJSON_AddItemToArray(never, cJSON_CreateString(label));
+            }
+            continue;
+        }
+        covered += known ? 1u : 0u;
+        cJSON *item = cJSON_CreateObject();
+        cJSON_AddStringToObject(item, "id", label);
+        cJSON_AddNumberToObject(item, "frames", bcov.frames[id]);
+        cJSON_AddItemToObject(item, "statuses", status_names(bcov.statuses[id]));
+        cJSON_AddItemToArray(known ? used : unknown, item);
+    }
+    cJSON *out = cJSON_CreateObject();
+    cJSON_AddItemToObject(out, "used", used);
+    cJSON_AddItemToObject(out, "never_used", never);
+    cJSON_AddItemToObject(out, "unknown_ids_sent", unknown);
+    cJSON_AddItemToObject(out, "statuses_returned", report_statuses());
+    cJSON_AddNumberToObject(summary, "binary_commands_total", total);
+    cJSON_AddNumberToObject(summary, "binary_commands_used", covered);
+    return out;
+}
