@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # wsgsim: a firmware-style emulator of the Weiss Robotics WSG gripper.
 #   make run     start the virtual gripper on TCP/UDP 1000
 #   make check   build everything and run all tests: every suite runs, even

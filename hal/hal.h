@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The hardware one device instance drives: its axis, its temperature sensor
  * and its CAN controller (NULL: no finger bus). Clock and log are link-time
  * (hal_clock.h, hal_log.h): one per process, shared by every instance. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The motor axis: one jaw-opening coordinate driven by a servo with a
  * trapezoidal profile and a force (current) limit. Per instance: the port
  * hands each device an ops table and its context (Zephyr dev->api style). */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* A classic CAN 2.0 controller: send a frame, poll received frames, set
  * acceptance filters. A port hands the core a hal_can_t; the core never sees
  * the driver behind it (SocketCAN, an in-process bus, a microcontroller's

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Device log (the real WSG keeps a log file; a board may print to a UART). */
 #ifndef HAL_LOG_H
 #define HAL_LOG_H

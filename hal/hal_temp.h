@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Controller board temperature sensor, per instance. */
 #ifndef HAL_TEMP_H
 #define HAL_TEMP_H

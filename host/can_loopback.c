@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The in-process finger bus (can_loopback.h). */
 #include "can_loopback.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The in-process finger bus used when wsgsim runs without --can: the same
  * finger nodes tools/fingersim runs (hal/sim/finger_node.c) on a software
  * bus, driven by the simulated clock, so fingers work on any machine. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* hal_can_t over SocketCAN (can_socketcan.h). */
 #include "can_socketcan.h"
 

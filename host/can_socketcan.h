@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* A hal_can_t on a SocketCAN interface (vcan0, can0): received frames are
  * drained into a ring when the descriptor is readable and handed out by
  * hal_can_recv(). The Linux specifics live in can_socketcan_adapt.c. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* SocketCAN through Linux headers (can_socketcan_adapt.h). */
 #include "can_socketcan_adapt.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The Linux-specific half of the SocketCAN driver (after Zephyr's
  * can_native_linux_adapt.c): the only file that includes Linux CAN headers.
  * Plain descriptors and hal_can_frame_t cross the boundary. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* --config FILE: the settings the real WSG keeps in its configuration memory
  * and edits through its web interface, in INI form (parsed with libinih).
  * docs/wsgsim.example.ini lists every key. */

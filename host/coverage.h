@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Protocol coverage: what the clients exercised (command forms, error codes,
  * grip-state transitions, flags) and what they never touched; with --strict
  * also the input the emulator tolerated but the manual does not allow. */

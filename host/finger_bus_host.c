@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The host's finger bus (finger_bus_host.h). */
 #include "finger_bus_host.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The host's finger bus: SocketCAN on --can IFACE, otherwise the in-process
  * loopback bus with simulated fingers (--fingers). Also the fault-injection
  * API for the simulation control channel. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The grippers this process serves (--devices N): device i has its own
  * simulated world, device state, identity and servers, on TCP and UDP port
  * (base + i), or on free ports of its own when the base is 0. */

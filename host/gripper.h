@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* One virtual gripper of the host: the device core, its simulated world and
  * the configuration it powers on with, kept on the simulated clock. Every
  * entry point first brings the world up to now. An instance: the fleet

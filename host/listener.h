@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* A listening TCP socket on the event loop that backs off, instead of
  * spinning, when the process runs out of descriptors: the waiting client
  * stays in the backlog and the listener is polled again after a short wait

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Host logging: hal_log() and the server's own messages go to stderr, or to
  * a file (--log-file) that host_log_reopen() reopens for log rotation.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The single-threaded event loop: file descriptors with callbacks, woken by
  * epoll until the device's next deadline on the simulated clock. A wake-up
  * costs in proportion to the descriptors that are ready, not to those that

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* build/wsgsim: the virtual WSG gripper on a Linux host. */
 #include <stdio.h>
 

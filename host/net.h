@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Socket helpers shared by the TCP and UDP servers. */
 #ifndef HOST_NET_H
 #define HOST_NET_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Command-line options of build/wsgsim. */
 #ifndef HOST_OPTIONS_H
 #define HOST_OPTIONS_H

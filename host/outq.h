@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* A bounded queue of whole lines waiting for a slow socket. Lines keep their
  * boundaries so each one is still sent with its own send(). */
 #ifndef HOST_OUTQ_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* --record FILE: every GCL line in and out and every control command, with
  * simulated and wall-clock timestamps and the channel (docs/simctl.md). */
 #ifndef HOST_RECORD_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* --scenario FILE: control commands at given simulated times, so a test run
  * replays the same physical story every time. Format in docs/simctl.md. */
 #ifndef HOST_SCENARIO_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 #include "simclock.h"
 
 #include "hal_clock.h"

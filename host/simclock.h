@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The host's one clock. Its target time follows the monotonic wall clock
  * and can be paused, scaled and stepped; the device time (what
  * hal_clock_now_us() returns) is moved up to the target by the run loop,

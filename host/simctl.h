@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* --sim-port: the simulation control channel, a line-based text port beside
  * the device protocol (docs/simctl.md). Loopback only unless --sim-bind. */
 #ifndef SIMCTL_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Control line -> command -> handler -> reply line. */
 #include "simctl_cmd.h"
 

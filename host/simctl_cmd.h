@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The simulation control commands (docs/simctl.md): one line in, one reply
  * line out, with the lexical rules of GCL. */
 #ifndef SIMCTL_CMD_H

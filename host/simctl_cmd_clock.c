@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* PAUSE, RESUME, STEP, SCALE, SIMTIME: the one simulated clock. */
 #include <stdio.h>
 

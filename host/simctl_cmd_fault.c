@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* FAULT, CLEAR, FAULTS, DELAY, FAILNEXT, CUT: injected faults. */
 #include <stdlib.h>
 #include <strings.h>

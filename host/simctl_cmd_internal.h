@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* What the control command handlers share. */
 #ifndef SIMCTL_CMD_INTERNAL_H
 #define SIMCTL_CMD_INTERNAL_H

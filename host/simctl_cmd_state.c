@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* STATE, SESSIONS, RESET, COVERAGE, COVERAGE_RESET, LOG, HELP, BYE. */
 #include <cjson/cJSON.h>
 #include <stdlib.h>

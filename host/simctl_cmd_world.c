@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* PART, PART_REMOVE, PART_SLIP, OBSTACLE, OBSTACLE_REMOVE, AMBIENT: the
  * simulated world around the jaws. */
 #include "gripper.h"

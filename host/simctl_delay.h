@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Injected reply delay: the next reply line of a session, and everything
  * after it, is held back for a while of simulated time, then delivered in
  * order. Works for TCP and UDP alike by standing in for the session's I/O. */

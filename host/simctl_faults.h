@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Injected hardware faults: raised and cleared from the control channel,
  * applied to the simulated world (or sent to a finger over the finger bus),
  * logged, and listed in the state dump until cleared. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 #include "simctl_hooks.h"
 
 #include "bin_coverage.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The observer hub: attaches the trace, the record and the coverage report
  * to a device only when the options ask for one of them (a plain run pays
  * nothing), and fans every observation out to them. */

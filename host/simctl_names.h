@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Names of the device model's enumerations, for the state dump, the
  * coverage report and the control channel's replies. */
 #ifndef SIMCTL_NAMES_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Runs everything that lives on the simulated clock — the device, the
  * scenario and delayed replies — and steps the paused clock. */
 #ifndef SIMCTL_RUN_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The control channel's STATE? dump: the whole device and simulation state
  * as one JSON object (cJSON; the firmware knows nothing of it). */
 #ifndef HOST_STATE_JSON_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* GCL over TCP: one session per connection, each reply line its own send().
  * One server per device (the fleet has one per gripper); connection storage
  * is allocated on accept and freed on close, so an idle server costs only

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Reads the text files wsgsim is given (--config, --scenario) line by line,
  * each line whole: a directory, a NUL byte, a line longer than the caller's
  * limit or a file larger than its limit is an error that names file:line,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* --trace: every line in and out on stderr, with the simulated time. */
 #ifndef HOST_TRACE_H
 #define HOST_TRACE_H

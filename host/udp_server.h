@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* GCL over UDP: one session per peer address; each reply line is its own
  * datagram, sent back to the peer that asked (AUTOSEND included). One server
  * per device; a peer's storage is allocated when it first speaks. A peer

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 #ifndef WSGSIM_VERSION_H
 #define WSGSIM_VERSION_H
 

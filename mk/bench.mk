@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Speed and fuzzing (issues 6 and 11). Neither runs in `make check`.
 #   make bench                 benchmark build/wsgsim against a C echo server and
 #                              the issue 11 targets (table, build/bench/results.json,

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # The binary command protocol's codec (firmware/bin: CRC, request framer,
 # reply encoder, field helpers; docs/binary-protocol.md) and its tests:
 #   make bin-tests         the Check tests (build/tests/bin_tests) and the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # The finger bus (docs/finger-bus.md): build/fingersim, the Check unit tests
 # of the protocol (build/tests/can_tests) and the SocketCAN integration test
 # on vcan0, inside a user-mode Linux kernel when this kernel has no CAN.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # End-to-end tests: build/wsgsim on loopback ports, driven over TCP and UDP.
 .PHONY: e2e-tests
 CHECK_TARGETS += e2e-tests

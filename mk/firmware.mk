@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # The same core on a microcontroller: Cortex-M3 images for QEMU's mps2-an385.
 #   make firmware        build/firmware/wsgsim-{serial,lwip}.{elf,bin}
 #   make firmware-size   flash/RAM of both images against their budgets

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # The Linux build of the virtual gripper: build/wsgsim, and the two
 # libraries it links: libwsgfw.a (firmware/, the device core and its
 # protocol drivers) and libwsgsim.a (hal/sim/, the simulated hardware).

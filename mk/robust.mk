@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Robustness checks (issue 6), part of `make check` (and of `make check SAN=1`):
 #   fuzz-regress     the fuzz seed corpus and every regression input through the
 #                    fuzz target, built with $(CC) (ASan+UBSan under SAN=1)

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Runs each test suite of `make check` as its own make invocation, so that a
 failing suite (a failed build included) does not stop the others, and ends
 with one summary line per suite and a closing line `check: N passed, N

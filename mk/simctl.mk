@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Simulation control (docs/simctl.md): Check unit tests of every control
 # command's effect on the device core, in their own binary
 # build/tests/simctl_tests. They link the host modules (all but main.o).

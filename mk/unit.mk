@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Check (libcheck) unit tests of the device core: build/tests/unit_tests.
 #   make unit-tests         build and run them
 #   make unit-tests SAN=1   the same under ASan/UBSan (build/san)

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The WSG binary command protocol for Python clients and tests (stdlib only).
 
 What is here: the protocol's CRC, frame encoding, a stream deframer for

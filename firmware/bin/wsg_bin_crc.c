@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The binary protocol's CRC-16, implemented literally as spec §2.3 describes:
  * the MSB-first lookup table of generator 0x1021, used with the reflected
  * (LSB-first) update rule, initial value 0xFFFF, no final XOR. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Frame encoding: every frame leaves with a valid CRC, whether or not the
  * device checks the CRCs it receives (spec §2.4). */
 #include <string.h>

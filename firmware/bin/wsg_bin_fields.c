@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Little-endian field access for frame payloads, alignment- and host-order-
  * independent; floats go through memcpy to a uint32_t (no type punning). */
 #include <string.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Frames of the WSG binary command protocol: the checksum, a streaming request
  * framer, the reply encoder and little-endian field helpers.
  * (docs/binary-protocol.md; spec: wsg-binary-protocol.md §2)

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The streaming request deframer (wsg_bin_frame.h): preamble search, header,
  * payload, checksum; one byte at a time, so any split of the stream works. */
 #include <string.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The device aggregate: init and reset, the control step, its deadline,
  * observers, fault injection and the snapshot. */
 #include <string.h>

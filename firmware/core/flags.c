@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The system state flag register (Appendix B): flags the core latches itself
  * plus flags derived from the sensed readings. Pure: reads no hardware. */
 #include "priv/wsg_dev.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The motion supervisor: watches the axis while HOME, MOVE, GRIP or RELEASE
  * runs and decides when it has finished, failed or been aborted; and grip
  * monitoring while a part is held. It is the only writer of the axis (the

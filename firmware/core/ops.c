@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The device's operations (wsg_device.h): typed, validated once, protocol
  * neutral. Range rules come from policy.c; the motion supervisor
  * (motion.c) reports how long operations end, to their owner. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The device's range and policy rules (wsg_config.h), in one place. */
 #include "wsg/wsg_config.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The sense step: the one place where the clock and the hardware are read.
  * It derives the flag register from the readings and raises FAST STOP on a
  * severe fault (manual 3.2.3). Called at the start of a control step and,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The read-only view of a device (wsg_device_snapshot): what STATE?, GCL
  * queries, coverage, a web page and binary getters read. */
 #include "priv/wsg_dev.h"

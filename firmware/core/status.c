@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 #include "wsg/wsg_status.h"
 
 static const char *const descriptions[WSG_STATUS_COUNT] = {

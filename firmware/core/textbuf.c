@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 #include "priv/textbuf.h"
 
 void textbuf_init(textbuf_t *tb, char *storage, size_t cap)

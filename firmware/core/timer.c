@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The timer queue (priv/timer.h). */
 #include "priv/timer.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The gripper side of the finger bus (finger_bus.h). */
 #include "priv/finger_bus.h"
 

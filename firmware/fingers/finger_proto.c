@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Packing and unpacking of finger-bus frames (finger_proto.h). */
 #include "wsg/finger_proto.h"
 

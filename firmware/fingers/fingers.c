@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 #include "wsg/wsg_fingers.h"
 
 #include <string.h>

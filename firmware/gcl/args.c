@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Argument conversion and the small reply helpers handlers share. */
 #include "gcl/gcl_internal.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* AUTOSEND (manual 3.1.7): per-connection periodic values, optionally only
  * on change or beyond a delta, scheduled on the device clock without drift.
  * One timer per connection, due at its earliest subscription. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Finger interface (manual 3.3.1, 3.4). */
 #include "gcl/gcl_internal.h"
 

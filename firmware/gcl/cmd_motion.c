@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Motion commands (manual 2.2.1-2.2.4, 3.2): GCL arguments to typed
  * operations; the device validates and runs them, and its completion event
  * becomes FIN/ERR (driver.c). */

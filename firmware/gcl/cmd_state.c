@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Gripper state queries (manual 2.2.5-2.3.4, 3.1.5, 3.1.6, 3.3.2). */
 #include "gcl/gcl_internal.h"
 

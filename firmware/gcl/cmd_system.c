@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Interface control and system commands (manual 2.1, 3.1.1-3.1.4). */
 #include "gcl/gcl_internal.h"
 

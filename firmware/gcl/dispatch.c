@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Line → command → handler, and the one place that turns a failed
  * handler into an ERR line. */
 #include <string.h>

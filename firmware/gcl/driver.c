@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The GCL protocol driver (wsg_gcl.h): lines in, whole reply lines out, and
  * the formatting of every GCL message, final replies included. */
 #include <stddef.h>

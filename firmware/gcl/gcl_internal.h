@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The GCL driver's own declarations: its per-connection state, the command
  * table, the handlers' context, argument converters and reply formatting.
  * Nothing outside firmware/gcl includes this. */

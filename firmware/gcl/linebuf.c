@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 #include "wsg/gcl_linebuf.h"
 
 static void start_line(gcl_linebuf_t *lb)

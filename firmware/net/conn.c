@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Protocol-neutral connections (wsg_conn.h): the device's list of open
  * connections, the protocol driver hook and the close rule. */
 #include <stddef.h>

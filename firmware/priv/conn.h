@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* A connection's private state and what protocol drivers use of it. */
 #ifndef WSG_CONN_PRIV_H
 #define WSG_CONN_PRIV_H

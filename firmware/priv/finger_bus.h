@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The gripper side of the finger bus (docs/finger-bus.md): powers the two
  * finger slots, broadcasts the jaw state, supervises each node (heartbeat,
  * descriptor, comm-fault timeout), collects measurements and multi-frame

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Tuning of the motion supervisor: how long a condition must hold before
  * the firmware believes it. */
 #ifndef MOTION_H

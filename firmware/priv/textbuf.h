@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* A bounded text builder for reply lines: appends never overflow; a line that
  * would not fit is marked truncated instead. */
 #ifndef TEXTBUF_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* A queue of real deadlines, sorted, intrusive: the elements live in their
  * owners (an AUTOSEND subscription inside its connection), the queue only
  * links them. Insertion walks the list (there are a handful of distinct

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The device's private state and what the core's modules share. Never on a
  * port's include path: ports use include/wsg/ only. */
 #ifndef WSG_DEV_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Simulated finger nodes (finger_node.h). */
 #include "finger_node.h"
 

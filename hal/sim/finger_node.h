@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* A simulated finger on the finger bus (docs/finger-bus.md): a WSG-FMF
  * force-measuring finger, a WSG-DSA tactile finger or a generic finger
  * without sensor. It follows the gripper's STATE broadcast, so it needs

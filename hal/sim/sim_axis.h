@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Simulated gripper mechanics: a servo with a trapezoidal profile and a
  * force limit, rigid end stops, and an optional part between the jaws.
  * Portable C (no heap, no OS): the host and the board build run the same. */

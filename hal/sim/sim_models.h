@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Gripper models the simulation knows, and the device configuration a
  * fresh device of each model starts with. */
 #ifndef SIM_MODELS_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* First-order thermal model of the controller board: it settles towards
  * ambient + idle rise + a rise proportional to the motor force. */
 #ifndef SIM_THERMAL_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The simulated world behind one device's HAL: mechanics and thermal model.
  * An object: a process may hold as many as it simulates devices. The port
  * advances it to the clock's time before every device step. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The finger-bus wire format (docs/finger-bus.md, docs/finger-bus.dbc):
  * classic 8-byte CAN frames with 11-bit identifiers, base + node id, all
  * multi-byte fields little-endian. Shared by the gripper core (finger_bus.c)

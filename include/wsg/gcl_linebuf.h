@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Assembles a byte stream into lines: tolerates any split across writes,
  * bounds memory, and flags lines that are too long or carry control bytes.
  * A line ends with '\n', '\r' (manual 1.2) or "\r\n", which is one end even

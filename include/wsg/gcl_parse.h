@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* GCL lexical and syntactic layer: one complete line in, one command out. */
 #ifndef GCL_PARSE_H
 #define GCL_PARSE_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Device identity and configuration: what the real WSG keeps in its
  * configuration memory and edits through its web interface. The port fills
  * one in and hands it to wsg_device_init(); the device keeps its own copy,

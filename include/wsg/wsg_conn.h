@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Protocol-neutral connections and the protocol driver interface.
  *
  * A connection is bytes in, whole messages out, close. The port owns its

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* One virtual WSG device: its life cycle, the operations every protocol
  * driver calls, the read-only snapshot and the observers.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The two finger slots as the core sees them (FTYPE, FFLAGS, FDATA, TARE). */
 #ifndef WSG_FINGERS_H
 #define WSG_FINGERS_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The GCL protocol driver (manual: the Gripper Command Language) and what
  * tools outside it may ask of it: its command table (coverage reports), its
  * per-connection settings (state dumps) and command events (observers). */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Capacities and options of the device core, lwIP opt.h style: each build
  * provides a "wsgopts.h" (host/wsgopts.h, hal/boards/<board>/wsgopts.h,
  * tests/fake/wsgopts.h) that overrides what it needs; everything else takes

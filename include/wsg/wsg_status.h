@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Status codes of Appendix A. */
 #ifndef WSG_STATUS_H
 #define WSG_STATUS_H

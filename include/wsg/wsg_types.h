@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Shared enumerations of the device model (Appendices B, C and D). */
 #ifndef WSG_TYPES_H
 #define WSG_TYPES_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Frames written as the spec writes them ("AA AA AA 20 01 00 01 AE 93"). */
 #ifndef BIN_HEXBYTES_H
 #define BIN_HEXBYTES_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The binary protocol codec's Check suites; check_main.c runs them all. */
 #ifndef BIN_SUITES_H
 #define BIN_SUITES_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The CRC of spec §2.3 against the published frames. */
 #include "hexbytes.h"
 #include "suites.h"

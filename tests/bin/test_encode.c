@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Reply and request encoding against the spec's frames, round trips through
  * the framer, and the little-endian field helpers. */
 #include <math.h>

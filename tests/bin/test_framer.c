@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The streaming request framer: splits, merges, noise, resync, CRC on and off,
  * oversize and empty payloads, and the broken frames real clients send. */
 #include <stdlib.h>

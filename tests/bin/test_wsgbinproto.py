@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Tests of tools/wsgbinproto.py (the Python codec) against the same frames as
 the C codec's tests (tests/bin/vectors.c), and of tools/wsgbin against a fake
 device over TCP and UDP. Ends with 'N passed, N failed'.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 #include "vectors.h"
 
 const bin_vector_t bin_vectors[] = {

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Published and computed frames of the spec (§2.2, §13, S10's 0x40 frame). */
 #ifndef BIN_VECTORS_H
 #define BIN_VECTORS_H

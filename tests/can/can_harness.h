@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Harness of the finger-bus unit tests: a virtual clock, the device core on
  * the in-process loopback bus (host/can_loopback.c) with one GCL session,
  * and a frame tap that counts what crossed the bus. */

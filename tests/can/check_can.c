@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* build/tests/can_tests: Check unit tests of the finger bus. */
 #include <stdlib.h>
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Runs tests/can/vcan_scenario.py on a real vcan0: natively where this
 kernel has SocketCAN and vcan0 exists or can be created, otherwise inside a
 user-mode Linux kernel (Debian's user-mode-linux) booted with the host's

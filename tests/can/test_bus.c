@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The core on the loopback bus: FTYPE/FFLAGS/FDATA/TARE, force control,
  * comm-fault detection and recovery, fault injection. */
 #include <stdio.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The simulated finger node on a recording bus, driven frame by frame. */
 #include <string.h>
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The wire format: identifiers, byte layout, round trips, reassembly. */
 #include <string.h>
 

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
 # Init of the user-mode Linux guest of tests/can/run_vcan.py: the host's
 # filesystem is the root (hostfs). Loads SocketCAN, creates vcan0, runs the
 # scenario and leaves its exit status where the host reads it.

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """The finger bus end to end on a real SocketCAN interface (vcan0):
 wsgsim --can vcan0, tools fingersim on the same bus, candump capturing every
 frame, a GCL client over TCP. Asserts FTYPE/FFLAGS/FDATA/TARE, force control,

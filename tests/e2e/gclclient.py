@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The end-to-end tests' client and launcher: the wsgsim Python package
 (python/wsgsim, installed as python3-wsgsim), run from the source tree and
 defaulting to build/wsgsim (or $WSGSIM).

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Runs the end-to-end suites (unittest) and ends with 'N passed, N failed'.
 
 usage: run.py [PATTERN]   e.g. run.py 'test_host*.py'

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Abuse: hostile and broken clients against build/wsgsim (issue 6).
 
 Every test first puts the device into a known state through a "keeper"

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """--devices N: N independent grippers in one process (issue 11, point 3).
 
 Device i listens on TCP and UDP port (base + i), or on free ports of its own

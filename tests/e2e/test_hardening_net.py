@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Network hardening (issue 10, points 1-10): reply loops, reflection, port
 sharing, UDP peer eviction, shutdown under load, idle TCP connections,
 half-close, a blocked stderr and descriptor exhaustion.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Hardening of the control channel, the input files and virtual time
 (issue 10 points 11-15, issue 9 section 5), end to end on build/wsgsim.
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """End-to-end: build/wsgsim over real TCP and UDP sockets, driven the way
 real drivers drive the gripper."""
 import os

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The servers' own timeouts on a running clock (issue 11, point 7).
 
 An idle device (no finger bus, no motion, no subscription) has no deadline,

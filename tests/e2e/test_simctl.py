@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Simulation control (docs/simctl.md) end to end: a real GCL client and the
 control channel together, on build/wsgsim."""
 import json

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* libFuzzer target: arbitrary bytes through the session input path of the
  * device core (line assembly, parser, dispatcher, motion and grip state
  * machine, AUTOSEND) on a virtual clock.

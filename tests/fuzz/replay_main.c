@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Replays fuzz inputs through the fuzz target without libFuzzer, so that the
  * seed corpus and every regression input run in `make check` with the
  * project's compiler (and under SAN=1 with ASan+UBSan).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Check tests of the host's event loop (host/loop.c): dispatch while
  * callbacks unwatch and reuse descriptors, event masks, signals, wall-clock
  * wake-ups. Every wait here ends on an event that has already happened (a

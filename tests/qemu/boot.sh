@@ -1,4 +1,5 @@
 #!/bin/bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Boots a wsgsim board image in QEMU's mps2-an385 on free local ports.
 #
 # usage: boot.sh [--test] serial|lwip IMAGE.elf

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """The end-to-end GCL conversation: the same steps against any WSG that
 speaks GCL -- the host build, the board images in QEMU, or a real gripper.
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Runs the simulation control unit tests. CK_RUN_SUITE / CK_RUN_CASE select a
  * subset, CK_VERBOSITY=verbose lists each test. */
 #include <stdlib.h>

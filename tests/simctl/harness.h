@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Test harness for the simulation control commands: the real host device
  * (gripper.c) on a paused simulated clock, a captured GCL session, and
  * helpers that run control lines and GCL lines. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* FAULT, CLEAR, FAULTS, DELAY, FAILNEXT, CUT: injected faults and the core. */
 #include <stdio.h>
 #include <string.h>

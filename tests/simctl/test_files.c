@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* --scenario, --config and --record files. */
 #include <stdio.h>
 #include <stdlib.h>

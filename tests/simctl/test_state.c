@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* STATE, SESSIONS, RESET, COVERAGE, HELP and bad control lines. */
 #include <cjson/cJSON.h>
 #include <stdio.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* PART, PART_REMOVE, PART_SLIP, OBSTACLE, AMBIENT: the world and the core. */
 #include <stdio.h>
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Runs every unit test suite. CK_RUN_SUITE / CK_RUN_CASE select a subset,
  * CK_VERBOSITY=verbose lists each test, CK_FORK=no runs them in-process. */
 #include <stdlib.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Test harness for the device core: a virtual clock, a captured log, fake
  * session transports that record every emitted line, and helpers that drive
  * the simulated world and the control step in 1 ms ticks. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* A WSG-FMF finger in slot 0 for the device tests: the simulated finger node
  * (hal/sim/finger_node.c) and the device's controller on a minimal in-test
  * bus, driven by the harness' virtual clock. */

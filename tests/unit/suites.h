@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* One Check suite per concern; check_main.c runs them all. */
 #ifndef SUITES_H
 #define SUITES_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* AUTOSEND: periodic values in virtual time, delta and on-change filters. */
 #include <check.h>
 #include <math.h>

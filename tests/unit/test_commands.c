@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Every command and syntax form of the manual, with the exact reply lines. */
 #include <check.h>
 #include <stdio.h>

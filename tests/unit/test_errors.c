@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Every error path: ERR <NAME> <code>, terse mode, in the order
  * bad line > unknown name > syntax > shape > handler. */
 #include <check.h>

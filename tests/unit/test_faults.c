@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Severe faults (motor current, power, temperature) raise FAST STOP by
  * themselves and block its acknowledge while they persist. */
 #include <check.h>

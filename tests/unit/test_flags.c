@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* System state flags (Appendix B) and what sets and clears them. */
 #include <check.h>
 #include <stdio.h>

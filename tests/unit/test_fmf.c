@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* With a WSG-FMF finger (the host's default fingers): the force it reports
  * after homing, and part detection right after homing (issue 9, point 2). */
 #include <check.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* textbuf: the number and vector formatting every reply line uses. */
 #include <check.h>
 #include <float.h>

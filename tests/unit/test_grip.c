@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* GRIP and RELEASE, part detection, grip monitoring and GRIPSTATS. */
 #include <check.h>
 #include <math.h>

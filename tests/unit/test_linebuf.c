@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* gcl_linebuf: assembling a byte stream into lines, and how the device
  * answers lines the assembler flags. */
 #include <check.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* HOME, MOVE, STOP and FASTSTOP in virtual time against the simulated axis. */
 #include <check.h>
 #include <math.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The device operations API (wsg_device.h) without any protocol: immediate
  * errors, completion events to the owner, policy stated once, owners
  * detached on close, independent instances, the timer queue and the idle

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* gcl_parse_line(): the GCL syntax on its own, without a device. */
 #include <check.h>
 #include <string.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Sessions: per-session settings, BYE and disconnects, several clients,
  * datagram peers, slot reuse and the observer hooks. */
 #include <check.h>

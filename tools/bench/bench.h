@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* wsgbench: measures build/wsgsim side by side with a minimal C line-echo
  * server (the loopback limit of this machine) and the core's virtual-time
  * speed in-process. libc only. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The load generator: round trips, pipelined throughput, AUTOSEND timing. */
 #include <arpa/inet.h>
 #include <errno.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The baseline: a minimal single-threaded line server on loopback. Every
  * TCP line is sent back with its own send() (one line in, one line out, as
  * wsgsim answers), every UDP datagram is returned as it came. A line

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Many devices in one process (`--devices N`, issue 11): start time, idle
  * wake-ups, memory per idle device and POS? round trips against a single
  * device. Device i serves TCP and UDP on base port + i. Until wsgsim has the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Instructions the server executes per request, counted by callgrind: the
  * server runs under `valgrind --tool=callgrind` while one TCP client sends
  * POS? sequentially (one in flight) and then pipelined (batches written at

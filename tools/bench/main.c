@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* wsgbench: see bench.h and docs/benchmark.md.
  * usage: wsgbench [--wsgsim PATH] [--wsgsim-arg ARG]... [--out DIR] [--quick] [--rtt N]
  *                 [--only SECTION] [--pin same|cross|none] [--firmware-sizes FILE]

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Child processes under test and what /proc tells about them. */
 #include <arpa/inet.h>
 #include <fcntl.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Results of one benchmark run: the table, results.json and the plot. */
 #ifndef BENCH_REPORT_H
 #define BENCH_REPORT_H

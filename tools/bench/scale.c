@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Scaled clock: how closely simulated time follows SCALE times wall time
  * through wsgsim's control channel (docs/simctl.md). The e2e tests assert
  * only what holds at any machine speed (simulated durations); the rate is

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Many AUTOSEND subscribers at 10 ms. The subscriptions are made while the
  * clock is paused, so they all share one phase: the distinct deadlines are
  * one per period for them (plus the finger bus's own 10 ms cycle), and a

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Virtual-time speed through wsgsim itself: started with --start-paused and
  * a control channel (docs/simctl.md), a driver sends each GCL command and
  * then STEP(step_ms) on the control channel until the command's FIN. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* fingersim: one or two simulated finger nodes (WSG-FMF, WSG-DSA, generic)
  * on a SocketCAN interface, the same node code wsgsim runs on its in-process
  * bus. They follow the gripper's STATE broadcast (docs/finger-bus.md). */

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Writes docs/finger-bus.dbc, the finger-bus protocol (docs/finger-bus.md)
 as a DBC file for candump/cantools/canmatrix/Wireshark/SavvyCAN.
 

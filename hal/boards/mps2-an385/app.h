@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The device as the board runs it: one wsg_device_t over the simulated axis
  * (the board has no motor), stepped from the main loop. */
 #ifndef APP_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* ARM MPS2 with the AN385 FPGA image (Cortex-M3, 25 MHz), as QEMU's
  * mps2-an385 machine models it: the registers this port touches, the
  * interrupt numbers it uses, and the board services shared by both images. */

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
 # Keeps host-only habits out of the portable core: the cross-compiled objects
 # of firmware/ and hal/sim/ may reference only each other, the HAL, a few
 # string and math functions and the compiler's runtime helpers. A heap, stdio

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The device clock (hal_clock.h) from SysTick: a 1 kHz interrupt counts
  * milliseconds and the counter value interpolates within the tick. */
 #include "board.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 #include "cmsdk_uart.h"
 
 #include "board.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* CMSDK APB UART (ARM DDI0479): 8N1, one-byte transmit and receive buffers. */
 #ifndef CMSDK_UART_H
 #define CMSDK_UART_H

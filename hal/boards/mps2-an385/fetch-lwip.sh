@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
 # Fetches Debian's source package "lwip" into DEST (lwIP is a build
 # dependency of the Ethernet image, not part of this repository).
 # usage: fetch-lwip.sh DEST

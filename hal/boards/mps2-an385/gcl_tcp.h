@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* GCL over TCP with lwIP's raw API: one session per connection. */
 #ifndef GCL_TCP_H
 #define GCL_TCP_H

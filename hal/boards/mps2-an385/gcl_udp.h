@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* GCL over UDP with lwIP's raw API: one session per peer (address, port).
  * Replies go back to the peer as one datagram per line. */
 #ifndef GCL_UDP_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* SMSC LAN9118 Ethernet controller (32-bit bus, PIO FIFOs), as wired on the
  * MPS2 and modelled by QEMU: just enough to send and receive frames. */
 #ifndef LAN9118_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 #include "lan9118_netif.h"
 
 #include "board.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* lwIP network interface over the LAN9118. */
 #ifndef LAN9118_NETIF_H
 #define LAN9118_NETIF_H

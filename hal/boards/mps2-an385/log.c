@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The device log (hal_log.h) on UART1. QEMU maps it to a file or the
  * terminal; the GCL conversation on UART0 never sees it. */
 #include <string.h>

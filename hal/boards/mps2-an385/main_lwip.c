@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The Ethernet image (stage 2 of the board port): GCL on TCP 1000 and
  * UDP 1000 through lwIP on the LAN9118, and on UART0 as in the serial image.
  * The board takes the manual's factory address, 192.168.1.20/24. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The serial image: GCL on UART0 (stage 1 of the board port). */
 #include "app.h"
 #include "board.h"

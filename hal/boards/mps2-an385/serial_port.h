@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* GCL over UART0: one stream session that is always open. A serial line
  * has no connection to lose, so BYE ends the session and a fresh one (with
  * default settings) takes its place at once. */

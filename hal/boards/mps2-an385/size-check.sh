@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
 # Reports an image's flash and static RAM use against its budget and fails
 # when it is over, or when a heap allocator is linked in.
 # usage: size-check.sh ELF FLASH_BUDGET_BYTES RAM_BUDGET_BYTES

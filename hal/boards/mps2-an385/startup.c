@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* Reset and exception entry: the vector table, C runtime set-up (.data copy,
  * .bss clear, stack painting) and the fault handlers. */
 #include <stdint.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* lwIP configuration of the Ethernet image: NO_SYS (bare metal, one main
  * loop, no interrupts touching lwIP), IPv4 with ARP, ICMP, UDP and TCP over
  * the raw API; no sockets, netconn, DHCP, DNS or IPv6. Sized for a handful

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* The little lwIP needs from the system in NO_SYS mode: a millisecond clock
  * and random numbers (initial sequence numbers and local ports). */
 #include "board.h"

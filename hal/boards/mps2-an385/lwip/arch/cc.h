@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* lwIP architecture port for the mps2-an385 board: Cortex-M3, little
  * endian, GCC, no OS. Diagnostics are compiled out; a failed assertion logs
  * and stops the board. */
