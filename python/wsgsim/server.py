@@ -4,6 +4,7 @@ import os
 import select
 import shutil
 import signal
+import socket
 import subprocess
 import tempfile
 import time
@@ -37,6 +38,13 @@ def option_value(args, name):
     return value
 
 
+def free_udp_port():
+    """A UDP port on 127.0.0.1 that nobody holds right now."""
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
 class Wsgsim:
     """A virtual gripper on free loopback ports: `with Wsgsim() as sim: sim.tcp()`.
 
@@ -59,8 +67,12 @@ class Wsgsim:
             extra += ["--sim-port", "0"]
         if coverage:
             extra += ["--coverage", str(coverage)]
-        self.args = ["--bind", "127.0.0.1", "--tcp-port", "0", "--udp-port", "0"] + extra + \
-            [str(a) for a in args]
+        args = [str(a) for a in args]
+        if "--binary-udp-port" not in args:
+            # the device's default (1500) is one port for every instance: give
+            # each its own, as --tcp-port 0 and --udp-port 0 do
+            extra += ["--binary-udp-port", str(free_udp_port())]
+        self.args = ["--bind", "127.0.0.1", "--tcp-port", "0", "--udp-port", "0"] + extra + args
         self.prefix = os.environ.get("WSGSIM_PREFIX", "").split()
         self.proc = None
         self.tcp_port = None

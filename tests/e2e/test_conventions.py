@@ -29,7 +29,9 @@ def binary():
 
 
 def run(*args, **kw):
-    return subprocess.run([binary()] + list(args), capture_output=True, text=True, timeout=60,
+    # binary UDP off: the device's default port 1500 is not this test's to take
+    return subprocess.run([binary(), "--binary-udp-port", "0"] + list(args), capture_output=True,
+                          text=True, timeout=60,
                           stdin=subprocess.DEVNULL, **kw)
 
 

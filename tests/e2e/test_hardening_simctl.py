@@ -32,7 +32,8 @@ class StartupCase(SimctlCase):
         """Runs wsgsim to its exit (it must refuse to start)."""
         binary = Wsgsim().binary
         prefix = os.environ.get("WSGSIM_PREFIX", "").split()
-        return subprocess.run(prefix + [binary, "--tcp-port", "0", "--udp-port", "0"] +
+        return subprocess.run(prefix + [binary, "--tcp-port", "0", "--udp-port", "0",
+                                        "--binary-udp-port", "0"] +
                               list(args), capture_output=True, text=True,
                               stdin=subprocess.DEVNULL, timeout=STARTUP_TIMEOUT)
 
