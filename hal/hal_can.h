@@ -40,6 +40,11 @@ typedef struct {
     /* Replaces the acceptance filters; count 0 accepts every frame. */
     bool (*set_filters)(void *ctx, const hal_can_filter_t *filters, unsigned count);
     void *ctx;
+    /* True when the nodes on this bus run only when the controller polls it
+     * (an in-process simulation): nothing happens on the bus between two
+     * polls, so the controller need not poll on a timer while nothing
+     * changes. False for a real bus. */
+    bool on_demand;
 } hal_can_t;
 
 static inline bool hal_can_send(const hal_can_t *can, const hal_can_frame_t *frame)

@@ -89,7 +89,11 @@ static bool node_set_filters(void *ctx, const hal_can_filter_t *filters, unsigne
 static bool gripper_send(void *ctx, const hal_can_frame_t *frame)
 {
     (void)ctx;
+    uint8_t faults;
     deliver(frame, GRIPPER);
+    if (fbus_unpack_simctl(frame, &faults)) {
+        to_gripper(frame); /* the controller wakes to watch the fault take effect */
+    }
     return true;
 }
 
@@ -126,10 +130,10 @@ static bool gripper_set_filters(void *ctx, const hal_can_filter_t *filters, unsi
 void can_loopback_init(const fbus_type_t types[FBUS_SLOTS], const finger_node_params_t *params)
 {
     memset(&bus, 0, sizeof(bus));
-    bus.port = (hal_can_t){gripper_send, gripper_recv, gripper_set_filters, NULL};
+    bus.port = (hal_can_t){gripper_send, gripper_recv, gripper_set_filters, NULL, true};
     for (unsigned i = 0; i < FBUS_SLOTS; i++) {
         loopback_node_t *n = &bus.nodes[i];
-        n->port = (hal_can_t){node_send, node_recv, node_set_filters, (void *)(intptr_t)i};
+        n->port = (hal_can_t){node_send, node_recv, node_set_filters, (void *)(intptr_t)i, false};
         finger_node_init(&n->node, types[i], i, params, &n->port);
         hal_can_filter_t filters[HAL_CAN_MAX_FILTERS];
         unsigned count = finger_node_filters(&n->node, filters);

@@ -72,7 +72,7 @@ bool can_socketcan_open(can_socketcan_t *s, const char *ifname, char *err, size_
 {
     memset(s, 0, sizeof(*s));
     s->fd = can_adapt_open(ifname, err, err_len);
-    s->can = (hal_can_t){sc_send, sc_recv, sc_set_filters, s};
+    s->can = (hal_can_t){sc_send, sc_recv, sc_set_filters, s, false};
     return s->fd >= 0;
 }
 

@@ -8,6 +8,8 @@
 
 #include "can_loopback.h"
 #include "can_socketcan.h"
+#include "fleet.h"
+#include "gripper.h"
 #include "wsg/finger_proto.h"
 #include "log.h"
 #include "loop.h"
@@ -116,7 +118,16 @@ bool finger_bus_host_inject(unsigned slot, finger_fault_t fault, bool active)
     hal_can_frame_t f;
     fbus_pack_simctl(&f, FBUS_NODE_ID(slot), injected[slot]);
     host_logf(HAL_LOG_INFO, "finger %u: fault injection now 0x%02x", slot, injected[slot]);
-    return hal_can_send(active_bus, &f);
+    if (sock.fd >= 0) {
+        return hal_can_send(active_bus, &f);
+    }
+    /* The in-process bus runs only when the device steps: bring it up to
+     * this instant first (what the finger sent until now), then let the
+     * device see the injection and watch it take effect. */
+    gripper_step_now(fleet_gripper(0));
+    bool sent = hal_can_send(active_bus, &f);
+    gripper_step_now(fleet_gripper(0));
+    return sent;
 }
 
 bool finger_bus_host_fault_by_name(const char *name, finger_fault_t *fault)

@@ -7,6 +7,11 @@
 #include "hal_log.h"
 #include "priv/textbuf.h"
 
+/* On an on-demand bus the controller ticks this long after a change (start,
+ * fault injection, a finger's flags or type, TARE): enough for a node to boot
+ * (20 ms), a descriptor retry (100 ms) and a comm fault (300-310 ms) to show. */
+#define FBUS_SETTLE_US 500000u
+
 void finger_bus_init(finger_bus_t *bus, const hal_can_t *can)
 {
     memset(bus, 0, sizeof(*bus));
@@ -14,19 +19,32 @@ void finger_bus_init(finger_bus_t *bus, const hal_can_t *can)
     if (can == NULL) {
         return;
     }
+    /* the last one only on an on-demand bus: the simulation's fault
+     * injections, which change the bus without a node saying so */
     static const hal_can_filter_t filters[] = {
-        {FBUS_ID_DESCRIPTOR, 0x7FCu, 0},
-        {FBUS_ID_MEASURE, 0x7FCu, 0},
-        {FBUS_ID_BULK, 0x7FCu, 0},
-        {FBUS_ID_HEARTBEAT, 0x7FCu, 0},
+        {FBUS_ID_DESCRIPTOR, 0x7FCu, 0}, {FBUS_ID_MEASURE, 0x7FCu, 0}, {FBUS_ID_BULK, 0x7FCu, 0},
+        {FBUS_ID_HEARTBEAT, 0x7FCu, 0},  {FBUS_ID_SIMCTL, 0x7FCu, 0},
     };
-    hal_can_set_filters(can, filters, sizeof(filters) / sizeof(filters[0]));
+    unsigned count = sizeof(filters) / sizeof(filters[0]);
+    hal_can_set_filters(can, filters, can->on_demand ? count : count - 1u);
     bus->power_mask = (uint8_t)((1u << FBUS_SLOTS) - 1u);
+    bus->wake = true;
 }
 
+/* A real bus is supervised every 10 ms: its nodes run on their own and
+ * power down without STATE. On an on-demand bus the nodes run when the
+ * controller polls, so every step is a complete bus cycle: it ticks only
+ * while something settles or the force loop runs. */
 uint64_t finger_bus_next_deadline_us(const finger_bus_t *bus)
 {
-    return bus->can != NULL ? bus->next_state_us : UINT64_MAX;
+    if (bus->can == NULL) {
+        return UINT64_MAX;
+    }
+    if (!bus->can->on_demand || bus->regulating || bus->wake ||
+        bus->next_state_us < bus->awake_until_us) {
+        return bus->next_state_us;
+    }
+    return UINT64_MAX;
 }
 
 static void send(finger_bus_t *bus, const hal_can_frame_t *frame)
@@ -148,6 +166,11 @@ static void receive_all(finger_bus_t *bus, wsg_fingers_t *fingers, uint64_t now_
 {
     hal_can_frame_t f;
     while (hal_can_recv(bus->can, &f)) {
+        uint8_t injected;
+        if (fbus_unpack_simctl(&f, &injected)) {
+            bus->wake = true; /* only an on-demand bus passes it */
+            continue;
+        }
         bus->rx_frames++;
         int slot = fbus_slot_of_node(fbus_node_of(f.id));
         if (slot < 0 || (bus->power_mask & (1u << slot)) == 0u) {
@@ -189,7 +212,7 @@ static void supervise(finger_bus_t *bus, unsigned slot, wsg_finger_t *finger, ui
 }
 
 /* The slot as FTYPE and FFLAGS show it (Appendix C). */
-static void publish(const finger_bus_t *bus, unsigned slot, wsg_finger_t *finger)
+static void publish(finger_bus_t *bus, unsigned slot, wsg_finger_t *finger)
 {
     const fbus_slot_t *s = &bus->slot[slot];
     uint16_t flags = 0;
@@ -211,8 +234,12 @@ static void publish(const finger_bus_t *bus, unsigned slot, wsg_finger_t *finger
     if ((s->node_faults & FBUS_FAULT_INIT) != 0u) {
         flags |= (uint16_t)WSG_FLAG(FF_INIT_FAULT);
     }
+    wsg_finger_type_t type = s->config ? finger_type(s->desc.type) : FINGER_NONE;
+    if (flags != finger->flags || type != finger->type) {
+        bus->wake = true;
+    }
     finger->flags = flags;
-    finger->type = s->config ? finger_type(s->desc.type) : FINGER_NONE;
+    finger->type = type;
 }
 
 static void broadcast_state(finger_bus_t *bus, const fbus_input_t *in)
@@ -297,6 +324,10 @@ void finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input
         publish(bus, i, &fingers->slot[i]);
     }
     regulate(bus, fingers, in);
+    if (bus->wake) {
+        bus->wake = false;
+        bus->awake_until_us = in->now_us + FBUS_SETTLE_US;
+    }
 }
 
 wsg_status_t finger_bus_tare(finger_bus_t *bus, wsg_fingers_t *fingers, int index)
@@ -312,6 +343,7 @@ wsg_status_t finger_bus_tare(finger_bus_t *bus, wsg_fingers_t *fingers, int inde
             hal_can_frame_t f;
             fbus_pack_command(&f, FBUS_NODE_ID(i), FBUS_CMD_TARE);
             send(bus, &f);
+            bus->wake = true;
         }
     }
     return E_SUCCESS;

@@ -50,6 +50,9 @@ typedef struct {
     uint32_t tx_frames;
     uint32_t tx_errors;
     uint32_t comm_faults;
+    /* On an on-demand bus: the bus ticks until then, as something changed */
+    bool wake;
+    uint64_t awake_until_us;
 } finger_bus_t;
 
 /* What the bus hears from the core each step. */

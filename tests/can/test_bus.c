@@ -215,19 +215,65 @@ START_TEST(clock_jumps_keep_loopback_fingers)
 }
 END_TEST
 
+/* The rates of a real bus; the in-process bus keeps them while it ticks
+ * (here: the settling after power-on). */
 START_TEST(bus_frame_rates)
 {
     t_start("fmf,dsa");
-    t_run_ms(500);
+    t_run_ms(100);
     uint32_t before = can_loopback_frames();
     uint32_t tx = t_devp()->fbus.tx_frames;
-    t_run_ms(1000);
-    ck_assert_uint_ge(t_devp()->fbus.tx_frames - tx, 99);
-    ck_assert_uint_le(t_devp()->fbus.tx_frames - tx, 101);
-    /* 100 STATE + 100 MEASURE + 20 x 28 BULK + 20 heartbeats */
+    t_run_ms(300);
+    ck_assert_uint_ge(t_devp()->fbus.tx_frames - tx, 29);
+    ck_assert_uint_le(t_devp()->fbus.tx_frames - tx, 31);
+    /* 30 STATE + 30 MEASURE + 6 x 28 BULK + 6 heartbeats */
     uint32_t frames = can_loopback_frames() - before;
-    ck_assert_uint_ge(frames, 770);
-    ck_assert_uint_le(frames, 790);
+    ck_assert_uint_ge(frames, 224);
+    ck_assert_uint_le(frames, 244);
+}
+END_TEST
+
+/* An idle device on the in-process bus has nothing due (issue 11, point 7),
+ * and the fingers are as they were when it next steps. */
+START_TEST(idle_bus_sleeps_and_wakes_intact)
+{
+    t_start("fmf,dsa");
+    t_run_ms(1000);
+    ck_assert_uint_eq(wsg_device_next_deadline_us(&t_dev), UINT64_MAX);
+    uint32_t frames = can_loopback_frames();
+    t_now_us += 10000000u; /* 10 s with nothing due: nobody steps the device */
+    sim_world_advance(&t_world, t_now_us);
+    ck_assert_uint_eq(can_loopback_frames() - frames, 0);
+    ck_assert_str_eq(t_ask("FFLAGS?"), "FFLAGS=[" FLAGS_OK "," FLAGS_OK "]");
+    wsg_device_step(&t_dev); /* a command's step: a whole bus cycle at this instant */
+    ck_assert_uint_gt(can_loopback_frames() - frames, 0);
+    ck_assert_str_eq(t_ask("FFLAGS?"), "FFLAGS=[" FLAGS_OK "," FLAGS_OK "]");
+    ck_assert_str_eq(t_ask("FTYPE?"), "FTYPE=[\"fmf\",\"dsa\"]");
+    ck_assert_float_eq_tol(t_ask_float("FDATA[0]?"), 0.6f, 0.1f);
+    ck_assert_str_eq(t_ask("SYSFLAGS[17]?"), "SYSFLAGS[17]=0");
+    ck_assert_uint_eq(t_devp()->fbus.comm_faults, 0);
+    ck_assert_uint_eq(wsg_device_next_deadline_us(&t_dev), UINT64_MAX);
+}
+END_TEST
+
+/* TARE and a fault injection wake the idle bus until they took effect. */
+START_TEST(idle_bus_wakes_for_tare_and_faults)
+{
+    t_start("fmf,dsa");
+    t_run_ms(1000);
+    ck_assert_str_eq(t_ask("TARE()"), "ACK TARE");
+    ck_assert_uint_lt(wsg_device_next_deadline_us(&t_dev), UINT64_MAX);
+    t_run_ms(30);
+    ck_assert_float_eq_tol(t_ask_float("FDATA[0]?"), 0.0f, 0.08f);
+    t_run_ms(1000);
+    ck_assert_uint_eq(wsg_device_next_deadline_us(&t_dev), UINT64_MAX);
+    t_run_ms(1); /* the host steps the device before it injects (finger_bus_host.c) */
+    inject(0, FBUS_FAULT_UNPLUG);
+    t_run_ms(250);
+    ck_assert_str_eq(t_ask("FFLAGS[0]?"), "FFLAGS[0]=" FLAGS_OK);
+    t_run_ms(100);
+    ck_assert_str_eq(t_ask("FFLAGS[0]?"), "FFLAGS[0]=[1,1,0,0,0,0,0,0,0,1,0,0,0,0,0,0]");
+    ck_assert_str_eq(t_ask("SYSFLAGS[17]?"), "SYSFLAGS[17]=1");
 }
 END_TEST
 
@@ -249,6 +295,8 @@ Suite *bus_suite(void)
     tcase_add_test(tc, init_fault_at_power_on_has_no_config);
     tcase_add_test(tc, clock_jumps_keep_loopback_fingers);
     tcase_add_test(tc, bus_frame_rates);
+    tcase_add_test(tc, idle_bus_sleeps_and_wakes_intact);
+    tcase_add_test(tc, idle_bus_wakes_for_tare_and_faults);
     suite_add_tcase(s, tc);
     return s;
 }

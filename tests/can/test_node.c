@@ -33,7 +33,7 @@ static bool rec_filters(void *ctx, const hal_can_filter_t *f, unsigned n)
     return true;
 }
 
-static const hal_can_t rec_bus = {rec_send, rec_recv, rec_filters, NULL};
+static const hal_can_t rec_bus = {rec_send, rec_recv, rec_filters, NULL, false};
 static finger_node_t node;
 static uint64_t now;
 

@@ -10,6 +10,7 @@ fast, slow or under valgrind; a loop polling at 100 Hz makes about 200.
 The window is not a speed assertion: it only has to be long enough for a
 polling loop to show.
 """
+import re
 import time
 import unittest
 
@@ -18,6 +19,8 @@ from gclclient import GclError, Wsgsim
 IDLE_CONNECTIONS = 120
 WINDOW_S = 2.0
 WAKEUPS_MAX = 3  # slack for a stray signal or page-in; a 100 Hz poll makes ~200
+FINGERS_OK = "[1,1,1,0,0,0,0,0,0,0,0,0,0,0,0,0]"
+SETTLED_MS = 1000  # the finger bus settles within 500 ms of simulated time
 
 
 def context_switches(pid):
@@ -69,6 +72,46 @@ class IdleLoop(unittest.TestCase):
             self.assertTrue(client.command("POS?").startswith("POS="))
         self.assertLessEqual(wakeups_over_window(sim), WAKEUPS_MAX)
         self.assertTrue(clients[0].command("POS?").startswith("POS="))
+
+    def test_idle_fingers_cost_no_wakeups_on_a_running_clock(self):
+        sim = Wsgsim("--sim-port", "0")  # default fingers: fmf,dsa on the in-process bus
+        sim.start()
+        self.addCleanup(sim.stop)
+        ctl = sim.control()
+        self.addCleanup(ctl.close)
+        wait_for_simulated_ms(ctl, SETTLED_MS)
+        self.assertLessEqual(wakeups_over_window(sim), WAKEUPS_MAX)
+        client = sim.tcp()
+        self.addCleanup(client.close)
+        self.assertEqual(client.command("FFLAGS?"), "FFLAGS=[%s,%s]" % (FINGERS_OK, FINGERS_OK))
+        self.assertAlmostEqual(float(client.command("FDATA[0]?").partition("=")[2]), 0.6,
+                               delta=0.1)
+
+    def test_finger_fault_after_a_long_idle_takes_its_time(self):
+        """The idle bus is brought up to date before a fault is injected:
+        the comm fault shows 300 ms after the finger went, not at once."""
+        sim = self.start()
+        ctl = sim.control()
+        self.addCleanup(ctl.close)
+        client = sim.tcp()
+        self.addCleanup(client.close)
+        ctl.step(5000)
+        self.assertEqual(ctl('FAULT("FINGER_UNPLUG",0)'), "ACK FAULT")
+        ctl.step(250)
+        self.assertEqual(client.command("FFLAGS[0]?"), "FFLAGS[0]=" + FINGERS_OK)
+        ctl.step(100)
+        self.assertEqual(client.command("FFLAGS[0]?"),
+                         "FFLAGS[0]=[1,1,0,0,0,0,0,0,0,1,0,0,0,0,0,0]")
+
+
+def wait_for_simulated_ms(ctl, ms, timeout=60.0):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        match = re.match(r"SIMTIME=\[([0-9.]+),", ctl("SIMTIME?"))
+        if match and float(match.group(1)) >= ms:
+            return
+        time.sleep(0.05)
+    raise GclError("simulated time never reached %d ms" % ms)
 
 
 if __name__ == "__main__":

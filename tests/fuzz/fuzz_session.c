@@ -141,7 +141,7 @@ static bool can_set_filters(void *ctx, const hal_can_filter_t *filters, unsigned
     return hal_can_set_filters(raw.loopback, filters, count);
 }
 
-static const hal_can_t fuzz_can = {can_send, can_recv, can_set_filters, NULL};
+static const hal_can_t fuzz_can = {can_send, can_recv, can_set_filters, NULL, false};
 
 static void queue_raw_frames(const uint8_t *p, size_t n)
 {

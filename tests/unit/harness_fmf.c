@@ -46,7 +46,7 @@ static bool no_filters(void *ctx, const hal_can_filter_t *filters, unsigned coun
     return true;
 }
 
-static const hal_can_t node_port = {node_send, no_recv, no_filters, NULL};
+static const hal_can_t node_port = {node_send, no_recv, no_filters, NULL, false};
 
 static bool device_send(void *ctx, const hal_can_frame_t *frame)
 {
@@ -82,7 +82,7 @@ static bool device_set_filters(void *ctx, const hal_can_filter_t *filters, unsig
     return true;
 }
 
-static const hal_can_t device_port = {device_send, device_recv, device_set_filters, NULL};
+static const hal_can_t device_port = {device_send, device_recv, device_set_filters, NULL, false};
 
 void h_setup_fmf_homed(void)
 {
