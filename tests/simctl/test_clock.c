@@ -124,8 +124,13 @@ static void start_step(const char *line)
 
 START_TEST(a_long_step_is_sliced_and_gcl_is_served_between_slices)
 {
-    uint64_t t0 = t_now_us();
+    /* a part held on the FMF: its force loop ticks every 10 ms all along */
     GCL_EQ("HOME()", "ACK HOME");
+    ck_assert_int_ge(t_until("FIN HOME", 5000), 0);
+    ck_assert_str_eq(ctl("PART(40,100)"), "ACK PART");
+    GCL_EQ("GRIP(20)", "ACK GRIP");
+    ck_assert_int_ge(t_until("FIN GRIP", 5000), 0);
+    uint64_t t0 = t_now_us();
     start_step("STEP(3600000)");
     simctl_tick(); /* one slice, as the event loop runs it between polls */
     uint64_t mid = t_now_us();
