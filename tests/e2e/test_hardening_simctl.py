@@ -136,11 +136,12 @@ class TestSlicedTime(SimctlCase):
         record = self.temp("")
         sim, ctl = self.start("--start-paused", "--record", record)
         gcl = sim.tcp()
-        self.assertEqual(gcl.command("AUTOSEND(\"POS\",1000)"), "ACK AUTOSEND")
+        # every 10 ms: enough work for the hour to take many slices
+        self.assertEqual(gcl.command("AUTOSEND(\"POS\",10)"), "ACK AUTOSEND")
         self.assertEqual(ctl("STEP(1)", 60), "STEP=1.000")
         self.assertEqual(gcl.read_line(60), "@POS=55.0")  # the first, at 1 ms
         ctl.send("STEP(3600000)")  # an hour of simulated time
-        # the next @POS is due at 1001 ms: it exists only once the STEP runs, so
+        # the next @POS is due at 11 ms: it exists only once the STEP runs, so
         # the POS? below reaches wsgsim while the STEP is running
         self.assertEqual(gcl.read_line(60), "@POS=55.0")
         self.assertEqual(gcl.command("POS?", 60), "POS=55.0")
