@@ -4,7 +4,6 @@ import os
 import select
 import shutil
 import signal
-import socket
 import subprocess
 import tempfile
 import time
@@ -38,18 +37,13 @@ def option_value(args, name):
     return value
 
 
-def free_udp_port():
-    """A UDP port on 127.0.0.1 that nobody holds right now."""
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 class Wsgsim:
     """A virtual gripper on free loopback ports: `with Wsgsim() as sim: sim.tcp()`.
 
     args are wsgsim options (wsgsim --help); they come after the defaults
     (--bind 127.0.0.1 --tcp-port 0 --udp-port 0), so they override them.
+    The binary protocol is served on the TCP port; binary UDP is off unless
+    args name --binary-udp-port N (its default, 1500, is one port per host).
     paused=True starts the simulated clock paused at 0 and opens the control
     channel (sim.control().step(ms) advances it); control=True opens the
     control channel alone; coverage=PATH writes the protocol coverage report
@@ -69,9 +63,10 @@ class Wsgsim:
             extra += ["--coverage", str(coverage)]
         args = [str(a) for a in args]
         if "--binary-udp-port" not in args:
-            # the device's default (1500) is one port for every instance: give
-            # each its own, as --tcp-port 0 and --udp-port 0 do
-            extra += ["--binary-udp-port", str(free_udp_port())]
+            # the device's default (1500) is one port for every instance, and a
+            # port picked here could be taken by the server's own free ports
+            # before it binds it: binary UDP only when the caller names a port
+            extra += ["--binary-udp-port", "0"]
         self.args = ["--bind", "127.0.0.1", "--tcp-port", "0", "--udp-port", "0"] + extra + args
         self.prefix = os.environ.get("WSGSIM_PREFIX", "").split()
         self.proc = None
