@@ -16,6 +16,7 @@ import signal
 import subprocess
 import sys
 import time
+import traceback
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "e2e"))
@@ -208,20 +209,26 @@ def decode_all(dbc_path, frames):
 
 
 def dsa_transfers(decoded, ident):
+    """Complete transfers, reassembled as the receiver does (finger-bus.md):
+    a transfer with a missing, repeated or foreign segment is dropped. A
+    frame the capture lost on a busy host then costs one transfer, not the
+    analysis."""
     transfers, current = [], None
     for _, fid, _, v in decoded:
         if fid != ident:
             continue
         seg = int(v["Segment"])
         if seg == 0:
-            current = {"transfer": v["Transfer"], "cells": {}}
-        if current is None or v["Transfer"] != current["transfer"]:
+            current = {"transfer": v["Transfer"], "cells": {}, "next": 0}
+        if current is None or v["Transfer"] != current["transfer"] or seg != current["next"]:
             current = None
             continue
+        current["next"] = seg + 1
         for k in range(3 * seg, 3 * seg + 3):
             current["cells"][k] = int(v["Cell_%d" % k])
         if v["Last"] == 1:
-            transfers.append([current["cells"][k] for k in range(84)])
+            if len(current["cells"]) >= 84:
+                transfers.append([current["cells"][k] for k in range(84)])
             current = None
     return transfers
 
@@ -283,8 +290,9 @@ def wait_capturing(capture, iface):
 def run(args, checks):
     c = {"fmf_values": [], "dsa_vectors": [], "capture": os.path.join(args.workdir, "candump.log")}
     capture = open(c["capture"], "w")
-    # line-buffered, so that the capture shows when candump is listening
-    candump = subprocess.Popen(["stdbuf", "-oL", "candump", "-L", args.iface], stdout=capture,
+    # line-buffered, so that the capture shows when candump is listening; a
+    # large receive buffer, so that a descheduled candump loses no frames
+    candump = subprocess.Popen(["stdbuf", "-oL", "candump", "-L", "-r", "4194304", args.iface], stdout=capture,
                                stderr=subprocess.STDOUT)
     finger = Fingersim(args.fingersim, args.iface, os.path.join(args.workdir, "fingersim.log"))
     sim = Wsgsim("--can", args.iface, "--part", "40", binary=args.wsgsim)
@@ -322,6 +330,7 @@ def main():
     try:
         run(args, checks)
     except Exception as exc:
+        traceback.print_exc()
         checks.check("scenario ran to the end", False, repr(exc))
     for key, value in sorted(checks.measured.items()):
         print("  measured %s: %s" % (key, value))
