@@ -13,6 +13,7 @@
 #include "lwip/timeouts.h"
 #include "netif/ethernet.h"
 #include "serial_port.h"
+#include "web_status.h"
 
 #define GCL_PORT 1000u
 
@@ -36,6 +37,7 @@ static bool network_init(void)
         hal_log(HAL_LOG_ERROR, "lwip: cannot listen on port 1000");
         return false;
     }
+    web_status_init();
     return true;
 }
 
