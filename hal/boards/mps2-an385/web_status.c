@@ -78,8 +78,8 @@ static const flash_file_t flash_files[] = {
 
 /* The state's response, built when httpd opens it and kept until httpd
  * closes it (httpd copies it into its segments, lwipopts.h). One slot per
- * httpd connection, so an open never finds them all in use. The body's
- * worst case is about 600 bytes: every named flag set. */
+ * httpd connection, so an open never finds them all in use. The body is at
+ * most 556 bytes (every named flag set, every number at textbuf's limit). */
 #define STATE_HEADER_MAX 160u
 #define STATE_BODY_MAX 768u
 
