@@ -38,7 +38,8 @@ static const wsg_conn_io_t serial_io = {write_line};
 
 static void open_session(void)
 {
-    wsg_conn_open(&conn, app_device(), &wsg_gcl_driver, WSG_TRANSPORT_STREAM, &serial_io, NULL);
+    /* the first byte chooses the protocol: 0xAA binary, else GCL */
+    wsg_conn_open(&conn, app_device(), NULL, WSG_TRANSPORT_SERIAL, &serial_io, NULL);
 }
 
 void serial_port_init(void)
