@@ -20,5 +20,6 @@ Suite *fmf_suite(void);
 Suite *ops_suite(void);
 Suite *peers_suite(void);
 Suite *outq_suite(void);
+Suite *runner_suite(void);
 
 #endif

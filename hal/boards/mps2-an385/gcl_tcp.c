@@ -109,11 +109,9 @@ static err_t on_recv(void *arg, struct tcp_pcb *pcb, struct pbuf *p, err_t err)
         return ERR_OK;
     }
     if (err == ERR_OK && !c->closing) {
-        app_advance();
         for (struct pbuf *q = p; q != NULL; q = q->next) {
-            wsg_conn_input(&c->conn, q->payload, q->len);
+            app_feed(&c->conn, q->payload, q->len, false);
         }
-        app_note_input();
         c->closing = wsg_conn_wants_close(&c->conn);
     }
     tcp_recved(pcb, p->tot_len);

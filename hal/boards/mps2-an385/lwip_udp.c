@@ -71,12 +71,9 @@ static void on_recv(void *arg, struct udp_pcb *pcb, struct pbuf *p, const ip_add
         return;
     }
     wsg_peers_heard(&s->peers, peer, p->tot_len);
-    app_advance();
     for (struct pbuf *q = p; q != NULL; q = q->next) {
-        wsg_conn_input(&peer->conn, q->payload, q->len);
+        app_feed(&peer->conn, q->payload, q->len, q->next == NULL);
     }
-    wsg_conn_end_datagram(&peer->conn);
-    app_note_input();
     pbuf_free(p);
 }
 

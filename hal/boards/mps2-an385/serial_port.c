@@ -56,9 +56,7 @@ void serial_port_poll(void)
     uint8_t bytes[64];
     size_t n;
     while ((n = cmsdk_uart_rx_read(&rx, bytes, sizeof(bytes))) > 0) {
-        app_advance();
-        wsg_conn_input(&conn, bytes, n);
-        app_note_input();
+        app_feed(&conn, bytes, n, false);
         if (wsg_conn_wants_close(&conn)) {
             wsg_conn_close(&conn, WSG_CLOSE_ANNOUNCED);
             hal_log(HAL_LOG_INFO, "serial: BYE, new session");
