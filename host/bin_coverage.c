@@ -10,11 +10,14 @@
 
 #define IDS 256u
 #define FRAME_MIN 10u /* header, status, CRC */
+#define ID_SYSTEM_STATE 0x40u
+#define VALUES_AT 8u /* preamble, ID, length, status */
 
 static struct {
     unsigned frames[IDS];
     uint32_t statuses[IDS]; /* bit s: status s answered */
     unsigned status_count[WSG_STATUS_COUNT];
+    uint32_t flags_observed; /* bits set in a 0x40 reply or update a client got */
 } bcov;
 
 void bin_coverage_reset(void)
@@ -33,6 +36,11 @@ void bin_coverage_frame_out(const unsigned char *frame, size_t len)
     if (status < WSG_STATUS_COUNT) {
         bcov.statuses[id] |= 1UL << status;
         bcov.status_count[status]++;
+    }
+    if (id == ID_SYSTEM_STATE && status == E_SUCCESS && len >= VALUES_AT + 4u + 2u) {
+        const unsigned char *v = frame + VALUES_AT;
+        bcov.flags_observed |=
+            (uint32_t)v[0] | (uint32_t)v[1] << 8 | (uint32_t)v[2] << 16 | (uint32_t)v[3] << 24;
     }
 }
 
@@ -67,6 +75,26 @@ static cJSON *report_statuses(void)
     return out;
 }
 
+/* The system flags by whether a client saw them set in a state reply. */
+static void report_flags_observed(cJSON *out, cJSON *summary)
+{
+    cJSON *seen = cJSON_CreateArray();
+    cJSON *never = cJSON_CreateArray();
+    unsigned count = 0;
+    for (unsigned bit = 0; bit < WSG_SYSFLAG_COUNT; bit++) {
+        const char *name = simctl_sysflag_name(bit);
+        if (name == NULL) {
+            continue;
+        }
+        bool on = ((bcov.flags_observed >> bit) & 1u) != 0u;
+        count += on ? 1u : 0u;
+        cJSON_AddItemToArray(on ? seen : never, cJSON_CreateString(name));
+    }
+    cJSON_AddItemToObject(out, "flags_observed", seen);
+    cJSON_AddItemToObject(out, "flags_never_observed", never);
+    cJSON_AddNumberToObject(summary, "binary_flags_observed", count);
+}
+
 cJSON *bin_coverage_report(cJSON *summary)
 {
     cJSON *used = cJSON_CreateArray();
@@ -97,6 +125,7 @@ cJSON *bin_coverage_report(cJSON *summary)
     cJSON_AddItemToObject(out, "never_used", never);
     cJSON_AddItemToObject(out, "unknown_ids_sent", unknown);
     cJSON_AddItemToObject(out, "statuses_returned", report_statuses());
+    report_flags_observed(out, summary);
     cJSON_AddNumberToObject(summary, "binary_commands_total", total);
     cJSON_AddNumberToObject(summary, "binary_commands_used", covered);
     return out;

@@ -20,6 +20,7 @@ typedef struct {
     gripper_t gripper;
     tcp_server_t tcp;
     udp_server_t udp;
+    udp_server_t bin_udp; /* the binary protocol over UDP, fd -1 when off */
 } fleet_device_t;
 
 static struct {
@@ -65,12 +66,56 @@ static bool device_port(const char *what, int base, unsigned i, int *port)
     return false;
 }
 
+/* The binary protocol over UDP: device i on (binary port + i), replying to
+ * (reply port + i). A default port that is taken is skipped with a warning;
+ * one given explicitly must be had. */
+static bool start_bin_udp(fleet_device_t *d, const host_options_t *opts, unsigned i)
+{
+    if (!opts->udp_enabled || opts->binary_udp_port == 0) {
+        return true;
+    }
+    int port = opts->binary_udp_port + (int)i;
+    int reply_port = opts->binary_udp_reply_port == 0 ? 0 : opts->binary_udp_reply_port + (int)i;
+    if (port > 65535 || reply_port > 65535) {
+        host_logf(HAL_LOG_ERROR, "--devices: device %u would need binary udp ports %d and %d", i,
+                  port, reply_port);
+        return false;
+    }
+    udp_protocol_t binary = udp_protocol_binary(reply_port);
+    if (udp_server_start(&d->bin_udp, &d->gripper, &binary, opts->bind_addr, port,
+                         opts->udp_peer_timeout_s)) {
+        return true;
+    }
+    udp_server_stop(&d->bin_udp);
+    if (!opts->binary_udp_port_given) {
+        host_logf(HAL_LOG_WARN, "binary udp port %d taken: device %u speaks binary on TCP only",
+                  port, i);
+    }
+    return !opts->binary_udp_port_given;
+}
+
+/* With N devices the binary ports (P .. P+N-1) and reply ports (R ..
+ * R+N-1) should not overlap: a client on this host that receives device i's
+ * replies could not bind a port another device listens on. */
+static void warn_binary_overlap(const host_options_t *opts, unsigned n)
+{
+    int p = opts->binary_udp_port;
+    int r = opts->binary_udp_reply_port;
+    if (n > 1 && opts->udp_enabled && p != 0 && r != 0 && r < p + (int)n && p < r + (int)n) {
+        host_logf(HAL_LOG_WARN,
+                  "--devices %u: binary udp ports %d-%d overlap the reply ports %d-%d; local "
+                  "clients cannot receive on a port a device listens on",
+                  n, p, p + (int)n - 1, r, r + (int)n - 1);
+    }
+}
+
 static bool start_device(fleet_device_t *d, const host_options_t *opts, unsigned i)
 {
     int tcp_port = 0;
     int udp_port = 0;
     d->tcp.listener.fd = -1;
     d->udp.fd = -1;
+    d->bin_udp.fd = -1;
     gripper_init(&d->gripper, opts, i);
     if (!device_port("TCP", opts->tcp_port, i, &tcp_port) ||
         !device_port("UDP", opts->udp_port, i, &udp_port)) {
@@ -80,8 +125,12 @@ static bool start_device(fleet_device_t *d, const host_options_t *opts, unsigned
                                                opts->max_clients, opts->idle_timeout_s)) {
         return false;
     }
-    return !opts->udp_enabled || udp_server_start(&d->udp, &d->gripper, opts->bind_addr, udp_port,
-                                                  opts->udp_peer_timeout_s);
+    udp_protocol_t gcl = udp_protocol_gcl();
+    if (opts->udp_enabled && !udp_server_start(&d->udp, &d->gripper, &gcl, opts->bind_addr,
+                                               udp_port, opts->udp_peer_timeout_s)) {
+        return false;
+    }
+    return start_bin_udp(d, opts, i);
 }
 
 bool fleet_start(const host_options_t *opts)
@@ -100,6 +149,7 @@ bool fleet_start(const host_options_t *opts)
         return false;
     }
     fleet.opts = opts;
+    warn_binary_overlap(opts, n);
     for (unsigned i = 0; i < n; i++) { /* all due at 0: any order is a heap */
         fleet.heap[i] = i;
         fleet.slot[i] = i;
@@ -131,6 +181,11 @@ int fleet_tcp_port(unsigned i)
 int fleet_udp_port(unsigned i)
 {
     return udp_server_port(&fleet.devices[i].udp);
+}
+
+int fleet_bin_udp_port(unsigned i)
+{
+    return udp_server_port(&fleet.devices[i].bin_udp);
 }
 
 static uint64_t earliest(uint64_t a, uint64_t b)
@@ -219,6 +274,7 @@ void fleet_close_connections(unsigned i)
 {
     tcp_server_close_all(&fleet.devices[i].tcp);
     udp_server_close_all(&fleet.devices[i].udp);
+    udp_server_close_all(&fleet.devices[i].bin_udp);
 }
 
 static void format_endpoints(unsigned i, char *tcp, char *udp, size_t cap)
@@ -233,9 +289,14 @@ void fleet_announce_devices(void)
     char tcp[96], udp[96];
     for (unsigned i = 1; i < fleet.count; i++) {
         const wsg_config_t *cfg = &fleet.devices[i].gripper.config;
+        char binary[32] = "";
+        int bin_port = fleet_bin_udp_port(i);
+        if (bin_port >= 0) {
+            snprintf(binary, sizeof(binary), ", binary udp %d", bin_port);
+        }
         format_endpoints(i, tcp, udp, sizeof(tcp));
-        host_logf(HAL_LOG_INFO, "device %u: tcp %s, udp %s, serial %u, tag %s", i, tcp, udp,
-                  (unsigned)cfg->serial, cfg->tag);
+        host_logf(HAL_LOG_INFO, "device %u: tcp %s, udp %s%s, serial %u, tag %s", i, tcp, udp,
+                  binary, (unsigned)cfg->serial, cfg->tag);
     }
 }
 
@@ -256,6 +317,7 @@ void fleet_stop(void)
     for (unsigned i = 0; i < fleet.count; i++) {
         tcp_server_stop(&fleet.devices[i].tcp);
         udp_server_stop(&fleet.devices[i].udp);
+        udp_server_stop(&fleet.devices[i].bin_udp);
     }
     while (gripper_take_touched() != NULL) {
     }

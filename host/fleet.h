@@ -21,13 +21,15 @@ gripper_t *fleet_gripper(unsigned i);
 /* Device i's listening ports (-1: that server is off). */
 int fleet_tcp_port(unsigned i);
 int fleet_udp_port(unsigned i);
+/* Device i's binary UDP port (binary port + i), -1 when not served. */
+int fleet_bin_udp_port(unsigned i);
 /* Steps the devices whose deadline has come; returns the earliest deadline
  * of the fleet and of its connections' timeouts (UINT64_MAX: none). */
 uint64_t fleet_tick(void);
 /* Closes the connections and peers of device i (a reset). */
 void fleet_close_connections(unsigned i);
 /* Logs one line per device after the first: "device i: tcp ADDR:P, udp
- * ADDR:P, serial S, tag T". */
+ * ADDR:P[, binary udp P], serial S, tag T". */
 void fleet_announce_devices(void);
 /* The ready line: device 0's ports first, as with one device, then extra
  * (the control channel) and, for a fleet, ", devices N". */

@@ -34,7 +34,13 @@ static void power_on_world(gripper_t *g)
     if (g->opts.part_given) {
         place_start_part(g);
     }
-    g->next_deadline_us = hal_clock_now_us();
+    wsg_runner_due_now(&g->runner);
+}
+
+static void advance_world(void *ctx, uint64_t now_us)
+{
+    gripper_t *g = ctx;
+    sim_world_advance(&g->world, now_us);
 }
 
 /* Device index of a fleet: serial + index, tag "<tag>-<index>" (cut to fit). */
@@ -67,6 +73,7 @@ void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
     sim_world_hal(&g->world, &hal);
     hal.can = index == 0 ? finger_bus_host_can() : NULL;
     wsg_device_init(&g->device, &g->config, &hal);
+    wsg_runner_init(&g->runner, &g->device, advance_world, g);
     if (index == 0) {
         simctl_hooks_attach(&g->device, opts);
     }
@@ -74,19 +81,13 @@ void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
 
 uint64_t gripper_tick(gripper_t *g)
 {
-    uint64_t now = hal_clock_now_us();
-    sim_world_advance(&g->world, now);
-    if (now >= g->next_deadline_us) {
-        wsg_device_step(&g->device);
-    }
-    g->next_deadline_us = wsg_device_next_deadline_us(&g->device);
-    return g->next_deadline_us;
+    sim_world_advance(&g->world, hal_clock_now_us()); /* a touch may come from the world */
+    return wsg_runner_poll(&g->runner);
 }
 
 void gripper_step_now(gripper_t *g)
 {
-    g->next_deadline_us = hal_clock_now_us();
-    gripper_tick(g);
+    (void)wsg_runner_step_now(&g->runner);
 }
 
 void gripper_reset(gripper_t *g)
@@ -102,17 +103,7 @@ void gripper_reset(gripper_t *g)
 void gripper_feed(gripper_t *g, wsg_conn_t *c, const uint8_t *bytes, size_t len,
                   int end_of_datagram)
 {
-    sim_world_advance(&g->world, hal_clock_now_us());
-    wsg_conn_input(c, bytes, len);
-    if (end_of_datagram) {
-        wsg_conn_end_datagram(c);
-    }
-    /* What the input started is due from the next instant on, never at
-     * this one: a paused clock runs it at the next STEP, as before. */
-    uint64_t due = wsg_device_next_deadline_us(&g->device);
-    uint64_t soonest = hal_clock_now_us() + 1u;
-    due = due > soonest ? due : soonest;
-    g->next_deadline_us = due < g->next_deadline_us ? due : g->next_deadline_us;
+    wsg_runner_feed(&g->runner, c, bytes, len, end_of_datagram != 0);
     gripper_touch(g);
 }
 

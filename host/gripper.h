@@ -13,14 +13,15 @@
 #include "sim/sim_world.h"
 #include "wsg/wsg_conn.h"
 #include "wsg/wsg_device.h"
+#include "wsg/wsg_runner.h"
 
 typedef struct gripper {
     wsg_device_t device;
     sim_world_t world;
     wsg_config_t config; /* what a reset powers on with */
     host_options_t opts;
-    uint64_t next_deadline_us;
-    bool touched; /* on the touched list (gripper_touch) */
+    wsg_runner_t runner; /* feed and step: the core's, as on the board */
+    bool touched;        /* on the touched list (gripper_touch) */
     struct gripper *next_touched;
     unsigned index; /* its number in the fleet: 0 for the first */
 } gripper_t;

@@ -18,29 +18,8 @@
 #include "simctl_run.h"
 #include "tcp_server.h"
 #include "udp_server.h"
-#include "bin_udp_server.h"
 
 #define EXIT_STARTUP_FAILED 2
-
-static bin_udp_server_t bin_udp = {.fd = -1};
-
-/* The binary protocol over UDP; its default port, when taken, is skipped. */
-static bool start_bin_udp(gripper_t *g, const host_options_t *opts)
-{
-    if (!opts->udp_enabled || opts->binary_udp_port == 0) {
-        return true;
-    }
-    if (bin_udp_server_start(&bin_udp, g, opts->bind_addr, opts->binary_udp_port,
-                             opts->binary_udp_reply_port, opts->udp_peer_timeout_s)) {
-        return true;
-    }
-    bin_udp_server_stop(&bin_udp);
-    if (!opts->binary_udp_port_given) {
-        host_logf(HAL_LOG_WARN, "binary udp port %d taken: binary protocol on TCP only",
-                  opts->binary_udp_port);
-    }
-    return !opts->binary_udp_port_given;
-}
 
 /* Simulation control (docs/simctl.md): record, scenario, control channel. */
 static bool start_simulation(const host_options_t *opts)
@@ -73,11 +52,10 @@ static bool announce(const host_options_t *opts)
 {
     char line[400];
     char extra[160];
-    snprintf(extra, sizeof(extra), ", binary udp %d%s", bin_udp_server_port(&bin_udp),
-             simctl_describe());
+    snprintf(extra, sizeof(extra), ", binary udp %d%s", fleet_bin_udp_port(0), simctl_describe());
     fleet_ready_line(extra, line, sizeof(line));
     bool bin_tcp = opts->tcp_enabled && opts->protocol != HOST_PROTOCOL_GCL;
-    notify_set_binary_ports(bin_tcp ? fleet_tcp_port(0) : -1, bin_udp_server_port(&bin_udp));
+    notify_set_binary_ports(bin_tcp ? fleet_tcp_port(0) : -1, fleet_bin_udp_port(0));
     if (!notify_prepare(opts->ready_file)) {
         return false;
     }
@@ -133,9 +111,7 @@ int main(int argc, char **argv)
     if (!finger_bus_host_start(&opts) || (opts.can_log != NULL && !can_log_open(opts.can_log))) {
         return EXIT_STARTUP_FAILED;
     }
-    /* the binary protocol's UDP port serves device 0 */
-    if (!fleet_start(&opts) || !start_bin_udp(fleet_gripper(0), &opts) ||
-        !start_simulation(&opts)) {
+    if (!fleet_start(&opts) || !start_simulation(&opts)) {
         return EXIT_STARTUP_FAILED;
     }
     if (!announce(&opts)) {
@@ -147,12 +123,10 @@ int main(int argc, char **argv)
         loop_wait(deadline);
         tcp_server_reap();
         udp_server_reap();
-        bin_udp_server_reap(&bin_udp);
         simctl_reap();
     }
     host_logf(HAL_LOG_INFO, "shutting down");
     notify_stopping(opts.ready_file);
-    bin_udp_server_stop(&bin_udp);
     fleet_stop();
     finger_bus_host_stop();
     can_log_close();

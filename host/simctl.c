@@ -13,7 +13,7 @@
 #include "log.h"
 #include "loop.h"
 #include "net.h"
-#include "outq.h"
+#include "wsg/wsg_outq.h"
 #include "record.h"
 #include "simctl_cmd.h"
 #include "simctl_run.h"
@@ -26,7 +26,7 @@
  * faster than it reads is slowed down, not cut off. */
 #define CONTROL_OUTQ_BYTES (512u * 1024u)
 #define CONTROL_OUTQ_LOW (64u * 1024u)
-#define OUTQ_RECORD_MAX 0xffffu /* outq_push() takes at most this per call */
+#define OUTQ_RECORD_MAX 0xffffu /* wsg_outq_offer() takes at most this per call */
 #define READ_CHUNK 4096
 #define DEFAULT_ADDR "127.0.0.1"
 
@@ -42,7 +42,7 @@ typedef struct {
     uint8_t pending[READ_CHUNK]; /* received, not yet run (while a STEP runs) */
     size_t pending_len;
     size_t pending_at;
-    outq_t outq;
+    wsg_outq_t outq;
 } control_client_t;
 
 static struct {
@@ -66,7 +66,7 @@ static void close_client(control_client_t *c)
     loop_unwatch(c->fd);
     close(c->fd);
     listener_fd_freed(&ctl.listener);
-    outq_free(&c->outq);
+    free(c->outq.ring);
     c->in_use = false;
     host_logf(HAL_LOG_INFO, "control ctl%u: closed", c->number);
 }
@@ -81,15 +81,15 @@ static bool input_left(const control_client_t *c)
 static void update_events(control_client_t *c, bool wake)
 {
     bool want_input = !c->eof && !input_left(c);
-    bool want_output = wake || !outq_empty(&c->outq);
+    bool want_output = wake || !wsg_outq_empty(&c->outq);
     loop_set_events(c->fd, (short)((want_input ? POLLIN : 0) | (want_output ? POLLOUT : 0)));
 }
 
 static void flush(control_client_t *c)
 {
     static char line[OUTQ_RECORD_MAX];
-    while (!outq_empty(&c->outq)) {
-        size_t len = outq_peek(&c->outq, line, sizeof(line));
+    while (!wsg_outq_empty(&c->outq)) {
+        size_t len = wsg_outq_peek(&c->outq, line, sizeof(line));
         ssize_t sent = send(c->fd, line, len, MSG_NOSIGNAL | MSG_DONTWAIT);
         if (sent < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) {
             break;
@@ -98,11 +98,10 @@ static void flush(control_client_t *c)
             c->dead = true;
             break;
         }
+        wsg_outq_consume(&c->outq, (size_t)sent);
         if ((size_t)sent < len) {
-            outq_trim_front(&c->outq, (size_t)sent);
             break;
         }
-        outq_pop(&c->outq);
     }
     update_events(c, false);
 }
@@ -114,7 +113,7 @@ static bool queue_reply(control_client_t *c, const char *reply)
 {
     size_t len = strlen(reply) + 1;
     char *line = malloc(len);
-    if (line == NULL || len > outq_capacity(&c->outq) - outq_used(&c->outq) - CONTROL_OUTQ_LOW) {
+    if (line == NULL || len > c->outq.cap - wsg_outq_used(&c->outq) - CONTROL_OUTQ_LOW) {
         free(line);
         return false;
     }
@@ -123,7 +122,7 @@ static bool queue_reply(control_client_t *c, const char *reply)
     bool queued = true;
     for (size_t at = 0; queued && at < len;) {
         size_t n = len - at < OUTQ_RECORD_MAX ? len - at : OUTQ_RECORD_MAX;
-        queued = outq_push(&c->outq, line + at, n);
+        queued = wsg_outq_offer(&c->outq, line + at, n, WSG_MSG_REPLY) == WSG_OUTQ_QUEUED;
         at += n;
     }
     free(line);
@@ -181,7 +180,7 @@ static void handle_line(control_client_t *c)
 static bool may_run(const control_client_t *c)
 {
     return !c->closing && !c->dead && !simctl_step_running() &&
-           outq_used(&c->outq) < CONTROL_OUTQ_LOW;
+           wsg_outq_used(&c->outq) < CONTROL_OUTQ_LOW;
 }
 
 static void run_pending(control_client_t *c)
@@ -233,7 +232,7 @@ static void on_step_done(void)
 static bool finished(const control_client_t *c)
 {
     bool nothing_left = c->eof && !input_left(c) && ctl.stepper != c;
-    return c->dead || ((c->closing || nothing_left) && outq_empty(&c->outq));
+    return c->dead || ((c->closing || nothing_left) && wsg_outq_empty(&c->outq));
 }
 
 static void on_client(void *ctx, int fd, short revents)
@@ -279,7 +278,10 @@ static void on_accept(void *ctx, int fd, short revents)
         return;
     }
     control_client_t *c = free_slot();
-    if (c == NULL || !outq_init(&c->outq, CONTROL_OUTQ_BYTES)) {
+    if (c != NULL) {
+        wsg_outq_init(&c->outq, malloc(CONTROL_OUTQ_BYTES), CONTROL_OUTQ_BYTES);
+    }
+    if (c == NULL || c->outq.ring == NULL) {
         host_logf(HAL_LOG_WARN, "control: refused a connection, %d already open",
                   CONTROL_CLIENTS_MAX);
         close(client_fd);
@@ -295,7 +297,7 @@ static void on_accept(void *ctx, int fd, short revents)
     c->device = 0;
     gcl_linebuf_reset(&c->input);
     if (!loop_watch(client_fd, POLLIN, on_client, c)) {
-        outq_free(&c->outq);
+        free(c->outq.ring);
         close(client_fd);
         return;
     }

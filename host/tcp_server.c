@@ -15,14 +15,15 @@
 #include "log.h"
 #include "loop.h"
 #include "net.h"
-#include "outq.h"
 #include "simctl_delay.h"
 #include "wsg/wsg_bin.h"
 #include "wsg/wsg_gcl.h"
+#include "wsg/wsg_outq.h"
 
+/* Replies wait here for a slow client; the queue's policy (wsg_outq.h)
+ * drops updates from half full on and disconnects a client whose reply
+ * does not fit. */
 #define OUTQ_BYTES (16u * 1024u)
-/* Above this fill level AUTOSEND lines are dropped to keep room for replies. */
-#define OUTQ_AUTOSEND_LIMIT (OUTQ_BYTES / 2u)
 #define READ_CHUNK 4096
 /* With every slot taken, a connection that has not sent a byte for this
  * long gives its slot to a newcomer: real clients speak first. */
@@ -39,7 +40,7 @@ struct tcp_client {
     tcp_client_t *prev, *next; /* every server's open connections, oldest first */
     int fd;
     wsg_conn_t conn;
-    outq_t outq;
+    wsg_outq_t outq;
     bool dead;    /* failed or overflowed: close at the next reap */
     bool eof;     /* the client shut its side: answer, flush, then close */
     bool expired; /* closed by the server for silence: not a lost link */
@@ -87,7 +88,8 @@ static void unlink_client(tcp_client_t *c)
 
 static void update_events(tcp_client_t *c)
 {
-    loop_set_events(c->fd, (short)((c->eof ? 0 : POLLIN) | (outq_empty(&c->outq) ? 0 : POLLOUT)));
+    loop_set_events(c->fd,
+                    (short)((c->eof ? 0 : POLLIN) | (wsg_outq_empty(&c->outq) ? 0 : POLLOUT)));
 }
 
 /* Sends one line with one send(); returns bytes sent, or -1 on a fatal error. */
@@ -102,21 +104,18 @@ static ssize_t send_line(tcp_client_t *c, const char *line, size_t len)
 
 static void enqueue(tcp_client_t *c, const char *line, size_t len, wsg_msg_kind_t kind)
 {
-    bool crowded = outq_used(&c->outq) >= OUTQ_AUTOSEND_LIMIT;
-    if (kind == WSG_MSG_UPDATE && crowded) {
+    switch (wsg_outq_offer(&c->outq, line, len, kind)) {
+    case WSG_OUTQ_QUEUED:
+        update_events(c);
+        break;
+    case WSG_OUTQ_DROPPED:
         c->dropped_autosend++;
-        return;
-    }
-    if (!outq_push(&c->outq, line, len)) {
-        if (kind == WSG_MSG_UPDATE) {
-            c->dropped_autosend++;
-            return;
-        }
+        break;
+    case WSG_OUTQ_OVERFLOW:
         host_logf(HAL_LOG_WARN, "tcp %s: not reading its replies; disconnected", c->peer);
         c->dead = true;
-        return;
+        break;
     }
-    update_events(c);
 }
 
 static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t kind)
@@ -125,7 +124,7 @@ static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t k
     if (c->dead) {
         return;
     }
-    if (outq_empty(&c->outq)) {
+    if (wsg_outq_empty(&c->outq)) {
         ssize_t sent = send_line(c, line, len);
         if (sent < 0) {
             c->dead = true;
@@ -146,18 +145,17 @@ static const wsg_conn_io_t tcp_io = {.write = write_line};
 static void flush(tcp_client_t *c)
 {
     char line[OUTQ_BYTES];
-    while (!outq_empty(&c->outq)) {
-        size_t len = outq_peek(&c->outq, line, sizeof(line));
+    while (!wsg_outq_empty(&c->outq)) {
+        size_t len = wsg_outq_peek(&c->outq, line, sizeof(line));
         ssize_t sent = send_line(c, line, len);
         if (sent < 0) {
             c->dead = true;
             return;
         }
+        wsg_outq_consume(&c->outq, (size_t)sent);
         if ((size_t)sent < len) {
-            outq_trim_front(&c->outq, (size_t)sent);
             break;
         }
-        outq_pop(&c->outq);
     }
     update_events(c);
 }
@@ -183,7 +181,7 @@ static void close_client(tcp_client_t *c)
     close(c->fd);
     wsg_conn_close(&c->conn, reason);
     gripper_touch(c->server->gripper); /* e.g. FAST STOP on a lost link */
-    outq_free(&c->outq);
+    free(c->outq.ring);
     unlink_client(c);
     listener_fd_freed(&c->server->listener);
     free(c);
@@ -280,7 +278,8 @@ static bool setup_client(tcp_client_t *c, int fd, const struct sockaddr_storage 
     setsockopt(fd, IPPROTO_TCP, TCP_KEEPIDLE, &idle, sizeof(idle));
     setsockopt(fd, IPPROTO_TCP, TCP_KEEPINTVL, &interval, sizeof(interval));
     setsockopt(fd, IPPROTO_TCP, TCP_KEEPCNT, &probes, sizeof(probes));
-    if (!outq_init(&c->outq, OUTQ_BYTES)) {
+    wsg_outq_init(&c->outq, malloc(OUTQ_BYTES), OUTQ_BYTES);
+    if (c->outq.ring == NULL) {
         return false;
     }
     /* --protocol auto: the connection's first byte chooses (firmware/net/conn.c) */
@@ -290,7 +289,7 @@ static bool setup_client(tcp_client_t *c, int fd, const struct sockaddr_storage 
                   c);
     if (!loop_watch(fd, POLLIN, on_client, c)) {
         wsg_conn_close(&c->conn, WSG_CLOSE_ANNOUNCED);
-        outq_free(&c->outq);
+        free(c->outq.ring);
         return false;
     }
     link_client(c);
@@ -368,7 +367,7 @@ static bool idle_too_long(tcp_client_t *c, uint64_t now)
 
 static bool finished(tcp_client_t *c, uint64_t now)
 {
-    bool flushed = outq_empty(&c->outq);
+    bool flushed = wsg_outq_empty(&c->outq);
     bool said_bye = wsg_conn_wants_close(&c->conn);
     bool input_done = c->eof && flushed && !replies_held(&c->conn);
     return c->dead || (said_bye && flushed) || input_done || idle_too_long(c, now);

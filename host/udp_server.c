@@ -1,214 +1,167 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 #include "udp_server.h"
 
-#include <errno.h>
+#include <netinet/in.h>
 #include <poll.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include "hal_clock.h"
 #include "log.h"
 #include "loop.h"
 #include "net.h"
+#include "wsg/wsg_bin.h"
 #include "wsg/wsg_gcl.h"
 
-#define PEERS_MAX 16
+#define GCL_PEERS_MAX 16
+#define BINARY_PEERS_MAX 8
 #define DATAGRAM_MAX 65536
-/* A peer heard from this recently is never pushed out for a new one. */
-#define PEER_RECENT_US (2u * 1000000u)
-/* Reply budget (docs/behaviour.md, "UDP peers"): every datagram a peer sends
- * earns it REPLY_MULTIPLE times its size in reply bytes, headers counted. */
-#define UDP_HEADER_BYTES 28u
-#define REPLY_MULTIPLE 8u
-#define REPLY_CREDIT_MAX (64u * 1024u)
-/* And whatever it earned, at most PEER_BURST datagrams, refilled at
- * PEER_RATE per simulated second (AUTOSEND at most 600/s included). */
-#define PEER_BURST 1000.0
-#define PEER_RATE 1000.0
 
-struct udp_peer {
+typedef struct {
+    wsg_peer_t peer; /* first: the core's node is the allocation */
     udp_server_t *server;
-    udp_peer_t *prev, *next; /* every server's peers, oldest first */
-    struct sockaddr_storage addr;
-    socklen_t addr_len;
-    wsg_conn_t conn;
-    uint64_t last_seen_us;
-    uint32_t credit;    /* reply bytes it may still be sent */
-    double tokens;      /* datagrams it may still be sent now */
-    uint64_t refill_us; /* when tokens were last topped up */
-    unsigned long dropped;
+    struct sockaddr_storage reply_to;
+    socklen_t reply_len;
     char name[64];
-};
+} udp_peer_t;
 
-/* The peers of every server: the reap and the deadline visit these only. */
-static struct {
-    udp_peer_t *first, *last;
-} udp;
+/* The servers that know a peer: the reap, the deadline and the cut visit
+ * these only. */
+static udp_server_t *active_first;
 
-static void link_peer(udp_peer_t *p)
+static void set_active(udp_server_t *s)
 {
-    p->prev = udp.last;
-    p->next = NULL;
-    if (udp.last != NULL) {
-        udp.last->next = p;
-    } else {
-        udp.first = p;
+    bool active = s->peers.known > 0;
+    if (active == s->active) {
+        return;
     }
-    udp.last = p;
-    p->server->peers++;
-}
-
-static void unlink_peer(udp_peer_t *p)
-{
-    if (p->prev != NULL) {
-        p->prev->next = p->next;
-    } else {
-        udp.first = p->next;
-    }
-    if (p->next != NULL) {
-        p->next->prev = p->prev;
-    } else {
-        udp.last = p->prev;
-    }
-    p->server->peers--;
-}
-
-static void refill(udp_peer_t *p, uint64_t now)
-{
-    if (now > p->refill_us) {
-        p->tokens += (double)(now - p->refill_us) * PEER_RATE / 1e6;
-        p->tokens = p->tokens < PEER_BURST ? p->tokens : PEER_BURST;
-        p->refill_us = now;
-    }
-}
-
-static bool silent_too_long(const udp_peer_t *p, uint64_t now)
-{
-    return now - p->last_seen_us > p->server->peer_timeout_us;
-}
-
-/* Whether this line may go out; AUTOSEND lines are paid for by the peer
- * speaking within the timeout, replies by the bytes it sent. */
-static bool within_budget(udp_peer_t *p, size_t len, wsg_msg_kind_t kind)
-{
-    uint64_t now = hal_clock_now_us();
-    uint32_t cost = (uint32_t)len + UDP_HEADER_BYTES;
-    if (kind == WSG_MSG_UPDATE && silent_too_long(p, now)) {
-        return false; /* the reap ends the subscription and says so */
-    }
-    refill(p, now);
-    if (p->tokens < 1.0 || (kind != WSG_MSG_UPDATE && p->credit < cost)) {
-        if (p->dropped++ == 0) {
-            host_log_peer(HAL_LOG_WARN, "udp %s: reply budget spent; lines dropped", p->name);
+    s->active = active;
+    if (active) {
+        s->prev_active = NULL;
+        s->next_active = active_first;
+        if (active_first != NULL) {
+            active_first->prev_active = s;
         }
-        return false;
+        active_first = s;
+        return;
     }
-    p->tokens -= 1.0;
-    if (kind != WSG_MSG_UPDATE) {
-        p->credit -= cost;
+    if (s->prev_active != NULL) {
+        s->prev_active->next_active = s->next_active;
+    } else {
+        active_first = s->next_active;
     }
-    return true;
+    if (s->next_active != NULL) {
+        s->next_active->prev_active = s->prev_active;
+    }
 }
 
-static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t kind)
+udp_protocol_t udp_protocol_gcl(void)
+{
+    return (udp_protocol_t){&wsg_gcl_driver, "udp", GCL_PEERS_MAX, 0};
+}
+
+udp_protocol_t udp_protocol_binary(int reply_port)
+{
+    return (udp_protocol_t){&wsg_bin_driver, "binary udp", BINARY_PEERS_MAX, reply_port};
+}
+
+static void write_message(void *ctx, const char *bytes, size_t len, wsg_msg_kind_t kind)
 {
     udp_peer_t *p = ctx;
+    udp_server_t *s = p->server;
     /* a datagram that cannot go out now is lost, as on the wire */
-    if (within_budget(p, len, kind)) {
-        sendto(p->server->fd, line, len, MSG_DONTWAIT | MSG_NOSIGNAL,
-               (const struct sockaddr *)&p->addr, p->addr_len);
-    }
-}
-
-static const wsg_conn_io_t udp_io = {.write = write_line};
-
-static void forget(udp_peer_t *p, wsg_close_reason_t reason)
-{
-    if (p->dropped > 0) {
-        host_log_peer(HAL_LOG_INFO, "udp %s: %lu lines dropped over the reply budget", p->name,
-                      p->dropped);
-    }
-    wsg_conn_close(&p->conn, reason);
-    gripper_touch(p->server->gripper);
-    unlink_peer(p);
-    free(p);
-}
-
-static udp_peer_t *find_peer(const udp_server_t *s, const struct sockaddr_storage *ss,
-                             socklen_t len)
-{
-    for (udp_peer_t *p = udp.first; p != NULL; p = p->next) {
-        if (p->server == s && p->addr_len == len && memcmp(&p->addr, ss, len) == 0) {
-            return p;
+    if (!wsg_peers_may_send(&s->peers, &p->peer, len, kind)) {
+        if (p->peer.dropped == 1) {
+            host_log_peer(HAL_LOG_WARN, "%s %s: reply budget spent; lines dropped", s->proto.label,
+                          p->name);
         }
+        return;
     }
-    return NULL;
+    sendto(s->fd, bytes, len, MSG_DONTWAIT | MSG_NOSIGNAL, (const struct sockaddr *)&p->reply_to,
+           p->reply_len);
 }
 
-/* Running a motion, listening to AUTOSEND (it ends with the peer timeout)
- * or heard from lately: its FIN, stream and settings must stay. */
-static bool is_live(const udp_peer_t *p, uint64_t now)
+static const wsg_conn_io_t udp_io = {.write = write_message};
+
+static void log_forgetting(void *ctx, wsg_peer_t *peer, wsg_peer_forget_t why)
 {
-    return wsg_conn_busy(&p->conn) || now - p->last_seen_us < PEER_RECENT_US;
+    udp_server_t *s = ctx;
+    udp_peer_t *p = peer->port_ctx;
+    if (peer->dropped > 0) {
+        host_log_peer(HAL_LOG_INFO, "%s %s: %lu lines dropped over the reply budget",
+                      s->proto.label, p->name, (unsigned long)peer->dropped);
+    }
+    if (why == WSG_PEER_MADE_ROOM) {
+        host_log_peer(HAL_LOG_INFO, "%s %s: forgotten to make room for a new peer", s->proto.label,
+                      p->name);
+    } else if (why == WSG_PEER_SILENT) {
+        host_log_peer(HAL_LOG_INFO, "%s %s: silent for %llu s; forgotten%s", s->proto.label,
+                      p->name, (unsigned long long)(s->peers.rules.timeout_us / 1000000u),
+                      wsg_conn_busy(&peer->conn) ? " (AUTOSEND ended)" : "");
+    } else if (why == WSG_PEER_CUT) {
+        host_logf(HAL_LOG_WARN, "%s %s: peer cut (control channel)", s->proto.label, p->name);
+    }
 }
 
-/* Room for one more peer: true while fewer than PEERS_MAX are known, or
- * after forgetting the least recently heard idle one; false when every peer
- * is live. */
-static bool make_room(const udp_server_t *s)
+static void release_peer(void *ctx, wsg_peer_t *peer)
 {
-    if (s->peers < PEERS_MAX) {
-        return true;
-    }
-    uint64_t now = hal_clock_now_us();
-    udp_peer_t *oldest = NULL;
-    for (udp_peer_t *p = udp.first; p != NULL; p = p->next) {
-        bool idle = p->server == s && !is_live(p, now);
-        if (idle && (oldest == NULL || p->last_seen_us < oldest->last_seen_us)) {
-            oldest = p;
-        }
-    }
-    if (oldest != NULL) {
-        host_log_peer(HAL_LOG_INFO, "udp %s: forgotten to make room for a new peer", oldest->name);
-        forget(oldest, WSG_CLOSE_EXPIRED);
-    }
-    return oldest != NULL;
+    udp_server_t *s = ctx;
+    gripper_touch(s->gripper);
+    free(peer->port_ctx);
 }
 
-static udp_peer_t *new_peer(udp_server_t *s, const struct sockaddr_storage *ss, socklen_t len)
+static const wsg_peer_port_t peer_port = {.forgetting = log_forgetting, .release = release_peer};
+
+/* The reply address: the sender's, at the protocol's reply port if any. */
+static void set_reply_address(udp_peer_t *p, const struct sockaddr_storage *from, socklen_t len,
+                              int reply_port)
 {
-    udp_peer_t *p = make_room(s) ? calloc(1, sizeof(*p)) : NULL;
+    p->reply_to = *from;
+    p->reply_len = len;
+    if (reply_port == 0) {
+        return;
+    }
+    if (from->ss_family == AF_INET6) {
+        ((struct sockaddr_in6 *)&p->reply_to)->sin6_port = htons((uint16_t)reply_port);
+    } else {
+        ((struct sockaddr_in *)&p->reply_to)->sin_port = htons((uint16_t)reply_port);
+    }
+}
+
+static udp_peer_t *new_peer(udp_server_t *s, const wsg_peer_addr_t *addr,
+                            const struct sockaddr_storage *ss, socklen_t len)
+{
+    udp_peer_t *p = wsg_peers_make_room(&s->peers) ? calloc(1, sizeof(*p)) : NULL;
     if (p == NULL) {
         char name[64];
         net_format_peer(ss, name, sizeof(name));
-        host_log_peer(HAL_LOG_WARN, "udp %s: refused, %d live peers", name, PEERS_MAX);
+        host_log_peer(HAL_LOG_WARN, "%s %s: refused, %u live peers", s->proto.label, name,
+                      s->proto.max_peers);
         return NULL;
     }
+    wsg_peers_add(&s->peers, &p->peer, addr);
+    p->peer.port_ctx = p;
     p->server = s;
-    wsg_conn_open(&p->conn, &s->gripper->device, &wsg_gcl_driver, WSG_TRANSPORT_DATAGRAM, &udp_io,
-                  p);
-    link_peer(p);
-    p->addr = *ss;
-    p->addr_len = len;
-    p->tokens = PEER_BURST;
-    p->refill_us = hal_clock_now_us();
+    set_reply_address(p, ss, len, s->proto.reply_port);
     net_format_peer(ss, p->name, sizeof(p->name));
-    host_log_peer(HAL_LOG_INFO, "udp %s: new peer", p->name);
+    wsg_conn_open(&p->peer.conn, &s->gripper->device, s->proto.driver, WSG_TRANSPORT_DATAGRAM,
+                  &udp_io, p);
+    host_log_peer(HAL_LOG_INFO, "%s %s: new peer", s->proto.label, p->name);
     return p;
 }
 
 /* A datagram from one of our own sockets would start the server answering
  * itself (or a twin on the same host); it is dropped unanswered. */
-static bool from_ourselves(const struct sockaddr_storage *ss)
+static bool from_ourselves(const udp_server_t *s, const struct sockaddr_storage *ss)
 {
     if (!net_is_own_address(ss)) {
         return false;
     }
     char name[64];
     net_format_peer(ss, name, sizeof(name));
-    host_log_peer(HAL_LOG_WARN, "udp %s: datagram from the server's own address ignored", name);
+    host_log_peer(HAL_LOG_WARN, "%s %s: datagram from the server's own address ignored",
+                  s->proto.label, name);
     return true;
 }
 
@@ -221,24 +174,33 @@ static void on_datagram(void *ctx, int fd, short revents)
     socklen_t len = sizeof(ss);
     memset(&ss, 0, sizeof(ss));
     ssize_t n = recvfrom(fd, buf, sizeof(buf), MSG_DONTWAIT, (struct sockaddr *)&ss, &len);
-    if (n < 0 || from_ourselves(&ss)) {
+    if (n < 0 || len > WSG_PEER_ADDR_BYTES || from_ourselves(s, &ss)) {
         return;
     }
-    udp_peer_t *p = find_peer(s, &ss, len);
-    if (p == NULL && (p = new_peer(s, &ss, len)) == NULL) {
+    wsg_peer_addr_t addr = {.len = (uint8_t)len};
+    memcpy(addr.bytes, &ss, len);
+    wsg_peer_t *peer = wsg_peers_find(&s->peers, &addr);
+    if (peer != NULL && !wsg_conn_is_open(&peer->conn)) {
+        wsg_peers_forget(&s->peers, peer, WSG_PEER_CLOSED); /* a device reset: start over */
+        peer = NULL;
+    }
+    udp_peer_t *p = peer != NULL ? peer->port_ctx : new_peer(s, &addr, &ss, len);
+    set_active(s);
+    if (p == NULL) {
         return;
     }
-    p->last_seen_us = hal_clock_now_us();
-    uint64_t earned = ((uint64_t)n + UDP_HEADER_BYTES) * REPLY_MULTIPLE + p->credit;
-    p->credit = earned < REPLY_CREDIT_MAX ? (uint32_t)earned : REPLY_CREDIT_MAX;
-    gripper_feed(s->gripper, &p->conn, buf, (size_t)n, 1);
+    wsg_peers_heard(&s->peers, &p->peer, (size_t)n);
+    gripper_feed(s->gripper, &p->peer.conn, buf, (size_t)n, 1);
 }
 
-bool udp_server_start(udp_server_t *s, gripper_t *g, const char *addr, int port, int peer_timeout_s)
+bool udp_server_start(udp_server_t *s, gripper_t *g, const udp_protocol_t *proto, const char *addr,
+                      int port, int peer_timeout_s)
 {
     memset(s, 0, sizeof(*s));
     s->gripper = g;
-    s->peer_timeout_us = (uint64_t)peer_timeout_s * 1000000u;
+    s->proto = *proto;
+    wsg_peer_rules_t rules = WSG_PEER_RULES_DEFAULT(proto->max_peers, peer_timeout_s);
+    wsg_peers_init(&s->peers, &rules, &peer_port, s, NULL, 0);
     s->fd = net_listen(SOCK_DGRAM, addr, port);
     return s->fd >= 0 && loop_watch(s->fd, POLLIN, on_datagram, s);
 }
@@ -250,41 +212,31 @@ int udp_server_port(const udp_server_t *s)
 
 void udp_server_reap(void)
 {
-    uint64_t now = hal_clock_now_us();
-    udp_peer_t *next;
-    for (udp_peer_t *p = udp.first; p != NULL; p = next) {
-        next = p->next;
-        if (wsg_conn_wants_close(&p->conn)) {
-            forget(p, WSG_CLOSE_ANNOUNCED);
-        } else if (silent_too_long(p, now) && !wsg_conn_owns_motion(&p->conn)) {
-            host_log_peer(HAL_LOG_INFO, "udp %s: silent for %llu s; forgotten%s", p->name,
-                          (unsigned long long)(p->server->peer_timeout_us / 1000000u),
-                          wsg_conn_busy(&p->conn) ? " (AUTOSEND ended)" : "");
-            forget(p, WSG_CLOSE_EXPIRED);
-        }
+    udp_server_t *next;
+    for (udp_server_t *s = active_first; s != NULL; s = next) {
+        next = s->next_active;
+        wsg_peers_reap(&s->peers);
+        set_active(s);
     }
 }
 
-/* A peer is forgotten once silent for longer than the timeout: due one
- * microsecond past it. One kept past it for its running motion is looked at
- * again when the motion's own deadlines wake the loop. */
 uint64_t udp_server_next_deadline_us(void)
 {
-    uint64_t now = hal_clock_now_us();
     uint64_t due = UINT64_MAX;
-    for (udp_peer_t *p = udp.first; p != NULL; p = p->next) {
-        uint64_t silent_at = p->last_seen_us + p->server->peer_timeout_us + 1u;
-        due = silent_at > now && silent_at < due ? silent_at : due;
+    for (udp_server_t *s = active_first; s != NULL; s = s->next_active) {
+        uint64_t server_due = wsg_peers_next_deadline_us(&s->peers);
+        due = server_due < due ? server_due : due;
     }
     return due;
 }
 
 bool udp_server_cut(const wsg_conn_t *conn)
 {
-    for (udp_peer_t *p = udp.first; p != NULL; p = p->next) {
-        if (&p->conn == conn) {
-            host_logf(HAL_LOG_WARN, "udp %s: peer cut (control channel)", p->name);
-            forget(p, WSG_CLOSE_DROPPED);
+    for (udp_server_t *s = active_first; s != NULL; s = s->next_active) {
+        wsg_peer_t *peer = wsg_peers_by_conn(&s->peers, conn);
+        if (peer != NULL) {
+            wsg_peers_forget(&s->peers, peer, WSG_PEER_CUT);
+            set_active(s);
             return true;
         }
     }
@@ -293,13 +245,8 @@ bool udp_server_cut(const wsg_conn_t *conn)
 
 void udp_server_close_all(udp_server_t *s)
 {
-    udp_peer_t *next;
-    for (udp_peer_t *p = udp.first; p != NULL; p = next) {
-        next = p->next;
-        if (p->server == s) {
-            forget(p, WSG_CLOSE_EXPIRED);
-        }
-    }
+    wsg_peers_forget_all(&s->peers, WSG_PEER_STOPPED);
+    set_active(s);
 }
 
 void udp_server_stop(udp_server_t *s)

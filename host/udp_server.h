@@ -1,10 +1,12 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* GCL over UDP: one session per peer address; each reply line is its own
- * datagram, sent back to the peer that asked (AUTOSEND included). One server
- * per device; a peer's storage is allocated when it first speaks. A peer
- * silent for peer_timeout_s is forgotten at that deadline (its AUTOSEND
- * ends), what it gets is bounded by what it sent, and the server's own
- * addresses are ignored. */
+/* A protocol over UDP: one session per peer address, each reply message its
+ * own datagram. GCL on the UDP port (replies to the sender), the binary
+ * protocol on the binary UDP port (replies to the sender's IP at the reply
+ * port, as Drake's driver expects). One server per device and protocol; a
+ * peer's storage is allocated when it first speaks. The peer rules (the
+ * timeout, the reply budget and rate, making room) are the core's
+ * (wsg/wsg_peers.h); this port moves datagrams and ignores the server's own
+ * addresses. */
 #ifndef HOST_UDP_SERVER_H
 #define HOST_UDP_SERVER_H
 
@@ -13,25 +15,40 @@
 
 #include "gripper.h"
 #include "wsg/wsg_conn.h"
+#include "wsg/wsg_peers.h"
 
-typedef struct udp_peer udp_peer_t;
+typedef struct udp_server udp_server_t;
 
 typedef struct {
+    const wsg_proto_driver_t *driver;
+    const char *label; /* for the log: "udp", "binary udp" */
+    unsigned max_peers;
+    int reply_port; /* 0: reply to the sender's own port */
+} udp_protocol_t;
+
+struct udp_server {
     int fd;
     gripper_t *gripper; /* the device its peers talk to */
-    uint64_t peer_timeout_us;
-    unsigned peers; /* peers known */
-} udp_server_t;
+    udp_protocol_t proto;
+    wsg_peer_table_t peers;
+    udp_server_t *prev_active, *next_active; /* servers with peers */
+    bool active;
+};
 
-bool udp_server_start(udp_server_t *s, gripper_t *g, const char *addr, int port,
-                      int peer_timeout_s);
+/* GCL over UDP (16 peers, replies to the sender). */
+udp_protocol_t udp_protocol_gcl(void);
+/* The binary protocol over UDP (8 peers, replies to reply_port). */
+udp_protocol_t udp_protocol_binary(int reply_port);
+
+bool udp_server_start(udp_server_t *s, gripper_t *g, const udp_protocol_t *proto, const char *addr,
+                      int port, int peer_timeout_s);
 int udp_server_port(const udp_server_t *s);
 /* Forgets every peer of the server. */
 void udp_server_close_all(udp_server_t *s);
 void udp_server_stop(udp_server_t *s);
 
-/* Across every server: forgets peers that said BYE or stayed silent too long
- * (unless running a motion). Visits known peers only. */
+/* Across every server with peers: forgets peers that said goodbye or stayed
+ * silent too long (unless running a motion). */
 void udp_server_reap(void);
 /* When the next known peer falls silent for too long, or UINT64_MAX. */
 uint64_t udp_server_next_deadline_us(void);

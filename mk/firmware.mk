@@ -4,7 +4,8 @@
 #   make firmware-size   flash/RAM of both images against their budgets
 #   make run-qemu        boot an image (FW_IMAGE=serial|lwip) and say how to connect
 #   firmware-check       (part of make check) budgets, core symbol check, and the
-#                        GCL conversation against both images booted in QEMU
+#                        GCL and binary conversations against both images
+#                        booted in QEMU (UART, TCP, UDP)
 # See docs/firmware.md.
 
 FW_BOARD := hal/boards/mps2-an385
@@ -30,8 +31,8 @@ FW_LWIP_FLASH_MAX := 163840
 FW_LWIP_RAM_MAX := 65536
 
 # Connections: the serial image has one line; the lwIP image serves UART0
-# plus up to 4 TCP connections and 4 UDP peers (static storage in the board's
-# ports). Capacities and options: $(FW_BOARD)/wsgopts.h (lwIP-style).
+# plus up to 4 TCP connections, 4 GCL and 2 binary UDP peers (static storage
+# in the board's ports). Capacities and options: $(FW_BOARD)/wsgopts.h (lwIP-style).
 FW_SERIAL_STACK := 4096
 FW_LWIP_STACK := 6144
 
@@ -51,7 +52,7 @@ FW_CORE_SRC := $(FIRMWARE_SRC) $(SIM_SRC)
 FW_BOARD_COMMON := startup.c clock.c cmsdk_uart.c log.c no_heap.c app.c serial_port.c
 FW_SERIAL_SRC := $(FW_CORE_SRC) $(addprefix $(FW_BOARD)/,$(FW_BOARD_COMMON) main_serial.c)
 FW_LWIP_BOARD_SRC := $(FW_CORE_SRC) $(addprefix $(FW_BOARD)/,$(FW_BOARD_COMMON) main_lwip.c \
-	lan9118.c lan9118_netif.c gcl_tcp.c gcl_udp.c lwip/sys_arch.c web_status.c) \
+	lan9118.c lan9118_netif.c gcl_tcp.c lwip_udp.c lwip/sys_arch.c web_status.c) \
 	host/simctl_names.c
 # lwIP 2.1: IPv4 core, raw API, Ethernet/ARP, the httpd app (the status page);
 # no sockets, no IPv6.

@@ -16,7 +16,14 @@
 
 #include "wsg_device.h"
 
-typedef enum { WSG_TRANSPORT_STREAM, WSG_TRANSPORT_DATAGRAM } wsg_transport_t;
+typedef enum {
+    WSG_TRANSPORT_STREAM,   /* a connection (TCP): it can be lost, and closed on purpose */
+    WSG_TRANSPORT_DATAGRAM, /* a peer (UDP): each datagram ends a message */
+    /* A serial line (UART): a stream that is always there. Nothing is
+     * connected or lost, so there is no disconnect to announce (the binary
+     * 0x07 answers E_NOT_AVAILABLE) and none raises FAST STOP. */
+    WSG_TRANSPORT_SERIAL,
+} wsg_transport_t;
 
 typedef enum {
     WSG_MSG_REPLY,  /* answers and final replies: a port never drops one */
@@ -52,8 +59,8 @@ typedef struct wsg_proto_driver {
     void (*close)(wsg_conn_t *c, wsg_close_reason_t why);
 } wsg_proto_driver_t;
 
-/* drv NULL: the driver is chosen by the first byte that arrives
- * (wsg_conn_detect; only GCL exists so far). */
+/* drv NULL: the driver is chosen by the first byte that arrives (0xAA:
+ * the binary protocol, anything else GCL). */
 void wsg_conn_open(wsg_conn_t *c, wsg_device_t *dev, const wsg_proto_driver_t *drv,
                    wsg_transport_t transport, const wsg_conn_io_t *io, void *io_ctx);
 void wsg_conn_input(wsg_conn_t *c, const uint8_t *bytes, size_t len);

@@ -33,6 +33,12 @@
 #define WSG_CONN_STORAGE_BYTES 768
 #endif
 
+/* Bytes of a datagram peer's address as the port stores it (a sockaddr_in6
+ * on the host, an lwIP address and port on a board): wsg_peers.h. */
+#ifndef WSG_PEER_ADDR_BYTES
+#define WSG_PEER_ADDR_BYTES 28
+#endif
+
 /* Observers (trace, record, coverage): 0 compiles their calls out (a board
  * without a debug port saves the flash). */
 #ifndef WSG_OBSERVERS

@@ -166,6 +166,25 @@ class Tools(BinaryCase):
         self.assertIn("0x20 homing", section["never_used"])
         self.assertEqual(data["summary"]["binary_commands_used"], 2)
 
+    def test_coverage_lists_flags_observed_in_state_replies(self):
+        report = os.path.join(self.tmp(), "coverage.json")
+        self.start("--coverage", report)
+        binary = self.bin_tcp()
+        self.reply(binary, 0x40, query_payload())
+        self.reply(binary, 0x23)
+        self.reply(binary, 0x40, query_payload())  # SF_FAST_STOP seen here
+        self.reply(binary, 0x24, b"ack")
+        self.reply(binary, 0x07)
+        binary.close()
+        self.assertEqual(self.sim.stop(), 0)
+        with open(report) as f:
+            data = json.load(f)
+        section = data["binary"]
+        self.assertIn("SF_FAST_STOP", section["flags_observed"])
+        self.assertIn("SF_REFERENCED", section["flags_never_observed"])
+        self.assertNotIn("SF_FAST_STOP", section["flags_never_observed"])
+        self.assertEqual(data["summary"]["binary_flags_observed"], len(section["flags_observed"]))
+
     def tmp(self):
         path = tempfile.mkdtemp(prefix="wsgsim-binary-")
         self.addCleanup(shutil.rmtree, path, True)

@@ -10,12 +10,18 @@ No test asserts on speed: timeouts are generous upper bounds against hangs.
 import os
 import re
 import socket
+import struct
+import sys
 import tempfile
 import unittest
 
 from gclclient import GclTcp, GclUdp, Wsgsim
 
-DEVICE_LINE = re.compile(r"device (\d+): tcp [^ ]+:(\d+), udp [^ ]+:(\d+), serial (\d+), tag (.*)")
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
+import wsgbinproto as wb  # noqa: E402
+
+DEVICE_LINE = re.compile(r"device (\d+): tcp [^ ]+:(\d+), udp [^ ]+:(\d+)(?:, binary udp (\d+))?, "
+                         r"serial (\d+), tag (.*)")
 
 
 def port_free(kind, port):
@@ -36,6 +42,14 @@ def free_port_range(count):
                for i in range(count)):
             return base
     raise AssertionError("no %d free loopback ports in a row" % count)
+
+
+def free_udp_range(count, start):
+    """A base port from start on with count free UDP ports from it on."""
+    for base in range(start, 60000, count + 3):
+        if all(port_free(socket.SOCK_DGRAM, base + i) for i in range(count)):
+            return base
+    raise AssertionError("no %d free UDP loopback ports in a row" % count)
 
 
 def device_ports(sim, count):
@@ -70,6 +84,25 @@ class Fleet(unittest.TestCase):
             u = GclUdp("127.0.0.1", base + i)
             self.addCleanup(u.close)
             u.expect("SN?", "SN=%d" % (12345678 + i))
+
+    def test_binary_udp_per_device_on_base_plus_index(self):
+        """Device i serves binary UDP on (port + i) and replies to (reply
+        port + i): each device answers with its own serial number."""
+        bin_base = free_udp_range(2, 30000)
+        reply_base = free_udp_range(2, bin_base + 100)
+        sim = self.start("--devices", "2", "--binary-udp-port", str(bin_base),
+                         "--binary-udp-reply-port", str(reply_base))
+        log = sim.drain_log()
+        self.assertIn(", binary udp %d" % bin_base, log)
+        self.assertIn(", binary udp %d, serial 12345679" % (bin_base + 1), log)
+        for i in range(2):
+            client = wb.BinUdp("127.0.0.1", bin_base + i, reply_port=reply_base + i,
+                               timeout=30.0, bind_host="127.0.0.1")
+            self.addCleanup(client.close)
+            client.send_request(0x50)
+            frame = client.wait_for(0x50)
+            self.assertEqual(frame.status, 0, wb.describe(frame))
+            self.assertEqual(struct.unpack("<I", frame.values[4:8])[0], 12345678 + i)
 
     def test_port_zero_gives_each_device_free_ports(self):
         sim = self.start("--devices", "3")

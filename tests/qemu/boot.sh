@@ -5,10 +5,15 @@
 # usage: boot.sh [--test] serial|lwip IMAGE.elf
 #   without --test  runs until QEMU exits (Ctrl-C) and prints how to connect
 #   with --test     waits for the board, runs tests/qemu/conversation.py
-#                   against it (serial: over UART0; lwip: over TCP and UDP
-#                   1000 through hostfwd) and always stops QEMU afterwards.
-# Ports: GCL_PORT (serial socket or forwarded TCP), GCL_UDP_PORT and
-# HTTP_PORT (the lwIP image's status page) default to free ones. QEMU_TIMEOUT bounds the whole run in --test mode (seconds).
+#                   and binary_conversation.py against it (serial: over
+#                   UART0; lwip: over TCP and UDP 1000, binary UDP 1500
+#                   through hostfwd), and web_status.py against the lwIP
+#                   image's status page, and always stops QEMU afterwards.
+# Ports: GCL_PORT (serial socket or forwarded TCP), GCL_UDP_PORT,
+# BIN_UDP_PORT and HTTP_PORT (the lwIP image's status page) default to free
+# ones. The board sends binary UDP replies to the sender's address at port
+# 1501, which QEMU delivers to 127.0.0.1:1501: the binary UDP test needs that
+# port free on this host. QEMU_TIMEOUT bounds the whole run in --test mode (seconds).
 # Both bounds only stop a hung run: QEMU on a busy machine boots slowly.
 set -euo pipefail
 
@@ -44,6 +49,7 @@ s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])' "$1"
 tcp_port=${GCL_PORT:-$(free_port SOCK_STREAM)}
 udp_port=${GCL_UDP_PORT:-$(free_port SOCK_DGRAM)}
 http_port=${HTTP_PORT:-$(free_port SOCK_STREAM)}
+bin_udp_port=${BIN_UDP_PORT:-$(free_port SOCK_DGRAM)}
 board_ip=192.168.1.20
 workdir=$(mktemp -d "${TMPDIR:-/tmp}/wsgsim-qemu.XXXXXX")
 
@@ -59,6 +65,7 @@ set_qemu_args() { # RESTRICT -> qemu_args (UART1 is added by the caller)
         # UART0 carries GCL too, but in this setup nothing listens to it.
         local fwd="hostfwd=tcp:127.0.0.1:$tcp_port-$board_ip:1000,hostfwd=udp:127.0.0.1:$udp_port-$board_ip:1000"
         fwd+=",hostfwd=tcp:127.0.0.1:$http_port-$board_ip:80"
+        fwd+=",hostfwd=udp:127.0.0.1:$bin_udp_port-$board_ip:1500"
         qemu_args+=(-serial null -nic "user,model=lan9118,net=192.168.1.0/24,restrict=$1,$fwd")
     fi
 }
@@ -89,6 +96,8 @@ if [ $test_mode = 0 ]; then
         echo "  UDP:  nc -u 127.0.0.1 $udp_port"
         echo "  status page: http://127.0.0.1:$http_port/"
         echo "  or:   python3 tests/qemu/conversation.py 127.0.0.1 $tcp_port --udp $udp_port"
+        echo "Binary protocol: on the TCP port (first byte 0xAA), and UDP 1500 forwarded to"
+        echo "  python3 tests/qemu/binary_conversation.py 127.0.0.1 $bin_udp_port --udp (replies at 1501)"
         [ "$restrict" = on ] && echo "  note: with restrict=on QEMU drops the board's UDP replies; use QEMU_RESTRICT=off for UDP"
     fi
     echo "Device log (UART1) follows."
@@ -99,11 +108,12 @@ if [ $test_mode = 0 ]; then
     exit $?
 fi
 
-# Boots the image, waits for its "ready" line on UART1, runs the conversation
-# with the given arguments, and stops QEMU whatever happened.
-run_test() { # LABEL RESTRICT CONVERSATION-ARGS...
-    local label=$1 restrict=$2
-    shift 2
+# Boots the image, waits for its "ready" line on UART1, runs the GCL
+# conversation with the given arguments, then the binary one with
+# BINARY-ARGS ("-": none), and stops QEMU whatever happened.
+run_test() { # LABEL RESTRICT BINARY-ARGS CONVERSATION-ARGS...
+    local label=$1 restrict=$2 binary_args=$3
+    shift 3
     local log="$workdir/$label-uart1.log" err="$workdir/$label-qemu.err"
     : >"$log"
     set_qemu_args "$restrict"
@@ -118,26 +128,31 @@ run_test() { # LABEL RESTRICT CONVERSATION-ARGS...
     echo "$label: $(grep ready "$log" | head -n 1)"
     local status=0
     python3 "$here/conversation.py" 127.0.0.1 "$tcp_port" "$@" || status=$?
+    if [ "$binary_args" != - ] && [ $status = 0 ]; then
+        # shellcheck disable=SC2086 # the arguments are words on purpose
+        python3 "$here/binary_conversation.py" 127.0.0.1 $binary_args || status=$?
+    fi
     if [ "$label" = qemu-lwip-tcp ] && [ $status = 0 ]; then
-        python3 "$here/binary_conversation.py" 127.0.0.1 "$tcp_port" || status=$?
-        if [ $status = 0 ]; then # the status page on port 80 (web_status.py)
-            python3 "$here/web_status.py" 127.0.0.1 "$tcp_port" "$http_port" || status=$?
-        fi
+        # the status page on port 80 (web_status.py)
+        python3 "$here/web_status.py" 127.0.0.1 "$tcp_port" "$http_port" || status=$?
     fi
     stop_qemu
     if [ $status != 0 ]; then
         echo "$label: device log (UART1):" >&2
         sed 's/^/  | /' "$log" >&2
         [ -s "$err" ] && sed 's/^/  qemu: /' "$err" >&2
-        fail "the GCL conversation failed"
+        fail "the conversation failed"
     fi
     grep "stack:" "$log" | tail -n 1 | sed "s/^/$label: /" || true
-    echo "PASS  $label: GCL conversation"
+    local what="GCL and binary"
+    [ "$binary_args" = - ] && what=GCL
+    echo "PASS  $label: $what conversation"
 }
 
 if [ "$kind" = serial ]; then
-    run_test qemu-serial on --name uart0
+    # GCL's BYE ends the UART session; the next one starts binary (0xAA)
+    run_test qemu-serial on "$tcp_port --serial" --name uart0
 else
-    run_test qemu-lwip-tcp on --name tcp
-    run_test qemu-lwip-udp off --no-tcp --udp "$udp_port"
+    run_test qemu-lwip-tcp on "$tcp_port" --name tcp
+    run_test qemu-lwip-udp off "$bin_udp_port --udp" --no-tcp --udp "$udp_port"
 fi

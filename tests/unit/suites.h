@@ -18,5 +18,8 @@ Suite *autosend_suite(void);
 Suite *faults_suite(void);
 Suite *fmf_suite(void);
 Suite *ops_suite(void);
+Suite *peers_suite(void);
+Suite *outq_suite(void);
+Suite *runner_suite(void);
 
 #endif

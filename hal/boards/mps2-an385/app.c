@@ -4,6 +4,7 @@
 #include "hal_clock.h"
 #include "sim/sim_models.h"
 #include "sim/sim_world.h"
+#include "wsg/wsg_runner.h"
 
 /* The simulated axis is advanced on a 1 ms grid, like a 1 kHz servo loop.
  * Advancing it by a few microseconds at a time (each received byte could do
@@ -13,12 +14,12 @@
 
 static wsg_device_t device;
 static sim_world_t world;
-static uint64_t deadline_us;
+static wsg_runner_t runner;
 static uint64_t world_us;
-static bool input_seen;
 
-static void advance_world(uint64_t now)
+static void advance_world(void *ctx, uint64_t now)
 {
+    (void)ctx;
     uint64_t behind = now - world_us;
     if (behind >= WORLD_PERIOD_US) {
         world_us = now - behind % WORLD_PERIOD_US;
@@ -36,7 +37,7 @@ void app_init(void)
     sim_world_hal(&world, &hal);
     wsg_device_init(&device, &cfg, &hal);
     world_us = now;
-    deadline_us = now;
+    wsg_runner_init(&runner, &device, advance_world, NULL);
 }
 
 wsg_device_t *app_device(void)
@@ -44,24 +45,12 @@ wsg_device_t *app_device(void)
     return &device;
 }
 
-void app_advance(void)
+void app_feed(wsg_conn_t *c, const void *bytes, size_t len, bool end_of_datagram)
 {
-    advance_world(hal_clock_now_us());
-}
-
-void app_note_input(void)
-{
-    input_seen = true;
+    wsg_runner_feed(&runner, c, bytes, len, end_of_datagram);
 }
 
 void app_poll(void)
 {
-    uint64_t now = hal_clock_now_us();
-    if (!input_seen && now < deadline_us) {
-        return;
-    }
-    input_seen = false;
-    advance_world(now);
-    wsg_device_step(&device);
-    deadline_us = wsg_device_next_deadline_us(&device);
+    (void)wsg_runner_poll(&runner);
 }

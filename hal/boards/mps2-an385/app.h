@@ -1,10 +1,12 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* The device as the board runs it: one wsg_device_t over the simulated axis
- * (the board has no motor), stepped from the main loop. */
+ * (the board has no motor), driven by the core's feed-and-step runner
+ * (wsg/wsg_runner.h) from the main loop. */
 #ifndef APP_H
 #define APP_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "wsg/wsg_conn.h"
@@ -15,13 +17,10 @@ void app_init(void);
 
 wsg_device_t *app_device(void);
 
-/* Brings the simulated world up to the clock; called before input is fed to
- * a session, so commands see the current axis. */
-void app_advance(void);
-
-/* Ports call this after feeding input: a command may have started a motion
- * that needs an earlier step than the deadline computed before it. */
-void app_note_input(void);
+/* Feeds received bytes to a connection (the simulated world brought up to
+ * the clock first, so commands see the current axis); end_of_datagram
+ * after the last piece of a datagram. */
+void app_feed(wsg_conn_t *c, const void *bytes, size_t len, bool end_of_datagram);
 
 /* Runs the control step if it is due or input arrived since the last one. */
 void app_poll(void);

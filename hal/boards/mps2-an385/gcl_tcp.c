@@ -7,19 +7,19 @@
 #include "board.h"
 #include "hal_log.h"
 #include "lwip/tcp.h"
+#include "wsg/wsg_outq.h"
 
-/* Lines wait here while lwIP's send buffer is full. Replies never get
- * dropped: a client that lets this fill up loses its connection instead.
- * AUTOSEND values are dropped when they do not fit (wsg_conn.h). */
+/* Messages wait here while lwIP's send buffer is full, by the core's queue
+ * policy (wsg_outq.h): updates are dropped from half full on, and a client
+ * whose reply does not fit loses its connection. */
 #define TX_QUEUE 1024u
 
 typedef struct {
     struct tcp_pcb *pcb; /* NULL: slot free */
     wsg_conn_t conn;
     bool has_conn;
-    char tx[TX_QUEUE];
-    uint16_t tx_start;
-    uint16_t tx_len;
+    wsg_outq_t tx;
+    uint8_t tx_ring[TX_QUEUE];
     bool closing; /* BYE answered: close once everything is sent */
     bool broken;  /* a reply did not fit: abort */
 } tcp_conn_t;
@@ -29,20 +29,16 @@ static tcp_conn_t conns[GCL_TCP_MAX_CONNECTIONS];
 /* Hands queued bytes to lwIP as far as its send buffer allows. */
 static void flush(tcp_conn_t *c)
 {
-    while (c->tx_len > 0u) {
-        uint16_t chunk = (uint16_t)(TX_QUEUE - c->tx_start);
-        if (chunk > c->tx_len) {
-            chunk = c->tx_len;
-        }
+    while (!wsg_outq_empty(&c->tx)) {
+        const char *bytes;
+        size_t chunk = wsg_outq_front_chunk(&c->tx, &bytes);
         if (chunk > tcp_sndbuf(c->pcb)) {
             chunk = tcp_sndbuf(c->pcb);
         }
-        if (chunk == 0u ||
-            tcp_write(c->pcb, &c->tx[c->tx_start], chunk, TCP_WRITE_FLAG_COPY) != ERR_OK) {
+        if (chunk == 0u || tcp_write(c->pcb, bytes, (u16_t)chunk, TCP_WRITE_FLAG_COPY) != ERR_OK) {
             break;
         }
-        c->tx_start = (uint16_t)((c->tx_start + chunk) % TX_QUEUE);
-        c->tx_len = (uint16_t)(c->tx_len - chunk);
+        wsg_outq_consume(&c->tx, chunk);
     }
     (void)tcp_output(c->pcb);
 }
@@ -53,15 +49,11 @@ static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t k
     if (c->pcb == NULL || c->broken) {
         return;
     }
-    if (len > TX_QUEUE - c->tx_len) {
-        c->broken = kind == WSG_MSG_REPLY;
-        return;
+    wsg_outq_result_t queued = wsg_outq_offer(&c->tx, line, len, kind);
+    c->broken = queued == WSG_OUTQ_OVERFLOW;
+    if (queued == WSG_OUTQ_QUEUED) {
+        flush(c);
     }
-    for (size_t i = 0; i < len; i++) {
-        c->tx[(c->tx_start + c->tx_len + i) % TX_QUEUE] = line[i];
-    }
-    c->tx_len = (uint16_t)(c->tx_len + len);
-    flush(c);
 }
 
 static const wsg_conn_io_t tcp_io = {write_line};
@@ -117,11 +109,9 @@ static err_t on_recv(void *arg, struct tcp_pcb *pcb, struct pbuf *p, err_t err)
         return ERR_OK;
     }
     if (err == ERR_OK && !c->closing) {
-        app_advance();
         for (struct pbuf *q = p; q != NULL; q = q->next) {
-            wsg_conn_input(&c->conn, q->payload, q->len);
+            app_feed(&c->conn, q->payload, q->len, false);
         }
-        app_note_input();
         c->closing = wsg_conn_wants_close(&c->conn);
     }
     tcp_recved(pcb, p->tot_len);
@@ -153,6 +143,7 @@ static err_t on_accept(void *arg, struct tcp_pcb *pcb, err_t err)
         return ERR_ABRT;
     }
     /* the first byte chooses the protocol: 0xAA binary, else GCL */
+    wsg_outq_init(&c->tx, c->tx_ring, sizeof(c->tx_ring));
     wsg_conn_open(&c->conn, app_device(), NULL, WSG_TRANSPORT_STREAM, &tcp_io, c);
     c->has_conn = true;
     c->pcb = pcb;
@@ -196,7 +187,7 @@ void gcl_tcp_poll(void)
             continue;
         }
         flush(c);
-        if (c->closing && c->tx_len == 0u) {
+        if (c->closing && wsg_outq_empty(&c->tx)) {
             close_conn(c, WSG_CLOSE_ANNOUNCED);
             board_log_stack_usage();
         }

@@ -38,7 +38,8 @@ static const wsg_conn_io_t serial_io = {write_line};
 
 static void open_session(void)
 {
-    wsg_conn_open(&conn, app_device(), &wsg_gcl_driver, WSG_TRANSPORT_STREAM, &serial_io, NULL);
+    /* the first byte chooses the protocol: 0xAA binary, else GCL */
+    wsg_conn_open(&conn, app_device(), NULL, WSG_TRANSPORT_SERIAL, &serial_io, NULL);
 }
 
 void serial_port_init(void)
@@ -55,9 +56,7 @@ void serial_port_poll(void)
     uint8_t bytes[64];
     size_t n;
     while ((n = cmsdk_uart_rx_read(&rx, bytes, sizeof(bytes))) > 0) {
-        app_advance();
-        wsg_conn_input(&conn, bytes, n);
-        app_note_input();
+        app_feed(&conn, bytes, n, false);
         if (wsg_conn_wants_close(&conn)) {
             wsg_conn_close(&conn, WSG_CLOSE_ANNOUNCED);
             hal_log(HAL_LOG_INFO, "serial: BYE, new session");

@@ -56,6 +56,20 @@ START_TEST(udp_disconnect_not_available_and_partial_frame_dropped)
 }
 END_TEST
 
+/* A UART: the first byte chooses binary, 0x07 is E_NOT_AVAILABLE (no
+ * connection to announce the end of) and the session answers on. */
+START_TEST(serial_line_detects_binary_and_has_no_disconnect)
+{
+    bc_open(&bc_other, WSG_TRANSPORT_SERIAL, NULL);
+    bc_send(&bc_other, 0x07, NULL, 0);
+    bc_expect(&bc_other, 0x07, E_NOT_AVAILABLE);
+    bc_send(&bc_other, 0x31, NULL, 0);
+    bc_expect(&bc_other, 0x31, E_SUCCESS);
+    ck_assert(!wsg_conn_wants_close(&bc_other.conn));
+    ck_assert_int_eq(ask_flag(SF_FAST_STOP), 0);
+}
+END_TEST
+
 Suite *bin_conn_suite(void)
 {
     Suite *s = suite_create("bin_conn");
@@ -66,6 +80,7 @@ Suite *bin_conn_suite(void)
     tcase_add_test(tc, drop_without_disconnect_raises_fast_stop);
     tcase_add_test(tc, disconnect_aborts_own_motion);
     tcase_add_test(tc, udp_disconnect_not_available_and_partial_frame_dropped);
+    tcase_add_test(tc, serial_line_detects_binary_and_has_no_disconnect);
     suite_add_tcase(s, tc);
     return s;
 }

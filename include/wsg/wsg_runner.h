@@ -1,0 +1,42 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/* Feed and step: how a port drives a device. Bytes go in through
+ * wsg_runner_feed(); the port polls wsg_runner_poll() when the returned
+ * deadline has come (or whenever it wakes) and sleeps until the next one.
+ * Shared by the host (one runner per gripper of the fleet) and the board
+ * (one in its main loop). The hardware is brought up to the clock before
+ * every input and step by the port's advance hook (a simulated world; NULL
+ * for hardware that runs by itself). */
+#ifndef WSG_RUNNER_H
+#define WSG_RUNNER_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "wsg_conn.h"
+
+typedef struct {
+    wsg_device_t *dev;
+    void (*advance)(void *ctx, uint64_t now_us);
+    void *advance_ctx;
+    uint64_t next_deadline_us; /* when the next step is due */
+} wsg_runner_t;
+
+/* The first step is due at once (power-on). */
+void wsg_runner_init(wsg_runner_t *r, wsg_device_t *dev, void (*advance)(void *ctx, uint64_t now),
+                     void *advance_ctx);
+/* Feeds bytes to a connection of the device (end_of_datagram: they were a
+ * whole datagram). What the input started is due from the next instant on,
+ * never at this one: on a paused clock it runs at the next step of time. */
+void wsg_runner_feed(wsg_runner_t *r, wsg_conn_t *c, const uint8_t *bytes, size_t len,
+                     bool end_of_datagram);
+/* Runs the control step if it is due (the hardware brought up to the clock
+ * first); returns the next deadline (UINT64_MAX: nothing will change by
+ * itself). */
+uint64_t wsg_runner_poll(wsg_runner_t *r);
+/* Runs a control step now (something outside the device changed). */
+uint64_t wsg_runner_step_now(wsg_runner_t *r);
+/* The step is due now: the next poll runs it (a power-on, a reset). */
+void wsg_runner_due_now(wsg_runner_t *r);
+
+#endif
