@@ -117,6 +117,11 @@ static bool watch_signals(void)
     return signal_fd >= 0 && loop_watch(signal_fd, POLLIN, on_signal_fd, NULL);
 }
 
+static void loop_request_stop(void)
+{
+    stop_requested = true;
+}
+
 void loop_init(void)
 {
     close_descriptors();
@@ -144,11 +149,6 @@ void loop_set_hangup(void (*on_hangup)(void))
 bool loop_stop_requested(void)
 {
     return stop_requested;
-}
-
-void loop_request_stop(void)
-{
-    stop_requested = true;
 }
 
 static uint64_t token(int slot)

@@ -36,11 +36,6 @@ uint64_t simclock_now_us(void)
     return clock_state.sim_base_us + (uint64_t)(elapsed_ns / 1000.0);
 }
 
-uint64_t simclock_device_us(void)
-{
-    return clock_state.device_us;
-}
-
 void simclock_advance_device(uint64_t us)
 {
     uint64_t target = simclock_now_us();

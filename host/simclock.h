@@ -17,8 +17,6 @@
 void simclock_init(void);
 /* The target: where simulated time stands now. */
 uint64_t simclock_now_us(void);
-/* The device time, never ahead of the target. */
-uint64_t simclock_device_us(void);
 /* Moves the device time forward (to at most the target). */
 void simclock_advance_device(uint64_t us);
 /* Wall time left until simulated time reaches deadline_us; false when the

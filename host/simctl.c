@@ -315,11 +315,6 @@ int simctl_port(void)
     return ctl.listener.fd >= 0 ? net_local_port(ctl.listener.fd) : -1;
 }
 
-const char *simctl_address(void)
-{
-    return ctl.addr;
-}
-
 const char *simctl_describe(void)
 {
     static char text[96];

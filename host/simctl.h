@@ -9,7 +9,6 @@
 /* Listens on addr:port (addr NULL: 127.0.0.1); false after a clear message. */
 bool simctl_start(const char *addr, int port);
 int simctl_port(void);
-const char *simctl_address(void);
 /* ", control 127.0.0.1:7000" for the ready line; "" without a channel. */
 const char *simctl_describe(void);
 /* Once per loop pass: a listener paused at the descriptor limit tries again. */

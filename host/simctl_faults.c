@@ -159,10 +159,3 @@ uint64_t simctl_fault_since_us(simctl_fault_t fault)
 {
     return simctl_fault_active(fault) ? faults.since_us[fault] : 0u;
 }
-
-void simctl_fault_forget_all(void)
-{
-    for (unsigned i = 0; i < SIMCTL_FAULT_COUNT; i++) {
-        faults.active[i] = false;
-    }
-}

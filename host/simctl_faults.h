@@ -36,7 +36,5 @@ void simctl_fault_clear(simctl_fault_t fault);
 unsigned simctl_fault_clear_all(void);
 bool simctl_fault_active(simctl_fault_t fault);
 uint64_t simctl_fault_since_us(simctl_fault_t fault);
-/* Forgets all faults without touching the world (after a power-on reset). */
-void simctl_fault_forget_all(void);
 
 #endif

@@ -7,7 +7,7 @@
 #include "priv/textbuf.h"
 #include "priv/wsg_dev.h"
 
-void device_log(hal_log_level_t level, const char *prefix, const char *what)
+static void device_log(hal_log_level_t level, const char *prefix, const char *what)
 {
     char storage[128];
     textbuf_t tb;

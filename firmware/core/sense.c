@@ -7,7 +7,9 @@
 
 #include "hal_clock.h"
 
-float sense_reported_force(const wsg_dev_t *dev)
+/* The force FORCE? reports: the finger measurement in force-control mode,
+ * else the motor's estimate. */
+static float sense_reported_force(const wsg_dev_t *dev)
 {
     return wsg_fingers_force_control(&dev->fingers) ? dev->sensed.finger_force_n
                                                     : dev->sensed.axis.force_n;

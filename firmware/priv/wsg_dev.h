@@ -117,9 +117,6 @@ static inline wsg_device_t *dev_public(wsg_dev_t *dev)
 void sense(wsg_dev_t *dev);
 /* sense(), then a severe fault raises FAST STOP. */
 void sense_and_react(wsg_dev_t *dev);
-/* The force FORCE? reports: the finger measurement in force-control mode,
- * else the motor's estimate. */
-float sense_reported_force(const wsg_dev_t *dev);
 
 /* flags.c: the register (pure) */
 void flags_set(wsg_dev_t *dev, wsg_sysflag_t flag, bool on);
@@ -146,6 +143,5 @@ uint32_t motion_tick_us(const wsg_dev_t *dev);
 
 /* device.c */
 void device_fast_stop(wsg_dev_t *dev, const char *why);
-void device_log(hal_log_level_t level, const char *prefix, const char *what);
 
 #endif

@@ -98,11 +98,6 @@ const char *gcl_next(void)
     return t_gcl.read < t_gcl.count ? t_gcl.lines[t_gcl.read++] : "<no line>";
 }
 
-void gcl_discard(void)
-{
-    t_gcl.read = t_gcl.count;
-}
-
 const char *gcl(const char *line)
 {
     char buf[512];

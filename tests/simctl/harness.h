@@ -40,7 +40,6 @@ const char *gcl(const char *line);
 /* Next unread GCL line, or "<no line>". */
 const char *gcl_next(void);
 size_t gcl_unread(void);
-void gcl_discard(void);
 /* STEP(ms) through the control channel, asserting it succeeds. */
 void t_step_ms(double ms);
 /* Steps 1 ms at a time until the GCL session receives `text`; ms or -1. */

@@ -244,19 +244,6 @@ int ask_gripstate(void)
     return state;
 }
 
-long ask_gripstat(int index)
-{
-    char query[32];
-    char format[40];
-    long value = -1;
-    snprintf(query, sizeof(query), "GRIPSTATS[%d]?", index);
-    snprintf(format, sizeof(format), "GRIPSTATS[%d]=%%ld", index);
-    if (sscanf(ask(&h_main, query), format, &value) != 1) {
-        return -1;
-    }
-    return value;
-}
-
 float ask_float(const char *query)
 {
     char format[40];

@@ -87,7 +87,6 @@ uint32_t h_gcl_lines_out(const h_client_t *c);
 /* Protocol shortcuts on h_main; -1 when the reply is malformed. */
 int ask_flag(int bit);
 int ask_gripstate(void);
-long ask_gripstat(int index);
 float ask_float(const char *query); /* "POS?" -> value of POS=... */
 
 bool h_log_contains(hal_log_level_t level, const char *text);

@@ -64,7 +64,7 @@ size_t bc_unread(const bin_client_t *c)
     return c->count - c->read;
 }
 
-const bc_frame_t *bc_await(bin_client_t *c, uint32_t timeout_ms)
+static const bc_frame_t *bc_await(bin_client_t *c, uint32_t timeout_ms)
 {
     for (uint32_t i = 0; i <= timeout_ms && bc_unread(c) == 0; i++) {
         advance_ms(1);

@@ -43,8 +43,6 @@ void bc_send_crc(bin_client_t *c, uint8_t id, const void *payload, size_t len, u
 /* Next unread frame, or NULL. */
 const bc_frame_t *bc_next(bin_client_t *c);
 size_t bc_unread(const bin_client_t *c);
-/* Ticks until a frame is unread (NULL on timeout). */
-const bc_frame_t *bc_await(bin_client_t *c, uint32_t timeout_ms);
 /* Asserts the next frame's ID and status, returns it. */
 const bc_frame_t *bc_expect(bin_client_t *c, uint8_t id, uint16_t status);
 /* Ticks until a frame arrives, then asserts it as bc_expect does. */
