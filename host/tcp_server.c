@@ -283,7 +283,7 @@ static bool setup_client(tcp_client_t *c, int fd, const struct sockaddr_storage 
     if (!outq_init(&c->outq, OUTQ_BYTES)) {
         return false;
     }
-    /* --protocol auto: the connection's first byte chooses (firmware/net/conn.c) */
+    /* --protocol auto: the first byte chooses from the gripper's drivers (host/gripper.c) */
     static const wsg_proto_driver_t *const drivers[] = {NULL, &wsg_gcl_driver, &wsg_bin_driver};
     gripper_t *g = c->server->gripper;
     wsg_conn_open(&c->conn, &g->device, drivers[g->opts.protocol], WSG_TRANSPORT_STREAM, &tcp_io,

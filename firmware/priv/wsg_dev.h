@@ -83,6 +83,8 @@ typedef struct wsg_dev {
     wsg_timer_queue_t timers;    /* AUTOSEND subscriptions and other real deadlines */
     struct wsg_conn_impl *conns; /* open connections (intrusive list, oldest first) */
     struct wsg_conn_impl *conns_tail;
+    const wsg_proto_driver_t *const *drivers; /* the port's, for auto-detection */
+    size_t driver_count;
     uint64_t next_conn_id;
     wsg_snapshot_t snapshot;
     /* observers: NULL unless attached */

@@ -6,6 +6,10 @@
 
 #include "hal_clock.h"
 #include "sim_models.h"
+#include "wsg/wsg_bin.h"
+
+/* The host's table: connections opened without a driver detect one. */
+static const wsg_proto_driver_t *const h_drivers[] = {&wsg_bin_driver, &wsg_gcl_driver};
 
 wsg_device_t h_dev;
 sim_world_t h_world;
@@ -94,6 +98,7 @@ void h_setup(void)
     wsg_hal_t hal;
     sim_world_hal(&h_world, &hal);
     wsg_device_init(&h_dev, &config, &hal);
+    wsg_conn_set_drivers(&h_dev, h_drivers, sizeof(h_drivers) / sizeof(h_drivers[0]));
     h_open(&h_main, WSG_TRANSPORT_STREAM);
 }
 

@@ -13,8 +13,12 @@
 #include "lwip/timeouts.h"
 #include "netif/ethernet.h"
 #include "serial_port.h"
+#include "wsg/wsg_bin.h"
 
 #define GCL_PORT 1000u
+
+/* A TCP connection's first byte chooses: the binary preamble, else GCL. */
+static const wsg_proto_driver_t *const drivers[] = {&wsg_bin_driver, &wsg_gcl_driver};
 
 static struct netif eth;
 
@@ -43,7 +47,7 @@ int main(void)
 {
     board_clock_init();
     board_log_init();
-    app_init();
+    app_init(drivers, sizeof(drivers) / sizeof(drivers[0]));
     serial_port_init();
     bool network = network_init();
     hal_log(HAL_LOG_INFO, network ? "wsgsim mps2-an385 lwIP image: GCL on 192.168.1.20 TCP 1000, "

@@ -5,11 +5,14 @@
 #include "hal_log.h"
 #include "serial_port.h"
 
+/* Its one connection is GCL from the start: nothing to detect. */
+static const wsg_proto_driver_t *const drivers[] = {&wsg_gcl_driver};
+
 int main(void)
 {
     board_clock_init();
     board_log_init();
-    app_init();
+    app_init(drivers, sizeof(drivers) / sizeof(drivers[0]));
     serial_port_init();
     hal_log(HAL_LOG_INFO, "wsgsim mps2-an385 serial image: GCL on UART0, ready");
     for (;;) {
