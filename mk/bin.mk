@@ -9,10 +9,11 @@
 # (which holds it beside the protocol driver, driver.c and bin_*.c: the
 # binary driver and its codec are firmware like the GCL driver).
 BIN_TEST_SRC := $(sort $(wildcard tests/bin/*.c))
-# The driver's tests run on the device core with the unit tests' harness.
+# The driver's tests run on the device core with the fake port (tests/fake),
+# through its binary connection (fake_bin_conn.c).
 BIN_DRV_TEST_SRC := $(sort $(wildcard tests/bin/driver/*.c))
 BIN_DRV_TEST_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(BIN_DRV_TEST_SRC))
-BIN_DRV_HARNESS_OBJ := $(BUILD)/obj/tests/unit/harness.o $(BUILD)/obj/tests/unit/harness_fmf.o
+BIN_DRV_HARNESS_OBJ := $(FAKE_CORE_OBJ) $(BUILD)/obj/tests/fake/fake_bin_conn.o
 BIN_DRV_TEST_BIN := $(BUILD)/tests/bin_driver_tests
 BIN_TEST_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(BIN_TEST_SRC))
 BIN_TEST_BIN := $(BUILD)/tests/bin_tests
@@ -32,6 +33,10 @@ $(BUILD)/obj/tests/bin/driver/%.o: tests/bin/driver/%.c
 	@mkdir -p $(dir $@)
 	$(CC) $(UNIT_CFLAGS) -Itests/bin/driver -MMD -MP -c $< -o $@
 
+$(BUILD)/obj/tests/fake/fake_bin_conn.o: tests/fake/fake_bin_conn.c
+	@mkdir -p $(dir $@)
+	$(CC) $(UNIT_CFLAGS) -MMD -MP -c $< -o $@
+
 $(BIN_DRV_TEST_BIN): $(BIN_DRV_TEST_OBJ) $(BIN_DRV_HARNESS_OBJ) $(CORE_LIBS)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS_BASE) -o $@ $(BIN_DRV_TEST_OBJ) $(BIN_DRV_HARNESS_OBJ) $(CORE_LIBS) $(UNIT_LIBS)
@@ -50,4 +55,4 @@ bin-tests: $(BIN_TEST_BIN) $(BIN_DRV_TEST_BIN)
 
 CHECK_TARGETS += bin-tests
 
--include $(BIN_TEST_OBJ:.o=.d) $(BIN_DRV_TEST_OBJ:.o=.d)
+-include $(BIN_TEST_OBJ:.o=.d) $(BIN_DRV_TEST_OBJ:.o=.d) $(BUILD)/obj/tests/fake/fake_bin_conn.d

@@ -5,8 +5,8 @@
 #include <string.h>
 
 #include "wsg/gcl_linebuf.h"
-#include "harness.h"
-#include "suites.h"
+#include "fake_device.h"
+#include "unit_suites.h"
 
 static gcl_linebuf_t lb;
 

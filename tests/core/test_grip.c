@@ -3,8 +3,8 @@
 #include <check.h>
 #include <math.h>
 
-#include "harness.h"
-#include "suites.h"
+#include "fake_device.h"
+#include "unit_suites.h"
 
 #define STIFF_PART_N_MM 50.0f
 

@@ -4,7 +4,7 @@
 #include <string.h>
 
 #include "wsg/gcl_parse.h"
-#include "suites.h"
+#include "unit_suites.h"
 
 static gcl_command_t cmd;
 

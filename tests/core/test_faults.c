@@ -3,8 +3,8 @@
  * themselves and block its acknowledge while they persist. */
 #include <check.h>
 
-#include "harness.h"
-#include "suites.h"
+#include "fake_device.h"
+#include "unit_suites.h"
 
 START_TEST(current_fault_raises_fast_stop)
 {

@@ -5,9 +5,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "harness.h"
+#include "fake_device.h"
 #include "priv/motion_tuning.h"
-#include "suites.h"
+#include "unit_suites.h"
 
 /* Reads every captured line: the largest @FORCE value so far (in *max), and
  * whether `text` was among them. */

@@ -6,7 +6,7 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "suites.h"
+#include "unit_suites.h"
 #include "priv/textbuf.h"
 
 static char storage[128];

@@ -4,9 +4,9 @@
 #include <math.h>
 #include <string.h>
 
-#include "harness.h"
+#include "fake_device.h"
 #include "priv/motion_tuning.h"
-#include "suites.h"
+#include "unit_suites.h"
 
 /* Duration of a trapezoidal (or triangular) move from rest to rest. */
 static double trapezoid_ms(double distance, double speed, double accel)

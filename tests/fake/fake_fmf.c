@@ -5,7 +5,7 @@
 #include <string.h>
 
 #include "finger_node.h"
-#include "harness.h"
+#include "fake_device.h"
 
 #define FMF_RING 64u
 

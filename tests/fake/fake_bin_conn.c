@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-#include "bin_client.h"
+#include "fake_bin_conn.h"
 
 #include <check.h>
 #include <string.h>

@@ -4,8 +4,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "harness.h"
-#include "suites.h"
+#include "fake_device.h"
+#include "unit_suites.h"
 
 static const char *vector_of(uint32_t bits)
 {

@@ -5,8 +5,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "harness.h"
-#include "suites.h"
+#include "fake_device.h"
+#include "unit_suites.h"
 
 typedef struct {
     const char *line;

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-#include "harness.h"
+#include "fake_device.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -41,24 +41,6 @@ void hal_log(hal_log_level_t level, const char *message)
     logbook.count++;
 }
 
-static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t kind)
-{
-    h_client_t *c = ctx;
-    bool one_line =
-        len > 0 && line[len - 1] == '\n' && memchr(line, '\n', len - 1) == NULL && len < H_LINE_LEN;
-    if (!one_line || c->count == H_LINES_MAX) {
-        c->bad_line = true;
-        return;
-    }
-    h_line_t *out = &c->lines[c->count++];
-    memcpy(out->text, line, len - 1);
-    out->text[len - 1] = '\0';
-    out->kind = kind;
-    out->at_us = h_now_us;
-}
-
-static const wsg_conn_io_t capture_io = {write_line};
-
 static void reset_client(h_client_t *c)
 {
     memset(c, 0, sizeof(*c));
@@ -66,13 +48,7 @@ static void reset_client(h_client_t *c)
 
 void h_open(h_client_t *c, wsg_transport_t transport)
 {
-    reset_client(c);
-    wsg_conn_open(&c->conn, &h_dev, &wsg_gcl_driver, transport, &capture_io, c);
-}
-
-void h_close(h_client_t *c, wsg_close_reason_t reason)
-{
-    wsg_conn_close(&c->conn, reason);
+    h_open_on(c, &h_dev, &wsg_gcl_driver, transport);
 }
 
 wsg_config_t *h_cfg(void)
@@ -87,6 +63,11 @@ wsg_dev_t *h_devp(void)
 
 void h_setup(void)
 {
+    h_setup_on_can(NULL);
+}
+
+void h_setup_on_can(const hal_can_t *can)
+{
     memset(&logbook, 0, sizeof(logbook));
     memset(&h_dev, 0, sizeof(h_dev));
     reset_client(&h_main);
@@ -97,6 +78,7 @@ void h_setup(void)
     sim_world_init(&h_world, &config, h_now_us);
     wsg_hal_t hal;
     sim_world_hal(&h_world, &hal);
+    hal.can = can;
     wsg_device_init(&h_dev, &config, &hal);
     wsg_conn_set_drivers(&h_dev, h_drivers, sizeof(h_drivers) / sizeof(h_drivers[0]));
     h_open(&h_main, WSG_TRANSPORT_STREAM);
@@ -117,21 +99,6 @@ void h_teardown(void)
                   "a session wrote something that is not one whole line");
 }
 
-void h_send_bytes(h_client_t *c, const void *bytes, size_t len)
-{
-    wsg_conn_input(&c->conn, bytes, len);
-}
-
-void send_line(h_client_t *c, const char *line)
-{
-    char buf[1024];
-    size_t len = strlen(line);
-    ck_assert_uint_lt(len, sizeof(buf));
-    memcpy(buf, line, len);
-    buf[len] = '\n';
-    h_send_bytes(c, buf, len + 1);
-}
-
 void h_step(void)
 {
     sim_world_advance(&h_world, h_now_us);
@@ -146,34 +113,6 @@ void advance_ms(uint32_t ms)
     }
 }
 
-size_t h_unread(const h_client_t *c)
-{
-    return c->count - c->read;
-}
-
-const char *h_next_line(h_client_t *c)
-{
-    if (c->read == c->count) {
-        return "<no line>";
-    }
-    return c->lines[c->read++].text;
-}
-
-const h_line_t *h_last_read(const h_client_t *c)
-{
-    return c->read > 0 ? &c->lines[c->read - 1] : NULL;
-}
-
-const char *ask(h_client_t *c, const char *line)
-{
-    size_t before = c->count;
-    send_line(c, line);
-    if (c->count == before) {
-        return "<no reply>";
-    }
-    return h_next_line(c);
-}
-
 const char *await_line(h_client_t *c, uint32_t timeout_ms)
 {
     for (uint32_t waited = 0; h_unread(c) == 0; waited++) {
@@ -185,20 +124,10 @@ const char *await_line(h_client_t *c, uint32_t timeout_ms)
     return h_next_line(c);
 }
 
-static bool take_line(h_client_t *c, const char *text)
-{
-    while (c->read < c->count) {
-        if (strcmp(c->lines[c->read++].text, text) == 0) {
-            return true;
-        }
-    }
-    return false;
-}
-
 int run_until_line(h_client_t *c, const char *text, uint32_t timeout_ms)
 {
     for (uint32_t waited = 0;; waited++) {
-        if (take_line(c, text)) {
+        if (h_take_line(c, text)) {
             return (int)waited;
         }
         if (waited == timeout_ms) {
@@ -206,22 +135,6 @@ int run_until_line(h_client_t *c, const char *text, uint32_t timeout_ms)
         }
         advance_ms(1);
     }
-}
-
-size_t h_count_prefix(h_client_t *c, const char *prefix)
-{
-    size_t n = 0;
-    for (size_t i = c->read; i < c->count; i++) {
-        if (strncmp(c->lines[i].text, prefix, strlen(prefix)) == 0) {
-            n++;
-        }
-    }
-    return n;
-}
-
-void h_discard(h_client_t *c)
-{
-    c->read = c->count;
 }
 
 int ask_flag(int bit)
@@ -280,18 +193,4 @@ size_t h_log_count(void)
 double h_ms_since(uint64_t t0_us)
 {
     return (double)(h_now_us - t0_us) / 1000.0;
-}
-
-uint32_t h_gcl_lines_in(const h_client_t *c)
-{
-    wsg_gcl_conn_info_t info;
-    ck_assert(wsg_gcl_conn_info(&c->conn, &info));
-    return info.lines_in;
-}
-
-uint32_t h_gcl_lines_out(const h_client_t *c)
-{
-    wsg_gcl_conn_info_t info;
-    ck_assert(wsg_gcl_conn_info(&c->conn, &info));
-    return info.lines_out;
 }

@@ -1,16 +1,16 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* A binary protocol client for the driver's tests: sends framed requests
- * into a connection of the unit harness' device (tests/unit/harness.h) and
+ * into a connection of the fake port's device (fake_device.h) and
  * keeps every reply frame it gets, decoded, in order. */
-#ifndef BIN_CLIENT_H
-#define BIN_CLIENT_H
+#ifndef FAKE_BIN_CONN_H
+#define FAKE_BIN_CONN_H
 
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
 #include "bin/wsg_bin_frame.h"
-#include "harness.h"
+#include "fake_device.h"
 
 #define BC_FRAMES_MAX 512
 

@@ -6,10 +6,10 @@
 #include <check.h>
 #include <string.h>
 
-#include "harness.h"
+#include "fake_device.h"
 #include "priv/timer.h"
 #include "sim/sim_models.h"
-#include "suites.h"
+#include "unit_suites.h"
 
 typedef struct {
     wsg_owner_t owner;

@@ -4,8 +4,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "harness.h"
-#include "suites.h"
+#include "fake_device.h"
+#include "unit_suites.h"
 
 /* "[b0,b1,...]" for `count` bits of `bits`. */
 static const char *bits_text(uint32_t bits, unsigned count)

@@ -3,7 +3,7 @@
  * CK_VERBOSITY=verbose lists each test, CK_FORK=no runs them in-process. */
 #include <stdlib.h>
 
-#include "suites.h"
+#include "unit_suites.h"
 
 int main(void)
 {

@@ -4,8 +4,8 @@
 #include <check.h>
 #include <string.h>
 
-#include "harness.h"
-#include "suites.h"
+#include "fake_device.h"
+#include "unit_suites.h"
 
 /* --- per-session settings --- */
 
