@@ -363,6 +363,93 @@ START_TEST(hooks_survive_reset)
 }
 END_TEST
 
+/* --- the port's driver table --- */
+
+/* A protocol that claims connections starting with 'X' and counts bytes. */
+static size_t probe_bytes;
+static bool probe_detect(uint8_t first_byte)
+{
+    return first_byte == 'X';
+}
+static void probe_open(wsg_conn_t *c)
+{
+    (void)c;
+}
+static void probe_input(wsg_conn_t *c, const uint8_t *bytes, size_t len)
+{
+    (void)c;
+    (void)bytes;
+    probe_bytes += len;
+}
+static void probe_end_datagram(wsg_conn_t *c)
+{
+    (void)c;
+}
+static void probe_done(wsg_conn_t *c, wsg_op_t op, wsg_status_t status)
+{
+    (void)c;
+    (void)op;
+    (void)status;
+}
+static bool probe_busy(const wsg_conn_t *c)
+{
+    (void)c;
+    return false;
+}
+static void probe_close(wsg_conn_t *c, wsg_close_reason_t why)
+{
+    (void)c;
+    (void)why;
+}
+static const wsg_proto_driver_t probe_driver = {
+    "probe",    probe_detect, probe_open,  probe_input, probe_end_datagram,
+    probe_done, probe_busy,   probe_close,
+};
+
+START_TEST(the_first_driver_that_claims_the_first_byte_serves)
+{
+    static const wsg_proto_driver_t *const table[] = {&probe_driver, &wsg_gcl_driver};
+    wsg_conn_set_drivers(&h_dev, table, 2);
+    probe_bytes = 0;
+    h_open_on(&h_other, &h_dev, NULL, WSG_TRANSPORT_STREAM);
+    send_line(&h_other, "XYZ");
+    ck_assert_uint_eq(probe_bytes, 4);
+    expect_no_line(&h_other);
+    h_open_on(&h_third, &h_dev, NULL, WSG_TRANSPORT_STREAM);
+    ck_assert_str_eq(ask(&h_third, "SN?"), "SN=12345678"); /* GCL takes any other byte */
+    ck_assert_uint_eq(probe_bytes, 4);
+}
+END_TEST
+
+START_TEST(a_reset_keeps_the_driver_table)
+{
+    static const wsg_proto_driver_t *const table[] = {&probe_driver};
+    wsg_conn_set_drivers(&h_dev, table, 1);
+    wsg_device_reset(&h_dev, h_cfg());
+    probe_bytes = 0;
+    h_open_on(&h_other, &h_dev, NULL, WSG_TRANSPORT_STREAM);
+    send_line(&h_other, "X");
+    ck_assert_uint_eq(probe_bytes, 2);
+}
+END_TEST
+
+START_TEST(bytes_no_driver_claims_are_dropped)
+{
+    static const wsg_proto_driver_t *const table[] = {&probe_driver};
+    wsg_conn_set_drivers(&h_dev, table, 1);
+    probe_bytes = 0;
+    h_open_on(&h_other, &h_dev, NULL, WSG_TRANSPORT_STREAM);
+    send_line(&h_other, "SN?");
+    expect_no_line(&h_other);
+    ck_assert_uint_eq(probe_bytes, 0);
+    ck_assert(wsg_conn_is_open(&h_other.conn));
+    wsg_conn_set_drivers(&h_dev, NULL, 0); /* no table at all: the same */
+    send_line(&h_other, "SN?");
+    expect_no_line(&h_other);
+    ASK_EQ("SN?", "SN=12345678"); /* a connection opened with its driver is unaffected */
+}
+END_TEST
+
 Suite *session_suite(void)
 {
     Suite *s = suite_create("session");
@@ -401,5 +488,12 @@ Suite *session_suite(void)
     tcase_add_test(hook, hooks_observe_the_device);
     tcase_add_test(hook, hooks_survive_reset);
     suite_add_tcase(s, hook);
+
+    TCase *drivers = tcase_create("drivers");
+    tcase_add_checked_fixture(drivers, h_setup, h_teardown);
+    tcase_add_test(drivers, the_first_driver_that_claims_the_first_byte_serves);
+    tcase_add_test(drivers, a_reset_keeps_the_driver_table);
+    tcase_add_test(drivers, bytes_no_driver_claims_are_dropped);
+    suite_add_tcase(s, drivers);
     return s;
 }
