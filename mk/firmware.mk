@@ -51,12 +51,14 @@ FW_CORE_SRC := $(FIRMWARE_SRC) $(SIM_SRC)
 FW_BOARD_COMMON := startup.c clock.c cmsdk_uart.c log.c no_heap.c app.c serial_port.c
 FW_SERIAL_SRC := $(FW_CORE_SRC) $(addprefix $(FW_BOARD)/,$(FW_BOARD_COMMON) main_serial.c)
 FW_LWIP_BOARD_SRC := $(FW_CORE_SRC) $(addprefix $(FW_BOARD)/,$(FW_BOARD_COMMON) main_lwip.c \
-	lan9118.c lan9118_netif.c gcl_tcp.c gcl_udp.c lwip/sys_arch.c)
-# lwIP 2.1: IPv4 core, raw API, Ethernet/ARP; no sockets, no IPv6, no apps.
+	lan9118.c lan9118_netif.c gcl_tcp.c gcl_udp.c lwip/sys_arch.c web_status.c) \
+	host/simctl_names.c
+# lwIP 2.1: IPv4 core, raw API, Ethernet/ARP, the httpd app (the status page);
+# no sockets, no IPv6.
 FW_LWIP_LIB_SRC := core/init.c core/def.c core/inet_chksum.c core/ip.c core/mem.c core/memp.c \
 	core/netif.c core/pbuf.c core/tcp.c core/tcp_in.c core/tcp_out.c core/timeouts.c \
 	core/udp.c core/ipv4/etharp.c core/ipv4/icmp.c core/ipv4/ip4.c core/ipv4/ip4_addr.c \
-	core/ipv4/ip4_frag.c netif/ethernet.c
+	core/ipv4/ip4_frag.c netif/ethernet.c apps/http/httpd.c apps/http/fs.c
 
 FW_SERIAL_OBJ := $(patsubst %.c,$(FW_OUT)/obj/serial/%.o,$(FW_SERIAL_SRC))
 FW_LWIP_OBJ := $(patsubst %.c,$(FW_OUT)/obj/lwip/%.o,$(FW_LWIP_BOARD_SRC)) \
@@ -92,6 +94,9 @@ $(FW_OUT)/obj/lwip/%.o: %.c | fw-deps $(FW_LWIP_STAMP)
 $(FW_OUT)/obj/lwip/lwip-lib/%.o: $(FW_LWIP_STAMP) | fw-deps
 	@mkdir -p $(dir $@)
 	$(FW_CC) $(FW_LWIP_CFLAGS) -c $(FW_LWIP_DIR)/src/$*.c -o $@
+
+# The status page names flags and grip states as the host's state dump does.
+$(FW_OUT)/obj/lwip/$(FW_BOARD)/web_status.o: FW_CFLAGS += -Ihost
 
 # Links, then enforces the budgets: an image over budget is not kept.
 define fw_link

@@ -7,8 +7,8 @@
 #   with --test     waits for the board, runs tests/qemu/conversation.py
 #                   against it (serial: over UART0; lwip: over TCP and UDP
 #                   1000 through hostfwd) and always stops QEMU afterwards.
-# Ports: GCL_PORT (serial socket or forwarded TCP) and GCL_UDP_PORT default
-# to free ones. QEMU_TIMEOUT bounds the whole run in --test mode (seconds).
+# Ports: GCL_PORT (serial socket or forwarded TCP), GCL_UDP_PORT and
+# HTTP_PORT (the lwIP image's status page) default to free ones. QEMU_TIMEOUT bounds the whole run in --test mode (seconds).
 # Both bounds only stop a hung run: QEMU on a busy machine boots slowly.
 set -euo pipefail
 
@@ -43,6 +43,7 @@ s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])' "$1"
 
 tcp_port=${GCL_PORT:-$(free_port SOCK_STREAM)}
 udp_port=${GCL_UDP_PORT:-$(free_port SOCK_DGRAM)}
+http_port=${HTTP_PORT:-$(free_port SOCK_STREAM)}
 board_ip=192.168.1.20
 workdir=$(mktemp -d "${TMPDIR:-/tmp}/wsgsim-qemu.XXXXXX")
 
@@ -57,6 +58,7 @@ set_qemu_args() { # RESTRICT -> qemu_args (UART1 is added by the caller)
     else
         # UART0 carries GCL too, but in this setup nothing listens to it.
         local fwd="hostfwd=tcp:127.0.0.1:$tcp_port-$board_ip:1000,hostfwd=udp:127.0.0.1:$udp_port-$board_ip:1000"
+        fwd+=",hostfwd=tcp:127.0.0.1:$http_port-$board_ip:80"
         qemu_args+=(-serial null -nic "user,model=lan9118,net=192.168.1.0/24,restrict=$1,$fwd")
     fi
 }
@@ -85,6 +87,7 @@ if [ $test_mode = 0 ]; then
         echo "GCL over lwIP at $board_ip:1000 (user network, restrict=$restrict), forwarded to"
         echo "  TCP:  nc 127.0.0.1 $tcp_port"
         echo "  UDP:  nc -u 127.0.0.1 $udp_port"
+        echo "  status page: http://127.0.0.1:$http_port/"
         echo "  or:   python3 tests/qemu/conversation.py 127.0.0.1 $tcp_port --udp $udp_port"
         [ "$restrict" = on ] && echo "  note: with restrict=on QEMU drops the board's UDP replies; use QEMU_RESTRICT=off for UDP"
     fi
@@ -117,6 +120,9 @@ run_test() { # LABEL RESTRICT CONVERSATION-ARGS...
     python3 "$here/conversation.py" 127.0.0.1 "$tcp_port" "$@" || status=$?
     if [ "$label" = qemu-lwip-tcp ] && [ $status = 0 ]; then
         python3 "$here/binary_conversation.py" 127.0.0.1 "$tcp_port" || status=$?
+        if [ $status = 0 ]; then # the status page on port 80 (web_status.py)
+            python3 "$here/web_status.py" 127.0.0.1 "$tcp_port" "$http_port" || status=$?
+        fi
     fi
     stop_qemu
     if [ $status != 0 ]; then

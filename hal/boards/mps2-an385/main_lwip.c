@@ -13,6 +13,7 @@
 #include "lwip/timeouts.h"
 #include "netif/ethernet.h"
 #include "serial_port.h"
+#include "web_status.h"
 #include "wsg/wsg_bin.h"
 
 #define GCL_PORT 1000u
@@ -40,6 +41,7 @@ static bool network_init(void)
         hal_log(HAL_LOG_ERROR, "lwip: cannot listen on port 1000");
         return false;
     }
+    web_status_init();
     return true;
 }
 

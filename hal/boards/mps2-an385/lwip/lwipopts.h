@@ -20,8 +20,10 @@
 #define PBUF_POOL_SIZE 8
 #define MEMP_NUM_PBUF 8
 #define MEMP_NUM_UDP_PCB 2
-#define MEMP_NUM_TCP_PCB 5 /* GCL_TCP_MAX_CONNECTIONS plus one to refuse politely */
-#define MEMP_NUM_TCP_PCB_LISTEN 1
+/* GCL_TCP_MAX_CONNECTIONS plus one to refuse politely, plus the status
+ * page's MEMP_NUM_PARALLEL_HTTPD_CONNS */
+#define MEMP_NUM_TCP_PCB 7
+#define MEMP_NUM_TCP_PCB_LISTEN 2 /* GCL and HTTP */
 #define MEMP_NUM_TCP_SEG 24
 #define MEMP_NUM_SYS_TIMEOUT 8
 #define MEMP_NUM_ARP_QUEUE 4
@@ -64,5 +66,28 @@
 #define CHECKSUM_CHECK_TCP 1
 
 #define LWIP_STATS 0
+
+/* The status page (web_status.c) through lwIP's httpd: GET only, one
+ * request per connection, every response built by fs_open_custom with its
+ * headers included. Its connection states come from their own static pool,
+ * so a browser never takes lwIP heap or PCBs from the GCL clients: httpd
+ * listens at TCP_PRIO_MIN, the GCL server at TCP_PRIO_NORMAL, and lwIP
+ * reclaims a page's PCB for a GCL client when the pool runs dry. */
+#define HTTPD_SERVER_PORT 80
+#define HTTPD_USE_MEM_POOL 1
+#define MEMP_NUM_PARALLEL_HTTPD_CONNS 2
+#define LWIP_HTTPD_KILL_OLD_ON_CONNECTIONS_EXCEEDED 1 /* an idle browser socket */
+#define LWIP_HTTPD_CUSTOM_FILES 1
+#define LWIP_HTTPD_DYNAMIC_HEADERS 0
+#define LWIP_HTTPD_SUPPORT_EXTSTATUS 1 /* 400 and 501 pages, not a silent close */
+#define LWIP_HTTPD_SUPPORT_V09 0
+#define HTTPD_FSDATA_FILE "web_status_fsdata.h"
+/* A request split over more segments than this gets a 400: a slow client
+ * holds at most this many of the PBUF_POOL_SIZE receive buffers. */
+#define LWIP_HTTPD_REQ_QUEUELEN 2
+/* The state's JSON lives in a slot freed when httpd closes the file, which
+ * may be before the client acknowledged it: httpd copies every response
+ * into lwIP's heap rather than sending from the slot. */
+#define HTTP_IS_DATA_VOLATILE(hs) TCP_WRITE_FLAG_COPY
 
 #endif
