@@ -30,6 +30,6 @@ void sense_and_react(wsg_dev_t *dev)
 {
     sense(dev);
     if (flags_severe_fault(dev) && !flags_get(dev, SF_FAST_STOP)) {
-        device_fast_stop(dev, "severe fault (temperature, power or motor current)");
+        motion_fast_stop(dev, "severe fault (temperature, power or motor current)");
     }
 }

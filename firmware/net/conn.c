@@ -130,7 +130,7 @@ void wsg_conn_close(wsg_conn_t *conn, wsg_close_reason_t why)
     c->open = false;
     c->io = NULL;
     if (raise_fast_stop) {
-        device_fast_stop(c->dev, "connection closed without BYE");
+        motion_fast_stop(c->dev, "connection closed without BYE");
     }
 }
 

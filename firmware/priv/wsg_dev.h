@@ -130,11 +130,12 @@ bool flags_severe_fault(const wsg_dev_t *dev);
 /* motion.c: the supervisor, the only writer of the axis */
 void motion_drive(wsg_dev_t *dev, float target_mm, float speed_mm_s, float force_n);
 void motion_halt(wsg_dev_t *dev, bool fast);
-void motion_disable(wsg_dev_t *dev);
 wsg_status_t motion_check_allowed(wsg_dev_t *dev, bool needs_reference);
 bool motion_supersede_move(wsg_dev_t *dev);
 void motion_begin(wsg_dev_t *dev, wsg_owner_t *owner, wsg_motion_kind_t kind);
 void motion_abort(wsg_dev_t *dev, wsg_status_t status);
+/* FAST STOP: ends the motion, disables the drive, latches the flag. */
+void motion_fast_stop(wsg_dev_t *dev, const char *why);
 void motion_step(wsg_dev_t *dev);
 void motion_apply_force_request(wsg_dev_t *dev);
 void grip_set_state(wsg_dev_t *dev, wsg_grip_state_t state);
@@ -142,8 +143,5 @@ void grip_monitor_step(wsg_dev_t *dev);
 void motion_block_watch_step(wsg_dev_t *dev);
 /* How often the supervisor must look: 0 when nothing can change by itself. */
 uint32_t motion_tick_us(const wsg_dev_t *dev);
-
-/* device.c */
-void device_fast_stop(wsg_dev_t *dev, const char *why);
 
 #endif
