@@ -8,8 +8,8 @@
 #include "finger_bus_host.h"
 #include "hal_clock.h"
 #include "log.h"
+#include "sim/observers.h"
 #include "sim/sim_models.h"
-#include "simctl_hooks.h"
 #include "wsg/wsg_bin.h"
 #include "wsg/wsg_gcl.h"
 

@@ -10,7 +10,7 @@
 #include <unistd.h>
 
 #include "log.h"
-#include "simclock.h"
+#include "sim/clock.h"
 
 /* The callers speak poll()'s event bits; epoll's have the same values. */
 _Static_assert(EPOLLIN == POLLIN && EPOLLOUT == POLLOUT && EPOLLERR == POLLERR &&

@@ -16,7 +16,7 @@
 #include "loop.h"
 #include "net.h"
 #include "outq.h"
-#include "simctl_delay.h"
+#include "sim/delay.h"
 #include "wsg/wsg_bin.h"
 #include "wsg/wsg_gcl.h"
 

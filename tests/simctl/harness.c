@@ -11,9 +11,9 @@
 #include "fleet.h"
 #include "hal_clock.h"
 #include "options.h"
-#include "simclock.h"
-#include "simctl_cmd.h"
-#include "simctl_delay.h"
+#include "sim/clock.h"
+#include "sim/commands.h"
+#include "sim/delay.h"
 
 h_client_t t_gcl;
 static char *last_reply;

@@ -8,10 +8,10 @@
 #include "harness.h"
 
 #include "fleet.h"
-#include "scenario.h"
-#include "simclock.h"
-#include "simctl_cmd.h"
-#include "simctl_run.h"
+#include "sim/clock.h"
+#include "sim/commands.h"
+#include "sim/scenario.h"
+#include "sim/scheduler.h"
 
 static const char *expected_time(const char *name, uint64_t us)
 {

@@ -1,14 +1,14 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-#include "simctl_run.h"
+#include "scheduler.h"
 
 #include <stdbool.h>
 
+#include "clock.h"
+#include "delay.h"
 #include "fleet.h"
 #include "hal_clock.h"
+#include "observers.h"
 #include "scenario.h"
-#include "simclock.h"
-#include "simctl_delay.h"
-#include "simctl_hooks.h"
 
 /* The simulated work one simctl_tick() may do before the loop serves the
  * sockets again: a control step counts 1, a scenario event SLICE_EVENT_COST

@@ -2,8 +2,8 @@
 /* Injected hardware faults: raised and cleared from the control channel,
  * applied to the simulated world (or sent to a finger over the finger bus),
  * logged, and listed in the state dump until cleared. */
-#ifndef SIMCTL_FAULTS_H
-#define SIMCTL_FAULTS_H
+#ifndef SIM_FAULTS_H
+#define SIM_FAULTS_H
 
 #include <stdbool.h>
 #include <stdint.h>

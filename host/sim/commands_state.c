@@ -3,14 +3,14 @@
 #include <cjson/cJSON.h>
 #include <stdlib.h>
 
+#include "commands_internal.h"
 #include "coverage.h"
+#include "delay.h"
+#include "faults.h"
 #include "fleet.h"
 #include "log.h"
-#include "simctl_cmd_internal.h"
-#include "simctl_delay.h"
-#include "simctl_faults.h"
-#include "simctl_hooks.h"
-#include "simctl_run.h"
+#include "observers.h"
+#include "scheduler.h"
 #include "state_json.h"
 
 wsg_status_t sc_state(simctl_ctx_t *ctx)

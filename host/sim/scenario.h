@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* --scenario FILE: control commands at given simulated times, so a test run
  * replays the same physical story every time. Format in docs/simctl.md. */
-#ifndef HOST_SCENARIO_H
-#define HOST_SCENARIO_H
+#ifndef SIM_SCENARIO_H
+#define SIM_SCENARIO_H
 
 #include <stdbool.h>
 #include <stdint.h>

@@ -3,11 +3,11 @@
 #include <stdlib.h>
 #include <strings.h>
 
+#include "commands_internal.h"
+#include "delay.h"
+#include "faults.h"
 #include "gripper.h"
 #include "log.h"
-#include "simctl_cmd_internal.h"
-#include "simctl_delay.h"
-#include "simctl_faults.h"
 #include "state_json.h"
 #include "tcp_server.h"
 #include "udp_server.h"

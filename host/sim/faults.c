@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
+#include "faults.h"
 #include "fleet.h"
-#include "simctl_faults.h"
 
 #include <strings.h>
 

@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* Names of the device model's enumerations, for the state dump, the
  * coverage report and the control channel's replies. */
-#ifndef SIMCTL_NAMES_H
-#define SIMCTL_NAMES_H
+#ifndef SIM_NAMES_H
+#define SIM_NAMES_H
 
 #include "wsg/wsg_status.h"
 #include "wsg/wsg_types.h"

@@ -1,11 +1,11 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* PART, PART_REMOVE, PART_SLIP, OBSTACLE, OBSTACLE_REMOVE, AMBIENT: the
  * simulated world around the jaws. */
+#include "commands_internal.h"
 #include "gripper.h"
-#include "wsg/wsg_config.h"
 #include "log.h"
 #include "sim/sim_world.h"
-#include "simctl_cmd_internal.h"
+#include "wsg/wsg_config.h"
 
 #define AMBIENT_MIN_C (-40.0)
 #define AMBIENT_MAX_C 150.0

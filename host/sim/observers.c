@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-#include "simctl_hooks.h"
+#include "observers.h"
 
 #include "bin_coverage.h"
 #include "coverage.h"

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-#include "simctl_delay.h"
+#include "delay.h"
 
 #include <stddef.h>
 #include <stdlib.h>

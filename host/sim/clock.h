@@ -4,8 +4,8 @@
  * hal_clock_now_us() returns) is moved up to the target by the run loop,
  * deadline by deadline, so every control step happens at its exact simulated
  * instant whatever the scale. */
-#ifndef SIMCLOCK_H
-#define SIMCLOCK_H
+#ifndef SIM_CLOCK_H
+#define SIM_CLOCK_H
 
 #include <stdbool.h>
 #include <stdint.h>

@@ -2,12 +2,12 @@
 /* PAUSE, RESUME, STEP, SCALE, SIMTIME: the one simulated clock. */
 #include <stdio.h>
 
+#include "clock.h"
+#include "commands.h"
+#include "commands_internal.h"
 #include "hal_clock.h"
 #include "log.h"
-#include "simclock.h"
-#include "simctl_cmd.h"
-#include "simctl_cmd_internal.h"
-#include "simctl_run.h"
+#include "scheduler.h"
 
 #define STEP_MAX_MS 3600000.0 /* one hour of simulated time per STEP */
 

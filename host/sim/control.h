@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* --sim-port: the simulation control channel, a line-based text port beside
  * the device protocol (docs/simctl.md). Loopback only unless --sim-bind. */
-#ifndef SIMCTL_H
-#define SIMCTL_H
+#ifndef SIM_CONTROL_H
+#define SIM_CONTROL_H
 
 #include <stdbool.h>
 

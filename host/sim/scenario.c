@@ -7,9 +7,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "commands.h"
 #include "log.h"
 #include "record.h"
-#include "simctl_cmd.h"
 #include "text_file.h"
 
 #define LINE_MAX_LEN 4096

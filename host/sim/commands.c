@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* Control line -> command -> handler -> reply line. */
-#include "simctl_cmd.h"
+#include "commands.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -8,11 +8,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "commands_internal.h"
 #include "fleet.h"
 #include "hal_clock.h"
+#include "scheduler.h"
 #include "sim/sim_world.h"
-#include "simctl_cmd_internal.h"
-#include "simctl_run.h"
 
 #define CALL GCL_FORM_CALL
 #define QUERY GCL_FORM_QUERY

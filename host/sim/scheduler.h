@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* Runs everything that lives on the simulated clock — the device, the
  * scenario and delayed replies — and steps the paused clock. */
-#ifndef SIMCTL_RUN_H
-#define SIMCTL_RUN_H
+#ifndef SIM_SCHEDULER_H
+#define SIM_SCHEDULER_H
 
 #include <stdbool.h>
 #include <stdint.h>

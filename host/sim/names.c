@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-#include "simctl_names.h"
+#include "names.h"
 
 #include <stddef.h>
 

@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* The simulation control commands (docs/simctl.md): one line in, one reply
  * line out, with the lexical rules of GCL. */
-#ifndef SIMCTL_CMD_H
-#define SIMCTL_CMD_H
+#ifndef SIM_COMMANDS_H
+#define SIM_COMMANDS_H
 
 #include <stdbool.h>
 #include <stddef.h>

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* What the control command handlers share. */
-#ifndef SIMCTL_CMD_INTERNAL_H
-#define SIMCTL_CMD_INTERNAL_H
+#ifndef SIM_COMMANDS_INTERNAL_H
+#define SIM_COMMANDS_INTERNAL_H
 
 #include <stdbool.h>
 #include <stdint.h>
@@ -9,8 +9,8 @@
 #include <cJSON.h>
 
 #include "wsg/gcl_parse.h"
-#include "wsg/wsg_gcl.h"
 #include "wsg/wsg_conn.h"
+#include "wsg/wsg_gcl.h"
 
 typedef struct {
     const gcl_command_t *cmd;
@@ -71,14 +71,14 @@ void sc_world_changed(simctl_ctx_t *ctx);
  * hardware faults act on device 0 only. */
 bool sc_first_device(simctl_ctx_t *ctx);
 
-/* simctl_cmd_clock.c */
+/* sim/commands_clock.c */
 wsg_status_t sc_pause(simctl_ctx_t *ctx);
 wsg_status_t sc_resume(simctl_ctx_t *ctx);
 wsg_status_t sc_step(simctl_ctx_t *ctx);
 wsg_status_t sc_scale(simctl_ctx_t *ctx);
 wsg_status_t sc_simtime(simctl_ctx_t *ctx);
 
-/* simctl_cmd_world.c */
+/* sim/commands_world.c */
 wsg_status_t sc_part(simctl_ctx_t *ctx);
 wsg_status_t sc_part_remove(simctl_ctx_t *ctx);
 wsg_status_t sc_part_slip(simctl_ctx_t *ctx);
@@ -86,7 +86,7 @@ wsg_status_t sc_obstacle(simctl_ctx_t *ctx);
 wsg_status_t sc_obstacle_remove(simctl_ctx_t *ctx);
 wsg_status_t sc_ambient(simctl_ctx_t *ctx);
 
-/* simctl_cmd_fault.c */
+/* sim/commands_fault.c */
 wsg_status_t sc_fault(simctl_ctx_t *ctx);
 wsg_status_t sc_clear(simctl_ctx_t *ctx);
 wsg_status_t sc_faults(simctl_ctx_t *ctx);
@@ -94,7 +94,7 @@ wsg_status_t sc_delay(simctl_ctx_t *ctx);
 wsg_status_t sc_failnext(simctl_ctx_t *ctx);
 wsg_status_t sc_cut(simctl_ctx_t *ctx);
 
-/* simctl_cmd_state.c */
+/* sim/commands_state.c */
 wsg_status_t sc_state(simctl_ctx_t *ctx);
 wsg_status_t sc_sessions(simctl_ctx_t *ctx);
 wsg_status_t sc_reset(simctl_ctx_t *ctx);

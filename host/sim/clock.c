@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-#include "simclock.h"
+#include "clock.h"
 
 #include "hal_clock.h"
 

@@ -2,8 +2,8 @@
 /* The observer hub: attaches the trace, the record and the coverage report
  * to a device only when the options ask for one of them (a plain run pays
  * nothing), and fans every observation out to them. */
-#ifndef SIMCTL_HOOKS_H
-#define SIMCTL_HOOKS_H
+#ifndef SIM_OBSERVERS_H
+#define SIM_OBSERVERS_H
 
 #include <stdbool.h>
 

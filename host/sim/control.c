@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-#include "simctl.h"
+#include "control.h"
 
 #include <errno.h>
 #include <poll.h>
@@ -9,14 +9,14 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include "commands.h"
 #include "listener.h"
 #include "log.h"
 #include "loop.h"
 #include "net.h"
 #include "outq.h"
 #include "record.h"
-#include "simctl_cmd.h"
-#include "simctl_run.h"
+#include "scheduler.h"
 #include "wsg/gcl_linebuf.h"
 
 #define CONTROL_CLIENTS_MAX 8

@@ -2,8 +2,8 @@
 /* Injected reply delay: the next reply line of a session, and everything
  * after it, is held back for a while of simulated time, then delivered in
  * order. Works for TCP and UDP alike by standing in for the session's I/O. */
-#ifndef SIMCTL_DELAY_H
-#define SIMCTL_DELAY_H
+#ifndef SIM_DELAY_H
+#define SIM_DELAY_H
 
 #include <stdbool.h>
 #include <stdint.h>
