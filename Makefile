@@ -32,6 +32,12 @@ FIRMWARE_INC := $(PUBLIC_INC) -Ifirmware
 # White-box builds (unit tests, fuzzing, the benchmark's in-process core).
 CORE_INC := $(FIRMWARE_INC) -Ihal/sim
 
+# The one fake port of the Check suites (tests/fake, built by mk/unit.mk):
+# the device on a virtual clock (FAKE_CORE_OBJ) and, alone, the capturing
+# connection (FAKE_CONN_OBJ) for suites that run the real host.
+FAKE_CORE_OBJ = $(addprefix $(BUILD)/obj/tests/fake/,fake_conn.o fake_device.o fake_fmf.o)
+FAKE_CONN_OBJ = $(BUILD)/obj/tests/fake/fake_conn.o
+
 # Check's per-test timeouts (4 s unless a test case sets its own) only guard
 # against hangs: scaled up so that a busy machine or a sanitizer build, not a
 # bug, never trips them. Test binaries run as $(CHECK_ENV) BINARY.

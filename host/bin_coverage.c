@@ -5,7 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "simctl_names.h"
+#include "sim/names.h"
 #include "wsg/wsg_bin.h"
 
 #define IDS 256u

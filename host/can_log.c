@@ -11,7 +11,11 @@
 static FILE *out;
 static const char *out_path;
 
-int can_log_format(const hal_can_frame_t *frame, uint64_t time_us, char *out_line)
+#define CAN_LOG_LINE_MAX 64
+
+/* Formats one frame as a candump -L line, without the newline; returns the
+ * length (out_line holds at least CAN_LOG_LINE_MAX bytes). */
+static int can_log_format(const hal_can_frame_t *frame, uint64_t time_us, char *out_line)
 {
     bool ext = (frame->flags & HAL_CAN_FLAG_EXT) != 0u;
     unsigned dlc = frame->dlc <= HAL_CAN_MAX_DLC ? frame->dlc : HAL_CAN_MAX_DLC;

@@ -20,10 +20,6 @@ bool can_log_open(const char *path);
 /* Opens the file again by its path, appending (log rotation); keeps the old
  * one when that fails. No-op without --can-log. */
 bool can_log_reopen(void);
-/* Formats one frame as a candump -L line, without the newline; returns the
- * length (out holds at least CAN_LOG_LINE_MAX bytes). */
-#define CAN_LOG_LINE_MAX 64
-int can_log_format(const hal_can_frame_t *frame, uint64_t time_us, char *out);
 /* Flushes and closes the file. */
 void can_log_close(void);
 

@@ -24,7 +24,6 @@ static struct {
     hal_can_frame_t ring[LOOPBACK_RING];
     unsigned head, count;
     uint32_t frames;
-    uint32_t overruns;
 } bus;
 
 static can_loopback_tap_t tap; /* outside bus: can_loopback_init() keeps it */
@@ -35,7 +34,6 @@ static void to_gripper(const hal_can_frame_t *frame)
         return;
     }
     if (bus.count == LOOPBACK_RING) {
-        bus.overruns++;
         bus.head = (bus.head + 1u) % LOOPBACK_RING;
         bus.count--;
     }

@@ -15,14 +15,13 @@ static bool sc_send(void *ctx, const hal_can_frame_t *frame)
         s->last_error = rc;
         return false;
     }
-    s->tx_frames++;
     return true;
 }
 
 static void push(can_socketcan_t *s, const hal_can_frame_t *frame)
 {
     if (s->count == CAN_SOCKETCAN_RING) {
-        s->rx_overruns++; /* drop the oldest: the newest data matters most */
+        /* drop the oldest: the newest data matters most */
         s->head = (s->head + 1u) % CAN_SOCKETCAN_RING;
         s->count--;
     }
@@ -35,7 +34,6 @@ void can_socketcan_drain(can_socketcan_t *s)
     hal_can_frame_t frame;
     int rc;
     while ((rc = can_adapt_recv(s->fd, &frame)) > 0) {
-        s->rx_frames++;
         push(s, &frame);
     }
     if (rc < 0) {

@@ -18,8 +18,8 @@ typedef struct {
     hal_can_t can;
     hal_can_frame_t ring[CAN_SOCKETCAN_RING];
     unsigned head, count;
-    uint32_t rx_frames, tx_frames, tx_errors, rx_overruns;
-    int last_error; /* negative errno of the last failed operation */
+    uint32_t tx_errors; /* sends the socket refused */
+    int last_error;     /* negative errno of the last failed operation */
 } can_socketcan_t;
 
 /* Opens and binds; false with a message in err. */

@@ -452,6 +452,12 @@ static void apply_host(host_options_t *opts)
     apply_binary(opts);
 }
 
+static void config_file_forget(void)
+{
+    free(loaded.sections);
+    memset(&loaded, 0, sizeof(loaded));
+}
+
 bool config_file_load(const char *path, host_options_t *opts)
 {
     config_file_forget();
@@ -624,10 +630,4 @@ void config_file_apply(wsg_config_t *cfg)
         cfg->move_retarget = v[MOT_MOVE_RETARGET].number != 0.0;
     }
     /* disconnect_faststop reaches the device through the options */
-}
-
-void config_file_forget(void)
-{
-    free(loaded.sections);
-    memset(&loaded, 0, sizeof(loaded));
 }

@@ -26,7 +26,5 @@ unsigned config_file_devices(void);
 const char *config_file_device_model(unsigned index, const char *fallback);
 bool config_file_device_port(unsigned index, bool udp, int *port);
 void config_file_apply_device(unsigned index, wsg_config_t *cfg);
-/* Forgets a loaded file (tests). */
-void config_file_forget(void);
 
 #endif

@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "bin_coverage.h"
-#include "simctl_names.h"
+#include "sim/names.h"
 
 #define COMMANDS_MAX 64
 #define CALL_SLOTS (WSG_GCL_ARGS_MAX + 1) /* argc 0..WSG_GCL_ARGS_MAX (more counts as the last) */

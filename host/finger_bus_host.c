@@ -129,15 +129,3 @@ bool finger_bus_host_inject(unsigned slot, finger_fault_t fault, bool active)
     gripper_step_now(fleet_gripper(0));
     return sent;
 }
-
-bool finger_bus_host_fault_by_name(const char *name, finger_fault_t *fault)
-{
-    static const char *const names[] = {"power", "init", "unplug"};
-    for (unsigned i = 0; i < 3u; i++) {
-        if (strcmp(name, names[i]) == 0) {
-            *fault = (finger_fault_t)i;
-            return true;
-        }
-    }
-    return false;
-}

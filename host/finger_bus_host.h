@@ -28,7 +28,5 @@ const char *finger_bus_host_describe(void);
  * SIMCTL frame on the bus: works for the loopback fingers and for
  * tools/fingersim alike. False for a bad slot or a failed send. */
 bool finger_bus_host_inject(unsigned slot, finger_fault_t fault, bool active);
-/* Parses "power", "init", "unplug". */
-bool finger_bus_host_fault_by_name(const char *name, finger_fault_t *fault);
 
 #endif

@@ -8,8 +8,14 @@
 #include "finger_bus_host.h"
 #include "hal_clock.h"
 #include "log.h"
+#include "sim/observers.h"
 #include "sim/sim_models.h"
-#include "simctl_hooks.h"
+#include "wsg/wsg_bin.h"
+#include "wsg/wsg_gcl.h"
+
+/* What a connection opened without a driver (--protocol auto) may speak:
+ * the binary protocol claims its preamble byte, GCL everything else. */
+static const wsg_proto_driver_t *const host_drivers[] = {&wsg_bin_driver, &wsg_gcl_driver};
 
 /* A part given at start sits between the jaws: open them beyond it. */
 static void place_start_part(gripper_t *g)
@@ -73,6 +79,7 @@ void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
     sim_world_hal(&g->world, &hal);
     hal.can = index == 0 ? finger_bus_host_can() : NULL;
     wsg_device_init(&g->device, &g->config, &hal);
+    wsg_conn_set_drivers(&g->device, host_drivers, sizeof(host_drivers) / sizeof(host_drivers[0]));
     wsg_runner_init(&g->runner, &g->device, advance_world, g);
     if (index == 0) {
         simctl_hooks_attach(&g->device, opts);

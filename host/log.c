@@ -296,8 +296,3 @@ void host_log_line(const char *fmt, ...)
     len += n < 0 ? 0 : (size_t)n;
     emit(line, len < sizeof(line) - 2 ? len : sizeof(line) - 2);
 }
-
-unsigned long host_log_dropped(void)
-{
-    return sink.dropped;
-}

@@ -35,7 +35,5 @@ void host_log_peer(hal_log_level_t level, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));
 /* One whole line as it is (the trace), through the same writer. */
 void host_log_line(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-/* Lines dropped so far because stderr could not take them. */
-unsigned long host_log_dropped(void);
 
 #endif

@@ -10,7 +10,7 @@
 #include <unistd.h>
 
 #include "log.h"
-#include "simclock.h"
+#include "sim/clock.h"
 
 /* The callers speak poll()'s event bits; epoll's have the same values. */
 _Static_assert(EPOLLIN == POLLIN && EPOLLOUT == POLLOUT && EPOLLERR == POLLERR &&
@@ -117,6 +117,11 @@ static bool watch_signals(void)
     return signal_fd >= 0 && loop_watch(signal_fd, POLLIN, on_signal_fd, NULL);
 }
 
+static void loop_request_stop(void)
+{
+    stop_requested = true;
+}
+
 void loop_init(void)
 {
     close_descriptors();
@@ -144,11 +149,6 @@ void loop_set_hangup(void (*on_hangup)(void))
 bool loop_stop_requested(void)
 {
     return stop_requested;
-}
-
-void loop_request_stop(void)
-{
-    stop_requested = true;
 }
 
 static uint64_t token(int slot)

@@ -29,7 +29,6 @@ void loop_init(void);
  * SIGHUP is ignored. */
 void loop_set_hangup(void (*on_hangup)(void));
 bool loop_stop_requested(void);
-void loop_request_stop(void);
 
 /* Runs after every wake-up, before any callback: brings simulated time up to
  * date, so input is handled at the instant it arrived. */

@@ -2,7 +2,9 @@
 /* build/wsgsim: the virtual WSG gripper on a Linux host. */
 #include <stdio.h>
 
+#include "bin_udp_server.h"
 #include "can_log.h"
+#include "coverage.h"
 #include "finger_bus_host.h"
 #include "fleet.h"
 #include "log.h"
@@ -10,12 +12,11 @@
 #include "net.h"
 #include "notify.h"
 #include "options.h"
-#include "coverage.h"
 #include "record.h"
-#include "scenario.h"
-#include "simclock.h"
-#include "simctl.h"
-#include "simctl_run.h"
+#include "sim/clock.h"
+#include "sim/control.h"
+#include "sim/scenario.h"
+#include "sim/scheduler.h"
 #include "tcp_server.h"
 #include "udp_server.h"
 

@@ -11,7 +11,7 @@
 
 #include "fleet.h"
 #include "log.h"
-#include "simctl.h"
+#include "sim/control.h"
 
 static int bin_tcp_port = -1;
 static int bin_udp_port = -1;

@@ -4,14 +4,14 @@
 #include <stdlib.h>
 
 #include "gripper.h"
-#include "wsg/wsg_gcl.h"
 #include "hal_clock.h"
+#include "sim/clock.h"
+#include "sim/delay.h"
+#include "sim/faults.h"
+#include "sim/names.h"
+#include "sim/scheduler.h"
 #include "sim/sim_world.h"
-#include "simclock.h"
-#include "simctl_delay.h"
-#include "simctl_faults.h"
-#include "simctl_names.h"
-#include "simctl_run.h"
+#include "wsg/wsg_gcl.h"
 
 static double ms(uint64_t us)
 {

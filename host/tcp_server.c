@@ -15,7 +15,7 @@
 #include "log.h"
 #include "loop.h"
 #include "net.h"
-#include "simctl_delay.h"
+#include "sim/delay.h"
 #include "wsg/wsg_bin.h"
 #include "wsg/wsg_gcl.h"
 #include "wsg/wsg_outq.h"
@@ -282,7 +282,7 @@ static bool setup_client(tcp_client_t *c, int fd, const struct sockaddr_storage 
     if (c->outq.ring == NULL) {
         return false;
     }
-    /* --protocol auto: the connection's first byte chooses (firmware/net/conn.c) */
+    /* --protocol auto: the first byte chooses from the gripper's drivers (host/gripper.c) */
     static const wsg_proto_driver_t *const drivers[] = {NULL, &wsg_gcl_driver, &wsg_bin_driver};
     gripper_t *g = c->server->gripper;
     wsg_conn_open(&c->conn, &g->device, drivers[g->opts.protocol], WSG_TRANSPORT_STREAM, &tcp_io,

@@ -33,9 +33,9 @@ FUZZ_CORE_SRC := $(FIRMWARE_SRC) $(SIM_SRC) host/can_loopback.c
 bench-deps:
 	@mk/deps.sh $(BENCH_DEBS)
 
-$(BENCH_BIN): $(BENCH_SRC) $(wildcard tools/bench/*.h) $(BUILD)/libwsgcore.a
+$(BENCH_BIN): $(BENCH_SRC) $(wildcard tools/bench/*.h) $(CORE_LIBS)
 	@mkdir -p $(dir $@)
-	$(CC) $(BENCH_CFLAGS) $(LDFLAGS_BASE) -o $@ $(BENCH_SRC) $(BUILD)/libwsgcore.a -lm
+	$(CC) $(BENCH_CFLAGS) $(LDFLAGS_BASE) -o $@ $(BENCH_SRC) $(CORE_LIBS) -lm
 
 $(BENCH_FW_SIZES): firmware
 	@mkdir -p $(dir $@)

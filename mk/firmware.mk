@@ -53,7 +53,7 @@ FW_BOARD_COMMON := startup.c clock.c cmsdk_uart.c log.c no_heap.c app.c serial_p
 FW_SERIAL_SRC := $(FW_CORE_SRC) $(addprefix $(FW_BOARD)/,$(FW_BOARD_COMMON) main_serial.c)
 FW_LWIP_BOARD_SRC := $(FW_CORE_SRC) $(addprefix $(FW_BOARD)/,$(FW_BOARD_COMMON) main_lwip.c \
 	lan9118.c lan9118_netif.c gcl_tcp.c lwip_udp.c lwip/sys_arch.c web_status.c) \
-	host/simctl_names.c
+	host/sim/names.c
 # lwIP 2.1: IPv4 core, raw API, Ethernet/ARP, the httpd app (the status page);
 # no sockets, no IPv6.
 FW_LWIP_LIB_SRC := core/init.c core/def.c core/inet_chksum.c core/ip.c core/mem.c core/memp.c \

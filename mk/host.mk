@@ -1,10 +1,13 @@
 # SPDX-License-Identifier: BSD-3-Clause
 # The Linux build of the virtual gripper: build/wsgsim, and the two
 # libraries it links: libwsgfw.a (firmware/, the device core and its
-# protocol drivers) and libwsgsim.a (hal/sim/, the simulated hardware).
+# protocol drivers, the binary protocol's frame codec included) and
+# libwsgsim.a (hal/sim/, the simulated hardware). Everything that links
+# the core links both (CORE_LIBS), the simulation first: its finger nodes
+# use the finger bus's wire format from libwsgfw.a.
 # The host sees the public headers only (PUBLIC_INC); its capacities come
 # from host/opts/wsgopts.h like every other Linux build of the libraries.
-HOST_SRC := $(sort $(wildcard host/*.c))
+HOST_SRC := $(sort $(wildcard host/*.c host/sim/*.c))
 HOST_PKGS := inih libcjson libsystemd
 HOST_CFLAGS = $(CFLAGS_BASE) -D_GNU_SOURCE $(PUBLIC_INC) -Ihost $(shell pkg-config --cflags $(HOST_PKGS) 2>/dev/null)
 HOST_LIBS = $(shell pkg-config --libs $(HOST_PKGS) 2>/dev/null) -lm
@@ -32,11 +35,6 @@ $(BUILD)/libwsgfw.a: $(FW_LIB_OBJ)
 	ar rcs $@ $^
 
 $(BUILD)/libwsgsim.a: $(SIM_LIB_OBJ)
-	@rm -f $@
-	ar rcs $@ $^
-
-# Both libraries in one archive, for the tools that link the whole core.
-$(BUILD)/libwsgcore.a: $(CORE_OBJ)
 	@rm -f $@
 	ar rcs $@ $^
 

@@ -13,10 +13,10 @@ $(BUILD)/obj/tests/host/%.o: tests/host/%.c | deps
 	@mkdir -p $(dir $@)
 	$(CC) $(LOOP_TEST_CFLAGS) -MMD -MP -c $< -o $@
 
-$(LOOP_TEST_BIN): $(LOOP_TEST_OBJ) $(filter-out %/host/main.o,$(HOST_OBJ)) $(BUILD)/libwsgcore.a
+$(LOOP_TEST_BIN): $(LOOP_TEST_OBJ) $(filter-out %/host/main.o,$(HOST_OBJ)) $(CORE_LIBS)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS_BASE) -o $@ $(LOOP_TEST_OBJ) $(filter-out %/host/main.o,$(HOST_OBJ)) \
-		$(BUILD)/libwsgcore.a $(LOOP_TEST_LIBS)
+		$(CORE_LIBS) $(LOOP_TEST_LIBS)
 
 .PHONY: loop-tests
 loop-tests: $(LOOP_TEST_BIN)

@@ -6,9 +6,10 @@
 #   make simctl-tests SAN=1   the same under ASan/UBSan
 #   make simctl-e2e           only the control channel's end-to-end tests
 SIMCTL_TEST_SRC := $(sort $(wildcard tests/simctl/*.c))
-SIMCTL_TEST_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(SIMCTL_TEST_SRC))
+# The GCL session is the fake port's connection (the host is the real one).
+SIMCTL_TEST_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(SIMCTL_TEST_SRC)) $(FAKE_CONN_OBJ)
 SIMCTL_TEST_BIN := $(BUILD)/tests/simctl_tests
-SIMCTL_TEST_CFLAGS = $(HOST_CFLAGS) -Itests/simctl $(shell pkg-config --cflags check)
+SIMCTL_TEST_CFLAGS = $(HOST_CFLAGS) -Itests/simctl -Itests/fake $(shell pkg-config --cflags check)
 SIMCTL_TEST_LIBS = $(HOST_LIBS) $(shell pkg-config --libs check)
 
 $(BUILD)/obj/tests/simctl/%.o: tests/simctl/%.c | deps

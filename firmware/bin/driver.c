@@ -210,8 +210,15 @@ static void bin_close(wsg_conn_t *c, wsg_close_reason_t why)
     bin_updates_stop(bin_of(c));
 }
 
+/* 0xAA starts the binary preamble and no GCL line. */
+static bool bin_detect(uint8_t first_byte)
+{
+    return first_byte == 0xAAu;
+}
+
 const wsg_proto_driver_t wsg_bin_driver = {
     .name = "binary",
+    .detect = bin_detect,
     .open = bin_open,
     .input = bin_input,
     .end_datagram = bin_end_datagram,

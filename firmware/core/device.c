@@ -4,18 +4,7 @@
 #include <string.h>
 
 #include "priv/motion_tuning.h"
-#include "priv/textbuf.h"
 #include "priv/wsg_dev.h"
-
-void device_log(hal_log_level_t level, const char *prefix, const char *what)
-{
-    char storage[128];
-    textbuf_t tb;
-    textbuf_init(&tb, storage, sizeof(storage));
-    textbuf_put_str(&tb, prefix);
-    textbuf_put_str(&tb, what);
-    hal_log(level, storage);
-}
 
 static void power_on(wsg_dev_t *dev, const wsg_config_t *cfg)
 {
@@ -87,15 +76,6 @@ uint64_t wsg_device_next_deadline_us(const wsg_device_t *device)
     uint64_t bus = finger_bus_next_deadline_us(&dev->fbus);
     next = bus < next ? bus : next;
     return timers < next ? timers : next;
-}
-
-void device_fast_stop(wsg_dev_t *dev, const char *why)
-{
-    motion_abort(dev, E_CMD_ABORTED);
-    motion_disable(dev); /* manual 3.2.2: a held part is no longer clamped */
-    flags_set(dev, SF_FAST_STOP, true);
-    grip_set_state(dev, GS_ERROR);
-    device_log(HAL_LOG_WARN, "FAST STOP: ", why);
 }
 
 void wsg_device_inject_failure(wsg_device_t *device, const char *name, wsg_status_t status)

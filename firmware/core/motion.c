@@ -6,6 +6,7 @@
  * operation's owner as an event, only from the control step, never from
  * the call that started the operation. */
 #include "priv/motion_tuning.h"
+#include "priv/textbuf.h"
 #include "priv/wsg_dev.h"
 
 static float absf(float v)
@@ -71,7 +72,7 @@ void motion_halt(wsg_dev_t *dev, bool fast)
     dev->hal.axis.ops->stop(dev->hal.axis.ctx, fast);
 }
 
-void motion_disable(wsg_dev_t *dev)
+static void motion_disable(wsg_dev_t *dev)
 {
     dev->hal.axis.ops->disable(dev->hal.axis.ctx);
 }
@@ -151,6 +152,20 @@ void motion_abort(wsg_dev_t *dev, wsg_status_t status)
         dev->motion.abort_requested = true;
         dev->motion.abort_status = status;
     }
+}
+
+void motion_fast_stop(wsg_dev_t *dev, const char *why)
+{
+    motion_abort(dev, E_CMD_ABORTED);
+    motion_disable(dev); /* manual 3.2.2: a held part is no longer clamped */
+    flags_set(dev, SF_FAST_STOP, true);
+    grip_set_state(dev, GS_ERROR);
+    char storage[128];
+    textbuf_t tb;
+    textbuf_init(&tb, storage, sizeof(storage));
+    textbuf_put_str(&tb, "FAST STOP: ");
+    textbuf_put_str(&tb, why);
+    hal_log(HAL_LOG_WARN, storage);
 }
 
 /* Ends a command on a blocked axis (ERR 29). The drive stays where it is,
@@ -324,7 +339,7 @@ void motion_step(wsg_dev_t *dev)
         return;
     }
     if (runs_into_soft_limit(dev)) {
-        device_fast_stop(dev, "soft limit reached");
+        motion_fast_stop(dev, "soft limit reached");
         return;
     }
     switch (m->kind) {

@@ -166,7 +166,7 @@ wsg_status_t wsg_op_stop(wsg_device_t *device)
 
 wsg_status_t wsg_op_fast_stop(wsg_device_t *device, const char *why)
 {
-    device_fast_stop(dev_of(device), why);
+    motion_fast_stop(dev_of(device), why);
     return E_SUCCESS;
 }
 

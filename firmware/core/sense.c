@@ -7,7 +7,9 @@
 
 #include "hal_clock.h"
 
-float sense_reported_force(const wsg_dev_t *dev)
+/* The force FORCE? reports: the finger measurement in force-control mode,
+ * else the motor's estimate. */
+static float sense_reported_force(const wsg_dev_t *dev)
 {
     return wsg_fingers_force_control(&dev->fingers) ? dev->sensed.finger_force_n
                                                     : dev->sensed.axis.force_n;
@@ -28,6 +30,6 @@ void sense_and_react(wsg_dev_t *dev)
 {
     sense(dev);
     if (flags_severe_fault(dev) && !flags_get(dev, SF_FAST_STOP)) {
-        device_fast_stop(dev, "severe fault (temperature, power or motor current)");
+        motion_fast_stop(dev, "severe fault (temperature, power or motor current)");
     }
 }

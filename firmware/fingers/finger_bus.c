@@ -51,8 +51,6 @@ static void send(finger_bus_t *bus, const hal_can_frame_t *frame)
 {
     if (hal_can_send(bus->can, frame)) {
         bus->tx_frames++;
-    } else {
-        bus->tx_errors++;
     }
 }
 
@@ -171,7 +169,6 @@ static void receive_all(finger_bus_t *bus, wsg_fingers_t *fingers, uint64_t now_
             bus->wake = true; /* only an on-demand bus passes it */
             continue;
         }
-        bus->rx_frames++;
         int slot = fbus_slot_of_node(fbus_node_of(f.id));
         if (slot < 0 || (bus->power_mask & (1u << slot)) == 0u) {
             continue;
@@ -183,7 +180,6 @@ static void receive_all(finger_bus_t *bus, wsg_fingers_t *fingers, uint64_t now_
         s->heard = true;
         s->comm_fault = false;
         s->last_rx_us = now_us;
-        s->rx_frames++;
         dispatch_frame(s, &fingers->slot[slot], &f);
     }
 }

@@ -15,7 +15,7 @@ static const char *const value_names[AS_COUNT] = {
     [AS_SYSFLAGS] = "SYSFLAGS", [AS_TEMP] = "TEMP",
 };
 
-bool autosend_value_by_name(const char *name, wsg_autosend_value_t *value)
+static bool autosend_value_by_name(const char *name, wsg_autosend_value_t *value)
 {
     for (unsigned i = 0; i < AS_COUNT; i++) {
         if (gcl_text_equals(name, value_names[i])) {

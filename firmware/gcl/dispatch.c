@@ -56,7 +56,7 @@ const wsg_gcl_command_t *wsg_gcl_command_at(unsigned i)
     return i < wsg_gcl_command_count() ? &commands[i].info : NULL;
 }
 
-const cmd_entry_t *dispatch_find(const char *name)
+static const cmd_entry_t *dispatch_find(const char *name)
 {
     for (size_t i = 0; i < sizeof(commands) / sizeof(commands[0]); i++) {
         if (strcmp(commands[i].info.name, name) == 0) {

@@ -81,7 +81,6 @@ typedef struct {
 } cmd_entry_t;
 
 /* dispatch.c */
-const cmd_entry_t *dispatch_find(const char *name);
 void dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_status_t line_status);
 
 /* driver.c: formatting and sending; sending changes no state */
@@ -90,7 +89,6 @@ void gcl_send_word(gcl_conn_t *g, const char *word, const char *name);
 void gcl_send_error(gcl_conn_t *g, const char *name, wsg_status_t status);
 
 /* autosend.c */
-bool autosend_value_by_name(const char *name, wsg_autosend_value_t *value);
 void autosend_reschedule(gcl_conn_t *g);
 void autosend_fire(wsg_timer_t *timer, uint64_t now_us);
 bool autosend_any(const gcl_conn_t *g);

@@ -5,8 +5,6 @@
 #include <string.h>
 
 #include "priv/conn.h"
-#include "wsg/wsg_bin.h"
-#include "wsg/wsg_gcl.h"
 
 /* Appended: the list is in opening order. */
 static void link_conn(wsg_dev_t *dev, conn_t *c)
@@ -64,11 +62,26 @@ void wsg_conn_open(wsg_conn_t *conn, wsg_device_t *device, const wsg_proto_drive
     }
 }
 
-/* The protocol auto-detection hook: the first byte of a connection opened
- * without a driver chooses one: 0xAA, the binary preamble, no GCL line. */
-static const wsg_proto_driver_t *detect(uint8_t first_byte)
+void wsg_conn_set_drivers(wsg_device_t *device, const wsg_proto_driver_t *const *drivers,
+                          size_t count)
 {
-    return first_byte == 0xAAu ? &wsg_bin_driver : &wsg_gcl_driver;
+    wsg_dev_t *dev = dev_of(device);
+    dev->drivers = drivers;
+    dev->driver_count = count;
+}
+
+/* Protocol auto-detection: the first byte of a connection opened without a
+ * driver chooses one from the port's table, the first that claims it (a
+ * driver without detect() claims any byte). NULL: the table has none. */
+static const wsg_proto_driver_t *detect(const wsg_dev_t *dev, uint8_t first_byte)
+{
+    for (size_t i = 0; i < dev->driver_count; i++) {
+        const wsg_proto_driver_t *drv = dev->drivers[i];
+        if (drv->detect == NULL || drv->detect(first_byte)) {
+            return drv;
+        }
+    }
+    return NULL;
 }
 
 void wsg_conn_input(wsg_conn_t *conn, const uint8_t *bytes, size_t len)
@@ -78,7 +91,10 @@ void wsg_conn_input(wsg_conn_t *conn, const uint8_t *bytes, size_t len)
         return;
     }
     if (c->drv == NULL) {
-        c->drv = detect(bytes[0]);
+        c->drv = detect(c->dev, bytes[0]);
+        if (c->drv == NULL) {
+            return; /* no driver speaks it: nothing can answer */
+        }
         c->drv->open(conn);
     }
     c->drv->input(conn, bytes, len);
@@ -114,7 +130,7 @@ void wsg_conn_close(wsg_conn_t *conn, wsg_close_reason_t why)
     c->open = false;
     c->io = NULL;
     if (raise_fast_stop) {
-        device_fast_stop(c->dev, "connection closed without BYE");
+        motion_fast_stop(c->dev, "connection closed without BYE");
     }
 }
 

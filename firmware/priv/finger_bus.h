@@ -30,7 +30,6 @@ typedef struct {
     uint64_t desc_request_us;
     uint8_t tare_count; /* as the node last reported it */
     fbus_bulk_rx_t bulk;
-    uint32_t rx_frames;
 } fbus_slot_t;
 
 typedef struct {
@@ -46,9 +45,7 @@ typedef struct {
     float limit_n;
     bool force_request; /* limit_n waits for the supervisor */
     /* statistics */
-    uint32_t rx_frames;
     uint32_t tx_frames;
-    uint32_t tx_errors;
     uint32_t comm_faults;
     /* On an on-demand bus: the bus ticks until then, as something changed */
     bool wake;

@@ -83,6 +83,8 @@ typedef struct wsg_dev {
     wsg_timer_queue_t timers;    /* AUTOSEND subscriptions and other real deadlines */
     struct wsg_conn_impl *conns; /* open connections (intrusive list, oldest first) */
     struct wsg_conn_impl *conns_tail;
+    const wsg_proto_driver_t *const *drivers; /* the port's, for auto-detection */
+    size_t driver_count;
     uint64_t next_conn_id;
     wsg_snapshot_t snapshot;
     /* observers: NULL unless attached */
@@ -117,9 +119,6 @@ static inline wsg_device_t *dev_public(wsg_dev_t *dev)
 void sense(wsg_dev_t *dev);
 /* sense(), then a severe fault raises FAST STOP. */
 void sense_and_react(wsg_dev_t *dev);
-/* The force FORCE? reports: the finger measurement in force-control mode,
- * else the motor's estimate. */
-float sense_reported_force(const wsg_dev_t *dev);
 
 /* flags.c: the register (pure) */
 void flags_set(wsg_dev_t *dev, wsg_sysflag_t flag, bool on);
@@ -131,11 +130,12 @@ bool flags_severe_fault(const wsg_dev_t *dev);
 /* motion.c: the supervisor, the only writer of the axis */
 void motion_drive(wsg_dev_t *dev, float target_mm, float speed_mm_s, float force_n);
 void motion_halt(wsg_dev_t *dev, bool fast);
-void motion_disable(wsg_dev_t *dev);
 wsg_status_t motion_check_allowed(wsg_dev_t *dev, bool needs_reference);
 bool motion_supersede_move(wsg_dev_t *dev);
 void motion_begin(wsg_dev_t *dev, wsg_owner_t *owner, wsg_motion_kind_t kind);
 void motion_abort(wsg_dev_t *dev, wsg_status_t status);
+/* FAST STOP: ends the motion, disables the drive, latches the flag. */
+void motion_fast_stop(wsg_dev_t *dev, const char *why);
 void motion_step(wsg_dev_t *dev);
 void motion_apply_force_request(wsg_dev_t *dev);
 void grip_set_state(wsg_dev_t *dev, wsg_grip_state_t state);
@@ -143,9 +143,5 @@ void grip_monitor_step(wsg_dev_t *dev);
 void motion_block_watch_step(wsg_dev_t *dev);
 /* How often the supervisor must look: 0 when nothing can change by itself. */
 uint32_t motion_tick_us(const wsg_dev_t *dev);
-
-/* device.c */
-void device_fast_stop(wsg_dev_t *dev, const char *why);
-void device_log(hal_log_level_t level, const char *prefix, const char *what);
 
 #endif

@@ -206,7 +206,6 @@ static void send_fmf(finger_node_t *node)
     float milli = value * 1000.0f;
     fbus_measure_t m = {(int32_t)(milli < 0.0f ? milli - 0.5f : milli + 0.5f), node->data_counter++,
                         node->tared ? FBUS_MEASURE_TARED : 0u, node->tare_count};
-    node->last_milli = m.value_milli;
     hal_can_frame_t f;
     fbus_pack_measure(&f, node->node, &m);
     send(node, &f);
@@ -348,11 +347,6 @@ static bool parse_word(const char *text, size_t len, fbus_type_t *type)
         }
     }
     return false;
-}
-
-bool finger_node_parse_type(const char *name, fbus_type_t *type)
-{
-    return parse_word(name, strlen(name), type);
 }
 
 bool finger_node_parse_pair(const char *text, fbus_type_t types[FBUS_SLOTS])

@@ -44,7 +44,6 @@ typedef struct {
     float tare_n;
     bool tared;
     uint8_t tare_count;
-    int32_t last_milli;
     /* DSA */
     uint16_t cells[FBUS_DSA_ROWS * FBUS_DSA_COLS];
     uint32_t frames_sent;
@@ -67,8 +66,6 @@ uint64_t finger_node_next_due_us(const finger_node_t *node);
 /* The DSA pressure pattern for a contact force (exposed for tests). */
 void finger_node_dsa_pattern(float force_n, uint16_t *cells);
 
-/* "none", "generic", "fmf", "dsa" -> type; false when unknown. */
-bool finger_node_parse_type(const char *name, fbus_type_t *type);
 /* "A,B" or "A" (slot 1 none) -> two types; false when malformed. */
 bool finger_node_parse_pair(const char *text, fbus_type_t types[FBUS_SLOTS]);
 

@@ -49,6 +49,9 @@ typedef struct wsg_conn {
 
 typedef struct wsg_proto_driver {
     const char *name;
+    /* Auto-detection: does a connection whose first byte is this one speak
+     * this protocol? NULL: any byte (a catch-all, last in a table). */
+    bool (*detect)(uint8_t first_byte);
     void (*open)(wsg_conn_t *c);
     void (*input)(wsg_conn_t *c, const uint8_t *bytes, size_t len);
     void (*end_datagram)(wsg_conn_t *c);
@@ -59,8 +62,14 @@ typedef struct wsg_proto_driver {
     void (*close)(wsg_conn_t *c, wsg_close_reason_t why);
 } wsg_proto_driver_t;
 
-/* drv NULL: the driver is chosen by the first byte that arrives (0xAA:
- * the binary protocol, anything else GCL). */
+/* The protocol drivers a connection opened without one may choose from, in
+ * the order they are asked (TinyUSB's application class driver list): the
+ * port supplies its table once after wsg_device_init(); a reset keeps it.
+ * The table is the port's (static, const), the device keeps the pointer. */
+void wsg_conn_set_drivers(wsg_device_t *dev, const wsg_proto_driver_t *const *drivers,
+                          size_t count);
+/* drv NULL: the first byte that arrives chooses the driver from the
+ * device's table (wsg_conn_set_drivers); bytes no driver claims are dropped. */
 void wsg_conn_open(wsg_conn_t *c, wsg_device_t *dev, const wsg_proto_driver_t *drv,
                    wsg_transport_t transport, const wsg_conn_io_t *io, void *io_ctx);
 void wsg_conn_input(wsg_conn_t *c, const uint8_t *bytes, size_t len);

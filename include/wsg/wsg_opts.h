@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* Capacities and options of the device core, lwIP opt.h style: each build
- * provides a "wsgopts.h" (host/wsgopts.h, hal/boards/<board>/wsgopts.h,
- * tests/fake/wsgopts.h) that overrides what it needs; everything else takes
+ * provides a "wsgopts.h" (host/opts/wsgopts.h, hal/boards/<board>/wsgopts.h,
+ * tests/opts/wsgopts.h) that overrides what it needs; everything else takes
  * the default below. Never pass these as -D flags: every translation unit
  * of one build must see the same values, since they size public storage. */
 #ifndef WSG_OPTS_H

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* Harness of the finger-bus unit tests: a virtual clock, the device core on
- * the in-process loopback bus (host/can_loopback.c) with one GCL session,
- * and a frame tap that counts what crossed the bus. */
+/* The finger-bus unit tests on the fake port (tests/fake/fake_device.h):
+ * the device core on the in-process loopback bus (host/can_loopback.c),
+ * stepped only when due as a port steps it, and GCL shortcuts on h_main. */
 #ifndef CAN_HARNESS_H
 #define CAN_HARNESS_H
 
@@ -9,26 +9,19 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "priv/wsg_dev.h"
+#include "fake_device.h"
 #include "sim/finger_node.h"
-#include "sim/sim_world.h"
-#include "wsg/wsg_conn.h"
-
-extern wsg_device_t t_dev;
-extern sim_world_t t_world;
-/* The device's private state (white box). */
-wsg_dev_t *t_devp(void);
-extern uint64_t t_now_us;
 
 /* Power-on with the given fingers on the loopback bus (NULL: no bus). */
 void t_start(const char *fingers);
 /* 1 ms ticks: clock, world, device step when due. */
 void t_run_ms(uint32_t ms);
-/* Sends one GCL line and returns the first reply line (without '\n'). */
+/* Sends one GCL line and returns its first reply line (updates skipped). */
 const char *t_ask(const char *line);
 /* Ticks until t_ask(line) answers `reply`; elapsed ms or -1. */
 int t_until(const char *line, const char *reply, uint32_t timeout_ms);
 float t_ask_float(const char *line); /* the number after '=' */
+/* A log message at any level contains text. */
 bool t_log_contains(const char *text);
 
 Suite *proto_suite(void);

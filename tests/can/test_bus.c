@@ -91,7 +91,7 @@ START_TEST(two_dsa_fingers_fit_one_reply)
 {
     t_start("dsa,dsa");
     t_run_ms(300);
-    t_world.axis.force_n = 0.0f;
+    h_world.axis.force_n = 0.0f;
     const char *reply = t_ask("FDATA?");
     ck_assert_msg(strncmp(reply, "FDATA=[[", 8) == 0, "%s", reply);
     ck_assert_msg(strcmp(reply + strlen(reply) - 2, "]]") == 0, "%s", reply);
@@ -101,7 +101,7 @@ END_TEST
 /* GRIP on a 40 mm part; returns after the grip settled for settle_ms. */
 static void grip_part(float force, uint32_t settle_ms)
 {
-    sim_axis_place_part(&t_world.axis, 40.0f, 100.0f);
+    sim_axis_place_part(&h_world.axis, 40.0f, 100.0f);
     ck_assert_str_eq(t_ask("HOME()"), "ACK HOME");
     t_run_ms(3000);
     char line[32];
@@ -118,8 +118,8 @@ START_TEST(force_control_regulates_on_the_fmf)
     /* untared: the finger reads 0.6 N too much, so the jaws push 0.6 N less */
     ck_assert_float_eq_tol(t_ask_float("FORCE?"), 30.0f, 0.1f);
     ck_assert_float_eq_tol(t_ask_float("FDATA[0]?"), 30.0f, 0.1f);
-    ck_assert_float_eq_tol(t_world.axis.force_n, 29.4f, 0.1f);
-    ck_assert_float_eq_tol(wsg_device_snapshot(&t_dev)->motor_force_n, 29.4f, 0.1f);
+    ck_assert_float_eq_tol(h_world.axis.force_n, 29.4f, 0.1f);
+    ck_assert_float_eq_tol(wsg_device_snapshot(&h_dev)->motor_force_n, 29.4f, 0.1f);
     ck_assert_str_eq(t_ask("SYSFLAGS[9]?"), "SYSFLAGS[9]=1");
     const char *dsa = t_ask("FDATA[1]?");
     ck_assert_msg(strstr(dsa, ",0,0,0,0,0,") != NULL && strstr(dsa, "1") != NULL, "%s", dsa);
@@ -133,7 +133,7 @@ START_TEST(tared_fmf_gives_the_true_force)
     ck_assert_str_eq(t_ask("TARE()"), "ACK TARE");
     t_run_ms(50);
     grip_part(40.0f, 1500);
-    ck_assert_float_eq_tol(t_world.axis.force_n, 40.0f, 0.1f);
+    ck_assert_float_eq_tol(h_world.axis.force_n, 40.0f, 0.1f);
     ck_assert_float_eq_tol(t_ask_float("FORCE?"), 40.0f, 0.1f);
 }
 END_TEST
@@ -204,14 +204,14 @@ START_TEST(clock_jumps_keep_loopback_fingers)
     ck_assert_str_eq(t_ask("TARE()"), "ACK TARE");
     t_run_ms(50);
     for (int i = 0; i < 3; i++) {
-        t_now_us += 5000000u; /* a paused clock stepped by 5 s */
-        sim_world_advance(&t_world, t_now_us);
-        wsg_device_step(&t_dev);
+        h_now_us += 5000000u; /* a paused clock stepped by 5 s */
+        sim_world_advance(&h_world, h_now_us);
+        wsg_device_step(&h_dev);
         ck_assert_str_eq(t_ask("FFLAGS[0]?"), "FFLAGS[0]=" FLAGS_OK);
     }
     t_run_ms(20);
     ck_assert_float_eq_tol(t_ask_float("FDATA[0]?"), 0.0f, 0.08f); /* still tared */
-    ck_assert_uint_eq(t_devp()->fbus.comm_faults, 0);
+    ck_assert_uint_eq(h_devp()->fbus.comm_faults, 0);
 }
 END_TEST
 
@@ -222,10 +222,10 @@ START_TEST(bus_frame_rates)
     t_start("fmf,dsa");
     t_run_ms(100);
     uint32_t before = can_loopback_frames();
-    uint32_t tx = t_devp()->fbus.tx_frames;
+    uint32_t tx = h_devp()->fbus.tx_frames;
     t_run_ms(300);
-    ck_assert_uint_ge(t_devp()->fbus.tx_frames - tx, 29);
-    ck_assert_uint_le(t_devp()->fbus.tx_frames - tx, 31);
+    ck_assert_uint_ge(h_devp()->fbus.tx_frames - tx, 29);
+    ck_assert_uint_le(h_devp()->fbus.tx_frames - tx, 31);
     /* 30 STATE + 30 MEASURE + 6 x 28 BULK + 6 heartbeats */
     uint32_t frames = can_loopback_frames() - before;
     ck_assert_uint_ge(frames, 224);
@@ -239,20 +239,20 @@ START_TEST(idle_bus_sleeps_and_wakes_intact)
 {
     t_start("fmf,dsa");
     t_run_ms(1000);
-    ck_assert_uint_eq(wsg_device_next_deadline_us(&t_dev), UINT64_MAX);
+    ck_assert_uint_eq(wsg_device_next_deadline_us(&h_dev), UINT64_MAX);
     uint32_t frames = can_loopback_frames();
-    t_now_us += 10000000u; /* 10 s with nothing due: nobody steps the device */
-    sim_world_advance(&t_world, t_now_us);
+    h_now_us += 10000000u; /* 10 s with nothing due: nobody steps the device */
+    sim_world_advance(&h_world, h_now_us);
     ck_assert_uint_eq(can_loopback_frames() - frames, 0);
     ck_assert_str_eq(t_ask("FFLAGS?"), "FFLAGS=[" FLAGS_OK "," FLAGS_OK "]");
-    wsg_device_step(&t_dev); /* a command's step: a whole bus cycle at this instant */
+    wsg_device_step(&h_dev); /* a command's step: a whole bus cycle at this instant */
     ck_assert_uint_gt(can_loopback_frames() - frames, 0);
     ck_assert_str_eq(t_ask("FFLAGS?"), "FFLAGS=[" FLAGS_OK "," FLAGS_OK "]");
     ck_assert_str_eq(t_ask("FTYPE?"), "FTYPE=[\"fmf\",\"dsa\"]");
     ck_assert_float_eq_tol(t_ask_float("FDATA[0]?"), 0.6f, 0.1f);
     ck_assert_str_eq(t_ask("SYSFLAGS[17]?"), "SYSFLAGS[17]=0");
-    ck_assert_uint_eq(t_devp()->fbus.comm_faults, 0);
-    ck_assert_uint_eq(wsg_device_next_deadline_us(&t_dev), UINT64_MAX);
+    ck_assert_uint_eq(h_devp()->fbus.comm_faults, 0);
+    ck_assert_uint_eq(wsg_device_next_deadline_us(&h_dev), UINT64_MAX);
 }
 END_TEST
 
@@ -262,11 +262,11 @@ START_TEST(idle_bus_wakes_for_tare_and_faults)
     t_start("fmf,dsa");
     t_run_ms(1000);
     ck_assert_str_eq(t_ask("TARE()"), "ACK TARE");
-    ck_assert_uint_lt(wsg_device_next_deadline_us(&t_dev), UINT64_MAX);
+    ck_assert_uint_lt(wsg_device_next_deadline_us(&h_dev), UINT64_MAX);
     t_run_ms(30);
     ck_assert_float_eq_tol(t_ask_float("FDATA[0]?"), 0.0f, 0.08f);
     t_run_ms(1000);
-    ck_assert_uint_eq(wsg_device_next_deadline_us(&t_dev), UINT64_MAX);
+    ck_assert_uint_eq(wsg_device_next_deadline_us(&h_dev), UINT64_MAX);
     t_run_ms(1); /* the host steps the device before it injects (finger_bus_host.c) */
     inject(0, FBUS_FAULT_UNPLUG);
     t_run_ms(250);

@@ -31,6 +31,7 @@
 #include "hal_log.h"
 #include "sim/sim_models.h"
 #include "sim/sim_world.h"
+#include "wsg/wsg_bin.h"
 #include "wsg/wsg_conn.h"
 #include "wsg/wsg_gcl.h"
 
@@ -243,6 +244,8 @@ static void power_on(uint8_t config_byte)
     sim_world_hal(&world, &hal);
     hal.can = &fuzz_can;
     wsg_device_init(&device, &cfg, &hal);
+    static const wsg_proto_driver_t *const drivers[] = {&wsg_bin_driver, &wsg_gcl_driver};
+    wsg_conn_set_drivers(&device, drivers, sizeof(drivers) / sizeof(drivers[0]));
     for (unsigned i = 0; i < FUZZ_SESSIONS; i++) {
         open_slot(i);
     }

@@ -12,7 +12,7 @@
 #include <unistd.h>
 
 #include "loop.h"
-#include "simclock.h"
+#include "sim/clock.h"
 
 #define MANY 200
 

@@ -11,25 +11,12 @@
 #include "fleet.h"
 #include "hal_clock.h"
 #include "options.h"
-#include "simclock.h"
-#include "simctl_cmd.h"
-#include "simctl_delay.h"
+#include "sim/clock.h"
+#include "sim/commands.h"
+#include "sim/delay.h"
 
-t_client_t t_gcl;
+h_client_t t_gcl;
 static char *last_reply;
-
-static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t kind)
-{
-    t_client_t *c = ctx;
-    (void)kind;
-    ck_assert_msg(len > 0 && line[len - 1] == '\n' && len < T_LINE_LEN, "not one line");
-    ck_assert_uint_lt(c->count, T_LINES_MAX);
-    memcpy(c->lines[c->count], line, len - 1);
-    c->lines[c->count][len - 1] = '\0';
-    c->count++;
-}
-
-static const wsg_conn_io_t capture_io = {write_line};
 
 void t_setup(void)
 {
@@ -49,9 +36,7 @@ void t_setup(void)
 
 void t_reopen(void)
 {
-    memset(&t_gcl, 0, sizeof(t_gcl));
-    wsg_conn_open(&t_gcl.conn, &fleet_gripper(0)->device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM,
-                  &capture_io, &t_gcl);
+    h_open_on(&t_gcl, &fleet_gripper(0)->device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM);
 }
 
 void t_setup_homed(void)
@@ -63,6 +48,7 @@ void t_setup_homed(void)
 
 void t_teardown(void)
 {
+    ck_assert_msg(!t_gcl.bad_line, "the GCL session got something that is not one whole line");
     simctl_delay_clear_all(&fleet_gripper(0)->device, false);
     fleet_stop();
     finger_bus_host_stop();
@@ -90,17 +76,12 @@ int t_err_code(const char *reply)
 
 size_t gcl_unread(void)
 {
-    return t_gcl.count - t_gcl.read;
+    return h_unread(&t_gcl);
 }
 
 const char *gcl_next(void)
 {
-    return t_gcl.read < t_gcl.count ? t_gcl.lines[t_gcl.read++] : "<no line>";
-}
-
-void gcl_discard(void)
-{
-    t_gcl.read = t_gcl.count;
+    return h_next_line(&t_gcl);
 }
 
 const char *gcl(const char *line)

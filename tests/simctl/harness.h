@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* Test harness for the simulation control commands: the real host device
- * (gripper.c) on a paused simulated clock, a captured GCL session, and
- * helpers that run control lines and GCL lines. */
+ * (gripper.c) on a paused simulated clock, a GCL session on the fake port's
+ * connection (tests/fake/fake_conn.h), and helpers that run control lines
+ * and GCL lines. */
 #ifndef SIMCTL_HARNESS_H
 #define SIMCTL_HARNESS_H
 
@@ -10,21 +11,10 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "fake_conn.h"
 #include "gripper.h"
-#include "wsg/wsg_conn.h"
-#include "wsg/wsg_gcl.h"
 
-#define T_LINES_MAX 4096
-#define T_LINE_LEN (WSG_REPLY_MAX + 1)
-
-typedef struct {
-    wsg_conn_t conn;
-    char lines[T_LINES_MAX][T_LINE_LEN];
-    size_t count;
-    size_t read;
-} t_client_t;
-
-extern t_client_t t_gcl; /* the GCL session every test starts with */
+extern h_client_t t_gcl; /* the GCL session every test starts with */
 
 /* Fixtures: power-on, clock paused; the homed variant also ran HOME(). */
 void t_setup(void);
@@ -40,7 +30,6 @@ const char *gcl(const char *line);
 /* Next unread GCL line, or "<no line>". */
 const char *gcl_next(void);
 size_t gcl_unread(void);
-void gcl_discard(void);
 /* STEP(ms) through the control channel, asserting it succeeds. */
 void t_step_ms(double ms);
 /* Steps 1 ms at a time until the GCL session receives `text`; ms or -1. */

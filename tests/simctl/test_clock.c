@@ -8,10 +8,10 @@
 #include "harness.h"
 
 #include "fleet.h"
-#include "scenario.h"
-#include "simclock.h"
-#include "simctl_cmd.h"
-#include "simctl_run.h"
+#include "sim/clock.h"
+#include "sim/commands.h"
+#include "sim/scenario.h"
+#include "sim/scheduler.h"
 
 static const char *expected_time(const char *name, uint64_t us)
 {
@@ -150,7 +150,7 @@ START_TEST(a_long_step_is_sliced_and_gcl_is_served_between_slices)
 END_TEST
 
 /* Every line a HOME with AUTOSEND produces in 1500 ms, stepped either way. */
-static void home_transcript(bool sliced, char lines[][T_LINE_LEN], size_t *count)
+static void home_transcript(bool sliced, char lines[][H_LINE_LEN], size_t *count)
 {
     GCL_EQ("AUTOSEND(\"POS\",10)", "ACK AUTOSEND");
     GCL_EQ("HOME()", "ACK HOME");
@@ -166,14 +166,14 @@ static void home_transcript(bool sliced, char lines[][T_LINE_LEN], size_t *count
     }
     *count = gcl_unread();
     for (size_t i = 0; i < *count; i++) {
-        snprintf(lines[i], T_LINE_LEN, "%s", gcl_next());
+        snprintf(lines[i], H_LINE_LEN, "%s", gcl_next());
     }
 }
 
 START_TEST(a_sliced_step_ends_as_one_millisecond_steps_do)
 {
-    static char sliced[T_LINES_MAX][T_LINE_LEN];
-    static char stepped[T_LINES_MAX][T_LINE_LEN];
+    static char sliced[H_LINES_MAX][H_LINE_LEN];
+    static char stepped[H_LINES_MAX][H_LINE_LEN];
     size_t n_sliced = 0;
     size_t n_stepped = 0;
     home_transcript(true, sliced, &n_sliced);

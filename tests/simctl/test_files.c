@@ -12,7 +12,7 @@
 #include "fleet.h"
 #include "options.h"
 #include "record.h"
-#include "scenario.h"
+#include "sim/scenario.h"
 #include "wsg/wsg_types.h"
 
 static bool load_scenario(void *path)

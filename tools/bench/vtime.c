@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* Virtual-time speed: the device core linked in-process (build/libwsgcore.a)
+/* Virtual-time speed: the device core linked in-process (libwsgfw.a, libwsgsim.a)
  * on a fake clock that jumps straight to each deadline the core asks for,
  * as a paused and stepped port would. HOME/MOVE/GRIP/RELEASE cycles on a
  * part of PART_MM between the jaws. */

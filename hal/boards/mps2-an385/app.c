@@ -27,7 +27,7 @@ static void advance_world(void *ctx, uint64_t now)
     }
 }
 
-void app_init(void)
+void app_init(const wsg_proto_driver_t *const *drivers, size_t count)
 {
     wsg_config_t cfg;
     sim_model_config(sim_model_default(), &cfg);
@@ -36,6 +36,7 @@ void app_init(void)
     wsg_hal_t hal;
     sim_world_hal(&world, &hal);
     wsg_device_init(&device, &cfg, &hal);
+    wsg_conn_set_drivers(&device, drivers, count);
     world_us = now;
     wsg_runner_init(&runner, &device, advance_world, NULL);
 }

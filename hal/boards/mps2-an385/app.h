@@ -12,8 +12,9 @@
 #include "wsg/wsg_conn.h"
 #include "wsg/wsg_gcl.h"
 
-/* Power-on: the default gripper model, the jaws mid-stroke. */
-void app_init(void);
+/* Power-on: the default gripper model, the jaws mid-stroke. drivers: what a
+ * connection opened without a driver may speak (the image's table). */
+void app_init(const wsg_proto_driver_t *const *drivers, size_t count);
 
 wsg_device_t *app_device(void);
 

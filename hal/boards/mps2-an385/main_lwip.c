@@ -22,6 +22,9 @@
 #define BINARY_UDP_PORT 1500u
 #define BINARY_UDP_REPLY_PORT 1501u
 
+/* A TCP connection's first byte chooses: the binary preamble, else GCL. */
+static const wsg_proto_driver_t *const drivers[] = {&wsg_bin_driver, &wsg_gcl_driver};
+
 static struct netif eth;
 
 /* The UDP servers: GCL and the binary protocol, peers in static pools. */
@@ -70,7 +73,7 @@ int main(void)
 {
     board_clock_init();
     board_log_init();
-    app_init();
+    app_init(drivers, sizeof(drivers) / sizeof(drivers[0]));
     serial_port_init();
     bool network = network_init();
     hal_log(HAL_LOG_INFO, network ? "wsgsim mps2-an385 lwIP image: GCL on 192.168.1.20 TCP 1000, "

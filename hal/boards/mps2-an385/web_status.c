@@ -8,7 +8,7 @@
 #include "lwip/apps/fs.h"
 #include "lwip/apps/httpd.h"
 #include "priv/textbuf.h" /* the core's float formatting: no printf on the board */
-#include "simctl_names.h"
+#include "sim/names.h"
 #include "wsg/wsg_device.h"
 
 #define STATE_PATH "/api/devices/0/state"

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* Connection life cycle: detection by the first byte, 0x07, FAST STOP when
  * a TCP connection drops without it, UDP specifics. */
-#include "bin_client.h"
+#include "fake_bin_conn.h"
 #include "suites.h"
 #include "wsg/wsg_bin.h"
 

@@ -2,7 +2,7 @@
 /* Long commands: pending and final frames, immediate errors, stop and its
  * ordering, E_ALREADY_RUNNING, clamping and soft-limit zones, and one
  * device shared with a GCL client. */
-#include "bin_client.h"
+#include "fake_bin_conn.h"
 #include "suites.h"
 #include "wsg/wsg_bin.h"
 

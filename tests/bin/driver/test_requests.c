@@ -3,7 +3,7 @@
  * queries, settings shared with GCL, system and finger commands. */
 #include <string.h>
 
-#include "bin_client.h"
+#include "fake_bin_conn.h"
 #include "suites.h"
 #include "wsg/wsg_bin.h"
 

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* Automatic updates of 0x40, 0x41, 0x43, 0x44, 0x45 in virtual time. */
-#include "bin_client.h"
+#include "fake_bin_conn.h"
 #include "suites.h"
 #include "wsg/wsg_bin.h"
 

@@ -1,0 +1,308 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/* Control line -> command -> handler -> reply line. */
+#include "commands.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "commands_internal.h"
+#include "fleet.h"
+#include "hal_clock.h"
+#include "scheduler.h"
+#include "sim/sim_world.h"
+
+#define CALL GCL_FORM_CALL
+#define QUERY GCL_FORM_QUERY
+#define SET GCL_FORM_SET
+
+static const simctl_entry_t table[] = {
+    {"PAUSE", CALL, 0, 0, sc_pause, "PAUSE()", true},
+    {"RESUME", CALL, 0, 0, sc_resume, "RESUME()", true},
+    {"STEP", CALL, 1, 1, sc_step, "STEP(ms)", false},
+    {"SCALE", SET | QUERY, 0, 0, sc_scale, "SCALE=factor | SCALE?", true},
+    {"SIMTIME", QUERY, 0, 0, sc_simtime, "SIMTIME?", true},
+    {"PART", CALL | QUERY, 1, 3, sc_part, "PART(width[,stiffness[,slip_force]]) | PART?", true},
+    {"PART_REMOVE", CALL, 0, 0, sc_part_remove, "PART_REMOVE()", true},
+    {"PART_SLIP", CALL, 0, 0, sc_part_slip, "PART_SLIP()", true},
+    {"OBSTACLE", CALL | QUERY, 1, 1, sc_obstacle, "OBSTACLE(width) | OBSTACLE?", true},
+    {"OBSTACLE_REMOVE", CALL, 0, 0, sc_obstacle_remove, "OBSTACLE_REMOVE()", true},
+    {"AMBIENT", SET | QUERY, 0, 0, sc_ambient, "AMBIENT=celsius | AMBIENT?", true},
+    {"FAULT", CALL, 1, 2, sc_fault, "FAULT(name[,finger])", true},
+    {"CLEAR", CALL, 0, 2, sc_clear, "CLEAR([name[,finger]])", true},
+    {"FAULTS", QUERY, 0, 0, sc_faults, "FAULTS?", true},
+    {"DELAY", CALL, 1, 2, sc_delay, "DELAY(ms[,session])", true},
+    {"FAILNEXT", CALL, 2, 2, sc_failnext, "FAILNEXT(command,code)", true},
+    {"CUT", CALL, 0, 1, sc_cut, "CUT([session])", true},
+    {"STATE", QUERY, 0, 0, sc_state, "STATE?", true},
+    {"SESSIONS", QUERY, 0, 0, sc_sessions, "SESSIONS?", true},
+    {"RESET", CALL, 0, 0, sc_reset, "RESET()", true},
+    {"COVERAGE", QUERY, 0, 0, sc_coverage, "COVERAGE?", true},
+    {"COVERAGE_RESET", CALL, 0, 0, sc_coverage_reset, "COVERAGE_RESET()", true},
+    {"LOG", CALL, 1, 1, sc_log, "LOG(text)", true},
+    {"HELP", QUERY, 0, 0, sc_help, "HELP?", true},
+    {"DEVICE", SET | QUERY, 0, 0, sc_device, "DEVICE=index | DEVICE?", false},
+    {"DEVICES", QUERY, 0, 0, sc_devices, "DEVICES?", true},
+    {"BYE", CALL, 0, 0, sc_bye, "BYE()", false},
+};
+
+unsigned simctl_table_count(void)
+{
+    return (unsigned)(sizeof(table) / sizeof(table[0]));
+}
+
+const simctl_entry_t *simctl_table_at(unsigned i)
+{
+    return i < simctl_table_count() ? &table[i] : NULL;
+}
+
+static const simctl_entry_t *find(const char *name)
+{
+    for (unsigned i = 0; i < simctl_table_count(); i++) {
+        if (strcmp(table[i].name, name) == 0) {
+            return &table[i];
+        }
+    }
+    return NULL;
+}
+
+/* ---- helpers for the handlers ---- */
+
+wsg_status_t sc_fail(simctl_ctx_t *ctx, wsg_status_t status, const char *fmt, ...)
+{
+    va_list args;
+    va_start(args, fmt);
+    vsnprintf(ctx->why, sizeof(ctx->why), fmt, args);
+    va_end(args);
+    ctx->failed = status;
+    return status;
+}
+
+void sc_reply_owned(simctl_ctx_t *ctx, char *text)
+{
+    free(ctx->reply);
+    ctx->reply = NULL;
+    if (text != NULL && asprintf(&ctx->reply, "%s=%s", ctx->cmd->name, text) < 0) {
+        ctx->reply = NULL;
+    }
+    free(text);
+}
+
+void sc_reply_json(simctl_ctx_t *ctx, cJSON *json)
+{
+    sc_reply_owned(ctx, cJSON_PrintUnformatted(json));
+    cJSON_Delete(json);
+}
+
+void sc_reply(simctl_ctx_t *ctx, const char *fmt, ...)
+{
+    char *text = NULL;
+    va_list args;
+    va_start(args, fmt);
+    if (vasprintf(&text, fmt, args) < 0) {
+        text = NULL;
+    }
+    va_end(args);
+    sc_reply_owned(ctx, text);
+}
+
+bool sc_has_arg(const simctl_ctx_t *ctx, unsigned i)
+{
+    return i < ctx->cmd->argc;
+}
+
+bool sc_number(simctl_ctx_t *ctx, unsigned i, double *out)
+{
+    const gcl_arg_t *arg = &ctx->cmd->args[i];
+    if (arg->kind != GCL_ARG_NUMBER) {
+        sc_fail(ctx, E_INVALID_PARAMETER, "argument %u must be a number", i + 1);
+        return false;
+    }
+    *out = arg->number;
+    return true;
+}
+
+bool sc_text(simctl_ctx_t *ctx, unsigned i, const char **out)
+{
+    const gcl_arg_t *arg = &ctx->cmd->args[i];
+    if (arg->kind == GCL_ARG_NUMBER) {
+        sc_fail(ctx, E_INVALID_PARAMETER, "argument %u must be a name or a quoted string", i + 1);
+        return false;
+    }
+    *out = arg->text;
+    return true;
+}
+
+bool sc_integer(simctl_ctx_t *ctx, unsigned i, const char *what, int64_t min, int64_t max,
+                int64_t *out)
+{
+    double v = 0.0;
+    if (!sc_number(ctx, i, &v)) {
+        return false;
+    }
+    /* compared as doubles first: only a value known to fit is converted */
+    if (!(v >= (double)min && v <= (double)max && v == floor(v))) {
+        sc_fail(ctx, E_RANGE_ERROR, "%s must be an integer %lld to %lld", what, (long long)min,
+                (long long)max);
+        return false;
+    }
+    *out = (int64_t)v;
+    return true;
+}
+
+bool sc_checking(const simctl_ctx_t *ctx)
+{
+    return ctx->check_only;
+}
+
+/* Session ids are counted from 1; every exact integer a double holds. */
+#define SESSION_ID_MAX ((int64_t)1 << 53)
+
+wsg_conn_t *sc_session(simctl_ctx_t *ctx, unsigned i)
+{
+    int64_t id = 0;
+    if (!sc_integer(ctx, i, "the session id", 1, SESSION_ID_MAX, &id) || sc_checking(ctx)) {
+        return NULL;
+    }
+    wsg_conn_t *c = wsg_device_conn_by_id(&ctx->gripper->device, (uint64_t)id);
+    if (c != NULL) {
+        return c;
+    }
+    sc_fail(ctx, E_NOT_FOUND, "no open session %lld (see SESSIONS?)", (long long)id);
+    return NULL;
+}
+
+void sc_world_changed(simctl_ctx_t *ctx)
+{
+    gripper_step_now(ctx->gripper);
+}
+
+bool sc_first_device(simctl_ctx_t *ctx)
+{
+    if (ctx->gripper->index == 0) {
+        return true;
+    }
+    sc_fail(ctx, E_FEATURE_NOT_SUPPORTED, "hardware faults are injected on device 0 only");
+    return false;
+}
+
+/* ---- dispatch ---- */
+
+static wsg_status_t check_shape(const simctl_entry_t *e, const gcl_command_t *cmd, char *why,
+                                size_t cap)
+{
+    if ((e->forms & (unsigned)cmd->form) == 0u) {
+        snprintf(why, cap, "wrong form; usage: %s", e->usage);
+        return E_CMD_FORMAT_ERROR;
+    }
+    if (cmd->form == GCL_FORM_CALL && cmd->argc < e->min_args) {
+        snprintf(why, cap, "not enough arguments; usage: %s", e->usage);
+        return E_NOT_ENOUGH_PARAMS;
+    }
+    if (cmd->form == GCL_FORM_CALL && cmd->argc > e->max_args) {
+        snprintf(why, cap, "too many arguments; usage: %s", e->usage);
+        return E_NO_PARAM_EXPECTED;
+    }
+    return E_SUCCESS;
+}
+
+/* Parses and looks the command up; the entry, or NULL with why set. */
+static const simctl_entry_t *resolve(const char *line, size_t len, gcl_command_t *cmd,
+                                     wsg_status_t *status, char *why, size_t cap)
+{
+    *status = gcl_parse_line(line, len, cmd);
+    const simctl_entry_t *e = cmd->name[0] != '\0' ? find(cmd->name) : NULL;
+    if (cmd->name[0] != '\0' && e == NULL) {
+        *status = E_CMD_UNKNOWN;
+        snprintf(why, cap, "unknown control command (HELP? lists them)");
+        return NULL;
+    }
+    if (*status != E_SUCCESS) {
+        snprintf(why, cap, "%s",
+                 *status == E_INVALID_PARAMETER
+                     ? "an argument is not a valid number, string or name"
+                     : "not a command line (NAME(args), NAME?, NAME=value)");
+        return NULL;
+    }
+    *status = check_shape(e, cmd, why, cap);
+    return *status == E_SUCCESS ? e : NULL;
+}
+
+/* Runs the handler in check-only mode when the command has arguments (what
+ * a command without them can meet, e.g. no part to remove, depends on the
+ * state when it runs). */
+static bool check_arguments(const simctl_entry_t *e, const gcl_command_t *cmd, char *why,
+                            size_t cap)
+{
+    if (cmd->form == GCL_FORM_QUERY || cmd->argc == 0) {
+        return true;
+    }
+    simctl_ctx_t ctx = {.cmd = cmd, .gripper = fleet_gripper(0), .check_only = true};
+    wsg_status_t status = e->handler(&ctx);
+    free(ctx.reply);
+    if (status != E_SUCCESS) {
+        snprintf(why, cap, "ERR %s %d %s", e->name, (int)status, ctx.why);
+    }
+    return status == E_SUCCESS;
+}
+
+bool simctl_check(const char *line, size_t len, bool for_scenario, char *why, size_t cap)
+{
+    gcl_command_t cmd;
+    wsg_status_t status = E_SUCCESS;
+    const simctl_entry_t *e = resolve(line, len, &cmd, &status, why, cap);
+    if (e != NULL && for_scenario && !e->in_scenario) {
+        snprintf(why, cap, "%s cannot be used in a scenario", e->name);
+        return false;
+    }
+    return e != NULL && check_arguments(e, &cmd, why, cap);
+}
+
+static char *error_line(const char *name, wsg_status_t status, const char *why)
+{
+    char *text = NULL;
+    if (asprintf(&text, "ERR %s %d %s", name[0] != '\0' ? name : "?", (int)status, why) < 0) {
+        return NULL;
+    }
+    return text;
+}
+
+static char *ack_line(const char *name)
+{
+    char *text = NULL;
+    return asprintf(&text, "ACK %s", name) < 0 ? NULL : text;
+}
+
+char *simctl_exec(const char *line, size_t len, unsigned *selected, simctl_outcome_t *outcome)
+{
+    gcl_command_t cmd;
+    wsg_status_t status = E_SUCCESS;
+    unsigned index = selected != NULL && *selected < fleet_count() ? *selected : 0u;
+    simctl_ctx_t ctx = {.cmd = &cmd, .gripper = fleet_gripper(index), .selected = selected};
+    const simctl_entry_t *e = resolve(line, len, &cmd, &status, ctx.why, sizeof(ctx.why));
+    sim_world_advance(&ctx.gripper->world, hal_clock_now_us()); /* act on the world as it is now */
+    if (e != NULL) {
+        status = e->handler(&ctx);
+        gripper_touch(ctx.gripper); /* its deadline may have moved */
+    }
+    if (outcome != NULL) {
+        outcome->close = ctx.close;
+        outcome->deferred = ctx.deferred;
+    }
+    if (ctx.deferred && outcome != NULL) {
+        return NULL;
+    }
+    if (ctx.deferred) {
+        simctl_step_finish();
+        ctx.reply = simctl_step_reply();
+    }
+    if (status != E_SUCCESS) {
+        free(ctx.reply);
+        ctx.reply = error_line(cmd.name, status, ctx.why);
+    } else if (ctx.reply == NULL) {
+        ctx.reply = ack_line(cmd.name);
+    }
+    return ctx.reply != NULL ? ctx.reply : strdup("ERR ? 10 out of memory");
+}

@@ -1,0 +1,236 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/* FAULT, CLEAR, FAULTS, DELAY, FAILNEXT, CUT: injected faults. */
+#include <stdlib.h>
+#include <strings.h>
+
+#include "commands_internal.h"
+#include "delay.h"
+#include "faults.h"
+#include "gripper.h"
+#include "log.h"
+#include "state_json.h"
+#include "tcp_server.h"
+#include "udp_server.h"
+
+#define DELAY_MAX_MS 600000.0
+
+/* FAULT(name[,finger]) / CLEAR(name[,finger]): which hardware fault. The
+ * finger is an integer 0 or 1, given for the finger faults only. */
+static bool read_fault(simctl_ctx_t *ctx, simctl_fault_t *fault)
+{
+    const char *name = NULL;
+    int64_t finger = -1;
+    if (!sc_text(ctx, 0, &name) ||
+        (sc_has_arg(ctx, 1) && !sc_integer(ctx, 1, "the finger", 0, 1, &finger))) {
+        return false;
+    }
+    if (sc_has_arg(ctx, 1) && simctl_fault_by_name(name, -1, fault)) {
+        sc_fail(ctx, E_NO_PARAM_EXPECTED, "%s takes no finger", name);
+        return false;
+    }
+    if (!simctl_fault_by_name(name, (int)finger, fault)) {
+        sc_fail(ctx, E_INVALID_PARAMETER,
+                "unknown fault %s (TEMP_WARNING, TEMP_FAULT, POWER, CURRENT, "
+                "FINGER_POWER|FINGER_INIT|FINGER_UNPLUG with finger 0 or 1)",
+                name);
+        return false;
+    }
+    return true;
+}
+
+wsg_status_t sc_fault(simctl_ctx_t *ctx)
+{
+    simctl_fault_t fault;
+    if (!read_fault(ctx, &fault) || !sc_first_device(ctx)) {
+        return ctx->failed;
+    }
+    if (sc_checking(ctx)) {
+        return E_SUCCESS;
+    }
+    simctl_fault_raise(fault);
+    sc_world_changed(ctx);
+    return E_SUCCESS;
+}
+
+static void clear_failnext(simctl_ctx_t *ctx)
+{
+    wsg_device_t *dev = &ctx->gripper->device;
+    const wsg_snapshot_t *snap = wsg_device_snapshot(dev);
+    if (snap->injected_armed) {
+        host_logf(HAL_LOG_INFO, "fault cleared: FAILNEXT %s", snap->injected_name);
+        wsg_device_inject_failure(dev, "", E_SUCCESS);
+        wsg_device_take_injected_failure(dev, "", &(wsg_status_t){E_SUCCESS});
+    }
+}
+
+static void clear_delays(simctl_ctx_t *ctx)
+{
+    const wsg_device_t *dev = &ctx->gripper->device;
+    simctl_delay_info_t info;
+    bool any = false;
+    for (unsigned i = 0; simctl_delay_info(i, &info); i++) {
+        any = any || info.device == dev;
+    }
+    if (any) {
+        simctl_delay_clear_all(dev, true);
+        host_logf(HAL_LOG_INFO, "fault cleared: DELAY (held lines delivered)");
+    }
+}
+
+/* DELAY and FAILNEXT: the protocol faults, cleared by name alone. */
+static bool is_protocol_fault(const char *name)
+{
+    return strcasecmp(name, "DELAY") == 0 || strcasecmp(name, "FAILNEXT") == 0;
+}
+
+static wsg_status_t clear_protocol(simctl_ctx_t *ctx, const char *name)
+{
+    if (sc_has_arg(ctx, 1)) {
+        return sc_fail(ctx, E_NO_PARAM_EXPECTED, "%s takes no finger", name);
+    }
+    if (sc_checking(ctx)) {
+        return E_SUCCESS;
+    }
+    if (strcasecmp(name, "DELAY") == 0) {
+        clear_delays(ctx);
+    } else {
+        clear_failnext(ctx);
+    }
+    return E_SUCCESS;
+}
+
+wsg_status_t sc_clear(simctl_ctx_t *ctx)
+{
+    const char *name = NULL;
+    simctl_fault_t fault;
+    if (!sc_has_arg(ctx, 0)) {
+        if (ctx->gripper->index == 0) {
+            simctl_fault_clear_all(); /* hardware faults live on device 0 only */
+        }
+        clear_delays(ctx);
+        clear_failnext(ctx);
+    } else if (!sc_text(ctx, 0, &name)) {
+        return ctx->failed;
+    } else if (is_protocol_fault(name)) {
+        return clear_protocol(ctx, name);
+    } else if (!read_fault(ctx, &fault) || !sc_first_device(ctx)) {
+        return ctx->failed;
+    } else if (sc_checking(ctx)) {
+        return E_SUCCESS;
+    } else {
+        simctl_fault_clear(fault);
+    }
+    sc_world_changed(ctx);
+    return E_SUCCESS;
+}
+
+wsg_status_t sc_faults(simctl_ctx_t *ctx)
+{
+    cJSON *list = state_json_faults(ctx->gripper);
+    sc_reply_json(ctx, list);
+    return E_SUCCESS;
+}
+
+static wsg_status_t delay_session(wsg_conn_t *c, double ms)
+{
+    simctl_delay_arm(c, (uint32_t)(ms * 1000.0 + 0.5));
+    host_logf(HAL_LOG_WARN, "fault injected: DELAY next reply of session %llu by %.3f ms",
+              (unsigned long long)wsg_conn_id(c), ms);
+    return E_SUCCESS;
+}
+
+wsg_status_t sc_delay(simctl_ctx_t *ctx)
+{
+    double ms = 0.0;
+    if (!sc_number(ctx, 0, &ms)) {
+        return ctx->failed;
+    }
+    if (!(ms > 0.0 && ms <= DELAY_MAX_MS)) {
+        return sc_fail(ctx, E_RANGE_ERROR, "ms must be above 0 and at most %.0f", DELAY_MAX_MS);
+    }
+    if (sc_has_arg(ctx, 1)) {
+        wsg_conn_t *s = sc_session(ctx, 1);
+        if (sc_checking(ctx)) {
+            return ctx->failed;
+        }
+        return s != NULL ? delay_session(s, ms) : ctx->failed;
+    }
+    if (sc_checking(ctx)) {
+        return E_SUCCESS;
+    }
+    unsigned armed = 0;
+    wsg_device_t *dev = &ctx->gripper->device;
+    for (wsg_conn_t *c = wsg_device_conn_first(dev); c != NULL; c = wsg_conn_next(c)) {
+        delay_session(c, ms);
+        armed++;
+    }
+    return armed > 0 ? E_SUCCESS : sc_fail(ctx, E_NOT_FOUND, "no GCL session is open");
+}
+
+/* The GCL name in upper case, if the device knows the command. */
+static bool gcl_command_name(const char *text, char *upper, size_t cap)
+{
+    size_t n = 0;
+    for (; text[n] != '\0' && n + 1 < cap; n++) {
+        char c = text[n];
+        upper[n] = (c >= 'a' && c <= 'z') ? (char)(c - 'a' + 'A') : c;
+    }
+    upper[n] = '\0';
+    return text[n] == '\0' && wsg_gcl_command_index(upper) >= 0;
+}
+
+wsg_status_t sc_failnext(simctl_ctx_t *ctx)
+{
+    const char *name = NULL;
+    int64_t code = 0;
+    char upper[WSG_GCL_NAME_MAX + 1];
+    if (!sc_text(ctx, 0, &name)) {
+        return ctx->failed;
+    }
+    if (!gcl_command_name(name, upper, sizeof(upper))) {
+        return sc_fail(ctx, E_INVALID_PARAMETER, "%s is not a GCL command", name);
+    }
+    if (!sc_integer(ctx, 1, "the code", 1, WSG_STATUS_COUNT - 1, &code)) {
+        return ctx->failed;
+    }
+    if (sc_checking(ctx)) {
+        return E_SUCCESS;
+    }
+    wsg_device_inject_failure(&ctx->gripper->device, upper, (wsg_status_t)(int)code);
+    host_logf(HAL_LOG_WARN, "fault injected: FAILNEXT %s answers ERR %s %d", upper, upper,
+              (int)code);
+    return E_SUCCESS;
+}
+
+static bool cut_session(wsg_conn_t *s)
+{
+    unsigned long long id = wsg_conn_id(s);
+    bool stream = wsg_conn_transport(s) == WSG_TRANSPORT_STREAM;
+    bool cut = stream ? tcp_server_cut(s) : udp_server_cut(s);
+    if (cut) {
+        host_logf(HAL_LOG_WARN, "fault injected: CUT session %llu (%s)", id,
+                  stream ? "tcp" : "udp");
+    }
+    return cut;
+}
+
+wsg_status_t sc_cut(simctl_ctx_t *ctx)
+{
+    if (sc_has_arg(ctx, 0)) {
+        wsg_conn_t *s = sc_session(ctx, 0);
+        if (s == NULL) {
+            return ctx->failed; /* E_SUCCESS while only checking a good id */
+        }
+        return cut_session(s) ? E_SUCCESS
+                              : sc_fail(ctx, E_NOT_FOUND, "session has no connection to cut");
+    }
+    unsigned cut = 0;
+    wsg_device_t *dev = &ctx->gripper->device;
+    wsg_conn_t *c = wsg_device_conn_first(dev);
+    while (c != NULL) {
+        wsg_conn_t *next = wsg_conn_next(c); /* cutting closes c */
+        cut += wsg_conn_transport(c) == WSG_TRANSPORT_STREAM && cut_session(c) ? 1u : 0u;
+        c = next;
+    }
+    return cut > 0 ? E_SUCCESS : sc_fail(ctx, E_NOT_FOUND, "no TCP connection is open");
+}

@@ -1,0 +1,109 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/* What the control command handlers share. */
+#ifndef SIM_COMMANDS_INTERNAL_H
+#define SIM_COMMANDS_INTERNAL_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include <cJSON.h>
+
+#include "wsg/gcl_parse.h"
+#include "wsg/wsg_conn.h"
+#include "wsg/wsg_gcl.h"
+
+typedef struct {
+    const gcl_command_t *cmd;
+    struct gripper *gripper; /* the device the command addresses */
+    unsigned *selected;      /* the channel's DEVICE= selection; NULL: a scenario */
+    char *reply;             /* malloc'd reply; NULL: "ACK NAME" */
+    char why[192];
+    wsg_status_t failed; /* the status sc_fail() set last */
+    bool close;
+    bool deferred;   /* a STEP started: the reply comes when it has run */
+    bool check_only; /* only check the arguments (a scenario at start-up) */
+} simctl_ctx_t;
+
+typedef wsg_status_t (*simctl_handler_t)(simctl_ctx_t *ctx);
+
+typedef struct {
+    const char *name;
+    unsigned forms; /* gcl_form_t mask */
+    unsigned min_args;
+    unsigned max_args;
+    simctl_handler_t handler;
+    const char *usage;
+    bool in_scenario; /* a scenario may run it */
+} simctl_entry_t;
+
+unsigned simctl_table_count(void);
+const simctl_entry_t *simctl_table_at(unsigned i);
+
+/* Sets the reason of an ERR reply and returns status. */
+wsg_status_t sc_fail(simctl_ctx_t *ctx, wsg_status_t status, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+/* Sets the reply line ("NAME=value" is up to the handler). */
+void sc_reply(simctl_ctx_t *ctx, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* NAME=<text>; takes ownership of text (from cJSON or asprintf). */
+void sc_reply_owned(simctl_ctx_t *ctx, char *text);
+/* NAME=<compact JSON of json>; takes ownership of json. */
+void sc_reply_json(simctl_ctx_t *ctx, cJSON *json);
+
+/* Argument i as a number / text (quoted string or bare word); false (with
+ * the reason and ctx->failed set) when it has another type. */
+bool sc_number(simctl_ctx_t *ctx, unsigned i, double *out);
+bool sc_text(simctl_ctx_t *ctx, unsigned i, const char **out);
+bool sc_has_arg(const simctl_ctx_t *ctx, unsigned i);
+/* Argument i as an integer min..max (what names it in the reason): false with
+ * ERR 24 when it is not a number, ERR 28 when it has a fraction or is out of
+ * range. Never converts an out-of-range double. */
+bool sc_integer(simctl_ctx_t *ctx, unsigned i, const char *what, int64_t min, int64_t max,
+                int64_t *out);
+/* Argument i as a session id of an open session; NULL (reason set) if not.
+ * While only checking, any well-formed id passes (returns NULL, no failure). */
+wsg_conn_t *sc_session(simctl_ctx_t *ctx, unsigned i);
+/* True while the handler only checks its arguments: it must change nothing
+ * and return E_SUCCESS once they are valid. */
+bool sc_checking(const simctl_ctx_t *ctx);
+/* The device noticed a change of the world at once (a control step now). */
+void sc_world_changed(simctl_ctx_t *ctx);
+/* False (ERR 5, reason set) unless device 0 is addressed: the injected
+ * hardware faults act on device 0 only. */
+bool sc_first_device(simctl_ctx_t *ctx);
+
+/* sim/commands_clock.c */
+wsg_status_t sc_pause(simctl_ctx_t *ctx);
+wsg_status_t sc_resume(simctl_ctx_t *ctx);
+wsg_status_t sc_step(simctl_ctx_t *ctx);
+wsg_status_t sc_scale(simctl_ctx_t *ctx);
+wsg_status_t sc_simtime(simctl_ctx_t *ctx);
+
+/* sim/commands_world.c */
+wsg_status_t sc_part(simctl_ctx_t *ctx);
+wsg_status_t sc_part_remove(simctl_ctx_t *ctx);
+wsg_status_t sc_part_slip(simctl_ctx_t *ctx);
+wsg_status_t sc_obstacle(simctl_ctx_t *ctx);
+wsg_status_t sc_obstacle_remove(simctl_ctx_t *ctx);
+wsg_status_t sc_ambient(simctl_ctx_t *ctx);
+
+/* sim/commands_fault.c */
+wsg_status_t sc_fault(simctl_ctx_t *ctx);
+wsg_status_t sc_clear(simctl_ctx_t *ctx);
+wsg_status_t sc_faults(simctl_ctx_t *ctx);
+wsg_status_t sc_delay(simctl_ctx_t *ctx);
+wsg_status_t sc_failnext(simctl_ctx_t *ctx);
+wsg_status_t sc_cut(simctl_ctx_t *ctx);
+
+/* sim/commands_state.c */
+wsg_status_t sc_state(simctl_ctx_t *ctx);
+wsg_status_t sc_sessions(simctl_ctx_t *ctx);
+wsg_status_t sc_reset(simctl_ctx_t *ctx);
+wsg_status_t sc_coverage(simctl_ctx_t *ctx);
+wsg_status_t sc_coverage_reset(simctl_ctx_t *ctx);
+wsg_status_t sc_help(simctl_ctx_t *ctx);
+wsg_status_t sc_log(simctl_ctx_t *ctx);
+wsg_status_t sc_device(simctl_ctx_t *ctx);
+wsg_status_t sc_devices(simctl_ctx_t *ctx);
+wsg_status_t sc_bye(simctl_ctx_t *ctx);
+
+#endif

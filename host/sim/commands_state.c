@@ -1,0 +1,129 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/* STATE, SESSIONS, RESET, COVERAGE, COVERAGE_RESET, LOG, HELP, BYE. */
+#include <cjson/cJSON.h>
+#include <stdlib.h>
+
+#include "commands_internal.h"
+#include "coverage.h"
+#include "delay.h"
+#include "faults.h"
+#include "fleet.h"
+#include "log.h"
+#include "observers.h"
+#include "scheduler.h"
+#include "state_json.h"
+
+wsg_status_t sc_state(simctl_ctx_t *ctx)
+{
+    sc_reply_owned(ctx, state_json(ctx->gripper, false));
+    return E_SUCCESS;
+}
+
+wsg_status_t sc_sessions(simctl_ctx_t *ctx)
+{
+    cJSON *list = state_json_session_list(ctx->gripper);
+    sc_reply_json(ctx, list);
+    return E_SUCCESS;
+}
+
+/* A power cycle: connections drop (unobserved: they are not the clients'
+ * doing), injected faults go, and the device starts as configured. */
+wsg_status_t sc_reset(simctl_ctx_t *ctx)
+{
+    gripper_t *g = ctx->gripper;
+    bool first = g->index == 0; /* with the observers and the hardware faults */
+    if (first) {
+        simctl_hooks_detach(&g->device);
+    }
+    simctl_delay_clear_all(&g->device, false);
+    fleet_close_connections(g->index);
+    if (first) {
+        simctl_fault_clear_all();
+    }
+    gripper_reset(g);
+    if (first) {
+        simctl_hooks_attach(&g->device, &g->opts);
+    }
+    simctl_reset_max_lag();
+    host_logf(HAL_LOG_INFO, "device %u reset to power-on defaults", g->index);
+    return E_SUCCESS;
+}
+
+/* DEVICE=index selects the device the channel's next commands address. */
+wsg_status_t sc_device(simctl_ctx_t *ctx)
+{
+    if (ctx->cmd->form == GCL_FORM_SET) {
+        int64_t index = 0;
+        if (!sc_integer(ctx, 0, "the device index", 0, (int64_t)fleet_count() - 1, &index)) {
+            return ctx->failed;
+        }
+        if (ctx->selected == NULL) {
+            return sc_fail(ctx, E_ACCESS_DENIED, "only a control connection selects a device");
+        }
+        *ctx->selected = (unsigned)index;
+        ctx->gripper = fleet_gripper((unsigned)index);
+    }
+    sc_reply(ctx, "%u", ctx->gripper->index);
+    return E_SUCCESS;
+}
+
+/* DEVICES? [{"index":..,"tcp":..,"udp":..,"serial":..,"tag":..,"model":..}, ...] */
+wsg_status_t sc_devices(simctl_ctx_t *ctx)
+{
+    cJSON *list = cJSON_CreateArray();
+    for (unsigned i = 0; i < fleet_count(); i++) {
+        const wsg_config_t *cfg = wsg_device_snapshot(&fleet_gripper(i)->device)->config;
+        cJSON *j = cJSON_CreateObject();
+        cJSON_AddNumberToObject(j, "index", i);
+        cJSON_AddNumberToObject(j, "tcp", fleet_tcp_port(i));
+        cJSON_AddNumberToObject(j, "udp", fleet_udp_port(i));
+        cJSON_AddNumberToObject(j, "serial", cfg->serial);
+        cJSON_AddStringToObject(j, "tag", cfg->tag);
+        cJSON_AddStringToObject(j, "model", cfg->devtype);
+        cJSON_AddItemToArray(list, j);
+    }
+    sc_reply_json(ctx, list);
+    return E_SUCCESS;
+}
+
+wsg_status_t sc_coverage(simctl_ctx_t *ctx)
+{
+    sc_reply_owned(ctx, coverage_report_json(simctl_hooks_strict(), false));
+    return E_SUCCESS;
+}
+
+wsg_status_t sc_coverage_reset(simctl_ctx_t *ctx)
+{
+    (void)ctx;
+    coverage_reset();
+    return E_SUCCESS;
+}
+
+wsg_status_t sc_log(simctl_ctx_t *ctx)
+{
+    const char *text = NULL;
+    if (!sc_text(ctx, 0, &text)) {
+        return ctx->failed;
+    }
+    if (sc_checking(ctx)) {
+        return E_SUCCESS;
+    }
+    host_logf(HAL_LOG_INFO, "control: %s", text);
+    return E_SUCCESS;
+}
+
+wsg_status_t sc_help(simctl_ctx_t *ctx)
+{
+    cJSON *list = cJSON_CreateArray();
+    for (unsigned i = 0; i < simctl_table_count(); i++) {
+        cJSON_AddItemToArray(list, cJSON_CreateString(simctl_table_at(i)->usage));
+    }
+    sc_reply_json(ctx, list);
+    return E_SUCCESS;
+}
+
+wsg_status_t sc_bye(simctl_ctx_t *ctx)
+{
+    ctx->close = true;
+    return E_SUCCESS;
+}

@@ -1,0 +1,343 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+#include "control.h"
+
+#include <errno.h>
+#include <poll.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include "commands.h"
+#include "listener.h"
+#include "log.h"
+#include "loop.h"
+#include "net.h"
+#include "wsg/wsg_outq.h"
+#include "record.h"
+#include "scheduler.h"
+#include "wsg/gcl_linebuf.h"
+
+#define CONTROL_CLIENTS_MAX 8
+/* Replies wait here for a slow reader. A command runs only while less than
+ * CONTROL_OUTQ_LOW is queued, so the queue always has room for the largest
+ * reply (a STATE? of every session is about 70 KB) and a client that sends
+ * faster than it reads is slowed down, not cut off. */
+#define CONTROL_OUTQ_BYTES (512u * 1024u)
+#define CONTROL_OUTQ_LOW (64u * 1024u)
+#define OUTQ_RECORD_MAX 0xffffu /* wsg_outq_offer() takes at most this per call */
+#define READ_CHUNK 4096
+#define DEFAULT_ADDR "127.0.0.1"
+
+typedef struct {
+    bool in_use;
+    bool closing; /* BYE answered: close once flushed */
+    bool dead;    /* the peer went away or failed: close now */
+    bool eof;     /* the peer sent everything: answer it, then close */
+    int fd;
+    unsigned number; /* ctl<number> in logs and records */
+    unsigned device; /* the device its commands address (DEVICE=) */
+    gcl_linebuf_t input;
+    uint8_t pending[READ_CHUNK]; /* received, not yet run (while a STEP runs) */
+    size_t pending_len;
+    size_t pending_at;
+    wsg_outq_t outq;
+} control_client_t;
+
+static struct {
+    listener_t listener;
+    const char *addr;
+    unsigned connections;
+    control_client_t *stepper; /* waits for the reply of its STEP */
+    control_client_t clients[CONTROL_CLIENTS_MAX];
+} ctl = {.listener = {.fd = -1}};
+
+static void channel_name(const control_client_t *c, char *out, size_t cap)
+{
+    snprintf(out, cap, "ctl%u", c->number);
+}
+
+static void close_client(control_client_t *c)
+{
+    if (ctl.stepper == c) {
+        ctl.stepper = NULL; /* the STEP itself runs on */
+    }
+    loop_unwatch(c->fd);
+    close(c->fd);
+    listener_fd_freed(&ctl.listener);
+    free(c->outq.ring);
+    c->in_use = false;
+    host_logf(HAL_LOG_INFO, "control ctl%u: closed", c->number);
+}
+
+static bool input_left(const control_client_t *c)
+{
+    return c->pending_at < c->pending_len;
+}
+
+/* POLLIN once the received bytes have run; POLLOUT while replies wait (or
+ * to be called back when a STEP ended and queued input can run). */
+static void update_events(control_client_t *c, bool wake)
+{
+    bool want_input = !c->eof && !input_left(c);
+    bool want_output = wake || !wsg_outq_empty(&c->outq);
+    loop_set_events(c->fd, (short)((want_input ? POLLIN : 0) | (want_output ? POLLOUT : 0)));
+}
+
+static void flush(control_client_t *c)
+{
+    static char line[OUTQ_RECORD_MAX];
+    while (!wsg_outq_empty(&c->outq)) {
+        size_t len = wsg_outq_peek(&c->outq, line, sizeof(line));
+        ssize_t sent = send(c->fd, line, len, MSG_NOSIGNAL | MSG_DONTWAIT);
+        if (sent < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) {
+            break;
+        }
+        if (sent < 0) {
+            c->dead = true;
+            break;
+        }
+        wsg_outq_consume(&c->outq, (size_t)sent);
+        if ((size_t)sent < len) {
+            break;
+        }
+    }
+    update_events(c, false);
+}
+
+/* Queues reply + "\n" in pieces outq takes (a short reply is one piece, so
+ * one send()); a reply of any size fits while commands run only with
+ * CONTROL_OUTQ_LOW or less queued. */
+static bool queue_reply(control_client_t *c, const char *reply)
+{
+    size_t len = strlen(reply) + 1;
+    char *line = malloc(len);
+    if (line == NULL || len > c->outq.cap - wsg_outq_used(&c->outq) - CONTROL_OUTQ_LOW) {
+        free(line);
+        return false;
+    }
+    memcpy(line, reply, len - 1);
+    line[len - 1] = '\n';
+    bool queued = true;
+    for (size_t at = 0; queued && at < len;) {
+        size_t n = len - at < OUTQ_RECORD_MAX ? len - at : OUTQ_RECORD_MAX;
+        queued = wsg_outq_offer(&c->outq, line + at, n, WSG_MSG_REPLY) == WSG_OUTQ_QUEUED;
+        at += n;
+    }
+    free(line);
+    return queued;
+}
+
+static void send_reply(control_client_t *c, const char *reply)
+{
+    if (!queue_reply(c, reply)) {
+        host_logf(HAL_LOG_WARN, "control ctl%u: reply too long or not read; closing", c->number);
+        c->dead = true;
+    }
+    flush(c);
+}
+
+static void record_and_send(control_client_t *c, const char *reply)
+{
+    char channel[16];
+    channel_name(c, channel, sizeof(channel));
+    record_control(channel, '>', reply, strlen(reply));
+    send_reply(c, reply);
+}
+
+static void handle_line(control_client_t *c)
+{
+    const gcl_linebuf_t *lb = &c->input;
+    char channel[16];
+    channel_name(c, channel, sizeof(channel));
+    if (gcl_linebuf_status(lb) == GCL_LINE_OK && strspn(lb->text, " \t") == lb->len) {
+        return; /* blank line */
+    }
+    record_control(channel, '<', lb->text, lb->len);
+    char *reply = NULL;
+    simctl_outcome_t outcome = {false, false};
+    if (gcl_linebuf_status(lb) != GCL_LINE_OK) {
+        reply = strdup("ERR ? 15 line too long or with control bytes");
+    } else {
+        reply = simctl_exec(lb->text, lb->len, &c->device, &outcome);
+    }
+    if (outcome.deferred) {
+        ctl.stepper = c; /* the reply comes when the STEP has run */
+        return;
+    }
+    if (reply == NULL) {
+        return;
+    }
+    record_and_send(c, reply);
+    free(reply);
+    c->closing = c->closing || outcome.close;
+}
+
+/* Control commands run one at a time, in order, on every connection: none
+ * while a STEP runs (GCL clients are served meanwhile) or while this
+ * client has not read what it was sent. */
+static bool may_run(const control_client_t *c)
+{
+    return !c->closing && !c->dead && !simctl_step_running() &&
+           wsg_outq_used(&c->outq) < CONTROL_OUTQ_LOW;
+}
+
+static void run_pending(control_client_t *c)
+{
+    while (input_left(c) && may_run(c)) {
+        if (gcl_linebuf_feed(&c->input, c->pending[c->pending_at++])) {
+            handle_line(c);
+        }
+    }
+}
+
+static void receive(control_client_t *c)
+{
+    ssize_t n = recv(c->fd, c->pending, sizeof(c->pending), MSG_DONTWAIT);
+    if (n > 0) {
+        c->pending_len = (size_t)n;
+        c->pending_at = 0;
+    } else if (n == 0) {
+        c->eof = true;
+    } else if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
+        c->dead = true;
+    }
+}
+
+static void answer_step_if_done(control_client_t *c)
+{
+    if (ctl.stepper != c || simctl_step_running()) {
+        return;
+    }
+    ctl.stepper = NULL;
+    char *reply = simctl_step_reply();
+    if (reply != NULL) {
+        record_and_send(c, reply);
+        free(reply);
+    }
+}
+
+/* A STEP ended: every connection is called back (POLLOUT) to send the STEP
+ * reply or run what it received meanwhile. */
+static void on_step_done(void)
+{
+    for (unsigned i = 0; i < CONTROL_CLIENTS_MAX; i++) {
+        if (ctl.clients[i].in_use) {
+            update_events(&ctl.clients[i], true);
+        }
+    }
+}
+
+static bool finished(const control_client_t *c)
+{
+    bool nothing_left = c->eof && !input_left(c) && ctl.stepper != c;
+    return c->dead || ((c->closing || nothing_left) && wsg_outq_empty(&c->outq));
+}
+
+static void on_client(void *ctx, int fd, short revents)
+{
+    control_client_t *c = ctx;
+    (void)fd;
+    if ((revents & POLLOUT) != 0) {
+        flush(c);
+    }
+    answer_step_if_done(c);
+    run_pending(c);
+    bool readable = (revents & (POLLIN | POLLHUP | POLLERR)) != 0;
+    if (readable && !input_left(c) && !c->eof && !c->dead && !c->closing) {
+        receive(c);
+        run_pending(c);
+    }
+    if (finished(c)) {
+        close_client(c);
+    } else {
+        update_events(c, false);
+    }
+}
+
+static control_client_t *free_slot(void)
+{
+    for (unsigned i = 0; i < CONTROL_CLIENTS_MAX; i++) {
+        if (!ctl.clients[i].in_use) {
+            return &ctl.clients[i];
+        }
+    }
+    return NULL;
+}
+
+static void on_accept(void *ctx, int fd, short revents)
+{
+    (void)ctx;
+    (void)fd;
+    (void)revents;
+    struct sockaddr_storage peer;
+    socklen_t peer_len = sizeof(peer);
+    int client_fd = listener_accept(&ctl.listener, &peer, &peer_len);
+    if (client_fd < 0) {
+        return;
+    }
+    control_client_t *c = free_slot();
+    if (c != NULL) {
+        wsg_outq_init(&c->outq, malloc(CONTROL_OUTQ_BYTES), CONTROL_OUTQ_BYTES);
+    }
+    if (c == NULL || c->outq.ring == NULL) {
+        host_logf(HAL_LOG_WARN, "control: refused a connection, %d already open",
+                  CONTROL_CLIENTS_MAX);
+        close(client_fd);
+        return;
+    }
+    c->fd = client_fd;
+    c->closing = false;
+    c->dead = false;
+    c->eof = false;
+    c->pending_len = 0;
+    c->pending_at = 0;
+    c->number = ++ctl.connections;
+    c->device = 0;
+    gcl_linebuf_reset(&c->input);
+    if (!loop_watch(client_fd, POLLIN, on_client, c)) {
+        free(c->outq.ring);
+        close(client_fd);
+        return;
+    }
+    c->in_use = true;
+    host_logf(HAL_LOG_INFO, "control ctl%u: connected", c->number);
+}
+
+bool simctl_start(const char *addr, int port)
+{
+    ctl.addr = addr != NULL ? addr : DEFAULT_ADDR;
+    simctl_step_on_done(on_step_done);
+    return listener_start(&ctl.listener, "control", ctl.addr, port, on_accept, NULL);
+}
+
+int simctl_port(void)
+{
+    return ctl.listener.fd >= 0 ? net_local_port(ctl.listener.fd) : -1;
+}
+
+const char *simctl_describe(void)
+{
+    static char text[96];
+    if (ctl.listener.fd < 0) {
+        return "";
+    }
+    snprintf(text, sizeof(text), ", control %s:%d", ctl.addr, simctl_port());
+    return text;
+}
+
+void simctl_reap(void)
+{
+    listener_resume_when_due(&ctl.listener);
+}
+
+void simctl_stop(void)
+{
+    for (unsigned i = 0; i < CONTROL_CLIENTS_MAX; i++) {
+        if (ctl.clients[i].in_use) {
+            close_client(&ctl.clients[i]);
+        }
+    }
+    listener_stop(&ctl.listener);
+}

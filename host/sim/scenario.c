@@ -1,0 +1,171 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+#include "scenario.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "commands.h"
+#include "log.h"
+#include "record.h"
+#include "text_file.h"
+
+#define LINE_MAX_LEN 4096
+
+typedef struct {
+    uint64_t at_us;
+    int line;
+    char *command;
+} event_t;
+
+static struct {
+    char path[256];
+    event_t *events;
+    unsigned count;
+    unsigned next;
+    unsigned cap;
+} sc;
+
+static bool fail(int line, const char *why, const char *detail)
+{
+    fprintf(stderr, "wsgsim: %s:%d: %s%s%s\n", sc.path, line, why, detail[0] ? ": " : "", detail);
+    return false;
+}
+
+static bool append(uint64_t at_us, int line, const char *command)
+{
+    if (sc.count == sc.cap) {
+        unsigned cap = sc.cap == 0 ? 16u : sc.cap * 2u;
+        event_t *grown = realloc(sc.events, cap * sizeof(*grown));
+        if (grown == NULL) {
+            return fail(line, "out of memory", "");
+        }
+        sc.events = grown;
+        sc.cap = cap;
+    }
+    char *copy = strdup(command);
+    if (copy == NULL) {
+        return fail(line, "out of memory", "");
+    }
+    sc.events[sc.count++] = (event_t){at_us, line, copy};
+    return true;
+}
+
+/* "1500" (ms after start) or "+200" (ms after the previous command). */
+static bool parse_time(const char *token, uint64_t previous_ms_us, uint64_t *at_us)
+{
+    bool relative = token[0] == '+';
+    char *end = NULL;
+    errno = 0;
+    double ms = strtod(token + (relative ? 1 : 0), &end);
+    if (end == token || *end != '\0' || errno != 0 || !isfinite(ms) || ms < 0.0 || ms > 1e12 ||
+        !(token[relative ? 1 : 0] >= '0' && token[relative ? 1 : 0] <= '9')) {
+        return false;
+    }
+    uint64_t us = (uint64_t)llround(ms * 1000.0);
+    *at_us = relative ? previous_ms_us + us : us;
+    return true;
+}
+
+/* Cuts a "# comment" (outside a quoted string) and the blanks before it. */
+static void strip(char *text)
+{
+    bool quoted = false;
+    size_t len = 0;
+    for (; text[len] != '\0' && (quoted || text[len] != '#'); len++) {
+        quoted = text[len] == '"' ? !quoted : quoted;
+    }
+    while (len > 0 && (text[len - 1] == ' ' || text[len - 1] == '\t')) {
+        len--;
+    }
+    text[len] = '\0';
+}
+
+/* One non-empty, non-comment line: TIME COMMAND. */
+static bool parse_line(char *text, int line, uint64_t *previous_us, uint64_t start_us)
+{
+    strip(text);
+    char *p = text + strspn(text, " \t");
+    if (*p == '\0') {
+        return true; /* blank or comment only */
+    }
+    size_t time_len = strcspn(p, " \t");
+    char token[64];
+    snprintf(token, sizeof(token), "%.*s", (int)(time_len < 63 ? time_len : 63), p);
+    char *command = p + time_len + strspn(p + time_len, " \t");
+    uint64_t at_us = 0;
+    if (!parse_time(token, *previous_us, &at_us)) {
+        return fail(line, "expected a time in ms (e.g. 1500 or +200)", token);
+    }
+    if (at_us < *previous_us) {
+        return fail(line, "times must not go backwards", token);
+    }
+    char why[256];
+    if (!simctl_check(command, strlen(command), true, why, sizeof(why))) {
+        return fail(line, why, command);
+    }
+    *previous_us = at_us;
+    return append(start_us + at_us, line, command);
+}
+
+bool scenario_load(const char *path, uint64_t start_us)
+{
+    scenario_unload();
+    snprintf(sc.path, sizeof(sc.path), "%s", path);
+    text_file_t file;
+    if (!text_file_open(&file, path, "--scenario", LINE_MAX_LEN, 0)) {
+        return false;
+    }
+    uint64_t previous_us = 0;
+    text_file_read_t got = TEXT_FILE_LINE;
+    bool ok = true;
+    while (ok && (got = text_file_next(&file)) == TEXT_FILE_LINE) {
+        ok = parse_line(file.line, file.number, &previous_us, start_us);
+    }
+    text_file_close(&file);
+    return ok && got == TEXT_FILE_END;
+}
+
+static void run_event(const event_t *e)
+{
+    size_t len = strlen(e->command);
+    record_control("scn", '<', e->command, len);
+    char *reply = simctl_exec(e->command, len, NULL, NULL);
+    record_control("scn", '>', reply, strlen(reply));
+    bool failed = strncmp(reply, "ERR", 3) == 0;
+    host_logf(failed ? HAL_LOG_WARN : HAL_LOG_INFO, "scenario %s:%d: %s -> %s", sc.path, e->line,
+              e->command, reply);
+    free(reply);
+}
+
+unsigned scenario_run_due(uint64_t now_us, unsigned max)
+{
+    unsigned ran = 0;
+    while (ran < max && sc.next < sc.count && sc.events[sc.next].at_us <= now_us) {
+        const event_t *e = &sc.events[sc.next++];
+        run_event(e);
+        ran++;
+    }
+    return ran;
+}
+
+uint64_t scenario_next_us(void)
+{
+    return sc.next < sc.count ? sc.events[sc.next].at_us : UINT64_MAX;
+}
+
+unsigned scenario_pending(void)
+{
+    return sc.count - sc.next;
+}
+
+void scenario_unload(void)
+{
+    for (unsigned i = 0; i < sc.count; i++) {
+        free(sc.events[i].command);
+    }
+    free(sc.events);
+    memset(&sc, 0, sizeof(sc));
+}

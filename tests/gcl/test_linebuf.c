@@ -1,0 +1,396 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/* gcl_linebuf: assembling a byte stream into lines, and how the device
+ * answers lines the assembler flags. */
+#include <check.h>
+#include <string.h>
+
+#include "wsg/gcl_linebuf.h"
+#include "fake_device.h"
+#include "unit_suites.h"
+
+static gcl_linebuf_t lb;
+
+static void lb_setup(void)
+{
+    gcl_linebuf_reset(&lb);
+}
+
+/* Feeds bytes; returns how many lines completed, the last one left in lb. */
+static unsigned feed(const char *bytes, size_t len)
+{
+    unsigned lines = 0;
+    for (size_t i = 0; i < len; i++) {
+        if (gcl_linebuf_feed(&lb, (uint8_t)bytes[i])) {
+            lines++;
+        }
+    }
+    return lines;
+}
+
+static unsigned feed_str(const char *s)
+{
+    return feed(s, strlen(s));
+}
+
+static void fill(char *buf, size_t n, char c)
+{
+    memset(buf, c, n);
+    buf[n] = '\0';
+}
+
+START_TEST(split_across_feeds)
+{
+    ck_assert_uint_eq(feed_str("HO"), 0);
+    ck_assert(gcl_linebuf_pending(&lb));
+    ck_assert_uint_eq(feed_str("ME("), 0);
+    ck_assert_uint_eq(feed_str(")\n"), 1);
+    ck_assert_str_eq(lb.text, "HOME()");
+    ck_assert_uint_eq(lb.len, 6);
+    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_OK);
+    ck_assert(!gcl_linebuf_pending(&lb));
+}
+END_TEST
+
+START_TEST(crlf_is_stripped)
+{
+    ck_assert_uint_eq(feed_str("POS?\r\n"), 1);
+    ck_assert_str_eq(lb.text, "POS?");
+    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_OK);
+}
+END_TEST
+
+/* manual 1.2: 0x0d terminates a command as well */
+START_TEST(cr_alone_ends_a_line)
+{
+    ck_assert_uint_eq(feed_str("POS?\r"), 1);
+    ck_assert_str_eq(lb.text, "POS?");
+    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_OK);
+    ck_assert_uint_eq(feed_str("SN?\rTAG?\r"), 2);
+    ck_assert_str_eq(lb.text, "TAG?");
+}
+END_TEST
+
+/* "\r\n" is one line end, also when a write ends between its two bytes */
+START_TEST(crlf_split_across_feeds_is_one_end)
+{
+    ck_assert_uint_eq(feed_str("POS?\r"), 1);
+    ck_assert_uint_eq(feed_str("\n"), 0);
+    ck_assert(!gcl_linebuf_pending(&lb));
+    ck_assert_uint_eq(feed_str("SN?\r"), 1);
+    ck_assert_uint_eq(feed_str("\nTAG?\n"), 1);
+    ck_assert_str_eq(lb.text, "TAG?");
+}
+END_TEST
+
+START_TEST(lf_cr_is_two_ends)
+{
+    ck_assert_uint_eq(feed_str("POS?\n\r"), 2);
+    ck_assert_uint_eq(lb.len, 0);
+}
+END_TEST
+
+START_TEST(next_line_starts_fresh)
+{
+    ck_assert_uint_eq(feed_str("A\x01\n"), 1);
+    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_BAD_BYTE);
+    ck_assert_uint_eq(feed_str("B\n"), 1);
+    ck_assert_str_eq(lb.text, "B");
+    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_OK);
+}
+END_TEST
+
+START_TEST(empty_line)
+{
+    ck_assert_uint_eq(feed_str("\n"), 1);
+    ck_assert_uint_eq(lb.len, 0);
+    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_OK);
+    ck_assert_uint_eq(feed_str("\r\n"), 1);
+    ck_assert_uint_eq(lb.len, 0);
+}
+END_TEST
+
+START_TEST(cr_inside_splits_the_line)
+{
+    ck_assert_uint_eq(feed_str("PO\rS?\n"), 2);
+    ck_assert_str_eq(lb.text, "S?");
+    ck_assert_uint_eq(feed_str("POS?\r\r\n"), 2); /* "POS?" and an empty line */
+    ck_assert_uint_eq(lb.len, 0);
+    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_OK);
+}
+END_TEST
+
+START_TEST(tab_is_allowed)
+{
+    ck_assert_uint_eq(feed_str("\tPOS?\t\n"), 1);
+    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_OK);
+    ck_assert_str_eq(lb.text, "\tPOS?\t");
+}
+END_TEST
+
+START_TEST(bad_bytes)
+{
+    static const uint8_t bad[] = {0x00, 0x01, 0x1b, 0x7f, 0x80, 0xc3, 0xff};
+    for (size_t i = 0; i < sizeof(bad); i++) {
+        gcl_linebuf_reset(&lb);
+        feed_str("PO");
+        ck_assert(!gcl_linebuf_feed(&lb, bad[i]));
+        ck_assert_uint_eq(feed_str("S?\n"), 1);
+        ck_assert_msg(gcl_linebuf_status(&lb) == GCL_LINE_BAD_BYTE, "byte 0x%02x", bad[i]);
+        ck_assert_str_eq(lb.text, "POS?"); /* the bad byte is not stored */
+    }
+}
+END_TEST
+
+START_TEST(longest_line)
+{
+    char line[GCL_LINE_MAX + 2];
+    fill(line, GCL_LINE_MAX, 'a');
+    strcat(line, "\n");
+    ck_assert_uint_eq(feed_str(line), 1);
+    ck_assert_uint_eq(lb.len, GCL_LINE_MAX);
+    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_OK);
+}
+END_TEST
+
+START_TEST(longest_line_with_crlf)
+{
+    /* the '\r' is part of the terminator, not of the line */
+    char line[GCL_LINE_MAX + 3];
+    fill(line, GCL_LINE_MAX, 'a');
+    strcat(line, "\r\n");
+    ck_assert_uint_eq(feed_str(line), 1);
+    ck_assert_uint_eq(lb.len, GCL_LINE_MAX);
+    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_OK);
+}
+END_TEST
+
+START_TEST(full_line_then_one_more_is_too_long)
+{
+    char line[GCL_LINE_MAX + 4];
+    fill(line, GCL_LINE_MAX, 'a');
+    strcat(line, "b\r\n");
+    ck_assert_uint_eq(feed_str(line), 1);
+    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_TOO_LONG);
+    ck_assert_uint_eq(lb.len, GCL_LINE_MAX);
+    ck_assert_uint_eq(strlen(lb.text), GCL_LINE_MAX);
+}
+END_TEST
+
+START_TEST(too_long_then_resync)
+{
+    char line[GCL_LINE_MAX + 3];
+    fill(line, GCL_LINE_MAX + 1, 'a');
+    strcat(line, "\n");
+    ck_assert_uint_eq(feed_str(line), 1);
+    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_TOO_LONG);
+    ck_assert_uint_eq(lb.len, GCL_LINE_MAX); /* the first bytes are kept */
+    ck_assert_uint_eq(strlen(lb.text), GCL_LINE_MAX);
+    ck_assert_uint_eq(feed_str("POS?\n"), 1);
+    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_OK);
+    ck_assert_str_eq(lb.text, "POS?");
+}
+END_TEST
+
+START_TEST(very_long_line_is_bounded)
+{
+    for (unsigned i = 0; i < 10000; i++) {
+        ck_assert(!gcl_linebuf_feed(&lb, 'x'));
+    }
+    ck_assert(gcl_linebuf_pending(&lb));
+    ck_assert(gcl_linebuf_feed(&lb, '\n'));
+    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_TOO_LONG);
+    ck_assert_uint_eq(lb.len, GCL_LINE_MAX);
+}
+END_TEST
+
+START_TEST(flush)
+{
+    ck_assert(!gcl_linebuf_flush(&lb));
+    feed_str("POS?");
+    ck_assert(gcl_linebuf_flush(&lb));
+    ck_assert_str_eq(lb.text, "POS?");
+    ck_assert(!gcl_linebuf_pending(&lb));
+    ck_assert(!gcl_linebuf_flush(&lb));
+}
+END_TEST
+
+START_TEST(flush_of_a_bad_byte_alone)
+{
+    gcl_linebuf_feed(&lb, 0x00);
+    ck_assert(gcl_linebuf_pending(&lb));
+    ck_assert(gcl_linebuf_flush(&lb));
+    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_BAD_BYTE);
+}
+END_TEST
+
+/* --- through a session --- */
+
+START_TEST(device_split_bytes)
+{
+    const char *text = "POS?\n";
+    for (size_t i = 0; text[i] != '\0'; i++) {
+        EXPECT_NONE();
+        h_send_bytes(&h_main, &text[i], 1);
+    }
+    EXPECT("POS=55.0");
+    EXPECT_NONE();
+}
+END_TEST
+
+START_TEST(device_several_lines_in_one_feed)
+{
+    const char *text = "POS?\r\nGRIPSTATE?\nSN?\n";
+    h_send_bytes(&h_main, text, strlen(text));
+    EXPECT("POS=55.0");
+    EXPECT("GRIPSTATE=0");
+    EXPECT("SN=12345678");
+    EXPECT_NONE();
+}
+END_TEST
+
+/* a client ending lines with "\r\n" in two writes gets one reply per line,
+ * and the device counts no extra (empty) lines */
+START_TEST(device_crlf_in_two_writes)
+{
+    h_send_bytes(&h_main, "POS?\r", 5);
+    EXPECT("POS=55.0");
+    h_send_bytes(&h_main, "\n", 1);
+    h_send_bytes(&h_main, "SN?\r", 4);
+    EXPECT("SN=12345678");
+    EXPECT_NONE();
+    ck_assert_uint_eq(h_gcl_lines_in(&h_main), 2);
+}
+END_TEST
+
+START_TEST(device_cr_terminated_commands)
+{
+    const char *text = "VERBOSE=1\rPOS?\r";
+    h_send_bytes(&h_main, text, strlen(text));
+    EXPECT("VERBOSE=1");
+    EXPECT("POS=55.0");
+    EXPECT_NONE();
+}
+END_TEST
+
+START_TEST(device_ignores_blank_lines)
+{
+    const char *text = "\n\r\n  \t \nPOS?\n";
+    h_send_bytes(&h_main, text, strlen(text));
+    EXPECT("POS=55.0");
+    EXPECT_NONE();
+}
+END_TEST
+
+START_TEST(device_bad_byte_with_name)
+{
+    const uint8_t text[] = {'P', 'O', 'S', 0x00, '?', '\n', 'P', 'O', 'S', '?', '\n'};
+    h_send_bytes(&h_main, text, sizeof(text));
+    EXPECT("ERR POS 15");
+    EXPECT("POS=55.0");
+    EXPECT_NONE();
+}
+END_TEST
+
+START_TEST(device_bad_byte_without_name)
+{
+    const uint8_t text[] = {0x80, 0xff, '\n', 0x07, '\n', 'S', 'N', '?', '\n'};
+    h_send_bytes(&h_main, text, sizeof(text));
+    EXPECT("ERR ? 15");
+    EXPECT("ERR ? 15");
+    EXPECT("SN=12345678");
+    EXPECT_NONE();
+}
+END_TEST
+
+START_TEST(device_utf8_in_argument)
+{
+    send_line(&h_main, "AUTOSEND(\"P\xc3\x96S\",10)");
+    EXPECT("ERR AUTOSEND 15");
+    EXPECT_NONE();
+}
+END_TEST
+
+START_TEST(device_longest_line)
+{
+    char line[GCL_LINE_MAX + 1];
+    fill(line, GCL_LINE_MAX, ' ');
+    memcpy(line, "POS", 3);
+    line[GCL_LINE_MAX - 1] = '?';
+    ASK_EQ(line, "POS=55.0");
+}
+END_TEST
+
+START_TEST(device_longest_line_with_crlf)
+{
+    char line[GCL_LINE_MAX + 3];
+    fill(line, GCL_LINE_MAX, ' ');
+    memcpy(line, "SN", 2);
+    line[GCL_LINE_MAX - 1] = '?';
+    strcat(line, "\r\n");
+    h_send_bytes(&h_main, line, strlen(line));
+    EXPECT("SN=12345678");
+    EXPECT_NONE();
+}
+END_TEST
+
+START_TEST(device_too_long_then_resync)
+{
+    char line[GCL_LINE_MAX + 2];
+    fill(line, GCL_LINE_MAX + 1, ' ');
+    memcpy(line, "POS", 3);
+    line[GCL_LINE_MAX] = '?';
+    ASK_EQ(line, "ERR POS 15");
+    ASK_EQ("POS?", "POS=55.0");
+}
+END_TEST
+
+START_TEST(device_too_long_without_name)
+{
+    char line[600];
+    fill(line, sizeof(line) - 1, '1');
+    ASK_EQ(line, "ERR ? 15");
+    ASK_EQ("SN?", "SN=12345678");
+}
+END_TEST
+
+Suite *linebuf_suite(void)
+{
+    Suite *s = suite_create("linebuf");
+    TCase *unit = tcase_create("assembler");
+    tcase_add_checked_fixture(unit, lb_setup, NULL);
+    tcase_add_test(unit, split_across_feeds);
+    tcase_add_test(unit, crlf_is_stripped);
+    tcase_add_test(unit, next_line_starts_fresh);
+    tcase_add_test(unit, empty_line);
+    tcase_add_test(unit, cr_alone_ends_a_line);
+    tcase_add_test(unit, crlf_split_across_feeds_is_one_end);
+    tcase_add_test(unit, lf_cr_is_two_ends);
+    tcase_add_test(unit, cr_inside_splits_the_line);
+    tcase_add_test(unit, tab_is_allowed);
+    tcase_add_test(unit, bad_bytes);
+    tcase_add_test(unit, longest_line);
+    tcase_add_test(unit, longest_line_with_crlf);
+    tcase_add_test(unit, full_line_then_one_more_is_too_long);
+    tcase_add_test(unit, too_long_then_resync);
+    tcase_add_test(unit, very_long_line_is_bounded);
+    tcase_add_test(unit, flush);
+    tcase_add_test(unit, flush_of_a_bad_byte_alone);
+    suite_add_tcase(s, unit);
+
+    TCase *device = tcase_create("device");
+    tcase_add_checked_fixture(device, h_setup, h_teardown);
+    tcase_add_test(device, device_split_bytes);
+    tcase_add_test(device, device_several_lines_in_one_feed);
+    tcase_add_test(device, device_crlf_in_two_writes);
+    tcase_add_test(device, device_cr_terminated_commands);
+    tcase_add_test(device, device_ignores_blank_lines);
+    tcase_add_test(device, device_bad_byte_with_name);
+    tcase_add_test(device, device_bad_byte_without_name);
+    tcase_add_test(device, device_utf8_in_argument);
+    tcase_add_test(device, device_longest_line);
+    tcase_add_test(device, device_longest_line_with_crlf);
+    tcase_add_test(device, device_too_long_then_resync);
+    tcase_add_test(device, device_too_long_without_name);
+    suite_add_tcase(s, device);
+    return s;
+}

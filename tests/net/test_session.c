@@ -1,0 +1,499 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/* Sessions: per-session settings, BYE and disconnects, several clients,
+ * datagram peers, slot reuse and the observer hooks. */
+#include <check.h>
+#include <string.h>
+
+#include "fake_device.h"
+#include "unit_suites.h"
+
+/* --- per-session settings --- */
+
+START_TEST(pwt_clt_are_per_session)
+{
+    h_open(&h_other, WSG_TRANSPORT_STREAM);
+    ASK_EQ("PWT=5", "PWT=5.0");
+    ASK_EQ("CLT=3", "CLT=3.0");
+    ck_assert_str_eq(ask(&h_other, "PWT?"), "PWT=10.0");
+    ck_assert_str_eq(ask(&h_other, "CLT?"), "CLT=10.0");
+    ASK_EQ("PWT?", "PWT=5.0");
+    ASK_EQ("CLT?", "CLT=3.0");
+}
+END_TEST
+
+START_TEST(settings_reset_on_new_session)
+{
+    ASK_EQ("PWT=5", "PWT=5.0");
+    ASK_EQ("CLT=3", "CLT=3.0");
+    ASK_EQ("VERBOSE=1", "VERBOSE=1");
+    uint64_t id = wsg_conn_id(&h_main.conn);
+    ASK_EQ("BYE()", "ACK BYE");
+    h_close(&h_main, WSG_CLOSE_ANNOUNCED);
+    h_open(&h_main, WSG_TRANSPORT_STREAM); /* the same storage, fresh settings */
+    ck_assert_uint_gt(wsg_conn_id(&h_main.conn), id);
+    ASK_EQ("PWT?", "PWT=10.0");
+    ASK_EQ("CLT?", "CLT=10.0");
+    ASK_EQ("VERBOSE?", "VERBOSE=0");
+    ASK_EQ("FOO()", "ERR FOO 14");
+}
+END_TEST
+
+START_TEST(verbose_is_per_session)
+{
+    h_open(&h_other, WSG_TRANSPORT_STREAM);
+    ASK_EQ("VERBOSE=1", "VERBOSE=1");
+    ck_assert_str_eq(ask(&h_other, "FOO()"), "ERR FOO 14");
+    ASK_EQ("FOO()", "ERR FOO 14 Unknown command");
+}
+END_TEST
+
+/* --- BYE and disconnects --- */
+
+START_TEST(bye)
+{
+    ck_assert(!wsg_conn_wants_close(&h_main.conn));
+    ASK_EQ("BYE()", "ACK BYE");
+    ck_assert(wsg_conn_wants_close(&h_main.conn));
+    SEND("POS?"); /* input after BYE is ignored */
+    EXPECT_NONE();
+}
+END_TEST
+
+START_TEST(bye_ends_the_feed)
+{
+    const char *text = "BYE()\nPOS?\n";
+    h_send_bytes(&h_main, text, strlen(text));
+    EXPECT("ACK BYE");
+    EXPECT_NONE();
+}
+END_TEST
+
+START_TEST(close_after_bye_keeps_running)
+{
+    ASK_EQ("BYE()", "ACK BYE");
+    h_close(&h_main, WSG_CLOSE_DROPPED); /* the port may only notice the socket closing */
+    ck_assert(!wsg_conn_is_open(&h_main.conn));
+    h_open(&h_other, WSG_TRANSPORT_STREAM);
+    ck_assert_str_eq(ask(&h_other, "SYSFLAGS[12]?"), "SYSFLAGS[12]=0");
+    ck_assert_str_eq(ask(&h_other, "GRIPSTATE?"), "GRIPSTATE=0");
+}
+END_TEST
+
+START_TEST(drop_without_bye_raises_fast_stop)
+{
+    h_open(&h_other, WSG_TRANSPORT_STREAM);
+    h_close(&h_other, WSG_CLOSE_DROPPED);
+    ASK_EQ("SYSFLAGS[12]?", "SYSFLAGS[12]=1");
+    ASK_EQ("GRIPSTATE?", "GRIPSTATE=7");
+    ck_assert(h_log_contains(HAL_LOG_WARN, "without BYE"));
+    ASK_EQ("HOME()", "ERR HOME 16");
+    ASK_EQ("FSACK()", "ACK FSACK");
+    ASK_EQ("HOME()", "ACK HOME");
+}
+END_TEST
+
+START_TEST(drop_without_bye_can_be_disabled)
+{
+    h_cfg()->disconnect_raises_faststop = false;
+    h_open(&h_other, WSG_TRANSPORT_STREAM);
+    h_close(&h_other, WSG_CLOSE_DROPPED);
+    ASK_EQ("SYSFLAGS[12]?", "SYSFLAGS[12]=0");
+}
+END_TEST
+
+START_TEST(drop_during_move_aborts_it)
+{
+    ASK_EQ("HOME()", "ACK HOME");
+    ck_assert_int_ge(run_until_line(&h_main, "FIN HOME", 3000), 0);
+    h_open(&h_other, WSG_TRANSPORT_STREAM);
+    ck_assert_str_eq(ask(&h_other, "MOVE(10)"), "ACK MOVE");
+    advance_ms(100);
+    h_close(&h_other, WSG_CLOSE_DROPPED);
+    advance_ms(100);
+    EXPECT_NONE(); /* the abort belonged to the dropped session */
+    ASK_EQ("SPEED?", "SPEED=0.0");
+    ASK_EQ("SYSFLAGS[12]?", "SYSFLAGS[12]=1");
+    ASK_EQ("SYSFLAGS[1]?", "SYSFLAGS[1]=0");
+    ck_assert_float_gt(ask_float("POS?"), 50.0f);
+}
+END_TEST
+
+START_TEST(datagram_peers)
+{
+    h_open(&h_other, WSG_TRANSPORT_DATAGRAM);
+    h_send_bytes(&h_other, "POS?", 4);
+    expect_no_line(&h_other);
+    wsg_conn_end_datagram(&h_other.conn);
+    expect_line(&h_other, "POS=55.0");
+    wsg_conn_end_datagram(&h_other.conn); /* nothing pending: nothing */
+    expect_no_line(&h_other);
+    h_close(&h_other, WSG_CLOSE_DROPPED); /* UDP has no connection to lose */
+    h_open(&h_third, WSG_TRANSPORT_DATAGRAM);
+    h_close(&h_third, WSG_CLOSE_EXPIRED);
+    ASK_EQ("SYSFLAGS[12]?", "SYSFLAGS[12]=0");
+}
+END_TEST
+
+START_TEST(datagram_with_newline)
+{
+    h_open(&h_other, WSG_TRANSPORT_DATAGRAM);
+    h_send_bytes(&h_other, "SN?\nTAG?\n", 9);
+    wsg_conn_end_datagram(&h_other.conn);
+    expect_line(&h_other, "SN=12345678");
+    expect_line(&h_other, "TAG=\"wsgsim\"");
+    expect_no_line(&h_other);
+}
+END_TEST
+
+/* --- several clients --- */
+
+START_TEST(final_line_goes_to_issuer_only)
+{
+    h_open(&h_other, WSG_TRANSPORT_STREAM);
+    ck_assert_str_eq(ask(&h_other, "HOME()"), "ACK HOME");
+    EXPECT_NONE();
+    ASK_EQ("HOME()", "ERR HOME 4");
+    expect_no_line(&h_other);
+    ck_assert_int_ge(run_until_line(&h_other, "FIN HOME", 3000), 0);
+    EXPECT_NONE();
+    ASK_EQ("MOVE(30)", "ACK MOVE");
+    ck_assert_int_ge(run_until_line(&h_main, "FIN MOVE", 3000), 0);
+    expect_no_line(&h_other);
+}
+END_TEST
+
+START_TEST(stop_from_another_session)
+{
+    ASK_EQ("HOME()", "ACK HOME");
+    ck_assert_int_ge(run_until_line(&h_main, "FIN HOME", 3000), 0);
+    h_open(&h_other, WSG_TRANSPORT_STREAM);
+    ASK_EQ("MOVE(10)", "ACK MOVE");
+    advance_ms(100);
+    ck_assert_str_eq(ask(&h_other, "STOP()"), "ACK STOP");
+    EXPECT_NONE();
+    advance_ms(1);
+    EXPECT("ERR MOVE 19"); /* the abort goes to the session that moved */
+    expect_no_line(&h_other);
+}
+END_TEST
+
+START_TEST(queries_during_another_sessions_motion)
+{
+    h_open(&h_other, WSG_TRANSPORT_STREAM);
+    ck_assert_str_eq(ask(&h_other, "HOME()"), "ACK HOME");
+    advance_ms(200);
+    ASK_EQ("GRIPSTATE?", "GRIPSTATE=6");
+    ASK_EQ("SYSFLAGS[1]?", "SYSFLAGS[1]=1");
+    expect_no_line(&h_other);
+}
+END_TEST
+
+START_TEST(final_line_not_delivered_to_slot_reuser)
+{
+    ASK_EQ("HOME()", "ACK HOME");
+    ASK_EQ("BYE()", "ACK BYE");
+    h_close(&h_main, WSG_CLOSE_ANNOUNCED);
+    h_open(&h_main, WSG_TRANSPORT_STREAM); /* a new connection in the same storage */
+    advance_ms(2000);
+    EXPECT_NONE();
+    ASK_EQ("SYSFLAGS[0]?", "SYSFLAGS[0]=1"); /* homing did finish */
+}
+END_TEST
+
+static unsigned sink_lines;
+
+static void sink_write(void *ctx, const char *line, size_t len, wsg_msg_kind_t kind)
+{
+    (void)ctx;
+    (void)line;
+    (void)len;
+    (void)kind;
+    sink_lines++;
+}
+
+/* Regression: 16-bit session ids wrapped after 65536 sessions, and a reused
+ * slot's new session then took the FIN of a motion its predecessor started.
+ * Now the owner is detached on close: no id is compared at all. */
+START_TEST(final_line_not_delivered_after_65536_sessions)
+{
+    static const wsg_conn_io_t sink = {sink_write};
+    static wsg_conn_t reused;
+    ASK_EQ("HOME()", "ACK HOME");
+    h_close(&h_main, WSG_CLOSE_EXPIRED);
+    for (unsigned i = 0; i < 65535u; i++) {
+        wsg_conn_open(&reused, &h_dev, &wsg_gcl_driver, WSG_TRANSPORT_DATAGRAM, &sink, NULL);
+        wsg_conn_close(&reused, WSG_CLOSE_EXPIRED);
+    }
+    h_open(&h_main, WSG_TRANSPORT_DATAGRAM);
+    advance_ms(2000);
+    EXPECT_NONE();
+    ck_assert_uint_eq(sink_lines, 0);
+    ASK_EQ("SYSFLAGS[0]?", "SYSFLAGS[0]=1"); /* homing did finish */
+}
+END_TEST
+
+/* The port owns connection storage: the device serves as many as it is
+ * given, and iterates only the open ones. */
+START_TEST(connections_are_the_ports)
+{
+    static const wsg_conn_io_t sink = {sink_write};
+    static wsg_conn_t many[200];
+    sink_lines = 0;
+    for (unsigned i = 0; i < 200u; i++) {
+        wsg_conn_open(&many[i], &h_dev, &wsg_gcl_driver, WSG_TRANSPORT_STREAM, &sink, NULL);
+    }
+    wsg_conn_input(&many[199], (const uint8_t *)"SN?\n", 4);
+    ck_assert_uint_eq(sink_lines, 1);
+    unsigned open = 0;
+    for (wsg_conn_t *c = wsg_device_conn_first(&h_dev); c != NULL; c = wsg_conn_next(c)) {
+        open++;
+    }
+    ck_assert_uint_eq(open, 201); /* h_main too */
+    for (unsigned i = 0; i < 200u; i++) {
+        wsg_conn_close(&many[i], WSG_CLOSE_EXPIRED);
+    }
+    ck_assert_ptr_eq(wsg_device_conn_first(&h_dev), &h_main.conn);
+    ck_assert_ptr_null(wsg_conn_next(&h_main.conn));
+}
+END_TEST
+
+START_TEST(closing_twice_is_harmless)
+{
+    ASK_EQ("BYE()", "ACK BYE");
+    wsg_conn_close(&h_main.conn, WSG_CLOSE_ANNOUNCED);
+    wsg_conn_close(&h_main.conn, WSG_CLOSE_DROPPED);
+    h_open(&h_other, WSG_TRANSPORT_STREAM);
+    ck_assert_str_eq(ask(&h_other, "SYSFLAGS[12]?"), "SYSFLAGS[12]=0");
+}
+END_TEST
+
+/* --- observer hooks --- */
+
+static struct {
+    unsigned lines_in, lines_out, done, tolerated, state_changes;
+    char last_done[16];
+    unsigned last_form, last_argc;
+    wsg_status_t last_status;
+    wsg_grip_state_t last_to;
+} seen;
+
+static void on_line_in(void *ctx, const wsg_conn_t *c, const char *line, size_t len)
+{
+    (void)ctx, (void)c, (void)line, (void)len;
+    seen.lines_in++;
+}
+
+static void on_line_out(void *ctx, const wsg_conn_t *c, const char *line, size_t len)
+{
+    (void)ctx, (void)c;
+    ck_assert(len > 0 && line[len - 1] == '\n');
+    seen.lines_out++;
+}
+
+static void on_state(void *ctx, wsg_grip_state_t from, wsg_grip_state_t to)
+{
+    (void)ctx;
+    ck_assert_int_ne(from, to);
+    seen.state_changes++;
+    seen.last_to = to;
+}
+
+static void on_done(void *ctx, const wsg_conn_t *c, const char *name, int index, unsigned form,
+                    unsigned argc, wsg_status_t status)
+{
+    (void)ctx, (void)c;
+    ck_assert_int_eq(index, wsg_gcl_command_index(name));
+    seen.done++;
+    strncpy(seen.last_done, name, sizeof(seen.last_done) - 1);
+    seen.last_form = form;
+    seen.last_argc = argc;
+    seen.last_status = status;
+}
+
+static void on_tolerated(void *ctx, const wsg_conn_t *c, const char *name, const char *what)
+{
+    (void)ctx, (void)c, (void)name, (void)what;
+    seen.tolerated++;
+}
+
+static const wsg_conn_observer_t conn_hooks = {on_line_in, on_line_out};
+static const wsg_device_observer_t device_hooks = {.grip_state_changed = on_state};
+static const wsg_gcl_observer_t gcl_hooks = {.command_done = on_done, .tolerated = on_tolerated};
+
+static void attach_all(void)
+{
+    memset(&seen, 0, sizeof(seen));
+    wsg_conn_observe(&h_dev, &conn_hooks, NULL);
+    wsg_device_observe(&h_dev, &device_hooks, NULL);
+    wsg_gcl_observe(&h_dev, &gcl_hooks, NULL);
+}
+
+START_TEST(hooks_observe_the_device)
+{
+    attach_all();
+    ASK_EQ("MOVE(1,2,3)", "ERR MOVE 12");
+    ck_assert_str_eq(seen.last_done, "MOVE");
+    ck_assert_uint_eq(seen.last_form, WSG_GCL_FORM_CALL);
+    ck_assert_uint_eq(seen.last_argc, 3);
+    ck_assert_int_eq(seen.last_status, E_NO_PARAM_EXPECTED);
+    ASK_EQ("AUTOSEND(POS,0)", "ACK AUTOSEND"); /* unquoted string: tolerated */
+    ck_assert_uint_eq(seen.tolerated, 1);
+    ASK_EQ("HOME()", "ACK HOME");
+    ck_assert_uint_eq(seen.state_changes, 1);
+    ck_assert_int_eq(seen.last_to, GS_POSITIONING);
+    ck_assert_uint_eq(seen.lines_in, 3);
+    ck_assert_uint_eq(seen.lines_out, 3);
+    ck_assert_uint_eq(seen.done, 3);
+    ck_assert_uint_eq(h_gcl_lines_in(&h_main), 3);
+    ck_assert_uint_eq(h_gcl_lines_out(&h_main), 3);
+}
+END_TEST
+
+/* Observers survive a reset (power-on keeps them, as the control channel's
+ * RESET expects its own re-attachment to be the only change). */
+START_TEST(hooks_survive_reset)
+{
+    attach_all();
+    h_close(&h_main, WSG_CLOSE_EXPIRED);
+    wsg_device_reset(&h_dev, h_cfg());
+    ck_assert_ptr_null(wsg_device_conn_first(&h_dev)); /* power-on: no connections */
+    h_open(&h_main, WSG_TRANSPORT_STREAM);
+    ASK_EQ("SN?", "SN=12345678");
+    ck_assert_uint_eq(seen.lines_out, 1);
+}
+END_TEST
+
+/* --- the port's driver table --- */
+
+/* A protocol that claims connections starting with 'X' and counts bytes. */
+static size_t probe_bytes;
+static bool probe_detect(uint8_t first_byte)
+{
+    return first_byte == 'X';
+}
+static void probe_open(wsg_conn_t *c)
+{
+    (void)c;
+}
+static void probe_input(wsg_conn_t *c, const uint8_t *bytes, size_t len)
+{
+    (void)c;
+    (void)bytes;
+    probe_bytes += len;
+}
+static void probe_end_datagram(wsg_conn_t *c)
+{
+    (void)c;
+}
+static void probe_done(wsg_conn_t *c, wsg_op_t op, wsg_status_t status)
+{
+    (void)c;
+    (void)op;
+    (void)status;
+}
+static bool probe_busy(const wsg_conn_t *c)
+{
+    (void)c;
+    return false;
+}
+static void probe_close(wsg_conn_t *c, wsg_close_reason_t why)
+{
+    (void)c;
+    (void)why;
+}
+static const wsg_proto_driver_t probe_driver = {
+    "probe",    probe_detect, probe_open,  probe_input, probe_end_datagram,
+    probe_done, probe_busy,   probe_close,
+};
+
+START_TEST(the_first_driver_that_claims_the_first_byte_serves)
+{
+    static const wsg_proto_driver_t *const table[] = {&probe_driver, &wsg_gcl_driver};
+    wsg_conn_set_drivers(&h_dev, table, 2);
+    probe_bytes = 0;
+    h_open_on(&h_other, &h_dev, NULL, WSG_TRANSPORT_STREAM);
+    send_line(&h_other, "XYZ");
+    ck_assert_uint_eq(probe_bytes, 4);
+    expect_no_line(&h_other);
+    h_open_on(&h_third, &h_dev, NULL, WSG_TRANSPORT_STREAM);
+    ck_assert_str_eq(ask(&h_third, "SN?"), "SN=12345678"); /* GCL takes any other byte */
+    ck_assert_uint_eq(probe_bytes, 4);
+}
+END_TEST
+
+START_TEST(a_reset_keeps_the_driver_table)
+{
+    static const wsg_proto_driver_t *const table[] = {&probe_driver};
+    wsg_conn_set_drivers(&h_dev, table, 1);
+    wsg_device_reset(&h_dev, h_cfg());
+    probe_bytes = 0;
+    h_open_on(&h_other, &h_dev, NULL, WSG_TRANSPORT_STREAM);
+    send_line(&h_other, "X");
+    ck_assert_uint_eq(probe_bytes, 2);
+}
+END_TEST
+
+START_TEST(bytes_no_driver_claims_are_dropped)
+{
+    static const wsg_proto_driver_t *const table[] = {&probe_driver};
+    wsg_conn_set_drivers(&h_dev, table, 1);
+    probe_bytes = 0;
+    h_open_on(&h_other, &h_dev, NULL, WSG_TRANSPORT_STREAM);
+    send_line(&h_other, "SN?");
+    expect_no_line(&h_other);
+    ck_assert_uint_eq(probe_bytes, 0);
+    ck_assert(wsg_conn_is_open(&h_other.conn));
+    wsg_conn_set_drivers(&h_dev, NULL, 0); /* no table at all: the same */
+    send_line(&h_other, "SN?");
+    expect_no_line(&h_other);
+    ASK_EQ("SN?", "SN=12345678"); /* a connection opened with its driver is unaffected */
+}
+END_TEST
+
+Suite *session_suite(void)
+{
+    Suite *s = suite_create("session");
+    TCase *settings = tcase_create("settings");
+    tcase_add_checked_fixture(settings, h_setup, h_teardown);
+    tcase_add_test(settings, pwt_clt_are_per_session);
+    tcase_add_test(settings, settings_reset_on_new_session);
+    tcase_add_test(settings, verbose_is_per_session);
+    suite_add_tcase(s, settings);
+
+    TCase *closing = tcase_create("closing");
+    tcase_add_checked_fixture(closing, h_setup, h_teardown);
+    tcase_add_test(closing, bye);
+    tcase_add_test(closing, bye_ends_the_feed);
+    tcase_add_test(closing, close_after_bye_keeps_running);
+    tcase_add_test(closing, drop_without_bye_raises_fast_stop);
+    tcase_add_test(closing, drop_without_bye_can_be_disabled);
+    tcase_add_test(closing, drop_during_move_aborts_it);
+    tcase_add_test(closing, datagram_peers);
+    tcase_add_test(closing, datagram_with_newline);
+    tcase_add_test(closing, closing_twice_is_harmless);
+    suite_add_tcase(s, closing);
+
+    TCase *multi = tcase_create("multi");
+    tcase_add_checked_fixture(multi, h_setup, h_teardown);
+    tcase_add_test(multi, final_line_goes_to_issuer_only);
+    tcase_add_test(multi, stop_from_another_session);
+    tcase_add_test(multi, queries_during_another_sessions_motion);
+    tcase_add_test(multi, final_line_not_delivered_to_slot_reuser);
+    tcase_add_test(multi, final_line_not_delivered_after_65536_sessions);
+    tcase_add_test(multi, connections_are_the_ports);
+    suite_add_tcase(s, multi);
+
+    TCase *hook = tcase_create("hooks");
+    tcase_add_checked_fixture(hook, h_setup, h_teardown);
+    tcase_add_test(hook, hooks_observe_the_device);
+    tcase_add_test(hook, hooks_survive_reset);
+    suite_add_tcase(s, hook);
+
+    TCase *drivers = tcase_create("drivers");
+    tcase_add_checked_fixture(drivers, h_setup, h_teardown);
+    tcase_add_test(drivers, the_first_driver_that_claims_the_first_byte_serves);
+    tcase_add_test(drivers, a_reset_keeps_the_driver_table);
+    tcase_add_test(drivers, bytes_no_driver_claims_are_dropped);
+    suite_add_tcase(s, drivers);
+    return s;
+}

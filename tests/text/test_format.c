@@ -1,0 +1,183 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/* textbuf: the number and vector formatting every reply line uses. */
+#include <check.h>
+#include <float.h>
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "unit_suites.h"
+#include "priv/textbuf.h"
+
+static char storage[128];
+static textbuf_t tb;
+
+static const char *fmt_float(float value)
+{
+    textbuf_init(&tb, storage, sizeof(storage));
+    textbuf_put_float(&tb, value);
+    ck_assert(!tb.overflow);
+    return storage;
+}
+
+static const char *fmt_int(int32_t value)
+{
+    textbuf_init(&tb, storage, sizeof(storage));
+    textbuf_put_int(&tb, value);
+    return storage;
+}
+
+START_TEST(float_one_decimal_minimum)
+{
+    ck_assert_str_eq(fmt_float(20.0f), "20.0");
+    ck_assert_str_eq(fmt_float(0.0f), "0.0");
+    ck_assert_str_eq(fmt_float(110.0f), "110.0");
+    ck_assert_str_eq(fmt_float(142.0f), "142.0");
+}
+END_TEST
+
+START_TEST(float_up_to_three_decimals)
+{
+    ck_assert_str_eq(fmt_float(20.05f), "20.05");
+    ck_assert_str_eq(fmt_float(34.2f), "34.2");
+    ck_assert_str_eq(fmt_float(0.001f), "0.001");
+    ck_assert_str_eq(fmt_float(1.5f), "1.5");
+    ck_assert_str_eq(fmt_float(12.345f), "12.345");
+    ck_assert_str_eq(fmt_float(0.1f), "0.1");
+    ck_assert_str_eq(fmt_float(0.01f), "0.01");
+}
+END_TEST
+
+START_TEST(float_rounds_to_nearest_thousandth)
+{
+    ck_assert_str_eq(fmt_float(0.0004f), "0.0");
+    ck_assert_str_eq(fmt_float(0.0006f), "0.001");
+    ck_assert_str_eq(fmt_float(0.0015f), "0.002");
+    ck_assert_str_eq(fmt_float(1.9996f), "2.0");
+    ck_assert_str_eq(fmt_float(9.9999f), "10.0");
+    ck_assert_str_eq(fmt_float(20.0499f), "20.05");
+    ck_assert_str_eq(fmt_float(3.14159f), "3.142");
+}
+END_TEST
+
+START_TEST(float_negative)
+{
+    ck_assert_str_eq(fmt_float(-3.0f), "-3.0");
+    ck_assert_str_eq(fmt_float(-3.125f), "-3.125");
+    ck_assert_str_eq(fmt_float(-0.001f), "-0.001");
+    ck_assert_str_eq(fmt_float(-20.05f), "-20.05");
+}
+END_TEST
+
+START_TEST(float_never_negative_zero)
+{
+    ck_assert_str_eq(fmt_float(-0.0f), "0.0");
+    ck_assert_str_eq(fmt_float(-0.0004f), "0.0");
+    ck_assert_str_eq(fmt_float(-1e-9f), "0.0");
+}
+END_TEST
+
+START_TEST(float_large_values)
+{
+    ck_assert_str_eq(fmt_float(123456.789f), "123456.789");
+    ck_assert_str_eq(fmt_float(16777216.0f), "16777216.0");
+    ck_assert_str_eq(fmt_float(-4000000.5f), "-4000000.5");
+}
+END_TEST
+
+START_TEST(float_saturates_without_exponent)
+{
+    ck_assert_str_eq(fmt_float(1e20f), "1000000000000.0");
+    ck_assert_str_eq(fmt_float(-1e20f), "-1000000000000.0");
+    ck_assert_str_eq(fmt_float(INFINITY), "1000000000000.0");
+    ck_assert_str_eq(fmt_float(-FLT_MAX), "-1000000000000.0");
+}
+END_TEST
+
+START_TEST(float_nan_is_zero)
+{
+    ck_assert_str_eq(fmt_float(NAN), "0.0");
+}
+END_TEST
+
+START_TEST(integers)
+{
+    ck_assert_str_eq(fmt_int(0), "0");
+    ck_assert_str_eq(fmt_int(-3), "-3");
+    ck_assert_str_eq(fmt_int(12345678), "12345678");
+    ck_assert_str_eq(fmt_int(INT32_MAX), "2147483647");
+    ck_assert_str_eq(fmt_int(INT32_MIN), "-2147483648");
+    textbuf_init(&tb, storage, sizeof(storage));
+    textbuf_put_uint(&tb, UINT32_MAX);
+    ck_assert_str_eq(storage, "4294967295");
+}
+END_TEST
+
+START_TEST(bits_vector)
+{
+    textbuf_init(&tb, storage, sizeof(storage));
+    textbuf_put_bits(&tb, 0x5u, 4);
+    ck_assert_str_eq(storage, "[1,0,1,0]");
+    textbuf_init(&tb, storage, sizeof(storage));
+    textbuf_put_bits(&tb, 0x80000001u, 32);
+    ck_assert_uint_eq(strlen(storage), 2 + 32 + 31);
+    ck_assert(strncmp(storage, "[1,0,", 5) == 0);
+    ck_assert_str_eq(storage + strlen(storage) - 3, ",1]");
+}
+END_TEST
+
+START_TEST(quoted)
+{
+    textbuf_init(&tb, storage, sizeof(storage));
+    textbuf_put_str(&tb, "DEVTYPE=");
+    textbuf_put_quoted(&tb, "WSG 50-110");
+    ck_assert_str_eq(storage, "DEVTYPE=\"WSG 50-110\"");
+}
+END_TEST
+
+START_TEST(overflow_is_bounded_and_flagged)
+{
+    char small[8];
+    memset(small, 'z', sizeof(small));
+    textbuf_init(&tb, small, 6);
+    textbuf_put_str(&tb, "ABCDEFGHIJ");
+    ck_assert(tb.overflow);
+    ck_assert_uint_eq(tb.len, 5);
+    ck_assert_str_eq(small, "ABCDE");
+    ck_assert_int_eq(small[6], 'z'); /* nothing written past cap */
+}
+END_TEST
+
+START_TEST(exact_fit_is_not_overflow)
+{
+    char small[5];
+    textbuf_init(&tb, small, sizeof(small));
+    textbuf_put_str(&tb, "ABCD");
+    ck_assert(!tb.overflow);
+    ck_assert_str_eq(small, "ABCD");
+}
+END_TEST
+
+Suite *format_suite(void)
+{
+    Suite *s = suite_create("format");
+    TCase *floats = tcase_create("float");
+    tcase_add_test(floats, float_one_decimal_minimum);
+    tcase_add_test(floats, float_up_to_three_decimals);
+    tcase_add_test(floats, float_rounds_to_nearest_thousandth);
+    tcase_add_test(floats, float_negative);
+    tcase_add_test(floats, float_never_negative_zero);
+    tcase_add_test(floats, float_large_values);
+    tcase_add_test(floats, float_saturates_without_exponent);
+    tcase_add_test(floats, float_nan_is_zero);
+    suite_add_tcase(s, floats);
+
+    TCase *other = tcase_create("other");
+    tcase_add_test(other, integers);
+    tcase_add_test(other, bits_vector);
+    tcase_add_test(other, quoted);
+    tcase_add_test(other, overflow_is_bounded_and_flagged);
+    tcase_add_test(other, exact_fit_is_not_overflow);
+    suite_add_tcase(s, other);
+    return s;
+}
