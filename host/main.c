@@ -2,7 +2,6 @@
 /* build/wsgsim: the virtual WSG gripper on a Linux host. */
 #include <stdio.h>
 
-#include "bin_udp_server.h"
 #include "can_log.h"
 #include "coverage.h"
 #include "finger_bus_host.h"
