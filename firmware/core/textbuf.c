@@ -100,28 +100,27 @@ size_t textbuf_format_float(char *out, float value)
         magnitude = FLOAT_LIMIT;
     }
     uint64_t millis = (uint64_t)(magnitude * 1000.0 + 0.5);
-    unsigned fraction = (unsigned)(millis % 1000u);
-    unsigned places = 3;
-    while (places > 1 && fraction % 10u == 0u) {
-        fraction /= 10u;
-        places--;
-    }
-    char text[TEXTBUF_FLOAT_MAX]; /* built from the last digit backwards */
-    char *end = text + sizeof(text);
-    char *first = end - places;
-    for (char *p = end; p > first; fraction /= 10u) {
-        *--p = (char)('0' + fraction % 10u);
-    }
-    *--first = '.';
-    first = digits_before(first, millis / 1000u);
+    uint64_t whole = millis / 1000u;
+    unsigned fraction = (unsigned)(millis - whole * 1000u);
+    char *p = out;
     if (value < 0.0f && millis != 0u) {
-        *--first = '-'; /* never "-0.0" */
+        *p++ = '-'; /* never "-0.0" */
     }
-    size_t len = (size_t)(end - first);
-    for (size_t i = 0; i < len; i++) {
-        out[i] = first[i];
+    char digits[20];
+    const char *end = digits + sizeof(digits);
+    for (const char *d = digits_before(digits + sizeof(digits), whole); d < end; d++) {
+        *p++ = *d;
     }
-    return len;
+    *p++ = '.';
+    *p++ = (char)('0' + fraction / 100u); /* one decimal at least, three at most */
+    unsigned rest = fraction % 100u;
+    if (rest != 0u) {
+        *p++ = (char)('0' + rest / 10u);
+        if (rest % 10u != 0u) {
+            *p++ = (char)('0' + rest % 10u);
+        }
+    }
+    return (size_t)(p - out);
 }
 
 void textbuf_put_float(textbuf_t *tb, float value)
