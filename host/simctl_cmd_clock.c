@@ -12,6 +12,17 @@
 
 #define STEP_MAX_MS 3600000.0 /* one hour of simulated time per STEP */
 
+/* RUN_UNTIL_DONE: the operation it waits for, and how the run ended. */
+typedef struct {
+    bool active; /* the running step is a RUN_UNTIL_DONE */
+    bool ended;  /* the operation ended before the limit */
+    wsg_device_t *device;
+    wsg_motion_kind_t motion;
+    uint64_t started_us;
+} run_watch_t;
+
+static run_watch_t run;
+
 wsg_status_t sc_pause(simctl_ctx_t *ctx)
 {
     (void)ctx;
@@ -48,21 +59,11 @@ wsg_status_t sc_step(simctl_ctx_t *ctx)
     if (!simclock_paused()) {
         return sc_fail(ctx, E_ACCESS_DENIED, "the clock is running; PAUSE() first");
     }
+    run.active = false; /* its reply is STEP's, even if the last run's never went out */
     simctl_step_begin((uint64_t)(ms * 1000.0 + 0.5));
     ctx->deferred = true;
     return E_SUCCESS;
 }
-
-/* RUN_UNTIL_DONE: the operation it waits for, and how the run ended. */
-typedef struct {
-    bool active; /* the running step is a RUN_UNTIL_DONE */
-    bool ended;  /* the operation ended before the limit */
-    wsg_device_t *device;
-    wsg_motion_kind_t motion;
-    uint64_t started_us;
-} run_watch_t;
-
-static run_watch_t run;
 
 /* The long command that runs when RUN_UNTIL_DONE starts has ended (its final
  * reply went out), or another replaced it (which ended it as well). */

@@ -296,6 +296,22 @@ START_TEST(run_until_done_stops_at_its_limit)
 }
 END_TEST
 
+/* A control connection that closes during its RUN_UNTIL_DONE never takes the
+ * reply; a STEP after it still answers as a STEP. */
+START_TEST(a_step_after_an_unanswered_run_answers_as_a_step)
+{
+    GCL_EQ("HOME()", "ACK HOME");
+    simctl_outcome_t outcome = {0};
+    const char *line = "RUN_UNTIL_DONE(5000)";
+    char *reply = simctl_exec(line, strlen(line), NULL, &outcome);
+    ck_assert_ptr_null(reply);
+    ck_assert(outcome.deferred);
+    simctl_step_finish(); /* the run ends; nobody asks for its reply */
+    uint64_t t0 = t_now_us();
+    CTL_EQ("STEP(10)", expected_time("STEP", t0 + 10000u));
+}
+END_TEST
+
 START_TEST(run_until_done_is_checked_like_step)
 {
     uint64_t t0 = t_now_us();
@@ -336,6 +352,7 @@ Suite *clock_suite(void)
     tcase_add_test(tc, run_until_done_is_idle_when_nothing_runs);
     tcase_add_test(tc, run_until_done_stops_at_its_limit);
     tcase_add_test(tc, run_until_done_is_checked_like_step);
+    tcase_add_test(tc, a_step_after_an_unanswered_run_answers_as_a_step);
     suite_add_tcase(s, tc);
     return s;
 }
