@@ -98,13 +98,19 @@ static void reply_begin(cmd_ctx_t *ctx, textbuf_t *tb, char *storage, size_t cap
     textbuf_put_char(tb, '=');
 }
 
+/* The most frequent reply (POS?, SPEED?, FORCE?, polled), written straight
+ * into one line: it always fits, so it needs no textbuf bookkeeping. */
 void reply_float(cmd_ctx_t *ctx, float value)
 {
-    char storage[64];
-    textbuf_t tb;
-    reply_begin(ctx, &tb, storage, sizeof(storage));
-    textbuf_put_float(&tb, value);
-    gcl_send(ctx->gcl, &tb, WSG_MSG_REPLY);
+    char line[GCL_NAME_MAX + 1 + TEXTBUF_FLOAT_MAX + 1];
+    size_t len = 0;
+    for (const char *name = ctx->cmd->name; *name != '\0'; name++) {
+        line[len++] = *name;
+    }
+    line[len++] = '=';
+    len += textbuf_format_float(line + len, value);
+    line[len++] = '\n';
+    gcl_send_line(ctx->gcl, line, len, WSG_MSG_REPLY);
 }
 
 void reply_int(cmd_ctx_t *ctx, int32_t value)

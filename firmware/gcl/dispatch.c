@@ -1,8 +1,6 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* Line → command → handler, and the one place that turns a failed
  * handler into an ERR line. */
-#include <string.h>
-
 #include "gcl/gcl_internal.h"
 
 #define CALL WSG_GCL_FORM_CALL
@@ -56,14 +54,39 @@ const wsg_gcl_command_t *wsg_gcl_command_at(unsigned i)
     return i < wsg_gcl_command_count() ? &commands[i].info : NULL;
 }
 
+/* Names are a few letters: an open loop beats a library call on each. */
+static bool same_name(const char *a, const char *b)
+{
+    while (*a != '\0' && *a == *b) {
+        a++;
+        b++;
+    }
+    return *a == *b;
+}
+
 static const cmd_entry_t *dispatch_find(const char *name)
 {
     for (size_t i = 0; i < sizeof(commands) / sizeof(commands[0]); i++) {
-        if (strcmp(commands[i].info.name, name) == 0) {
+        const char *known = commands[i].info.name;
+        if (known[0] == name[0] && same_name(known, name)) {
             return &commands[i];
         }
     }
     return NULL;
+}
+
+/* dispatch_find(), trying the connection's previous command first. */
+static const cmd_entry_t *find_for(gcl_conn_t *g, const char *name)
+{
+    const cmd_entry_t *last = g->last_command;
+    if (last != NULL && same_name(last->info.name, name)) {
+        return last;
+    }
+    const cmd_entry_t *entry = dispatch_find(name);
+    if (entry != NULL) {
+        g->last_command = entry;
+    }
+    return entry;
 }
 
 int wsg_gcl_command_index(const char *name)
@@ -133,7 +156,7 @@ void dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_status_
     gcl_command_t cmd;
     wsg_status_t status = gcl_parse_line(line, len, &cmd);
     wsg_device_sense(dev); /* answer from the newest reading */
-    const cmd_entry_t *entry = cmd.name[0] != '\0' ? dispatch_find(cmd.name) : NULL;
+    const cmd_entry_t *entry = cmd.name[0] != '\0' ? find_for(g, cmd.name) : NULL;
     if (line_status != GCL_LINE_OK) {
         status = E_CMD_FORMAT_ERROR;
     } else if (cmd.name[0] != '\0' && entry == NULL) {

@@ -29,8 +29,11 @@ static void handle_completed_line(gcl_conn_t *g)
 static void gcl_input(wsg_conn_t *c, const uint8_t *bytes, size_t len)
 {
     gcl_conn_t *g = gcl_of(c);
-    for (size_t i = 0; i < len && !g->conn->said_goodbye; i++) {
-        if (gcl_linebuf_feed(&g->input, bytes[i])) {
+    size_t i = 0;
+    while (i < len && !g->conn->said_goodbye) {
+        bool line_done = false;
+        i += gcl_linebuf_feed_bytes(&g->input, bytes + i, len - i, &line_done);
+        if (line_done) {
             handle_completed_line(g);
         }
     }
@@ -105,8 +108,13 @@ void gcl_send(gcl_conn_t *g, textbuf_t *tb, wsg_msg_kind_t kind)
             o->error_sent(gcl_observer_ctx(g), conn_public(g->conn), -1, E_OVERRUN);
         }
     }
+    gcl_send_line(g, tb->data, tb->len, kind);
+}
+
+void gcl_send_line(gcl_conn_t *g, const char *line, size_t len, wsg_msg_kind_t kind)
+{
     g->lines_out++;
-    conn_write(g->conn, tb->data, tb->len, kind);
+    conn_write(g->conn, line, len, kind);
 }
 
 /* "ACK HOME", "FIN MOVE" */

@@ -36,6 +36,7 @@ typedef struct {
     wsg_timer_t autosend_timer; /* due at the earliest subscription */
     uint32_t lines_in;
     uint32_t lines_out;
+    const struct cmd_entry *last_command; /* looked up first: pollers repeat one command */
 } gcl_conn_t;
 
 _Static_assert(sizeof(gcl_conn_t) <= CONN_PROTO_BYTES,
@@ -75,7 +76,7 @@ typedef struct {
 
 typedef wsg_status_t (*cmd_handler_t)(cmd_ctx_t *ctx);
 
-typedef struct {
+typedef struct cmd_entry {
     wsg_gcl_command_t info;
     cmd_handler_t handler;
 } cmd_entry_t;
@@ -85,6 +86,8 @@ void dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_status_
 
 /* driver.c: formatting and sending; sending changes no state */
 void gcl_send(gcl_conn_t *g, textbuf_t *tb, wsg_msg_kind_t kind);
+/* A whole line, its '\n' included, that surely fits a reply. */
+void gcl_send_line(gcl_conn_t *g, const char *line, size_t len, wsg_msg_kind_t kind);
 void gcl_send_word(gcl_conn_t *g, const char *word, const char *name);
 void gcl_send_error(gcl_conn_t *g, const char *name, wsg_status_t status);
 

@@ -13,19 +13,20 @@ static bool is_space(char c)
     return c == ' ' || c == '\t';
 }
 
+/* Range checks as one unsigned comparison each: these run for every byte. */
 static bool is_alpha(char c)
 {
-    return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || c == '_';
+    return (unsigned)(((unsigned char)c | 0x20u) - 'a') < 26u || c == '_';
 }
 
 static bool is_digit(char c)
 {
-    return c >= '0' && c <= '9';
+    return (unsigned)((unsigned char)c - '0') < 10u;
 }
 
 static char to_upper(char c)
 {
-    return (c >= 'a' && c <= 'z') ? (char)(c - 'a' + 'A') : c;
+    return (unsigned)((unsigned char)c - 'a') < 26u ? (char)(c - 'a' + 'A') : c;
 }
 
 static bool at_end(const cursor_t *cur)
@@ -65,14 +66,20 @@ static bool read_word(cursor_t *cur, char *out, size_t max, bool is_name)
         return false;
     }
     size_t n = 0;
-    while (!at_end(cur) && (is_alpha(*cur->p) || is_digit(*cur->p))) {
+    const char *p = cur->p;
+    for (; p < cur->end; p++) {
+        char c = *p;
+        bool letter = (unsigned)(((unsigned char)c | 0x20u) - 'a') < 26u;
+        if (!letter && !is_digit(c) && c != '_') {
+            break;
+        }
         if (n < max) {
-            out[n++] = is_name ? to_upper(*cur->p) : *cur->p;
+            out[n++] = is_name && letter ? (char)((unsigned char)c & ~0x20u) : c; /* upper case */
         } else if (!is_name) {
             return false;
         }
-        cur->p++;
     }
+    cur->p = p;
     out[n] = '\0';
     return true;
 }

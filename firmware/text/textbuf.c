@@ -12,34 +12,64 @@ void textbuf_init(textbuf_t *tb, char *storage, size_t cap)
     }
 }
 
-void textbuf_put_char(textbuf_t *tb, char c)
+/* Appends n bytes, as many as fit; the rest marks the buffer overflowed.
+ * Reply pieces are a few bytes: a plain loop beats memcpy() on them. */
+static void put_bytes(textbuf_t *tb, const char *bytes, size_t n)
 {
-    if (tb->len + 1 >= tb->cap) {
-        tb->overflow = true;
+    if (tb->len + 1u >= tb->cap) { /* full (or no storage at all) */
+        tb->overflow = tb->overflow || n > 0u;
         return;
     }
-    tb->data[tb->len++] = c;
-    tb->data[tb->len] = '\0';
+    size_t room = tb->cap - 1u - tb->len; /* one byte stays for the NUL */
+    if (n > room) {
+        n = room;
+        tb->overflow = true;
+    }
+    char *out = tb->data + tb->len;
+    for (size_t i = 0; i < n; i++) {
+        out[i] = bytes[i];
+    }
+    out[n] = '\0';
+    tb->len += n;
+}
+
+void textbuf_put_char(textbuf_t *tb, char c)
+{
+    put_bytes(tb, &c, 1u);
 }
 
 void textbuf_put_str(textbuf_t *tb, const char *s)
 {
-    while (*s != '\0') {
-        textbuf_put_char(tb, *s++);
+    size_t len = tb->len;
+    size_t last = tb->cap > 0u ? tb->cap - 1u : 0u;
+    while (*s != '\0' && len < last) {
+        tb->data[len++] = *s++;
     }
+    if (*s != '\0') {
+        tb->overflow = true;
+    }
+    if (tb->cap > 0u) {
+        tb->data[len] = '\0';
+    }
+    tb->len = len;
+}
+
+/* Writes value's decimal digits so that they end at end; returns the first. */
+static char *digits_before(char *end, uint64_t value)
+{
+    char *p = end;
+    do {
+        *--p = (char)('0' + (value % 10u));
+        value /= 10u;
+    } while (value != 0u);
+    return p;
 }
 
 static void put_u64(textbuf_t *tb, uint64_t value)
 {
     char digits[20];
-    unsigned n = 0;
-    do {
-        digits[n++] = (char)('0' + (value % 10u));
-        value /= 10u;
-    } while (value != 0u);
-    while (n > 0) {
-        textbuf_put_char(tb, digits[--n]);
-    }
+    char *first = digits_before(digits + sizeof(digits), value);
+    put_bytes(tb, first, (size_t)(digits + sizeof(digits) - first));
 }
 
 void textbuf_put_uint(textbuf_t *tb, uint32_t value)
@@ -60,7 +90,7 @@ void textbuf_put_int(textbuf_t *tb, int32_t value)
 /* Largest magnitude written exactly; beyond it the value saturates. */
 #define FLOAT_LIMIT 1.0e12
 
-void textbuf_put_float(textbuf_t *tb, float value)
+size_t textbuf_format_float(char *out, float value)
 {
     double magnitude = value < 0.0f ? -(double)value : (double)value;
     if (!(magnitude == magnitude)) { /* NaN: the core never produces one */
@@ -70,25 +100,33 @@ void textbuf_put_float(textbuf_t *tb, float value)
         magnitude = FLOAT_LIMIT;
     }
     uint64_t millis = (uint64_t)(magnitude * 1000.0 + 0.5);
+    uint64_t whole = millis / 1000u;
+    unsigned fraction = (unsigned)(millis - whole * 1000u);
+    char *p = out;
     if (value < 0.0f && millis != 0u) {
-        textbuf_put_char(tb, '-'); /* never "-0.0" */
+        *p++ = '-'; /* never "-0.0" */
     }
-    put_u64(tb, millis / 1000u);
-    textbuf_put_char(tb, '.');
-    unsigned fraction = (unsigned)(millis % 1000u);
-    unsigned places = 3;
-    while (places > 1 && fraction % 10u == 0u) {
-        fraction /= 10u;
-        places--;
+    char digits[20];
+    const char *end = digits + sizeof(digits);
+    for (const char *d = digits_before(digits + sizeof(digits), whole); d < end; d++) {
+        *p++ = *d;
     }
-    char digits[3];
-    for (unsigned i = places; i > 0; i--) {
-        digits[i - 1] = (char)('0' + fraction % 10u);
-        fraction /= 10u;
+    *p++ = '.';
+    *p++ = (char)('0' + fraction / 100u); /* one decimal at least, three at most */
+    unsigned rest = fraction % 100u;
+    if (rest != 0u) {
+        *p++ = (char)('0' + rest / 10u);
+        if (rest % 10u != 0u) {
+            *p++ = (char)('0' + rest % 10u);
+        }
     }
-    for (unsigned i = 0; i < places; i++) {
-        textbuf_put_char(tb, digits[i]);
-    }
+    return (size_t)(p - out);
+}
+
+void textbuf_put_float(textbuf_t *tb, float value)
+{
+    char text[TEXTBUF_FLOAT_MAX];
+    put_bytes(tb, text, textbuf_format_float(text, value));
 }
 
 void textbuf_put_quoted(textbuf_t *tb, const char *s)

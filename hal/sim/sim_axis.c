@@ -143,60 +143,39 @@ static void profile_step(sim_axis_t *axis, float dt)
     axis->v_mm_s = v;
 }
 
-typedef struct {
-    float surface_mm; /* where contact begins */
-    float side;       /* -1: limits closing (a lower bound), +1: limits opening */
-    float stiffness;  /* N/mm, 0: rigid */
-    bool on_jaws;     /* the force acts on the fingers (what an FMF measures) */
-} contact_t;
-
-/* Applies one contact: limits the jaws where the servo force is exhausted and
- * returns the contact force. */
-static float apply_contact(sim_axis_t *axis, const contact_t *c)
+/* Applies one contact: a surface at surface_mm that limits closing (side -1)
+ * or opening (side +1), rigid or with a stiffness in N/mm. Limits the jaws
+ * where the servo force is exhausted and returns the contact force. */
+static float apply_contact(sim_axis_t *axis, float surface_mm, float side, float stiffness)
 {
-    float penetration = (axis->x_mm - c->surface_mm) * c->side;
-    bool pushing = (axis->target_mm - axis->x_mm) * c->side > 0.0f ||
-                   (axis->target_mm - c->surface_mm) * c->side > 0.0f;
+    float penetration = (axis->x_mm - surface_mm) * side;
+    if (penetration < 0.0f) {
+        return 0.0f; /* apart: the common case, decided before anything else */
+    }
+    bool pushing = (axis->target_mm - axis->x_mm) * side > 0.0f ||
+                   (axis->target_mm - surface_mm) * side > 0.0f;
     /* A rigid surface held exactly (the clamp below puts the jaws there) still
      * counts while the servo pushes: with very short steps the next increment
      * would round away in float and the contact would flicker. */
-    bool resting_on_rigid = penetration == 0.0f && c->stiffness <= 0.0f && pushing;
-    if (penetration < 0.0f || (penetration == 0.0f && !resting_on_rigid)) {
+    bool resting_on_rigid = penetration == 0.0f && stiffness <= 0.0f && pushing;
+    if (penetration == 0.0f && !resting_on_rigid) {
         return 0.0f;
     }
-    float max_penetration = c->stiffness > 0.0f ? axis->fmax_n / c->stiffness : 0.0f;
+    float max_penetration = stiffness > 0.0f ? axis->fmax_n / stiffness : 0.0f;
     if (penetration >= max_penetration) {
-        axis->x_mm = c->surface_mm + c->side * max_penetration;
+        axis->x_mm = surface_mm + side * max_penetration;
         axis->v_mm_s = 0.0f;
         if (pushing && axis->active) {
-            axis->blocked = (int8_t)c->side;
+            axis->blocked = (int8_t)side;
         }
-        return pushing ? axis->fmax_n : c->stiffness * max_penetration;
+        return pushing ? axis->fmax_n : stiffness * max_penetration;
     }
-    return c->stiffness * penetration;
+    return stiffness * penetration;
 }
 
 static float side_sign(sim_part_side_t side)
 {
     return side == SIM_PART_INSIDE ? -1.0f : 1.0f;
-}
-
-/* The part comes last: step() reads its force from the last contact. */
-static unsigned collect_contacts(const sim_axis_t *axis, contact_t *out)
-{
-    unsigned n = 0;
-    /* Closed, the fingers press on each other ("the gripper grips itself");
-     * fully open, the drive leans on its internal end stop, not on the fingers. */
-    out[n++] = (contact_t){0.0f, -1.0f, 0.0f, true};
-    out[n++] = (contact_t){axis->stroke_mm, 1.0f, 0.0f, false};
-    if (axis->obstacle.present) {
-        out[n++] = (contact_t){axis->obstacle.width_mm, side_sign(axis->obstacle.side), 0.0f, true};
-    }
-    if (axis->part.present) {
-        float side = side_sign(axis->part.side);
-        out[n++] = (contact_t){axis->part.width_mm, side, axis->part.stiffness_n_mm, true};
-    }
-    return n;
 }
 
 /* A part pressed by a servo whose force limit is below its slip force
@@ -212,21 +191,29 @@ static void check_slip(sim_axis_t *axis, float part_force_n, float dt)
     }
 }
 
+/* The contacts in a fixed order, the part last (its force is what may
+ * slip). Closed, the fingers press on each other ("the gripper grips
+ * itself"); fully open, the drive leans on its internal end stop, not on the
+ * fingers, so that force is not on the jaws. */
 static void step(sim_axis_t *axis, float dt)
 {
     if (axis->active) {
         profile_step(axis, dt);
     }
-    contact_t contacts[4];
-    unsigned count = collect_contacts(axis, contacts);
     axis->blocked = 0;
-    axis->force_n = 0.0f;
-    float last = 0.0f;
-    for (unsigned i = 0; i < count; i++) {
-        last = apply_contact(axis, &contacts[i]);
-        axis->force_n += contacts[i].on_jaws ? last : 0.0f;
+    float force = apply_contact(axis, 0.0f, -1.0f, 0.0f);
+    (void)apply_contact(axis, axis->stroke_mm, 1.0f, 0.0f);
+    if (axis->obstacle.present) {
+        force += apply_contact(axis, axis->obstacle.width_mm, side_sign(axis->obstacle.side), 0.0f);
     }
-    check_slip(axis, axis->part.present ? last : 0.0f, dt);
+    float part_force = 0.0f;
+    if (axis->part.present) {
+        part_force = apply_contact(axis, axis->part.width_mm, side_sign(axis->part.side),
+                                   axis->part.stiffness_n_mm);
+        force += part_force;
+    }
+    axis->force_n = force;
+    check_slip(axis, part_force, dt);
 }
 
 void sim_axis_advance(sim_axis_t *axis, float dt_s)

@@ -11,6 +11,10 @@ typedef struct {
     float time_constant_s;
     float board_c;
     float override_c; /* < -273: no override (fault injection sets it) */
+    /* the share of the last step, kept: the control step repeats one dt */
+    float last_dt_s;
+    float last_time_constant_s;
+    float last_share;
 } sim_thermal_t;
 
 void sim_thermal_init(sim_thermal_t *thermal, float ambient_c);

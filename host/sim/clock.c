@@ -128,3 +128,10 @@ void simclock_step(uint64_t us)
         clock_state.sim_base_us += us;
     }
 }
+
+void simclock_end_step_here(void)
+{
+    if (clock_state.paused && clock_state.sim_base_us > clock_state.device_us) {
+        clock_state.sim_base_us = clock_state.device_us;
+    }
+}

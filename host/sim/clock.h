@@ -35,5 +35,8 @@ bool simclock_set_scale(double scale);
 double simclock_scale(void);
 /* While paused: moves simulated time forward by us. */
 void simclock_step(uint64_t us);
+/* While paused: the rest of a step is dropped, simulated time stays where
+ * the device time stands (a run that ended early). */
+void simclock_end_step_here(void);
 
 #endif

@@ -22,6 +22,7 @@ static const simctl_entry_t table[] = {
     {"PAUSE", CALL, 0, 0, sc_pause, "PAUSE()", true},
     {"RESUME", CALL, 0, 0, sc_resume, "RESUME()", true},
     {"STEP", CALL, 1, 1, sc_step, "STEP(ms)", false},
+    {"RUN_UNTIL_DONE", CALL, 1, 1, sc_run_until_done, "RUN_UNTIL_DONE(max_ms)", false},
     {"SCALE", SET | QUERY, 0, 0, sc_scale, "SCALE=factor | SCALE?", true},
     {"SIMTIME", QUERY, 0, 0, sc_simtime, "SIMTIME?", true},
     {"PART", CALL | QUERY, 1, 3, sc_part, "PART(width[,stiffness[,slip_force]]) | PART?", true},

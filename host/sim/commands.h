@@ -9,8 +9,8 @@
 
 typedef struct {
     bool close;    /* the line asked to end the channel (BYE) */
-    bool deferred; /* a STEP runs on: its reply is simctl_step_reply() once
-                    * simctl_step_running() turns false */
+    bool deferred; /* a STEP or RUN_UNTIL_DONE runs on: its reply is
+                    * simctl_step_reply() once simctl_step_running() turns false */
 } simctl_outcome_t;
 
 /* Runs one control line (without its terminator) and returns the reply line
@@ -19,7 +19,8 @@ typedef struct {
  * With an outcome, a STEP only starts: NULL is returned and the STEP runs in
  * slices from the event loop. Without one, a STEP runs to its end first. */
 char *simctl_exec(const char *line, size_t len, unsigned *selected, simctl_outcome_t *outcome);
-/* "STEP=<simulated ms>", the reply of a STEP that has run (malloc'd). */
+/* "STEP=<simulated ms>" or "RUN_UNTIL_DONE=[ms,\"why\"]", the reply of the step
+ * that has run (malloc'd). */
 char *simctl_step_reply(void);
 
 /* True when the line is a known control command in a form it accepts, with

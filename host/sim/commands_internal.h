@@ -75,6 +75,7 @@ bool sc_first_device(simctl_ctx_t *ctx);
 wsg_status_t sc_pause(simctl_ctx_t *ctx);
 wsg_status_t sc_resume(simctl_ctx_t *ctx);
 wsg_status_t sc_step(simctl_ctx_t *ctx);
+wsg_status_t sc_run_until_done(simctl_ctx_t *ctx);
 wsg_status_t sc_scale(simctl_ctx_t *ctx);
 wsg_status_t sc_simtime(simctl_ctx_t *ctx);
 

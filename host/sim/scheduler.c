@@ -25,6 +25,8 @@ static struct {
     bool running;
     uint64_t until_us; /* the device time at which the STEP is done */
     void (*on_done)(void);
+    bool (*done_early)(void *ctx); /* a step until: true ends it now */
+    void *done_early_ctx;
 } step;
 
 static uint64_t earliest(uint64_t a, uint64_t b)
@@ -75,10 +77,22 @@ static bool run_due(unsigned *budget, uint64_t *next)
     return true;
 }
 
+/* A step until its condition: ends at the present instant once it holds. */
+static bool step_ends_early(void)
+{
+    if (!step.running || step.done_early == NULL || !step.done_early(step.done_early_ctx)) {
+        return false;
+    }
+    simclock_end_step_here();
+    step.until_us = hal_clock_now_us();
+    return true;
+}
+
 static void finish_step_if_done(void)
 {
     if (step.running && hal_clock_now_us() >= step.until_us) {
         step.running = false;
+        step.done_early = NULL;
         if (step.on_done != NULL) {
             step.on_done();
         }
@@ -98,10 +112,15 @@ static uint64_t catch_up(void)
     unsigned budget = SLICE_WORK;
     uint64_t next = UINT64_MAX;
     bool all_due_ran = run_due(&budget, &next);
-    while (all_due_ran && budget > 0 && hal_clock_now_us() < target) {
+    bool ended = all_due_ran && step_ends_early();
+    while (!ended && all_due_ran && budget > 0 && hal_clock_now_us() < target) {
         uint64_t now = hal_clock_now_us();
         simclock_advance_device(earliest(target, next > now ? next : now + 1u));
         all_due_ran = run_due(&budget, &next);
+        ended = all_due_ran && step_ends_early();
+    }
+    if (ended) {
+        target = hal_clock_now_us();
     }
     in_catch_up = false;
     finish_step_if_done();
@@ -120,9 +139,16 @@ uint64_t simctl_tick(void)
 
 void simctl_step_begin(uint64_t us)
 {
+    simctl_step_until_begin(us, NULL, NULL);
+}
+
+void simctl_step_until_begin(uint64_t us, bool (*done)(void *ctx), void *ctx)
+{
     simclock_step(us); /* a step is not lateness: no lag is recorded */
     step.running = true;
     step.until_us = simclock_now_us();
+    step.done_early = done;
+    step.done_early_ctx = ctx;
 }
 
 bool simctl_step_running(void)

@@ -19,6 +19,10 @@ uint64_t simctl_tick(void);
  * slice by slice in simctl_tick(), running everything due on the way at its
  * own instant. on_done (if set) is called once the device time got there. */
 void simctl_step_begin(uint64_t us);
+/* A step of at most us that ends early, at the first instant at which
+ * done(ctx) is true (asked after everything due at each instant has run);
+ * simulated time then stays at that instant. */
+void simctl_step_until_begin(uint64_t us, bool (*done)(void *ctx), void *ctx);
 bool simctl_step_running(void);
 /* Runs the rest of the STEP now (callers without an event loop). */
 void simctl_step_finish(void);

@@ -34,6 +34,11 @@ void gcl_linebuf_reset(gcl_linebuf_t *lb);
  * whose status gcl_linebuf_status() tells. The next call starts a new line. */
 bool gcl_linebuf_feed(gcl_linebuf_t *lb, uint8_t byte);
 
+/* Feeds up to len bytes, as many gcl_linebuf_feed() calls would, and stops
+ * after the byte that completes a line. Returns how many bytes it took;
+ * *line_done tells whether the last of them completed a line. */
+size_t gcl_linebuf_feed_bytes(gcl_linebuf_t *lb, const uint8_t *bytes, size_t len, bool *line_done);
+
 /* Ends the pending line as if "\n" had arrived; false if nothing is pending. */
 bool gcl_linebuf_flush(gcl_linebuf_t *lb);
 

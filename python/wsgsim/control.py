@@ -27,6 +27,18 @@ class Control(GclTcp):
             raise GclError("STEP(%d): unexpected %r" % (ms, reply))
         return reply
 
+    def run_until_done(self, max_ms=60000):
+        """Runs the paused clock until the long command the device runs ends
+        (its FIN or ERR has then been sent), at most max_ms of simulated time.
+        Returns (simulated ms reached, why): why is "done", "idle" (nothing
+        was running: time stands still) or "limit" (max_ms ran out first)."""
+        reply = self("RUN_UNTIL_DONE(%s)" % max_ms)
+        name, _, value = reply.partition("=")
+        if name != "RUN_UNTIL_DONE":
+            raise GclError("RUN_UNTIL_DONE(%s): unexpected %r" % (max_ms, reply))
+        sim_ms, why = json.loads(value)
+        return sim_ms, why
+
     def step_until(self, client, final, step_ms=100, limit_ms=60000):
         """STEPs the paused clock until client receives the line final
         (AUTOSEND values are skipped); returns the simulated ms stepped."""

@@ -112,6 +112,52 @@ class TestPausedClock(SimctlCase):
         self.assertEqual(gcl.read_line(), "FIN HOME")
 
 
+class TestRunUntilDone(SimctlCase):
+    def test_a_grip_cycle_takes_one_round_trip_per_command(self):
+        record = self.temp("")
+        sim, ctl = self.start("--start-paused", "--part", "30", "--record", record)
+        gcl = sim.tcp()
+        self.assertEqual(ctl.run_until_done(1000), (0.0, "idle"))
+        reached = []
+        for command in ("HOME()", "MOVE(80)", "GRIP(20)", "RELEASE(10)"):
+            name = command.split("(")[0]
+            self.assertEqual(gcl.command(command), "ACK " + name)
+            sim_ms, why = ctl.run_until_done(10000)
+            self.assertEqual(why, "done")
+            # the final reply went out before the control reply
+            self.assertEqual(gcl.read_line(), "FIN " + name)
+            self.assertEqual(ctl.json("SIMTIME?"), [sim_ms, 0.0])
+            reached.append(sim_ms)
+        self.assertEqual(reached, sorted(reached))
+        self.assertEqual(ctl.run_until_done(1000), (reached[-1], "idle"))
+        ctl("BYE()")
+        gcl.command("BYE()")
+        sim.stop()
+        fins = [row[0] for row in read_record(record) if row[2] == "s1t" and
+                row[4].startswith("FIN ")]
+        # each run stopped at the simulated instant of its FIN
+        self.assertEqual([round(s * 1000.0, 3) for s in fins], reached)
+
+    def test_it_stops_at_its_limit_and_goes_on(self):
+        sim, ctl = self.start("--start-paused")
+        gcl = sim.tcp()
+        self.home(ctl, gcl)
+        start = ctl.json("SIMTIME?")[0]
+        self.assertEqual(gcl.command("MOVE(20,10)"), "ACK MOVE")
+        self.assertEqual(ctl.run_until_done(100), (start + 100.0, "limit"))
+        self.assertEqual(gcl.command("POS?")[:4], "POS=")
+        sim_ms, why = ctl.run_until_done(20000)
+        self.assertEqual(why, "done")
+        self.assertEqual(gcl.read_line(), "FIN MOVE")
+        self.assertGreater(sim_ms, start + 100.0)
+
+    def test_only_while_paused(self):
+        sim, ctl = self.start()
+        self.assertEqual(ctl("RUN_UNTIL_DONE(10)"),
+                         "ERR RUN_UNTIL_DONE 16 the clock is running; PAUSE() first")
+        self.assertIn("RUN_UNTIL_DONE(max_ms)", ctl.json("HELP?"))
+
+
 class TestScale(SimctlCase):
     """The same motion takes the same simulated time at any clock rate,
     measured by the device itself: the record's simulated timestamps of its

@@ -223,6 +223,77 @@ START_TEST(flush_of_a_bad_byte_alone)
 }
 END_TEST
 
+/* The bulk feed hands out the same lines, with the same status and text, as
+ * feeding the bytes one at a time, whatever the bytes and however they are
+ * split. */
+static void expect_bulk_matches_bytewise(const uint8_t *bytes, size_t len, size_t chunk)
+{
+    gcl_linebuf_t one;
+    gcl_linebuf_t bulk;
+    gcl_linebuf_reset(&one);
+    gcl_linebuf_reset(&bulk);
+    size_t i = 0;
+    for (size_t at = 0; at < len; at += chunk) {
+        size_t end = at + chunk < len ? at + chunk : len;
+        size_t j = at;
+        while (j < end) {
+            bool done = false;
+            j += gcl_linebuf_feed_bytes(&bulk, bytes + j, end - j, &done);
+            bool one_done = false;
+            while (i < j && !one_done) {
+                one_done = gcl_linebuf_feed(&one, bytes[i++]);
+            }
+            ck_assert_uint_eq(i, j);
+            ck_assert(done == one_done);
+            ck_assert_uint_eq(bulk.len, one.len);
+            ck_assert(memcmp(bulk.text, one.text, one.len) == 0);
+            if (done) {
+                ck_assert_int_eq(gcl_linebuf_status(&bulk), gcl_linebuf_status(&one));
+                ck_assert_str_eq(bulk.text, one.text);
+            }
+        }
+    }
+    ck_assert(gcl_linebuf_pending(&bulk) == gcl_linebuf_pending(&one));
+    ck_assert(gcl_linebuf_flush(&bulk) == gcl_linebuf_flush(&one));
+    ck_assert_int_eq(gcl_linebuf_status(&bulk), gcl_linebuf_status(&one));
+    ck_assert_str_eq(bulk.text, one.text);
+}
+
+START_TEST(bulk_feed_matches_bytewise)
+{
+    static const char *const texts[] = {
+        "POS?\nPOS?\r\nSPEED?\rFORCE?\n\n\r\r\n\r",
+        "MOVE(\x01 20)\nGRIP(\t20 ,\x7f 10)\r\n\xff\xfe\n",
+        "\r\n\n\r\r\rPOS?",
+    };
+    uint8_t bytes[3 * GCL_LINE_MAX];
+    for (size_t k = 0; k < sizeof(texts) / sizeof(texts[0]); k++) {
+        for (size_t chunk = 1; chunk <= 7; chunk++) {
+            expect_bulk_matches_bytewise((const uint8_t *)texts[k], strlen(texts[k]), chunk);
+        }
+    }
+    /* lines around and beyond the longest, with and without a bad byte */
+    memset(bytes, 'A', sizeof(bytes));
+    bytes[GCL_LINE_MAX] = '\n';
+    bytes[2 * GCL_LINE_MAX + 1] = '\r';
+    bytes[2 * GCL_LINE_MAX + 2] = '\n';
+    bytes[2 * GCL_LINE_MAX + 5] = 0x00;
+    for (size_t chunk = 1; chunk <= sizeof(bytes); chunk += 37) {
+        expect_bulk_matches_bytewise(bytes, sizeof(bytes), chunk);
+    }
+    /* every byte value, in a pseudo-random order and split */
+    uint32_t seed = 12345u;
+    for (int round = 0; round < 50; round++) {
+        for (size_t i = 0; i < 200; i++) {
+            seed = seed * 1103515245u + 12345u;
+            uint8_t b = (uint8_t)(seed >> 16);
+            bytes[i] = (seed >> 28) < 3u ? (uint8_t) "\n\r\t"[seed >> 28] : b;
+        }
+        expect_bulk_matches_bytewise(bytes, 200, 1u + (size_t)round % 13u);
+    }
+}
+END_TEST
+
 /* --- through a session --- */
 
 START_TEST(device_split_bytes)
@@ -375,6 +446,7 @@ Suite *linebuf_suite(void)
     tcase_add_test(unit, very_long_line_is_bounded);
     tcase_add_test(unit, flush);
     tcase_add_test(unit, flush_of_a_bad_byte_alone);
+    tcase_add_test(unit, bulk_feed_matches_bytewise);
     suite_add_tcase(s, unit);
 
     TCase *device = tcase_create("device");

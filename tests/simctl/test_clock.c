@@ -217,6 +217,121 @@ START_TEST(many_events_at_one_instant_are_sliced_at_that_instant)
 }
 END_TEST
 
+/* "RUN_UNTIL_DONE=[ms,"why"]": the simulated µs and the reason. */
+static uint64_t run_until_done(const char *line, const char *why)
+{
+    const char *reply = ctl(line);
+    double ms = -1.0;
+    char reason[16] = "";
+    ck_assert_msg(sscanf(reply, "RUN_UNTIL_DONE=[%lf,\"%15[a-z]\"]", &ms, reason) == 2, "%s: %s",
+                  line, reply);
+    ck_assert_str_eq(reason, why);
+    uint64_t us = (uint64_t)(ms * 1000.0 + 0.5);
+    ck_assert_uint_eq(us, t_now_us()); /* simulated time stands where the run ended */
+    return us;
+}
+
+START_TEST(run_until_done_stops_at_the_final_reply)
+{
+    uint64_t t0 = t_now_us();
+    GCL_EQ("HOME()", "ACK HOME");
+    uint64_t done_us = run_until_done("RUN_UNTIL_DONE(5000)", "done");
+    ck_assert_str_eq(gcl_next(), "FIN HOME");
+    ck_assert_uint_eq(gcl_unread(), 0);
+    /* the same instant as 1 ms steps find it */
+    t_teardown();
+    t_setup();
+    ck_assert_uint_eq(t_now_us(), t0);
+    GCL_EQ("HOME()", "ACK HOME");
+    int ms = t_until("FIN HOME", 5000);
+    ck_assert_int_ge(ms, 0);
+    ck_assert_uint_eq(t_now_us(), done_us);
+    /* a STEP afterwards starts from there */
+    CTL_EQ("STEP(10)", expected_time("STEP", done_us + 10000u));
+}
+END_TEST
+
+START_TEST(run_until_done_runs_a_grip_cycle)
+{
+    static const char *const cycle[][2] = {
+        {"HOME()", "HOME"}, {"MOVE(80)", "MOVE"}, {"GRIP(20)", "GRIP"}, {"RELEASE(10)", "RELEASE"}};
+    CTL_EQ("PART(30)", "ACK PART");
+    uint64_t before = t_now_us();
+    for (size_t i = 0; i < sizeof(cycle) / sizeof(cycle[0]); i++) {
+        char ack[32];
+        char fin[32];
+        snprintf(ack, sizeof(ack), "ACK %s", cycle[i][1]);
+        snprintf(fin, sizeof(fin), "FIN %s", cycle[i][1]);
+        GCL_EQ(cycle[i][0], ack);
+        uint64_t done_us = run_until_done("RUN_UNTIL_DONE(10000)", "done");
+        ck_assert_uint_gt(done_us, before);
+        ck_assert_str_eq(gcl_next(), fin);
+        ck_assert_uint_eq(gcl_unread(), 0);
+        before = done_us;
+    }
+    ck_assert_int_eq(t_gripstate(), 0); /* released: IDLE */
+}
+END_TEST
+
+START_TEST(run_until_done_is_idle_when_nothing_runs)
+{
+    uint64_t t0 = t_now_us();
+    ck_assert_uint_eq(run_until_done("RUN_UNTIL_DONE(1000)", "idle"), t0);
+    GCL_EQ("POS?", "POS=55.0");
+    ck_assert_uint_eq(run_until_done("RUN_UNTIL_DONE(1000)", "idle"), t0);
+}
+END_TEST
+
+START_TEST(run_until_done_stops_at_its_limit)
+{
+    GCL_EQ("HOME()", "ACK HOME");
+    run_until_done("RUN_UNTIL_DONE(5000)", "done");
+    gcl_discard();
+    GCL_EQ("MOVE(20,10)", "ACK MOVE"); /* 90 mm at 10 mm/s */
+    uint64_t t0 = t_now_us();
+    ck_assert_uint_eq(run_until_done("RUN_UNTIL_DONE(250.5)", "limit"), t0 + 250500u);
+    ck_assert_uint_eq(gcl_unread(), 0);
+    run_until_done("RUN_UNTIL_DONE(20000)", "done");
+    ck_assert_str_eq(gcl_next(), "FIN MOVE");
+}
+END_TEST
+
+/* A control connection that closes during its RUN_UNTIL_DONE never takes the
+ * reply; a STEP after it still answers as a STEP. */
+START_TEST(a_step_after_an_unanswered_run_answers_as_a_step)
+{
+    GCL_EQ("HOME()", "ACK HOME");
+    simctl_outcome_t outcome = {0};
+    const char *line = "RUN_UNTIL_DONE(5000)";
+    char *reply = simctl_exec(line, strlen(line), NULL, &outcome);
+    ck_assert_ptr_null(reply);
+    ck_assert(outcome.deferred);
+    simctl_step_finish(); /* the run ends; nobody asks for its reply */
+    uint64_t t0 = t_now_us();
+    CTL_EQ("STEP(10)", expected_time("STEP", t0 + 10000u));
+}
+END_TEST
+
+START_TEST(run_until_done_is_checked_like_step)
+{
+    uint64_t t0 = t_now_us();
+    CTL_ERR("RUN_UNTIL_DONE(0)", 28);
+    CTL_ERR("RUN_UNTIL_DONE(-5)", 28);
+    CTL_ERR("RUN_UNTIL_DONE(3600001)", 28);
+    CTL_ERR("RUN_UNTIL_DONE(\"x\")", 24);
+    CTL_ERR("RUN_UNTIL_DONE()", 13);
+    CTL_ERR("RUN_UNTIL_DONE(1,2)", 12);
+    CTL_EQ("RESUME()", "ACK RESUME");
+    ck_assert_str_eq(ctl("RUN_UNTIL_DONE(10)"),
+                     "ERR RUN_UNTIL_DONE 16 the clock is running; PAUSE() first");
+    CTL_EQ("PAUSE()", "ACK PAUSE");
+    char why[256];
+    ck_assert(!simctl_check("RUN_UNTIL_DONE(10)", 18, true, why, sizeof(why)));
+    ck_assert(simctl_check("RUN_UNTIL_DONE(10)", 18, false, why, sizeof(why)));
+    ck_assert_uint_ge(t_now_us(), t0);
+}
+END_TEST
+
 Suite *clock_suite(void)
 {
     Suite *s = suite_create("clock");
@@ -232,6 +347,12 @@ Suite *clock_suite(void)
     tcase_add_test(tc, a_long_step_is_sliced_and_gcl_is_served_between_slices);
     tcase_add_test(tc, a_sliced_step_ends_as_one_millisecond_steps_do);
     tcase_add_test(tc, many_events_at_one_instant_are_sliced_at_that_instant);
+    tcase_add_test(tc, run_until_done_stops_at_the_final_reply);
+    tcase_add_test(tc, run_until_done_runs_a_grip_cycle);
+    tcase_add_test(tc, run_until_done_is_idle_when_nothing_runs);
+    tcase_add_test(tc, run_until_done_stops_at_its_limit);
+    tcase_add_test(tc, run_until_done_is_checked_like_step);
+    tcase_add_test(tc, a_step_after_an_unanswered_run_answers_as_a_step);
     suite_add_tcase(s, tc);
     return s;
 }

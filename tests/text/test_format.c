@@ -27,6 +27,30 @@ static const char *fmt_int(int32_t value)
     return storage;
 }
 
+/* The same text, written into a plain buffer (the float replies use it). */
+static void expect_formatted(float value, const char *text)
+{
+    char out[TEXTBUF_FLOAT_MAX + 1];
+    size_t len = textbuf_format_float(out, value);
+    ck_assert_uint_le(len, TEXTBUF_FLOAT_MAX);
+    out[len] = '\0';
+    ck_assert_str_eq(out, text);
+}
+
+START_TEST(format_float_into_a_plain_buffer)
+{
+    expect_formatted(0.0f, "0.0");
+    expect_formatted(-0.0004f, "0.0");
+    expect_formatted(20.05f, "20.05");
+    expect_formatted(1.02f, "1.02");
+    expect_formatted(0.0015f, "0.002");
+    expect_formatted(12.345f, "12.345");
+    expect_formatted(99.5f, "99.5");
+    expect_formatted(-3.125f, "-3.125");
+    expect_formatted(-1e13f, "-1000000000000.0"); /* the longest: TEXTBUF_FLOAT_MAX */
+}
+END_TEST
+
 START_TEST(float_one_decimal_minimum)
 {
     ck_assert_str_eq(fmt_float(20.0f), "20.0");
@@ -177,6 +201,7 @@ Suite *format_suite(void)
     tcase_add_test(other, bits_vector);
     tcase_add_test(other, quoted);
     tcase_add_test(other, overflow_is_bounded_and_flagged);
+    tcase_add_test(other, format_float_into_a_plain_buffer);
     tcase_add_test(other, exact_fit_is_not_overflow);
     suite_add_tcase(s, other);
     return s;

@@ -111,7 +111,7 @@ typedef struct {
 } vtime_result_t;
 void vtime_run(int cycles, vtime_result_t *r);
 /* The same cycles through a paused wsgsim and STEP(step_ms) on its control
- * channel (docs/simctl.md). */
+ * channel (docs/simctl.md); step_ms 0: one RUN_UNTIL_DONE per command. */
 void vtime_ctl_run(const server_t *srv, int cycles, int step_ms, vtime_result_t *r);
 
 /* scale.c: simulated ms per wall ms at each SCALE, over `seconds` each, on

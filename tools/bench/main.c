@@ -328,6 +328,17 @@ static void run_autosend(server_t *srv[2], const config_t *cfg, results_t *res)
     res->autosend_clients = AUTOSEND_CLIENTS;
 }
 
+/* Whether the control channel lists RUN_UNTIL_DONE (older builds do not). */
+static bool has_run_until_done(const server_t *srv)
+{
+    conn_t ctl = {.fd = tcp_connect(srv->ctl_port)};
+    char reply[4096] = "";
+    bool listed = conn_send(&ctl, "HELP?") && conn_read_line(&ctl, reply, sizeof(reply), 5000) &&
+                  strstr(reply, "RUN_UNTIL_DONE") != NULL;
+    close(ctl.fd);
+    return listed;
+}
+
 /* Through a paused wsgsim when it has the control channel. */
 static void run_vtime_ctl(const config_t *cfg, results_t *res)
 {
@@ -345,6 +356,17 @@ static void run_vtime_ctl(const config_t *cfg, results_t *res)
             cycles, CTL_STEP_MS);
     vtime_ctl_run(&paused, cycles, CTL_STEP_MS, &res->vtime_ctl);
     res->vtime_ctl_step_ms = CTL_STEP_MS;
+    server_stop(&paused);
+    if (!server_start_wsgsim(&paused, cfg->wsgsim, log_path, true) || paused.ctl_port == 0) {
+        die("%s did not start again with a control channel (see %s)", cfg->wsgsim, log_path);
+    }
+    if (has_run_until_done(&paused)) {
+        fprintf(stderr,
+                "wsgbench: virtual time through the control channel, %d cycles, "
+                "RUN_UNTIL_DONE\n",
+                cfg->cycles);
+        vtime_ctl_run(&paused, cfg->cycles, 0, &res->vtime_run_until);
+    }
     server_stop(&paused);
 }
 

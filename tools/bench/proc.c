@@ -121,8 +121,13 @@ static bool read_ready(const char *log_path, server_t *srv)
     while (!found && fgets(line, sizeof(line), f) != NULL) {
         const char *at = strstr(line, "ready: tcp ");
         srv->ctl_port = 0;
-        found = at != NULL && sscanf(at, "ready: tcp %*[^:]:%d, udp %*[^:]:%d, control %*[^:]:%d",
-                                     &srv->tcp_port, &srv->udp_port, &srv->ctl_port) >= 2;
+        found = at != NULL && sscanf(at, "ready: tcp %*[^:]:%d, udp %*[^:]:%d", &srv->tcp_port,
+                                     &srv->udp_port) == 2;
+        /* other listeners (binary UDP) may come between udp and control */
+        const char *control = found ? strstr(at, ", control ") : NULL;
+        if (control != NULL && sscanf(control, ", control %*[^:]:%d", &srv->ctl_port) != 1) {
+            srv->ctl_port = 0;
+        }
     }
     fclose(f);
     return found;

@@ -40,6 +40,7 @@ typedef struct {
     vtime_result_t vtime;
     vtime_result_t vtime_ctl; /* through wsgsim's control channel; 0 cycles: not run */
     int vtime_ctl_step_ms;
+    vtime_result_t vtime_run_until; /* the same with RUN_UNTIL_DONE; 0 cycles: not run */
     instr_result_t instr;
     subscribers_result_t subscribers;
     fleet_result_t fleet;

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* Virtual-time speed through wsgsim itself: started with --start-paused and
  * a control channel (docs/simctl.md), a driver sends each GCL command and
- * then STEP(step_ms) on the control channel until the command's FIN. */
+ * then STEP(step_ms) on the control channel until the command's FIN, or
+ * (step_ms 0) RUN_UNTIL_DONE once: one control round trip per command. */
 #include <stdio.h>
 #include <string.h>
 #include <unistd.h>
@@ -9,6 +10,8 @@
 #include "bench.h"
 
 #define STEPS_PER_COMMAND_MAX 600
+#define STR_(x) #x
+#define STR(x) STR_(x)
 
 static bool final_seen(conn_t *gcl, const char *name, bool *failed)
 {
@@ -48,12 +51,54 @@ static double run_command(conn_t *gcl, conn_t *ctl, const char *cmd, const char 
     return -1.0;
 }
 
-static bool run_cycle(conn_t *gcl, conn_t *ctl, int step_ms, double *sim_ms)
+#define RUN_LIMIT_MS 30000
+
+/* RUN_UNTIL_DONE=[ms,"why"]: the simulated ms reached; -1 unless "done". */
+static double run_until_done(conn_t *ctl)
+{
+    char reply[256];
+    double ms = -1.0;
+    char why[16] = "";
+    if (!conn_send(ctl, "RUN_UNTIL_DONE(" STR(RUN_LIMIT_MS) ")") ||
+        !conn_read_line(ctl, reply, sizeof(reply), 5000) ||
+        sscanf(reply, "RUN_UNTIL_DONE=[%lf,\"%15[a-z]\"]", &ms, why) != 2) {
+        die("control channel: RUN_UNTIL_DONE answered '%s'", reply);
+    }
+    return strcmp(why, "done") == 0 ? ms : -1.0;
+}
+
+/* The simulated ms the command took, from the server's own times; -1 on
+ * failure. */
+static double run_command_until_done(conn_t *gcl, conn_t *ctl, const char *cmd, const char *name,
+                                     double *sim_now_ms)
+{
+    char line[256];
+    if (!conn_send(gcl, cmd) || !conn_read_line(gcl, line, sizeof(line), 5000) ||
+        strncmp(line, "ACK ", 4) != 0) {
+        return -1.0;
+    }
+    double done_ms = run_until_done(ctl);
+    char fin[64];
+    snprintf(fin, sizeof(fin), "FIN %s", name);
+    /* the FIN was sent before the control reply */
+    if (done_ms < 0 || !conn_read_line(gcl, line, sizeof(line), 5000) || strcmp(line, fin) != 0) {
+        fprintf(stderr, "wsgbench: %s: expected '%s', got '%s'\n", cmd, fin, line);
+        return -1.0;
+    }
+    double took = done_ms - *sim_now_ms;
+    *sim_now_ms = done_ms;
+    return took;
+}
+
+/* sim_now_ms: where the server's clock stands (RUN_UNTIL_DONE only). */
+static bool run_cycle(conn_t *gcl, conn_t *ctl, int step_ms, double *sim_ms, double *sim_now_ms)
 {
     static const char *const cmds[4][2] = {
         {"HOME()", "HOME"}, {"MOVE(80)", "MOVE"}, {"GRIP(20)", "GRIP"}, {"RELEASE(10)", "RELEASE"}};
     for (int i = 0; i < 4; i++) {
-        double ms = run_command(gcl, ctl, cmds[i][0], cmds[i][1], step_ms);
+        double ms = step_ms > 0
+                        ? run_command(gcl, ctl, cmds[i][0], cmds[i][1], step_ms)
+                        : run_command_until_done(gcl, ctl, cmds[i][0], cmds[i][1], sim_now_ms);
         if (ms < 0) {
             return false;
         }
@@ -67,10 +112,11 @@ void vtime_ctl_run(const server_t *srv, int cycles, int step_ms, vtime_result_t 
     conn_t gcl = {.fd = tcp_connect(srv->tcp_port)};
     conn_t ctl = {.fd = tcp_connect(srv->ctl_port)};
     double sim_ms = 0;
+    double sim_now_ms = 0; /* started paused at 0 */
     memset(r, 0, sizeof(*r));
     double t0 = now_us();
     for (int i = 0; i < cycles; i++) {
-        if (run_cycle(&gcl, &ctl, step_ms, &sim_ms)) {
+        if (run_cycle(&gcl, &ctl, step_ms, &sim_ms, &sim_now_ms)) {
             r->cycles_done++;
         } else {
             r->cycles_failed++;
@@ -78,7 +124,7 @@ void vtime_ctl_run(const server_t *srv, int cycles, int step_ms, vtime_result_t 
     }
     r->wall_s = (now_us() - t0) / 1e6;
     r->virtual_s = sim_ms / 1e3;
-    r->steps = (long)(sim_ms / step_ms);
+    r->steps = step_ms > 0 ? (long)(sim_ms / step_ms) : 4L * r->cycles_done;
     conn_send(&gcl, "BYE()");
     close(gcl.fd);
     close(ctl.fd);
