@@ -4,6 +4,7 @@
  * (motion.c) reports how long operations end, to their owner. */
 #include <string.h>
 
+#include "hal_clock.h"
 #include "priv/motion_tuning.h"
 #include "priv/wsg_dev.h"
 
@@ -272,4 +273,12 @@ wsg_status_t wsg_op_set_tag(wsg_device_t *device, const char *tag)
 void wsg_device_sense(wsg_device_t *device)
 {
     sense_and_react(dev_of(device));
+}
+
+void wsg_device_sense_if_moved_on(wsg_device_t *device)
+{
+    wsg_dev_t *dev = dev_of(device);
+    if (dev->sense_reacted || hal_clock_now_us() != dev->sensed.now_us) {
+        sense_and_react(dev);
+    }
 }

@@ -29,7 +29,9 @@ void sense(wsg_dev_t *dev)
 void sense_and_react(wsg_dev_t *dev)
 {
     sense(dev);
-    if (flags_severe_fault(dev) && !flags_get(dev, SF_FAST_STOP)) {
+    /* a reaction changes what the next sense reads, even at this instant */
+    dev->sense_reacted = flags_severe_fault(dev) && !flags_get(dev, SF_FAST_STOP);
+    if (dev->sense_reacted) {
         motion_fast_stop(dev, "severe fault (temperature, power or motor current)");
     }
 }

@@ -143,6 +143,12 @@ static bool is_blank(const char *line, size_t len)
     return true;
 }
 
+/* Queries only read; a line without a known command runs no handler. */
+static bool ran_handler_that_acts(const cmd_entry_t *entry, const gcl_command_t *cmd)
+{
+    return entry != NULL && cmd->form != GCL_FORM_QUERY && cmd->form != GCL_FORM_INDEXED_QUERY;
+}
+
 /* Which error a line earns is decided in this order: a bad line (too long,
  * control bytes), an unknown name, a syntax error, then the handler's own.
  * The outcome sets SF_CMD_FAILURE, here and only here (and in the final
@@ -155,7 +161,11 @@ void dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_status_
     wsg_device_t *dev = gcl_device(g);
     gcl_command_t cmd;
     wsg_status_t status = gcl_parse_line(line, len, &cmd);
-    wsg_device_sense(dev); /* answer from the newest reading */
+    if (g->quiet_since_sense) {
+        wsg_device_sense_if_moved_on(dev);
+    } else {
+        wsg_device_sense(dev); /* answer from the newest reading */
+    }
     const cmd_entry_t *entry = cmd.name[0] != '\0' ? find_for(g, cmd.name) : NULL;
     if (line_status != GCL_LINE_OK) {
         status = E_CMD_FORMAT_ERROR;
@@ -170,4 +180,5 @@ void dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_status_
     g->cmd_failed = status != E_SUCCESS;
     wsg_device_note_result(dev, status);
     report_done(g, &cmd, entry, status);
+    g->quiet_since_sense = g->in_input && !ran_handler_that_acts(entry, &cmd);
 }

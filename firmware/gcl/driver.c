@@ -30,6 +30,7 @@ static void gcl_input(wsg_conn_t *c, const uint8_t *bytes, size_t len)
 {
     gcl_conn_t *g = gcl_of(c);
     size_t i = 0;
+    g->in_input = true;
     while (i < len && !g->conn->said_goodbye) {
         bool line_done = false;
         i += gcl_linebuf_feed_bytes(&g->input, bytes + i, len - i, &line_done);
@@ -37,6 +38,8 @@ static void gcl_input(wsg_conn_t *c, const uint8_t *bytes, size_t len)
             handle_completed_line(g);
         }
     }
+    g->in_input = false;
+    g->quiet_since_sense = false; /* the port, the world and other connections run next */
 }
 
 static void gcl_end_datagram(wsg_conn_t *c)

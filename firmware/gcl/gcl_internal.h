@@ -37,6 +37,11 @@ typedef struct {
     uint32_t lines_in;
     uint32_t lines_out;
     const struct cmd_entry *last_command; /* looked up first: pollers repeat one command */
+    /* Within one input call, the lines since the last sense ran only queries:
+     * nothing outside the driver runs between them, so at the same instant
+     * the device reads the same (wsg_device_sense_if_moved_on). */
+    bool in_input;
+    bool quiet_since_sense;
 } gcl_conn_t;
 
 _Static_assert(sizeof(gcl_conn_t) <= CONN_PROTO_BYTES,

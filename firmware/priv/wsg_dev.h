@@ -72,6 +72,7 @@ typedef struct wsg_dev {
     wsg_config_t cfg; /* with the run-time settings applied */
     wsg_hal_t hal;
     dev_sensed_t sensed;
+    bool sense_reacted; /* the last sense_and_react() raised FAST STOP */
     dev_motion_t motion;
     dev_grip_t grip;
     wsg_fingers_t fingers;

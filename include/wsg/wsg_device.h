@@ -39,6 +39,11 @@ void wsg_device_step(wsg_device_t *dev);
 /* The sense step alone: reads the hardware now, so that a command between
  * steps acts on the newest reading; a severe fault raises FAST STOP here. */
 void wsg_device_sense(wsg_device_t *dev);
+/* wsg_device_sense() unless the last sense was at this same instant and
+ * raised nothing: for a caller that knows nothing acted on the device since
+ * (a protocol driver between two queries of one input), as then the same
+ * instant gives the same reading. */
+void wsg_device_sense_if_moved_on(wsg_device_t *dev);
 /* When wsg_device_step() must run next; UINT64_MAX when nothing can change
  * without an outside event (a command, a control-channel change). */
 uint64_t wsg_device_next_deadline_us(const wsg_device_t *dev);

@@ -80,6 +80,33 @@ START_TEST(temperature)
 }
 END_TEST
 
+/* Queries pipelined in one input share a reading while the clock stands;
+ * what acts on the device, within the input or between inputs, is seen. */
+START_TEST(pipelined_queries_see_a_command_at_the_same_instant)
+{
+    static const char lines[] = "SYSFLAGS[1]?\nMOVE(20)\nSYSFLAGS[1]?\n";
+    h_send_bytes(&h_main, lines, sizeof(lines) - 1);
+    EXPECT("SYSFLAGS[1]=0");
+    EXPECT("ACK MOVE");
+    EXPECT("SYSFLAGS[1]=1");
+    EXPECT_NONE();
+}
+END_TEST
+
+START_TEST(pipelined_queries_see_the_world_change_between_inputs)
+{
+    static const char lines[] = "TEMP?\nTEMP?\n";
+    h_send_bytes(&h_main, lines, sizeof(lines) - 1);
+    EXPECT("TEMP=34.0");
+    EXPECT("TEMP=34.0");
+    h_world.thermal.override_c = 50.0f; /* the clock stands */
+    h_send_bytes(&h_main, lines, sizeof(lines) - 1);
+    EXPECT("TEMP=50.0");
+    EXPECT("TEMP=50.0");
+    EXPECT_NONE();
+}
+END_TEST
+
 START_TEST(sysflags_at_power_on)
 {
     ask_prefixed("SYSFLAGS?", "SYSFLAGS=", bits_text(0u, 32));
@@ -321,6 +348,7 @@ Suite *commands_suite(void)
     tcase_add_test(query, verbose_set_and_reply);
     tcase_add_test(query, verbose_query_is_tolerated);
     tcase_add_test(query, identity);
+    tcase_add_test(query, pipelined_queries_see_the_world_change_between_inputs);
     tcase_add_test(query, lower_case_commands_answer_upper_case);
     tcase_add_test(query, temperature);
     tcase_add_test(query, sysflags_at_power_on);
@@ -345,6 +373,7 @@ Suite *commands_suite(void)
     TCase *homed = tcase_create("homed");
     tcase_add_checked_fixture(homed, h_setup_homed, h_teardown);
     tcase_add_test(homed, move_forms_ack);
+    tcase_add_test(homed, pipelined_queries_see_a_command_at_the_same_instant);
     suite_add_tcase(s, homed);
 
     TCase *verbose = tcase_create("verbose");
