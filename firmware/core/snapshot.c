@@ -3,6 +3,27 @@
  * queries, coverage, a web page and binary getters read. */
 #include "priv/wsg_dev.h"
 
+static float speed_of(const dev_sensed_t *s)
+{
+    return s->axis.velocity_mm_s < 0.0f ? -s->axis.velocity_mm_s : s->axis.velocity_mm_s;
+}
+
+float wsg_device_reading(const wsg_device_t *device, wsg_reading_t which)
+{
+    const dev_sensed_t *s = &dev_of_const(device)->sensed;
+    switch (which) {
+    case WSG_READING_POSITION:
+        return s->axis.position_mm;
+    case WSG_READING_SPEED:
+        return speed_of(s);
+    case WSG_READING_FORCE:
+        return s->force_n;
+    case WSG_READING_TEMPERATURE:
+        return s->temperature_c;
+    }
+    return 0.0f;
+}
+
 const wsg_snapshot_t *wsg_device_snapshot(wsg_device_t *device)
 {
     wsg_dev_t *dev = dev_of(device);
@@ -13,8 +34,7 @@ const wsg_snapshot_t *wsg_device_snapshot(wsg_device_t *device)
     snap->now_us = s->now_us;
     snap->position_mm = s->axis.position_mm;
     snap->velocity_mm_s = s->axis.velocity_mm_s;
-    snap->speed_mm_s =
-        s->axis.velocity_mm_s < 0.0f ? -s->axis.velocity_mm_s : s->axis.velocity_mm_s;
+    snap->speed_mm_s = speed_of(s);
     snap->force_n = s->force_n;
     snap->motor_force_n = s->axis.force_n;
     snap->finger_force_n = s->finger_force_n;

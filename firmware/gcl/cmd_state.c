@@ -32,19 +32,19 @@ wsg_status_t cmd_clt(cmd_ctx_t *ctx)
 
 wsg_status_t cmd_pos(cmd_ctx_t *ctx)
 {
-    reply_float(ctx, wsg_device_snapshot(ctx->dev)->position_mm);
+    reply_float(ctx, wsg_device_reading(ctx->dev, WSG_READING_POSITION));
     return E_SUCCESS;
 }
 
 wsg_status_t cmd_speed(cmd_ctx_t *ctx)
 {
-    reply_float(ctx, wsg_device_snapshot(ctx->dev)->speed_mm_s);
+    reply_float(ctx, wsg_device_reading(ctx->dev, WSG_READING_SPEED));
     return E_SUCCESS;
 }
 
 wsg_status_t cmd_force(cmd_ctx_t *ctx)
 {
-    reply_float(ctx, wsg_device_snapshot(ctx->dev)->force_n);
+    reply_float(ctx, wsg_device_reading(ctx->dev, WSG_READING_FORCE));
     return E_SUCCESS;
 }
 
@@ -56,7 +56,7 @@ wsg_status_t cmd_gripstate(cmd_ctx_t *ctx)
 
 wsg_status_t cmd_temp(cmd_ctx_t *ctx)
 {
-    reply_float(ctx, wsg_device_snapshot(ctx->dev)->temperature_c);
+    reply_float(ctx, wsg_device_reading(ctx->dev, WSG_READING_TEMPERATURE));
     return E_SUCCESS;
 }
 

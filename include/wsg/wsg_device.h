@@ -193,6 +193,16 @@ typedef struct {
  * until the next call on the device. */
 const wsg_snapshot_t *wsg_device_snapshot(wsg_device_t *dev);
 
+/* One value of the last sense, as the snapshot has it, without filling the
+ * snapshot: for a query that answers with one number. */
+typedef enum {
+    WSG_READING_POSITION,    /* snapshot.position_mm */
+    WSG_READING_SPEED,       /* snapshot.speed_mm_s */
+    WSG_READING_FORCE,       /* snapshot.force_n */
+    WSG_READING_TEMPERATURE, /* snapshot.temperature_c */
+} wsg_reading_t;
+float wsg_device_reading(const wsg_device_t *dev, wsg_reading_t which);
+
 /* ---- observers ------------------------------------------------------------- */
 
 /* Attached only when asked for (trace, record, coverage): a device without
