@@ -38,6 +38,23 @@ static void on_message_out(void *ctx, const wsg_conn_t *c, const char *line, siz
     record_gcl(c, '>', line, len);
 }
 
+/* Coverage without a trace (the control channel's case): nothing to ask per
+ * message. A record opened without --record (the simulation control tests
+ * open one) is still written. */
+static void on_message_in_coverage(void *ctx, const wsg_conn_t *c, const char *line, size_t len)
+{
+    (void)ctx;
+    coverage_line_in(c);
+    record_gcl(c, '<', line, len);
+}
+
+static void on_message_out_coverage(void *ctx, const wsg_conn_t *c, const char *line, size_t len)
+{
+    (void)ctx;
+    bin_coverage_frame_out((const unsigned char *)line, len);
+    record_gcl(c, '>', line, len);
+}
+
 static void on_grip_state(void *ctx, wsg_grip_state_t from, wsg_grip_state_t to)
 {
     (void)ctx;
@@ -75,6 +92,11 @@ static const wsg_conn_observer_t message_observer = {
     .message_out = on_message_out,
 };
 
+static const wsg_conn_observer_t coverage_message_observer = {
+    .message_in = on_message_in_coverage,
+    .message_out = on_message_out_coverage,
+};
+
 static const wsg_device_observer_t device_observer = {
     .grip_state_changed = on_grip_state,
 };
@@ -96,8 +118,13 @@ void simctl_hooks_attach(wsg_device_t *dev, const host_options_t *opts)
     hub.record = opts->record_path != NULL;
     hub.coverage = opts->coverage_path != NULL || opts->sim_port >= 0;
     hub.strict = opts->strict;
-    bool messages = hub.trace || hub.record || hub.coverage;
-    wsg_conn_observe(dev, messages ? &message_observer : NULL, NULL);
+    const wsg_conn_observer_t *messages = NULL;
+    if (hub.coverage && !hub.trace) {
+        messages = &coverage_message_observer;
+    } else if (hub.trace || hub.record || hub.coverage) {
+        messages = &message_observer;
+    }
+    wsg_conn_observe(dev, messages, NULL);
     wsg_device_observe(dev, hub.coverage ? &device_observer : NULL, NULL);
     const wsg_gcl_observer_t *gcl = hub.coverage              ? &coverage_observer
                                     : hub.strict && hub.trace ? &tolerated_observer
