@@ -286,7 +286,7 @@ START_TEST(run_until_done_stops_at_its_limit)
 {
     GCL_EQ("HOME()", "ACK HOME");
     run_until_done("RUN_UNTIL_DONE(5000)", "done");
-    gcl_discard();
+    h_discard(&t_gcl);
     GCL_EQ("MOVE(20,10)", "ACK MOVE"); /* 90 mm at 10 mm/s */
     uint64_t t0 = t_now_us();
     ck_assert_uint_eq(run_until_done("RUN_UNTIL_DONE(250.5)", "limit"), t0 + 250500u);
