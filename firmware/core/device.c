@@ -63,7 +63,7 @@ void wsg_device_step(wsg_device_t *device)
     motion_step(dev);
     grip_monitor_step(dev);
     motion_block_watch_step(dev);
-    sense_and_react(dev); /* what the step changed, for the timers below */
+    sense_and_react_if_changed(dev); /* what the step changed, for the timers below */
     timer_run_due(&dev->timers, dev->sensed.now_us);
 }
 

@@ -34,7 +34,7 @@ static uint32_t soft_limit_flags(const wsg_dev_t *dev)
 {
     const wsg_config_t *cfg = &dev->cfg;
     uint32_t flags = 0;
-    if (!cfg->soft_limits_enabled || !dev->referenced) {
+    if (!cfg->soft_limits_enabled || !dev->sensed.referenced) {
         return 0;
     }
     float position = dev->sensed.axis.position_mm;
@@ -60,7 +60,7 @@ static uint32_t derived_flags(const wsg_dev_t *dev)
     if (cfg->overdrive_mode && cfg->force_overdrive_n > 0.0f) {
         flags |= WSG_FLAG(SF_OVERDRIVE_MODE);
     }
-    if (wsg_fingers_force_control(&dev->fingers)) {
+    if (dev->sensed.force_control) {
         flags |= WSG_FLAG(SF_FORCECNTL_MODE);
     }
     if (temperature >= cfg->temp_warning_c) {
@@ -75,7 +75,7 @@ static uint32_t derived_flags(const wsg_dev_t *dev)
     if (axis->current_fault) {
         flags |= WSG_FLAG(SF_CURR_FAULT);
     }
-    if (wsg_fingers_faulted(&dev->fingers)) {
+    if (dev->sensed.finger_faulted) {
         flags |= WSG_FLAG(SF_FINGER_FAULT);
     }
     return flags;

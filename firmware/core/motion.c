@@ -63,17 +63,20 @@ static void finish(wsg_dev_t *dev, wsg_status_t status)
 
 void motion_drive(wsg_dev_t *dev, float target_mm, float speed_mm_s, float force_n)
 {
+    dev->axis_commanded = true;
     dev->hal.axis.ops->move(dev->hal.axis.ctx, target_mm, speed_mm_s, dev->cfg.default_accel_mm_s2,
                             force_n);
 }
 
 void motion_halt(wsg_dev_t *dev, bool fast)
 {
+    dev->axis_commanded = true;
     dev->hal.axis.ops->stop(dev->hal.axis.ctx, fast);
 }
 
 static void motion_disable(wsg_dev_t *dev)
 {
+    dev->axis_commanded = true;
     dev->hal.axis.ops->disable(dev->hal.axis.ctx);
 }
 
@@ -213,6 +216,7 @@ static void home_step(wsg_dev_t *dev)
         return;
     }
     if (held_for(dev, dev->sensed.axis.blocked == (positive ? 1 : -1), HOME_BLOCK_DETECT_US)) {
+        dev->axis_commanded = true;
         dev->hal.axis.ops->set_position(dev->hal.axis.ctx, positive ? cfg->stroke_mm : 0.0f);
         motion_halt(dev, false);
         m->home_released = true;

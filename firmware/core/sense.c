@@ -7,23 +7,40 @@
 
 #include "hal_clock.h"
 
-/* The force FORCE? reports: the finger measurement in force-control mode,
- * else the motor's estimate. */
-static float sense_reported_force(const wsg_dev_t *dev)
-{
-    return wsg_fingers_force_control(&dev->fingers) ? dev->sensed.finger_force_n
-                                                    : dev->sensed.axis.force_n;
-}
-
 void sense(wsg_dev_t *dev)
 {
     dev_sensed_t *s = &dev->sensed;
     s->now_us = hal_clock_now_us();
     dev->hal.axis.ops->status(dev->hal.axis.ctx, &s->axis);
+    dev->axis_commanded = false;
+    s->force_control = wsg_fingers_force_control(&dev->fingers);
+    s->finger_faulted = wsg_fingers_faulted(&dev->fingers);
     s->finger_force_n = wsg_fingers_measured_force(&dev->fingers);
-    s->force_n = sense_reported_force(dev);
+    /* FORCE? reports the finger measurement in force-control mode, else the
+     * motor's estimate */
+    s->force_n = s->force_control ? s->finger_force_n : s->axis.force_n;
     s->temperature_c = dev->hal.temp.board_c(dev->hal.temp.ctx);
+    s->referenced = dev->referenced;
     flags_derive(dev);
+}
+
+/* What the sense step reads, other than the world (which the port advances
+ * between control steps, never within one) and the configuration (which only
+ * commands change): the clock, the axis as the supervisor commands it, the
+ * reference and the fingers. The finger readings are compared only when a
+ * finger bus can have changed them. */
+static bool readings_changed(const wsg_dev_t *dev)
+{
+    const dev_sensed_t *s = &dev->sensed;
+    if (dev->axis_commanded || dev->sense_reacted || s->referenced != dev->referenced ||
+        hal_clock_now_us() != s->now_us) {
+        return true;
+    }
+    const wsg_fingers_t *fingers = &dev->fingers;
+    return dev->fbus.can != NULL && /* without one, nothing changes the fingers in a step */
+           (wsg_fingers_force_control(fingers) != s->force_control ||
+            wsg_fingers_faulted(fingers) != s->finger_faulted ||
+            wsg_fingers_measured_force(fingers) != s->finger_force_n);
 }
 
 void sense_and_react(wsg_dev_t *dev)
@@ -33,5 +50,12 @@ void sense_and_react(wsg_dev_t *dev)
     dev->sense_reacted = flags_severe_fault(dev) && !flags_get(dev, SF_FAST_STOP);
     if (dev->sense_reacted) {
         motion_fast_stop(dev, "severe fault (temperature, power or motor current)");
+    }
+}
+
+void sense_and_react_if_changed(wsg_dev_t *dev)
+{
+    if (readings_changed(dev)) {
+        sense_and_react(dev);
     }
 }

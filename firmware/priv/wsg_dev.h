@@ -58,6 +58,9 @@ typedef struct {
     float finger_force_n;   /* WSG-FMF measurement (0 without one) */
     float force_n;          /* the force the device acts on and reports */
     float temperature_c;
+    bool force_control;  /* an FMF finger reports: its force is the one acted on */
+    bool finger_faulted; /* a finger reports a fault */
+    bool referenced;     /* dev->referenced when read */
 } dev_sensed_t;
 
 typedef struct {
@@ -72,7 +75,8 @@ typedef struct wsg_dev {
     wsg_config_t cfg; /* with the run-time settings applied */
     wsg_hal_t hal;
     dev_sensed_t sensed;
-    bool sense_reacted; /* the last sense_and_react() raised FAST STOP */
+    bool sense_reacted;  /* the last sense_and_react() raised FAST STOP */
+    bool axis_commanded; /* the supervisor commanded the axis since the last sense */
     dev_motion_t motion;
     dev_grip_t grip;
     wsg_fingers_t fingers;
@@ -120,6 +124,8 @@ static inline wsg_device_t *dev_public(wsg_dev_t *dev)
 void sense(wsg_dev_t *dev);
 /* sense(), then a severe fault raises FAST STOP. */
 void sense_and_react(wsg_dev_t *dev);
+/* sense_and_react() unless a sense now would read what the last one read. */
+void sense_and_react_if_changed(wsg_dev_t *dev);
 
 /* flags.c: the register (pure) */
 void flags_set(wsg_dev_t *dev, wsg_sysflag_t flag, bool on);
