@@ -44,10 +44,12 @@ void wsg_device_observe(wsg_device_t *device, const wsg_device_observer_t *obser
     dev->observer_ctx = ctx;
 }
 
-void wsg_device_step(wsg_device_t *device)
+/* Without a CAN handle the bus has nothing to do: its input is not built. */
+static void step_finger_bus(wsg_dev_t *dev)
 {
-    wsg_dev_t *dev = dev_of(device);
-    sense_and_react(dev);
+    if (dev->fbus.can == NULL) {
+        return;
+    }
     finger_bus_step(
         &dev->fbus, &dev->fingers,
         &(fbus_input_t){
@@ -59,6 +61,13 @@ void wsg_device_step(wsg_device_t *device)
             .grip_force_n = dev->grip.force_n,
             .force_max_n = wsg_config_force_max(&dev->cfg),
         });
+}
+
+void wsg_device_step(wsg_device_t *device)
+{
+    wsg_dev_t *dev = dev_of(device);
+    sense_and_react(dev);
+    step_finger_bus(dev);
     motion_apply_force_request(dev);
     motion_step(dev);
     grip_monitor_step(dev);
