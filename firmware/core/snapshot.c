@@ -24,6 +24,18 @@ float wsg_device_reading(const wsg_device_t *device, wsg_reading_t which)
     return 0.0f;
 }
 
+uint32_t wsg_device_flags(const wsg_device_t *device)
+{
+    return dev_of_const(device)->flags;
+}
+
+wsg_motion_kind_t wsg_device_motion(const wsg_device_t *device, uint64_t *started_us)
+{
+    const dev_motion_t *m = &dev_of_const(device)->motion;
+    *started_us = m->started_us;
+    return m->kind;
+}
+
 const wsg_snapshot_t *wsg_device_snapshot(wsg_device_t *device)
 {
     wsg_dev_t *dev = dev_of(device);

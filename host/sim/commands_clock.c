@@ -70,8 +70,9 @@ wsg_status_t sc_step(simctl_ctx_t *ctx)
 static bool operation_ended(void *ctx)
 {
     (void)ctx;
-    const wsg_snapshot_t *snap = wsg_device_snapshot(run.device);
-    run.ended = snap->motion != run.motion || snap->motion_started_us != run.started_us;
+    uint64_t started_us = 0;
+    wsg_motion_kind_t motion = wsg_device_motion(run.device, &started_us);
+    run.ended = motion != run.motion || started_us != run.started_us;
     return run.ended;
 }
 

@@ -142,7 +142,7 @@ void simctl_hooks_detach(wsg_device_t *dev)
 void simctl_hooks_after_tick(wsg_device_t *dev)
 {
     if (hub.coverage) {
-        coverage_flags(wsg_device_snapshot(dev)->flags);
+        coverage_flags(wsg_device_flags(dev));
     }
 }
 

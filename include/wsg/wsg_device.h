@@ -202,6 +202,12 @@ typedef enum {
     WSG_READING_TEMPERATURE, /* snapshot.temperature_c */
 } wsg_reading_t;
 float wsg_device_reading(const wsg_device_t *dev, wsg_reading_t which);
+/* snapshot.flags, without filling the snapshot: for what samples the flags
+ * at every step (the coverage report). */
+uint32_t wsg_device_flags(const wsg_device_t *dev);
+/* snapshot.motion and snapshot.motion_started_us, without filling the
+ * snapshot: for what watches for the end of a motion at every step. */
+wsg_motion_kind_t wsg_device_motion(const wsg_device_t *dev, uint64_t *started_us);
 
 /* ---- observers ------------------------------------------------------------- */
 
