@@ -1,6 +1,8 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* Line → command → handler, and the one place that turns a failed
  * handler into an ERR line. */
+#include <string.h>
+
 #include "gcl/gcl_internal.h"
 
 #define CALL WSG_GCL_FORM_CALL
@@ -143,6 +145,40 @@ static bool is_blank(const char *line, size_t len)
     return true;
 }
 
+static bool is_last_query(const gcl_conn_t *g, const char *line, size_t len)
+{
+    if (len != g->query_line_len) {
+        return false;
+    }
+    for (size_t i = 0; i < len; i++) {
+        if (line[i] != g->query_line[i]) {
+            return false;
+        }
+    }
+    return len != 0u;
+}
+
+static void remember_query(gcl_conn_t *g, const char *line, size_t len, const cmd_entry_t *entry)
+{
+    if (len > sizeof(g->query_line)) {
+        return;
+    }
+    memcpy(g->query_line, line, len);
+    g->query_line_len = (uint8_t)len;
+    g->query_entry = entry;
+}
+
+/* What gcl_parse_line() gives for a plain query line of this command. */
+static void parsed_query(gcl_command_t *cmd, const cmd_entry_t *entry)
+{
+    memset(cmd, 0, sizeof(*cmd));
+    const char *name = entry->info.name;
+    for (size_t i = 0; name[i] != '\0'; i++) {
+        cmd->name[i] = name[i];
+    }
+    cmd->form = GCL_FORM_QUERY;
+}
+
 /* Queries only read; a line without a known command runs no handler. */
 static bool ran_handler_that_acts(const cmd_entry_t *entry, const gcl_command_t *cmd)
 {
@@ -160,13 +196,25 @@ void dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_status_
     }
     wsg_device_t *dev = gcl_device(g);
     gcl_command_t cmd;
-    wsg_status_t status = gcl_parse_line(line, len, &cmd);
+    const cmd_entry_t *entry = NULL;
+    wsg_status_t status = E_SUCCESS;
+    if (line_status == GCL_LINE_OK && is_last_query(g, line, len)) {
+        entry = g->query_entry;
+        parsed_query(&cmd, entry);
+    } else {
+        status = gcl_parse_line(line, len, &cmd);
+        entry = cmd.name[0] != '\0' ? find_for(g, cmd.name) : NULL;
+        bool plain_query = line_status == GCL_LINE_OK && status == E_SUCCESS && entry != NULL &&
+                           cmd.form == GCL_FORM_QUERY;
+        if (plain_query) {
+            remember_query(g, line, len, entry);
+        }
+    }
     if (g->quiet_since_sense) {
         wsg_device_sense_if_moved_on(dev);
     } else {
         wsg_device_sense(dev); /* answer from the newest reading */
     }
-    const cmd_entry_t *entry = cmd.name[0] != '\0' ? find_for(g, cmd.name) : NULL;
     if (line_status != GCL_LINE_OK) {
         status = E_CMD_FORMAT_ERROR;
     } else if (cmd.name[0] != '\0' && entry == NULL) {

@@ -24,6 +24,8 @@ typedef struct {
     uint32_t missed; /* periods skipped because the device ran late */
 } gcl_autosend_sub_t;
 
+#define GCL_QUERY_LINE_MAX 24
+
 /* A GCL connection's state, inside its wsg_conn_t. */
 typedef struct {
     conn_t *conn;
@@ -42,6 +44,11 @@ typedef struct {
      * the device reads the same (wsg_device_sense_if_moved_on). */
     bool in_input;
     bool quiet_since_sense;
+    /* The last plain query line (NAME?) as received, and its command: a poller
+     * repeats one line, and a parse depends on the line's bytes alone. */
+    char query_line[GCL_QUERY_LINE_MAX];
+    uint8_t query_line_len; /* 0: none yet */
+    const struct cmd_entry *query_entry;
 } gcl_conn_t;
 
 _Static_assert(sizeof(gcl_conn_t) <= CONN_PROTO_BYTES,

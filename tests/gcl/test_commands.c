@@ -107,6 +107,26 @@ START_TEST(pipelined_queries_see_the_world_change_between_inputs)
 }
 END_TEST
 
+/* A repeated query line is answered as the first was; a line with other
+ * bytes, even of the same length or with the same text left once a bad
+ * byte is dropped, is parsed for itself. */
+START_TEST(repeated_query_lines_are_each_answered_for_their_own_bytes)
+{
+    static const char lines[] = "POS?\nPOS?\nTAG?\npos?\nPOS?\n POS ?\nPOS?\nPOS\x01?\nPOS?\n";
+    h_send_bytes(&h_main, lines, sizeof(lines) - 1);
+    EXPECT("POS=55.0");
+    EXPECT("POS=55.0");
+    EXPECT("TAG=\"wsgsim\"");
+    EXPECT("POS=55.0");
+    EXPECT("POS=55.0");
+    EXPECT("POS=55.0");
+    EXPECT("POS=55.0");
+    EXPECT("ERR POS 15"); /* E_CMD_FORMAT_ERROR */
+    EXPECT("POS=55.0");
+    EXPECT_NONE();
+}
+END_TEST
+
 START_TEST(sysflags_at_power_on)
 {
     ask_prefixed("SYSFLAGS?", "SYSFLAGS=", bits_text(0u, 32));
@@ -348,6 +368,7 @@ Suite *commands_suite(void)
     tcase_add_test(query, verbose_set_and_reply);
     tcase_add_test(query, verbose_query_is_tolerated);
     tcase_add_test(query, identity);
+    tcase_add_test(query, repeated_query_lines_are_each_answered_for_their_own_bytes);
     tcase_add_test(query, pipelined_queries_see_the_world_change_between_inputs);
     tcase_add_test(query, lower_case_commands_answer_upper_case);
     tcase_add_test(query, temperature);
