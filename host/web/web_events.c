@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 #include "web/web_events.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -27,6 +28,7 @@ static struct {
     web_stream_t *first;
     unsigned count;
     uint64_t next_tick_ns; /* 0: no stream */
+    uint64_t tick;         /* ticks so far: each event's id */
 } events;
 
 static void link_stream(web_stream_t *s)
@@ -57,7 +59,8 @@ static void unlink_stream(web_stream_t *s)
     }
 }
 
-/* "event: state\ndata: {...}\n\n" with the newest state. */
+/* "id: TICK\nevent: state\ndata: {...}\n\n" with the newest state: the id
+ * is the tick it was built at, so a reader sees which ticks it lost. */
 static bool build_event(web_stream_t *s)
 {
     cJSON *state = web_state_json(s->gripper);
@@ -66,18 +69,16 @@ static bool build_event(web_stream_t *s)
     if (json == NULL) {
         return false;
     }
-    static const char head[] = "event: state\ndata: ";
-    size_t json_len = strlen(json);
-    s->len = sizeof(head) - 1u + json_len + 2u;
-    s->event = malloc(s->len + 1u);
-    if (s->event != NULL) {
-        memcpy(s->event, head, sizeof(head) - 1u);
-        memcpy(s->event + sizeof(head) - 1u, json, json_len);
-        memcpy(s->event + s->len - 2u, "\n\n", 3u);
-    }
+    int len = asprintf(&s->event, "id: %llu\nevent: state\ndata: %s\n\n",
+                       (unsigned long long)events.tick, json);
     free(json);
+    if (len < 0) {
+        s->event = NULL; /* asprintf leaves it undefined */
+        return false;
+    }
+    s->len = (size_t)len;
     s->sent = 0;
-    return s->event != NULL;
+    return true;
 }
 
 /* MHD asks for bytes when the socket can take some: the rest of the event
@@ -164,6 +165,7 @@ bool web_events_tick(uint64_t now_ns)
     uint64_t period = WEB_EVENTS_PERIOD_MS * NS_PER_MS;
     uint64_t missed = (now_ns - events.next_tick_ns) / period;
     events.next_tick_ns += (missed + 1u) * period;
+    events.tick += missed + 1u;
     for (web_stream_t *s = events.first; s != NULL; s = s->next) {
         s->due = true;
         resume(s);

@@ -99,8 +99,7 @@ static bool fields(op_call_t *call, const char *const *names)
 
 static enum MHD_Result outcome(op_call_t *call, gripper_t *g, wsg_status_t status, bool long_op)
 {
-    wsg_device_note_result(&g->device, status);
-    gripper_input_done(g);
+    gripper_input_done(g); /* SF_CMD_FAILURE stays the command interface's */
     if (status != E_SUCCESS) {
         return web_reply_error(call->req, MHD_HTTP_UNPROCESSABLE_CONTENT, status,
                                "the device refused: %s", wsg_status_description(status));

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include "log.h"
@@ -18,9 +19,13 @@
 #include "web/web_peer.h"
 #include "web/web_routes.h"
 
-/* A client that sends nothing for this long (wall clock) is closed: a
- * stalled upload or an idle keep-alive connection costs nothing after. */
-#define CONNECTION_TIMEOUT_S 10u
+/* A client that neither sends nor takes a byte for this long (wall clock)
+ * is closed: a stalled upload, an idle keep-alive connection or an event
+ * stream nobody reads costs nothing after. */
+#define CONNECTION_TIMEOUT_S 30u
+/* Each client's socket send buffer (accepted sockets inherit it from the
+ * listener): what a stalled page can hold of the event stream. */
+#define CLIENT_SNDBUF_BYTES (32 * 1024)
 #define CONNECTIONS_MAX 64u
 #define NS_PER_MS 1000000ull
 
@@ -211,6 +216,8 @@ bool web_server_start(const host_options_t *opts)
         }
         return !opts->http_port_given;
     }
+    int sndbuf = CLIENT_SNDBUF_BYTES;
+    setsockopt(web.listen_fd, SOL_SOCKET, SO_SNDBUF, &sndbuf, sizeof(sndbuf));
     web.sim_open = sim_bind_open(opts->sim_bind);
     if (!open_daemon()) {
         host_logf(HAL_LOG_ERROR, "http: cannot start the web server");
