@@ -113,7 +113,8 @@ static enum MHD_Result outcome(op_call_t *call, gripper_t *g, wsg_status_t statu
     return web_reply_json(call->req, long_op ? MHD_HTTP_ACCEPTED : MHD_HTTP_OK, j);
 }
 
-static bool started_by_web(wsg_status_t status, web_owner_t *w, wsg_op_t op)
+/* A long operation the web started: the state shows it from now on. */
+static void started_by_web(wsg_status_t status, web_owner_t *w, wsg_op_t op)
 {
     if (status == E_SUCCESS) {
         w->any = true;
@@ -121,7 +122,6 @@ static bool started_by_web(wsg_status_t status, web_owner_t *w, wsg_op_t op)
         w->done = false;
         w->started_us = hal_clock_now_us();
     }
-    return true;
 }
 
 static enum MHD_Result op_home(op_call_t *call, gripper_t *g, web_owner_t *w)

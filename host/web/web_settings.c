@@ -11,7 +11,6 @@
 
 #include "config_file.h"
 #include "fleet.h"
-#include "simctl_names.h"
 #include "web/web_internal.h"
 
 /* The settings a PUT may change, in the order it applies them: overdrive
