@@ -136,6 +136,8 @@ class Settings(WebCase):
         self.assertEqual((j["error"], j["code"]), ("E_RANGE_ERROR", 28))
         self.assertIn("clt_mm", j["message"])
         self.assertEqual(self.settings(), before)
+        j = self.put({"pullback_mm": 111}).json()  # within the stroke, as the file checks it
+        self.assertEqual((j["error"], j["message"].split(":")[0]), ("E_RANGE_ERROR", "pullback_mm"))
         j = self.put({"pwt_mm": 5, "tag": "y" * 60}).json()
         self.assertEqual(j["error"], "E_RANGE_ERROR")
         self.assertIn("tag", j["message"])
