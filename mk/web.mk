@@ -13,8 +13,17 @@ WEB_ASSETS_C := $(BUILD)/gen/web_assets.c
 .PHONY: web-tests
 CHECK_TARGETS += web-tests
 
+WEB_ASSETS_LIST := $(BUILD)/gen/web_assets.list
+
+.PHONY: web-assets-list
+# The names of web/'s files, rewritten only when they change: a file removed
+# from web/ rebuilds the table as a file added or edited does.
+$(WEB_ASSETS_LIST): web-assets-list
+	@mkdir -p $(dir $@)
+	@echo '$(WEB_PAGE_FILES)' | cmp -s - $@ || echo '$(WEB_PAGE_FILES)' > $@
+
 # libjs-dygraphs is a build dependency (debian/control): `deps` installs it.
-$(WEB_ASSETS_C): mk/web_assets.py $(WEB_PAGE_FILES) | deps
+$(WEB_ASSETS_C): mk/web_assets.py $(WEB_PAGE_FILES) $(WEB_ASSETS_LIST) | deps
 	@mkdir -p $(dir $@)
 	python3 mk/web_assets.py $@ $(WEB_PAGE_FILES) $(WEB_DYGRAPH_FILES)
 
