@@ -33,8 +33,9 @@ typedef struct {
 
 static struct {
     ring_t *rings; /* SLOTS of them while enabled */
-    bool watched;
 } lines;
+
+bool web_lines_watched;
 
 void web_lines_enable(void)
 {
@@ -47,7 +48,7 @@ void web_lines_disable(void)
 {
     free(lines.rings);
     lines.rings = NULL;
-    lines.watched = false;
+    web_lines_watched = false;
 }
 
 bool web_lines_enabled(void)
@@ -57,7 +58,7 @@ bool web_lines_enabled(void)
 
 void web_lines_watch(void)
 {
-    lines.watched = lines.rings != NULL;
+    web_lines_watched = lines.rings != NULL;
 }
 
 static ring_t *slot_of(const wsg_device_t *device, uint64_t id)
@@ -66,11 +67,8 @@ static ring_t *slot_of(const wsg_device_t *device, uint64_t id)
     return &lines.rings[(hash >> 56) & (SLOTS - 1u)];
 }
 
-void web_lines_note(const wsg_conn_t *c, bool incoming, const char *bytes, size_t len)
+void web_lines_record(const wsg_conn_t *c, bool incoming, const char *bytes, size_t len)
 {
-    if (!lines.watched) {
-        return;
-    }
     uint64_t id = wsg_conn_id(c);
     const wsg_device_t *device = wsg_conn_device(c);
     ring_t *r = slot_of(device, id);

@@ -25,8 +25,17 @@ void web_lines_disable(void);
 bool web_lines_enabled(void);
 /* A client looks: lines are kept from now on. */
 void web_lines_watch(void);
+/* True once a client looks: read inline by the observers, so that a line
+ * nobody watches costs one test and no call. Set by web_lines_watch(). */
+extern bool web_lines_watched;
+void web_lines_record(const wsg_conn_t *c, bool incoming, const char *bytes, size_t len);
 /* A message from the client (incoming, shown as "> ...") or to it ("< ..."). */
-void web_lines_note(const wsg_conn_t *c, bool incoming, const char *bytes, size_t len);
+static inline void web_lines_note(const wsg_conn_t *c, bool incoming, const char *bytes, size_t len)
+{
+    if (web_lines_watched) {
+        web_lines_record(c, incoming, bytes, len);
+    }
+}
 /* The connection's last lines, oldest first (an empty array when none). */
 cJSON *web_lines_json(const wsg_conn_t *c);
 /* "gcl", "binary" or "undetected" (no byte yet on an auto-detecting port). */
