@@ -56,7 +56,10 @@ static web_owner_t *owner_of(gripper_t *g)
 cJSON *web_ops_last_json(const gripper_t *g)
 {
     const web_owner_t *w = owners != NULL ? &owners[g->index] : NULL;
-    if (w == NULL || !w->any) {
+    /* a power cycle (the control channel's RESET) ends a motion silently:
+     * the device has forgotten it, and so does the page */
+    bool forgotten = w != NULL && !w->done && !wsg_device_owns_motion(&g->device, &w->owner);
+    if (w == NULL || !w->any || forgotten) {
         return cJSON_CreateNull();
     }
     cJSON *j = cJSON_CreateObject();

@@ -75,6 +75,14 @@ class Operations(WebCase):
             self.assertEqual((s["op"], s["done"], s["status"]), ("move", True, "E_CMD_ABORTED"))
             ctl.step_until(gcl, "FIN MOVE")
 
+    def test_a_reset_forgets_the_page_operation(self):
+        with self.sim.control() as ctl:
+            self.assertEqual(self.op("home").status, 202)
+            self.assertFalse(self.state()["web_op"]["done"])
+            self.assertEqual(ctl("RESET()"), "ACK RESET")
+            s = self.state()
+            self.assertEqual((s["web_op"], s["motion"]), (None, "none"))
+
     def test_immediate_ops_are_200(self):
         with self.sim.control() as ctl:
             self.home(ctl)
