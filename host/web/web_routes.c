@@ -40,6 +40,7 @@ static enum MHD_Result list_devices(const web_request_t *req)
         return web_reply_wrong_method(req, MHD_HTTP_METHOD_GET);
     }
     cJSON *root = cJSON_CreateObject();
+    cJSON_AddBoolToObject(root, "sim_allowed", req->sim_allowed); /* may this client? */
     cJSON *list = cJSON_AddArrayToObject(root, "devices");
     for (unsigned i = 0; i < fleet_count(); i++) {
         cJSON_AddItemToArray(list, device_entry(i));

@@ -99,6 +99,9 @@ class LoopbackRule(unittest.TestCase):
         self.assertEqual((reply.status, reply.json()["error"]), (403, "E_ACCESS_DENIED"))
         self.assertEqual(request(outside + "/state").json()["part"], {"present": False})
         self.assertEqual(request(outside + "/settings").status, 200)  # the rest is served
+        listing = "http://%s:%d/api/devices" % (address, sim.http_port)
+        self.assertFalse(request(listing).json()["sim_allowed"])
+        self.assertTrue(request(sim.base + "/api/devices").json()["sim_allowed"])
         inside = "http://127.0.0.1:%d/api/devices/0" % sim.http_port
         self.assertEqual(request(inside + "/sim/part", "POST", {"width_mm": 30}).status, 200)
 
@@ -107,6 +110,8 @@ class LoopbackRule(unittest.TestCase):
         sim = self.start("--sim-bind", "0.0.0.0")
         outside = "http://%s:%d/api/devices/0" % (address, sim.http_port)
         self.assertEqual(request(outside + "/sim/part", "POST", {"width_mm": 30}).status, 200)
+        listing = "http://%s:%d/api/devices" % (address, sim.http_port)
+        self.assertTrue(request(listing).json()["sim_allowed"])
 
 
 if __name__ == "__main__":
