@@ -83,6 +83,8 @@ const live = {
   chartData: [],
   chart: null,
   lastChartDraw: 0,
+  lastConnections: "",
+  moveTouched: false,
   stroke: 0,
 };
 
@@ -143,10 +145,15 @@ function renderJaws(state) {
   const half = Math.max(state.position_mm || 0, 0) / 2;
   $("jaw-left").setAttribute("x", String(jawX(-half) - JAW_WIDTH_MM));
   $("jaw-right").setAttribute("x", String(jawX(half)));
+  $("span-line").setAttribute("x1", String(jawX(-half)));
+  $("span-line").setAttribute("x2", String(jawX(half)));
+  $("span-text").setAttribute("x", String(jawX(0)));
+  $("span-text").textContent = fixed(state.position_mm, 1) + " mm";
   const part = state.part || {};
   $("part").toggleAttribute("hidden", !part.present);
   if (part.present) {
-    placeBox($("part"), part.width_mm);
+    // a held part is squeezed to the jaws' width
+    placeBox($("part"), Math.min(part.width_mm, state.position_mm));
     $("part").classList.toggle("held", (state.grip_state || {}).code === 4);
   }
   const obstacle = state.obstacle || {};
@@ -254,6 +261,11 @@ function renderFingers(fingers) {
 // -------------------------------------------------------------- connections
 
 function renderConnections(connections) {
+  const json = JSON.stringify(connections || []);
+  if (json === live.lastConnections) {
+    return; // unchanged: keep the text selectable
+  }
+  live.lastConnections = json;
   const container = $("connections");
   container.replaceChildren();
   if (!connections || connections.length === 0) {
@@ -324,6 +336,7 @@ function drawChart() {
 function renderState(state) {
   renderReadouts(state);
   renderJaws(state);
+  followWidth(state.position_mm);
   renderFlags(state.sysflags);
   renderFingers(state.fingers);
   renderConnections(state.connections);
@@ -381,10 +394,20 @@ function bindOpForm(name) {
   });
 }
 
+// The MOVE inputs follow the jaws until the user sets a target.
+function followWidth(position) {
+  const form = $("op-move");
+  if (!live.moveTouched && typeof position === "number") {
+    form.elements.position_slider.value = position.toFixed(1);
+    form.elements.position_mm.value = position.toFixed(1);
+  }
+}
+
 function bindMoveSlider() {
   const form = $("op-move");
   const slider = form.elements.position_slider;
   const number = form.elements.position_mm;
+  form.addEventListener("focusin", () => (live.moveTouched = true));
   slider.addEventListener("input", () => (number.value = slider.value));
   number.addEventListener("input", () => (slider.value = number.value));
   // the slider moves the jaws when let go
@@ -503,7 +526,8 @@ function changedSettings() {
   const changes = {};
   for (const name of Object.keys(settings.loaded)) {
     const input = $("setting-" + name);
-    if (input && input.value !== "" && settingsValue(input) !== settings.loaded[name]) {
+    const blankNumber = input && input.type === "number" && input.value === "";
+    if (input && !blankNumber && settingsValue(input) !== settings.loaded[name]) {
       changes[name] = settingsValue(input);
     }
   }
