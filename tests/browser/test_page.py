@@ -22,6 +22,7 @@ docs/img/live-view.png, the one README shows). Timeouts only stop a hang.
 """
 import os
 import re
+import socket
 import sys
 import tempfile
 import time
@@ -48,12 +49,30 @@ SCREENSHOT = os.environ.get("SCREENSHOT") or os.path.join(ROOT, "build", "browse
 HTTP_LINE = re.compile(r"http ([0-9.]+|\[[0-9a-f:]+\]):(\d+)")
 
 
+def free_tcp_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
 class Wsgsim(wsgsim.Wsgsim):
-    """build/wsgsim (or $WSGSIM) with its HTTP server on a free port."""
+    """build/wsgsim (or $WSGSIM) with its HTTP server on a free port
+    (--http-port 0 turns the server off, so the port is picked here)."""
 
     def __init__(self, *args, **keywords):
         binary = os.environ.get("WSGSIM", os.path.join(ROOT, "build", "wsgsim"))
-        super().__init__("--http-port", "0", *args, binary=binary, **keywords)
+        super().__init__(*args, binary=binary, **keywords)
+
+    def start(self, timeout=wsgsim.START_TIMEOUT):
+        # another program may take the free port before wsgsim binds it
+        for attempt in range(3):
+            self.args = [a for a in self.args if not a.startswith("--http-port")]
+            self.args += ["--http-port=%d" % free_tcp_port()]
+            try:
+                return super().start(timeout)
+            except wsgsim.GclError:
+                if attempt == 2 or "in use" not in "".join(self.log):
+                    raise
 
     def url(self, path="/"):
         """The page's address, from the ready line (", http ADDR:PORT")."""
