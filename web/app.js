@@ -9,6 +9,7 @@ const RECONNECT_MIN_MS = 500;
 const RECONNECT_MAX_MS = 5000;
 const SVG_MARGIN_MM = 10; // room left and right of the stroke in the drawing
 const JAW_WIDTH_MM = 6;
+const DSA_CELL_MAX = 4095; // 12-bit tactile cells: the heat map's full scale
 
 const deviceId = deviceIdFromPath(location.pathname);
 const apiBase = "/api/devices/" + deviceId;
@@ -114,7 +115,8 @@ function renderReadouts(state) {
   setText("temperature", fixed(state.temperature_c, 1));
   setText("sim-time", fixed(state.time_ms / 1000, 3));
   const part = state.part;
-  setText("part-text", part && part.present ? fixed(part.width_mm, 1) + " mm" : "none");
+  const partText = !part ? "–" : part.present ? fixed(part.width_mm, 1) + " mm" : "none";
+  setText("part-text", partText);
 }
 
 function setJawSpan(stroke) {
@@ -206,14 +208,12 @@ function drawTactileMap(canvas, finger) {
   canvas.height = rows * cell;
   const context = canvas.getContext("2d");
   const cells = finger.data;
-  const max = Math.max(1, ...cells);
   for (let row = 0; row < rows; row++) {
     for (let col = 0; col < cols; col++) {
-      context.fillStyle = heatColour(cells[row * cols + col] / max);
+      context.fillStyle = heatColour(cells[row * cols + col] / DSA_CELL_MAX);
       context.fillRect(col * cell, row * cell, cell - 1, cell - 1);
     }
   }
-  canvas.title = "peak " + max;
 }
 
 function fingerView(slot) {
@@ -248,7 +248,8 @@ function renderFinger(finger) {
     const fullScale = Math.max(80, Math.abs(finger.data));
     bar.firstChild.style.width = (100 * Math.abs(finger.data)) / fullScale + "%";
   } else if (isMap) {
-    text = (finger.rows || 14) + " × " + (finger.cols || 6) + " tactile map";
+    text = (finger.rows || 14) + " × " + (finger.cols || 6) + " tactile map, peak " +
+      Math.max(...finger.data) + " of " + DSA_CELL_MAX;
     drawTactileMap(canvas, finger);
   }
   box.querySelector(".fdata").textContent = text;
