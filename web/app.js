@@ -281,7 +281,7 @@ function renderConnections(connections) {
     box.className = "connection";
     const title = document.createElement("h4");
     title.textContent =
-      "#" + connection.id + " " + connection.peer + " · " +
+      "#" + connection.id + " " + (connection.peer || "–") + " · " +
       connection.protocol.toUpperCase() + " over " + connection.transport.toUpperCase();
     const lines = document.createElement("pre");
     lines.textContent = (connection.last_lines || []).join("\n");
@@ -341,6 +341,7 @@ function renderState(state) {
   renderFlags(state.sysflags);
   renderFingers(state.fingers);
   renderConnections(state.connections);
+  renderWebOp(state.web_op);
   addChartPoint(state);
   drawChart();
   if (state.part === undefined) {
@@ -372,6 +373,22 @@ function openStream(delayMs) {
 }
 
 // ------------------------------------------------------------ control panel
+
+// How the page's last long operation (HOME, MOVE, GRIP, RELEASE) ended: a
+// started op answers 202 at once; its outcome comes with the state.
+function renderWebOp(op) {
+  if (!op) {
+    return;
+  }
+  const name = op.op.toUpperCase();
+  const element = $("op-done");
+  if (!op.done) {
+    showResult(element, true, name + " running since " + fixed(op.started_ms / 1000, 3) + " s");
+    return;
+  }
+  const ended = " at " + fixed(op.ended_ms / 1000, 3) + " s";
+  showResult(element, op.code === 0, name + " finished: " + op.status + " (" + op.code + ")" + ended);
+}
 
 async function runOp(name, args) {
   const result = $("op-result");
