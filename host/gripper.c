@@ -10,6 +10,7 @@
 #include "log.h"
 #include "sim/sim_models.h"
 #include "simctl_hooks.h"
+#include "web/web_lines.h"
 
 /* A part given at start sits between the jaws: open them beyond it. */
 static void place_start_part(gripper_t *g)
@@ -69,6 +70,8 @@ void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
     wsg_device_init(&g->device, &g->config, &hal);
     if (index == 0) {
         simctl_hooks_attach(&g->device, opts);
+    } else if (web_lines_enabled()) {
+        wsg_conn_observe(&g->device, web_lines_observer(), NULL); /* the hub is device 0's */
     }
 }
 
@@ -107,6 +110,11 @@ void gripper_feed(gripper_t *g, wsg_conn_t *c, const uint8_t *bytes, size_t len,
     if (end_of_datagram) {
         wsg_conn_end_datagram(c);
     }
+    gripper_input_done(g);
+}
+
+void gripper_input_done(gripper_t *g)
+{
     /* What the input started is due from the next instant on, never at
      * this one: a paused clock runs it at the next STEP, as before. */
     uint64_t due = wsg_device_next_deadline_us(&g->device);

@@ -5,6 +5,7 @@
 #include "coverage.h"
 #include "record.h"
 #include "trace.h"
+#include "web/web_lines.h"
 #include "wsg/wsg_gcl.h"
 
 static struct {
@@ -24,6 +25,7 @@ static void on_message_in(void *ctx, const wsg_conn_t *c, const char *line, size
         trace_line(c, '<', line, len);
     }
     record_gcl(c, '<', line, len); /* nothing unless a record is open */
+    web_lines_note(c, true, line, len);
 }
 
 static void on_message_out(void *ctx, const wsg_conn_t *c, const char *line, size_t len)
@@ -36,6 +38,7 @@ static void on_message_out(void *ctx, const wsg_conn_t *c, const char *line, siz
         trace_line(c, '>', line, len);
     }
     record_gcl(c, '>', line, len);
+    web_lines_note(c, false, line, len);
 }
 
 static void on_grip_state(void *ctx, wsg_grip_state_t from, wsg_grip_state_t to)
@@ -96,7 +99,7 @@ void simctl_hooks_attach(wsg_device_t *dev, const host_options_t *opts)
     hub.record = opts->record_path != NULL;
     hub.coverage = opts->coverage_path != NULL || opts->sim_port >= 0;
     hub.strict = opts->strict;
-    bool messages = hub.trace || hub.record || hub.coverage;
+    bool messages = hub.trace || hub.record || hub.coverage || web_lines_enabled();
     wsg_conn_observe(dev, messages ? &message_observer : NULL, NULL);
     wsg_device_observe(dev, hub.coverage ? &device_observer : NULL, NULL);
     const wsg_gcl_observer_t *gcl = hub.coverage              ? &coverage_observer

@@ -291,6 +291,16 @@ bool udp_server_cut(const wsg_conn_t *conn)
     return false;
 }
 
+const char *udp_server_peer_name(const wsg_conn_t *conn)
+{
+    for (const udp_peer_t *p = udp.first; p != NULL; p = p->next) {
+        if (&p->conn == conn) {
+            return p->name;
+        }
+    }
+    return NULL;
+}
+
 void udp_server_close_all(udp_server_t *s)
 {
     udp_peer_t *next;

@@ -2,7 +2,7 @@
 # Robustness checks (issue 6), part of `make check` (and of `make check SAN=1`):
 #   fuzz-regress     the fuzz seed corpus and every regression input through the
 #                    fuzz target, built with $(CC) (ASan+UBSan under SAN=1)
-#   valgrind-tests   the end-to-end tests with build/wsgsim under valgrind
+#   valgrind-tests   the end-to-end tests (tests/e2e, tests/web) with build/wsgsim under valgrind
 #                    memcheck; fails on any memory error or leak. Under SAN=1 it
 #                    runs on the plain build (valgrind and ASan do not mix).
 #   abuse-tests      tests/e2e/test_abuse.py alone (e2e-tests runs it as well,
@@ -47,6 +47,8 @@ valgrind-tests: $(BUILD)/wsgsim | valgrind-deps
 	@rm -rf $(VALGRIND_LOGS) && mkdir -p $(VALGRIND_LOGS)
 	WSGSIM=$(abspath $(BUILD)/wsgsim) WSGSIM_PREFIX="$(VALGRIND_CMD)" \
 		python3 tests/e2e/run.py '$(VALGRIND_TESTS)'
+	WSGSIM=$(abspath $(BUILD)/wsgsim) WSGSIM_PREFIX="$(VALGRIND_CMD)" \
+		python3 tests/web/run.py '$(VALGRIND_TESTS)'
 	@n=0; bad=0; \
 	for f in $(VALGRIND_LOGS)/vg.*.log; do \
 		[ -e "$$f" ] || continue; n=$$((n + 1)); \
