@@ -210,7 +210,8 @@ function drawTactileMap(canvas, finger) {
   const cells = finger.data;
   for (let row = 0; row < rows; row++) {
     for (let col = 0; col < cols; col++) {
-      context.fillStyle = heatColour(cells[row * cols + col] / DSA_CELL_MAX);
+      // square root: a light touch still shows on the 12-bit scale
+      context.fillStyle = heatColour(Math.sqrt(cells[row * cols + col] / DSA_CELL_MAX));
       context.fillRect(col * cell, row * cell, cell - 1, cell - 1);
     }
   }
@@ -442,10 +443,13 @@ function setUpControl() {
 
 // ----------------------------------------------------------- settings panel
 
-// The fields of GET /settings, grouped as on the device's own page.
+// The fields of GET /settings, grouped as on the device's own page. The
+// protocol and the ports are fixed while wsgsim runs (docs/web.md): shown,
+// not edited.
+const FIXED_SETTINGS = ["protocol", "tcp_port", "udp_port", "binary_udp_port"];
 const SETTINGS_GROUPS = [
   ["Command interface", [
-    ["protocol", "protocol", ["auto", "gcl", "binary"]],
+    ["protocol", "protocol"],
     ["tcp_port", "TCP port"],
     ["udp_port", "UDP port"],
     ["binary_udp_port", "binary UDP port"],
@@ -471,19 +475,16 @@ const SETTINGS_GROUPS = [
 
 const settings = { loaded: {} };
 
-function settingsInput(name, value, choices) {
-  let input;
-  if (choices) {
-    input = document.createElement("select");
-    for (const choice of choices) {
-      input.appendChild(new Option(choice, choice));
-    }
-  } else {
-    input = document.createElement("input");
-    input.type = typeof value === "boolean" ? "checkbox" : typeof value === "number" ? "number" : "text";
-    if (input.type === "number") {
-      input.step = "any";
-    }
+function settingsInput(name, value) {
+  const input = document.createElement("input");
+  input.type = typeof value === "boolean" ? "checkbox" : typeof value === "number" ? "number" : "text";
+  if (input.type === "number") {
+    input.step = "any";
+  }
+  if (FIXED_SETTINGS.includes(name)) {
+    input.readOnly = true;
+    input.type = "text"; // a null port reads as "–"
+    input.title = "set at start (command line or --config file)";
   }
   input.name = name;
   input.id = "setting-" + name;
@@ -496,7 +497,7 @@ function buildSettingsForm(values) {
   for (const [title, fields] of SETTINGS_GROUPS) {
     const group = document.createElement("fieldset");
     group.appendChild(document.createElement("legend")).textContent = title;
-    for (const [name, label, choices] of fields) {
+    for (const [name, label] of fields) {
       if (!(name in values)) {
         continue; // a field this server does not have
       }
@@ -508,7 +509,7 @@ function buildSettingsForm(values) {
       const error = document.createElement("span");
       error.className = "field-error";
       error.id = "setting-error-" + name;
-      row.append(text, settingsInput(name, values[name], choices), error);
+      row.append(text, settingsInput(name, values[name]), error);
       group.appendChild(row);
     }
     container.appendChild(group);
@@ -532,7 +533,7 @@ function fillSettings(values) {
     if (input.type === "checkbox") {
       input.checked = Boolean(values[name]);
     } else {
-      input.value = values[name] === null ? "" : String(values[name]);
+      input.value = values[name] === null ? (input.readOnly ? "–" : "") : String(values[name]);
     }
   }
   const file = values.config_file;
@@ -544,8 +545,10 @@ function changedSettings() {
   const changes = {};
   for (const name of Object.keys(settings.loaded)) {
     const input = $("setting-" + name);
-    const blankNumber = input && input.type === "number" && input.value === "";
-    if (input && !blankNumber && settingsValue(input) !== settings.loaded[name]) {
+    if (!input || input.readOnly || (input.type === "number" && input.value === "")) {
+      continue;
+    }
+    if (settingsValue(input) !== settings.loaded[name]) {
       changes[name] = settingsValue(input);
     }
   }

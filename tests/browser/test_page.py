@@ -21,7 +21,6 @@ build/browser/live-view.png (`make browser-screenshot` refreshes
 docs/img/live-view.png, the one README shows). Timeouts only stop a hang.
 """
 import os
-import re
 import socket
 import sys
 import tempfile
@@ -42,11 +41,11 @@ CHROMIUM = "/usr/bin/chromium"
 CHROMEDRIVER = "/usr/bin/chromedriver"
 PAGE_TIMEOUT_S = 120.0  # Chromium starting or loading a page on a busy CI
 WAIT_TIMEOUT_S = 60.0  # the page showing a state the device reached
+START_ATTEMPTS = 5  # starts on a free port that was taken meanwhile
 UPDATE_BOUND_S = 10.0  # asserted bound of FIN-to-page; the figure is reported
-WINDOW = "1400,1250"
+WINDOW = "1400,1400"  # the whole live view in the screenshot
 SCREENSHOT = os.environ.get("SCREENSHOT") or os.path.join(ROOT, "build", "browser",
                                                          "live-view.png")
-HTTP_LINE = re.compile(r"http ([0-9.]+|\[[0-9a-f:]+\]):(\d+)")
 
 
 def free_tcp_port():
@@ -61,25 +60,23 @@ class Wsgsim(wsgsim.Wsgsim):
 
     def __init__(self, *args, **keywords):
         binary = os.environ.get("WSGSIM", os.path.join(ROOT, "build", "wsgsim"))
-        super().__init__(*args, binary=binary, **keywords)
+        # the port given here is replaced by a free one at each start
+        super().__init__("--http-port", "0", *args, binary=binary, **keywords)
 
     def start(self, timeout=wsgsim.START_TIMEOUT):
         # another program may take the free port before wsgsim binds it
-        for attempt in range(3):
-            self.args = [a for a in self.args if not a.startswith("--http-port")]
-            self.args += ["--http-port=%d" % free_tcp_port()]
+        port_at = self.args.index("--http-port") + 1
+        for attempt in range(START_ATTEMPTS):
+            self.args[port_at] = str(free_tcp_port())
             try:
                 return super().start(timeout)
             except wsgsim.GclError:
-                if attempt == 2 or "in use" not in "".join(self.log):
+                if attempt + 1 == START_ATTEMPTS or "in use" not in "".join(self.log):
                     raise
 
     def url(self, path="/"):
-        """The page's address, from the ready line (", http ADDR:PORT")."""
-        match = HTTP_LINE.search(self.drain_log(0))
-        if not match:
-            raise AssertionError("wsgsim named no http address: %s" % "".join(self.log))
-        return "http://%s:%s%s" % (match.group(1), match.group(2), path)
+        """The page's address (the --ready-file's http_port)."""
+        return "http://%s:%d%s" % (self.host, self.http_port, path)
 
 
 def start_chromium():
