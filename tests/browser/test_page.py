@@ -134,8 +134,11 @@ class PageTest(unittest.TestCase):
         return self.driver.find_element(By.ID, element_id).text
 
     def wait_for_text(self, element_id, expected, timeout=WAIT_TIMEOUT_S):
-        self.wait_for("#%s to show %r (shows %r)" % (element_id, expected, self.text(element_id)),
-                      lambda d: d.find_element(By.ID, element_id).text == expected, timeout)
+        try:
+            self.wait_for("#%s to show %r" % (element_id, expected),
+                          lambda d: d.find_element(By.ID, element_id).text == expected, timeout)
+        except AssertionError as exc:
+            raise AssertionError("%s; it shows %r" % (exc, self.text(element_id))) from None
 
     def wait_for_flag(self, name):
         self.wait_for("flag %s lit" % name, lambda d: d.execute_script(
@@ -151,8 +154,10 @@ class PageTest(unittest.TestCase):
         self.driver.find_element(By.CSS_SELECTOR, selector).click()
 
     def assert_no_console_errors(self):
-        errors = [entry for entry in self.driver.get_log("browser") if entry["level"] == "SEVERE"]
-        self.assertEqual(errors, [], "the page logged errors")
+        errors = [entry["message"] for entry in self.driver.get_log("browser")
+                  if entry["level"] == "SEVERE"]
+        if errors:
+            self.fail("the page logged errors:\n" + "\n".join(errors))
 
     # -------------------------------------------------------------- tests
 
