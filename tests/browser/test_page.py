@@ -220,10 +220,10 @@ class PageTest(unittest.TestCase):
             self.assert_no_console_errors()
 
     def take_screenshot(self):
-        # a few seconds of chart and the GCL client's lines in the picture
-        self.wait_for("the chart's history", lambda d: d.execute_script(
-            "const data = live.chartData; return data.length > 1 && "
-            "data[data.length - 1][0] - data[0][0] > 2"))
+        # the chart drawn on to 1.5 s after the grip force came (> 10 N)
+        self.wait_for("the chart of the grip", lambda d: d.execute_script(
+            "const held = live.chartData.find((point) => point[2] > 10);"
+            "return Boolean(live.chart && held && live.chart.xAxisRange()[1] - held[0] > 1.5)"))
         os.makedirs(os.path.dirname(SCREENSHOT), exist_ok=True)
         self.assertTrue(self.driver.save_screenshot(SCREENSHOT), SCREENSHOT)
 
