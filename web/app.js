@@ -381,7 +381,7 @@ function renderWebOp(op) {
   if (!op) {
     return;
   }
-  const name = op.op.toUpperCase();
+  const name = commandName(op.op);
   const element = $("op-done");
   if (!op.done) {
     showResult(element, true, name + " running since " + fixed(op.started_ms / 1000, 3) + " s");
@@ -391,17 +391,22 @@ function renderWebOp(op) {
   showResult(element, op.code === 0, name + " finished: " + op.status + " (" + op.code + ")" + ended);
 }
 
+// The command's name as the manual writes it (the route says fast_stop).
+function commandName(op) {
+  return op.replace("_", "").toUpperCase();
+}
+
 async function runOp(name, args) {
   const result = $("op-result");
   try {
     const reply = await api("POST", apiBase + "/ops/" + name, args || {});
     const started = reply.started ? " (started)" : "";
-    showResult(result, true, name.toUpperCase() + ": " + reply.status + started);
+    showResult(result, true, commandName(name) + ": " + reply.status + started);
   } catch (error) {
     if (!(error instanceof ApiError)) {
       throw error;
     }
-    showResult(result, false, name.toUpperCase() + ": " + error.describe());
+    showResult(result, false, commandName(name) + ": " + error.describe());
   }
 }
 
@@ -639,8 +644,9 @@ function simUnavailable() {
 async function runSim(route, args) {
   const result = $("sim-result");
   try {
-    await api("POST", apiBase + "/sim/" + route, args || {});
-    showResult(result, true, route + ": done");
+    const reply = await api("POST", apiBase + "/sim/" + route, args || {});
+    // the control channel's reply line ("ACK PART"); a STEP runs on
+    showResult(result, true, route + ": " + (reply.reply || (reply.started ? "started" : reply.status)));
   } catch (error) {
     if (!(error instanceof ApiError)) {
       throw error;
