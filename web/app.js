@@ -115,8 +115,7 @@ function renderReadouts(state) {
   setText("temperature", fixed(state.temperature_c, 1));
   setText("sim-time", fixed(state.time_ms / 1000, 3));
   const part = state.part;
-  const partText = !part ? "–" : part.present ? fixed(part.width_mm, 1) + " mm" : "none";
-  setText("part-text", partText);
+  setText("part-text", part && part.present ? fixed(part.width_mm, 1) + " mm" : "none");
 }
 
 function setJawSpan(stroke) {
@@ -345,9 +344,6 @@ function renderState(state) {
   renderWebOp(state.web_op);
   addChartPoint(state);
   drawChart();
-  if (state.part === undefined) {
-    simUnavailable(); // the server leaves the sim world out for remote peers
-  }
 }
 
 function setLink(up, text) {
