@@ -14,13 +14,19 @@ N failed'.
   valgrind run is slow, and that is not a fault of the page;
 - a GRIP pressed on the page is seen by a GCL client as GRIPSTATE=4;
 - a PWT default saved on the page is what a new GCL connection reads with
-  PWT?, in the same process and in a new one started with the saved file.
+  PWT?, in the same process and in a new one started with the saved file;
+- refusals are shown by their Appendix A names, a setting's at its field,
+  and change nothing;
+- the simulation panel places a part and steps the clock; a page opened
+  from a non-loopback address has it disabled after the server's 403;
+- with --devices 2 the selector opens the other device's page.
 
 It takes a screenshot of the page holding a part: $SCREENSHOT, by default
 build/browser/live-view.png (`make browser-screenshot` refreshes
 docs/img/live-view.png, the one README shows). Timeouts only stop a hang.
 """
 import os
+import re
 import socket
 import sys
 import tempfile
@@ -154,9 +160,14 @@ class PageTest(unittest.TestCase):
     def click(self, selector):
         self.driver.find_element(By.CSS_SELECTOR, selector).click()
 
-    def assert_no_console_errors(self):
+    def assert_no_console_errors(self, refused=0):
+        """No error in the browser's log but the refused requests expected
+        (the browser logs each 4xx reply; the page shows them itself)."""
         errors = [entry["message"] for entry in self.driver.get_log("browser")
                   if entry["level"] == "SEVERE"]
+        refusals = [e for e in errors if re.search(r"status of 4\d\d ", e)]
+        if len(refusals) == refused:
+            errors = [e for e in errors if e not in refusals]
         if errors:
             self.fail("the page logged errors:\n" + "\n".join(errors))
 
@@ -244,6 +255,86 @@ class PageTest(unittest.TestCase):
                 self.assert_no_console_errors()
             with Wsgsim("--config", config) as sim, sim.tcp() as client:
                 self.assertEqual(client.query_float("PWT"), 7.5)
+
+    def test_refusals_are_shown_by_their_manual_names(self):
+        with Wsgsim() as sim, sim.tcp() as client:
+            self.open_page(sim)
+            self.fill("#op-move input[name=position_mm]", 20)
+            self.click("#op-move button")
+            self.wait_for_text_start("op-result", "MOVE: E_NOT_INITIALIZED (3)")
+            self.wait_for("the settings", lambda d: d.find_elements(By.ID, "setting-pwt_mm"))
+            self.fill("#setting-pwt_mm", 500)
+            self.fill("#setting-clt_mm", 5)
+            self.click("#settings-apply")
+            self.wait_for_text_start("setting-error-pwt_mm", "E_RANGE_ERROR (28)")
+            self.assertEqual(self.text("setting-error-clt_mm"), "")
+            self.assertEqual(client.query_float("POS"), 55.0)  # all or nothing:
+            with sim.tcp() as fresh:
+                self.assertEqual((fresh.query_float("PWT"), fresh.query_float("CLT")), (10, 10))
+            self.assert_no_console_errors(refused=2)
+
+    def wait_for_text_start(self, element_id, start):
+        try:
+            self.wait_for("#%s to start with %r" % (element_id, start), lambda d: d.find_element(
+                By.ID, element_id).text.startswith(start))
+        except AssertionError as exc:
+            raise AssertionError("%s; it shows %r" % (exc, self.text(element_id))) from None
+
+    def test_simulation_panel_acts_on_the_world(self):
+        with Wsgsim(paused=True) as sim, sim.control() as control:
+            self.open_page(sim)
+            self.fill("#sim-part input[name=width_mm]", 30)
+            self.click("#sim-part button[type=submit]")
+            self.wait_for_text("sim-result", "part: ACK PART")
+            self.assertTrue(control("PART?").startswith("PART=[1,30"), control("PART?"))
+            self.wait_for("the part drawn", lambda d: d.find_element(
+                By.ID, "part").get_attribute("hidden") is None)
+            before_ms = control.json("SIMTIME?")[0]
+            self.fill("#sim-clock input[name=ms]", 250)
+            self.click("#sim-clock button[data-action=step]")
+            wsgsim.wait_for("the STEP from the page", lambda: control.json(
+                "SIMTIME?")[0] == before_ms + 250, WAIT_TIMEOUT_S)
+            self.assert_no_console_errors()
+
+    def test_simulation_panel_disabled_for_a_remote_page(self):
+        with Wsgsim("--http-bind", "0.0.0.0", control=True) as sim, sim.control() as control:
+            self.driver.get("about:blank")
+            self.driver.get("http://%s:%d/devices/0" % (non_loopback_address(), sim.http_port))
+            self.wait_for("the event stream",
+                          lambda d: d.find_element(By.ID, "link").text == "live")
+            self.click("#sim-part button[type=submit]")
+            self.wait_for_text_start("sim-result", "part: E_ACCESS_DENIED")
+            self.assertTrue(self.driver.find_element(By.ID, "sim-unavailable").is_displayed())
+            self.assertFalse(self.driver.find_element(
+                By.CSS_SELECTOR, "#sim-part button[type=submit]").is_enabled())
+            self.assertEqual(control("PART?").split(",")[0], "PART=[0")
+            self.assert_no_console_errors(refused=1)
+
+    def test_device_selector_opens_another_device(self):
+        with Wsgsim("--devices", "2") as sim:
+            self.open_page(sim)
+            picker = self.driver.find_element(By.ID, "device-select")
+            self.wait_for("the device selector", lambda d: picker.is_displayed())
+            self.driver.find_element(By.CSS_SELECTOR, "#device-select option[value='1']").click()
+            self.wait_for("device 1's page", lambda d: d.current_url.endswith("/devices/1"))
+            self.wait_for("the event stream",
+                          lambda d: d.find_element(By.ID, "link").text == "live")
+            self.wait_for_text_start("identity", "WSG 50-110 · wsgsim-1 · device 1")
+            self.assert_no_console_errors()
+
+
+def non_loopback_address():
+    """An IPv4 address of this host that is not a loopback one."""
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        try:
+            s.connect(("192.0.2.1", 9))  # no packet is sent: only a route is looked up
+            address = s.getsockname()[0]
+        except OSError:
+            address = None
+    if address is None or address.startswith("127."):
+        raise AssertionError("this test needs a non-loopback IPv4 address on this host "
+                             "(a network interface with a route); found none")
+    return address
 
 
 def main():
