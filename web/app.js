@@ -41,8 +41,15 @@ async function api(method, path, body) {
     options.headers["Content-Type"] = "application/json";
     options.body = JSON.stringify(body);
   }
-  const response = await fetch(path, options);
-  const text = await response.text();
+  let response;
+  let text;
+  try {
+    response = await fetch(path, options);
+    text = await response.text();
+  } catch (error) {
+    // no answer (wsgsim stopped, the network): shown like a refusal
+    throw new ApiError(0, { error: "no answer from wsgsim", message: error.message });
+  }
   let json = {};
   try {
     json = text ? JSON.parse(text) : {};
@@ -53,6 +60,20 @@ async function api(method, path, body) {
     throw new ApiError(response.status, json);
   }
   return json;
+}
+
+// The reply of an API call, or null after a refusal, which goes to
+// onRefusal(error); any other exception is a bug in the page and propagates.
+async function callApi(onRefusal, method, path, body) {
+  try {
+    return await api(method, path, body);
+  } catch (error) {
+    if (!(error instanceof ApiError)) {
+      throw error;
+    }
+    onRefusal(error);
+    return null;
+  }
 }
 
 function showResult(element, ok, text) {
@@ -394,15 +415,11 @@ function commandName(op) {
 
 async function runOp(name, args) {
   const result = $("op-result");
-  try {
-    const reply = await api("POST", apiBase + "/ops/" + name, args || {});
+  const refused = (error) => showResult(result, false, commandName(name) + ": " + error.describe());
+  const reply = await callApi(refused, "POST", apiBase + "/ops/" + name, args || {});
+  if (reply) {
     const started = reply.started ? " (started)" : "";
     showResult(result, true, commandName(name) + ": " + reply.status + started);
-  } catch (error) {
-    if (!(error instanceof ApiError)) {
-      throw error;
-    }
-    showResult(result, false, commandName(name) + ": " + error.describe());
   }
 }
 
@@ -584,31 +601,23 @@ async function applySettings() {
     showResult($("settings-result"), true, "nothing changed");
     return true;
   }
-  try {
-    fillSettings(await api("PUT", apiBase + "/settings", changes));
-    showResult($("settings-result"), true, "applied: " + Object.keys(changes).join(", "));
-    return true;
-  } catch (error) {
-    if (!(error instanceof ApiError)) {
-      throw error;
-    }
-    showSettingsError(error);
+  const values = await callApi(showSettingsError, "PUT", apiBase + "/settings", changes);
+  if (!values) {
     return false;
   }
+  fillSettings(values);
+  showResult($("settings-result"), true, "applied: " + Object.keys(changes).join(", "));
+  return true;
 }
 
 async function saveSettings() {
   if (!(await applySettings())) {
     return;
   }
-  try {
-    await api("POST", apiBase + "/settings/save");
-    showResult($("settings-result"), true, "saved to " + settings.loaded.config_file);
-  } catch (error) {
-    if (!(error instanceof ApiError)) {
-      throw error;
-    }
-    showResult($("settings-result"), false, "save: " + error.describe());
+  const result = $("settings-result");
+  const refused = (error) => showResult(result, false, "save: " + error.describe());
+  if (await callApi(refused, "POST", apiBase + "/settings/save")) {
+    showResult(result, true, "saved to " + settings.loaded.config_file);
   }
 }
 
@@ -618,15 +627,11 @@ async function setUpSettings() {
     applySettings();
   });
   $("settings-save").addEventListener("click", saveSettings);
-  try {
-    const values = await api("GET", apiBase + "/settings");
+  const refused = (error) => showResult($("settings-result"), false, "settings: " + error.describe());
+  const values = await callApi(refused, "GET", apiBase + "/settings");
+  if (values) {
     buildSettingsForm(values);
     fillSettings(values);
-  } catch (error) {
-    if (!(error instanceof ApiError)) {
-      throw error;
-    }
-    showResult($("settings-result"), false, "settings: " + error.describe());
   }
 }
 
@@ -639,18 +644,16 @@ function simUnavailable() {
 
 async function runSim(route, args) {
   const result = $("sim-result");
-  try {
-    const reply = await api("POST", apiBase + "/sim/" + route, args || {});
-    // the control channel's reply line ("ACK PART"); a STEP runs on
-    showResult(result, true, route + ": " + (reply.reply || (reply.started ? "started" : reply.status)));
-  } catch (error) {
-    if (!(error instanceof ApiError)) {
-      throw error;
-    }
+  const refused = (error) => {
     if (error.httpStatus === 403) {
       simUnavailable();
     }
     showResult(result, false, route + ": " + error.describe());
+  };
+  const reply = await callApi(refused, "POST", apiBase + "/sim/" + route, args || {});
+  if (reply) {
+    // the control channel's reply line ("ACK PART"); a STEP runs on
+    showResult(result, true, route + ": " + (reply.reply || (reply.started ? "started" : reply.status)));
   }
 }
 
@@ -691,7 +694,9 @@ function setUpSim() {
 // ------------------------------------------------------------ the devices
 
 async function setUpDevices() {
-  const { devices } = await api("GET", "/api/devices");
+  const refused = (error) => ($("identity").textContent = "devices: " + error.describe());
+  const reply = await callApi(refused, "GET", "/api/devices");
+  const devices = reply ? reply.devices : [];
   const self = devices.find((device) => device.id === deviceId);
   if (self) {
     $("identity").textContent = self.model + (self.tag ? " · " + self.tag : "") + " · device " + deviceId;
