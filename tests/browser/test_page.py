@@ -19,6 +19,7 @@ N failed'.
   and change nothing;
 - the simulation panel places a part and steps the clock; a page opened
   from a non-loopback address has it disabled after the server's 403;
+- the live view reconnects to a wsgsim restarted on its port;
 - with --devices 2 the selector opens the other device's page.
 
 It takes a screenshot of the page holding a part: $SCREENSHOT, by default
@@ -65,21 +66,22 @@ class Wsgsim(wsgsim.Wsgsim):
     """build/wsgsim (or $WSGSIM) with its HTTP server on a free port
     (--http-port 0 turns the server off, so the port is picked here)."""
 
-    def __init__(self, *args, **keywords):
+    def __init__(self, *args, http_port=None, **keywords):
         binary = os.environ.get("WSGSIM", os.path.join(ROOT, "build", "wsgsim"))
-        # the port given here is replaced by a free one at each start
+        self.fixed_http_port = http_port  # else a free one at each start
         super().__init__("--http-port", "0", *args, binary=binary, **keywords)
 
     def start(self, timeout=wsgsim.START_TIMEOUT):
         # another program may take the free port before wsgsim binds it
         port_at = self.args.index("--http-port") + 1
         for attempt in range(START_ATTEMPTS):
-            self.args[port_at] = str(free_tcp_port())
+            self.args[port_at] = str(self.fixed_http_port or free_tcp_port())
             try:
                 return super().start(timeout)
             except wsgsim.GclError:
                 if attempt + 1 == START_ATTEMPTS or "in use" not in "".join(self.log):
                     raise
+                time.sleep(0.5)  # a fixed port may be free again in a moment
 
     def url(self, path="/"):
         """The page's address (the --ready-file's http_port)."""
@@ -310,6 +312,18 @@ class PageTest(unittest.TestCase):
                 By.CSS_SELECTOR, "#sim-part button[type=submit]").is_enabled())
             self.assertEqual(control("PART?").split(",")[0], "PART=[0")
             self.assert_no_console_errors(refused=1)
+
+    def test_live_view_reconnects_to_a_restarted_server(self):
+        with Wsgsim() as first:
+            self.open_page(first)
+            self.wait_for_text("part-text", "none")
+            port = first.http_port
+        self.wait_for("the page to notice", lambda d: d.find_element(
+            By.ID, "link").text == "reconnecting")
+        with Wsgsim("--part", "25", http_port=port):
+            self.wait_for("the event stream again",
+                          lambda d: d.find_element(By.ID, "link").text == "live")
+            self.wait_for_text("part-text", "25.0 mm")
 
     def test_device_selector_opens_another_device(self):
         with Wsgsim("--devices", "2") as sim:
