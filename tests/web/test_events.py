@@ -31,12 +31,14 @@ class Events(WebCase):
         self.assertEqual(first[2]["id"], 0)
         self.assertIn("position_mm", first[2])
         ids, times = [first[0]], [first[2]["time_ms"]]
-        for _ in range(4):
+        # the device time may lag the clock for a while (a busy or slow
+        # host): it never goes back, and it moves on
+        while len(ids) < 5 or times[-1] == times[0]:
             event_id, _, state = s.next_event()
             ids.append(event_id)
             times.append(state["time_ms"])
         self.assertEqual(ids, sorted(set(ids)), "ids increase")
-        self.assertEqual(times, sorted(set(times)), "the simulated time runs on")
+        self.assertEqual(times, sorted(times), "the simulated time never goes back")
 
     def test_a_move_shows_in_the_stream(self):
         with self.sim.tcp() as gcl:

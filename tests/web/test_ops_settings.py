@@ -136,6 +136,8 @@ class Settings(WebCase):
         self.assertEqual((j["error"], j["code"]), ("E_RANGE_ERROR", 28))
         self.assertIn("clt_mm", j["message"])
         self.assertEqual(self.settings(), before)
+        j = self.put({"pullback_mm": 111}).json()  # within the stroke, as the file checks it
+        self.assertEqual((j["error"], j["message"].split(":")[0]), ("E_RANGE_ERROR", "pullback_mm"))
         j = self.put({"pwt_mm": 5, "tag": "y" * 60}).json()
         self.assertEqual(j["error"], "E_RANGE_ERROR")
         self.assertIn("tag", j["message"])
@@ -225,6 +227,23 @@ class Save(unittest.TestCase):
         with sim.control() as ctl:
             self.assertEqual(ctl("RESET()"), "ACK RESET")
         self.assertEqual(request(base).json()["clt_mm"], 3)
+
+    def test_another_device_saves_its_tag_in_its_section(self):
+        sim = WebSim("--config", self.path, "--devices", "2")
+        sim.start()
+        self.addCleanup(sim.stop)
+        base = sim.base + "/api/devices/1/settings"
+        self.assertEqual(request(base).json()["tag"], "old-1")
+        self.assertEqual(request(base, "PUT", {"tag": "left hand"}).status, 200)
+        self.assertEqual(request(base + "/save", "POST").status, 200)
+        sim.stop()
+        with open(self.path) as f:
+            self.assertTrue(f.read().endswith('\n[device.1]\ntag = "left hand"\n'))
+        again = WebSim("--config", self.path, "--devices", "2")
+        again.start()
+        self.addCleanup(again.stop)
+        tags = [d["tag"] for d in request(again.base + "/api/devices").json()["devices"]]
+        self.assertEqual(tags, ["old", "left hand"])
 
     def test_a_tag_the_file_cannot_hold_is_not_saved(self):
         sim = self.start()
