@@ -134,7 +134,7 @@ class PageTest(unittest.TestCase):
 
     def wait_for(self, what, condition, timeout=WAIT_TIMEOUT_S):
         try:
-            return WebDriverWait(self.driver, timeout, poll_frequency=0.01).until(condition)
+            return WebDriverWait(self.driver, timeout, poll_frequency=0.05).until(condition)
         except Exception as exc:
             raise AssertionError("page: gave up after %.0f s waiting for %s (%s)" %
                                  (timeout, what, type(exc).__name__)) from None
