@@ -4,7 +4,6 @@
 "use strict";
 
 const CHART_SECONDS = 30;
-const CHART_REDRAW_MS = 200; // the chart redraws at 5 Hz, the numbers at every event
 const RECONNECT_MIN_MS = 500;
 const RECONNECT_MAX_MS = 5000;
 const SVG_MARGIN_MM = 10; // room left and right of the stroke in the drawing
@@ -104,7 +103,7 @@ const live = {
   fingerViews: [],
   chartData: [],
   chart: null,
-  lastChartDraw: 0,
+  chartDrawPending: false,
   lastConnections: "",
   moveTouched: false,
   stroke: 0,
@@ -329,12 +328,17 @@ function addChartPoint(state) {
   }
 }
 
-function drawChart() {
-  const now = performance.now();
-  if (now - live.lastChartDraw < CHART_REDRAW_MS || live.chartData.length === 0) {
-    return;
+// The chart follows every event (25 Hz), at most once per frame of the
+// browser, and not at all while the page is hidden.
+function scheduleChart() {
+  if (!live.chartDrawPending) {
+    live.chartDrawPending = true;
+    requestAnimationFrame(drawChart);
   }
-  live.lastChartDraw = now;
+}
+
+function drawChart() {
+  live.chartDrawPending = false;
   if (!live.chart) {
     live.chart = new Dygraph($("chart"), live.chartData, {
       labels: ["time (s)", "width (mm)", "force (N)"],
@@ -364,7 +368,7 @@ function renderState(state) {
   renderConnections(state.connections);
   renderWebOp(state.web_op);
   addChartPoint(state);
-  drawChart();
+  scheduleChart();
 }
 
 function setLink(up, text) {
