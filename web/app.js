@@ -692,6 +692,8 @@ function setUpSim() {
   for (const route of ["part_remove", "obstacle_remove", "clear"]) {
     $("sim-" + route).addEventListener("click", () => runSim(route));
   }
+  const fault = $("sim-fault");
+  $("sim-clear-one").addEventListener("click", () => runSim("clear", formArguments(fault)));
   bindClock();
 }
 
