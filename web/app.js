@@ -9,6 +9,7 @@ const RECONNECT_MAX_MS = 5000;
 const SVG_MARGIN_MM = 10; // room left and right of the stroke in the drawing
 const JAW_WIDTH_MM = 6;
 const DSA_CELL_MAX = 4095; // 12-bit tactile cells: the heat map's full scale
+const FMF_BAR_FULL_SCALE_N = 80; // the WSG 50's grip force limit; the bar rescales past it
 
 const deviceId = deviceIdFromPath(location.pathname);
 const apiBase = "/api/devices/" + deviceId;
@@ -213,7 +214,7 @@ function renderFlags(sysflags) {
 
 function heatColour(fraction) {
   const f = Math.min(Math.max(fraction, 0), 1);
-  // dark blue (no pressure) through red to yellow (full scale)
+  // dark blue (no pressure) through cyan and green to yellow (full scale)
   const hue = 240 - 180 * f;
   const light = 20 + 45 * f;
   return "hsl(" + hue + ",90%," + light + "%)";
@@ -265,7 +266,7 @@ function renderFinger(finger) {
   let text = "no data";
   if (isForce) {
     text = "force " + finger.data.toFixed(2) + " N";
-    const fullScale = Math.max(80, Math.abs(finger.data));
+    const fullScale = Math.max(FMF_BAR_FULL_SCALE_N, Math.abs(finger.data));
     bar.firstChild.style.width = (100 * Math.abs(finger.data)) / fullScale + "%";
   } else if (isMap) {
     text = (finger.rows || 14) + " × " + (finger.cols || 6) + " tactile map, peak " +
