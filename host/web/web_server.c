@@ -211,10 +211,12 @@ bool web_server_start(const host_options_t *opts)
     const char *bind = opts->http_bind != NULL ? opts->http_bind : opts->bind_addr;
     web.listen_fd = net_listen(SOCK_STREAM, bind, opts->http_port);
     if (web.listen_fd < 0) {
-        if (!opts->http_port_given) {
-            host_logf(HAL_LOG_WARN, "http port %d taken: no web interface", opts->http_port);
+        bool asked = opts->http_port_given || opts->http_bind != NULL;
+        if (!asked) {
+            host_logf(HAL_LOG_WARN, "http port %d cannot be had: no web interface",
+                      opts->http_port);
         }
-        return !opts->http_port_given;
+        return !asked;
     }
     int sndbuf = CLIENT_SNDBUF_BYTES;
     setsockopt(web.listen_fd, SOL_SOCKET, SO_SNDBUF, &sndbuf, sizeof(sndbuf));

@@ -2,10 +2,14 @@
 """The web interface's routes and errors (docs/web.md): the device list,
 the state, the built-in page, and every kind of bad request, after which
 nothing has changed."""
+import os
 import socket
+import subprocess
+import tempfile
 import unittest
 
-from webclient import WebSim, request, request_no_redirect, wait_for
+from webclient import (GclError, GclTcp, Wsgsim, WebSim, request, request_no_redirect,
+                       wait_for)
 
 
 class WebCase(unittest.TestCase):
@@ -110,6 +114,49 @@ class Devices(WebCase):
             client.close()
 
 
+class Startup(unittest.TestCase):
+    def hold_port(self, port=0):
+        """A listening socket on port (a free one for 0); None when another
+        program holds it already (it is taken either way)."""
+        s = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+        try:
+            s.bind(("0.0.0.0", port))
+        except OSError:
+            s.close()
+            return None
+        s.listen(1)
+        self.addCleanup(s.close)
+        return s
+
+    def test_a_port_asked_for_and_taken_stops_the_start(self):
+        port = self.hold_port().getsockname()[1]
+        sim = Wsgsim("--http-port", str(port))
+        with self.assertRaises(GclError):
+            sim.start()
+        self.assertEqual(sim.returncode, 2)
+        self.assertIn("cannot listen on TCP 127.0.0.1:%d" % port, "".join(sim.log))
+
+    def test_the_default_port_taken_is_skipped_with_a_warning(self):
+        self.hold_port(8080)
+        with tempfile.TemporaryDirectory(prefix="wsgsim-web-") as tmp:
+            ready = os.path.join(tmp, "ready")
+            prefix = os.environ.get("WSGSIM_PREFIX", "").split()
+            proc = subprocess.Popen(prefix + [Wsgsim().binary, "--bind", "127.0.0.1",
+                                              "--tcp-port", "0", "--udp-port", "0",
+                                              "--binary-udp-port", "0", "--ready-file", ready],
+                                    stderr=subprocess.PIPE, stdin=subprocess.DEVNULL, text=True)
+            try:
+                wait_for("the ready file", lambda: os.path.exists(ready), timeout=60)
+                with open(ready) as f:
+                    self.assertNotIn("http_port", f.read())
+            finally:
+                proc.terminate()
+                _, err = proc.communicate(timeout=60)
+            self.assertEqual(proc.returncode, 0)
+            self.assertIn("warning: http port 8080 cannot be had: no web interface", err)
+            self.assertNotIn(", http ", err)
+
+
 class Fleet(WebCase):
     ARGS = ("--devices", "2")
 
@@ -131,7 +178,6 @@ class Fleet(WebCase):
     def test_lines_of_another_device_are_listed_there(self):
         self.get("/api/devices/1/state")
         port = self.get("/api/devices").json()["devices"][1]["tcp_port"]
-        from gclclient import GclTcp
         with GclTcp("127.0.0.1", port) as gcl:
             gcl.expect("SN?", "SN=12345679")
             conns = self.get("/api/devices/1/state").json()["connections"]

@@ -13,8 +13,8 @@ import urllib.request
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "e2e"))
 
-from gclclient import (DEFAULT_TIMEOUT, MOTION_TIMEOUT, GclError, Wsgsim,  # noqa: E402,F401
-                       wait_for, wait_for_reply)
+from gclclient import (DEFAULT_TIMEOUT, MOTION_TIMEOUT, GclError, GclTcp,  # noqa: E402,F401
+                       Wsgsim, wait_for, wait_for_reply)
 
 HTTP_TIMEOUT = 60.0  # one request (valgrind runs are slow)
 START_ATTEMPTS = 5  # a free port picked here may be taken before wsgsim binds it
