@@ -10,7 +10,7 @@
 
 #include "fleet.h"
 #include "hal_clock.h"
-#include "sim/names.h"
+#include "wsg/wsg_names.h"
 #include "web/web_internal.h"
 
 typedef struct {
@@ -67,7 +67,7 @@ cJSON *web_ops_last_json(const gripper_t *g)
     cJSON_AddNumberToObject(j, "started_ms", (double)w->started_us / 1000.0);
     cJSON_AddBoolToObject(j, "done", w->done);
     if (w->done) {
-        cJSON_AddStringToObject(j, "status", simctl_status_name(w->status));
+        cJSON_AddStringToObject(j, "status", wsg_status_name(w->status));
         cJSON_AddNumberToObject(j, "code", w->status);
         cJSON_AddNumberToObject(j, "ended_ms", (double)w->ended_us / 1000.0);
     }

@@ -8,7 +8,7 @@
 
 #include "hal_clock.h"
 #include "sim/sim_world.h"
-#include "sim/names.h"
+#include "wsg/wsg_names.h"
 #include "web/web_internal.h"
 
 enum MHD_Result web_reply_bytes(const web_request_t *req, unsigned http_status,
@@ -59,7 +59,7 @@ static cJSON *error_json(wsg_status_t status, const char *fmt, va_list args)
     char message[256];
     vsnprintf(message, sizeof(message), fmt, args);
     cJSON *j = cJSON_CreateObject();
-    cJSON_AddStringToObject(j, "error", simctl_status_name(status));
+    cJSON_AddStringToObject(j, "error", wsg_status_name(status));
     cJSON_AddNumberToObject(j, "code", status);
     cJSON_AddStringToObject(j, "message", message);
     return j;
@@ -81,7 +81,7 @@ enum MHD_Result web_reply_wrong_method(const web_request_t *req, const char *all
     cJSON *j = cJSON_CreateObject();
     char message[96];
     snprintf(message, sizeof(message), "%s is not allowed here; use %s", req->method, allowed);
-    cJSON_AddStringToObject(j, "error", simctl_status_name(E_CMD_UNKNOWN));
+    cJSON_AddStringToObject(j, "error", wsg_status_name(E_CMD_UNKNOWN));
     cJSON_AddNumberToObject(j, "code", E_CMD_UNKNOWN);
     cJSON_AddStringToObject(j, "message", message);
     text = cJSON_PrintUnformatted(j);

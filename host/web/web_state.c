@@ -7,7 +7,7 @@
 
 #include "hal_clock.h"
 #include "sim/sim_world.h"
-#include "sim/names.h"
+#include "wsg/wsg_names.h"
 #include "tcp_server.h"
 #include "udp_server.h"
 #include "web/web_internal.h"
@@ -41,7 +41,7 @@ static cJSON *sysflags_json(uint32_t flags)
     cJSON *set = cJSON_AddArrayToObject(j, "set");
     cJSON *names = cJSON_AddArrayToObject(j, "names");
     for (unsigned bit = 0; bit < WSG_SYSFLAG_COUNT; bit++) {
-        const char *name = simctl_sysflag_name(bit);
+        const char *name = wsg_sysflag_name(bit);
         cJSON_AddItemToArray(names, cJSON_CreateString(name != NULL ? name : ""));
         if (name != NULL && ((flags >> bit) & 1u) != 0u) {
             cJSON_AddItemToArray(set, cJSON_CreateString(name));
@@ -164,7 +164,7 @@ cJSON *web_state_json(gripper_t *g)
     add_axis(root, snap);
     cJSON *grip = cJSON_AddObjectToObject(root, "grip_state");
     cJSON_AddNumberToObject(grip, "code", snap->grip_state);
-    cJSON_AddStringToObject(grip, "name", simctl_grip_state_name(snap->grip_state));
+    cJSON_AddStringToObject(grip, "name", wsg_grip_state_name(snap->grip_state));
     cJSON_AddItemToObject(root, "sysflags", sysflags_json(snap->flags));
     cJSON_AddItemToObject(root, "part", part_json(&g->world.axis.part));
     cJSON_AddItemToObject(
