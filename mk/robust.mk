@@ -32,7 +32,7 @@ fuzz-regress: $(FUZZ_REPLAY)
 	$(FUZZ_REPLAY) $(FUZZ_INPUTS)
 
 abuse-tests: $(BUILD)/wsgsim
-	WSGSIM=$(abspath $(BUILD)/wsgsim) python3 tests/e2e/run.py test_abuse.py
+	WSGSIM=$(abspath $(BUILD)/wsgsim) python3 tests/run_suite.py e2e tests/e2e test_abuse.py
 
 valgrind-deps:
 	@mk/deps.sh $(VALGRIND_DEBS)
@@ -46,9 +46,9 @@ else
 valgrind-tests: $(BUILD)/wsgsim | valgrind-deps
 	@rm -rf $(VALGRIND_LOGS) && mkdir -p $(VALGRIND_LOGS)
 	WSGSIM=$(abspath $(BUILD)/wsgsim) WSGSIM_PREFIX="$(VALGRIND_CMD)" \
-		python3 tests/e2e/run.py '$(VALGRIND_TESTS)'
+		python3 tests/run_suite.py e2e tests/e2e '$(VALGRIND_TESTS)'
 	WSGSIM=$(abspath $(BUILD)/wsgsim) WSGSIM_PREFIX="$(VALGRIND_CMD)" \
-		python3 tests/web/run.py '$(VALGRIND_TESTS)'
+		python3 tests/run_suite.py web tests/web '$(VALGRIND_TESTS)'
 	@n=0; bad=0; \
 	for f in $(VALGRIND_LOGS)/vg.*.log; do \
 		[ -e "$$f" ] || continue; n=$$((n + 1)); \

@@ -40,4 +40,4 @@ $(WEB_PEER_TEST): tests/web/test_peer.c $(BUILD)/obj/host/web/web_peer.o
 
 web-tests: $(BUILD)/wsgsim $(WEB_PEER_TEST)
 	$(CHECK_ENV) $(WEB_PEER_TEST)
-	WSGSIM=$(abspath $(BUILD)/wsgsim) python3 tests/web/run.py
+	WSGSIM=$(abspath $(BUILD)/wsgsim) python3 tests/run_suite.py web tests/web

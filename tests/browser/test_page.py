@@ -37,11 +37,13 @@ import unittest
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 sys.path.insert(0, os.path.join(ROOT, "python"))
+sys.path.insert(0, os.path.join(ROOT, "tests", "web"))
 
 from selenium import webdriver  # noqa: E402
 from selenium.webdriver.chrome.service import Service  # noqa: E402
 from selenium.webdriver.common.by import By  # noqa: E402
 from selenium.webdriver.support.ui import WebDriverWait  # noqa: E402
+from webclient import non_loopback_address  # noqa: E402
 
 import wsgsim  # noqa: E402
 
@@ -337,20 +339,6 @@ class PageTest(unittest.TestCase):
                           lambda d: d.find_element(By.ID, "link").text == "live")
             self.wait_for_text_start("identity", "WSG 50-110 · wsgsim-1 · device 1")
             self.assert_no_console_errors()
-
-
-def non_loopback_address():
-    """An IPv4 address of this host that is not a loopback one."""
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
-        try:
-            s.connect(("192.0.2.1", 9))  # no packet is sent: only a route is looked up
-            address = s.getsockname()[0]
-        except OSError:
-            address = None
-    if address is None or address.startswith("127."):
-        raise AssertionError("this test needs a non-loopback IPv4 address on this host "
-                             "(a network interface with a route); found none")
-    return address
 
 
 def main():

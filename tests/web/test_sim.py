@@ -1,25 +1,10 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """The simulation routes: the control channel's commands, served to
 loopback clients only unless --sim-bind allows more."""
-import socket
 import unittest
 
 from test_api import WebCase
-from webclient import WebSim, request
-
-
-def non_loopback_address():
-    """An IPv4 address of this host that is not a loopback one."""
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
-        try:
-            s.connect(("192.0.2.1", 9))  # no packet is sent: only a route is looked up
-            address = s.getsockname()[0]
-        except OSError:
-            address = None
-    if address is None or address.startswith("127."):
-        raise AssertionError("this test needs a non-loopback IPv4 address on this host "
-                             "(a network interface with a route); found none")
-    return address
+from webclient import WebSim, non_loopback_address, request
 
 
 class Simulation(WebCase):

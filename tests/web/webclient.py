@@ -152,3 +152,17 @@ class EventStream:
 
     def close(self):
         self.sock.close()
+
+
+def non_loopback_address():
+    """An IPv4 address of this host that is not a loopback one."""
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        try:
+            s.connect(("192.0.2.1", 9))  # no packet is sent: only a route is looked up
+            address = s.getsockname()[0]
+        except OSError:
+            address = None
+    if address is None or address.startswith("127."):
+        raise AssertionError("this test needs a non-loopback IPv4 address on this host "
+                             "(a network interface with a route); found none")
+    return address
