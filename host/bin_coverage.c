@@ -5,7 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "sim/names.h"
+#include "wsg/wsg_names.h"
 #include "wsg/wsg_bin.h"
 
 #define IDS 256u
@@ -55,7 +55,7 @@ static cJSON *status_names(uint32_t bits)
     cJSON *names = cJSON_CreateArray();
     for (unsigned s = 0; s < WSG_STATUS_COUNT; s++) {
         if ((bits >> s) & 1u) {
-            cJSON_AddItemToArray(names, cJSON_CreateString(simctl_status_name((wsg_status_t)s)));
+            cJSON_AddItemToArray(names, cJSON_CreateString(wsg_status_name((wsg_status_t)s)));
         }
     }
     return names;
@@ -67,7 +67,7 @@ static cJSON *report_statuses(void)
     for (unsigned s = 0; s < WSG_STATUS_COUNT; s++) {
         if (bcov.status_count[s] > 0) {
             cJSON *item = cJSON_CreateObject();
-            cJSON_AddStringToObject(item, "name", simctl_status_name((wsg_status_t)s));
+            cJSON_AddStringToObject(item, "name", wsg_status_name((wsg_status_t)s));
             cJSON_AddNumberToObject(item, "count", bcov.status_count[s]);
             cJSON_AddItemToArray(out, item);
         }
@@ -82,7 +82,7 @@ static void report_flags_observed(cJSON *out, cJSON *summary)
     cJSON *never = cJSON_CreateArray();
     unsigned count = 0;
     for (unsigned bit = 0; bit < WSG_SYSFLAG_COUNT; bit++) {
-        const char *name = simctl_sysflag_name(bit);
+        const char *name = wsg_sysflag_name(bit);
         if (name == NULL) {
             continue;
         }

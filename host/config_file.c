@@ -64,6 +64,8 @@ typedef enum {
     NET_BINARY_UDP_PORT,
     NET_BINARY_UDP_REPLY_PORT,
     NET_BINARY_CRC,
+    NET_HTTP_PORT,
+    NET_HTTP_BIND,
     KEY_COUNT
 } key_id_t;
 
@@ -100,6 +102,8 @@ static const struct {
     [NET_BINARY_UDP_PORT] = {"network", "binary_udp_port", K_PORT},
     [NET_BINARY_UDP_REPLY_PORT] = {"network", "binary_udp_reply_port", K_PORT},
     [NET_BINARY_CRC] = {"network", "binary_crc", K_BOOL},
+    [NET_HTTP_PORT] = {"network", "http_port", K_PORT},
+    [NET_HTTP_BIND] = {"network", "http_bind", K_ADDR},
 };
 
 typedef struct {
@@ -413,6 +417,13 @@ static void apply_binary(host_options_t *opts)
     }
     if (v[NET_BINARY_CRC].set) {
         opts->binary_crc = v[NET_BINARY_CRC].number != 0.0;
+    }
+    if (v[NET_HTTP_PORT].set) {
+        opts->http_port = (int)v[NET_HTTP_PORT].number;
+        opts->http_port_given = true;
+    }
+    if (v[NET_HTTP_BIND].set) {
+        opts->http_bind = v[NET_HTTP_BIND].text;
     }
 }
 

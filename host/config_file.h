@@ -6,6 +6,7 @@
 #define HOST_CONFIG_FILE_H
 
 #include <stdbool.h>
+#include <stddef.h>
 
 #include "wsg/wsg_config.h"
 #include "options.h"
@@ -26,5 +27,14 @@ unsigned config_file_devices(void);
 const char *config_file_device_model(unsigned index, const char *fallback);
 bool config_file_device_port(unsigned index, bool udp, int *port);
 void config_file_apply_device(unsigned index, wsg_config_t *cfg);
+/* Saves the device's settings in force to the file at path (the web page's
+ * Save): the [motion] keys, [network] disconnect_faststop and binary_crc,
+ * and the tag ([device] for device 0, [device.N] for another). Keys already
+ * in the file get the new value in place; missing ones are added to their
+ * section, missing sections at the end; every other line stays as it was.
+ * The file is replaced at once (written beside it, then renamed). False with
+ * the reason in why. */
+bool config_file_save(const char *path, unsigned device, const wsg_config_t *cfg, char *why,
+                      size_t cap);
 
 #endif

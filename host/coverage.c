@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "bin_coverage.h"
-#include "sim/names.h"
+#include "wsg/wsg_names.h"
 
 #define COMMANDS_MAX 64
 #define CALL_SLOTS (WSG_GCL_ARGS_MAX + 1) /* argc 0..WSG_GCL_ARGS_MAX (more counts as the last) */
@@ -273,7 +273,7 @@ static cJSON *report_errors(cJSON *summary)
         }
         cJSON *item = cJSON_CreateObject();
         cJSON_AddNumberToObject(item, "code", code);
-        cJSON_AddStringToObject(item, "name", simctl_status_name((wsg_status_t)code));
+        cJSON_AddStringToObject(item, "name", wsg_status_name((wsg_status_t)code));
         cJSON_AddNumberToObject(item, "count", cov.errors[code]);
         cJSON_AddItemToObject(item, "commands", error_commands(code));
         cJSON_AddItemToArray(returned, item);
@@ -283,7 +283,7 @@ static cJSON *report_errors(cJSON *summary)
         wsg_status_t code = produced_codes[i];
         seen += cov.errors[code] > 0 ? 1u : 0u;
         if (cov.errors[code] == 0) {
-            cJSON_AddItemToArray(never, cJSON_CreateString(simctl_status_name(code)));
+            cJSON_AddItemToArray(never, cJSON_CreateString(wsg_status_name(code)));
         }
     }
     cJSON *out = cJSON_CreateObject();
@@ -297,7 +297,7 @@ static cJSON *report_errors(cJSON *summary)
 
 static void transition_label(wsg_grip_state_t from, wsg_grip_state_t to, char *out, size_t cap)
 {
-    snprintf(out, cap, "%s -> %s", simctl_grip_state_name(from), simctl_grip_state_name(to));
+    snprintf(out, cap, "%s -> %s", wsg_grip_state_name(from), wsg_grip_state_name(to));
 }
 
 static cJSON *report_states(cJSON *summary)
@@ -330,7 +330,7 @@ static cJSON *report_states(cJSON *summary)
     for (unsigned s = 0; s < GS_COUNT; s++) {
         if (!entered[s]) {
             cJSON_AddItemToArray(states_never,
-                                 cJSON_CreateString(simctl_grip_state_name((wsg_grip_state_t)s)));
+                                 cJSON_CreateString(wsg_grip_state_name((wsg_grip_state_t)s)));
         }
     }
     cJSON *out = cJSON_CreateObject();
@@ -349,7 +349,7 @@ static cJSON *report_flags(cJSON *summary)
     unsigned total = 0;
     unsigned count = 0;
     for (unsigned bit = 0; bit < WSG_SYSFLAG_COUNT; bit++) {
-        const char *name = simctl_sysflag_name(bit);
+        const char *name = wsg_sysflag_name(bit);
         if (name == NULL) {
             continue;
         }

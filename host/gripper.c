@@ -12,6 +12,7 @@
 #include "sim/sim_models.h"
 #include "wsg/wsg_bin.h"
 #include "wsg/wsg_gcl.h"
+#include "web/web_lines.h"
 
 /* What a connection opened without a driver (--protocol auto) may speak:
  * the binary protocol claims its preamble byte, GCL everything else. */
@@ -83,6 +84,8 @@ void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
     wsg_runner_init(&g->runner, &g->device, advance_world, g);
     if (index == 0) {
         simctl_hooks_attach(&g->device, opts);
+    } else if (web_lines_enabled()) {
+        wsg_conn_observe(&g->device, web_lines_observer(), NULL); /* the hub is device 0's */
     }
 }
 
@@ -111,6 +114,12 @@ void gripper_feed(gripper_t *g, wsg_conn_t *c, const uint8_t *bytes, size_t len,
                   int end_of_datagram)
 {
     wsg_runner_feed(&g->runner, c, bytes, len, end_of_datagram != 0);
+    gripper_touch(g);
+}
+
+void gripper_input_done(gripper_t *g)
+{
+    wsg_runner_input_done(&g->runner);
     gripper_touch(g);
 }
 

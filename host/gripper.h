@@ -37,6 +37,9 @@ void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index);
 uint64_t gripper_tick(gripper_t *g);
 void gripper_feed(gripper_t *g, wsg_conn_t *c, const uint8_t *bytes, size_t len,
                   int end_of_datagram);
+/* After input reached the device (a line, a web request): what it started
+ * is due from the next simulated instant on, and the fleet ticks it. */
+void gripper_input_done(gripper_t *g);
 /* Something may have moved its deadline (input, a closed connection, a
  * control command): the fleet ticks it at the next pass even if not due.
  * The touched grippers form one list, taken one by one. */

@@ -18,6 +18,7 @@
 #include "sim/scheduler.h"
 #include "tcp_server.h"
 #include "udp_server.h"
+#include "web/web_server.h"
 
 #define EXIT_STARTUP_FAILED 2
 
@@ -50,12 +51,14 @@ static int stop_simulation(const host_options_t *opts)
 /* One line per further device of a fleet, then the ready line. */
 static bool announce(const host_options_t *opts)
 {
-    char line[400];
-    char extra[160];
-    snprintf(extra, sizeof(extra), ", binary udp %d%s", fleet_bin_udp_port(0), simctl_describe());
+    char line[512];
+    char extra[256];
+    snprintf(extra, sizeof(extra), ", binary udp %d%s%s", fleet_bin_udp_port(0), simctl_describe(),
+             web_server_describe());
     fleet_ready_line(extra, line, sizeof(line));
     bool bin_tcp = opts->tcp_enabled && opts->protocol != HOST_PROTOCOL_GCL;
     notify_set_binary_ports(bin_tcp ? fleet_tcp_port(0) : -1, fleet_bin_udp_port(0));
+    notify_set_http_port(web_server_port());
     if (!notify_prepare(opts->ready_file)) {
         return false;
     }
@@ -111,7 +114,8 @@ int main(int argc, char **argv)
     if (!finger_bus_host_start(&opts) || (opts.can_log != NULL && !can_log_open(opts.can_log))) {
         return EXIT_STARTUP_FAILED;
     }
-    if (!fleet_start(&opts) || !start_simulation(&opts)) {
+    /* the web server first: the devices' observers keep its connection lines */
+    if (!web_server_start(&opts) || !fleet_start(&opts) || !start_simulation(&opts)) {
         return EXIT_STARTUP_FAILED;
     }
     if (!announce(&opts)) {
@@ -121,12 +125,14 @@ int main(int argc, char **argv)
     while (!loop_stop_requested()) {
         uint64_t deadline = simctl_tick();
         loop_wait(deadline);
+        web_server_poll();
         tcp_server_reap();
         udp_server_reap();
         simctl_reap();
     }
     host_logf(HAL_LOG_INFO, "shutting down");
     notify_stopping(opts.ready_file);
+    web_server_stop(); /* while the devices its operations ran on exist */
     fleet_stop();
     finger_bus_host_stop();
     can_log_close();

@@ -15,11 +15,17 @@
 
 static int bin_tcp_port = -1;
 static int bin_udp_port = -1;
+static int http_port = -1;
 
 void notify_set_binary_ports(int tcp_port, int udp_port)
 {
     bin_tcp_port = tcp_port;
     bin_udp_port = udp_port;
+}
+
+void notify_set_http_port(int port)
+{
+    http_port = port;
 }
 
 static void put_port(FILE *f, const char *name, int port)
@@ -54,6 +60,7 @@ bool notify_prepare(const char *ready_file)
         put_port(f, "sim_port", simctl_port());
         put_port(f, "bin_tcp_port", bin_tcp_port);
         put_port(f, "bin_udp_port", bin_udp_port);
+        put_port(f, "http_port", http_port);
         bool written = ferror(f) == 0;
         if (fclose(f) == 0 && written) {
             return true;

@@ -9,13 +9,17 @@
 
 /* Call once every server listens, before saying so in the log: writes the
  * ready file's content (NULL: none) beside it, as shell-style lines: pid=N,
- * tcp_port=N, udp_port=N, sim_port=N, bin_tcp_port=N and bin_udp_port=N
+ * tcp_port=N, udp_port=N, sim_port=N, bin_tcp_port=N, bin_udp_port=N and
+ * http_port=N
  * (each port only when served). False
  * after a message on stderr when it cannot be written. */
 bool notify_prepare(const char *ready_file);
 /* Before notify_prepare(): the binary protocol's ports, written as
  * bin_tcp_port=N and bin_udp_port=N (-1: not served). */
 void notify_set_binary_ports(int tcp_port, int udp_port);
+/* Before notify_prepare(): the web interface's port, written as http_port=N
+ * (-1: not served). */
+void notify_set_http_port(int port);
 /* Then: renames the prepared file into place (a reader never sees half of
  * it) and notifies systemd, with status as its STATUS=. */
 bool notify_ready(const char *ready_file, const char *status);

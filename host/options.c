@@ -20,6 +20,7 @@
 #define DEFAULT_UDP_PEER_TIMEOUT_S 60
 #define DEFAULT_BINARY_UDP_PORT 1500
 #define DEFAULT_BINARY_UDP_REPLY_PORT 1501
+#define DEFAULT_HTTP_PORT 8080
 #define TIMEOUT_LIMIT_S 86400
 
 static void print_help(void)
@@ -73,6 +74,12 @@ static void print_help(void)
            "  --binary-udp-reply-port N  binary UDP replies go to the sender's address at\n"
            "                             port N (default 1501; 0: the sender's own port)\n"
            "  --binary-no-crc            binary requests' checksums are read and ignored\n"
+           "  --http-port N              web interface (page and JSON API, docs/web.md) on\n"
+           "                             TCP port N (default %d; 0: off; the default is\n"
+           "                             skipped when taken)\n"
+           "  --http-bind ADDR           web interface address (default: as --bind); its\n"
+           "                             simulation panel serves loopback clients only\n"
+           "                             unless --sim-bind names another address\n"
            "  --log-level LEVEL          log error, warn, info or debug messages and above\n"
            "                             (default info)\n"
            "  --quiet                    log errors only (--log-level error)\n"
@@ -87,7 +94,7 @@ static void print_help(void)
            "  -h, --help                 print this help and exit\n",
            DEFAULT_PORT, DEFAULT_PORT, HOST_DEVICES_MAX, sim_model_default()->name,
            (double)DEFAULT_PART_STIFFNESS, DEFAULT_MAX_CLIENTS, MAX_CLIENTS_LIMIT,
-           DEFAULT_UDP_PEER_TIMEOUT_S);
+           DEFAULT_UDP_PEER_TIMEOUT_S, DEFAULT_HTTP_PORT);
 }
 
 static void list_models_json(void)
@@ -195,6 +202,8 @@ enum {
     OPT_BINARY_UDP_PORT,
     OPT_BINARY_UDP_REPLY_PORT,
     OPT_BINARY_NO_CRC,
+    OPT_HTTP_PORT,
+    OPT_HTTP_BIND,
     OPT_JSON,
     OPT_CAN_LOG,
     OPT_LOG_LEVEL,
@@ -236,6 +245,8 @@ static const struct option long_options[] = {
     {"binary-udp-port", required_argument, NULL, OPT_BINARY_UDP_PORT},
     {"binary-udp-reply-port", required_argument, NULL, OPT_BINARY_UDP_REPLY_PORT},
     {"binary-no-crc", no_argument, NULL, OPT_BINARY_NO_CRC},
+    {"http-port", required_argument, NULL, OPT_HTTP_PORT},
+    {"http-bind", required_argument, NULL, OPT_HTTP_BIND},
     {"json", no_argument, NULL, OPT_JSON},
     {"can-log", required_argument, NULL, OPT_CAN_LOG},
     {"log-level", required_argument, NULL, OPT_LOG_LEVEL},
@@ -275,6 +286,7 @@ static void set_defaults(host_options_t *opts)
     opts->binary_udp_port = DEFAULT_BINARY_UDP_PORT;
     opts->binary_udp_reply_port = DEFAULT_BINARY_UDP_REPLY_PORT;
     opts->binary_crc = true;
+    opts->http_port = DEFAULT_HTTP_PORT;
 }
 
 bool options_parse_protocol(const char *text, host_protocol_t *out)
@@ -291,7 +303,8 @@ bool options_parse_protocol(const char *text, host_protocol_t *out)
 
 static options_result_t usage_error(const char *what, const char *value);
 
-/* The binary protocol's options (docs/binary-protocol.md). */
+/* The binary protocol's options (docs/binary-protocol.md) and the web
+ * interface's (docs/web.md): the other ways in besides GCL. */
 static options_result_t apply_binary_option(int opt, const char *arg, host_options_t *opts)
 {
     switch (opt) {
@@ -309,6 +322,13 @@ static options_result_t apply_binary_option(int opt, const char *arg, host_optio
                    : usage_error("--binary-udp-reply-port", arg);
     case OPT_BINARY_NO_CRC:
         opts->binary_crc = false;
+        return OPTIONS_RUN;
+    case OPT_HTTP_PORT:
+        opts->http_port_given = true;
+        return parse_int(arg, 0, 65535, &opts->http_port) ? OPTIONS_RUN
+                                                          : usage_error("--http-port", arg);
+    case OPT_HTTP_BIND:
+        opts->http_bind = arg;
         return OPTIONS_RUN;
     default:
         return OPTIONS_EXIT_USAGE;
@@ -485,6 +505,8 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
     case OPT_BINARY_UDP_PORT:
     case OPT_BINARY_UDP_REPLY_PORT:
     case OPT_BINARY_NO_CRC:
+    case OPT_HTTP_PORT:
+    case OPT_HTTP_BIND:
         return apply_binary_option(opt, arg, opts);
     case OPT_LOG_LEVEL:
     case OPT_QUIET:

@@ -45,6 +45,10 @@ typedef struct {
     bool binary_udp_port_given; /* set explicitly: failing to bind it is fatal */
     int binary_udp_reply_port;  /* 0: the sender's own port */
     bool binary_crc;            /* checksums of requests checked */
+    /* the web interface (docs/web.md) */
+    int http_port;         /* --http-port: 0: off */
+    bool http_port_given;  /* set explicitly: failing to bind it is fatal */
+    const char *http_bind; /* --http-bind: NULL: as --bind */
     /* logging and supervision */
     hal_log_level_t log_level; /* --log-level, --quiet */
     bool log_timestamps;       /* --log-timestamps: wall-clock ISO 8601 on each line */

@@ -8,7 +8,7 @@
 #include "sim/clock.h"
 #include "sim/delay.h"
 #include "sim/faults.h"
-#include "sim/names.h"
+#include "wsg/wsg_names.h"
 #include "sim/scheduler.h"
 #include "sim/sim_world.h"
 #include "wsg/wsg_gcl.h"
@@ -93,7 +93,7 @@ static cJSON *grip_json(const wsg_snapshot_t *snap)
 {
     cJSON *j = cJSON_CreateObject();
     cJSON_AddNumberToObject(j, "state", snap->grip_state);
-    cJSON_AddStringToObject(j, "state_name", simctl_grip_state_name(snap->grip_state));
+    cJSON_AddStringToObject(j, "state_name", wsg_grip_state_name(snap->grip_state));
     cJSON_AddNumberToObject(j, "force_n", snap->grip_force_n);
     cJSON_AddNumberToObject(j, "hold_mm", snap->grip_hold_mm);
     cJSON *stats = cJSON_AddObjectToObject(j, "stats");
@@ -109,7 +109,7 @@ static cJSON *flags_json(uint32_t flags)
     cJSON_AddNumberToObject(j, "value", flags);
     cJSON *set = cJSON_AddArrayToObject(j, "set");
     for (unsigned bit = 0; bit < WSG_SYSFLAG_COUNT; bit++) {
-        const char *name = simctl_sysflag_name(bit);
+        const char *name = wsg_sysflag_name(bit);
         if (((flags >> bit) & 1u) != 0u) {
             cJSON_AddItemToArray(set, cJSON_CreateString(name != NULL ? name : "reserved"));
         }

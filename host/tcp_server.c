@@ -427,6 +427,16 @@ bool tcp_server_cut(const wsg_conn_t *conn)
     return false;
 }
 
+const char *tcp_server_peer_name(const wsg_conn_t *conn)
+{
+    for (const tcp_client_t *c = tcp.first; c != NULL; c = c->next) {
+        if (&c->conn == conn) {
+            return c->peer;
+        }
+    }
+    return NULL;
+}
+
 void tcp_server_close_all(tcp_server_t *s)
 {
     tcp_client_t *next;

@@ -43,5 +43,8 @@ uint64_t tcp_server_next_deadline_us(void);
 /* Pulls the cable of the connection that carries this session: the session
  * ends without BYE and the socket is reset. False if none carries it. */
 bool tcp_server_cut(const wsg_conn_t *conn);
+/* The peer ("ADDR:PORT") of the connection that carries this session, or
+ * NULL if none does (the web page's connection list). */
+const char *tcp_server_peer_name(const wsg_conn_t *conn);
 
 #endif

@@ -243,6 +243,17 @@ bool udp_server_cut(const wsg_conn_t *conn)
     return false;
 }
 
+const char *udp_server_peer_name(const wsg_conn_t *conn)
+{
+    for (udp_server_t *s = active_first; s != NULL; s = s->next_active) {
+        wsg_peer_t *peer = wsg_peers_by_conn(&s->peers, conn);
+        if (peer != NULL) {
+            return ((const udp_peer_t *)peer)->name; /* the node is the allocation's first member */
+        }
+    }
+    return NULL;
+}
+
 void udp_server_close_all(udp_server_t *s)
 {
     wsg_peers_forget_all(&s->peers, WSG_PEER_STOPPED);

@@ -55,5 +55,8 @@ uint64_t udp_server_next_deadline_us(void);
 /* Forgets the peer that owns this session, as if it vanished without BYE.
  * False if no peer owns it. */
 bool udp_server_cut(const wsg_conn_t *conn);
+/* The address ("ADDR:PORT") of the peer that owns this session, or NULL if
+ * none does (the web page's connection list). */
+const char *udp_server_peer_name(const wsg_conn_t *conn);
 
 #endif

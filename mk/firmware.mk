@@ -52,8 +52,7 @@ FW_CORE_SRC := $(FIRMWARE_SRC) $(SIM_SRC)
 FW_BOARD_COMMON := startup.c clock.c cmsdk_uart.c log.c no_heap.c app.c serial_port.c
 FW_SERIAL_SRC := $(FW_CORE_SRC) $(addprefix $(FW_BOARD)/,$(FW_BOARD_COMMON) main_serial.c)
 FW_LWIP_BOARD_SRC := $(FW_CORE_SRC) $(addprefix $(FW_BOARD)/,$(FW_BOARD_COMMON) main_lwip.c \
-	lan9118.c lan9118_netif.c gcl_tcp.c lwip_udp.c lwip/sys_arch.c web_status.c) \
-	host/sim/names.c
+	lan9118.c lan9118_netif.c gcl_tcp.c lwip_udp.c lwip/sys_arch.c web_status.c)
 # lwIP 2.1: IPv4 core, raw API, Ethernet/ARP, the httpd app (the status page);
 # no sockets, no IPv6.
 FW_LWIP_LIB_SRC := core/init.c core/def.c core/inet_chksum.c core/ip.c core/mem.c core/memp.c \
@@ -95,9 +94,6 @@ $(FW_OUT)/obj/lwip/%.o: %.c | fw-deps $(FW_LWIP_STAMP)
 $(FW_OUT)/obj/lwip/lwip-lib/%.o: $(FW_LWIP_STAMP) | fw-deps
 	@mkdir -p $(dir $@)
 	$(FW_CC) $(FW_LWIP_CFLAGS) -c $(FW_LWIP_DIR)/src/$*.c -o $@
-
-# The status page names flags and grip states as the host's state dump does.
-$(FW_OUT)/obj/lwip/$(FW_BOARD)/web_status.o: FW_CFLAGS += -Ihost
 
 # Links, then enforces the budgets: an image over budget is not kept.
 define fw_link

@@ -16,4 +16,4 @@ CHECK_TARGETS += pkg-tests
 pkg-tests: deps-check $(BUILD)/wsgsim $(BUILD)/fingersim man deb
 	WSGSIM=$(abspath $(BUILD)/wsgsim) FINGERSIM=$(abspath $(BUILD)/fingersim) \
 		MAN_DIR=$(abspath $(BUILD)/man) DEB_DIR=$(abspath $(DEB_DIR)) \
-		$(PKG_PYTHON) tests/pkg/run.py '$(PKG_TESTS)'
+		$(PKG_PYTHON) tests/run_suite.py pkg tests/pkg '$(PKG_TESTS)'

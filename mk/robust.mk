@@ -2,7 +2,7 @@
 # Robustness checks (issue 6), part of `make check` (and of `make check SAN=1`):
 #   fuzz-regress     the fuzz seed corpus and every regression input through the
 #                    fuzz target, built with $(CC) (ASan+UBSan under SAN=1)
-#   valgrind-tests   the end-to-end tests with build/wsgsim under valgrind
+#   valgrind-tests   the end-to-end tests (tests/e2e, tests/web) with build/wsgsim under valgrind
 #                    memcheck; fails on any memory error or leak. Under SAN=1 it
 #                    runs on the plain build (valgrind and ASan do not mix).
 #   abuse-tests      tests/e2e/test_abuse.py alone (e2e-tests runs it as well,
@@ -32,7 +32,7 @@ fuzz-regress: $(FUZZ_REPLAY)
 	$(FUZZ_REPLAY) $(FUZZ_INPUTS)
 
 abuse-tests: $(BUILD)/wsgsim
-	WSGSIM=$(abspath $(BUILD)/wsgsim) python3 tests/e2e/run.py test_abuse.py
+	WSGSIM=$(abspath $(BUILD)/wsgsim) python3 tests/run_suite.py e2e tests/e2e test_abuse.py
 
 valgrind-deps:
 	@mk/deps.sh $(VALGRIND_DEBS)
@@ -46,7 +46,9 @@ else
 valgrind-tests: $(BUILD)/wsgsim | valgrind-deps
 	@rm -rf $(VALGRIND_LOGS) && mkdir -p $(VALGRIND_LOGS)
 	WSGSIM=$(abspath $(BUILD)/wsgsim) WSGSIM_PREFIX="$(VALGRIND_CMD)" \
-		python3 tests/e2e/run.py '$(VALGRIND_TESTS)'
+		python3 tests/run_suite.py e2e tests/e2e '$(VALGRIND_TESTS)'
+	WSGSIM=$(abspath $(BUILD)/wsgsim) WSGSIM_PREFIX="$(VALGRIND_CMD)" \
+		python3 tests/run_suite.py web tests/web '$(VALGRIND_TESTS)'
 	@n=0; bad=0; \
 	for f in $(VALGRIND_LOGS)/vg.*.log; do \
 		[ -e "$$f" ] || continue; n=$$((n + 1)); \

@@ -253,6 +253,14 @@ wsg_status_t wsg_op_set(wsg_device_t *device, wsg_setting_t which, float value)
         return set_length(cfg, &cfg->default_pwt_mm, value);
     case WSG_SET_DEFAULT_CLT:
         return set_length(cfg, &cfg->default_clt_mm, value);
+    case WSG_SET_DEFAULT_PULLBACK:
+        return set_length(cfg, &cfg->default_pullback_mm, value);
+    case WSG_SET_DISCONNECT_FASTSTOP:
+        cfg->disconnect_raises_faststop = value != 0.0f;
+        return E_SUCCESS;
+    case WSG_SET_BINARY_CRC_CHECK:
+        cfg->bin_crc_unchecked = value == 0.0f;
+        return E_SUCCESS;
     case WSG_SET_COUNT:
     default:
         return E_INVALID_PARAMETER;

@@ -12,6 +12,15 @@ static uint64_t advance(wsg_runner_t *r)
     return now;
 }
 
+/* What input at `now` started is due from the next instant on, never at
+ * this one: on a paused clock it runs at the next step of time. */
+static void due_after(wsg_runner_t *r, uint64_t now)
+{
+    uint64_t due = wsg_device_next_deadline_us(r->dev);
+    due = due > now + 1u ? due : now + 1u;
+    r->next_deadline_us = due < r->next_deadline_us ? due : r->next_deadline_us;
+}
+
 void wsg_runner_init(wsg_runner_t *r, wsg_device_t *dev, void (*advance_hook)(void *, uint64_t),
                      void *advance_ctx)
 {
@@ -34,9 +43,12 @@ void wsg_runner_feed(wsg_runner_t *r, wsg_conn_t *c, const uint8_t *bytes, size_
     if (end_of_datagram) {
         wsg_conn_end_datagram(c);
     }
-    uint64_t due = wsg_device_next_deadline_us(r->dev);
-    due = due > now + 1u ? due : now + 1u;
-    r->next_deadline_us = due < r->next_deadline_us ? due : r->next_deadline_us;
+    due_after(r, now);
+}
+
+void wsg_runner_input_done(wsg_runner_t *r)
+{
+    due_after(r, advance(r));
 }
 
 uint64_t wsg_runner_poll(wsg_runner_t *r)

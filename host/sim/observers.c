@@ -5,6 +5,7 @@
 #include "coverage.h"
 #include "record.h"
 #include "trace.h"
+#include "web/web_lines.h"
 #include "wsg/wsg_gcl.h"
 
 static struct {
@@ -24,6 +25,7 @@ static void on_message_in(void *ctx, const wsg_conn_t *c, const char *line, size
         trace_line(c, '<', line, len);
     }
     record_gcl(c, '<', line, len); /* nothing unless a record is open */
+    web_lines_note(c, true, line, len);
 }
 
 static void on_message_out(void *ctx, const wsg_conn_t *c, const char *line, size_t len)
@@ -36,16 +38,18 @@ static void on_message_out(void *ctx, const wsg_conn_t *c, const char *line, siz
         trace_line(c, '>', line, len);
     }
     record_gcl(c, '>', line, len);
+    web_lines_note(c, false, line, len);
 }
 
 /* Coverage without a trace (the control channel's case): nothing to ask per
  * message. A record opened without --record (the simulation control tests
- * open one) is still written. */
+ * open one) is still written, and the web page's lines still kept. */
 static void on_message_in_coverage(void *ctx, const wsg_conn_t *c, const char *line, size_t len)
 {
     (void)ctx;
     coverage_line_in(c);
     record_gcl(c, '<', line, len);
+    web_lines_note(c, true, line, len);
 }
 
 static void on_message_out_coverage(void *ctx, const wsg_conn_t *c, const char *line, size_t len)
@@ -53,6 +57,7 @@ static void on_message_out_coverage(void *ctx, const wsg_conn_t *c, const char *
     (void)ctx;
     bin_coverage_frame_out((const unsigned char *)line, len);
     record_gcl(c, '>', line, len);
+    web_lines_note(c, false, line, len);
 }
 
 static void on_grip_state(void *ctx, wsg_grip_state_t from, wsg_grip_state_t to)
@@ -121,7 +126,7 @@ void simctl_hooks_attach(wsg_device_t *dev, const host_options_t *opts)
     const wsg_conn_observer_t *messages = NULL;
     if (hub.coverage && !hub.trace) {
         messages = &coverage_message_observer;
-    } else if (hub.trace || hub.record || hub.coverage) {
+    } else if (hub.trace || hub.record || hub.coverage || web_lines_enabled()) {
         messages = &message_observer;
     }
     wsg_conn_observe(dev, messages, NULL);

@@ -117,15 +117,18 @@ wsg_status_t wsg_op_reset_grip_stats(wsg_device_t *dev);
 
 /* Settings: device state shared by every protocol, validated here. */
 typedef enum {
-    WSG_SET_ACCEL,         /* mm/s^2 */
-    WSG_SET_FORCE_LIMIT,   /* N: default grip force */
-    WSG_SET_SOFT_LIMITS,   /* 0/1 */
-    WSG_SET_SOFT_MINUS,    /* mm */
-    WSG_SET_SOFT_PLUS,     /* mm */
-    WSG_SET_OVERDRIVE,     /* 0/1 */
-    WSG_SET_DEFAULT_SPEED, /* mm/s */
-    WSG_SET_DEFAULT_PWT,   /* mm */
-    WSG_SET_DEFAULT_CLT,   /* mm */
+    WSG_SET_ACCEL,               /* mm/s^2 */
+    WSG_SET_FORCE_LIMIT,         /* N: default grip force */
+    WSG_SET_SOFT_LIMITS,         /* 0/1 */
+    WSG_SET_SOFT_MINUS,          /* mm */
+    WSG_SET_SOFT_PLUS,           /* mm */
+    WSG_SET_OVERDRIVE,           /* 0/1 */
+    WSG_SET_DEFAULT_SPEED,       /* mm/s */
+    WSG_SET_DEFAULT_PWT,         /* mm */
+    WSG_SET_DEFAULT_CLT,         /* mm */
+    WSG_SET_DEFAULT_PULLBACK,    /* mm: RELEASE's default distance */
+    WSG_SET_DISCONNECT_FASTSTOP, /* 0/1: a dropped TCP connection raises FAST STOP */
+    WSG_SET_BINARY_CRC_CHECK,    /* 0/1: binary requests' checksums are checked */
     WSG_SET_COUNT
 } wsg_setting_t;
 

@@ -30,6 +30,10 @@ void wsg_runner_init(wsg_runner_t *r, wsg_device_t *dev, void (*advance)(void *c
  * never at this one: on a paused clock it runs at the next step of time. */
 void wsg_runner_feed(wsg_runner_t *r, wsg_conn_t *c, const uint8_t *bytes, size_t len,
                      bool end_of_datagram);
+/* An operation reached the device by another way than its connections (a
+ * web page's request): what it started is due from the next instant on, as
+ * after wsg_runner_feed(). */
+void wsg_runner_input_done(wsg_runner_t *r);
 /* Runs the control step if it is due (the hardware brought up to the clock
  * first); returns the next deadline (UINT64_MAX: nothing will change by
  * itself). */

@@ -43,7 +43,9 @@ class Wsgsim:
     args are wsgsim options (wsgsim --help); they come after the defaults
     (--bind 127.0.0.1 --tcp-port 0 --udp-port 0), so they override them.
     The binary protocol is served on the TCP port; binary UDP is off unless
-    args name --binary-udp-port N (its default, 1500, is one port per host).
+    args name --binary-udp-port N (its default, 1500, is one port per host),
+    and the web interface is off unless args name --http-port N (its port
+    is then self.http_port).
     paused=True starts the simulated clock paused at 0 and opens the control
     channel (sim.control().step(ms) advances it); control=True opens the
     control channel alone; coverage=PATH writes the protocol coverage report
@@ -67,13 +69,18 @@ class Wsgsim:
             # port picked here could be taken by the server's own free ports
             # before it binds it: binary UDP only when the caller names a port
             extra += ["--binary-udp-port", "0"]
+        if "--http-port" not in args:
+            # the web interface's default (8080) is one port for every
+            # instance, as above: only when the caller names a port
+            extra += ["--http-port", "0"]
         self.args = ["--bind", "127.0.0.1", "--tcp-port", "0", "--udp-port", "0"] + extra + args
         self.prefix = os.environ.get("WSGSIM_PREFIX", "").split()
         self.proc = None
         self.tcp_port = None
         self.udp_port = None
         self.sim_port = None
-        self.ready = {}  # the --ready-file's keys: pid, tcp_port, udp_port, sim_port
+        self.http_port = None
+        self.ready = {}  # the --ready-file's keys: pid, tcp_port, udp_port, sim_port, http_port
         self.log = []  # every line wsgsim logged so far
         self._log_buffer = b""
         self._tmpdir = None
@@ -126,6 +133,7 @@ class Wsgsim:
         port = lambda key: int(self.ready[key]) if key in self.ready else -1  # noqa: E731
         self.tcp_port, self.udp_port = port("tcp_port"), port("udp_port")
         self.sim_port = port("sim_port") if "sim_port" in self.ready else None
+        self.http_port = port("http_port") if "http_port" in self.ready else None
 
     def _read_log_line(self, timeout):
         """One line of the server's stderr, or None after timeout / at its end.

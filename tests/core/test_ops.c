@@ -211,6 +211,26 @@ START_TEST(settings_are_device_state)
 }
 END_TEST
 
+/* The settings the web page added (issue 13): the pull-back distance within
+ * the stroke, the two command-interface switches. */
+START_TEST(page_settings_are_device_state)
+{
+    const wsg_config_t *cfg = wsg_device_snapshot(&h_dev)->config;
+    ck_assert_int_eq(wsg_op_set(&h_dev, WSG_SET_DEFAULT_PULLBACK, 7.5f), E_SUCCESS);
+    ck_assert_float_eq(wsg_device_snapshot(&h_dev)->config->default_pullback_mm, 7.5f);
+    ck_assert_int_eq(wsg_op_set(&h_dev, WSG_SET_DEFAULT_PULLBACK, cfg->stroke_mm + 1.0f),
+                     E_RANGE_ERROR);
+    ck_assert_int_eq(wsg_op_set(&h_dev, WSG_SET_DEFAULT_PULLBACK, -1.0f), E_RANGE_ERROR);
+    ck_assert_float_eq(wsg_device_snapshot(&h_dev)->config->default_pullback_mm, 7.5f);
+    ck_assert_int_eq(wsg_op_set(&h_dev, WSG_SET_DISCONNECT_FASTSTOP, 0.0f), E_SUCCESS);
+    ck_assert(!wsg_device_snapshot(&h_dev)->config->disconnect_raises_faststop);
+    ck_assert_int_eq(wsg_op_set(&h_dev, WSG_SET_BINARY_CRC_CHECK, 0.0f), E_SUCCESS);
+    ck_assert(wsg_device_snapshot(&h_dev)->config->bin_crc_unchecked);
+    ck_assert_int_eq(wsg_op_set(&h_dev, WSG_SET_BINARY_CRC_CHECK, 1.0f), E_SUCCESS);
+    ck_assert(!wsg_device_snapshot(&h_dev)->config->bin_crc_unchecked);
+}
+END_TEST
+
 /* A closed connection's owner is detached: the motion's end reaches nobody,
  * not even a new connection in the same storage. */
 START_TEST(owner_detached_on_close_hears_nothing)
@@ -328,6 +348,7 @@ Suite *ops_suite(void)
     tcase_add_checked_fixture(policy, probe_setup, h_teardown);
     tcase_add_test(policy, max_force_honours_overdrive_once);
     tcase_add_test(policy, settings_are_device_state);
+    tcase_add_test(policy, page_settings_are_device_state);
     suite_add_tcase(s, policy);
     TCase *inst = tcase_create("instances");
     tcase_add_checked_fixture(inst, probe_setup, h_teardown);

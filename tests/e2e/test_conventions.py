@@ -29,8 +29,10 @@ def binary():
 
 
 def run(*args, **kw):
-    # binary UDP off: the device's default port 1500 is not this test's to take
-    return subprocess.run([binary(), "--binary-udp-port", "0"] + list(args), capture_output=True,
+    # binary UDP and the web interface off: their default ports (1500, 8080)
+    # are not this test's to take
+    return subprocess.run([binary(), "--binary-udp-port", "0", "--http-port", "0"] + list(args),
+                          capture_output=True,
                           text=True, timeout=60,
                           stdin=subprocess.DEVNULL, **kw)
 

@@ -33,7 +33,7 @@ class StartupCase(SimctlCase):
         binary = Wsgsim().binary
         prefix = os.environ.get("WSGSIM_PREFIX", "").split()
         return subprocess.run(prefix + [binary, "--tcp-port", "0", "--udp-port", "0",
-                                        "--binary-udp-port", "0"] +
+                                        "--binary-udp-port", "0", "--http-port", "0"] +
                               list(args), capture_output=True, text=True,
                               stdin=subprocess.DEVNULL, timeout=STARTUP_TIMEOUT)
 

@@ -8,7 +8,7 @@
 #include "lwip/apps/fs.h"
 #include "lwip/apps/httpd.h"
 #include "priv/textbuf.h" /* the core's float formatting: no printf on the board */
-#include "sim/names.h"
+#include "wsg/wsg_names.h"
 #include "wsg/wsg_device.h"
 
 #define STATE_PATH "/api/devices/0/state"
@@ -113,7 +113,7 @@ static void put_grip_state(textbuf_t *tb, wsg_grip_state_t state)
     textbuf_put_str(tb, "{\"code\":");
     textbuf_put_uint(tb, (uint32_t)state);
     textbuf_put_str(tb, ",\"name\":");
-    textbuf_put_quoted(tb, simctl_grip_state_name(state));
+    textbuf_put_quoted(tb, wsg_grip_state_name(state));
     textbuf_put_char(tb, '}');
 }
 
@@ -125,7 +125,7 @@ static void put_sysflags(textbuf_t *tb, uint32_t flags)
     textbuf_put_str(tb, ",\"set\":[");
     bool first = true;
     for (unsigned bit = 0; bit < WSG_SYSFLAG_COUNT; bit++) {
-        const char *name = simctl_sysflag_name(bit);
+        const char *name = wsg_sysflag_name(bit);
         if ((flags & WSG_FLAG(bit)) == 0u || name == NULL) {
             continue; /* a reserved bit has no name and is never set */
         }

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-#include "names.h"
+/* The manual's names of the device's enumerations (wsg_names.h). */
+#include "wsg/wsg_names.h"
 
 #include <stddef.h>
 
@@ -70,17 +71,17 @@ static const char *const statuses[WSG_STATUS_COUNT] = {
     [E_FILE_EXISTS] = "E_FILE_EXISTS",
 };
 
-const char *simctl_grip_state_name(wsg_grip_state_t state)
+const char *wsg_grip_state_name(wsg_grip_state_t state)
 {
     return (unsigned)state < GS_COUNT ? grip_states[state] : "?";
 }
 
-const char *simctl_sysflag_name(unsigned bit)
+const char *wsg_sysflag_name(unsigned bit)
 {
     return bit < WSG_SYSFLAG_COUNT ? sysflags[bit] : NULL;
 }
 
-const char *simctl_status_name(wsg_status_t status)
+const char *wsg_status_name(wsg_status_t status)
 {
     return (unsigned)status < WSG_STATUS_COUNT ? statuses[status] : "?";
 }

@@ -1,0 +1,189 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/* config_file_save(): the settings in force back into the INI file, line by
+ * line, so that comments, order and every other key survive. */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+
+#include "config_file.h"
+#include "text_file.h"
+
+#define SAVE_KEYS_MAX 16
+#define FILE_LINE_MAX 4096
+#define FILE_BYTES_MAX (1u << 20)
+
+typedef struct {
+    char section[24];
+    const char *key;
+    char value[64];
+    bool written;
+} save_key_t;
+
+typedef struct {
+    save_key_t keys[SAVE_KEYS_MAX];
+    unsigned count;
+} save_set_t;
+
+/* The shortest decimal that reads back as the same float. */
+static void format_float(float value, char *out, size_t cap)
+{
+    for (int digits = 6; digits <= 9; digits++) {
+        snprintf(out, cap, "%.*g", digits, (double)value);
+        if ((float)strtod(out, NULL) == value) {
+            return;
+        }
+    }
+}
+
+static save_key_t *add(save_set_t *set, const char *section, const char *key)
+{
+    save_key_t *k = &set->keys[set->count++];
+    snprintf(k->section, sizeof(k->section), "%s", section);
+    k->key = key;
+    k->written = false;
+    return k;
+}
+
+static void add_float(save_set_t *set, const char *key, float value)
+{
+    format_float(value, add(set, "motion", key)->value, sizeof(set->keys[0].value));
+}
+
+static void add_bool(save_set_t *set, const char *section, const char *key, bool value)
+{
+    snprintf(add(set, section, key)->value, sizeof(set->keys[0].value), "%s", value ? "yes" : "no");
+}
+
+static void collect(save_set_t *set, unsigned device, const wsg_config_t *cfg)
+{
+    add_float(set, "default_force", cfg->default_force_n);
+    add_float(set, "default_speed", cfg->default_speed_mm_s);
+    add_float(set, "default_acceleration", cfg->default_accel_mm_s2);
+    add_float(set, "default_pullback", cfg->default_pullback_mm);
+    add_float(set, "part_width_tolerance", cfg->default_pwt_mm);
+    add_float(set, "clamping_travel", cfg->default_clt_mm);
+    add_bool(set, "motion", "soft_limits", cfg->soft_limits_enabled);
+    add_float(set, "soft_limit_minus", cfg->soft_limit_minus_mm);
+    add_float(set, "soft_limit_plus", cfg->soft_limit_plus_mm);
+    add_bool(set, "network", "disconnect_faststop", cfg->disconnect_raises_faststop);
+    add_bool(set, "network", "binary_crc", !cfg->bin_crc_unchecked);
+    char section[24] = "device";
+    if (device > 0) {
+        snprintf(section, sizeof(section), "device.%u", device);
+    }
+    snprintf(add(set, section, "tag")->value, sizeof(set->keys[0].value), "\"%s\"", cfg->tag);
+}
+
+/* A tag the file can hold: printable, without '"' (config_file.c's rule). */
+static bool tag_writable(const char *tag)
+{
+    for (const char *p = tag; *p != '\0'; p++) {
+        if (*p < 0x20 || *p > 0x7e || *p == '"') {
+            return false;
+        }
+    }
+    return true;
+}
+
+static void put_missing(FILE *out, save_set_t *set, const char *section)
+{
+    for (unsigned i = 0; i < set->count; i++) {
+        save_key_t *k = &set->keys[i];
+        if (!k->written && strcasecmp(k->section, section) == 0) {
+            fprintf(out, "%s = %s\n", k->key, k->value);
+            k->written = true;
+        }
+    }
+}
+
+/* "[name]" -> name; false for any other line. */
+static bool section_header(const char *line, char *name, size_t cap)
+{
+    const char *p = line + strspn(line, " \t");
+    const char *end = strchr(p, ']');
+    if (*p != '[' || end == NULL) {
+        return false;
+    }
+    snprintf(name, cap, "%.*s", (int)(end - p - 1), p + 1);
+    return true;
+}
+
+/* The key of "key = value" in section, or NULL. */
+static save_key_t *key_line(save_set_t *set, const char *section, const char *line)
+{
+    const char *p = line + strspn(line, " \t");
+    size_t len = strcspn(p, " \t=:");
+    for (unsigned i = 0; i < set->count; i++) {
+        save_key_t *k = &set->keys[i];
+        if (strcasecmp(k->section, section) == 0 && strlen(k->key) == len &&
+            strncasecmp(k->key, p, len) == 0 && strchr(p + len, '=') != NULL) {
+            return k;
+        }
+    }
+    return NULL;
+}
+
+/* Copies the file, each key to save in place, the missing ones at the end
+ * of their section. */
+static bool rewrite(text_file_t *in, FILE *out, save_set_t *set)
+{
+    char section[64] = "";
+    text_file_read_t got;
+    while ((got = text_file_next(in)) == TEXT_FILE_LINE) {
+        char name[64];
+        if (section_header(in->line, name, sizeof(name))) {
+            put_missing(out, set, section);
+            snprintf(section, sizeof(section), "%s", name);
+        }
+        save_key_t *k = key_line(set, section, in->line);
+        if (k != NULL && !k->written) {
+            fprintf(out, "%s = %s\n", k->key, k->value);
+            k->written = true;
+        } else if (k == NULL) {
+            fprintf(out, "%s\n", in->line);
+        }
+    }
+    put_missing(out, set, section);
+    for (unsigned i = 0; i < set->count; i++) {
+        if (!set->keys[i].written) {
+            fprintf(out, "\n[%s]\n", set->keys[i].section);
+            put_missing(out, set, set->keys[i].section);
+        }
+    }
+    return got == TEXT_FILE_END;
+}
+
+bool config_file_save(const char *path, unsigned device, const wsg_config_t *cfg, char *why,
+                      size_t cap)
+{
+    if (!tag_writable(cfg->tag)) {
+        snprintf(why, cap, "tag: the configuration file holds printable text without '\"' only");
+        return false;
+    }
+    save_set_t set = {.count = 0};
+    collect(&set, device, cfg);
+    text_file_t in;
+    if (!text_file_open(&in, path, "--config", FILE_LINE_MAX, FILE_BYTES_MAX)) {
+        snprintf(why, cap, "cannot read %s", path);
+        return false;
+    }
+    char tmp[4096];
+    snprintf(tmp, sizeof(tmp), "%s.saving", path);
+    FILE *out = fopen(tmp, "w");
+    bool ok = out != NULL && rewrite(&in, out, &set);
+    ok = out != NULL && ferror(out) == 0 && fclose(out) == 0 && ok;
+    text_file_close(&in);
+    struct stat st;
+    if (ok && stat(path, &st) == 0) {
+        chmod(tmp, st.st_mode & 07777);
+    }
+    if (!ok || rename(tmp, path) != 0) {
+        snprintf(why, cap, "cannot write %s: %s", path, strerror(errno));
+        remove(tmp);
+        return false;
+    }
+    return true;
+}

@@ -1,0 +1,182 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+#include "web/web_events.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "loop.h"
+#include "web/web_internal.h"
+#include "web/web_lines.h"
+
+#define NS_PER_MS 1000000ull
+/* MHD's buffer for a callback response: one event usually fits. */
+#define STREAM_BLOCK 16384u
+
+typedef struct web_stream {
+    struct web_stream *prev, *next;
+    struct MHD_Connection *connection;
+    gripper_t *gripper;
+    char *event; /* the event being sent (malloc'd), NULL between events */
+    size_t len, sent;
+    bool due;       /* a tick came since the last event was built */
+    bool suspended; /* waiting for the next tick */
+    bool ended;     /* shutting down: end of stream */
+} web_stream_t;
+
+static struct {
+    web_stream_t *first;
+    unsigned count;
+    uint64_t next_tick_ns; /* 0: no stream */
+    uint64_t tick;         /* ticks so far: each event's id */
+} events;
+
+static void link_stream(web_stream_t *s)
+{
+    s->prev = NULL;
+    s->next = events.first;
+    if (events.first != NULL) {
+        events.first->prev = s;
+    }
+    events.first = s;
+    if (events.count++ == 0) {
+        events.next_tick_ns = loop_monotonic_ns() + WEB_EVENTS_PERIOD_MS * NS_PER_MS;
+    }
+}
+
+static void unlink_stream(web_stream_t *s)
+{
+    if (s->prev != NULL) {
+        s->prev->next = s->next;
+    } else {
+        events.first = s->next;
+    }
+    if (s->next != NULL) {
+        s->next->prev = s->prev;
+    }
+    if (--events.count == 0) {
+        events.next_tick_ns = 0;
+    }
+}
+
+/* "id: TICK\nevent: state\ndata: {...}\n\n" with the newest state: the id
+ * is the tick it was built at, so a reader sees which ticks it lost. */
+static bool build_event(web_stream_t *s)
+{
+    cJSON *state = web_state_json(s->gripper);
+    char *json = cJSON_PrintUnformatted(state);
+    cJSON_Delete(state);
+    if (json == NULL) {
+        return false;
+    }
+    int len = asprintf(&s->event, "id: %llu\nevent: state\ndata: %s\n\n",
+                       (unsigned long long)events.tick, json);
+    free(json);
+    if (len < 0) {
+        s->event = NULL; /* asprintf leaves it undefined */
+        return false;
+    }
+    s->len = (size_t)len;
+    s->sent = 0;
+    return true;
+}
+
+/* MHD asks for bytes when the socket can take some: the rest of the event
+ * in progress, else a new one if a tick came, else the stream waits. */
+static ssize_t read_events(void *cls, uint64_t pos, char *buf, size_t max)
+{
+    (void)pos;
+    web_stream_t *s = cls;
+    if (s->ended) {
+        return MHD_CONTENT_READER_END_OF_STREAM;
+    }
+    if (s->event == NULL && s->due) {
+        s->due = false;
+        if (!build_event(s)) {
+            return MHD_CONTENT_READER_END_WITH_ERROR;
+        }
+    }
+    if (s->event == NULL) {
+        s->suspended = true;
+        MHD_suspend_connection(s->connection);
+        return 0;
+    }
+    size_t n = s->len - s->sent < max ? s->len - s->sent : max;
+    memcpy(buf, s->event + s->sent, n);
+    s->sent += n;
+    if (s->sent == s->len) {
+        free(s->event);
+        s->event = NULL;
+    }
+    return (ssize_t)n;
+}
+
+static void free_stream(void *cls)
+{
+    web_stream_t *s = cls;
+    unlink_stream(s);
+    free(s->event);
+    free(s);
+}
+
+enum MHD_Result web_events_route(const web_request_t *req, gripper_t *g)
+{
+    web_stream_t *s = calloc(1, sizeof(*s));
+    if (s == NULL) {
+        return MHD_NO;
+    }
+    s->connection = req->connection;
+    s->gripper = g;
+    s->due = true; /* the first event at once */
+    struct MHD_Response *response = MHD_create_response_from_callback(
+        MHD_SIZE_UNKNOWN, STREAM_BLOCK, read_events, s, free_stream);
+    if (response == NULL) {
+        free(s);
+        return MHD_NO;
+    }
+    link_stream(s);
+    web_lines_watch();
+    MHD_add_response_header(response, MHD_HTTP_HEADER_CONTENT_TYPE, "text/event-stream");
+    MHD_add_response_header(response, MHD_HTTP_HEADER_CACHE_CONTROL, "no-store");
+    enum MHD_Result result = MHD_queue_response(req->connection, MHD_HTTP_OK, response);
+    MHD_destroy_response(response);
+    return result;
+}
+
+uint64_t web_events_next_tick_ns(void)
+{
+    return events.next_tick_ns;
+}
+
+static void resume(web_stream_t *s)
+{
+    if (s->suspended) {
+        s->suspended = false;
+        MHD_resume_connection(s->connection);
+    }
+}
+
+bool web_events_tick(uint64_t now_ns)
+{
+    if (events.next_tick_ns == 0 || now_ns < events.next_tick_ns) {
+        return false;
+    }
+    /* the next tick one period on; a late loop skips the ticks it missed */
+    uint64_t period = WEB_EVENTS_PERIOD_MS * NS_PER_MS;
+    uint64_t missed = (now_ns - events.next_tick_ns) / period;
+    events.next_tick_ns += (missed + 1u) * period;
+    events.tick += missed + 1u;
+    for (web_stream_t *s = events.first; s != NULL; s = s->next) {
+        s->due = true;
+        resume(s);
+    }
+    return true;
+}
+
+void web_events_end_all(void)
+{
+    for (web_stream_t *s = events.first; s != NULL; s = s->next) {
+        s->ended = true;
+        resume(s);
+    }
+}

@@ -1,0 +1,75 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/* What the web server's modules share: the request a route handles and the
+ * replies it sends (docs/web.md). Only host/web/ includes it. */
+#ifndef HOST_WEB_INTERNAL_H
+#define HOST_WEB_INTERNAL_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include <cjson/cJSON.h>
+#include <microhttpd.h>
+
+#include "gripper.h"
+#include "wsg/wsg_status.h"
+
+/* A request body larger than this is refused with 413. */
+#define WEB_BODY_MAX 4096u
+
+typedef struct {
+    struct MHD_Connection *connection;
+    const char *method;
+    const char *url;
+    const char *body; /* NUL-terminated; "" when none */
+    size_t body_len;
+    bool sim_allowed; /* the peer may use the simulation routes */
+} web_request_t;
+
+/* A JSON reply: takes ownership of json. */
+enum MHD_Result web_reply_json(const web_request_t *req, unsigned http_status, cJSON *json);
+/* {"error": <Appendix A name>, "code": n, "message": "..."} with this HTTP status. */
+enum MHD_Result web_reply_error(const web_request_t *req, unsigned http_status, wsg_status_t status,
+                                const char *fmt, ...) __attribute__((format(printf, 4, 5)));
+enum MHD_Result web_reply_bytes(const web_request_t *req, unsigned http_status,
+                                const char *content_type, const void *bytes, size_t len);
+enum MHD_Result web_reply_redirect(const web_request_t *req, const char *location);
+/* 405 naming the allowed method. */
+enum MHD_Result web_reply_wrong_method(const web_request_t *req, const char *allowed);
+
+/* The request's body as a JSON object; an empty body is {}. NULL after a
+ * 400 reply was queued (*result holds what to return). */
+cJSON *web_body_object(const web_request_t *req, enum MHD_Result *result);
+/* Field checks for a body object: each returns false after queuing a 400
+ * (wrong type) or, for required ones, a 400 naming the missing field. */
+bool web_field_number(const web_request_t *req, const cJSON *body, const char *name, bool required,
+                      double *out, bool *given, enum MHD_Result *result);
+bool web_field_bool(const web_request_t *req, const cJSON *body, const char *name, bool *out,
+                    bool *given, enum MHD_Result *result);
+bool web_field_string(const web_request_t *req, const cJSON *body, const char *name,
+                      const char **out, bool *given, enum MHD_Result *result);
+/* False after a 400 when the body has a field not in names (NULL-ended). */
+bool web_fields_known(const web_request_t *req, const cJSON *body, const char *const *names,
+                      enum MHD_Result *result);
+
+/* Brings device g's world up to now and senses it (what a GCL command does
+ * first), so an operation or a read acts on the newest state. */
+void web_device_sense(gripper_t *g);
+
+/* web_state.c: GET /api/devices/{id}/state as a JSON object. */
+cJSON *web_state_json(gripper_t *g);
+/* web_settings.c */
+enum MHD_Result web_settings_route(const web_request_t *req, gripper_t *g, const char *rest);
+/* web_ops.c: POST /api/devices/{id}/ops/{op} */
+enum MHD_Result web_ops_route(const web_request_t *req, gripper_t *g, const char *op);
+/* web_ops.c: the last long operation the web started on g, for the state. */
+cJSON *web_ops_last_json(const gripper_t *g);
+/* Detaches the web's owners from their devices (shutdown). */
+void web_ops_forget(void);
+/* web_sim.c: POST /api/devices/{id}/sim/{what} */
+enum MHD_Result web_sim_route(const web_request_t *req, gripper_t *g, const char *what);
+/* web_events.c: GET /api/devices/{id}/events */
+enum MHD_Result web_events_route(const web_request_t *req, gripper_t *g);
+/* web_static.c: GET /, /devices/{id}, /static/NAME; false: not a page path */
+bool web_static_route(const web_request_t *req, enum MHD_Result *result);
+
+#endif

@@ -1,0 +1,169 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+#include "web/web_lines.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "wsg/wsg_bin.h"
+#include "wsg/wsg_gcl.h"
+
+#define SLOTS 256u /* a power of two */
+#define LINE_CHARS 80u
+#define BIN_PREAMBLE 0xAAu
+#define BIN_ID_AT 3u
+
+/* A message as it went by: its first LINE_CHARS bytes, formatted only when
+ * a client asks (a line costs a copy, not a format). */
+typedef struct {
+    bool incoming;
+    uint16_t kept; /* bytes kept */
+    size_t len;    /* the message's length */
+    char bytes[LINE_CHARS];
+} line_t;
+
+typedef struct {
+    const wsg_device_t *device;
+    uint64_t id;    /* 0: free */
+    unsigned head;  /* the next line's place */
+    unsigned count; /* lines kept, at most WEB_LINES_KEPT */
+    bool binary;    /* its first message was a binary frame */
+    line_t lines[WEB_LINES_KEPT];
+} ring_t;
+
+static struct {
+    ring_t *rings; /* SLOTS of them while enabled */
+} lines;
+
+bool web_lines_watched;
+
+void web_lines_enable(void)
+{
+    if (lines.rings == NULL) {
+        lines.rings = calloc(SLOTS, sizeof(*lines.rings));
+    }
+}
+
+void web_lines_disable(void)
+{
+    free(lines.rings);
+    lines.rings = NULL;
+    web_lines_watched = false;
+}
+
+bool web_lines_enabled(void)
+{
+    return lines.rings != NULL;
+}
+
+void web_lines_watch(void)
+{
+    web_lines_watched = lines.rings != NULL;
+}
+
+static ring_t *slot_of(const wsg_device_t *device, uint64_t id)
+{
+    uint64_t hash = (id ^ (uint64_t)((uintptr_t)device >> 4)) * 0x9E3779B97F4A7C15ull;
+    return &lines.rings[(hash >> 56) & (SLOTS - 1u)];
+}
+
+void web_lines_record(const wsg_conn_t *c, bool incoming, const char *bytes, size_t len)
+{
+    uint64_t id = wsg_conn_id(c);
+    const wsg_device_t *device = wsg_conn_device(c);
+    ring_t *r = slot_of(device, id);
+    if (r->id != id || r->device != device) {
+        r->id = id;
+        r->device = device;
+        r->head = 0;
+        r->count = 0;
+        r->binary = len > 0 && (unsigned char)bytes[0] == BIN_PREAMBLE;
+    }
+    line_t *line = &r->lines[r->head];
+    line->incoming = incoming;
+    line->len = len;
+    line->kept = (uint16_t)(len < LINE_CHARS ? len : LINE_CHARS);
+    memcpy(line->bytes, bytes, line->kept);
+    r->head = (r->head + 1u) % WEB_LINES_KEPT;
+    r->count += r->count < WEB_LINES_KEPT ? 1u : 0u;
+}
+
+/* GCL text without its terminator, control bytes as '.'. */
+static void format_text(char *out, const line_t *line)
+{
+    size_t len = line->kept;
+    while (len > 0 && (line->bytes[len - 1] == '\n' || line->bytes[len - 1] == '\r')) {
+        len--;
+    }
+    out[0] = line->incoming ? '>' : '<';
+    out[1] = ' ';
+    for (size_t i = 0; i < len; i++) {
+        unsigned char ch = (unsigned char)line->bytes[i];
+        out[2 + i] = ch >= 0x20u && ch < 0x7fu ? (char)ch : '.';
+    }
+    out[2 + len] = '\0';
+}
+
+/* A binary frame by its command: "> 0x31 get-acc [8 bytes]". */
+static void format_frame(char *out, size_t cap, const line_t *line)
+{
+    uint8_t id = line->kept > BIN_ID_AT ? (uint8_t)line->bytes[BIN_ID_AT] : 0u;
+    const char *name = wsg_bin_command_name(id);
+    snprintf(out, cap, "%c 0x%02X %s [%zu bytes]", line->incoming ? '>' : '<', (unsigned)id,
+             name != NULL ? name : "unknown", line->len);
+}
+
+static const ring_t *find(const wsg_conn_t *c)
+{
+    if (lines.rings == NULL) {
+        return NULL;
+    }
+    const ring_t *r = slot_of(wsg_conn_device(c), wsg_conn_id(c));
+    return r->id == wsg_conn_id(c) && r->device == wsg_conn_device(c) ? r : NULL;
+}
+
+cJSON *web_lines_json(const wsg_conn_t *c)
+{
+    cJSON *list = cJSON_CreateArray();
+    const ring_t *r = find(c);
+    char text[LINE_CHARS + 3u];
+    for (unsigned i = 0; r != NULL && i < r->count; i++) {
+        const line_t *line = &r->lines[(r->head + WEB_LINES_KEPT - r->count + i) % WEB_LINES_KEPT];
+        if (r->binary) {
+            format_frame(text, sizeof(text), line);
+        } else {
+            format_text(text, line);
+        }
+        cJSON_AddItemToArray(list, cJSON_CreateString(text));
+    }
+    return list;
+}
+
+const char *web_lines_protocol(const wsg_conn_t *c)
+{
+    wsg_gcl_conn_info_t info;
+    if (wsg_gcl_conn_info(c, &info)) {
+        return "gcl";
+    }
+    const ring_t *r = find(c);
+    return r != NULL && r->binary ? "binary" : "undetected";
+}
+
+static void on_in(void *ctx, const wsg_conn_t *c, const char *bytes, size_t len)
+{
+    (void)ctx;
+    web_lines_note(c, true, bytes, len);
+}
+
+static void on_out(void *ctx, const wsg_conn_t *c, const char *bytes, size_t len)
+{
+    (void)ctx;
+    web_lines_note(c, false, bytes, len);
+}
+
+static const wsg_conn_observer_t observer = {.message_in = on_in, .message_out = on_out};
+
+const wsg_conn_observer_t *web_lines_observer(void)
+{
+    return &observer;
+}

@@ -1,0 +1,266 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+#include "web/web_server.h"
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include "log.h"
+#include "loop.h"
+#include "net.h"
+#include "web/web_events.h"
+#include "web/web_internal.h"
+#include "web/web_lines.h"
+#include "web/web_peer.h"
+#include "web/web_routes.h"
+
+/* A client that neither sends nor takes a byte for this long (wall clock)
+ * is closed: a stalled upload, an idle keep-alive connection or an event
+ * stream nobody reads costs nothing after. */
+#define CONNECTION_TIMEOUT_S 30u
+/* Each client's socket send buffer (accepted sockets inherit it from the
+ * listener): what a stalled page can hold of the event stream. */
+#define CLIENT_SNDBUF_BYTES (32 * 1024)
+#define CONNECTIONS_MAX 64u
+#define NS_PER_MS 1000000ull
+
+/* One request's upload, collected until the last call of the handler. */
+typedef struct {
+    size_t len;
+    bool too_big;
+    char body[WEB_BODY_MAX + 1u];
+} web_call_t;
+
+static struct {
+    struct MHD_Daemon *daemon;
+    int listen_fd;
+    int epoll_fd;
+    int port;
+    bool sim_open;       /* --sim-bind names a non-loopback address */
+    uint64_t mhd_due_ns; /* MHD's next timeout (monotonic), 0: none */
+    char describe[128];
+} web = {.listen_fd = -1, .epoll_fd = -1, .port = -1};
+
+static uint64_t earliest_nonzero(uint64_t a, uint64_t b)
+{
+    if (a == 0) {
+        return b;
+    }
+    return b == 0 || a < b ? a : b;
+}
+
+/* Asks MHD when it must run next and the streams when they tick, and wakes
+ * the loop then. */
+static void schedule(void)
+{
+    MHD_UNSIGNED_LONG_LONG ms = 0;
+    uint64_t now = loop_monotonic_ns();
+    web.mhd_due_ns = MHD_get_timeout(web.daemon, &ms) == MHD_YES ? now + ms * NS_PER_MS : 0;
+    uint64_t wake = earliest_nonzero(web.mhd_due_ns, web_events_next_tick_ns());
+    if (wake != 0) {
+        loop_wake_at_wall(wake);
+    }
+}
+
+static void run_mhd(void)
+{
+    MHD_run(web.daemon);
+    schedule();
+}
+
+static void on_epoll_ready(void *ctx, int fd, short revents)
+{
+    (void)ctx;
+    (void)fd;
+    (void)revents;
+    run_mhd();
+}
+
+void web_server_poll(void)
+{
+    if (web.daemon == NULL || (web.mhd_due_ns == 0 && web_events_next_tick_ns() == 0)) {
+        return;
+    }
+    uint64_t now = loop_monotonic_ns();
+    bool ticked = web_events_tick(now); /* resumes the streams that are due */
+    if (ticked || (web.mhd_due_ns != 0 && now >= web.mhd_due_ns)) {
+        run_mhd();
+    } else {
+        schedule();
+    }
+}
+
+static void request_completed(void *cls, struct MHD_Connection *connection, void **req_cls,
+                              enum MHD_RequestTerminationCode toe)
+{
+    (void)cls;
+    (void)connection;
+    (void)toe;
+    free(*req_cls);
+    *req_cls = NULL;
+}
+
+/* The first call of a request: its upload buffer, or a 413 at once when
+ * the declared length is already too large. */
+static enum MHD_Result begin_request(struct MHD_Connection *connection, void **req_cls)
+{
+    web_call_t *call = calloc(1, sizeof(*call));
+    if (call == NULL) {
+        return MHD_NO;
+    }
+    *req_cls = call;
+    const char *length =
+        MHD_lookup_connection_value(connection, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_LENGTH);
+    call->too_big = length != NULL && strtoull(length, NULL, 10) > WEB_BODY_MAX;
+    return MHD_YES;
+}
+
+/* Keeps at most WEB_BODY_MAX bytes; the rest is read and dropped, and the
+ * request answered with 413. */
+static void collect_upload(web_call_t *call, const char *data, size_t len)
+{
+    if (call->too_big || len > WEB_BODY_MAX - call->len) {
+        call->too_big = true;
+        return;
+    }
+    memcpy(call->body + call->len, data, len);
+    call->len += len;
+    call->body[call->len] = '\0';
+}
+
+static enum MHD_Result handle(void *cls, struct MHD_Connection *connection, const char *url,
+                              const char *method, const char *version, const char *upload_data,
+                              size_t *upload_data_size, void **req_cls)
+{
+    (void)cls;
+    (void)version;
+    if (*req_cls == NULL) {
+        return begin_request(connection, req_cls);
+    }
+    web_call_t *call = *req_cls;
+    if (*upload_data_size > 0) {
+        collect_upload(call, upload_data, *upload_data_size);
+        *upload_data_size = 0;
+        return MHD_YES;
+    }
+    const union MHD_ConnectionInfo *info =
+        MHD_get_connection_info(connection, MHD_CONNECTION_INFO_CLIENT_ADDRESS);
+    web_request_t req = {
+        .connection = connection,
+        .method = method,
+        .url = url,
+        .body = call->body,
+        .body_len = call->len,
+        .sim_allowed = web.sim_open || (info != NULL && web_peer_is_loopback(info->client_addr)),
+    };
+    if (call->too_big) {
+        return web_reply_error(&req, MHD_HTTP_CONTENT_TOO_LARGE, E_OVERRUN,
+                               "the request body is larger than %u bytes", WEB_BODY_MAX);
+    }
+    return web_routes_dispatch(&req);
+}
+
+static void log_mhd(void *cls, const char *fmt, va_list ap)
+{
+    (void)cls;
+    char text[256];
+    vsnprintf(text, sizeof(text), fmt, ap);
+    text[strcspn(text, "\n")] = '\0';
+    host_logf(HAL_LOG_DEBUG, "http: %s", text);
+}
+
+static bool open_daemon(void)
+{
+    web.daemon = MHD_start_daemon(MHD_USE_EPOLL | MHD_ALLOW_SUSPEND_RESUME | MHD_USE_ERROR_LOG, 0,
+                                  NULL, NULL, handle, NULL, MHD_OPTION_LISTEN_SOCKET, web.listen_fd,
+                                  MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)CONNECTION_TIMEOUT_S,
+                                  MHD_OPTION_CONNECTION_LIMIT, (unsigned)CONNECTIONS_MAX,
+                                  MHD_OPTION_NOTIFY_COMPLETED, request_completed, NULL,
+                                  MHD_OPTION_EXTERNAL_LOGGER, log_mhd, NULL, MHD_OPTION_END);
+    if (web.daemon == NULL) {
+        return false;
+    }
+    const union MHD_DaemonInfo *info = MHD_get_daemon_info(web.daemon, MHD_DAEMON_INFO_EPOLL_FD);
+    web.epoll_fd = info != NULL ? info->epoll_fd : -1;
+    return web.epoll_fd >= 0 && loop_watch(web.epoll_fd, POLLIN, on_epoll_ready, NULL);
+}
+
+static bool sim_bind_open(const char *sim_bind)
+{
+    unsigned char addr[sizeof(struct in6_addr)];
+    if (sim_bind == NULL) {
+        return false;
+    }
+    if (inet_pton(AF_INET, sim_bind, addr) == 1) {
+        return addr[0] != 127u;
+    }
+    return inet_pton(AF_INET6, sim_bind, addr) == 1 &&
+           !IN6_IS_ADDR_LOOPBACK((const struct in6_addr *)addr);
+}
+
+bool web_server_start(const host_options_t *opts)
+{
+    if (opts->http_port == 0) {
+        return true;
+    }
+    const char *bind = opts->http_bind != NULL ? opts->http_bind : opts->bind_addr;
+    web.listen_fd = net_listen(SOCK_STREAM, bind, opts->http_port);
+    if (web.listen_fd < 0) {
+        bool asked = opts->http_port_given || opts->http_bind != NULL;
+        if (!asked) {
+            host_logf(HAL_LOG_WARN, "http port %d cannot be had: no web interface",
+                      opts->http_port);
+        }
+        return !asked;
+    }
+    int sndbuf = CLIENT_SNDBUF_BYTES;
+    setsockopt(web.listen_fd, SOL_SOCKET, SO_SNDBUF, &sndbuf, sizeof(sndbuf));
+    web.sim_open = sim_bind_open(opts->sim_bind);
+    if (!open_daemon()) {
+        host_logf(HAL_LOG_ERROR, "http: cannot start the web server");
+        web_server_stop();
+        return false;
+    }
+    web.port = net_local_port(web.listen_fd);
+    web_lines_enable();
+    char endpoint[96];
+    net_format_endpoint(bind, web.port, endpoint, sizeof(endpoint));
+    snprintf(web.describe, sizeof(web.describe), ", http %s", endpoint);
+    return true;
+}
+
+const char *web_server_describe(void)
+{
+    return web.daemon != NULL ? web.describe : "";
+}
+
+int web_server_port(void)
+{
+    return web.daemon != NULL ? web.port : -1;
+}
+
+void web_server_stop(void)
+{
+    if (web.daemon != NULL) {
+        web_events_end_all(); /* MHD stops only with no connection suspended */
+        MHD_run(web.daemon);
+        loop_unwatch(web.epoll_fd);
+        MHD_stop_daemon(web.daemon); /* closes the listening socket too */
+        web.daemon = NULL;
+        web.listen_fd = -1;
+    }
+    if (web.listen_fd >= 0) {
+        close(web.listen_fd);
+        web.listen_fd = -1;
+    }
+    web_ops_forget();
+    web_lines_disable();
+    web.epoll_fd = -1;
+    web.port = -1;
+    web.mhd_due_ns = 0;
+}

@@ -1,0 +1,34 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/* The device's web interface (issue 13, docs/web.md): the page and its JSON
+ * API over HTTP, served by libmicrohttpd from the host's event loop.
+ *
+ * The hand-off: MHD runs in its external-epoll mode (MHD_USE_EPOLL, no
+ * thread of its own). Its epoll descriptor is one watch in host/loop.c;
+ * when it is readable the loop calls MHD_run(), which serves every ready
+ * connection without blocking. MHD's own timeouts (MHD_get_timeout) and the
+ * event streams' 25 Hz tick are wall-clock wake-ups (loop_wake_at_wall),
+ * run by web_server_poll() after each wait: the simulated clock may be
+ * paused, the page's stream and a slow client's timeout are not. */
+#ifndef HOST_WEB_SERVER_H
+#define HOST_WEB_SERVER_H
+
+#include <stdbool.h>
+
+#include "options.h"
+
+/* Starts the server on opts->http_bind (or opts->bind_addr) port
+ * opts->http_port; off when the port is 0. False (logged) when the port or
+ * the address was given and cannot be had; the default, when taken, is
+ * skipped with a warning. Call before fleet_start(): the devices' observers
+ * keep the connection lines only when the server is on. */
+bool web_server_start(const host_options_t *opts);
+/* After every loop_wait(): runs what is due on the wall clock. Costs one
+ * test when nothing is scheduled. */
+void web_server_poll(void);
+/* ", http ADDR:PORT" for the ready line, or "" when off. */
+const char *web_server_describe(void);
+/* The port served, or -1. */
+int web_server_port(void);
+void web_server_stop(void);
+
+#endif

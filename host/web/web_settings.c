@@ -1,0 +1,298 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/* GET/PUT /api/devices/{id}/settings and POST .../settings/save: the
+ * device's settings page. A PUT is applied through the device's own
+ * setters (wsg_op_set, wsg_op_set_tag: the one validation, in the core),
+ * all or nothing: when one field is refused, those already applied are set
+ * back, in reverse order, and nothing has changed. */
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "config_file.h"
+#include "fleet.h"
+#include "web/web_internal.h"
+
+/* The settings a PUT may change, in the order it applies them: overdrive
+ * before the force it allows, and the soft limits as apply_soft_limits()
+ * orders them. */
+typedef struct {
+    const char *name;
+    wsg_setting_t which;
+    bool is_bool;
+} setting_t;
+
+static const setting_t settings[] = {
+    {"overdrive", WSG_SET_OVERDRIVE, true},
+    {"force_n", WSG_SET_FORCE_LIMIT, false},
+    {"speed_mm_s", WSG_SET_DEFAULT_SPEED, false},
+    {"accel_mm_s2", WSG_SET_ACCEL, false},
+    {"pwt_mm", WSG_SET_DEFAULT_PWT, false},
+    {"clt_mm", WSG_SET_DEFAULT_CLT, false},
+    {"pullback_mm", WSG_SET_DEFAULT_PULLBACK, false},
+    {"soft_limit_minus_mm", WSG_SET_SOFT_MINUS, false},
+    {"soft_limit_plus_mm", WSG_SET_SOFT_PLUS, false},
+    {"soft_limits", WSG_SET_SOFT_LIMITS, true},
+    {"faststop_on_disconnect", WSG_SET_DISCONNECT_FASTSTOP, true},
+    {"binary_crc_check", WSG_SET_BINARY_CRC_CHECK, true},
+};
+#define SETTING_COUNT (sizeof(settings) / sizeof(settings[0]))
+#define SOFT_MINUS_AT 7u
+#define SOFT_PLUS_AT 8u
+
+/* Fixed at start (options, configuration file): a PUT may repeat their
+ * value, never change it. */
+static const char *const fixed_fields[] = {"protocol", "tcp_port", "udp_port", "binary_udp_port",
+                                           "config_file"};
+#define FIXED_COUNT (sizeof(fixed_fields) / sizeof(fixed_fields[0]))
+
+static float current(const wsg_config_t *c, wsg_setting_t which)
+{
+    switch (which) {
+    case WSG_SET_ACCEL:
+        return c->default_accel_mm_s2;
+    case WSG_SET_FORCE_LIMIT:
+        return c->default_force_n;
+    case WSG_SET_SOFT_LIMITS:
+        return c->soft_limits_enabled ? 1.0f : 0.0f;
+    case WSG_SET_SOFT_MINUS:
+        return c->soft_limit_minus_mm;
+    case WSG_SET_SOFT_PLUS:
+        return c->soft_limit_plus_mm;
+    case WSG_SET_OVERDRIVE:
+        return c->overdrive_mode ? 1.0f : 0.0f;
+    case WSG_SET_DEFAULT_SPEED:
+        return c->default_speed_mm_s;
+    case WSG_SET_DEFAULT_PWT:
+        return c->default_pwt_mm;
+    case WSG_SET_DEFAULT_CLT:
+        return c->default_clt_mm;
+    case WSG_SET_DEFAULT_PULLBACK:
+        return c->default_pullback_mm;
+    case WSG_SET_DISCONNECT_FASTSTOP:
+        return c->disconnect_raises_faststop ? 1.0f : 0.0f;
+    case WSG_SET_BINARY_CRC_CHECK:
+        return c->bin_crc_unchecked ? 0.0f : 1.0f;
+    case WSG_SET_COUNT:
+    default:
+        return 0.0f;
+    }
+}
+
+static const char *protocol_name(host_protocol_t p)
+{
+    return p == HOST_PROTOCOL_GCL ? "gcl" : p == HOST_PROTOCOL_BINARY ? "binary" : "auto";
+}
+
+/* The fixed fields, as JSON values. */
+static cJSON *fixed_value(const gripper_t *g, unsigned i)
+{
+    switch (i) {
+    case 0:
+        return cJSON_CreateString(protocol_name(g->opts.protocol));
+    case 1:
+        return cJSON_CreateNumber(fleet_tcp_port(g->index));
+    case 2:
+        return cJSON_CreateNumber(fleet_udp_port(g->index));
+    case 3: /* binary UDP serves device 0 only */
+        return g->index == 0 ? cJSON_CreateNumber(g->opts.binary_udp_port) : cJSON_CreateNull();
+    default:
+        return g->opts.config_path != NULL ? cJSON_CreateString(g->opts.config_path)
+                                           : cJSON_CreateNull();
+    }
+}
+
+static cJSON *settings_json(gripper_t *g)
+{
+    const wsg_config_t *cfg = wsg_device_snapshot(&g->device)->config;
+    cJSON *j = cJSON_CreateObject();
+    for (unsigned i = 0; i < FIXED_COUNT; i++) {
+        cJSON_AddItemToObject(j, fixed_fields[i], fixed_value(g, i));
+    }
+    for (unsigned i = 0; i < SETTING_COUNT; i++) {
+        float v = current(cfg, settings[i].which);
+        if (settings[i].is_bool) {
+            cJSON_AddBoolToObject(j, settings[i].name, v != 0.0f);
+        } else {
+            cJSON_AddNumberToObject(j, settings[i].name, (double)v);
+        }
+    }
+    cJSON_AddStringToObject(j, "tag", cfg->tag);
+    return j;
+}
+
+/* What a PUT asks for: each setting given, and its value. */
+typedef struct {
+    const web_request_t *req;
+    enum MHD_Result result;
+    bool given[SETTING_COUNT];
+    float value[SETTING_COUNT];
+    const char *tag; /* NULL: not given */
+} change_t;
+
+static bool read_setting(change_t *ch, const cJSON *body, unsigned i)
+{
+    const setting_t *s = &settings[i];
+    if (s->is_bool) {
+        bool on = false;
+        if (!web_field_bool(ch->req, body, s->name, &on, &ch->given[i], &ch->result)) {
+            return false;
+        }
+        ch->value[i] = on ? 1.0f : 0.0f;
+        return true;
+    }
+    double v = 0.0;
+    if (!web_field_number(ch->req, body, s->name, false, &v, &ch->given[i], &ch->result)) {
+        return false;
+    }
+    /* beyond a float's range it stays a value the device refuses */
+    ch->value[i] = fabs(v) <= FLT_MAX ? (float)v : (v > 0 ? INFINITY : -INFINITY);
+    return true;
+}
+
+/* A fixed field may only repeat its value. */
+static bool check_fixed(change_t *ch, const gripper_t *g, const cJSON *body)
+{
+    for (unsigned i = 0; i < FIXED_COUNT; i++) {
+        const cJSON *asked = cJSON_GetObjectItemCaseSensitive(body, fixed_fields[i]);
+        cJSON *now = fixed_value(g, i);
+        bool same = asked == NULL || cJSON_Compare(asked, now, true);
+        cJSON_Delete(now);
+        if (!same) {
+            ch->result = web_reply_error(ch->req, MHD_HTTP_UNPROCESSABLE_CONTENT, E_ACCESS_DENIED,
+                                         "%s: fixed while running (set it in the configuration "
+                                         "file or on the command line and restart)",
+                                         fixed_fields[i]);
+            return false;
+        }
+    }
+    return true;
+}
+
+static bool read_change(change_t *ch, const gripper_t *g, const cJSON *body)
+{
+    static const char *names[SETTING_COUNT + FIXED_COUNT + 2u];
+    unsigned n = 0;
+    for (unsigned i = 0; i < SETTING_COUNT; i++) {
+        names[n++] = settings[i].name;
+    }
+    for (unsigned i = 0; i < FIXED_COUNT; i++) {
+        names[n++] = fixed_fields[i];
+    }
+    names[n++] = "tag";
+    names[n] = NULL;
+    bool tag_given = false;
+    if (!web_fields_known(ch->req, body, names, &ch->result) ||
+        !web_field_string(ch->req, body, "tag", &ch->tag, &tag_given, &ch->result)) {
+        return false;
+    }
+    for (unsigned i = 0; i < SETTING_COUNT; i++) {
+        if (!read_setting(ch, body, i)) {
+            return false;
+        }
+    }
+    return check_fixed(ch, g, body);
+}
+
+/* The order of application: the soft limits swap when the new minus would
+ * not lie below the plus limit in force. */
+static void order(const change_t *ch, const wsg_config_t *cfg, unsigned *seq)
+{
+    for (unsigned i = 0; i < SETTING_COUNT; i++) {
+        seq[i] = i;
+    }
+    if (ch->given[SOFT_MINUS_AT] && ch->value[SOFT_MINUS_AT] >= cfg->soft_limit_plus_mm) {
+        seq[SOFT_MINUS_AT] = SOFT_PLUS_AT;
+        seq[SOFT_PLUS_AT] = SOFT_MINUS_AT;
+    }
+}
+
+static void undo(wsg_device_t *dev, const unsigned *seq, unsigned applied, const float *before)
+{
+    while (applied-- > 0) {
+        wsg_op_set(dev, settings[seq[applied]].which, before[seq[applied]]);
+    }
+}
+
+/* All or nothing; on a refusal the reply names the field. */
+static bool apply(change_t *ch, gripper_t *g)
+{
+    wsg_device_t *dev = &g->device;
+    const wsg_config_t *cfg = wsg_device_snapshot(dev)->config;
+    float before[SETTING_COUNT];
+    unsigned seq[SETTING_COUNT];
+    char old_tag[WSG_CONFIG_STRING_MAX];
+    snprintf(old_tag, sizeof(old_tag), "%s", cfg->tag);
+    for (unsigned i = 0; i < SETTING_COUNT; i++) {
+        before[i] = current(cfg, settings[i].which);
+    }
+    order(ch, cfg, seq);
+    wsg_status_t status = ch->tag != NULL ? wsg_op_set_tag(dev, ch->tag) : E_SUCCESS;
+    const char *refused = "tag";
+    unsigned applied = 0;
+    for (; status == E_SUCCESS && applied < SETTING_COUNT; applied++) {
+        unsigned i = seq[applied];
+        status = ch->given[i] ? wsg_op_set(dev, settings[i].which, ch->value[i]) : E_SUCCESS;
+        refused = settings[i].name;
+    }
+    if (status == E_SUCCESS) {
+        return true;
+    }
+    undo(dev, seq, applied - (applied > 0 ? 1u : 0u), before);
+    wsg_op_set_tag(dev, old_tag);
+    ch->result =
+        web_reply_error(ch->req, MHD_HTTP_UNPROCESSABLE_CONTENT, status,
+                        "%s: %s (nothing was changed)", refused, wsg_status_description(status));
+    return false;
+}
+
+static enum MHD_Result put_settings(const web_request_t *req, gripper_t *g)
+{
+    change_t ch = {.req = req, .result = MHD_NO};
+    cJSON *body = web_body_object(req, &ch.result);
+    if (body == NULL) {
+        return ch.result;
+    }
+    bool ok = read_change(&ch, g, body) && apply(&ch, g);
+    cJSON_Delete(body);
+    if (!ok) {
+        return ch.result;
+    }
+    gripper_input_done(g);
+    return web_reply_json(req, MHD_HTTP_OK, settings_json(g));
+}
+
+/* Writes the settings in force to the --config file; what a reset powers
+ * on with becomes them too, as the device keeps saved settings. */
+static enum MHD_Result save_settings(const web_request_t *req, gripper_t *g)
+{
+    if (g->opts.config_path == NULL) {
+        return web_reply_error(req, MHD_HTTP_CONFLICT, E_NOT_AVAILABLE,
+                               "wsgsim was started without --config: nowhere to save");
+    }
+    const wsg_config_t *cfg = wsg_device_snapshot(&g->device)->config;
+    char why[160];
+    if (!config_file_save(g->opts.config_path, g->index, cfg, why, sizeof(why))) {
+        return web_reply_error(req, MHD_HTTP_UNPROCESSABLE_CONTENT, E_WRITE_ERROR, "%s", why);
+    }
+    g->config = *cfg;
+    cJSON *j = settings_json(g);
+    cJSON_AddBoolToObject(j, "saved", true);
+    return web_reply_json(req, MHD_HTTP_OK, j);
+}
+
+enum MHD_Result web_settings_route(const web_request_t *req, gripper_t *g, const char *rest)
+{
+    bool get = strcmp(req->method, MHD_HTTP_METHOD_GET) == 0;
+    bool put = strcmp(req->method, MHD_HTTP_METHOD_PUT) == 0;
+    bool post = strcmp(req->method, MHD_HTTP_METHOD_POST) == 0;
+    if (rest[0] == '\0') {
+        return get   ? web_reply_json(req, MHD_HTTP_OK, settings_json(g))
+               : put ? put_settings(req, g)
+                     : web_reply_wrong_method(req, "GET, PUT");
+    }
+    if (strcmp(rest, "/save") == 0) {
+        return post ? save_settings(req, g) : web_reply_wrong_method(req, MHD_HTTP_METHOD_POST);
+    }
+    return web_reply_error(req, MHD_HTTP_NOT_FOUND, E_NOT_FOUND, "no such path: %s", req->url);
+}

@@ -1,0 +1,18 @@
+# SPDX-License-Identifier: BSD-3-Clause
+# The device page (web/, issue 13) in a browser: tests/browser with Debian's
+# headless Chromium, chromium-driver and python3-selenium (<!nocheck> test
+# dependencies in debian/control, installed by deps-check).
+#   make browser-tests        the page against build/wsgsim's HTTP server;
+#                             its screenshot goes to build/browser/
+#   make browser-screenshot   the same, refreshing docs/img/live-view.png
+BROWSER_PYTHON := /usr/bin/python3
+BROWSER_TESTS = WSGSIM=$(abspath $(BUILD)/wsgsim) $(BROWSER_PYTHON) tests/browser/test_page.py
+
+.PHONY: browser-tests browser-screenshot
+CHECK_TARGETS += browser-tests
+
+browser-tests: deps-check $(BUILD)/wsgsim
+	SCREENSHOT=$(abspath $(BUILD)/browser/live-view.png) $(BROWSER_TESTS)
+
+browser-screenshot: deps-check $(BUILD)/wsgsim
+	SCREENSHOT=$(abspath docs/img/live-view.png) $(BROWSER_TESTS)

@@ -1,0 +1,43 @@
+# SPDX-License-Identifier: BSD-3-Clause
+# The web interface (issue 13, docs/web.md): the page's files built into
+# build/wsgsim, and its end-to-end tests.
+#   web-tests   tests/web/: the peer rule's Check test, then the end-to-end
+#               tests against build/wsgsim (every route and error)
+# The page is web/* (index.html, app.js, style.css); the chart library is
+# Debian's libjs-dygraphs, embedded at build time, never fetched at run time.
+WEB_PAGE_FILES := $(sort $(wildcard web/*))
+WEB_DYGRAPH_DIR := /usr/share/javascript/dygraphs
+WEB_DYGRAPH_FILES := $(WEB_DYGRAPH_DIR)/dygraph.min.js $(WEB_DYGRAPH_DIR)/dygraph.min.css
+WEB_ASSETS_C := $(BUILD)/gen/web_assets.c
+
+.PHONY: web-tests
+CHECK_TARGETS += web-tests
+
+WEB_ASSETS_LIST := $(BUILD)/gen/web_assets.list
+
+.PHONY: web-assets-list
+# The names of web/'s files, rewritten only when they change: a file removed
+# from web/ rebuilds the table as a file added or edited does.
+$(WEB_ASSETS_LIST): web-assets-list
+	@mkdir -p $(dir $@)
+	@echo '$(WEB_PAGE_FILES)' | cmp -s - $@ || echo '$(WEB_PAGE_FILES)' > $@
+
+# libjs-dygraphs is a build dependency (debian/control): `deps` installs it.
+$(WEB_ASSETS_C): mk/web_assets.py $(WEB_PAGE_FILES) $(WEB_ASSETS_LIST) | deps
+	@mkdir -p $(dir $@)
+	python3 mk/web_assets.py $@ $(WEB_PAGE_FILES) $(WEB_DYGRAPH_FILES)
+
+$(BUILD)/obj/gen/web_assets.o: $(WEB_ASSETS_C) host/web/web_assets.h
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_BASE) -Ihost -c $< -o $@
+
+WEB_PEER_TEST := $(BUILD)/tests/web_peer_test
+
+$(WEB_PEER_TEST): tests/web/test_peer.c $(BUILD)/obj/host/web/web_peer.o
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) $(shell pkg-config --cflags check) $(LDFLAGS_BASE) -o $@ $^ \
+		$(shell pkg-config --libs check)
+
+web-tests: $(BUILD)/wsgsim $(WEB_PEER_TEST)
+	$(CHECK_ENV) $(WEB_PEER_TEST)
+	WSGSIM=$(abspath $(BUILD)/wsgsim) python3 tests/run_suite.py web tests/web

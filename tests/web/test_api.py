@@ -1,0 +1,343 @@
+# SPDX-License-Identifier: BSD-3-Clause
+"""The web interface's routes and errors (docs/web.md): the device list,
+the state, the built-in page, and every kind of bad request, after which
+nothing has changed."""
+import os
+import socket
+import subprocess
+import tempfile
+import unittest
+
+from webclient import (GclError, GclTcp, Wsgsim, WebSim, request, request_no_redirect,
+                       wait_for)
+
+
+class WebCase(unittest.TestCase):
+    ARGS = ()
+
+    def setUp(self):
+        self.sim = WebSim(*self.ARGS)
+        self.sim.start()
+        self.addCleanup(self.sim.stop)
+
+    def get(self, path):
+        return request(self.sim.base + path)
+
+    def call(self, method, path, body=None, raw=None):
+        return request(self.sim.base + path, method=method, body=body, raw=raw)
+
+    def assert_error(self, reply, status, name):
+        self.assertEqual(reply.status, status, reply)
+        self.assertEqual(reply.headers["Content-Type"], "application/json")
+        j = reply.json()
+        self.assertEqual(j["error"], name, j)
+        self.assertIsInstance(j["code"], int)
+        self.assertTrue(j["message"])
+        return j
+
+
+class Devices(WebCase):
+    def test_ready_line_names_the_http_address(self):
+        self.assertIn(", http 127.0.0.1:%d" % self.sim.http_port, "".join(self.sim.log))
+
+    def test_list_has_the_device_and_its_ports(self):
+        reply = self.get("/api/devices")
+        self.assertEqual(reply.status, 200)
+        devices = reply.json()["devices"]
+        self.assertEqual(len(devices), 1)
+        d = devices[0]
+        self.assertEqual((d["id"], d["tcp_port"], d["udp_port"]),
+                         (0, self.sim.tcp_port, self.sim.udp_port))
+        self.assertEqual(d["model"], "WSG 50-110")
+        self.assertEqual(d["tag"], "wsgsim")
+        self.assertIsInstance(d["serial"], int)
+
+    def test_state_fields_carry_their_units(self):
+        # the finger bus reports the fingers' types once it settled
+        wait_for("the fingers", lambda: self.get("/api/devices/0/state").json()["fingers"][1]
+                 ["type"] == "dsa")
+        s = self.get("/api/devices/0/state").json()
+        for key in ("time_ms", "position_mm", "speed_mm_s", "force_n", "temperature_c",
+                    "stroke_mm"):
+            self.assertIsInstance(s[key], (int, float), key)
+        self.assertEqual(s["stroke_mm"], 110)
+        self.assertEqual(s["grip_state"], {"code": 0, "name": "IDLE"})
+        self.assertEqual(len(s["sysflags"]["names"]), 32)
+        self.assertEqual(s["sysflags"]["names"][0], "SF_REFERENCED")
+        self.assertEqual(s["sysflags"]["names"][10], "")  # reserved
+        self.assertIsInstance(s["sysflags"]["value"], int)
+        self.assertFalse(s["referenced"])
+        self.assertEqual(s["motion"], "none")
+        self.assertEqual(s["part"], {"present": False})
+        self.assertEqual(s["obstacle"], {"present": False})
+        self.assertIsNone(s["web_op"])
+        fmf, dsa = s["fingers"]
+        self.assertEqual((fmf["slot"], fmf["type"], dsa["slot"], dsa["type"]),
+                         (0, "fmf", 1, "dsa"))
+        self.assertIsInstance(fmf["data"], (int, float))
+        self.assertEqual(len(dsa["data"]), dsa["rows"] * dsa["cols"])
+        self.assertIn("FF_POWER_ON", fmf["flags"]["set"])
+
+    def test_connections_list_peer_protocol_and_last_lines(self):
+        self.get("/api/devices/0/state")  # a client looks: lines are kept from now on
+        with self.sim.tcp() as gcl:
+            gcl.expect("POS?", "POS=55.0")
+            gcl.expect("GRIPSTATE?", "GRIPSTATE=0")
+            local = "%s:%d" % gcl.sock.getsockname()[:2]
+            conns = self.get("/api/devices/0/state").json()["connections"]
+            self.assertEqual(len(conns), 1)
+            c = conns[0]
+            self.assertEqual((c["protocol"], c["transport"], c["peer"]), ("gcl", "tcp", local))
+            self.assertEqual(c["last_lines"],
+                             ["> POS?", "< POS=55.0", "> GRIPSTATE?", "< GRIPSTATE=0"])
+            for _ in range(10):
+                gcl.expect("SN?", "SN=12345678")
+            lines = self.get("/api/devices/0/state").json()["connections"][0]["last_lines"]
+            self.assertEqual(len(lines), 8)  # the last 8
+            self.assertEqual(lines[-1], "< SN=12345678")
+        with self.sim.udp() as udp:
+            udp.expect("POS?", "POS=55.0")
+            conns = self.get("/api/devices/0/state").json()["connections"]
+            self.assertEqual([(c["transport"], c["last_lines"]) for c in conns],
+                             [("udp", ["> POS?", "< POS=55.0"])])
+
+    def test_binary_connection_is_listed_by_command_name(self):
+        self.get("/api/devices/0/state")
+        client = self.sim.binary_protocol()
+        try:
+            self.assertEqual(client.request(0x31).status, 0)  # get acceleration
+            conns = self.get("/api/devices/0/state").json()["connections"]
+            self.assertEqual(conns[0]["protocol"], "binary")
+            self.assertRegex(conns[0]["last_lines"][0], r"^> 0x31 [\w-]+ \[\d+ bytes\]$")
+            self.assertRegex(conns[0]["last_lines"][1], r"^< 0x31 ")
+        finally:
+            client.close()
+
+
+class Startup(unittest.TestCase):
+    def hold_port(self, port=0):
+        """A listening socket on port (a free one for 0); None when another
+        program holds it already (it is taken either way)."""
+        s = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+        try:
+            s.bind(("0.0.0.0", port))
+        except OSError:
+            s.close()
+            return None
+        s.listen(1)
+        self.addCleanup(s.close)
+        return s
+
+    def test_a_port_asked_for_and_taken_stops_the_start(self):
+        port = self.hold_port().getsockname()[1]
+        sim = Wsgsim("--http-port", str(port))
+        with self.assertRaises(GclError):
+            sim.start()
+        self.assertEqual(sim.returncode, 2)
+        self.assertIn("cannot listen on TCP 127.0.0.1:%d" % port, "".join(sim.log))
+
+    def test_the_default_port_taken_is_skipped_with_a_warning(self):
+        self.hold_port(8080)
+        with tempfile.TemporaryDirectory(prefix="wsgsim-web-") as tmp:
+            ready = os.path.join(tmp, "ready")
+            prefix = os.environ.get("WSGSIM_PREFIX", "").split()
+            proc = subprocess.Popen(prefix + [Wsgsim().binary, "--bind", "127.0.0.1",
+                                              "--tcp-port", "0", "--udp-port", "0",
+                                              "--binary-udp-port", "0", "--ready-file", ready],
+                                    stderr=subprocess.PIPE, stdin=subprocess.DEVNULL, text=True)
+            try:
+                wait_for("the ready file", lambda: os.path.exists(ready), timeout=60)
+                with open(ready) as f:
+                    self.assertNotIn("http_port", f.read())
+            finally:
+                proc.terminate()
+                _, err = proc.communicate(timeout=60)
+            self.assertEqual(proc.returncode, 0)
+            self.assertIn("warning: http port 8080 cannot be had: no web interface", err)
+            self.assertNotIn(", http ", err)
+
+
+class Fleet(WebCase):
+    ARGS = ("--devices", "2")
+
+    def test_each_device_has_its_entry_state_and_page(self):
+        devices = self.get("/api/devices").json()["devices"]
+        self.assertEqual([d["id"] for d in devices], [0, 1])
+        self.assertEqual(devices[1]["tag"], "wsgsim-1")
+        self.assertNotEqual(devices[0]["tcp_port"], devices[1]["tcp_port"])
+        self.assertEqual(self.get("/api/devices/1/state").json()["id"], 1)
+        self.assertEqual(self.get("/devices/1").status, 200)
+        self.assert_error(self.get("/devices/2"), 404, "E_NOT_FOUND")
+        self.assert_error(self.get("/api/devices/2/state"), 404, "E_NOT_FOUND")
+
+    def test_an_operation_moves_only_its_device(self):
+        self.assertEqual(self.call("POST", "/api/devices/1/ops/home", {}).status, 202)
+        self.assertEqual(self.get("/api/devices/1/state").json()["web_op"]["op"], "home")
+        self.assertIsNone(self.get("/api/devices/0/state").json()["web_op"])
+
+    def test_lines_of_another_device_are_listed_there(self):
+        self.get("/api/devices/1/state")
+        port = self.get("/api/devices").json()["devices"][1]["tcp_port"]
+        with GclTcp("127.0.0.1", port) as gcl:
+            gcl.expect("SN?", "SN=12345679")
+            conns = self.get("/api/devices/1/state").json()["connections"]
+            self.assertEqual(conns[0]["last_lines"], ["> SN?", "< SN=12345679"])
+            self.assertEqual(self.get("/api/devices/0/state").json()["connections"], [])
+
+
+class Page(WebCase):
+    def test_root_goes_to_device_0(self):
+        reply = request_no_redirect(self.sim.base + "/")
+        self.assertEqual(reply.status, 302)
+        self.assertEqual(reply.headers["Location"], "/devices/0")
+
+    def test_device_page_is_html(self):
+        reply = self.get("/devices/0")
+        self.assertEqual(reply.status, 200)
+        self.assertTrue(reply.headers["Content-Type"].startswith("text/html"))
+        self.assertIn("<html", reply.body)
+
+    def test_charting_library_is_built_in(self):
+        js = self.get("/static/dygraph.min.js")
+        self.assertEqual(js.status, 200)
+        self.assertTrue(js.headers["Content-Type"].startswith("text/javascript"))
+        self.assertIn("Dygraph", js.body)
+        css = self.get("/static/dygraph.min.css")
+        self.assertEqual((css.status, css.headers["Content-Type"]),
+                         (200, "text/css; charset=utf-8"))
+
+    def test_unknown_file_is_404(self):
+        self.assert_error(self.get("/static/nothing.js"), 404, "E_NOT_FOUND")
+        self.assert_error(self.get("/static/../index.html"), 404, "E_NOT_FOUND")
+
+    def test_page_is_read_only(self):
+        reply = self.call("POST", "/devices/0", {})
+        self.assert_error(reply, 405, "E_CMD_UNKNOWN")
+        self.assertEqual(reply.headers["Allow"], "GET")
+
+
+class BadRequests(WebCase):
+    # the GCL clients here leave without BYE; the clock stands still, so that
+    # only a request could change the device
+    ARGS = ("--no-disconnect-faststop", "--start-paused")
+
+    def snapshot(self):
+        s = self.get("/api/devices/0/state").json()
+        settings = self.get("/api/devices/0/settings").json()
+        return (s["position_mm"], s["grip_state"], s["sysflags"]["value"], s["web_op"],
+                s["part"], settings)
+
+    def setUp(self):
+        super().setUp()
+        self.before = self.snapshot()
+
+    def tearDown(self):
+        self.assertEqual(self.snapshot(), self.before, "a bad request changed the device")
+
+    def test_unknown_paths_are_404(self):
+        for path in ("/api", "/api/devicesx", "/api/devices/0", "/api/devices/0/",
+                     "/api/devices/0/nothing", "/api/devices/x/state", "/api/devices/0x/state",
+                     "/api/devices/0/settings/nothing", "/favicon.ico", "/devices/",
+                     "/devices/00x"):
+            self.assert_error(self.get(path), 404, "E_NOT_FOUND")
+
+    def test_unknown_device_and_operation_are_404(self):
+        self.assert_error(self.get("/api/devices/1/state"), 404, "E_NOT_FOUND")
+        self.assert_error(self.get("/api/devices/99999999999/state"), 404, "E_NOT_FOUND")
+        self.assert_error(self.call("POST", "/api/devices/0/ops/jump", {}), 404, "E_NOT_FOUND")
+        self.assert_error(self.call("POST", "/api/devices/0/sim/meteor", {}), 404,
+                          "E_NOT_FOUND")
+
+    def test_wrong_methods_are_405_with_allow(self):
+        cases = [("POST", "/api/devices", "GET"), ("PUT", "/api/devices/0/state", "GET"),
+                 ("POST", "/api/devices/0/events", "GET"),
+                 ("DELETE", "/api/devices/0/settings", "GET, PUT"),
+                 ("GET", "/api/devices/0/settings/save", "POST"),
+                 ("GET", "/api/devices/0/ops/move", "POST"),
+                 ("PUT", "/api/devices/0/sim/part", "POST")]
+        for method, path, allow in cases:
+            reply = self.call(method, path, {} if method != "GET" else None)
+            self.assert_error(reply, 405, "E_CMD_UNKNOWN")
+            self.assertEqual(reply.headers["Allow"], allow, path)
+
+    def test_malformed_json_is_400(self):
+        for raw in (b"{", b"[1,2]", b"42", b"\"text\"", b"{\"position_mm\": }", b"\xff\xfe",
+                    b"{\"position_mm\": 10}\x00"):
+            self.assert_error(self.call("POST", "/api/devices/0/ops/move", raw=raw), 400,
+                              "E_CMD_FORMAT_ERROR")
+
+    def test_wrong_types_missing_and_unknown_fields_are_400(self):
+        cases = [("ops/move", {"position_mm": "10"}, "E_INVALID_PARAMETER"),
+                 ("ops/move", {"position_mm": None}, "E_INVALID_PARAMETER"),
+                 ("ops/move", {"position_mm": [10]}, "E_INVALID_PARAMETER"),
+                 ("ops/move", {}, "E_NOT_ENOUGH_PARAMS"),
+                 ("ops/move", {"position_mm": 10, "speed": 5}, "E_INVALID_PARAMETER"),
+                 ("ops/home", {"direction": 1}, "E_INVALID_PARAMETER"),
+                 ("ops/stop", {"now": True}, "E_INVALID_PARAMETER"),
+                 ("ops/tare", {"finger": "0"}, "E_INVALID_PARAMETER"),
+                 ("sim/part", {}, "E_NOT_ENOUGH_PARAMS"),
+                 ("sim/part", {"width_mm": True}, "E_INVALID_PARAMETER")]
+        for path, body, name in cases:
+            j = self.assert_error(self.call("POST", "/api/devices/0/" + path, body), 400, name)
+            self.assertTrue(j["message"].split(":")[0] in str(body) or body == {}, j)
+        self.assert_error(self.call("PUT", "/api/devices/0/settings", {"pwt_mm": "5"}), 400,
+                          "E_INVALID_PARAMETER")
+        self.assert_error(self.call("PUT", "/api/devices/0/settings", {"soft_limits": 1}), 400,
+                          "E_INVALID_PARAMETER")
+        self.assert_error(self.call("PUT", "/api/devices/0/settings", {"pwt": 5}), 400,
+                          "E_INVALID_PARAMETER")
+
+    def test_out_of_range_is_422_with_the_appendix_a_name(self):
+        # (ranges are checked before the reference: no HOME needed)
+        j = self.assert_error(self.call("POST", "/api/devices/0/ops/move", {"position_mm": 111}),
+                              422, "E_RANGE_ERROR")
+        self.assertEqual(j["code"], 28)
+        for value in (-1, 1e300, -1e300):
+            self.assert_error(self.call("POST", "/api/devices/0/ops/move",
+                                        {"position_mm": 50, "speed_mm_s": value}),
+                              422, "E_RANGE_ERROR")
+        self.assert_error(self.call("POST", "/api/devices/0/ops/tare", {"finger": 2}), 422,
+                          "E_INDEX_OUT_OF_BOUNDS")
+        self.assert_error(self.call("POST", "/api/devices/0/ops/tare", {"finger": 1e300}), 422,
+                          "E_INDEX_OUT_OF_BOUNDS")
+        self.assert_error(self.call("POST", "/api/devices/0/ops/home", {"direction": "up"}), 422,
+                          "E_INVALID_PARAMETER")
+        self.assert_error(self.call("PUT", "/api/devices/0/settings", {"pwt_mm": 1e300}), 422,
+                          "E_RANGE_ERROR")
+        self.assert_error(self.call("POST", "/api/devices/0/sim/part", {"width_mm": 1e300}), 422,
+                          "E_RANGE_ERROR")
+
+    def test_bodies_over_4_kib_are_413(self):
+        big = b"{\"position_mm\": 10, \"x\": \"" + b"a" * 5000 + b"\"}"
+        self.assert_error(self.call("POST", "/api/devices/0/ops/move", raw=big), 413,
+                          "E_OVERRUN")
+        # without a Content-Length: chunked, counted as it arrives
+        with socket.create_connection(("127.0.0.1", self.sim.http_port), timeout=60) as s:
+            s.sendall(b"POST /api/devices/0/ops/move HTTP/1.1\r\nHost: x\r\n"
+                      b"Transfer-Encoding: chunked\r\n\r\n")
+            for _ in range(5):
+                s.sendall(b"400\r\n" + b" " * 0x400 + b"\r\n")
+            s.sendall(b"0\r\n\r\n")
+            head = s.recv(4096).decode()
+            self.assertTrue(head.startswith("HTTP/1.1 413"), head)
+        exactly = b"{\"pwt_mm\": 10" + b" " * (4096 - 14) + b"}"
+        self.assertEqual(len(exactly), 4096)
+        reply = self.call("PUT", "/api/devices/0/settings", raw=exactly)  # the same value
+        self.assertEqual((reply.status, reply.json()["pwt_mm"]), (200, 10))
+
+    def test_a_stalled_client_holds_up_nobody(self):
+        stalled = socket.create_connection(("127.0.0.1", self.sim.http_port), timeout=60)
+        self.addCleanup(stalled.close)
+        stalled.sendall(b"POST /api/devices/0/ops/home HTTP/1.1\r\nHost: x\r\n"
+                        b"Content-Length: 100\r\n\r\n{\"dir")
+        half = socket.create_connection(("127.0.0.1", self.sim.http_port), timeout=60)
+        self.addCleanup(half.close)
+        half.sendall(b"GET /api/devi")
+        with self.sim.tcp() as gcl:
+            for _ in range(3):
+                gcl.expect("POS?", "POS=55.0")
+                self.assertEqual(self.get("/api/devices").status, 200)
+
+
+if __name__ == "__main__":
+    unittest.main()
