@@ -55,7 +55,7 @@ static void deliver(const hal_can_frame_t *frame, int from)
     for (int i = 0; i < (int)FBUS_SLOTS; i++) {
         loopback_node_t *n = &bus.nodes[i];
         if (i != from && hal_can_filters_accept(n->filters, n->filter_count, frame)) {
-            finger_node_receive(&n->node, frame, now);
+            wsg_finger_node_receive(&n->node, frame, now);
         }
     }
 }
@@ -89,7 +89,7 @@ static bool gripper_send(void *ctx, const hal_can_frame_t *frame)
     (void)ctx;
     uint8_t faults;
     deliver(frame, GRIPPER);
-    if (fbus_unpack_simctl(frame, &faults)) {
+    if (wsg_fbus_unpack_simctl(frame, &faults)) {
         to_gripper(frame); /* the controller wakes to watch the fault take effect */
     }
     return true;
@@ -102,7 +102,7 @@ static bool gripper_recv(void *ctx, hal_can_frame_t *frame)
     if (bus.count == 0u) {
         uint64_t now = hal_clock_now_us();
         for (unsigned i = 0; i < FBUS_SLOTS; i++) {
-            finger_node_step(&bus.nodes[i].node, now);
+            wsg_finger_node_step(&bus.nodes[i].node, now);
         }
     }
     if (bus.count == 0u) {
@@ -132,9 +132,9 @@ void can_loopback_init(const fbus_type_t types[FBUS_SLOTS], const finger_node_pa
     for (unsigned i = 0; i < FBUS_SLOTS; i++) {
         loopback_node_t *n = &bus.nodes[i];
         n->port = (hal_can_t){node_send, node_recv, node_set_filters, (void *)(intptr_t)i, false};
-        finger_node_init(&n->node, types[i], i, params, &n->port);
+        wsg_finger_node_init(&n->node, types[i], i, params, &n->port);
         hal_can_filter_t filters[HAL_CAN_MAX_FILTERS];
-        unsigned count = finger_node_filters(&n->node, filters);
+        unsigned count = wsg_finger_node_filters(&n->node, filters);
         node_set_filters((void *)(intptr_t)i, filters, count);
     }
 }

@@ -20,7 +20,7 @@
 
 typedef enum {
     K_TEXT,        /* printable, no '"', shorter than WSG_CONFIG_STRING_MAX */
-    K_MODEL,       /* a model sim_model_find() knows */
+    K_MODEL,       /* a model wsg_sim_model_find() knows */
     K_SERIAL,      /* 0..4294967295 */
     K_NUMBER,      /* a finite number; ranges are checked against the model */
     K_BOOL,        /* yes/no, true/false, on/off, 1/0 */
@@ -224,7 +224,7 @@ static const char *convert(kind_t kind, const char *text, value_t *v)
     case K_TEXT:
         return text_ok(text) ? NULL : "expected printable text without '\"', at most 47 characters";
     case K_MODEL:
-        return sim_model_find(text) != NULL ? NULL : "unknown model (see wsgsim --list-models)";
+        return wsg_sim_model_find(text) != NULL ? NULL : "unknown model (see wsgsim --list-models)";
     case K_SERIAL:
         return parse_int_range(text, 0, 4294967295.0, &v->number)
                    ? NULL
@@ -514,12 +514,12 @@ static bool check_soft_limits(const wsg_config_t *cfg)
 
 static bool check_model(const char *model)
 {
-    const sim_model_t *m = sim_model_find(model);
+    const sim_model_t *m = wsg_sim_model_find(model);
     if (m == NULL) {
         return false;
     }
     wsg_config_t cfg;
-    sim_model_config(m, &cfg);
+    wsg_sim_model_config(m, &cfg);
     float fmax = m->force_overdrive_n > 0.0f ? m->force_overdrive_n : m->force_max_n;
     bool ok = check_range(MOT_FORCE, m->force_min_n, fmax) &&
               check_range(MOT_SPEED, m->speed_min_mm_s, m->speed_max_mm_s) &&

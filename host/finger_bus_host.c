@@ -58,8 +58,8 @@ bool finger_bus_host_start(const host_options_t *opts)
     } else {
         fbus_type_t types[FBUS_SLOTS];
         finger_node_params_t params;
-        finger_node_defaults(&params);
-        if (!finger_node_parse_pair(opts->fingers, types)) {
+        wsg_finger_node_defaults(&params);
+        if (!wsg_finger_node_parse_pair(opts->fingers, types)) {
             host_logf(HAL_LOG_ERROR, "finger bus: bad finger list '%s'", opts->fingers);
             return false;
         }
@@ -116,7 +116,7 @@ bool finger_bus_host_inject(unsigned slot, finger_fault_t fault, bool active)
     uint8_t bit = fault_bit(fault);
     injected[slot] = active ? (uint8_t)(injected[slot] | bit) : (uint8_t)(injected[slot] & ~bit);
     hal_can_frame_t f;
-    fbus_pack_simctl(&f, FBUS_NODE_ID(slot), injected[slot]);
+    wsg_fbus_pack_simctl(&f, FBUS_NODE_ID(slot), injected[slot]);
     host_logf(HAL_LOG_INFO, "finger %u: fault injection now 0x%02x", slot, injected[slot]);
     if (sock.fd >= 0) {
         return hal_can_send(active_bus, &f);

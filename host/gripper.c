@@ -32,12 +32,12 @@ static void place_start_part(gripper_t *g)
         axis->x_mm = axis->stroke_mm;
         axis->target_mm = axis->x_mm;
     }
-    sim_axis_place_part(axis, opts->part_width_mm, opts->part_stiffness_n_mm);
+    wsg_sim_axis_place_part(axis, opts->part_width_mm, opts->part_stiffness_n_mm);
 }
 
 static void power_on_world(gripper_t *g)
 {
-    sim_world_init(&g->world, &g->config, hal_clock_now_us());
+    wsg_sim_world_init(&g->world, &g->config, hal_clock_now_us());
     if (g->opts.part_given) {
         place_start_part(g);
     }
@@ -47,7 +47,7 @@ static void power_on_world(gripper_t *g)
 static void advance_world(void *ctx, uint64_t now_us)
 {
     gripper_t *g = ctx;
-    sim_world_advance(&g->world, now_us);
+    wsg_sim_world_advance(&g->world, now_us);
 }
 
 /* Device index of a fleet: serial + index, tag "<tag>-<index>" (cut to fit). */
@@ -69,7 +69,7 @@ void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
     g->opts = *opts;
     g->opts.model = config_file_device_model(index, opts->model);
     g->index = index;
-    sim_model_config(sim_model_find(g->opts.model), &g->config);
+    wsg_sim_model_config(wsg_sim_model_find(g->opts.model), &g->config);
     config_file_apply(&g->config);
     set_identity(&g->config, index);
     config_file_apply_device(index, &g->config);
@@ -77,7 +77,7 @@ void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
     g->config.bin_crc_unchecked = !opts->binary_crc;
     power_on_world(g);
     wsg_hal_t hal;
-    sim_world_hal(&g->world, &hal);
+    wsg_sim_world_hal(&g->world, &hal);
     hal.can = index == 0 ? finger_bus_host_can() : NULL;
     wsg_device_init(&g->device, &g->config, &hal);
     wsg_conn_set_drivers(&g->device, host_drivers, sizeof(host_drivers) / sizeof(host_drivers[0]));
@@ -91,7 +91,7 @@ void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
 
 uint64_t gripper_tick(gripper_t *g)
 {
-    sim_world_advance(&g->world, hal_clock_now_us()); /* a touch may come from the world */
+    wsg_sim_world_advance(&g->world, hal_clock_now_us()); /* a touch may come from the world */
     return wsg_runner_poll(&g->runner);
 }
 

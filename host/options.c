@@ -92,7 +92,7 @@ static void print_help(void)
            "                             reports READY=1 (Type=notify)\n"
            "  -V, --version              print the version and exit\n"
            "  -h, --help                 print this help and exit\n",
-           DEFAULT_PORT, DEFAULT_PORT, HOST_DEVICES_MAX, sim_model_default()->name,
+           DEFAULT_PORT, DEFAULT_PORT, HOST_DEVICES_MAX, wsg_sim_model_default()->name,
            (double)DEFAULT_PART_STIFFNESS, DEFAULT_MAX_CLIENTS, MAX_CLIENTS_LIMIT,
            DEFAULT_UDP_PEER_TIMEOUT_S, DEFAULT_HTTP_PORT);
 }
@@ -100,11 +100,11 @@ static void print_help(void)
 static void list_models_json(void)
 {
     cJSON *list = cJSON_CreateArray();
-    for (unsigned i = 0; list != NULL && i < sim_model_count(); i++) {
-        const sim_model_t *m = sim_model_at(i);
+    for (unsigned i = 0; list != NULL && i < wsg_sim_model_count(); i++) {
+        const sim_model_t *m = wsg_sim_model_at(i);
         cJSON *o = cJSON_CreateObject();
         cJSON_AddStringToObject(o, "name", m->name);
-        cJSON_AddBoolToObject(o, "default", m == sim_model_default());
+        cJSON_AddBoolToObject(o, "default", m == wsg_sim_model_default());
         cJSON_AddNumberToObject(o, "stroke_mm", (double)m->stroke_mm);
         cJSON_AddNumberToObject(o, "speed_min_mm_s", (double)m->speed_min_mm_s);
         cJSON_AddNumberToObject(o, "speed_max_mm_s", (double)m->speed_max_mm_s);
@@ -125,8 +125,8 @@ static void list_models_json(void)
 
 static void list_models_text(void)
 {
-    for (unsigned i = 0; i < sim_model_count(); i++) {
-        const sim_model_t *m = sim_model_at(i);
+    for (unsigned i = 0; i < wsg_sim_model_count(); i++) {
+        const sim_model_t *m = wsg_sim_model_at(i);
         printf("%-12s stroke %.0f mm, speed %.0f-%.0f mm/s, accel %.0f-%.0f mm/s^2, "
                "force %.0f-%.0f N%s\n",
                m->name, (double)m->stroke_mm, (double)m->speed_min_mm_s, (double)m->speed_max_mm_s,
@@ -275,7 +275,7 @@ static void set_defaults(host_options_t *opts)
     opts->tcp_enabled = true;
     opts->udp_enabled = true;
     opts->bind_addr = "0.0.0.0";
-    opts->model = sim_model_default()->name;
+    opts->model = wsg_sim_model_default()->name;
     opts->part_stiffness_n_mm = DEFAULT_PART_STIFFNESS;
     opts->max_clients = DEFAULT_MAX_CLIENTS;
     opts->devices = 1;
@@ -460,7 +460,7 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
         return OPTIONS_RUN;
     case OPT_MODEL:
         opts->model = arg;
-        return sim_model_find(arg) != NULL ? OPTIONS_RUN : usage_error("--model", arg);
+        return wsg_sim_model_find(arg) != NULL ? OPTIONS_RUN : usage_error("--model", arg);
     case OPT_PART:
         return parse_part(arg, opts) ? OPTIONS_RUN : usage_error("--part", arg);
     case OPT_DEVICES:
@@ -490,7 +490,7 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
     case OPT_FINGERS: {
         fbus_type_t types[FBUS_SLOTS];
         opts->fingers = arg;
-        return finger_node_parse_pair(arg, types) ? OPTIONS_RUN : usage_error("--fingers", arg);
+        return wsg_finger_node_parse_pair(arg, types) ? OPTIONS_RUN : usage_error("--fingers", arg);
     }
     case OPT_CONFIG:
     case OPT_SIM_PORT:

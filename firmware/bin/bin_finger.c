@@ -11,9 +11,9 @@ static const wsg_finger_t *finger(const bin_req_t *req)
     return &wsg_device_snapshot(req->dev)->fingers->slot[slot];
 }
 
-wsg_status_t bin_finger_info(bin_req_t *req)
+wsg_status_t wsg_bin_finger_info(bin_req_t *req)
 {
-    wsg_status_t status = bin_expect_none(req);
+    wsg_status_t status = wsg_bin_expect_none(req);
     if (status != E_SUCCESS) {
         return status;
     }
@@ -38,25 +38,25 @@ wsg_status_t bin_finger_info(bin_req_t *req)
         break;
     }
     wsg_bin_put_u16(v + 1, size);
-    return bin_reply_values(req, v, sizeof(v));
+    return wsg_bin_reply_values(req, v, sizeof(v));
 }
 
-wsg_status_t bin_finger_flags(bin_req_t *req)
+wsg_status_t wsg_bin_finger_flags(bin_req_t *req)
 {
-    wsg_status_t status = bin_expect_none(req);
+    wsg_status_t status = wsg_bin_expect_none(req);
     if (status != E_SUCCESS) {
         return status;
     }
     uint8_t v[2];
     wsg_bin_put_u16(v, finger(req)->flags);
-    return bin_reply_values(req, v, sizeof(v));
+    return wsg_bin_reply_values(req, v, sizeof(v));
 }
 
 /* The simulated fingers are powered while plugged in: asking for the state
  * they are in succeeds, switching them is not supported. */
-wsg_status_t bin_finger_power(bin_req_t *req)
+wsg_status_t wsg_bin_finger_power(bin_req_t *req)
 {
-    wsg_status_t status = bin_expect_len(req, 1);
+    wsg_status_t status = wsg_bin_expect_len(req, 1);
     if (status != E_SUCCESS) {
         return status;
     }
@@ -64,9 +64,9 @@ wsg_status_t bin_finger_power(bin_req_t *req)
     return ((req->payload[0] & 1u) != 0) == powered ? E_SUCCESS : E_FEATURE_NOT_SUPPORTED;
 }
 
-wsg_status_t bin_finger_data(bin_req_t *req)
+wsg_status_t wsg_bin_finger_data(bin_req_t *req)
 {
-    wsg_status_t status = bin_expect_none(req);
+    wsg_status_t status = wsg_bin_expect_none(req);
     if (status != E_SUCCESS) {
         return status;
     }
@@ -75,11 +75,11 @@ wsg_status_t bin_finger_data(bin_req_t *req)
         return E_NOT_AVAILABLE;
     }
     if (f->type == FINGER_FMF) {
-        return bin_reply_f32(req, f->data[0]);
+        return wsg_bin_reply_f32(req, f->data[0]);
     }
     uint8_t v[2u * WSG_FINGER_DATA_MAX];
     for (unsigned i = 0; i < f->data_count && i < WSG_FINGER_DATA_MAX; i++) {
         wsg_bin_put_u16(v + 2 * i, (uint16_t)f->data[i]);
     }
-    return bin_reply_values(req, v, 2u * f->data_count);
+    return wsg_bin_reply_values(req, v, 2u * f->data_count);
 }

@@ -73,59 +73,59 @@ typedef struct {
 typedef wsg_status_t (*bin_handler_t)(bin_req_t *req);
 
 /* driver.c: sending */
-void bin_send(bin_conn_t *b, uint8_t id, wsg_status_t status, const uint8_t *values, size_t len,
-              wsg_msg_kind_t kind);
+void wsg_bin_send(bin_conn_t *b, uint8_t id, wsg_status_t status, const uint8_t *values, size_t len,
+                  wsg_msg_kind_t kind);
 /* Replies E_SUCCESS with values and returns BIN_REPLIED. */
-wsg_status_t bin_reply_values(bin_req_t *req, const uint8_t *values, size_t len);
-wsg_status_t bin_reply_f32(bin_req_t *req, float value);
+wsg_status_t wsg_bin_reply_values(bin_req_t *req, const uint8_t *values, size_t len);
+wsg_status_t wsg_bin_reply_f32(bin_req_t *req, float value);
 
 /* Length checks: E_NO_PARAM_EXPECTED / E_CMD_FORMAT_ERROR. */
-wsg_status_t bin_expect_none(const bin_req_t *req);
-wsg_status_t bin_expect_len(const bin_req_t *req, uint16_t len);
+wsg_status_t wsg_bin_expect_none(const bin_req_t *req);
+wsg_status_t wsg_bin_expect_len(const bin_req_t *req, uint16_t len);
 /* A finite float at offset, else E_INVALID_PARAMETER. */
-wsg_status_t bin_get_finite(const bin_req_t *req, size_t offset, float *out);
-float bin_clamp(float value, float low, float high);
+wsg_status_t wsg_bin_get_finite(const bin_req_t *req, size_t offset, float *out);
+float wsg_bin_clamp(float value, float low, float high);
 
 /* bin_motion.c 0x20-0x26 */
-wsg_status_t bin_homing(bin_req_t *req);
-wsg_status_t bin_preposition(bin_req_t *req);
-wsg_status_t bin_stop(bin_req_t *req);
-wsg_status_t bin_fast_stop(bin_req_t *req);
-wsg_status_t bin_ack(bin_req_t *req);
-wsg_status_t bin_grasp(bin_req_t *req);
-wsg_status_t bin_release(bin_req_t *req);
+wsg_status_t wsg_bin_homing(bin_req_t *req);
+wsg_status_t wsg_bin_preposition(bin_req_t *req);
+wsg_status_t wsg_bin_stop(bin_req_t *req);
+wsg_status_t wsg_bin_fast_stop(bin_req_t *req);
+wsg_status_t wsg_bin_ack(bin_req_t *req);
+wsg_status_t wsg_bin_grasp(bin_req_t *req);
+wsg_status_t wsg_bin_release(bin_req_t *req);
 /* bin_settings.c 0x30-0x38 */
-wsg_status_t bin_set_acc(bin_req_t *req);
-wsg_status_t bin_get_acc(bin_req_t *req);
-wsg_status_t bin_set_force(bin_req_t *req);
-wsg_status_t bin_get_force_limit(bin_req_t *req);
-wsg_status_t bin_set_soft_limits(bin_req_t *req);
-wsg_status_t bin_get_soft_limits(bin_req_t *req);
-wsg_status_t bin_clear_soft_limits(bin_req_t *req);
-wsg_status_t bin_overdrive(bin_req_t *req);
-wsg_status_t bin_tare(bin_req_t *req);
+wsg_status_t wsg_bin_set_acc(bin_req_t *req);
+wsg_status_t wsg_bin_get_acc(bin_req_t *req);
+wsg_status_t wsg_bin_set_force(bin_req_t *req);
+wsg_status_t wsg_bin_get_force_limit(bin_req_t *req);
+wsg_status_t wsg_bin_set_soft_limits(bin_req_t *req);
+wsg_status_t wsg_bin_get_soft_limits(bin_req_t *req);
+wsg_status_t wsg_bin_clear_soft_limits(bin_req_t *req);
+wsg_status_t wsg_bin_overdrive(bin_req_t *req);
+wsg_status_t wsg_bin_tare(bin_req_t *req);
 /* bin_state.c 0x40-0x46 and automatic updates */
-wsg_status_t bin_get_state(bin_req_t *req);
-wsg_status_t bin_get_grasp_state(bin_req_t *req);
-wsg_status_t bin_get_stats(bin_req_t *req);
-wsg_status_t bin_get_width(bin_req_t *req);
-wsg_status_t bin_get_speed(bin_req_t *req);
-wsg_status_t bin_get_force(bin_req_t *req);
-wsg_status_t bin_get_temp(bin_req_t *req);
-void bin_updates_fire(wsg_timer_t *timer, uint64_t now_us);
-void bin_updates_stop(bin_conn_t *b);
-bool bin_updates_any(const bin_conn_t *b);
+wsg_status_t wsg_bin_get_state(bin_req_t *req);
+wsg_status_t wsg_bin_get_grasp_state(bin_req_t *req);
+wsg_status_t wsg_bin_get_stats(bin_req_t *req);
+wsg_status_t wsg_bin_get_width(bin_req_t *req);
+wsg_status_t wsg_bin_get_speed(bin_req_t *req);
+wsg_status_t wsg_bin_get_force(bin_req_t *req);
+wsg_status_t wsg_bin_get_temp(bin_req_t *req);
+void wsg_bin_updates_fire(wsg_timer_t *timer, uint64_t now_us);
+void wsg_bin_updates_stop(bin_conn_t *b);
+bool wsg_bin_updates_any(const bin_conn_t *b);
 /* bin_system.c 0x06, 0x07, 0x50-0x53 */
-wsg_status_t bin_loop(bin_req_t *req);
-wsg_status_t bin_disconnect(bin_req_t *req);
-wsg_status_t bin_system_info(bin_req_t *req);
-wsg_status_t bin_set_tag(bin_req_t *req);
-wsg_status_t bin_get_tag(bin_req_t *req);
-wsg_status_t bin_get_limits(bin_req_t *req);
+wsg_status_t wsg_bin_loop(bin_req_t *req);
+wsg_status_t wsg_bin_disconnect(bin_req_t *req);
+wsg_status_t wsg_bin_system_info(bin_req_t *req);
+wsg_status_t wsg_bin_set_tag(bin_req_t *req);
+wsg_status_t wsg_bin_get_tag(bin_req_t *req);
+wsg_status_t wsg_bin_get_limits(bin_req_t *req);
 /* bin_finger.c 0x60-0x63, 0x70-0x73 */
-wsg_status_t bin_finger_info(bin_req_t *req);
-wsg_status_t bin_finger_flags(bin_req_t *req);
-wsg_status_t bin_finger_power(bin_req_t *req);
-wsg_status_t bin_finger_data(bin_req_t *req);
+wsg_status_t wsg_bin_finger_info(bin_req_t *req);
+wsg_status_t wsg_bin_finger_flags(bin_req_t *req);
+wsg_status_t wsg_bin_finger_power(bin_req_t *req);
+wsg_status_t wsg_bin_finger_data(bin_req_t *req);
 
 #endif

@@ -28,22 +28,22 @@ static wsg_status_t pending(bin_req_t *req, wsg_status_t started)
 
 static float clamp_speed(const wsg_config_t *cfg, float speed)
 {
-    return bin_clamp(speed, cfg->speed_min_mm_s, cfg->speed_max_mm_s);
+    return wsg_bin_clamp(speed, cfg->speed_min_mm_s, cfg->speed_max_mm_s);
 }
 
 /* Clamped to the stroke; inside a soft-limit zone is a range error. */
 static wsg_status_t check_width(const wsg_config_t *cfg, float *width)
 {
-    *width = bin_clamp(*width, 0.0f, cfg->stroke_mm);
+    *width = wsg_bin_clamp(*width, 0.0f, cfg->stroke_mm);
     if (!wsg_config_target_ok(cfg, *width)) {
         return E_RANGE_ERROR;
     }
     return E_SUCCESS;
 }
 
-wsg_status_t bin_homing(bin_req_t *req)
+wsg_status_t wsg_bin_homing(bin_req_t *req)
 {
-    wsg_status_t status = bin_expect_len(req, 1);
+    wsg_status_t status = wsg_bin_expect_len(req, 1);
     if (status != E_SUCCESS) {
         return status;
     }
@@ -58,16 +58,16 @@ wsg_status_t bin_homing(bin_req_t *req)
     return pending(req, wsg_op_home(req->dev, wsg_conn_owner(conn_public(req->bin->conn)), &args));
 }
 
-wsg_status_t bin_preposition(bin_req_t *req)
+wsg_status_t wsg_bin_preposition(bin_req_t *req)
 {
-    wsg_status_t status = bin_expect_len(req, 9);
+    wsg_status_t status = wsg_bin_expect_len(req, 9);
     float width = 0.0f;
     float speed = 0.0f;
     if (status == E_SUCCESS) {
-        status = bin_get_finite(req, 1, &width);
+        status = wsg_bin_get_finite(req, 1, &width);
     }
     if (status == E_SUCCESS) {
-        status = bin_get_finite(req, 5, &speed);
+        status = wsg_bin_get_finite(req, 5, &speed);
     }
     if (status != E_SUCCESS) {
         return status;
@@ -92,23 +92,23 @@ wsg_status_t bin_preposition(bin_req_t *req)
 /* Grasp and release share the request layout: width, speed. */
 static wsg_status_t width_speed(const bin_req_t *req, float *width, float *speed)
 {
-    wsg_status_t status = bin_expect_len(req, 8);
+    wsg_status_t status = wsg_bin_expect_len(req, 8);
     if (status == E_SUCCESS) {
-        status = bin_get_finite(req, 0, width);
+        status = wsg_bin_get_finite(req, 0, width);
     }
     if (status == E_SUCCESS) {
-        status = bin_get_finite(req, 4, speed);
+        status = wsg_bin_get_finite(req, 4, speed);
     }
     if (status != E_SUCCESS) {
         return status;
     }
     const wsg_config_t *cfg = config(req);
     *speed = clamp_speed(cfg, *speed);
-    *width = bin_clamp(*width, 0.0f, cfg->stroke_mm);
+    *width = wsg_bin_clamp(*width, 0.0f, cfg->stroke_mm);
     return motion_running(req) ? E_ALREADY_RUNNING : E_SUCCESS;
 }
 
-wsg_status_t bin_grasp(bin_req_t *req)
+wsg_status_t wsg_bin_grasp(bin_req_t *req)
 {
     float width = 0.0f;
     float speed = 0.0f;
@@ -122,7 +122,7 @@ wsg_status_t bin_grasp(bin_req_t *req)
     return pending(req, wsg_op_grip(req->dev, wsg_conn_owner(conn_public(req->bin->conn)), &args));
 }
 
-wsg_status_t bin_release(bin_req_t *req)
+wsg_status_t wsg_bin_release(bin_req_t *req)
 {
     float width = 0.0f;
     float speed = 0.0f;
@@ -138,20 +138,20 @@ wsg_status_t bin_release(bin_req_t *req)
                    wsg_op_release(req->dev, wsg_conn_owner(conn_public(req->bin->conn)), &args));
 }
 
-wsg_status_t bin_stop(bin_req_t *req)
+wsg_status_t wsg_bin_stop(bin_req_t *req)
 {
-    wsg_status_t status = bin_expect_none(req);
+    wsg_status_t status = wsg_bin_expect_none(req);
     return status != E_SUCCESS ? status : wsg_op_stop(req->dev);
 }
 
-wsg_status_t bin_fast_stop(bin_req_t *req)
+wsg_status_t wsg_bin_fast_stop(bin_req_t *req)
 {
-    wsg_status_t status = bin_expect_none(req);
+    wsg_status_t status = wsg_bin_expect_none(req);
     return status != E_SUCCESS ? status : wsg_op_fast_stop(req->dev, "binary fast stop (0x23)");
 }
 
 /* The key "ack"; success also when nothing is latched (UMI sends it always). */
-wsg_status_t bin_ack(bin_req_t *req)
+wsg_status_t wsg_bin_ack(bin_req_t *req)
 {
     if (req->length != 3 || req->payload[0] != 'a' || req->payload[1] != 'c' ||
         req->payload[2] != 'k') {

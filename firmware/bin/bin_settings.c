@@ -12,48 +12,49 @@ static const wsg_config_t *config(const bin_req_t *req)
 static wsg_status_t set_clamped(bin_req_t *req, wsg_setting_t which, float low, float high)
 {
     float value = 0.0f;
-    wsg_status_t status = bin_expect_len(req, 4);
+    wsg_status_t status = wsg_bin_expect_len(req, 4);
     if (status == E_SUCCESS) {
-        status = bin_get_finite(req, 0, &value);
+        status = wsg_bin_get_finite(req, 0, &value);
     }
-    return status != E_SUCCESS ? status : wsg_op_set(req->dev, which, bin_clamp(value, low, high));
+    return status != E_SUCCESS ? status
+                               : wsg_op_set(req->dev, which, wsg_bin_clamp(value, low, high));
 }
 
-wsg_status_t bin_set_acc(bin_req_t *req)
+wsg_status_t wsg_bin_set_acc(bin_req_t *req)
 {
     const wsg_config_t *cfg = config(req);
     return set_clamped(req, WSG_SET_ACCEL, cfg->accel_min_mm_s2, cfg->accel_max_mm_s2);
 }
 
-wsg_status_t bin_get_acc(bin_req_t *req)
+wsg_status_t wsg_bin_get_acc(bin_req_t *req)
 {
-    wsg_status_t status = bin_expect_none(req);
-    return status != E_SUCCESS ? status : bin_reply_f32(req, config(req)->default_accel_mm_s2);
+    wsg_status_t status = wsg_bin_expect_none(req);
+    return status != E_SUCCESS ? status : wsg_bin_reply_f32(req, config(req)->default_accel_mm_s2);
 }
 
-wsg_status_t bin_set_force(bin_req_t *req)
+wsg_status_t wsg_bin_set_force(bin_req_t *req)
 {
     const wsg_config_t *cfg = config(req);
     return set_clamped(req, WSG_SET_FORCE_LIMIT, cfg->force_min_n, wsg_config_force_max(cfg));
 }
 
-wsg_status_t bin_get_force_limit(bin_req_t *req)
+wsg_status_t wsg_bin_get_force_limit(bin_req_t *req)
 {
-    wsg_status_t status = bin_expect_none(req);
-    return status != E_SUCCESS ? status : bin_reply_f32(req, config(req)->default_force_n);
+    wsg_status_t status = wsg_bin_expect_none(req);
+    return status != E_SUCCESS ? status : wsg_bin_reply_f32(req, config(req)->default_force_n);
 }
 
 /* Both limits or none: the device state is left as it was on an error. */
-wsg_status_t bin_set_soft_limits(bin_req_t *req)
+wsg_status_t wsg_bin_set_soft_limits(bin_req_t *req)
 {
     float minus = 0.0f;
     float plus = 0.0f;
-    wsg_status_t status = bin_expect_len(req, 8);
+    wsg_status_t status = wsg_bin_expect_len(req, 8);
     if (status == E_SUCCESS) {
-        status = bin_get_finite(req, 0, &minus);
+        status = wsg_bin_get_finite(req, 0, &minus);
     }
     if (status == E_SUCCESS) {
-        status = bin_get_finite(req, 4, &plus);
+        status = wsg_bin_get_finite(req, 4, &plus);
     }
     if (status != E_SUCCESS) {
         return status;
@@ -69,9 +70,9 @@ wsg_status_t bin_set_soft_limits(bin_req_t *req)
     return wsg_op_set(req->dev, WSG_SET_SOFT_LIMITS, 1.0f);
 }
 
-wsg_status_t bin_get_soft_limits(bin_req_t *req)
+wsg_status_t wsg_bin_get_soft_limits(bin_req_t *req)
 {
-    wsg_status_t status = bin_expect_none(req);
+    wsg_status_t status = wsg_bin_expect_none(req);
     if (status != E_SUCCESS) {
         return status;
     }
@@ -82,27 +83,27 @@ wsg_status_t bin_get_soft_limits(bin_req_t *req)
     uint8_t v[8];
     wsg_bin_put_f32(v, cfg->soft_limit_minus_mm);
     wsg_bin_put_f32(v + 4, cfg->soft_limit_plus_mm);
-    return bin_reply_values(req, v, sizeof(v));
+    return wsg_bin_reply_values(req, v, sizeof(v));
 }
 
-wsg_status_t bin_clear_soft_limits(bin_req_t *req)
+wsg_status_t wsg_bin_clear_soft_limits(bin_req_t *req)
 {
-    wsg_status_t status = bin_expect_none(req);
+    wsg_status_t status = wsg_bin_expect_none(req);
     return status != E_SUCCESS ? status : wsg_op_set(req->dev, WSG_SET_SOFT_LIMITS, 0.0f);
 }
 
-wsg_status_t bin_overdrive(bin_req_t *req)
+wsg_status_t wsg_bin_overdrive(bin_req_t *req)
 {
-    wsg_status_t status = bin_expect_len(req, 1);
+    wsg_status_t status = wsg_bin_expect_len(req, 1);
     return status != E_SUCCESS
                ? status
                : wsg_op_set(req->dev, WSG_SET_OVERDRIVE, (req->payload[0] & 1u) ? 1.0f : 0.0f);
 }
 
 /* E_ACCESS_DENIED while holding a part (spec §5.1). */
-wsg_status_t bin_tare(bin_req_t *req)
+wsg_status_t wsg_bin_tare(bin_req_t *req)
 {
-    wsg_status_t status = bin_expect_none(req);
+    wsg_status_t status = wsg_bin_expect_none(req);
     if (status != E_SUCCESS) {
         return status;
     }

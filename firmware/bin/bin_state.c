@@ -52,7 +52,7 @@ static void send_value(bin_conn_t *b, bin_sub_value_t v, const wsg_snapshot_t *s
     uint8_t values[4];
     bin_sub_t *sub = &b->subs[v];
     size_t len = read_value(snap, v, values, &sub->last_number, &sub->last_bits);
-    bin_send(b, sub_ids[v], E_SUCCESS, values, len, kind);
+    wsg_bin_send(b, sub_ids[v], E_SUCCESS, values, len, kind);
 }
 
 static bool changed(const bin_sub_t *sub, bin_sub_value_t v, const wsg_snapshot_t *snap)
@@ -77,13 +77,13 @@ static void reschedule(bin_conn_t *b)
         }
     }
     if (due == UINT64_MAX) {
-        timer_cancel(q, &b->timer);
+        wsg_timer_cancel(q, &b->timer);
     } else {
-        timer_schedule(q, &b->timer, due);
+        wsg_timer_schedule(q, &b->timer, due);
     }
 }
 
-void bin_updates_fire(wsg_timer_t *timer, uint64_t now_us)
+void wsg_bin_updates_fire(wsg_timer_t *timer, uint64_t now_us)
 {
     bin_conn_t *b = (bin_conn_t *)(void *)((char *)timer - offsetof(bin_conn_t, timer));
     const wsg_snapshot_t *snap = wsg_device_snapshot(bin_device(b));
@@ -102,15 +102,15 @@ void bin_updates_fire(wsg_timer_t *timer, uint64_t now_us)
     reschedule(b);
 }
 
-void bin_updates_stop(bin_conn_t *b)
+void wsg_bin_updates_stop(bin_conn_t *b)
 {
     for (unsigned v = 0; v < BIN_SUB_COUNT; v++) {
         b->subs[v].on = false;
     }
-    timer_cancel(&b->conn->dev->timers, &b->timer);
+    wsg_timer_cancel(&b->conn->dev->timers, &b->timer);
 }
 
-bool bin_updates_any(const bin_conn_t *b)
+bool wsg_bin_updates_any(const bin_conn_t *b)
 {
     for (unsigned v = 0; v < BIN_SUB_COUNT; v++) {
         if (b->subs[v].on) {
@@ -123,7 +123,7 @@ bool bin_updates_any(const bin_conn_t *b)
 /* flags (bit 0 on, bit 1 change-sensitive), period ms: answered at once. */
 static wsg_status_t query(bin_req_t *req, bin_sub_value_t v)
 {
-    wsg_status_t status = bin_expect_len(req, 3);
+    wsg_status_t status = wsg_bin_expect_len(req, 3);
     if (status != E_SUCCESS) {
         return status;
     }
@@ -141,35 +141,35 @@ static wsg_status_t query(bin_req_t *req, bin_sub_value_t v)
     return BIN_REPLIED;
 }
 
-wsg_status_t bin_get_state(bin_req_t *req)
+wsg_status_t wsg_bin_get_state(bin_req_t *req)
 {
     return query(req, BIN_SUB_STATE);
 }
 
-wsg_status_t bin_get_grasp_state(bin_req_t *req)
+wsg_status_t wsg_bin_get_grasp_state(bin_req_t *req)
 {
     return query(req, BIN_SUB_GRASP);
 }
 
-wsg_status_t bin_get_width(bin_req_t *req)
+wsg_status_t wsg_bin_get_width(bin_req_t *req)
 {
     return query(req, BIN_SUB_WIDTH);
 }
 
-wsg_status_t bin_get_speed(bin_req_t *req)
+wsg_status_t wsg_bin_get_speed(bin_req_t *req)
 {
     return query(req, BIN_SUB_SPEED);
 }
 
-wsg_status_t bin_get_force(bin_req_t *req)
+wsg_status_t wsg_bin_get_force(bin_req_t *req)
 {
     return query(req, BIN_SUB_FORCE);
 }
 
 /* u8: bit 0 resets the counters after reading. */
-wsg_status_t bin_get_stats(bin_req_t *req)
+wsg_status_t wsg_bin_get_stats(bin_req_t *req)
 {
-    wsg_status_t status = bin_expect_len(req, 1);
+    wsg_status_t status = wsg_bin_expect_len(req, 1);
     if (status != E_SUCCESS) {
         return status;
     }
@@ -181,21 +181,21 @@ wsg_status_t bin_get_stats(bin_req_t *req)
     if (req->payload[0] & 1u) {
         wsg_op_reset_grip_stats(req->dev);
     }
-    return bin_reply_values(req, v, sizeof(v));
+    return wsg_bin_reply_values(req, v, sizeof(v));
 }
 
 /* int16 in 0.1 °C (docs/binary-protocol.md). */
-wsg_status_t bin_get_temp(bin_req_t *req)
+wsg_status_t wsg_bin_get_temp(bin_req_t *req)
 {
-    wsg_status_t status = bin_expect_none(req);
+    wsg_status_t status = wsg_bin_expect_none(req);
     if (status != E_SUCCESS) {
         return status;
     }
     float tenths =
-        bin_clamp(wsg_device_snapshot(req->dev)->temperature_c * 10.0f, -32768.0f, 32767.0f);
+        wsg_bin_clamp(wsg_device_snapshot(req->dev)->temperature_c * 10.0f, -32768.0f, 32767.0f);
     /* rounded half away from zero (no roundf on the boards' C library) */
     int16_t value = (int16_t)(tenths + (tenths < 0.0f ? -0.5f : 0.5f));
     uint8_t v[2];
     wsg_bin_put_u16(v, (uint16_t)value);
-    return bin_reply_values(req, v, sizeof(v));
+    return wsg_bin_reply_values(req, v, sizeof(v));
 }

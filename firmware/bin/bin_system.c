@@ -4,16 +4,16 @@
 
 #include "bin/bin_internal.h"
 
-wsg_status_t bin_loop(bin_req_t *req)
+wsg_status_t wsg_bin_loop(bin_req_t *req)
 {
-    return bin_reply_values(req, req->payload, req->length);
+    return wsg_bin_reply_values(req, req->payload, req->length);
 }
 
 /* Aborts this connection's motion, ends its updates; afterwards every
  * command is E_ACCESS_DENIED and the close raises no FAST STOP. */
-wsg_status_t bin_disconnect(bin_req_t *req)
+wsg_status_t wsg_bin_disconnect(bin_req_t *req)
 {
-    wsg_status_t status = bin_expect_none(req);
+    wsg_status_t status = wsg_bin_expect_none(req);
     if (status != E_SUCCESS) {
         return status;
     }
@@ -24,7 +24,7 @@ wsg_status_t bin_disconnect(bin_req_t *req)
     if (wsg_conn_owns_motion(conn_public(b->conn))) {
         wsg_op_stop(req->dev);
     }
-    bin_updates_stop(b);
+    wsg_bin_updates_stop(b);
     b->announced = true;
     b->conn->close_announced = true;
     return E_SUCCESS;
@@ -60,9 +60,9 @@ static uint8_t device_type(const char *devtype)
     return 0;
 }
 
-wsg_status_t bin_system_info(bin_req_t *req)
+wsg_status_t wsg_bin_system_info(bin_req_t *req)
 {
-    wsg_status_t status = bin_expect_none(req);
+    wsg_status_t status = wsg_bin_expect_none(req);
     if (status != E_SUCCESS) {
         return status;
     }
@@ -72,10 +72,10 @@ wsg_status_t bin_system_info(bin_req_t *req)
     v[1] = 1; /* hardware revision */
     wsg_bin_put_u16(v + 2, firmware_nibbles(cfg->version));
     wsg_bin_put_u32(v + 4, cfg->serial);
-    return bin_reply_values(req, v, sizeof(v));
+    return wsg_bin_reply_values(req, v, sizeof(v));
 }
 
-wsg_status_t bin_set_tag(bin_req_t *req)
+wsg_status_t wsg_bin_set_tag(bin_req_t *req)
 {
     size_t len = req->length;
     while (len > 0 && req->payload[len - 1] == '\0') {
@@ -93,9 +93,9 @@ wsg_status_t bin_set_tag(bin_req_t *req)
     return wsg_op_set_tag(req->dev, tag);
 }
 
-wsg_status_t bin_get_tag(bin_req_t *req)
+wsg_status_t wsg_bin_get_tag(bin_req_t *req)
 {
-    wsg_status_t status = bin_expect_none(req);
+    wsg_status_t status = wsg_bin_expect_none(req);
     if (status != E_SUCCESS) {
         return status;
     }
@@ -103,13 +103,13 @@ wsg_status_t bin_get_tag(bin_req_t *req)
     if (tag[0] == '\0') {
         return E_NOT_AVAILABLE;
     }
-    return bin_reply_values(req, (const uint8_t *)tag, strlen(tag));
+    return wsg_bin_reply_values(req, (const uint8_t *)tag, strlen(tag));
 }
 
 /* stroke, min/max speed, min/max acceleration, min/nominal/overdrive force */
-wsg_status_t bin_get_limits(bin_req_t *req)
+wsg_status_t wsg_bin_get_limits(bin_req_t *req)
 {
-    wsg_status_t status = bin_expect_none(req);
+    wsg_status_t status = wsg_bin_expect_none(req);
     if (status != E_SUCCESS) {
         return status;
     }
@@ -121,5 +121,5 @@ wsg_status_t bin_get_limits(bin_req_t *req)
     for (unsigned i = 0; i < 8; i++) {
         wsg_bin_put_f32(v + 4 * i, limits[i]);
     }
-    return bin_reply_values(req, v, sizeof(v));
+    return wsg_bin_reply_values(req, v, sizeof(v));
 }

@@ -15,43 +15,43 @@ typedef struct {
 } bin_command_t;
 
 static const bin_command_t commands[] = {
-    {0x06, "loop", bin_loop},
-    {0x07, "disconnect", bin_disconnect},
-    {0x20, "homing", bin_homing},
-    {0x21, "preposition", bin_preposition},
-    {0x22, "stop", bin_stop},
-    {0x23, "fast-stop", bin_fast_stop},
-    {0x24, "ack", bin_ack},
-    {0x25, "grasp", bin_grasp},
-    {0x26, "release", bin_release},
-    {0x30, "set-acc", bin_set_acc},
-    {0x31, "get-acc", bin_get_acc},
-    {0x32, "set-force", bin_set_force},
-    {0x33, "get-force-limit", bin_get_force_limit},
-    {0x34, "set-soft-limits", bin_set_soft_limits},
-    {0x35, "get-soft-limits", bin_get_soft_limits},
-    {0x36, "clear-soft-limits", bin_clear_soft_limits},
-    {0x37, "overdrive", bin_overdrive},
-    {0x38, "tare", bin_tare},
-    {0x40, "get-state", bin_get_state},
-    {0x41, "get-grasp-state", bin_get_grasp_state},
-    {0x42, "get-stats", bin_get_stats},
-    {0x43, "get-width", bin_get_width},
-    {0x44, "get-speed", bin_get_speed},
-    {0x45, "get-force", bin_get_force},
-    {0x46, "get-temp", bin_get_temp},
-    {0x50, "system-info", bin_system_info},
-    {0x51, "set-tag", bin_set_tag},
-    {0x52, "get-tag", bin_get_tag},
-    {0x53, "get-limits", bin_get_limits},
-    {0x60, "finger1-info", bin_finger_info},
-    {0x61, "finger1-flags", bin_finger_flags},
-    {0x62, "finger1-power", bin_finger_power},
-    {0x63, "finger1-data", bin_finger_data},
-    {0x70, "finger2-info", bin_finger_info},
-    {0x71, "finger2-flags", bin_finger_flags},
-    {0x72, "finger2-power", bin_finger_power},
-    {0x73, "finger2-data", bin_finger_data},
+    {0x06, "loop", wsg_bin_loop},
+    {0x07, "disconnect", wsg_bin_disconnect},
+    {0x20, "homing", wsg_bin_homing},
+    {0x21, "preposition", wsg_bin_preposition},
+    {0x22, "stop", wsg_bin_stop},
+    {0x23, "fast-stop", wsg_bin_fast_stop},
+    {0x24, "ack", wsg_bin_ack},
+    {0x25, "grasp", wsg_bin_grasp},
+    {0x26, "release", wsg_bin_release},
+    {0x30, "set-acc", wsg_bin_set_acc},
+    {0x31, "get-acc", wsg_bin_get_acc},
+    {0x32, "set-force", wsg_bin_set_force},
+    {0x33, "get-force-limit", wsg_bin_get_force_limit},
+    {0x34, "set-soft-limits", wsg_bin_set_soft_limits},
+    {0x35, "get-soft-limits", wsg_bin_get_soft_limits},
+    {0x36, "clear-soft-limits", wsg_bin_clear_soft_limits},
+    {0x37, "overdrive", wsg_bin_overdrive},
+    {0x38, "tare", wsg_bin_tare},
+    {0x40, "get-state", wsg_bin_get_state},
+    {0x41, "get-grasp-state", wsg_bin_get_grasp_state},
+    {0x42, "get-stats", wsg_bin_get_stats},
+    {0x43, "get-width", wsg_bin_get_width},
+    {0x44, "get-speed", wsg_bin_get_speed},
+    {0x45, "get-force", wsg_bin_get_force},
+    {0x46, "get-temp", wsg_bin_get_temp},
+    {0x50, "system-info", wsg_bin_system_info},
+    {0x51, "set-tag", wsg_bin_set_tag},
+    {0x52, "get-tag", wsg_bin_get_tag},
+    {0x53, "get-limits", wsg_bin_get_limits},
+    {0x60, "finger1-info", wsg_bin_finger_info},
+    {0x61, "finger1-flags", wsg_bin_finger_flags},
+    {0x62, "finger1-power", wsg_bin_finger_power},
+    {0x63, "finger1-data", wsg_bin_finger_data},
+    {0x70, "finger2-info", wsg_bin_finger_info},
+    {0x71, "finger2-flags", wsg_bin_finger_flags},
+    {0x72, "finger2-power", wsg_bin_finger_power},
+    {0x73, "finger2-data", wsg_bin_finger_data},
 };
 
 static const bin_command_t *find_command(uint8_t id)
@@ -70,47 +70,47 @@ const char *wsg_bin_command_name(uint8_t id)
     return cmd != NULL ? cmd->name : NULL;
 }
 
-void bin_send(bin_conn_t *b, uint8_t id, wsg_status_t status, const uint8_t *values, size_t len,
-              wsg_msg_kind_t kind)
+void wsg_bin_send(bin_conn_t *b, uint8_t id, wsg_status_t status, const uint8_t *values, size_t len,
+                  wsg_msg_kind_t kind)
 {
     uint8_t frame[WSG_BIN_REPLY_MAX];
     size_t n = wsg_bin_encode_reply(frame, sizeof(frame), id, (uint16_t)status, values, len);
     if (n == 0) {
         n = wsg_bin_encode_reply(frame, sizeof(frame), id, E_OVERRUN, NULL, 0);
     }
-    conn_write(b->conn, (const char *)frame, n, kind);
+    wsg_conn_write(b->conn, (const char *)frame, n, kind);
 }
 
-wsg_status_t bin_reply_values(bin_req_t *req, const uint8_t *values, size_t len)
+wsg_status_t wsg_bin_reply_values(bin_req_t *req, const uint8_t *values, size_t len)
 {
-    bin_send(req->bin, req->id, E_SUCCESS, values, len, WSG_MSG_REPLY);
+    wsg_bin_send(req->bin, req->id, E_SUCCESS, values, len, WSG_MSG_REPLY);
     return BIN_REPLIED;
 }
 
-wsg_status_t bin_reply_f32(bin_req_t *req, float value)
+wsg_status_t wsg_bin_reply_f32(bin_req_t *req, float value)
 {
     uint8_t v[4];
     wsg_bin_put_f32(v, value);
-    return bin_reply_values(req, v, sizeof(v));
+    return wsg_bin_reply_values(req, v, sizeof(v));
 }
 
-wsg_status_t bin_expect_none(const bin_req_t *req)
+wsg_status_t wsg_bin_expect_none(const bin_req_t *req)
 {
     return req->length == 0 ? E_SUCCESS : E_NO_PARAM_EXPECTED;
 }
 
-wsg_status_t bin_expect_len(const bin_req_t *req, uint16_t len)
+wsg_status_t wsg_bin_expect_len(const bin_req_t *req, uint16_t len)
 {
     return req->length == len ? E_SUCCESS : E_CMD_FORMAT_ERROR;
 }
 
-wsg_status_t bin_get_finite(const bin_req_t *req, size_t offset, float *out)
+wsg_status_t wsg_bin_get_finite(const bin_req_t *req, size_t offset, float *out)
 {
     *out = wsg_bin_get_f32(req->payload + offset);
     return isfinite(*out) ? E_SUCCESS : E_INVALID_PARAMETER;
 }
 
-float bin_clamp(float value, float low, float high)
+float wsg_bin_clamp(float value, float low, float high)
 {
     return value < low ? low : value > high ? high : value;
 }
@@ -149,7 +149,7 @@ static void note_request(bin_conn_t *b, const wsg_bin_frame_t *frame)
                                     frame->too_long ? 0 : frame->length);
     wsg_bin_put_u16(raw + 4, frame->length); /* as declared, also when too long */
     wsg_bin_put_u16(raw + n - WSG_BIN_CRC_LEN, frame->crc);
-    conn_note_input(b->conn, (const char *)raw, n);
+    wsg_conn_note_input(b->conn, (const char *)raw, n);
 }
 
 static void handle_frame(bin_conn_t *b, const wsg_bin_frame_t *frame)
@@ -161,7 +161,7 @@ static void handle_frame(bin_conn_t *b, const wsg_bin_frame_t *frame)
         return;
     }
     wsg_device_note_result(bin_device(b), status == E_CMD_PENDING ? E_SUCCESS : status);
-    bin_send(b, frame->id, status, NULL, 0, WSG_MSG_REPLY);
+    wsg_bin_send(b, frame->id, status, NULL, 0, WSG_MSG_REPLY);
 }
 
 static void bin_open(wsg_conn_t *c)
@@ -170,7 +170,7 @@ static void bin_open(wsg_conn_t *c)
     memset(b, 0, sizeof(*b));
     b->conn = conn_of(c);
     wsg_bin_framer_init(&b->framer, !b->conn->dev->cfg.bin_crc_unchecked);
-    b->timer.fire = bin_updates_fire;
+    b->timer.fire = wsg_bin_updates_fire;
 }
 
 static void bin_input(wsg_conn_t *c, const uint8_t *bytes, size_t len)
@@ -196,18 +196,18 @@ static void bin_done(wsg_conn_t *c, wsg_op_t op, wsg_status_t status)
     (void)op;
     bin_conn_t *b = bin_of(c);
     wsg_device_note_result(bin_device(b), status);
-    bin_send(b, b->pending_id, status, NULL, 0, WSG_MSG_REPLY);
+    wsg_bin_send(b, b->pending_id, status, NULL, 0, WSG_MSG_REPLY);
 }
 
 static bool bin_busy(const wsg_conn_t *c)
 {
-    return bin_updates_any(bin_of_const(c));
+    return wsg_bin_updates_any(bin_of_const(c));
 }
 
 static void bin_close(wsg_conn_t *c, wsg_close_reason_t why)
 {
     (void)why;
-    bin_updates_stop(bin_of(c));
+    wsg_bin_updates_stop(bin_of(c));
 }
 
 /* 0xAA starts the binary preamble and no GCL line. */

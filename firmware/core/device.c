@@ -18,8 +18,8 @@ static void power_on(wsg_dev_t *dev, const wsg_config_t *cfg)
     dev->latched_flags = 0;
     dev->flags = 0;
     wsg_fingers_reset(&dev->fingers);
-    finger_bus_init(&dev->fbus, dev->hal.can);
-    sense(dev);
+    wsg_finger_bus_init(&dev->fbus, dev->hal.can);
+    wsg_sense(dev);
 }
 
 void wsg_device_init(wsg_device_t *device, const wsg_config_t *cfg, const wsg_hal_t *hal)
@@ -27,7 +27,7 @@ void wsg_device_init(wsg_device_t *device, const wsg_config_t *cfg, const wsg_ha
     wsg_dev_t *dev = dev_of(device);
     memset(dev, 0, sizeof(*dev));
     dev->hal = *hal;
-    timer_queue_init(&dev->timers);
+    wsg_timer_queue_init(&dev->timers);
     power_on(dev, cfg);
 }
 
@@ -50,7 +50,7 @@ static void step_finger_bus(wsg_dev_t *dev)
     if (dev->fbus.can == NULL) {
         return;
     }
-    finger_bus_step(
+    wsg_finger_bus_step(
         &dev->fbus, &dev->fingers,
         &(fbus_input_t){
             .now_us = dev->sensed.now_us,
@@ -66,23 +66,23 @@ static void step_finger_bus(wsg_dev_t *dev)
 void wsg_device_step(wsg_device_t *device)
 {
     wsg_dev_t *dev = dev_of(device);
-    sense_and_react(dev);
+    wsg_sense_and_react(dev);
     step_finger_bus(dev);
-    motion_apply_force_request(dev);
-    motion_step(dev);
-    grip_monitor_step(dev);
-    motion_block_watch_step(dev);
-    sense_and_react_if_changed(dev); /* what the step changed, for the timers below */
-    timer_run_due(&dev->timers, dev->sensed.now_us);
+    wsg_motion_apply_force_request(dev);
+    wsg_motion_step(dev);
+    wsg_grip_monitor_step(dev);
+    wsg_motion_block_watch_step(dev);
+    wsg_sense_and_react_if_changed(dev); /* what the step changed, for the timers below */
+    wsg_timer_run_due(&dev->timers, dev->sensed.now_us);
 }
 
 uint64_t wsg_device_next_deadline_us(const wsg_device_t *device)
 {
     const wsg_dev_t *dev = dev_of_const(device);
-    uint32_t tick = motion_tick_us(dev);
+    uint32_t tick = wsg_motion_tick_us(dev);
     uint64_t next = tick != 0u ? dev->sensed.now_us + tick : UINT64_MAX;
-    uint64_t timers = timer_next_due(&dev->timers);
-    uint64_t bus = finger_bus_next_deadline_us(&dev->fbus);
+    uint64_t timers = wsg_timer_next_due(&dev->timers);
+    uint64_t bus = wsg_finger_bus_next_deadline_us(&dev->fbus);
     next = bus < next ? bus : next;
     return timers < next ? timers : next;
 }
@@ -110,7 +110,7 @@ bool wsg_device_take_injected_failure(wsg_device_t *device, const char *name, ws
 
 void wsg_device_note_result(wsg_device_t *device, wsg_status_t status)
 {
-    flags_set(dev_of(device), SF_CMD_FAILURE, status != E_SUCCESS);
+    wsg_flags_set(dev_of(device), SF_CMD_FAILURE, status != E_SUCCESS);
 }
 
 uint64_t wsg_device_next_conn_id(wsg_device_t *device)

@@ -6,7 +6,7 @@
 #define MOVING_SPEED_MM_S 0.01f
 #define LIMIT_WINDOW_MM 0.01f
 
-void flags_set(wsg_dev_t *dev, wsg_sysflag_t flag, bool on)
+void wsg_flags_set(wsg_dev_t *dev, wsg_sysflag_t flag, bool on)
 {
     uint32_t bit = WSG_FLAG(flag);
     if (on) {
@@ -18,12 +18,12 @@ void flags_set(wsg_dev_t *dev, wsg_sysflag_t flag, bool on)
     }
 }
 
-bool flags_get(const wsg_dev_t *dev, wsg_sysflag_t flag)
+bool wsg_flags_get(const wsg_dev_t *dev, wsg_sysflag_t flag)
 {
     return (dev->flags & WSG_FLAG(flag)) != 0u;
 }
 
-bool flags_severe_fault(const wsg_dev_t *dev)
+bool wsg_flags_severe_fault(const wsg_dev_t *dev)
 {
     const dev_sensed_t *s = &dev->sensed;
     return s->axis.current_fault || s->axis.power_fault ||
@@ -81,7 +81,7 @@ static uint32_t derived_flags(const wsg_dev_t *dev)
     return flags;
 }
 
-void flags_derive(wsg_dev_t *dev)
+void wsg_flags_derive(wsg_dev_t *dev)
 {
     dev->flags = dev->latched_flags | derived_flags(dev);
 }

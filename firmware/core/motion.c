@@ -14,7 +14,7 @@ static float absf(float v)
     return v < 0.0f ? -v : v;
 }
 
-void grip_set_state(wsg_dev_t *dev, wsg_grip_state_t state)
+void wsg_grip_set_state(wsg_dev_t *dev, wsg_grip_state_t state)
 {
     wsg_grip_state_t from = dev->grip.state;
     if (from == state) {
@@ -55,20 +55,20 @@ static void finish(wsg_dev_t *dev, wsg_status_t status)
     m->kind = WSG_MOTION_NONE;
     m->owner = NULL;
     m->abort_requested = false;
-    flags_set(dev, SF_CMD_FAILURE, status != E_SUCCESS);
+    wsg_flags_set(dev, SF_CMD_FAILURE, status != E_SUCCESS);
     if (owner != NULL) { /* else its connection has gone */
         owner->done(owner, op, status);
     }
 }
 
-void motion_drive(wsg_dev_t *dev, float target_mm, float speed_mm_s, float force_n)
+void wsg_motion_drive(wsg_dev_t *dev, float target_mm, float speed_mm_s, float force_n)
 {
     dev->axis_commanded = true;
     dev->hal.axis.ops->move(dev->hal.axis.ctx, target_mm, speed_mm_s, dev->cfg.default_accel_mm_s2,
                             force_n);
 }
 
-void motion_halt(wsg_dev_t *dev, bool fast)
+void wsg_motion_halt(wsg_dev_t *dev, bool fast)
 {
     dev->axis_commanded = true;
     dev->hal.axis.ops->stop(dev->hal.axis.ctx, fast);
@@ -81,21 +81,21 @@ static void motion_disable(wsg_dev_t *dev)
 }
 
 /* The finger bus's force loop asks, the supervisor drives. */
-void motion_apply_force_request(wsg_dev_t *dev)
+void wsg_motion_apply_force_request(wsg_dev_t *dev)
 {
     float limit = 0.0f;
-    if (finger_bus_take_force_request(&dev->fbus, &limit)) {
-        motion_drive(dev, dev->motion.target_mm, dev->motion.speed_mm_s, limit);
+    if (wsg_finger_bus_take_force_request(&dev->fbus, &limit)) {
+        wsg_motion_drive(dev, dev->motion.target_mm, dev->motion.speed_mm_s, limit);
     }
 }
 
-uint32_t motion_tick_us(const wsg_dev_t *dev)
+uint32_t wsg_motion_tick_us(const wsg_dev_t *dev)
 {
-    if (dev->motion.kind != WSG_MOTION_NONE || flags_get(dev, SF_MOVING)) {
+    if (dev->motion.kind != WSG_MOTION_NONE || wsg_flags_get(dev, SF_MOVING)) {
         return MOTION_TICK_US;
     }
-    if (dev->grip.state == GS_HOLDING || flags_get(dev, SF_BLOCKED_MINUS) ||
-        flags_get(dev, SF_BLOCKED_PLUS)) {
+    if (dev->grip.state == GS_HOLDING || wsg_flags_get(dev, SF_BLOCKED_MINUS) ||
+        wsg_flags_get(dev, SF_BLOCKED_PLUS)) {
         return HOLD_TICK_US;
     }
     return 0u;
@@ -103,12 +103,12 @@ uint32_t motion_tick_us(const wsg_dev_t *dev)
 
 /* A pending abort is reported before a new motion takes the axis over, so
  * STOP() followed at once by MOVE() works. */
-wsg_status_t motion_check_allowed(wsg_dev_t *dev, bool needs_reference)
+wsg_status_t wsg_motion_check_allowed(wsg_dev_t *dev, bool needs_reference)
 {
     if (dev->motion.kind != WSG_MOTION_NONE && dev->motion.abort_requested) {
         finish(dev, dev->motion.abort_status);
     }
-    if (flags_get(dev, SF_FAST_STOP)) {
+    if (wsg_flags_get(dev, SF_FAST_STOP)) {
         return E_ACCESS_DENIED;
     }
     if (dev->motion.kind != WSG_MOTION_NONE) {
@@ -120,7 +120,7 @@ wsg_status_t motion_check_allowed(wsg_dev_t *dev, bool needs_reference)
     return E_SUCCESS;
 }
 
-bool motion_supersede_move(wsg_dev_t *dev)
+bool wsg_motion_supersede_move(wsg_dev_t *dev)
 {
     const dev_motion_t *m = &dev->motion;
     if (m->kind != WSG_MOTION_MOVE || m->abort_requested || !dev->cfg.move_retarget) {
@@ -130,7 +130,7 @@ bool motion_supersede_move(wsg_dev_t *dev)
     return true;
 }
 
-void motion_begin(wsg_dev_t *dev, wsg_owner_t *owner, wsg_motion_kind_t kind)
+void wsg_motion_begin(wsg_dev_t *dev, wsg_owner_t *owner, wsg_motion_kind_t kind)
 {
     dev_motion_t *m = &dev->motion;
     m->kind = kind;
@@ -143,13 +143,13 @@ void motion_begin(wsg_dev_t *dev, wsg_owner_t *owner, wsg_motion_kind_t kind)
     m->contact_seen = false;
     m->home_released = false;
     m->block_clearing = false;
-    flags_set(dev, SF_AXIS_STOPPED, false);
-    flags_set(dev, SF_TARGET_POS_REACHED, false);
-    flags_set(dev, SF_BLOCKED_MINUS, false);
-    flags_set(dev, SF_BLOCKED_PLUS, false);
+    wsg_flags_set(dev, SF_AXIS_STOPPED, false);
+    wsg_flags_set(dev, SF_TARGET_POS_REACHED, false);
+    wsg_flags_set(dev, SF_BLOCKED_MINUS, false);
+    wsg_flags_set(dev, SF_BLOCKED_PLUS, false);
 }
 
-void motion_abort(wsg_dev_t *dev, wsg_status_t status)
+void wsg_motion_abort(wsg_dev_t *dev, wsg_status_t status)
 {
     if (dev->motion.kind != WSG_MOTION_NONE && !dev->motion.abort_requested) {
         dev->motion.abort_requested = true;
@@ -157,17 +157,17 @@ void motion_abort(wsg_dev_t *dev, wsg_status_t status)
     }
 }
 
-void motion_fast_stop(wsg_dev_t *dev, const char *why)
+void wsg_motion_fast_stop(wsg_dev_t *dev, const char *why)
 {
-    motion_abort(dev, E_CMD_ABORTED);
+    wsg_motion_abort(dev, E_CMD_ABORTED);
     motion_disable(dev); /* manual 3.2.2: a held part is no longer clamped */
-    flags_set(dev, SF_FAST_STOP, true);
-    grip_set_state(dev, GS_ERROR);
+    wsg_flags_set(dev, SF_FAST_STOP, true);
+    wsg_grip_set_state(dev, GS_ERROR);
     char storage[128];
     textbuf_t tb;
-    textbuf_init(&tb, storage, sizeof(storage));
-    textbuf_put_str(&tb, "FAST STOP: ");
-    textbuf_put_str(&tb, why);
+    wsg_textbuf_init(&tb, storage, sizeof(storage));
+    wsg_textbuf_put_str(&tb, "FAST STOP: ");
+    wsg_textbuf_put_str(&tb, why);
     hal_log(HAL_LOG_WARN, storage);
 }
 
@@ -180,21 +180,21 @@ static void fail_blocked(wsg_dev_t *dev, int8_t direction)
     const wsg_config_t *cfg = &dev->cfg;
     float hold_mm = dev->sensed.axis.position_mm + (float)direction * BLOCK_PRELOAD_MM;
     if (dev->motion.stop_on_block) {
-        motion_halt(dev, false); /* binary pre-position: stop, do not lean */
+        wsg_motion_halt(dev, false); /* binary pre-position: stop, do not lean */
     } else {
-        motion_drive(dev, hold_mm, cfg->speed_min_mm_s, dev->motion.force_n);
+        wsg_motion_drive(dev, hold_mm, cfg->speed_min_mm_s, dev->motion.force_n);
     }
-    flags_set(dev, direction < 0 ? SF_BLOCKED_MINUS : SF_BLOCKED_PLUS, true);
-    grip_set_state(dev, GS_ERROR);
+    wsg_flags_set(dev, direction < 0 ? SF_BLOCKED_MINUS : SF_BLOCKED_PLUS, true);
+    wsg_grip_set_state(dev, GS_ERROR);
     finish(dev, E_AXIS_BLOCKED);
 }
 
 static void home_done(wsg_dev_t *dev)
 {
     dev->referenced = true;
-    flags_set(dev, SF_REFERENCED, true);
-    flags_set(dev, SF_TARGET_POS_REACHED, true);
-    grip_set_state(dev, GS_IDLE);
+    wsg_flags_set(dev, SF_REFERENCED, true);
+    wsg_flags_set(dev, SF_TARGET_POS_REACHED, true);
+    wsg_grip_set_state(dev, GS_IDLE);
     hal_log(HAL_LOG_INFO, "homing done");
     finish(dev, E_SUCCESS);
 }
@@ -218,12 +218,12 @@ static void home_step(wsg_dev_t *dev)
     if (held_for(dev, dev->sensed.axis.blocked == (positive ? 1 : -1), HOME_BLOCK_DETECT_US)) {
         dev->axis_commanded = true;
         dev->hal.axis.ops->set_position(dev->hal.axis.ctx, positive ? cfg->stroke_mm : 0.0f);
-        motion_halt(dev, false);
+        wsg_motion_halt(dev, false);
         m->home_released = true;
         m->condition_since_us = dev->sensed.now_us;
     } else if (dev->sensed.now_us - m->started_us >= HOME_TIMEOUT_US) {
-        motion_halt(dev, false);
-        grip_set_state(dev, GS_ERROR);
+        wsg_motion_halt(dev, false);
+        wsg_grip_set_state(dev, GS_ERROR);
         finish(dev, E_TIMEOUT);
     }
 }
@@ -241,8 +241,8 @@ static void position_step(wsg_dev_t *dev)
     bool in_position = !axis->profile_active &&
                        absf(axis->position_mm - dev->motion.target_mm) <= POSITION_TOLERANCE_MM;
     if (held_for(dev, in_position, SETTLE_US)) {
-        flags_set(dev, SF_TARGET_POS_REACHED, true);
-        grip_set_state(dev, GS_IDLE);
+        wsg_flags_set(dev, SF_TARGET_POS_REACHED, true);
+        wsg_grip_set_state(dev, GS_IDLE);
         finish(dev, E_SUCCESS);
     }
 }
@@ -261,9 +261,9 @@ static float grip_travel_limit(const dev_motion_t *m, int8_t direction)
 
 static void grip_no_part(wsg_dev_t *dev)
 {
-    motion_halt(dev, false);
+    wsg_motion_halt(dev, false);
     dev->grip.stats[1]++;
-    grip_set_state(dev, GS_NO_PART);
+    wsg_grip_set_state(dev, GS_NO_PART);
     finish(dev, E_CMD_FAILED);
 }
 
@@ -300,7 +300,7 @@ static void grip_step(wsg_dev_t *dev)
     if (held_for(dev, axis->blocked == direction, SETTLE_US)) {
         dev->grip.hold_mm = axis->position_mm;
         dev->grip.monitored = m->grip_has_width; /* manual 2.2.3: cases 3 and 4 only */
-        grip_set_state(dev, GS_HOLDING);
+        wsg_grip_set_state(dev, GS_HOLDING);
         finish(dev, E_SUCCESS);
         return;
     }
@@ -332,7 +332,7 @@ static bool runs_into_soft_limit(const wsg_dev_t *dev)
            (x > cfg->soft_limit_plus_mm + SOFT_LIMIT_MARGIN_MM && v > 0.0f);
 }
 
-void motion_step(wsg_dev_t *dev)
+void wsg_motion_step(wsg_dev_t *dev)
 {
     dev_motion_t *m = &dev->motion;
     if (m->kind == WSG_MOTION_NONE) {
@@ -343,7 +343,7 @@ void motion_step(wsg_dev_t *dev)
         return;
     }
     if (runs_into_soft_limit(dev)) {
-        motion_fast_stop(dev, "soft limit reached");
+        wsg_motion_fast_stop(dev, "soft limit reached");
         return;
     }
     switch (m->kind) {
@@ -365,7 +365,7 @@ void motion_step(wsg_dev_t *dev)
 
 /* Grip monitoring (manual 2.2.3): a held part that gives way or vanishes
  * turns HOLDING into PART LOST. */
-void grip_monitor_step(wsg_dev_t *dev)
+void wsg_grip_monitor_step(wsg_dev_t *dev)
 {
     dev_grip_t *grip = &dev->grip;
     if (grip->state != GS_HOLDING || !grip->monitored || dev->motion.kind != WSG_MOTION_NONE) {
@@ -383,19 +383,19 @@ void grip_monitor_step(wsg_dev_t *dev)
         grip->weak_since_us = dev->sensed.now_us;
     }
     if (dev->sensed.now_us - grip->weak_since_us >= PART_LOST_DEBOUNCE_US) {
-        motion_halt(dev, false);
+        wsg_motion_halt(dev, false);
         grip->stats[2]++;
-        grip_set_state(dev, GS_PART_LOST);
+        wsg_grip_set_state(dev, GS_PART_LOST);
         hal_log(HAL_LOG_WARN, "part lost");
     }
 }
 
 /* Appendix B: SF_BLOCKED_± also clear once the blocking condition is gone,
  * i.e. the jaws no longer press on anything for BLOCKED_DEBOUNCE_US. */
-void motion_block_watch_step(wsg_dev_t *dev)
+void wsg_motion_block_watch_step(wsg_dev_t *dev)
 {
     dev_motion_t *m = &dev->motion;
-    bool latched = flags_get(dev, SF_BLOCKED_MINUS) || flags_get(dev, SF_BLOCKED_PLUS);
+    bool latched = wsg_flags_get(dev, SF_BLOCKED_MINUS) || wsg_flags_get(dev, SF_BLOCKED_PLUS);
     if (!latched || m->kind != WSG_MOTION_NONE || dev->sensed.force_n >= CONTACT_FORCE_N) {
         m->block_clearing = false;
         return;
@@ -406,9 +406,9 @@ void motion_block_watch_step(wsg_dev_t *dev)
     }
     if (dev->sensed.now_us - m->block_clearing_since_us >= BLOCKED_DEBOUNCE_US) {
         m->block_clearing = false;
-        motion_halt(dev, false);
-        flags_set(dev, SF_BLOCKED_MINUS, false);
-        flags_set(dev, SF_BLOCKED_PLUS, false);
+        wsg_motion_halt(dev, false);
+        wsg_flags_set(dev, SF_BLOCKED_MINUS, false);
+        wsg_flags_set(dev, SF_BLOCKED_PLUS, false);
         hal_log(HAL_LOG_INFO, "axis no longer blocked");
     }
 }

@@ -13,11 +13,11 @@ static void start(wsg_dev_t *dev, wsg_owner_t *owner, wsg_motion_kind_t kind, fl
 {
     /* manual 2.2.4: RELEASE follows a GRIP, and nothing else in between */
     dev->grip.release_permitted = kind == WSG_MOTION_GRIP;
-    motion_begin(dev, owner, kind);
+    wsg_motion_begin(dev, owner, kind);
     dev->motion.target_mm = target;
     dev->motion.speed_mm_s = speed;
     dev->motion.force_n = force;
-    motion_drive(dev, target, speed, force);
+    wsg_motion_drive(dev, target, speed, force);
 }
 
 wsg_status_t wsg_op_home(wsg_device_t *device, wsg_owner_t *owner, const wsg_home_args_t *args)
@@ -29,15 +29,15 @@ wsg_status_t wsg_op_home(wsg_device_t *device, wsg_owner_t *owner, const wsg_hom
     }
     bool positive = args->direction == WSG_HOME_DEFAULT ? cfg->home_positive
                                                         : args->direction == WSG_HOME_POSITIVE;
-    wsg_status_t status = motion_check_allowed(dev, false);
+    wsg_status_t status = wsg_motion_check_allowed(dev, false);
     if (status != E_SUCCESS) {
         return status;
     }
     /* The position is unknown until the end stop is found: aim well beyond it. */
     float target = positive ? 3.0f * cfg->stroke_mm : -2.0f * cfg->stroke_mm;
     dev->referenced = false;
-    flags_set(dev, SF_REFERENCED, false);
-    grip_set_state(dev, GS_POSITIONING);
+    wsg_flags_set(dev, SF_REFERENCED, false);
+    wsg_grip_set_state(dev, GS_POSITIONING);
     start(dev, owner, WSG_MOTION_HOME, target, cfg->homing_speed_mm_s,
           HOMING_FORCE_FRACTION * wsg_config_force_max(cfg));
     return E_SUCCESS;
@@ -55,12 +55,12 @@ wsg_status_t wsg_op_move(wsg_device_t *device, wsg_owner_t *owner, const wsg_mov
         return E_RANGE_ERROR;
     }
     /* streaming clients send the next MOVE while one runs: it takes over */
-    motion_supersede_move(dev);
-    wsg_status_t status = motion_check_allowed(dev, true);
+    wsg_motion_supersede_move(dev);
+    wsg_status_t status = wsg_motion_check_allowed(dev, true);
     if (status != E_SUCCESS) {
         return status;
     }
-    grip_set_state(dev, GS_POSITIONING);
+    wsg_grip_set_state(dev, GS_POSITIONING);
     start(dev, owner, WSG_MOTION_MOVE, target, args->speed_mm_s, cfg->default_force_n);
     dev->motion.stop_on_block = args->stop_on_block;
     return E_SUCCESS;
@@ -79,7 +79,7 @@ wsg_status_t wsg_op_grip(wsg_device_t *device, wsg_owner_t *owner, const wsg_gri
     wsg_dev_t *dev = dev_of(device);
     wsg_status_t status = check_grip(&dev->cfg, args);
     if (status == E_SUCCESS) {
-        status = motion_check_allowed(dev, true);
+        status = wsg_motion_check_allowed(dev, true);
     }
     if (status != E_SUCCESS) {
         return status;
@@ -101,7 +101,7 @@ wsg_status_t wsg_op_grip(wsg_device_t *device, wsg_owner_t *owner, const wsg_gri
     dev->motion.grip_width_mm = args->has_width ? args->width_mm : 0.0f;
     dev->motion.grip_pwt_mm = args->pwt_mm;
     dev->motion.grip_clt_mm = clt;
-    grip_set_state(dev, GS_GRASPING);
+    wsg_grip_set_state(dev, GS_GRASPING);
     start(dev, owner, WSG_MOTION_GRIP, target, args->speed_mm_s, args->force_n);
     return E_SUCCESS;
 }
@@ -124,7 +124,7 @@ wsg_status_t wsg_op_release(wsg_device_t *device, wsg_owner_t *owner,
     if (!range_ok || !wsg_config_speed_ok(cfg, args->speed_mm_s)) {
         return E_RANGE_ERROR;
     }
-    wsg_status_t status = motion_check_allowed(dev, true);
+    wsg_status_t status = wsg_motion_check_allowed(dev, true);
     if (status != E_SUCCESS) {
         return status;
     }
@@ -133,7 +133,7 @@ wsg_status_t wsg_op_release(wsg_device_t *device, wsg_owner_t *owner,
     }
     float away = dev->sensed.axis.position_mm - (float)dev->grip.direction * args->distance_mm;
     float target = args->to_width ? args->width_mm : clamp_to_travel(cfg, away);
-    grip_set_state(dev, GS_RELEASING);
+    wsg_grip_set_state(dev, GS_RELEASING);
     start(dev, owner, WSG_MOTION_RELEASE, target, args->speed_mm_s, cfg->default_force_n);
     return E_SUCCESS;
 }
@@ -148,41 +148,41 @@ wsg_status_t wsg_op_stop(wsg_device_t *device)
 {
     wsg_dev_t *dev = dev_of(device);
     /* a drive still leaning on a block (after ERR 29) lets go as well */
-    bool halt = dev->motion.kind != WSG_MOTION_NONE || flags_get(dev, SF_MOVING) ||
-                flags_get(dev, SF_BLOCKED_MINUS) || flags_get(dev, SF_BLOCKED_PLUS);
-    motion_abort(dev, E_CMD_ABORTED);
+    bool halt = dev->motion.kind != WSG_MOTION_NONE || wsg_flags_get(dev, SF_MOVING) ||
+                wsg_flags_get(dev, SF_BLOCKED_MINUS) || wsg_flags_get(dev, SF_BLOCKED_PLUS);
+    wsg_motion_abort(dev, E_CMD_ABORTED);
     if (halt) {
-        motion_halt(dev, true);
+        wsg_motion_halt(dev, true);
     }
-    flags_set(dev, SF_AXIS_STOPPED, true);
-    flags_set(dev, SF_BLOCKED_MINUS, false);
-    flags_set(dev, SF_BLOCKED_PLUS, false);
-    bool keep = flags_get(dev, SF_FAST_STOP) ||
+    wsg_flags_set(dev, SF_AXIS_STOPPED, true);
+    wsg_flags_set(dev, SF_BLOCKED_MINUS, false);
+    wsg_flags_set(dev, SF_BLOCKED_PLUS, false);
+    bool keep = wsg_flags_get(dev, SF_FAST_STOP) ||
                 (dev->motion.kind == WSG_MOTION_NONE && is_grip_result(dev->grip.state));
     if (!keep) {
-        grip_set_state(dev, GS_IDLE);
+        wsg_grip_set_state(dev, GS_IDLE);
     }
     return E_SUCCESS;
 }
 
 wsg_status_t wsg_op_fast_stop(wsg_device_t *device, const char *why)
 {
-    motion_fast_stop(dev_of(device), why);
+    wsg_motion_fast_stop(dev_of(device), why);
     return E_SUCCESS;
 }
 
 wsg_status_t wsg_op_fsack(wsg_device_t *device)
 {
     wsg_dev_t *dev = dev_of(device);
-    if (flags_get(dev, SF_FAST_STOP)) {
-        if (flags_severe_fault(dev)) {
+    if (wsg_flags_get(dev, SF_FAST_STOP)) {
+        if (wsg_flags_severe_fault(dev)) {
             return E_ACCESS_DENIED;
         }
-        flags_set(dev, SF_FAST_STOP, false);
+        wsg_flags_set(dev, SF_FAST_STOP, false);
         hal_log(HAL_LOG_INFO, "fast stop acknowledged");
     }
     if (dev->grip.state == GS_ERROR) {
-        grip_set_state(dev, GS_IDLE);
+        wsg_grip_set_state(dev, GS_IDLE);
     }
     return E_SUCCESS;
 }
@@ -193,7 +193,7 @@ wsg_status_t wsg_op_tare(wsg_device_t *device, int finger)
     if (finger < -1 || finger >= WSG_FINGER_COUNT) {
         return E_INDEX_OUT_OF_BOUNDS;
     }
-    return finger_bus_tare(&dev->fbus, &dev->fingers, finger);
+    return wsg_finger_bus_tare(&dev->fbus, &dev->fingers, finger);
 }
 
 wsg_status_t wsg_op_reset_grip_stats(wsg_device_t *device)
@@ -280,13 +280,13 @@ wsg_status_t wsg_op_set_tag(wsg_device_t *device, const char *tag)
 
 void wsg_device_sense(wsg_device_t *device)
 {
-    sense_and_react(dev_of(device));
+    wsg_sense_and_react(dev_of(device));
 }
 
 void wsg_device_sense_if_moved_on(wsg_device_t *device)
 {
     wsg_dev_t *dev = dev_of(device);
     if (dev->sense_reacted || hal_clock_now_us() != dev->sensed.now_us) {
-        sense_and_react(dev);
+        wsg_sense_and_react(dev);
     }
 }

@@ -7,7 +7,7 @@
 
 #include "hal_clock.h"
 
-void sense(wsg_dev_t *dev)
+void wsg_sense(wsg_dev_t *dev)
 {
     dev_sensed_t *s = &dev->sensed;
     s->now_us = hal_clock_now_us();
@@ -21,7 +21,7 @@ void sense(wsg_dev_t *dev)
     s->force_n = s->force_control ? s->finger_force_n : s->axis.force_n;
     s->temperature_c = dev->hal.temp.board_c(dev->hal.temp.ctx);
     s->referenced = dev->referenced;
-    flags_derive(dev);
+    wsg_flags_derive(dev);
 }
 
 /* What the sense step reads, other than the world (which the port advances
@@ -43,19 +43,19 @@ static bool readings_changed(const wsg_dev_t *dev)
             wsg_fingers_measured_force(fingers) != s->finger_force_n);
 }
 
-void sense_and_react(wsg_dev_t *dev)
+void wsg_sense_and_react(wsg_dev_t *dev)
 {
-    sense(dev);
+    wsg_sense(dev);
     /* a reaction changes what the next sense reads, even at this instant */
-    dev->sense_reacted = flags_severe_fault(dev) && !flags_get(dev, SF_FAST_STOP);
+    dev->sense_reacted = wsg_flags_severe_fault(dev) && !wsg_flags_get(dev, SF_FAST_STOP);
     if (dev->sense_reacted) {
-        motion_fast_stop(dev, "severe fault (temperature, power or motor current)");
+        wsg_motion_fast_stop(dev, "severe fault (temperature, power or motor current)");
     }
 }
 
-void sense_and_react_if_changed(wsg_dev_t *dev)
+void wsg_sense_and_react_if_changed(wsg_dev_t *dev)
 {
     if (readings_changed(dev)) {
-        sense_and_react(dev);
+        wsg_sense_and_react(dev);
     }
 }

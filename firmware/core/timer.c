@@ -4,12 +4,12 @@
 
 #include <stddef.h>
 
-void timer_queue_init(wsg_timer_queue_t *q)
+void wsg_timer_queue_init(wsg_timer_queue_t *q)
 {
     q->head = NULL;
 }
 
-void timer_cancel(wsg_timer_queue_t *q, wsg_timer_t *t)
+void wsg_timer_cancel(wsg_timer_queue_t *q, wsg_timer_t *t)
 {
     if (!t->queued) {
         return;
@@ -24,9 +24,9 @@ void timer_cancel(wsg_timer_queue_t *q, wsg_timer_t *t)
     t->queued = false;
 }
 
-void timer_schedule(wsg_timer_queue_t *q, wsg_timer_t *t, uint64_t due_us)
+void wsg_timer_schedule(wsg_timer_queue_t *q, wsg_timer_t *t, uint64_t due_us)
 {
-    timer_cancel(q, t);
+    wsg_timer_cancel(q, t);
     wsg_timer_t **link = &q->head;
     while (*link != NULL && (*link)->due_us <= due_us) {
         link = &(*link)->next;
@@ -37,12 +37,12 @@ void timer_schedule(wsg_timer_queue_t *q, wsg_timer_t *t, uint64_t due_us)
     *link = t;
 }
 
-uint64_t timer_next_due(const wsg_timer_queue_t *q)
+uint64_t wsg_timer_next_due(const wsg_timer_queue_t *q)
 {
     return q->head != NULL ? q->head->due_us : UINT64_MAX;
 }
 
-void timer_run_due(wsg_timer_queue_t *q, uint64_t now_us)
+void wsg_timer_run_due(wsg_timer_queue_t *q, uint64_t now_us)
 {
     /* detach the due prefix first, so that rescheduling cannot loop */
     wsg_timer_t *due = NULL;

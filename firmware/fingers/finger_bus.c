@@ -12,7 +12,7 @@
  * (20 ms), a descriptor retry (100 ms) and a comm fault (300-310 ms) to show. */
 #define FBUS_SETTLE_US 500000u
 
-void finger_bus_init(finger_bus_t *bus, const hal_can_t *can)
+void wsg_finger_bus_init(finger_bus_t *bus, const hal_can_t *can)
 {
     memset(bus, 0, sizeof(*bus));
     bus->can = can;
@@ -35,7 +35,7 @@ void finger_bus_init(finger_bus_t *bus, const hal_can_t *can)
  * power down without STATE. On an on-demand bus the nodes run when the
  * controller polls, so every step is a complete bus cycle: it ticks only
  * while something settles or the force loop runs. */
-uint64_t finger_bus_next_deadline_us(const finger_bus_t *bus)
+uint64_t wsg_finger_bus_next_deadline_us(const finger_bus_t *bus)
 {
     if (bus->can == NULL) {
         return UINT64_MAX;
@@ -58,11 +58,11 @@ static void slot_log(hal_log_level_t level, unsigned slot, const char *what)
 {
     char storage[80];
     textbuf_t tb;
-    textbuf_init(&tb, storage, sizeof(storage));
-    textbuf_put_str(&tb, "finger ");
-    textbuf_put_uint(&tb, slot);
-    textbuf_put_str(&tb, ": ");
-    textbuf_put_str(&tb, what);
+    wsg_textbuf_init(&tb, storage, sizeof(storage));
+    wsg_textbuf_put_str(&tb, "finger ");
+    wsg_textbuf_put_uint(&tb, slot);
+    wsg_textbuf_put_str(&tb, ": ");
+    wsg_textbuf_put_str(&tb, what);
     hal_log(level, storage);
 }
 
@@ -71,7 +71,7 @@ static void forget_node(fbus_slot_t *s, wsg_finger_t *finger)
 {
     s->config = false;
     s->desc_request_us = 0;
-    fbus_bulk_rx_reset(&s->bulk);
+    wsg_fbus_bulk_rx_reset(&s->bulk);
     finger->data_count = 0;
 }
 
@@ -130,7 +130,7 @@ static void on_measure(fbus_slot_t *s, wsg_finger_t *finger, const fbus_measure_
 static void on_bulk(fbus_slot_t *s, wsg_finger_t *finger, const fbus_bulk_t *b)
 {
     if (!s->config || s->desc.encoding != FBUS_ENC_BULK || s->node_state != FBUS_NODE_OPERATIONAL ||
-        !fbus_bulk_rx_feed(&s->bulk, b)) {
+        !wsg_fbus_bulk_rx_feed(&s->bulk, b)) {
         return;
     }
     unsigned values = (unsigned)s->desc.rows * s->desc.cols;
@@ -149,13 +149,13 @@ static void dispatch_frame(fbus_slot_t *s, wsg_finger_t *finger, const hal_can_f
     fbus_descriptor_t d;
     fbus_measure_t m;
     fbus_bulk_t b;
-    if (fbus_unpack_heartbeat(f, &hb)) {
+    if (wsg_fbus_unpack_heartbeat(f, &hb)) {
         on_heartbeat(s, finger, &hb);
-    } else if (fbus_unpack_descriptor(f, &d)) {
+    } else if (wsg_fbus_unpack_descriptor(f, &d)) {
         on_descriptor(s, finger, &d);
-    } else if (fbus_unpack_measure(f, &m)) {
+    } else if (wsg_fbus_unpack_measure(f, &m)) {
         on_measure(s, finger, &m);
-    } else if (fbus_unpack_bulk(f, &b)) {
+    } else if (wsg_fbus_unpack_bulk(f, &b)) {
         on_bulk(s, finger, &b);
     }
 }
@@ -165,11 +165,11 @@ static void receive_all(finger_bus_t *bus, wsg_fingers_t *fingers, uint64_t now_
     hal_can_frame_t f;
     while (hal_can_recv(bus->can, &f)) {
         uint8_t injected;
-        if (fbus_unpack_simctl(&f, &injected)) {
+        if (wsg_fbus_unpack_simctl(&f, &injected)) {
             bus->wake = true; /* only an on-demand bus passes it */
             continue;
         }
-        int slot = fbus_slot_of_node(fbus_node_of(f.id));
+        int slot = wsg_fbus_slot_of_node(fbus_node_of(f.id));
         if (slot < 0 || (bus->power_mask & (1u << slot)) == 0u) {
             continue;
         }
@@ -193,7 +193,7 @@ static void supervise(finger_bus_t *bus, unsigned slot, wsg_finger_t *finger, ui
     if (now_us - s->last_rx_us > FBUS_COMM_TIMEOUT_US) {
         s->comm_fault = true;
         finger->data_count = 0;
-        fbus_bulk_rx_reset(&s->bulk);
+        wsg_fbus_bulk_rx_reset(&s->bulk);
         bus->comm_faults++;
         slot_log(HAL_LOG_WARN, slot, "communication fault (no frame within the timeout)");
         return;
@@ -201,7 +201,7 @@ static void supervise(finger_bus_t *bus, unsigned slot, wsg_finger_t *finger, ui
     bool waiting = !s->config && s->node_state == FBUS_NODE_OPERATIONAL;
     if (waiting && now_us - s->desc_request_us >= FBUS_DESCRIPTOR_RETRY_US) {
         hal_can_frame_t f;
-        fbus_pack_command(&f, FBUS_NODE_ID(slot), FBUS_CMD_REQ_DESCRIPTOR);
+        wsg_fbus_pack_command(&f, FBUS_NODE_ID(slot), FBUS_CMD_REQ_DESCRIPTOR);
         send(bus, &f);
         s->desc_request_us = now_us;
     }
@@ -243,7 +243,7 @@ static void broadcast_state(finger_bus_t *bus, const fbus_input_t *in)
     fbus_state_t st = {in->position_mm, in->motor_force_n, bus->power_mask, in->grip_state,
                        bus->counter++};
     hal_can_frame_t f;
-    fbus_pack_state(&f, &st);
+    wsg_fbus_pack_state(&f, &st);
     send(bus, &f);
     bus->next_state_us += FBUS_STATE_PERIOD_US;
     if (bus->next_state_us <= in->now_us) {
@@ -296,7 +296,7 @@ static void regulate(finger_bus_t *bus, const wsg_fingers_t *fingers, const fbus
     }
 }
 
-bool finger_bus_take_force_request(finger_bus_t *bus, float *limit_n)
+bool wsg_finger_bus_take_force_request(finger_bus_t *bus, float *limit_n)
 {
     if (!bus->force_request) {
         return false;
@@ -306,7 +306,7 @@ bool finger_bus_take_force_request(finger_bus_t *bus, float *limit_n)
     return true;
 }
 
-void finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in)
+void wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in)
 {
     if (bus->can == NULL) {
         return;
@@ -326,7 +326,7 @@ void finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input
     }
 }
 
-wsg_status_t finger_bus_tare(finger_bus_t *bus, wsg_fingers_t *fingers, int index)
+wsg_status_t wsg_finger_bus_tare(finger_bus_t *bus, wsg_fingers_t *fingers, int index)
 {
     wsg_status_t status = wsg_fingers_tare(fingers, index);
     if (status != E_SUCCESS || bus->can == NULL) {
@@ -337,7 +337,7 @@ wsg_status_t finger_bus_tare(finger_bus_t *bus, wsg_fingers_t *fingers, int inde
         if ((index < 0 || index == i) && finger->type == FINGER_FMF &&
             wsg_finger_has_data(finger)) {
             hal_can_frame_t f;
-            fbus_pack_command(&f, FBUS_NODE_ID(i), FBUS_CMD_TARE);
+            wsg_fbus_pack_command(&f, FBUS_NODE_ID(i), FBUS_CMD_TARE);
             send(bus, &f);
             bus->wake = true;
         }

@@ -49,17 +49,17 @@ static bool is(const hal_can_frame_t *f, uint32_t func, uint8_t min_dlc)
            fbus_func_of(f->id) == func && f->dlc >= min_dlc;
 }
 
-uint32_t fbus_id(uint32_t func, uint8_t node)
+uint32_t wsg_fbus_id(uint32_t func, uint8_t node)
 {
     return func + (uint32_t)(node & FBUS_NODE_MASK);
 }
 
-int fbus_slot_of_node(uint8_t node)
+int wsg_fbus_slot_of_node(uint8_t node)
 {
     return (node >= 1u && node <= FBUS_SLOTS) ? (int)node - 1 : -1;
 }
 
-void fbus_pack_state(hal_can_frame_t *f, const fbus_state_t *s)
+void wsg_fbus_pack_state(hal_can_frame_t *f, const fbus_state_t *s)
 {
     begin(f, FBUS_ID_STATE, 8);
     put_u16(&f->data[0], to_u16(s->position_mm, 0.01f));
@@ -69,7 +69,7 @@ void fbus_pack_state(hal_can_frame_t *f, const fbus_state_t *s)
     f->data[6] = s->counter;
 }
 
-bool fbus_unpack_state(const hal_can_frame_t *f, fbus_state_t *s)
+bool wsg_fbus_unpack_state(const hal_can_frame_t *f, fbus_state_t *s)
 {
     if (!is(f, FBUS_ID_STATE, 7) || fbus_node_of(f->id) != 0u) {
         return false;
@@ -82,13 +82,13 @@ bool fbus_unpack_state(const hal_can_frame_t *f, fbus_state_t *s)
     return true;
 }
 
-void fbus_pack_command(hal_can_frame_t *f, uint8_t node, uint8_t command)
+void wsg_fbus_pack_command(hal_can_frame_t *f, uint8_t node, uint8_t command)
 {
-    begin(f, fbus_id(FBUS_ID_COMMAND, node), 8);
+    begin(f, wsg_fbus_id(FBUS_ID_COMMAND, node), 8);
     f->data[0] = command;
 }
 
-bool fbus_unpack_command(const hal_can_frame_t *f, uint8_t *command)
+bool wsg_fbus_unpack_command(const hal_can_frame_t *f, uint8_t *command)
 {
     if (!is(f, FBUS_ID_COMMAND, 1)) {
         return false;
@@ -97,9 +97,9 @@ bool fbus_unpack_command(const hal_can_frame_t *f, uint8_t *command)
     return true;
 }
 
-void fbus_pack_descriptor(hal_can_frame_t *f, uint8_t node, const fbus_descriptor_t *d)
+void wsg_fbus_pack_descriptor(hal_can_frame_t *f, uint8_t node, const fbus_descriptor_t *d)
 {
-    begin(f, fbus_id(FBUS_ID_DESCRIPTOR, node), 8);
+    begin(f, wsg_fbus_id(FBUS_ID_DESCRIPTOR, node), 8);
     f->data[0] = d->type;
     f->data[1] = d->version;
     f->data[2] = d->rows;
@@ -109,7 +109,7 @@ void fbus_pack_descriptor(hal_can_frame_t *f, uint8_t node, const fbus_descripto
     put_u16(&f->data[6], d->firmware);
 }
 
-bool fbus_unpack_descriptor(const hal_can_frame_t *f, fbus_descriptor_t *d)
+bool wsg_fbus_unpack_descriptor(const hal_can_frame_t *f, fbus_descriptor_t *d)
 {
     if (!is(f, FBUS_ID_DESCRIPTOR, 8)) {
         return false;
@@ -124,16 +124,16 @@ bool fbus_unpack_descriptor(const hal_can_frame_t *f, fbus_descriptor_t *d)
     return true;
 }
 
-void fbus_pack_measure(hal_can_frame_t *f, uint8_t node, const fbus_measure_t *m)
+void wsg_fbus_pack_measure(hal_can_frame_t *f, uint8_t node, const fbus_measure_t *m)
 {
-    begin(f, fbus_id(FBUS_ID_MEASURE, node), 8);
+    begin(f, wsg_fbus_id(FBUS_ID_MEASURE, node), 8);
     put_u32(&f->data[0], (uint32_t)m->value_milli);
     f->data[4] = m->counter;
     f->data[5] = m->status;
     f->data[6] = m->tare_count;
 }
 
-bool fbus_unpack_measure(const hal_can_frame_t *f, fbus_measure_t *m)
+bool wsg_fbus_unpack_measure(const hal_can_frame_t *f, fbus_measure_t *m)
 {
     if (!is(f, FBUS_ID_MEASURE, 7)) {
         return false;
@@ -145,9 +145,9 @@ bool fbus_unpack_measure(const hal_can_frame_t *f, fbus_measure_t *m)
     return true;
 }
 
-void fbus_pack_bulk(hal_can_frame_t *f, uint8_t node, const fbus_bulk_t *b)
+void wsg_fbus_pack_bulk(hal_can_frame_t *f, uint8_t node, const fbus_bulk_t *b)
 {
-    begin(f, fbus_id(FBUS_ID_BULK, node), 8);
+    begin(f, wsg_fbus_id(FBUS_ID_BULK, node), 8);
     f->data[0] = (uint8_t)((b->segment & 0x7Fu) | (b->last ? 0x80u : 0u));
     f->data[1] = b->transfer;
     for (unsigned i = 0; i < FBUS_BULK_VALUES_PER_FRAME; i++) {
@@ -155,7 +155,7 @@ void fbus_pack_bulk(hal_can_frame_t *f, uint8_t node, const fbus_bulk_t *b)
     }
 }
 
-bool fbus_unpack_bulk(const hal_can_frame_t *f, fbus_bulk_t *b)
+bool wsg_fbus_unpack_bulk(const hal_can_frame_t *f, fbus_bulk_t *b)
 {
     if (!is(f, FBUS_ID_BULK, 8)) {
         return false;
@@ -169,15 +169,15 @@ bool fbus_unpack_bulk(const hal_can_frame_t *f, fbus_bulk_t *b)
     return true;
 }
 
-void fbus_pack_heartbeat(hal_can_frame_t *f, uint8_t node, const fbus_heartbeat_t *h)
+void wsg_fbus_pack_heartbeat(hal_can_frame_t *f, uint8_t node, const fbus_heartbeat_t *h)
 {
-    begin(f, fbus_id(FBUS_ID_HEARTBEAT, node), 8);
+    begin(f, wsg_fbus_id(FBUS_ID_HEARTBEAT, node), 8);
     f->data[0] = h->state;
     f->data[1] = h->faults;
     f->data[2] = h->counter;
 }
 
-bool fbus_unpack_heartbeat(const hal_can_frame_t *f, fbus_heartbeat_t *h)
+bool wsg_fbus_unpack_heartbeat(const hal_can_frame_t *f, fbus_heartbeat_t *h)
 {
     if (!is(f, FBUS_ID_HEARTBEAT, 3)) {
         return false;
@@ -188,13 +188,13 @@ bool fbus_unpack_heartbeat(const hal_can_frame_t *f, fbus_heartbeat_t *h)
     return true;
 }
 
-void fbus_pack_simctl(hal_can_frame_t *f, uint8_t node, uint8_t faults)
+void wsg_fbus_pack_simctl(hal_can_frame_t *f, uint8_t node, uint8_t faults)
 {
-    begin(f, fbus_id(FBUS_ID_SIMCTL, node), 8);
+    begin(f, wsg_fbus_id(FBUS_ID_SIMCTL, node), 8);
     f->data[0] = faults;
 }
 
-bool fbus_unpack_simctl(const hal_can_frame_t *f, uint8_t *faults)
+bool wsg_fbus_unpack_simctl(const hal_can_frame_t *f, uint8_t *faults)
 {
     if (!is(f, FBUS_ID_SIMCTL, 1)) {
         return false;
@@ -203,14 +203,14 @@ bool fbus_unpack_simctl(const hal_can_frame_t *f, uint8_t *faults)
     return true;
 }
 
-void fbus_bulk_rx_reset(fbus_bulk_rx_t *rx)
+void wsg_fbus_bulk_rx_reset(fbus_bulk_rx_t *rx)
 {
     rx->active = false;
     rx->next_segment = 0;
     rx->count = 0;
 }
 
-bool fbus_bulk_rx_feed(fbus_bulk_rx_t *rx, const fbus_bulk_t *segment)
+bool wsg_fbus_bulk_rx_feed(fbus_bulk_rx_t *rx, const fbus_bulk_t *segment)
 {
     if (segment->segment == 0u) {
         rx->active = true;
@@ -220,7 +220,7 @@ bool fbus_bulk_rx_feed(fbus_bulk_rx_t *rx, const fbus_bulk_t *segment)
     unsigned first = (unsigned)segment->segment * FBUS_BULK_VALUES_PER_FRAME;
     if (!rx->active || segment->transfer != rx->transfer || segment->segment != rx->next_segment ||
         first + FBUS_BULK_VALUES_PER_FRAME > FBUS_BULK_MAX_VALUES) {
-        fbus_bulk_rx_reset(rx); /* a lost or foreign segment spoils the transfer */
+        wsg_fbus_bulk_rx_reset(rx); /* a lost or foreign segment spoils the transfer */
         return false;
     }
     for (unsigned i = 0; i < FBUS_BULK_VALUES_PER_FRAME; i++) {

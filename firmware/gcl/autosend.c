@@ -18,7 +18,7 @@ static const char *const value_names[AS_COUNT] = {
 static bool autosend_value_by_name(const char *name, wsg_autosend_value_t *value)
 {
     for (unsigned i = 0; i < AS_COUNT; i++) {
-        if (gcl_text_equals(name, value_names[i])) {
+        if (wsg_gcl_text_equals(name, value_names[i])) {
             *value = (wsg_autosend_value_t)i;
             return true;
         }
@@ -37,7 +37,7 @@ static bool autosend_value_is_numeric(wsg_autosend_value_t value)
 }
 
 /* SYSFLAGS as this connection reads it: SF_CMD_FAILURE is its own. */
-uint32_t gcl_flags(const gcl_conn_t *g, const wsg_snapshot_t *snap)
+uint32_t wsg_gcl_flags(const gcl_conn_t *g, const wsg_snapshot_t *snap)
 {
     uint32_t own = g->cmd_failed ? WSG_FLAG(SF_CMD_FAILURE) : 0u;
     return (snap->flags & ~WSG_FLAG(SF_CMD_FAILURE)) | own;
@@ -62,18 +62,18 @@ static float numeric_value(const wsg_snapshot_t *snap, wsg_autosend_value_t valu
 static uint32_t state_value(const gcl_conn_t *g, const wsg_snapshot_t *snap,
                             wsg_autosend_value_t value)
 {
-    return value == AS_SYSFLAGS ? gcl_flags(g, snap) : (uint32_t)snap->grip_state;
+    return value == AS_SYSFLAGS ? wsg_gcl_flags(g, snap) : (uint32_t)snap->grip_state;
 }
 
 static void put_value(const gcl_conn_t *g, const wsg_snapshot_t *snap, wsg_autosend_value_t value,
                       textbuf_t *tb)
 {
     if (value == AS_SYSFLAGS) {
-        textbuf_put_bits(tb, gcl_flags(g, snap), WSG_SYSFLAG_COUNT);
+        wsg_textbuf_put_bits(tb, wsg_gcl_flags(g, snap), WSG_SYSFLAG_COUNT);
     } else if (value == AS_GRIPSTATE) {
-        textbuf_put_uint(tb, (uint32_t)snap->grip_state);
+        wsg_textbuf_put_uint(tb, (uint32_t)snap->grip_state);
     } else {
-        textbuf_put_float(tb, numeric_value(snap, value));
+        wsg_textbuf_put_float(tb, numeric_value(snap, value));
     }
 }
 
@@ -83,9 +83,9 @@ static wsg_status_t read_option(cmd_ctx_t *ctx, wsg_autosend_value_t value, gcl_
         return E_SUCCESS;
     }
     if (!autosend_value_is_numeric(value)) {
-        return arg_bool(ctx, 2, &sub->on_change);
+        return wsg_arg_bool(ctx, 2, &sub->on_change);
     }
-    wsg_status_t status = arg_float(ctx, 2, &sub->delta);
+    wsg_status_t status = wsg_arg_float(ctx, 2, &sub->delta);
     if (status == E_SUCCESS && sub->delta < 0.0f) {
         status = E_RANGE_ERROR;
     }
@@ -93,17 +93,17 @@ static wsg_status_t read_option(cmd_ctx_t *ctx, wsg_autosend_value_t value, gcl_
     return status;
 }
 
-wsg_status_t cmd_autosend(cmd_ctx_t *ctx)
+wsg_status_t wsg_cmd_autosend(cmd_ctx_t *ctx)
 {
     const char *name = NULL;
     int32_t interval = 0;
     wsg_autosend_value_t value = AS_POS;
-    wsg_status_t status = arg_text(ctx, 0, &name);
+    wsg_status_t status = wsg_arg_text(ctx, 0, &name);
     if (status == E_SUCCESS && !autosend_value_by_name(name, &value)) {
         status = E_INVALID_PARAMETER;
     }
     if (status == E_SUCCESS) {
-        status = arg_int(ctx, 1, &interval);
+        status = wsg_arg_int(ctx, 1, &interval);
     }
     if (status != E_SUCCESS) {
         return status;
@@ -120,8 +120,8 @@ wsg_status_t cmd_autosend(cmd_ctx_t *ctx)
     sub.interval_ms = (uint32_t)interval;
     sub.next_due_us = wsg_device_snapshot(ctx->dev)->now_us; /* the next step, after the ACK */
     ctx->gcl->autosend[value] = sub;
-    reply_ack(ctx);
-    autosend_reschedule(ctx->gcl);
+    wsg_reply_ack(ctx);
+    wsg_autosend_reschedule(ctx->gcl);
     return E_SUCCESS;
 }
 
@@ -142,12 +142,12 @@ static void send_value(gcl_conn_t *g, const wsg_snapshot_t *snap, wsg_autosend_v
 {
     char storage[WSG_REPLY_MAX];
     textbuf_t tb;
-    textbuf_init(&tb, storage, sizeof(storage));
-    textbuf_put_char(&tb, '@');
-    textbuf_put_str(&tb, value_names[value]);
-    textbuf_put_char(&tb, '=');
+    wsg_textbuf_init(&tb, storage, sizeof(storage));
+    wsg_textbuf_put_char(&tb, '@');
+    wsg_textbuf_put_str(&tb, value_names[value]);
+    wsg_textbuf_put_char(&tb, '=');
     put_value(g, snap, value, &tb);
-    gcl_send(g, &tb, WSG_MSG_UPDATE);
+    wsg_gcl_send(g, &tb, WSG_MSG_UPDATE);
 }
 
 /* Keeps the period's phase: a late step skips the periods it missed. */
@@ -162,7 +162,7 @@ static void schedule_next(gcl_autosend_sub_t *sub, uint64_t now_us)
     }
 }
 
-bool autosend_any(const gcl_conn_t *g)
+bool wsg_autosend_any(const gcl_conn_t *g)
 {
     for (unsigned i = 0; i < AS_COUNT; i++) {
         if (g->autosend[i].interval_ms != 0u) {
@@ -173,7 +173,7 @@ bool autosend_any(const gcl_conn_t *g)
 }
 
 /* The connection's timer, due at its earliest subscription (or none). */
-void autosend_reschedule(gcl_conn_t *g)
+void wsg_autosend_reschedule(gcl_conn_t *g)
 {
     wsg_timer_queue_t *timers = &g->conn->dev->timers;
     uint64_t next = UINT64_MAX;
@@ -184,13 +184,13 @@ void autosend_reschedule(gcl_conn_t *g)
         }
     }
     if (next == UINT64_MAX) {
-        timer_cancel(timers, &g->autosend_timer);
+        wsg_timer_cancel(timers, &g->autosend_timer);
     } else {
-        timer_schedule(timers, &g->autosend_timer, next);
+        wsg_timer_schedule(timers, &g->autosend_timer, next);
     }
 }
 
-void autosend_fire(wsg_timer_t *timer, uint64_t now_us)
+void wsg_autosend_fire(wsg_timer_t *timer, uint64_t now_us)
 {
     gcl_conn_t *g = (gcl_conn_t *)(void *)((char *)timer - offsetof(gcl_conn_t, autosend_timer));
     const wsg_snapshot_t *snap = wsg_device_snapshot(gcl_device(g));
@@ -212,6 +212,6 @@ void autosend_fire(wsg_timer_t *timer, uint64_t now_us)
         schedule_next(sub, now_us);
     }
     if (g->conn->open) {
-        autosend_reschedule(g);
+        wsg_autosend_reschedule(g);
     }
 }

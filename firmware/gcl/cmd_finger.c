@@ -27,25 +27,25 @@ static wsg_status_t reply_fingers(cmd_ctx_t *ctx, finger_writer_t write)
     }
     char storage[WSG_REPLY_MAX];
     textbuf_t tb;
-    textbuf_init(&tb, storage, sizeof(storage));
-    textbuf_put_str(&tb, ctx->cmd->name);
+    wsg_textbuf_init(&tb, storage, sizeof(storage));
+    wsg_textbuf_put_str(&tb, ctx->cmd->name);
     const wsg_finger_t *slots = wsg_device_snapshot(ctx->dev)->fingers->slot;
     if (index >= 0) {
-        textbuf_put_char(&tb, '[');
-        textbuf_put_int(&tb, index);
-        textbuf_put_str(&tb, "]=");
+        wsg_textbuf_put_char(&tb, '[');
+        wsg_textbuf_put_int(&tb, index);
+        wsg_textbuf_put_str(&tb, "]=");
         write(&tb, &slots[index]);
     } else {
-        textbuf_put_str(&tb, "=[");
+        wsg_textbuf_put_str(&tb, "=[");
         for (int i = 0; i < WSG_FINGER_COUNT; i++) {
             if (i > 0) {
-                textbuf_put_char(&tb, ',');
+                wsg_textbuf_put_char(&tb, ',');
             }
             write(&tb, &slots[i]);
         }
-        textbuf_put_char(&tb, ']');
+        wsg_textbuf_put_char(&tb, ']');
     }
-    reply_text(ctx, &tb);
+    wsg_reply_text(ctx, &tb);
     return E_SUCCESS;
 }
 
@@ -54,44 +54,44 @@ static wsg_status_t reply_fingers(cmd_ctx_t *ctx, finger_writer_t write)
 static void write_data(textbuf_t *tb, const wsg_finger_t *finger)
 {
     if (finger->type == FINGER_FMF && finger->data_count == 1) {
-        textbuf_put_float(tb, finger->data[0]);
+        wsg_textbuf_put_float(tb, finger->data[0]);
         return;
     }
-    textbuf_put_char(tb, '[');
+    wsg_textbuf_put_char(tb, '[');
     for (unsigned i = 0; i < finger->data_count; i++) {
         if (i > 0) {
-            textbuf_put_char(tb, ',');
+            wsg_textbuf_put_char(tb, ',');
         }
         if (finger->type == FINGER_DSA) {
-            textbuf_put_uint(tb, (uint32_t)finger->data[i]); /* raw 12-bit cells */
+            wsg_textbuf_put_uint(tb, (uint32_t)finger->data[i]); /* raw 12-bit cells */
         } else {
-            textbuf_put_float(tb, finger->data[i]);
+            wsg_textbuf_put_float(tb, finger->data[i]);
         }
     }
-    textbuf_put_char(tb, ']');
+    wsg_textbuf_put_char(tb, ']');
 }
 
 static void write_type(textbuf_t *tb, const wsg_finger_t *finger)
 {
-    textbuf_put_quoted(tb, wsg_finger_type_name(finger->type));
+    wsg_textbuf_put_quoted(tb, wsg_finger_type_name(finger->type));
 }
 
 static void write_flags(textbuf_t *tb, const wsg_finger_t *finger)
 {
-    textbuf_put_bits(tb, finger->flags, WSG_FINGER_FLAG_COUNT);
+    wsg_textbuf_put_bits(tb, finger->flags, WSG_FINGER_FLAG_COUNT);
 }
 
-wsg_status_t cmd_ftype(cmd_ctx_t *ctx)
+wsg_status_t wsg_cmd_ftype(cmd_ctx_t *ctx)
 {
     return reply_fingers(ctx, write_type);
 }
 
-wsg_status_t cmd_fflags(cmd_ctx_t *ctx)
+wsg_status_t wsg_cmd_fflags(cmd_ctx_t *ctx)
 {
     return reply_fingers(ctx, write_flags);
 }
 
-wsg_status_t cmd_fdata(cmd_ctx_t *ctx)
+wsg_status_t wsg_cmd_fdata(cmd_ctx_t *ctx)
 {
     int index = 0;
     wsg_status_t status = finger_index(ctx, &index);
@@ -106,11 +106,11 @@ wsg_status_t cmd_fdata(cmd_ctx_t *ctx)
     return reply_fingers(ctx, write_data);
 }
 
-wsg_status_t cmd_tare(cmd_ctx_t *ctx)
+wsg_status_t wsg_cmd_tare(cmd_ctx_t *ctx)
 {
     int32_t index = -1;
     if (ctx->cmd->argc == 1) {
-        wsg_status_t status = arg_int(ctx, 0, &index);
+        wsg_status_t status = wsg_arg_int(ctx, 0, &index);
         if (status != E_SUCCESS) {
             return status;
         }
@@ -122,6 +122,6 @@ wsg_status_t cmd_tare(cmd_ctx_t *ctx)
     if (status != E_SUCCESS) {
         return status;
     }
-    reply_ack(ctx);
+    wsg_reply_ack(ctx);
     return E_SUCCESS;
 }

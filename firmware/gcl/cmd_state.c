@@ -7,7 +7,7 @@ static wsg_status_t session_length(cmd_ctx_t *ctx, float *value)
 {
     if (ctx->cmd->form == GCL_FORM_SET) {
         float mm = 0.0f;
-        wsg_status_t status = arg_float(ctx, 0, &mm);
+        wsg_status_t status = wsg_arg_float(ctx, 0, &mm);
         if (status != E_SUCCESS) {
             return status;
         }
@@ -16,82 +16,82 @@ static wsg_status_t session_length(cmd_ctx_t *ctx, float *value)
         }
         *value = mm;
     }
-    reply_float(ctx, *value);
+    wsg_reply_float(ctx, *value);
     return E_SUCCESS;
 }
 
-wsg_status_t cmd_pwt(cmd_ctx_t *ctx)
+wsg_status_t wsg_cmd_pwt(cmd_ctx_t *ctx)
 {
     return session_length(ctx, &ctx->gcl->pwt_mm);
 }
 
-wsg_status_t cmd_clt(cmd_ctx_t *ctx)
+wsg_status_t wsg_cmd_clt(cmd_ctx_t *ctx)
 {
     return session_length(ctx, &ctx->gcl->clt_mm);
 }
 
-wsg_status_t cmd_pos(cmd_ctx_t *ctx)
+wsg_status_t wsg_cmd_pos(cmd_ctx_t *ctx)
 {
-    reply_float(ctx, wsg_device_reading(ctx->dev, WSG_READING_POSITION));
+    wsg_reply_float(ctx, wsg_device_reading(ctx->dev, WSG_READING_POSITION));
     return E_SUCCESS;
 }
 
-wsg_status_t cmd_speed(cmd_ctx_t *ctx)
+wsg_status_t wsg_cmd_speed(cmd_ctx_t *ctx)
 {
-    reply_float(ctx, wsg_device_reading(ctx->dev, WSG_READING_SPEED));
+    wsg_reply_float(ctx, wsg_device_reading(ctx->dev, WSG_READING_SPEED));
     return E_SUCCESS;
 }
 
-wsg_status_t cmd_force(cmd_ctx_t *ctx)
+wsg_status_t wsg_cmd_force(cmd_ctx_t *ctx)
 {
-    reply_float(ctx, wsg_device_reading(ctx->dev, WSG_READING_FORCE));
+    wsg_reply_float(ctx, wsg_device_reading(ctx->dev, WSG_READING_FORCE));
     return E_SUCCESS;
 }
 
-wsg_status_t cmd_gripstate(cmd_ctx_t *ctx)
+wsg_status_t wsg_cmd_gripstate(cmd_ctx_t *ctx)
 {
-    reply_int(ctx, (int32_t)wsg_device_snapshot(ctx->dev)->grip_state);
+    wsg_reply_int(ctx, (int32_t)wsg_device_snapshot(ctx->dev)->grip_state);
     return E_SUCCESS;
 }
 
-wsg_status_t cmd_temp(cmd_ctx_t *ctx)
+wsg_status_t wsg_cmd_temp(cmd_ctx_t *ctx)
 {
-    reply_float(ctx, wsg_device_reading(ctx->dev, WSG_READING_TEMPERATURE));
+    wsg_reply_float(ctx, wsg_device_reading(ctx->dev, WSG_READING_TEMPERATURE));
     return E_SUCCESS;
 }
 
 /* NAME[i]=value */
 static void reply_indexed_begin(cmd_ctx_t *ctx, textbuf_t *tb, char *storage, size_t cap)
 {
-    textbuf_init(tb, storage, cap);
-    textbuf_put_str(tb, ctx->cmd->name);
-    textbuf_put_char(tb, '[');
-    textbuf_put_int(tb, ctx->cmd->index);
-    textbuf_put_str(tb, "]=");
+    wsg_textbuf_init(tb, storage, cap);
+    wsg_textbuf_put_str(tb, ctx->cmd->name);
+    wsg_textbuf_put_char(tb, '[');
+    wsg_textbuf_put_int(tb, ctx->cmd->index);
+    wsg_textbuf_put_str(tb, "]=");
 }
 
-wsg_status_t cmd_sysflags(cmd_ctx_t *ctx)
+wsg_status_t wsg_cmd_sysflags(cmd_ctx_t *ctx)
 {
     char storage[128];
     textbuf_t tb;
-    uint32_t flags = gcl_flags(ctx->gcl, wsg_device_snapshot(ctx->dev));
+    uint32_t flags = wsg_gcl_flags(ctx->gcl, wsg_device_snapshot(ctx->dev));
     if (ctx->cmd->form == GCL_FORM_INDEXED_QUERY) {
         int32_t index = ctx->cmd->index;
         if (index < 0 || index >= WSG_SYSFLAG_COUNT) {
             return E_INDEX_OUT_OF_BOUNDS;
         }
         reply_indexed_begin(ctx, &tb, storage, sizeof(storage));
-        textbuf_put_char(&tb, ((flags >> index) & 1u) != 0u ? '1' : '0');
+        wsg_textbuf_put_char(&tb, ((flags >> index) & 1u) != 0u ? '1' : '0');
     } else {
-        textbuf_init(&tb, storage, sizeof(storage));
-        textbuf_put_str(&tb, "SYSFLAGS=");
-        textbuf_put_bits(&tb, flags, WSG_SYSFLAG_COUNT);
+        wsg_textbuf_init(&tb, storage, sizeof(storage));
+        wsg_textbuf_put_str(&tb, "SYSFLAGS=");
+        wsg_textbuf_put_bits(&tb, flags, WSG_SYSFLAG_COUNT);
     }
-    reply_text(ctx, &tb);
+    wsg_reply_text(ctx, &tb);
     return E_SUCCESS;
 }
 
-wsg_status_t cmd_gripstats(cmd_ctx_t *ctx)
+wsg_status_t wsg_cmd_gripstats(cmd_ctx_t *ctx)
 {
     char storage[96];
     textbuf_t tb;
@@ -102,18 +102,18 @@ wsg_status_t cmd_gripstats(cmd_ctx_t *ctx)
             return E_INDEX_OUT_OF_BOUNDS;
         }
         reply_indexed_begin(ctx, &tb, storage, sizeof(storage));
-        textbuf_put_uint(&tb, stats[index]);
+        wsg_textbuf_put_uint(&tb, stats[index]);
     } else {
-        textbuf_init(&tb, storage, sizeof(storage));
-        textbuf_put_str(&tb, "GRIPSTATS=[");
+        wsg_textbuf_init(&tb, storage, sizeof(storage));
+        wsg_textbuf_put_str(&tb, "GRIPSTATS=[");
         for (unsigned i = 0; i < 3; i++) {
             if (i > 0) {
-                textbuf_put_char(&tb, ',');
+                wsg_textbuf_put_char(&tb, ',');
             }
-            textbuf_put_uint(&tb, stats[i]);
+            wsg_textbuf_put_uint(&tb, stats[i]);
         }
-        textbuf_put_char(&tb, ']');
+        wsg_textbuf_put_char(&tb, ']');
     }
-    reply_text(ctx, &tb);
+    wsg_reply_text(ctx, &tb);
     return E_SUCCESS;
 }

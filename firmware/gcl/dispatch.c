@@ -17,33 +17,33 @@ _Static_assert(WSG_GCL_NAME_MAX == GCL_NAME_MAX && WSG_GCL_ARGS_MAX == GCL_ARGS_
                "the public limits are the parser's");
 
 static const cmd_entry_t commands[] = {
-    {{"VERBOSE", SET | QUERY, 0, 0}, cmd_verbose},
-    {{"BYE", CALL, 0, 0}, cmd_bye},
-    {{"HOME", CALL, 0, 1}, cmd_home},
-    {{"MOVE", CALL, 1, 2}, cmd_move},
-    {{"GRIP", CALL, 0, 3}, cmd_grip},
-    {{"RELEASE", CALL, 0, 2}, cmd_release},
-    {{"PWT", QUERY | SET, 0, 0}, cmd_pwt},
-    {{"CLT", QUERY | SET, 0, 0}, cmd_clt},
-    {{"POS", QUERY, 0, 0}, cmd_pos},
-    {{"SPEED", QUERY, 0, 0}, cmd_speed},
-    {{"FORCE", QUERY, 0, 0}, cmd_force},
-    {{"GRIPSTATE", QUERY, 0, 0}, cmd_gripstate},
-    {{"DEVTYPE", QUERY, 0, 0}, cmd_devtype},
-    {{"VERSION", QUERY, 0, 0}, cmd_version},
-    {{"SN", QUERY, 0, 0}, cmd_sn},
-    {{"TAG", QUERY, 0, 0}, cmd_tag},
-    {{"SYSFLAGS", QUERY | INDEXED, 0, 0}, cmd_sysflags},
-    {{"TEMP", QUERY, 0, 0}, cmd_temp},
-    {{"AUTOSEND", CALL, 2, 3}, cmd_autosend},
-    {{"STOP", CALL, 0, 0}, cmd_stop},
-    {{"FASTSTOP", CALL, 0, 0}, cmd_faststop},
-    {{"FSACK", CALL, 0, 0}, cmd_fsack},
-    {{"TARE", CALL, 0, 1}, cmd_tare},
-    {{"GRIPSTATS", QUERY | INDEXED, 0, 0}, cmd_gripstats},
-    {{"FDATA", QUERY | INDEXED, 0, 0}, cmd_fdata},
-    {{"FTYPE", QUERY | INDEXED, 0, 0}, cmd_ftype},
-    {{"FFLAGS", QUERY | INDEXED, 0, 0}, cmd_fflags},
+    {{"VERBOSE", SET | QUERY, 0, 0}, wsg_cmd_verbose},
+    {{"BYE", CALL, 0, 0}, wsg_cmd_bye},
+    {{"HOME", CALL, 0, 1}, wsg_cmd_home},
+    {{"MOVE", CALL, 1, 2}, wsg_cmd_move},
+    {{"GRIP", CALL, 0, 3}, wsg_cmd_grip},
+    {{"RELEASE", CALL, 0, 2}, wsg_cmd_release},
+    {{"PWT", QUERY | SET, 0, 0}, wsg_cmd_pwt},
+    {{"CLT", QUERY | SET, 0, 0}, wsg_cmd_clt},
+    {{"POS", QUERY, 0, 0}, wsg_cmd_pos},
+    {{"SPEED", QUERY, 0, 0}, wsg_cmd_speed},
+    {{"FORCE", QUERY, 0, 0}, wsg_cmd_force},
+    {{"GRIPSTATE", QUERY, 0, 0}, wsg_cmd_gripstate},
+    {{"DEVTYPE", QUERY, 0, 0}, wsg_cmd_devtype},
+    {{"VERSION", QUERY, 0, 0}, wsg_cmd_version},
+    {{"SN", QUERY, 0, 0}, wsg_cmd_sn},
+    {{"TAG", QUERY, 0, 0}, wsg_cmd_tag},
+    {{"SYSFLAGS", QUERY | INDEXED, 0, 0}, wsg_cmd_sysflags},
+    {{"TEMP", QUERY, 0, 0}, wsg_cmd_temp},
+    {{"AUTOSEND", CALL, 2, 3}, wsg_cmd_autosend},
+    {{"STOP", CALL, 0, 0}, wsg_cmd_stop},
+    {{"FASTSTOP", CALL, 0, 0}, wsg_cmd_faststop},
+    {{"FSACK", CALL, 0, 0}, wsg_cmd_fsack},
+    {{"TARE", CALL, 0, 1}, wsg_cmd_tare},
+    {{"GRIPSTATS", QUERY | INDEXED, 0, 0}, wsg_cmd_gripstats},
+    {{"FDATA", QUERY | INDEXED, 0, 0}, wsg_cmd_fdata},
+    {{"FTYPE", QUERY | INDEXED, 0, 0}, wsg_cmd_ftype},
+    {{"FFLAGS", QUERY | INDEXED, 0, 0}, wsg_cmd_fflags},
 };
 
 unsigned wsg_gcl_command_count(void)
@@ -168,7 +168,7 @@ static void remember_query(gcl_conn_t *g, const char *line, size_t len, const cm
     g->query_entry = entry;
 }
 
-/* What gcl_parse_line() gives for a plain query line of this command. */
+/* What wsg_gcl_parse_line() gives for a plain query line of this command. */
 static void parsed_query(gcl_command_t *cmd, const cmd_entry_t *entry)
 {
     memset(cmd, 0, sizeof(*cmd));
@@ -189,7 +189,7 @@ static bool ran_handler_that_acts(const cmd_entry_t *entry, const gcl_command_t 
  * control bytes), an unknown name, a syntax error, then the handler's own.
  * The outcome sets SF_CMD_FAILURE, here and only here (and in the final
  * reply's event for long commands). */
-void dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_status_t line_status)
+void wsg_dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_status_t line_status)
 {
     if (line_status == GCL_LINE_OK && is_blank(line, len)) {
         return; /* empty lines ("\r\n" keep-alives) are ignored */
@@ -202,7 +202,7 @@ void dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_status_
         entry = g->query_entry;
         parsed_query(&cmd, entry);
     } else {
-        status = gcl_parse_line(line, len, &cmd);
+        status = wsg_gcl_parse_line(line, len, &cmd);
         entry = cmd.name[0] != '\0' ? find_for(g, cmd.name) : NULL;
         bool plain_query = line_status == GCL_LINE_OK && status == E_SUCCESS && entry != NULL &&
                            cmd.form == GCL_FORM_QUERY;
@@ -223,7 +223,7 @@ void dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_status_
         status = run_command(g, entry, &cmd);
     }
     if (status != E_SUCCESS) {
-        gcl_send_error(g, cmd.name, status);
+        wsg_gcl_send_error(g, cmd.name, status);
     }
     g->cmd_failed = status != E_SUCCESS;
     wsg_device_note_result(dev, status);

@@ -14,16 +14,16 @@ static void gcl_open(wsg_conn_t *c)
     g->conn = conn_of(c);
     g->pwt_mm = cfg->default_pwt_mm;
     g->clt_mm = cfg->default_clt_mm;
-    g->autosend_timer.fire = autosend_fire;
-    gcl_linebuf_reset(&g->input);
+    g->autosend_timer.fire = wsg_autosend_fire;
+    wsg_gcl_linebuf_reset(&g->input);
 }
 
 static void handle_completed_line(gcl_conn_t *g)
 {
     const gcl_linebuf_t *lb = &g->input;
     g->lines_in++;
-    conn_note_input(g->conn, lb->text, lb->len);
-    dispatch_line(g, lb->text, lb->len, gcl_linebuf_status(lb));
+    wsg_conn_note_input(g->conn, lb->text, lb->len);
+    wsg_dispatch_line(g, lb->text, lb->len, wsg_gcl_linebuf_status(lb));
 }
 
 static void gcl_input(wsg_conn_t *c, const uint8_t *bytes, size_t len)
@@ -33,7 +33,7 @@ static void gcl_input(wsg_conn_t *c, const uint8_t *bytes, size_t len)
     g->in_input = true;
     while (i < len && !g->conn->said_goodbye) {
         bool line_done = false;
-        i += gcl_linebuf_feed_bytes(&g->input, bytes + i, len - i, &line_done);
+        i += wsg_gcl_linebuf_feed_bytes(&g->input, bytes + i, len - i, &line_done);
         if (line_done) {
             handle_completed_line(g);
         }
@@ -45,7 +45,7 @@ static void gcl_input(wsg_conn_t *c, const uint8_t *bytes, size_t len)
 static void gcl_end_datagram(wsg_conn_t *c)
 {
     gcl_conn_t *g = gcl_of(c);
-    if (!g->conn->said_goodbye && gcl_linebuf_flush(&g->input)) {
+    if (!g->conn->said_goodbye && wsg_gcl_linebuf_flush(&g->input)) {
         handle_completed_line(g);
     }
 }
@@ -64,15 +64,15 @@ static void gcl_done(wsg_conn_t *c, wsg_op_t op, wsg_status_t status)
     const char *name = (unsigned)op < WSG_OP_COUNT ? op_names[op] : "?";
     g->cmd_failed = status != E_SUCCESS;
     if (status == E_SUCCESS) {
-        gcl_send_word(g, "FIN", name);
+        wsg_gcl_send_word(g, "FIN", name);
     } else {
-        gcl_send_error(g, name, status);
+        wsg_gcl_send_error(g, name, status);
     }
 }
 
 static bool gcl_busy(const wsg_conn_t *c)
 {
-    return autosend_any(gcl_of_const(c));
+    return wsg_autosend_any(gcl_of_const(c));
 }
 
 /* The manual ends a connection with BYE(); the device copes without it. */
@@ -86,7 +86,7 @@ static void gcl_close(wsg_conn_t *c, wsg_close_reason_t why)
     if (missing && o != NULL && o->tolerated != NULL) {
         o->tolerated(gcl_observer_ctx(g), c, "BYE", "connection closed without BYE()");
     }
-    timer_cancel(&conn->dev->timers, &g->autosend_timer);
+    wsg_timer_cancel(&conn->dev->timers, &g->autosend_timer);
 }
 
 const wsg_proto_driver_t wsg_gcl_driver = {
@@ -99,58 +99,58 @@ const wsg_proto_driver_t wsg_gcl_driver = {
     .close = gcl_close,
 };
 
-void gcl_send(gcl_conn_t *g, textbuf_t *tb, wsg_msg_kind_t kind)
+void wsg_gcl_send(gcl_conn_t *g, textbuf_t *tb, wsg_msg_kind_t kind)
 {
-    textbuf_put_char(tb, '\n');
+    wsg_textbuf_put_char(tb, '\n');
     if (tb->overflow) {
         /* never hand out a cut line: report the overrun instead */
-        textbuf_init(tb, tb->data, tb->cap);
-        textbuf_put_str(tb, "ERR REPLY 27\n");
+        wsg_textbuf_init(tb, tb->data, tb->cap);
+        wsg_textbuf_put_str(tb, "ERR REPLY 27\n");
         const wsg_gcl_observer_t *o = gcl_observer(g);
         if (o != NULL && o->error_sent != NULL) {
             o->error_sent(gcl_observer_ctx(g), conn_public(g->conn), -1, E_OVERRUN);
         }
     }
-    gcl_send_line(g, tb->data, tb->len, kind);
+    wsg_gcl_send_line(g, tb->data, tb->len, kind);
 }
 
-void gcl_send_line(gcl_conn_t *g, const char *line, size_t len, wsg_msg_kind_t kind)
+void wsg_gcl_send_line(gcl_conn_t *g, const char *line, size_t len, wsg_msg_kind_t kind)
 {
     g->lines_out++;
-    conn_write(g->conn, line, len, kind);
+    wsg_conn_write(g->conn, line, len, kind);
 }
 
 /* "ACK HOME", "FIN MOVE" */
-void gcl_send_word(gcl_conn_t *g, const char *word, const char *name)
+void wsg_gcl_send_word(gcl_conn_t *g, const char *word, const char *name)
 {
     char storage[64];
     textbuf_t tb;
-    textbuf_init(&tb, storage, sizeof(storage));
-    textbuf_put_str(&tb, word);
-    textbuf_put_char(&tb, ' ');
-    textbuf_put_str(&tb, name);
-    gcl_send(g, &tb, WSG_MSG_REPLY);
+    wsg_textbuf_init(&tb, storage, sizeof(storage));
+    wsg_textbuf_put_str(&tb, word);
+    wsg_textbuf_put_char(&tb, ' ');
+    wsg_textbuf_put_str(&tb, name);
+    wsg_gcl_send(g, &tb, WSG_MSG_REPLY);
 }
 
-void gcl_send_error(gcl_conn_t *g, const char *name, wsg_status_t status)
+void wsg_gcl_send_error(gcl_conn_t *g, const char *name, wsg_status_t status)
 {
     char storage[128];
     textbuf_t tb;
-    textbuf_init(&tb, storage, sizeof(storage));
-    textbuf_put_str(&tb, "ERR ");
-    textbuf_put_str(&tb, name[0] != '\0' ? name : "?");
-    textbuf_put_char(&tb, ' ');
-    textbuf_put_uint(&tb, (uint32_t)status);
+    wsg_textbuf_init(&tb, storage, sizeof(storage));
+    wsg_textbuf_put_str(&tb, "ERR ");
+    wsg_textbuf_put_str(&tb, name[0] != '\0' ? name : "?");
+    wsg_textbuf_put_char(&tb, ' ');
+    wsg_textbuf_put_uint(&tb, (uint32_t)status);
     if (g->verbose) {
-        textbuf_put_char(&tb, ' ');
-        textbuf_put_str(&tb, wsg_status_description(status));
+        wsg_textbuf_put_char(&tb, ' ');
+        wsg_textbuf_put_str(&tb, wsg_status_description(status));
     }
     const wsg_gcl_observer_t *o = gcl_observer(g);
     if (o != NULL && o->error_sent != NULL) {
         o->error_sent(gcl_observer_ctx(g), conn_public(g->conn), wsg_gcl_command_index(name),
                       status);
     }
-    gcl_send(g, &tb, WSG_MSG_REPLY);
+    wsg_gcl_send(g, &tb, WSG_MSG_REPLY);
 }
 
 void wsg_gcl_observe(wsg_device_t *dev, const wsg_gcl_observer_t *observer, void *ctx)

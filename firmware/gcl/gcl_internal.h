@@ -94,67 +94,67 @@ typedef struct cmd_entry {
 } cmd_entry_t;
 
 /* dispatch.c */
-void dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_status_t line_status);
+void wsg_dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_status_t line_status);
 
 /* driver.c: formatting and sending; sending changes no state */
-void gcl_send(gcl_conn_t *g, textbuf_t *tb, wsg_msg_kind_t kind);
+void wsg_gcl_send(gcl_conn_t *g, textbuf_t *tb, wsg_msg_kind_t kind);
 /* A whole line, its '\n' included, that surely fits a reply. */
-void gcl_send_line(gcl_conn_t *g, const char *line, size_t len, wsg_msg_kind_t kind);
-void gcl_send_word(gcl_conn_t *g, const char *word, const char *name);
-void gcl_send_error(gcl_conn_t *g, const char *name, wsg_status_t status);
+void wsg_gcl_send_line(gcl_conn_t *g, const char *line, size_t len, wsg_msg_kind_t kind);
+void wsg_gcl_send_word(gcl_conn_t *g, const char *word, const char *name);
+void wsg_gcl_send_error(gcl_conn_t *g, const char *name, wsg_status_t status);
 
 /* autosend.c */
-void autosend_reschedule(gcl_conn_t *g);
-void autosend_fire(wsg_timer_t *timer, uint64_t now_us);
-bool autosend_any(const gcl_conn_t *g);
-uint32_t gcl_flags(const gcl_conn_t *g, const wsg_snapshot_t *snap);
+void wsg_autosend_reschedule(gcl_conn_t *g);
+void wsg_autosend_fire(wsg_timer_t *timer, uint64_t now_us);
+bool wsg_autosend_any(const gcl_conn_t *g);
+uint32_t wsg_gcl_flags(const gcl_conn_t *g, const wsg_snapshot_t *snap);
 
 /* args.c: E_SUCCESS, E_INVALID_PARAMETER (wrong type) or E_RANGE_ERROR (a
  * bool that is neither 0 nor 1) */
-wsg_status_t arg_float(const cmd_ctx_t *ctx, unsigned i, float *out);
-wsg_status_t arg_int(const cmd_ctx_t *ctx, unsigned i, int32_t *out);
-wsg_status_t arg_bool(const cmd_ctx_t *ctx, unsigned i, bool *out);
+wsg_status_t wsg_arg_float(const cmd_ctx_t *ctx, unsigned i, float *out);
+wsg_status_t wsg_arg_int(const cmd_ctx_t *ctx, unsigned i, int32_t *out);
+wsg_status_t wsg_arg_bool(const cmd_ctx_t *ctx, unsigned i, bool *out);
 /* A quoted string, or (tolerated) a bare word. */
-wsg_status_t arg_text(const cmd_ctx_t *ctx, unsigned i, const char **out);
+wsg_status_t wsg_arg_text(const cmd_ctx_t *ctx, unsigned i, const char **out);
 /* Optional float argument i, or the fallback when it was not given. */
-wsg_status_t arg_optional_float(const cmd_ctx_t *ctx, unsigned i, float fallback, float *out);
+wsg_status_t wsg_arg_optional_float(const cmd_ctx_t *ctx, unsigned i, float fallback, float *out);
 /* Reports input the manual does not allow but the device accepts. */
-void note_tolerated(const cmd_ctx_t *ctx, const char *what);
+void wsg_note_tolerated(const cmd_ctx_t *ctx, const char *what);
 
 /* Reply helpers */
-void reply_ack(cmd_ctx_t *ctx);
-void reply_float(cmd_ctx_t *ctx, float value);
-void reply_int(cmd_ctx_t *ctx, int32_t value);
-void reply_quoted(cmd_ctx_t *ctx, const char *value);
-void reply_text(cmd_ctx_t *ctx, textbuf_t *tb);
+void wsg_reply_ack(cmd_ctx_t *ctx);
+void wsg_reply_float(cmd_ctx_t *ctx, float value);
+void wsg_reply_int(cmd_ctx_t *ctx, int32_t value);
+void wsg_reply_quoted(cmd_ctx_t *ctx, const char *value);
+void wsg_reply_text(cmd_ctx_t *ctx, textbuf_t *tb);
 
 /* Handlers */
-wsg_status_t cmd_verbose(cmd_ctx_t *ctx);
-wsg_status_t cmd_bye(cmd_ctx_t *ctx);
-wsg_status_t cmd_home(cmd_ctx_t *ctx);
-wsg_status_t cmd_move(cmd_ctx_t *ctx);
-wsg_status_t cmd_grip(cmd_ctx_t *ctx);
-wsg_status_t cmd_release(cmd_ctx_t *ctx);
-wsg_status_t cmd_stop(cmd_ctx_t *ctx);
-wsg_status_t cmd_faststop(cmd_ctx_t *ctx);
-wsg_status_t cmd_fsack(cmd_ctx_t *ctx);
-wsg_status_t cmd_pwt(cmd_ctx_t *ctx);
-wsg_status_t cmd_clt(cmd_ctx_t *ctx);
-wsg_status_t cmd_pos(cmd_ctx_t *ctx);
-wsg_status_t cmd_speed(cmd_ctx_t *ctx);
-wsg_status_t cmd_force(cmd_ctx_t *ctx);
-wsg_status_t cmd_gripstate(cmd_ctx_t *ctx);
-wsg_status_t cmd_gripstats(cmd_ctx_t *ctx);
-wsg_status_t cmd_sysflags(cmd_ctx_t *ctx);
-wsg_status_t cmd_temp(cmd_ctx_t *ctx);
-wsg_status_t cmd_devtype(cmd_ctx_t *ctx);
-wsg_status_t cmd_version(cmd_ctx_t *ctx);
-wsg_status_t cmd_sn(cmd_ctx_t *ctx);
-wsg_status_t cmd_tag(cmd_ctx_t *ctx);
-wsg_status_t cmd_autosend(cmd_ctx_t *ctx);
-wsg_status_t cmd_tare(cmd_ctx_t *ctx);
-wsg_status_t cmd_fdata(cmd_ctx_t *ctx);
-wsg_status_t cmd_ftype(cmd_ctx_t *ctx);
-wsg_status_t cmd_fflags(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_verbose(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_bye(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_home(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_move(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_grip(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_release(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_stop(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_faststop(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_fsack(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_pwt(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_clt(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_pos(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_speed(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_force(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_gripstate(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_gripstats(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_sysflags(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_temp(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_devtype(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_version(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_sn(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_tag(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_autosend(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_tare(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_fdata(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_ftype(cmd_ctx_t *ctx);
+wsg_status_t wsg_cmd_fflags(cmd_ctx_t *ctx);
 
 #endif

@@ -10,7 +10,7 @@ static void start_line(gcl_linebuf_t *lb)
     lb->text[0] = '\0';
 }
 
-void gcl_linebuf_reset(gcl_linebuf_t *lb)
+void wsg_gcl_linebuf_reset(gcl_linebuf_t *lb)
 {
     start_line(lb);
     lb->ended_by_cr = false;
@@ -27,7 +27,7 @@ static void finish_line(gcl_linebuf_t *lb)
     lb->complete = true;
 }
 
-bool gcl_linebuf_feed(gcl_linebuf_t *lb, uint8_t byte)
+bool wsg_gcl_linebuf_feed(gcl_linebuf_t *lb, uint8_t byte)
 {
     bool after_cr = lb->ended_by_cr;
     lb->ended_by_cr = false;
@@ -54,7 +54,7 @@ bool gcl_linebuf_feed(gcl_linebuf_t *lb, uint8_t byte)
     return false;
 }
 
-/* A byte that gcl_linebuf_feed() appends to an open line without more ado. */
+/* A byte that wsg_gcl_linebuf_feed() appends to an open line without more ado. */
 static bool is_plain_byte(uint8_t byte)
 {
     return (unsigned)(byte - 0x20u) < 0x5fu || byte == '\t';
@@ -62,8 +62,9 @@ static bool is_plain_byte(uint8_t byte)
 
 /* The common case in one tight loop (a pipelined client sends many lines per
  * write): plain bytes and a line end that is not the "\n" of a "\r\n". Every
- * other byte goes through gcl_linebuf_feed(), which says what they mean. */
-size_t gcl_linebuf_feed_bytes(gcl_linebuf_t *lb, const uint8_t *bytes, size_t len, bool *line_done)
+ * other byte goes through wsg_gcl_linebuf_feed(), which says what they mean. */
+size_t wsg_gcl_linebuf_feed_bytes(gcl_linebuf_t *lb, const uint8_t *bytes, size_t len,
+                                  bool *line_done)
 {
     size_t i = 0;
     *line_done = false;
@@ -92,7 +93,7 @@ size_t gcl_linebuf_feed_bytes(gcl_linebuf_t *lb, const uint8_t *bytes, size_t le
                 break;
             }
         }
-        if (gcl_linebuf_feed(lb, bytes[i++])) {
+        if (wsg_gcl_linebuf_feed(lb, bytes[i++])) {
             *line_done = true;
             break;
         }
@@ -100,16 +101,16 @@ size_t gcl_linebuf_feed_bytes(gcl_linebuf_t *lb, const uint8_t *bytes, size_t le
     return i;
 }
 
-bool gcl_linebuf_flush(gcl_linebuf_t *lb)
+bool wsg_gcl_linebuf_flush(gcl_linebuf_t *lb)
 {
-    if (!gcl_linebuf_pending(lb)) {
+    if (!wsg_gcl_linebuf_pending(lb)) {
         return false;
     }
     finish_line(lb);
     return true;
 }
 
-gcl_line_status_t gcl_linebuf_status(const gcl_linebuf_t *lb)
+gcl_line_status_t wsg_gcl_linebuf_status(const gcl_linebuf_t *lb)
 {
     if (lb->bad_byte) {
         return GCL_LINE_BAD_BYTE;
@@ -117,7 +118,7 @@ gcl_line_status_t gcl_linebuf_status(const gcl_linebuf_t *lb)
     return lb->too_long ? GCL_LINE_TOO_LONG : GCL_LINE_OK;
 }
 
-bool gcl_linebuf_pending(const gcl_linebuf_t *lb)
+bool wsg_gcl_linebuf_pending(const gcl_linebuf_t *lb)
 {
     return !lb->complete && (lb->len > 0 || lb->too_long || lb->bad_byte);
 }

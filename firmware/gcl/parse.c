@@ -259,7 +259,7 @@ static wsg_status_t read_form(cursor_t *cur, gcl_command_t *cmd)
     }
 }
 
-wsg_status_t gcl_parse_line(const char *line, size_t len, gcl_command_t *cmd)
+wsg_status_t wsg_gcl_parse_line(const char *line, size_t len, gcl_command_t *cmd)
 {
     memset(cmd, 0, sizeof(*cmd));
     cursor_t cur = {line, line + len};
@@ -275,7 +275,7 @@ wsg_status_t gcl_parse_line(const char *line, size_t len, gcl_command_t *cmd)
     return at_end(&cur) ? E_SUCCESS : E_CMD_FORMAT_ERROR;
 }
 
-bool gcl_text_equals(const char *text, const char *upper)
+bool wsg_gcl_text_equals(const char *text, const char *upper)
 {
     while (*text != '\0' && *upper != '\0') {
         if (to_upper(*text) != *upper) {

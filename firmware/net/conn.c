@@ -130,7 +130,7 @@ void wsg_conn_close(wsg_conn_t *conn, wsg_close_reason_t why)
     c->open = false;
     c->io = NULL;
     if (raise_fast_stop) {
-        motion_fast_stop(c->dev, "connection closed without BYE");
+        wsg_motion_fast_stop(c->dev, "connection closed without BYE");
     }
 }
 
@@ -195,7 +195,7 @@ void wsg_conn_observe(wsg_device_t *device, const wsg_conn_observer_t *observer,
     dev->conn_observer_ctx = ctx;
 }
 
-void conn_note_input(conn_t *c, const char *bytes, size_t len)
+void wsg_conn_note_input(conn_t *c, const char *bytes, size_t len)
 {
     const wsg_conn_observer_t *o = c->dev->conn_observer;
     if (o != NULL && o->message_in != NULL) {
@@ -203,7 +203,7 @@ void conn_note_input(conn_t *c, const char *bytes, size_t len)
     }
 }
 
-void conn_write(conn_t *c, const char *bytes, size_t len, wsg_msg_kind_t kind)
+void wsg_conn_write(conn_t *c, const char *bytes, size_t len, wsg_msg_kind_t kind)
 {
     if (!c->open || c->io == NULL) {
         return;

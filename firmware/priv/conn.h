@@ -41,8 +41,8 @@ static inline wsg_conn_t *conn_public(conn_t *c)
 }
 
 /* One whole message out: observers, then the port's write. */
-void conn_write(conn_t *c, const char *bytes, size_t len, wsg_msg_kind_t kind);
+void wsg_conn_write(conn_t *c, const char *bytes, size_t len, wsg_msg_kind_t kind);
 /* A message in, as the driver framed it (observers only). */
-void conn_note_input(conn_t *c, const char *bytes, size_t len);
+void wsg_conn_note_input(conn_t *c, const char *bytes, size_t len);
 
 #endif

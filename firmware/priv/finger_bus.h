@@ -64,14 +64,14 @@ typedef struct {
 } fbus_input_t;
 
 /* Power-on state; can may be NULL. Sets the controller's filters. */
-void finger_bus_init(finger_bus_t *bus, const hal_can_t *can);
+void wsg_finger_bus_init(finger_bus_t *bus, const hal_can_t *can);
 /* One control step: broadcast the jaw state when due, receive, supervise,
  * publish to fingers and compute the grip-force loop. */
-void finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in);
-uint64_t finger_bus_next_deadline_us(const finger_bus_t *bus);
+void wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in);
+uint64_t wsg_finger_bus_next_deadline_us(const finger_bus_t *bus);
 /* The force limit the loop asks the supervisor to drive with, once. */
-bool finger_bus_take_force_request(finger_bus_t *bus, float *limit_n);
+bool wsg_finger_bus_take_force_request(finger_bus_t *bus, float *limit_n);
 /* TARE() (index -1) or TARE(i): E_NOT_AVAILABLE without a connected FMF. */
-wsg_status_t finger_bus_tare(finger_bus_t *bus, wsg_fingers_t *fingers, int index);
+wsg_status_t wsg_finger_bus_tare(finger_bus_t *bus, wsg_fingers_t *fingers, int index);
 
 #endif

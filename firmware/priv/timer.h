@@ -21,13 +21,13 @@ typedef struct {
     wsg_timer_t *head;
 } wsg_timer_queue_t;
 
-void timer_queue_init(wsg_timer_queue_t *q);
+void wsg_timer_queue_init(wsg_timer_queue_t *q);
 /* (Re)schedules t at due_us; equal deadlines keep their insertion order. */
-void timer_schedule(wsg_timer_queue_t *q, wsg_timer_t *t, uint64_t due_us);
-void timer_cancel(wsg_timer_queue_t *q, wsg_timer_t *t);
-uint64_t timer_next_due(const wsg_timer_queue_t *q);
+void wsg_timer_schedule(wsg_timer_queue_t *q, wsg_timer_t *t, uint64_t due_us);
+void wsg_timer_cancel(wsg_timer_queue_t *q, wsg_timer_t *t);
+uint64_t wsg_timer_next_due(const wsg_timer_queue_t *q);
 /* Fires every timer due at now_us, in deadline order, each at most once per
  * call (a timer that reschedules itself into the past waits for the next). */
-void timer_run_due(wsg_timer_queue_t *q, uint64_t now_us);
+void wsg_timer_run_due(wsg_timer_queue_t *q, uint64_t now_us);
 
 #endif

@@ -75,7 +75,7 @@ typedef struct wsg_dev {
     wsg_config_t cfg; /* with the run-time settings applied */
     wsg_hal_t hal;
     dev_sensed_t sensed;
-    bool sense_reacted;  /* the last sense_and_react() raised FAST STOP */
+    bool sense_reacted;  /* the last wsg_sense_and_react() raised FAST STOP */
     bool axis_commanded; /* the supervisor commanded the axis since the last sense */
     dev_motion_t motion;
     dev_grip_t grip;
@@ -121,34 +121,34 @@ static inline wsg_device_t *dev_public(wsg_dev_t *dev)
 
 /* sense.c: reads the clock, the axis and the temperature once; derives the
  * flag register. */
-void sense(wsg_dev_t *dev);
-/* sense(), then a severe fault raises FAST STOP. */
-void sense_and_react(wsg_dev_t *dev);
-/* sense_and_react() unless a sense now would read what the last one read. */
-void sense_and_react_if_changed(wsg_dev_t *dev);
+void wsg_sense(wsg_dev_t *dev);
+/* wsg_sense(), then a severe fault raises FAST STOP. */
+void wsg_sense_and_react(wsg_dev_t *dev);
+/* wsg_sense_and_react() unless a sense now would read what the last one read. */
+void wsg_sense_and_react_if_changed(wsg_dev_t *dev);
 
 /* flags.c: the register (pure) */
-void flags_set(wsg_dev_t *dev, wsg_sysflag_t flag, bool on);
-bool flags_get(const wsg_dev_t *dev, wsg_sysflag_t flag);
-void flags_derive(wsg_dev_t *dev);
+void wsg_flags_set(wsg_dev_t *dev, wsg_sysflag_t flag, bool on);
+bool wsg_flags_get(const wsg_dev_t *dev, wsg_sysflag_t flag);
+void wsg_flags_derive(wsg_dev_t *dev);
 /* A cause that raises FAST STOP by itself and blocks its acknowledge. */
-bool flags_severe_fault(const wsg_dev_t *dev);
+bool wsg_flags_severe_fault(const wsg_dev_t *dev);
 
 /* motion.c: the supervisor, the only writer of the axis */
-void motion_drive(wsg_dev_t *dev, float target_mm, float speed_mm_s, float force_n);
-void motion_halt(wsg_dev_t *dev, bool fast);
-wsg_status_t motion_check_allowed(wsg_dev_t *dev, bool needs_reference);
-bool motion_supersede_move(wsg_dev_t *dev);
-void motion_begin(wsg_dev_t *dev, wsg_owner_t *owner, wsg_motion_kind_t kind);
-void motion_abort(wsg_dev_t *dev, wsg_status_t status);
+void wsg_motion_drive(wsg_dev_t *dev, float target_mm, float speed_mm_s, float force_n);
+void wsg_motion_halt(wsg_dev_t *dev, bool fast);
+wsg_status_t wsg_motion_check_allowed(wsg_dev_t *dev, bool needs_reference);
+bool wsg_motion_supersede_move(wsg_dev_t *dev);
+void wsg_motion_begin(wsg_dev_t *dev, wsg_owner_t *owner, wsg_motion_kind_t kind);
+void wsg_motion_abort(wsg_dev_t *dev, wsg_status_t status);
 /* FAST STOP: ends the motion, disables the drive, latches the flag. */
-void motion_fast_stop(wsg_dev_t *dev, const char *why);
-void motion_step(wsg_dev_t *dev);
-void motion_apply_force_request(wsg_dev_t *dev);
-void grip_set_state(wsg_dev_t *dev, wsg_grip_state_t state);
-void grip_monitor_step(wsg_dev_t *dev);
-void motion_block_watch_step(wsg_dev_t *dev);
+void wsg_motion_fast_stop(wsg_dev_t *dev, const char *why);
+void wsg_motion_step(wsg_dev_t *dev);
+void wsg_motion_apply_force_request(wsg_dev_t *dev);
+void wsg_grip_set_state(wsg_dev_t *dev, wsg_grip_state_t state);
+void wsg_grip_monitor_step(wsg_dev_t *dev);
+void wsg_motion_block_watch_step(wsg_dev_t *dev);
 /* How often the supervisor must look: 0 when nothing can change by itself. */
-uint32_t motion_tick_us(const wsg_dev_t *dev);
+uint32_t wsg_motion_tick_us(const wsg_dev_t *dev);
 
 #endif

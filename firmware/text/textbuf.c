@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 #include "priv/textbuf.h"
 
-void textbuf_init(textbuf_t *tb, char *storage, size_t cap)
+void wsg_textbuf_init(textbuf_t *tb, char *storage, size_t cap)
 {
     tb->data = storage;
     tb->cap = cap;
@@ -33,12 +33,12 @@ static void put_bytes(textbuf_t *tb, const char *bytes, size_t n)
     tb->len += n;
 }
 
-void textbuf_put_char(textbuf_t *tb, char c)
+void wsg_textbuf_put_char(textbuf_t *tb, char c)
 {
     put_bytes(tb, &c, 1u);
 }
 
-void textbuf_put_str(textbuf_t *tb, const char *s)
+void wsg_textbuf_put_str(textbuf_t *tb, const char *s)
 {
     size_t len = tb->len;
     size_t last = tb->cap > 0u ? tb->cap - 1u : 0u;
@@ -72,15 +72,15 @@ static void put_u64(textbuf_t *tb, uint64_t value)
     put_bytes(tb, first, (size_t)(digits + sizeof(digits) - first));
 }
 
-void textbuf_put_uint(textbuf_t *tb, uint32_t value)
+void wsg_textbuf_put_uint(textbuf_t *tb, uint32_t value)
 {
     put_u64(tb, value);
 }
 
-void textbuf_put_int(textbuf_t *tb, int32_t value)
+void wsg_textbuf_put_int(textbuf_t *tb, int32_t value)
 {
     if (value < 0) {
-        textbuf_put_char(tb, '-');
+        wsg_textbuf_put_char(tb, '-');
         put_u64(tb, (uint64_t)(-(int64_t)value));
     } else {
         put_u64(tb, (uint64_t)value);
@@ -90,7 +90,7 @@ void textbuf_put_int(textbuf_t *tb, int32_t value)
 /* Largest magnitude written exactly; beyond it the value saturates. */
 #define FLOAT_LIMIT 1.0e12
 
-size_t textbuf_format_float(char *out, float value)
+size_t wsg_textbuf_format_float(char *out, float value)
 {
     double magnitude = value < 0.0f ? -(double)value : (double)value;
     if (!(magnitude == magnitude)) { /* NaN: the core never produces one */
@@ -123,27 +123,27 @@ size_t textbuf_format_float(char *out, float value)
     return (size_t)(p - out);
 }
 
-void textbuf_put_float(textbuf_t *tb, float value)
+void wsg_textbuf_put_float(textbuf_t *tb, float value)
 {
     char text[TEXTBUF_FLOAT_MAX];
-    put_bytes(tb, text, textbuf_format_float(text, value));
+    put_bytes(tb, text, wsg_textbuf_format_float(text, value));
 }
 
-void textbuf_put_quoted(textbuf_t *tb, const char *s)
+void wsg_textbuf_put_quoted(textbuf_t *tb, const char *s)
 {
-    textbuf_put_char(tb, '"');
-    textbuf_put_str(tb, s);
-    textbuf_put_char(tb, '"');
+    wsg_textbuf_put_char(tb, '"');
+    wsg_textbuf_put_str(tb, s);
+    wsg_textbuf_put_char(tb, '"');
 }
 
-void textbuf_put_bits(textbuf_t *tb, uint32_t bits, unsigned count)
+void wsg_textbuf_put_bits(textbuf_t *tb, uint32_t bits, unsigned count)
 {
-    textbuf_put_char(tb, '[');
+    wsg_textbuf_put_char(tb, '[');
     for (unsigned i = 0; i < count; i++) {
         if (i > 0) {
-            textbuf_put_char(tb, ',');
+            wsg_textbuf_put_char(tb, ',');
         }
-        textbuf_put_char(tb, ((bits >> i) & 1u) != 0u ? '1' : '0');
+        wsg_textbuf_put_char(tb, ((bits >> i) & 1u) != 0u ? '1' : '0');
     }
-    textbuf_put_char(tb, ']');
+    wsg_textbuf_put_char(tb, ']');
 }

@@ -11,15 +11,15 @@
 #define NODE_FIRMWARE 0x0100u    /* 1.0 */
 #define NOISE_SUM_SIGMA 0.57735f /* standard deviation of a sum of 4 uniform(-0.5, 0.5) */
 
-void finger_node_defaults(finger_node_params_t *params)
+void wsg_finger_node_defaults(finger_node_params_t *params)
 {
     params->offset_n = 0.6f;
     params->noise_n = 0.02f;
     params->seed = 0;
 }
 
-void finger_node_init(finger_node_t *node, fbus_type_t type, unsigned slot,
-                      const finger_node_params_t *params, const hal_can_t *bus)
+void wsg_finger_node_init(finger_node_t *node, fbus_type_t type, unsigned slot,
+                          const finger_node_params_t *params, const hal_can_t *bus)
 {
     memset(node, 0, sizeof(*node));
     node->type = type;
@@ -29,11 +29,11 @@ void finger_node_init(finger_node_t *node, fbus_type_t type, unsigned slot,
     node->rng = params->seed != 0u ? params->seed : 0x9E3779B9u ^ (uint32_t)(slot + 1u);
 }
 
-unsigned finger_node_filters(const finger_node_t *node, hal_can_filter_t *out)
+unsigned wsg_finger_node_filters(const finger_node_t *node, hal_can_filter_t *out)
 {
     out[0] = (hal_can_filter_t){FBUS_ID_STATE, HAL_CAN_STD_ID_MASK, 0};
-    out[1] = (hal_can_filter_t){fbus_id(FBUS_ID_COMMAND, node->node), HAL_CAN_STD_ID_MASK, 0};
-    out[2] = (hal_can_filter_t){fbus_id(FBUS_ID_SIMCTL, node->node), HAL_CAN_STD_ID_MASK, 0};
+    out[1] = (hal_can_filter_t){wsg_fbus_id(FBUS_ID_COMMAND, node->node), HAL_CAN_STD_ID_MASK, 0};
+    out[2] = (hal_can_filter_t){wsg_fbus_id(FBUS_ID_SIMCTL, node->node), HAL_CAN_STD_ID_MASK, 0};
     return 3;
 }
 
@@ -65,7 +65,7 @@ static void send_heartbeat(finger_node_t *node)
         hb.state = FBUS_NODE_FAULT;
     }
     hal_can_frame_t f;
-    fbus_pack_heartbeat(&f, node->node, &hb);
+    wsg_fbus_pack_heartbeat(&f, node->node, &hb);
     send(node, &f);
 }
 
@@ -95,7 +95,7 @@ static void send_descriptor(finger_node_t *node)
     fbus_descriptor_t d;
     describe(node, &d);
     hal_can_frame_t f;
-    fbus_pack_descriptor(&f, node->node, &d);
+    wsg_fbus_pack_descriptor(&f, node->node, &d);
     send(node, &f);
 }
 
@@ -169,20 +169,20 @@ static void on_simctl(finger_node_t *node, uint8_t faults, uint64_t now_us)
     }
 }
 
-void finger_node_receive(finger_node_t *node, const hal_can_frame_t *frame, uint64_t now_us)
+void wsg_finger_node_receive(finger_node_t *node, const hal_can_frame_t *frame, uint64_t now_us)
 {
     fbus_state_t state;
     uint8_t value = 0;
-    if (fbus_unpack_simctl(frame, &value) && fbus_node_of(frame->id) == node->node) {
+    if (wsg_fbus_unpack_simctl(frame, &value) && fbus_node_of(frame->id) == node->node) {
         on_simctl(node, value, now_us);
         return;
     }
     if (!present(node)) {
         return;
     }
-    if (fbus_unpack_state(frame, &state)) {
+    if (wsg_fbus_unpack_state(frame, &state)) {
         on_state(node, &state, now_us);
-    } else if (node->powered && fbus_unpack_command(frame, &value) &&
+    } else if (node->powered && wsg_fbus_unpack_command(frame, &value) &&
                fbus_node_of(frame->id) == node->node) {
         if (value == FBUS_CMD_TARE) {
             tare(node);
@@ -207,7 +207,7 @@ static void send_fmf(finger_node_t *node)
     fbus_measure_t m = {(int32_t)(milli < 0.0f ? milli - 0.5f : milli + 0.5f), node->data_counter++,
                         node->tared ? FBUS_MEASURE_TARED : 0u, node->tare_count};
     hal_can_frame_t f;
-    fbus_pack_measure(&f, node->node, &m);
+    wsg_fbus_pack_measure(&f, node->node, &m);
     send(node, &f);
 }
 
@@ -225,7 +225,7 @@ static float sqrt_approx(float x)
 
 /* A round contact patch in the middle of the pad: it widens with the square
  * root of the force (elastic contact) and its peak rises with the force. */
-void finger_node_dsa_pattern(float force_n, uint16_t *cells)
+void wsg_finger_node_dsa_pattern(float force_n, uint16_t *cells)
 {
     memset(cells, 0, sizeof(uint16_t) * FBUS_DSA_ROWS * FBUS_DSA_COLS);
     if (force_n < DSA_FORCE_MIN_N) {
@@ -248,7 +248,7 @@ void finger_node_dsa_pattern(float force_n, uint16_t *cells)
 
 static void send_dsa(finger_node_t *node)
 {
-    finger_node_dsa_pattern(node->have_state ? node->state.force_n : 0.0f, node->cells);
+    wsg_finger_node_dsa_pattern(node->have_state ? node->state.force_n : 0.0f, node->cells);
     unsigned total = FBUS_DSA_ROWS * FBUS_DSA_COLS;
     unsigned segments = (total + FBUS_BULK_VALUES_PER_FRAME - 1u) / FBUS_BULK_VALUES_PER_FRAME;
     uint8_t transfer = node->data_counter++;
@@ -259,7 +259,7 @@ static void send_dsa(finger_node_t *node)
             b.values[i] = k < total ? node->cells[k] : 0u;
         }
         hal_can_frame_t f;
-        fbus_pack_bulk(&f, node->node, &b);
+        wsg_fbus_pack_bulk(&f, node->node, &b);
         send(node, &f);
     }
 }
@@ -284,7 +284,7 @@ static void send_data(finger_node_t *node, uint64_t now_us)
     }
 }
 
-void finger_node_step(finger_node_t *node, uint64_t now_us)
+void wsg_finger_node_step(finger_node_t *node, uint64_t now_us)
 {
     if (node->powered && now_us - node->last_state_us > FBUS_SUPPLY_TIMEOUT_US) {
         node->powered = false; /* the gripper is gone: no supply */
@@ -307,7 +307,7 @@ void finger_node_step(finger_node_t *node, uint64_t now_us)
     }
 }
 
-uint64_t finger_node_next_due_us(const finger_node_t *node)
+uint64_t wsg_finger_node_next_due_us(const finger_node_t *node)
 {
     if (!node->powered || !present(node)) {
         return UINT64_MAX;
@@ -349,7 +349,7 @@ static bool parse_word(const char *text, size_t len, fbus_type_t *type)
     return false;
 }
 
-bool finger_node_parse_pair(const char *text, fbus_type_t types[FBUS_SLOTS])
+bool wsg_finger_node_parse_pair(const char *text, fbus_type_t types[FBUS_SLOTS])
 {
     const char *comma = strchr(text, ',');
     types[1] = FBUS_TYPE_NONE;

@@ -49,24 +49,24 @@ typedef struct {
     uint32_t frames_sent;
 } finger_node_t;
 
-void finger_node_defaults(finger_node_params_t *params);
-void finger_node_init(finger_node_t *node, fbus_type_t type, unsigned slot,
-                      const finger_node_params_t *params, const hal_can_t *bus);
+void wsg_finger_node_defaults(finger_node_params_t *params);
+void wsg_finger_node_init(finger_node_t *node, fbus_type_t type, unsigned slot,
+                          const finger_node_params_t *params, const hal_can_t *bus);
 
 /* The filters the node needs on its controller (at most 3). */
-unsigned finger_node_filters(const finger_node_t *node, hal_can_filter_t *out);
+unsigned wsg_finger_node_filters(const finger_node_t *node, hal_can_filter_t *out);
 
 /* Handles one frame from the bus (STATE, COMMAND, SIMCTL for this node). */
-void finger_node_receive(finger_node_t *node, const hal_can_frame_t *frame, uint64_t now_us);
+void wsg_finger_node_receive(finger_node_t *node, const hal_can_frame_t *frame, uint64_t now_us);
 /* Sends whatever is due at now_us. */
-void finger_node_step(finger_node_t *node, uint64_t now_us);
-/* When finger_node_step() must run next (UINT64_MAX: only a frame wakes it). */
-uint64_t finger_node_next_due_us(const finger_node_t *node);
+void wsg_finger_node_step(finger_node_t *node, uint64_t now_us);
+/* When wsg_finger_node_step() must run next (UINT64_MAX: only a frame wakes it). */
+uint64_t wsg_finger_node_next_due_us(const finger_node_t *node);
 
 /* The DSA pressure pattern for a contact force (exposed for tests). */
-void finger_node_dsa_pattern(float force_n, uint16_t *cells);
+void wsg_finger_node_dsa_pattern(float force_n, uint16_t *cells);
 
 /* "A,B" or "A" (slot 1 none) -> two types; false when malformed. */
-bool finger_node_parse_pair(const char *text, fbus_type_t types[FBUS_SLOTS]);
+bool wsg_finger_node_parse_pair(const char *text, fbus_type_t types[FBUS_SLOTS]);
 
 #endif

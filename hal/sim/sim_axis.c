@@ -16,7 +16,7 @@ static float signf(float v)
     return v > 0.0f ? 1.0f : (v < 0.0f ? -1.0f : 0.0f);
 }
 
-void sim_axis_init(sim_axis_t *axis, float stroke_mm, float emergency_accel_mm_s2)
+void wsg_sim_axis_init(sim_axis_t *axis, float stroke_mm, float emergency_accel_mm_s2)
 {
     memset(axis, 0, sizeof(*axis));
     axis->stroke_mm = stroke_mm;
@@ -26,7 +26,7 @@ void sim_axis_init(sim_axis_t *axis, float stroke_mm, float emergency_accel_mm_s
     axis->amax_mm_s2 = emergency_accel_mm_s2;
 }
 
-void sim_axis_place_part(sim_axis_t *axis, float width_mm, float stiffness_n_mm)
+void wsg_sim_axis_place_part(sim_axis_t *axis, float width_mm, float stiffness_n_mm)
 {
     axis->part.present = true;
     axis->part.squeezed_s = 0.0f;
@@ -35,49 +35,50 @@ void sim_axis_place_part(sim_axis_t *axis, float width_mm, float stiffness_n_mm)
     axis->part.side = axis->x_mm >= width_mm ? SIM_PART_INSIDE : SIM_PART_OUTSIDE;
 }
 
-void sim_axis_remove_part(sim_axis_t *axis)
+void wsg_sim_axis_remove_part(sim_axis_t *axis)
 {
     axis->part.present = false;
     axis->part.squeezed_s = 0.0f;
 }
 
-void sim_axis_set_part(sim_axis_t *axis, float width_mm, float stiffness_n_mm, float slip_force_n)
+void wsg_sim_axis_set_part(sim_axis_t *axis, float width_mm, float stiffness_n_mm,
+                           float slip_force_n)
 {
     if (!axis->part.present) {
-        sim_axis_place_part(axis, width_mm, stiffness_n_mm);
+        wsg_sim_axis_place_part(axis, width_mm, stiffness_n_mm);
     }
     axis->part.width_mm = width_mm;
     axis->part.stiffness_n_mm = stiffness_n_mm;
     axis->part.slip_force_n = slip_force_n;
 }
 
-void sim_axis_slip_part(sim_axis_t *axis)
+void wsg_sim_axis_slip_part(sim_axis_t *axis)
 {
     if (axis->part.present) {
         axis->part.slips++;
-        sim_axis_remove_part(axis);
+        wsg_sim_axis_remove_part(axis);
     }
 }
 
-void sim_axis_place_obstacle(sim_axis_t *axis, float width_mm)
+void wsg_sim_axis_place_obstacle(sim_axis_t *axis, float width_mm)
 {
     axis->obstacle.present = true;
     axis->obstacle.width_mm = width_mm;
     axis->obstacle.side = axis->x_mm >= width_mm ? SIM_PART_INSIDE : SIM_PART_OUTSIDE;
 }
 
-void sim_axis_remove_obstacle(sim_axis_t *axis)
+void wsg_sim_axis_remove_obstacle(sim_axis_t *axis)
 {
     axis->obstacle.present = false;
 }
 
-float sim_axis_position(const sim_axis_t *axis)
+float wsg_sim_axis_position(const sim_axis_t *axis)
 {
     return axis->x_mm + axis->offset_mm;
 }
 
-void sim_axis_move(sim_axis_t *axis, float target_mm, float speed_mm_s, float accel_mm_s2,
-                   float force_limit_n)
+void wsg_sim_axis_move(sim_axis_t *axis, float target_mm, float speed_mm_s, float accel_mm_s2,
+                       float force_limit_n)
 {
     axis->target_mm = target_mm - axis->offset_mm;
     axis->vmax_mm_s = speed_mm_s;
@@ -86,7 +87,7 @@ void sim_axis_move(sim_axis_t *axis, float target_mm, float speed_mm_s, float ac
     axis->active = true;
 }
 
-void sim_axis_stop(sim_axis_t *axis, bool fast)
+void wsg_sim_axis_stop(sim_axis_t *axis, bool fast)
 {
     float accel = fast ? axis->emergency_accel_mm_s2 : axis->amax_mm_s2;
     if (accel <= 0.0f) {
@@ -98,15 +99,15 @@ void sim_axis_stop(sim_axis_t *axis, bool fast)
     axis->active = absf(v) > STILL_MM_S;
 }
 
-void sim_axis_disable(sim_axis_t *axis)
+void wsg_sim_axis_disable(sim_axis_t *axis)
 {
     axis->fmax_n = 0.0f;
-    sim_axis_stop(axis, true);
+    wsg_sim_axis_stop(axis, true);
 }
 
-void sim_axis_set_position(sim_axis_t *axis, float position_mm)
+void wsg_sim_axis_set_position(sim_axis_t *axis, float position_mm)
 {
-    float shift = position_mm - sim_axis_position(axis);
+    float shift = position_mm - wsg_sim_axis_position(axis);
     axis->offset_mm += shift;
 }
 
@@ -187,7 +188,7 @@ static void check_slip(sim_axis_t *axis, float part_force_n, float dt)
                     axis->blocked != 0 && axis->fmax_n < part->slip_force_n;
     part->squeezed_s = too_weak ? part->squeezed_s + dt : 0.0f;
     if (part->squeezed_s >= SIM_PART_SLIP_DELAY_S) {
-        sim_axis_slip_part(axis);
+        wsg_sim_axis_slip_part(axis);
     }
 }
 
@@ -216,7 +217,7 @@ static void step(sim_axis_t *axis, float dt)
     check_slip(axis, part_force, dt);
 }
 
-void sim_axis_advance(sim_axis_t *axis, float dt_s)
+void wsg_sim_axis_advance(sim_axis_t *axis, float dt_s)
 {
     if (!axis->active && axis->v_mm_s == 0.0f) {
         step(axis, 0.0f); /* at rest: only contacts can change (a part placed or removed) */

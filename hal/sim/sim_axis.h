@@ -58,27 +58,28 @@ typedef struct {
 
 #define SIM_AXIS_MAX_STEP_S 0.0005f
 
-void sim_axis_init(sim_axis_t *axis, float stroke_mm, float emergency_accel_mm_s2);
+void wsg_sim_axis_init(sim_axis_t *axis, float stroke_mm, float emergency_accel_mm_s2);
 /* Places a part; its side follows from where the jaws are now. */
-void sim_axis_place_part(sim_axis_t *axis, float width_mm, float stiffness_n_mm);
-void sim_axis_remove_part(sim_axis_t *axis);
+void wsg_sim_axis_place_part(sim_axis_t *axis, float width_mm, float stiffness_n_mm);
+void wsg_sim_axis_remove_part(sim_axis_t *axis);
 /* Changes a present part's properties without moving it (its side stays). */
-void sim_axis_set_part(sim_axis_t *axis, float width_mm, float stiffness_n_mm, float slip_force_n);
+void wsg_sim_axis_set_part(sim_axis_t *axis, float width_mm, float stiffness_n_mm,
+                           float slip_force_n);
 /* The part leaves the jaws now (it slipped). */
-void sim_axis_slip_part(sim_axis_t *axis);
+void wsg_sim_axis_slip_part(sim_axis_t *axis);
 /* An obstacle at a width; its side follows from where the jaws are now. */
-void sim_axis_place_obstacle(sim_axis_t *axis, float width_mm);
-void sim_axis_remove_obstacle(sim_axis_t *axis);
+void wsg_sim_axis_place_obstacle(sim_axis_t *axis, float width_mm);
+void wsg_sim_axis_remove_obstacle(sim_axis_t *axis);
 /* Advances by dt seconds in steps of at most SIM_AXIS_MAX_STEP_S. */
-void sim_axis_advance(sim_axis_t *axis, float dt_s);
+void wsg_sim_axis_advance(sim_axis_t *axis, float dt_s);
 
 /* Servo commands in reported (axis) coordinates. */
-void sim_axis_move(sim_axis_t *axis, float target_mm, float speed_mm_s, float accel_mm_s2,
-                   float force_limit_n);
-void sim_axis_stop(sim_axis_t *axis, bool fast);
+void wsg_sim_axis_move(sim_axis_t *axis, float target_mm, float speed_mm_s, float accel_mm_s2,
+                       float force_limit_n);
+void wsg_sim_axis_stop(sim_axis_t *axis, bool fast);
 /* Emergency stop with the drive switched off: no force until the next move. */
-void sim_axis_disable(sim_axis_t *axis);
-void sim_axis_set_position(sim_axis_t *axis, float position_mm);
-float sim_axis_position(const sim_axis_t *axis);
+void wsg_sim_axis_disable(sim_axis_t *axis);
+void wsg_sim_axis_set_position(sim_axis_t *axis, float position_mm);
+float wsg_sim_axis_position(const sim_axis_t *axis);
 
 #endif

@@ -14,17 +14,17 @@ static const sim_model_t models[] = {
     {"WSG 25-064", 64.0f, 5.0f, 400.0f, 100.0f, 5000.0f, 5.0f, 20.0f, 0.0f, true},
 };
 
-unsigned sim_model_count(void)
+unsigned wsg_sim_model_count(void)
 {
     return (unsigned)(sizeof(models) / sizeof(models[0]));
 }
 
-const sim_model_t *sim_model_at(unsigned i)
+const sim_model_t *wsg_sim_model_at(unsigned i)
 {
-    return i < sim_model_count() ? &models[i] : NULL;
+    return i < wsg_sim_model_count() ? &models[i] : NULL;
 }
 
-const sim_model_t *sim_model_default(void)
+const sim_model_t *wsg_sim_model_default(void)
 {
     return &models[0];
 }
@@ -45,11 +45,11 @@ static void normalise(const char *in, char *out, size_t cap)
     out[n] = '\0';
 }
 
-const sim_model_t *sim_model_find(const char *name)
+const sim_model_t *wsg_sim_model_find(const char *name)
 {
     char wanted[32];
     normalise(name, wanted, sizeof(wanted));
-    for (unsigned i = 0; i < sim_model_count(); i++) {
+    for (unsigned i = 0; i < wsg_sim_model_count(); i++) {
         char candidate[32];
         normalise(models[i].name, candidate, sizeof(candidate));
         /* "50-110" also matches "50" alone only when unambiguous: keep it exact */
@@ -66,7 +66,7 @@ static void copy_string(char *dst, const char *src)
     dst[WSG_CONFIG_STRING_MAX - 1] = '\0';
 }
 
-void sim_model_config(const sim_model_t *model, wsg_config_t *cfg)
+void wsg_sim_model_config(const sim_model_t *model, wsg_config_t *cfg)
 {
     memset(cfg, 0, sizeof(*cfg));
     copy_string(cfg->devtype, model->name);

@@ -18,13 +18,13 @@ typedef struct {
     bool estimated; /* figures not from a datasheet */
 } sim_model_t;
 
-unsigned sim_model_count(void);
-const sim_model_t *sim_model_at(unsigned i);
+unsigned wsg_sim_model_count(void);
+const sim_model_t *wsg_sim_model_at(unsigned i);
 /* Case-insensitive; accepts "WSG 50-110", "wsg50-110", "50-110". NULL if unknown. */
-const sim_model_t *sim_model_find(const char *name);
-const sim_model_t *sim_model_default(void);
+const sim_model_t *wsg_sim_model_find(const char *name);
+const sim_model_t *wsg_sim_model_default(void);
 
 /* Factory configuration of a device of this model. */
-void sim_model_config(const sim_model_t *model, wsg_config_t *cfg);
+void wsg_sim_model_config(const sim_model_t *model, wsg_config_t *cfg);
 
 #endif

@@ -5,7 +5,7 @@
 
 #define NO_OVERRIDE (-1000.0f)
 
-void sim_thermal_init(sim_thermal_t *thermal, float ambient_c)
+void wsg_sim_thermal_init(sim_thermal_t *thermal, float ambient_c)
 {
     thermal->ambient_c = ambient_c;
     thermal->idle_rise_c = 9.0f;
@@ -29,14 +29,14 @@ static float settle_share(sim_thermal_t *thermal, float dt_s)
     return thermal->last_share;
 }
 
-void sim_thermal_advance(sim_thermal_t *thermal, float force_n, float dt_s)
+void wsg_sim_thermal_advance(sim_thermal_t *thermal, float force_n, float dt_s)
 {
     float steady = thermal->ambient_c + thermal->idle_rise_c + thermal->rise_per_newton_c * force_n;
     float share = settle_share(thermal, dt_s);
     thermal->board_c += (steady - thermal->board_c) * share;
 }
 
-float sim_thermal_board_c(const sim_thermal_t *thermal)
+float wsg_sim_thermal_board_c(const sim_thermal_t *thermal)
 {
     return thermal->override_c > -273.0f ? thermal->override_c : thermal->board_c;
 }

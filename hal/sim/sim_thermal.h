@@ -17,8 +17,8 @@ typedef struct {
     float last_share;
 } sim_thermal_t;
 
-void sim_thermal_init(sim_thermal_t *thermal, float ambient_c);
-void sim_thermal_advance(sim_thermal_t *thermal, float force_n, float dt_s);
-float sim_thermal_board_c(const sim_thermal_t *thermal);
+void wsg_sim_thermal_init(sim_thermal_t *thermal, float ambient_c);
+void wsg_sim_thermal_advance(sim_thermal_t *thermal, float force_n, float dt_s);
+float wsg_sim_thermal_board_c(const sim_thermal_t *thermal);
 
 #endif

@@ -6,51 +6,52 @@
 #define AMBIENT_C 25.0f
 #define EMERGENCY_ACCEL_FACTOR 2.0f
 
-void sim_world_init(sim_world_t *world, const wsg_config_t *config, uint64_t now_us)
+void wsg_sim_world_init(sim_world_t *world, const wsg_config_t *config, uint64_t now_us)
 {
-    sim_axis_init(&world->axis, config->stroke_mm,
-                  EMERGENCY_ACCEL_FACTOR * config->accel_max_mm_s2);
-    sim_thermal_init(&world->thermal, AMBIENT_C);
+    wsg_sim_axis_init(&world->axis, config->stroke_mm,
+                      EMERGENCY_ACCEL_FACTOR * config->accel_max_mm_s2);
+    wsg_sim_thermal_init(&world->thermal, AMBIENT_C);
     world->last_us = now_us;
 }
 
-void sim_world_advance(sim_world_t *world, uint64_t now_us)
+void wsg_sim_world_advance(sim_world_t *world, uint64_t now_us)
 {
     if (now_us <= world->last_us) {
-        sim_axis_advance(&world->axis, 0.0f);
+        wsg_sim_axis_advance(&world->axis, 0.0f);
         return;
     }
     float dt = (float)(now_us - world->last_us) * 1e-6f;
     world->last_us = now_us;
-    sim_axis_advance(&world->axis, dt);
-    sim_thermal_advance(&world->thermal, world->axis.force_n, dt);
+    wsg_sim_axis_advance(&world->axis, dt);
+    wsg_sim_thermal_advance(&world->thermal, world->axis.force_n, dt);
 }
 
 static void axis_move(void *ctx, float target_mm, float speed_mm_s, float accel_mm_s2,
                       float force_limit_n)
 {
-    sim_axis_move(&((sim_world_t *)ctx)->axis, target_mm, speed_mm_s, accel_mm_s2, force_limit_n);
+    wsg_sim_axis_move(&((sim_world_t *)ctx)->axis, target_mm, speed_mm_s, accel_mm_s2,
+                      force_limit_n);
 }
 
 static void axis_stop(void *ctx, bool fast)
 {
-    sim_axis_stop(&((sim_world_t *)ctx)->axis, fast);
+    wsg_sim_axis_stop(&((sim_world_t *)ctx)->axis, fast);
 }
 
 static void axis_disable(void *ctx)
 {
-    sim_axis_disable(&((sim_world_t *)ctx)->axis);
+    wsg_sim_axis_disable(&((sim_world_t *)ctx)->axis);
 }
 
 static void axis_set_position(void *ctx, float position_mm)
 {
-    sim_axis_set_position(&((sim_world_t *)ctx)->axis, position_mm);
+    wsg_sim_axis_set_position(&((sim_world_t *)ctx)->axis, position_mm);
 }
 
 static void axis_status(void *ctx, hal_axis_status_t *status)
 {
     const sim_axis_t *axis = &((const sim_world_t *)ctx)->axis;
-    status->position_mm = sim_axis_position(axis);
+    status->position_mm = wsg_sim_axis_position(axis);
     status->velocity_mm_s = axis->v_mm_s;
     status->force_n = axis->force_n;
     status->blocked = axis->blocked;
@@ -69,10 +70,10 @@ static const hal_axis_ops_t axis_ops = {
 
 static float board_c(void *ctx)
 {
-    return sim_thermal_board_c(&((const sim_world_t *)ctx)->thermal);
+    return wsg_sim_thermal_board_c(&((const sim_world_t *)ctx)->thermal);
 }
 
-void sim_world_hal(sim_world_t *world, wsg_hal_t *hal)
+void wsg_sim_world_hal(sim_world_t *world, wsg_hal_t *hal)
 {
     hal->axis = (hal_axis_t){&axis_ops, world};
     hal->temp = (hal_temp_t){board_c, world};

@@ -19,12 +19,12 @@ typedef struct {
 } sim_world_t;
 
 /* Power-on: a device with this configuration's mechanics, the jaws mid-stroke. */
-void sim_world_init(sim_world_t *world, const wsg_config_t *config, uint64_t now_us);
+void wsg_sim_world_init(sim_world_t *world, const wsg_config_t *config, uint64_t now_us);
 
 /* Integrates mechanics and temperature up to now_us. */
-void sim_world_advance(sim_world_t *world, uint64_t now_us);
+void wsg_sim_world_advance(sim_world_t *world, uint64_t now_us);
 
 /* The HAL handles of this world (axis and temperature; can is left NULL). */
-void sim_world_hal(sim_world_t *world, wsg_hal_t *hal);
+void wsg_sim_world_hal(sim_world_t *world, wsg_hal_t *hal);
 
 #endif

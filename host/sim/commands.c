@@ -213,7 +213,7 @@ static wsg_status_t check_shape(const simctl_entry_t *e, const gcl_command_t *cm
 static const simctl_entry_t *resolve(const char *line, size_t len, gcl_command_t *cmd,
                                      wsg_status_t *status, char *why, size_t cap)
 {
-    *status = gcl_parse_line(line, len, cmd);
+    *status = wsg_gcl_parse_line(line, len, cmd);
     const simctl_entry_t *e = cmd->name[0] != '\0' ? find(cmd->name) : NULL;
     if (cmd->name[0] != '\0' && e == NULL) {
         *status = E_CMD_UNKNOWN;
@@ -283,7 +283,8 @@ char *simctl_exec(const char *line, size_t len, unsigned *selected, simctl_outco
     unsigned index = selected != NULL && *selected < fleet_count() ? *selected : 0u;
     simctl_ctx_t ctx = {.cmd = &cmd, .gripper = fleet_gripper(index), .selected = selected};
     const simctl_entry_t *e = resolve(line, len, &cmd, &status, ctx.why, sizeof(ctx.why));
-    sim_world_advance(&ctx.gripper->world, hal_clock_now_us()); /* act on the world as it is now */
+    wsg_sim_world_advance(&ctx.gripper->world,
+                          hal_clock_now_us()); /* act on the world as it is now */
     if (e != NULL) {
         status = e->handler(&ctx);
         gripper_touch(ctx.gripper); /* its deadline may have moved */

@@ -73,7 +73,7 @@ wsg_status_t sc_part(simctl_ctx_t *ctx)
     if (sc_checking(ctx)) {
         return E_SUCCESS;
     }
-    sim_axis_set_part(&ctx->gripper->world.axis, (float)width, (float)stiffness, (float)slip);
+    wsg_sim_axis_set_part(&ctx->gripper->world.axis, (float)width, (float)stiffness, (float)slip);
     host_logf(HAL_LOG_INFO, "world: part %.2f mm, %.1f N/mm, slips below %.1f N", width, stiffness,
               slip);
     sc_world_changed(ctx);
@@ -85,7 +85,7 @@ wsg_status_t sc_part_remove(simctl_ctx_t *ctx)
     if (!ctx->gripper->world.axis.part.present) {
         return sc_fail(ctx, E_NOT_AVAILABLE, "there is no part");
     }
-    sim_axis_remove_part(&ctx->gripper->world.axis);
+    wsg_sim_axis_remove_part(&ctx->gripper->world.axis);
     host_logf(HAL_LOG_INFO, "world: part removed");
     sc_world_changed(ctx);
     return E_SUCCESS;
@@ -96,7 +96,7 @@ wsg_status_t sc_part_slip(simctl_ctx_t *ctx)
     if (!ctx->gripper->world.axis.part.present) {
         return sc_fail(ctx, E_NOT_AVAILABLE, "there is no part");
     }
-    sim_axis_slip_part(&ctx->gripper->world.axis);
+    wsg_sim_axis_slip_part(&ctx->gripper->world.axis);
     host_logf(HAL_LOG_INFO, "world: part slipped out of the jaws");
     sc_world_changed(ctx);
     return E_SUCCESS;
@@ -116,7 +116,7 @@ wsg_status_t sc_obstacle(simctl_ctx_t *ctx)
     if (sc_checking(ctx)) {
         return E_SUCCESS;
     }
-    sim_axis_place_obstacle(&ctx->gripper->world.axis, (float)width);
+    wsg_sim_axis_place_obstacle(&ctx->gripper->world.axis, (float)width);
     host_logf(HAL_LOG_INFO, "world: obstacle at %.2f mm", width);
     sc_world_changed(ctx);
     return E_SUCCESS;
@@ -127,7 +127,7 @@ wsg_status_t sc_obstacle_remove(simctl_ctx_t *ctx)
     if (!ctx->gripper->world.axis.obstacle.present) {
         return sc_fail(ctx, E_NOT_AVAILABLE, "there is no obstacle");
     }
-    sim_axis_remove_obstacle(&ctx->gripper->world.axis);
+    wsg_sim_axis_remove_obstacle(&ctx->gripper->world.axis);
     host_logf(HAL_LOG_INFO, "world: obstacle removed");
     sc_world_changed(ctx);
     return E_SUCCESS;

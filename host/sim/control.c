@@ -151,13 +151,13 @@ static void handle_line(control_client_t *c)
     const gcl_linebuf_t *lb = &c->input;
     char channel[16];
     channel_name(c, channel, sizeof(channel));
-    if (gcl_linebuf_status(lb) == GCL_LINE_OK && strspn(lb->text, " \t") == lb->len) {
+    if (wsg_gcl_linebuf_status(lb) == GCL_LINE_OK && strspn(lb->text, " \t") == lb->len) {
         return; /* blank line */
     }
     record_control(channel, '<', lb->text, lb->len);
     char *reply = NULL;
     simctl_outcome_t outcome = {false, false};
-    if (gcl_linebuf_status(lb) != GCL_LINE_OK) {
+    if (wsg_gcl_linebuf_status(lb) != GCL_LINE_OK) {
         reply = strdup("ERR ? 15 line too long or with control bytes");
     } else {
         reply = simctl_exec(lb->text, lb->len, &c->device, &outcome);
@@ -186,7 +186,7 @@ static bool may_run(const control_client_t *c)
 static void run_pending(control_client_t *c)
 {
     while (input_left(c) && may_run(c)) {
-        if (gcl_linebuf_feed(&c->input, c->pending[c->pending_at++])) {
+        if (wsg_gcl_linebuf_feed(&c->input, c->pending[c->pending_at++])) {
             handle_line(c);
         }
     }
@@ -295,7 +295,7 @@ static void on_accept(void *ctx, int fd, short revents)
     c->pending_at = 0;
     c->number = ++ctl.connections;
     c->device = 0;
-    gcl_linebuf_reset(&c->input);
+    wsg_gcl_linebuf_reset(&c->input);
     if (!loop_watch(client_fd, POLLIN, on_client, c)) {
         free(c->outq.ring);
         close(client_fd);

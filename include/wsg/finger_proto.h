@@ -130,27 +130,27 @@ static inline uint32_t fbus_func_of(uint32_t id)
 }
 
 /* Frame identifier of a function for a node; false for an unknown node. */
-uint32_t fbus_id(uint32_t func, uint8_t node);
+uint32_t wsg_fbus_id(uint32_t func, uint8_t node);
 /* The slot a node id stands for, or -1. */
-int fbus_slot_of_node(uint8_t node);
+int wsg_fbus_slot_of_node(uint8_t node);
 
-void fbus_pack_state(hal_can_frame_t *f, const fbus_state_t *s);
-bool fbus_unpack_state(const hal_can_frame_t *f, fbus_state_t *s);
-void fbus_pack_command(hal_can_frame_t *f, uint8_t node, uint8_t command);
-bool fbus_unpack_command(const hal_can_frame_t *f, uint8_t *command);
-void fbus_pack_descriptor(hal_can_frame_t *f, uint8_t node, const fbus_descriptor_t *d);
-bool fbus_unpack_descriptor(const hal_can_frame_t *f, fbus_descriptor_t *d);
-void fbus_pack_measure(hal_can_frame_t *f, uint8_t node, const fbus_measure_t *m);
-bool fbus_unpack_measure(const hal_can_frame_t *f, fbus_measure_t *m);
-void fbus_pack_bulk(hal_can_frame_t *f, uint8_t node, const fbus_bulk_t *b);
-bool fbus_unpack_bulk(const hal_can_frame_t *f, fbus_bulk_t *b);
-void fbus_pack_heartbeat(hal_can_frame_t *f, uint8_t node, const fbus_heartbeat_t *h);
-bool fbus_unpack_heartbeat(const hal_can_frame_t *f, fbus_heartbeat_t *h);
-void fbus_pack_simctl(hal_can_frame_t *f, uint8_t node, uint8_t faults);
-bool fbus_unpack_simctl(const hal_can_frame_t *f, uint8_t *faults);
+void wsg_fbus_pack_state(hal_can_frame_t *f, const fbus_state_t *s);
+bool wsg_fbus_unpack_state(const hal_can_frame_t *f, fbus_state_t *s);
+void wsg_fbus_pack_command(hal_can_frame_t *f, uint8_t node, uint8_t command);
+bool wsg_fbus_unpack_command(const hal_can_frame_t *f, uint8_t *command);
+void wsg_fbus_pack_descriptor(hal_can_frame_t *f, uint8_t node, const fbus_descriptor_t *d);
+bool wsg_fbus_unpack_descriptor(const hal_can_frame_t *f, fbus_descriptor_t *d);
+void wsg_fbus_pack_measure(hal_can_frame_t *f, uint8_t node, const fbus_measure_t *m);
+bool wsg_fbus_unpack_measure(const hal_can_frame_t *f, fbus_measure_t *m);
+void wsg_fbus_pack_bulk(hal_can_frame_t *f, uint8_t node, const fbus_bulk_t *b);
+bool wsg_fbus_unpack_bulk(const hal_can_frame_t *f, fbus_bulk_t *b);
+void wsg_fbus_pack_heartbeat(hal_can_frame_t *f, uint8_t node, const fbus_heartbeat_t *h);
+bool wsg_fbus_unpack_heartbeat(const hal_can_frame_t *f, fbus_heartbeat_t *h);
+void wsg_fbus_pack_simctl(hal_can_frame_t *f, uint8_t node, uint8_t faults);
+bool wsg_fbus_unpack_simctl(const hal_can_frame_t *f, uint8_t *faults);
 
-void fbus_bulk_rx_reset(fbus_bulk_rx_t *rx);
+void wsg_fbus_bulk_rx_reset(fbus_bulk_rx_t *rx);
 /* Feeds one segment; true when it completed a transfer (rx->count values). */
-bool fbus_bulk_rx_feed(fbus_bulk_rx_t *rx, const fbus_bulk_t *segment);
+bool wsg_fbus_bulk_rx_feed(fbus_bulk_rx_t *rx, const fbus_bulk_t *segment);
 
 #endif

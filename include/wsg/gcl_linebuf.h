@@ -27,23 +27,24 @@ typedef struct {
     bool ended_by_cr; /* the last line ended with '\r': a '\n' next completes "\r\n" */
 } gcl_linebuf_t;
 
-void gcl_linebuf_reset(gcl_linebuf_t *lb);
+void wsg_gcl_linebuf_reset(gcl_linebuf_t *lb);
 
 /* Feeds one byte; returns true when it completed a line, which is then in
  * lb->text / lb->len (NUL-terminated, without its line end) and
- * whose status gcl_linebuf_status() tells. The next call starts a new line. */
-bool gcl_linebuf_feed(gcl_linebuf_t *lb, uint8_t byte);
+ * whose status wsg_gcl_linebuf_status() tells. The next call starts a new line. */
+bool wsg_gcl_linebuf_feed(gcl_linebuf_t *lb, uint8_t byte);
 
-/* Feeds up to len bytes, as many gcl_linebuf_feed() calls would, and stops
+/* Feeds up to len bytes, as many wsg_gcl_linebuf_feed() calls would, and stops
  * after the byte that completes a line. Returns how many bytes it took;
  * *line_done tells whether the last of them completed a line. */
-size_t gcl_linebuf_feed_bytes(gcl_linebuf_t *lb, const uint8_t *bytes, size_t len, bool *line_done);
+size_t wsg_gcl_linebuf_feed_bytes(gcl_linebuf_t *lb, const uint8_t *bytes, size_t len,
+                                  bool *line_done);
 
 /* Ends the pending line as if "\n" had arrived; false if nothing is pending. */
-bool gcl_linebuf_flush(gcl_linebuf_t *lb);
+bool wsg_gcl_linebuf_flush(gcl_linebuf_t *lb);
 
-gcl_line_status_t gcl_linebuf_status(const gcl_linebuf_t *lb);
+gcl_line_status_t wsg_gcl_linebuf_status(const gcl_linebuf_t *lb);
 
-bool gcl_linebuf_pending(const gcl_linebuf_t *lb);
+bool wsg_gcl_linebuf_pending(const gcl_linebuf_t *lb);
 
 #endif

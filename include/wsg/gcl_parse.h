@@ -46,9 +46,9 @@ typedef struct {
 /* Parses line[0..len) (no terminator). On failure returns E_CMD_FORMAT_ERROR,
  * or E_INVALID_PARAMETER for an argument that is not a valid token, and still
  * fills cmd->name when the line starts with a name. */
-wsg_status_t gcl_parse_line(const char *line, size_t len, gcl_command_t *cmd);
+wsg_status_t wsg_gcl_parse_line(const char *line, size_t len, gcl_command_t *cmd);
 
 /* Case-insensitive comparison of a word or string argument. */
-bool gcl_text_equals(const char *text, const char *upper);
+bool wsg_gcl_text_equals(const char *text, const char *upper);
 
 #endif

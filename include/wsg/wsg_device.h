@@ -33,7 +33,7 @@ void wsg_device_init(wsg_device_t *dev, const wsg_config_t *cfg, const wsg_hal_t
 /* Power-on state again: keeps configuration, hardware and observers; every
  * connection must have been closed first. Run-time settings go back to cfg. */
 void wsg_device_reset(wsg_device_t *dev, const wsg_config_t *cfg);
-/* One control step: sense (clock, axis, temperature), supervise the motion,
+/* One control step: wsg_sense (clock, axis, temperature), supervise the motion,
  * monitor the grip, then run every timer that is due. */
 void wsg_device_step(wsg_device_t *dev);
 /* The sense step alone: reads the hardware now, so that a command between

@@ -40,7 +40,7 @@ bool wsg_fingers_force_control(const wsg_fingers_t *fingers);
 float wsg_fingers_measured_force(const wsg_fingers_t *fingers);
 
 /* TARE(): index -1 tares every force finger. E_NOT_AVAILABLE without one
- * that is connected and delivering data. Checks only: finger_bus_tare() sends. */
+ * that is connected and delivering data. Checks only: wsg_finger_bus_tare() sends. */
 wsg_status_t wsg_fingers_tare(wsg_fingers_t *fingers, int index);
 
 #endif

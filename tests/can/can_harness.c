@@ -27,8 +27,8 @@ void t_start(const char *fingers)
     }
     fbus_type_t types[FBUS_SLOTS];
     finger_node_params_t params;
-    finger_node_defaults(&params);
-    ck_assert(finger_node_parse_pair(fingers, types));
+    wsg_finger_node_defaults(&params);
+    ck_assert(wsg_finger_node_parse_pair(fingers, types));
     can_loopback_init(types, &params);
     h_setup_on_can(can_loopback_bus());
 }
@@ -37,7 +37,7 @@ void t_run_ms(uint32_t ms)
 {
     for (uint32_t i = 0; i < ms; i++) {
         h_now_us += 1000u;
-        sim_world_advance(&h_world, h_now_us);
+        wsg_sim_world_advance(&h_world, h_now_us);
         if (h_now_us >= next_due || i == 0) {
             wsg_device_step(&h_dev);
             next_due = wsg_device_next_deadline_us(&h_dev);

@@ -13,7 +13,7 @@
 static void inject(unsigned slot, uint8_t faults)
 {
     hal_can_frame_t f;
-    fbus_pack_simctl(&f, FBUS_NODE_ID(slot), faults);
+    wsg_fbus_pack_simctl(&f, FBUS_NODE_ID(slot), faults);
     ck_assert(hal_can_send(can_loopback_bus(), &f));
 }
 
@@ -101,7 +101,7 @@ END_TEST
 /* GRIP on a 40 mm part; returns after the grip settled for settle_ms. */
 static void grip_part(float force, uint32_t settle_ms)
 {
-    sim_axis_place_part(&h_world.axis, 40.0f, 100.0f);
+    wsg_sim_axis_place_part(&h_world.axis, 40.0f, 100.0f);
     ck_assert_str_eq(t_ask("HOME()"), "ACK HOME");
     t_run_ms(3000);
     char line[32];
@@ -205,7 +205,7 @@ START_TEST(clock_jumps_keep_loopback_fingers)
     t_run_ms(50);
     for (int i = 0; i < 3; i++) {
         h_now_us += 5000000u; /* a paused clock stepped by 5 s */
-        sim_world_advance(&h_world, h_now_us);
+        wsg_sim_world_advance(&h_world, h_now_us);
         wsg_device_step(&h_dev);
         ck_assert_str_eq(t_ask("FFLAGS[0]?"), "FFLAGS[0]=" FLAGS_OK);
     }
@@ -242,7 +242,7 @@ START_TEST(idle_bus_sleeps_and_wakes_intact)
     ck_assert_uint_eq(wsg_device_next_deadline_us(&h_dev), UINT64_MAX);
     uint32_t frames = can_loopback_frames();
     h_now_us += 10000000u; /* 10 s with nothing due: nobody steps the device */
-    sim_world_advance(&h_world, h_now_us);
+    wsg_sim_world_advance(&h_world, h_now_us);
     ck_assert_uint_eq(can_loopback_frames() - frames, 0);
     ck_assert_str_eq(t_ask("FFLAGS?"), "FFLAGS=[" FLAGS_OK "," FLAGS_OK "]");
     wsg_device_step(&h_dev); /* a command's step: a whole bus cycle at this instant */

@@ -40,8 +40,8 @@ static uint64_t now;
 static void start(fbus_type_t type, unsigned slot)
 {
     finger_node_params_t p;
-    finger_node_defaults(&p);
-    finger_node_init(&node, type, slot, &p, &rec_bus);
+    wsg_finger_node_defaults(&p);
+    wsg_finger_node_init(&node, type, slot, &p, &rec_bus);
     sent_count = 0;
     now = 1000000u;
 }
@@ -50,8 +50,8 @@ static void state(float force, uint8_t power)
 {
     fbus_state_t s = {30.0f, force, power, 0, 0};
     hal_can_frame_t f;
-    fbus_pack_state(&f, &s);
-    finger_node_receive(&node, &f, now);
+    wsg_fbus_pack_state(&f, &s);
+    wsg_finger_node_receive(&node, &f, now);
 }
 
 /* Runs 1 ms steps, feeding STATE every 10 ms as the gripper does. */
@@ -62,7 +62,7 @@ static void run(unsigned ms, float force, uint8_t power)
             state(force, power);
         }
         now += 1000u;
-        finger_node_step(&node, now);
+        wsg_finger_node_step(&node, now);
     }
 }
 
@@ -90,7 +90,7 @@ static float last_force(void)
     fbus_measure_t m;
     const hal_can_frame_t *f = last_id(0x181);
     ck_assert_ptr_nonnull(f);
-    ck_assert(fbus_unpack_measure(f, &m));
+    ck_assert(wsg_fbus_unpack_measure(f, &m));
     return (float)m.value_milli / 1000.0f;
 }
 
@@ -99,7 +99,7 @@ START_TEST(silent_without_supply)
     start(FBUS_TYPE_FMF, 0);
     run(500, 0.0f, 0x2); /* only slot 1 powered */
     ck_assert_uint_eq(sent_count, 0);
-    ck_assert_uint_eq(finger_node_next_due_us(&node), UINT64_MAX);
+    ck_assert_uint_eq(wsg_finger_node_next_due_us(&node), UINT64_MAX);
 }
 END_TEST
 
@@ -109,14 +109,14 @@ START_TEST(boots_then_describes_itself)
     run(1, 0.0f, 0x3);
     ck_assert_uint_eq(sent_count, 1);
     fbus_heartbeat_t hb;
-    ck_assert(fbus_unpack_heartbeat(&sent[0], &hb));
+    ck_assert(wsg_fbus_unpack_heartbeat(&sent[0], &hb));
     ck_assert_uint_eq(hb.state, FBUS_NODE_BOOT);
     run(30, 0.0f, 0x3);
     fbus_descriptor_t d;
-    ck_assert(fbus_unpack_descriptor(last_id(0x101), &d));
+    ck_assert(wsg_fbus_unpack_descriptor(last_id(0x101), &d));
     ck_assert_uint_eq(d.type, FBUS_TYPE_FMF);
     ck_assert_uint_eq(d.encoding, FBUS_ENC_MEASURE);
-    ck_assert(fbus_unpack_heartbeat(last_id(0x701), &hb));
+    ck_assert(wsg_fbus_unpack_heartbeat(last_id(0x701), &hb));
     ck_assert_uint_eq(hb.state, FBUS_NODE_OPERATIONAL);
 }
 END_TEST
@@ -142,12 +142,12 @@ START_TEST(fmf_follows_force_and_tares)
     ck_assert_float_eq_tol(last_force(), 25.6f, 0.1f);
     run(300, 0.0f, 0x1);
     hal_can_frame_t f;
-    fbus_pack_command(&f, 1, FBUS_CMD_TARE);
-    finger_node_receive(&node, &f, now);
+    wsg_fbus_pack_command(&f, 1, FBUS_CMD_TARE);
+    wsg_finger_node_receive(&node, &f, now);
     run(20, 0.0f, 0x1);
     ck_assert_float_eq_tol(last_force(), 0.0f, 0.08f);
     fbus_measure_t m;
-    ck_assert(fbus_unpack_measure(last_id(0x181), &m));
+    ck_assert(wsg_fbus_unpack_measure(last_id(0x181), &m));
     ck_assert_uint_eq(m.tare_count, 1);
     ck_assert_uint_eq(m.status & FBUS_MEASURE_TARED, FBUS_MEASURE_TARED);
     run(300, 25.0f, 0x1);
@@ -160,8 +160,8 @@ START_TEST(tare_is_lost_on_power_cycle)
     start(FBUS_TYPE_FMF, 0);
     run(300, 0.0f, 0x1);
     hal_can_frame_t f;
-    fbus_pack_command(&f, 1, FBUS_CMD_TARE);
-    finger_node_receive(&node, &f, now);
+    wsg_fbus_pack_command(&f, 1, FBUS_CMD_TARE);
+    wsg_finger_node_receive(&node, &f, now);
     run(50, 0.0f, 0x0);
     run(300, 0.0f, 0x1);
     ck_assert_float_eq_tol(last_force(), 0.6f, 0.1f);
@@ -174,12 +174,12 @@ START_TEST(goes_quiet_when_the_gripper_vanishes)
     run(100, 0.0f, 0x1);
     for (unsigned i = 0; i < 1100u; i++) {
         now += 1000u;
-        finger_node_step(&node, now);
+        wsg_finger_node_step(&node, now);
     }
     unsigned before = sent_count;
     for (unsigned i = 0; i < 500u; i++) {
         now += 1000u;
-        finger_node_step(&node, now);
+        wsg_finger_node_step(&node, now);
     }
     ck_assert_uint_eq(sent_count, before);
 }
@@ -195,18 +195,18 @@ START_TEST(dsa_sends_84_cells_in_28_segments)
     ck_assert_uint_ge(frames, 19u * 28u);
     ck_assert_uint_le(frames, 21u * 28u);
     fbus_bulk_rx_t rx;
-    fbus_bulk_rx_reset(&rx);
+    wsg_fbus_bulk_rx_reset(&rx);
     bool done = false;
     for (unsigned i = 0; i < sent_count; i++) {
         fbus_bulk_t b;
-        if (fbus_unpack_bulk(&sent[i], &b) && fbus_bulk_rx_feed(&rx, &b)) {
+        if (wsg_fbus_unpack_bulk(&sent[i], &b) && wsg_fbus_bulk_rx_feed(&rx, &b)) {
             done = true;
         }
     }
     ck_assert(done);
     ck_assert_uint_eq(rx.count, 84);
     uint16_t want[84];
-    finger_node_dsa_pattern(30.0f, want);
+    wsg_finger_node_dsa_pattern(30.0f, want);
     ck_assert_mem_eq(rx.values, want, sizeof(want));
 }
 END_TEST
@@ -215,12 +215,12 @@ START_TEST(dsa_pattern_follows_contact)
 {
     uint16_t cells[84];
     uint16_t harder[84];
-    finger_node_dsa_pattern(0.0f, cells);
+    wsg_finger_node_dsa_pattern(0.0f, cells);
     for (unsigned i = 0; i < 84u; i++) {
         ck_assert_uint_eq(cells[i], 0);
     }
-    finger_node_dsa_pattern(10.0f, cells);
-    finger_node_dsa_pattern(60.0f, harder);
+    wsg_finger_node_dsa_pattern(10.0f, cells);
+    wsg_finger_node_dsa_pattern(60.0f, harder);
     unsigned touched = 0, touched_harder = 0;
     for (unsigned i = 0; i < 84u; i++) {
         touched += cells[i] > 0u ? 1u : 0u;
@@ -243,7 +243,7 @@ START_TEST(generic_only_heartbeats)
     ck_assert_uint_eq(count_id(0x201), 0);
     ck_assert_uint_ge(count_id(0x701), 10);
     fbus_descriptor_t d;
-    ck_assert(fbus_unpack_descriptor(last_id(0x101), &d));
+    ck_assert(wsg_fbus_unpack_descriptor(last_id(0x101), &d));
     ck_assert_uint_eq(d.type, FBUS_TYPE_GENERIC);
     ck_assert_uint_eq(d.encoding, FBUS_ENC_NONE);
 }
@@ -253,26 +253,26 @@ START_TEST(injected_faults)
 {
     start(FBUS_TYPE_FMF, 0);
     hal_can_frame_t f;
-    fbus_pack_simctl(&f, 1, FBUS_FAULT_INIT);
-    finger_node_receive(&node, &f, now);
+    wsg_fbus_pack_simctl(&f, 1, FBUS_FAULT_INIT);
+    wsg_finger_node_receive(&node, &f, now);
     run(200, 0.0f, 0x1);
     ck_assert_uint_eq(count_id(0x101), 0); /* no descriptor */
     ck_assert_uint_eq(count_id(0x181), 0); /* no data */
     fbus_heartbeat_t hb;
-    ck_assert(fbus_unpack_heartbeat(last_id(0x701), &hb));
+    ck_assert(wsg_fbus_unpack_heartbeat(last_id(0x701), &hb));
     ck_assert_uint_eq(hb.state, FBUS_NODE_FAULT);
     ck_assert_uint_eq(hb.faults, FBUS_FAULT_INIT);
-    fbus_pack_simctl(&f, 1, FBUS_FAULT_UNPLUG);
-    finger_node_receive(&node, &f, now);
+    wsg_fbus_pack_simctl(&f, 1, FBUS_FAULT_UNPLUG);
+    wsg_finger_node_receive(&node, &f, now);
     sent_count = 0;
     run(500, 0.0f, 0x1);
     ck_assert_uint_eq(sent_count, 0);
-    fbus_pack_simctl(&f, 2, 0); /* another node's: ignored */
-    finger_node_receive(&node, &f, now);
+    wsg_fbus_pack_simctl(&f, 2, 0); /* another node's: ignored */
+    wsg_finger_node_receive(&node, &f, now);
     run(100, 0.0f, 0x1);
     ck_assert_uint_eq(sent_count, 0);
-    fbus_pack_simctl(&f, 1, 0);
-    finger_node_receive(&node, &f, now);
+    wsg_fbus_pack_simctl(&f, 1, 0);
+    wsg_finger_node_receive(&node, &f, now);
     run(100, 0.0f, 0x1);
     ck_assert_uint_eq(count_id(0x101), 1);
     ck_assert_uint_gt(count_id(0x181), 5);
@@ -282,15 +282,15 @@ END_TEST
 START_TEST(parses_finger_lists)
 {
     fbus_type_t t[2];
-    ck_assert(finger_node_parse_pair("fmf,dsa", t));
+    ck_assert(wsg_finger_node_parse_pair("fmf,dsa", t));
     ck_assert_int_eq(t[0], FBUS_TYPE_FMF);
     ck_assert_int_eq(t[1], FBUS_TYPE_DSA);
-    ck_assert(finger_node_parse_pair("GENERIC", t));
+    ck_assert(wsg_finger_node_parse_pair("GENERIC", t));
     ck_assert_int_eq(t[0], FBUS_TYPE_GENERIC);
     ck_assert_int_eq(t[1], FBUS_TYPE_NONE);
-    ck_assert(!finger_node_parse_pair("fmf,", t));
-    ck_assert(!finger_node_parse_pair("fm", t));
-    ck_assert(!finger_node_parse_pair("fmfx,dsa", t));
+    ck_assert(!wsg_finger_node_parse_pair("fmf,", t));
+    ck_assert(!wsg_finger_node_parse_pair("fm", t));
+    ck_assert(!wsg_finger_node_parse_pair("fmfx,dsa", t));
 }
 END_TEST
 

@@ -7,13 +7,13 @@
 
 START_TEST(ids_follow_slots)
 {
-    ck_assert_uint_eq(fbus_id(FBUS_ID_MEASURE, FBUS_NODE_ID(0)), 0x181u);
-    ck_assert_uint_eq(fbus_id(FBUS_ID_BULK, FBUS_NODE_ID(1)), 0x202u);
-    ck_assert_uint_eq(fbus_id(FBUS_ID_HEARTBEAT, FBUS_NODE_ID(1)), 0x702u);
-    ck_assert_int_eq(fbus_slot_of_node(1), 0);
-    ck_assert_int_eq(fbus_slot_of_node(2), 1);
-    ck_assert_int_eq(fbus_slot_of_node(0), -1);
-    ck_assert_int_eq(fbus_slot_of_node(3), -1);
+    ck_assert_uint_eq(wsg_fbus_id(FBUS_ID_MEASURE, FBUS_NODE_ID(0)), 0x181u);
+    ck_assert_uint_eq(wsg_fbus_id(FBUS_ID_BULK, FBUS_NODE_ID(1)), 0x202u);
+    ck_assert_uint_eq(wsg_fbus_id(FBUS_ID_HEARTBEAT, FBUS_NODE_ID(1)), 0x702u);
+    ck_assert_int_eq(wsg_fbus_slot_of_node(1), 0);
+    ck_assert_int_eq(wsg_fbus_slot_of_node(2), 1);
+    ck_assert_int_eq(wsg_fbus_slot_of_node(0), -1);
+    ck_assert_int_eq(wsg_fbus_slot_of_node(3), -1);
 }
 END_TEST
 
@@ -21,13 +21,13 @@ START_TEST(state_layout_is_little_endian)
 {
     fbus_state_t s = {55.25f, 40.5f, 0x3, 4, 9};
     hal_can_frame_t f;
-    fbus_pack_state(&f, &s);
+    wsg_fbus_pack_state(&f, &s);
     ck_assert_uint_eq(f.id, 0x080u);
     ck_assert_uint_eq(f.dlc, 8);
     static const uint8_t want[8] = {0x95, 0x15, 0xD2, 0x0F, 0x03, 0x04, 0x09, 0x00};
     ck_assert_mem_eq(f.data, want, 8);
     fbus_state_t back;
-    ck_assert(fbus_unpack_state(&f, &back));
+    ck_assert(wsg_fbus_unpack_state(&f, &back));
     ck_assert_float_eq_tol(back.position_mm, 55.25f, 0.001f);
     ck_assert_float_eq_tol(back.force_n, 40.5f, 0.001f);
     ck_assert_uint_eq(back.power_mask, 3);
@@ -40,8 +40,8 @@ START_TEST(state_clamps_out_of_range)
     fbus_state_t s = {-3.0f, 1000.0f, 0, 0, 0};
     hal_can_frame_t f;
     fbus_state_t back;
-    fbus_pack_state(&f, &s);
-    ck_assert(fbus_unpack_state(&f, &back));
+    wsg_fbus_pack_state(&f, &s);
+    ck_assert(wsg_fbus_unpack_state(&f, &back));
     ck_assert_float_eq(back.position_mm, 0.0f);
     ck_assert_float_eq_tol(back.force_n, 655.35f, 0.001f);
 }
@@ -51,12 +51,12 @@ START_TEST(measure_carries_negative_millinewtons)
 {
     fbus_measure_t m = {-1234, 7, FBUS_MEASURE_TARED, 2};
     hal_can_frame_t f;
-    fbus_pack_measure(&f, 1, &m);
+    wsg_fbus_pack_measure(&f, 1, &m);
     ck_assert_uint_eq(f.id, 0x181u);
     static const uint8_t want[8] = {0x2E, 0xFB, 0xFF, 0xFF, 7, 1, 2, 0};
     ck_assert_mem_eq(f.data, want, 8);
     fbus_measure_t back;
-    ck_assert(fbus_unpack_measure(&f, &back));
+    ck_assert(wsg_fbus_unpack_measure(&f, &back));
     ck_assert_int_eq(back.value_milli, -1234);
     ck_assert_uint_eq(back.tare_count, 2);
 }
@@ -67,25 +67,25 @@ START_TEST(descriptor_heartbeat_command_simctl_round_trip)
     hal_can_frame_t f;
     fbus_descriptor_t d = {FBUS_TYPE_DSA, FBUS_PROTO_VERSION, 14, 6, FBUS_ENC_BULK, 0, 0x0102};
     fbus_descriptor_t dd;
-    fbus_pack_descriptor(&f, 2, &d);
+    wsg_fbus_pack_descriptor(&f, 2, &d);
     ck_assert_uint_eq(f.id, 0x102u);
-    ck_assert(fbus_unpack_descriptor(&f, &dd));
+    ck_assert(wsg_fbus_unpack_descriptor(&f, &dd));
     ck_assert_mem_eq(&d, &dd, sizeof(d));
     fbus_heartbeat_t h = {FBUS_NODE_FAULT, FBUS_FAULT_INIT, 200};
     fbus_heartbeat_t hh;
-    fbus_pack_heartbeat(&f, 1, &h);
-    ck_assert(fbus_unpack_heartbeat(&f, &hh));
+    wsg_fbus_pack_heartbeat(&f, 1, &h);
+    ck_assert(wsg_fbus_unpack_heartbeat(&f, &hh));
     ck_assert_uint_eq(hh.state, FBUS_NODE_FAULT);
     ck_assert_uint_eq(hh.faults, FBUS_FAULT_INIT);
-    ck_assert(!fbus_unpack_descriptor(&f, &dd)); /* a heartbeat is no descriptor */
+    ck_assert(!wsg_fbus_unpack_descriptor(&f, &dd)); /* a heartbeat is no descriptor */
     uint8_t v = 0;
-    fbus_pack_command(&f, 2, FBUS_CMD_TARE);
+    wsg_fbus_pack_command(&f, 2, FBUS_CMD_TARE);
     ck_assert_uint_eq(f.id, 0x0C2u);
-    ck_assert(fbus_unpack_command(&f, &v));
+    ck_assert(wsg_fbus_unpack_command(&f, &v));
     ck_assert_uint_eq(v, FBUS_CMD_TARE);
-    fbus_pack_simctl(&f, 1, FBUS_FAULT_UNPLUG);
+    wsg_fbus_pack_simctl(&f, 1, FBUS_FAULT_UNPLUG);
     ck_assert_uint_eq(f.id, 0x7E1u);
-    ck_assert(fbus_unpack_simctl(&f, &v));
+    ck_assert(wsg_fbus_unpack_simctl(&f, &v));
     ck_assert_uint_eq(v, FBUS_FAULT_UNPLUG);
 }
 END_TEST
@@ -94,14 +94,14 @@ START_TEST(extended_and_remote_frames_are_foreign)
 {
     hal_can_frame_t f;
     fbus_heartbeat_t h = {1, 0, 0};
-    fbus_pack_heartbeat(&f, 1, &h);
+    wsg_fbus_pack_heartbeat(&f, 1, &h);
     f.flags = HAL_CAN_FLAG_EXT;
-    ck_assert(!fbus_unpack_heartbeat(&f, &h));
+    ck_assert(!wsg_fbus_unpack_heartbeat(&f, &h));
     f.flags = HAL_CAN_FLAG_RTR;
-    ck_assert(!fbus_unpack_heartbeat(&f, &h));
+    ck_assert(!wsg_fbus_unpack_heartbeat(&f, &h));
     f.flags = 0;
     f.dlc = 2;
-    ck_assert(!fbus_unpack_heartbeat(&f, &h));
+    ck_assert(!wsg_fbus_unpack_heartbeat(&f, &h));
 }
 END_TEST
 
@@ -120,9 +120,9 @@ static void feed_transfer(fbus_bulk_rx_t *rx, uint8_t transfer, unsigned values,
         }
         hal_can_frame_t f;
         fbus_bulk_t back;
-        fbus_pack_bulk(&f, 2, &b);
-        ck_assert(fbus_unpack_bulk(&f, &back));
-        *done = fbus_bulk_rx_feed(rx, &back);
+        wsg_fbus_pack_bulk(&f, 2, &b);
+        ck_assert(wsg_fbus_unpack_bulk(&f, &back));
+        *done = wsg_fbus_bulk_rx_feed(rx, &back);
     }
 }
 
@@ -130,7 +130,7 @@ START_TEST(bulk_reassembles_84_cells_in_28_frames)
 {
     fbus_bulk_rx_t rx;
     bool done = false;
-    fbus_bulk_rx_reset(&rx);
+    wsg_fbus_bulk_rx_reset(&rx);
     feed_transfer(&rx, 3, 84, -1, &done);
     ck_assert(done);
     ck_assert_uint_eq(rx.count, 84);
@@ -144,7 +144,7 @@ START_TEST(bulk_with_a_lost_segment_is_dropped)
 {
     fbus_bulk_rx_t rx;
     bool done = false;
-    fbus_bulk_rx_reset(&rx);
+    wsg_fbus_bulk_rx_reset(&rx);
     feed_transfer(&rx, 4, 84, 13, &done);
     ck_assert(!done);
     feed_transfer(&rx, 5, 84, 27, &done); /* without its last segment */
@@ -158,13 +158,13 @@ END_TEST
 START_TEST(bulk_interleaved_transfer_restarts)
 {
     fbus_bulk_rx_t rx;
-    fbus_bulk_rx_reset(&rx);
+    wsg_fbus_bulk_rx_reset(&rx);
     fbus_bulk_t a = {0, false, 1, {1, 2, 3}};
     fbus_bulk_t b = {1, false, 2, {4, 5, 6}}; /* another transfer's segment */
     fbus_bulk_t c = {2, true, 1, {7, 8, 9}};
-    ck_assert(!fbus_bulk_rx_feed(&rx, &a));
-    ck_assert(!fbus_bulk_rx_feed(&rx, &b));
-    ck_assert(!fbus_bulk_rx_feed(&rx, &c));
+    ck_assert(!wsg_fbus_bulk_rx_feed(&rx, &a));
+    ck_assert(!wsg_fbus_bulk_rx_feed(&rx, &b));
+    ck_assert(!wsg_fbus_bulk_rx_feed(&rx, &c));
 }
 END_TEST
 

@@ -141,7 +141,7 @@ END_TEST
 START_TEST(blocked_minus_after_collision)
 {
     home();
-    sim_axis_place_part(&h_world.axis, 30.0f, 0.0f);
+    wsg_sim_axis_place_part(&h_world.axis, 30.0f, 0.0f);
     ASK_EQ("MOVE(20)", "ACK MOVE");
     AWAIT("ERR MOVE 29", 3000);
     ck_assert_int_eq(ask_flag(SF_BLOCKED_MINUS), 1);
@@ -158,7 +158,7 @@ START_TEST(blocked_plus_after_collision)
 {
     home();
     move_to("MOVE(20)");
-    sim_axis_place_part(&h_world.axis, 40.0f, 0.0f); /* a ring around the jaws */
+    wsg_sim_axis_place_part(&h_world.axis, 40.0f, 0.0f); /* a ring around the jaws */
     ASK_EQ("MOVE(60)", "ACK MOVE");
     AWAIT("ERR MOVE 29", 3000);
     ck_assert_int_eq(ask_flag(SF_BLOCKED_PLUS), 1);
@@ -173,13 +173,13 @@ END_TEST
 START_TEST(blocked_clears_when_the_obstacle_goes)
 {
     home();
-    sim_axis_place_obstacle(&h_world.axis, 50.0f);
+    wsg_sim_axis_place_obstacle(&h_world.axis, 50.0f);
     ASK_EQ("MOVE(20)", "ACK MOVE");
     AWAIT("ERR MOVE 29", 3000);
     advance_ms(500);
     ck_assert_int_eq(ask_flag(SF_BLOCKED_MINUS), 1); /* still leaning on it */
     ck_assert_float_eq_tol(ask_float("POS?"), 50.0f, 0.06f);
-    sim_axis_remove_obstacle(&h_world.axis);
+    wsg_sim_axis_remove_obstacle(&h_world.axis);
     advance_ms(50);
     ck_assert_int_eq(ask_flag(SF_BLOCKED_MINUS), 0);
     ck_assert_float_eq_tol(ask_float("POS?"), 50.0f, 0.06f); /* no motion of its own */
@@ -206,7 +206,7 @@ START_TEST(cmd_failure_of_a_motion_goes_to_its_issuer)
 {
     home();
     h_open(&h_other, WSG_TRANSPORT_STREAM);
-    sim_axis_place_obstacle(&h_world.axis, 50.0f);
+    wsg_sim_axis_place_obstacle(&h_world.axis, 50.0f);
     ck_assert_str_eq(ask(&h_other, "MOVE(20)"), "ACK MOVE");
     ck_assert_str_eq(await_line(&h_other, 3000), "ERR MOVE 29");
     ck_assert_int_eq(ask_flag(SF_CMD_FAILURE), 0);

@@ -62,7 +62,7 @@ END_TEST
 /* HOME(), wait for FIN, GRIP(60,5,50) in the same control tick */
 START_TEST(grip_right_after_fin_home)
 {
-    sim_axis_place_part(&h_world.axis, 8.0f, 100.0f);
+    wsg_sim_axis_place_part(&h_world.axis, 8.0f, 100.0f);
     ASK_EQ("HOME()", "ACK HOME");
     while (h_unread(&h_main) == 0) {
         advance_ms(1);
@@ -99,7 +99,7 @@ END_TEST
  * contact for a grip moving away from it; a grip towards it is. */
 START_TEST(force_behind_the_jaws_is_not_a_contact)
 {
-    sim_axis_place_obstacle(&h_world.axis, 50.0f);
+    wsg_sim_axis_place_obstacle(&h_world.axis, 50.0f);
     ASK_EQ("MOVE(20)", "ACK MOVE");
     ck_assert_str_eq(await_line(&h_main, 3000), "ERR MOVE 29");
     advance_ms(50);
@@ -111,7 +111,7 @@ END_TEST
 
 START_TEST(grip_towards_a_block_is_a_collision)
 {
-    sim_axis_place_obstacle(&h_world.axis, 50.0f);
+    wsg_sim_axis_place_obstacle(&h_world.axis, 50.0f);
     ASK_EQ("MOVE(20)", "ACK MOVE");
     ck_assert_str_eq(await_line(&h_main, 3000), "ERR MOVE 29");
     advance_ms(50);

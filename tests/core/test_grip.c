@@ -10,7 +10,7 @@
 
 static void place_part(float width_mm, float stiffness_n_mm)
 {
-    sim_axis_place_part(&h_world.axis, width_mm, stiffness_n_mm);
+    wsg_sim_axis_place_part(&h_world.axis, width_mm, stiffness_n_mm);
 }
 
 static void finish(const char *ack, const char *fin)
@@ -384,7 +384,7 @@ START_TEST(part_removed_while_holding)
 {
     place_part(30.0f, STIFF_PART_N_MM);
     grip("GRIP(40, 30)", "FIN GRIP");
-    sim_axis_remove_part(&h_world.axis);
+    wsg_sim_axis_remove_part(&h_world.axis);
     advance_ms(100);
     EXPECT_NONE(); /* no command is running: nothing to report */
     ASK_EQ("GRIPSTATE?", "GRIPSTATE=3");
@@ -399,7 +399,7 @@ START_TEST(part_lost_is_debounced)
 {
     place_part(30.0f, STIFF_PART_N_MM);
     grip("GRIP(40,30)", "FIN GRIP");
-    sim_axis_remove_part(&h_world.axis);
+    wsg_sim_axis_remove_part(&h_world.axis);
     advance_ms(5);
     ASK_EQ("GRIPSTATE?", "GRIPSTATE=4");
     advance_ms(50);
@@ -419,7 +419,7 @@ START_TEST(gripstats_count_every_outcome)
     move_to("MOVE(60)");
     place_part(30.0f, STIFF_PART_N_MM);
     grip("GRIP(40, 30)", "FIN GRIP");
-    sim_axis_remove_part(&h_world.axis);
+    wsg_sim_axis_remove_part(&h_world.axis);
     advance_ms(100);
     ASK_EQ("GRIPSTATS?", "GRIPSTATS=[3,1,1]");
     ASK_EQ("GRIPSTATS[0]?", "GRIPSTATS[0]=3");
@@ -433,14 +433,14 @@ START_TEST(grip_without_width_is_not_monitored)
 {
     place_part(30.0f, STIFF_PART_N_MM);
     grip("GRIP()", "FIN GRIP");
-    sim_axis_remove_part(&h_world.axis);
+    wsg_sim_axis_remove_part(&h_world.axis);
     advance_ms(500);
     ASK_EQ("GRIPSTATE?", "GRIPSTATE=4");
     ASK_EQ("GRIPSTATS[2]?", "GRIPSTATS[2]=0");
     release("RELEASE(40)");
     place_part(30.0f, STIFF_PART_N_MM); /* GRIP(force) is not monitored either */
     grip("GRIP(20)", "FIN GRIP");
-    sim_axis_remove_part(&h_world.axis);
+    wsg_sim_axis_remove_part(&h_world.axis);
     advance_ms(500);
     ASK_EQ("GRIPSTATE?", "GRIPSTATE=4");
     ASK_EQ("GRIPSTATS[2]?", "GRIPSTATS[2]=0");

@@ -75,7 +75,7 @@ START_TEST(home_with_very_short_world_steps)
     ASK_EQ("HOME()", "ACK HOME");
     for (unsigned i = 0; i < 60000u && h_unread(&h_main) == 0; i++) {
         h_now_us += 37u;
-        sim_world_advance(&h_world, h_now_us);
+        wsg_sim_world_advance(&h_world, h_now_us);
         wsg_device_step(&h_dev);
     }
     ck_assert_msg(h_unread(&h_main) > 0, "no FIN within 2.2 s of 37 us steps");
@@ -140,7 +140,7 @@ END_TEST
 START_TEST(home_into_an_obstacle_takes_a_wrong_origin)
 {
     /* manual 2.2.1: a collision during homing gives a wrong reference point */
-    sim_axis_place_part(&h_world.axis, 80.0f, 0.0f);
+    wsg_sim_axis_place_part(&h_world.axis, 80.0f, 0.0f);
     ASK_EQ("HOME()", "ACK HOME");
     ck_assert_int_ge(run_until_line(&h_main, "FIN HOME", 5000), 0);
     ASK_EQ("POS?", "POS=110.0");

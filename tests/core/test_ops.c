@@ -252,18 +252,18 @@ START_TEST(two_instances_are_independent)
     static wsg_device_t second;
     static sim_world_t second_world;
     wsg_config_t cfg;
-    sim_model_config(sim_model_find("WSG 32-068"), &cfg);
+    wsg_sim_model_config(wsg_sim_model_find("WSG 32-068"), &cfg);
     cfg.serial = 999u;
-    sim_world_init(&second_world, &cfg, h_now_us);
+    wsg_sim_world_init(&second_world, &cfg, h_now_us);
     wsg_hal_t hal;
-    sim_world_hal(&second_world, &hal);
+    wsg_sim_world_hal(&second_world, &hal);
     wsg_device_init(&second, &cfg, &hal);
     probe_t p2 = {.owner.done = probe_done};
     wsg_home_args_t args = {WSG_HOME_DEFAULT};
     ck_assert_int_eq(wsg_op_home(&second, &p2.owner, &args), E_SUCCESS);
     for (uint32_t i = 0; i < 5000 && p2.events == 0; i++) {
         h_now_us += 1000u;
-        sim_world_advance(&second_world, h_now_us);
+        wsg_sim_world_advance(&second_world, h_now_us);
         wsg_device_step(&second);
     }
     ck_assert_int_eq(p2.status, E_SUCCESS);
@@ -290,26 +290,26 @@ START_TEST(timer_queue_runs_in_deadline_order)
     wsg_timer_queue_t q;
     wsg_timer_t t[4];
     memset(t, 0, sizeof(t));
-    timer_queue_init(&q);
-    ck_assert_uint_eq(timer_next_due(&q), UINT64_MAX);
+    wsg_timer_queue_init(&q);
+    ck_assert_uint_eq(wsg_timer_next_due(&q), UINT64_MAX);
     fired_count = 0;
     for (unsigned i = 0; i < 4; i++) {
         t[i].fire = record_fire;
     }
-    timer_schedule(&q, &t[0], 30);
-    timer_schedule(&q, &t[1], 10);
-    timer_schedule(&q, &t[2], 40);
-    timer_schedule(&q, &t[3], 20);
-    timer_cancel(&q, &t[2]);
-    ck_assert_uint_eq(timer_next_due(&q), 10);
-    timer_run_due(&q, 25);
+    wsg_timer_schedule(&q, &t[0], 30);
+    wsg_timer_schedule(&q, &t[1], 10);
+    wsg_timer_schedule(&q, &t[2], 40);
+    wsg_timer_schedule(&q, &t[3], 20);
+    wsg_timer_cancel(&q, &t[2]);
+    ck_assert_uint_eq(wsg_timer_next_due(&q), 10);
+    wsg_timer_run_due(&q, 25);
     ck_assert_uint_eq(fired_count, 2);
     ck_assert_uint_eq(fired_order[0], 1);
     ck_assert_uint_eq(fired_order[1], 2);
-    ck_assert_uint_eq(timer_next_due(&q), 30);
-    timer_run_due(&q, 100);
+    ck_assert_uint_eq(wsg_timer_next_due(&q), 30);
+    wsg_timer_run_due(&q, 100);
     ck_assert_uint_eq(fired_count, 3);
-    ck_assert_uint_eq(timer_next_due(&q), UINT64_MAX);
+    ck_assert_uint_eq(wsg_timer_next_due(&q), UINT64_MAX);
 }
 END_TEST
 

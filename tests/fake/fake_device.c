@@ -74,10 +74,10 @@ void h_setup_on_can(const hal_can_t *can)
     reset_client(&h_other);
     reset_client(&h_third);
     h_now_us = H_START_US;
-    sim_model_config(sim_model_default(), &config);
-    sim_world_init(&h_world, &config, h_now_us);
+    wsg_sim_model_config(wsg_sim_model_default(), &config);
+    wsg_sim_world_init(&h_world, &config, h_now_us);
     wsg_hal_t hal;
-    sim_world_hal(&h_world, &hal);
+    wsg_sim_world_hal(&h_world, &hal);
     hal.can = can;
     wsg_device_init(&h_dev, &config, &hal);
     wsg_conn_set_drivers(&h_dev, h_drivers, sizeof(h_drivers) / sizeof(h_drivers[0]));
@@ -101,7 +101,7 @@ void h_teardown(void)
 
 void h_step(void)
 {
-    sim_world_advance(&h_world, h_now_us);
+    wsg_sim_world_advance(&h_world, h_now_us);
     wsg_device_step(&h_dev);
 }
 

@@ -52,7 +52,7 @@ static bool device_send(void *ctx, const hal_can_frame_t *frame)
 {
     (void)ctx;
     if (hal_can_filters_accept(fmf.node_filters, fmf.node_filter_count, frame)) {
-        finger_node_receive(&fmf.node, frame, h_now_us);
+        wsg_finger_node_receive(&fmf.node, frame, h_now_us);
     }
     return true;
 }
@@ -62,7 +62,7 @@ static bool device_recv(void *ctx, hal_can_frame_t *frame)
 {
     (void)ctx;
     if (fmf.count == 0u) {
-        finger_node_step(&fmf.node, h_now_us);
+        wsg_finger_node_step(&fmf.node, h_now_us);
     }
     if (fmf.count == 0u) {
         return false;
@@ -89,11 +89,11 @@ void h_setup_fmf_homed(void)
     h_setup();
     memset(&fmf, 0, sizeof(fmf));
     finger_node_params_t params;
-    finger_node_defaults(&params);
-    finger_node_init(&fmf.node, FBUS_TYPE_FMF, 0, &params, &node_port);
-    fmf.node_filter_count = finger_node_filters(&fmf.node, fmf.node_filters);
+    wsg_finger_node_defaults(&params);
+    wsg_finger_node_init(&fmf.node, FBUS_TYPE_FMF, 0, &params, &node_port);
+    fmf.node_filter_count = wsg_finger_node_filters(&fmf.node, fmf.node_filters);
     h_devp()->hal.can = &device_port; /* the finger bus wired in after power-on */
-    finger_bus_init(&h_devp()->fbus, &device_port);
+    wsg_finger_bus_init(&h_devp()->fbus, &device_port);
     advance_ms(200); /* the finger boots and delivers data */
     ck_assert_int_eq(ask_flag(SF_FORCECNTL_MODE), 1);
     SEND("HOME()");

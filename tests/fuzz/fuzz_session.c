@@ -183,7 +183,7 @@ static void run_for(uint64_t us)
             next = now_us + 100000u * MOTION_TICK_MAX_US;
         }
         now_us = next > now_us ? next : now_us + 1u;
-        sim_world_advance(&world, now_us);
+        wsg_sim_world_advance(&world, now_us);
         wsg_device_step(&device);
     }
 }
@@ -210,7 +210,7 @@ static void run_segment(const uint8_t *seg, size_t len)
     } else if (op == 2) {
         close_reopen(slot, n);
     } else {
-        sim_world_advance(&world, now_us);
+        wsg_sim_world_advance(&world, now_us);
         wsg_conn_input(&sessions[slot], payload, n);
         if (op == 1) {
             wsg_conn_end_datagram(&sessions[slot]);
@@ -226,22 +226,22 @@ static void run_segment(const uint8_t *seg, size_t len)
 static void power_on(uint8_t config_byte)
 {
     wsg_config_t cfg;
-    unsigned model = (config_byte & 0x1fu) % sim_model_count();
+    unsigned model = (config_byte & 0x1fu) % wsg_sim_model_count();
     fbus_type_t types[FBUS_SLOTS];
     finger_node_params_t params;
-    finger_node_defaults(&params);
-    if (!finger_node_parse_pair(finger_pairs[(config_byte >> 5) & 3u], types)) {
+    wsg_finger_node_defaults(&params);
+    if (!wsg_finger_node_parse_pair(finger_pairs[(config_byte >> 5) & 3u], types)) {
         abort();
     }
-    sim_model_config(sim_model_at(model), &cfg);
+    wsg_sim_model_config(wsg_sim_model_at(model), &cfg);
     cfg.disconnect_raises_faststop = (config_byte & 0x80u) != 0;
     now_us = START_US;
-    sim_world_init(&world, &cfg, now_us);
+    wsg_sim_world_init(&world, &cfg, now_us);
     memset(&raw, 0, sizeof(raw));
     can_loopback_init(types, &params);
     raw.loopback = can_loopback_bus();
     wsg_hal_t hal;
-    sim_world_hal(&world, &hal);
+    wsg_sim_world_hal(&world, &hal);
     hal.can = &fuzz_can;
     wsg_device_init(&device, &cfg, &hal);
     static const wsg_proto_driver_t *const drivers[] = {&wsg_bin_driver, &wsg_gcl_driver};

@@ -12,7 +12,7 @@ static gcl_linebuf_t lb;
 
 static void lb_setup(void)
 {
-    gcl_linebuf_reset(&lb);
+    wsg_gcl_linebuf_reset(&lb);
 }
 
 /* Feeds bytes; returns how many lines completed, the last one left in lb. */
@@ -20,7 +20,7 @@ static unsigned feed(const char *bytes, size_t len)
 {
     unsigned lines = 0;
     for (size_t i = 0; i < len; i++) {
-        if (gcl_linebuf_feed(&lb, (uint8_t)bytes[i])) {
+        if (wsg_gcl_linebuf_feed(&lb, (uint8_t)bytes[i])) {
             lines++;
         }
     }
@@ -41,13 +41,13 @@ static void fill(char *buf, size_t n, char c)
 START_TEST(split_across_feeds)
 {
     ck_assert_uint_eq(feed_str("HO"), 0);
-    ck_assert(gcl_linebuf_pending(&lb));
+    ck_assert(wsg_gcl_linebuf_pending(&lb));
     ck_assert_uint_eq(feed_str("ME("), 0);
     ck_assert_uint_eq(feed_str(")\n"), 1);
     ck_assert_str_eq(lb.text, "HOME()");
     ck_assert_uint_eq(lb.len, 6);
-    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_OK);
-    ck_assert(!gcl_linebuf_pending(&lb));
+    ck_assert_int_eq(wsg_gcl_linebuf_status(&lb), GCL_LINE_OK);
+    ck_assert(!wsg_gcl_linebuf_pending(&lb));
 }
 END_TEST
 
@@ -55,7 +55,7 @@ START_TEST(crlf_is_stripped)
 {
     ck_assert_uint_eq(feed_str("POS?\r\n"), 1);
     ck_assert_str_eq(lb.text, "POS?");
-    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_OK);
+    ck_assert_int_eq(wsg_gcl_linebuf_status(&lb), GCL_LINE_OK);
 }
 END_TEST
 
@@ -64,7 +64,7 @@ START_TEST(cr_alone_ends_a_line)
 {
     ck_assert_uint_eq(feed_str("POS?\r"), 1);
     ck_assert_str_eq(lb.text, "POS?");
-    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_OK);
+    ck_assert_int_eq(wsg_gcl_linebuf_status(&lb), GCL_LINE_OK);
     ck_assert_uint_eq(feed_str("SN?\rTAG?\r"), 2);
     ck_assert_str_eq(lb.text, "TAG?");
 }
@@ -75,7 +75,7 @@ START_TEST(crlf_split_across_feeds_is_one_end)
 {
     ck_assert_uint_eq(feed_str("POS?\r"), 1);
     ck_assert_uint_eq(feed_str("\n"), 0);
-    ck_assert(!gcl_linebuf_pending(&lb));
+    ck_assert(!wsg_gcl_linebuf_pending(&lb));
     ck_assert_uint_eq(feed_str("SN?\r"), 1);
     ck_assert_uint_eq(feed_str("\nTAG?\n"), 1);
     ck_assert_str_eq(lb.text, "TAG?");
@@ -92,10 +92,10 @@ END_TEST
 START_TEST(next_line_starts_fresh)
 {
     ck_assert_uint_eq(feed_str("A\x01\n"), 1);
-    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_BAD_BYTE);
+    ck_assert_int_eq(wsg_gcl_linebuf_status(&lb), GCL_LINE_BAD_BYTE);
     ck_assert_uint_eq(feed_str("B\n"), 1);
     ck_assert_str_eq(lb.text, "B");
-    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_OK);
+    ck_assert_int_eq(wsg_gcl_linebuf_status(&lb), GCL_LINE_OK);
 }
 END_TEST
 
@@ -103,7 +103,7 @@ START_TEST(empty_line)
 {
     ck_assert_uint_eq(feed_str("\n"), 1);
     ck_assert_uint_eq(lb.len, 0);
-    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_OK);
+    ck_assert_int_eq(wsg_gcl_linebuf_status(&lb), GCL_LINE_OK);
     ck_assert_uint_eq(feed_str("\r\n"), 1);
     ck_assert_uint_eq(lb.len, 0);
 }
@@ -115,14 +115,14 @@ START_TEST(cr_inside_splits_the_line)
     ck_assert_str_eq(lb.text, "S?");
     ck_assert_uint_eq(feed_str("POS?\r\r\n"), 2); /* "POS?" and an empty line */
     ck_assert_uint_eq(lb.len, 0);
-    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_OK);
+    ck_assert_int_eq(wsg_gcl_linebuf_status(&lb), GCL_LINE_OK);
 }
 END_TEST
 
 START_TEST(tab_is_allowed)
 {
     ck_assert_uint_eq(feed_str("\tPOS?\t\n"), 1);
-    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_OK);
+    ck_assert_int_eq(wsg_gcl_linebuf_status(&lb), GCL_LINE_OK);
     ck_assert_str_eq(lb.text, "\tPOS?\t");
 }
 END_TEST
@@ -131,11 +131,11 @@ START_TEST(bad_bytes)
 {
     static const uint8_t bad[] = {0x00, 0x01, 0x1b, 0x7f, 0x80, 0xc3, 0xff};
     for (size_t i = 0; i < sizeof(bad); i++) {
-        gcl_linebuf_reset(&lb);
+        wsg_gcl_linebuf_reset(&lb);
         feed_str("PO");
-        ck_assert(!gcl_linebuf_feed(&lb, bad[i]));
+        ck_assert(!wsg_gcl_linebuf_feed(&lb, bad[i]));
         ck_assert_uint_eq(feed_str("S?\n"), 1);
-        ck_assert_msg(gcl_linebuf_status(&lb) == GCL_LINE_BAD_BYTE, "byte 0x%02x", bad[i]);
+        ck_assert_msg(wsg_gcl_linebuf_status(&lb) == GCL_LINE_BAD_BYTE, "byte 0x%02x", bad[i]);
         ck_assert_str_eq(lb.text, "POS?"); /* the bad byte is not stored */
     }
 }
@@ -148,7 +148,7 @@ START_TEST(longest_line)
     strcat(line, "\n");
     ck_assert_uint_eq(feed_str(line), 1);
     ck_assert_uint_eq(lb.len, GCL_LINE_MAX);
-    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_OK);
+    ck_assert_int_eq(wsg_gcl_linebuf_status(&lb), GCL_LINE_OK);
 }
 END_TEST
 
@@ -160,7 +160,7 @@ START_TEST(longest_line_with_crlf)
     strcat(line, "\r\n");
     ck_assert_uint_eq(feed_str(line), 1);
     ck_assert_uint_eq(lb.len, GCL_LINE_MAX);
-    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_OK);
+    ck_assert_int_eq(wsg_gcl_linebuf_status(&lb), GCL_LINE_OK);
 }
 END_TEST
 
@@ -170,7 +170,7 @@ START_TEST(full_line_then_one_more_is_too_long)
     fill(line, GCL_LINE_MAX, 'a');
     strcat(line, "b\r\n");
     ck_assert_uint_eq(feed_str(line), 1);
-    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_TOO_LONG);
+    ck_assert_int_eq(wsg_gcl_linebuf_status(&lb), GCL_LINE_TOO_LONG);
     ck_assert_uint_eq(lb.len, GCL_LINE_MAX);
     ck_assert_uint_eq(strlen(lb.text), GCL_LINE_MAX);
 }
@@ -182,11 +182,11 @@ START_TEST(too_long_then_resync)
     fill(line, GCL_LINE_MAX + 1, 'a');
     strcat(line, "\n");
     ck_assert_uint_eq(feed_str(line), 1);
-    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_TOO_LONG);
+    ck_assert_int_eq(wsg_gcl_linebuf_status(&lb), GCL_LINE_TOO_LONG);
     ck_assert_uint_eq(lb.len, GCL_LINE_MAX); /* the first bytes are kept */
     ck_assert_uint_eq(strlen(lb.text), GCL_LINE_MAX);
     ck_assert_uint_eq(feed_str("POS?\n"), 1);
-    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_OK);
+    ck_assert_int_eq(wsg_gcl_linebuf_status(&lb), GCL_LINE_OK);
     ck_assert_str_eq(lb.text, "POS?");
 }
 END_TEST
@@ -194,32 +194,32 @@ END_TEST
 START_TEST(very_long_line_is_bounded)
 {
     for (unsigned i = 0; i < 10000; i++) {
-        ck_assert(!gcl_linebuf_feed(&lb, 'x'));
+        ck_assert(!wsg_gcl_linebuf_feed(&lb, 'x'));
     }
-    ck_assert(gcl_linebuf_pending(&lb));
-    ck_assert(gcl_linebuf_feed(&lb, '\n'));
-    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_TOO_LONG);
+    ck_assert(wsg_gcl_linebuf_pending(&lb));
+    ck_assert(wsg_gcl_linebuf_feed(&lb, '\n'));
+    ck_assert_int_eq(wsg_gcl_linebuf_status(&lb), GCL_LINE_TOO_LONG);
     ck_assert_uint_eq(lb.len, GCL_LINE_MAX);
 }
 END_TEST
 
 START_TEST(flush)
 {
-    ck_assert(!gcl_linebuf_flush(&lb));
+    ck_assert(!wsg_gcl_linebuf_flush(&lb));
     feed_str("POS?");
-    ck_assert(gcl_linebuf_flush(&lb));
+    ck_assert(wsg_gcl_linebuf_flush(&lb));
     ck_assert_str_eq(lb.text, "POS?");
-    ck_assert(!gcl_linebuf_pending(&lb));
-    ck_assert(!gcl_linebuf_flush(&lb));
+    ck_assert(!wsg_gcl_linebuf_pending(&lb));
+    ck_assert(!wsg_gcl_linebuf_flush(&lb));
 }
 END_TEST
 
 START_TEST(flush_of_a_bad_byte_alone)
 {
-    gcl_linebuf_feed(&lb, 0x00);
-    ck_assert(gcl_linebuf_pending(&lb));
-    ck_assert(gcl_linebuf_flush(&lb));
-    ck_assert_int_eq(gcl_linebuf_status(&lb), GCL_LINE_BAD_BYTE);
+    wsg_gcl_linebuf_feed(&lb, 0x00);
+    ck_assert(wsg_gcl_linebuf_pending(&lb));
+    ck_assert(wsg_gcl_linebuf_flush(&lb));
+    ck_assert_int_eq(wsg_gcl_linebuf_status(&lb), GCL_LINE_BAD_BYTE);
 }
 END_TEST
 
@@ -230,32 +230,32 @@ static void expect_bulk_matches_bytewise(const uint8_t *bytes, size_t len, size_
 {
     gcl_linebuf_t one;
     gcl_linebuf_t bulk;
-    gcl_linebuf_reset(&one);
-    gcl_linebuf_reset(&bulk);
+    wsg_gcl_linebuf_reset(&one);
+    wsg_gcl_linebuf_reset(&bulk);
     size_t i = 0;
     for (size_t at = 0; at < len; at += chunk) {
         size_t end = at + chunk < len ? at + chunk : len;
         size_t j = at;
         while (j < end) {
             bool done = false;
-            j += gcl_linebuf_feed_bytes(&bulk, bytes + j, end - j, &done);
+            j += wsg_gcl_linebuf_feed_bytes(&bulk, bytes + j, end - j, &done);
             bool one_done = false;
             while (i < j && !one_done) {
-                one_done = gcl_linebuf_feed(&one, bytes[i++]);
+                one_done = wsg_gcl_linebuf_feed(&one, bytes[i++]);
             }
             ck_assert_uint_eq(i, j);
             ck_assert(done == one_done);
             ck_assert_uint_eq(bulk.len, one.len);
             ck_assert(memcmp(bulk.text, one.text, one.len) == 0);
             if (done) {
-                ck_assert_int_eq(gcl_linebuf_status(&bulk), gcl_linebuf_status(&one));
+                ck_assert_int_eq(wsg_gcl_linebuf_status(&bulk), wsg_gcl_linebuf_status(&one));
                 ck_assert_str_eq(bulk.text, one.text);
             }
         }
     }
-    ck_assert(gcl_linebuf_pending(&bulk) == gcl_linebuf_pending(&one));
-    ck_assert(gcl_linebuf_flush(&bulk) == gcl_linebuf_flush(&one));
-    ck_assert_int_eq(gcl_linebuf_status(&bulk), gcl_linebuf_status(&one));
+    ck_assert(wsg_gcl_linebuf_pending(&bulk) == wsg_gcl_linebuf_pending(&one));
+    ck_assert(wsg_gcl_linebuf_flush(&bulk) == wsg_gcl_linebuf_flush(&one));
+    ck_assert_int_eq(wsg_gcl_linebuf_status(&bulk), wsg_gcl_linebuf_status(&one));
     ck_assert_str_eq(bulk.text, one.text);
 }
 

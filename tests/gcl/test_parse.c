@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* gcl_parse_line(): the GCL syntax on its own, without a device. */
+/* wsg_gcl_parse_line(): the GCL syntax on its own, without a device. */
 #include <check.h>
 #include <string.h>
 
@@ -10,7 +10,7 @@ static gcl_command_t cmd;
 
 static wsg_status_t parse(const char *line)
 {
-    return gcl_parse_line(line, strlen(line), &cmd);
+    return wsg_gcl_parse_line(line, strlen(line), &cmd);
 }
 
 static void assert_number(unsigned i, double value, bool integer_syntax)
@@ -232,10 +232,10 @@ END_TEST
 
 START_TEST(text_equals_ignores_case)
 {
-    ck_assert(gcl_text_equals("pOs", "POS"));
-    ck_assert(gcl_text_equals("", ""));
-    ck_assert(!gcl_text_equals("POSX", "POS"));
-    ck_assert(!gcl_text_equals("PO", "POS"));
+    ck_assert(wsg_gcl_text_equals("pOs", "POS"));
+    ck_assert(wsg_gcl_text_equals("", ""));
+    ck_assert(!wsg_gcl_text_equals("POSX", "POS"));
+    ck_assert(!wsg_gcl_text_equals("PO", "POS"));
 }
 END_TEST
 
@@ -314,7 +314,7 @@ START_TEST(length_is_respected)
 {
     /* the parser reads exactly len bytes; what follows is not its business */
     const char *line = "POS?garbage";
-    ck_assert_int_eq(gcl_parse_line(line, 4, &cmd), E_SUCCESS);
+    ck_assert_int_eq(wsg_gcl_parse_line(line, 4, &cmd), E_SUCCESS);
     ck_assert_str_eq(cmd.name, "POS");
 }
 END_TEST

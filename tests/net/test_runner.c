@@ -16,7 +16,7 @@ static void advance_world(void *ctx, uint64_t now_us)
 {
     (void)ctx;
     advances++;
-    sim_world_advance(&h_world, now_us);
+    wsg_sim_world_advance(&h_world, now_us);
 }
 
 static void runner_setup(void)

@@ -14,16 +14,16 @@ static textbuf_t tb;
 
 static const char *fmt_float(float value)
 {
-    textbuf_init(&tb, storage, sizeof(storage));
-    textbuf_put_float(&tb, value);
+    wsg_textbuf_init(&tb, storage, sizeof(storage));
+    wsg_textbuf_put_float(&tb, value);
     ck_assert(!tb.overflow);
     return storage;
 }
 
 static const char *fmt_int(int32_t value)
 {
-    textbuf_init(&tb, storage, sizeof(storage));
-    textbuf_put_int(&tb, value);
+    wsg_textbuf_init(&tb, storage, sizeof(storage));
+    wsg_textbuf_put_int(&tb, value);
     return storage;
 }
 
@@ -31,7 +31,7 @@ static const char *fmt_int(int32_t value)
 static void expect_formatted(float value, const char *text)
 {
     char out[TEXTBUF_FLOAT_MAX + 1];
-    size_t len = textbuf_format_float(out, value);
+    size_t len = wsg_textbuf_format_float(out, value);
     ck_assert_uint_le(len, TEXTBUF_FLOAT_MAX);
     out[len] = '\0';
     ck_assert_str_eq(out, text);
@@ -131,19 +131,19 @@ START_TEST(integers)
     ck_assert_str_eq(fmt_int(12345678), "12345678");
     ck_assert_str_eq(fmt_int(INT32_MAX), "2147483647");
     ck_assert_str_eq(fmt_int(INT32_MIN), "-2147483648");
-    textbuf_init(&tb, storage, sizeof(storage));
-    textbuf_put_uint(&tb, UINT32_MAX);
+    wsg_textbuf_init(&tb, storage, sizeof(storage));
+    wsg_textbuf_put_uint(&tb, UINT32_MAX);
     ck_assert_str_eq(storage, "4294967295");
 }
 END_TEST
 
 START_TEST(bits_vector)
 {
-    textbuf_init(&tb, storage, sizeof(storage));
-    textbuf_put_bits(&tb, 0x5u, 4);
+    wsg_textbuf_init(&tb, storage, sizeof(storage));
+    wsg_textbuf_put_bits(&tb, 0x5u, 4);
     ck_assert_str_eq(storage, "[1,0,1,0]");
-    textbuf_init(&tb, storage, sizeof(storage));
-    textbuf_put_bits(&tb, 0x80000001u, 32);
+    wsg_textbuf_init(&tb, storage, sizeof(storage));
+    wsg_textbuf_put_bits(&tb, 0x80000001u, 32);
     ck_assert_uint_eq(strlen(storage), 2 + 32 + 31);
     ck_assert(strncmp(storage, "[1,0,", 5) == 0);
     ck_assert_str_eq(storage + strlen(storage) - 3, ",1]");
@@ -152,9 +152,9 @@ END_TEST
 
 START_TEST(quoted)
 {
-    textbuf_init(&tb, storage, sizeof(storage));
-    textbuf_put_str(&tb, "DEVTYPE=");
-    textbuf_put_quoted(&tb, "WSG 50-110");
+    wsg_textbuf_init(&tb, storage, sizeof(storage));
+    wsg_textbuf_put_str(&tb, "DEVTYPE=");
+    wsg_textbuf_put_quoted(&tb, "WSG 50-110");
     ck_assert_str_eq(storage, "DEVTYPE=\"WSG 50-110\"");
 }
 END_TEST
@@ -163,8 +163,8 @@ START_TEST(overflow_is_bounded_and_flagged)
 {
     char small[8];
     memset(small, 'z', sizeof(small));
-    textbuf_init(&tb, small, 6);
-    textbuf_put_str(&tb, "ABCDEFGHIJ");
+    wsg_textbuf_init(&tb, small, 6);
+    wsg_textbuf_put_str(&tb, "ABCDEFGHIJ");
     ck_assert(tb.overflow);
     ck_assert_uint_eq(tb.len, 5);
     ck_assert_str_eq(small, "ABCDE");
@@ -175,8 +175,8 @@ END_TEST
 START_TEST(exact_fit_is_not_overflow)
 {
     char small[5];
-    textbuf_init(&tb, small, sizeof(small));
-    textbuf_put_str(&tb, "ABCD");
+    wsg_textbuf_init(&tb, small, sizeof(small));
+    wsg_textbuf_put_str(&tb, "ABCD");
     ck_assert(!tb.overflow);
     ck_assert_str_eq(small, "ABCD");
 }

@@ -51,7 +51,7 @@ static void step_to_deadline(wsg_device_t *dev, long *steps)
 {
     uint64_t next = wsg_device_next_deadline_us(dev);
     fake_now_us = next > fake_now_us ? next : fake_now_us + 1u;
-    sim_world_advance(&world, fake_now_us);
+    wsg_sim_world_advance(&world, fake_now_us);
     wsg_device_step(dev);
     (*steps)++;
 }
@@ -63,7 +63,7 @@ static bool run_command(wsg_device_t *dev, wsg_conn_t *s, const char *line, cons
     char fin[64];
     snprintf(fin, sizeof(fin), "FIN %s", name);
     last_final[0] = '\0';
-    sim_world_advance(&world, fake_now_us);
+    wsg_sim_world_advance(&world, fake_now_us);
     wsg_conn_input(s, (const uint8_t *)line, strlen(line));
     uint64_t deadline = fake_now_us + COMMAND_TIMEOUT_US;
     while (last_final[0] == '\0' && fake_now_us < deadline) {
@@ -85,12 +85,12 @@ void vtime_run(int cycles, vtime_result_t *r)
     static wsg_device_t dev;
     static wsg_conn_t conn;
     wsg_config_t cfg;
-    sim_model_config(sim_model_default(), &cfg);
+    wsg_sim_model_config(wsg_sim_model_default(), &cfg);
     fake_now_us = START_US;
-    sim_world_init(&world, &cfg, fake_now_us);
-    sim_axis_place_part(&world.axis, PART_MM, PART_STIFFNESS);
+    wsg_sim_world_init(&world, &cfg, fake_now_us);
+    wsg_sim_axis_place_part(&world.axis, PART_MM, PART_STIFFNESS);
     wsg_hal_t hal;
-    sim_world_hal(&world, &hal);
+    wsg_sim_world_hal(&world, &hal);
     wsg_device_init(&dev, &cfg, &hal);
     wsg_conn_t *s = &conn;
     wsg_conn_open(s, &dev, &wsg_gcl_driver, WSG_TRANSPORT_STREAM, &capture_io, NULL);

@@ -82,7 +82,7 @@ static int parse_options(int argc, char **argv, fingersim_options_t *o)
     };
     memset(o, 0, sizeof(*o));
     o->fingers = "fmf,dsa";
-    finger_node_defaults(&o->params);
+    wsg_finger_node_defaults(&o->params);
     int opt;
     opterr = 0;
     while ((opt = getopt_long(argc, argv, ":hV", longopts, NULL)) != -1) {
@@ -142,9 +142,9 @@ static bool open_bus(const fingersim_options_t *o, const fbus_type_t *types)
     for (unsigned i = 0; i < FBUS_SLOTS; i++) {
         finger_node_params_t p = o->params;
         p.seed = o->params.seed != 0u ? o->params.seed + i : 0u;
-        finger_node_init(&nodes[i], types[i], i, &p, can_socketcan_bus(&sock));
+        wsg_finger_node_init(&nodes[i], types[i], i, &p, can_socketcan_bus(&sock));
         if (types[i] != FBUS_TYPE_NONE) {
-            count += finger_node_filters(&nodes[i], &filters[count]);
+            count += wsg_finger_node_filters(&nodes[i], &filters[count]);
         }
     }
     if (count > 0u && !hal_can_set_filters(can_socketcan_bus(&sock), filters, count)) {
@@ -158,7 +158,7 @@ static uint64_t next_due(void)
 {
     uint64_t due = UINT64_MAX;
     for (unsigned i = 0; i < FBUS_SLOTS; i++) {
-        uint64_t d = finger_node_next_due_us(&nodes[i]);
+        uint64_t d = wsg_finger_node_next_due_us(&nodes[i]);
         due = d < due ? d : due;
     }
     return due;
@@ -182,12 +182,12 @@ static void run_once(void)
     while (hal_can_recv(can_socketcan_bus(&sock), &frame)) {
         now = now_us();
         for (unsigned i = 0; i < FBUS_SLOTS; i++) {
-            finger_node_receive(&nodes[i], &frame, now);
+            wsg_finger_node_receive(&nodes[i], &frame, now);
         }
     }
     now = now_us();
     for (unsigned i = 0; i < FBUS_SLOTS; i++) {
-        finger_node_step(&nodes[i], now);
+        wsg_finger_node_step(&nodes[i], now);
     }
 }
 
@@ -199,7 +199,7 @@ int main(int argc, char **argv)
     if (parsed != 0) {
         return parsed == 1 ? 0 : 2;
     }
-    if (!finger_node_parse_pair(o.fingers, types)) {
+    if (!wsg_finger_node_parse_pair(o.fingers, types)) {
         return usage_error("invalid --fingers", o.fingers);
     }
     setvbuf(stderr, NULL, _IOLBF, 0);

@@ -23,18 +23,18 @@ static void advance_world(void *ctx, uint64_t now)
     uint64_t behind = now - world_us;
     if (behind >= WORLD_PERIOD_US) {
         world_us = now - behind % WORLD_PERIOD_US;
-        sim_world_advance(&world, world_us);
+        wsg_sim_world_advance(&world, world_us);
     }
 }
 
 void app_init(const wsg_proto_driver_t *const *drivers, size_t count)
 {
     wsg_config_t cfg;
-    sim_model_config(sim_model_default(), &cfg);
+    wsg_sim_model_config(wsg_sim_model_default(), &cfg);
     uint64_t now = hal_clock_now_us();
-    sim_world_init(&world, &cfg, now);
+    wsg_sim_world_init(&world, &cfg, now);
     wsg_hal_t hal;
-    sim_world_hal(&world, &hal);
+    wsg_sim_world_hal(&world, &hal);
     wsg_device_init(&device, &cfg, &hal);
     wsg_conn_set_drivers(&device, drivers, count);
     world_us = now;

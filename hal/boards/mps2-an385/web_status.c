@@ -96,33 +96,33 @@ void fs_close_custom(struct fs_file *file);
 
 static void put_key(textbuf_t *tb, const char *key)
 {
-    textbuf_put_quoted(tb, key);
-    textbuf_put_char(tb, ':');
+    wsg_textbuf_put_quoted(tb, key);
+    wsg_textbuf_put_char(tb, ':');
 }
 
 static void put_float_field(textbuf_t *tb, const char *key, float value)
 {
     put_key(tb, key);
-    textbuf_put_float(tb, value);
-    textbuf_put_char(tb, ',');
+    wsg_textbuf_put_float(tb, value);
+    wsg_textbuf_put_char(tb, ',');
 }
 
 static void put_grip_state(textbuf_t *tb, wsg_grip_state_t state)
 {
     put_key(tb, "grip_state");
-    textbuf_put_str(tb, "{\"code\":");
-    textbuf_put_uint(tb, (uint32_t)state);
-    textbuf_put_str(tb, ",\"name\":");
-    textbuf_put_quoted(tb, wsg_grip_state_name(state));
-    textbuf_put_char(tb, '}');
+    wsg_textbuf_put_str(tb, "{\"code\":");
+    wsg_textbuf_put_uint(tb, (uint32_t)state);
+    wsg_textbuf_put_str(tb, ",\"name\":");
+    wsg_textbuf_put_quoted(tb, wsg_grip_state_name(state));
+    wsg_textbuf_put_char(tb, '}');
 }
 
 static void put_sysflags(textbuf_t *tb, uint32_t flags)
 {
     put_key(tb, "sysflags");
-    textbuf_put_str(tb, "{\"value\":");
-    textbuf_put_uint(tb, flags);
-    textbuf_put_str(tb, ",\"set\":[");
+    wsg_textbuf_put_str(tb, "{\"value\":");
+    wsg_textbuf_put_uint(tb, flags);
+    wsg_textbuf_put_str(tb, ",\"set\":[");
     bool first = true;
     for (unsigned bit = 0; bit < WSG_SYSFLAG_COUNT; bit++) {
         const char *name = wsg_sysflag_name(bit);
@@ -130,26 +130,26 @@ static void put_sysflags(textbuf_t *tb, uint32_t flags)
             continue; /* a reserved bit has no name and is never set */
         }
         if (!first) {
-            textbuf_put_char(tb, ',');
+            wsg_textbuf_put_char(tb, ',');
         }
-        textbuf_put_quoted(tb, name);
+        wsg_textbuf_put_quoted(tb, name);
         first = false;
     }
-    textbuf_put_str(tb, "]}");
+    wsg_textbuf_put_str(tb, "]}");
 }
 
 /* The host API's names and units (docs/web.md), one line. */
 static void put_state(textbuf_t *tb, const wsg_snapshot_t *snap)
 {
-    textbuf_put_char(tb, '{');
+    wsg_textbuf_put_char(tb, '{');
     put_float_field(tb, "position_mm", snap->position_mm);
     put_float_field(tb, "speed_mm_s", snap->speed_mm_s);
     put_float_field(tb, "force_n", snap->force_n);
     put_float_field(tb, "temperature_c", snap->temperature_c);
     put_grip_state(tb, snap->grip_state);
-    textbuf_put_char(tb, ',');
+    wsg_textbuf_put_char(tb, ',');
     put_sysflags(tb, snap->flags);
-    textbuf_put_str(tb, "}\n");
+    wsg_textbuf_put_str(tb, "}\n");
 }
 
 static void open_flash(struct fs_file *file, const char *response, int len)
@@ -167,7 +167,7 @@ static void open_state(struct fs_file *file, state_slot_t *slot)
 {
     char *body = slot->text + STATE_HEADER_MAX;
     textbuf_t tb;
-    textbuf_init(&tb, body, STATE_BODY_MAX);
+    wsg_textbuf_init(&tb, body, STATE_BODY_MAX);
     put_state(&tb, wsg_device_snapshot(app_device()));
     if (tb.overflow) {
         open_flash(file, server_error, sizeof server_error - 1);
@@ -175,11 +175,11 @@ static void open_state(struct fs_file *file, state_slot_t *slot)
     }
     char headers[STATE_HEADER_MAX];
     textbuf_t hb;
-    textbuf_init(&hb, headers, sizeof headers);
-    textbuf_put_str(&hb, "HTTP/1.0 200 OK\r\nServer: wsgsim\r\n"
-                         "Content-Type: application/json\r\nContent-Length: ");
-    textbuf_put_uint(&hb, (uint32_t)tb.len);
-    textbuf_put_str(&hb, "\r\nCache-Control: no-store\r\nConnection: close\r\n\r\n");
+    wsg_textbuf_init(&hb, headers, sizeof headers);
+    wsg_textbuf_put_str(&hb, "HTTP/1.0 200 OK\r\nServer: wsgsim\r\n"
+                             "Content-Type: application/json\r\nContent-Length: ");
+    wsg_textbuf_put_uint(&hb, (uint32_t)tb.len);
+    wsg_textbuf_put_str(&hb, "\r\nCache-Control: no-store\r\nConnection: close\r\n\r\n");
     char *start = body - hb.len;
     memcpy(start, headers, hb.len);
     open_flash(file, start, (int)(hb.len + tb.len));

@@ -160,7 +160,7 @@ END_TEST
 
 START_TEST(grasp_and_release)
 {
-    sim_axis_place_part(&h_world.axis, 40.0f, 100.0f);
+    wsg_sim_axis_place_part(&h_world.axis, 40.0f, 100.0f);
     uint8_t p[8];
     wsg_bin_put_f32(p, 40.0f);
     wsg_bin_put_f32(p + 4, 50.0f);
