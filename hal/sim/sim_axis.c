@@ -144,6 +144,13 @@ static void profile_step(sim_axis_t *axis, float dt)
     axis->v_mm_s = v;
 }
 
+/* Whether the jaws are clear of a surface: apply_contact would then return 0
+ * and change nothing. The common case, tested inline before the call. */
+static bool apart_from(const sim_axis_t *axis, float surface_mm, float side)
+{
+    return (axis->x_mm - surface_mm) * side < 0.0f;
+}
+
 /* Applies one contact: a surface at surface_mm that limits closing (side -1)
  * or opening (side +1), rigid or with a stiffness in N/mm. Limits the jaws
  * where the servo force is exhausted and returns the contact force. */
@@ -151,7 +158,7 @@ static float apply_contact(sim_axis_t *axis, float surface_mm, float side, float
 {
     float penetration = (axis->x_mm - surface_mm) * side;
     if (penetration < 0.0f) {
-        return 0.0f; /* apart: the common case, decided before anything else */
+        return 0.0f; /* apart (see apart_from) */
     }
     bool pushing = (axis->target_mm - axis->x_mm) * side > 0.0f ||
                    (axis->target_mm - surface_mm) * side > 0.0f;
@@ -202,15 +209,24 @@ static void step(sim_axis_t *axis, float dt)
         profile_step(axis, dt);
     }
     axis->blocked = 0;
-    float force = apply_contact(axis, 0.0f, -1.0f, 0.0f);
-    (void)apply_contact(axis, axis->stroke_mm, 1.0f, 0.0f);
+    float force = 0.0f;
+    /* strictly between the end stops, neither touches the jaws */
+    if (!(axis->x_mm > 0.0f && axis->x_mm < axis->stroke_mm)) {
+        force = apply_contact(axis, 0.0f, -1.0f, 0.0f);
+        (void)apply_contact(axis, axis->stroke_mm, 1.0f, 0.0f);
+    }
     if (axis->obstacle.present) {
-        force += apply_contact(axis, axis->obstacle.width_mm, side_sign(axis->obstacle.side), 0.0f);
+        float side = side_sign(axis->obstacle.side);
+        if (!apart_from(axis, axis->obstacle.width_mm, side)) {
+            force += apply_contact(axis, axis->obstacle.width_mm, side, 0.0f);
+        }
     }
     float part_force = 0.0f;
     if (axis->part.present) {
-        part_force = apply_contact(axis, axis->part.width_mm, side_sign(axis->part.side),
-                                   axis->part.stiffness_n_mm);
+        float side = side_sign(axis->part.side);
+        if (!apart_from(axis, axis->part.width_mm, side)) {
+            part_force = apply_contact(axis, axis->part.width_mm, side, axis->part.stiffness_n_mm);
+        }
         force += part_force;
     }
     axis->force_n = force;
