@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 #include "sim_axis.h"
 
+#include <math.h>
 #include <string.h>
 
 #define AT_TARGET_MM 1e-4f
@@ -111,7 +112,9 @@ void wsg_sim_axis_set_position(sim_axis_t *axis, float position_mm)
     axis->offset_mm += shift;
 }
 
-/* One step of the trapezoidal profile, ignoring contact. */
+/* One step of the trapezoidal profile, ignoring contact. Comparisons use
+ * fabsf (one instruction); they compare the same as absf, which keeps the
+ * sign of -0 where a magnitude enters arithmetic. */
 static void profile_step(sim_axis_t *axis, float dt)
 {
     float to_go = axis->target_mm - axis->x_mm;
@@ -119,22 +122,22 @@ static void profile_step(sim_axis_t *axis, float dt)
     float v = axis->v_mm_s;
     float a = axis->amax_mm_s2;
     float stopping = v * v / (2.0f * a);
-    if (v * dir < 0.0f || stopping >= absf(to_go)) {
+    if (v * dir < 0.0f || stopping >= fabsf(to_go)) {
         float dv = a * dt;
-        v = absf(v) <= dv ? 0.0f : v - signf(v) * dv; /* brake */
-    } else if (absf(v) > axis->vmax_mm_s) {
+        v = fabsf(v) <= dv ? 0.0f : v - signf(v) * dv; /* brake */
+    } else if (fabsf(v) > axis->vmax_mm_s) {
         /* a new, lower speed limit (a retargeted move): brake down to it */
         float slower = absf(v) - a * dt;
         v = signf(v) * (slower > axis->vmax_mm_s ? slower : axis->vmax_mm_s);
     } else {
         v += dir * a * dt;
-        if (absf(v) > axis->vmax_mm_s) {
+        if (fabsf(v) > axis->vmax_mm_s) {
             v = signf(v) * axis->vmax_mm_s;
         }
     }
     float x = axis->x_mm + v * dt;
     bool crossed = signf(axis->target_mm - x) != dir;
-    bool arrived = absf(axis->target_mm - x) < AT_TARGET_MM && absf(v) < a * dt;
+    bool arrived = fabsf(axis->target_mm - x) < AT_TARGET_MM && fabsf(v) < a * dt;
     if (dir == 0.0f || crossed || arrived) {
         x = axis->target_mm;
         v = 0.0f;
