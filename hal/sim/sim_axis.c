@@ -238,13 +238,13 @@ static void step(sim_axis_t *axis, float dt)
 
 void wsg_sim_axis_advance(sim_axis_t *axis, float dt_s)
 {
-    if (!axis->active && axis->v_mm_s == 0.0f) {
-        step(axis, 0.0f); /* at rest: only contacts can change (a part placed or removed) */
-        return;
-    }
-    while (dt_s > 0.0f) {
-        float dt = dt_s < SIM_AXIS_MAX_STEP_S ? dt_s : SIM_AXIS_MAX_STEP_S;
+    /* At rest only contacts can change (a part placed or removed): one step
+     * of 0 s. One call site, so that the compiler inlines the step. */
+    bool at_rest = !axis->active && axis->v_mm_s == 0.0f;
+    float left_s = at_rest ? 0.0f : dt_s;
+    for (bool first = true; (first && at_rest) || left_s > 0.0f; first = false) {
+        float dt = left_s < SIM_AXIS_MAX_STEP_S ? left_s : SIM_AXIS_MAX_STEP_S;
         step(axis, dt);
-        dt_s -= dt;
+        left_s -= dt;
     }
 }
