@@ -136,7 +136,8 @@ static void profile_step(sim_axis_t *axis, float dt)
         }
     }
     float x = axis->x_mm + v * dt;
-    bool crossed = signf(axis->target_mm - x) != dir;
+    /* signf(target - x) != dir, for dir != 0: a product with +-1 is exact */
+    bool crossed = !((axis->target_mm - x) * dir > 0.0f);
     bool arrived = fabsf(axis->target_mm - x) < AT_TARGET_MM && fabsf(v) < a * dt;
     if (dir == 0.0f || crossed || arrived) {
         x = axis->target_mm;
