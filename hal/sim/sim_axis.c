@@ -73,11 +73,6 @@ void wsg_sim_axis_remove_obstacle(sim_axis_t *axis)
     axis->obstacle.present = false;
 }
 
-float wsg_sim_axis_position(const sim_axis_t *axis)
-{
-    return axis->x_mm + axis->offset_mm;
-}
-
 void wsg_sim_axis_move(sim_axis_t *axis, float target_mm, float speed_mm_s, float accel_mm_s2,
                        float force_limit_n)
 {
