@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 #include "sim_axis.h"
 
+#include <math.h>
 #include <string.h>
 
 #define AT_TARGET_MM 1e-4f
@@ -72,11 +73,6 @@ void wsg_sim_axis_remove_obstacle(sim_axis_t *axis)
     axis->obstacle.present = false;
 }
 
-float wsg_sim_axis_position(const sim_axis_t *axis)
-{
-    return axis->x_mm + axis->offset_mm;
-}
-
 void wsg_sim_axis_move(sim_axis_t *axis, float target_mm, float speed_mm_s, float accel_mm_s2,
                        float force_limit_n)
 {
@@ -111,7 +107,9 @@ void wsg_sim_axis_set_position(sim_axis_t *axis, float position_mm)
     axis->offset_mm += shift;
 }
 
-/* One step of the trapezoidal profile, ignoring contact. */
+/* One step of the trapezoidal profile, ignoring contact. Comparisons use
+ * fabsf (one instruction); they compare the same as absf, which keeps the
+ * sign of -0 where a magnitude enters arithmetic. */
 static void profile_step(sim_axis_t *axis, float dt)
 {
     float to_go = axis->target_mm - axis->x_mm;
@@ -119,22 +117,23 @@ static void profile_step(sim_axis_t *axis, float dt)
     float v = axis->v_mm_s;
     float a = axis->amax_mm_s2;
     float stopping = v * v / (2.0f * a);
-    if (v * dir < 0.0f || stopping >= absf(to_go)) {
+    if (v * dir < 0.0f || stopping >= fabsf(to_go)) {
         float dv = a * dt;
-        v = absf(v) <= dv ? 0.0f : v - signf(v) * dv; /* brake */
-    } else if (absf(v) > axis->vmax_mm_s) {
+        v = fabsf(v) <= dv ? 0.0f : v - signf(v) * dv; /* brake */
+    } else if (fabsf(v) > axis->vmax_mm_s) {
         /* a new, lower speed limit (a retargeted move): brake down to it */
         float slower = absf(v) - a * dt;
         v = signf(v) * (slower > axis->vmax_mm_s ? slower : axis->vmax_mm_s);
     } else {
         v += dir * a * dt;
-        if (absf(v) > axis->vmax_mm_s) {
+        if (fabsf(v) > axis->vmax_mm_s) {
             v = signf(v) * axis->vmax_mm_s;
         }
     }
     float x = axis->x_mm + v * dt;
-    bool crossed = signf(axis->target_mm - x) != dir;
-    bool arrived = absf(axis->target_mm - x) < AT_TARGET_MM && absf(v) < a * dt;
+    /* signf(target - x) != dir, for dir != 0: a product with +-1 is exact */
+    bool crossed = !((axis->target_mm - x) * dir > 0.0f);
+    bool arrived = fabsf(axis->target_mm - x) < AT_TARGET_MM && fabsf(v) < a * dt;
     if (dir == 0.0f || crossed || arrived) {
         x = axis->target_mm;
         v = 0.0f;
@@ -144,6 +143,13 @@ static void profile_step(sim_axis_t *axis, float dt)
     axis->v_mm_s = v;
 }
 
+/* Whether the jaws are clear of a surface: apply_contact would then return 0
+ * and change nothing. The common case, tested inline before the call. */
+static bool apart_from(const sim_axis_t *axis, float surface_mm, float side)
+{
+    return (axis->x_mm - surface_mm) * side < 0.0f;
+}
+
 /* Applies one contact: a surface at surface_mm that limits closing (side -1)
  * or opening (side +1), rigid or with a stiffness in N/mm. Limits the jaws
  * where the servo force is exhausted and returns the contact force. */
@@ -151,7 +157,7 @@ static float apply_contact(sim_axis_t *axis, float surface_mm, float side, float
 {
     float penetration = (axis->x_mm - surface_mm) * side;
     if (penetration < 0.0f) {
-        return 0.0f; /* apart: the common case, decided before anything else */
+        return 0.0f; /* apart (see apart_from) */
     }
     bool pushing = (axis->target_mm - axis->x_mm) * side > 0.0f ||
                    (axis->target_mm - surface_mm) * side > 0.0f;
@@ -202,15 +208,24 @@ static void step(sim_axis_t *axis, float dt)
         profile_step(axis, dt);
     }
     axis->blocked = 0;
-    float force = apply_contact(axis, 0.0f, -1.0f, 0.0f);
-    (void)apply_contact(axis, axis->stroke_mm, 1.0f, 0.0f);
+    float force = 0.0f;
+    /* strictly between the end stops, neither touches the jaws */
+    if (!(axis->x_mm > 0.0f && axis->x_mm < axis->stroke_mm)) {
+        force = apply_contact(axis, 0.0f, -1.0f, 0.0f);
+        (void)apply_contact(axis, axis->stroke_mm, 1.0f, 0.0f);
+    }
     if (axis->obstacle.present) {
-        force += apply_contact(axis, axis->obstacle.width_mm, side_sign(axis->obstacle.side), 0.0f);
+        float side = side_sign(axis->obstacle.side);
+        if (!apart_from(axis, axis->obstacle.width_mm, side)) {
+            force += apply_contact(axis, axis->obstacle.width_mm, side, 0.0f);
+        }
     }
     float part_force = 0.0f;
     if (axis->part.present) {
-        part_force = apply_contact(axis, axis->part.width_mm, side_sign(axis->part.side),
-                                   axis->part.stiffness_n_mm);
+        float side = side_sign(axis->part.side);
+        if (!apart_from(axis, axis->part.width_mm, side)) {
+            part_force = apply_contact(axis, axis->part.width_mm, side, axis->part.stiffness_n_mm);
+        }
         force += part_force;
     }
     axis->force_n = force;
@@ -219,13 +234,13 @@ static void step(sim_axis_t *axis, float dt)
 
 void wsg_sim_axis_advance(sim_axis_t *axis, float dt_s)
 {
-    if (!axis->active && axis->v_mm_s == 0.0f) {
-        step(axis, 0.0f); /* at rest: only contacts can change (a part placed or removed) */
-        return;
-    }
-    while (dt_s > 0.0f) {
-        float dt = dt_s < SIM_AXIS_MAX_STEP_S ? dt_s : SIM_AXIS_MAX_STEP_S;
+    /* At rest only contacts can change (a part placed or removed): one step
+     * of 0 s. One call site, so that the compiler inlines the step. */
+    bool at_rest = !axis->active && axis->v_mm_s == 0.0f;
+    float left_s = at_rest ? 0.0f : dt_s;
+    for (bool first = true; (first && at_rest) || left_s > 0.0f; first = false) {
+        float dt = left_s < SIM_AXIS_MAX_STEP_S ? left_s : SIM_AXIS_MAX_STEP_S;
         step(axis, dt);
-        dt_s -= dt;
+        left_s -= dt;
     }
 }

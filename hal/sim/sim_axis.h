@@ -80,6 +80,10 @@ void wsg_sim_axis_stop(sim_axis_t *axis, bool fast);
 /* Emergency stop with the drive switched off: no force until the next move. */
 void wsg_sim_axis_disable(sim_axis_t *axis);
 void wsg_sim_axis_set_position(sim_axis_t *axis, float position_mm);
-float wsg_sim_axis_position(const sim_axis_t *axis);
+/* Inline: read at every step of the clock. */
+static inline float wsg_sim_axis_position(const sim_axis_t *axis)
+{
+    return axis->x_mm + axis->offset_mm;
+}
 
 #endif

@@ -4,6 +4,8 @@
 #ifndef SIM_THERMAL_H
 #define SIM_THERMAL_H
 
+#include <math.h>
+
 typedef struct {
     float ambient_c;
     float idle_rise_c;
@@ -18,7 +20,31 @@ typedef struct {
 } sim_thermal_t;
 
 void wsg_sim_thermal_init(sim_thermal_t *thermal, float ambient_c);
-void wsg_sim_thermal_advance(sim_thermal_t *thermal, float force_n, float dt_s);
-float wsg_sim_thermal_board_c(const sim_thermal_t *thermal);
+
+/* The step functions are inline: the world advances the model and the
+ * device reads it at every step of the clock. */
+
+/* 1 - e^(-dt/tau), computed again only when dt or tau changed. */
+static inline float wsg_sim_thermal_settle_share(sim_thermal_t *thermal, float dt_s)
+{
+    if (dt_s != thermal->last_dt_s || thermal->time_constant_s != thermal->last_time_constant_s) {
+        thermal->last_dt_s = dt_s;
+        thermal->last_time_constant_s = thermal->time_constant_s;
+        thermal->last_share = 1.0f - expf(-dt_s / thermal->time_constant_s);
+    }
+    return thermal->last_share;
+}
+
+static inline void wsg_sim_thermal_advance(sim_thermal_t *thermal, float force_n, float dt_s)
+{
+    float steady = thermal->ambient_c + thermal->idle_rise_c + thermal->rise_per_newton_c * force_n;
+    float share = wsg_sim_thermal_settle_share(thermal, dt_s);
+    thermal->board_c += (steady - thermal->board_c) * share;
+}
+
+static inline float wsg_sim_thermal_board_c(const sim_thermal_t *thermal)
+{
+    return thermal->override_c > -273.0f ? thermal->override_c : thermal->board_c;
+}
 
 #endif
