@@ -37,9 +37,10 @@ function deviceIdFromPath(path) {
 
 async function api(method, path, body) {
   const options = { method: method, headers: {} };
-  if (body !== undefined) {
+  if (method !== "GET") {
+    // the server takes changing requests as JSON only (no cross-site forms)
     options.headers["Content-Type"] = "application/json";
-    options.body = JSON.stringify(body);
+    options.body = JSON.stringify(body === undefined ? {} : body);
   }
   let response;
   let text;

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -133,6 +134,46 @@ static void collect_upload(web_call_t *call, const char *data, size_t len)
     call->body[call->len] = '\0';
 }
 
+/* A request that may change the device (every route but GET). */
+static bool changes_state(const char *method)
+{
+    return strcmp(method, MHD_HTTP_METHOD_GET) != 0 && strcmp(method, MHD_HTTP_METHOD_HEAD) != 0;
+}
+
+/* The host part of an Origin header ("http://host:port" -> "host:port"). */
+static const char *origin_host(const char *origin)
+{
+    const char *scheme_end = strstr(origin, "://");
+    return scheme_end != NULL ? scheme_end + 3 : origin;
+}
+
+/* A page of another site may not drive the gripper through the visitor's
+ * browser: a changing request must say it carries JSON (a cross-site page
+ * cannot send that without a preflight, which is never granted), and an
+ * Origin, when the browser sends one, must be this server (DNS rebinding,
+ * forms). True with the refusal queued. */
+static bool refuse_cross_site(const web_request_t *req, enum MHD_Result *refused)
+{
+    const char *type =
+        MHD_lookup_connection_value(req->connection, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_TYPE);
+    if (type == NULL || strncasecmp(type, "application/json", 16) != 0) {
+        *refused = web_reply_error(req, MHD_HTTP_UNSUPPORTED_MEDIA_TYPE, E_CMD_FORMAT_ERROR,
+                                   "a request that changes the device must have Content-Type: "
+                                   "application/json");
+        return true;
+    }
+    const char *origin =
+        MHD_lookup_connection_value(req->connection, MHD_HEADER_KIND, MHD_HTTP_HEADER_ORIGIN);
+    const char *host =
+        MHD_lookup_connection_value(req->connection, MHD_HEADER_KIND, MHD_HTTP_HEADER_HOST);
+    if (origin != NULL && (host == NULL || strcmp(origin_host(origin), host) != 0)) {
+        *refused = web_reply_error(req, MHD_HTTP_FORBIDDEN, E_ACCESS_DENIED,
+                                   "a request from the page of another site (Origin %s)", origin);
+        return true;
+    }
+    return false;
+}
+
 static enum MHD_Result handle(void *cls, struct MHD_Connection *connection, const char *url,
                               const char *method, const char *version, const char *upload_data,
                               size_t *upload_data_size, void **req_cls)
@@ -161,6 +202,12 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *connection, cons
     if (call->too_big) {
         return web_reply_error(&req, MHD_HTTP_CONTENT_TOO_LARGE, E_OVERRUN,
                                "the request body is larger than %u bytes", WEB_BODY_MAX);
+    }
+    if (changes_state(method)) {
+        enum MHD_Result refused;
+        if (refuse_cross_site(&req, &refused)) {
+            return refused;
+        }
     }
     return web_routes_dispatch(&req);
 }

@@ -40,6 +40,12 @@ class Devices(WebCase):
     def test_ready_line_names_the_http_address(self):
         self.assertIn(", http 127.0.0.1:%d" % self.sim.http_port, "".join(self.sim.log))
 
+    def test_a_request_from_the_page_itself_is_taken(self):
+        own = request(self.sim.base + "/api/devices/0/settings", method="PUT",
+                      body={"pwt_mm": 3},
+                      headers={"Origin": "http://127.0.0.1:%d" % self.sim.http_port})
+        self.assertEqual((own.status, own.json()["pwt_mm"]), (200, 3))
+
     def test_list_has_the_device_and_its_ports(self):
         reply = self.get("/api/devices")
         self.assertEqual(reply.status, 200)
@@ -306,6 +312,25 @@ class BadRequests(WebCase):
                           "E_RANGE_ERROR")
         self.assert_error(self.call("POST", "/api/devices/0/sim/part", {"width_mm": 1e300}), 422,
                           "E_RANGE_ERROR")
+
+    def test_requests_from_another_site_change_nothing(self):
+        """A foreign page can make the visitor's browser send a form or a
+        plain-text POST, or a JSON one naming its own Origin: all refused."""
+        url = self.sim.base + "/api/devices/0/"
+        before = (self.get("/api/devices/0/settings").json(),
+                  self.get("/api/devices/0/state").json()["grip_state"])
+        form = request(url + "ops/home", method="POST", raw=b"direction=positive",
+                       headers={"Content-Type": "application/x-www-form-urlencoded"})
+        self.assert_error(form, 415, "E_CMD_FORMAT_ERROR")
+        text = request(url + "settings", method="PUT", raw=b'{"pwt_mm": 3}',
+                       headers={"Content-Type": "text/plain"})
+        self.assert_error(text, 415, "E_CMD_FORMAT_ERROR")
+        foreign = request(url + "settings", method="PUT", body={"pwt_mm": 3},
+                          headers={"Origin": "http://pages.example"})
+        self.assert_error(foreign, 403, "E_ACCESS_DENIED")
+        after = (self.get("/api/devices/0/settings").json(),
+                 self.get("/api/devices/0/state").json()["grip_state"])
+        self.assertEqual(after, before)
 
     def test_bodies_over_4_kib_are_413(self):
         big = b"{\"position_mm\": 10, \"x\": \"" + b"a" * 5000 + b"\"}"

@@ -230,7 +230,7 @@ class Save(unittest.TestCase):
         self.addCleanup(sim.stop)
         base = sim.base + "/api/devices/0/settings"
         request(base, "PUT", {"clt_mm": 3})
-        self.assertEqual(request(base + "/save", "POST").status, 200)
+        self.assertEqual(request(base + "/save", "POST", body={}).status, 200)
         request(base, "PUT", {"clt_mm": 6})  # not saved: a reset forgets it
         with sim.control() as ctl:
             self.assertEqual(ctl("RESET()"), "ACK RESET")
@@ -243,7 +243,7 @@ class Save(unittest.TestCase):
         base = sim.base + "/api/devices/1/settings"
         self.assertEqual(request(base).json()["tag"], "old-1")
         self.assertEqual(request(base, "PUT", {"tag": "left hand"}).status, 200)
-        self.assertEqual(request(base + "/save", "POST").status, 200)
+        self.assertEqual(request(base + "/save", "POST", body={}).status, 200)
         sim.stop()
         with open(self.path) as f:
             self.assertTrue(f.read().endswith('\n[device.1]\ntag = "left hand"\n'))
@@ -257,7 +257,7 @@ class Save(unittest.TestCase):
         sim = self.start()
         base = sim.base + "/api/devices/0/settings"
         self.assertEqual(request(base, "PUT", {"tag": 'say "hi"'}).status, 200)
-        reply = request(base + "/save", "POST")
+        reply = request(base + "/save", "POST", body={})
         self.assertEqual((reply.status, reply.json()["error"]), (422, "E_WRITE_ERROR"))
         with open(self.path) as f:
             self.assertEqual(f.read(), self.CONFIG)

@@ -69,7 +69,7 @@ def request(url, method="GET", body=None, raw=None, headers=None):
     """One HTTP request; body is sent as JSON, raw as bytes."""
     data = raw if raw is not None else (json.dumps(body).encode() if body is not None else None)
     req = urllib.request.Request(url, data=data, method=method, headers=headers or {})
-    if data is not None and "Content-Type" not in req.headers:
+    if data is not None and not req.has_header("Content-type"):  # urllib's spelling
         req.add_header("Content-Type", "application/json")
     try:
         with urllib.request.urlopen(req, timeout=HTTP_TIMEOUT) as r:
