@@ -157,10 +157,13 @@ static void add_axis(cJSON *root, const wsg_snapshot_t *snap)
 
 cJSON *web_state_json(gripper_t *g)
 {
+    /* the newest readings, as a GCL query senses before it answers: an idle
+     * device is not stepped, yet its board still cools */
+    web_device_sense(g);
     const wsg_snapshot_t *snap = wsg_device_snapshot(&g->device);
     cJSON *root = cJSON_CreateObject();
     cJSON_AddNumberToObject(root, "id", g->index);
-    cJSON_AddNumberToObject(root, "time_ms", (double)hal_clock_now_us() / 1000.0);
+    cJSON_AddNumberToObject(root, "time_ms", (double)snap->now_us / 1000.0);
     add_axis(root, snap);
     cJSON *grip = cJSON_AddObjectToObject(root, "grip_state");
     cJSON_AddNumberToObject(grip, "code", snap->grip_state);

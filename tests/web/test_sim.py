@@ -51,6 +51,19 @@ class Simulation(WebCase):
         self.assertEqual(self.sim_post("fault", {"name": "METEOR"}).json()["error"],
                          "E_INVALID_PARAMETER")
 
+    def test_the_state_is_as_new_as_a_query(self):
+        """An idle device is not stepped, yet its board cools or warms: the
+        state reads the device as a GCL query does, not its last step."""
+        self.assertEqual(self.sim_post("ambient", {"celsius": 80}).status, 200)
+        with self.sim.control() as ctl:
+            self.assertTrue(ctl("STEP(600000)").startswith("STEP="))
+        shown = self.state()["temperature_c"]  # first: a GCL query would sense for it
+        gcl = self.sim.tcp()
+        self.addCleanup(gcl.close)
+        temp = float(gcl.command("TEMP?").split("=")[1])
+        self.assertGreater(temp, 60)  # ten minutes towards 80 + 9 C
+        self.assertAlmostEqual(shown, temp, delta=0.1)
+
     def test_clock(self):
         t0 = self.state()["time_ms"]
         reply = self.sim_post("clock", {"action": "step", "ms": 250})
