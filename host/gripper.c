@@ -83,7 +83,7 @@ void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
     wsg_conn_set_drivers(&g->device, host_drivers, sizeof(host_drivers) / sizeof(host_drivers[0]));
     wsg_runner_init(&g->runner, &g->device, advance_world, g);
     if (index == 0) {
-        simctl_hooks_attach(&g->device, opts);
+        simctl_observers_attach(&g->device, opts);
     } else if (web_lines_enabled()) {
         wsg_conn_observe(&g->device, web_lines_observer(), NULL); /* the hub is device 0's */
     }

@@ -33,7 +33,7 @@ wsg_status_t sc_reset(simctl_ctx_t *ctx)
     gripper_t *g = ctx->gripper;
     bool first = g->index == 0; /* with the observers and the hardware faults */
     if (first) {
-        simctl_hooks_detach(&g->device);
+        simctl_observers_detach(&g->device);
     }
     simctl_delay_clear_all(&g->device, false);
     fleet_close_connections(g->index);
@@ -42,7 +42,7 @@ wsg_status_t sc_reset(simctl_ctx_t *ctx)
     }
     gripper_reset(g);
     if (first) {
-        simctl_hooks_attach(&g->device, &g->opts);
+        simctl_observers_attach(&g->device, &g->opts);
     }
     simctl_reset_max_lag();
     host_logf(HAL_LOG_INFO, "device %u reset to power-on defaults", g->index);
@@ -88,7 +88,7 @@ wsg_status_t sc_devices(simctl_ctx_t *ctx)
 
 wsg_status_t sc_coverage(simctl_ctx_t *ctx)
 {
-    sc_reply_owned(ctx, coverage_report_json(simctl_hooks_strict(), false));
+    sc_reply_owned(ctx, coverage_report_json(simctl_observers_strict(), false));
     return E_SUCCESS;
 }
 

@@ -117,7 +117,7 @@ static const wsg_gcl_observer_t tolerated_observer = {
     .tolerated = on_tolerated,
 };
 
-void simctl_hooks_attach(wsg_device_t *dev, const host_options_t *opts)
+void simctl_observers_attach(wsg_device_t *dev, const host_options_t *opts)
 {
     hub.trace = opts->trace;
     hub.record = opts->record_path != NULL;
@@ -137,21 +137,21 @@ void simctl_hooks_attach(wsg_device_t *dev, const host_options_t *opts)
     wsg_gcl_observe(dev, gcl, NULL);
 }
 
-void simctl_hooks_detach(wsg_device_t *dev)
+void simctl_observers_detach(wsg_device_t *dev)
 {
     wsg_conn_observe(dev, NULL, NULL);
     wsg_device_observe(dev, NULL, NULL);
     wsg_gcl_observe(dev, NULL, NULL);
 }
 
-void simctl_hooks_after_tick(wsg_device_t *dev)
+void simctl_observers_after_tick(wsg_device_t *dev)
 {
     if (hub.coverage) {
         coverage_flags(wsg_device_flags(dev));
     }
 }
 
-bool simctl_hooks_strict(void)
+bool simctl_observers_strict(void)
 {
     return hub.strict;
 }

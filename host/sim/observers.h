@@ -10,13 +10,13 @@
 #include "options.h"
 #include "wsg/wsg_device.h"
 
-void simctl_hooks_attach(wsg_device_t *dev, const host_options_t *opts);
+void simctl_observers_attach(wsg_device_t *dev, const host_options_t *opts);
 /* Detached, a device's events go unobserved (a reset's closures). */
-void simctl_hooks_detach(wsg_device_t *dev);
-bool simctl_hooks_strict(void);
+void simctl_observers_detach(wsg_device_t *dev);
+bool simctl_observers_strict(void);
 /* After every loop pass over the device: samples what the coverage report
  * tracks over time (the flags, also those raised outside a control step,
  * such as FAST STOP on a dropped connection). Nothing without coverage. */
-void simctl_hooks_after_tick(wsg_device_t *dev);
+void simctl_observers_after_tick(wsg_device_t *dev);
 
 #endif

@@ -69,7 +69,7 @@ static bool run_due(unsigned *budget, uint64_t *next)
         return false;
     }
     *next = fleet_tick();
-    simctl_hooks_after_tick(&fleet_gripper(0)->device); /* observers: device 0's */
+    simctl_observers_after_tick(&fleet_gripper(0)->device); /* observers: device 0's */
     simctl_delay_release_due(now);
     *next = earliest(*next, scenario_next_us());
     *next = earliest(*next, simctl_delay_next_us());

@@ -84,8 +84,8 @@ typedef struct {
 
 /* An optional number as a float; outside a float's range it stays a value
  * the device refuses (the one validation is the device's). */
-static bool wsg_arg_float(op_call_t *call, const char *name, bool required, float fallback,
-                          float *out, bool *given)
+static bool body_float(op_call_t *call, const char *name, bool required, float fallback, float *out,
+                       bool *given)
 {
     double v = fallback;
     if (!web_field_number(call->req, call->body, name, required, &v, given, &call->result)) {
@@ -155,9 +155,9 @@ static enum MHD_Result op_move(op_call_t *call, gripper_t *g, web_owner_t *w)
     static const char *const names[] = {"position_mm", "speed_mm_s", NULL};
     wsg_move_args_t args = {0};
     if (!fields(call, names) ||
-        !wsg_arg_float(call, "position_mm", true, 0.0f, &args.position_mm, NULL) ||
-        !wsg_arg_float(call, "speed_mm_s", false, call->cfg->default_speed_mm_s, &args.speed_mm_s,
-                       NULL)) {
+        !body_float(call, "position_mm", true, 0.0f, &args.position_mm, NULL) ||
+        !body_float(call, "speed_mm_s", false, call->cfg->default_speed_mm_s, &args.speed_mm_s,
+                    NULL)) {
         return call->result;
     }
     wsg_status_t status = wsg_op_move(&g->device, &w->owner, &args);
@@ -171,10 +171,9 @@ static enum MHD_Result op_grip(op_call_t *call, gripper_t *g, web_owner_t *w)
     const wsg_config_t *cfg = call->cfg;
     wsg_grip_args_t args = {.pwt_mm = cfg->default_pwt_mm, .clt_mm = cfg->default_clt_mm};
     if (!fields(call, names) ||
-        !wsg_arg_float(call, "force_n", false, cfg->default_force_n, &args.force_n, NULL) ||
-        !wsg_arg_float(call, "width_mm", false, 0.0f, &args.width_mm, &args.has_width) ||
-        !wsg_arg_float(call, "speed_mm_s", false, cfg->default_speed_mm_s, &args.speed_mm_s,
-                       NULL)) {
+        !body_float(call, "force_n", false, cfg->default_force_n, &args.force_n, NULL) ||
+        !body_float(call, "width_mm", false, 0.0f, &args.width_mm, &args.has_width) ||
+        !body_float(call, "speed_mm_s", false, cfg->default_speed_mm_s, &args.speed_mm_s, NULL)) {
         return call->result;
     }
     wsg_status_t status = wsg_op_grip(&g->device, &w->owner, &args);
@@ -188,10 +187,9 @@ static enum MHD_Result op_release(op_call_t *call, gripper_t *g, web_owner_t *w)
     const wsg_config_t *cfg = call->cfg;
     wsg_release_args_t args = {0};
     if (!fields(call, names) ||
-        !wsg_arg_float(call, "distance_mm", false, cfg->default_pullback_mm, &args.distance_mm,
-                       NULL) ||
-        !wsg_arg_float(call, "speed_mm_s", false, cfg->default_speed_mm_s, &args.speed_mm_s,
-                       NULL)) {
+        !body_float(call, "distance_mm", false, cfg->default_pullback_mm, &args.distance_mm,
+                    NULL) ||
+        !body_float(call, "speed_mm_s", false, cfg->default_speed_mm_s, &args.speed_mm_s, NULL)) {
         return call->result;
     }
     wsg_status_t status = wsg_op_release(&g->device, &w->owner, &args);
@@ -204,13 +202,19 @@ static enum MHD_Result op_tare(op_call_t *call, gripper_t *g)
 {
     static const char *const names[] = {"finger", NULL};
     double finger = -1.0;
+    bool given = false;
     if (!fields(call, names) ||
-        !web_field_number(call->req, call->body, "finger", false, &finger, NULL, &call->result)) {
+        !web_field_number(call->req, call->body, "finger", false, &finger, &given, &call->result)) {
         return call->result;
     }
     if (finger != floor(finger)) {
         return web_reply_error(call->req, MHD_HTTP_UNPROCESSABLE_CONTENT, E_INVALID_PARAMETER,
                                "finger: an integer");
+    }
+    /* -1 is the core's "every force finger": only an absent field means it */
+    if (given && finger < 0.0) {
+        return web_reply_error(call->req, MHD_HTTP_UNPROCESSABLE_CONTENT, E_INDEX_OUT_OF_BOUNDS,
+                               "finger: 0 or above");
     }
     /* beyond any slot the device refuses it (E_INDEX_OUT_OF_BOUNDS) */
     int index = fabs(finger) < 1000.0 ? (int)finger : 1000;

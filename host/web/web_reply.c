@@ -25,8 +25,8 @@ enum MHD_Result web_reply_bytes(const web_request_t *req, unsigned http_status,
     return result;
 }
 
-static enum MHD_Result wsg_reply_text(const web_request_t *req, unsigned http_status, char *text,
-                                      const char *allow)
+static enum MHD_Result reply_text(const web_request_t *req, unsigned http_status, char *text,
+                                  const char *allow)
 {
     if (text == NULL) {
         return MHD_NO;
@@ -51,7 +51,7 @@ enum MHD_Result web_reply_json(const web_request_t *req, unsigned http_status, c
 {
     char *text = json != NULL ? cJSON_PrintUnformatted(json) : NULL;
     cJSON_Delete(json);
-    return wsg_reply_text(req, http_status, text, NULL);
+    return reply_text(req, http_status, text, NULL);
 }
 
 static cJSON *error_json(wsg_status_t status, const char *fmt, va_list args)
@@ -86,7 +86,7 @@ enum MHD_Result web_reply_wrong_method(const web_request_t *req, const char *all
     cJSON_AddStringToObject(j, "message", message);
     text = cJSON_PrintUnformatted(j);
     cJSON_Delete(j);
-    return wsg_reply_text(req, MHD_HTTP_METHOD_NOT_ALLOWED, text, allowed);
+    return reply_text(req, MHD_HTTP_METHOD_NOT_ALLOWED, text, allowed);
 }
 
 enum MHD_Result web_reply_redirect(const web_request_t *req, const char *location)

@@ -24,7 +24,7 @@ HTTP_TIMEOUT_S = 30.0  # an upper bound against a hang, never a speed check
 STATE_PATH = "/api/devices/0/state"
 STATE_FIELDS = {"position_mm", "speed_mm_s", "force_n", "temperature_c", "grip_state",
                 "sysflags"}
-# Appendix D and B, as the host's state dump names them (host/simctl_names.c)
+# Appendix D and B, as the host's state dump names them (firmware/core/names.c)
 GRIP_STATES = ["IDLE", "GRASPING", "NO PART", "PART LOST", "HOLDING", "RELEASING",
                "POSITIONING", "ERROR"]
 SYSFLAGS = {0: "SF_REFERENCED", 1: "SF_MOVING", 2: "SF_BLOCKED_MINUS", 3: "SF_BLOCKED_PLUS",

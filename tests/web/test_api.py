@@ -302,6 +302,8 @@ class BadRequests(WebCase):
             self.assert_error(self.call("POST", "/api/devices/0/ops/move",
                                         {"position_mm": 50, "speed_mm_s": value}),
                               422, "E_RANGE_ERROR")
+        self.assert_error(self.call("POST", "/api/devices/0/ops/tare", {"finger": -1}), 422,
+                          "E_INDEX_OUT_OF_BOUNDS")  # the core's "every finger" is no index
         self.assert_error(self.call("POST", "/api/devices/0/ops/tare", {"finger": 2}), 422,
                           "E_INDEX_OUT_OF_BOUNDS")
         self.assert_error(self.call("POST", "/api/devices/0/ops/tare", {"finger": 1e300}), 422,
