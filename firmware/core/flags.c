@@ -18,18 +18,6 @@ void wsg_flags_set(wsg_dev_t *dev, wsg_sysflag_t flag, bool on)
     }
 }
 
-bool wsg_flags_get(const wsg_dev_t *dev, wsg_sysflag_t flag)
-{
-    return (dev->flags & WSG_FLAG(flag)) != 0u;
-}
-
-bool wsg_flags_severe_fault(const wsg_dev_t *dev)
-{
-    const dev_sensed_t *s = &dev->sensed;
-    return s->axis.current_fault || s->axis.power_fault ||
-           s->temperature_c >= dev->cfg.temp_fault_c;
-}
-
 static uint32_t soft_limit_flags(const wsg_dev_t *dev)
 {
     const wsg_config_t *cfg = &dev->cfg;

@@ -94,8 +94,8 @@ uint32_t wsg_motion_tick_us(const wsg_dev_t *dev)
     if (dev->motion.kind != WSG_MOTION_NONE || wsg_flags_get(dev, SF_MOVING)) {
         return MOTION_TICK_US;
     }
-    if (dev->grip.state == GS_HOLDING || wsg_flags_get(dev, SF_BLOCKED_MINUS) ||
-        wsg_flags_get(dev, SF_BLOCKED_PLUS)) {
+    if (dev->grip.state == GS_HOLDING ||
+        (dev->flags & (WSG_FLAG(SF_BLOCKED_MINUS) | WSG_FLAG(SF_BLOCKED_PLUS))) != 0u) {
         return HOLD_TICK_US;
     }
     return 0u;
