@@ -41,8 +41,9 @@ static uint32_t derived_flags(const wsg_dev_t *dev)
     const hal_axis_status_t *axis = &dev->sensed.axis;
     float temperature = dev->sensed.temperature_c;
     uint32_t flags = soft_limit_flags(dev);
-    float speed = axis->velocity_mm_s < 0.0f ? -axis->velocity_mm_s : axis->velocity_mm_s;
-    if (axis->profile_active || speed > MOVING_SPEED_MM_S) {
+    /* |v| > limit, without forming |v| (the same outcome for every v, NaN included) */
+    float velocity = axis->velocity_mm_s;
+    if (axis->profile_active || velocity > MOVING_SPEED_MM_S || velocity < -MOVING_SPEED_MM_S) {
         flags |= WSG_FLAG(SF_MOVING);
     }
     if (cfg->overdrive_mode && cfg->force_overdrive_n > 0.0f) {
