@@ -79,10 +79,24 @@ void wsg_device_step(wsg_device_t *device)
     }
 }
 
+/* How often the supervisor must look: 0 when nothing can change by itself.
+ * Here, beside its one caller, so that it is inlined into it. */
+static uint32_t motion_tick_us(const wsg_dev_t *dev)
+{
+    if (dev->motion.kind != WSG_MOTION_NONE || wsg_flags_get(dev, SF_MOVING)) {
+        return MOTION_TICK_US;
+    }
+    if (dev->grip.state == GS_HOLDING ||
+        (dev->flags & (WSG_FLAG(SF_BLOCKED_MINUS) | WSG_FLAG(SF_BLOCKED_PLUS))) != 0u) {
+        return HOLD_TICK_US;
+    }
+    return 0u;
+}
+
 uint64_t wsg_device_next_deadline_us(const wsg_device_t *device)
 {
     const wsg_dev_t *dev = dev_of_const(device);
-    uint32_t tick = wsg_motion_tick_us(dev);
+    uint32_t tick = motion_tick_us(dev);
     uint64_t next = tick != 0u ? dev->sensed.now_us + tick : UINT64_MAX;
     uint64_t timers = wsg_timer_next_due(&dev->timers);
     uint64_t bus = dev->fbus.can != NULL ? wsg_finger_bus_next_deadline_us(&dev->fbus) : UINT64_MAX;

@@ -159,7 +159,5 @@ void wsg_motion_apply_force_request(wsg_dev_t *dev);
 void wsg_grip_set_state(wsg_dev_t *dev, wsg_grip_state_t state);
 void wsg_grip_monitor_step(wsg_dev_t *dev);
 void wsg_motion_block_watch_step(wsg_dev_t *dev);
-/* How often the supervisor must look: 0 when nothing can change by itself. */
-uint32_t wsg_motion_tick_us(const wsg_dev_t *dev);
 
 #endif
