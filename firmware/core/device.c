@@ -44,7 +44,8 @@ void wsg_device_observe(wsg_device_t *device, const wsg_device_observer_t *obser
     dev->observer_ctx = ctx;
 }
 
-/* Without a CAN handle the bus has nothing to do: its input is not built. */
+/* Without a CAN handle the bus has nothing to do: its input is not built,
+ * and it raises no force request (only its step does). */
 static void step_finger_bus(wsg_dev_t *dev)
 {
     if (dev->fbus.can == NULL) {
@@ -61,6 +62,7 @@ static void step_finger_bus(wsg_dev_t *dev)
             .grip_force_n = dev->grip.force_n,
             .force_max_n = wsg_config_force_max(&dev->cfg),
         });
+    wsg_motion_apply_force_request(dev);
 }
 
 void wsg_device_step(wsg_device_t *device)
@@ -68,21 +70,36 @@ void wsg_device_step(wsg_device_t *device)
     wsg_dev_t *dev = dev_of(device);
     wsg_sense_and_react(dev);
     step_finger_bus(dev);
-    wsg_motion_apply_force_request(dev);
     wsg_motion_step(dev);
     wsg_grip_monitor_step(dev);
     wsg_motion_block_watch_step(dev);
     wsg_sense_and_react_if_changed(dev); /* what the step changed, for the timers below */
-    wsg_timer_run_due(&dev->timers, dev->sensed.now_us);
+    if (wsg_timer_next_due(&dev->timers) <= dev->sensed.now_us) {
+        wsg_timer_run_due(&dev->timers, dev->sensed.now_us);
+    }
+}
+
+/* How often the supervisor must look: 0 when nothing can change by itself.
+ * Here, beside its one caller, so that it is inlined into it. */
+static uint32_t motion_tick_us(const wsg_dev_t *dev)
+{
+    if (dev->motion.kind != WSG_MOTION_NONE || wsg_flags_get(dev, SF_MOVING)) {
+        return MOTION_TICK_US;
+    }
+    if (dev->grip.state == GS_HOLDING ||
+        (dev->flags & (WSG_FLAG(SF_BLOCKED_MINUS) | WSG_FLAG(SF_BLOCKED_PLUS))) != 0u) {
+        return HOLD_TICK_US;
+    }
+    return 0u;
 }
 
 uint64_t wsg_device_next_deadline_us(const wsg_device_t *device)
 {
     const wsg_dev_t *dev = dev_of_const(device);
-    uint32_t tick = wsg_motion_tick_us(dev);
+    uint32_t tick = motion_tick_us(dev);
     uint64_t next = tick != 0u ? dev->sensed.now_us + tick : UINT64_MAX;
     uint64_t timers = wsg_timer_next_due(&dev->timers);
-    uint64_t bus = wsg_finger_bus_next_deadline_us(&dev->fbus);
+    uint64_t bus = dev->fbus.can != NULL ? wsg_finger_bus_next_deadline_us(&dev->fbus) : UINT64_MAX;
     next = bus < next ? bus : next;
     return timers < next ? timers : next;
 }

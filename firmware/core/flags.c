@@ -18,18 +18,6 @@ void wsg_flags_set(wsg_dev_t *dev, wsg_sysflag_t flag, bool on)
     }
 }
 
-bool wsg_flags_get(const wsg_dev_t *dev, wsg_sysflag_t flag)
-{
-    return (dev->flags & WSG_FLAG(flag)) != 0u;
-}
-
-bool wsg_flags_severe_fault(const wsg_dev_t *dev)
-{
-    const dev_sensed_t *s = &dev->sensed;
-    return s->axis.current_fault || s->axis.power_fault ||
-           s->temperature_c >= dev->cfg.temp_fault_c;
-}
-
 static uint32_t soft_limit_flags(const wsg_dev_t *dev)
 {
     const wsg_config_t *cfg = &dev->cfg;
@@ -53,8 +41,9 @@ static uint32_t derived_flags(const wsg_dev_t *dev)
     const hal_axis_status_t *axis = &dev->sensed.axis;
     float temperature = dev->sensed.temperature_c;
     uint32_t flags = soft_limit_flags(dev);
-    float speed = axis->velocity_mm_s < 0.0f ? -axis->velocity_mm_s : axis->velocity_mm_s;
-    if (axis->profile_active || speed > MOVING_SPEED_MM_S) {
+    /* |v| > limit, without forming |v| (the same outcome for every v, NaN included) */
+    float velocity = axis->velocity_mm_s;
+    if (axis->profile_active || velocity > MOVING_SPEED_MM_S || velocity < -MOVING_SPEED_MM_S) {
         flags |= WSG_FLAG(SF_MOVING);
     }
     if (cfg->overdrive_mode && cfg->force_overdrive_n > 0.0f) {

@@ -89,18 +89,6 @@ void wsg_motion_apply_force_request(wsg_dev_t *dev)
     }
 }
 
-uint32_t wsg_motion_tick_us(const wsg_dev_t *dev)
-{
-    if (dev->motion.kind != WSG_MOTION_NONE || wsg_flags_get(dev, SF_MOVING)) {
-        return MOTION_TICK_US;
-    }
-    if (dev->grip.state == GS_HOLDING || wsg_flags_get(dev, SF_BLOCKED_MINUS) ||
-        wsg_flags_get(dev, SF_BLOCKED_PLUS)) {
-        return HOLD_TICK_US;
-    }
-    return 0u;
-}
-
 /* A pending abort is reported before a new motion takes the axis over, so
  * STOP() followed at once by MOVE() works. */
 wsg_status_t wsg_motion_check_allowed(wsg_dev_t *dev, bool needs_reference)

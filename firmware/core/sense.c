@@ -15,7 +15,9 @@ void wsg_sense(wsg_dev_t *dev)
     dev->axis_commanded = false;
     s->force_control = wsg_fingers_force_control(&dev->fingers);
     s->finger_faulted = wsg_fingers_faulted(&dev->fingers);
-    s->finger_force_n = wsg_fingers_measured_force(&dev->fingers);
+    /* the measurement averages the WSG-FMFs with data: 0 when there is none,
+     * which is exactly when the fingers are not in force control */
+    s->finger_force_n = s->force_control ? wsg_fingers_measured_force(&dev->fingers) : 0.0f;
     /* FORCE? reports the finger measurement in force-control mode, else the
      * motor's estimate */
     s->force_n = s->force_control ? s->finger_force_n : s->axis.force_n;

@@ -37,11 +37,6 @@ void wsg_timer_schedule(wsg_timer_queue_t *q, wsg_timer_t *t, uint64_t due_us)
     *link = t;
 }
 
-uint64_t wsg_timer_next_due(const wsg_timer_queue_t *q)
-{
-    return q->head != NULL ? q->head->due_us : UINT64_MAX;
-}
-
 void wsg_timer_run_due(wsg_timer_queue_t *q, uint64_t now_us)
 {
     /* detach the due prefix first, so that rescheduling cannot loop */

@@ -8,6 +8,7 @@
 #define WSG_TIMER_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 typedef struct wsg_timer {
@@ -25,7 +26,10 @@ void wsg_timer_queue_init(wsg_timer_queue_t *q);
 /* (Re)schedules t at due_us; equal deadlines keep their insertion order. */
 void wsg_timer_schedule(wsg_timer_queue_t *q, wsg_timer_t *t, uint64_t due_us);
 void wsg_timer_cancel(wsg_timer_queue_t *q, wsg_timer_t *t);
-uint64_t wsg_timer_next_due(const wsg_timer_queue_t *q);
+static inline uint64_t wsg_timer_next_due(const wsg_timer_queue_t *q)
+{
+    return q->head != NULL ? q->head->due_us : UINT64_MAX;
+}
 /* Fires every timer due at now_us, in deadline order, each at most once per
  * call (a timer that reschedules itself into the past waits for the next). */
 void wsg_timer_run_due(wsg_timer_queue_t *q, uint64_t now_us);

@@ -129,10 +129,21 @@ void wsg_sense_and_react_if_changed(wsg_dev_t *dev);
 
 /* flags.c: the register (pure) */
 void wsg_flags_set(wsg_dev_t *dev, wsg_sysflag_t flag, bool on);
-bool wsg_flags_get(const wsg_dev_t *dev, wsg_sysflag_t flag);
 void wsg_flags_derive(wsg_dev_t *dev);
+
+/* Inline: read at every control step. */
+static inline bool wsg_flags_get(const wsg_dev_t *dev, wsg_sysflag_t flag)
+{
+    return (dev->flags & WSG_FLAG(flag)) != 0u;
+}
+
 /* A cause that raises FAST STOP by itself and blocks its acknowledge. */
-bool wsg_flags_severe_fault(const wsg_dev_t *dev);
+static inline bool wsg_flags_severe_fault(const wsg_dev_t *dev)
+{
+    const dev_sensed_t *s = &dev->sensed;
+    return s->axis.current_fault || s->axis.power_fault ||
+           s->temperature_c >= dev->cfg.temp_fault_c;
+}
 
 /* motion.c: the supervisor, the only writer of the axis */
 void wsg_motion_drive(wsg_dev_t *dev, float target_mm, float speed_mm_s, float force_n);
@@ -148,7 +159,5 @@ void wsg_motion_apply_force_request(wsg_dev_t *dev);
 void wsg_grip_set_state(wsg_dev_t *dev, wsg_grip_state_t state);
 void wsg_grip_monitor_step(wsg_dev_t *dev);
 void wsg_motion_block_watch_step(wsg_dev_t *dev);
-/* How often the supervisor must look: 0 when nothing can change by itself. */
-uint32_t wsg_motion_tick_us(const wsg_dev_t *dev);
 
 #endif
