@@ -6,7 +6,7 @@
  * operation's owner as an event, only from the control step, never from
  * the call that started the operation. */
 #include "priv/motion_tuning.h"
-#include "priv/textbuf.h"
+#include "wsg/wsg_textbuf.h"
 #include "priv/wsg_dev.h"
 
 static float absf(float v)
@@ -152,7 +152,7 @@ void wsg_motion_fast_stop(wsg_dev_t *dev, const char *why)
     wsg_flags_set(dev, SF_FAST_STOP, true);
     wsg_grip_set_state(dev, GS_ERROR);
     char storage[128];
-    textbuf_t tb;
+    wsg_textbuf_t tb;
     wsg_textbuf_init(&tb, storage, sizeof(storage));
     wsg_textbuf_put_str(&tb, "FAST STOP: ");
     wsg_textbuf_put_str(&tb, why);

@@ -5,7 +5,7 @@
 #include <string.h>
 
 #include "hal_log.h"
-#include "priv/textbuf.h"
+#include "wsg/wsg_textbuf.h"
 
 /* On an on-demand bus the controller ticks this long after a change (start,
  * fault injection, a finger's flags or type, TARE): enough for a node to boot
@@ -57,7 +57,7 @@ static void send(finger_bus_t *bus, const hal_can_frame_t *frame)
 static void slot_log(hal_log_level_t level, unsigned slot, const char *what)
 {
     char storage[80];
-    textbuf_t tb;
+    wsg_textbuf_t tb;
     wsg_textbuf_init(&tb, storage, sizeof(storage));
     wsg_textbuf_put_str(&tb, "finger ");
     wsg_textbuf_put_uint(&tb, slot);

@@ -91,7 +91,7 @@ void wsg_reply_ack(cmd_ctx_t *ctx)
 }
 
 /* NAME=value */
-static void reply_begin(cmd_ctx_t *ctx, textbuf_t *tb, char *storage, size_t cap)
+static void reply_begin(cmd_ctx_t *ctx, wsg_textbuf_t *tb, char *storage, size_t cap)
 {
     wsg_textbuf_init(tb, storage, cap);
     wsg_textbuf_put_str(tb, ctx->cmd->name);
@@ -102,7 +102,7 @@ static void reply_begin(cmd_ctx_t *ctx, textbuf_t *tb, char *storage, size_t cap
  * into one line: it always fits, so it needs no textbuf bookkeeping. */
 void wsg_reply_float(cmd_ctx_t *ctx, float value)
 {
-    char line[GCL_NAME_MAX + 1 + TEXTBUF_FLOAT_MAX + 1];
+    char line[GCL_NAME_MAX + 1 + WSG_TEXTBUF_FLOAT_MAX + 1];
     size_t len = 0;
     for (const char *name = ctx->cmd->name; *name != '\0'; name++) {
         line[len++] = *name;
@@ -116,7 +116,7 @@ void wsg_reply_float(cmd_ctx_t *ctx, float value)
 void wsg_reply_int(cmd_ctx_t *ctx, int32_t value)
 {
     char storage[64];
-    textbuf_t tb;
+    wsg_textbuf_t tb;
     reply_begin(ctx, &tb, storage, sizeof(storage));
     wsg_textbuf_put_int(&tb, value);
     wsg_gcl_send(ctx->gcl, &tb, WSG_MSG_REPLY);
@@ -125,13 +125,13 @@ void wsg_reply_int(cmd_ctx_t *ctx, int32_t value)
 void wsg_reply_quoted(cmd_ctx_t *ctx, const char *value)
 {
     char storage[96];
-    textbuf_t tb;
+    wsg_textbuf_t tb;
     reply_begin(ctx, &tb, storage, sizeof(storage));
     wsg_textbuf_put_quoted(&tb, value);
     wsg_gcl_send(ctx->gcl, &tb, WSG_MSG_REPLY);
 }
 
-void wsg_reply_text(cmd_ctx_t *ctx, textbuf_t *tb)
+void wsg_reply_text(cmd_ctx_t *ctx, wsg_textbuf_t *tb)
 {
     wsg_gcl_send(ctx->gcl, tb, WSG_MSG_REPLY);
 }

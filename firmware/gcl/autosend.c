@@ -66,7 +66,7 @@ static uint32_t state_value(const gcl_conn_t *g, const wsg_snapshot_t *snap,
 }
 
 static void put_value(const gcl_conn_t *g, const wsg_snapshot_t *snap, wsg_autosend_value_t value,
-                      textbuf_t *tb)
+                      wsg_textbuf_t *tb)
 {
     if (value == AS_SYSFLAGS) {
         wsg_textbuf_put_bits(tb, wsg_gcl_flags(g, snap), WSG_SYSFLAG_COUNT);
@@ -141,7 +141,7 @@ static bool should_send(const gcl_conn_t *g, const wsg_snapshot_t *snap, wsg_aut
 static void send_value(gcl_conn_t *g, const wsg_snapshot_t *snap, wsg_autosend_value_t value)
 {
     char storage[WSG_REPLY_MAX];
-    textbuf_t tb;
+    wsg_textbuf_t tb;
     wsg_textbuf_init(&tb, storage, sizeof(storage));
     wsg_textbuf_put_char(&tb, '@');
     wsg_textbuf_put_str(&tb, value_names[value]);

@@ -15,7 +15,7 @@ static wsg_status_t finger_index(const cmd_ctx_t *ctx, int *index)
     return E_SUCCESS;
 }
 
-typedef void (*finger_writer_t)(textbuf_t *tb, const wsg_finger_t *finger);
+typedef void (*finger_writer_t)(wsg_textbuf_t *tb, const wsg_finger_t *finger);
 
 /* NAME=[a,b] for both slots or NAME[i]=a for one. */
 static wsg_status_t reply_fingers(cmd_ctx_t *ctx, finger_writer_t write)
@@ -26,7 +26,7 @@ static wsg_status_t reply_fingers(cmd_ctx_t *ctx, finger_writer_t write)
         return status;
     }
     char storage[WSG_REPLY_MAX];
-    textbuf_t tb;
+    wsg_textbuf_t tb;
     wsg_textbuf_init(&tb, storage, sizeof(storage));
     wsg_textbuf_put_str(&tb, ctx->cmd->name);
     const wsg_finger_t *slots = wsg_device_snapshot(ctx->dev)->fingers->slot;
@@ -51,7 +51,7 @@ static wsg_status_t reply_fingers(cmd_ctx_t *ctx, finger_writer_t write)
 
 /* One slot's FDATA value: a float (FMF), a vector of integer cell values
  * (DSA) or [] when the finger delivers no data. */
-static void write_data(textbuf_t *tb, const wsg_finger_t *finger)
+static void write_data(wsg_textbuf_t *tb, const wsg_finger_t *finger)
 {
     if (finger->type == FINGER_FMF && finger->data_count == 1) {
         wsg_textbuf_put_float(tb, finger->data[0]);
@@ -71,12 +71,12 @@ static void write_data(textbuf_t *tb, const wsg_finger_t *finger)
     wsg_textbuf_put_char(tb, ']');
 }
 
-static void write_type(textbuf_t *tb, const wsg_finger_t *finger)
+static void write_type(wsg_textbuf_t *tb, const wsg_finger_t *finger)
 {
     wsg_textbuf_put_quoted(tb, wsg_finger_type_name(finger->type));
 }
 
-static void write_flags(textbuf_t *tb, const wsg_finger_t *finger)
+static void write_flags(wsg_textbuf_t *tb, const wsg_finger_t *finger)
 {
     wsg_textbuf_put_bits(tb, finger->flags, WSG_FINGER_FLAG_COUNT);
 }

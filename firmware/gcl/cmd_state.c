@@ -61,7 +61,7 @@ wsg_status_t wsg_cmd_temp(cmd_ctx_t *ctx)
 }
 
 /* NAME[i]=value */
-static void reply_indexed_begin(cmd_ctx_t *ctx, textbuf_t *tb, char *storage, size_t cap)
+static void reply_indexed_begin(cmd_ctx_t *ctx, wsg_textbuf_t *tb, char *storage, size_t cap)
 {
     wsg_textbuf_init(tb, storage, cap);
     wsg_textbuf_put_str(tb, ctx->cmd->name);
@@ -73,7 +73,7 @@ static void reply_indexed_begin(cmd_ctx_t *ctx, textbuf_t *tb, char *storage, si
 wsg_status_t wsg_cmd_sysflags(cmd_ctx_t *ctx)
 {
     char storage[128];
-    textbuf_t tb;
+    wsg_textbuf_t tb;
     uint32_t flags = wsg_gcl_flags(ctx->gcl, wsg_device_snapshot(ctx->dev));
     if (ctx->cmd->form == GCL_FORM_INDEXED_QUERY) {
         int32_t index = ctx->cmd->index;
@@ -94,7 +94,7 @@ wsg_status_t wsg_cmd_sysflags(cmd_ctx_t *ctx)
 wsg_status_t wsg_cmd_gripstats(cmd_ctx_t *ctx)
 {
     char storage[96];
-    textbuf_t tb;
+    wsg_textbuf_t tb;
     const uint32_t *stats = wsg_device_snapshot(ctx->dev)->grip_stats;
     if (ctx->cmd->form == GCL_FORM_INDEXED_QUERY) {
         int32_t index = ctx->cmd->index;

@@ -45,7 +45,7 @@ wsg_status_t wsg_cmd_version(cmd_ctx_t *ctx)
 wsg_status_t wsg_cmd_sn(cmd_ctx_t *ctx)
 {
     char storage[32];
-    textbuf_t tb;
+    wsg_textbuf_t tb;
     wsg_textbuf_init(&tb, storage, sizeof(storage));
     wsg_textbuf_put_str(&tb, "SN=");
     wsg_textbuf_put_uint(&tb, config(ctx)->serial);

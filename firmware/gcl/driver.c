@@ -99,7 +99,7 @@ const wsg_proto_driver_t wsg_gcl_driver = {
     .close = gcl_close,
 };
 
-void wsg_gcl_send(gcl_conn_t *g, textbuf_t *tb, wsg_msg_kind_t kind)
+void wsg_gcl_send(gcl_conn_t *g, wsg_textbuf_t *tb, wsg_msg_kind_t kind)
 {
     wsg_textbuf_put_char(tb, '\n');
     if (tb->overflow) {
@@ -124,7 +124,7 @@ void wsg_gcl_send_line(gcl_conn_t *g, const char *line, size_t len, wsg_msg_kind
 void wsg_gcl_send_word(gcl_conn_t *g, const char *word, const char *name)
 {
     char storage[64];
-    textbuf_t tb;
+    wsg_textbuf_t tb;
     wsg_textbuf_init(&tb, storage, sizeof(storage));
     wsg_textbuf_put_str(&tb, word);
     wsg_textbuf_put_char(&tb, ' ');
@@ -135,7 +135,7 @@ void wsg_gcl_send_word(gcl_conn_t *g, const char *word, const char *name)
 void wsg_gcl_send_error(gcl_conn_t *g, const char *name, wsg_status_t status)
 {
     char storage[128];
-    textbuf_t tb;
+    wsg_textbuf_t tb;
     wsg_textbuf_init(&tb, storage, sizeof(storage));
     wsg_textbuf_put_str(&tb, "ERR ");
     wsg_textbuf_put_str(&tb, name[0] != '\0' ? name : "?");

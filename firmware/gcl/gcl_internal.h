@@ -8,7 +8,7 @@
 #include "wsg/gcl_linebuf.h"
 #include "wsg/gcl_parse.h"
 #include "priv/conn.h"
-#include "priv/textbuf.h"
+#include "wsg/wsg_textbuf.h"
 #include "priv/timer.h"
 #include "wsg/wsg_gcl.h"
 
@@ -97,7 +97,7 @@ typedef struct cmd_entry {
 void wsg_dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_status_t line_status);
 
 /* driver.c: formatting and sending; sending changes no state */
-void wsg_gcl_send(gcl_conn_t *g, textbuf_t *tb, wsg_msg_kind_t kind);
+void wsg_gcl_send(gcl_conn_t *g, wsg_textbuf_t *tb, wsg_msg_kind_t kind);
 /* A whole line, its '\n' included, that surely fits a reply. */
 void wsg_gcl_send_line(gcl_conn_t *g, const char *line, size_t len, wsg_msg_kind_t kind);
 void wsg_gcl_send_word(gcl_conn_t *g, const char *word, const char *name);
@@ -126,7 +126,7 @@ void wsg_reply_ack(cmd_ctx_t *ctx);
 void wsg_reply_float(cmd_ctx_t *ctx, float value);
 void wsg_reply_int(cmd_ctx_t *ctx, int32_t value);
 void wsg_reply_quoted(cmd_ctx_t *ctx, const char *value);
-void wsg_reply_text(cmd_ctx_t *ctx, textbuf_t *tb);
+void wsg_reply_text(cmd_ctx_t *ctx, wsg_textbuf_t *tb);
 
 /* Handlers */
 wsg_status_t wsg_cmd_verbose(cmd_ctx_t *ctx);

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-#include "priv/textbuf.h"
+#include "wsg/wsg_textbuf.h"
 
-void wsg_textbuf_init(textbuf_t *tb, char *storage, size_t cap)
+void wsg_textbuf_init(wsg_textbuf_t *tb, char *storage, size_t cap)
 {
     tb->data = storage;
     tb->cap = cap;
@@ -14,7 +14,7 @@ void wsg_textbuf_init(textbuf_t *tb, char *storage, size_t cap)
 
 /* Appends n bytes, as many as fit; the rest marks the buffer overflowed.
  * Reply pieces are a few bytes: a plain loop beats memcpy() on them. */
-static void put_bytes(textbuf_t *tb, const char *bytes, size_t n)
+static void put_bytes(wsg_textbuf_t *tb, const char *bytes, size_t n)
 {
     if (tb->len + 1u >= tb->cap) { /* full (or no storage at all) */
         tb->overflow = tb->overflow || n > 0u;
@@ -33,12 +33,12 @@ static void put_bytes(textbuf_t *tb, const char *bytes, size_t n)
     tb->len += n;
 }
 
-void wsg_textbuf_put_char(textbuf_t *tb, char c)
+void wsg_textbuf_put_char(wsg_textbuf_t *tb, char c)
 {
     put_bytes(tb, &c, 1u);
 }
 
-void wsg_textbuf_put_str(textbuf_t *tb, const char *s)
+void wsg_textbuf_put_str(wsg_textbuf_t *tb, const char *s)
 {
     size_t len = tb->len;
     size_t last = tb->cap > 0u ? tb->cap - 1u : 0u;
@@ -65,19 +65,19 @@ static char *digits_before(char *end, uint64_t value)
     return p;
 }
 
-static void put_u64(textbuf_t *tb, uint64_t value)
+static void put_u64(wsg_textbuf_t *tb, uint64_t value)
 {
     char digits[20];
     char *first = digits_before(digits + sizeof(digits), value);
     put_bytes(tb, first, (size_t)(digits + sizeof(digits) - first));
 }
 
-void wsg_textbuf_put_uint(textbuf_t *tb, uint32_t value)
+void wsg_textbuf_put_uint(wsg_textbuf_t *tb, uint32_t value)
 {
     put_u64(tb, value);
 }
 
-void wsg_textbuf_put_int(textbuf_t *tb, int32_t value)
+void wsg_textbuf_put_int(wsg_textbuf_t *tb, int32_t value)
 {
     if (value < 0) {
         wsg_textbuf_put_char(tb, '-');
@@ -123,20 +123,20 @@ size_t wsg_textbuf_format_float(char *out, float value)
     return (size_t)(p - out);
 }
 
-void wsg_textbuf_put_float(textbuf_t *tb, float value)
+void wsg_textbuf_put_float(wsg_textbuf_t *tb, float value)
 {
-    char text[TEXTBUF_FLOAT_MAX];
+    char text[WSG_TEXTBUF_FLOAT_MAX];
     put_bytes(tb, text, wsg_textbuf_format_float(text, value));
 }
 
-void wsg_textbuf_put_quoted(textbuf_t *tb, const char *s)
+void wsg_textbuf_put_quoted(wsg_textbuf_t *tb, const char *s)
 {
     wsg_textbuf_put_char(tb, '"');
     wsg_textbuf_put_str(tb, s);
     wsg_textbuf_put_char(tb, '"');
 }
 
-void wsg_textbuf_put_bits(textbuf_t *tb, uint32_t bits, unsigned count)
+void wsg_textbuf_put_bits(wsg_textbuf_t *tb, uint32_t bits, unsigned count)
 {
     wsg_textbuf_put_char(tb, '[');
     for (unsigned i = 0; i < count; i++) {

@@ -7,10 +7,10 @@
 #include <string.h>
 
 #include "unit_suites.h"
-#include "priv/textbuf.h"
+#include "wsg/wsg_textbuf.h"
 
 static char storage[128];
-static textbuf_t tb;
+static wsg_textbuf_t tb;
 
 static const char *fmt_float(float value)
 {
@@ -30,9 +30,9 @@ static const char *fmt_int(int32_t value)
 /* The same text, written into a plain buffer (the float replies use it). */
 static void expect_formatted(float value, const char *text)
 {
-    char out[TEXTBUF_FLOAT_MAX + 1];
+    char out[WSG_TEXTBUF_FLOAT_MAX + 1];
     size_t len = wsg_textbuf_format_float(out, value);
-    ck_assert_uint_le(len, TEXTBUF_FLOAT_MAX);
+    ck_assert_uint_le(len, WSG_TEXTBUF_FLOAT_MAX);
     out[len] = '\0';
     ck_assert_str_eq(out, text);
 }
@@ -47,7 +47,7 @@ START_TEST(format_float_into_a_plain_buffer)
     expect_formatted(12.345f, "12.345");
     expect_formatted(99.5f, "99.5");
     expect_formatted(-3.125f, "-3.125");
-    expect_formatted(-1e13f, "-1000000000000.0"); /* the longest: TEXTBUF_FLOAT_MAX */
+    expect_formatted(-1e13f, "-1000000000000.0"); /* the longest: WSG_TEXTBUF_FLOAT_MAX */
 }
 END_TEST
 

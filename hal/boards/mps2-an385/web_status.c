@@ -7,7 +7,7 @@
 #include "app.h"
 #include "lwip/apps/fs.h"
 #include "lwip/apps/httpd.h"
-#include "priv/textbuf.h" /* the core's float formatting: no printf on the board */
+#include "wsg/wsg_textbuf.h" /* the device's number formatting: no printf on the board */
 #include "wsg/wsg_names.h"
 #include "wsg/wsg_device.h"
 
@@ -94,20 +94,20 @@ static state_slot_t slots[MEMP_NUM_PARALLEL_HTTPD_CONNS];
 int fs_open_custom(struct fs_file *file, const char *name);
 void fs_close_custom(struct fs_file *file);
 
-static void put_key(textbuf_t *tb, const char *key)
+static void put_key(wsg_textbuf_t *tb, const char *key)
 {
     wsg_textbuf_put_quoted(tb, key);
     wsg_textbuf_put_char(tb, ':');
 }
 
-static void put_float_field(textbuf_t *tb, const char *key, float value)
+static void put_float_field(wsg_textbuf_t *tb, const char *key, float value)
 {
     put_key(tb, key);
     wsg_textbuf_put_float(tb, value);
     wsg_textbuf_put_char(tb, ',');
 }
 
-static void put_grip_state(textbuf_t *tb, wsg_grip_state_t state)
+static void put_grip_state(wsg_textbuf_t *tb, wsg_grip_state_t state)
 {
     put_key(tb, "grip_state");
     wsg_textbuf_put_str(tb, "{\"code\":");
@@ -117,7 +117,7 @@ static void put_grip_state(textbuf_t *tb, wsg_grip_state_t state)
     wsg_textbuf_put_char(tb, '}');
 }
 
-static void put_sysflags(textbuf_t *tb, uint32_t flags)
+static void put_sysflags(wsg_textbuf_t *tb, uint32_t flags)
 {
     put_key(tb, "sysflags");
     wsg_textbuf_put_str(tb, "{\"value\":");
@@ -139,7 +139,7 @@ static void put_sysflags(textbuf_t *tb, uint32_t flags)
 }
 
 /* The host API's names and units (docs/web.md), one line. */
-static void put_state(textbuf_t *tb, const wsg_snapshot_t *snap)
+static void put_state(wsg_textbuf_t *tb, const wsg_snapshot_t *snap)
 {
     wsg_textbuf_put_char(tb, '{');
     put_float_field(tb, "position_mm", snap->position_mm);
@@ -166,7 +166,7 @@ static void open_flash(struct fs_file *file, const char *response, int len)
 static void open_state(struct fs_file *file, state_slot_t *slot)
 {
     char *body = slot->text + STATE_HEADER_MAX;
-    textbuf_t tb;
+    wsg_textbuf_t tb;
     wsg_textbuf_init(&tb, body, STATE_BODY_MAX);
     put_state(&tb, wsg_device_snapshot(app_device()));
     if (tb.overflow) {
@@ -174,7 +174,7 @@ static void open_state(struct fs_file *file, state_slot_t *slot)
         return;
     }
     char headers[STATE_HEADER_MAX];
-    textbuf_t hb;
+    wsg_textbuf_t hb;
     wsg_textbuf_init(&hb, headers, sizeof headers);
     wsg_textbuf_put_str(&hb, "HTTP/1.0 200 OK\r\nServer: wsgsim\r\n"
                              "Content-Type: application/json\r\nContent-Length: ");
