@@ -169,10 +169,20 @@ static void refill(const wsg_peer_rules_t *r, wsg_peer_t *p, uint64_t now)
     if (now <= p->refill_us) {
         return;
     }
+    uint64_t earned = (now - p->refill_us) * r->rate_per_s / MILLI;
+    if (earned == 0u) {
+        return; /* the time stays to be counted: a slow rate asked often still earns */
+    }
     uint64_t cap = (uint64_t)r->burst * MILLI;
-    uint64_t tokens = p->tokens_milli + (now - p->refill_us) * r->rate_per_s / MILLI;
-    p->tokens_milli = (uint32_t)(tokens < cap ? tokens : cap);
-    p->refill_us = now;
+    uint64_t tokens = p->tokens_milli + earned;
+    if (tokens >= cap) {
+        p->tokens_milli = (uint32_t)cap;
+        p->refill_us = now;
+        return;
+    }
+    p->tokens_milli = (uint32_t)tokens;
+    /* only the time the tokens stand for: the rest earns with what follows */
+    p->refill_us += earned * MILLI / r->rate_per_s;
 }
 
 /* Takes one datagram's tokens and, for a reply, its bytes; false if the

@@ -178,6 +178,21 @@ START_TEST(datagrams_are_rate_limited_in_simulated_time)
 }
 END_TEST
 
+START_TEST(a_slow_rate_earns_its_tokens_however_often_it_is_asked)
+{
+    table.rules.rate_per_s = 10; /* one datagram per 100 ms */
+    wsg_peer_t *p = datagram_from(1, "POS?\n");
+    while (wsg_peers_may_send(&table, p, 10, WSG_MSG_UPDATE)) {
+    }
+    unsigned sent_in_a_second = 0;
+    for (unsigned i = 0; i < 10102u; i++) { /* asked every 99 us for just over 1 s */
+        h_now_us += 99u;
+        sent_in_a_second += wsg_peers_may_send(&table, p, 10, WSG_MSG_UPDATE) ? 1u : 0u;
+    }
+    ck_assert_uint_eq(sent_in_a_second, 10);
+}
+END_TEST
+
 START_TEST(a_silent_peer_gets_no_updates_and_is_forgotten_at_its_deadline)
 {
     wsg_peer_t *p = datagram_from(1, "POS?\n");
@@ -247,6 +262,7 @@ Suite *peers_suite(void)
     tcase_add_test(tc, replies_are_bounded_by_what_the_peer_sent);
     tcase_add_test(tc, credit_is_capped);
     tcase_add_test(tc, datagrams_are_rate_limited_in_simulated_time);
+    tcase_add_test(tc, a_slow_rate_earns_its_tokens_however_often_it_is_asked);
     tcase_add_test(tc, a_silent_peer_gets_no_updates_and_is_forgotten_at_its_deadline);
     tcase_add_test(tc, a_silent_peer_running_a_motion_stays_until_it_ends);
     tcase_add_test(tc, goodbye_and_device_closes_are_reaped);
