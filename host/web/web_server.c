@@ -106,8 +106,9 @@ static void request_completed(void *cls, struct MHD_Connection *connection, void
     *req_cls = NULL;
 }
 
-/* The first call of a request: its upload buffer, or a 413 at once when
- * the declared length is already too large. */
+/* The first call of a request: its upload buffer; a declared length that is
+ * already too large is answered (413) at once, before the body is read, and
+ * MHD then closes the connection instead of reading what a client claims. */
 static enum MHD_Result begin_request(struct MHD_Connection *connection, void **req_cls)
 {
     web_call_t *call = calloc(1, sizeof(*call));
@@ -121,8 +122,8 @@ static enum MHD_Result begin_request(struct MHD_Connection *connection, void **r
     return MHD_YES;
 }
 
-/* Keeps at most WEB_BODY_MAX bytes; the rest is read and dropped, and the
- * request answered with 413. */
+/* Keeps at most WEB_BODY_MAX bytes of a body without a declared length
+ * (chunked); the rest is read and dropped, and the request answered with 413. */
 static void collect_upload(web_call_t *call, const char *data, size_t len)
 {
     if (call->too_big || len > WEB_BODY_MAX - call->len) {
@@ -180,10 +181,14 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *connection, cons
 {
     (void)cls;
     (void)version;
-    if (*req_cls == NULL) {
-        return begin_request(connection, req_cls);
+    bool first_call = *req_cls == NULL;
+    if (first_call && begin_request(connection, req_cls) == MHD_NO) {
+        return MHD_NO;
     }
     web_call_t *call = *req_cls;
+    if (first_call && !call->too_big) {
+        return MHD_YES;
+    }
     if (*upload_data_size > 0) {
         collect_upload(call, upload_data, *upload_data_size);
         *upload_data_size = 0;

@@ -352,6 +352,15 @@ class BadRequests(WebCase):
         reply = self.call("PUT", "/api/devices/0/settings", raw=exactly)  # the same value
         self.assertEqual((reply.status, reply.json()["pwt_mm"]), (200, 10))
 
+    def test_a_declared_huge_body_is_refused_before_it_is_read(self):
+        """A client claiming gigabytes gets its 413 at once: the server does
+        not wait for (or read) a body it will refuse."""
+        with socket.create_connection(("127.0.0.1", self.sim.http_port), timeout=60) as s:
+            s.sendall(b"POST /api/devices/0/ops/move HTTP/1.1\r\nHost: x\r\n"
+                      b"Content-Type: application/json\r\nContent-Length: 10000000000\r\n\r\n")
+            head = s.recv(4096).decode()  # no body byte was sent
+            self.assertTrue(head.startswith("HTTP/1.1 413"), head)
+
     def test_a_stalled_client_holds_up_nobody(self):
         stalled = socket.create_connection(("127.0.0.1", self.sim.http_port), timeout=60)
         self.addCleanup(stalled.close)
