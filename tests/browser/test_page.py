@@ -9,10 +9,10 @@ N failed'.
   test checks it, allowing only the refusals it provokes);
 - a MOVE sent by a GCL client shows as the new width on the page. No test
   depends on the machine's speed: the clock is paused and STEPped to the
-  FIN, then the page is watched. The time from the FIN reaching the client to
-  the page showing the width is measured and printed, but only a generous
-  bound (UPDATE_BOUND_S) is asserted: headless Chromium on a busy CI is
-  slow, and that is not a fault of the page;
+  FIN, then the page is watched until it shows the width (WAIT_TIMEOUT_S only
+  stops a hang). The time from the FIN reaching the client to the page
+  showing the width is measured and printed, never asserted: headless
+  Chromium on a busy CI is slow, and that is not a fault of the page;
 - a GRIP pressed on the page is seen by a GCL client as GRIPSTATE=4;
 - a PWT default saved on the page is what a new GCL connection reads with
   PWT?, in the same process and in a new one started with the saved file;
@@ -53,7 +53,6 @@ PAGE_TIMEOUT_S = 120.0  # Chromium starting or loading a page on a busy CI
 WAIT_TIMEOUT_S = 60.0  # the page showing a state the device reached
 MOVE_WIDTHS_MM = (40, 75.5, 20)
 START_ATTEMPTS = 5  # starts on a free port that was taken meanwhile
-UPDATE_BOUND_S = 10.0  # asserted bound of FIN-to-page; the figure is reported
 WINDOW = "1400,1400"  # the whole live view in the screenshot
 SCREENSHOT = os.environ.get("SCREENSHOT") or os.path.join(ROOT, "build", "browser",
                                                          "live-view.png")
@@ -203,8 +202,8 @@ class PageTest(unittest.TestCase):
             latencies_ms = [self.move_and_watch(client, control, width)
                             for width in MOVE_WIDTHS_MM]
             print("\nbrowser: GCL FIN MOVE to the page showing the new width: %s ms "
-                  "(asserted bound %.0f s)" % (", ".join("%.0f" % ms for ms in latencies_ms),
-                                               UPDATE_BOUND_S), flush=True)
+                  "(measured, not asserted)" % ", ".join("%.0f" % ms for ms in latencies_ms),
+                  flush=True)
             self.assert_no_console_errors()
 
     def move_and_watch(self, client, control, width_mm):
@@ -214,7 +213,7 @@ class PageTest(unittest.TestCase):
         client.expect("MOVE(%g)" % width_mm, "ACK MOVE")
         control.step_until(client, "FIN MOVE", step_ms=20)
         fin_ms = time.time() * 1000  # the clock the page's Date.now() reads
-        self.wait_for_text("width", "%.1f" % width_mm, timeout=UPDATE_BOUND_S)
+        self.wait_for_text("width", "%.1f" % width_mm, timeout=WAIT_TIMEOUT_S)
         shown_ms = float(self.driver.execute_script(
             "return document.getElementById('width').dataset.shownAt"))
         return max(shown_ms - fin_ms, 0.0)
