@@ -66,11 +66,37 @@ static void slot_log(hal_log_level_t level, unsigned slot, const char *what)
     hal_log(level, storage);
 }
 
+/* The command goes out once per request and again while the node's
+ * MEASURE frames do not count it: CAN acknowledges a frame on the wire, not
+ * that the node's software took it. */
+static void send_tare(finger_bus_t *bus, unsigned slot)
+{
+    fbus_slot_t *s = &bus->slot[slot];
+    hal_can_frame_t f;
+    wsg_fbus_pack_command(&f, FBUS_NODE_ID(slot), FBUS_CMD_TARE);
+    send(bus, &f);
+    s->tare_sends++;
+    s->tare_sent_us = bus->now_us;
+    bus->wake = true;
+}
+
+static void repeat_tare(finger_bus_t *bus, unsigned slot)
+{
+    fbus_slot_t *s = &bus->slot[slot];
+    if (s->tare_sends < FBUS_TARE_SENDS) {
+        send_tare(bus, slot);
+        return;
+    }
+    s->tare_pending = false;
+    slot_log(HAL_LOG_WARN, slot, "TARE not confirmed by the finger");
+}
+
 /* Forgets what the node told (a reboot may bring another finger). */
 static void forget_node(fbus_slot_t *s, wsg_finger_t *finger)
 {
     s->config = false;
     s->desc_request_us = 0;
+    s->tare_pending = false;
     wsg_fbus_bulk_rx_reset(&s->bulk);
     finger->data_count = 0;
 }
@@ -125,6 +151,9 @@ static void on_measure(fbus_slot_t *s, wsg_finger_t *finger, const fbus_measure_
     finger->data[0] = (float)m->value_milli / 1000.0f;
     finger->data_count = 1;
     s->tare_count = m->tare_count;
+    if (s->tare_pending && m->tare_count != s->tare_count_before) {
+        s->tare_pending = false; /* the node counted it: this value is tared */
+    }
 }
 
 static void on_bulk(fbus_slot_t *s, wsg_finger_t *finger, const fbus_bulk_t *b)
@@ -192,6 +221,7 @@ static void supervise(finger_bus_t *bus, unsigned slot, wsg_finger_t *finger, ui
     }
     if (now_us - s->last_rx_us > FBUS_COMM_TIMEOUT_US) {
         s->comm_fault = true;
+        s->tare_pending = false;
         finger->data_count = 0;
         wsg_fbus_bulk_rx_reset(&s->bulk);
         bus->comm_faults++;
@@ -204,6 +234,9 @@ static void supervise(finger_bus_t *bus, unsigned slot, wsg_finger_t *finger, ui
         wsg_fbus_pack_command(&f, FBUS_NODE_ID(slot), FBUS_CMD_REQ_DESCRIPTOR);
         send(bus, &f);
         s->desc_request_us = now_us;
+    }
+    if (s->tare_pending && now_us - s->tare_sent_us >= FBUS_TARE_RETRY_US) {
+        repeat_tare(bus, slot);
     }
 }
 
@@ -311,6 +344,7 @@ void wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_i
     if (bus->can == NULL) {
         return;
     }
+    bus->now_us = in->now_us;
     if (in->now_us >= bus->next_state_us) {
         broadcast_state(bus, in); /* first: the supply reaches the fingers before polling */
     }
@@ -336,10 +370,11 @@ wsg_status_t wsg_finger_bus_tare(finger_bus_t *bus, wsg_fingers_t *fingers, int 
         const wsg_finger_t *finger = &fingers->slot[i];
         if ((index < 0 || index == i) && finger->type == FINGER_FMF &&
             wsg_finger_has_data(finger)) {
-            hal_can_frame_t f;
-            wsg_fbus_pack_command(&f, FBUS_NODE_ID(i), FBUS_CMD_TARE);
-            send(bus, &f);
-            bus->wake = true;
+            fbus_slot_t *s = &bus->slot[i];
+            s->tare_pending = true;
+            s->tare_sends = 0;
+            s->tare_count_before = s->tare_count;
+            send_tare(bus, (unsigned)i);
         }
     }
     return E_SUCCESS;

@@ -29,6 +29,12 @@ typedef struct {
     fbus_descriptor_t desc;
     uint64_t desc_request_us;
     uint8_t tare_count; /* as the node last reported it */
+    /* A TARE sent and not yet counted in the node's MEASURE frames: a frame
+     * the node lost (a full receive queue) is sent again. */
+    bool tare_pending;
+    uint8_t tare_sends;        /* for the pending TARE, the repeats included */
+    uint8_t tare_count_before; /* the node's count when TARE() was asked */
+    uint64_t tare_sent_us;
     fbus_bulk_rx_t bulk;
 } fbus_slot_t;
 
@@ -38,6 +44,7 @@ typedef struct {
     uint8_t power_mask;
     uint8_t counter;
     uint64_t next_state_us;
+    uint64_t now_us; /* of the last step: when a TARE() between steps is sent */
     /* grip-force loop */
     bool regulating;
     uint64_t regulated_us;

@@ -35,6 +35,8 @@
 #define FBUS_SUPPLY_TIMEOUT_US 1000000u  /* node: no STATE this long -> unpowered */
 #define FBUS_BOOT_US 20000u              /* node: power-on to operational */
 #define FBUS_DESCRIPTOR_RETRY_US 100000u /* gripper: re-request a missing descriptor */
+#define FBUS_TARE_RETRY_US 100000u       /* gripper: repeat a TARE the finger has not counted */
+#define FBUS_TARE_SENDS 3u               /* gripper: TARE commands sent for one TARE() at most */
 
 typedef enum {
     FBUS_TYPE_NONE = 0,

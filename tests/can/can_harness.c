@@ -18,19 +18,72 @@ bool t_log_contains(const char *text)
     return false;
 }
 
-void t_start(const char *fingers)
+static const hal_can_t *start_loopback(const char *fingers)
 {
     next_due = 0;
-    if (fingers == NULL) {
-        h_setup_on_can(NULL);
-        return;
-    }
     fbus_type_t types[FBUS_SLOTS];
     finger_node_params_t params;
     wsg_finger_node_defaults(&params);
     ck_assert(wsg_finger_node_parse_pair(fingers, types));
     can_loopback_init(types, &params);
-    h_setup_on_can(can_loopback_bus());
+    return can_loopback_bus();
+}
+
+void t_start(const char *fingers)
+{
+    if (fingers == NULL) {
+        next_due = 0;
+        h_setup_on_can(NULL);
+        return;
+    }
+    h_setup_on_can(start_loopback(fingers));
+}
+
+/* The loopback bus behind a controller that drops TARE commands. */
+static const hal_can_t *lossless_bus;
+static hal_can_t lossy_bus;
+static unsigned tares_to_lose;
+static unsigned tares_sent;
+
+static bool lossy_send(void *ctx, const hal_can_frame_t *frame)
+{
+    (void)ctx;
+    uint8_t command;
+    if (wsg_fbus_unpack_command(frame, &command) && command == FBUS_CMD_TARE) {
+        tares_sent++;
+        if (tares_to_lose > 0u) {
+            tares_to_lose--;
+            return true; /* on the wire, never taken by the node */
+        }
+    }
+    return hal_can_send(lossless_bus, frame);
+}
+
+static bool lossy_recv(void *ctx, hal_can_frame_t *frame)
+{
+    (void)ctx;
+    return hal_can_recv(lossless_bus, frame);
+}
+
+static bool lossy_set_filters(void *ctx, const hal_can_filter_t *filters, unsigned count)
+{
+    (void)ctx;
+    return hal_can_set_filters(lossless_bus, filters, count);
+}
+
+void t_start_losing_tares(const char *fingers, unsigned lost)
+{
+    lossless_bus = start_loopback(fingers);
+    lossy_bus =
+        (hal_can_t){lossy_send, lossy_recv, lossy_set_filters, NULL, lossless_bus->on_demand};
+    tares_to_lose = lost;
+    tares_sent = 0;
+    h_setup_on_can(&lossy_bus);
+}
+
+unsigned t_tares_sent(void)
+{
+    return tares_sent;
 }
 
 void t_run_ms(uint32_t ms)

@@ -14,6 +14,11 @@
 
 /* Power-on with the given fingers on the loopback bus (NULL: no bus). */
 void t_start(const char *fingers);
+/* t_start, on a bus that loses the gripper's first `lost` TARE commands
+ * before any finger sees them (a node's full receive queue). */
+void t_start_losing_tares(const char *fingers, unsigned lost);
+/* TARE commands the gripper sent since t_start_losing_tares, lost included. */
+unsigned t_tares_sent(void);
 /* 1 ms ticks: clock, world, device step when due. */
 void t_run_ms(uint32_t ms);
 /* Sends one GCL line and returns its first reply line (updates skipped). */

@@ -277,6 +277,50 @@ START_TEST(idle_bus_wakes_for_tare_and_faults)
 }
 END_TEST
 
+/* A TARE the finger never took (its receive queue was full) is sent again
+ * until the finger's MEASURE frames count it. */
+START_TEST(lost_tare_is_sent_again)
+{
+    t_start_losing_tares("fmf,dsa", 1);
+    t_run_ms(300);
+    ck_assert_str_eq(t_ask("TARE()"), "ACK TARE");
+    t_run_ms(30);
+    ck_assert_float_eq_tol(t_ask_float("FDATA[0]?"), 0.6f, 0.1f); /* the first one was lost */
+    t_run_ms(FBUS_TARE_RETRY_US / 1000u + 30u);
+    ck_assert_float_eq_tol(t_ask_float("FDATA[0]?"), 0.0f, 0.08f);
+    ck_assert_uint_eq(t_tares_sent(), 2);
+    t_run_ms(1000);
+    ck_assert_uint_eq(t_tares_sent(), 2); /* counted: no more repeats */
+    ck_assert(!t_log_contains("TARE not confirmed"));
+}
+END_TEST
+
+START_TEST(confirmed_tare_is_sent_once)
+{
+    t_start_losing_tares("fmf,dsa", 0);
+    t_run_ms(300);
+    ck_assert_str_eq(t_ask("TARE(0)"), "ACK TARE");
+    t_run_ms(1000);
+    ck_assert_float_eq_tol(t_ask_float("FDATA[0]?"), 0.0f, 0.08f);
+    ck_assert_uint_eq(t_tares_sent(), 1);
+}
+END_TEST
+
+/* A finger that never counts the TARE gets a bounded number of them, and
+ * the log says so; the bus then goes back to sleep. */
+START_TEST(unconfirmed_tare_gives_up)
+{
+    t_start_losing_tares("fmf,dsa", 100);
+    t_run_ms(300);
+    ck_assert_str_eq(t_ask("TARE()"), "ACK TARE");
+    t_run_ms(2000);
+    ck_assert_uint_eq(t_tares_sent(), FBUS_TARE_SENDS);
+    ck_assert(t_log_contains("finger 0: TARE not confirmed by the finger"));
+    ck_assert_float_eq_tol(t_ask_float("FDATA[0]?"), 0.6f, 0.1f);
+    ck_assert_uint_eq(wsg_device_next_deadline_us(&h_dev), UINT64_MAX);
+}
+END_TEST
+
 Suite *bus_suite(void)
 {
     Suite *s = suite_create("finger bus in the core");
@@ -297,6 +341,9 @@ Suite *bus_suite(void)
     tcase_add_test(tc, bus_frame_rates);
     tcase_add_test(tc, idle_bus_sleeps_and_wakes_intact);
     tcase_add_test(tc, idle_bus_wakes_for_tare_and_faults);
+    tcase_add_test(tc, lost_tare_is_sent_again);
+    tcase_add_test(tc, confirmed_tare_is_sent_once);
+    tcase_add_test(tc, unconfirmed_tare_gives_up);
     suite_add_tcase(s, tc);
     return s;
 }
