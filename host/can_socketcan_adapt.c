@@ -13,6 +13,11 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+/* Room for about a second of a busy finger bus (~600 frames/s, ~1 KiB of
+ * kernel memory each): a process descheduled that long loses no frame. The
+ * kernel caps it at net.core.rmem_max, which is enough where it is lower. */
+#define CAN_ADAPT_RCVBUF_BYTES (1024 * 1024)
+
 int can_adapt_open(const char *ifname, char *err, size_t err_len)
 {
     if (strlen(ifname) >= IFNAMSIZ) {
@@ -42,6 +47,8 @@ int can_adapt_open(const char *ifname, char *err, size_t err_len)
         close(fd);
         return -1;
     }
+    int rcvbuf = CAN_ADAPT_RCVBUF_BYTES;
+    (void)setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &rcvbuf, sizeof(rcvbuf)); /* best effort */
     return fd;
 }
 
