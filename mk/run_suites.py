@@ -10,7 +10,9 @@ usage: MAKE=make mk/run_suites.py SUITE...
 Each suite's output is passed through as it comes. Its own count lines are
 read from that output: 'N passed, N failed' (the Python runners) and Check's
 'NN%: Checks: N, Failures: N, Errors: N' (all such lines of a suite are
-added up). Variables given on make's command line (SAN=1, CC=...) reach the
+added up). The lines that name a failed test or check are collected too and
+repeated just before the summary, so that the tail of a CI log says what
+failed, not only where. Variables given on make's command line (SAN=1, CC=...) reach the
 suites through MAKEFLAGS, as for any recursive make.
 """
 import os
@@ -21,6 +23,13 @@ import time
 
 PYTHON_COUNT = re.compile(rb"(\d+) passed, (\d+) failed")
 CHECK_COUNT = re.compile(rb"\d+%: Checks: (\d+), Failures: (\d+), Errors: (\d+)")
+# unittest's 'FAIL: test (...)' and 'ERROR: ...', a scenario's '  FAIL what',
+# Check's 'file:line:F:tcase:test:...' (E for an error), a compiler's
+# 'file:line:col: error:' and make's '*** ... Error N'
+FAILURE_LINE = re.compile(rb"^\s*(FAIL|ERROR)\b|^[^:\s]+:\d+:[FE]:|: error:|\*\*\* .*Error \d+")
+# lines of failures repeated before the summary, all suites together: the
+# summary and these fit in the tail a CI log shows
+FAILURES_SHOWN = 16
 
 
 class Suite:
@@ -32,11 +41,14 @@ class Suite:
         self.failed = 0
         self.counted = False
         self.last_line = b""
+        self.failure_lines = []
 
     def scan(self, line):
         """Adds up the counts a line reports."""
         if line.strip():
             self.last_line = line.strip()
+        if FAILURE_LINE.search(line):
+            self.failure_lines.append(line.strip())
         check = CHECK_COUNT.search(line)
         if check:
             checks, failures, errors = (int(n) for n in check.groups())
@@ -82,6 +94,19 @@ def run(suite, index, total, make):
     suite.seconds = time.monotonic() - started
 
 
+def print_failures(suites):
+    lines = [b"%s: %s" % (suite.name.encode(), line[:160]) for suite in suites
+             if not suite.ok() for line in suite.failure_lines]
+    if not lines:
+        return
+    print("check: what failed (%d lines%s)" % (len(lines), ", the first %d" % FAILURES_SHOWN
+                                                if len(lines) > FAILURES_SHOWN else ""))
+    sys.stdout.flush()
+    for line in lines[:FAILURES_SHOWN]:
+        sys.stdout.buffer.write(b"  " + line + b"\n")
+    sys.stdout.buffer.flush()
+
+
 def main(names):
     if not names:
         print("usage: MAKE=make mk/run_suites.py SUITE...", file=sys.stderr)
@@ -90,6 +115,7 @@ def main(names):
     suites = [Suite(name) for name in names]
     for index, suite in enumerate(suites, 1):
         run(suite, index, len(suites), make)
+    print_failures(suites)
     print("check: summary (suite, time, its tests)")
     for suite in suites:
         print(suite.summary())

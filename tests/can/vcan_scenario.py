@@ -32,6 +32,10 @@ FLAGS_OK = "[1,1,1,0,0,0,0,0,0,0,0,0,0,0,0,0]"
 COMM_FAULT = "[1,1,0,0,0,0,0,0,0,1,0,0,0,0,0,0]"
 POWER_FAULT = "[1,1,1,0,0,0,0,0,1,0,0,0,0,0,0,0]"
 
+# The last query a wait polled and its reply, for the line of a failed check
+# (a CI log shows only the lines that say FAIL).
+last_polled = {}
+
 
 class Checks:
     def __init__(self):
@@ -45,7 +49,10 @@ class Checks:
             print("  ok   %s" % what)
         else:
             self.failed += 1
+            if detail == "" and last_polled:
+                detail = "(%s answered %r)" % (last_polled["query"], last_polled["reply"])
             print("  FAIL %s %s" % (what, detail))
+        last_polled.clear()
         sys.stdout.flush()
         return ok
 
@@ -56,10 +63,10 @@ def wait_reply(client, query, expected, timeout=WAIT_S):
     reply = None
     while time.monotonic() - start < timeout:
         reply = client.command(query)
+        last_polled.update(query=query, reply=reply)
         if reply == expected:
             return time.monotonic() - start
         time.sleep(0.005)
-    print("    last reply to %s: %r" % (query, reply))
     return None
 
 
@@ -120,8 +127,10 @@ def basics(c, gcl, checks):
     checks.check("FFLAGS: powered, configured, communicating",
                  wait_reply(gcl, "FFLAGS?", "FFLAGS=[%s,%s]" % (FLAGS_OK, FLAGS_OK))
                  is not None)
-    checks.check("SF_FORCECNTL_MODE set with an FMF", gcl.command("SYSFLAGS[9]?") == "SYSFLAGS[9]=1")
-    checks.check("SF_FINGER_FAULT clear", gcl.command("SYSFLAGS[17]?") == "SYSFLAGS[17]=0")
+    checks.check("SF_FORCECNTL_MODE set with an FMF",
+                 wait_reply(gcl, "SYSFLAGS[9]?", "SYSFLAGS[9]=1") is not None)
+    checks.check("SF_FINGER_FAULT clear",
+                 wait_reply(gcl, "SYSFLAGS[17]?", "SYSFLAGS[17]=0") is not None)
     untared = float(read_value(gcl, "FDATA[0]?") or "nan")
     checks.check("FMF reads its offset before TARE (0.6 N)", abs(untared - 0.6) < 0.1, untared)
     checks.check("TARE(1) on a DSA is not available", gcl.command("TARE(1)") == "ERR TARE 1")
@@ -157,7 +166,8 @@ def comm_fault(c, gcl, finger, checks, args):
     checks.check("killed fingersim raises FF_COMM_FAULT", elapsed is not None)
     if elapsed is not None:
         checks.measured["comm_fault_detection_s"] = round(elapsed, 3)
-    checks.check("SF_FINGER_FAULT set", gcl.command("SYSFLAGS[17]?") == "SYSFLAGS[17]=1")
+    checks.check("SF_FINGER_FAULT set",
+                 wait_reply(gcl, "SYSFLAGS[17]?", "SYSFLAGS[17]=1") is not None)
     checks.check("FDATA[0] not available", gcl.command("FDATA[0]?") == "ERR FDATA 1")
     checks.check("FTYPE keeps the known fingers", gcl.command("FTYPE?") == 'FTYPE=["fmf","dsa"]')
     start = time.monotonic()
@@ -174,7 +184,8 @@ def injection(gcl, checks, args):
     subprocess.run(["cansend", args.iface, "7E2#0100000000000000"], check=True)
     checks.check("SIMCTL power fault -> FF_POWER_FAULT",
                  wait_reply(gcl, "FFLAGS[1]?", "FFLAGS[1]=" + POWER_FAULT) is not None)
-    checks.check("... and SF_FINGER_FAULT", gcl.command("SYSFLAGS[17]?") == "SYSFLAGS[17]=1")
+    checks.check("... and SF_FINGER_FAULT",
+                 wait_reply(gcl, "SYSFLAGS[17]?", "SYSFLAGS[17]=1") is not None)
     subprocess.run(["cansend", args.iface, "7E2#0000000000000000"], check=True)
     checks.check("cleared power fault",
                  wait_reply(gcl, "FFLAGS[1]?", "FFLAGS[1]=" + FLAGS_OK) is not None)
@@ -272,6 +283,30 @@ def check_capture(c, checks, args):
     checks.check("descriptors say fmf (2) and dsa (3)", types == {2, 3}, types)
     checks.measured["frame_rates_per_s"] = rates(decoded)
     checks.measured["frames_captured"] = len(frames)
+    checks.measured["frames_candump_lost"] = capture_drops(c["capture"])
+
+
+def capture_drops(path):
+    """What candump -d said it lost: its last 'total drops N'."""
+    total = 0
+    with open(path) as f:
+        for line in f:
+            if line.startswith("DROPCOUNT") and "total drops" in line:
+                total = int(line.rsplit("total drops", 1)[1].strip(" )\n"))
+    return total
+
+
+def print_log_tails(workdir, lines=12):
+    """On a failure: what wsgsim and fingersim logged last (their logs stay
+    in the work dir, which a CI machine does not keep)."""
+    for name in ("wsgsim.log", "fingersim.log"):
+        path = os.path.join(workdir, name)
+        if os.path.exists(path):
+            with open(path, errors="replace") as f:
+                tail = f.read().splitlines()[-lines:]
+            print("  %s, last %d lines:" % (name, len(tail)))
+            for line in tail:
+                print("    " + line)
 
 
 def wait_capturing(capture, iface):
@@ -291,9 +326,10 @@ def run(args, checks):
     c = {"fmf_values": [], "dsa_vectors": [], "capture": os.path.join(args.workdir, "candump.log")}
     capture = open(c["capture"], "w")
     # line-buffered, so that the capture shows when candump is listening; a
-    # large receive buffer, so that a descheduled candump loses no frames
-    candump = subprocess.Popen(["stdbuf", "-oL", "candump", "-L", "-r", "4194304", args.iface], stdout=capture,
-                               stderr=subprocess.STDOUT)
+    # large receive buffer, so that a descheduled candump loses no frames,
+    # and -d, so that the log says when it lost some all the same
+    candump = subprocess.Popen(["stdbuf", "-oL", "candump", "-L", "-d", "-r", "4194304", args.iface],
+                               stdout=capture, stderr=subprocess.STDOUT)
     finger = Fingersim(args.fingersim, args.iface, os.path.join(args.workdir, "fingersim.log"))
     sim = Wsgsim("--can", args.iface, "--part", "40", binary=args.wsgsim)
     try:
@@ -334,6 +370,8 @@ def main():
         checks.check("scenario ran to the end", False, repr(exc))
     for key, value in sorted(checks.measured.items()):
         print("  measured %s: %s" % (key, value))
+    if checks.failed:
+        print_log_tails(args.workdir)
     print("vcan: %d passed, %d failed" % (checks.passed, checks.failed))
     return 0 if checks.failed == 0 and checks.passed > 0 else 1
 
