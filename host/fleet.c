@@ -284,16 +284,23 @@ static void format_endpoints(unsigned i, char *tcp, char *udp, size_t cap)
     net_format_endpoint(fleet.opts->bind_addr, udp_server_port(&d->udp), udp, cap);
 }
 
+/* ", binary udp P", or nothing when device i serves no binary UDP. */
+static void format_binary_udp(unsigned i, char *out, size_t cap)
+{
+    int port = fleet_bin_udp_port(i);
+    out[0] = '\0';
+    if (port >= 0) {
+        snprintf(out, cap, ", binary udp %d", port);
+    }
+}
+
 void fleet_announce_devices(void)
 {
     char tcp[96], udp[96];
     for (unsigned i = 1; i < fleet.count; i++) {
         const wsg_config_t *cfg = &fleet.devices[i].gripper.config;
-        char binary[32] = "";
-        int bin_port = fleet_bin_udp_port(i);
-        if (bin_port >= 0) {
-            snprintf(binary, sizeof(binary), ", binary udp %d", bin_port);
-        }
+        char binary[32];
+        format_binary_udp(i, binary, sizeof(binary));
         format_endpoints(i, tcp, udp, sizeof(tcp));
         host_logf(HAL_LOG_INFO, "device %u: tcp %s, udp %s%s, serial %u, tag %s", i, tcp, udp,
                   binary, (unsigned)cfg->serial, cfg->tag);
@@ -302,14 +309,15 @@ void fleet_announce_devices(void)
 
 void fleet_ready_line(const char *extra, char *line, size_t cap)
 {
-    char tcp[96], udp[96];
+    char tcp[96], udp[96], binary[32];
     char devices[32] = "";
     format_endpoints(0, tcp, udp, sizeof(tcp));
+    format_binary_udp(0, binary, sizeof(binary));
     if (fleet.count > 1) {
         snprintf(devices, sizeof(devices), ", devices %u", fleet.count);
     }
-    snprintf(line, cap, "virtual %s ready: tcp %s, udp %s%s%s", fleet.devices[0].gripper.opts.model,
-             tcp, udp, extra, devices);
+    snprintf(line, cap, "virtual %s ready: tcp %s, udp %s%s%s%s",
+             fleet.devices[0].gripper.opts.model, tcp, udp, binary, extra, devices);
 }
 
 void fleet_stop(void)

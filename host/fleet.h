@@ -31,8 +31,9 @@ void fleet_close_connections(unsigned i);
 /* Logs one line per device after the first: "device i: tcp ADDR:P, udp
  * ADDR:P[, binary udp P], serial S, tag T". */
 void fleet_announce_devices(void);
-/* The ready line: device 0's ports first, as with one device, then extra
- * (the control channel) and, for a fleet, ", devices N". */
+/* The ready line: device 0's ports first, as with one device (", binary
+ * udp P" only when it serves binary UDP), then extra (the control channel,
+ * the web server) and, for a fleet, ", devices N". */
 void fleet_ready_line(const char *extra, char *line, size_t cap);
 void fleet_stop(void);
 

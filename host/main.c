@@ -53,8 +53,7 @@ static bool announce(const host_options_t *opts)
 {
     char line[512];
     char extra[256];
-    snprintf(extra, sizeof(extra), ", binary udp %d%s%s", fleet_bin_udp_port(0), simctl_describe(),
-             web_server_describe());
+    snprintf(extra, sizeof(extra), "%s%s", simctl_describe(), web_server_describe());
     fleet_ready_line(extra, line, sizeof(line));
     bool bin_tcp = opts->tcp_enabled && opts->protocol != HOST_PROTOCOL_GCL;
     notify_set_binary_ports(bin_tcp ? fleet_tcp_port(0) : -1, fleet_bin_udp_port(0));

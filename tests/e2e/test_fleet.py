@@ -104,6 +104,16 @@ class Fleet(unittest.TestCase):
             self.assertEqual(frame.status, 0, wb.describe(frame))
             self.assertEqual(struct.unpack("<I", frame.values[4:8])[0], 12345678 + i)
 
+    def test_binary_udp_off_is_not_announced(self):
+        """Without binary UDP the ready line and the device lines leave it
+        out (they once said 'binary udp -1')."""
+        sim = self.start("--devices", "2")  # the launcher turns binary UDP off
+        log = sim.drain_log()
+        ready = [line for line in log.splitlines() if "ready: tcp" in line]
+        self.assertEqual(len(ready), 1, log)
+        self.assertNotIn("binary udp", ready[0])
+        self.assertNotIn("binary udp", log)
+
     def test_port_zero_gives_each_device_free_ports(self):
         sim = self.start("--devices", "3")
         ports = device_ports(sim, 3)
