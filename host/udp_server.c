@@ -179,11 +179,8 @@ static void on_datagram(void *ctx, int fd, short revents)
     }
     wsg_peer_addr_t addr = {.len = (uint8_t)len};
     memcpy(addr.bytes, &ss, len);
-    wsg_peer_t *peer = wsg_peers_find(&s->peers, &addr);
-    if (peer != NULL && !wsg_conn_is_open(&peer->conn)) {
-        wsg_peers_forget(&s->peers, peer, WSG_PEER_CLOSED); /* a device reset: start over */
-        peer = NULL;
-    }
+    /* after BYE or a device reset the peer starts over */
+    wsg_peer_t *peer = wsg_peers_session_for(&s->peers, &addr);
     udp_peer_t *p = peer != NULL ? peer->port_ctx : new_peer(s, &addr, &ss, len);
     set_active(s);
     if (p == NULL) {

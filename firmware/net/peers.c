@@ -92,6 +92,32 @@ void wsg_peers_forget(wsg_peer_table_t *t, wsg_peer_t *p, wsg_peer_forget_t why)
     }
 }
 
+/* A session that can take no more input (why: the reason to forget it):
+ * the device closed it, or the protocol said goodbye. */
+static bool session_ended(const wsg_peer_t *p, wsg_peer_forget_t *why)
+{
+    if (!wsg_conn_is_open(&p->conn)) {
+        *why = WSG_PEER_CLOSED;
+        return true;
+    }
+    if (wsg_conn_wants_close(&p->conn)) {
+        *why = WSG_PEER_ANNOUNCED;
+        return true;
+    }
+    return false;
+}
+
+wsg_peer_t *wsg_peers_session_for(wsg_peer_table_t *t, const wsg_peer_addr_t *addr)
+{
+    wsg_peer_t *p = wsg_peers_find(t, addr);
+    wsg_peer_forget_t why;
+    if (p != NULL && session_ended(p, &why)) {
+        wsg_peers_forget(t, p, why);
+        return NULL;
+    }
+    return p;
+}
+
 void wsg_peers_forget_all(wsg_peer_table_t *t, wsg_peer_forget_t why)
 {
     while (t->first != NULL) {
@@ -220,10 +246,9 @@ void wsg_peers_reap(wsg_peer_table_t *t)
     wsg_peer_t *next;
     for (wsg_peer_t *p = t->first; p != NULL; p = next) {
         next = p->next;
-        if (!wsg_conn_is_open(&p->conn)) {
-            wsg_peers_forget(t, p, WSG_PEER_CLOSED);
-        } else if (wsg_conn_wants_close(&p->conn)) {
-            wsg_peers_forget(t, p, WSG_PEER_ANNOUNCED);
+        wsg_peer_forget_t why;
+        if (session_ended(p, &why)) {
+            wsg_peers_forget(t, p, why);
         } else if (silent_too_long(t, p, now) && !wsg_conn_owns_motion(&p->conn)) {
             wsg_peers_forget(t, p, WSG_PEER_SILENT);
         }

@@ -93,6 +93,12 @@ void wsg_peers_init(wsg_peer_table_t *t, const wsg_peer_rules_t *rules, const ws
                     void *port_ctx, wsg_peer_t *pool, size_t count);
 
 wsg_peer_t *wsg_peers_find(const wsg_peer_table_t *t, const wsg_peer_addr_t *addr);
+/* The peer whose session takes a datagram from addr, or NULL: none is
+ * known, or its session has ended (it said goodbye, or the device closed
+ * it) and is forgotten here, so the datagram starts a fresh session as a
+ * new peer's would (wsg_peers_make_room(), wsg_peers_add()) instead of
+ * reaching the ended one before the next reap. */
+wsg_peer_t *wsg_peers_session_for(wsg_peer_table_t *t, const wsg_peer_addr_t *addr);
 /* True when a new peer may be added: fewer than max_peers known, or the
  * least recently heard idle one was forgotten for it (WSG_PEER_MADE_ROOM);
  * false when every peer is live (running a motion, subscribed, or heard

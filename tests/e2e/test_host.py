@@ -169,6 +169,28 @@ class PausedDriverSequences(HostCase):
         # period: one second of simulated time is 100 and 20 periods
         self.assertEqual(counts, [101, 21])
 
+    def test_udp_bye_then_at_once_a_command_starts_a_fresh_session(self):
+        self.home(self.tcp())
+        u = self.udp()
+        u.expect("VERBOSE=1", "VERBOSE=1")
+        u.expect('AUTOSEND("GRIPSTATE",20)', "ACK AUTOSEND")
+        u.expect("MOVE(40)", "ACK MOVE")  # the paused clock holds its FIN back
+        # a test rig starting over from the same port: goodbye, then at once
+        # its next command, both datagrams sent before any reply is read
+        u.sock.send(b"BYE()\n")
+        u.sock.send(b"POS?\n")
+        self.assertEqual(u.read_line_skipping_autosend(), "ACK BYE")
+        self.assertRegex(u.read_line_skipping_autosend(), r"^POS=\d+\.\d+$")
+        self.assertEqual(u.command("FOO()"), "ERR FOO 14")  # VERBOSE stayed behind
+        self.ctl.step(5000)
+        # the replies come in the order sent: what precedes POS= went out
+        # during the step, where the old session's FIN and stream would be
+        u.send("POS?")
+        lines = []
+        while not lines or not lines[-1].startswith("POS="):
+            lines.append(u.read_line())
+        self.assertEqual(lines, ["POS=40.0"])
+
 
 class AutosendStreams(HostCase):
     def test_autosend_lines_never_break_replies(self):

@@ -16,6 +16,7 @@ static wsg_peer_table_t table;
 static wsg_peer_t pool[PEERS];
 static unsigned forgotten[WSG_PEER_STOPPED + 1];
 static unsigned sent;
+static char last_sent[WSG_REPLY_MAX + 1]; /* the last message, without its '\n' */
 
 static void note_forgetting(void *ctx, wsg_peer_t *p, wsg_peer_forget_t why)
 {
@@ -29,10 +30,12 @@ static const wsg_peer_port_t port = {.forgetting = note_forgetting};
 static void count_write(void *ctx, const char *bytes, size_t len, wsg_msg_kind_t kind)
 {
     (void)ctx;
-    (void)bytes;
-    (void)len;
     (void)kind;
     sent++;
+    size_t kept = len > 0 && bytes[len - 1] == '\n' ? len - 1u : len;
+    kept = kept < sizeof(last_sent) ? kept : sizeof(last_sent) - 1u;
+    memcpy(last_sent, bytes, kept);
+    last_sent[kept] = '\0';
 }
 
 static const wsg_conn_io_t io = {.write = count_write};
@@ -44,6 +47,7 @@ static void peers_setup(void)
     wsg_peers_init(&table, &rules, &port, NULL, pool, PEERS);
     memset(forgotten, 0, sizeof(forgotten));
     sent = 0;
+    last_sent[0] = '\0';
 }
 
 static void peers_teardown(void)
@@ -66,7 +70,7 @@ static wsg_peer_addr_t addr_of(unsigned n)
 static wsg_peer_t *datagram_from(unsigned n, const char *text)
 {
     wsg_peer_addr_t a = addr_of(n);
-    wsg_peer_t *p = wsg_peers_find(&table, &a);
+    wsg_peer_t *p = wsg_peers_session_for(&table, &a);
     if (p == NULL) {
         if (!wsg_peers_make_room(&table)) {
             return NULL;
@@ -238,6 +242,44 @@ START_TEST(goodbye_and_device_closes_are_reaped)
 }
 END_TEST
 
+/* A client that says goodbye and starts again sends from the same port; its
+ * next datagram may come before the port reaps the ended session. */
+START_TEST(a_datagram_after_goodbye_starts_a_fresh_session)
+{
+    datagram_from(1, "VERBOSE=1\n");
+    datagram_from(1, "AUTOSEND(\"POS\",10)\n");
+    datagram_from(1, "MOVE(50)\n");
+    wsg_peer_t *old = datagram_from(1, "BYE()\n");
+    uint64_t old_id = wsg_conn_id(&old->conn);
+    ck_assert_str_eq(last_sent, "ACK BYE");
+    wsg_peer_t *fresh = datagram_from(1, "FOO()\n"); /* no reap in between */
+    ck_assert_str_eq(last_sent, "ERR FOO 14");       /* answered, and not verbose */
+    ck_assert_uint_eq(forgotten[WSG_PEER_ANNOUNCED], 1);
+    ck_assert_uint_eq(table.known, 1);
+    ck_assert_uint_ne(wsg_conn_id(&fresh->conn), old_id);
+    ck_assert(!wsg_conn_wants_close(&fresh->conn));
+    ck_assert(!wsg_conn_busy(&fresh->conn)); /* no stream, not the motion's owner */
+    sent = 0;
+    advance_ms(5000); /* the motion ends; its FIN and the stream went with the old session */
+    wsg_peers_reap(&table);
+    ck_assert_uint_eq(sent, 0);
+    ck_assert_uint_eq(table.known, 1);
+    datagram_from(1, "POS?\n");
+    ck_assert_str_eq(last_sent, "POS=50.0");
+}
+END_TEST
+
+START_TEST(a_datagram_after_a_device_close_starts_a_fresh_session)
+{
+    wsg_peer_t *p = datagram_from(1, "POS?\n");
+    wsg_conn_close(&p->conn, WSG_CLOSE_EXPIRED); /* as a device reset does */
+    datagram_from(1, "GRIPSTATE?\n");
+    ck_assert_str_eq(last_sent, "GRIPSTATE=0");
+    ck_assert_uint_eq(forgotten[WSG_PEER_CLOSED], 1);
+    ck_assert_uint_eq(table.known, 1);
+}
+END_TEST
+
 START_TEST(the_pool_gives_its_nodes_back)
 {
     for (unsigned n = 0; n < PEERS; n++) {
@@ -266,6 +308,8 @@ Suite *peers_suite(void)
     tcase_add_test(tc, a_silent_peer_gets_no_updates_and_is_forgotten_at_its_deadline);
     tcase_add_test(tc, a_silent_peer_running_a_motion_stays_until_it_ends);
     tcase_add_test(tc, goodbye_and_device_closes_are_reaped);
+    tcase_add_test(tc, a_datagram_after_goodbye_starts_a_fresh_session);
+    tcase_add_test(tc, a_datagram_after_a_device_close_starts_a_fresh_session);
     tcase_add_test(tc, the_pool_gives_its_nodes_back);
     suite_add_tcase(s, tc);
     return s;

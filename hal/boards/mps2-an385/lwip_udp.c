@@ -64,7 +64,7 @@ static void on_recv(void *arg, struct udp_pcb *pcb, struct pbuf *p, const ip_add
     (void)pcb;
     lwip_udp_server_t *s = arg;
     wsg_peer_addr_t key = key_of(addr, port);
-    wsg_peer_t *peer = wsg_peers_find(&s->peers, &key);
+    wsg_peer_t *peer = wsg_peers_session_for(&s->peers, &key); /* after BYE: a fresh one */
     if (peer == NULL && (peer = new_peer(s, &key)) == NULL) {
         hal_log(HAL_LOG_WARN, "udp: datagram dropped, every peer is live");
         pbuf_free(p);
