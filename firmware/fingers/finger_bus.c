@@ -339,11 +339,30 @@ bool wsg_finger_bus_take_force_request(finger_bus_t *bus, float *limit_n)
     return true;
 }
 
+/* On a real bus the gripper steps every 10 ms. A longer gap means its own
+ * loop was held up (a host that descheduled wsgsim, a debugger halt): the
+ * fingers' silence counts only while the gripper ran, so they are not blamed
+ * for it; what they sent meanwhile is still in the receive queue. An
+ * on-demand bus has nothing to skip: its nodes run when it is polled. */
+static void skip_own_stall(finger_bus_t *bus, uint64_t now_us)
+{
+    uint64_t gap = now_us - bus->now_us;
+    if (bus->can->on_demand || bus->now_us == 0u || gap <= FBUS_STALL_US) {
+        return;
+    }
+    for (unsigned i = 0; i < FBUS_SLOTS; i++) {
+        fbus_slot_t *s = &bus->slot[i];
+        uint64_t shifted = s->last_rx_us + gap;
+        s->last_rx_us = shifted < now_us ? shifted : now_us;
+    }
+}
+
 void wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in)
 {
     if (bus->can == NULL) {
         return;
     }
+    skip_own_stall(bus, in->now_us);
     bus->now_us = in->now_us;
     if (in->now_us >= bus->next_state_us) {
         broadcast_state(bus, in); /* first: the supply reaches the fingers before polling */

@@ -284,8 +284,23 @@ static void send_data(finger_node_t *node, uint64_t now_us)
     }
 }
 
+/* A powered node steps at least every heartbeat (100 ms). A longer gap means
+ * its own loop was held up (the host descheduled fingersim): the gripper's
+ * silence counts only while the node ran, else a stall of the whole host
+ * would cut the fingers' supply. */
+static void skip_own_stall(finger_node_t *node, uint64_t now_us)
+{
+    uint64_t gap = now_us - node->stepped_us;
+    if (node->stepped_us != 0u && gap > FBUS_STALL_US) {
+        uint64_t shifted = node->last_state_us + gap;
+        node->last_state_us = shifted < now_us ? shifted : now_us;
+    }
+    node->stepped_us = now_us;
+}
+
 void wsg_finger_node_step(finger_node_t *node, uint64_t now_us)
 {
+    skip_own_stall(node, now_us);
     if (node->powered && now_us - node->last_state_us > FBUS_SUPPLY_TIMEOUT_US) {
         node->powered = false; /* the gripper is gone: no supply */
     }

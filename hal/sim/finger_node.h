@@ -29,7 +29,8 @@ typedef struct {
     bool operational;
     uint64_t powered_at_us;
     uint64_t last_state_us;
-    uint8_t sim_faults; /* FBUS_FAULT_*: injected through SIMCTL */
+    uint64_t stepped_us; /* the last step: a longer gap than FBUS_STALL_US was a stall */
+    uint8_t sim_faults;  /* FBUS_FAULT_*: injected through SIMCTL */
     /* what the gripper last broadcast */
     fbus_state_t state;
     bool have_state;

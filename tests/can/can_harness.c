@@ -39,11 +39,13 @@ void t_start(const char *fingers)
     h_setup_on_can(start_loopback(fingers));
 }
 
-/* The loopback bus behind a controller that drops TARE commands. */
+/* The loopback bus behind a controller that drops TARE commands, or whose
+ * fingers are held up. */
 static const hal_can_t *lossless_bus;
 static hal_can_t lossy_bus;
 static unsigned tares_to_lose;
 static unsigned tares_sent;
+static bool fingers_held;
 
 static bool lossy_send(void *ctx, const hal_can_frame_t *frame)
 {
@@ -62,7 +64,7 @@ static bool lossy_send(void *ctx, const hal_can_frame_t *frame)
 static bool lossy_recv(void *ctx, hal_can_frame_t *frame)
 {
     (void)ctx;
-    return hal_can_recv(lossless_bus, frame);
+    return !fingers_held && hal_can_recv(lossless_bus, frame); /* it steps the nodes */
 }
 
 static bool lossy_set_filters(void *ctx, const hal_can_filter_t *filters, unsigned count)
@@ -71,14 +73,39 @@ static bool lossy_set_filters(void *ctx, const hal_can_filter_t *filters, unsign
     return hal_can_set_filters(lossless_bus, filters, count);
 }
 
-void t_start_losing_tares(const char *fingers, unsigned lost)
+static void start_wrapped(const char *fingers, bool on_demand, unsigned lost)
 {
     lossless_bus = start_loopback(fingers);
-    lossy_bus =
-        (hal_can_t){lossy_send, lossy_recv, lossy_set_filters, NULL, lossless_bus->on_demand};
+    lossy_bus = (hal_can_t){lossy_send, lossy_recv, lossy_set_filters, NULL, on_demand};
     tares_to_lose = lost;
     tares_sent = 0;
+    fingers_held = false;
     h_setup_on_can(&lossy_bus);
+}
+
+void t_start_losing_tares(const char *fingers, unsigned lost)
+{
+    start_wrapped(fingers, true, lost);
+}
+
+void t_start_real_time(const char *fingers)
+{
+    start_wrapped(fingers, false, 0);
+}
+
+void t_hold_fingers(bool held)
+{
+    fingers_held = held;
+}
+
+void t_stall_ms(uint32_t ms)
+{
+    fingers_held = true;
+    h_now_us += (uint64_t)ms * 1000u;
+    wsg_sim_world_advance(&h_world, h_now_us);
+    wsg_device_step(&h_dev);
+    next_due = wsg_device_next_deadline_us(&h_dev);
+    fingers_held = false;
 }
 
 unsigned t_tares_sent(void)

@@ -19,6 +19,14 @@ void t_start(const char *fingers);
 void t_start_losing_tares(const char *fingers, unsigned lost);
 /* TARE commands the gripper sent since t_start_losing_tares, lost included. */
 unsigned t_tares_sent(void);
+/* t_start, on the loopback bus presented as a real one (not on demand): the
+ * gripper steps it every 10 ms, as it does a SocketCAN bus. */
+void t_start_real_time(const char *fingers);
+/* While held, the fingers of that bus do not run: nothing reaches the gripper. */
+void t_hold_fingers(bool held);
+/* The gripper and its fingers held up together for ms (a host that
+ * descheduled both), after which the gripper steps first. */
+void t_stall_ms(uint32_t ms);
 /* 1 ms ticks: clock, world, device step when due. */
 void t_run_ms(uint32_t ms);
 /* Sends one GCL line and returns its first reply line (updates skipped). */

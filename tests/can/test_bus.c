@@ -321,6 +321,39 @@ START_TEST(unconfirmed_tare_gives_up)
 }
 END_TEST
 
+/* wsgsim and fingersim descheduled together for 2 s: when the gripper runs
+ * again first, its fingers' silence during its own stall is not a fault. */
+START_TEST(a_held_up_gripper_does_not_blame_its_fingers)
+{
+    t_start_real_time("fmf,dsa");
+    t_run_ms(300);
+    ck_assert_str_eq(t_ask("FFLAGS?"), "FFLAGS=[" FLAGS_OK "," FLAGS_OK "]");
+    t_stall_ms(2000);
+    ck_assert_str_eq(t_ask("FFLAGS?"), "FFLAGS=[" FLAGS_OK "," FLAGS_OK "]");
+    ck_assert_str_eq(t_ask("SYSFLAGS[17]?"), "SYSFLAGS[17]=0");
+    t_run_ms(100);
+    ck_assert_str_eq(t_ask("FFLAGS?"), "FFLAGS=[" FLAGS_OK "," FLAGS_OK "]");
+    ck_assert_float_eq_tol(t_ask_float("FDATA[0]?"), 0.6f, 0.1f);
+    ck_assert(!t_log_contains("communication fault"));
+}
+END_TEST
+
+/* ... while fingers silent as the gripper runs are faulted in 300-310 ms. */
+START_TEST(held_fingers_on_a_running_gripper_are_faulted)
+{
+    t_start_real_time("fmf,dsa");
+    t_run_ms(300);
+    t_hold_fingers(true);
+    t_run_ms(290);
+    ck_assert_str_eq(t_ask("FFLAGS[0]?"), "FFLAGS[0]=" FLAGS_OK);
+    t_run_ms(30);
+    ck_assert_str_eq(t_ask("FFLAGS[0]?"), "FFLAGS[0]=[1,1,0,0,0,0,0,0,0,1,0,0,0,0,0,0]");
+    t_hold_fingers(false);
+    t_run_ms(50);
+    ck_assert_str_eq(t_ask("FFLAGS[0]?"), "FFLAGS[0]=" FLAGS_OK);
+}
+END_TEST
+
 Suite *bus_suite(void)
 {
     Suite *s = suite_create("finger bus in the core");
@@ -344,6 +377,8 @@ Suite *bus_suite(void)
     tcase_add_test(tc, lost_tare_is_sent_again);
     tcase_add_test(tc, confirmed_tare_is_sent_once);
     tcase_add_test(tc, unconfirmed_tare_gives_up);
+    tcase_add_test(tc, a_held_up_gripper_does_not_blame_its_fingers);
+    tcase_add_test(tc, held_fingers_on_a_running_gripper_are_faulted);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -185,6 +185,31 @@ START_TEST(goes_quiet_when_the_gripper_vanishes)
 }
 END_TEST
 
+/* fingersim and the gripper descheduled together for 2 s: no STATE came, but
+ * the node did not run either, so its supply stays; the gripper's silence
+ * while the node runs still cuts it after 1 s. */
+START_TEST(a_held_up_node_keeps_its_supply)
+{
+    start(FBUS_TYPE_FMF, 0);
+    run(100, 0.0f, 0x1);
+    now += 2000000u;
+    wsg_finger_node_step(&node, now);
+    ck_assert(node.powered);
+    unsigned before = sent_count;
+    for (unsigned i = 0; i < 990u; i++) {
+        now += 1000u;
+        wsg_finger_node_step(&node, now);
+    }
+    ck_assert(node.powered);
+    ck_assert_uint_gt(sent_count, before);
+    for (unsigned i = 0; i < 30u; i++) {
+        now += 1000u;
+        wsg_finger_node_step(&node, now);
+    }
+    ck_assert(!node.powered);
+}
+END_TEST
+
 START_TEST(dsa_sends_84_cells_in_28_segments)
 {
     start(FBUS_TYPE_DSA, 1);
@@ -304,6 +329,7 @@ Suite *node_suite(void)
     tcase_add_test(tc, fmf_follows_force_and_tares);
     tcase_add_test(tc, tare_is_lost_on_power_cycle);
     tcase_add_test(tc, goes_quiet_when_the_gripper_vanishes);
+    tcase_add_test(tc, a_held_up_node_keeps_its_supply);
     tcase_add_test(tc, dsa_sends_84_cells_in_28_segments);
     tcase_add_test(tc, dsa_pattern_follows_contact);
     tcase_add_test(tc, generic_only_heartbeats);
