@@ -164,6 +164,15 @@ static uint64_t next_due(void)
     return due;
 }
 
+/* Says when the loop woke far later than its nodes were due: the host held
+ * fingersim up, and the nodes skip that time (docs/finger-bus.md). */
+static void report_stall(uint64_t due, uint64_t now)
+{
+    if (due != UINT64_MAX && now > due && now - due > FBUS_STALL_US) {
+        fprintf(stderr, "fingersim: held up %llu ms\n", (unsigned long long)((now - due) / 1000u));
+    }
+}
+
 static void run_once(void)
 {
     uint64_t due = next_due();
@@ -178,6 +187,7 @@ static void run_once(void)
         stop = 1;
         return;
     }
+    report_stall(due, now_us());
     hal_can_frame_t frame;
     while (hal_can_recv(can_socketcan_bus(&sock), &frame)) {
         now = now_us();
