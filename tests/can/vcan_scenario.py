@@ -9,6 +9,13 @@ with docs/finger-bus.dbc (canmatrix) to the values FDATA reported.
 
 usage: vcan_scenario.py --wsgsim BIN --fingersim BIN --dbc FILE --iface vcan0 --workdir DIR
 Prints 'vcan: N passed, 0 failed' and exits 0 only when every check held.
+
+The bus runs on the wall clock. A run during which the host held wsgsim or
+fingersim up for longer than the bus' own 250 ms limit (wsgsim's max_lag_ms,
+fingersim's 'held up' lines) cannot hold the bus' timeouts, whatever the
+code does: when such a run fails, its failures are shown, not counted, and
+the scenario runs again, three times at most. A run that fails without such
+a stall fails the test.
 """
 import argparse
 import os
@@ -27,6 +34,8 @@ from gclclient import Wsgsim  # noqa: E402
 # itself (the 300 ms comm-fault timeout) is asserted on virtual time by the
 # Check tests (tests/can/test_bus.c); here it is only measured and reported.
 WAIT_S = 30.0
+STALL_LIMIT_MS = 250  # FBUS_STALL_US: a loop held up longer than this was stalled
+ATTEMPTS = 3
 
 FLAGS_OK = "[1,1,1,0,0,0,0,0,0,0,0,0,0,0,0,0]"
 COMM_FAULT = "[1,1,0,0,0,0,0,0,0,1,0,0,0,0,0,0]"
@@ -42,6 +51,7 @@ class Checks:
         self.passed = 0
         self.failed = 0
         self.measured = {}
+        self.held_up = {}  # ms the host held wsgsim and fingersim up, at most
 
     def check(self, what, ok, detail=""):
         if ok:
@@ -161,6 +171,7 @@ def grip(c, gcl, checks):
 
 
 def comm_fault(c, gcl, finger, checks, args):
+    c["killed_at"] = time.time()  # candump -L stamps frames with this clock
     finger.kill()
     elapsed = wait_reply(gcl, "FFLAGS[0]?", "FFLAGS[0]=" + COMM_FAULT)
     checks.check("killed fingersim raises FF_COMM_FAULT", elapsed is not None)
@@ -273,7 +284,10 @@ def check_capture(c, checks, args):
     checks.check("DSA transfers reassemble from BULK segments", len(transfers) > 10, len(transfers))
     for cells in c["dsa_vectors"]:
         checks.check("FDATA[1] equals a decoded FINGER1_BULK transfer", cells in transfers)
-    motor = [v["MotorForce"] for _, i, _, v in decoded if i == 0x080 and v["GripState"] == 4]
+    # until the fingersim is killed: its successor is untared, and the force
+    # loop then settles on the untared reading (0.6 N less) while holding
+    motor = [v["MotorForce"] for ts, i, _, v in decoded
+             if i == 0x080 and v["GripState"] == 4 and ts < c.get("killed_at", float("inf"))]
     checks.check("GRIPPER_STATE MotorForce about 30 N while holding (tared FMF)",
                  bool(motor) and abs(motor[-1] - 30.0) < 0.5, motor[-1:] if motor else None)
     tared = [int(v["Tared"]) for _, i, _, v in decoded if i == 0x181]
@@ -309,31 +323,55 @@ def print_log_tails(workdir, lines=12):
                 print("    " + line)
 
 
-def wait_capturing(capture, iface):
-    """Sends a harmless frame (clear every injected fault, before any node
-    is up) until candump shows it: from then on it records every frame."""
+MARKER = "7E2#0000000000000000"  # SIMCTL: clear every injected fault of node 2
+
+
+def markers(capture):
+    with open(capture) as f:
+        return f.read().count(MARKER)
+
+
+def wait_captured(capture, iface, what):
+    """Sends a harmless frame until candump shows it. At the start: from then
+    on it records every frame. At the end: it has written every frame before
+    (a busy candump lags, and SIGINT would drop what it has not read)."""
+    seen = markers(capture)
     start = time.monotonic()
     while time.monotonic() - start < WAIT_S:
-        subprocess.run(["cansend", iface, "7E2#0000000000000000"], check=True)
+        subprocess.run(["cansend", iface, MARKER], check=True)
         time.sleep(0.05)
-        with open(capture) as f:
-            if "7E2#0000000000000000" in f.read():
-                return
-    raise AssertionError("candump did not start capturing within %.0f s" % WAIT_S)
+        if markers(capture) > seen:
+            return
+    raise AssertionError("candump did not %s within %.0f s" % (what, WAIT_S))
 
 
-def run(args, checks):
-    c = {"fmf_values": [], "dsa_vectors": [], "capture": os.path.join(args.workdir, "candump.log")}
+def stalls(sim, workdir):
+    """The longest time the host held wsgsim and fingersim up, in ms."""
+    held = {"wsgsim": None, "fingersim": 0}
+    try:
+        with sim.control() as ctl:
+            held["wsgsim"] = ctl.json("STATE?")["time"]["max_lag_ms"]
+    except Exception as exc:  # wsgsim died: the checks say so
+        print("  (no max_lag_ms from wsgsim: %r)" % exc)
+    with open(os.path.join(workdir, "fingersim.log"), errors="replace") as f:
+        for line in f:
+            if "held up" in line:
+                held["fingersim"] = max(held["fingersim"], int(line.split("held up")[1].split()[0]))
+    return held
+
+
+def run(args, checks, workdir):
+    c = {"fmf_values": [], "dsa_vectors": [], "capture": os.path.join(workdir, "candump.log")}
     capture = open(c["capture"], "w")
     # line-buffered, so that the capture shows when candump is listening; a
     # large receive buffer, so that a descheduled candump loses no frames,
     # and -d, so that the log says when it lost some all the same
     candump = subprocess.Popen(["stdbuf", "-oL", "candump", "-L", "-d", "-r", "4194304", args.iface],
                                stdout=capture, stderr=subprocess.STDOUT)
-    finger = Fingersim(args.fingersim, args.iface, os.path.join(args.workdir, "fingersim.log"))
-    sim = Wsgsim("--can", args.iface, "--part", "40", binary=args.wsgsim)
+    finger = Fingersim(args.fingersim, args.iface, os.path.join(workdir, "fingersim.log"))
+    sim = Wsgsim("--can", args.iface, "--part", "40", binary=args.wsgsim, control=True)
     try:
-        wait_capturing(c["capture"], args.iface)
+        wait_captured(c["capture"], args.iface, "start capturing")
         finger.start()
         sim.start()
         gcl = sim.tcp()
@@ -345,14 +383,43 @@ def run(args, checks):
         gcl.close()
     finally:
         finger.stop()
+        if sim.proc is not None:
+            checks.held_up = stalls(sim, workdir)
         code = sim.stop()
+        try:
+            wait_captured(c["capture"], args.iface, "catch up with the bus")
+        except AssertionError as exc:  # the capture's checks will fail and say why
+            print("  %s" % exc)
         candump.send_signal(signal.SIGINT)
         candump.wait(timeout=WAIT_S)
         capture.close()
-        with open(os.path.join(args.workdir, "wsgsim.log"), "w") as f:
+        with open(os.path.join(workdir, "wsgsim.log"), "w") as f:
             f.write("".join(sim.log))
     checks.check("wsgsim exits cleanly", code == 0, code)
     check_capture(c, checks, args)
+
+
+def attempt(args, number):
+    """One run of the scenario in its own work dir; its Checks."""
+    workdir = os.path.join(args.workdir, "attempt-%d" % number)
+    os.makedirs(workdir, exist_ok=True)
+    checks = Checks()
+    try:
+        run(args, checks, workdir)
+    except Exception as exc:
+        traceback.print_exc()
+        checks.check("scenario ran to the end", False, repr(exc))
+    for key, value in sorted(checks.measured.items()):
+        print("  measured %s: %s" % (key, value))
+    print("  held up at most (ms): %s" % checks.held_up)
+    if checks.failed:
+        print_log_tails(workdir)
+    return checks
+
+
+def stalled(checks):
+    held = checks.held_up
+    return held.get("fingersim", 0) > STALL_LIMIT_MS or (held.get("wsgsim") or 0) > STALL_LIMIT_MS
 
 
 def main():
@@ -361,17 +428,17 @@ def main():
         parser.add_argument(name, required=True)
     parser.add_argument("--iface", default="vcan0")
     args = parser.parse_args()
-    checks = Checks()
     print("vcan: finger bus on %s (kernel %s)" % (args.iface, os.uname().release))
-    try:
-        run(args, checks)
-    except Exception as exc:
-        traceback.print_exc()
-        checks.check("scenario ran to the end", False, repr(exc))
-    for key, value in sorted(checks.measured.items()):
-        print("  measured %s: %s" % (key, value))
-    if checks.failed:
-        print_log_tails(args.workdir)
+    for number in range(1, ATTEMPTS + 1):
+        checks = attempt(args, number)
+        if checks.failed == 0 or not stalled(checks):
+            break
+        # not 'N passed, N failed': make check counts only the run that counts
+        print("vcan: run %d had %d failures while the host held the bus up longer than %d ms "
+              "(%s): not counted%s" % (number, checks.failed, STALL_LIMIT_MS, checks.held_up,
+                                       ", running again" if number < ATTEMPTS else ""))
+    if checks.failed and stalled(checks):
+        print("  FAIL every run was stalled by the host: too busy for a bus on the wall clock")
     print("vcan: %d passed, %d failed" % (checks.passed, checks.failed))
     return 0 if checks.failed == 0 and checks.passed > 0 else 1
 
