@@ -13,9 +13,10 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-/* Room for about a second of a busy finger bus (~600 frames/s, ~1 KiB of
- * kernel memory each): a process descheduled that long loses no frame. The
- * kernel caps it at net.core.rmem_max, which is enough where it is lower. */
+/* Room for a busy finger bus (~600 frames/s, ~1 KiB of kernel memory each)
+ * while the process is descheduled: about a second asked, but the kernel
+ * caps it at net.core.rmem_max (about 0.4 s of frames with Linux's default
+ * limit); more needs that sysctl raised. */
 #define CAN_ADAPT_RCVBUF_BYTES (1024 * 1024)
 
 int can_adapt_open(const char *ifname, char *err, size_t err_len)

@@ -66,25 +66,29 @@ static void slot_log(hal_log_level_t level, unsigned slot, const char *what)
     hal_log(level, storage);
 }
 
+/* TARE() comes between two steps, at a time the bus does not know (an
+ * on-demand bus may have slept for long): its wait starts at the next step. */
+#define FBUS_TARE_UNSTAMPED UINT64_MAX
+
 /* The command goes out once per request and again while the node's
  * MEASURE frames do not count it: CAN acknowledges a frame on the wire, not
  * that the node's software took it. */
-static void send_tare(finger_bus_t *bus, unsigned slot)
+static void send_tare(finger_bus_t *bus, unsigned slot, uint64_t sent_us)
 {
     fbus_slot_t *s = &bus->slot[slot];
     hal_can_frame_t f;
     wsg_fbus_pack_command(&f, FBUS_NODE_ID(slot), FBUS_CMD_TARE);
     send(bus, &f);
     s->tare_sends++;
-    s->tare_sent_us = bus->now_us;
+    s->tare_sent_us = sent_us;
     bus->wake = true;
 }
 
-static void repeat_tare(finger_bus_t *bus, unsigned slot)
+static void repeat_tare(finger_bus_t *bus, unsigned slot, uint64_t now_us)
 {
     fbus_slot_t *s = &bus->slot[slot];
     if (s->tare_sends < FBUS_TARE_SENDS) {
-        send_tare(bus, slot);
+        send_tare(bus, slot, now_us);
         return;
     }
     s->tare_pending = false;
@@ -235,8 +239,10 @@ static void supervise(finger_bus_t *bus, unsigned slot, wsg_finger_t *finger, ui
         send(bus, &f);
         s->desc_request_us = now_us;
     }
-    if (s->tare_pending && now_us - s->tare_sent_us >= FBUS_TARE_RETRY_US) {
-        repeat_tare(bus, slot);
+    if (s->tare_pending && s->tare_sent_us == FBUS_TARE_UNSTAMPED) {
+        s->tare_sent_us = now_us; /* sent between two steps: the wait starts now */
+    } else if (s->tare_pending && now_us - s->tare_sent_us >= FBUS_TARE_RETRY_US) {
+        repeat_tare(bus, slot, now_us);
     }
 }
 
@@ -339,31 +345,11 @@ bool wsg_finger_bus_take_force_request(finger_bus_t *bus, float *limit_n)
     return true;
 }
 
-/* On a real bus the gripper steps every 10 ms. A longer gap means its own
- * loop was held up (a host that descheduled wsgsim, a debugger halt): the
- * fingers' silence counts only while the gripper ran, so they are not blamed
- * for it; what they sent meanwhile is still in the receive queue. An
- * on-demand bus has nothing to skip: its nodes run when it is polled. */
-static void skip_own_stall(finger_bus_t *bus, uint64_t now_us)
-{
-    uint64_t gap = now_us - bus->now_us;
-    if (bus->can->on_demand || bus->now_us == 0u || gap <= FBUS_STALL_US) {
-        return;
-    }
-    for (unsigned i = 0; i < FBUS_SLOTS; i++) {
-        fbus_slot_t *s = &bus->slot[i];
-        uint64_t shifted = s->last_rx_us + gap;
-        s->last_rx_us = shifted < now_us ? shifted : now_us;
-    }
-}
-
 void wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in)
 {
     if (bus->can == NULL) {
         return;
     }
-    skip_own_stall(bus, in->now_us);
-    bus->now_us = in->now_us;
     if (in->now_us >= bus->next_state_us) {
         broadcast_state(bus, in); /* first: the supply reaches the fingers before polling */
     }
@@ -393,7 +379,7 @@ wsg_status_t wsg_finger_bus_tare(finger_bus_t *bus, wsg_fingers_t *fingers, int 
             s->tare_pending = true;
             s->tare_sends = 0;
             s->tare_count_before = s->tare_count;
-            send_tare(bus, (unsigned)i);
+            send_tare(bus, (unsigned)i, FBUS_TARE_UNSTAMPED);
         }
     }
     return E_SUCCESS;

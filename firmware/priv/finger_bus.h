@@ -44,7 +44,6 @@ typedef struct {
     uint8_t power_mask;
     uint8_t counter;
     uint64_t next_state_us;
-    uint64_t now_us; /* of the last step: a TARE() between steps is sent then; a stall */
     /* grip-force loop */
     bool regulating;
     uint64_t regulated_us;

@@ -37,8 +37,8 @@
 #define FBUS_DESCRIPTOR_RETRY_US 100000u /* gripper: re-request a missing descriptor */
 #define FBUS_TARE_RETRY_US 100000u       /* gripper: repeat a TARE the finger has not counted */
 #define FBUS_TARE_SENDS 3u               /* gripper: TARE commands sent for one TARE() at most */
-/* Both ends: a loop of theirs that did not run this long was held up (its
- * host descheduled it), and their timeouts skip that time. */
+/* Node: a loop of its own that did not run this long was held up (its host
+ * descheduled it), and its supply watchdog skips that time. */
 #define FBUS_STALL_US 250000u
 
 typedef enum {

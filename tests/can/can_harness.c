@@ -98,16 +98,6 @@ void t_hold_fingers(bool held)
     fingers_held = held;
 }
 
-void t_stall_ms(uint32_t ms)
-{
-    fingers_held = true;
-    h_now_us += (uint64_t)ms * 1000u;
-    wsg_sim_world_advance(&h_world, h_now_us);
-    wsg_device_step(&h_dev);
-    next_due = wsg_device_next_deadline_us(&h_dev);
-    fingers_held = false;
-}
-
 unsigned t_tares_sent(void)
 {
     return tares_sent;

@@ -24,9 +24,6 @@ unsigned t_tares_sent(void);
 void t_start_real_time(const char *fingers);
 /* While held, the fingers of that bus do not run: nothing reaches the gripper. */
 void t_hold_fingers(bool held);
-/* The gripper and its fingers held up together for ms (a host that
- * descheduled both), after which the gripper steps first. */
-void t_stall_ms(uint32_t ms);
 /* 1 ms ticks: clock, world, device step when due. */
 void t_run_ms(uint32_t ms);
 /* Sends one GCL line and returns its first reply line (updates skipped). */

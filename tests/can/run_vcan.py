@@ -22,7 +22,7 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 SCENARIO = os.path.join(HERE, "vcan_scenario.py")
 PYTHON = "/usr/bin/python3"  # Debian's, which has python3-canmatrix
-UML_TIMEOUT_S = 600  # against a hang only: up to three runs of the scenario
+UML_TIMEOUT_S = 900  # against a hang only: up to three runs of the scenario
 
 
 def af_can_available():
