@@ -277,13 +277,20 @@ START_TEST(idle_bus_wakes_for_tare_and_faults)
 }
 END_TEST
 
+/* Fingers that have settled, on a bus losing the first `lost` TAREs; then
+ * the TARE line. */
+static void tare_on_lossy_bus(unsigned lost, const char *line)
+{
+    t_start_losing_tares("fmf,dsa", lost);
+    t_run_ms(300);
+    ck_assert_str_eq(t_ask(line), "ACK TARE");
+}
+
 /* A TARE the finger never took (its receive queue was full) is sent again
  * until the finger's MEASURE frames count it. */
 START_TEST(lost_tare_is_sent_again)
 {
-    t_start_losing_tares("fmf,dsa", 1);
-    t_run_ms(300);
-    ck_assert_str_eq(t_ask("TARE()"), "ACK TARE");
+    tare_on_lossy_bus(1, "TARE()");
     t_run_ms(30);
     ck_assert_float_eq_tol(t_ask_float("FDATA[0]?"), 0.6f, 0.1f); /* the first one was lost */
     t_run_ms(FBUS_TARE_RETRY_US / 1000u + 30u);
@@ -312,9 +319,7 @@ END_TEST
 
 START_TEST(confirmed_tare_is_sent_once)
 {
-    t_start_losing_tares("fmf,dsa", 0);
-    t_run_ms(300);
-    ck_assert_str_eq(t_ask("TARE(0)"), "ACK TARE");
+    tare_on_lossy_bus(0, "TARE(0)");
     t_run_ms(1000);
     ck_assert_float_eq_tol(t_ask_float("FDATA[0]?"), 0.0f, 0.08f);
     ck_assert_uint_eq(t_tares_sent(), 1);
@@ -325,9 +330,7 @@ END_TEST
  * the log says so; the bus then goes back to sleep. */
 START_TEST(unconfirmed_tare_gives_up)
 {
-    t_start_losing_tares("fmf,dsa", 100);
-    t_run_ms(300);
-    ck_assert_str_eq(t_ask("TARE()"), "ACK TARE");
+    tare_on_lossy_bus(100, "TARE()");
     t_run_ms(2000);
     ck_assert_uint_eq(t_tares_sent(), FBUS_TARE_SENDS);
     ck_assert(t_log_contains("finger 0: TARE not confirmed by the finger"));
