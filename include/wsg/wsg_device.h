@@ -176,7 +176,6 @@ typedef struct {
     const wsg_owner_t *motion_owner;
     uint64_t motion_started_us;
     float motion_target_mm, motion_speed_mm_s, motion_force_n;
-    bool motion_abort_requested;
     /* grip */
     wsg_grip_state_t grip_state;
     int8_t grip_direction;

@@ -203,15 +203,15 @@ class Drivers(BinaryCase):
         self.assertEqual(self.reply(ros, 0x41, query_payload()).values, b"\x04")  # HOLDING
         self.reply(ros, 0x26, struct.pack("<ff", 70.0, 50.0), E_CMD_PENDING)
         self.step_until(ros, 0x26, E_SUCCESS)
-        # stop during a move: the stop's reply, then the aborted final
+        # stop during a move: the aborted final, then the stop's reply
         self.reply(ros, 0x21, move_payload(10.0, 20.0), E_CMD_PENDING)
         self.ctl("STEP(100)")
         ros.send_request(0x22)
-        first = ros.read_frame(30)
-        self.assertEqual((first.id, first.status), (0x22, E_SUCCESS))
-        self.step_until(ros, 0x21, E_CMD_ABORTED)
-        self.assertEqual(ros.received, [])
+        frames = [ros.read_frame(30) for _ in range(2)]
+        self.assertEqual([(f.id, f.status) for f in frames],
+                         [(0x21, E_CMD_ABORTED), (0x22, E_SUCCESS)])
         self.reply(ros, 0x07)
+        self.assertEqual(ros.received, [])
 
     def test_umi_like_start(self):
         self.start()
@@ -241,6 +241,69 @@ class Drivers(BinaryCase):
         self.step_until(drake, 0x20, E_SUCCESS)
         self.reply(drake, 0x38)
         self.assertEqual(len(self.reply(drake, 0x53).values), 32)
+
+
+class StopOrder(BinaryCase):
+    """A stopped command's final frame goes out at once, before the reply
+    to the command that stopped it (docs/binary-protocol.md)."""
+
+    def slow_move(self, client):
+        self.home(client)
+        self.reply(client, 0x21, move_payload(10.0, 5.0), E_CMD_PENDING)
+        self.ctl("STEP(100)")
+        self.assertIsNone(client.read_frame(READ_S))
+
+    def frames(self, client, count):
+        frames = [client.read_frame(30) for _ in range(count)]
+        self.assertNotIn(None, frames)
+        self.assertIsNone(client.read_frame(READ_S))
+        return [(f.id, f.status) for f in frames]
+
+    def test_stop_and_ack_in_one_write(self):
+        self.start()
+        binary = self.bin_tcp()
+        self.slow_move(binary)
+        binary.send(wb.encode_frame(0x22) + wb.encode_frame(0x24, b"ack"))
+        self.assertEqual(self.frames(binary, 3),
+                         [(0x21, E_CMD_ABORTED), (0x22, E_SUCCESS), (0x24, E_SUCCESS)])
+
+    def test_fast_stop_and_ack_in_one_write(self):
+        self.start()
+        binary = self.bin_tcp()
+        self.slow_move(binary)
+        binary.send(wb.encode_frame(0x23) + wb.encode_frame(0x24, b"ack"))
+        self.assertEqual(self.frames(binary, 3),
+                         [(0x21, E_CMD_ABORTED), (0x23, E_SUCCESS), (0x24, E_SUCCESS)])
+
+    def test_umi_stop_then_a_strict_call(self):
+        """UMI's stop_cmd() skips other IDs until the 0x22 reply; every other
+        call takes the next frame as its reply."""
+        self.start()
+        umi = self.bin_tcp()
+        self.slow_move(umi)
+        self.reply(umi, 0x22)
+        self.ctl("STEP(10)")  # the next control steps: nothing more is due
+        umi.send_request(0x24, b"ack")
+        frame = umi.read_frame(30)
+        self.assertEqual((frame.id, frame.status), (0x24, E_SUCCESS), wb.describe(frame))
+
+    def test_gcl_stop_ends_a_binary_move_at_once(self):
+        self.start()
+        binary = self.bin_tcp()
+        self.slow_move(binary)
+        self.assertEqual(self.gcl().command("STOP()"), "ACK STOP")
+        self.assertEqual(self.frames(binary, 1), [(0x21, E_CMD_ABORTED)])
+
+    def test_gcl_stop_answers_after_the_aborted_move(self):
+        self.start()
+        gcl = self.gcl()
+        self.assertEqual(gcl.command("HOME()"), "ACK HOME")
+        self.ctl("STEP(5000)")
+        self.assertEqual(gcl.read_line(), "FIN HOME")
+        self.assertEqual(gcl.command("MOVE(10, 5)"), "ACK MOVE")
+        self.ctl("STEP(100)")
+        self.assertEqual(gcl.command("STOP()"), "ERR MOVE 19")
+        self.assertEqual(gcl.read_line(), "ACK STOP")
 
 
 class UdpBudget(BinaryCase):
