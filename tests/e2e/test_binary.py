@@ -12,7 +12,7 @@ import sys
 import tempfile
 import unittest
 
-from gclclient import GclError, Wsgsim, wait_for_reply
+from gclclient import GclError, Wsgsim, wait_for, wait_for_reply
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
 import wsgbinproto as wb  # noqa: E402
@@ -80,6 +80,10 @@ class BinaryCase(unittest.TestCase):
                     return stepped
                 client.received.append(frame)
         raise GclError("no frame 0x%02X within %d ms" % (frame_id, limit_ms))
+
+    def closed_lines(self):
+        return [line.rstrip("\n") for line in self.sim.drain_log().splitlines()
+                if ": closed" in line]
 
     def home(self, client):
         self.reply(client, 0x20, b"\x01", E_CMD_PENDING)
@@ -223,6 +227,10 @@ class Drivers(BinaryCase):
         self.reply(umi, 0x07)
         self.reply(umi, 0x31, status=16)  # E_ACCESS_DENIED after the announcement
         umi.close()
+        # the log says what happened: closed after 0x07, not "without BYE"
+        log = wait_for("the close in the log", lambda: self.closed_lines())
+        self.assertEqual(len(log), 1, log)
+        self.assertTrue(log[0].endswith(": closed after the disconnect announcement (0x07)"), log)
         self.assertEqual(self.gcl().command("SYSFLAGS[12]?"), "SYSFLAGS[12]=0")
 
     def test_drake_like_udp_with_reply_port(self):

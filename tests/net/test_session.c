@@ -52,8 +52,10 @@ END_TEST
 START_TEST(bye)
 {
     ck_assert(!wsg_conn_wants_close(&h_main.conn));
+    ck_assert(!wsg_conn_close_announced(&h_main.conn));
     ASK_EQ("BYE()", "ACK BYE");
     ck_assert(wsg_conn_wants_close(&h_main.conn));
+    ck_assert(wsg_conn_close_announced(&h_main.conn));
     SEND("POS?"); /* input after BYE is ignored */
     EXPECT_NONE();
 }

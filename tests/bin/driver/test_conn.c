@@ -15,8 +15,12 @@ END_TEST
 
 START_TEST(disconnect_then_access_denied_and_no_fast_stop)
 {
+    ck_assert(!wsg_conn_close_announced(&bc_main.conn));
     bc_send(&bc_main, 0x07, NULL, 0);
     bc_expect(&bc_main, 0x07, E_SUCCESS);
+    /* announced, but the client closes: the port does not */
+    ck_assert(wsg_conn_close_announced(&bc_main.conn));
+    ck_assert(!wsg_conn_wants_close(&bc_main.conn));
     bc_send(&bc_main, 0x31, NULL, 0);
     bc_expect(&bc_main, 0x31, E_ACCESS_DENIED);
     wsg_conn_close(&bc_main.conn, WSG_CLOSE_DROPPED);
