@@ -75,22 +75,15 @@ wsg_status_t wsg_bin_system_info(bin_req_t *req)
     return wsg_bin_reply_values(req, v, sizeof(v));
 }
 
+/* Trailing NULs (a fixed-size field) are stripped; the core checks the
+ * rest, a NUL inside included. */
 wsg_status_t wsg_bin_set_tag(bin_req_t *req)
 {
     size_t len = req->length;
     while (len > 0 && req->payload[len - 1] == '\0') {
-        len--; /* trailing NULs stripped */
+        len--;
     }
-    if (len > 64) {
-        return E_RANGE_ERROR;
-    }
-    char tag[65];
-    memcpy(tag, req->payload, len);
-    tag[len] = '\0';
-    if (strlen(tag) != len) {
-        return E_INVALID_PARAMETER; /* a NUL inside the tag */
-    }
-    return wsg_op_set_tag(req->dev, tag);
+    return wsg_op_set_tag(req->dev, (const char *)req->payload, len);
 }
 
 wsg_status_t wsg_bin_get_tag(bin_req_t *req)

@@ -269,14 +269,21 @@ wsg_status_t wsg_op_set(wsg_device_t *device, wsg_setting_t which, float value)
     }
 }
 
-wsg_status_t wsg_op_set_tag(wsg_device_t *device, const char *tag)
+/* Validated here, once, for GCL, the binary protocol and the web page
+ * (docs/behaviour.md "Settings are validated in the core"). */
+wsg_status_t wsg_op_set_tag(wsg_device_t *device, const char *tag, size_t len)
 {
     wsg_config_t *cfg = &dev_of(device)->cfg;
-    size_t len = strlen(tag);
     if (len >= sizeof(cfg->tag)) {
         return E_RANGE_ERROR;
     }
-    memcpy(cfg->tag, tag, len + 1);
+    for (size_t i = 0; i < len; i++) {
+        if (!wsg_config_text_char_ok(tag[i])) {
+            return E_INVALID_PARAMETER;
+        }
+    }
+    memcpy(cfg->tag, tag, len);
+    cfg->tag[len] = '\0';
     return E_SUCCESS;
 }
 

@@ -18,7 +18,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import wsgbinproto as wb  # noqa: E402
 
 E_SUCCESS, E_NOT_AVAILABLE, E_CHECKSUM_ERROR, E_CMD_UNKNOWN = 0, 1, 11, 14
-E_CMD_ABORTED, E_CMD_PENDING = 19, 26
+E_CMD_ABORTED, E_INVALID_PARAMETER, E_CMD_PENDING = 19, 24, 26
 SF_FAST_STOP = 1 << 12
 STEP_MS = 50
 READ_S = 0.05  # frames of a step are in the socket before the STEP reply
@@ -135,6 +135,19 @@ class TcpTransport(BinaryCase):
         self.reply(binary, 0x51, b"lab")
         self.assertEqual(self.reply(binary, 0x52).values, b"lab")
         self.assertEqual(self.gcl().command("TAG?"), 'TAG="lab"')
+
+
+    def test_a_tag_cannot_forge_a_gcl_reply(self):
+        """Issue 18: 0x51 with a line break, a quote or a byte beyond ASCII
+        is refused (E_INVALID_PARAMETER), so TAG? stays one line."""
+        self.start()
+        binary = self.bin_tcp()
+        gcl = self.gcl()
+        for tag in (b"a\nFIN HOME", b"a\rFIN HOME", b'a" FIN', b"bad \xff utf-8"):
+            self.reply(binary, 0x51, tag, status=E_INVALID_PARAMETER)
+        self.assertEqual(gcl.command("TAG?"), 'TAG="wsgsim"')
+        self.assertEqual(gcl.command("TAG=x"), "ERR TAG 15")  # GCL has no setter
+        self.assertEqual(gcl.command("POS?"), "POS=55.0")  # no line was left over
 
 
 class Tools(BinaryCase):
