@@ -206,10 +206,11 @@ static bool is_address(const char *addr)
     return inet_pton(AF_INET, addr, buf) == 1 || inet_pton(AF_INET6, addr, buf) == 1;
 }
 
+/* The device's own rule for its texts (wsg_config_text_char_ok). */
 static bool text_ok(const char *text)
 {
     for (const char *p = text; *p != '\0'; p++) {
-        if (*p < 0x20 || *p > 0x7e || *p == '"') {
+        if (!wsg_config_text_char_ok(*p)) {
             return false;
         }
     }
