@@ -192,7 +192,6 @@ class Session:
             ["unshare", "-rn", "/usr/bin/python3", os.path.join(HERE, "netns_shell.py")],
             cwd=directory, env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
             stderr=self.stderr, bufsize=0)
-        self.server = None  # the args of the server a `server` block started
         code, out = self.run("id -u")
         if code != 0 or out.strip() != "0":
             raise AssertionError("no network namespace (unshare -rn): %s %s"
@@ -253,8 +252,11 @@ class Session:
         raise AssertionError("%s was not ready within %d s" % (what, TIMEOUT))
 
     def stop_jobs(self):
-        """Stops every job the session started (as Ctrl-C would, then kill)."""
-        self.run("for j in $(jobs -p); do kill -INT $j 2>/dev/null; done; wait")
+        """Stops every job the session started as Ctrl-C would; one that is
+        still there after a minute is killed (a hang guard only)."""
+        self.run("for j in $(jobs -p); do kill -INT $j 2>/dev/null; done; "
+                 "for i in $(seq 600); do [ -z \"$(jobs -pr)\" ] && break; sleep 0.1; done; "
+                 "kill -KILL $(jobs -pr) 2>/dev/null; wait")
 
     def close(self):
         if self.proc.poll() is None:
@@ -270,8 +272,13 @@ class Session:
         self.stderr.close()
 
 
+def without_comment(command):
+    """The command without its trailing `# comment`."""
+    return re.sub(r"(^|\s)#.*$", "", command).rstrip()
+
+
 def starts_wsgsim(command):
-    words = shlex.split(command.split("#")[0])
+    words = without_comment(command).split()
     return bool(words) and os.path.basename(words[0]) == "wsgsim"
 
 
@@ -280,7 +287,7 @@ def run_sh(session, block, failures):
     stdout = ""
     for command in commands(block.text):
         since = session.stderr_size()
-        background = command.split("#")[0].rstrip().endswith("&")
+        background = without_comment(command).endswith("&")
         code, out = session.run(command)
         stdout += out
         if code != 0:
@@ -296,13 +303,13 @@ def run_serves(session, block, failures):
     """Each line starts a server in the foreground: ready, then Ctrl-C."""
     for command in commands(block.text):
         since = session.stderr_size()
-        code, _ = session.run(command.split("#")[0].rstrip() + " &")
+        session.run(without_comment(command) + " &")
         try:
             session.wait_ready(since, "`%s`" % command.strip())
         except AssertionError as err:
             failures.append("%s: %s" % (block.where(), err))
             return
-        code, out = session.run("kill -INT $!; wait $!")
+        code, _ = session.run("kill -INT $!; wait $!")
         if code != 0:
             failures.append("%s: `%s` exited with %d after Ctrl-C:\n%s" % (
                 block.where(), command.strip(), code, session.new_stderr(since)))
