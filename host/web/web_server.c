@@ -50,7 +50,8 @@ static struct {
     /* --http-allow-host: the names served besides addresses and localhost */
     const char *allow_hosts[HOST_HTTP_ALLOW_LISTS_MAX];
     size_t allow_host_count;
-    uint64_t mhd_due_ns; /* MHD's next timeout (monotonic), 0: none */
+    uint64_t mhd_due_ns;    /* MHD's next timeout (monotonic), 0: none */
+    bool connection_closed; /* in this MHD_run() */
     char describe[128];
 } web = {.listen_fd = -1, .epoll_fd = -1, .port = -1};
 
@@ -78,7 +79,13 @@ static void schedule(void)
 
 static void run_mhd(void)
 {
-    MHD_run(web.daemon);
+    do {
+        /* MHD takes its listening socket back into its epoll set only in the
+         * run after a connection closed at its limit: run again, or a client
+         * waiting in the backlog would wait for the next one to connect */
+        web.connection_closed = false;
+        MHD_run(web.daemon);
+    } while (web.connection_closed);
     schedule();
 }
 
@@ -136,6 +143,7 @@ static void connection_changed(void *cls, struct MHD_Connection *connection, voi
     if (code != MHD_CONNECTION_NOTIFY_STARTED) {
         web_intake_close(*socket_context);
         *socket_context = NULL;
+        web.connection_closed = true;
         return;
     }
     const union MHD_ConnectionInfo *fd =

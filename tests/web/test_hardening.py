@@ -7,6 +7,7 @@ a hang, never for a speed."""
 import http.client
 import os
 import select
+import signal
 import socket
 import subprocess
 import tempfile
@@ -15,7 +16,7 @@ import time
 import unittest
 
 from test_api import WebCase
-from webclient import HTTP_TIMEOUT, EventStream, WebSim, request
+from webclient import HTTP_TIMEOUT, EventStream, WebSim, request, wait_for
 
 REBOUND = "rebind.example"
 GUARD_S = 90.0  # stops a hung test only: every outcome below comes far sooner
@@ -234,6 +235,31 @@ class Trickler:
             s.close()
 
 
+GET_DEVICES = b"GET /api/devices HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n"
+
+
+def exchange(sock, data):
+    """Sends data on a keep-alive connection and reads one reply: its status."""
+    sock.sendall(data)
+    reply = b""
+    while b"\r\n\r\n" not in reply:
+        chunk = sock.recv(65536)
+        if not chunk:
+            raise EOFError("closed before a reply")
+        reply += chunk
+    head, body = reply.split(b"\r\n\r\n", 1)
+    length = int(head.lower().split(b"content-length: ", 1)[1].split(b"\r\n", 1)[0])
+    while len(body) < length:
+        body += sock.recv(65536)
+    return int(head.split(b" ", 2)[1])
+
+
+def process_state(pid):
+    """The state letter of /proc/PID/stat: R, S, T (stopped), ..."""
+    with open("/proc/%d/stat" % pid) as f:
+        return f.read().rsplit(")", 1)[1].split()[0]
+
+
 def get_from(port, source):
     """GET /api/devices from a given loopback address: the status."""
     conn = http.client.HTTPConnection("127.0.0.1", port, timeout=HTTP_TIMEOUT,
@@ -326,6 +352,34 @@ class ManyTricklers(unittest.TestCase):
         self.assertLessEqual(trickler.open_count(), 16)
         self.assertGreater(trickler.open_count(), 0)
 
+    def test_a_server_all_its_clients_left_at_once_serves_the_next(self):
+        """All 64 connections taken from four addresses (each served once, so
+        that the server surely holds it, then idle); a client waits in the
+        listen backlog. All 64 leave at once (the server is stopped while
+        they close, so that it sees every end in one pass): the waiting
+        client is served, and so is a new one. (MHD takes its listening
+        socket back only in the pass after the one that made room; with no
+        pass after it, the server never accepted again.)"""
+        holders = []
+        for i in range(64):
+            s = socket.create_connection(("127.0.0.1", self.sim.http_port), timeout=HTTP_TIMEOUT,
+                                         source_address=("127.0.0.%d" % (10 + i // 16), 0))
+            self.addCleanup(s.close)
+            self.assertEqual(exchange(s, GET_DEVICES), 200)
+            holders.append(s)
+        waiting = socket.create_connection(("127.0.0.1", self.sim.http_port),
+                                           timeout=HTTP_TIMEOUT, source_address=("127.0.0.3", 0))
+        self.addCleanup(waiting.close)
+        waiting.sendall(GET_DEVICES)
+        pid = self.sim.proc.pid
+        os.kill(pid, signal.SIGSTOP)
+        self.addCleanup(os.kill, pid, signal.SIGCONT)
+        wait_for("wsgsim stopped", lambda: process_state(pid) == "T")
+        for s in holders:
+            s.close()
+        os.kill(pid, signal.SIGCONT)
+        self.assertEqual(exchange(waiting, b""), 200)
+        self.assertEqual(get_from(self.sim.http_port, "127.0.0.4"), 200)
 
 if __name__ == "__main__":
     unittest.main()
