@@ -3,8 +3,7 @@
 
 #include <netinet/in.h>
 #include <string.h>
-
-#include "log.h"
+#include <sys/socket.h>
 
 /* The part of an address that is one client: an IPv4 address (as an
  * IPv4-mapped IPv6 one, so that both socket families compare alike) or an
@@ -131,8 +130,6 @@ unsigned web_intake_cut_late(uint64_t now)
     }
     if (cut > 0) {
         update_next_due();
-        host_logf(HAL_LOG_DEBUG,
-                  "http: closed %u connection(s) whose request did not arrive in time", cut);
     }
     return cut;
 }

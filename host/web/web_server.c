@@ -106,8 +106,16 @@ void web_server_poll(void)
     }
     uint64_t now = loop_monotonic_ns();
     bool ticked = web_events_tick(now); /* resumes the streams that are due */
-    bool cut = intake_due_ns != 0 && now >= intake_due_ns && web_intake_cut_late(now) > 0;
-    if (ticked || cut || (web.mhd_due_ns != 0 && now >= web.mhd_due_ns)) {
+    if (intake_due_ns != 0 && now >= intake_due_ns) {
+        /* what has arrived is read first: a server held up (a loaded host,
+         * valgrind) cuts no request that came in time */
+        run_mhd();
+        unsigned cut = web_intake_cut_late(now);
+        if (cut > 0) {
+            host_logf(HAL_LOG_DEBUG, "http: cut %u connection(s) whose request was late", cut);
+            run_mhd();
+        }
+    } else if (ticked || (web.mhd_due_ns != 0 && now >= web.mhd_due_ns)) {
         run_mhd();
     } else {
         schedule();
