@@ -272,7 +272,7 @@ def get_from(port, source):
 
 
 class SlowClients(unittest.TestCase):
-    TIMEOUT_S = 1
+    TIMEOUT_S = 2
 
     def setUp(self):
         self.sim = WebSim("--http-request-timeout", str(self.TIMEOUT_S))
