@@ -12,6 +12,7 @@
 
 #include "sim/sim_models.h"
 #include "text_file.h"
+#include "web/web_host.h"
 
 #define TEXT_MAX WSG_CONFIG_STRING_MAX
 #define MAX_CLIENTS_LIMIT 128
@@ -33,6 +34,7 @@ typedef enum {
     K_ADDR,        /* an IPv4 or IPv6 address */
     K_LOOPBACK,    /* a loopback address only */
     K_PROTOCOL,    /* auto, gcl or binary */
+    K_HOSTS,       /* host names, comma-separated (web_host_names_valid) */
 } kind_t;
 
 typedef enum {
@@ -66,6 +68,8 @@ typedef enum {
     NET_BINARY_CRC,
     NET_HTTP_PORT,
     NET_HTTP_BIND,
+    NET_HTTP_ALLOW_HOST,
+    NET_HTTP_REQUEST_TIMEOUT,
     KEY_COUNT
 } key_id_t;
 
@@ -104,6 +108,8 @@ static const struct {
     [NET_BINARY_CRC] = {"network", "binary_crc", K_BOOL},
     [NET_HTTP_PORT] = {"network", "http_port", K_PORT},
     [NET_HTTP_BIND] = {"network", "http_bind", K_ADDR},
+    [NET_HTTP_ALLOW_HOST] = {"network", "http_allow_host", K_HOSTS},
+    [NET_HTTP_REQUEST_TIMEOUT] = {"network", "http_request_timeout", K_SECONDS},
 };
 
 typedef struct {
@@ -263,6 +269,10 @@ static const char *convert(kind_t kind, const char *text, value_t *v)
         v->number = (double)protocol;
         return ok ? NULL : "expected auto, gcl or binary";
     }
+    case K_HOSTS:
+        return strlen(text) < sizeof(v->text) && web_host_names_valid(text)
+                   ? NULL
+                   : "expected host names separated by commas (or *), at most 127 characters";
     case K_LOOPBACK:
         return is_loopback(text) ? NULL
                                  : "the control port may only be bound to a loopback address "
@@ -425,6 +435,12 @@ static void apply_binary(host_options_t *opts)
     }
     if (v[NET_HTTP_BIND].set) {
         opts->http_bind = v[NET_HTTP_BIND].text;
+    }
+    if (v[NET_HTTP_ALLOW_HOST].set) { /* the first list: the command line adds its own */
+        opts->http_allow_hosts[opts->http_allow_host_count++] = v[NET_HTTP_ALLOW_HOST].text;
+    }
+    if (v[NET_HTTP_REQUEST_TIMEOUT].set) {
+        opts->http_request_timeout_s = (int)v[NET_HTTP_REQUEST_TIMEOUT].number;
     }
 }
 

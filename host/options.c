@@ -12,6 +12,7 @@
 #include "sim/finger_node.h"
 #include "sim/sim_models.h"
 #include "version.h"
+#include "web/web_host.h"
 
 #define DEFAULT_PORT 1000
 #define DEFAULT_MAX_CLIENTS 8
@@ -21,6 +22,7 @@
 #define DEFAULT_BINARY_UDP_PORT 1500
 #define DEFAULT_BINARY_UDP_REPLY_PORT 1501
 #define DEFAULT_HTTP_PORT 8080
+#define DEFAULT_HTTP_REQUEST_TIMEOUT_S 10
 #define TIMEOUT_LIMIT_S 86400
 
 static void print_help(void)
@@ -81,6 +83,14 @@ static void print_help(void)
            "  --http-bind ADDR           web interface address (default: as --bind); its\n"
            "                             simulation panel serves loopback clients only\n"
            "                             unless --sim-bind names another address\n"
+           "  --http-allow-host NAME[,NAME]...\n"
+           "                             names the web interface answers to besides its\n"
+           "                             IP addresses and localhost (a Host header with\n"
+           "                             another name is refused: DNS rebinding); may be\n"
+           "                             repeated; * allows every name\n"
+           "  --http-request-timeout S   close a web connection whose request (header and\n"
+           "                             body) has not fully arrived S wall-clock seconds\n"
+           "                             after it opened or its last reply (default %d)\n"
            "  --log-level LEVEL          log error, warn, info or debug messages and above\n"
            "                             (default info)\n"
            "  --quiet                    log errors only (--log-level error)\n"
@@ -95,7 +105,7 @@ static void print_help(void)
            "  -h, --help                 print this help and exit\n",
            DEFAULT_PORT, DEFAULT_PORT, HOST_DEVICES_MAX, wsg_sim_model_default()->name,
            (double)DEFAULT_PART_STIFFNESS, DEFAULT_MAX_CLIENTS, MAX_CLIENTS_LIMIT,
-           DEFAULT_UDP_PEER_TIMEOUT_S, DEFAULT_HTTP_PORT);
+           DEFAULT_UDP_PEER_TIMEOUT_S, DEFAULT_HTTP_PORT, DEFAULT_HTTP_REQUEST_TIMEOUT_S);
 }
 
 static void list_models_json(void)
@@ -205,6 +215,8 @@ enum {
     OPT_BINARY_NO_CRC,
     OPT_HTTP_PORT,
     OPT_HTTP_BIND,
+    OPT_HTTP_ALLOW_HOST,
+    OPT_HTTP_REQUEST_TIMEOUT,
     OPT_JSON,
     OPT_CAN_LOG,
     OPT_LOG_LEVEL,
@@ -248,6 +260,8 @@ static const struct option long_options[] = {
     {"binary-no-crc", no_argument, NULL, OPT_BINARY_NO_CRC},
     {"http-port", required_argument, NULL, OPT_HTTP_PORT},
     {"http-bind", required_argument, NULL, OPT_HTTP_BIND},
+    {"http-allow-host", required_argument, NULL, OPT_HTTP_ALLOW_HOST},
+    {"http-request-timeout", required_argument, NULL, OPT_HTTP_REQUEST_TIMEOUT},
     {"json", no_argument, NULL, OPT_JSON},
     {"can-log", required_argument, NULL, OPT_CAN_LOG},
     {"log-level", required_argument, NULL, OPT_LOG_LEVEL},
@@ -288,6 +302,7 @@ static void set_defaults(host_options_t *opts)
     opts->binary_udp_reply_port = DEFAULT_BINARY_UDP_REPLY_PORT;
     opts->binary_crc = true;
     opts->http_port = DEFAULT_HTTP_PORT;
+    opts->http_request_timeout_s = DEFAULT_HTTP_REQUEST_TIMEOUT_S;
 }
 
 bool options_parse_protocol(const char *text, host_protocol_t *out)
@@ -303,6 +318,30 @@ bool options_parse_protocol(const char *text, host_protocol_t *out)
 }
 
 static options_result_t usage_error(const char *what, const char *value);
+
+/* The web interface's admission options (docs/web.md, "Who is served"). */
+static options_result_t apply_web_option(int opt, const char *arg, host_options_t *opts)
+{
+    switch (opt) {
+    case OPT_HTTP_ALLOW_HOST:
+        if (opts->http_allow_host_count == HOST_HTTP_ALLOW_LISTS_MAX) {
+            fprintf(stderr, "wsgsim: --http-allow-host may be given at most %d times\n",
+                    HOST_HTTP_ALLOW_LISTS_MAX);
+            return OPTIONS_EXIT_USAGE;
+        }
+        if (!web_host_names_valid(arg)) {
+            return usage_error("--http-allow-host", arg);
+        }
+        opts->http_allow_hosts[opts->http_allow_host_count++] = arg;
+        return OPTIONS_RUN;
+    case OPT_HTTP_REQUEST_TIMEOUT:
+        return parse_int(arg, 1, TIMEOUT_LIMIT_S, &opts->http_request_timeout_s)
+                   ? OPTIONS_RUN
+                   : usage_error("--http-request-timeout", arg);
+    default:
+        return OPTIONS_EXIT_USAGE;
+    }
+}
 
 /* The binary protocol's options (docs/binary-protocol.md) and the web
  * interface's (docs/web.md): the other ways in besides GCL. */
@@ -510,6 +549,9 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
     case OPT_HTTP_PORT:
     case OPT_HTTP_BIND:
         return apply_binary_option(opt, arg, opts);
+    case OPT_HTTP_ALLOW_HOST:
+    case OPT_HTTP_REQUEST_TIMEOUT:
+        return apply_web_option(opt, arg, opts);
     case OPT_LOG_LEVEL:
     case OPT_QUIET:
     case OPT_LOG_TIMESTAMPS:

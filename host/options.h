@@ -9,6 +9,9 @@
 /* --protocol: what a TCP connection speaks (docs/binary-protocol.md) */
 typedef enum { HOST_PROTOCOL_AUTO, HOST_PROTOCOL_GCL, HOST_PROTOCOL_BINARY } host_protocol_t;
 
+/* --http-allow-host: at most this many lists of names (each repeat one). */
+#define HOST_HTTP_ALLOW_LISTS_MAX 16
+
 /* --devices: at most this many grippers in one process. */
 #define HOST_DEVICES_MAX 1024
 
@@ -50,6 +53,11 @@ typedef struct {
     int http_port;         /* --http-port: 0: off */
     bool http_port_given;  /* set explicitly: failing to bind it is fatal */
     const char *http_bind; /* --http-bind: NULL: as --bind */
+    /* --http-allow-host (and [network] http_allow_host first): the names,
+     * comma-separated lists, besides addresses and localhost (web_host.h) */
+    const char *http_allow_hosts[HOST_HTTP_ALLOW_LISTS_MAX];
+    int http_allow_host_count;
+    int http_request_timeout_s; /* --http-request-timeout: a whole request within S */
     /* logging and supervision */
     hal_log_level_t log_level; /* --log-level, --quiet */
     bool log_timestamps;       /* --log-timestamps: wall-clock ISO 8601 on each line */

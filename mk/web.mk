@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: BSD-3-Clause
 # The web interface (issue 13, docs/web.md): the page's files built into
 # build/wsgsim, and its end-to-end tests.
-#   web-tests   tests/web/: the peer rule's Check test, then the end-to-end
+#   web-tests   tests/web/: the peer, Host and slow-client rules' Check tests, then the end-to-end
 #               tests against build/wsgsim (every route and error)
 # The page is web/* (index.html, app.js, style.css); the chart library is
 # Debian's libjs-dygraphs, embedded at build time, never fetched at run time.
@@ -32,12 +32,26 @@ $(BUILD)/obj/gen/web_assets.o: $(WEB_ASSETS_C) host/web/web_assets.h
 	$(CC) $(CFLAGS_BASE) -Ihost -c $< -o $@
 
 WEB_PEER_TEST := $(BUILD)/tests/web_peer_test
+WEB_HOST_TEST := $(BUILD)/tests/web_host_test
+WEB_INTAKE_TEST := $(BUILD)/tests/web_intake_test
 
 $(WEB_PEER_TEST): tests/web/test_peer.c $(BUILD)/obj/host/web/web_peer.o
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) $(shell pkg-config --cflags check) $(LDFLAGS_BASE) -o $@ $^ \
 		$(shell pkg-config --libs check)
 
-web-tests: $(BUILD)/wsgsim $(WEB_PEER_TEST)
+$(WEB_HOST_TEST): tests/web/test_host.c $(BUILD)/obj/host/web/web_host.o
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) $(shell pkg-config --cflags check) $(LDFLAGS_BASE) -o $@ $^ \
+		$(shell pkg-config --libs check)
+
+$(WEB_INTAKE_TEST): tests/web/test_intake.c $(BUILD)/obj/host/web/web_intake.o
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) $(shell pkg-config --cflags check) $(LDFLAGS_BASE) -o $@ $^ \
+		$(shell pkg-config --libs check)
+
+web-tests: $(BUILD)/wsgsim $(WEB_PEER_TEST) $(WEB_HOST_TEST) $(WEB_INTAKE_TEST)
 	$(CHECK_ENV) $(WEB_PEER_TEST)
+	$(CHECK_ENV) $(WEB_HOST_TEST)
+	$(CHECK_ENV) $(WEB_INTAKE_TEST)
 	WSGSIM=$(abspath $(BUILD)/wsgsim) python3 tests/run_suite.py web tests/web
