@@ -73,6 +73,7 @@ static void start_script(gripper_t *g)
         return;
     }
     char why[256];
+    script_power_on(g->script, hal_clock_now_us());
     if (!script_run(g->script, g->opts.script, why, sizeof(why))) {
         host_logf(HAL_LOG_ERROR, "script: %s", why);
     }

@@ -162,6 +162,19 @@ int script_block(lua_State *L, script_wait_t wait, uint64_t wake_us)
     return lua_yield(L, 0);
 }
 
+int script_block_k(lua_State *L, uint64_t wake_us, lua_KContext ctx, lua_KFunction k)
+{
+    script_t *s = script_of_state(L);
+    s->wait = SCRIPT_WAIT_SLEEP;
+    s->wake_us = wake_us;
+    return lua_yieldk(L, 0, ctx, k);
+}
+
+void script_power_on(script_t *s, uint64_t now_us)
+{
+    s->fingers_ready_us = now_us + SCRIPT_FINGER_STARTUP_US;
+}
+
 static lua_State *new_state(script_t *s)
 {
     lua_State *L = lua_newstate(capped_alloc, s);

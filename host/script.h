@@ -27,6 +27,9 @@ void script_destroy(script_t *s);
  * the main chunk until it first blocks. false with *why when the file cannot
  * be read; a file that does not compile starts and fails at once. */
 bool script_run(script_t *s, const char *file, char *why, size_t why_cap);
+/* The device powered on at now_us: the finger bindings wait until the
+ * finger bus has described the fingers (SCRIPT_FINGER_STARTUP_US later). */
+void script_power_on(script_t *s, uint64_t now_us);
 /* The user stops it: SF_SCRIPT_RUNNING cleared, SF_SCRIPT_FAILURE kept. */
 bool script_stop(script_t *s);
 /* A power cycle: the device's flags and queue are gone; the interpreter

@@ -214,6 +214,29 @@ static int l_state(lua_State *L)
     return 1;
 }
 
+static int finger_count(lua_State *L);
+static int finger_type(lua_State *L);
+static int finger_data(lua_State *L);
+static const lua_CFunction finger_queries[] = {finger_count, finger_type, finger_data};
+
+static int finger_query_again(lua_State *L, int status, lua_KContext which)
+{
+    (void)status;
+    return finger_queries[which](L);
+}
+
+/* Runs finger query `which`, after the finger bus's start-up: a startup
+ * script that counts its fingers at once sees them (wsg50-ros-pkg's does). */
+static int finger_query(lua_State *L, lua_KContext which)
+{
+    script_t *s = script_of_state(L);
+    uint64_t now = hal_clock_now_us();
+    if (now < s->fingers_ready_us) {
+        return script_block_k(L, s->fingers_ready_us, which, finger_query_again);
+    }
+    return finger_queries[which](L);
+}
+
 static int check_finger(lua_State *L)
 {
     lua_Integer i = luaL_checkinteger(L, 1);
@@ -221,13 +244,13 @@ static int check_finger(lua_State *L)
     return (int)i;
 }
 
-static int l_finger_count(lua_State *L)
+static int finger_count(lua_State *L)
 {
     lua_pushinteger(L, WSG_FINGER_COUNT);
     return 1;
 }
 
-static int l_finger_type(lua_State *L)
+static int finger_type(lua_State *L)
 {
     int i = check_finger(L);
     lua_pushstring(L, wsg_finger_type_name(snapshot(L)->fingers->slot[i].type));
@@ -252,7 +275,7 @@ static void push_dsa_frame(lua_State *L, const wsg_finger_t *f)
 }
 
 /* FMF: the force (FDATA); DSA: a frame; generic or none: nil. */
-static int l_finger_data(lua_State *L)
+static int finger_data(lua_State *L)
 {
     int i = check_finger(L);
     const wsg_finger_t *f = &snapshot(L)->fingers->slot[i];
@@ -264,6 +287,21 @@ static int l_finger_data(lua_State *L)
         lua_pushnil(L);
     }
     return 1;
+}
+
+static int l_finger_count(lua_State *L)
+{
+    return finger_query(L, 0);
+}
+
+static int l_finger_type(lua_State *L)
+{
+    return finger_query(L, 1);
+}
+
+static int l_finger_data(lua_State *L)
+{
+    return finger_query(L, 2);
 }
 
 /* Finger I/O for generic fingers: wsgsim simulates none (spec §4.5). */

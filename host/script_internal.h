@@ -20,6 +20,9 @@
  * the loop must not freeze. About a second of work. */
 #define SCRIPT_UNYIELDABLE_KINSTR 100000u
 #define SCRIPT_CONSOLE_LINES 1000u
+/* The finger bus's start-up after power-on: a node boots in 20 ms, a lost
+ * descriptor is asked for again after 100 ms. Finger calls wait for it. */
+#define SCRIPT_FINGER_STARTUP_US 100000u
 #define SCRIPT_LINE_MAX 512u
 #define SCRIPT_REPLY_MAX 65535u /* cmd.send payload (spec §10 #14) */
 
@@ -42,6 +45,7 @@ struct script {
     bool preempted;
     script_wait_t wait;
     uint64_t wake_us;
+    uint64_t fingers_ready_us; /* finger calls before it wait (script_power_on) */
     uint64_t slice_start_ns;
     uint64_t slice_kinstr;
     uint64_t reply_conn; /* where the request cmd.read() returned last came from */
@@ -84,6 +88,8 @@ void script_open_cmd(lua_State *L);
 
 /* script.c: blocking calls yield with the wait set */
 int script_block(lua_State *L, script_wait_t wait, uint64_t wake_us);
+/* The same, for a binding that runs again (k) when the wait is over. */
+int script_block_k(lua_State *L, uint64_t wake_us, lua_KContext ctx, lua_KFunction k);
 /* Pushes id and payload table of a request; for cmd.read(). */
 void script_push_request(lua_State *L, const wsg_script_request_t *req);
 
