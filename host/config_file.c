@@ -33,6 +33,7 @@ typedef enum {
     K_ADDR,        /* an IPv4 or IPv6 address */
     K_LOOPBACK,    /* a loopback address only */
     K_PROTOCOL,    /* auto, gcl or binary */
+    K_PATH,        /* a file or directory name: printable, not empty */
 } kind_t;
 
 typedef enum {
@@ -66,6 +67,9 @@ typedef enum {
     NET_BINARY_CRC,
     NET_HTTP_PORT,
     NET_HTTP_BIND,
+    SCRIPT_STARTUP,
+    SCRIPT_DIR,
+    SCRIPT_AUTOSTART,
     KEY_COUNT
 } key_id_t;
 
@@ -104,6 +108,9 @@ static const struct {
     [NET_BINARY_CRC] = {"network", "binary_crc", K_BOOL},
     [NET_HTTP_PORT] = {"network", "http_port", K_PORT},
     [NET_HTTP_BIND] = {"network", "http_bind", K_ADDR},
+    [SCRIPT_STARTUP] = {"script", "startup", K_PATH},
+    [SCRIPT_DIR] = {"script", "dir", K_PATH},
+    [SCRIPT_AUTOSTART] = {"script", "autostart", K_BOOL},
 };
 
 typedef struct {
@@ -121,6 +128,7 @@ typedef enum {
     SEC_TAG,
     SEC_TCP_PORT,
     SEC_UDP_PORT,
+    SEC_SCRIPT,
     SEC_KEY_COUNT
 } sec_key_t;
 
@@ -130,7 +138,7 @@ static const struct {
 } sec_keys[SEC_KEY_COUNT] = {
     [SEC_MODEL] = {"model", K_MODEL},      [SEC_SERIAL] = {"serial", K_SERIAL},
     [SEC_TAG] = {"tag", K_TEXT},           [SEC_TCP_PORT] = {"tcp_port", K_PORT},
-    [SEC_UDP_PORT] = {"udp_port", K_PORT},
+    [SEC_UDP_PORT] = {"udp_port", K_PORT}, [SEC_SCRIPT] = {"script", K_PATH},
 };
 
 #define DEVICE_SECTION "device."
@@ -206,6 +214,16 @@ static bool is_address(const char *addr)
     return inet_pton(AF_INET, addr, buf) == 1 || inet_pton(AF_INET6, addr, buf) == 1;
 }
 
+static bool text_ok_long(const char *text)
+{
+    for (const char *p = text; *p != '\0'; p++) {
+        if (*p < 0x20 || *p > 0x7e) {
+            return false;
+        }
+    }
+    return true;
+}
+
 static bool text_ok(const char *text)
 {
     for (const char *p = text; *p != '\0'; p++) {
@@ -262,6 +280,10 @@ static const char *convert(kind_t kind, const char *text, value_t *v)
         v->number = (double)protocol;
         return ok ? NULL : "expected auto, gcl or binary";
     }
+    case K_PATH:
+        return text[0] != '\0' && strlen(text) < sizeof(v->text) - 1u && text_ok_long(text)
+                   ? NULL
+                   : "expected a path of printable characters";
     case K_LOOPBACK:
         return is_loopback(text) ? NULL
                                  : "the control port may only be bound to a loopback address "
@@ -340,7 +362,7 @@ static int on_device_key(parse_state_t *st, const char *section, const char *nam
     return fail_at(st->line, section, name,
                    d == NULL ? "out of memory"
                              : "unknown key in a device section (model, serial, tag, tcp_port, "
-                               "udp_port)");
+                               "udp_port, script)");
 }
 
 static int on_key(void *user, const char *section, const char *name, const char *value)
@@ -427,6 +449,21 @@ static void apply_binary(host_options_t *opts)
     }
 }
 
+/* [script]: the startup script and the store (docs/scripting.md). */
+static void apply_script(host_options_t *opts)
+{
+    const value_t *v = loaded.values;
+    if (v[SCRIPT_STARTUP].set) {
+        opts->script = v[SCRIPT_STARTUP].text;
+    }
+    if (v[SCRIPT_DIR].set) {
+        opts->script_dir = v[SCRIPT_DIR].text;
+    }
+    if (v[SCRIPT_AUTOSTART].set) {
+        opts->script_autostart = v[SCRIPT_AUTOSTART].number != 0.0;
+    }
+}
+
 static void apply_host(host_options_t *opts)
 {
     const value_t *v = loaded.values;
@@ -461,6 +498,7 @@ static void apply_host(host_options_t *opts)
         opts->sim_bind = v[NET_SIM_BIND].text;
     }
     apply_binary(opts);
+    apply_script(opts);
 }
 
 static void config_file_forget(void)
@@ -570,6 +608,12 @@ const char *config_file_device_model(unsigned index, const char *fallback)
 {
     const device_section_t *d = find_section(index);
     return d != NULL && d->values[SEC_MODEL].set ? d->values[SEC_MODEL].text : fallback;
+}
+
+const char *config_file_device_script(unsigned index, const char *fallback)
+{
+    const device_section_t *d = find_section(index);
+    return d != NULL && d->values[SEC_SCRIPT].set ? d->values[SEC_SCRIPT].text : fallback;
 }
 
 bool config_file_device_port(unsigned index, bool udp, int *port)

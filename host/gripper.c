@@ -83,6 +83,7 @@ void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
 {
     g->opts = *opts;
     g->opts.model = config_file_device_model(index, opts->model);
+    g->opts.script = config_file_device_script(index, opts->script);
     g->index = index;
     wsg_sim_model_config(wsg_sim_model_find(g->opts.model), &g->config);
     config_file_apply(&g->config);
@@ -103,9 +104,9 @@ void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
         wsg_conn_observe(&g->device, web_lines_observer(), NULL); /* the hub is device 0's */
     }
     g->script = NULL;
-    if (script_options_enabled(opts)) {
+    if (script_options_enabled(&g->opts)) {
         char store[4096];
-        bool has_store = script_options_store(opts, store, sizeof(store));
+        bool has_store = script_options_store(&g->opts, store, sizeof(store));
         g->script =
             script_create(&g->device, index, (unsigned)opts->devices, has_store ? store : NULL);
     }

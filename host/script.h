@@ -45,6 +45,11 @@ uint64_t script_service(script_t *s);
 bool script_preempted(const script_t *s);
 void script_continue(script_t *s);
 
+/* The /user/ store's directory ("" when none), and whether a name is a
+ * store file name (printable ASCII, no '/', no "..", at most 64 bytes). */
+const char *script_store_dir(const script_t *s);
+bool script_store_name_ok(const char *name);
+
 /* What STATE? and the web interface show. */
 typedef struct {
     const char *file; /* the last script run, "" when none */

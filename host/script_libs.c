@@ -34,6 +34,16 @@ static bool valid_name(const char *name)
     return true;
 }
 
+bool script_store_name_ok(const char *name)
+{
+    return valid_name(name);
+}
+
+const char *script_store_dir(const script_t *s)
+{
+    return s->store;
+}
+
 bool script_resolve(const script_t *s, const char *name, bool allow_host, char *out, size_t cap)
 {
     const char *plain = strncmp(name, "/user/", 6) == 0 ? name + 6 : name;

@@ -7,6 +7,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "config_file.h"
+
 /* "/user/NAME" is NAME in the store. */
 static bool startup_path(const host_options_t *opts, char *out, size_t cap)
 {
@@ -19,6 +21,26 @@ static bool startup_path(const host_options_t *opts, char *out, size_t cap)
     return (size_t)snprintf(out, cap, "%s/%s", opts->script_dir, opts->script + 6) < cap;
 }
 
+/* A startup file that is missing or unreadable is a start error. */
+static bool check_startup(const host_options_t *opts, const char *script)
+{
+    struct stat st;
+    char path[4096];
+    host_options_t one = *opts;
+    one.script = script;
+    if (!startup_path(&one, path, sizeof(path))) {
+        fprintf(stderr, "wsgsim: --script %s: /user/ names need --script-dir\n", script);
+        return false;
+    }
+    errno = 0;
+    if (stat(path, &st) != 0 || !S_ISREG(st.st_mode) || access(path, R_OK) != 0) {
+        fprintf(stderr, "wsgsim: --script %s: %s\n", script,
+                errno != 0 ? strerror(errno) : "not a readable file");
+        return false;
+    }
+    return true;
+}
+
 bool script_options_check(const host_options_t *opts)
 {
     struct stat st;
@@ -26,19 +48,15 @@ bool script_options_check(const host_options_t *opts)
         fprintf(stderr, "wsgsim: --script-dir %s: not a directory\n", opts->script_dir);
         return false;
     }
-    if (opts->script == NULL) {
-        return true;
-    }
-    char path[4096];
-    if (!startup_path(opts, path, sizeof(path))) {
-        fprintf(stderr, "wsgsim: --script %s: /user/ names need --script-dir\n", opts->script);
+    if (opts->script != NULL && !check_startup(opts, opts->script)) {
         return false;
     }
-    errno = 0;
-    if (stat(path, &st) != 0 || !S_ISREG(st.st_mode) || access(path, R_OK) != 0) {
-        fprintf(stderr, "wsgsim: --script %s: %s\n", opts->script,
-                errno != 0 ? strerror(errno) : "not a readable file");
-        return false;
+    /* [device.N] script of the configuration file */
+    for (unsigned i = 0; i < config_file_devices(); i++) {
+        const char *script = config_file_device_script(i, NULL);
+        if (script != NULL && !check_startup(opts, script)) {
+            return false;
+        }
     }
     return true;
 }

@@ -365,6 +365,24 @@ error("gave up")
         self.assertTrue(state["running"])
         self.assertEqual(state["registered"], [0xB0, 0xB1])
 
+    def test_config_file_startup_and_per_device_scripts(self):
+        store = self.store(echo_lua=ECHO, silent_lua=SILENT)
+        config = os.path.join(store, "wsgsim.ini")
+        with open(config, "w") as f:
+            f.write("[script]\ndir = %s\nstartup = /user/echo.lua\n\n"
+                    "[device.1]\nscript = /user/silent.lua\n" % store)
+        self.start("--config", config, "--devices", "2")
+        self.assertEqual(self.script_state()["registered"], [0xB5])
+        self.ctl("DEVICE=1")
+        self.assertEqual(self.script_state()["registered"], [0xB0])
+
+    def test_no_autostart_keeps_the_script_selected_but_idle(self):
+        self.start("--no-script-autostart", script="umi_dialect.lua")
+        self.assertFalse(self.script_state()["running"])
+        client = self.binary()
+        self.reply(client, 0xB0, b"\x00", E_CMD_UNKNOWN)
+        self.assertFalse(self.flags(client) & SF_SCRIPT_RUNNING)
+
     def test_a_missing_startup_file_is_a_start_error(self):
         binary = os.environ.get("WSGSIM", os.path.join(HERE, "..", "..", "build", "wsgsim"))
         result = subprocess.run([binary, "--script", "/nonexistent/cmd_measure.lua"],
