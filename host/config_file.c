@@ -224,10 +224,11 @@ static bool text_ok_long(const char *text)
     return true;
 }
 
+/* The device's own rule for its texts (wsg_config_text_char_ok). */
 static bool text_ok(const char *text)
 {
     for (const char *p = text; *p != '\0'; p++) {
-        if (*p < 0x20 || *p > 0x7e || *p == '"') {
+        if (!wsg_config_text_char_ok(*p)) {
             return false;
         }
     }

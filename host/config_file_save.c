@@ -74,18 +74,9 @@ static void collect(save_set_t *set, unsigned device, const wsg_config_t *cfg)
     if (device > 0) {
         snprintf(section, sizeof(section), "device.%u", device);
     }
+    /* quoted as it is: the device holds no '"' or control character in it
+     * (wsg_config_text_char_ok, the file's own rule) */
     snprintf(add(set, section, "tag")->value, sizeof(set->keys[0].value), "\"%s\"", cfg->tag);
-}
-
-/* A tag the file can hold: printable, without '"' (config_file.c's rule). */
-static bool tag_writable(const char *tag)
-{
-    for (const char *p = tag; *p != '\0'; p++) {
-        if (*p < 0x20 || *p > 0x7e || *p == '"') {
-            return false;
-        }
-    }
-    return true;
 }
 
 static void put_missing(FILE *out, save_set_t *set, const char *section)
@@ -159,10 +150,6 @@ static bool rewrite(text_file_t *in, FILE *out, save_set_t *set)
 bool config_file_save(const char *path, unsigned device, const wsg_config_t *cfg, char *why,
                       size_t cap)
 {
-    if (!tag_writable(cfg->tag)) {
-        snprintf(why, cap, "tag: the configuration file holds printable text without '\"' only");
-        return false;
-    }
     save_set_t set = {.count = 0};
     collect(&set, device, cfg);
     text_file_t in;

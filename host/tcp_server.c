@@ -165,14 +165,27 @@ static wsg_close_reason_t close_reason(const tcp_client_t *c)
     if (wsg_conn_wants_close(&c->conn)) {
         return WSG_CLOSE_ANNOUNCED;
     }
-    return c->expired ? WSG_CLOSE_EXPIRED : WSG_CLOSE_DROPPED;
+    if (c->expired) {
+        return WSG_CLOSE_EXPIRED;
+    }
+    return wsg_conn_close_announced(&c->conn) ? WSG_CLOSE_ANNOUNCED : WSG_CLOSE_DROPPED;
+}
+
+/* What the log says of the close: after BYE the server closed it; after
+ * the binary disconnect announcement (0x07) the client did. */
+static const char *close_note(const tcp_client_t *c, wsg_close_reason_t reason)
+{
+    if (reason == WSG_CLOSE_DROPPED) {
+        return " without BYE";
+    }
+    bool after_0x07 = reason == WSG_CLOSE_ANNOUNCED && !wsg_conn_wants_close(&c->conn);
+    return after_0x07 ? " after the disconnect announcement (0x07)" : "";
 }
 
 static void close_client(tcp_client_t *c)
 {
     wsg_close_reason_t reason = close_reason(c);
-    host_log_peer(HAL_LOG_INFO, "tcp %s: closed%s", c->peer,
-                  reason == WSG_CLOSE_DROPPED ? " without BYE" : "");
+    host_log_peer(HAL_LOG_INFO, "tcp %s: closed%s", c->peer, close_note(c, reason));
     if (c->dropped_autosend > 0) {
         host_log_peer(HAL_LOG_INFO, "tcp %s: %lu AUTOSEND lines dropped (client not reading)",
                       c->peer, c->dropped_autosend);

@@ -3,8 +3,11 @@
  * runs and decides when it has finished, failed or been aborted; and grip
  * monitoring while a part is held. It is the only writer of the axis (the
  * finger bus's force loop hands it a force request). Completion goes to the
- * operation's owner as an event, only from the control step, never from
- * the call that started the operation. */
+ * operation's owner as an event, never from the call that started the
+ * operation: an operation that runs to its end is reported by the control
+ * step; one that is ended (STOP, FAST STOP, a superseding MOVE) is reported
+ * at once, inside the call that ends it, so that its final reply precedes
+ * the reply to the command that ended it. */
 #include "priv/motion_tuning.h"
 #include "wsg/wsg_textbuf.h"
 #include "priv/wsg_dev.h"
@@ -54,7 +57,6 @@ static void finish(wsg_dev_t *dev, wsg_status_t status)
                                                : WSG_OP_RELEASE;
     m->kind = WSG_MOTION_NONE;
     m->owner = NULL;
-    m->abort_requested = false;
     wsg_flags_set(dev, SF_CMD_FAILURE, status != E_SUCCESS);
     if (owner != NULL) { /* else its connection has gone */
         owner->done(owner, op, status);
@@ -89,13 +91,8 @@ void wsg_motion_apply_force_request(wsg_dev_t *dev)
     }
 }
 
-/* A pending abort is reported before a new motion takes the axis over, so
- * STOP() followed at once by MOVE() works. */
 wsg_status_t wsg_motion_check_allowed(wsg_dev_t *dev, bool needs_reference)
 {
-    if (dev->motion.kind != WSG_MOTION_NONE && dev->motion.abort_requested) {
-        finish(dev, dev->motion.abort_status);
-    }
     if (wsg_flags_get(dev, SF_FAST_STOP)) {
         return E_ACCESS_DENIED;
     }
@@ -111,7 +108,7 @@ wsg_status_t wsg_motion_check_allowed(wsg_dev_t *dev, bool needs_reference)
 bool wsg_motion_supersede_move(wsg_dev_t *dev)
 {
     const dev_motion_t *m = &dev->motion;
-    if (m->kind != WSG_MOTION_MOVE || m->abort_requested || !dev->cfg.move_retarget) {
+    if (m->kind != WSG_MOTION_MOVE || !dev->cfg.move_retarget) {
         return false;
     }
     finish(dev, E_CMD_ABORTED);
@@ -127,7 +124,6 @@ void wsg_motion_begin(wsg_dev_t *dev, wsg_owner_t *owner, wsg_motion_kind_t kind
     m->stop_on_block = false;
     m->started_us = dev->sensed.now_us;
     m->condition_holding = false;
-    m->abort_requested = false;
     m->force_clear = dev->sensed.force_n < CONTACT_FORCE_N;
     m->contact_seen = false;
     m->home_released = false;
@@ -138,18 +134,16 @@ void wsg_motion_begin(wsg_dev_t *dev, wsg_owner_t *owner, wsg_motion_kind_t kind
     wsg_flags_set(dev, SF_BLOCKED_PLUS, false);
 }
 
-void wsg_motion_abort(wsg_dev_t *dev, wsg_status_t status)
+void wsg_motion_abort(wsg_dev_t *dev)
 {
-    if (dev->motion.kind != WSG_MOTION_NONE && !dev->motion.abort_requested) {
-        dev->motion.abort_requested = true;
-        dev->motion.abort_status = status;
+    if (dev->motion.kind != WSG_MOTION_NONE) {
+        finish(dev, E_CMD_ABORTED);
     }
 }
 
 void wsg_motion_fast_stop(wsg_dev_t *dev, const char *why)
 {
     wsg_motion_velocity_end(dev);
-    wsg_motion_abort(dev, E_CMD_ABORTED);
     motion_disable(dev); /* manual 3.2.2: a held part is no longer clamped */
     wsg_flags_set(dev, SF_FAST_STOP, true);
     wsg_grip_set_state(dev, GS_ERROR);
@@ -159,6 +153,7 @@ void wsg_motion_fast_stop(wsg_dev_t *dev, const char *why)
     wsg_textbuf_put_str(&tb, "FAST STOP: ");
     wsg_textbuf_put_str(&tb, why);
     hal_log(HAL_LOG_WARN, storage);
+    wsg_motion_abort(dev);
 }
 
 /* Ends a command on a blocked axis (ERR 29). The drive stays where it is,
@@ -362,10 +357,6 @@ void wsg_motion_step(wsg_dev_t *dev)
         if (dev->velocity.active) {
             velocity_step(dev);
         }
-        return;
-    }
-    if (m->abort_requested) {
-        finish(dev, m->abort_status);
         return;
     }
     if (runs_into_soft_limit(dev)) {

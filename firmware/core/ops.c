@@ -179,26 +179,27 @@ static bool is_grip_result(wsg_grip_state_t state)
     return state == GS_HOLDING || state == GS_NO_PART || state == GS_PART_LOST;
 }
 
+/* The stopped motion ends here, before the op returns: its owner hears
+ * E_CMD_ABORTED before the driver answers the STOP (docs/behaviour.md). */
 wsg_status_t wsg_op_stop(wsg_device_t *device)
 {
     wsg_dev_t *dev = dev_of(device);
+    bool running = dev->motion.kind != WSG_MOTION_NONE;
     /* a drive still leaning on a block (after ERR 29) lets go as well */
-    bool halt = dev->motion.kind != WSG_MOTION_NONE || wsg_flags_get(dev, SF_MOVING) ||
-                dev->velocity.active || wsg_flags_get(dev, SF_BLOCKED_MINUS) ||
-                wsg_flags_get(dev, SF_BLOCKED_PLUS);
+    bool halt = running || wsg_flags_get(dev, SF_MOVING) || dev->velocity.active ||
+                wsg_flags_get(dev, SF_BLOCKED_MINUS) || wsg_flags_get(dev, SF_BLOCKED_PLUS);
     wsg_motion_velocity_end(dev);
-    wsg_motion_abort(dev, E_CMD_ABORTED);
     if (halt) {
         wsg_motion_halt(dev, true);
     }
     wsg_flags_set(dev, SF_AXIS_STOPPED, true);
     wsg_flags_set(dev, SF_BLOCKED_MINUS, false);
     wsg_flags_set(dev, SF_BLOCKED_PLUS, false);
-    bool keep = wsg_flags_get(dev, SF_FAST_STOP) ||
-                (dev->motion.kind == WSG_MOTION_NONE && is_grip_result(dev->grip.state));
+    bool keep = wsg_flags_get(dev, SF_FAST_STOP) || (!running && is_grip_result(dev->grip.state));
     if (!keep) {
         wsg_grip_set_state(dev, GS_IDLE);
     }
+    wsg_motion_abort(dev);
     return E_SUCCESS;
 }
 
@@ -310,14 +311,21 @@ wsg_status_t wsg_op_set(wsg_device_t *device, wsg_setting_t which, float value)
     }
 }
 
-wsg_status_t wsg_op_set_tag(wsg_device_t *device, const char *tag)
+/* Validated here, once, for GCL, the binary protocol and the web page
+ * (docs/behaviour.md "Settings are validated in the core"). */
+wsg_status_t wsg_op_set_tag(wsg_device_t *device, const char *tag, size_t len)
 {
     wsg_config_t *cfg = &dev_of(device)->cfg;
-    size_t len = strlen(tag);
     if (len >= sizeof(cfg->tag)) {
         return E_RANGE_ERROR;
     }
-    memcpy(cfg->tag, tag, len + 1);
+    for (size_t i = 0; i < len; i++) {
+        if (!wsg_config_text_char_ok(tag[i])) {
+            return E_INVALID_PARAMETER;
+        }
+    }
+    memcpy(cfg->tag, tag, len);
+    cfg->tag[len] = '\0';
     return E_SUCCESS;
 }
 

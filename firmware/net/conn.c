@@ -113,6 +113,12 @@ bool wsg_conn_wants_close(const wsg_conn_t *conn)
     return conn_of_const(conn)->said_goodbye;
 }
 
+bool wsg_conn_close_announced(const wsg_conn_t *conn)
+{
+    const conn_t *c = conn_of_const(conn);
+    return c->said_goodbye || c->close_announced;
+}
+
 void wsg_conn_close(wsg_conn_t *conn, wsg_close_reason_t why)
 {
     conn_t *c = conn_of(conn);

@@ -32,8 +32,6 @@ typedef struct {
     /* completion tracking */
     uint64_t condition_since_us; /* when the finishing condition first held */
     bool condition_holding;
-    bool abort_requested;
-    wsg_status_t abort_status;
     /* after ERR 29: how long the latched SF_BLOCKED_± has looked resolved */
     bool block_clearing;
     uint64_t block_clearing_since_us;
@@ -171,8 +169,11 @@ void wsg_motion_halt(wsg_dev_t *dev, bool fast);
 wsg_status_t wsg_motion_check_allowed(wsg_dev_t *dev, bool needs_reference);
 bool wsg_motion_supersede_move(wsg_dev_t *dev);
 void wsg_motion_begin(wsg_dev_t *dev, wsg_owner_t *owner, wsg_motion_kind_t kind);
-void wsg_motion_abort(wsg_dev_t *dev, wsg_status_t status);
-/* FAST STOP: ends the motion, disables the drive, latches the flag. */
+/* Ends the running motion now: its owner hears E_CMD_ABORTED before the
+ * call returns (so before the reply to the command that ended it). */
+void wsg_motion_abort(wsg_dev_t *dev);
+/* FAST STOP: disables the drive, latches the flag, ends the motion (as
+ * wsg_motion_abort). */
 void wsg_motion_fast_stop(wsg_dev_t *dev, const char *why);
 void wsg_motion_step(wsg_dev_t *dev);
 void wsg_motion_apply_force_request(wsg_dev_t *dev);

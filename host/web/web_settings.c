@@ -227,7 +227,8 @@ static bool apply(change_t *ch, gripper_t *g)
         before[i] = current(cfg, settings[i].which);
     }
     order(ch, cfg, seq);
-    wsg_status_t status = ch->tag != NULL ? wsg_op_set_tag(dev, ch->tag) : E_SUCCESS;
+    wsg_status_t status =
+        ch->tag != NULL ? wsg_op_set_tag(dev, ch->tag, strlen(ch->tag)) : E_SUCCESS;
     const char *refused = "tag";
     unsigned applied = 0;
     for (; status == E_SUCCESS && applied < SETTING_COUNT; applied++) {
@@ -239,7 +240,7 @@ static bool apply(change_t *ch, gripper_t *g)
         return true;
     }
     undo(dev, seq, applied - (applied > 0 ? 1u : 0u), before);
-    wsg_op_set_tag(dev, old_tag);
+    wsg_op_set_tag(dev, old_tag, strlen(old_tag));
     ch->result =
         web_reply_error(ch->req, MHD_HTTP_UNPROCESSABLE_CONTENT, status,
                         "%s: %s (nothing was changed)", refused, wsg_status_description(status));

@@ -77,6 +77,10 @@ void wsg_conn_input(wsg_conn_t *c, const uint8_t *bytes, size_t len);
 void wsg_conn_end_datagram(wsg_conn_t *c);
 /* True once the protocol said goodbye: the port closes after flushing. */
 bool wsg_conn_wants_close(const wsg_conn_t *c);
+/* True once the protocol announced the connection's end: GCL's BYE (which
+ * also wants the close) or the binary 0x07 (after which the client closes).
+ * Closing it then is WSG_CLOSE_ANNOUNCED: no fault, no FAST STOP. */
+bool wsg_conn_close_announced(const wsg_conn_t *c);
 /* Detaches it from the device (no completion reaches it afterwards) and,
  * for a stream dropped without goodbye, raises FAST STOP when configured. */
 void wsg_conn_close(wsg_conn_t *c, wsg_close_reason_t why);

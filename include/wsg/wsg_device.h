@@ -143,8 +143,12 @@ typedef enum {
 } wsg_setting_t;
 
 wsg_status_t wsg_op_set(wsg_device_t *dev, wsg_setting_t which, float value);
-/* The device tag (descriptor string); E_RANGE_ERROR when too long. */
-wsg_status_t wsg_op_set_tag(wsg_device_t *dev, const char *tag);
+/* The device tag (descriptor string): len bytes, no terminating NUL needed.
+ * The one check of every front end: E_RANGE_ERROR when longer than
+ * WSG_CONFIG_STRING_MAX - 1 characters, E_INVALID_PARAMETER for a byte
+ * wsg_config_text_char_ok() refuses (CR, LF, NUL, '"', beyond ASCII); the
+ * tag keeps its value on an error. */
+wsg_status_t wsg_op_set_tag(wsg_device_t *dev, const char *tag, size_t len);
 
 /* Fault injection (control channel): the next command called `name` (upper
  * case) fails with status before it runs. A reset disarms it. */
@@ -186,7 +190,6 @@ typedef struct {
     const wsg_owner_t *motion_owner;
     uint64_t motion_started_us;
     float motion_target_mm, motion_speed_mm_s, motion_force_n;
-    bool motion_abort_requested;
     /* grip */
     wsg_grip_state_t grip_state;
     int8_t grip_direction;
