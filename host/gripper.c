@@ -69,11 +69,13 @@ static void set_identity(wsg_config_t *cfg, unsigned index)
 /* The startup script (--script), at power-on and after a reset. */
 static void start_script(gripper_t *g)
 {
+    if (g->script != NULL) {
+        script_power_on(g->script, hal_clock_now_us());
+    }
     if (g->script == NULL || g->opts.script == NULL || !g->opts.script_autostart) {
         return;
     }
     char why[256];
-    script_power_on(g->script, hal_clock_now_us());
     if (!script_run(g->script, g->opts.script, why, sizeof(why))) {
         host_logf(HAL_LOG_ERROR, "script: %s", why);
     }

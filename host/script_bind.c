@@ -5,6 +5,7 @@
  * motion the device refuses returns the status the binary command would
  * answer, never raises; wrong argument types raise. */
 #include <lauxlib.h>
+#include <float.h>
 #include <math.h>
 
 #include "hal_clock.h"
@@ -68,6 +69,20 @@ static int push_status(lua_State *L, wsg_status_t status)
     return 1;
 }
 
+/* A Lua number as a float: beyond the float range it is an infinity
+ * (converting it directly would be undefined). */
+float script_check_float(lua_State *L, int arg)
+{
+    lua_Number v = luaL_checknumber(L, arg);
+    if (v > FLT_MAX) {
+        return INFINITY;
+    }
+    if (v < -FLT_MAX) {
+        return -INFINITY;
+    }
+    return (float)v; /* NaN stays NaN */
+}
+
 static float clampf(float v, float low, float high)
 {
     return v < low ? low : v > high ? high : v;
@@ -80,8 +95,11 @@ static int l_sleep(lua_State *L)
     if (!(ms > 0)) {
         return script_block(L, SCRIPT_WAIT_NONE, 0);
     }
-    uint64_t us = (uint64_t)ceil(ms * 1000.0);
-    return script_block(L, SCRIPT_WAIT_SLEEP, hal_clock_now_us() + us);
+    uint64_t now = hal_clock_now_us();
+    lua_Number us = ceil(ms * 1000.0);
+    /* beyond the clock's range (sleep(math.huge)): for ever */
+    uint64_t wake = us < (lua_Number)(UINT64_MAX - now) ? now + (uint64_t)us : UINT64_MAX;
+    return script_block(L, SCRIPT_WAIT_SLEEP, wake);
 }
 
 static int l_position(lua_State *L)
@@ -97,7 +115,7 @@ static int l_speed(lua_State *L)
         lua_pushnumber(L, snapshot(L)->velocity_mm_s);
         return 1;
     }
-    float v = (float)luaL_checknumber(L, 1);
+    float v = script_check_float(L, 1);
     (void)snapshot(L);
     return push_status(L, wsg_op_velocity(device(L), v));
 }
@@ -119,7 +137,7 @@ static int l_force(lua_State *L)
         return 2;
     }
     const wsg_config_t *cfg = snap->config;
-    float f = (float)luaL_checknumber(L, 1);
+    float f = script_check_float(L, 1);
     if (isnan(f)) {
         return push_status(L, E_INVALID_PARAMETER);
     }
@@ -153,8 +171,8 @@ static int l_stop(lua_State *L)
 /* mc.move(width, speed[, flags]): binary 0x21's rules, returns at once. */
 static int l_move(lua_State *L)
 {
-    float width = (float)luaL_checknumber(L, 1);
-    float speed = (float)luaL_checknumber(L, 2);
+    float width = script_check_float(L, 1);
+    float speed = script_check_float(L, 2);
     lua_Integer flags = luaL_optinteger(L, 3, 0);
     const wsg_snapshot_t *snap = snapshot(L);
     const wsg_config_t *cfg = snap->config;
@@ -200,7 +218,7 @@ static int l_acceleration(lua_State *L)
         lua_pushnumber(L, cfg->default_accel_mm_s2);
         return 1;
     }
-    float a = (float)luaL_checknumber(L, 1);
+    float a = script_check_float(L, 1);
     if (isnan(a)) {
         return push_status(L, E_INVALID_PARAMETER);
     }
@@ -353,18 +371,18 @@ static int l_finger_spi(lua_State *L)
 /* grasping.grasp(width, speed[, force]): a grip like GCL GRIP(width, speed). */
 static int l_grasp(lua_State *L)
 {
-    float width = (float)luaL_checknumber(L, 1);
-    float speed = (float)luaL_checknumber(L, 2);
+    float width = script_check_float(L, 1);
+    float speed = script_check_float(L, 2);
     const wsg_config_t *cfg = snapshot(L)->config;
-    float force = lua_isnumber(L, 3) ? (float)lua_tonumber(L, 3) : cfg->default_force_n;
+    float force = lua_isnumber(L, 3) ? script_check_float(L, 3) : cfg->default_force_n;
     wsg_grip_args_t args = {force, true, width, speed, cfg->default_pwt_mm, cfg->default_clt_mm};
     return push_status(L, wsg_op_grip(device(L), NULL, &args));
 }
 
 static int l_grasping_move(lua_State *L)
 {
-    float width = (float)luaL_checknumber(L, 1);
-    float speed = (float)luaL_checknumber(L, 2);
+    float width = script_check_float(L, 1);
+    float speed = script_check_float(L, 2);
     (void)snapshot(L);
     wsg_move_args_t args = {width, speed, false, false};
     return push_status(L, wsg_op_move(device(L), NULL, &args));

@@ -189,7 +189,7 @@ static int l_etob(lua_State *L)
 /* ntob(x): binary32 little-endian in a table of four bytes; raises for nil. */
 static int l_ntob(lua_State *L)
 {
-    float value = (float)luaL_checknumber(L, 1);
+    float value = script_check_float(L, 1);
     uint32_t bits;
     memcpy(&bits, &value, sizeof(bits));
     lua_createtable(L, 4, 0);

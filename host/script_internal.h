@@ -82,6 +82,8 @@ bool script_resolve(const script_t *s, const char *name, bool allow_host, char *
 char *script_read_file(const char *path, size_t *len, char *why, size_t why_cap);
 
 /* script_bind.c: globals, mc, gripper, finger, grasping, socket */
+/* Argument arg as a float; beyond the float range an infinity. */
+float script_check_float(lua_State *L, int arg);
 void script_open_device(lua_State *L);
 /* script_cmd.c: cmd, etob, ntob, bton */
 void script_open_cmd(lua_State *L);

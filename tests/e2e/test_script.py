@@ -285,6 +285,34 @@ class Channel(ScriptCase):
         self.assertFalse(self.script_state()["running"])
 
 
+EXTREMES = """
+cmd.register(0xB7)
+cmd.read()
+local fraction = pcall(cmd.send, 0xB7, 1.5)
+local too_big = pcall(cmd.send, 0xB7, 256)
+local no_number = pcall(ntob)
+local builtin = pcall(cmd.register, 0x21)
+cmd.send(0xB7, ntob(1e300), ntob(-1e300), fraction, too_big, no_number, builtin,
+         etob(mc.move(1e300, 1e300)), etob(mc.speed(-1e300)))
+sleep(math.huge)
+"""
+
+
+class Bindings(ScriptCase):
+    def test_bad_arguments_raise_and_extreme_numbers_are_clamped(self):
+        self.start(store=self.store(extremes_lua=EXTREMES))
+        self.ctl('SCRIPT_RUN("extremes.lua")')
+        client = self.binary()
+        frame = self.reply(client, 0xB7, b"")
+        # +inf, -inf, four refused calls; mc.move(inf) is E_INVALID_PARAMETER as 0x21 with
+        # an infinite width is; mc.speed(-inf) is clamped and meets the unhomed device
+        self.assertEqual(frame.raw[6:-2], bytes.fromhex("0000807f 000080ff 00000000 1800 0300"))
+        self.ctl.step(1000)  # sleep(math.huge) never ends, the device serves on
+        state = self.script_state()
+        self.assertTrue(state["running"])
+        self.assertEqual(self.flags(client) & SF_SCRIPT_FAILURE, 0)
+
+
 class LifeCycle(ScriptCase):
     def test_a_syntax_error_starts_the_device_with_the_failure_flag(self):
         store = self.store(bad_lua="cmd.register(0xB0)\nlocal x = = 1\n")
