@@ -476,6 +476,7 @@ static void apply_host(host_options_t *opts)
     }
     if (v[NET_UDP_PORT].set) {
         opts->udp_port = (int)v[NET_UDP_PORT].number;
+        opts->udp_port_given = true;
     }
     if (v[NET_BIND].set) {
         opts->bind_addr = v[NET_BIND].text;
@@ -621,6 +622,9 @@ bool config_file_device_port(unsigned index, bool udp, int *port)
 {
     const device_section_t *d = find_section(index);
     const value_t *v = d != NULL ? &d->values[udp ? SEC_UDP_PORT : SEC_TCP_PORT] : NULL;
+    if (v != NULL && udp && !v->set) {
+        v = &d->values[SEC_TCP_PORT]; /* the UDP port follows the TCP port */
+    }
     if (v == NULL || !v->set) {
         return false;
     }

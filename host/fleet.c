@@ -1,8 +1,10 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 #include "fleet.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <sys/resource.h>
 
 #include "config_file.h"
@@ -84,16 +86,20 @@ static bool start_bin_udp(fleet_device_t *d, const host_options_t *opts, unsigne
         return false;
     }
     udp_protocol_t binary = udp_protocol_binary(reply_port);
+    binary.optional = !opts->binary_udp_port_given; /* the default: skipped when taken */
     if (udp_server_start(&d->bin_udp, &d->gripper, &binary, opts->bind_addr, port,
                          opts->udp_peer_timeout_s)) {
         return true;
     }
+    int err = errno;
     udp_server_stop(&d->bin_udp);
-    if (!opts->binary_udp_port_given) {
-        host_logf(HAL_LOG_WARN, "binary udp port %d taken: device %u speaks binary on TCP only",
-                  port, i);
+    if (binary.optional) {
+        host_logf(HAL_LOG_WARN,
+                  "binary udp port %d cannot be had (%s): device %u speaks binary "
+                  "on TCP only",
+                  port, strerror(err), i);
     }
-    return !opts->binary_udp_port_given;
+    return binary.optional;
 }
 
 /* With N devices the binary ports (P .. P+N-1) and reply ports (R ..

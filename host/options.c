@@ -29,7 +29,8 @@ static void print_help(void)
     printf("Usage: wsgsim [OPTION]...\n"
            "A virtual Weiss Robotics WSG gripper serving GCL on TCP and UDP.\n\n"
            "  --tcp-port N               TCP port (default %d)\n"
-           "  --udp-port N               UDP port (default %d)\n"
+           "  --udp-port N               UDP port (default: the TCP port, %d unless\n"
+           "                             --tcp-port moves it)\n"
            "  --no-tcp                   do not serve TCP\n"
            "  --no-udp                   do not serve UDP\n"
            "  --bind ADDR                listen address: IPv4, IPv6 or a host name such as\n"
@@ -460,6 +461,7 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
         return parse_int(arg, 0, 65535, &opts->tcp_port) ? OPTIONS_RUN
                                                          : usage_error("--tcp-port", arg);
     case OPT_UDP_PORT:
+        opts->udp_port_given = true;
         return parse_int(arg, 0, 65535, &opts->udp_port) ? OPTIONS_RUN
                                                          : usage_error("--udp-port", arg);
     case OPT_NO_TCP:
@@ -604,6 +606,9 @@ options_result_t options_parse(int argc, char **argv, host_options_t *opts)
     }
     if (optind < argc) {
         return usage_error("argument", argv[optind]);
+    }
+    if (!opts->udp_port_given) { /* the device serves both on one port */
+        opts->udp_port = opts->tcp_port;
     }
     return check_combinations(opts);
 }

@@ -15,6 +15,7 @@ typedef enum { HOST_PROTOCOL_AUTO, HOST_PROTOCOL_GCL, HOST_PROTOCOL_BINARY } hos
 typedef struct {
     int tcp_port;
     int udp_port;
+    bool udp_port_given; /* --udp-port or udp_port set: else it follows tcp_port */
     bool tcp_enabled;
     bool udp_enabled;
     const char *bind_addr;

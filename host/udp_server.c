@@ -58,12 +58,12 @@ static void set_active(udp_server_t *s)
 
 udp_protocol_t udp_protocol_gcl(void)
 {
-    return (udp_protocol_t){&wsg_gcl_driver, "udp", GCL_PEERS_MAX, 0};
+    return (udp_protocol_t){&wsg_gcl_driver, "udp", GCL_PEERS_MAX, 0, false};
 }
 
 udp_protocol_t udp_protocol_binary(int reply_port)
 {
-    return (udp_protocol_t){&wsg_bin_driver, "binary udp", BINARY_PEERS_MAX, reply_port};
+    return (udp_protocol_t){&wsg_bin_driver, "binary udp", BINARY_PEERS_MAX, reply_port, false};
 }
 
 static void write_message(void *ctx, const char *bytes, size_t len, wsg_msg_kind_t kind)
@@ -198,7 +198,8 @@ bool udp_server_start(udp_server_t *s, gripper_t *g, const udp_protocol_t *proto
     s->proto = *proto;
     wsg_peer_rules_t rules = WSG_PEER_RULES_DEFAULT(proto->max_peers, peer_timeout_s);
     wsg_peers_init(&s->peers, &rules, &peer_port, s, NULL, 0);
-    s->fd = net_listen(SOCK_DGRAM, addr, port);
+    s->fd = proto->optional ? net_listen_optional(SOCK_DGRAM, addr, port)
+                            : net_listen(SOCK_DGRAM, addr, port);
     return s->fd >= 0 && loop_watch(s->fd, POLLIN, on_datagram, s);
 }
 

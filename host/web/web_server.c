@@ -2,6 +2,7 @@
 #include "web/web_server.h"
 
 #include <arpa/inet.h>
+#include <errno.h>
 #include <netinet/in.h>
 #include <poll.h>
 #include <stdio.h>
@@ -228,12 +229,13 @@ static void log_mhd(void *cls, const char *fmt, va_list ap)
 
 static bool open_daemon(void)
 {
-    web.daemon = MHD_start_daemon(MHD_USE_EPOLL | MHD_ALLOW_SUSPEND_RESUME | MHD_USE_ERROR_LOG, 0,
-                                  NULL, NULL, handle, NULL, MHD_OPTION_LISTEN_SOCKET, web.listen_fd,
-                                  MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)CONNECTION_TIMEOUT_S,
-                                  MHD_OPTION_CONNECTION_LIMIT, (unsigned)CONNECTIONS_MAX,
-                                  MHD_OPTION_NOTIFY_COMPLETED, request_completed, NULL,
-                                  MHD_OPTION_EXTERNAL_LOGGER, log_mhd, NULL, MHD_OPTION_END);
+    /* the logger first: MHD logs (and complains) while reading the options */
+    web.daemon = MHD_start_daemon(
+        MHD_USE_EPOLL | MHD_ALLOW_SUSPEND_RESUME | MHD_USE_ERROR_LOG, 0, NULL, NULL, handle, NULL,
+        MHD_OPTION_EXTERNAL_LOGGER, log_mhd, NULL, MHD_OPTION_LISTEN_SOCKET, web.listen_fd,
+        MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)CONNECTION_TIMEOUT_S, MHD_OPTION_CONNECTION_LIMIT,
+        (unsigned)CONNECTIONS_MAX, MHD_OPTION_NOTIFY_COMPLETED, request_completed, NULL,
+        MHD_OPTION_END);
     if (web.daemon == NULL) {
         return false;
     }
@@ -261,12 +263,14 @@ bool web_server_start(const host_options_t *opts)
         return true;
     }
     const char *bind = opts->http_bind != NULL ? opts->http_bind : opts->bind_addr;
-    web.listen_fd = net_listen(SOCK_STREAM, bind, opts->http_port);
+    /* the default port is skipped when taken: a warning, not an error line */
+    bool asked = opts->http_port_given || opts->http_bind != NULL;
+    web.listen_fd = asked ? net_listen(SOCK_STREAM, bind, opts->http_port)
+                          : net_listen_optional(SOCK_STREAM, bind, opts->http_port);
     if (web.listen_fd < 0) {
-        bool asked = opts->http_port_given || opts->http_bind != NULL;
         if (!asked) {
-            host_logf(HAL_LOG_WARN, "http port %d cannot be had: no web interface",
-                      opts->http_port);
+            host_logf(HAL_LOG_WARN, "http port %d cannot be had (%s): no web interface",
+                      opts->http_port, strerror(errno));
         }
         return !asked;
     }
