@@ -35,6 +35,7 @@ typedef enum {
     K_LOOPBACK,    /* a loopback address only */
     K_PROTOCOL,    /* auto, gcl or binary */
     K_HOSTS,       /* host names, comma-separated (web_host_names_valid) */
+    K_PATH,        /* a file or directory name: printable, not empty */
 } kind_t;
 
 typedef enum {
@@ -70,6 +71,9 @@ typedef enum {
     NET_HTTP_BIND,
     NET_HTTP_ALLOW_HOST,
     NET_HTTP_REQUEST_TIMEOUT,
+    SCRIPT_STARTUP,
+    SCRIPT_DIR,
+    SCRIPT_AUTOSTART,
     KEY_COUNT
 } key_id_t;
 
@@ -110,6 +114,9 @@ static const struct {
     [NET_HTTP_BIND] = {"network", "http_bind", K_ADDR},
     [NET_HTTP_ALLOW_HOST] = {"network", "http_allow_host", K_HOSTS},
     [NET_HTTP_REQUEST_TIMEOUT] = {"network", "http_request_timeout", K_SECONDS},
+    [SCRIPT_STARTUP] = {"script", "startup", K_PATH},
+    [SCRIPT_DIR] = {"script", "dir", K_PATH},
+    [SCRIPT_AUTOSTART] = {"script", "autostart", K_BOOL},
 };
 
 typedef struct {
@@ -127,6 +134,7 @@ typedef enum {
     SEC_TAG,
     SEC_TCP_PORT,
     SEC_UDP_PORT,
+    SEC_SCRIPT,
     SEC_KEY_COUNT
 } sec_key_t;
 
@@ -136,7 +144,7 @@ static const struct {
 } sec_keys[SEC_KEY_COUNT] = {
     [SEC_MODEL] = {"model", K_MODEL},      [SEC_SERIAL] = {"serial", K_SERIAL},
     [SEC_TAG] = {"tag", K_TEXT},           [SEC_TCP_PORT] = {"tcp_port", K_PORT},
-    [SEC_UDP_PORT] = {"udp_port", K_PORT},
+    [SEC_UDP_PORT] = {"udp_port", K_PORT}, [SEC_SCRIPT] = {"script", K_PATH},
 };
 
 #define DEVICE_SECTION "device."
@@ -212,6 +220,16 @@ static bool is_address(const char *addr)
     return inet_pton(AF_INET, addr, buf) == 1 || inet_pton(AF_INET6, addr, buf) == 1;
 }
 
+static bool text_ok_long(const char *text)
+{
+    for (const char *p = text; *p != '\0'; p++) {
+        if (*p < 0x20 || *p > 0x7e) {
+            return false;
+        }
+    }
+    return true;
+}
+
 /* The device's own rule for its texts (wsg_config_text_char_ok). */
 static bool text_ok(const char *text)
 {
@@ -273,6 +291,10 @@ static const char *convert(kind_t kind, const char *text, value_t *v)
         return strlen(text) < sizeof(v->text) && web_host_names_valid(text)
                    ? NULL
                    : "expected host names separated by commas (or *), at most 127 characters";
+    case K_PATH:
+        return text[0] != '\0' && strlen(text) < sizeof(v->text) - 1u && text_ok_long(text)
+                   ? NULL
+                   : "expected a path of printable characters";
     case K_LOOPBACK:
         return is_loopback(text) ? NULL
                                  : "the control port may only be bound to a loopback address "
@@ -351,7 +373,7 @@ static int on_device_key(parse_state_t *st, const char *section, const char *nam
     return fail_at(st->line, section, name,
                    d == NULL ? "out of memory"
                              : "unknown key in a device section (model, serial, tag, tcp_port, "
-                               "udp_port)");
+                               "udp_port, script)");
 }
 
 static int on_key(void *user, const char *section, const char *name, const char *value)
@@ -444,6 +466,21 @@ static void apply_binary(host_options_t *opts)
     }
 }
 
+/* [script]: the startup script and the store (docs/scripting.md). */
+static void apply_script(host_options_t *opts)
+{
+    const value_t *v = loaded.values;
+    if (v[SCRIPT_STARTUP].set) {
+        opts->script = v[SCRIPT_STARTUP].text;
+    }
+    if (v[SCRIPT_DIR].set) {
+        opts->script_dir = v[SCRIPT_DIR].text;
+    }
+    if (v[SCRIPT_AUTOSTART].set) {
+        opts->script_autostart = v[SCRIPT_AUTOSTART].number != 0.0;
+    }
+}
+
 static void apply_host(host_options_t *opts)
 {
     const value_t *v = loaded.values;
@@ -479,6 +516,7 @@ static void apply_host(host_options_t *opts)
         opts->sim_bind = v[NET_SIM_BIND].text;
     }
     apply_binary(opts);
+    apply_script(opts);
 }
 
 static void config_file_forget(void)
@@ -588,6 +626,12 @@ const char *config_file_device_model(unsigned index, const char *fallback)
 {
     const device_section_t *d = find_section(index);
     return d != NULL && d->values[SEC_MODEL].set ? d->values[SEC_MODEL].text : fallback;
+}
+
+const char *config_file_device_script(unsigned index, const char *fallback)
+{
+    const device_section_t *d = find_section(index);
+    return d != NULL && d->values[SEC_SCRIPT].set ? d->values[SEC_SCRIPT].text : fallback;
 }
 
 bool config_file_device_port(unsigned index, bool udp, int *port)

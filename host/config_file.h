@@ -26,6 +26,8 @@ void config_file_apply(wsg_config_t *cfg);
 unsigned config_file_devices(void);
 const char *config_file_device_model(unsigned index, const char *fallback);
 bool config_file_device_port(unsigned index, bool udp, int *port);
+/* [device.N] script: device index's startup script (or fallback). */
+const char *config_file_device_script(unsigned index, const char *fallback);
 void config_file_apply_device(unsigned index, wsg_config_t *cfg);
 /* Saves the device's settings in force to the file at path (the web page's
  * Save): the [motion] keys, [network] disconnect_faststop and binary_crc,

@@ -10,6 +10,7 @@
 #include "config_file.h"
 #include "hal_clock.h"
 #include "log.h"
+#include "loop.h"
 #include "net.h"
 #include "tcp_server.h"
 #include "udp_server.h"
@@ -34,6 +35,7 @@ static struct {
     unsigned *slot;   /* device i's place in heap */
     unsigned *ready;  /* the devices due in this pass */
     unsigned count;
+    bool scripting; /* a device may run a script: fleet_run_scripts() looks */
     const host_options_t *opts;
 } fleet;
 
@@ -123,6 +125,7 @@ static bool start_device(fleet_device_t *d, const host_options_t *opts, unsigned
     d->udp.fd = -1;
     d->bin_udp.fd = -1;
     gripper_init(&d->gripper, opts, i);
+    fleet.scripting = fleet.scripting || d->gripper.script != NULL;
     if (!device_port("TCP", opts->tcp_port, i, &tcp_port) ||
         !device_port("UDP", opts->udp_port, i, &udp_port)) {
         return false;
@@ -326,12 +329,32 @@ void fleet_ready_line(const char *extra, char *line, size_t cap)
              fleet.devices[0].gripper.opts.model, tcp, udp, binary, extra, devices);
 }
 
+void fleet_note_scripting(void)
+{
+    fleet.scripting = true;
+}
+
+void fleet_run_scripts(void)
+{
+    if (!fleet.scripting) {
+        return;
+    }
+    bool runnable = false;
+    for (unsigned i = 0; i < fleet.count; i++) {
+        runnable = gripper_continue_script(&fleet.devices[i].gripper) || runnable;
+    }
+    if (runnable) {
+        loop_wake_at_wall(loop_monotonic_ns()); /* poll, do not block */
+    }
+}
+
 void fleet_stop(void)
 {
     for (unsigned i = 0; i < fleet.count; i++) {
         tcp_server_stop(&fleet.devices[i].tcp);
         udp_server_stop(&fleet.devices[i].udp);
         udp_server_stop(&fleet.devices[i].bin_udp);
+        gripper_release(&fleet.devices[i].gripper);
     }
     while (gripper_take_touched() != NULL) {
     }

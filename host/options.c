@@ -9,6 +9,7 @@
 
 #include "config_file.h"
 #include "log.h"
+#include "script_options.h"
 #include "sim/finger_node.h"
 #include "sim/sim_models.h"
 #include "version.h"
@@ -101,6 +102,11 @@ static void print_help(void)
            "  --ready-file FILE          once serving, write pid and ports to FILE\n"
            "                             (removed at exit); under systemd, wsgsim also\n"
            "                             reports READY=1 (Type=notify)\n"
+           "  --script FILE              run the Lua script FILE (a path, or /user/NAME in\n"
+           "                             the store) at power-on and after RESET()\n"
+           "  --script-dir DIR           the script store, the device's /user/ (default:\n"
+           "                             the --script file's directory)\n"
+           "  --no-script-autostart      keep --script selected but do not run it\n"
            "  -V, --version              print the version and exit\n"
            "  -h, --help                 print this help and exit\n",
            DEFAULT_PORT, DEFAULT_PORT, HOST_DEVICES_MAX, wsg_sim_model_default()->name,
@@ -224,6 +230,9 @@ enum {
     OPT_LOG_TIMESTAMPS,
     OPT_LOG_FILE,
     OPT_READY_FILE,
+    OPT_SCRIPT,
+    OPT_SCRIPT_DIR,
+    OPT_NO_SCRIPT_AUTOSTART,
     OPT_VERSION = 'V',
     OPT_HELP = 'h',
 };
@@ -269,6 +278,9 @@ static const struct option long_options[] = {
     {"log-timestamps", no_argument, NULL, OPT_LOG_TIMESTAMPS},
     {"log-file", required_argument, NULL, OPT_LOG_FILE},
     {"ready-file", required_argument, NULL, OPT_READY_FILE},
+    {"script", required_argument, NULL, OPT_SCRIPT},
+    {"script-dir", required_argument, NULL, OPT_SCRIPT_DIR},
+    {"no-script-autostart", no_argument, NULL, OPT_NO_SCRIPT_AUTOSTART},
     {"version", no_argument, NULL, OPT_VERSION},
     {"help", no_argument, NULL, OPT_HELP},
     {NULL, 0, NULL, 0},
@@ -303,6 +315,7 @@ static void set_defaults(host_options_t *opts)
     opts->binary_crc = true;
     opts->http_port = DEFAULT_HTTP_PORT;
     opts->http_request_timeout_s = DEFAULT_HTTP_REQUEST_TIMEOUT_S;
+    opts->script_autostart = true;
 }
 
 bool options_parse_protocol(const char *text, host_protocol_t *out)
@@ -561,6 +574,15 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
     case OPT_LIST_MODELS:
     case OPT_JSON:
         return apply_service_option(opt, arg, opts);
+    case OPT_SCRIPT:
+        opts->script = arg;
+        return OPTIONS_RUN;
+    case OPT_SCRIPT_DIR:
+        opts->script_dir = arg;
+        return OPTIONS_RUN;
+    case OPT_NO_SCRIPT_AUTOSTART:
+        opts->script_autostart = false;
+        return OPTIONS_RUN;
     case OPT_VERSION:
         printf("wsgsim %s (GCL firmware 4.0)\n", WSGSIM_VERSION);
         return OPTIONS_EXIT_OK;
@@ -598,6 +620,9 @@ static options_result_t check_combinations(const host_options_t *opts)
         return OPTIONS_EXIT_USAGE;
     }
     if (opts->config_path != NULL && !config_file_check(opts->model)) {
+        return OPTIONS_EXIT_USAGE;
+    }
+    if (!script_options_check(opts)) {
         return OPTIONS_EXIT_USAGE;
     }
     return OPTIONS_RUN;

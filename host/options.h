@@ -64,6 +64,10 @@ typedef struct {
     const char *log_file;      /* --log-file: NULL: stderr */
     const char *ready_file;    /* --ready-file: written once serving */
     const char *can_log;       /* --can-log: candump -L file of the in-process bus */
+    /* user scripts (docs/scripting.md) */
+    const char *script;     /* --script: the startup script, a host path or /user/NAME */
+    const char *script_dir; /* --script-dir: the /user/ store; NULL: none */
+    bool script_autostart;  /* false: --no-script-autostart */
 } host_options_t;
 
 typedef enum { OPTIONS_RUN, OPTIONS_EXIT_OK, OPTIONS_EXIT_USAGE } options_result_t;

@@ -6,6 +6,7 @@
 
 #include "gripper.h"
 #include "hal_clock.h"
+#include "script_json.h"
 #include "sim/clock.h"
 #include "sim/delay.h"
 #include "sim/faults.h"
@@ -299,6 +300,7 @@ char *state_json(gripper_t *g, bool pretty)
     cJSON_AddItemToObject(root, "fingers", fingers_json(snap));
     cJSON_AddItemToObject(root, "faults", state_json_faults(g));
     cJSON_AddItemToObject(root, "sessions", sessions_json(dev, true));
+    cJSON_AddItemToObject(root, "script", script_json(g));
     char *text = pretty ? cJSON_Print(root) : cJSON_PrintUnformatted(root);
     cJSON_Delete(root);
     return text;

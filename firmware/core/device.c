@@ -10,6 +10,8 @@ static void power_on(wsg_dev_t *dev, const wsg_config_t *cfg)
 {
     memset(&dev->motion, 0, sizeof(dev->motion));
     memset(&dev->grip, 0, sizeof(dev->grip));
+    memset(&dev->velocity, 0, sizeof(dev->velocity));
+    memset(&dev->script, 0, sizeof(dev->script)); /* a power cycle ends the script */
     memset(&dev->injected_failure, 0, sizeof(dev->injected_failure));
     dev->cfg = *cfg;
     dev->grip.state = GS_IDLE;
@@ -83,7 +85,8 @@ void wsg_device_step(wsg_device_t *device)
  * Here, beside its one caller, so that it is inlined into it. */
 static uint32_t motion_tick_us(const wsg_dev_t *dev)
 {
-    if (dev->motion.kind != WSG_MOTION_NONE || wsg_flags_get(dev, SF_MOVING)) {
+    if (dev->motion.kind != WSG_MOTION_NONE || dev->velocity.active ||
+        wsg_flags_get(dev, SF_MOVING)) {
         return MOTION_TICK_US;
     }
     if (dev->grip.state == GS_HOLDING ||

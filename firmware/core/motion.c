@@ -118,6 +118,7 @@ bool wsg_motion_supersede_move(wsg_dev_t *dev)
 void wsg_motion_begin(wsg_dev_t *dev, wsg_owner_t *owner, wsg_motion_kind_t kind)
 {
     dev_motion_t *m = &dev->motion;
+    dev->velocity.active = false; /* any motion takes the axis over */
     m->kind = kind;
     m->owner = owner;
     m->stop_on_block = false;
@@ -142,6 +143,7 @@ void wsg_motion_abort(wsg_dev_t *dev)
 
 void wsg_motion_fast_stop(wsg_dev_t *dev, const char *why)
 {
+    wsg_motion_velocity_end(dev);
     motion_disable(dev); /* manual 3.2.2: a held part is no longer clamped */
     wsg_flags_set(dev, SF_FAST_STOP, true);
     wsg_grip_set_state(dev, GS_ERROR);
@@ -315,10 +317,46 @@ static bool runs_into_soft_limit(const wsg_dev_t *dev)
            (x > cfg->soft_limit_plus_mm + SOFT_LIMIT_MARGIN_MM && v > 0.0f);
 }
 
+/* Velocity mode aims at a stroke end past the jaws' travel, so that they
+ * push on whatever stops them with the force limit, or at the soft limit,
+ * where they stop. Speed 0 holds where the jaws are. */
+void wsg_motion_velocity_drive(wsg_dev_t *dev)
+{
+    const wsg_config_t *cfg = &dev->cfg;
+    float v = dev->velocity.speed_mm_s;
+    float force = dev->cfg.default_force_n;
+    if (v == 0.0f) {
+        wsg_motion_drive(dev, dev->sensed.axis.position_mm, cfg->speed_min_mm_s, force);
+        return;
+    }
+    float target = v > 0.0f ? cfg->stroke_mm + VELOCITY_OVERTRAVEL_MM : -VELOCITY_OVERTRAVEL_MM;
+    if (cfg->soft_limits_enabled) {
+        target = v > 0.0f ? cfg->soft_limit_plus_mm : cfg->soft_limit_minus_mm;
+    }
+    wsg_motion_drive(dev, target, absf(v), force);
+}
+
+void wsg_motion_velocity_end(wsg_dev_t *dev)
+{
+    dev->velocity.active = false;
+}
+
+/* Velocity mode is not ended by a block: SF_BLOCKED_± show while the jaws
+ * push on something, and clear when they move away. */
+static void velocity_step(wsg_dev_t *dev)
+{
+    int8_t blocked = dev->sensed.axis.blocked;
+    wsg_flags_set(dev, SF_BLOCKED_MINUS, blocked < 0);
+    wsg_flags_set(dev, SF_BLOCKED_PLUS, blocked > 0);
+}
+
 void wsg_motion_step(wsg_dev_t *dev)
 {
     dev_motion_t *m = &dev->motion;
     if (m->kind == WSG_MOTION_NONE) {
+        if (dev->velocity.active) {
+            velocity_step(dev);
+        }
         return;
     }
     if (runs_into_soft_limit(dev)) {
@@ -375,7 +413,8 @@ void wsg_motion_block_watch_step(wsg_dev_t *dev)
 {
     dev_motion_t *m = &dev->motion;
     bool latched = wsg_flags_get(dev, SF_BLOCKED_MINUS) || wsg_flags_get(dev, SF_BLOCKED_PLUS);
-    if (!latched || m->kind != WSG_MOTION_NONE || dev->sensed.force_n >= CONTACT_FORCE_N) {
+    if (!latched || m->kind != WSG_MOTION_NONE || dev->velocity.active ||
+        dev->sensed.force_n >= CONTACT_FORCE_N) {
         m->block_clearing = false;
         return;
     }

@@ -138,6 +138,41 @@ wsg_status_t wsg_op_release(wsg_device_t *device, wsg_owner_t *owner,
     return E_SUCCESS;
 }
 
+wsg_status_t wsg_op_velocity(wsg_device_t *device, float speed_mm_s)
+{
+    wsg_dev_t *dev = dev_of(device);
+    const wsg_config_t *cfg = &dev->cfg;
+    if (speed_mm_s != speed_mm_s) {
+        return E_INVALID_PARAMETER; /* NaN */
+    }
+    wsg_status_t status = wsg_motion_check_allowed(dev, true);
+    if (status != E_SUCCESS) {
+        return status;
+    }
+    float v = speed_mm_s > cfg->speed_max_mm_s    ? cfg->speed_max_mm_s
+              : speed_mm_s < -cfg->speed_max_mm_s ? -cfg->speed_max_mm_s
+                                                  : speed_mm_s;
+    if (!dev->velocity.active) {
+        dev->grip.release_permitted = false;
+        wsg_grip_set_state(dev, GS_IDLE); /* no grip: nothing to monitor */
+        wsg_flags_set(dev, SF_AXIS_STOPPED, false);
+        wsg_flags_set(dev, SF_TARGET_POS_REACHED, false);
+    }
+    dev->velocity.active = true;
+    dev->velocity.speed_mm_s = v;
+    wsg_motion_velocity_drive(dev);
+    return E_SUCCESS;
+}
+
+bool wsg_device_velocity_mode(const wsg_device_t *device, float *speed_mm_s)
+{
+    const dev_velocity_t *v = &dev_of_const(device)->velocity;
+    if (speed_mm_s != NULL) {
+        *speed_mm_s = v->active ? v->speed_mm_s : 0.0f;
+    }
+    return v->active;
+}
+
 /* The outcome of a grip (HOLDING, NO PART, PART LOST): STOP leaves it. */
 static bool is_grip_result(wsg_grip_state_t state)
 {
@@ -151,8 +186,9 @@ wsg_status_t wsg_op_stop(wsg_device_t *device)
     wsg_dev_t *dev = dev_of(device);
     bool running = dev->motion.kind != WSG_MOTION_NONE;
     /* a drive still leaning on a block (after ERR 29) lets go as well */
-    bool halt = running || wsg_flags_get(dev, SF_MOVING) || wsg_flags_get(dev, SF_BLOCKED_MINUS) ||
-                wsg_flags_get(dev, SF_BLOCKED_PLUS);
+    bool halt = running || wsg_flags_get(dev, SF_MOVING) || dev->velocity.active ||
+                wsg_flags_get(dev, SF_BLOCKED_MINUS) || wsg_flags_get(dev, SF_BLOCKED_PLUS);
+    wsg_motion_velocity_end(dev);
     if (halt) {
         wsg_motion_halt(dev, true);
     }
@@ -233,8 +269,14 @@ wsg_status_t wsg_op_set(wsg_device_t *device, wsg_setting_t which, float value)
         return wsg_config_accel_ok(cfg, value) ? (cfg->default_accel_mm_s2 = value, E_SUCCESS)
                                                : E_RANGE_ERROR;
     case WSG_SET_FORCE_LIMIT:
-        return wsg_config_force_ok(cfg, value) ? (cfg->default_force_n = value, E_SUCCESS)
-                                               : E_RANGE_ERROR;
+        if (!wsg_config_force_ok(cfg, value)) {
+            return E_RANGE_ERROR;
+        }
+        cfg->default_force_n = value;
+        if (dev_of(device)->velocity.active) {
+            wsg_motion_velocity_drive(dev_of(device)); /* the new limit applies at once */
+        }
+        return E_SUCCESS;
     case WSG_SET_DEFAULT_SPEED:
         return wsg_config_speed_ok(cfg, value) ? (cfg->default_speed_mm_s = value, E_SUCCESS)
                                                : E_RANGE_ERROR;

@@ -9,6 +9,7 @@
 #include "priv/timer.h"
 #include "wsg/wsg_conn.h"
 #include "wsg/wsg_device.h"
+#include "wsg/wsg_script.h"
 
 typedef struct {
     wsg_motion_kind_t kind; /* the long operation running, or WSG_MOTION_NONE */
@@ -61,6 +62,23 @@ typedef struct {
     bool referenced;     /* dev->referenced when read */
 } dev_sensed_t;
 
+/* Velocity mode (a script's mc.speed(v)): the jaws driven at a speed until
+ * something else takes the axis over; not an operation with an owner. */
+typedef struct {
+    bool active;
+    float speed_mm_s; /* signed, positive opens; 0 holds the position */
+} dev_velocity_t;
+
+/* A user script's custom command channel (wsg_script.h): the IDs it claimed
+ * (one bit each) and its request queue, a ring. */
+typedef struct {
+    uint32_t registered[8];
+    wsg_script_request_t queue[WSG_SCRIPT_QUEUE_DEPTH];
+    uint8_t head;
+    uint8_t count;
+    uint64_t last_host_id; /* the connection that sent the last binary frame */
+} dev_script_t;
+
 typedef struct {
     bool armed;
     char name[16]; /* a command name, upper case */
@@ -76,7 +94,9 @@ typedef struct wsg_dev {
     bool sense_reacted;  /* the last wsg_sense_and_react() raised FAST STOP */
     bool axis_commanded; /* the supervisor commanded the axis since the last sense */
     dev_motion_t motion;
+    dev_velocity_t velocity;
     dev_grip_t grip;
+    dev_script_t script;
     wsg_fingers_t fingers;
     finger_bus_t fbus;
     bool referenced;
@@ -160,5 +180,9 @@ void wsg_motion_apply_force_request(wsg_dev_t *dev);
 void wsg_grip_set_state(wsg_dev_t *dev, wsg_grip_state_t state);
 void wsg_grip_monitor_step(wsg_dev_t *dev);
 void wsg_motion_block_watch_step(wsg_dev_t *dev);
+/* Velocity mode: (re)commands the axis from dev->velocity and the force
+ * limit; ends it (the axis is left to whatever ends it). */
+void wsg_motion_velocity_drive(wsg_dev_t *dev);
+void wsg_motion_velocity_end(wsg_dev_t *dev);
 
 #endif

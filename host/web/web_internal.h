@@ -69,6 +69,10 @@ void web_ops_forget(void);
 enum MHD_Result web_sim_route(const web_request_t *req, gripper_t *g, const char *what);
 /* web_events.c: GET /api/devices/{id}/events */
 enum MHD_Result web_events_route(const web_request_t *req, gripper_t *g);
+/* web_script.c: /api/devices/{id}/script[/run|/stop|/console] and
+ * /api/devices/{id}/files[/NAME] (rest: what follows "script" / "files") */
+enum MHD_Result web_script_route(const web_request_t *req, gripper_t *g, const char *rest);
+enum MHD_Result web_files_route(const web_request_t *req, gripper_t *g, const char *rest);
 /* web_static.c: GET /, /devices/{id}, /static/NAME; false: not a page path */
 bool web_static_route(const web_request_t *req, enum MHD_Result *result);
 

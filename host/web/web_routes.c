@@ -87,6 +87,12 @@ static enum MHD_Result device_route(const web_request_t *req, gripper_t *g, cons
     if (strncmp(rest, "settings", 8) == 0 && (rest[8] == '\0' || rest[8] == '/')) {
         return web_settings_route(req, g, rest + 8);
     }
+    if (strncmp(rest, "script", 6) == 0 && (rest[6] == '\0' || rest[6] == '/')) {
+        return web_script_route(req, g, rest + 6);
+    }
+    if (strncmp(rest, "files", 5) == 0 && (rest[5] == '\0' || rest[5] == '/')) {
+        return web_files_route(req, g, rest + 5);
+    }
     if (strncmp(rest, "ops/", 4) == 0 && rest[4] != '\0') {
         return post_only(req, g, rest + 4, web_ops_route);
     }

@@ -104,6 +104,16 @@ wsg_status_t wsg_op_home(wsg_device_t *dev, wsg_owner_t *owner, const wsg_home_a
 wsg_status_t wsg_op_move(wsg_device_t *dev, wsg_owner_t *owner, const wsg_move_args_t *args);
 wsg_status_t wsg_op_grip(wsg_device_t *dev, wsg_owner_t *owner, const wsg_grip_args_t *args);
 wsg_status_t wsg_op_release(wsg_device_t *dev, wsg_owner_t *owner, const wsg_release_args_t *args);
+/* Velocity mode (a script's mc.speed(v), docs/scripting.md): drives the jaws
+ * at v mm/s, positive opening, |v| clamped to the model's maximum, 0 holding
+ * the position, with the force limit setting (a new limit applies at once),
+ * pushing on whatever stops them (SF_BLOCKED_± while they push) or stopping
+ * at a soft limit. It lasts until STOP, FAST STOP, any motion or a new
+ * velocity. E_NOT_INITIALIZED, E_ACCESS_DENIED (FAST STOP),
+ * E_ALREADY_RUNNING (an operation runs), E_INVALID_PARAMETER (NaN). */
+wsg_status_t wsg_op_velocity(wsg_device_t *dev, float speed_mm_s);
+/* True in velocity mode; *speed_mm_s (may be NULL) its commanded speed. */
+bool wsg_device_velocity_mode(const wsg_device_t *dev, float *speed_mm_s);
 /* Manual 3.2.1: ends a movement (its owner hears E_CMD_ABORTED); a grip
  * result (HOLDING, NO PART, PART LOST) stays. */
 wsg_status_t wsg_op_stop(wsg_device_t *dev);
