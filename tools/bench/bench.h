@@ -124,10 +124,14 @@ typedef struct {
 void scale_run(const server_t *srv, double seconds, scale_result_t *r);
 
 /* instr.c: instructions the server executes per POS? (callgrind);
- * index 0: wsgsim, 1: echo baseline; 0: not measured. */
+ * index 0: wsgsim (clock paused), 1: echo baseline; 0: not measured.
+ * sequential_running: wsgsim with its clock running, less the timer work
+ * of the run's wall time (running_idle_per_s instructions per second). */
 typedef struct {
     double sequential[2];
     double pipelined[2];
+    double sequential_running;
+    double running_idle_per_s;
 } instr_result_t;
 void instr_run(const char *wsgsim, const char *self_exe, const char *out_dir, int seq_n, int pipe_n,
                instr_result_t *r);
