@@ -272,9 +272,20 @@ static void run_rtt_tcp(server_t *srv[2], const config_t *cfg, results_t *res)
     }
 }
 
+/* wsgsim serves a UDP peer at most 1000 datagrams per second
+ * (docs/behaviour.md) and drops the rest: the round trips keep below that
+ * rate, with the same pacing for both servers, so a lost reply means lost. */
+#define UDP_PACE_US 1100.0
+
 static void rtt_block_udp(int fd, int n, samples_t *out, long *lost)
 {
+    double next_us = now_us();
     for (int i = 0; i < n; i++) {
+        double wait_us = next_us - now_us();
+        if (wait_us > 0) {
+            usleep((useconds_t)wait_us);
+        }
+        next_us += UDP_PACE_US;
         double us;
         if (!rtt_udp(fd, "POS?", &us)) {
             (*lost)++;
@@ -286,7 +297,8 @@ static void rtt_block_udp(int fd, int n, samples_t *out, long *lost)
 
 static void run_rtt_udp(server_t *srv[2], const config_t *cfg, results_t *res)
 {
-    fprintf(stderr, "wsgbench: UDP round trips (N=%d each)\n", cfg->rtt_n);
+    fprintf(stderr, "wsgbench: UDP round trips (N=%d each, one per %.1f ms)\n", cfg->rtt_n,
+            UDP_PACE_US / 1000.0);
     int fd[2];
     long warm_lost = 0;
     for (int k = 0; k < 2; k++) {
