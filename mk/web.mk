@@ -38,6 +38,14 @@ $(WEB_PEER_TEST): tests/web/test_peer.c $(BUILD)/obj/host/web/web_peer.o
 	$(CC) $(HOST_CFLAGS) $(shell pkg-config --cflags check) $(LDFLAGS_BASE) -o $@ $^ \
 		$(shell pkg-config --libs check)
 
-web-tests: $(BUILD)/wsgsim $(WEB_PEER_TEST)
+WEB_JSON_TEST := $(BUILD)/tests/web_json_test
+
+$(WEB_JSON_TEST): tests/web/test_json.c $(BUILD)/obj/host/web/web_json.o $(CORE_LIBS)
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) $(shell pkg-config --cflags check) $(LDFLAGS_BASE) -o $@ $^ \
+		$(shell pkg-config --libs check libcjson)
+
+web-tests: $(BUILD)/wsgsim $(WEB_PEER_TEST) $(WEB_JSON_TEST)
 	$(CHECK_ENV) $(WEB_PEER_TEST)
+	$(CHECK_ENV) $(WEB_JSON_TEST)
 	WSGSIM=$(abspath $(BUILD)/wsgsim) python3 tests/run_suite.py web tests/web

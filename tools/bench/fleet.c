@@ -49,8 +49,7 @@ static bool port_free(int type, int port)
     return ok;
 }
 
-/* A base port with `count` free TCP and UDP ports above it. */
-static int free_port_range(int count)
+int free_port_range(int count)
 {
     for (int base = PORT_FIRST; base + count <= PORT_LAST; base += count) {
         int i = 0;

@@ -77,8 +77,7 @@ static void send_pipelined(conn_t *c, const char *name, int count)
     }
 }
 
-/* The "summary:" (or "totals:") line of a callgrind output file: Ir. */
-static double total_instructions(const char *path)
+double callgrind_total(const char *path)
 {
     FILE *f = fopen(path, "r");
     if (f == NULL) {
@@ -135,7 +134,7 @@ static double counted_run(const counted_server_t *s, int sequential, int pipelin
         die("%s under callgrind did not exit on SIGTERM (see %s)", s->name, log_path);
     }
     close(c.fd);
-    return total_instructions(out_path);
+    return callgrind_total(out_path);
 }
 
 static void count_server(const counted_server_t *s, int seq_n, int pipe_n, double *per_seq,

@@ -4,7 +4,7 @@
  *                 [--only SECTION] [--pin same|cross|none] [--firmware-sizes FILE]
  *        wsgbench --serve-echo      (the echo baseline alone, for callgrind)
  * --wsgsim-arg appends ARG to every wsgsim command line (e.g. --fingers=none).
- * --only runs one section (instr, idle, subscribers, vtime, fleet, scale, rtt,
+ * --only runs one section (instr, web, idle, subscribers, vtime, fleet, scale, rtt,
  * load, autosend); the table then leaves out the others.
  * --firmware-sizes reads the Cortex-M image sizes `make bench` wrote. */
 #include <errno.h>
@@ -89,7 +89,7 @@ static void parse_args(int argc, char **argv, config_t *cfg)
             cfg->firmware_sizes = argv[++i];
         } else {
             die("usage: wsgbench [--wsgsim PATH] [--wsgsim-arg ARG]... [--out DIR] [--quick] "
-                "[--rtt N] [--only instr|idle|subscribers|vtime|fleet|scale|rtt|load|autosend] "
+                "[--rtt N] [--only instr|web|idle|subscribers|vtime|fleet|scale|rtt|load|autosend] "
                 "[--pin same|cross|none] [--firmware-sizes FILE]");
         }
     }
@@ -439,6 +439,9 @@ static void run_own_server_sections(const config_t *cfg, results_t *res)
         }
         self[n] = '\0';
         instr_run(cfg->wsgsim, self, cfg->out, cfg->instr_seq_n, cfg->instr_pipe_n, &res->instr);
+    }
+    if (wanted(cfg, "web")) {
+        web_run(cfg->wsgsim, cfg->out, cfg->instr_seq_n / 10, cfg->instr_seq_n / 20, &res->web);
     }
     if (wanted(cfg, "vtime")) {
         fprintf(stderr, "wsgbench: virtual time, %d HOME/MOVE/GRIP/RELEASE cycles\n", cfg->cycles);

@@ -158,6 +158,19 @@ static void add_instr(table_t *t, const results_t *res)
     target(r, "<= 800", r->wsg <= 800.0);
 }
 
+/* Issue 21: the web's JSON written straight into its buffer. */
+static void add_web(table_t *t, const results_t *res)
+{
+    if (res->web.per_state <= 0) {
+        return;
+    }
+    row_t *r =
+        add(t, "instructions per GET /api/devices/0/state", "instr", res->web.per_state, -1.0);
+    target(r, "<= 60000", r->wsg <= 60000.0);
+    r = add(t, "instructions per event-stream event", "instr", res->web.per_event, -1.0);
+    target(r, "<= 60000", r->wsg <= 60000.0);
+}
+
 static void add_subscribers(table_t *t, const results_t *res)
 {
     const subscribers_result_t *sub = &res->subscribers;
@@ -285,6 +298,7 @@ static void build(const results_t *res, table_t *t)
     t->n = 0;
     /* issue 11: work only for what is active */
     add_instr(t, res);
+    add_web(t, res);
     add_idle(t, res);
     add_subscribers(t, res);
     add_vtime(t, res);
