@@ -31,27 +31,14 @@ $(BUILD)/obj/gen/web_assets.o: $(WEB_ASSETS_C) host/web/web_assets.h
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_BASE) -Ihost -c $< -o $@
 
-WEB_PEER_TEST := $(BUILD)/tests/web_peer_test
-WEB_HOST_TEST := $(BUILD)/tests/web_host_test
-WEB_INTAKE_TEST := $(BUILD)/tests/web_intake_test
+# Check tests of single modules: tests/web/test_NAME.c against host/web/web_NAME.c.
+WEB_UNIT_TESTS := $(addprefix $(BUILD)/tests/web_,$(addsuffix _test,peer host intake json))
 
-$(WEB_PEER_TEST): tests/web/test_peer.c $(BUILD)/obj/host/web/web_peer.o
+$(BUILD)/tests/web_%_test: tests/web/test_%.c $(BUILD)/obj/host/web/web_%.o $(CORE_LIBS)
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) $(shell pkg-config --cflags check) $(LDFLAGS_BASE) -o $@ $^ \
-		$(shell pkg-config --libs check)
+		$(shell pkg-config --libs check libcjson)
 
-$(WEB_HOST_TEST): tests/web/test_host.c $(BUILD)/obj/host/web/web_host.o
-	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) $(shell pkg-config --cflags check) $(LDFLAGS_BASE) -o $@ $^ \
-		$(shell pkg-config --libs check)
-
-$(WEB_INTAKE_TEST): tests/web/test_intake.c $(BUILD)/obj/host/web/web_intake.o
-	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) $(shell pkg-config --cflags check) $(LDFLAGS_BASE) -o $@ $^ \
-		$(shell pkg-config --libs check)
-
-web-tests: $(BUILD)/wsgsim $(WEB_PEER_TEST) $(WEB_HOST_TEST) $(WEB_INTAKE_TEST)
-	$(CHECK_ENV) $(WEB_PEER_TEST)
-	$(CHECK_ENV) $(WEB_HOST_TEST)
-	$(CHECK_ENV) $(WEB_INTAKE_TEST)
+web-tests: $(BUILD)/wsgsim $(WEB_UNIT_TESTS)
+	for t in $(WEB_UNIT_TESTS); do $(CHECK_ENV) $$t || exit 1; done
 	WSGSIM=$(abspath $(BUILD)/wsgsim) python3 tests/run_suite.py web tests/web

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "fleet.h"
+#include "web/web_json.h"
 #include "web/web_lines.h"
 
 #define API_DEVICES "/api/devices"
@@ -54,7 +55,10 @@ static enum MHD_Result get_state(const web_request_t *req, gripper_t *g)
         return web_reply_wrong_method(req, MHD_HTTP_METHOD_GET);
     }
     web_lines_watch();
-    return web_reply_json(req, MHD_HTTP_OK, web_state_json(g));
+    web_json_t j;
+    web_json_init(&j);
+    web_state_write(&j, g);
+    return web_reply_json_text(req, MHD_HTTP_OK, web_json_take(&j, NULL));
 }
 
 static enum MHD_Result get_events(const web_request_t *req, gripper_t *g)
