@@ -70,7 +70,8 @@ class Install(unittest.TestCase):
     def test_default_prefix_is_usr_local(self):
         make("install", "DESTDIR=" + self.tmp)
         unit = open(os.path.join(self.tmp, "usr/local/lib/systemd/system/wsgsim.service")).read()
-        self.assertIn("ExecStart=/usr/local/bin/wsgsim $WSGSIM_OPTIONS", unit)
+        self.assertIn("ExecStart=/usr/local/bin/wsgsim --save-file %S/wsgsim/saved.ini "
+                      "$WSGSIM_OPTIONS", unit)
         self.assertTrue(os.access(os.path.join(self.tmp, "usr/local/bin/wsgsim"), os.X_OK))
 
     def test_units_pass_systemd_analyze_verify(self):
