@@ -46,6 +46,7 @@ man: $(MAN_PAGES)
 # help2man runs the program: the page says what this build does.
 # SOURCE_DATE_EPOCH (set by dpkg-buildpackage) fixes the date in the page.
 MAN_PATHS := $(BUILD)/man/paths
+MAN_PATH_VALUES := $(DOCDIR) $(PRIVATE_DIR) $(SYSCONFDIR) $(DOC_SUFFIX)
 MAN_SED := -e 's|@DOCDIR@|$(DOCDIR)|g' -e 's|@PRIVATE_DIR@|$(PRIVATE_DIR)|g' \
 	-e 's|@SYSCONFDIR@|$(SYSCONFDIR)|g' -e 's|@GZ@|$(DOC_SUFFIX)|g'
 
@@ -53,7 +54,7 @@ MAN_SED := -e 's|@DOCDIR@|$(DOCDIR)|g' -e 's|@PRIVATE_DIR@|$(PRIVATE_DIR)|g' \
 # The paths the pages name, rewritten only when they change (another PREFIX).
 $(MAN_PATHS): man-paths
 	@mkdir -p $(dir $@)
-	@echo '$(MAN_SED)' | cmp -s - $@ || echo '$(MAN_SED)' > $@
+	@echo '$(MAN_PATH_VALUES)' | cmp -s - $@ || echo '$(MAN_PATH_VALUES)' > $@
 
 $(BUILD)/man/%.1: man/%.h2m $(MAN_PATHS) | man-deps
 	@mkdir -p $(dir $@)
