@@ -256,6 +256,28 @@ START_TEST(save_file_is_read_over_the_config)
 }
 END_TEST
 
+/* Given twice, --config and --save-file count as every other option: the
+ * last one. */
+START_TEST(last_config_and_save_file_count)
+{
+    char first[64], second[64];
+    snprintf(first, sizeof(first), "%s", t_temp_file("[motion]\ndefault_force = 20\n"));
+    snprintf(second, sizeof(second), "%s", t_temp_file("[motion]\ndefault_force = 30\n"));
+    char *argv[] = {"wsgsim",   "--config", first,         "--save-file=/nowhere/a.ini",
+                    "--config", second,     "--save-file", "/nowhere/b.ini",
+                    NULL};
+    host_options_t opts;
+    ck_assert_int_eq(options_parse(8, argv, &opts), OPTIONS_RUN);
+    ck_assert_str_eq(opts.config_path, second);
+    ck_assert_str_eq(opts.save_path, "/nowhere/b.ini");
+    gripper_init(fleet_gripper(0), &opts, 0);
+    ck_assert_float_eq(wsg_device_snapshot(&fleet_gripper(0)->device)->config->default_force_n,
+                       30.0f);
+    remove(first);
+    remove(second);
+}
+END_TEST
+
 /* A 199-character comment whose tail libinih's 200-byte line buffer used to
  * cut off and parse as a key line. */
 static char *long_comment_then(const char *after)
@@ -410,6 +432,7 @@ Suite *files_suite(void)
     tcase_add_test(tc, config_sets_the_device_like_its_web_interface);
     tcase_add_test(tc, bad_config_lines_name_file_and_line);
     tcase_add_test(tc, save_file_is_read_over_the_config);
+    tcase_add_test(tc, last_config_and_save_file_count);
     tcase_add_test(tc, record_writes_every_line_with_both_clocks);
     suite_add_tcase(s, tc);
     return s;
