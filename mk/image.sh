@@ -14,6 +14,7 @@ if [ "$(id -u)" != 0 ]; then
     echo "image: mmdebstrap and umoci write files of every owner: run make image as root" >&2
     exit 1
 fi
+# shellcheck disable=SC1091 # the running system's own file
 suite=$(. /etc/os-release && echo "$VERSION_CODENAME")
 sources=/etc/apt/sources.list.d/debian.sources
 [ -f "$sources" ] || sources=/etc/apt/sources.list
@@ -22,7 +23,9 @@ rm -rf "$out" && mkdir -p "$out"
 # --variant=apt: Debian's essential packages and apt (so that an image
 # built FROM this one can add packages), no documentation but the
 # copyright files and wsgsim's own. The automount hook lets dpkg in the new
-# root read the .deb given by its path.
+# root read the .deb given by its path. The hook's "$1" (the new root) is
+# mmdebstrap's to expand.
+# shellcheck disable=SC2016
 mmdebstrap --quiet --variant=apt --include="$deb" \
     --hook-dir=/usr/share/mmdebstrap/hooks/file-mirror-automount \
     --dpkgopt='path-exclude=/usr/share/man/*' \

@@ -94,6 +94,7 @@ static bool read_whole(const char *path, system_file_t *f)
         errno = EFBIG;
         ok = false;
     }
+    errno = ok ? 0 : errno;
     unsigned char *bytes = ok ? malloc((size_t)st.st_size + 1u) : NULL;
     size_t len = bytes != NULL ? fread(bytes, 1, (size_t)st.st_size, in) : 0;
     ok = bytes != NULL && len == (size_t)st.st_size && ferror(in) == 0;
