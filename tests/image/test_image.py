@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""The OCI image (make image): its configuration, its packages, and wsgsim
+"""The OCI image (make image): its configuration, read by skopeo as
+podman and docker would read it, its packages, and wsgsim
 run from its root filesystem as a container runtime would run it (its
 entry point as PID 1 of new mount and PID namespaces, chrooted; these
 machines cannot start containers) holding a GCL exchange, saving its
@@ -78,6 +79,22 @@ class Image(unittest.TestCase):
         self.assertEqual(self.runtime["process"]["args"], ENTRYPOINT)
         self.assertEqual(self.ref, VERSION)
         self.assertEqual(config["Labels"]["org.opencontainers.image.version"], VERSION)
+
+    def test_container_tools_read_the_archive(self):
+        """skopeo (containers/image, podman's library) reads the archive and
+        converts it to the archive docker load takes."""
+        result = subprocess.run(["skopeo", "inspect", "--config", "oci-archive:" + IMAGE],
+                                capture_output=True, text=True, timeout=TIMEOUT)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertEqual(json.loads(result.stdout)["config"]["Entrypoint"], ENTRYPOINT)
+        docker = os.path.join(self.tmp.name, "docker.tar")
+        result = subprocess.run(["skopeo", "copy", "--quiet", "oci-archive:" + IMAGE,
+                                 "docker-archive:%s:wsgsim:%s" % (docker, VERSION)],
+                                capture_output=True, text=True, timeout=TIMEOUT)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        with tarfile.open(docker) as archive:
+            manifest = json.load(archive.extractfile("manifest.json"))
+        self.assertEqual(manifest[0]["RepoTags"], ["docker.io/library/wsgsim:" + VERSION])
 
     def test_installed_from_the_package(self):
         with open(self.in_rootfs("/var/lib/dpkg/status")) as f:
