@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 
 #include "sim/sim_models.h"
 #include "text_file.h"
@@ -121,6 +122,7 @@ static const struct {
 
 typedef struct {
     bool set;
+    const char *file; /* where it was set: one of loaded.files */
     int line;
     double number;
     char text[128]; /* as written (texts are checked against TEXT_MAX) */
@@ -154,8 +156,13 @@ typedef struct {
     value_t values[SEC_KEY_COUNT];
 } device_section_t;
 
+/* The files read: --config, then the --save-file overlay, whose lines count
+ * as if they followed the --config file's. */
+#define FILES_MAX 2
+
 static struct {
-    char path[256];
+    char files[FILES_MAX][256];
+    unsigned file_count;
     value_t values[KEY_COUNT];
     device_section_t *sections; /* malloc'd, in the order of the file */
     unsigned section_count;
@@ -164,14 +171,24 @@ static struct {
 /* What the parser is doing: the reader counts lines for the handler. */
 typedef struct {
     text_file_t file;
+    const char *path; /* one of loaded.files */
     int line;
     bool failed;
 } parse_state_t;
 
-static bool fail_at(int line, const char *section, const char *name, const char *why)
+static bool fail_at(const char *path, int line, const char *section, const char *name,
+                    const char *why)
 {
-    fprintf(stderr, "wsgsim: %s:%d: [%s] %s: %s\n", loaded.path, line, section, name, why);
+    fprintf(stderr, "wsgsim: %s:%d: [%s] %s: %s\n", path, line, section, name, why);
     return false;
+}
+
+/* Remembers where a value was set. */
+static void mark_set(value_t *v, const parse_state_t *st)
+{
+    v->set = true;
+    v->file = st->path;
+    v->line = st->line;
 }
 
 static bool parse_number(const char *text, double *out)
@@ -353,7 +370,8 @@ static int on_device_key(parse_state_t *st, const char *section, const char *nam
     unsigned index = 0;
     if (!section_index(section, &index)) {
         st->failed = true;
-        return fail_at(st->line, section, name, "a device section is [device.N], N 0-1023");
+        return fail_at(st->path, st->line, section, name,
+                       "a device section is [device.N], N 0-1023");
     }
     device_section_t *d = section_of(index);
     for (unsigned k = 0; k < SEC_KEY_COUNT && d != NULL; k++) {
@@ -363,14 +381,13 @@ static int on_device_key(parse_state_t *st, const char *section, const char *nam
         const char *why = convert(sec_keys[k].kind, text, &d->values[k]);
         if (why != NULL) {
             st->failed = true;
-            return fail_at(st->line, section, name, why);
+            return fail_at(st->path, st->line, section, name, why);
         }
-        d->values[k].set = true;
-        d->values[k].line = st->line;
+        mark_set(&d->values[k], st);
         return 1;
     }
     st->failed = true;
-    return fail_at(st->line, section, name,
+    return fail_at(st->path, st->line, section, name,
                    d == NULL ? "out of memory"
                              : "unknown key in a device section (model, serial, tag, tcp_port, "
                                "udp_port, script)");
@@ -391,14 +408,13 @@ static int on_key(void *user, const char *section, const char *name, const char 
         const char *why = convert(keys[i].kind, text, &loaded.values[i]);
         if (why != NULL) {
             st->failed = true;
-            return fail_at(st->line, section, name, why);
+            return fail_at(st->path, st->line, section, name, why);
         }
-        loaded.values[i].set = true;
-        loaded.values[i].line = st->line;
+        mark_set(&loaded.values[i], st);
         return 1;
     }
     st->failed = true;
-    return fail_at(st->line, section, name, "unknown key (see docs/wsgsim.example.ini)");
+    return fail_at(st->path, st->line, section, name, "unknown key (see docs/wsgsim.example.ini)");
 }
 
 static bool is_comment(const char *text)
@@ -525,12 +541,13 @@ static void config_file_forget(void)
     memset(&loaded, 0, sizeof(loaded));
 }
 
-bool config_file_load(const char *path, host_options_t *opts)
+/* Reads one file over what was read before; option names it in messages. */
+static bool parse_file(const char *path, const char *option)
 {
-    config_file_forget();
-    snprintf(loaded.path, sizeof(loaded.path), "%s", path);
-    parse_state_t st = {.line = 0, .failed = false};
-    if (!text_file_open(&st.file, path, "--config", FILE_LINE_MAX, FILE_BYTES_MAX)) {
+    char *name = loaded.files[loaded.file_count++];
+    snprintf(name, sizeof(loaded.files[0]), "%s", path);
+    parse_state_t st = {.path = name, .line = 0, .failed = false};
+    if (!text_file_open(&st.file, path, option, FILE_LINE_MAX, FILE_BYTES_MAX)) {
         return false;
     }
     int result = ini_parse_stream(read_line, &st, on_key, &st);
@@ -538,7 +555,23 @@ bool config_file_load(const char *path, host_options_t *opts)
     if (result > 0 && !st.failed) {
         fprintf(stderr, "wsgsim: %s:%d: not a section header or key = value line\n", path, result);
     }
-    if (result != 0 || st.failed) {
+    return result == 0 && !st.failed;
+}
+
+/* A save file that does not exist yet: nothing was saved. */
+static bool nothing_saved(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) != 0 && errno == ENOENT;
+}
+
+bool config_file_load(const char *config_path, const char *save_path, host_options_t *opts)
+{
+    config_file_forget();
+    if (config_path != NULL && !parse_file(config_path, "--config")) {
+        return false;
+    }
+    if (save_path != NULL && !nothing_saved(save_path) && !parse_file(save_path, "--save-file")) {
         return false;
     }
     apply_host(opts);
@@ -553,7 +586,7 @@ static bool check_range(key_id_t id, double min, double max)
     }
     char why[96];
     snprintf(why, sizeof(why), "%s is outside %g..%g for this model", v->text, min, max);
-    return fail_at(v->line, keys[id].section, keys[id].name, why);
+    return fail_at(v->file, v->line, keys[id].section, keys[id].name, why);
 }
 
 static bool check_soft_limits(const wsg_config_t *cfg)
@@ -564,7 +597,7 @@ static bool check_soft_limits(const wsg_config_t *cfg)
         return true;
     }
     key_id_t id = loaded.values[MOT_SOFT_PLUS].set ? MOT_SOFT_PLUS : MOT_SOFT_MINUS;
-    return fail_at(loaded.values[id].line, "motion", keys[id].name,
+    return fail_at(loaded.values[id].file, loaded.values[id].line, "motion", keys[id].name,
                    "soft_limit_minus must be below soft_limit_plus");
 }
 

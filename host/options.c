@@ -61,6 +61,9 @@ static void print_help(void)
            "                             candump -L format (simulated time stamps)\n"
            "  --config FILE              device configuration (INI, see\n"
            "                             docs/wsgsim.example.ini); options override it\n"
+           "  --save-file FILE           where the web page's Save writes the settings\n"
+           "                             (default: the --config file); read over the\n"
+           "                             --config file at start when it exists\n"
            "  --sim-port N               simulation control channel on TCP port N\n"
            "                             (docs/simctl.md; 0 picks a free port)\n"
            "  --sim-bind ADDR            control channel address (default 127.0.0.1)\n"
@@ -208,6 +211,7 @@ enum {
     OPT_CAN,
     OPT_FINGERS,
     OPT_CONFIG,
+    OPT_SAVE_FILE,
     OPT_SIM_PORT,
     OPT_SIM_BIND,
     OPT_SCENARIO,
@@ -256,6 +260,7 @@ static const struct option long_options[] = {
     {"can", required_argument, NULL, OPT_CAN},
     {"fingers", required_argument, NULL, OPT_FINGERS},
     {"config", required_argument, NULL, OPT_CONFIG},
+    {"save-file", required_argument, NULL, OPT_SAVE_FILE},
     {"sim-port", required_argument, NULL, OPT_SIM_PORT},
     {"sim-bind", required_argument, NULL, OPT_SIM_BIND},
     {"scenario", required_argument, NULL, OPT_SCENARIO},
@@ -399,6 +404,7 @@ static options_result_t apply_simctl_option(int opt, const char *arg, host_optio
 {
     switch (opt) {
     case OPT_CONFIG:
+    case OPT_SAVE_FILE:
         return OPTIONS_RUN; /* read before the other options (see options_parse) */
     case OPT_SIM_PORT:
         return parse_int(arg, 0, 65535, &opts->sim_port) ? OPTIONS_RUN
@@ -474,22 +480,31 @@ static options_result_t unknown_option(int opt, char **argv)
     return OPTIONS_EXIT_USAGE;
 }
 
-/* --config FILE is read first so that every other option overrides it. */
-static bool load_config(int argc, char **argv, host_options_t *opts)
+/* The value of the last "--name FILE" or "--name=FILE" in argv, or NULL. */
+static const char *file_option(int argc, char **argv, const char *name)
 {
+    const char *path = NULL;
+    size_t len = strlen(name);
     for (int i = 1; i < argc; i++) {
-        const char *path = NULL;
-        if (strcmp(argv[i], "--config") == 0 && i + 1 < argc) {
-            path = argv[i + 1];
-        } else if (strncmp(argv[i], "--config=", 9) == 0) {
-            path = argv[i] + 9;
-        }
-        if (path != NULL) {
-            opts->config_path = path;
-            return config_file_load(path, opts);
+        if (strcmp(argv[i], name) == 0 && i + 1 < argc) {
+            path = argv[++i];
+        } else if (strncmp(argv[i], name, len) == 0 && argv[i][len] == '=') {
+            path = argv[i] + len + 1;
         }
     }
-    return true;
+    return path;
+}
+
+/* --config FILE and --save-file FILE are read first so that every other
+ * option overrides them. */
+static bool load_config(int argc, char **argv, host_options_t *opts)
+{
+    opts->config_path = file_option(argc, argv, "--config");
+    opts->save_path = file_option(argc, argv, "--save-file");
+    if (opts->config_path == NULL && opts->save_path == NULL) {
+        return true;
+    }
+    return config_file_load(opts->config_path, opts->save_path, opts);
 }
 
 /* Applies one option; returns OPTIONS_RUN to go on. */
@@ -547,6 +562,7 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
         return wsg_finger_node_parse_pair(arg, types) ? OPTIONS_RUN : usage_error("--fingers", arg);
     }
     case OPT_CONFIG:
+    case OPT_SAVE_FILE:
     case OPT_SIM_PORT:
     case OPT_SIM_BIND:
     case OPT_SCENARIO:
@@ -619,7 +635,7 @@ static options_result_t check_combinations(const host_options_t *opts)
         fprintf(stderr, "wsgsim: --no-tcp and --no-udp leave nothing to serve\n");
         return OPTIONS_EXIT_USAGE;
     }
-    if (opts->config_path != NULL && !config_file_check(opts->model)) {
+    if ((opts->config_path != NULL || opts->save_path != NULL) && !config_file_check(opts->model)) {
         return OPTIONS_EXIT_USAGE;
     }
     if (!script_options_check(opts)) {

@@ -38,6 +38,8 @@ typedef struct {
     int sim_port;              /* --sim-port: control channel; -1: none */
     const char *sim_bind;      /* --sim-bind: NULL: 127.0.0.1 */
     const char *config_path;   /* --config: INI device configuration */
+    const char *save_path;     /* --save-file: the web page's Save writes here, read over
+                                  --config at start; NULL: Save writes the --config file */
     const char *scenario_path; /* --scenario: timed control commands */
     const char *record_path;   /* --record: traffic record */
     const char *coverage_path; /* --coverage: report written at exit */

@@ -3,11 +3,11 @@
 # build/wsgsim, and its end-to-end tests.
 #   web-tests   tests/web/: the peer, Host and slow-client rules' Check tests, then the end-to-end
 #               tests against build/wsgsim (every route and error)
-# The page is web/* (index.html, app.js, style.css); the chart library is
-# Debian's libjs-dygraphs, embedded at build time, never fetched at run time.
+# The page is web/* (index.html, app.js, style.css), built in; the chart
+# library is Debian's libjs-dygraphs, which wsgsim reads at run time from
+# /usr/share/javascript/dygraphs (host/web/web_static.c): never built in,
+# never fetched from the internet.
 WEB_PAGE_FILES := $(sort $(wildcard web/*))
-WEB_DYGRAPH_DIR := /usr/share/javascript/dygraphs
-WEB_DYGRAPH_FILES := $(WEB_DYGRAPH_DIR)/dygraph.min.js $(WEB_DYGRAPH_DIR)/dygraph.min.css
 WEB_ASSETS_C := $(BUILD)/gen/web_assets.c
 
 .PHONY: web-tests
@@ -22,10 +22,9 @@ $(WEB_ASSETS_LIST): web-assets-list
 	@mkdir -p $(dir $@)
 	@echo '$(WEB_PAGE_FILES)' | cmp -s - $@ || echo '$(WEB_PAGE_FILES)' > $@
 
-# libjs-dygraphs is a build dependency (debian/control): `deps` installs it.
 $(WEB_ASSETS_C): mk/web_assets.py $(WEB_PAGE_FILES) $(WEB_ASSETS_LIST) | deps
 	@mkdir -p $(dir $@)
-	python3 mk/web_assets.py $@ $(WEB_PAGE_FILES) $(WEB_DYGRAPH_FILES)
+	python3 mk/web_assets.py $@ $(WEB_PAGE_FILES)
 
 $(BUILD)/obj/gen/web_assets.o: $(WEB_ASSETS_C) host/web/web_assets.h
 	@mkdir -p $(dir $@)
