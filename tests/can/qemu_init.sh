@@ -1,5 +1,6 @@
 #!/bin/busybox sh
 # SPDX-License-Identifier: BSD-3-Clause
+# shellcheck shell=dash
 # /init of the initramfs that tests/can/run_vcan.py boots Debian's kernel
 # with in QEMU: busybox and the modules of virtio's 9p transport. Mounts the
 # host's filesystem (9p tag hostroot, read-only) as the root the scenario

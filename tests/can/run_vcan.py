@@ -6,7 +6,8 @@ that works here (--backend auto), or in the one --backend names:
   native  this kernel, where it has SocketCAN and vcan0 exists or can be made
   uml     Debian's user-mode Linux, the host's filesystem as its root; auto
           takes it only after a short probe boot of it ran a CAN socket on
-          vcan0 (it panics on some hosts, depending on their CPU)
+          vcan0 (it panics on some hosts, depending on their CPU), and goes
+          on to qemu when the guest still fails before the scenario starts
   qemu    Debian's own kernel (linux-image-amd64) in QEMU system emulation,
           the host's filesystem as its root over 9p; with KVM only after a
           short probe boot with KVM worked, TCG otherwise (--qemu-accel)
@@ -170,7 +171,18 @@ def run_native(args):
     return finish(workdir, subprocess.run(scenario_command(args, workdir)).returncode)
 
 
-def run_guest(args, guest):
+def scenario_started(workdir):
+    """Whether the guest got as far as the scenario's first line."""
+    path = os.path.join(workdir, "guest.log")
+    if not os.path.exists(path):
+        return False
+    with open(path, errors="replace") as f:
+        return "vcan: finger bus on" in f.read()
+
+
+def run_guest(args, guest, fall_back=False):
+    """The scenario's exit status; with fall_back, None when the guest failed
+    before the scenario started (it left no status and no scenario line)."""
     try:
         guest.check()
     except GuestError as e:
@@ -192,6 +204,10 @@ def run_guest(args, guest):
     if result.timed_out:
         print("vcan: FAIL: the %s guest did not end within %d s" % (guest.name, timeout))
     print("vcan: guest ran %.1f s" % result.seconds)
+    if fall_back and read_status(workdir) is None and not scenario_started(workdir):
+        print("vcan: the %s guest failed before the scenario started (%s), logs in %s" %
+              (guest.name, last_console_line(workdir), workdir))
+        return None
     return report_guest(workdir)
 
 
@@ -248,8 +264,14 @@ def main():
     sys.stdout.flush()
     if backend == "native":
         return run_native(args)
-    guest = Uml() if backend == "uml" else qemu_guest(args.qemu_accel)
-    return run_guest(args, guest)
+    if backend == "uml":
+        # after a probe that worked, a guest that still fails before the
+        # scenario starts is the backend's failure too: QEMU runs it instead
+        code = run_guest(args, Uml(), fall_back=args.backend == "auto")
+        if code is not None:
+            return code
+        print("vcan: backend qemu: user-mode Linux failed although its probe boot worked")
+    return run_guest(args, qemu_guest(args.qemu_accel))
 
 
 if __name__ == "__main__":

@@ -3,11 +3,15 @@
 fallback happens only when the probe of the earlier backend failed, a forced
 backend never probes, and a probe boot that panics or hangs counts as failed.
 Run by make can-vcan-tests before the scenario."""
+import contextlib
+import glob
+import io
 import os
 import shutil
 import stat
 import sys
 import tempfile
+import types
 import unittest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -77,9 +81,9 @@ class ChooseAccel(unittest.TestCase):
         self.assertEqual(kvm.calls, 0)
 
 
-class ProbeBoot(unittest.TestCase):
-    """probe() on user-mode Linux with a stand-in for linux.uml: a script
-    that behaves like the kernel (runs init.sh, or panics, or hangs)."""
+class StandInUml(unittest.TestCase):
+    """User-mode Linux with a stand-in for linux.uml: a script that behaves
+    like the kernel (runs init.sh, or panics, or hangs)."""
 
     def setUp(self):
         self.dir = tempfile.mkdtemp(prefix="wsgsim-probe-test-")
@@ -94,6 +98,9 @@ class ProbeBoot(unittest.TestCase):
         guest = vcan_guests.Uml()
         guest.kernel, guest.modules = kernel, self.dir
         return guest
+
+
+class ProbeBoot(StandInUml):
 
     def test_a_guest_that_ran_the_command_works(self):
         # what the guest's init would write once it ran the probe command
@@ -121,6 +128,44 @@ class ProbeBoot(unittest.TestCase):
         ok, why = run_vcan.probe(self.uml("echo booting; exec sleep 60"))
         self.assertFalse(ok)
         self.assertIn("did not end within 1 s (console: booting)", why)
+
+
+class GuestRun(StandInUml):
+    """run_guest() falls back only from a guest that failed before the
+    scenario started, and only when asked to (auto)."""
+
+    ARGS = types.SimpleNamespace(wsgsim="/bin/true", fingersim="/bin/true", dbc="x.dbc",
+                                 guest_wsgsim=None, guest_fingersim=None)
+    PANIC = "echo 'Kernel panic - not syncing: Attempted to kill init!'"
+    # the scenario's first line, then the guest dies
+    DIED_IN_SCENARIO = 'echo "vcan: finger bus on vcan0" >"$(dirname "$init")/guest.log"'
+
+    def run_guest(self, body, fall_back):
+        with contextlib.redirect_stdout(io.StringIO()) as out:
+            code = run_vcan.run_guest(self.ARGS, self.uml(body), fall_back=fall_back)
+        for path in glob.glob(out.getvalue().rpartition(" ")[2].strip()):
+            shutil.rmtree(path, ignore_errors=True)  # the logs it kept
+        return code, out.getvalue()
+
+    def test_falls_back_from_a_guest_that_never_reached_the_scenario(self):
+        code, out = self.run_guest(self.PANIC, fall_back=True)
+        self.assertIsNone(code)
+        self.assertIn("failed before the scenario started (console: Kernel panic", out)
+
+    def test_a_forced_guest_fails_instead(self):
+        code, out = self.run_guest(self.PANIC, fall_back=False)
+        self.assertEqual(code, 1)
+        self.assertIn("the guest left no exit status; console tail:\nKernel panic", out)
+
+    def test_never_falls_back_from_a_scenario_that_ran(self):
+        code, out = self.run_guest(self.DIED_IN_SCENARIO, fall_back=True)
+        self.assertEqual(code, 1)
+        self.assertIn("the guest left no exit status", out)
+
+    def test_a_failed_scenario_is_its_status(self):
+        code, out = self.run_guest('echo 1 >"$(dirname "$init")/status"', fall_back=True)
+        self.assertEqual(code, 1)
+        self.assertIn("scenario exit status 1", out)
 
 
 class Initramfs(unittest.TestCase):

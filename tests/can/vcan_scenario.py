@@ -30,7 +30,7 @@ sys.path.insert(0, os.path.join(HERE, "..", "e2e"))
 from gclclient import Wsgsim  # noqa: E402
 
 # Upper bounds against hangs, never assertions on speed: the scenario runs
-# inside a user-mode Linux guest on busy machines. Timing of the finger bus
+# inside a guest kernel (UML or QEMU) on busy machines. Timing of the finger bus
 # itself (the 300 ms comm-fault timeout) is asserted on virtual time by the
 # Check tests (tests/can/test_bus.c); here it is only measured and reported.
 WAIT_S = 30.0
