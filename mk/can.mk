@@ -56,13 +56,13 @@ can-unit-tests: $(CAN_TEST_BIN)
 # probe boot works, otherwise in Debian's kernel under QEMU; fails (never
 # skips) when none is possible. ASan's shadow memory does not fit the
 # address space of a UML guest's processes, so with SAN=1 a guest runs the
-# plain build (native vcan runs the sanitized one). First the unit tests of
-# run_vcan.py's choice of backend.
+# plain build (native vcan runs the sanitized one). First the unit tests in
+# tests/can/test_*.py (the choice of backend, the capture's end marker).
 can-vcan-tests: can-deps $(BUILD)/wsgsim $(BUILD)/fingersim
 ifeq ($(SAN),1)
 	$(MAKE) SAN=0 build/wsgsim build/fingersim
 endif
-	$(CAN_PYTHON) -m unittest discover -s tests/can -p 'test_run_vcan.py'
+	$(CAN_PYTHON) -m unittest discover -s tests/can -p 'test_*.py'
 	$(CAN_PYTHON) tests/can/run_vcan.py --wsgsim $(abspath $(BUILD)/wsgsim) \
 		--fingersim $(abspath $(BUILD)/fingersim) --dbc $(abspath docs/finger-bus.dbc) \
 		--guest-wsgsim $(abspath build/wsgsim) --guest-fingersim $(abspath build/fingersim) \
