@@ -8,6 +8,7 @@ import glob
 import io
 import os
 import shutil
+import signal
 import stat
 import sys
 import tempfile
@@ -17,6 +18,19 @@ import unittest
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import run_vcan  # noqa: E402
 import vcan_guests  # noqa: E402
+
+
+def processes_running(cmdline):
+    """The pids whose command line is cmdline (NUL-separated, as in /proc)."""
+    pids = []
+    for path in glob.glob("/proc/[0-9]*/cmdline"):
+        try:
+            with open(path, "rb") as f:
+                if f.read() == cmdline:
+                    pids.append(int(path.split("/")[2]))
+        except OSError:  # it ended meanwhile
+            pass
+    return pids
 
 
 class Probe:
@@ -125,9 +139,14 @@ class ProbeBoot(StandInUml):
         saved = dict(run_vcan.PROBE_TIMEOUT_S)
         self.addCleanup(run_vcan.PROBE_TIMEOUT_S.update, saved)
         run_vcan.PROBE_TIMEOUT_S["uml"] = 1
-        ok, why = run_vcan.probe(self.uml("echo booting; exec sleep 60"))
+        # the stand-in starts a process of its own, as UML does for its guest's
+        ok, why = run_vcan.probe(self.uml("echo booting; sleep 3600.25 & wait"))
         self.assertFalse(ok)
         self.assertIn("did not end within 1 s (console: booting)", why)
+        left = processes_running(b"sleep\x003600.25\x00")
+        for pid in left:
+            os.kill(pid, signal.SIGKILL)
+        self.assertEqual(left, [], "processes of the guest left running")
 
 
 class GuestRun(StandInUml):

@@ -16,6 +16,7 @@ import lzma
 import os
 import shlex
 import shutil
+import signal
 import subprocess
 import time
 
@@ -52,15 +53,20 @@ def write_init(workdir, modules, command):
 
 
 def run_bounded(cmd, workdir, timeout):
-    """Runs cmd with its output in workdir/console.log, killed after timeout s."""
+    """Runs cmd with its output in workdir/console.log, killed after timeout s
+    with every process it started (user-mode Linux runs its guest's
+    processes as host processes)."""
     started = time.monotonic()
     timed_out = False
     with open(os.path.join(workdir, "console.log"), "ab") as console:
+        proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=console, stderr=console,
+                                start_new_session=True)
         try:
-            subprocess.run(cmd, stdin=subprocess.DEVNULL, stdout=console, stderr=console,
-                           timeout=timeout)
+            proc.wait(timeout=timeout)
         except subprocess.TimeoutExpired:
             timed_out = True
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
     return BootResult(time.monotonic() - started, timed_out)
 
 
