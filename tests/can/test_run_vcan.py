@@ -6,6 +6,7 @@ Run by make can-vcan-tests before the scenario."""
 import contextlib
 import glob
 import io
+import lzma
 import os
 import shutil
 import signal
@@ -201,6 +202,23 @@ class Initramfs(unittest.TestCase):
                           "kernel/a/9p.ko", "kernel/f/can.ko.xz", "kernel/e/can-raw.ko.xz"])
         with self.assertRaises(vcan_guests.GuestError):
             vcan_guests.modules_in_order(moddir, ["vcan"])
+
+    def test_compressed_modules_are_unpacked(self):
+        moddir = tempfile.mkdtemp(prefix="wsgsim-modules-test-")
+        self.addCleanup(shutil.rmtree, moddir, ignore_errors=True)
+        image = b"\x7fELF module image"
+        with lzma.open(os.path.join(moddir, "vcan.ko.xz"), "wb") as f:
+            f.write(image)
+        self.assertEqual(vcan_guests.module_bytes(os.path.join(moddir, "vcan.ko.xz")), image)
+        with open(os.path.join(moddir, "vcan.ko.zst"), "wb") as f:
+            f.write(b"(zstd)")
+        with self.assertRaises(vcan_guests.GuestError):
+            vcan_guests.module_bytes(os.path.join(moddir, "vcan.ko.zst"))
+
+    def test_newest_kernel_first(self):
+        names = ["6.1.0-9-amd64", "6.1.0-56-amd64", "6.10.0-1-amd64"]
+        self.assertEqual(sorted(names, key=vcan_guests.version_key),
+                         ["6.1.0-9-amd64", "6.1.0-56-amd64", "6.10.0-1-amd64"])
 
     def test_cpio_names_and_sizes(self):
         archive = vcan_guests.cpio_newc([("bin", 0o40755, None), ("init", 0o100755, b"#!x\n")])

@@ -14,6 +14,7 @@ import glob
 import gzip
 import lzma
 import os
+import re
 import shlex
 import shutil
 import signal
@@ -94,12 +95,18 @@ class Uml:
         return run_bounded(cmd, workdir, timeout)
 
 
+def version_key(name):
+    """Sorts 6.1.0-9-amd64 before 6.1.0-56-amd64."""
+    return [int(part) if part.isdigit() else part for part in re.split(r"(\d+)", name)]
+
+
 def module_tree():
     """(kernel image, module dir) of the newest installed Debian kernel whose
     modules include vcan, or (None, None)."""
-    for moddir in sorted(glob.glob("/lib/modules/*"), reverse=True):
+    for moddir in sorted(glob.glob("/lib/modules/*"), key=version_key, reverse=True):
         image = "/boot/vmlinuz-" + os.path.basename(moddir)
-        if os.path.exists(image) and glob.glob(moddir + "/kernel/drivers/net/can/vcan.ko*"):
+        if (os.path.exists(image) and os.path.exists(moddir + "/modules.dep")
+                and glob.glob(moddir + "/kernel/drivers/net/can/vcan.ko*")):
             return image, moddir
     return None, None
 
