@@ -201,13 +201,13 @@ def run_guest(args, guest, fall_back=False):
     except GuestError as e:
         print("vcan: FAIL: cannot boot the %s guest: %s" % (guest.name, e))
         return finish(workdir, 1)
-    if result.timed_out:
-        print("vcan: FAIL: the %s guest did not end within %d s" % (guest.name, timeout))
-    print("vcan: guest ran %.1f s" % result.seconds)
+    print("vcan: guest ran %.1f s%s" % (result.seconds, ", killed" if result.timed_out else ""))
     if fall_back and read_status(workdir) is None and not scenario_started(workdir):
         print("vcan: the %s guest failed before the scenario started (%s), logs in %s" %
               (guest.name, last_console_line(workdir), workdir))
         return None
+    if result.timed_out:
+        print("vcan: FAIL: the %s guest did not end within %d s" % (guest.name, timeout))
     return report_guest(workdir)
 
 

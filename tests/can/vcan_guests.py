@@ -22,8 +22,6 @@ import subprocess
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-# The modules guest_init.sh loads, relative to the kernel's module tree.
-CAN_MODULES = ("can", "can-raw", "can-dev", "vcan")
 # What the initramfs loads to mount the host's filesystem (their own
 # dependencies come from modules.dep).
 NINEP_MODULES = ("virtio_pci", "9pnet_virtio", "9p")
@@ -76,7 +74,8 @@ class Uml:
 
     def __init__(self):
         self.kernel = shutil.which("linux.uml") or shutil.which("linux")
-        found = sorted(glob.glob("/usr/lib/uml/modules/*/kernel/drivers/net/can/vcan.ko*"))
+        found = sorted(glob.glob("/usr/lib/uml/modules/*/kernel/drivers/net/can/vcan.ko*"),
+                       key=version_key)
         self.modules = found[-1].rsplit("/kernel/", 1)[0] if found else None
 
     def check(self):
