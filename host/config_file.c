@@ -33,6 +33,7 @@ typedef enum {
     K_ADDR,        /* an IPv4 or IPv6 address */
     K_LOOPBACK,    /* a loopback address only */
     K_PROTOCOL,    /* auto, gcl or binary */
+    K_ALLOW,       /* comma-separated ADDR[/PREFIX] (net_allow.h) */
 } kind_t;
 
 typedef enum {
@@ -66,6 +67,7 @@ typedef enum {
     NET_BINARY_CRC,
     NET_HTTP_PORT,
     NET_HTTP_BIND,
+    NET_UDP_STREAM_ALLOW,
     KEY_COUNT
 } key_id_t;
 
@@ -104,6 +106,7 @@ static const struct {
     [NET_BINARY_CRC] = {"network", "binary_crc", K_BOOL},
     [NET_HTTP_PORT] = {"network", "http_port", K_PORT},
     [NET_HTTP_BIND] = {"network", "http_bind", K_ADDR},
+    [NET_UDP_STREAM_ALLOW] = {"network", "udp_stream_allow", K_ALLOW},
 };
 
 typedef struct {
@@ -261,6 +264,12 @@ static const char *convert(kind_t kind, const char *text, value_t *v)
         bool ok = options_parse_protocol(text, &protocol);
         v->number = (double)protocol;
         return ok ? NULL : "expected auto, gcl or binary";
+    }
+    case K_ALLOW: {
+        net_allow_t list = {.count = 0};
+        return strlen(text) < sizeof(v->text) && net_allow_add(&list, text)
+                   ? NULL
+                   : "expected up to 8 comma-separated addresses, each ADDR or ADDR/PREFIX";
     }
     case K_LOOPBACK:
         return is_loopback(text) ? NULL
@@ -459,6 +468,10 @@ static void apply_host(host_options_t *opts)
     }
     if (v[NET_SIM_BIND].set) {
         opts->sim_bind = v[NET_SIM_BIND].text;
+    }
+    if (v[NET_UDP_STREAM_ALLOW].set) {
+        opts->udp_stream_allow.count = 0;
+        (void)net_allow_add(&opts->udp_stream_allow, v[NET_UDP_STREAM_ALLOW].text); /* checked */
     }
     apply_binary(opts);
 }
