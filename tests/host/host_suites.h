@@ -7,5 +7,6 @@
 #include <check.h>
 
 Suite *net_allow_suite(void);
+Suite *port_layout_suite(void);
 
 #endif

@@ -336,6 +336,7 @@ int main(void)
 {
     SRunner *runner = srunner_create(loop_suite());
     srunner_add_suite(runner, net_allow_suite());
+    srunner_add_suite(runner, port_layout_suite());
     srunner_run_all(runner, CK_ENV);
     int failed = srunner_ntests_failed(runner);
     srunner_free(runner);
