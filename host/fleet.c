@@ -80,23 +80,26 @@ static bool device_ports(unsigned i, port_layout_t *ports)
     return true;
 }
 
-/* The binary protocol over UDP on the layout's ports. A default port that
- * is taken is skipped with a warning; one given explicitly must be had. */
+/* The binary protocol over UDP: device i on its layout's binary port,
+ * replying to its reply port. A default port that is taken is skipped with
+ * a warning; one given explicitly must be had. */
 static bool start_bin_udp(fleet_device_t *d, const host_options_t *opts, unsigned i,
                           const port_layout_t *ports)
 {
     if (!opts->udp_enabled || ports->binary == 0) {
         return true;
     }
-    udp_protocol_t binary = udp_protocol_binary((int)ports->reply);
-    if (udp_server_start(&d->bin_udp, &d->gripper, &binary, opts->bind_addr, (int)ports->binary,
+    int port = (int)ports->binary;
+    int reply_port = (int)ports->reply;
+    udp_protocol_t binary = udp_protocol_binary(reply_port);
+    if (udp_server_start(&d->bin_udp, &d->gripper, &binary, opts->bind_addr, port,
                          opts->udp_peer_timeout_s)) {
         return true;
     }
     udp_server_stop(&d->bin_udp);
     if (!opts->binary_udp_port_given) {
-        host_logf(HAL_LOG_WARN, "binary udp port %ld taken: device %u speaks binary on TCP only",
-                  ports->binary, i);
+        host_logf(HAL_LOG_WARN, "binary udp port %d taken: device %u speaks binary on TCP only",
+                  port, i);
     }
     return !opts->binary_udp_port_given;
 }
