@@ -21,8 +21,8 @@ typedef struct {
 } net_allow_t;
 
 /* Adds the comma-separated ADDR[/PREFIX] items of text (numeric addresses,
- * blanks around an item ignored; no prefix: the whole address). False, with the list unchanged, when an
- * item is malformed or the list would exceed NET_ALLOW_MAX. */
+ * blanks around an item ignored; no prefix: the whole address). False, with the list unchanged,
+ * when an item is malformed or the list would exceed NET_ALLOW_MAX. */
 bool net_allow_add(net_allow_t *list, const char *text);
 /* Whether the peer's address (IPv4, IPv6, or IPv4 mapped into IPv6 by a
  * dual-stack socket) is in the list. */

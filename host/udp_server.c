@@ -78,8 +78,8 @@ static void log_first_drop(const udp_server_t *s, const udp_peer_t *p, wsg_msg_k
                       p->name);
     } else if (kind == WSG_MSG_UPDATE && p->peer.updates_dropped == 1) {
         host_log_peer(HAL_LOG_WARN,
-                      "%s %s: stream paused: a peer's updates are paid by what it sends, and it "
-                      "has been silent; they resume when it sends again (a client that "
+                      "%s %s: stream paused: updates are paid by what the peer sends, and its "
+                      "budget is spent; they resume when it sends again (for a client that "
                       "subscribes and then only listens: --udp-stream-allow %s)",
                       s->proto.label, p->name, p->addr_text);
     }
