@@ -212,6 +212,29 @@ class TalkingClients(StreamCase):
         self.assertGreaterEqual(updates, 5 * 100 - 5)  # 5 values at 50 Hz for 2 s
         self.assertNotIn("stream paused", self.sim.drain_log())
 
+    def test_a_stream_never_starves_the_final_reply_its_client_waits_for(self):
+        """Drake's calibration: five streams every 20 ms, then a homing whose
+        final reply it waits for without sending anything; the updates stop
+        at the reply reserve, the final reply still goes out."""
+        self.start()
+        drake = wb.BinUdp("127.0.0.1", self.bin_port, reply_port=self.reply_port, timeout=30.0,
+                          bind_host=VICTIM)
+        self.addCleanup(drake.close)
+        drake.send_sock.bind((VICTIM, 0))
+        for frame_id in STREAM_IDS:
+            drake.send(subscribe(frame_id, 20))
+            self.assertEqual(drake.wait_for(frame_id).status, E_SUCCESS)
+        drake.send(wb.encode_frame(0x20, b"\x00"))  # homing, default direction
+        self.assertEqual(drake.wait_for(0x20).status, E_CMD_PENDING)
+        for _ in range(100):  # up to 10 s of homing, a STEP at a time
+            self.step(100)
+            finals = [f for d in drain(drake.recv_sock, 0.1) for f in wb.deframe(d)
+                      if f.id == 0x20]
+            if finals:
+                self.assertEqual(finals[0].status, E_SUCCESS, wb.describe(finals[0]))
+                return
+        self.fail("the homing's final reply never arrived")
+
 
 if __name__ == "__main__":
     unittest.main()
