@@ -37,6 +37,7 @@ typedef enum {
     K_PROTOCOL,    /* auto, gcl or binary */
     K_HOSTS,       /* host names, comma-separated (web_host_names_valid) */
     K_PATH,        /* a file or directory name: printable, not empty */
+    K_ALLOW,       /* comma-separated ADDR[/PREFIX] (net_allow.h) */
 } kind_t;
 
 typedef enum {
@@ -75,6 +76,7 @@ typedef enum {
     SCRIPT_STARTUP,
     SCRIPT_DIR,
     SCRIPT_AUTOSTART,
+    NET_UDP_STREAM_ALLOW,
     KEY_COUNT
 } key_id_t;
 
@@ -118,6 +120,7 @@ static const struct {
     [SCRIPT_STARTUP] = {"script", "startup", K_PATH},
     [SCRIPT_DIR] = {"script", "dir", K_PATH},
     [SCRIPT_AUTOSTART] = {"script", "autostart", K_BOOL},
+    [NET_UDP_STREAM_ALLOW] = {"network", "udp_stream_allow", K_ALLOW},
 };
 
 typedef struct {
@@ -312,6 +315,12 @@ static const char *convert(kind_t kind, const char *text, value_t *v)
         return text[0] != '\0' && strlen(text) < sizeof(v->text) - 1u && text_ok_long(text)
                    ? NULL
                    : "expected a path of printable characters";
+    case K_ALLOW: {
+        net_allow_t list = {.count = 0};
+        return strlen(text) < sizeof(v->text) && net_allow_add(&list, text)
+                   ? NULL
+                   : "expected up to 8 comma-separated addresses, each ADDR or ADDR/PREFIX";
+    }
     case K_LOOPBACK:
         return is_loopback(text) ? NULL
                                  : "the control port may only be bound to a loopback address "
@@ -530,6 +539,10 @@ static void apply_host(host_options_t *opts)
     }
     if (v[NET_SIM_BIND].set) {
         opts->sim_bind = v[NET_SIM_BIND].text;
+    }
+    if (v[NET_UDP_STREAM_ALLOW].set) {
+        opts->udp_stream_allow.count = 0;
+        (void)net_allow_add(&opts->udp_stream_allow, v[NET_UDP_STREAM_ALLOW].text); /* checked */
     }
     apply_binary(opts);
     apply_script(opts);

@@ -172,6 +172,21 @@ void net_format_peer(const struct sockaddr_storage *ss, char *out, size_t cap)
     snprintf(out, cap, "%s:%d", host, port);
 }
 
+void net_format_address(const struct sockaddr_storage *ss, char *out, size_t cap)
+{
+    const struct sockaddr_in6 *v6 = (const struct sockaddr_in6 *)ss;
+    const struct sockaddr_in *v4 = (const struct sockaddr_in *)ss;
+    char host[INET6_ADDRSTRLEN] = "?";
+    if (ss->ss_family == AF_INET6 && IN6_IS_ADDR_V4MAPPED(&v6->sin6_addr)) {
+        inet_ntop(AF_INET, v6->sin6_addr.s6_addr + 12, host, sizeof(host));
+    } else if (ss->ss_family == AF_INET6) {
+        inet_ntop(AF_INET6, &v6->sin6_addr, host, sizeof(host));
+    } else {
+        inet_ntop(AF_INET, &v4->sin_addr, host, sizeof(host));
+    }
+    snprintf(out, cap, "%s", host);
+}
+
 /* An IPv4-mapped IPv6 address (::ffff:a.b.c.d) as plain IPv4. */
 static void unmap(const struct sockaddr_storage *in, struct sockaddr_storage *out)
 {

@@ -22,5 +22,7 @@ bool net_is_own_address(const struct sockaddr_storage *peer);
 /* addr:port, with an IPv6 address in brackets ([::1]:1000). */
 void net_format_endpoint(const char *addr, int port, char *out, size_t cap);
 void net_format_peer(const struct sockaddr_storage *ss, char *out, size_t cap);
+/* The address alone (an IPv4-mapped IPv6 one as IPv4), without the port. */
+void net_format_address(const struct sockaddr_storage *ss, char *out, size_t cap);
 
 #endif

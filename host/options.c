@@ -38,7 +38,10 @@ static void print_help(void)
            "  --bind ADDR                listen address: IPv4, IPv6 or a host name such as\n"
            "                             localhost (default 0.0.0.0; :: serves IPv6 and IPv4)\n"
            "  --devices N                serve N independent grippers (1..%d); device i on\n"
-           "                             TCP and UDP port + i (port 0: free ports each)\n"
+           "                             TCP and UDP port + i (port 0: free ports each);\n"
+           "                             with the default binary ports, binary UDP on\n"
+           "                             1500 + 2i replying to 1501 + 2i (moved past the\n"
+           "                             UDP ports when these reach 1500)\n"
            "  --model NAME               gripper model (default %s; see --list-models)\n"
            "  --list-models              list the simulated models and exit\n"
            "  --json                     with --list-models: print the list as JSON\n"
@@ -51,6 +54,10 @@ static void print_help(void)
            "                             simulated seconds (default: never)\n"
            "  --udp-peer-timeout S       forget a UDP peer (and end its AUTOSEND) after S\n"
            "                             simulated seconds without a datagram (default %d)\n"
+           "  --udp-stream-allow A[/P]   UDP peers at these addresses (comma-separated,\n"
+           "                             repeatable) keep AUTOSEND and automatic updates\n"
+           "                             while silent; other peers' streams are paid by\n"
+           "                             what they send (default: none)\n"
            "  --trace                    log every line in and out on stderr\n"
            "  --can IFACE                finger bus on the SocketCAN interface IFACE (e.g.\n"
            "                             vcan0; run tools/fingersim there); default: an\n"
@@ -207,6 +214,7 @@ enum {
     OPT_NO_DISCONNECT_FASTSTOP,
     OPT_IDLE_TIMEOUT,
     OPT_UDP_PEER_TIMEOUT,
+    OPT_UDP_STREAM_ALLOW,
     OPT_TRACE,
     OPT_CAN,
     OPT_FINGERS,
@@ -256,6 +264,7 @@ static const struct option long_options[] = {
     {"no-disconnect-faststop", no_argument, NULL, OPT_NO_DISCONNECT_FASTSTOP},
     {"idle-timeout", required_argument, NULL, OPT_IDLE_TIMEOUT},
     {"udp-peer-timeout", required_argument, NULL, OPT_UDP_PEER_TIMEOUT},
+    {"udp-stream-allow", required_argument, NULL, OPT_UDP_STREAM_ALLOW},
     {"trace", no_argument, NULL, OPT_TRACE},
     {"can", required_argument, NULL, OPT_CAN},
     {"fingers", required_argument, NULL, OPT_FINGERS},
@@ -297,10 +306,14 @@ static struct {
     bool json;
 } listing;
 
+/* The first --udp-stream-allow replaces the configuration file's list. */
+static bool stream_allow_given;
+
 static void set_defaults(host_options_t *opts)
 {
     memset(opts, 0, sizeof(*opts));
     memset(&listing, 0, sizeof(listing));
+    stream_allow_given = false;
     opts->log_level = HAL_LOG_INFO;
     opts->tcp_port = DEFAULT_PORT;
     opts->udp_port = DEFAULT_PORT;
@@ -550,6 +563,13 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
         return parse_int(arg, 1, TIMEOUT_LIMIT_S, &opts->udp_peer_timeout_s)
                    ? OPTIONS_RUN
                    : usage_error("--udp-peer-timeout", arg);
+    case OPT_UDP_STREAM_ALLOW:
+        if (!stream_allow_given) {
+            opts->udp_stream_allow.count = 0;
+            stream_allow_given = true;
+        }
+        return net_allow_add(&opts->udp_stream_allow, arg) ? OPTIONS_RUN
+                                                           : usage_error("--udp-stream-allow", arg);
     case OPT_TRACE:
         opts->trace = true;
         return OPTIONS_RUN;

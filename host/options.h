@@ -6,6 +6,7 @@
 #include <stdbool.h>
 
 #include "hal_log.h"
+#include "net_allow.h"
 /* --protocol: what a TCP connection speaks (docs/binary-protocol.md) */
 typedef enum { HOST_PROTOCOL_AUTO, HOST_PROTOCOL_GCL, HOST_PROTOCOL_BINARY } host_protocol_t;
 
@@ -30,6 +31,7 @@ typedef struct {
     int devices;            /* --devices: grippers served, device i on port + i */
     int idle_timeout_s;     /* --idle-timeout: close TCP connections silent this long; 0: off */
     int udp_peer_timeout_s; /* --udp-peer-timeout: forget UDP peers silent this long */
+    net_allow_t udp_stream_allow; /* --udp-stream-allow: streams to them need no budget */
     bool disconnect_faststop;
     bool trace;
     const char *can_iface; /* --can: finger bus on SocketCAN; NULL: loopback bus */

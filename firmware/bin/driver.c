@@ -145,6 +145,7 @@ static wsg_status_t run_frame(bin_conn_t *b, const wsg_bin_frame_t *frame)
 static void note_request(bin_conn_t *b, const wsg_bin_frame_t *frame)
 {
     if (b->conn->dev->conn_observer == NULL) {
+        wsg_conn_count_input(b->conn);
         return;
     }
     uint8_t raw[WSG_BIN_HEADER_LEN + WSG_BIN_PAYLOAD_MAX + WSG_BIN_CRC_LEN];
@@ -218,6 +219,13 @@ static void bin_close(wsg_conn_t *c, wsg_close_reason_t why)
     wsg_bin_script_drop_conn(bin_of(c));
 }
 
+/* Inside a frame, or past the first bytes of a preamble. */
+static bool bin_partial(const wsg_conn_t *c)
+{
+    const wsg_bin_framer_t *f = &bin_of_const(c)->framer;
+    return f->state != WSG_BIN_SYNC || f->preamble_run > 0u;
+}
+
 /* 0xAA starts the binary preamble and no GCL line. */
 static bool bin_detect(uint8_t first_byte)
 {
@@ -233,4 +241,5 @@ const wsg_proto_driver_t wsg_bin_driver = {
     .done = bin_done,
     .busy = bin_busy,
     .close = bin_close,
+    .partial = bin_partial,
 };

@@ -79,11 +79,11 @@ void wsg_device_step(wsg_device_t *device)
     if (wsg_timer_next_due(&dev->timers) <= dev->sensed.now_us) {
         wsg_timer_run_due(&dev->timers, dev->sensed.now_us);
     }
+    dev->tick_from_us = dev->sensed.now_us;
 }
 
-/* How often the supervisor must look: 0 when nothing can change by itself.
- * Here, beside its one caller, so that it is inlined into it. */
-static uint32_t motion_tick_us(const wsg_dev_t *dev)
+/* How often the supervisor must look: 0 when nothing can change by itself. */
+uint32_t wsg_device_tick_us(const wsg_dev_t *dev)
 {
     if (dev->motion.kind != WSG_MOTION_NONE || dev->velocity.active ||
         wsg_flags_get(dev, SF_MOVING)) {
@@ -99,8 +99,8 @@ static uint32_t motion_tick_us(const wsg_dev_t *dev)
 uint64_t wsg_device_next_deadline_us(const wsg_device_t *device)
 {
     const wsg_dev_t *dev = dev_of_const(device);
-    uint32_t tick = motion_tick_us(dev);
-    uint64_t next = tick != 0u ? dev->sensed.now_us + tick : UINT64_MAX;
+    uint32_t tick = wsg_device_tick_us(dev);
+    uint64_t next = tick != 0u ? dev->tick_from_us + tick : UINT64_MAX;
     uint64_t timers = wsg_timer_next_due(&dev->timers);
     uint64_t bus = dev->fbus.can != NULL ? wsg_finger_bus_next_deadline_us(&dev->fbus) : UINT64_MAX;
     next = bus < next ? bus : next;

@@ -93,6 +93,10 @@ typedef struct wsg_dev {
     dev_sensed_t sensed;
     bool sense_reacted;  /* the last wsg_sense_and_react() raised FAST STOP */
     bool axis_commanded; /* the supervisor commanded the axis since the last sense */
+    /* What the control step's tick counts from: the last control step, or,
+     * while nothing ticks, the last sense. A query senses too, but must not
+     * postpone the next step: queries faster than the tick starved it. */
+    uint64_t tick_from_us;
     dev_motion_t motion;
     dev_velocity_t velocity;
     dev_grip_t grip;
@@ -140,6 +144,8 @@ static inline wsg_device_t *dev_public(wsg_dev_t *dev)
 /* sense.c: reads the clock, the axis and the temperature once; derives the
  * flag register. */
 void wsg_sense(wsg_dev_t *dev);
+/* How often the control must step now (µs), 0 when nothing changes by itself. */
+uint32_t wsg_device_tick_us(const wsg_dev_t *dev);
 /* wsg_sense(), then a severe fault raises FAST STOP. */
 void wsg_sense_and_react(wsg_dev_t *dev);
 /* wsg_sense_and_react() unless a sense now would read what the last one read. */

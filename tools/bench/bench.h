@@ -178,4 +178,13 @@ typedef struct {
 void fleet_run(const char *wsgsim, const char *out_dir, int devices, double idle_s,
                fleet_result_t *r);
 
+/* pace.c: a 100 mm MOVE at 100 mm/s (1.1 s simulated) in wall time, on a
+ * quiet device and while another client sends POS? back to back. */
+typedef struct {
+    double quiet_s; /* 0: not run */
+    double flooded_s;
+    long polls; /* POS? answered during the flooded MOVE */
+} pace_result_t;
+void pace_run(const server_t *srv, pace_result_t *r);
+
 #endif

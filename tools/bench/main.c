@@ -4,8 +4,8 @@
  *                 [--only SECTION] [--pin same|cross|none] [--firmware-sizes FILE]
  *        wsgbench --serve-echo      (the echo baseline alone, for callgrind)
  * --wsgsim-arg appends ARG to every wsgsim command line (e.g. --fingers=none).
- * --only runs one section (instr, web, idle, subscribers, vtime, fleet, scale, rtt,
- * load, autosend); the table then leaves out the others.
+ * --only runs one section (instr, web, idle, subscribers, vtime, fleet, scale,
+ * pace, rtt, load, autosend); the table then leaves out the others.
  * --firmware-sizes reads the Cortex-M image sizes `make bench` wrote. */
 #include <errno.h>
 #include <sched.h>
@@ -89,7 +89,8 @@ static void parse_args(int argc, char **argv, config_t *cfg)
             cfg->firmware_sizes = argv[++i];
         } else {
             die("usage: wsgbench [--wsgsim PATH] [--wsgsim-arg ARG]... [--out DIR] [--quick] "
-                "[--rtt N] [--only instr|web|idle|subscribers|vtime|fleet|scale|rtt|load|autosend] "
+                "[--rtt N] [--only "
+                "instr|web|idle|subscribers|vtime|fleet|scale|pace|rtt|load|autosend] "
                 "[--pin same|cross|none] [--firmware-sizes FILE]");
         }
     }
@@ -398,6 +399,26 @@ static void run_scale(const config_t *cfg, results_t *res)
     server_stop(&srv);
 }
 
+/* A MOVE's wall time, quiet and under a POS? flood, on a server of its own
+ * without fingers (their bus would step the device every 10 ms anyway). */
+static void run_pace(const config_t *cfg, results_t *res)
+{
+    const char *argv[48];
+    int n = wsgsim_argv(argv, 44, cfg->wsgsim, false);
+    argv[n++] = "--fingers";
+    argv[n++] = "none,none";
+    argv[n] = NULL;
+    char log_path[512];
+    server_t srv;
+    snprintf(log_path, sizeof(log_path), "%s/wsgsim-pace.log", cfg->out);
+    if (!server_start_cmd(&srv, "wsgsim", argv, log_path, 30.0)) {
+        die("%s did not start (see %s)", cfg->wsgsim, log_path);
+    }
+    fprintf(stderr, "wsgbench: a MOVE, quiet and under a POS? flood\n");
+    pace_run(&srv, &res->pace);
+    server_stop(&srv);
+}
+
 static void describe_machine(results_t *res)
 {
     struct utsname u;
@@ -460,6 +481,9 @@ static void run_own_server_sections(const config_t *cfg, results_t *res)
     }
     if (wanted(cfg, "scale")) {
         run_scale(cfg, res);
+    }
+    if (wanted(cfg, "pace")) {
+        run_pace(cfg, res);
     }
 }
 

@@ -293,6 +293,19 @@ static void add_scale(table_t *t, const results_t *res)
     }
 }
 
+/* Issue 18: the simulated clock keeps wall pace whoever polls the device. */
+static void add_pace(table_t *t, const results_t *res)
+{
+    const pace_result_t *p = &res->pace;
+    if (p->quiet_s <= 0.0) {
+        return;
+    }
+    add(t, "MOVE 100 mm at 100 mm/s, quiet device", "s", p->quiet_s, -1.0);
+    row_t *r = add(t, "  the same under a POS? flood", "s", p->flooded_s, -1.0);
+    target(r, "within 10 % of quiet", p->flooded_s <= 1.1 * p->quiet_s);
+    add(t, "  POS? answered meanwhile", "count", (double)p->polls, -1.0);
+}
+
 static void build(const results_t *res, table_t *t)
 {
     t->n = 0;
@@ -318,6 +331,7 @@ static void build(const results_t *res, table_t *t)
     }
     add_memory(t, res);
     add_scale(t, res);
+    add_pace(t, res);
 }
 
 static const char *met_text(int met)
