@@ -889,6 +889,11 @@ function fileRow(file) {
 }
 
 async function listFiles() {
+  const info = await system.info;
+  $("store-missing").hidden = !info || info.script_store;
+  if (info && !info.script_store) {
+    return; // no /user/ store: nothing to list (…/files is 404)
+  }
   const refused = (error) => {
     if (error.httpStatus === 404) {
       $("store-missing").hidden = false;
@@ -1126,7 +1131,8 @@ function scriptingAllowed(allowed) {
 
 // --------------------------------------------------------------- the system
 
-const system = { logNext: 0 };
+// info: GET /system as the page loaded (a promise, null after a refusal).
+const system = { logNext: 0, info: null };
 
 function formatUptime(ms) {
   const total = Math.floor(ms / 1000);
@@ -1163,13 +1169,15 @@ async function pollSystem() {
   }
 }
 
-// The force axis's span comes with the model (GET /system), once at start.
-async function loadModelRanges() {
+// The model's ranges (the force axis's span) and whether there is a script
+// store: GET /system once at start, without its log lines.
+async function loadSystemInfo() {
   const info = await callApi(() => {}, "GET", apiBase + "/system?since=" + Number.MAX_SAFE_INTEGER);
   if (info && info.force_max_n > 0) {
     live.forceSpanN = info.force_max_n;
     scheduleChart();
   }
+  return info;
 }
 
 // ------------------------------------------------------------ the devices
@@ -1211,11 +1219,11 @@ function main() {
   setUpSim();
   setUpSettings();
   setUpDevices();
+  system.info = loadSystemInfo();
   setUpScripting();
   pollWhileShown("system", SYSTEM_POLL_MS, pollSystem);
   $("banner-fsack").addEventListener("click", bannerFsack);
   setUpViews();
-  loadModelRanges();
   loadScriptState();
   openStream(RECONNECT_MIN_MS);
 }

@@ -7,6 +7,7 @@
 
 #include "hal_clock.h"
 #include "log.h"
+#include "script.h"
 #include "version.h"
 #include "web/web_internal.h"
 
@@ -55,6 +56,9 @@ static cJSON *system_json(gripper_t *g, uint64_t log_since)
     cJSON_AddNumberToObject(root, "time_ms", (double)now_us / 1000.0);
     uint64_t up_us = now_us > g->powered_on_us ? now_us - g->powered_on_us : 0u;
     cJSON_AddNumberToObject(root, "uptime_ms", (double)up_us / 1000.0);
+    /* whether …/files has a /user/ store to list (else 404) */
+    cJSON_AddBoolToObject(root, "script_store",
+                          g->script != NULL && script_store_dir(g->script)[0] != '\0');
     add_log(root, log_since);
     return root;
 }

@@ -32,6 +32,8 @@ class System(WebCase):
             self.assertEqual("SN=%d" % j["serial"], gcl.command("SN?"))
             self.assertEqual((j["stroke_mm"], j["force_min_n"], j["force_max_n"]), (110, 5, 80))
             self.assertRegex(j["wsgsim_version"], r"^\d+\.\d+")
+            self.assertFalse(j["script_store"])  # no --script-dir: …/files is 404
+            self.assertEqual(self.get("/api/devices/%d/files" % device).status, 404)
 
     def test_uptime_restarts_at_a_power_cycle(self):
         with self.sim.control() as ctl:
@@ -84,7 +86,9 @@ class LogRing(WebCase):
         # the script may yield at the end of a time slice: wait for its end
         wait_for("the script's end", lambda: not request(api + "/script").json()["running"],
                  MOTION_TIMEOUT)
-        log = request(api + "/system").json()["log"]
+        system = request(api + "/system").json()
+        self.assertTrue(system["script_store"])
+        log = system["log"]
         self.assertEqual(len(log["lines"]), LOG_KEPT)
         self.assertTrue(log["lines"][-1].endswith("script: line 150"), log["lines"][-1])
         self.assertTrue(log["lines"][0].endswith("script: line %d" % (150 - LOG_KEPT + 1)),
