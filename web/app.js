@@ -1064,7 +1064,8 @@ function renderScript(script) {
   setText("script-file", script.running ? script.file : "no script runs" +
     (script.file ? " (last: " + script.file + ")" : ""));
   setText("script-error", script.error ? "error: " + script.error : "");
-  setText("startup-script", script.startup ? script.startup + " (runs at power-on)" : "none");
+  setText("startup-script", script.startup ? script.startup + " (runs at power-on)"
+    : "none (or not started at power-on: --no-script-autostart)");
 }
 
 // SF_SCRIPT_RUNNING and SF_SCRIPT_FAILURE from the event stream.
