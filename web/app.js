@@ -145,7 +145,7 @@ function renderReadouts(state) {
   setText("force", fixed(state.force_n, 1));
   const grip = state.grip_state || {};
   setText("grip-state", grip.name ? grip.name + " (" + grip.code + ")" : "–");
-  setText("motion", state.motion || "–");
+  setText("motion-text", state.motion || "–");
   setText("temperature", fixed(state.temperature_c, 1));
   setText("sim-time", fixed(state.time_ms / 1000, 3));
   const part = state.part;
@@ -786,9 +786,10 @@ function setUpSim() {
 // the browser's back button and bookmarks work, the tabs are plain links.
 const views = { current: "", onShow: {} };
 
+// Another hash (the "skip to the view" link's #views) keeps the view shown.
 function viewFromHash() {
   const name = location.hash.replace(/^#/, "");
-  return VIEWS.includes(name) ? name : "live";
+  return VIEWS.includes(name) ? name : views.current || "live";
 }
 
 function showView() {

@@ -253,7 +253,7 @@ class PageTest(unittest.TestCase):
             self.show_view("motion")
             self.click("#op-home button")
             self.wait_for_flag("SF_REFERENCED")
-            self.wait_for_text("motion", "none")
+            self.wait_for_text("motion-text", "none")
             self.fill("#op-grip input[name=force_n]", 20)
             self.click("#op-grip button")
             wsgsim.wait_for_reply(client, "GRIPSTATE?", "GRIPSTATE=4", WAIT_TIMEOUT_S)
@@ -396,6 +396,13 @@ class PageTest(unittest.TestCase):
             self.wait_for_view("live")
             self.driver.get(sim.url("/devices/0#settings"))  # a bookmark
             self.wait_for_view("settings")
+            # the "skip to the view" link moves the focus, not the view
+            self.driver.execute_script("document.querySelector('a.skip').focus()")
+            self.driver.switch_to.active_element.send_keys(Keys.ENTER)
+            self.wait_for("the focus on the view", lambda d: d.execute_script(
+                "return document.activeElement.id") == "views")
+            self.wait_for_view("settings")
+            self.driver.get("about:blank")  # a page opened with an unknown hash
             self.driver.get(sim.url("/devices/0#nonsense"))
             self.wait_for_view("live")
             self.assert_no_console_errors()
