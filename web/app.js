@@ -784,7 +784,13 @@ function setUpSim() {
 
 // One view at a time, named by the address's hash (#live, #motion, ...):
 // the browser's back button and bookmarks work, the tabs are plain links.
-const views = { current: "", onShow: {} };
+const views = { current: "", onShow: {}, title: "wsgsim" };
+
+// "wsgsim WSG 50-110 (device 0) · Scripting"
+function showTitle() {
+  const tab = views.current ? " · " + $("tab-" + views.current).textContent : "";
+  document.title = views.title + tab;
+}
 
 // Another hash (the "skip to the view" link's #views) keeps the view shown.
 function viewFromHash() {
@@ -807,7 +813,7 @@ function showView() {
       tab.removeAttribute("aria-current");
     }
   }
-  document.title = document.title.replace(/ · .*$/, "") + " · " + $("tab-" + name).textContent;
+  showTitle();
   if (views.onShow[name]) {
     views.onShow[name]();
   }
@@ -851,6 +857,7 @@ const scripting = {
   openFile: null, // the file in the editor
   savedText: "",
   consoleNext: 0,
+  reading: null, // the console read under way (a promise)
 };
 
 function scriptResult(ok, text) {
@@ -918,7 +925,6 @@ async function listFiles() {
     .sort((a, b) => a.name.localeCompare(b.name))
     .map(fileRow);
   $("file-list").replaceChildren(...rows);
-  $("file-table").dataset.loaded = "1";
   updateEditorButtons();
 }
 
@@ -957,6 +963,15 @@ async function openFile(name) {
   showResult($("files-result"), true, "opened " + name);
 }
 
+function fileListed(name) {
+  return [...$("file-list").rows].some((row) => row.dataset.name === name);
+}
+
+// Writing over a listed file only after the user said so.
+function mayReplace(name) {
+  return !fileListed(name) || confirm("/user/" + name + " exists: replace it?");
+}
+
 async function writeFile(name, text, result) {
   const refused = (error) => showResult(result, false, "save " + name + ": " + error.describe());
   const reply = await callApi(refused, "PUT", storePath(name), { text: text });
@@ -979,6 +994,10 @@ async function saveOpenFile() {
 async function newFile(event) {
   event.preventDefault();
   const name = $("file-new").elements.name.value.trim();
+  if (fileListed(name)) {
+    showResult($("files-result"), false, name + " exists: open it from the list");
+    return;
+  }
   if (await writeFile(name, "", $("files-result"))) {
     await listFiles();
     await openFile(name);
@@ -988,7 +1007,8 @@ async function newFile(event) {
 async function uploadFile() {
   const input = $("file-upload").elements.file;
   const file = input.files[0];
-  if (!file) {
+  if (!file || !mayReplace(file.name)) {
+    input.value = "";
     return;
   }
   if (await writeFile(file.name, await file.text(), $("files-result"))) {
@@ -1001,7 +1021,7 @@ async function uploadFile() {
 // the old one deleted.
 async function renameFile(name) {
   const to = prompt("Rename " + name + " to:", name);
-  if (!to || to === name) {
+  if (!to || to === name || !mayReplace(to)) {
     return;
   }
   const response = await fetch(storePath(name));
@@ -1079,7 +1099,16 @@ function renderScriptFlags(setFlags) {
   }
 }
 
-async function pollConsole() {
+// One console read at a time (Run reads at once, besides the poll): two
+// reads from the same line number would show its lines twice.
+function pollConsole() {
+  if (!scripting.reading) {
+    scripting.reading = readConsole().finally(() => (scripting.reading = null));
+  }
+  return scripting.reading;
+}
+
+async function readConsole() {
   const failed = () => {}; // the link indicator shows a lost server
   const reply = await callApi(failed, "GET",
     apiBase + "/script/console?since=" + scripting.consoleNext);
@@ -1194,7 +1223,8 @@ async function setUpDevices() {
   const self = devices.find((device) => device.id === deviceId);
   if (self) {
     $("identity").textContent = self.model + (self.tag ? " · " + self.tag : "") + " · device " + deviceId;
-    document.title = "wsgsim " + self.model + " (device " + deviceId + ")";
+    views.title = "wsgsim " + self.model + " (device " + deviceId + ")";
+    showTitle();
   }
   if (devices.length < 2) {
     return;

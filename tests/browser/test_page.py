@@ -27,7 +27,8 @@ N failed'.
 - a fault's FAST STOP shows as a banner whose FSACK clears it (refused, and
   said so, while the fault persists);
 - the scripting view lists /user/, makes, edits and saves a file, runs it
-  (its output in the console, the running flag in words) and stops it;
+  (its output in the console, the running flag in words) and stops it; a
+  read-only store is shown without saving, the startup script in Settings;
 - every input, select and textarea has a label with words in it (a DOM
   check over every view);
 - the force axis spans at least the model's nominal force range when the
@@ -451,6 +452,11 @@ class PageTest(unittest.TestCase):
                 with open(os.path.join(store, "loop.lua")) as f:
                     self.assertEqual(f.read(),
                                      "print('from the page')\nwhile true do sleep(50) end\n")
+                # a second "new" loop.lua does not empty the first
+                self.click("#file-new button")
+                self.wait_for_text("files-result", "loop.lua exists: open it from the list")
+                with open(os.path.join(store, "loop.lua")) as f:
+                    self.assertTrue(f.read().startswith("print('from the page')"))
                 self.click("#script-run")
                 self.wait_for("the console line", lambda d: "from the page" in d.find_element(
                     By.ID, "console").text)
@@ -474,6 +480,35 @@ class PageTest(unittest.TestCase):
                 self.wait_for("the list without it", lambda d: not d.find_elements(
                     By.CSS_SELECTOR, "#file-list tr[data-name='hello.lua']"))
                 self.assertFalse(os.path.exists(os.path.join(store, "hello.lua")))
+                self.assert_no_console_errors()
+
+    def test_read_only_store_and_the_startup_script(self):
+        with tempfile.TemporaryDirectory(prefix="wsgsim-startup-") as tmp:
+            startup = os.path.join(tmp, "hello.lua")
+            with open(startup, "w") as f:
+                f.write("print('started at power-on')\n")
+            with Wsgsim("--script", startup) as sim:
+                self.open_page(sim)
+                self.show_view("settings")  # Settings -> System names it
+                self.wait_for_text("startup-script", startup + " (runs at power-on)")
+                self.show_view("scripting")
+                self.wait_for("the read-only note", lambda d: d.find_element(
+                    By.ID, "store-readonly").is_displayed())
+                self.wait_for("the startup script's line", lambda d: "started at power-on" in
+                              d.find_element(By.ID, "console").text)
+                self.assertFalse(self.driver.find_element(
+                    By.CSS_SELECTOR, "#file-new button").is_enabled())
+                self.click("#file-list button[aria-label='Open hello.lua']")
+                self.wait_for_text("editor-file", "/user/hello.lua")
+                editor = self.driver.find_element(By.ID, "editor-text")
+                self.assertEqual(editor.get_attribute("value"), "print('started at power-on')\n")
+                self.assertEqual(editor.get_attribute("readonly"), "true")
+                self.assertFalse(self.driver.find_element(By.ID, "script-save").is_enabled())
+                self.assertFalse(self.driver.find_element(
+                    By.CSS_SELECTOR, "#file-list button[aria-label='Delete hello.lua']")
+                    .is_enabled())
+                self.click("#script-run")  # runs without saving
+                self.wait_for_text_start("script-result", "run /user/hello.lua: started")
                 self.assert_no_console_errors()
 
     def test_every_field_has_a_label(self):
