@@ -207,6 +207,9 @@ static void keep_recent(const char *line, size_t len)
 {
     char *slot = recent.lines[recent.next % LOG_RECENT_LINES];
     size_t kept = len < LOG_RECENT_LINE_MAX - 1 ? len : LOG_RECENT_LINE_MAX - 1;
+    while (kept < len && kept > 0 && ((unsigned char)line[kept] & 0xC0u) == 0x80u) {
+        kept--; /* cut before a UTF-8 sequence, not inside it: the page reads JSON */
+    }
     memcpy(slot, line, kept);
     slot[kept] = '\0';
     recent.next++;

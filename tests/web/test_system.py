@@ -95,3 +95,20 @@ class LogRing(WebCase):
                         log["lines"][0])
         old = request(api + "/system?since=0").json()["log"]
         self.assertEqual(old["lines"], log["lines"])  # the lines before are gone
+
+    def test_a_long_line_is_cut_between_characters(self):
+        """A line cut to 255 bytes stays UTF-8 (the reply is JSON): with and
+        without one byte more before them, one of the two lines of 2-byte
+        characters would be cut inside a character."""
+        api = self.sim.base + "/api/devices/0"
+        with open(os.path.join(self.store, "wide.lua"), "w", encoding="utf-8") as f:
+            f.write("print(string.rep('\u00e9', 200))\nprint('x' .. string.rep('\u00e9', 200))\n")
+        self.assertEqual(request(api + "/script/run", "POST", {"file": "wide.lua"}).status, 200)
+        wait_for("the script's end", lambda: not request(api + "/script").json()["running"],
+                 MOTION_TIMEOUT)
+        lines = request(api + "/system").json()["log"]["lines"][-2:]  # decoded strictly
+        for line, start in zip(lines, ("script: \u00e9", "script: x\u00e9")):
+            self.assertIn(start, line)
+            self.assertLessEqual(len(line.encode()), 255)
+            self.assertGreaterEqual(len(line.encode()), 254)
+            self.assertTrue(line.endswith("\u00e9"), line[-5:])
