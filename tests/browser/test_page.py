@@ -27,8 +27,9 @@ N failed'.
 - a fault's FAST STOP shows as a banner whose FSACK clears it (refused, and
   said so, while the fault persists);
 - the scripting view lists /user/, makes, edits and saves a file, runs it
-  (its output in the console, the running flag in words) and stops it; a
-  read-only store is shown without saving, the startup script in Settings;
+  (its output in the console, the running flag in words) and stops it;
+  uploads, renames and offers a download; a read-only store is shown
+  without saving, the startup script in Settings;
 - every input, select and textarea has a label with words in it (a DOM
   check over every view);
 - the force axis spans at least the model's nominal force range when the
@@ -480,6 +481,36 @@ class PageTest(unittest.TestCase):
                 self.wait_for("the list without it", lambda d: not d.find_elements(
                     By.CSS_SELECTOR, "#file-list tr[data-name='hello.lua']"))
                 self.assertFalse(os.path.exists(os.path.join(store, "hello.lua")))
+                self.assert_no_console_errors()
+
+    def test_file_manager_uploads_renames_and_downloads(self):
+        with tempfile.TemporaryDirectory(prefix="wsgsim-store-") as store, \
+                tempfile.TemporaryDirectory(prefix="wsgsim-upload-") as home:
+            upload = os.path.join(home, "up.lua")
+            with open(upload, "w") as f:
+                f.write("print('uploaded')\n")
+            with Wsgsim("--script-dir", store) as sim:
+                self.open_page(sim)
+                self.show_view("scripting")
+                self.wait_for("the empty list", lambda d: d.find_element(
+                    By.ID, "file-new").find_element(By.TAG_NAME, "button").is_enabled())
+                self.driver.find_element(By.CSS_SELECTOR, "#file-upload input").send_keys(upload)
+                self.wait_for_text_start("files-result", "saved up.lua (18 bytes)")
+                self.wait_for("up.lua listed", lambda d: d.find_elements(
+                    By.CSS_SELECTOR, "#file-list tr[data-name='up.lua']"))
+                with open(os.path.join(store, "up.lua")) as f:
+                    self.assertEqual(f.read(), "print('uploaded')\n")
+                self.click("#file-list button[aria-label='Rename up.lua']")
+                prompt = self.wait_for("the new name's prompt", expected.alert_is_present())
+                prompt.send_keys("moved.lua")
+                prompt.accept()
+                self.wait_for_text("files-result", "renamed up.lua to moved.lua")
+                self.assertEqual(sorted(os.listdir(store)), ["moved.lua"])
+                link = self.driver.find_element(
+                    By.CSS_SELECTOR, "#file-list a[aria-label='Download moved.lua']")
+                self.assertEqual(link.get_attribute("download"), "moved.lua")
+                self.assertTrue(link.get_attribute("href").endswith(
+                    "/api/devices/0/files/moved.lua"))
                 self.assert_no_console_errors()
 
     def test_read_only_store_and_the_startup_script(self):
