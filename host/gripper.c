@@ -39,7 +39,8 @@ static void place_start_part(gripper_t *g)
 
 static void power_on_world(gripper_t *g)
 {
-    wsg_sim_world_init(&g->world, &g->config, hal_clock_now_us());
+    g->powered_on_us = hal_clock_now_us();
+    wsg_sim_world_init(&g->world, &g->config, g->powered_on_us);
     if (g->opts.part_given) {
         place_start_part(g);
     }

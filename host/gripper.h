@@ -26,6 +26,8 @@ typedef struct gripper {
     struct gripper *next_touched;
     unsigned index;        /* its number in the fleet: 0 for the first */
     struct script *script; /* its script interpreter; NULL without scripting */
+
+    uint64_t powered_on_us; /* simulated time of its last power-on (start or reset) */
 } gripper_t;
 
 /* Power-on state from the options (model, configuration file, part) for
