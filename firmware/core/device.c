@@ -82,20 +82,6 @@ void wsg_device_step(wsg_device_t *device)
     dev->tick_from_us = dev->sensed.now_us;
 }
 
-/* How often the supervisor must look: 0 when nothing can change by itself. */
-uint32_t wsg_device_tick_us(const wsg_dev_t *dev)
-{
-    if (dev->motion.kind != WSG_MOTION_NONE || dev->velocity.active ||
-        wsg_flags_get(dev, SF_MOVING)) {
-        return MOTION_TICK_US;
-    }
-    if (dev->grip.state == GS_HOLDING ||
-        (dev->flags & (WSG_FLAG(SF_BLOCKED_MINUS) | WSG_FLAG(SF_BLOCKED_PLUS))) != 0u) {
-        return HOLD_TICK_US;
-    }
-    return 0u;
-}
-
 uint64_t wsg_device_next_deadline_us(const wsg_device_t *device)
 {
     const wsg_dev_t *dev = dev_of_const(device);
