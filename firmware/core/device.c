@@ -48,10 +48,11 @@ void wsg_device_observe(wsg_device_t *device, const wsg_device_observer_t *obser
  * and it raises no force request (only its step does). */
 static void step_finger_bus(wsg_dev_t *dev)
 {
+    dev->fingers_stepped = false;
     if (dev->fbus.can == NULL) {
         return;
     }
-    wsg_finger_bus_step(
+    dev->fingers_stepped = wsg_finger_bus_step(
         &dev->fbus, &dev->fingers,
         &(fbus_input_t){
             .now_us = dev->sensed.now_us,

@@ -29,8 +29,8 @@ void wsg_sense(wsg_dev_t *dev)
 /* What the sense step reads, other than the world (which the port advances
  * between control steps, never within one) and the configuration (which only
  * commands change): the clock, the axis as the supervisor commands it, the
- * reference and the fingers. The finger readings are compared only when a
- * finger bus can have changed them. */
+ * reference and the fingers. The finger readings are compared only when the
+ * finger bus's step can have changed them. */
 static bool readings_changed(const wsg_dev_t *dev)
 {
     const dev_sensed_t *s = &dev->sensed;
@@ -39,7 +39,7 @@ static bool readings_changed(const wsg_dev_t *dev)
         return true;
     }
     const wsg_fingers_t *fingers = &dev->fingers;
-    return dev->fbus.can != NULL && /* without one, nothing changes the fingers in a step */
+    return dev->fingers_stepped && /* else nothing changed the fingers in this step */
            (wsg_fingers_force_control(fingers) != s->force_control ||
             wsg_fingers_faulted(fingers) != s->finger_faulted ||
             wsg_fingers_measured_force(fingers) != s->finger_force_n);

@@ -56,6 +56,8 @@ typedef struct {
     /* On an on-demand bus: the bus ticks until then, as something changed */
     bool wake;
     uint64_t awake_until_us;
+    /* On an on-demand bus: until then a step that takes no frame is a poll */
+    uint64_t quiet_until_us;
 } finger_bus_t;
 
 /* What the bus hears from the core each step. */
@@ -72,8 +74,9 @@ typedef struct {
 /* Power-on state; can may be NULL. Sets the controller's filters. */
 void wsg_finger_bus_init(finger_bus_t *bus, const hal_can_t *can);
 /* One control step: broadcast the jaw state when due, receive, supervise,
- * publish to fingers and compute the grip-force loop. */
-void wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in);
+ * publish to fingers and compute the grip-force loop. False when the step
+ * changed nothing in fingers (no bus, or a quiet poll). */
+bool wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in);
 uint64_t wsg_finger_bus_next_deadline_us(const finger_bus_t *bus);
 /* The force limit the loop asks the supervisor to drive with, once. */
 bool wsg_finger_bus_take_force_request(finger_bus_t *bus, float *limit_n);

@@ -169,7 +169,7 @@ static void on_simctl(finger_node_t *node, uint8_t faults, uint64_t now_us)
     }
 }
 
-void wsg_finger_node_receive(finger_node_t *node, const hal_can_frame_t *frame, uint64_t now_us)
+static void handle_frame(finger_node_t *node, const hal_can_frame_t *frame, uint64_t now_us)
 {
     fbus_state_t state;
     uint8_t value = 0;
@@ -190,6 +190,12 @@ void wsg_finger_node_receive(finger_node_t *node, const hal_can_frame_t *frame, 
             send_descriptor(node);
         }
     }
+}
+
+void wsg_finger_node_receive(finger_node_t *node, const hal_can_frame_t *frame, uint64_t now_us)
+{
+    handle_frame(node, frame, now_us);
+    node->due_us = wsg_finger_node_next_due_us(node); /* a frame may power it, or wake it */
 }
 
 static float fmf_reading(finger_node_t *node)
@@ -298,9 +304,10 @@ static void skip_own_stall(finger_node_t *node, uint64_t now_us)
     node->stepped_us = now_us;
 }
 
-void wsg_finger_node_step(finger_node_t *node, uint64_t now_us)
+/* What a step does besides the stall bookkeeping; nothing before
+ * wsg_finger_node_next_due_us(). */
+static void run_due(finger_node_t *node, uint64_t now_us)
 {
-    skip_own_stall(node, now_us);
     if (node->powered && now_us - node->last_state_us > FBUS_SUPPLY_TIMEOUT_US) {
         node->powered = false; /* the gripper is gone: no supply */
     }
@@ -336,6 +343,21 @@ uint64_t wsg_finger_node_next_due_us(const finger_node_t *node)
     }
     uint64_t supply = node->last_state_us + FBUS_SUPPLY_TIMEOUT_US + 1u;
     return supply < due ? supply : due;
+}
+
+/* A node is polled far more often than it has something to do (wsgsim's
+ * in-process bus steps it at every control step, 1 ms while moving): the
+ * step does nothing before its cached due time. The stall bookkeeping can
+ * only move the due time later (it shifts last_state_us forward), so the
+ * cached time is never late. */
+void wsg_finger_node_step(finger_node_t *node, uint64_t now_us)
+{
+    skip_own_stall(node, now_us);
+    if (now_us < node->due_us) {
+        return;
+    }
+    run_due(node, now_us);
+    node->due_us = wsg_finger_node_next_due_us(node);
 }
 
 static bool same_word(const char *a, const char *word, size_t len)

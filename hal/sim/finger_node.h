@@ -37,6 +37,7 @@ typedef struct {
     /* schedule */
     uint64_t next_heartbeat_us;
     uint64_t next_data_us;
+    uint64_t due_us; /* wsg_finger_node_next_due_us() after the last step or frame */
     uint8_t heartbeat_counter;
     uint8_t data_counter;
     /* FMF */
