@@ -290,22 +290,6 @@ static void send_data(finger_node_t *node, uint64_t now_us)
     }
 }
 
-/* A powered node steps at least every heartbeat (100 ms). A longer gap means
- * its own loop was held up (the host descheduled fingersim): the gripper's
- * silence counts only while the node ran, else a stall of the whole host
- * would cut the fingers' supply. */
-static void skip_own_stall(finger_node_t *node, uint64_t now_us)
-{
-    uint64_t gap = now_us - node->stepped_us;
-    if (node->stepped_us != 0u && gap > FBUS_STALL_US) {
-        uint64_t shifted = node->last_state_us + gap;
-        node->last_state_us = shifted < now_us ? shifted : now_us;
-    }
-    node->stepped_us = now_us;
-}
-
-/* What a step does besides the stall bookkeeping; nothing before
- * wsg_finger_node_next_due_us(). */
 static void run_due(finger_node_t *node, uint64_t now_us)
 {
     if (node->powered && now_us - node->last_state_us > FBUS_SUPPLY_TIMEOUT_US) {
@@ -345,17 +329,8 @@ uint64_t wsg_finger_node_next_due_us(const finger_node_t *node)
     return supply < due ? supply : due;
 }
 
-/* A node is polled far more often than it has something to do (wsgsim's
- * in-process bus steps it at every control step, 1 ms while moving): the
- * step does nothing before its cached due time. The stall bookkeeping can
- * only move the due time later (it shifts last_state_us forward), so the
- * cached time is never late. */
-void wsg_finger_node_step(finger_node_t *node, uint64_t now_us)
+void wsg_finger_node_step_due(finger_node_t *node, uint64_t now_us)
 {
-    skip_own_stall(node, now_us);
-    if (now_us < node->due_us) {
-        return;
-    }
     run_due(node, now_us);
     node->due_us = wsg_finger_node_next_due_us(node);
 }
