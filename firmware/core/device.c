@@ -63,7 +63,9 @@ static void step_finger_bus(wsg_dev_t *dev)
             .grip_force_n = dev->grip.force_n,
             .force_max_n = wsg_config_force_max(&dev->cfg),
         });
-    wsg_motion_apply_force_request(dev);
+    if (dev->fingers_stepped) { /* only a full bus step raises a force request */
+        wsg_motion_apply_force_request(dev);
+    }
 }
 
 void wsg_device_step(wsg_device_t *device)

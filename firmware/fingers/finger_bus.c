@@ -31,22 +31,6 @@ void wsg_finger_bus_init(finger_bus_t *bus, const hal_can_t *can)
     bus->wake = true;
 }
 
-/* A real bus is supervised every 10 ms: its nodes run on their own and
- * power down without STATE. On an on-demand bus the nodes run when the
- * controller polls, so every step is a complete bus cycle: it ticks only
- * while something settles or the force loop runs. */
-uint64_t wsg_finger_bus_next_deadline_us(const finger_bus_t *bus)
-{
-    if (bus->can == NULL) {
-        return UINT64_MAX;
-    }
-    if (!bus->can->on_demand || bus->regulating || bus->wake ||
-        bus->next_state_us < bus->awake_until_us) {
-        return bus->next_state_us;
-    }
-    return UINT64_MAX;
-}
-
 static void send(finger_bus_t *bus, const hal_can_frame_t *frame)
 {
     if (hal_can_send(bus->can, frame)) {
