@@ -52,7 +52,7 @@ static bool set_acceptance(acceptance_t *a, const hal_can_filter_t *filters, uns
     return true;
 }
 
-static bool accepts(const acceptance_t *a, const hal_can_frame_t *frame)
+static inline bool accepts(const acceptance_t *a, const hal_can_frame_t *frame)
 {
     if ((frame->flags & HAL_CAN_FLAG_EXT) != 0u || frame->id > HAL_CAN_STD_ID_MASK) {
         return hal_can_filters_accept(a->filters, a->count, frame);

@@ -202,7 +202,7 @@ static unsigned receive_all(finger_bus_t *bus, wsg_fingers_t *fingers, uint64_t 
     while (hal_can_recv(bus->can, &f)) {
         taken++;
         uint8_t injected;
-        if (wsg_fbus_unpack_simctl(&f, &injected)) {
+        if (fbus_func_of(f.id) == FBUS_ID_SIMCTL && wsg_fbus_unpack_simctl(&f, &injected)) {
             bus->wake = true; /* only an on-demand bus passes it */
             continue;
         }
