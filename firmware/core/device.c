@@ -19,6 +19,7 @@ static void power_on(wsg_dev_t *dev, const wsg_config_t *cfg)
     dev->flags = 0;
     wsg_fingers_reset(&dev->fingers);
     wsg_finger_bus_init(&dev->fbus, dev->hal.can);
+    dev->fingers_unsensed = true;
     wsg_sense(dev);
 }
 
@@ -64,6 +65,7 @@ static void step_finger_bus(wsg_dev_t *dev)
             .force_max_n = wsg_config_force_max(&dev->cfg),
         });
     if (dev->fingers_stepped) { /* only a full bus step raises a force request */
+        dev->fingers_unsensed = true;
         wsg_motion_apply_force_request(dev);
     }
 }

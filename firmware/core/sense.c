@@ -7,17 +7,30 @@
 
 #include "hal_clock.h"
 
+/* With a finger bus only its full steps change the fingers (and power-on):
+ * between them the last reading stands. Without one they are read every
+ * time, as nothing marks a change made to them from outside (tests do). */
+static void sense_fingers(wsg_dev_t *dev)
+{
+    dev_sensed_t *s = &dev->sensed;
+    if (dev->fbus.can != NULL && !dev->fingers_unsensed) {
+        return;
+    }
+    dev->fingers_unsensed = false;
+    s->force_control = wsg_fingers_force_control(&dev->fingers);
+    s->finger_faulted = wsg_fingers_faulted(&dev->fingers);
+    /* the measurement averages the WSG-FMFs with data: 0 when there is none,
+     * which is exactly when the fingers are not in force control */
+    s->finger_force_n = s->force_control ? wsg_fingers_measured_force(&dev->fingers) : 0.0f;
+}
+
 void wsg_sense(wsg_dev_t *dev)
 {
     dev_sensed_t *s = &dev->sensed;
     s->now_us = hal_clock_now_us();
     dev->hal.axis.ops->status(dev->hal.axis.ctx, &s->axis);
     dev->axis_commanded = false;
-    s->force_control = wsg_fingers_force_control(&dev->fingers);
-    s->finger_faulted = wsg_fingers_faulted(&dev->fingers);
-    /* the measurement averages the WSG-FMFs with data: 0 when there is none,
-     * which is exactly when the fingers are not in force control */
-    s->finger_force_n = s->force_control ? wsg_fingers_measured_force(&dev->fingers) : 0.0f;
+    sense_fingers(dev);
     /* FORCE? reports the finger measurement in force-control mode, else the
      * motor's estimate */
     s->force_n = s->force_control ? s->finger_force_n : s->axis.force_n;

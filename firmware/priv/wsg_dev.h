@@ -73,9 +73,10 @@ typedef struct wsg_dev {
     wsg_config_t cfg; /* with the run-time settings applied */
     wsg_hal_t hal;
     dev_sensed_t sensed;
-    bool sense_reacted;   /* the last wsg_sense_and_react() raised FAST STOP */
-    bool axis_commanded;  /* the supervisor commanded the axis since the last sense */
-    bool fingers_stepped; /* this control step's finger bus step may have changed fingers */
+    bool sense_reacted;    /* the last wsg_sense_and_react() raised FAST STOP */
+    bool axis_commanded;   /* the supervisor commanded the axis since the last sense */
+    bool fingers_stepped;  /* this control step's finger bus step may have changed fingers */
+    bool fingers_unsensed; /* fingers may have changed since the sense last read them */
     dev_motion_t motion;
     dev_grip_t grip;
     wsg_fingers_t fingers;
