@@ -241,6 +241,22 @@ def part_slip(r, k):
     r.run("A", "RELEASE(10)")
 
 
+def fault_while_moving(r, k):
+    """A finger leaves the bus while the jaws move (1 ms steps between the
+    bus's 10 ms broadcasts): when the comm fault shows, to the millisecond."""
+    r.run("A", "MOVE(5)")
+    r.send("A", "MOVE(105,%d)" % (60 + 5 * k))
+    r.control("STEP(3)")
+    r.control('FAULT("FINGER_UNPLUG",%d)' % (k % 2))
+    for _ in range(320):
+        r.control("STEP(1)")
+        r.send("A", "SYSFLAGS[17]?")
+    r.control("CLEAR()")
+    r.control("RUN_UNTIL_DONE(30000)")
+    r.control("STEP(600)")
+    r.send("A", "FSACK()")
+
+
 def story(r, cycles):
     r.control("STEP(600)")  # the fingers boot and describe themselves
     r.queries("A", FINGER_QUERIES + STATE_QUERIES + ["FDATA?"])
@@ -252,6 +268,8 @@ def story(r, cycles):
         finger_faults(r, k)
         binary_session(r, k)
         part_slip(r, k)
+        if k < 2:
+            fault_while_moving(r, k)
     r.send("B", 'AUTOSEND("POS",0)')
     r.control("STEP(2500.25)")
     r.queries("A", FINGER_QUERIES + STATE_QUERIES)
