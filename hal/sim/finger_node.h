@@ -91,6 +91,7 @@ static inline void wsg_finger_node_step(finger_node_t *node, uint64_t now_us)
         wsg_finger_node_step_due(node, now_us);
     }
 }
+
 /* When wsg_finger_node_step() must run next (UINT64_MAX: only a frame wakes it). */
 uint64_t wsg_finger_node_next_due_us(const finger_node_t *node);
 
