@@ -7,8 +7,9 @@ TCP sessions (one also carries AUTOSEND streams), binary-protocol frames on a
 third (as hex), control-channel commands and replies, each prefixed with the
 simulated time the clock stood at. The story covers motion, grips on a part
 and against an obstacle, the simulated fingers (FMF force readings, DSA
-cells, flags, TARE, injected finger faults, a finger power cycle over the
-binary protocol), FAST STOP, STOP, AUTOSEND, STEP and RUN_UNTIL_DONE.
+cells, flags, TARE, injected finger faults, one while the jaws move, the
+finger power requests of the binary protocol), FAST STOP, STOP, AUTOSEND,
+STEP and RUN_UNTIL_DONE.
 
 Two builds that must behave alike (an optimisation) give byte-identical
 files; docs/benchmark.md says how to compare them:
