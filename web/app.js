@@ -716,6 +716,7 @@ async function setUpSettings() {
     applySettings();
   });
   $("settings-save").addEventListener("click", saveSettings);
+  $("startup-apply").addEventListener("click", applyStartup);
   const refused = (error) => showResult($("settings-result"), false, "settings: " + error.describe());
   const values = await callApi(refused, "GET", apiBase + "/settings");
   if (values) {
@@ -857,6 +858,7 @@ const scripting = {
   allowed: true, // may this client run scripts and change files (sim_allowed)
   writable: false, // the store can be written
   openFile: null, // the file in the editor
+  startup: null, // the startup script (GET …/script), null: none
   savedText: "",
   consoleNext: 0,
   reading: null, // the console read under way (a promise)
@@ -923,11 +925,35 @@ async function listFiles() {
       field.disabled = !canWrite;
     }
   }
-  const rows = listing.files
-    .sort((a, b) => a.name.localeCompare(b.name))
-    .map(fileRow);
-  $("file-list").replaceChildren(...rows);
+  const files = listing.files.sort((a, b) => a.name.localeCompare(b.name));
+  $("file-list").replaceChildren(...files.map(fileRow));
+  fillStartupChoice(files);
   updateEditorButtons();
+}
+
+// Settings → System: the store's files as startup scripts, the current one chosen.
+function fillStartupChoice(files) {
+  const choice = $("startup-choice");
+  const current = scripting.startup || "";
+  const options = [new Option("none", "")].concat(
+    files.map((file) => new Option("/user/" + file.name, "/user/" + file.name)));
+  choice.replaceChildren(...options);
+  choice.value = options.some((o) => o.value === current) ? current : "";
+  choice.disabled = !scripting.allowed;
+  $("startup-apply").disabled = !scripting.allowed;
+}
+
+async function applyStartup() {
+  const file = $("startup-choice").value;
+  const refused = (error) => showResult($("startup-result"), false,
+    "startup script: " + error.describe());
+  const reply = await callApi(refused, "PUT", apiBase + "/script/startup",
+    {file: file === "" ? null : file});
+  if (reply) {
+    showResult($("startup-result"), true, "startup script: " + (file || "none") +
+      ", from the next power-on (Save keeps it)");
+    renderScript(reply);
+  }
 }
 
 function updateEditorButtons() {
@@ -1089,6 +1115,11 @@ function renderScript(script) {
   setText("script-error", script.error ? "error: " + script.error : "");
   setText("startup-script", script.startup ? script.startup + " (runs at power-on)"
     : "none (or not started at power-on: --no-script-autostart)");
+  scripting.startup = script.startup;
+  const choice = $("startup-choice");
+  if ([...choice.options].some((o) => o.value === (script.startup || ""))) {
+    choice.value = script.startup || "";
+  }
 }
 
 // SF_SCRIPT_RUNNING and SF_SCRIPT_FAILURE from the event stream.
@@ -1150,6 +1181,7 @@ function setUpScripting() {
     listFiles();
     showScripting();
   };
+  views.onShow.settings = listFiles; // the startup script's choice of files
 }
 
 // Without sim_allowed the server refuses runs and changes: shown, not tried.
@@ -1157,7 +1189,7 @@ function scriptingAllowed(allowed) {
   scripting.allowed = allowed;
   $("script-unavailable").hidden = allowed;
   updateEditorButtons();
-  if (views.current === "scripting") {
+  if (views.current === "scripting" || views.current === "settings") {
     listFiles(); // its buttons follow the rule
   }
 }
