@@ -57,7 +57,7 @@ from selenium.webdriver.chrome.service import Service  # noqa: E402
 from selenium.webdriver.common.by import By  # noqa: E402
 from selenium.webdriver.common.keys import Keys  # noqa: E402
 from selenium.webdriver.support import expected_conditions as expected  # noqa: E402
-from selenium.webdriver.support.ui import WebDriverWait  # noqa: E402
+from selenium.webdriver.support.ui import Select, WebDriverWait  # noqa: E402
 from webclient import non_loopback_address  # noqa: E402
 
 import wsgsim  # noqa: E402
@@ -540,6 +540,29 @@ class PageTest(unittest.TestCase):
                     .is_enabled())
                 self.click("#script-run")  # runs without saving
                 self.wait_for_text_start("script-result", "run /user/hello.lua: started")
+                self.assert_no_console_errors()
+
+    def test_settings_choose_the_startup_script(self):
+        with tempfile.TemporaryDirectory(prefix="wsgsim-store-") as store:
+            with open(os.path.join(store, "hello.lua"), "w") as f:
+                f.write("print('hello at power-on')\nwhile true do sleep(50) end\n")
+            with Wsgsim("--script-dir", store, control=True) as sim:
+                self.open_page(sim)
+                self.show_view("settings")
+                self.wait_for("the store's files to choose from", lambda d: d.execute_script(
+                    "return [...document.querySelectorAll('#startup-choice option')]"
+                    ".map((o) => o.value)") == ["", "/user/hello.lua"])
+                Select(self.driver.find_element(By.ID, "startup-choice")).select_by_value(
+                    "/user/hello.lua")
+                self.click("#startup-apply")
+                self.wait_for_text("startup-script", "/user/hello.lua (runs at power-on)")
+                with sim.tcp() as client:
+                    client.expect("SYSFLAGS[19]?", "SYSFLAGS[19]=0")  # not at once
+                with sim.control() as ctl:
+                    self.assertEqual(ctl("RESET()"), "ACK RESET")
+                with sim.tcp() as client:
+                    wsgsim.wait_for_reply(client, "SYSFLAGS[19]?", "SYSFLAGS[19]=1",
+                                          WAIT_TIMEOUT_S)
                 self.assert_no_console_errors()
 
     def test_every_field_has_a_label(self):
