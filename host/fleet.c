@@ -59,6 +59,13 @@ static bool raise_descriptor_limit(const host_options_t *opts, unsigned devices)
     rlim_t sockets = opts->address_per_device ? per_device : (rlim_t)devices * per_device;
     rlim_t need = sockets + FDS_SPARE;
     struct rlimit lim;
+    if (need > LOOP_MAX_WATCHES) {
+        host_logf(HAL_LOG_ERROR,
+                  "--devices %u: %llu listening sockets are more than the event loop watches "
+                  "(%d); --address-per-device needs 3 in all",
+                  devices, (unsigned long long)sockets, LOOP_MAX_WATCHES);
+        return false;
+    }
     if (getrlimit(RLIMIT_NOFILE, &lim) != 0 || lim.rlim_cur >= need) {
         return true;
     }

@@ -145,6 +145,15 @@ class Start(unittest.TestCase):
         with GclTcp(address_of(999), sim.tcp_port, timeout=TIMEOUT) as gcl:
             gcl.expect("SN?", "SN=%d" % (SERIAL_0 + 999))
 
+    def test_more_sockets_than_the_loop_watches_is_one_clear_line(self):
+        result = self.run_wsgsim("--devices", "3000", "--bind", "127.1.0.1", "--tcp-port", "0",
+                                 "--udp-port", "0", "--binary-udp-port", "0", "--http-port", "0")
+        self.assertNotEqual(result.returncode, 0)
+        errors = [line for line in result.stderr.splitlines() if "error" in line.lower()]
+        self.assertEqual(len(errors), 1, result.stderr[-2000:])
+        self.assertIn("--devices 3000: 6000 listening sockets are more than the event loop "
+                      "watches (4096); --address-per-device needs 3 in all", errors[0])
+
     def test_the_soft_limit_is_raised_to_the_hard_one(self):
         """A soft limit of 256 cannot hold 300 devices' 900 sockets: the
         fleet raises it to the hard limit and starts."""
