@@ -19,6 +19,7 @@ import socket
 import struct
 import subprocess
 import sys
+import tempfile
 import unittest
 
 from gclclient import GclTcp, GclUdp, Wsgsim, wait_for
@@ -100,6 +101,20 @@ class AddressPerDevice(unittest.TestCase):
                 zero.expect("SN?", "SN=%d" % SERIAL_0)
                 zero.expect("BYE()", "ACK BYE")
             one.expect("SN?", "SN=%d" % (SERIAL_0 + 1))
+
+
+class ConfigFile(unittest.TestCase):
+    def test_the_network_section_turns_it_on(self):
+        with tempfile.NamedTemporaryFile("w", suffix=".ini") as ini:
+            ini.write("[network]\nbind = 127.1.0.1\naddress_per_device = yes\n")
+            ini.flush()
+            sim = Wsgsim("--devices", "2", "--fingers", "none,none", "--config", ini.name)
+            sim.args.remove("--bind")  # the file's bind, not the launcher's default
+            sim.args.remove("127.0.0.1")
+            sim.start(timeout=TIMEOUT)
+            self.addCleanup(sim.stop)
+            with GclTcp("127.1.0.2", sim.tcp_port, timeout=TIMEOUT) as gcl:
+                gcl.expect("SN?", "SN=%d" % (SERIAL_0 + 1))
 
 
 class Start(unittest.TestCase):
