@@ -148,8 +148,8 @@ static void warn_binary_overlap(const host_options_t *opts, unsigned n)
 {
     int p = opts->binary_udp_port;
     int r = opts->binary_udp_reply_port;
-    if (n > 1 && opts->udp_enabled && p != 0 && r != 0 && !port_layout_paired(&fleet.plan) &&
-        r < p + (int)n && p < r + (int)n) {
+    if (n > 1 && !fleet.by_address && opts->udp_enabled && p != 0 && r != 0 &&
+        !port_layout_paired(&fleet.plan) && r < p + (int)n && p < r + (int)n) {
         host_logf(HAL_LOG_WARN,
                   "--devices %u: binary udp ports %d-%d overlap the reply ports %d-%d; local "
                   "clients cannot receive on a port a device listens on",
@@ -319,14 +319,9 @@ bool fleet_start(const host_options_t *opts)
     fleet.plan = (port_plan_t){opts->tcp_port,        opts->udp_port,
                                opts->binary_udp_port, opts->binary_udp_reply_port,
                                opts->udp_enabled,     fleet.by_address ? 1u : n};
-    if (fleet.by_address) {
-        fleet.count = n; /* routes look at the count; devices start below */
-        if (!start_fronts(opts)) {
-            return false;
-        }
-        fleet.count = 0;
-    } else {
-        warn_binary_overlap(opts, n);
+    warn_binary_overlap(opts, n);
+    if (fleet.by_address && !start_fronts(opts)) {
+        return false; /* routes run from the loop, once every device is started */
     }
     for (unsigned i = 0; i < n; i++) { /* all due at 0: any order is a heap */
         fleet.heap[i] = i;
