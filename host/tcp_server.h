@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* GCL over TCP: one session per connection, each reply line its own send().
- * One server per device (the fleet has one per gripper); connection storage
+ * One server per device (the fleet has one per gripper), on a listener of
+ * its own or on one shared by the fleet (--address-per-device); connection storage
  * is allocated on accept and freed on close, so an idle server costs only
  * its listener. Connections have TCP keepalive; a half-closed one is
  * answered and flushed before it closes; idle_timeout_s (0: off) closes

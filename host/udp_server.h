@@ -2,8 +2,10 @@
 /* A protocol over UDP: one session per peer address, each reply message its
  * own datagram. GCL on the UDP port (replies to the sender), the binary
  * protocol on the binary UDP port (replies to the sender's IP at the reply
- * port, as Drake's driver expects). One server per device and protocol; a
- * peer's storage is allocated when it first speaks. The peer rules (the
+ * port, as Drake's driver expects). One server per device and protocol,
+ * on a socket of its own or, with --address-per-device, on one socket the
+ * fleet's servers share (udp_server_start_shared); a peer's storage is
+ * allocated when it first speaks. The peer rules (the
  * timeout, the reply budget and rate, making room) are the core's
  * (wsg/wsg_peers.h); this port moves datagrams and ignores the server's own
  * addresses. */
