@@ -380,9 +380,10 @@ static int on_device_key(parse_state_t *st, const char *section, const char *nam
 {
     unsigned index = 0;
     if (!section_index(section, &index)) {
+        char why[64];
+        snprintf(why, sizeof(why), "a device section is [device.N], N 0-%d", HOST_DEVICES_MAX - 1);
         st->failed = true;
-        return fail_at(st->path, st->line, section, name,
-                       "a device section is [device.N], N 0-1023");
+        return fail_at(st->path, st->line, section, name, why);
     }
     device_section_t *d = section_of(index);
     for (unsigned k = 0; k < SEC_KEY_COUNT && d != NULL; k++) {
