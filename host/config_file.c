@@ -61,6 +61,7 @@ typedef enum {
     NET_BIND,
     NET_MAX_CLIENTS,
     NET_DISCONNECT_FASTSTOP,
+    NET_ADDRESS_PER_DEVICE,
     NET_IDLE_TIMEOUT,
     NET_UDP_PEER_TIMEOUT,
     NET_SIM_PORT,
@@ -105,6 +106,7 @@ static const struct {
     [NET_BIND] = {"network", "bind", K_ADDR},
     [NET_MAX_CLIENTS] = {"network", "max_clients", K_CLIENTS},
     [NET_DISCONNECT_FASTSTOP] = {"network", "disconnect_faststop", K_BOOL},
+    [NET_ADDRESS_PER_DEVICE] = {"network", "address_per_device", K_BOOL},
     [NET_IDLE_TIMEOUT] = {"network", "idle_timeout", K_SECONDS_OFF},
     [NET_UDP_PEER_TIMEOUT] = {"network", "udp_peer_timeout", K_SECONDS},
     [NET_SIM_PORT] = {"network", "sim_port", K_PORT_OFF},
@@ -378,9 +380,10 @@ static int on_device_key(parse_state_t *st, const char *section, const char *nam
 {
     unsigned index = 0;
     if (!section_index(section, &index)) {
+        char why[64];
+        snprintf(why, sizeof(why), "a device section is [device.N], N 0-%d", HOST_DEVICES_MAX - 1);
         st->failed = true;
-        return fail_at(st->path, st->line, section, name,
-                       "a device section is [device.N], N 0-1023");
+        return fail_at(st->path, st->line, section, name, why);
     }
     device_section_t *d = section_of(index);
     for (unsigned k = 0; k < SEC_KEY_COUNT && d != NULL; k++) {
@@ -527,6 +530,9 @@ static void apply_host(host_options_t *opts)
     }
     if (v[NET_DISCONNECT_FASTSTOP].set) {
         opts->disconnect_faststop = v[NET_DISCONNECT_FASTSTOP].number != 0.0;
+    }
+    if (v[NET_ADDRESS_PER_DEVICE].set) {
+        opts->address_per_device = v[NET_ADDRESS_PER_DEVICE].number != 0.0;
     }
     if (v[NET_IDLE_TIMEOUT].set) {
         opts->idle_timeout_s = (int)v[NET_IDLE_TIMEOUT].number;

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 #include "fleet.h"
 
+#include <arpa/inet.h>
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -39,33 +40,60 @@ static struct {
     bool scripting; /* a device may run a script: fleet_run_scripts() looks */
     const host_options_t *opts;
     port_plan_t plan; /* where each device listens */
+    /* --address-per-device: one socket per protocol for every device,
+     * which tells them apart by the destination address */
+    bool by_address;
+    uint32_t first_address; /* device 0's IPv4 address, host byte order */
+    tcp_server_t tcp_front;
+    udp_server_t udp_front, bin_front; /* bin_front.fd -1: no binary UDP */
 } fleet;
 
 /* A fleet needs up to three listening sockets per device (GCL TCP and UDP,
- * binary UDP): the soft limit of open descriptors is raised towards the
- * hard one when it is too low. */
-static void raise_descriptor_limit(const host_options_t *opts, unsigned devices)
+ * binary UDP), or three in all with --address-per-device: when the soft
+ * limit of open descriptors is too low it is raised to the hard one; false
+ * (one line) when even that is too low. */
+static bool raise_descriptor_limit(const host_options_t *opts, unsigned devices)
 {
     rlim_t per_device = (opts->tcp_enabled ? 1u : 0u) +
                         (opts->udp_enabled ? 1u + (opts->binary_udp_port != 0 ? 1u : 0u) : 0u);
-    rlim_t need = (rlim_t)devices * per_device + FDS_SPARE;
+    rlim_t sockets = opts->address_per_device ? per_device : (rlim_t)devices * per_device;
+    rlim_t need = sockets + FDS_SPARE;
     struct rlimit lim;
-    if (devices <= 1 || getrlimit(RLIMIT_NOFILE, &lim) != 0 || lim.rlim_cur >= need) {
-        return;
+    if (need > LOOP_MAX_WATCHES) {
+        host_logf(HAL_LOG_ERROR,
+                  "--devices %u: %llu listening sockets are more than the event loop watches "
+                  "(%d); --address-per-device needs 3 in all",
+                  devices, (unsigned long long)sockets, LOOP_MAX_WATCHES);
+        return false;
     }
-    lim.rlim_cur = lim.rlim_max == RLIM_INFINITY || lim.rlim_max >= need ? need : lim.rlim_max;
+    if (getrlimit(RLIMIT_NOFILE, &lim) != 0 || lim.rlim_cur >= need) {
+        return true;
+    }
+    if (lim.rlim_max != RLIM_INFINITY && lim.rlim_max < need) {
+        host_logf(HAL_LOG_ERROR,
+                  "--devices %u: %llu listening sockets and %u spare descriptors need more "
+                  "than the hard limit of open files, %llu (ulimit -Hn)%s",
+                  devices, (unsigned long long)sockets, FDS_SPARE, (unsigned long long)lim.rlim_max,
+                  opts->address_per_device ? "" : "; --address-per-device needs 3 in all");
+        return false;
+    }
+    lim.rlim_cur = lim.rlim_max;
     if (setrlimit(RLIMIT_NOFILE, &lim) == 0) {
         host_logf(HAL_LOG_INFO, "open file limit raised to %llu for %u devices",
                   (unsigned long long)lim.rlim_cur, devices);
     }
+    return true;
 }
 
 /* Device i's ports (host/port_layout.c); a [device.i] section's TCP and
  * UDP ports override the layout's. */
 static bool device_ports(unsigned i, port_layout_t *ports)
 {
-    bool fits = port_layout_of(&fleet.plan, i, ports);
     int port;
+    if (fleet.by_address) { /* every device at the same ports */
+        return port_layout_of(&fleet.plan, 0, ports);
+    }
+    bool fits = port_layout_of(&fleet.plan, i, ports);
     if (config_file_device_port(i, false, &port)) {
         ports->tcp = port;
     }
@@ -120,8 +148,8 @@ static void warn_binary_overlap(const host_options_t *opts, unsigned n)
 {
     int p = opts->binary_udp_port;
     int r = opts->binary_udp_reply_port;
-    if (n > 1 && opts->udp_enabled && p != 0 && r != 0 && !port_layout_paired(&fleet.plan) &&
-        r < p + (int)n && p < r + (int)n) {
+    if (n > 1 && !fleet.by_address && opts->udp_enabled && p != 0 && r != 0 &&
+        !port_layout_paired(&fleet.plan) && r < p + (int)n && p < r + (int)n) {
         host_logf(HAL_LOG_WARN,
                   "--devices %u: binary udp ports %d-%d overlap the reply ports %d-%d; local "
                   "clients cannot receive on a port a device listens on",
@@ -129,14 +157,39 @@ static void warn_binary_overlap(const host_options_t *opts, unsigned n)
     }
 }
 
+/* --address-per-device: device i's servers on the shared sockets, its
+ * replies from its own address. */
+static void attach_device(fleet_device_t *d, const host_options_t *opts, unsigned i)
+{
+    struct in_addr source = {.s_addr = htonl(fleet.first_address + i)};
+    if (opts->tcp_enabled) {
+        tcp_server_attach(&d->tcp, &d->gripper, &fleet.tcp_front, opts->max_clients,
+                          opts->idle_timeout_s);
+    }
+    udp_protocol_t gcl = udp_protocol_gcl();
+    if (opts->udp_enabled) {
+        udp_server_attach(&d->udp, &d->gripper, &gcl, &fleet.udp_front, source,
+                          opts->udp_peer_timeout_s);
+    }
+    udp_protocol_t binary = udp_protocol_binary(fleet.bin_front.proto.reply_port);
+    if (fleet.bin_front.fd >= 0) {
+        udp_server_attach(&d->bin_udp, &d->gripper, &binary, &fleet.bin_front, source,
+                          opts->udp_peer_timeout_s);
+    }
+}
+
 static bool start_device(fleet_device_t *d, const host_options_t *opts, unsigned i)
 {
     port_layout_t ports;
-    d->tcp.listener.fd = -1;
+    d->tcp.own.fd = -1;
     d->udp.fd = -1;
     d->bin_udp.fd = -1;
     gripper_init(&d->gripper, opts, i);
     fleet.scripting = fleet.scripting || d->gripper.script != NULL;
+    if (fleet.by_address) {
+        attach_device(d, opts, i);
+        return true;
+    }
     if (!device_ports(i, &ports)) {
         return false;
     }
@@ -153,11 +206,105 @@ static bool start_device(fleet_device_t *d, const host_options_t *opts, unsigned
     return start_bin_udp(d, opts, i, &ports);
 }
 
+/* The device whose address is the destination, or -1 (outside the
+ * range [--bind, --bind + N)). */
+static long device_at(const struct sockaddr_storage *destination)
+{
+    if (destination->ss_family != AF_INET) {
+        return -1;
+    }
+    uint32_t addr = ntohl(((const struct sockaddr_in *)destination)->sin_addr.s_addr);
+    uint32_t i = addr - fleet.first_address; /* wraps below the first: too large */
+    return i < fleet.count ? (long)i : -1;
+}
+
+static tcp_server_t *route_tcp(void *ctx, const struct sockaddr_storage *local)
+{
+    (void)ctx;
+    long i = device_at(local);
+    return i >= 0 ? &fleet.devices[i].tcp : NULL;
+}
+
+static udp_server_t *route_udp(void *ctx, const struct sockaddr_storage *destination)
+{
+    long i = device_at(destination);
+    if (i < 0) {
+        return NULL;
+    }
+    return ctx == &fleet.bin_front ? &fleet.devices[i].bin_udp : &fleet.devices[i].udp;
+}
+
+/* --address-per-device: the --bind address is device 0's, an IPv4 one;
+ * the last device's must not pass 255.255.255.255. */
+static bool parse_first_address(const host_options_t *opts, unsigned n)
+{
+    struct in_addr first;
+    if (inet_pton(AF_INET, opts->bind_addr, &first) != 1 || first.s_addr == htonl(INADDR_ANY)) {
+        host_logf(HAL_LOG_ERROR,
+                  "--address-per-device: --bind must be device 0's IPv4 address (such as "
+                  "127.1.0.1), not %s",
+                  opts->bind_addr);
+        return false;
+    }
+    fleet.first_address = ntohl(first.s_addr);
+    if (UINT32_MAX - fleet.first_address < n - 1u) {
+        host_logf(HAL_LOG_ERROR, "--address-per-device: %u devices from %s pass 255.255.255.255", n,
+                  opts->bind_addr);
+        return false;
+    }
+    return true;
+}
+
+/* The binary UDP socket of every device; a default port that is taken is
+ * skipped with a warning, one given explicitly must be had. */
+static bool start_bin_front(const host_options_t *opts, const port_layout_t *ports)
+{
+    udp_protocol_t binary = udp_protocol_binary((int)ports->reply);
+    binary.optional = !opts->binary_udp_port_given;
+    if (udp_server_start_shared(&fleet.bin_front, &binary, (int)ports->binary, route_udp,
+                                &fleet.bin_front)) {
+        return true;
+    }
+    int err = errno;
+    udp_server_stop(&fleet.bin_front);
+    if (binary.optional) {
+        host_logf(HAL_LOG_WARN,
+                  "binary udp port %ld cannot be had (%s): the devices speak binary on TCP only",
+                  ports->binary, strerror(err));
+    }
+    return binary.optional;
+}
+
+/* --address-per-device: one socket per protocol on the IPv4 wildcard
+ * address (no socket can bind a range); destinations outside the devices'
+ * addresses are refused. */
+static bool start_fronts(const host_options_t *opts)
+{
+    port_layout_t ports;
+    fleet.tcp_front.own.fd = -1;
+    fleet.udp_front.fd = -1;
+    fleet.bin_front.fd = -1;
+    device_ports(0, &ports);
+    if (opts->tcp_enabled &&
+        !tcp_server_start_shared(&fleet.tcp_front, "0.0.0.0", (int)ports.tcp, route_tcp, NULL)) {
+        return false;
+    }
+    udp_protocol_t gcl = udp_protocol_gcl();
+    if (opts->udp_enabled &&
+        !udp_server_start_shared(&fleet.udp_front, &gcl, (int)ports.udp, route_udp, NULL)) {
+        return false;
+    }
+    return !opts->udp_enabled || ports.binary == 0 || start_bin_front(opts, &ports);
+}
+
 bool fleet_start(const host_options_t *opts)
 {
     unsigned declared = config_file_devices(); /* [device.N] sections */
     unsigned n = declared > (unsigned)opts->devices ? declared : (unsigned)opts->devices;
-    raise_descriptor_limit(opts, n);
+    fleet.by_address = opts->address_per_device;
+    if (!raise_descriptor_limit(opts, n) || (fleet.by_address && !parse_first_address(opts, n))) {
+        return false;
+    }
     fleet.devices = calloc(n, sizeof(*fleet.devices));
     fleet.due_us = calloc(n, sizeof(*fleet.due_us)); /* 0: every device ticks first */
     fleet.heap = calloc(n, sizeof(*fleet.heap));
@@ -171,8 +318,11 @@ bool fleet_start(const host_options_t *opts)
     fleet.opts = opts;
     fleet.plan = (port_plan_t){opts->tcp_port,        opts->udp_port,
                                opts->binary_udp_port, opts->binary_udp_reply_port,
-                               opts->udp_enabled,     n};
+                               opts->udp_enabled,     fleet.by_address ? 1u : n};
     warn_binary_overlap(opts, n);
+    if (fleet.by_address && !start_fronts(opts)) {
+        return false; /* routes run from the loop, once every device is started */
+    }
     for (unsigned i = 0; i < n; i++) { /* all due at 0: any order is a heap */
         fleet.heap[i] = i;
         fleet.slot[i] = i;
@@ -322,11 +472,25 @@ void fleet_close_connections(unsigned i)
     udp_server_close_all(&fleet.devices[i].bin_udp);
 }
 
+void fleet_device_address(unsigned i, char *out, size_t cap)
+{
+    if (!fleet.by_address) {
+        snprintf(out, cap, "%s", fleet.opts->bind_addr);
+        return;
+    }
+    struct in_addr addr = {.s_addr = htonl(fleet.first_address + i)};
+    char text[INET_ADDRSTRLEN];
+    inet_ntop(AF_INET, &addr, text, sizeof(text));
+    snprintf(out, cap, "%s", text);
+}
+
 static void format_endpoints(unsigned i, char *tcp, char *udp, size_t cap)
 {
     const fleet_device_t *d = &fleet.devices[i];
-    net_format_endpoint(fleet.opts->bind_addr, tcp_server_port(&d->tcp), tcp, cap);
-    net_format_endpoint(fleet.opts->bind_addr, udp_server_port(&d->udp), udp, cap);
+    char addr[64];
+    fleet_device_address(i, addr, sizeof(addr));
+    net_format_endpoint(addr, tcp_server_port(&d->tcp), tcp, cap);
+    net_format_endpoint(addr, udp_server_port(&d->udp), udp, cap);
 }
 
 /* ", binary udp P", or nothing when device i serves no binary UDP. */
@@ -393,6 +557,12 @@ void fleet_stop(void)
         gripper_release(&fleet.devices[i].gripper);
     }
     while (gripper_take_touched() != NULL) {
+    }
+    if (fleet.by_address) {
+        tcp_server_stop(&fleet.tcp_front);
+        udp_server_stop(&fleet.udp_front);
+        udp_server_stop(&fleet.bin_front);
+        fleet.by_address = false;
     }
     free(fleet.devices);
     free(fleet.due_us);

@@ -21,6 +21,9 @@ gripper_t *fleet_gripper(unsigned i);
 /* Device i's listening ports (-1: that server is off). */
 int fleet_tcp_port(unsigned i);
 int fleet_udp_port(unsigned i);
+/* Device i's address: the --bind address, or with --address-per-device
+ * the --bind address + i. */
+void fleet_device_address(unsigned i, char *out, size_t cap);
 /* Device i's binary UDP port (binary port + i), -1 when not served. */
 int fleet_bin_udp_port(unsigned i);
 /* Steps the devices whose deadline has come; returns the earliest deadline

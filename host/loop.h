@@ -9,7 +9,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#define LOOP_MAX_WATCHES 4096 /* --devices 1024: two listeners each, and clients */
+#define LOOP_MAX_WATCHES 4096 /* --devices 1024: three listeners each, and clients */
 
 typedef void (*loop_callback_t)(void *ctx, int fd, short revents);
 

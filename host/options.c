@@ -42,6 +42,9 @@ static void print_help(void)
            "                             with the default binary ports, binary UDP on\n"
            "                             1500 + 2i replying to 1501 + 2i (moved past the\n"
            "                             UDP ports when these reach 1500)\n"
+           "  --address-per-device       with --devices: device i on the --bind address + i\n"
+           "                             (IPv4, e.g. 127.1.0.1, 127.1.0.2, ...) at the same\n"
+           "                             ports, one socket per protocol for all devices\n"
            "  --model NAME               gripper model (default %s; see --list-models)\n"
            "  --list-models              list the simulated models and exit\n"
            "  --json                     with --list-models: print the list as JSON\n"
@@ -245,6 +248,7 @@ enum {
     OPT_SCRIPT,
     OPT_SCRIPT_DIR,
     OPT_NO_SCRIPT_AUTOSTART,
+    OPT_ADDRESS_PER_DEVICE,
     OPT_VERSION = 'V',
     OPT_HELP = 'h',
 };
@@ -261,6 +265,7 @@ static const struct option long_options[] = {
     {"part", required_argument, NULL, OPT_PART},
     {"max-clients", required_argument, NULL, OPT_MAX_CLIENTS},
     {"devices", required_argument, NULL, OPT_DEVICES},
+    {"address-per-device", no_argument, NULL, OPT_ADDRESS_PER_DEVICE},
     {"no-disconnect-faststop", no_argument, NULL, OPT_NO_DISCONNECT_FASTSTOP},
     {"idle-timeout", required_argument, NULL, OPT_IDLE_TIMEOUT},
     {"udp-peer-timeout", required_argument, NULL, OPT_UDP_PEER_TIMEOUT},
@@ -548,6 +553,9 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
     case OPT_DEVICES:
         return parse_int(arg, 1, HOST_DEVICES_MAX, &opts->devices) ? OPTIONS_RUN
                                                                    : usage_error("--devices", arg);
+    case OPT_ADDRESS_PER_DEVICE:
+        opts->address_per_device = true;
+        return OPTIONS_RUN;
     case OPT_MAX_CLIENTS:
         return parse_int(arg, 1, MAX_CLIENTS_LIMIT, &opts->max_clients)
                    ? OPTIONS_RUN

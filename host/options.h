@@ -14,7 +14,7 @@ typedef enum { HOST_PROTOCOL_AUTO, HOST_PROTOCOL_GCL, HOST_PROTOCOL_BINARY } hos
 #define HOST_HTTP_ALLOW_LISTS_MAX 16
 
 /* --devices: at most this many grippers in one process. */
-#define HOST_DEVICES_MAX 1024
+#define HOST_DEVICES_MAX 10000
 
 typedef struct {
     int tcp_port;
@@ -28,9 +28,10 @@ typedef struct {
     float part_width_mm;
     float part_stiffness_n_mm;
     int max_clients;
-    int devices;            /* --devices: grippers served, device i on port + i */
-    int idle_timeout_s;     /* --idle-timeout: close TCP connections silent this long; 0: off */
-    int udp_peer_timeout_s; /* --udp-peer-timeout: forget UDP peers silent this long */
+    int devices;             /* --devices: grippers served, device i on port + i */
+    bool address_per_device; /* --address-per-device: device i on the --bind address + i */
+    int idle_timeout_s;      /* --idle-timeout: close TCP connections silent this long; 0: off */
+    int udp_peer_timeout_s;  /* --udp-peer-timeout: forget UDP peers silent this long */
     net_allow_t udp_stream_allow; /* --udp-stream-allow: streams to them need no budget */
     bool disconnect_faststop;
     bool trace;

@@ -199,7 +199,7 @@ static void close_client(tcp_client_t *c)
     gripper_touch(c->server->gripper); /* e.g. FAST STOP on a lost link */
     free(c->outq.ring);
     unlink_client(c);
-    listener_fd_freed(&c->server->listener);
+    listener_fd_freed(c->server->listener);
     free(c);
 }
 
@@ -335,23 +335,55 @@ static bool setup_client(tcp_client_t *c, int fd, const struct sockaddr_storage 
 
 static void wait_for_descriptors(tcp_server_t *s)
 {
-    if (s->listener.starved && !s->waits_for_fds) {
+    if (s->listener->starved && !s->waits_for_fds) {
         s->waits_for_fds = true;
         s->next_waiting = tcp.waiting;
         tcp.waiting = s;
     }
 }
 
+/* A shared listener's connection to an address no device owns: reset. */
+static void refuse_foreign(int client_fd, const struct sockaddr_storage *peer)
+{
+    char name[64];
+    struct linger abort_close = {.l_onoff = 1, .l_linger = 0};
+    setsockopt(client_fd, SOL_SOCKET, SO_LINGER, &abort_close, sizeof(abort_close));
+    close(client_fd);
+    net_format_peer(peer, name, sizeof(name));
+    host_log_peer(HAL_LOG_WARN, "tcp %s: refused, its destination is no device's address", name);
+}
+
+/* The server a new connection belongs to: s itself, or for a shared
+ * listener the one its route() names (NULL: refused). */
+static tcp_server_t *owner_of(tcp_server_t *s, int client_fd)
+{
+    struct sockaddr_storage local;
+    socklen_t len = sizeof(local);
+    if (s->route == NULL) {
+        return s;
+    }
+    memset(&local, 0, sizeof(local));
+    if (getsockname(client_fd, (struct sockaddr *)&local, &len) != 0) {
+        return NULL;
+    }
+    return s->route(s->route_ctx, &local);
+}
+
 static void on_accept(void *ctx, int fd, short revents)
 {
-    tcp_server_t *s = ctx;
+    tcp_server_t *front = ctx;
     (void)fd;
     (void)revents;
     struct sockaddr_storage ss;
     socklen_t len = sizeof(ss);
-    int client_fd = listener_accept(&s->listener, &ss, &len);
+    int client_fd = listener_accept(front->listener, &ss, &len);
     if (client_fd < 0) {
-        wait_for_descriptors(s);
+        wait_for_descriptors(front);
+        return;
+    }
+    tcp_server_t *s = owner_of(front, client_fd);
+    if (s == NULL) {
+        refuse_foreign(client_fd, &ss);
         return;
     }
     tcp_client_t *c = new_client(s);
@@ -370,17 +402,33 @@ static void on_accept(void *ctx, int fd, short revents)
 bool tcp_server_start(tcp_server_t *s, gripper_t *g, const char *addr, int port, int max_clients,
                       int idle_timeout_s)
 {
+    tcp_server_attach(s, g, s, max_clients, idle_timeout_s);
+    return listener_start(&s->own, "tcp", addr, port, on_accept, s);
+}
+
+bool tcp_server_start_shared(tcp_server_t *s, const char *addr, int port, tcp_route_t route,
+                             void *ctx)
+{
+    tcp_server_attach(s, NULL, s, 0, 0);
+    s->route = route;
+    s->route_ctx = ctx;
+    return listener_start(&s->own, "tcp", addr, port, on_accept, s);
+}
+
+void tcp_server_attach(tcp_server_t *s, gripper_t *g, tcp_server_t *front, int max_clients,
+                       int idle_timeout_s)
+{
     memset(s, 0, sizeof(*s));
-    s->listener.fd = -1;
+    s->own.fd = -1;
+    s->listener = &front->own;
     s->gripper = g;
     s->max_clients = max_clients;
     s->idle_timeout_us = (uint64_t)idle_timeout_s * 1000000u;
-    return listener_start(&s->listener, "tcp", addr, port, on_accept, s);
 }
 
 int tcp_server_port(const tcp_server_t *s)
 {
-    return s->listener.fd >= 0 ? net_local_port(s->listener.fd) : -1;
+    return s->listener != NULL && s->listener->fd >= 0 ? net_local_port(s->listener->fd) : -1;
 }
 
 /* Replies held back by an injected DELAY (control channel) still count as
@@ -415,8 +463,8 @@ static void resume_listeners(void)
     tcp_server_t **link = &tcp.waiting;
     while (*link != NULL) {
         tcp_server_t *s = *link;
-        listener_resume_when_due(&s->listener);
-        if (s->listener.starved && s->listener.fd >= 0) {
+        listener_resume_when_due(s->listener);
+        if (s->listener->starved && s->listener->fd >= 0) {
             link = &s->next_waiting;
         } else {
             s->waits_for_fds = false;
@@ -488,5 +536,5 @@ void tcp_server_close_all(tcp_server_t *s)
 void tcp_server_stop(tcp_server_t *s)
 {
     tcp_server_close_all(s);
-    listener_stop(&s->listener);
+    listener_stop(&s->own); /* a shared listener stops with its front */
 }

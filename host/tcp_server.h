@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* GCL over TCP: one session per connection, each reply line its own send().
- * One server per device (the fleet has one per gripper); connection storage
+ * One server per device (the fleet has one per gripper), on a listener of
+ * its own or on one shared by the fleet (--address-per-device); connection storage
  * is allocated on accept and freed on close, so an idle server costs only
  * its listener. Connections have TCP keepalive; a half-closed one is
  * answered and flushed before it closes; idle_timeout_s (0: off) closes
@@ -16,19 +17,35 @@
 #include "wsg/wsg_conn.h"
 
 typedef struct tcp_client tcp_client_t;
+typedef struct tcp_server_s tcp_server_t;
 
-typedef struct tcp_server_s {
-    listener_t listener;
+/* A listener shared by several servers (--address-per-device): the server
+ * whose device owns the connection's local address, or NULL to refuse it. */
+typedef tcp_server_t *(*tcp_route_t)(void *ctx, const struct sockaddr_storage *local);
+
+struct tcp_server_s {
+    listener_t own;       /* its own listening socket (fd -1 when it shares one) */
+    listener_t *listener; /* the socket its connections arrive on */
+    tcp_route_t route;    /* a shared listener's: whose connection it is */
+    void *route_ctx;
     gripper_t *gripper; /* the device its connections talk to */
     int max_clients;
     uint64_t idle_timeout_us; /* 0: off */
     unsigned open;            /* connections open */
     bool waits_for_fds;       /* its listener is paused (out of descriptors) */
     struct tcp_server_s *next_waiting;
-} tcp_server_t;
+};
 
 bool tcp_server_start(tcp_server_t *s, gripper_t *g, const char *addr, int port, int max_clients,
                       int idle_timeout_s);
+/* A listener for several servers on addr:port: route() chooses the server
+ * of each connection by its local address (getsockname()). */
+bool tcp_server_start_shared(tcp_server_t *s, const char *addr, int port, tcp_route_t route,
+                             void *ctx);
+/* A server without a socket of its own: its connections come from the
+ * shared listener front (which must outlive it). */
+void tcp_server_attach(tcp_server_t *s, gripper_t *g, tcp_server_t *front, int max_clients,
+                       int idle_timeout_s);
 int tcp_server_port(const tcp_server_t *s);
 /* Drops every connection of the server as if its cable were pulled (no BYE). */
 void tcp_server_close_all(tcp_server_t *s);

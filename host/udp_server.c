@@ -85,6 +85,32 @@ static void log_first_drop(const udp_server_t *s, const udp_peer_t *p, wsg_msg_k
     }
 }
 
+/* Sends from the server's source address when it has one (a shared
+ * socket: the reply leaves from the address the peer wrote to). */
+static void send_datagram(const udp_server_t *s, const char *bytes, size_t len,
+                          const struct sockaddr_storage *to, socklen_t to_len)
+{
+    struct iovec iov = {.iov_base = (void *)bytes, .iov_len = len};
+    struct msghdr msg = {
+        .msg_name = (void *)to, .msg_namelen = to_len, .msg_iov = &iov, .msg_iovlen = 1};
+    union {
+        char bytes[CMSG_SPACE(sizeof(struct in_pktinfo))];
+        struct cmsghdr align;
+    } control;
+    if (s->source.s_addr != 0) {
+        memset(&control, 0, sizeof(control));
+        msg.msg_control = control.bytes;
+        msg.msg_controllen = sizeof(control.bytes);
+        struct cmsghdr *cm = CMSG_FIRSTHDR(&msg);
+        cm->cmsg_level = IPPROTO_IP;
+        cm->cmsg_type = IP_PKTINFO;
+        cm->cmsg_len = CMSG_LEN(sizeof(struct in_pktinfo));
+        struct in_pktinfo info = {.ipi_spec_dst = s->source};
+        memcpy(CMSG_DATA(cm), &info, sizeof(info));
+    }
+    sendmsg(s->fd, &msg, MSG_DONTWAIT | MSG_NOSIGNAL);
+}
+
 static void write_message(void *ctx, const char *bytes, size_t len, wsg_msg_kind_t kind)
 {
     udp_peer_t *p = ctx;
@@ -94,8 +120,7 @@ static void write_message(void *ctx, const char *bytes, size_t len, wsg_msg_kind
         log_first_drop(s, p, kind);
         return;
     }
-    sendto(s->fd, bytes, len, MSG_DONTWAIT | MSG_NOSIGNAL, (const struct sockaddr *)&p->reply_to,
-           p->reply_len);
+    send_datagram(s, bytes, len, &p->reply_to, p->reply_len);
 }
 
 static const wsg_conn_io_t udp_io = {.write = write_message};
@@ -187,16 +212,64 @@ static bool from_ourselves(const udp_server_t *s, const struct sockaddr_storage 
     return true;
 }
 
+/* The datagram's destination address (IP_PKTINFO), port 0; AF_UNSPEC
+ * when the socket does not report it. */
+static void destination_of(struct msghdr *msg, struct sockaddr_storage *dst)
+{
+    memset(dst, 0, sizeof(*dst));
+    for (struct cmsghdr *cm = CMSG_FIRSTHDR(msg); cm != NULL; cm = CMSG_NXTHDR(msg, cm)) {
+        if (cm->cmsg_level == IPPROTO_IP && cm->cmsg_type == IP_PKTINFO) {
+            struct in_pktinfo info;
+            memcpy(&info, CMSG_DATA(cm), sizeof(info));
+            struct sockaddr_in *v4 = (struct sockaddr_in *)dst;
+            v4->sin_family = AF_INET;
+            v4->sin_addr = info.ipi_addr;
+        }
+    }
+}
+
+/* The server a datagram belongs to: s itself, or for a shared socket the
+ * one its route() names (NULL: dropped, logged). */
+static udp_server_t *owner_of(udp_server_t *s, struct msghdr *msg)
+{
+    if (s->route == NULL) {
+        return s;
+    }
+    struct sockaddr_storage dst;
+    destination_of(msg, &dst);
+    udp_server_t *owner = s->route(s->route_ctx, &dst);
+    if (owner == NULL) {
+        char name[64];
+        net_format_peer(msg->msg_name, name, sizeof(name));
+        host_log_peer(HAL_LOG_WARN,
+                      "%s %s: datagram refused, its destination is no device's address",
+                      s->proto.label, name);
+    }
+    return owner;
+}
+
 static void on_datagram(void *ctx, int fd, short revents)
 {
     udp_server_t *s = ctx;
     (void)revents;
     static uint8_t buf[DATAGRAM_MAX];
     struct sockaddr_storage ss;
-    socklen_t len = sizeof(ss);
+    union {
+        char bytes[CMSG_SPACE(sizeof(struct in_pktinfo))];
+        struct cmsghdr align;
+    } control;
+    struct iovec iov = {.iov_base = buf, .iov_len = sizeof(buf)};
+    struct msghdr msg = {.msg_name = &ss,
+                         .msg_namelen = sizeof(ss),
+                         .msg_iov = &iov,
+                         .msg_iovlen = 1,
+                         .msg_control = control.bytes,
+                         .msg_controllen = sizeof(control.bytes)};
     memset(&ss, 0, sizeof(ss));
-    ssize_t n = recvfrom(fd, buf, sizeof(buf), MSG_DONTWAIT, (struct sockaddr *)&ss, &len);
-    if (n < 0 || len > WSG_PEER_ADDR_BYTES || from_ourselves(s, &ss)) {
+    ssize_t n = recvmsg(fd, &msg, MSG_DONTWAIT);
+    socklen_t len = msg.msg_namelen;
+    if (n < 0 || len > WSG_PEER_ADDR_BYTES || from_ourselves(s, &ss) ||
+        (s = owner_of(s, &msg)) == NULL) {
         return;
     }
     wsg_peer_addr_t addr = {.len = (uint8_t)len};
@@ -223,6 +296,31 @@ bool udp_server_start(udp_server_t *s, gripper_t *g, const udp_protocol_t *proto
     s->fd = proto->optional ? net_listen_optional(SOCK_DGRAM, addr, port)
                             : net_listen(SOCK_DGRAM, addr, port);
     return s->fd >= 0 && loop_watch(s->fd, POLLIN, on_datagram, s);
+}
+
+bool udp_server_start_shared(udp_server_t *s, const udp_protocol_t *proto, int port,
+                             udp_route_t route, void *ctx)
+{
+    int one = 1;
+    if (!udp_server_start(s, NULL, proto, "0.0.0.0", port, 0)) {
+        return false;
+    }
+    s->route = route;
+    s->route_ctx = ctx;
+    return setsockopt(s->fd, IPPROTO_IP, IP_PKTINFO, &one, sizeof(one)) == 0;
+}
+
+void udp_server_attach(udp_server_t *s, gripper_t *g, const udp_protocol_t *proto,
+                       const udp_server_t *front, struct in_addr source, int peer_timeout_s)
+{
+    memset(s, 0, sizeof(*s));
+    s->gripper = g;
+    s->proto = *proto;
+    s->fd = front->fd;
+    s->shares_fd = true;
+    s->source = source;
+    wsg_peer_rules_t rules = WSG_PEER_RULES_DEFAULT(proto->max_peers, peer_timeout_s);
+    wsg_peers_init(&s->peers, &rules, &peer_port, s, NULL, 0);
 }
 
 int udp_server_port(const udp_server_t *s)
@@ -283,7 +381,9 @@ void udp_server_close_all(udp_server_t *s)
 void udp_server_stop(udp_server_t *s)
 {
     udp_server_close_all(s);
-    if (s->fd >= 0) {
+    if (s->shares_fd) {
+        s->fd = -1;
+    } else if (s->fd >= 0) {
         loop_unwatch(s->fd);
         close(s->fd);
         s->fd = -1;

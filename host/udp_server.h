@@ -2,8 +2,10 @@
 /* A protocol over UDP: one session per peer address, each reply message its
  * own datagram. GCL on the UDP port (replies to the sender), the binary
  * protocol on the binary UDP port (replies to the sender's IP at the reply
- * port, as Drake's driver expects). One server per device and protocol; a
- * peer's storage is allocated when it first speaks. The peer rules (the
+ * port, as Drake's driver expects). One server per device and protocol,
+ * on a socket of its own or, with --address-per-device, on one socket the
+ * fleet's servers share (udp_server_start_shared); a peer's storage is
+ * allocated when it first speaks. The peer rules (the
  * timeout, the reply budget and rate, making room) are the core's
  * (wsg/wsg_peers.h); this port moves datagrams and ignores the server's own
  * addresses. */
@@ -12,12 +14,18 @@
 
 #include <stdbool.h>
 #include <stdint.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
 
 #include "gripper.h"
 #include "wsg/wsg_conn.h"
 #include "wsg/wsg_peers.h"
 
 typedef struct udp_server udp_server_t;
+
+/* A socket shared by several servers (--address-per-device): the server
+ * whose device owns the datagram's destination address, or NULL to drop it. */
+typedef udp_server_t *(*udp_route_t)(void *ctx, const struct sockaddr_storage *destination);
 
 typedef struct {
     const wsg_proto_driver_t *driver;
@@ -30,6 +38,10 @@ typedef struct {
 
 struct udp_server {
     int fd;
+    bool shares_fd;        /* the fd is a shared socket's: not closed here */
+    struct in_addr source; /* a shared socket's replies leave from here (0: any) */
+    udp_route_t route;     /* a shared socket's: whose datagram it is */
+    void *route_ctx;
     gripper_t *gripper; /* the device its peers talk to */
     udp_protocol_t proto;
     wsg_peer_table_t peers;
@@ -44,6 +56,15 @@ udp_protocol_t udp_protocol_binary(int reply_port);
 
 bool udp_server_start(udp_server_t *s, gripper_t *g, const udp_protocol_t *proto, const char *addr,
                       int port, int peer_timeout_s);
+/* A socket for several servers on the IPv4 wildcard address at port: each
+ * datagram goes to the server route() names by its destination address
+ * (IP_PKTINFO). */
+bool udp_server_start_shared(udp_server_t *s, const udp_protocol_t *proto, int port,
+                             udp_route_t route, void *ctx);
+/* A server on the shared socket front (which must outlive it): its replies
+ * leave from source, the address its peers sent to. */
+void udp_server_attach(udp_server_t *s, gripper_t *g, const udp_protocol_t *proto,
+                       const udp_server_t *front, struct in_addr source, int peer_timeout_s);
 int udp_server_port(const udp_server_t *s);
 /* Forgets every peer of the server. */
 void udp_server_close_all(udp_server_t *s);

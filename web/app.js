@@ -1264,8 +1264,11 @@ async function setUpDevices() {
     return;
   }
   const select = $("device-select");
+  // --address-per-device: the devices share their ports and differ by address
+  const byAddress = devices[0].address !== devices[1].address;
   for (const device of devices) {
-    const option = new Option(device.id + ": " + device.model + " (TCP " + device.tcp_port + ")", device.id);
+    const where = byAddress ? device.address : "TCP " + device.tcp_port;
+    const option = new Option(device.id + ": " + device.model + " (" + where + ")", device.id);
     option.selected = device.id === deviceId;
     select.appendChild(option);
   }

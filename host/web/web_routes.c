@@ -30,6 +30,9 @@ static cJSON *device_entry(unsigned i)
     cJSON_AddStringToObject(j, "model", cfg->devtype);
     cJSON_AddNumberToObject(j, "serial", cfg->serial);
     cJSON_AddStringToObject(j, "tag", cfg->tag);
+    char address[64];
+    fleet_device_address(i, address, sizeof(address));
+    cJSON_AddStringToObject(j, "address", address);
     cJSON_AddNumberToObject(j, "tcp_port", fleet_tcp_port(i));
     cJSON_AddNumberToObject(j, "udp_port", fleet_udp_port(i));
     return j;

@@ -223,8 +223,8 @@ class Fleet(unittest.TestCase):
         self.assertEqual([x.command("TAG?") for x in c], ['TAG="cell"', 'TAG="left"', 'TAG="cell-2"'])
 
     def test_bad_device_sections_are_refused_with_file_and_line(self):
-        for text, why in (("[device.x]\nserial = 1\n", "[device.N], N 0-1023"),
-                          ("[device.1024]\nserial = 1\n", "[device.N], N 0-1023"),
+        for text, why in (("[device.x]\nserial = 1\n", "[device.N], N 0-9999"),
+                          ("[device.10000]\nserial = 1\n", "[device.N], N 0-9999"),
                           ("[device.1]\nforce = 1\n", "unknown key in a device section"),
                           ("[device.1]\nmodel = WSG 99\n", "unknown model"),
                           ("[motion]\ndefault_force = 70\n[device.1]\nmodel = WSG 25-064\n",
@@ -236,7 +236,7 @@ class Fleet(unittest.TestCase):
             self.assertIn(why, "".join(sim.log), text)
 
     def test_device_count_is_checked(self):
-        for bad in ("0", "1025", "x"):
+        for bad in ("0", "10001", "x"):
             sim = Wsgsim("--devices", bad)
             with self.assertRaises(AssertionError):
                 sim.start()

@@ -193,6 +193,19 @@ class Fleet(WebCase):
             self.assertEqual(self.get("/api/devices/0/state").json()["connections"], [])
 
 
+class FleetByAddress(WebCase):
+    """--address-per-device: the devices share their ports; the list says
+    each one's address."""
+    ARGS = ("--devices", "3", "--bind", "127.1.0.1", "--address-per-device")
+
+    def test_each_entry_names_its_address(self):
+        devices = self.get("/api/devices").json()["devices"]
+        self.assertEqual([d["address"] for d in devices], ["127.1.0.1", "127.1.0.2", "127.1.0.3"])
+        self.assertEqual(len({d["tcp_port"] for d in devices}), 1)
+        with GclTcp(devices[2]["address"], devices[2]["tcp_port"]) as gcl:
+            gcl.expect("SN?", "SN=12345680")
+
+
 class Page(WebCase):
     def test_root_goes_to_device_0(self):
         reply = request_no_redirect(self.sim.base + "/")

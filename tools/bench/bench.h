@@ -191,6 +191,18 @@ typedef struct {
 } fleet_result_t;
 void fleet_run(const char *wsgsim, const char *out_dir, int devices, double idle_s,
                fleet_result_t *r);
+/* `--devices N --address-per-device` (a cell of N addresses, issue 19):
+ * start until the ready line, peak RSS, idle wakeups, and whether the last
+ * device's address answers SN? with its serial. */
+typedef struct {
+    int devices; /* 0: not run */
+    double start_s;
+    long peak_rss_kib; /* VmHWM */
+    double idle_wakeups_per_s;
+    bool last_answers;
+} fleet_cell_result_t;
+void fleet_cell_run(const char *wsgsim, const char *out_dir, int devices, double idle_s,
+                    fleet_cell_result_t *r);
 
 /* pace.c: a 100 mm MOVE at 100 mm/s (1.1 s simulated) in wall time, on a
  * quiet device and while another client sends POS? back to back. */

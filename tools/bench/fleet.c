@@ -107,6 +107,9 @@ static double rtt_p50(int port)
 /* The start-up's own work (the devices' first steps and timers) goes on for
  * a moment after the ready line: the window opens once it has settled. */
 #define FLEET_SETTLE_S 2.0
+/* A cell (--address-per-device): device i on 127.1.0.1 + i, serial base + i. */
+#define CELL_FIRST_ADDRESS 0x7f010001u
+#define CELL_FIRST_SERIAL 12345678u
 
 static long settled_rss(const server_t *srv, double idle_s, double *wakeups_per_s)
 {
@@ -150,4 +153,56 @@ void fleet_run(const char *wsgsim, const char *out_dir, int devices, double idle
         r->rtt_p50_us = p50 > r->rtt_p50_us ? p50 : r->rtt_p50_us;
     }
     server_stop(&fleet);
+}
+
+/* SN? to device i of a cell from 127.1.0.1 at port: its serial (base + i)
+ * must come back. */
+static bool cell_device_answers(int i, int port)
+{
+    struct sockaddr_in sa = {.sin_family = AF_INET, .sin_port = htons((uint16_t)port)};
+    sa.sin_addr.s_addr = htonl(CELL_FIRST_ADDRESS + (uint32_t)i);
+    int fd = socket(AF_INET, SOCK_STREAM, 0);
+    char expected[32];
+    char reply[64] = "";
+    snprintf(expected, sizeof(expected), "SN=%u\n", CELL_FIRST_SERIAL + (unsigned)i);
+    struct timeval limit = {.tv_sec = 10};
+    setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &limit, sizeof(limit));
+    bool ok = fd >= 0 && connect(fd, (const struct sockaddr *)&sa, sizeof(sa)) == 0 &&
+              send(fd, "SN?\n", 4, MSG_NOSIGNAL) == 4 && recv(fd, reply, sizeof(reply) - 1, 0) > 0;
+    if (fd >= 0) {
+        close(fd);
+    }
+    return ok && strcmp(reply, expected) == 0;
+}
+
+void fleet_cell_run(const char *wsgsim, const char *out_dir, int devices, double idle_s,
+                    fleet_cell_result_t *r)
+{
+    memset(r, 0, sizeof(*r));
+    char count[16];
+    char log_path[512];
+    snprintf(count, sizeof(count), "%d", devices);
+    snprintf(log_path, sizeof(log_path), "%s/wsgsim-cell-%d.log", out_dir, devices);
+    const char *argv[48];
+    int n = wsgsim_argv(argv, 44, wsgsim, false);
+    for (int i = 0; i < n; i++) {
+        if (strcmp(argv[i], "--bind") == 0) {
+            argv[i + 1] = "127.1.0.1";
+        }
+    }
+    argv[n++] = "--devices";
+    argv[n++] = count;
+    argv[n++] = "--address-per-device";
+    argv[n] = NULL;
+    server_t cell;
+    double t0 = now_us();
+    if (!server_start_cmd(&cell, "wsgsim", argv, log_path, START_LIMIT_S)) {
+        die("%s --devices %d --address-per-device did not start", wsgsim, devices);
+    }
+    r->devices = devices;
+    r->start_s = (now_us() - t0) / 1e6;
+    r->last_answers = cell_device_answers(devices - 1, cell.tcp_port);
+    settled_rss(&cell, idle_s, &r->idle_wakeups_per_s);
+    r->peak_rss_kib = proc_hwm_kib(cell.pid);
+    server_stop(&cell);
 }

@@ -25,6 +25,7 @@
 #define AUTOSEND_CLIENTS 16
 #define SUBSCRIBERS 128
 #define FLEET_DEVICES 1000
+#define CELL_DEVICES 10000 /* --address-per-device: 127.1.0.1 .. 127.1.39.16 */
 #define CTL_STEP_MS 100
 
 static const int load_clients[LOAD_STEPS] = {1, 4, 16, 64};
@@ -481,6 +482,8 @@ static void run_own_server_sections(const config_t *cfg, results_t *res)
     if (wanted(cfg, "fleet")) {
         fprintf(stderr, "wsgbench: fleet of %d devices\n", FLEET_DEVICES);
         fleet_run(cfg->wsgsim, cfg->out, FLEET_DEVICES, cfg->idle_s, &res->fleet);
+        fprintf(stderr, "wsgbench: a cell of %d addresses\n", CELL_DEVICES);
+        fleet_cell_run(cfg->wsgsim, cfg->out, CELL_DEVICES, cfg->idle_s, &res->cell);
     }
     if (wanted(cfg, "scale")) {
         run_scale(cfg, res);

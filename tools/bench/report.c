@@ -234,6 +234,26 @@ static void add_fleet(table_t *t, const results_t *res)
     target(r, "<= 1.5x single", ratio(r) <= 1.5);
 }
 
+/* --address-per-device (issue 19, point 6): the start, the peak RSS and
+ * the idle wakeups of a cell of N addresses. */
+static void add_cell(table_t *t, const results_t *res)
+{
+    const fleet_cell_result_t *c = &res->cell;
+    if (c->devices == 0) {
+        return;
+    }
+    char name[3][64];
+    snprintf(name[0], sizeof(name[0]), "cell: %d addresses, start", c->devices);
+    snprintf(name[1], sizeof(name[1]), "cell: %d addresses, peak RSS", c->devices);
+    snprintf(name[2], sizeof(name[2]), "cell: %d addresses, idle wakeups", c->devices);
+    row_t *r = add(t, name[0], "s", c->start_s, -1.0);
+    target(r, "< 3 s, SN? ok", c->start_s < 3.0 && c->last_answers);
+    r = add(t, name[1], "MiB", (double)c->peak_rss_kib / 1024.0, -1.0);
+    target(r, "<= 96 MiB", c->peak_rss_kib <= 96L * 1024L);
+    r = add(t, name[2], "1/s", c->idle_wakeups_per_s, -1.0);
+    target(r, "0 /s", c->idle_wakeups_per_s < 0.5);
+}
+
 static void add_firmware(table_t *t, const results_t *res)
 {
     if (!res->firmware_read && res->firmware_expected) {
@@ -332,6 +352,7 @@ static void build(const results_t *res, table_t *t)
     add_subscribers(t, res);
     add_vtime(t, res);
     add_fleet(t, res);
+    add_cell(t, res);
     add_firmware(t, res);
     /* issue 6: against the echo baseline */
     if (res->rtt_tcp[0].n > 0) {

@@ -46,6 +46,7 @@ typedef struct {
     streams_result_t streams;
     subscribers_result_t subscribers;
     fleet_result_t fleet;
+    fleet_cell_result_t cell;
     bool firmware_expected; /* a full run: the sizes belong in it */
     bool firmware_read;     /* --firmware-sizes given */
     int firmware_count;
