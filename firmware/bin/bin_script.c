@@ -84,6 +84,7 @@ wsg_status_t wsg_bin_script_queue(bin_conn_t *b, const wsg_bin_frame_t *frame)
 void wsg_bin_script_note_host(bin_conn_t *b)
 {
     b->conn->dev->script.last_host_id = b->conn->id;
+    b->conn->dev->script.host_driver = b->conn->drv;
 }
 
 /* A closed connection's requests are dropped unanswered; the others keep
@@ -104,7 +105,7 @@ void wsg_bin_script_drop_conn(bin_conn_t *b)
 
 static bool is_host(const conn_t *c)
 {
-    return c->open && c->drv == &wsg_bin_driver &&
+    return c->open && c->drv != NULL && c->drv == c->dev->script.host_driver &&
            !((const bin_conn_t *)(const void *)c->proto)->announced;
 }
 

@@ -77,6 +77,10 @@ typedef struct {
     uint8_t head;
     uint8_t count;
     uint64_t last_host_id; /* the connection that sent the last binary frame */
+    /* the driver of the connections that can be hosts, as the binary driver
+     * noted it with its first frame (NULL before): the channel needs no
+     * link to the driver that calls it */
+    const wsg_proto_driver_t *host_driver;
 } dev_script_t;
 
 typedef struct {
