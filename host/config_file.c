@@ -145,6 +145,7 @@ static struct {
     value_t values[KEY_COUNT];
     device_section_t *sections; /* malloc'd, in the order of the file */
     unsigned section_count;
+    const char *model; /* the devices' model without a [device.N] one (config_file_check) */
 } loaded;
 
 /* What the parser is doing: the reader counts lines for the handler. */
@@ -512,25 +513,47 @@ static bool check_soft_limits(const wsg_config_t *cfg)
                    "soft_limit_minus must be below soft_limit_plus");
 }
 
+/* The [motion] keys whose range depends on the model. */
+static const key_id_t ranged_keys[] = {MOT_FORCE, MOT_SPEED, MOT_ACCEL,      MOT_PULLBACK,
+                                       MOT_PWT,   MOT_CLT,   MOT_SOFT_MINUS, MOT_SOFT_PLUS};
+
+static void model_range(const sim_model_t *m, key_id_t id, double *min, double *max)
+{
+    switch (id) {
+    case MOT_FORCE:
+        *min = m->force_min_n;
+        *max = m->force_overdrive_n > 0.0f ? m->force_overdrive_n : m->force_max_n;
+        break;
+    case MOT_SPEED:
+        *min = m->speed_min_mm_s;
+        *max = m->speed_max_mm_s;
+        break;
+    case MOT_ACCEL:
+        *min = m->accel_min_mm_s2;
+        *max = m->accel_max_mm_s2;
+        break;
+    default: /* distances and positions: within the stroke */
+        *min = 0.0;
+        *max = m->stroke_mm;
+        break;
+    }
+}
+
 static bool check_model(const char *model)
 {
     const sim_model_t *m = wsg_sim_model_find(model);
     if (m == NULL) {
         return false;
     }
+    for (size_t i = 0; i < sizeof(ranged_keys) / sizeof(ranged_keys[0]); i++) {
+        double min, max;
+        model_range(m, ranged_keys[i], &min, &max);
+        if (!check_range(ranged_keys[i], min, max)) {
+            return false;
+        }
+    }
     wsg_config_t cfg;
     wsg_sim_model_config(m, &cfg);
-    float fmax = m->force_overdrive_n > 0.0f ? m->force_overdrive_n : m->force_max_n;
-    bool ok = check_range(MOT_FORCE, m->force_min_n, fmax) &&
-              check_range(MOT_SPEED, m->speed_min_mm_s, m->speed_max_mm_s) &&
-              check_range(MOT_ACCEL, m->accel_min_mm_s2, m->accel_max_mm_s2) &&
-              check_range(MOT_PULLBACK, 0.0, m->stroke_mm) &&
-              check_range(MOT_PWT, 0.0, m->stroke_mm) && check_range(MOT_CLT, 0.0, m->stroke_mm) &&
-              check_range(MOT_SOFT_MINUS, 0.0, m->stroke_mm) &&
-              check_range(MOT_SOFT_PLUS, 0.0, m->stroke_mm);
-    if (!ok) {
-        return false;
-    }
     config_file_apply(&cfg);
     return check_soft_limits(&cfg);
 }
@@ -538,12 +561,67 @@ static bool check_model(const char *model)
 /* The motion settings are checked against every model a device runs. */
 bool config_file_check(const char *model)
 {
+    loaded.model = model;
     bool ok = check_model(model);
     for (unsigned i = 0; i < loaded.section_count && ok; i++) {
         const value_t *m = &loaded.sections[i].values[SEC_MODEL];
         ok = !m->set || check_model(m->text);
     }
     return ok;
+}
+
+static float motion_value(const wsg_config_t *cfg, key_id_t id)
+{
+    switch (id) {
+    case MOT_FORCE:
+        return cfg->default_force_n;
+    case MOT_SPEED:
+        return cfg->default_speed_mm_s;
+    case MOT_ACCEL:
+        return cfg->default_accel_mm_s2;
+    case MOT_PULLBACK:
+        return cfg->default_pullback_mm;
+    case MOT_PWT:
+        return cfg->default_pwt_mm;
+    case MOT_CLT:
+        return cfg->default_clt_mm;
+    case MOT_SOFT_MINUS:
+        return cfg->soft_limit_minus_mm;
+    default:
+        return cfg->soft_limit_plus_mm;
+    }
+}
+
+static bool motion_fits_model(const wsg_config_t *cfg, const char *model, char *why, size_t cap)
+{
+    const sim_model_t *m = wsg_sim_model_find(model);
+    for (size_t i = 0; m != NULL && i < sizeof(ranged_keys) / sizeof(ranged_keys[0]); i++) {
+        double min, max;
+        double value = motion_value(cfg, ranged_keys[i]);
+        model_range(m, ranged_keys[i], &min, &max);
+        if (!(value >= min && value <= max)) {
+            snprintf(why, cap,
+                     "%s: %g is outside %g..%g for the %s in the file (the [motion] settings "
+                     "are every device's)",
+                     keys[ranged_keys[i]].name, value, min, max, model);
+            return false;
+        }
+    }
+    return true;
+}
+
+bool config_file_motion_fits(const wsg_config_t *cfg, char *why, size_t cap)
+{
+    if (loaded.model != NULL && !motion_fits_model(cfg, loaded.model, why, cap)) {
+        return false;
+    }
+    for (unsigned i = 0; i < loaded.section_count; i++) {
+        const value_t *m = &loaded.sections[i].values[SEC_MODEL];
+        if (m->set && !motion_fits_model(cfg, m->text, why, cap)) {
+            return false;
+        }
+    }
+    return true;
 }
 
 static const device_section_t *find_section(unsigned index)

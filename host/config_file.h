@@ -36,5 +36,11 @@ void config_file_apply_device(unsigned index, wsg_config_t *cfg);
  * the reason in why. */
 bool config_file_save(const char *path, unsigned device, const wsg_config_t *cfg, char *why,
                       size_t cap);
+/* True when cfg's [motion] settings, written as the file's global ones, fit
+ * every model the loaded file's next start checks them against (the
+ * devices' model and each [device.N] model); else false with the reason in
+ * why. config_file_save() refuses settings that do not: a fleet of mixed
+ * models would not start from the file it wrote. */
+bool config_file_motion_fits(const wsg_config_t *cfg, char *why, size_t cap);
 
 #endif

@@ -163,6 +163,9 @@ bool config_file_save(const char *path, unsigned device, const wsg_config_t *cfg
         snprintf(why, cap, "tag: the configuration file holds printable text without '\"' only");
         return false;
     }
+    if (!config_file_motion_fits(cfg, why, cap)) {
+        return false;
+    }
     save_set_t set = {.count = 0};
     collect(&set, device, cfg);
     text_file_t in;
