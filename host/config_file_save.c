@@ -163,14 +163,15 @@ bool config_file_save(const char *path, unsigned device, const wsg_config_t *cfg
         snprintf(why, cap, "tag: the configuration file holds printable text without '\"' only");
         return false;
     }
-    if (!config_file_motion_fits(cfg, why, cap)) {
-        return false;
-    }
     save_set_t set = {.count = 0};
     collect(&set, device, cfg);
     text_file_t in;
     if (!text_file_open(&in, path, "--config", FILE_LINE_MAX, FILE_BYTES_MAX)) {
         snprintf(why, cap, "cannot read %s", path);
+        return false;
+    }
+    if (!config_file_motion_fits(cfg, why, cap)) {
+        text_file_close(&in); /* the next start would refuse the file */
         return false;
     }
     char tmp[4096];
