@@ -9,7 +9,8 @@
 #   scenario  the --scenario file, loaded and run
 #
 #   make fuzz [FUZZ_TIME=S]   every target for S seconds (default 300), one
-#                             after the other, built with clang, ASan and UBSan;
+#                             after the other (a finding does not stop the
+#                             others), built with clang, ASan and UBSan;
 #                             crashes land in build/fuzz/artifacts/NAME-*
 #   make fuzz FUZZ_TARGETS=web   only the named targets
 #   make fuzz-regress         (in `make check`) the seeds (tests/fuzz/corpus/NAME)
@@ -80,15 +81,16 @@ fuzz-build: $(addprefix $(FUZZ_DIR)/fuzz_,$(FUZZ_TARGETS))
 # The host's own messages (a refused file names file:line on stderr) are
 # dropped (-close_fd_mask=2): libFuzzer and the sanitizers still report.
 fuzz: fuzz-build
-	@for t in $(FUZZ_TARGETS); do \
+	@failed=; for t in $(FUZZ_TARGETS); do \
 		mkdir -p $(FUZZ_DIR)/corpus/$$t $(FUZZ_DIR)/artifacts || exit 1; \
 		dict=; [ ! -f tests/fuzz/$$t.dict ] || dict=-dict=$(CURDIR)/tests/fuzz/$$t.dict; \
 		echo "fuzz: $$t for $(FUZZ_TIME) s"; \
 		(cd $(FUZZ_DIR) && ./fuzz_$$t -max_total_time=$(FUZZ_TIME) -max_len=4096 -timeout=20 \
 			-rss_limit_mb=2048 $(FUZZ_PARALLEL) -print_final_stats=1 -close_fd_mask=2 $$dict \
 			-artifact_prefix=artifacts/$$t- corpus/$$t \
-			$$(ls -d $(FUZZ_INPUTS:%=$(CURDIR)/%/$$t) 2>/dev/null)) || exit 1; \
-	done
+			$$(ls -d $(FUZZ_INPUTS:%=$(CURDIR)/%/$$t) 2>/dev/null)) || failed="$$failed $$t"; \
+	done; \
+	[ -z "$$failed" ] || { echo "fuzz: findings in$$failed (build/fuzz/artifacts/)"; exit 1; }
 
 fuzz-regress: $(addprefix $(BUILD)/tests/fuzz_replay_,$(FUZZ_TARGETS))
 	@for t in $(FUZZ_TARGETS); do \
