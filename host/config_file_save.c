@@ -126,6 +126,18 @@ static save_key_t *key_line(save_set_t *set, const char *section, const char *li
     return NULL;
 }
 
+/* A line's text without the CRs at its end: "\n" alone ends every line
+ * written, and a CR left before it (of "\r\r\n") is line-end debris that a
+ * copy would turn into a CRLF end, read differently by the next save. */
+static size_t text_length(const char *line)
+{
+    size_t len = strlen(line);
+    while (len > 0 && line[len - 1] == '\r') {
+        len--;
+    }
+    return len;
+}
+
 /* Copies the file, each key to save in place, the missing ones at the end
  * of their section. */
 static bool rewrite(text_file_t *in, FILE *out, save_set_t *set)
@@ -143,7 +155,7 @@ static bool rewrite(text_file_t *in, FILE *out, save_set_t *set)
             fprintf(out, "%s = %s\n", k->key, k->value);
             k->written = true;
         } else if (k == NULL) {
-            fprintf(out, "%s\n", in->line);
+            fprintf(out, "%.*s\n", (int)text_length(in->line), in->line);
         }
     }
     put_missing(out, set, section);

@@ -339,6 +339,42 @@ START_TEST(record_writes_every_line_with_both_clocks)
 }
 END_TEST
 
+/* Found by fuzzing (tests/fuzz/fuzz_config.c): a stray CR before a line's
+ * end ("[motion]\r\r\n") was copied as text, so the saved line ended in
+ * "\r\n" and the next save wrote it differently again. Save ends every line
+ * it writes with "\n" alone. */
+static char *read_all(const char *path)
+{
+    static char text[4096];
+    FILE *f = fopen(path, "rb");
+    ck_assert_ptr_nonnull(f);
+    size_t n = fread(text, 1, sizeof(text) - 1, f);
+    fclose(f);
+    text[n] = '\0';
+    return text;
+}
+
+START_TEST(config_save_ends_every_line_with_a_newline_alone)
+{
+    static char *argv[] = {"wsgsim", NULL};
+    host_options_t opts;
+    options_parse(1, argv, &opts);
+    const char *path = t_temp_file("; cell 3\r\r\n[motion]\r\r\nclamping_travel = 4\r\n");
+    ck_assert(config_file_load(path, &opts));
+    ck_assert(config_file_check(opts.model));
+    const wsg_config_t *cfg = wsg_device_snapshot(&fleet_gripper(0)->device)->config;
+    char why[256];
+    ck_assert(config_file_save(path, 0, cfg, why, sizeof(why)));
+    char first[4096];
+    snprintf(first, sizeof(first), "%s", read_all(path));
+    ck_assert_ptr_null(strchr(first, '\r'));
+    ck_assert_ptr_nonnull(strstr(first, "; cell 3\n[motion]\n"));
+    ck_assert(config_file_save(path, 0, cfg, why, sizeof(why)));
+    ck_assert_str_eq(read_all(path), first);
+    remove(path);
+}
+END_TEST
+
 Suite *files_suite(void)
 {
     Suite *s = suite_create("files");
@@ -352,6 +388,7 @@ Suite *files_suite(void)
     tcase_add_test(tc, unreadable_files_are_refused_clearly);
     tcase_add_test(tc, config_sets_the_device_like_its_web_interface);
     tcase_add_test(tc, bad_config_lines_name_file_and_line);
+    tcase_add_test(tc, config_save_ends_every_line_with_a_newline_alone);
     tcase_add_test(tc, record_writes_every_line_with_both_clocks);
     suite_add_tcase(s, tc);
     return s;
