@@ -375,9 +375,10 @@ static bool is_comment(const char *text)
     return *p == ';' || *p == '#';
 }
 
-/* libinih's reader: hands it one whole line per call. A comment line of any
- * length becomes an empty line; any other line must fit libinih's line
- * buffer (num bytes with "\n" and NUL), else it is refused, never split. */
+/* libinih's reader: hands it one whole line per call, without indentation.
+ * A comment line of any length becomes an empty line; any other line must
+ * fit libinih's line buffer (num bytes with "\n" and NUL), else it is
+ * refused, never split. */
 static char *read_line(char *str, int num, void *stream)
 {
     parse_state_t *st = stream;
@@ -387,7 +388,10 @@ static char *read_line(char *str, int num, void *stream)
         return NULL;
     }
     st->line = st->file.number;
-    const char *text = is_comment(st->file.line) ? "" : st->file.line;
+    /* without its indentation: libinih would take an indented line for the
+     * continuation of the key before it, which this file format has not */
+    const char *text =
+        is_comment(st->file.line) ? "" : st->file.line + strspn(st->file.line, " \t");
     size_t len = strlen(text);
     if (num < 2 || len > (size_t)num - 2) {
         st->failed = true;

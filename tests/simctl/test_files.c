@@ -13,6 +13,7 @@
 #include "options.h"
 #include "record.h"
 #include "sim/scenario.h"
+#include "sim/sim_models.h"
 #include "wsg/wsg_types.h"
 
 static bool load_scenario(void *path)
@@ -195,6 +196,32 @@ START_TEST(bad_config_lines_name_file_and_line)
                      ":2: [device] model: unknown model (see wsgsim --list-models)\n");
     ck_assert_str_eq(config_error("[device\n", &ok),
                      ":1: not a section header or key = value line\n");
+    ck_assert(!ok);
+}
+END_TEST
+
+/* Found by fuzzing (tests/fuzz/fuzz_config.c): libinih reads an indented
+ * line as the continuation of the key before it, so " 25-064" after
+ * "tag = three" made the tag "25-064", and a Save that wrote the tag left
+ * the line to change it again at the next start. Indentation means nothing:
+ * an indented line is a line of its own. */
+START_TEST(an_indented_config_line_continues_nothing)
+{
+    static char *argv[] = {"wsgsim", NULL};
+    host_options_t opts;
+    options_parse(1, argv, &opts);
+    const char *path = t_temp_file("[device]\ntag = three\n  serial = 99\n");
+    ck_assert(config_file_load(path, &opts));
+    ck_assert(config_file_check(opts.model));
+    wsg_config_t cfg;
+    wsg_sim_model_config(wsg_sim_model_default(), &cfg);
+    config_file_apply(&cfg);
+    ck_assert_str_eq(cfg.tag, "three");
+    ck_assert_uint_eq(cfg.serial, 99);
+    remove(path);
+    bool ok = true;
+    ck_assert_str_eq(config_error("[device]\ntag = three\n 25-064\n", &ok),
+                     ":3: not a section header or key = value line\n");
     ck_assert(!ok);
 }
 END_TEST
@@ -389,6 +416,7 @@ Suite *files_suite(void)
     tcase_add_test(tc, config_sets_the_device_like_its_web_interface);
     tcase_add_test(tc, bad_config_lines_name_file_and_line);
     tcase_add_test(tc, config_save_ends_every_line_with_a_newline_alone);
+    tcase_add_test(tc, an_indented_config_line_continues_nothing);
     tcase_add_test(tc, record_writes_every_line_with_both_clocks);
     suite_add_tcase(s, tc);
     return s;
