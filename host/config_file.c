@@ -375,10 +375,19 @@ static bool is_comment(const char *text)
     return *p == ';' || *p == '#';
 }
 
+/* The first CR, vertical tab or form feed in text, or NULL. libinih takes
+ * them for blanks where the Save does not: in a section or key line they
+ * would make the two read a file differently. (Other control characters
+ * are the values' and keys' own checks to refuse.) */
+static const char *odd_blank(const char *text)
+{
+    return text[strcspn(text, "\r\v\f")] != '\0' ? text + strcspn(text, "\r\v\f") : NULL;
+}
+
 /* libinih's reader: hands it one whole line per call, without indentation.
  * A comment line of any length becomes an empty line; any other line must
- * fit libinih's line buffer (num bytes with "\n" and NUL), else it is
- * refused, never split. */
+ * hold no CR, vertical tab or form feed and fit libinih's line buffer (num
+ * bytes with "\n" and NUL), else it is refused, never split. */
 static char *read_line(char *str, int num, void *stream)
 {
     parse_state_t *st = stream;
@@ -392,6 +401,15 @@ static char *read_line(char *str, int num, void *stream)
      * continuation of the key before it, which this file format has not */
     const char *text =
         is_comment(st->file.line) ? "" : st->file.line + strspn(st->file.line, " \t");
+    const char *bad = odd_blank(text);
+    if (bad != NULL) {
+        st->failed = true;
+        text_file_fail(&st->file,
+                       "control character 0x%02x at column %zu (a section or key line holds no "
+                       "CR, vertical tab or form feed)",
+                       (unsigned)(unsigned char)*bad, (size_t)(bad - st->file.line) + 1u);
+        return NULL;
+    }
     size_t len = strlen(text);
     if (num < 2 || len > (size_t)num - 2) {
         st->failed = true;

@@ -226,6 +226,26 @@ START_TEST(an_indented_config_line_continues_nothing)
 }
 END_TEST
 
+/* Found by fuzzing: libinih skips any blank before a line (CR, form feed,
+ * ...), the Save only spaces and tabs, so "\r[device.1]" was a section for
+ * the one and text for the other, which then saved keys into the wrong
+ * section. A section or key line holds no CR, vertical tab or form feed. */
+START_TEST(a_control_character_in_a_config_line_is_refused)
+{
+    bool ok = true;
+    ck_assert_str_eq(config_error("[device]\n\r[device.1]\ntag = x\n", &ok),
+                     ":2: control character 0x0d at column 1 (a section or key line holds no "
+                     "CR, vertical tab or form feed)\n");
+    ck_assert(!ok);
+    ck_assert_str_eq(config_error("[device]\ntag = x\fy\n", &ok),
+                     ":2: control character 0x0c at column 8 (a section or key line holds no "
+                     "CR, vertical tab or form feed)\n");
+    ck_assert_str_eq(config_error("; a comment holds anything \x01\r\n[device]\n\ttag = x\n", &ok),
+                     "");
+    ck_assert(ok);
+}
+END_TEST
+
 /* A 199-character comment whose tail libinih's 200-byte line buffer used to
  * cut off and parse as a key line. */
 static char *long_comment_then(const char *after)
@@ -367,7 +387,7 @@ START_TEST(record_writes_every_line_with_both_clocks)
 END_TEST
 
 /* Found by fuzzing (tests/fuzz/fuzz_config.c): a stray CR before a line's
- * end ("[motion]\r\r\n") was copied as text, so the saved line ended in
+ * end ("; cell 3\r\r\n") was copied as text, so the saved line ended in
  * "\r\n" and the next save wrote it differently again. Save ends every line
  * it writes with "\n" alone. */
 static char *read_all(const char *path)
@@ -386,7 +406,7 @@ START_TEST(config_save_ends_every_line_with_a_newline_alone)
     static char *argv[] = {"wsgsim", NULL};
     host_options_t opts;
     options_parse(1, argv, &opts);
-    const char *path = t_temp_file("; cell 3\r\r\n[motion]\r\r\nclamping_travel = 4\r\n");
+    const char *path = t_temp_file("; cell 3\r\r\n[motion]\r\nclamping_travel = 4\r\n");
     ck_assert(config_file_load(path, &opts));
     ck_assert(config_file_check(opts.model));
     const wsg_config_t *cfg = wsg_device_snapshot(&fleet_gripper(0)->device)->config;
@@ -417,6 +437,7 @@ Suite *files_suite(void)
     tcase_add_test(tc, bad_config_lines_name_file_and_line);
     tcase_add_test(tc, config_save_ends_every_line_with_a_newline_alone);
     tcase_add_test(tc, an_indented_config_line_continues_nothing);
+    tcase_add_test(tc, a_control_character_in_a_config_line_is_refused);
     tcase_add_test(tc, record_writes_every_line_with_both_clocks);
     suite_add_tcase(s, tc);
     return s;
