@@ -381,7 +381,8 @@ static bool is_comment(const char *text)
  * are the values' and keys' own checks to refuse.) */
 static const char *odd_blank(const char *text)
 {
-    return text[strcspn(text, "\r\v\f")] != '\0' ? text + strcspn(text, "\r\v\f") : NULL;
+    size_t at = strcspn(text, "\r\v\f");
+    return text[at] != '\0' ? text + at : NULL;
 }
 
 /* libinih's reader: hands it one whole line per call, without indentation.
