@@ -1,8 +1,10 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* libFuzzer target: arbitrary bytes on the simulation control channel
- * (host/sim/control.c's line assembly and line handling, every command of
- * host/sim/commands*.c) against the real host: fleet, finger bus, faults,
- * delays, scenario, on the paused simulated clock.
+/* libFuzzer target: arbitrary bytes on the simulation control channel,
+ * assembled into lines by the channel's line buffer and handled as
+ * host/sim/control.c handles them (mirrored in handle_line() below:
+ * control.c itself is the socket side), so that every command of
+ * host/sim/commands*.c runs against the real host: fleet, finger bus,
+ * faults, delays, on the paused simulated clock.
  *
  * Input layout: byte 0 picks the number of devices (bits 0-1: 1..4) and the
  * fingers (bit 2: none). The rest is a list of segments separated by 0xFF
