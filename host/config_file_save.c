@@ -111,15 +111,25 @@ static bool section_header(const char *line, char *name, size_t cap)
     return true;
 }
 
-/* The key of "key = value" in section, or NULL. */
+/* The key of a key line in section, or NULL. A key line is what libinih
+ * takes for one: not a comment or section header, its name running to the
+ * first '=' or ':' ("key = value" and "key : value" alike). A line the
+ * loader reads as a key must be one here, or it outlives the saved value. */
 static save_key_t *key_line(save_set_t *set, const char *section, const char *line)
 {
     const char *p = line + strspn(line, " \t");
-    size_t len = strcspn(p, " \t=:");
+    size_t sep = strcspn(p, "=:");
+    if (*p == ';' || *p == '#' || *p == '[' || p[sep] == '\0') {
+        return NULL;
+    }
+    size_t len = sep;
+    while (len > 0 && (p[len - 1] == ' ' || p[len - 1] == '\t')) {
+        len--;
+    }
     for (unsigned i = 0; i < set->count; i++) {
         save_key_t *k = &set->keys[i];
         if (strcasecmp(k->section, section) == 0 && strlen(k->key) == len &&
-            strncasecmp(k->key, p, len) == 0 && strchr(p + len, '=') != NULL) {
+            strncasecmp(k->key, p, len) == 0) {
             return k;
         }
     }

@@ -422,6 +422,31 @@ START_TEST(config_save_ends_every_line_with_a_newline_alone)
 }
 END_TEST
 
+/* Found by fuzzing: libinih reads "key : value" as a key line too, the
+ * Save did not, so a "tag : old" in a later [device] section outlived the
+ * saved tag and won at the next start. */
+START_TEST(config_save_replaces_colon_keys_too)
+{
+    static char *argv[] = {"wsgsim", NULL};
+    host_options_t opts;
+    options_parse(1, argv, &opts);
+    const char *path = t_temp_file("[device]\ntag = a\n[motion]\n[device]\ntag : old\n");
+    ck_assert(config_file_load(path, &opts));
+    ck_assert(config_file_check(opts.model));
+    wsg_config_t cfg = *wsg_device_snapshot(&fleet_gripper(0)->device)->config;
+    snprintf(cfg.tag, sizeof(cfg.tag), "new");
+    char why[256];
+    ck_assert(config_file_save(path, 0, &cfg, why, sizeof(why)));
+    ck_assert_ptr_null(strstr(read_all(path), "old"));
+    ck_assert(config_file_load(path, &opts));
+    wsg_config_t loaded;
+    wsg_sim_model_config(wsg_sim_model_default(), &loaded);
+    config_file_apply(&loaded);
+    ck_assert_str_eq(loaded.tag, "new");
+    remove(path);
+}
+END_TEST
+
 Suite *files_suite(void)
 {
     Suite *s = suite_create("files");
@@ -438,6 +463,7 @@ Suite *files_suite(void)
     tcase_add_test(tc, config_save_ends_every_line_with_a_newline_alone);
     tcase_add_test(tc, an_indented_config_line_continues_nothing);
     tcase_add_test(tc, a_control_character_in_a_config_line_is_refused);
+    tcase_add_test(tc, config_save_replaces_colon_keys_too);
     tcase_add_test(tc, record_writes_every_line_with_both_clocks);
     suite_add_tcase(s, tc);
     return s;
