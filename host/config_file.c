@@ -657,6 +657,12 @@ static const device_section_t *find_section(unsigned index)
     return NULL;
 }
 
+bool config_file_device_sets_tag(unsigned index)
+{
+    const device_section_t *d = find_section(index);
+    return d != NULL && d->values[SEC_TAG].set;
+}
+
 unsigned config_file_devices(void)
 {
     unsigned count = 0;

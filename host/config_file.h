@@ -27,6 +27,9 @@ unsigned config_file_devices(void);
 const char *config_file_device_model(unsigned index, const char *fallback);
 bool config_file_device_port(unsigned index, bool udp, int *port);
 void config_file_apply_device(unsigned index, wsg_config_t *cfg);
+/* True when a [device.N] section for device index sets its tag (which then
+ * wins over [device]'s). */
+bool config_file_device_sets_tag(unsigned index);
 /* Saves the device's settings in force to the file at path (the web page's
  * Save): the [motion] keys, [network] disconnect_faststop and binary_crc,
  * and the tag ([device] for device 0, [device.N] for another). Keys already

@@ -148,6 +148,17 @@ static size_t text_length(const char *line)
     return len;
 }
 
+/* Device 0's tag goes to [device] unless the file gives device 0 a tag in a
+ * [device.0] section, which wins at the next start: it is saved there. */
+static void tag_where_it_counts(save_set_t *set, unsigned device)
+{
+    for (unsigned i = 0; i < set->count && device == 0 && config_file_device_sets_tag(0); i++) {
+        if (strcmp(set->keys[i].key, "tag") == 0) {
+            snprintf(set->keys[i].section, sizeof(set->keys[i].section), "device.0");
+        }
+    }
+}
+
 /* Copies the file, each key to save in place, the missing ones at the end
  * of their section. */
 static bool rewrite(text_file_t *in, FILE *out, save_set_t *set)
@@ -196,6 +207,7 @@ bool config_file_save(const char *path, unsigned device, const wsg_config_t *cfg
         text_file_close(&in); /* the next start would refuse the file */
         return false;
     }
+    tag_where_it_counts(&set, device);
     char tmp[4096];
     snprintf(tmp, sizeof(tmp), "%s.saving", path);
     FILE *out = fopen(tmp, "w");

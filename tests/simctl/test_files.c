@@ -447,6 +447,38 @@ START_TEST(config_save_replaces_colon_keys_too)
 }
 END_TEST
 
+/* Found by fuzzing: device 0's tag was saved to [device] even when a
+ * [device.0] section gave device 0 its tag, which then won at the next
+ * start over the saved one. */
+START_TEST(config_save_puts_the_tag_where_it_counts)
+{
+    static char *argv[] = {"wsgsim", NULL};
+    host_options_t opts;
+    options_parse(1, argv, &opts);
+    const char *path = t_temp_file("[device]\ntag = a\n[device.0]\ntag = zero\n");
+    ck_assert(config_file_load(path, &opts));
+    ck_assert(config_file_check(opts.model));
+    wsg_config_t cfg = *wsg_device_snapshot(&fleet_gripper(0)->device)->config;
+    snprintf(cfg.tag, sizeof(cfg.tag), "new");
+    char why[256];
+    ck_assert(config_file_save(path, 0, &cfg, why, sizeof(why)));
+    ck_assert_str_eq(read_all(path),
+                     "[device]\ntag = a\n[device.0]\ntag = \"new\"\n\n[motion]\n"
+                     "default_force = 40\ndefault_speed = 105\n"
+                     "default_acceleration = 1000\ndefault_pullback = 10\n"
+                     "part_width_tolerance = 10\nclamping_travel = 10\n"
+                     "soft_limits = no\nsoft_limit_minus = 0\nsoft_limit_plus = 110\n"
+                     "\n[network]\ndisconnect_faststop = yes\nbinary_crc = yes\n");
+    ck_assert(config_file_load(path, &opts));
+    wsg_config_t loaded;
+    wsg_sim_model_config(wsg_sim_model_default(), &loaded);
+    config_file_apply(&loaded);
+    config_file_apply_device(0, &loaded);
+    ck_assert_str_eq(loaded.tag, "new");
+    remove(path);
+}
+END_TEST
+
 Suite *files_suite(void)
 {
     Suite *s = suite_create("files");
@@ -464,6 +496,7 @@ Suite *files_suite(void)
     tcase_add_test(tc, an_indented_config_line_continues_nothing);
     tcase_add_test(tc, a_control_character_in_a_config_line_is_refused);
     tcase_add_test(tc, config_save_replaces_colon_keys_too);
+    tcase_add_test(tc, config_save_puts_the_tag_where_it_counts);
     tcase_add_test(tc, record_writes_every_line_with_both_clocks);
     suite_add_tcase(s, tc);
     return s;
