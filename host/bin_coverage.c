@@ -95,11 +95,18 @@ static void report_flags_observed(cJSON *out, cJSON *summary)
     cJSON_AddNumberToObject(summary, "binary_flags_observed", count);
 }
 
+/* Statuses the firmware itself answers for an ID it does not serve; any
+ * other status under such an ID came from a user script (docs/scripting.md). */
+#define FIRMWARE_ONLY_STATUSES                                                                     \
+    ((1UL << E_CMD_UNKNOWN) | (1UL << E_CHECKSUM_ERROR) | (1UL << E_ACCESS_DENIED) |               \
+     (1UL << E_OVERRUN) | (1UL << E_CMD_FORMAT_ERROR))
+
 cJSON *bin_coverage_report(cJSON *summary)
 {
     cJSON *used = cJSON_CreateArray();
     cJSON *never = cJSON_CreateArray();
     cJSON *unknown = cJSON_CreateArray();
+    cJSON *custom = cJSON_CreateArray();
     unsigned total = 0;
     unsigned covered = 0;
     for (unsigned id = 0; id < IDS; id++) {
@@ -118,12 +125,14 @@ cJSON *bin_coverage_report(cJSON *summary)
         cJSON_AddStringToObject(item, "id", label);
         cJSON_AddNumberToObject(item, "frames", bcov.frames[id]);
         cJSON_AddItemToObject(item, "statuses", status_names(bcov.statuses[id]));
-        cJSON_AddItemToArray(known ? used : unknown, item);
+        bool scripted = !known && (bcov.statuses[id] & ~FIRMWARE_ONLY_STATUSES) != 0u;
+        cJSON_AddItemToArray(known ? used : scripted ? custom : unknown, item);
     }
     cJSON *out = cJSON_CreateObject();
     cJSON_AddItemToObject(out, "used", used);
     cJSON_AddItemToObject(out, "never_used", never);
     cJSON_AddItemToObject(out, "unknown_ids_sent", unknown);
+    cJSON_AddItemToObject(out, "custom_ids_answered", custom);
     cJSON_AddItemToObject(out, "statuses_returned", report_statuses());
     report_flags_observed(out, summary);
     cJSON_AddNumberToObject(summary, "binary_commands_total", total);

@@ -9,9 +9,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 
 #include "sim/sim_models.h"
 #include "text_file.h"
+#include "web/web_host.h"
 
 #define TEXT_MAX WSG_CONFIG_STRING_MAX
 #define MAX_CLIENTS_LIMIT 128
@@ -33,6 +35,9 @@ typedef enum {
     K_ADDR,        /* an IPv4 or IPv6 address */
     K_LOOPBACK,    /* a loopback address only */
     K_PROTOCOL,    /* auto, gcl or binary */
+    K_HOSTS,       /* host names, comma-separated (web_host_names_valid) */
+    K_PATH,        /* a file or directory name: printable, not empty */
+    K_ALLOW,       /* comma-separated ADDR[/PREFIX] (net_allow.h) */
 } kind_t;
 
 typedef enum {
@@ -66,6 +71,12 @@ typedef enum {
     NET_BINARY_CRC,
     NET_HTTP_PORT,
     NET_HTTP_BIND,
+    NET_HTTP_ALLOW_HOST,
+    NET_HTTP_REQUEST_TIMEOUT,
+    SCRIPT_STARTUP,
+    SCRIPT_DIR,
+    SCRIPT_AUTOSTART,
+    NET_UDP_STREAM_ALLOW,
     KEY_COUNT
 } key_id_t;
 
@@ -104,10 +115,17 @@ static const struct {
     [NET_BINARY_CRC] = {"network", "binary_crc", K_BOOL},
     [NET_HTTP_PORT] = {"network", "http_port", K_PORT},
     [NET_HTTP_BIND] = {"network", "http_bind", K_ADDR},
+    [NET_HTTP_ALLOW_HOST] = {"network", "http_allow_host", K_HOSTS},
+    [NET_HTTP_REQUEST_TIMEOUT] = {"network", "http_request_timeout", K_SECONDS},
+    [SCRIPT_STARTUP] = {"script", "startup", K_PATH},
+    [SCRIPT_DIR] = {"script", "dir", K_PATH},
+    [SCRIPT_AUTOSTART] = {"script", "autostart", K_BOOL},
+    [NET_UDP_STREAM_ALLOW] = {"network", "udp_stream_allow", K_ALLOW},
 };
 
 typedef struct {
     bool set;
+    const char *file; /* where it was set: one of loaded.files */
     int line;
     double number;
     char text[128]; /* as written (texts are checked against TEXT_MAX) */
@@ -121,6 +139,7 @@ typedef enum {
     SEC_TAG,
     SEC_TCP_PORT,
     SEC_UDP_PORT,
+    SEC_SCRIPT,
     SEC_KEY_COUNT
 } sec_key_t;
 
@@ -130,7 +149,7 @@ static const struct {
 } sec_keys[SEC_KEY_COUNT] = {
     [SEC_MODEL] = {"model", K_MODEL},      [SEC_SERIAL] = {"serial", K_SERIAL},
     [SEC_TAG] = {"tag", K_TEXT},           [SEC_TCP_PORT] = {"tcp_port", K_PORT},
-    [SEC_UDP_PORT] = {"udp_port", K_PORT},
+    [SEC_UDP_PORT] = {"udp_port", K_PORT}, [SEC_SCRIPT] = {"script", K_PATH},
 };
 
 #define DEVICE_SECTION "device."
@@ -140,8 +159,13 @@ typedef struct {
     value_t values[SEC_KEY_COUNT];
 } device_section_t;
 
+/* The files read: --config, then the --save-file overlay, whose lines count
+ * as if they followed the --config file's. */
+#define FILES_MAX 2
+
 static struct {
-    char path[256];
+    char files[FILES_MAX][256];
+    unsigned file_count;
     value_t values[KEY_COUNT];
     device_section_t *sections; /* malloc'd, in the order of the file */
     unsigned section_count;
@@ -151,14 +175,24 @@ static struct {
 /* What the parser is doing: the reader counts lines for the handler. */
 typedef struct {
     text_file_t file;
+    const char *path; /* one of loaded.files */
     int line;
     bool failed;
 } parse_state_t;
 
-static bool fail_at(int line, const char *section, const char *name, const char *why)
+static bool fail_at(const char *path, int line, const char *section, const char *name,
+                    const char *why)
 {
-    fprintf(stderr, "wsgsim: %s:%d: [%s] %s: %s\n", loaded.path, line, section, name, why);
+    fprintf(stderr, "wsgsim: %s:%d: [%s] %s: %s\n", path, line, section, name, why);
     return false;
+}
+
+/* Remembers where a value was set. */
+static void mark_set(value_t *v, const parse_state_t *st)
+{
+    v->set = true;
+    v->file = st->path;
+    v->line = st->line;
 }
 
 static bool parse_number(const char *text, double *out)
@@ -207,10 +241,21 @@ static bool is_address(const char *addr)
     return inet_pton(AF_INET, addr, buf) == 1 || inet_pton(AF_INET6, addr, buf) == 1;
 }
 
+static bool text_ok_long(const char *text)
+{
+    for (const char *p = text; *p != '\0'; p++) {
+        if (*p < 0x20 || *p > 0x7e) {
+            return false;
+        }
+    }
+    return true;
+}
+
+/* The device's own rule for its texts (wsg_config_text_char_ok). */
 static bool text_ok(const char *text)
 {
     for (const char *p = text; *p != '\0'; p++) {
-        if (*p < 0x20 || *p > 0x7e || *p == '"') {
+        if (!wsg_config_text_char_ok(*p)) {
             return false;
         }
     }
@@ -262,6 +307,20 @@ static const char *convert(kind_t kind, const char *text, value_t *v)
         bool ok = options_parse_protocol(text, &protocol);
         v->number = (double)protocol;
         return ok ? NULL : "expected auto, gcl or binary";
+    }
+    case K_HOSTS:
+        return strlen(text) < sizeof(v->text) && web_host_names_valid(text)
+                   ? NULL
+                   : "expected host names separated by commas (or *), at most 127 characters";
+    case K_PATH:
+        return text[0] != '\0' && strlen(text) < sizeof(v->text) - 1u && text_ok_long(text)
+                   ? NULL
+                   : "expected a path of printable characters";
+    case K_ALLOW: {
+        net_allow_t list = {.count = 0};
+        return strlen(text) < sizeof(v->text) && net_allow_add(&list, text)
+                   ? NULL
+                   : "expected up to 8 comma-separated addresses, each ADDR or ADDR/PREFIX";
     }
     case K_LOOPBACK:
         return is_loopback(text) ? NULL
@@ -321,7 +380,8 @@ static int on_device_key(parse_state_t *st, const char *section, const char *nam
     unsigned index = 0;
     if (!section_index(section, &index)) {
         st->failed = true;
-        return fail_at(st->line, section, name, "a device section is [device.N], N 0-1023");
+        return fail_at(st->path, st->line, section, name,
+                       "a device section is [device.N], N 0-1023");
     }
     device_section_t *d = section_of(index);
     for (unsigned k = 0; k < SEC_KEY_COUNT && d != NULL; k++) {
@@ -331,17 +391,16 @@ static int on_device_key(parse_state_t *st, const char *section, const char *nam
         const char *why = convert(sec_keys[k].kind, text, &d->values[k]);
         if (why != NULL) {
             st->failed = true;
-            return fail_at(st->line, section, name, why);
+            return fail_at(st->path, st->line, section, name, why);
         }
-        d->values[k].set = true;
-        d->values[k].line = st->line;
+        mark_set(&d->values[k], st);
         return 1;
     }
     st->failed = true;
-    return fail_at(st->line, section, name,
+    return fail_at(st->path, st->line, section, name,
                    d == NULL ? "out of memory"
                              : "unknown key in a device section (model, serial, tag, tcp_port, "
-                               "udp_port)");
+                               "udp_port, script)");
 }
 
 static int on_key(void *user, const char *section, const char *name, const char *value)
@@ -359,14 +418,13 @@ static int on_key(void *user, const char *section, const char *name, const char 
         const char *why = convert(keys[i].kind, text, &loaded.values[i]);
         if (why != NULL) {
             st->failed = true;
-            return fail_at(st->line, section, name, why);
+            return fail_at(st->path, st->line, section, name, why);
         }
-        loaded.values[i].set = true;
-        loaded.values[i].line = st->line;
+        mark_set(&loaded.values[i], st);
         return 1;
     }
     st->failed = true;
-    return fail_at(st->line, section, name, "unknown key (see docs/wsgsim.example.ini)");
+    return fail_at(st->path, st->line, section, name, "unknown key (see docs/wsgsim.example.ini)");
 }
 
 static bool is_comment(const char *text)
@@ -449,6 +507,27 @@ static void apply_binary(host_options_t *opts)
     if (v[NET_HTTP_BIND].set) {
         opts->http_bind = v[NET_HTTP_BIND].text;
     }
+    if (v[NET_HTTP_ALLOW_HOST].set) { /* the first list: the command line adds its own */
+        opts->http_allow_hosts[opts->http_allow_host_count++] = v[NET_HTTP_ALLOW_HOST].text;
+    }
+    if (v[NET_HTTP_REQUEST_TIMEOUT].set) {
+        opts->http_request_timeout_s = (int)v[NET_HTTP_REQUEST_TIMEOUT].number;
+    }
+}
+
+/* [script]: the startup script and the store (docs/scripting.md). */
+static void apply_script(host_options_t *opts)
+{
+    const value_t *v = loaded.values;
+    if (v[SCRIPT_STARTUP].set) {
+        opts->script = v[SCRIPT_STARTUP].text;
+    }
+    if (v[SCRIPT_DIR].set) {
+        opts->script_dir = v[SCRIPT_DIR].text;
+    }
+    if (v[SCRIPT_AUTOSTART].set) {
+        opts->script_autostart = v[SCRIPT_AUTOSTART].number != 0.0;
+    }
 }
 
 static void apply_host(host_options_t *opts)
@@ -462,6 +541,7 @@ static void apply_host(host_options_t *opts)
     }
     if (v[NET_UDP_PORT].set) {
         opts->udp_port = (int)v[NET_UDP_PORT].number;
+        opts->udp_port_given = true;
     }
     if (v[NET_BIND].set) {
         opts->bind_addr = v[NET_BIND].text;
@@ -484,7 +564,12 @@ static void apply_host(host_options_t *opts)
     if (v[NET_SIM_BIND].set) {
         opts->sim_bind = v[NET_SIM_BIND].text;
     }
+    if (v[NET_UDP_STREAM_ALLOW].set) {
+        opts->udp_stream_allow.count = 0;
+        (void)net_allow_add(&opts->udp_stream_allow, v[NET_UDP_STREAM_ALLOW].text); /* checked */
+    }
     apply_binary(opts);
+    apply_script(opts);
 }
 
 static void config_file_forget(void)
@@ -493,12 +578,13 @@ static void config_file_forget(void)
     memset(&loaded, 0, sizeof(loaded));
 }
 
-bool config_file_load(const char *path, host_options_t *opts)
+/* Reads one file over what was read before; option names it in messages. */
+static bool parse_file(const char *path, const char *option)
 {
-    config_file_forget();
-    snprintf(loaded.path, sizeof(loaded.path), "%s", path);
-    parse_state_t st = {.line = 0, .failed = false};
-    if (!text_file_open(&st.file, path, "--config", FILE_LINE_MAX, FILE_BYTES_MAX)) {
+    char *name = loaded.files[loaded.file_count++];
+    snprintf(name, sizeof(loaded.files[0]), "%s", path);
+    parse_state_t st = {.path = name, .line = 0, .failed = false};
+    if (!text_file_open(&st.file, path, option, FILE_LINE_MAX, FILE_BYTES_MAX)) {
         return false;
     }
     int result = ini_parse_stream(read_line, &st, on_key, &st);
@@ -506,7 +592,23 @@ bool config_file_load(const char *path, host_options_t *opts)
     if (result > 0 && !st.failed) {
         fprintf(stderr, "wsgsim: %s:%d: not a section header or key = value line\n", path, result);
     }
-    if (result != 0 || st.failed) {
+    return result == 0 && !st.failed;
+}
+
+/* A save file that does not exist yet: nothing was saved. */
+static bool nothing_saved(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) != 0 && errno == ENOENT;
+}
+
+bool config_file_load(const char *config_path, const char *save_path, host_options_t *opts)
+{
+    config_file_forget();
+    if (config_path != NULL && !parse_file(config_path, "--config")) {
+        return false;
+    }
+    if (save_path != NULL && !nothing_saved(save_path) && !parse_file(save_path, "--save-file")) {
         return false;
     }
     apply_host(opts);
@@ -521,7 +623,7 @@ static bool check_range(key_id_t id, double min, double max)
     }
     char why[96];
     snprintf(why, sizeof(why), "%s is outside %g..%g for this model", v->text, min, max);
-    return fail_at(v->line, keys[id].section, keys[id].name, why);
+    return fail_at(v->file, v->line, keys[id].section, keys[id].name, why);
 }
 
 static bool check_soft_limits(const wsg_config_t *cfg)
@@ -532,7 +634,7 @@ static bool check_soft_limits(const wsg_config_t *cfg)
         return true;
     }
     key_id_t id = loaded.values[MOT_SOFT_PLUS].set ? MOT_SOFT_PLUS : MOT_SOFT_MINUS;
-    return fail_at(loaded.values[id].line, "motion", keys[id].name,
+    return fail_at(loaded.values[id].file, loaded.values[id].line, "motion", keys[id].name,
                    "soft_limit_minus must be below soft_limit_plus");
 }
 
@@ -679,10 +781,19 @@ const char *config_file_device_model(unsigned index, const char *fallback)
     return d != NULL && d->values[SEC_MODEL].set ? d->values[SEC_MODEL].text : fallback;
 }
 
+const char *config_file_device_script(unsigned index, const char *fallback)
+{
+    const device_section_t *d = find_section(index);
+    return d != NULL && d->values[SEC_SCRIPT].set ? d->values[SEC_SCRIPT].text : fallback;
+}
+
 bool config_file_device_port(unsigned index, bool udp, int *port)
 {
     const device_section_t *d = find_section(index);
     const value_t *v = d != NULL ? &d->values[udp ? SEC_UDP_PORT : SEC_TCP_PORT] : NULL;
+    if (v != NULL && udp && !v->set) {
+        v = &d->values[SEC_TCP_PORT]; /* the UDP port follows the TCP port */
+    }
     if (v == NULL || !v->set) {
         return false;
     }

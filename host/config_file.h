@@ -11,10 +11,13 @@
 #include "wsg/wsg_config.h"
 #include "options.h"
 
-/* Reads the file: host settings (ports, clients, ...) go into opts, device
- * settings are kept for config_file_apply(). On an unknown section or key or
- * a bad value prints "wsgsim: FILE:LINE: ..." and returns false. */
-bool config_file_load(const char *path, host_options_t *opts);
+/* Reads the --config file, then the --save-file (either may be NULL; a save
+ * file that does not exist yet is nothing saved): a key the save file sets
+ * overrides the configuration's. Host settings (ports, clients, ...) go into
+ * opts, device settings are kept for config_file_apply(). On an unknown
+ * section or key or a bad value prints "wsgsim: FILE:LINE: ..." and returns
+ * false. */
+bool config_file_load(const char *config_path, const char *save_path, host_options_t *opts);
 /* Checks the device settings against the model's ranges (same message form). */
 bool config_file_check(const char *model);
 /* Overrides the model's factory configuration with the file's settings. */
@@ -26,6 +29,8 @@ void config_file_apply(wsg_config_t *cfg);
 unsigned config_file_devices(void);
 const char *config_file_device_model(unsigned index, const char *fallback);
 bool config_file_device_port(unsigned index, bool udp, int *port);
+/* [device.N] script: device index's startup script (or fallback). */
+const char *config_file_device_script(unsigned index, const char *fallback);
 void config_file_apply_device(unsigned index, wsg_config_t *cfg);
 /* True when a [device.N] section for device index sets its tag (which then
  * wins over [device]'s). */
@@ -35,8 +40,9 @@ bool config_file_device_sets_tag(unsigned index);
  * and the tag ([device] for device 0, [device.N] for another). Keys already
  * in the file get the new value in place; missing ones are added to their
  * section, missing sections at the end; every other line stays as it was.
- * The file is replaced at once (written beside it, then renamed). False with
- * the reason in why. */
+ * A file that does not exist yet is created. The file is replaced at once
+ * (written and synced beside it, then renamed). False with the reason in
+ * why. */
 bool config_file_save(const char *path, unsigned device, const wsg_config_t *cfg, char *why,
                       size_t cap);
 /* True when cfg's [motion] settings, written as the file's global ones, fit

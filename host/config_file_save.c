@@ -7,6 +7,7 @@
 #include <string.h>
 #include <strings.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "config_file.h"
 #include "text_file.h"
@@ -74,18 +75,9 @@ static void collect(save_set_t *set, unsigned device, const wsg_config_t *cfg)
     if (device > 0) {
         snprintf(section, sizeof(section), "device.%u", device);
     }
+    /* quoted as it is: the device holds no '"' or control character in it
+     * (wsg_config_text_char_ok, the file's own rule) */
     snprintf(add(set, section, "tag")->value, sizeof(set->keys[0].value), "\"%s\"", cfg->tag);
-}
-
-/* A tag the file can hold: printable, without '"' (config_file.c's rule). */
-static bool tag_writable(const char *tag)
-{
-    for (const char *p = tag; *p != '\0'; p++) {
-        if (*p < 0x20 || *p > 0x7e || *p == '"') {
-            return false;
-        }
-    }
-    return true;
 }
 
 static void put_missing(FILE *out, save_set_t *set, const char *section)
@@ -159,13 +151,22 @@ static void tag_where_it_counts(save_set_t *set, unsigned device)
     }
 }
 
-/* Copies the file, each key to save in place, the missing ones at the end
- * of their section. */
+/* The first lines of a save file wsgsim creates. */
+#define NEW_FILE_HEADER                                                                            \
+    "# The settings the wsgsim web page saved (Save). wsgsim reads this file\n"                    \
+    "# after its --config file: what it sets overrides that file's value.\n"                       \
+    "# Remove it to return to the --config file's settings.\n"
+
+/* Copies the file (in; NULL: a new file), each key to save in place, the
+ * missing ones at the end of their section. */
 static bool rewrite(text_file_t *in, FILE *out, save_set_t *set)
 {
     char section[64] = "";
-    text_file_read_t got;
-    while ((got = text_file_next(in)) == TEXT_FILE_LINE) {
+    text_file_read_t got = TEXT_FILE_END;
+    if (in == NULL) {
+        fputs(NEW_FILE_HEADER, out);
+    }
+    while (in != NULL && (got = text_file_next(in)) == TEXT_FILE_LINE) {
         char name[64];
         if (section_header(in->line, name, sizeof(name))) {
             put_missing(out, set, section);
@@ -189,36 +190,62 @@ static bool rewrite(text_file_t *in, FILE *out, save_set_t *set)
     return got == TEXT_FILE_END;
 }
 
-bool config_file_save(const char *path, unsigned device, const wsg_config_t *cfg, char *why,
-                      size_t cap)
+/* Flushes, syncs and closes out; false with errno of the first failure. */
+static bool close_synced(FILE *out)
 {
-    if (!tag_writable(cfg->tag)) {
-        snprintf(why, cap, "tag: the configuration file holds printable text without '\"' only");
+    bool ok = fflush(out) == 0 && fsync(fileno(out)) == 0;
+    int first_errno = errno;
+    if (fclose(out) != 0) {
         return false;
     }
-    save_set_t set = {.count = 0};
-    collect(&set, device, cfg);
+    errno = first_errno;
+    return ok;
+}
+
+/* Writes tmp from path (or from nothing when path does not exist yet),
+ * synced to disk; false with the reason in why. */
+static bool write_copy(const char *path, const char *tmp, save_set_t *set, char *why, size_t cap)
+{
+    struct stat st;
+    bool stat_ok = stat(path, &st) == 0;
+    bool exists = stat_ok || errno != ENOENT;
     text_file_t in;
-    if (!text_file_open(&in, path, "--config", FILE_LINE_MAX, FILE_BYTES_MAX)) {
+    if (exists && !text_file_open(&in, path, "settings", FILE_LINE_MAX, FILE_BYTES_MAX)) {
         snprintf(why, cap, "cannot read %s", path);
         return false;
     }
-    if (!config_file_motion_fits(cfg, why, cap)) {
-        text_file_close(&in); /* the next start would refuse the file */
-        return false;
+    FILE *out = fopen(tmp, "w");
+    bool copied = out != NULL && rewrite(exists ? &in : NULL, out, set);
+    bool ok = out != NULL && close_synced(out) && copied;
+    int write_errno = errno;
+    if (exists) {
+        text_file_close(&in);
     }
+    if (ok && stat_ok) {
+        chmod(tmp, st.st_mode & 07777);
+    }
+    if (!ok) {
+        snprintf(why, cap, "cannot write %s: %s", path, strerror(write_errno));
+    }
+    return ok;
+}
+
+bool config_file_save(const char *path, unsigned device, const wsg_config_t *cfg, char *why,
+                      size_t cap)
+{
+    if (!config_file_motion_fits(cfg, why, cap)) {
+        return false; /* the next start would refuse the file */
+    }
+    save_set_t set = {.count = 0};
+    collect(&set, device, cfg);
     tag_where_it_counts(&set, device);
     char tmp[4096];
     snprintf(tmp, sizeof(tmp), "%s.saving", path);
-    FILE *out = fopen(tmp, "w");
-    bool ok = out != NULL && rewrite(&in, out, &set);
-    ok = out != NULL && ferror(out) == 0 && fclose(out) == 0 && ok;
-    text_file_close(&in);
-    struct stat st;
-    if (ok && stat(path, &st) == 0) {
-        chmod(tmp, st.st_mode & 07777);
+    if (!write_copy(path, tmp, &set, why, cap)) {
+        remove(tmp);
+        return false;
     }
-    if (!ok || rename(tmp, path) != 0) {
+    if (rename(tmp, path) != 0) {
         snprintf(why, cap, "cannot write %s: %s", path, strerror(errno));
         remove(tmp);
         return false;

@@ -1,14 +1,18 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 #include "fleet.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <sys/resource.h>
 
 #include "config_file.h"
 #include "hal_clock.h"
 #include "log.h"
+#include "loop.h"
 #include "net.h"
+#include "port_layout.h"
 #include "tcp_server.h"
 #include "udp_server.h"
 
@@ -32,14 +36,19 @@ static struct {
     unsigned *slot;   /* device i's place in heap */
     unsigned *ready;  /* the devices due in this pass */
     unsigned count;
+    bool scripting; /* a device may run a script: fleet_run_scripts() looks */
     const host_options_t *opts;
+    port_plan_t plan; /* where each device listens */
 } fleet;
 
-/* A fleet needs two listening sockets per device: the soft limit of open
- * descriptors is raised towards the hard one when it is too low. */
-static void raise_descriptor_limit(unsigned devices)
+/* A fleet needs up to three listening sockets per device (GCL TCP and UDP,
+ * binary UDP): the soft limit of open descriptors is raised towards the
+ * hard one when it is too low. */
+static void raise_descriptor_limit(const host_options_t *opts, unsigned devices)
 {
-    rlim_t need = (rlim_t)devices * 2u + FDS_SPARE;
+    rlim_t per_device = (opts->tcp_enabled ? 1u : 0u) +
+                        (opts->udp_enabled ? 1u + (opts->binary_udp_port != 0 ? 1u : 0u) : 0u);
+    rlim_t need = (rlim_t)devices * per_device + FDS_SPARE;
     struct rlimit lim;
     if (devices <= 1 || getrlimit(RLIMIT_NOFILE, &lim) != 0 || lim.rlim_cur >= need) {
         return;
@@ -51,57 +60,68 @@ static void raise_descriptor_limit(unsigned devices)
     }
 }
 
-/* Device i's port: its [device.i] section's, else base + i, or 0 (a free
- * one) when the base is 0. */
-static bool device_port(const char *what, int base, unsigned i, int *port)
+/* Device i's ports (host/port_layout.c); a [device.i] section's TCP and
+ * UDP ports override the layout's. */
+static bool device_ports(unsigned i, port_layout_t *ports)
 {
-    if (config_file_device_port(i, what[0] == 'U', port)) {
-        return true;
+    bool fits = port_layout_of(&fleet.plan, i, ports);
+    int port;
+    if (config_file_device_port(i, false, &port)) {
+        ports->tcp = port;
     }
-    *port = base == 0 ? 0 : base + (int)i;
-    if (*port <= 65535) {
-        return true;
+    if (config_file_device_port(i, true, &port)) {
+        ports->udp = port;
     }
-    host_logf(HAL_LOG_ERROR, "--devices: device %u would need %s port %d", i, what, *port);
-    return false;
+    static const char *const names[] = {"TCP", "UDP", "binary udp", "binary udp reply"};
+    const long wanted[] = {ports->tcp, ports->udp, ports->binary, ports->reply};
+    for (unsigned k = 0; k < 4u && !fits; k++) {
+        if (wanted[k] > 65535) {
+            host_logf(HAL_LOG_ERROR, "--devices: device %u would need %s port %ld", i, names[k],
+                      wanted[k]);
+            return false;
+        }
+    }
+    return true;
 }
 
-/* The binary protocol over UDP: device i on (binary port + i), replying to
- * (reply port + i). A default port that is taken is skipped with a warning;
- * one given explicitly must be had. */
-static bool start_bin_udp(fleet_device_t *d, const host_options_t *opts, unsigned i)
+/* The binary protocol over UDP: device i on its layout's binary port,
+ * replying to its reply port. A default port that is taken is skipped with
+ * a warning; one given explicitly must be had. */
+static bool start_bin_udp(fleet_device_t *d, const host_options_t *opts, unsigned i,
+                          const port_layout_t *ports)
 {
-    if (!opts->udp_enabled || opts->binary_udp_port == 0) {
+    if (!opts->udp_enabled || ports->binary == 0) {
         return true;
     }
-    int port = opts->binary_udp_port + (int)i;
-    int reply_port = opts->binary_udp_reply_port == 0 ? 0 : opts->binary_udp_reply_port + (int)i;
-    if (port > 65535 || reply_port > 65535) {
-        host_logf(HAL_LOG_ERROR, "--devices: device %u would need binary udp ports %d and %d", i,
-                  port, reply_port);
-        return false;
-    }
+    int port = (int)ports->binary;
+    int reply_port = (int)ports->reply;
     udp_protocol_t binary = udp_protocol_binary(reply_port);
+    binary.optional = !opts->binary_udp_port_given; /* the default: skipped when taken */
     if (udp_server_start(&d->bin_udp, &d->gripper, &binary, opts->bind_addr, port,
                          opts->udp_peer_timeout_s)) {
         return true;
     }
+    int err = errno;
     udp_server_stop(&d->bin_udp);
-    if (!opts->binary_udp_port_given) {
-        host_logf(HAL_LOG_WARN, "binary udp port %d taken: device %u speaks binary on TCP only",
-                  port, i);
+    if (binary.optional) {
+        host_logf(HAL_LOG_WARN,
+                  "binary udp port %d cannot be had (%s): device %u speaks binary "
+                  "on TCP only",
+                  port, strerror(err), i);
     }
-    return !opts->binary_udp_port_given;
+    return binary.optional;
 }
 
-/* With N devices the binary ports (P .. P+N-1) and reply ports (R ..
- * R+N-1) should not overlap: a client on this host that receives device i's
- * replies could not bind a port another device listens on. */
+/* Binary ports given explicitly (P .. P+N-1) and reply ports (R .. R+N-1)
+ * should not overlap: a client on this host that receives device i's
+ * replies could not bind a port another device listens on. The default
+ * layout never overlaps. */
 static void warn_binary_overlap(const host_options_t *opts, unsigned n)
 {
     int p = opts->binary_udp_port;
     int r = opts->binary_udp_reply_port;
-    if (n > 1 && opts->udp_enabled && p != 0 && r != 0 && r < p + (int)n && p < r + (int)n) {
+    if (n > 1 && opts->udp_enabled && p != 0 && r != 0 && !port_layout_paired(&fleet.plan) &&
+        r < p + (int)n && p < r + (int)n) {
         host_logf(HAL_LOG_WARN,
                   "--devices %u: binary udp ports %d-%d overlap the reply ports %d-%d; local "
                   "clients cannot receive on a port a device listens on",
@@ -111,33 +131,33 @@ static void warn_binary_overlap(const host_options_t *opts, unsigned n)
 
 static bool start_device(fleet_device_t *d, const host_options_t *opts, unsigned i)
 {
-    int tcp_port = 0;
-    int udp_port = 0;
+    port_layout_t ports;
     d->tcp.listener.fd = -1;
     d->udp.fd = -1;
     d->bin_udp.fd = -1;
     gripper_init(&d->gripper, opts, i);
-    if (!device_port("TCP", opts->tcp_port, i, &tcp_port) ||
-        !device_port("UDP", opts->udp_port, i, &udp_port)) {
+    fleet.scripting = fleet.scripting || d->gripper.script != NULL;
+    if (!device_ports(i, &ports)) {
         return false;
     }
-    if (opts->tcp_enabled && !tcp_server_start(&d->tcp, &d->gripper, opts->bind_addr, tcp_port,
-                                               opts->max_clients, opts->idle_timeout_s)) {
+    if (opts->tcp_enabled &&
+        !tcp_server_start(&d->tcp, &d->gripper, opts->bind_addr, (int)ports.tcp, opts->max_clients,
+                          opts->idle_timeout_s)) {
         return false;
     }
     udp_protocol_t gcl = udp_protocol_gcl();
     if (opts->udp_enabled && !udp_server_start(&d->udp, &d->gripper, &gcl, opts->bind_addr,
-                                               udp_port, opts->udp_peer_timeout_s)) {
+                                               (int)ports.udp, opts->udp_peer_timeout_s)) {
         return false;
     }
-    return start_bin_udp(d, opts, i);
+    return start_bin_udp(d, opts, i, &ports);
 }
 
 bool fleet_start(const host_options_t *opts)
 {
     unsigned declared = config_file_devices(); /* [device.N] sections */
     unsigned n = declared > (unsigned)opts->devices ? declared : (unsigned)opts->devices;
-    raise_descriptor_limit(n);
+    raise_descriptor_limit(opts, n);
     fleet.devices = calloc(n, sizeof(*fleet.devices));
     fleet.due_us = calloc(n, sizeof(*fleet.due_us)); /* 0: every device ticks first */
     fleet.heap = calloc(n, sizeof(*fleet.heap));
@@ -149,6 +169,9 @@ bool fleet_start(const host_options_t *opts)
         return false;
     }
     fleet.opts = opts;
+    fleet.plan = (port_plan_t){opts->tcp_port,        opts->udp_port,
+                               opts->binary_udp_port, opts->binary_udp_reply_port,
+                               opts->udp_enabled,     n};
     warn_binary_overlap(opts, n);
     for (unsigned i = 0; i < n; i++) { /* all due at 0: any order is a heap */
         fleet.heap[i] = i;
@@ -320,12 +343,32 @@ void fleet_ready_line(const char *extra, char *line, size_t cap)
              fleet.devices[0].gripper.opts.model, tcp, udp, binary, extra, devices);
 }
 
+void fleet_note_scripting(void)
+{
+    fleet.scripting = true;
+}
+
+void fleet_run_scripts(void)
+{
+    if (!fleet.scripting) {
+        return;
+    }
+    bool runnable = false;
+    for (unsigned i = 0; i < fleet.count; i++) {
+        runnable = gripper_continue_script(&fleet.devices[i].gripper) || runnable;
+    }
+    if (runnable) {
+        loop_wake_at_wall(loop_monotonic_ns()); /* poll, do not block */
+    }
+}
+
 void fleet_stop(void)
 {
     for (unsigned i = 0; i < fleet.count; i++) {
         tcp_server_stop(&fleet.devices[i].tcp);
         udp_server_stop(&fleet.devices[i].udp);
         udp_server_stop(&fleet.devices[i].bin_udp);
+        gripper_release(&fleet.devices[i].gripper);
     }
     while (gripper_take_touched() != NULL) {
     }

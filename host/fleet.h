@@ -35,6 +35,12 @@ void fleet_announce_devices(void);
  * udp P" only when it serves binary UDP), then extra (the control channel,
  * the web server) and, for a fleet, ", devices N". */
 void fleet_ready_line(const char *extra, char *line, size_t cap);
+/* Scripts whose time slice ended run on for a slice each; the loop then
+ * polls without blocking while one still wants to run. */
+void fleet_run_scripts(void);
+/* Any device may run a script (scripting configured, or started by the
+ * control channel): fleet_run_scripts() has work to look for. */
+void fleet_note_scripting(void);
 void fleet_stop(void);
 
 #endif

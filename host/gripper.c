@@ -8,6 +8,8 @@
 #include "finger_bus_host.h"
 #include "hal_clock.h"
 #include "log.h"
+#include "script.h"
+#include "script_options.h"
 #include "sim/observers.h"
 #include "sim/sim_models.h"
 #include "wsg/wsg_bin.h"
@@ -64,10 +66,26 @@ static void set_identity(wsg_config_t *cfg, unsigned index)
     memcpy(&cfg->tag[tag_len], suffix, (size_t)len + 1u);
 }
 
+/* The startup script (--script), at power-on and after a reset. */
+static void start_script(gripper_t *g)
+{
+    if (g->script != NULL) {
+        script_power_on(g->script, hal_clock_now_us());
+    }
+    if (g->script == NULL || g->opts.script == NULL || !g->opts.script_autostart) {
+        return;
+    }
+    char why[256];
+    if (!script_run(g->script, g->opts.script, why, sizeof(why))) {
+        host_logf(HAL_LOG_ERROR, "script: %s", why);
+    }
+}
+
 void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
 {
     g->opts = *opts;
     g->opts.model = config_file_device_model(index, opts->model);
+    g->opts.script = config_file_device_script(index, opts->script);
     g->index = index;
     wsg_sim_model_config(wsg_sim_model_find(g->opts.model), &g->config);
     config_file_apply(&g->config);
@@ -87,12 +105,62 @@ void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
     } else if (web_lines_enabled()) {
         wsg_conn_observe(&g->device, web_lines_observer(), NULL); /* the hub is device 0's */
     }
+    g->script = NULL;
+    if (script_options_enabled(&g->opts)) {
+        char store[4096];
+        bool has_store = script_options_store(&g->opts, store, sizeof(store));
+        g->script =
+            script_create(&g->device, index, (unsigned)opts->devices, has_store ? store : NULL);
+    }
+    start_script(g);
+}
+
+void gripper_release(gripper_t *g)
+{
+    script_destroy(g->script);
+    g->script = NULL;
+}
+
+bool gripper_run_script(gripper_t *g, const char *file, char *why, size_t cap)
+{
+    if (g->script == NULL) {
+        g->script = script_create(&g->device, g->index, 1, NULL);
+        if (g->script == NULL) {
+            snprintf(why, cap, "out of memory");
+            return false;
+        }
+    }
+    wsg_sim_world_advance(&g->world, hal_clock_now_us());
+    bool ok = script_run(g->script, file, why, cap);
+    wsg_runner_input_done(&g->runner);
+    gripper_touch(g);
+    return ok;
+}
+
+bool gripper_continue_script(gripper_t *g)
+{
+    if (g->script == NULL || !script_preempted(g->script)) {
+        return false;
+    }
+    wsg_sim_world_advance(&g->world, hal_clock_now_us());
+    script_continue(g->script);
+    wsg_runner_input_done(&g->runner);
+    gripper_touch(g);
+    return script_preempted(g->script);
 }
 
 uint64_t gripper_tick(gripper_t *g)
 {
     wsg_sim_world_advance(&g->world, hal_clock_now_us()); /* a touch may come from the world */
-    return wsg_runner_poll(&g->runner);
+    uint64_t next = wsg_runner_poll(&g->runner);
+    if (g->script == NULL) {
+        return next;
+    }
+    /* what the script does is input like a client's: due from the next instant */
+    uint64_t wake = script_service(g->script);
+    wsg_runner_input_done(&g->runner);
+    next = g->runner.next_deadline_us;
+    return wake < next ? wake : next;
 }
 
 void gripper_step_now(gripper_t *g)
@@ -106,8 +174,12 @@ void gripper_reset(gripper_t *g)
     while ((c = wsg_device_conn_first(&g->device)) != NULL) {
         wsg_conn_close(c, WSG_CLOSE_EXPIRED); /* one without a port behind it */
     }
+    if (g->script != NULL) {
+        script_forget(g->script);
+    }
     power_on_world(g);
     wsg_device_reset(&g->device, &g->config);
+    start_script(g);
 }
 
 void gripper_feed(gripper_t *g, wsg_conn_t *c, const uint8_t *bytes, size_t len,

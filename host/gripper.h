@@ -6,6 +6,7 @@
 #ifndef HOST_GRIPPER_H
 #define HOST_GRIPPER_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -23,7 +24,8 @@ typedef struct gripper {
     wsg_runner_t runner; /* feed and step: the core's, as on the board */
     bool touched;        /* on the touched list (gripper_touch) */
     struct gripper *next_touched;
-    unsigned index; /* its number in the fleet: 0 for the first */
+    unsigned index;        /* its number in the fleet: 0 for the first */
+    struct script *script; /* its script interpreter; NULL without scripting */
 } gripper_t;
 
 /* Power-on state from the options (model, configuration file, part) for
@@ -48,7 +50,15 @@ gripper_t *gripper_take_touched(void);
 /* Runs a control step now (the control channel changed the world). */
 void gripper_step_now(gripper_t *g);
 /* Power-on again: world, configuration and device state; the ports close
- * their connections first, any left over is closed here. */
+ * their connections first, any left over is closed here. The startup
+ * script runs again. */
 void gripper_reset(gripper_t *g);
+/* A script whose time slice ended runs on for one slice; true while it
+ * still wants to run (the loop must not block). */
+bool gripper_continue_script(gripper_t *g);
+/* Runs a script file on the device (docs/scripting.md); false with *why. */
+bool gripper_run_script(gripper_t *g, const char *file, char *why, size_t cap);
+/* Frees what gripper_init allocated (the script interpreter). */
+void gripper_release(gripper_t *g);
 
 #endif

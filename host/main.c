@@ -123,6 +123,7 @@ int main(int argc, char **argv)
     host_logf(HAL_LOG_INFO, "finger bus: %s", finger_bus_host_describe());
     while (!loop_stop_requested()) {
         uint64_t deadline = simctl_tick();
+        fleet_run_scripts();
         loop_wait(deadline);
         web_server_poll();
         tcp_server_reap();

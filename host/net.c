@@ -78,6 +78,45 @@ static bool parse_addr(const char *addr, int port, struct sockaddr_storage *ss, 
     return resolve_name(addr, port, ss, len);
 }
 
+/* Binds (and listens); -1 with errno set on failure, printing nothing. */
+static int open_listening(int type, const struct sockaddr_storage *ss, socklen_t len)
+{
+    int fd = socket(ss->ss_family, type | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+    int one = 1;
+    /* TCP: restart while old connections linger in TIME_WAIT. Never for
+     * UDP, where SO_REUSEADDR would let another socket share the port. */
+    if (fd >= 0 && type == SOCK_STREAM) {
+        setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof(one));
+    }
+    /* "::" serves IPv4 too (as ::ffff:a.b.c.d), whatever net.ipv6.bindv6only says. */
+    int v6only = 0;
+    if (fd >= 0 && ss->ss_family == AF_INET6 && is_wildcard(ss)) {
+        setsockopt(fd, IPPROTO_IPV6, IPV6_V6ONLY, &v6only, sizeof(v6only));
+    }
+    if (fd < 0 || bind(fd, (const struct sockaddr *)ss, len) != 0 ||
+        (type == SOCK_STREAM && listen(fd, LISTEN_BACKLOG) != 0)) {
+        int err = errno;
+        if (fd >= 0) {
+            close(fd);
+        }
+        errno = err;
+        return -1;
+    }
+    remember_own_socket(fd);
+    return fd;
+}
+
+int net_listen_optional(int type, const char *addr, int port)
+{
+    struct sockaddr_storage ss;
+    socklen_t len = 0;
+    if (!parse_addr(addr, port, &ss, &len)) {
+        errno = EADDRNOTAVAIL;
+        return -1;
+    }
+    return open_listening(type, &ss, len);
+}
+
 int net_listen(int type, const char *addr, int port)
 {
     const char *proto = type == SOCK_STREAM ? "TCP" : "UDP";
@@ -88,30 +127,13 @@ int net_listen(int type, const char *addr, int port)
                 proto, addr, port);
         return -1;
     }
-    int fd = socket(ss.ss_family, type | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
-    int one = 1;
-    /* TCP: restart while old connections linger in TIME_WAIT. Never for
-     * UDP, where SO_REUSEADDR would let another socket share the port. */
-    if (fd >= 0 && type == SOCK_STREAM) {
-        setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof(one));
-    }
-    /* "::" serves IPv4 too (as ::ffff:a.b.c.d), whatever net.ipv6.bindv6only says. */
-    int v6only = 0;
-    if (fd >= 0 && ss.ss_family == AF_INET6 && is_wildcard(&ss)) {
-        setsockopt(fd, IPPROTO_IPV6, IPV6_V6ONLY, &v6only, sizeof(v6only));
-    }
-    if (fd < 0 || bind(fd, (struct sockaddr *)&ss, len) != 0 ||
-        (type == SOCK_STREAM && listen(fd, LISTEN_BACKLOG) != 0)) {
+    int fd = open_listening(type, &ss, len);
+    if (fd < 0) {
         int err = errno;
         fprintf(stderr, "wsgsim: cannot listen on %s %s:%d: %s%s\n", proto, addr, port,
                 strerror(err),
                 err == EACCES ? " (ports below 1024 need root or CAP_NET_BIND_SERVICE)" : "");
-        if (fd >= 0) {
-            close(fd);
-        }
-        return -1;
     }
-    remember_own_socket(fd);
     return fd;
 }
 
@@ -148,6 +170,21 @@ void net_format_peer(const struct sockaddr_storage *ss, char *out, size_t cap)
     inet_ntop(AF_INET, &v4->sin_addr, host, sizeof(host));
     port = ntohs(v4->sin_port);
     snprintf(out, cap, "%s:%d", host, port);
+}
+
+void net_format_address(const struct sockaddr_storage *ss, char *out, size_t cap)
+{
+    const struct sockaddr_in6 *v6 = (const struct sockaddr_in6 *)ss;
+    const struct sockaddr_in *v4 = (const struct sockaddr_in *)ss;
+    char host[INET6_ADDRSTRLEN] = "?";
+    if (ss->ss_family == AF_INET6 && IN6_IS_ADDR_V4MAPPED(&v6->sin6_addr)) {
+        inet_ntop(AF_INET, v6->sin6_addr.s6_addr + 12, host, sizeof(host));
+    } else if (ss->ss_family == AF_INET6) {
+        inet_ntop(AF_INET6, &v6->sin6_addr, host, sizeof(host));
+    } else {
+        inet_ntop(AF_INET, &v4->sin_addr, host, sizeof(host));
+    }
+    snprintf(out, cap, "%s", host);
 }
 
 /* An IPv4-mapped IPv6 address (::ffff:a.b.c.d) as plain IPv4. */

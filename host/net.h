@@ -9,6 +9,10 @@
 /* Creates, binds (and for SOCK_STREAM listens on) a non-blocking socket.
  * On failure prints one clear error line and returns -1. */
 int net_listen(int type, const char *addr, int port);
+/* The same for a port the caller can do without: on failure prints
+ * nothing and returns -1 with errno set (EADDRNOTAVAIL for an address that
+ * does not resolve); the caller says what it does instead. */
+int net_listen_optional(int type, const char *addr, int port);
 /* The port a socket is bound to (useful with port 0). */
 int net_local_port(int fd);
 /* True when the address and port are one of this server's own sockets (a
@@ -18,5 +22,7 @@ bool net_is_own_address(const struct sockaddr_storage *peer);
 /* addr:port, with an IPv6 address in brackets ([::1]:1000). */
 void net_format_endpoint(const char *addr, int port, char *out, size_t cap);
 void net_format_peer(const struct sockaddr_storage *ss, char *out, size_t cap);
+/* The address alone (an IPv4-mapped IPv6 one as IPv4), without the port. */
+void net_format_address(const struct sockaddr_storage *ss, char *out, size_t cap);
 
 #endif

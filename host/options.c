@@ -9,9 +9,11 @@
 
 #include "config_file.h"
 #include "log.h"
+#include "script_options.h"
 #include "sim/finger_node.h"
 #include "sim/sim_models.h"
 #include "version.h"
+#include "web/web_host.h"
 
 #define DEFAULT_PORT 1000
 #define DEFAULT_MAX_CLIENTS 8
@@ -21,6 +23,7 @@
 #define DEFAULT_BINARY_UDP_PORT 1500
 #define DEFAULT_BINARY_UDP_REPLY_PORT 1501
 #define DEFAULT_HTTP_PORT 8080
+#define DEFAULT_HTTP_REQUEST_TIMEOUT_S 10
 #define TIMEOUT_LIMIT_S 86400
 
 static void print_help(void)
@@ -28,13 +31,17 @@ static void print_help(void)
     printf("Usage: wsgsim [OPTION]...\n"
            "A virtual Weiss Robotics WSG gripper serving GCL on TCP and UDP.\n\n"
            "  --tcp-port N               TCP port (default %d)\n"
-           "  --udp-port N               UDP port (default %d)\n"
+           "  --udp-port N               UDP port (default: the TCP port, %d unless\n"
+           "                             --tcp-port moves it)\n"
            "  --no-tcp                   do not serve TCP\n"
            "  --no-udp                   do not serve UDP\n"
            "  --bind ADDR                listen address: IPv4, IPv6 or a host name such as\n"
            "                             localhost (default 0.0.0.0; :: serves IPv6 and IPv4)\n"
            "  --devices N                serve N independent grippers (1..%d); device i on\n"
-           "                             TCP and UDP port + i (port 0: free ports each)\n"
+           "                             TCP and UDP port + i (port 0: free ports each);\n"
+           "                             with the default binary ports, binary UDP on\n"
+           "                             1500 + 2i replying to 1501 + 2i (moved past the\n"
+           "                             UDP ports when these reach 1500)\n"
            "  --model NAME               gripper model (default %s; see --list-models)\n"
            "  --list-models              list the simulated models and exit\n"
            "  --json                     with --list-models: print the list as JSON\n"
@@ -47,6 +54,10 @@ static void print_help(void)
            "                             simulated seconds (default: never)\n"
            "  --udp-peer-timeout S       forget a UDP peer (and end its AUTOSEND) after S\n"
            "                             simulated seconds without a datagram (default %d)\n"
+           "  --udp-stream-allow A[/P]   UDP peers at these addresses (comma-separated,\n"
+           "                             repeatable) keep AUTOSEND and automatic updates\n"
+           "                             while silent; other peers' streams are paid by\n"
+           "                             what they send (default: none)\n"
            "  --trace                    log every line in and out on stderr\n"
            "  --can IFACE                finger bus on the SocketCAN interface IFACE (e.g.\n"
            "                             vcan0; run tools/fingersim there); default: an\n"
@@ -57,6 +68,9 @@ static void print_help(void)
            "                             candump -L format (simulated time stamps)\n"
            "  --config FILE              device configuration (INI, see\n"
            "                             docs/wsgsim.example.ini); options override it\n"
+           "  --save-file FILE           where the web page's Save writes the settings\n"
+           "                             (default: the --config file); read over the\n"
+           "                             --config file at start when it exists\n"
            "  --sim-port N               simulation control channel on TCP port N\n"
            "                             (docs/simctl.md; 0 picks a free port)\n"
            "  --sim-bind ADDR            control channel address (default 127.0.0.1)\n"
@@ -80,6 +94,14 @@ static void print_help(void)
            "  --http-bind ADDR           web interface address (default: as --bind); its\n"
            "                             simulation panel serves loopback clients only\n"
            "                             unless --sim-bind names another address\n"
+           "  --http-allow-host NAME[,NAME]...\n"
+           "                             names the web interface answers to besides its\n"
+           "                             IP addresses and localhost (a Host header with\n"
+           "                             another name is refused: DNS rebinding); may be\n"
+           "                             repeated; * allows every name\n"
+           "  --http-request-timeout S   close a web connection whose request (header and\n"
+           "                             body) has not fully arrived S wall-clock seconds\n"
+           "                             after it opened or its last reply (default %d)\n"
            "  --log-level LEVEL          log error, warn, info or debug messages and above\n"
            "                             (default info)\n"
            "  --quiet                    log errors only (--log-level error)\n"
@@ -90,11 +112,16 @@ static void print_help(void)
            "  --ready-file FILE          once serving, write pid and ports to FILE\n"
            "                             (removed at exit); under systemd, wsgsim also\n"
            "                             reports READY=1 (Type=notify)\n"
+           "  --script FILE              run the Lua script FILE (a path, or /user/NAME in\n"
+           "                             the store) at power-on and after RESET()\n"
+           "  --script-dir DIR           the script store, the device's /user/ (default:\n"
+           "                             the --script file's directory)\n"
+           "  --no-script-autostart      keep --script selected but do not run it\n"
            "  -V, --version              print the version and exit\n"
            "  -h, --help                 print this help and exit\n",
            DEFAULT_PORT, DEFAULT_PORT, HOST_DEVICES_MAX, wsg_sim_model_default()->name,
            (double)DEFAULT_PART_STIFFNESS, DEFAULT_MAX_CLIENTS, MAX_CLIENTS_LIMIT,
-           DEFAULT_UDP_PEER_TIMEOUT_S, DEFAULT_HTTP_PORT);
+           DEFAULT_UDP_PEER_TIMEOUT_S, DEFAULT_HTTP_PORT, DEFAULT_HTTP_REQUEST_TIMEOUT_S);
 }
 
 static void list_models_json(void)
@@ -187,10 +214,12 @@ enum {
     OPT_NO_DISCONNECT_FASTSTOP,
     OPT_IDLE_TIMEOUT,
     OPT_UDP_PEER_TIMEOUT,
+    OPT_UDP_STREAM_ALLOW,
     OPT_TRACE,
     OPT_CAN,
     OPT_FINGERS,
     OPT_CONFIG,
+    OPT_SAVE_FILE,
     OPT_SIM_PORT,
     OPT_SIM_BIND,
     OPT_SCENARIO,
@@ -204,6 +233,8 @@ enum {
     OPT_BINARY_NO_CRC,
     OPT_HTTP_PORT,
     OPT_HTTP_BIND,
+    OPT_HTTP_ALLOW_HOST,
+    OPT_HTTP_REQUEST_TIMEOUT,
     OPT_JSON,
     OPT_CAN_LOG,
     OPT_LOG_LEVEL,
@@ -211,6 +242,9 @@ enum {
     OPT_LOG_TIMESTAMPS,
     OPT_LOG_FILE,
     OPT_READY_FILE,
+    OPT_SCRIPT,
+    OPT_SCRIPT_DIR,
+    OPT_NO_SCRIPT_AUTOSTART,
     OPT_VERSION = 'V',
     OPT_HELP = 'h',
 };
@@ -230,10 +264,12 @@ static const struct option long_options[] = {
     {"no-disconnect-faststop", no_argument, NULL, OPT_NO_DISCONNECT_FASTSTOP},
     {"idle-timeout", required_argument, NULL, OPT_IDLE_TIMEOUT},
     {"udp-peer-timeout", required_argument, NULL, OPT_UDP_PEER_TIMEOUT},
+    {"udp-stream-allow", required_argument, NULL, OPT_UDP_STREAM_ALLOW},
     {"trace", no_argument, NULL, OPT_TRACE},
     {"can", required_argument, NULL, OPT_CAN},
     {"fingers", required_argument, NULL, OPT_FINGERS},
     {"config", required_argument, NULL, OPT_CONFIG},
+    {"save-file", required_argument, NULL, OPT_SAVE_FILE},
     {"sim-port", required_argument, NULL, OPT_SIM_PORT},
     {"sim-bind", required_argument, NULL, OPT_SIM_BIND},
     {"scenario", required_argument, NULL, OPT_SCENARIO},
@@ -247,6 +283,8 @@ static const struct option long_options[] = {
     {"binary-no-crc", no_argument, NULL, OPT_BINARY_NO_CRC},
     {"http-port", required_argument, NULL, OPT_HTTP_PORT},
     {"http-bind", required_argument, NULL, OPT_HTTP_BIND},
+    {"http-allow-host", required_argument, NULL, OPT_HTTP_ALLOW_HOST},
+    {"http-request-timeout", required_argument, NULL, OPT_HTTP_REQUEST_TIMEOUT},
     {"json", no_argument, NULL, OPT_JSON},
     {"can-log", required_argument, NULL, OPT_CAN_LOG},
     {"log-level", required_argument, NULL, OPT_LOG_LEVEL},
@@ -254,6 +292,9 @@ static const struct option long_options[] = {
     {"log-timestamps", no_argument, NULL, OPT_LOG_TIMESTAMPS},
     {"log-file", required_argument, NULL, OPT_LOG_FILE},
     {"ready-file", required_argument, NULL, OPT_READY_FILE},
+    {"script", required_argument, NULL, OPT_SCRIPT},
+    {"script-dir", required_argument, NULL, OPT_SCRIPT_DIR},
+    {"no-script-autostart", no_argument, NULL, OPT_NO_SCRIPT_AUTOSTART},
     {"version", no_argument, NULL, OPT_VERSION},
     {"help", no_argument, NULL, OPT_HELP},
     {NULL, 0, NULL, 0},
@@ -265,10 +306,14 @@ static struct {
     bool json;
 } listing;
 
+/* The first --udp-stream-allow replaces the configuration file's list. */
+static bool stream_allow_given;
+
 static void set_defaults(host_options_t *opts)
 {
     memset(opts, 0, sizeof(*opts));
     memset(&listing, 0, sizeof(listing));
+    stream_allow_given = false;
     opts->log_level = HAL_LOG_INFO;
     opts->tcp_port = DEFAULT_PORT;
     opts->udp_port = DEFAULT_PORT;
@@ -287,6 +332,8 @@ static void set_defaults(host_options_t *opts)
     opts->binary_udp_reply_port = DEFAULT_BINARY_UDP_REPLY_PORT;
     opts->binary_crc = true;
     opts->http_port = DEFAULT_HTTP_PORT;
+    opts->http_request_timeout_s = DEFAULT_HTTP_REQUEST_TIMEOUT_S;
+    opts->script_autostart = true;
 }
 
 bool options_parse_protocol(const char *text, host_protocol_t *out)
@@ -302,6 +349,30 @@ bool options_parse_protocol(const char *text, host_protocol_t *out)
 }
 
 static options_result_t usage_error(const char *what, const char *value);
+
+/* The web interface's admission options (docs/web.md, "Who is served"). */
+static options_result_t apply_web_option(int opt, const char *arg, host_options_t *opts)
+{
+    switch (opt) {
+    case OPT_HTTP_ALLOW_HOST:
+        if (opts->http_allow_host_count == HOST_HTTP_ALLOW_LISTS_MAX) {
+            fprintf(stderr, "wsgsim: --http-allow-host may be given at most %d times\n",
+                    HOST_HTTP_ALLOW_LISTS_MAX);
+            return OPTIONS_EXIT_USAGE;
+        }
+        if (!web_host_names_valid(arg)) {
+            return usage_error("--http-allow-host", arg);
+        }
+        opts->http_allow_hosts[opts->http_allow_host_count++] = arg;
+        return OPTIONS_RUN;
+    case OPT_HTTP_REQUEST_TIMEOUT:
+        return parse_int(arg, 1, TIMEOUT_LIMIT_S, &opts->http_request_timeout_s)
+                   ? OPTIONS_RUN
+                   : usage_error("--http-request-timeout", arg);
+    default:
+        return OPTIONS_EXIT_USAGE;
+    }
+}
 
 /* The binary protocol's options (docs/binary-protocol.md) and the web
  * interface's (docs/web.md): the other ways in besides GCL. */
@@ -346,6 +417,7 @@ static options_result_t apply_simctl_option(int opt, const char *arg, host_optio
 {
     switch (opt) {
     case OPT_CONFIG:
+    case OPT_SAVE_FILE:
         return OPTIONS_RUN; /* read before the other options (see options_parse) */
     case OPT_SIM_PORT:
         return parse_int(arg, 0, 65535, &opts->sim_port) ? OPTIONS_RUN
@@ -421,22 +493,31 @@ static options_result_t unknown_option(int opt, char **argv)
     return OPTIONS_EXIT_USAGE;
 }
 
-/* --config FILE is read first so that every other option overrides it. */
-static bool load_config(int argc, char **argv, host_options_t *opts)
+/* The value of the last "--name FILE" or "--name=FILE" in argv, or NULL. */
+static const char *file_option(int argc, char **argv, const char *name)
 {
+    const char *path = NULL;
+    size_t len = strlen(name);
     for (int i = 1; i < argc; i++) {
-        const char *path = NULL;
-        if (strcmp(argv[i], "--config") == 0 && i + 1 < argc) {
-            path = argv[i + 1];
-        } else if (strncmp(argv[i], "--config=", 9) == 0) {
-            path = argv[i] + 9;
-        }
-        if (path != NULL) {
-            opts->config_path = path;
-            return config_file_load(path, opts);
+        if (strcmp(argv[i], name) == 0 && i + 1 < argc) {
+            path = argv[++i];
+        } else if (strncmp(argv[i], name, len) == 0 && argv[i][len] == '=') {
+            path = argv[i] + len + 1;
         }
     }
-    return true;
+    return path;
+}
+
+/* --config FILE and --save-file FILE are read first so that every other
+ * option overrides them. */
+static bool load_config(int argc, char **argv, host_options_t *opts)
+{
+    opts->config_path = file_option(argc, argv, "--config");
+    opts->save_path = file_option(argc, argv, "--save-file");
+    if (opts->config_path == NULL && opts->save_path == NULL) {
+        return true;
+    }
+    return config_file_load(opts->config_path, opts->save_path, opts);
 }
 
 /* Applies one option; returns OPTIONS_RUN to go on. */
@@ -447,6 +528,7 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
         return parse_int(arg, 0, 65535, &opts->tcp_port) ? OPTIONS_RUN
                                                          : usage_error("--tcp-port", arg);
     case OPT_UDP_PORT:
+        opts->udp_port_given = true;
         return parse_int(arg, 0, 65535, &opts->udp_port) ? OPTIONS_RUN
                                                          : usage_error("--udp-port", arg);
     case OPT_NO_TCP:
@@ -481,6 +563,13 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
         return parse_int(arg, 1, TIMEOUT_LIMIT_S, &opts->udp_peer_timeout_s)
                    ? OPTIONS_RUN
                    : usage_error("--udp-peer-timeout", arg);
+    case OPT_UDP_STREAM_ALLOW:
+        if (!stream_allow_given) {
+            opts->udp_stream_allow.count = 0;
+            stream_allow_given = true;
+        }
+        return net_allow_add(&opts->udp_stream_allow, arg) ? OPTIONS_RUN
+                                                           : usage_error("--udp-stream-allow", arg);
     case OPT_TRACE:
         opts->trace = true;
         return OPTIONS_RUN;
@@ -493,6 +582,7 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
         return wsg_finger_node_parse_pair(arg, types) ? OPTIONS_RUN : usage_error("--fingers", arg);
     }
     case OPT_CONFIG:
+    case OPT_SAVE_FILE:
     case OPT_SIM_PORT:
     case OPT_SIM_BIND:
     case OPT_SCENARIO:
@@ -508,6 +598,9 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
     case OPT_HTTP_PORT:
     case OPT_HTTP_BIND:
         return apply_binary_option(opt, arg, opts);
+    case OPT_HTTP_ALLOW_HOST:
+    case OPT_HTTP_REQUEST_TIMEOUT:
+        return apply_web_option(opt, arg, opts);
     case OPT_LOG_LEVEL:
     case OPT_QUIET:
     case OPT_LOG_TIMESTAMPS:
@@ -517,6 +610,15 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
     case OPT_LIST_MODELS:
     case OPT_JSON:
         return apply_service_option(opt, arg, opts);
+    case OPT_SCRIPT:
+        opts->script = arg;
+        return OPTIONS_RUN;
+    case OPT_SCRIPT_DIR:
+        opts->script_dir = arg;
+        return OPTIONS_RUN;
+    case OPT_NO_SCRIPT_AUTOSTART:
+        opts->script_autostart = false;
+        return OPTIONS_RUN;
     case OPT_VERSION:
         printf("wsgsim %s (GCL firmware 4.0)\n", WSGSIM_VERSION);
         return OPTIONS_EXIT_OK;
@@ -553,7 +655,10 @@ static options_result_t check_combinations(const host_options_t *opts)
         fprintf(stderr, "wsgsim: --no-tcp and --no-udp leave nothing to serve\n");
         return OPTIONS_EXIT_USAGE;
     }
-    if (opts->config_path != NULL && !config_file_check(opts->model)) {
+    if ((opts->config_path != NULL || opts->save_path != NULL) && !config_file_check(opts->model)) {
+        return OPTIONS_EXIT_USAGE;
+    }
+    if (!script_options_check(opts)) {
         return OPTIONS_EXIT_USAGE;
     }
     return OPTIONS_RUN;
@@ -579,6 +684,9 @@ options_result_t options_parse(int argc, char **argv, host_options_t *opts)
     }
     if (optind < argc) {
         return usage_error("argument", argv[optind]);
+    }
+    if (!opts->udp_port_given) { /* the device serves both on one port */
+        opts->udp_port = opts->tcp_port;
     }
     return check_combinations(opts);
 }

@@ -6,8 +6,12 @@
 #include <stdbool.h>
 
 #include "hal_log.h"
+#include "net_allow.h"
 /* --protocol: what a TCP connection speaks (docs/binary-protocol.md) */
 typedef enum { HOST_PROTOCOL_AUTO, HOST_PROTOCOL_GCL, HOST_PROTOCOL_BINARY } host_protocol_t;
+
+/* --http-allow-host: at most this many lists of names (each repeat one). */
+#define HOST_HTTP_ALLOW_LISTS_MAX 16
 
 /* --devices: at most this many grippers in one process. */
 #define HOST_DEVICES_MAX 1024
@@ -15,6 +19,7 @@ typedef enum { HOST_PROTOCOL_AUTO, HOST_PROTOCOL_GCL, HOST_PROTOCOL_BINARY } hos
 typedef struct {
     int tcp_port;
     int udp_port;
+    bool udp_port_given; /* --udp-port or udp_port set: else it follows tcp_port */
     bool tcp_enabled;
     bool udp_enabled;
     const char *bind_addr;
@@ -26,6 +31,7 @@ typedef struct {
     int devices;            /* --devices: grippers served, device i on port + i */
     int idle_timeout_s;     /* --idle-timeout: close TCP connections silent this long; 0: off */
     int udp_peer_timeout_s; /* --udp-peer-timeout: forget UDP peers silent this long */
+    net_allow_t udp_stream_allow; /* --udp-stream-allow: streams to them need no budget */
     bool disconnect_faststop;
     bool trace;
     const char *can_iface; /* --can: finger bus on SocketCAN; NULL: loopback bus */
@@ -34,6 +40,8 @@ typedef struct {
     int sim_port;              /* --sim-port: control channel; -1: none */
     const char *sim_bind;      /* --sim-bind: NULL: 127.0.0.1 */
     const char *config_path;   /* --config: INI device configuration */
+    const char *save_path;     /* --save-file: the web page's Save writes here, read over
+                                  --config at start; NULL: Save writes the --config file */
     const char *scenario_path; /* --scenario: timed control commands */
     const char *record_path;   /* --record: traffic record */
     const char *coverage_path; /* --coverage: report written at exit */
@@ -49,12 +57,21 @@ typedef struct {
     int http_port;         /* --http-port: 0: off */
     bool http_port_given;  /* set explicitly: failing to bind it is fatal */
     const char *http_bind; /* --http-bind: NULL: as --bind */
+    /* --http-allow-host (and [network] http_allow_host first): the names,
+     * comma-separated lists, besides addresses and localhost (web_host.h) */
+    const char *http_allow_hosts[HOST_HTTP_ALLOW_LISTS_MAX];
+    int http_allow_host_count;
+    int http_request_timeout_s; /* --http-request-timeout: a whole request within S */
     /* logging and supervision */
     hal_log_level_t log_level; /* --log-level, --quiet */
     bool log_timestamps;       /* --log-timestamps: wall-clock ISO 8601 on each line */
     const char *log_file;      /* --log-file: NULL: stderr */
     const char *ready_file;    /* --ready-file: written once serving */
     const char *can_log;       /* --can-log: candump -L file of the in-process bus */
+    /* user scripts (docs/scripting.md) */
+    const char *script;     /* --script: the startup script, a host path or /user/NAME */
+    const char *script_dir; /* --script-dir: the /user/ store; NULL: none */
+    bool script_autostart;  /* false: --no-script-autostart */
 } host_options_t;
 
 typedef enum { OPTIONS_RUN, OPTIONS_EXIT_OK, OPTIONS_EXIT_USAGE } options_result_t;

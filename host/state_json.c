@@ -1,10 +1,12 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 #include "state_json.h"
 
+#include <math.h>
 #include <stdlib.h>
 
 #include "gripper.h"
 #include "hal_clock.h"
+#include "script_json.h"
 #include "sim/clock.h"
 #include "sim/delay.h"
 #include "sim/faults.h"
@@ -16,6 +18,14 @@
 static double ms(uint64_t us)
 {
     return (double)us / 1000.0;
+}
+
+/* A float reading at the resolution GCL prints (a thousandth, behaviour.md
+ * "Numbers"): 0.591, not the float's 0.5910000205039978; never -0. */
+static void add_reading(cJSON *obj, const char *name, float value)
+{
+    double rounded = isfinite(value) ? round((double)value * 1000.0) / 1000.0 : 0.0;
+    cJSON_AddNumberToObject(obj, name, rounded == 0.0 ? 0.0 : rounded);
 }
 
 static cJSON *time_json(void)
@@ -36,16 +46,16 @@ static cJSON *device_json(const wsg_config_t *cfg)
     cJSON_AddNumberToObject(d, "serial", cfg->serial);
     cJSON_AddStringToObject(d, "tag", cfg->tag);
     cJSON_AddStringToObject(d, "firmware_version", cfg->version);
-    cJSON_AddNumberToObject(d, "stroke_mm", cfg->stroke_mm);
-    cJSON_AddNumberToObject(d, "default_force_n", cfg->default_force_n);
-    cJSON_AddNumberToObject(d, "default_speed_mm_s", cfg->default_speed_mm_s);
-    cJSON_AddNumberToObject(d, "default_accel_mm_s2", cfg->default_accel_mm_s2);
-    cJSON_AddNumberToObject(d, "default_pullback_mm", cfg->default_pullback_mm);
-    cJSON_AddNumberToObject(d, "default_pwt_mm", cfg->default_pwt_mm);
-    cJSON_AddNumberToObject(d, "default_clt_mm", cfg->default_clt_mm);
+    add_reading(d, "stroke_mm", cfg->stroke_mm);
+    add_reading(d, "default_force_n", cfg->default_force_n);
+    add_reading(d, "default_speed_mm_s", cfg->default_speed_mm_s);
+    add_reading(d, "default_accel_mm_s2", cfg->default_accel_mm_s2);
+    add_reading(d, "default_pullback_mm", cfg->default_pullback_mm);
+    add_reading(d, "default_pwt_mm", cfg->default_pwt_mm);
+    add_reading(d, "default_clt_mm", cfg->default_clt_mm);
     cJSON_AddBoolToObject(d, "soft_limits", cfg->soft_limits_enabled);
-    cJSON_AddNumberToObject(d, "soft_limit_minus_mm", cfg->soft_limit_minus_mm);
-    cJSON_AddNumberToObject(d, "soft_limit_plus_mm", cfg->soft_limit_plus_mm);
+    add_reading(d, "soft_limit_minus_mm", cfg->soft_limit_minus_mm);
+    add_reading(d, "soft_limit_plus_mm", cfg->soft_limit_plus_mm);
     cJSON_AddStringToObject(d, "homing_direction", cfg->home_positive ? "positive" : "negative");
     cJSON_AddBoolToObject(d, "disconnect_faststop", cfg->disconnect_raises_faststop);
     return d;
@@ -54,10 +64,15 @@ static cJSON *device_json(const wsg_config_t *cfg)
 static cJSON *axis_json(const wsg_snapshot_t *snap)
 {
     cJSON *j = cJSON_CreateObject();
-    cJSON_AddNumberToObject(j, "position_mm", snap->position_mm);
-    cJSON_AddNumberToObject(j, "speed_mm_s", snap->speed_mm_s);
-    cJSON_AddNumberToObject(j, "force_n", snap->force_n);
-    cJSON_AddNumberToObject(j, "blocked", snap->blocked);
+    add_reading(j, "position_mm", snap->position_mm);
+    add_reading(j, "speed_mm_s", snap->speed_mm_s);
+    add_reading(j, "force_n", snap->force_n);
+    cJSON_AddBoolToObject(j, "blocked", snap->blocked != 0);
+    if (snap->blocked != 0) { /* the side it is blocked on, as SF_BLOCKED_MINUS/PLUS */
+        cJSON_AddStringToObject(j, "blocked_side", snap->blocked < 0 ? "minus" : "plus");
+    } else {
+        cJSON_AddNullToObject(j, "blocked_side");
+    }
     cJSON_AddBoolToObject(j, "referenced", snap->referenced);
     return j;
 }
@@ -82,9 +97,9 @@ static cJSON *motion_json(wsg_device_t *dev, const wsg_snapshot_t *snap)
     }
     static const char *const names[] = {"", "HOME", "MOVE", "GRIP", "RELEASE"};
     cJSON_AddStringToObject(j, "command", names[snap->motion]);
-    cJSON_AddNumberToObject(j, "target_mm", snap->motion_target_mm);
-    cJSON_AddNumberToObject(j, "speed_mm_s", snap->motion_speed_mm_s);
-    cJSON_AddNumberToObject(j, "force_n", snap->motion_force_n);
+    add_reading(j, "target_mm", snap->motion_target_mm);
+    add_reading(j, "speed_mm_s", snap->motion_speed_mm_s);
+    add_reading(j, "force_n", snap->motion_force_n);
     cJSON_AddNumberToObject(j, "session", owner_id(dev, snap->motion_owner));
     return j;
 }
@@ -94,8 +109,8 @@ static cJSON *grip_json(const wsg_snapshot_t *snap)
     cJSON *j = cJSON_CreateObject();
     cJSON_AddNumberToObject(j, "state", snap->grip_state);
     cJSON_AddStringToObject(j, "state_name", wsg_grip_state_name(snap->grip_state));
-    cJSON_AddNumberToObject(j, "force_n", snap->grip_force_n);
-    cJSON_AddNumberToObject(j, "hold_mm", snap->grip_hold_mm);
+    add_reading(j, "force_n", snap->grip_force_n);
+    add_reading(j, "hold_mm", snap->grip_hold_mm);
     cJSON *stats = cJSON_AddObjectToObject(j, "stats");
     cJSON_AddNumberToObject(stats, "grips", snap->grip_stats[0]);
     cJSON_AddNumberToObject(stats, "no_part", snap->grip_stats[1]);
@@ -122,21 +137,21 @@ static cJSON *world_json(const sim_world_t *w, const wsg_snapshot_t *snap)
     const sim_part_t *p = &w->axis.part;
     const sim_obstacle_t *o = &w->axis.obstacle;
     cJSON *j = cJSON_CreateObject();
-    cJSON_AddNumberToObject(j, "board_temp_c", snap->temperature_c);
-    cJSON_AddNumberToObject(j, "ambient_c", w->thermal.ambient_c);
+    add_reading(j, "board_temp_c", snap->temperature_c);
+    add_reading(j, "ambient_c", w->thermal.ambient_c);
     cJSON *part =
         p->present ? cJSON_AddObjectToObject(j, "part") : cJSON_AddNullToObject(j, "part");
     if (p->present) {
-        cJSON_AddNumberToObject(part, "width_mm", p->width_mm);
-        cJSON_AddNumberToObject(part, "stiffness_n_mm", p->stiffness_n_mm);
-        cJSON_AddNumberToObject(part, "slip_force_n", p->slip_force_n);
+        add_reading(part, "width_mm", p->width_mm);
+        add_reading(part, "stiffness_n_mm", p->stiffness_n_mm);
+        add_reading(part, "slip_force_n", p->slip_force_n);
         cJSON_AddStringToObject(part, "side", p->side == SIM_PART_INSIDE ? "inside" : "outside");
     }
     cJSON_AddNumberToObject(j, "part_slips", p->slips);
     cJSON *obst =
         o->present ? cJSON_AddObjectToObject(j, "obstacle") : cJSON_AddNullToObject(j, "obstacle");
     if (o->present) {
-        cJSON_AddNumberToObject(obst, "width_mm", o->width_mm);
+        add_reading(obst, "width_mm", o->width_mm);
         cJSON_AddStringToObject(obst, "side", o->side == SIM_PART_INSIDE ? "inside" : "outside");
     }
     return j;
@@ -220,7 +235,7 @@ static cJSON *autosend_json(const wsg_gcl_conn_info_t *info)
         cJSON_AddStringToObject(j, "value", wsg_gcl_autosend_name((wsg_autosend_value_t)v));
         cJSON_AddNumberToObject(j, "interval_ms", sub->interval_ms);
         if (sub->use_delta) {
-            cJSON_AddNumberToObject(j, "delta", sub->delta);
+            add_reading(j, "delta", sub->delta);
         }
         cJSON_AddBoolToObject(j, "on_change", sub->on_change);
         cJSON_AddNumberToObject(j, "missed", sub->missed);
@@ -242,8 +257,8 @@ static cJSON *session_json(const wsg_conn_t *c)
     cJSON_AddNumberToObject(j, "id", wsg_conn_id(c));
     cJSON_AddStringToObject(j, "transport", transport_name(c));
     cJSON_AddBoolToObject(j, "verbose", info.verbose);
-    cJSON_AddNumberToObject(j, "pwt_mm", info.pwt_mm);
-    cJSON_AddNumberToObject(j, "clt_mm", info.clt_mm);
+    add_reading(j, "pwt_mm", info.pwt_mm);
+    add_reading(j, "clt_mm", info.clt_mm);
     cJSON_AddBoolToObject(j, "bye", wsg_conn_wants_close(c));
     cJSON_AddNumberToObject(j, "lines_in", info.lines_in);
     cJSON_AddNumberToObject(j, "lines_out", info.lines_out);
@@ -285,6 +300,7 @@ char *state_json(gripper_t *g, bool pretty)
     cJSON_AddItemToObject(root, "fingers", fingers_json(snap));
     cJSON_AddItemToObject(root, "faults", state_json_faults(g));
     cJSON_AddItemToObject(root, "sessions", sessions_json(dev, true));
+    cJSON_AddItemToObject(root, "script", script_json(g));
     char *text = pretty ? cJSON_Print(root) : cJSON_PrintUnformatted(root);
     cJSON_Delete(root);
     return text;

@@ -25,9 +25,11 @@
  * does not fit. */
 #define OUTQ_BYTES (16u * 1024u)
 #define READ_CHUNK 4096
-/* With every slot taken, a connection that has not sent a byte for this
- * long gives its slot to a newcomer: real clients speak first. */
-#define SILENT_GRACE_US (30u * 1000000u)
+/* With every slot taken, a connection that has completed no command (line
+ * or frame) for this long, and is stuck inside one or never completed any,
+ * gives its slot to a newcomer: real clients speak first, and finish what
+ * they start. A connection quiet after a whole command keeps its slot. */
+#define STALLED_GRACE_US (30u * 1000000u)
 /* Keepalive: probes after 60 s without traffic, every 10 s, 6 unanswered
  * ones end the connection (a dead peer goes within two minutes). */
 #define KEEPALIVE_IDLE_S 60
@@ -45,8 +47,9 @@ struct tcp_client {
     bool eof;     /* the client shut its side: answer, flush, then close */
     bool expired; /* closed by the server for silence: not a lost link */
     uint64_t connected_us;
-    uint64_t heard_us; /* last input, or connected_us */
-    bool spoke;        /* sent at least one byte */
+    uint64_t heard_us;     /* last input, or connected_us */
+    uint64_t completed_us; /* when its last whole command arrived, or connected_us */
+    uint32_t messages_in;  /* whole commands so far (wsg_conn_messages_in) */
     unsigned long dropped_autosend;
     char peer[64];
 };
@@ -165,14 +168,27 @@ static wsg_close_reason_t close_reason(const tcp_client_t *c)
     if (wsg_conn_wants_close(&c->conn)) {
         return WSG_CLOSE_ANNOUNCED;
     }
-    return c->expired ? WSG_CLOSE_EXPIRED : WSG_CLOSE_DROPPED;
+    if (c->expired) {
+        return WSG_CLOSE_EXPIRED;
+    }
+    return wsg_conn_close_announced(&c->conn) ? WSG_CLOSE_ANNOUNCED : WSG_CLOSE_DROPPED;
+}
+
+/* What the log says of the close: after BYE the server closed it; after
+ * the binary disconnect announcement (0x07) the client did. */
+static const char *close_note(const tcp_client_t *c, wsg_close_reason_t reason)
+{
+    if (reason == WSG_CLOSE_DROPPED) {
+        return " without BYE";
+    }
+    bool after_0x07 = reason == WSG_CLOSE_ANNOUNCED && !wsg_conn_wants_close(&c->conn);
+    return after_0x07 ? " after the disconnect announcement (0x07)" : "";
 }
 
 static void close_client(tcp_client_t *c)
 {
     wsg_close_reason_t reason = close_reason(c);
-    host_log_peer(HAL_LOG_INFO, "tcp %s: closed%s", c->peer,
-                  reason == WSG_CLOSE_DROPPED ? " without BYE" : "");
+    host_log_peer(HAL_LOG_INFO, "tcp %s: closed%s", c->peer, close_note(c, reason));
     if (c->dropped_autosend > 0) {
         host_log_peer(HAL_LOG_INFO, "tcp %s: %lu AUTOSEND lines dropped (client not reading)",
                       c->peer, c->dropped_autosend);
@@ -195,6 +211,16 @@ static void on_end_of_input(tcp_client_t *c)
     update_events(c);
 }
 
+/* A command completed in this input restarts its grace (stalled()). */
+static void note_completed(tcp_client_t *c)
+{
+    uint32_t messages = wsg_conn_messages_in(&c->conn);
+    if (messages != c->messages_in) {
+        c->messages_in = messages;
+        c->completed_us = c->heard_us;
+    }
+}
+
 static void on_client(void *ctx, int fd, short revents)
 {
     tcp_client_t *c = ctx;
@@ -214,8 +240,8 @@ static void on_client(void *ctx, int fd, short revents)
     ssize_t n = recv(c->fd, buf, sizeof(buf), MSG_DONTWAIT);
     if (n > 0) {
         c->heard_us = hal_clock_now_us();
-        c->spoke = true;
         gripper_feed(c->server->gripper, &c->conn, buf, (size_t)n, 0);
+        note_completed(c);
     } else if (n == 0) {
         on_end_of_input(c);
     } else if (errno != EAGAIN && errno != EINTR) {
@@ -223,27 +249,37 @@ static void on_client(void *ctx, int fd, short revents)
     }
 }
 
-/* The connection that has sent nothing at all for longest, if that is
- * beyond the grace; its slot goes to a waiting client. */
-static tcp_client_t *silent_connection(const tcp_server_t *s)
+/* Stuck: no whole command for the grace, and either inside one now (a
+ * line without its end, a frame cut short) or none completed at all. */
+static bool stalled(const tcp_client_t *c, uint64_t now)
 {
-    uint64_t now = hal_clock_now_us();
-    for (tcp_client_t *c = tcp.first; c != NULL; c = c->next) { /* oldest first */
-        if (c->server == s && !c->spoke && now - c->connected_us >= SILENT_GRACE_US) {
-            return c;
-        }
-    }
-    return NULL;
+    bool unfinished = c->messages_in == 0 || wsg_conn_partial_input(&c->conn);
+    return unfinished && now - c->completed_us >= STALLED_GRACE_US;
 }
 
-static void reclaim_silent_slot(const tcp_server_t *s)
+/* The stalled connection that completed a command longest ago; its slot
+ * goes to a waiting client. */
+static tcp_client_t *stalled_connection(const tcp_server_t *s)
 {
-    tcp_client_t *c = silent_connection(s);
+    uint64_t now = hal_clock_now_us();
+    tcp_client_t *found = NULL;
+    for (tcp_client_t *c = tcp.first; c != NULL; c = c->next) {
+        if (c->server == s && stalled(c, now) &&
+            (found == NULL || c->completed_us < found->completed_us)) {
+            found = c;
+        }
+    }
+    return found;
+}
+
+static void reclaim_stalled_slot(const tcp_server_t *s)
+{
+    tcp_client_t *c = stalled_connection(s);
     if (c != NULL) {
-        host_log_peer(HAL_LOG_INFO,
-                      "tcp %s: silent since it connected; slot given to a waiting "
-                      "client",
-                      c->peer);
+        host_log_peer(
+            HAL_LOG_INFO, "tcp %s: no whole command for %u s (%s); slot given to a waiting client",
+            c->peer, (unsigned)(STALLED_GRACE_US / 1000000u),
+            c->messages_in == 0 && c->heard_us == c->connected_us ? "silent" : "stuck inside one");
         c->expired = true;
         close_client(c);
     }
@@ -253,7 +289,7 @@ static void reclaim_silent_slot(const tcp_server_t *s)
 static tcp_client_t *new_client(tcp_server_t *s)
 {
     if ((int)s->open >= s->max_clients) {
-        reclaim_silent_slot(s);
+        reclaim_stalled_slot(s);
     }
     if ((int)s->open >= s->max_clients) {
         return NULL;
@@ -271,6 +307,7 @@ static bool setup_client(tcp_client_t *c, int fd, const struct sockaddr_storage 
     net_format_peer(ss, c->peer, sizeof(c->peer));
     c->connected_us = hal_clock_now_us();
     c->heard_us = c->connected_us;
+    c->completed_us = c->connected_us;
     int one = 1;
     int idle = KEEPALIVE_IDLE_S, interval = KEEPALIVE_INTERVAL_S, probes = KEEPALIVE_PROBES;
     setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof(one));

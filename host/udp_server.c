@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 #include "udp_server.h"
 
+#include <arpa/inet.h>
 #include <netinet/in.h>
 #include <poll.h>
 #include <stdlib.h>
@@ -11,6 +12,7 @@
 #include "log.h"
 #include "loop.h"
 #include "net.h"
+#include "net_allow.h"
 #include "wsg/wsg_bin.h"
 #include "wsg/wsg_gcl.h"
 
@@ -24,6 +26,7 @@ typedef struct {
     struct sockaddr_storage reply_to;
     socklen_t reply_len;
     char name[64];
+    char addr_text[INET6_ADDRSTRLEN]; /* the address alone, for --udp-stream-allow */
 } udp_peer_t;
 
 /* The servers that know a peer: the reap, the deadline and the cut visit
@@ -58,12 +61,28 @@ static void set_active(udp_server_t *s)
 
 udp_protocol_t udp_protocol_gcl(void)
 {
-    return (udp_protocol_t){&wsg_gcl_driver, "udp", GCL_PEERS_MAX, 0};
+    return (udp_protocol_t){&wsg_gcl_driver, "udp", GCL_PEERS_MAX, 0, false};
 }
 
 udp_protocol_t udp_protocol_binary(int reply_port)
 {
-    return (udp_protocol_t){&wsg_bin_driver, "binary udp", BINARY_PEERS_MAX, reply_port};
+    return (udp_protocol_t){&wsg_bin_driver, "binary udp", BINARY_PEERS_MAX, reply_port, false};
+}
+
+/* The first message a peer loses over its budget is logged, with the way
+ * out for a stream (rate-limited with every message peers cause). */
+static void log_first_drop(const udp_server_t *s, const udp_peer_t *p, wsg_msg_kind_t kind)
+{
+    if (kind != WSG_MSG_UPDATE && p->peer.dropped == 1) {
+        host_log_peer(HAL_LOG_WARN, "%s %s: reply budget spent; lines dropped", s->proto.label,
+                      p->name);
+    } else if (kind == WSG_MSG_UPDATE && p->peer.updates_dropped == 1) {
+        host_log_peer(HAL_LOG_WARN,
+                      "%s %s: stream paused: updates are paid by what the peer sends, and its "
+                      "budget is spent; they resume when it sends again (for a client that "
+                      "subscribes and then only listens: --udp-stream-allow %s)",
+                      s->proto.label, p->name, p->addr_text);
+    }
 }
 
 static void write_message(void *ctx, const char *bytes, size_t len, wsg_msg_kind_t kind)
@@ -72,10 +91,7 @@ static void write_message(void *ctx, const char *bytes, size_t len, wsg_msg_kind
     udp_server_t *s = p->server;
     /* a datagram that cannot go out now is lost, as on the wire */
     if (!wsg_peers_may_send(&s->peers, &p->peer, len, kind)) {
-        if (p->peer.dropped == 1) {
-            host_log_peer(HAL_LOG_WARN, "%s %s: reply budget spent; lines dropped", s->proto.label,
-                          p->name);
-        }
+        log_first_drop(s, p, kind);
         return;
     }
     sendto(s->fd, bytes, len, MSG_DONTWAIT | MSG_NOSIGNAL, (const struct sockaddr *)&p->reply_to,
@@ -91,6 +107,10 @@ static void log_forgetting(void *ctx, wsg_peer_t *peer, wsg_peer_forget_t why)
     if (peer->dropped > 0) {
         host_log_peer(HAL_LOG_INFO, "%s %s: %lu lines dropped over the reply budget",
                       s->proto.label, p->name, (unsigned long)peer->dropped);
+    }
+    if (peer->updates_dropped > 0) {
+        host_log_peer(HAL_LOG_INFO, "%s %s: %lu updates dropped over the budget", s->proto.label,
+                      p->name, (unsigned long)peer->updates_dropped);
     }
     if (why == WSG_PEER_MADE_ROOM) {
         host_log_peer(HAL_LOG_INFO, "%s %s: forgotten to make room for a new peer", s->proto.label,
@@ -145,6 +165,8 @@ static udp_peer_t *new_peer(udp_server_t *s, const wsg_peer_addr_t *addr,
     p->server = s;
     set_reply_address(p, ss, len, s->proto.reply_port);
     net_format_peer(ss, p->name, sizeof(p->name));
+    net_format_address(ss, p->addr_text, sizeof(p->addr_text));
+    p->peer.stream_free = net_allow_match(&s->gripper->opts.udp_stream_allow, ss);
     wsg_conn_open(&p->peer.conn, &s->gripper->device, s->proto.driver, WSG_TRANSPORT_DATAGRAM,
                   &udp_io, p);
     host_log_peer(HAL_LOG_INFO, "%s %s: new peer", s->proto.label, p->name);
@@ -198,7 +220,8 @@ bool udp_server_start(udp_server_t *s, gripper_t *g, const udp_protocol_t *proto
     s->proto = *proto;
     wsg_peer_rules_t rules = WSG_PEER_RULES_DEFAULT(proto->max_peers, peer_timeout_s);
     wsg_peers_init(&s->peers, &rules, &peer_port, s, NULL, 0);
-    s->fd = net_listen(SOCK_DGRAM, addr, port);
+    s->fd = proto->optional ? net_listen_optional(SOCK_DGRAM, addr, port)
+                            : net_listen(SOCK_DGRAM, addr, port);
     return s->fd >= 0 && loop_watch(s->fd, POLLIN, on_datagram, s);
 }
 

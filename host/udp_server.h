@@ -24,6 +24,8 @@ typedef struct {
     const char *label; /* for the log: "udp", "binary udp" */
     unsigned max_peers;
     int reply_port; /* 0: reply to the sender's own port */
+    bool optional;  /* a port that cannot be had: no error line, the caller
+                       says what it does without it (errno tells why) */
 } udp_protocol_t;
 
 struct udp_server {

@@ -4,7 +4,9 @@
 # dpkg-buildpackage runs on a copy of the tree in build/deb/ (its clean step
 # would otherwise wipe this tree's build/), and only when a source file
 # changed since the last package build. It runs with the system's PATH: a
-# package is built with Debian's toolchain and Python, not a user's.
+# package is built with Debian's toolchain and Python, not a user's; and in
+# an empty environment but DEB_BUILD_OPTIONS, without the calling make's
+# variables (SAN=1 ...): the package is built as Debian builds it.
 DEB_PATH := /usr/sbin:/usr/bin:/sbin:/bin
 DEB_DIR := build/deb
 DEB_VERSION := $(shell dpkg-parsechangelog -l debian/changelog -S Version 2>/dev/null)
@@ -25,6 +27,8 @@ deb-deps:
 $(DEB_FILES) &: $(DEB_INPUTS) | deb-deps
 	rm -rf $(DEB_DIR) && mkdir -p $(DEB_SRC)
 	tar -cf - --exclude=./build --exclude=./.git --exclude=__pycache__ . | tar -xf - -C $(DEB_SRC)
-	cd $(DEB_SRC) && PATH=$(DEB_PATH) dpkg-buildpackage -us -uc -b > ../build.log 2>&1 || \
+	cd $(DEB_SRC) && env -i PATH=$(DEB_PATH) HOME="$$HOME" \
+		DEB_BUILD_OPTIONS="$$DEB_BUILD_OPTIONS" \
+		dpkg-buildpackage -us -uc -b > ../build.log 2>&1 || \
 		{ tail -40 ../build.log; echo "deb: dpkg-buildpackage failed, see $(DEB_DIR)/build.log"; exit 1; }
 	@ls $(DEB_FILES)

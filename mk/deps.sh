@@ -12,9 +12,25 @@
 set -eu
 CONTROL="$(dirname "$0")/../debian/control"
 
+# Whether an architecture restriction ("amd64 i386" or "!arm64") admits
+# this machine's Debian architecture.
+arch_admits() {
+    this=$(dpkg --print-architecture 2>/dev/null || echo unknown)
+    negated=0
+    for arch in $1; do
+        case "$arch" in
+        "!$this") return 1 ;;
+        "!"*) negated=1 ;;
+        "$this") return 0 ;;
+        esac
+    done
+    [ "$negated" = 1 ]
+}
+
 # The dependencies of the named fields, one package per line: the first of
-# alternatives, without versions, architectures or profiles; entries
-# restricted to <!nocheck> only with keep_check=1.
+# alternatives, without versions or profiles; entries restricted to
+# <!nocheck> only with keep_check=1, entries restricted to other
+# architectures ([amd64]) not at all.
 control_packages() {
     keep_check=$1
     shift
@@ -25,6 +41,9 @@ control_packages() {
         on { print }
     ' "$CONTROL" | tr ',' '\n' | while IFS= read -r entry; do
         case "$entry" in *"<!nocheck>"*) [ "$keep_check" = 1 ] || continue ;; esac
+        case "$entry" in
+        *"["*"]"*) arch_admits "$(printf '%s\n' "$entry" | sed 's/.*\[\(.*\)\].*/\1/')" || continue ;;
+        esac
         pkg=$(printf '%s\n' "$entry" | sed -e 's/|.*//' -e 's/[([<].*//' -e 's/:[a-z]*//' \
             -e 's/[[:space:]]//g')
         [ -n "$pkg" ] || continue

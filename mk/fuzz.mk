@@ -40,11 +40,11 @@ FUZZ_HOST_SRC := $(filter-out host/main.c host/web/web_server.c,$(HOST_SRC)) \
 	$(BUILD)/gen/web_assets.c $(FIRMWARE_SRC) $(SIM_SRC)
 FUZZ_HOST_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(filter-out host/main.c \
 	host/web/web_server.c,$(HOST_SRC))) $(BUILD)/obj/gen/web_assets.o $(CORE_LIBS)
-FUZZ_HOST_LIBS := $(shell pkg-config --libs inih libcjson libsystemd 2>/dev/null) -lm
+FUZZ_HOST_LIBS = $(filter-out -lmicrohttpd,$(HOST_LIBS))
 $(foreach t,control config scenario web,$(eval FUZZ_SRC_$(t) := $(FUZZ_HOST_SRC)) \
 	$(eval FUZZ_OBJ_$(t) := $(FUZZ_HOST_OBJ)) $(eval FUZZ_AUX_$(t) := tests/fuzz/fuzz_host.c) \
-	$(eval FUZZ_LIBS_$(t) := $(FUZZ_HOST_LIBS) -lmicrohttpd))
-FUZZ_LIBS_web := $(FUZZ_HOST_LIBS)
+	$(eval FUZZ_LIBS_$(t) = $(HOST_LIBS)))
+FUZZ_LIBS_web = $(FUZZ_HOST_LIBS)
 
 # libFuzzer writes fuzz-N.log per job into the working directory: keep them in build/
 FUZZ_PARALLEL = $(if $(filter-out 1,$(FUZZ_JOBS)),-jobs=$(FUZZ_JOBS) -workers=$(FUZZ_JOBS))

@@ -2,12 +2,17 @@
 # Installing wsgsim (issue 14):
 #   make programs                 every program and its man page
 #   make install [PREFIX=/usr/local] [DESTDIR=]   programs, man pages, units,
-#                                 example configuration, DBC and docs
+#                                 example configuration, DBC and docs (not the
+#                                 Python package: its .deb, or PYTHONPATH=python;
+#                                 install says so)
 #   make uninstall                removes exactly what install put there
 #   make docs-plot                regenerates docs/wsgplot-demo.png
 # The man pages are generated from each program's --help and --version by
 # help2man (man/*.h2m add the sections --help has no room for), so a new
-# option is in the page as soon as it is in --help.
+# option is in the page as soon as it is in --help. The pages name the
+# installed paths: @DOCDIR@, @PRIVATE_DIR@ and @SYSCONFDIR@ in man/*.h2m
+# become this install's, and @GZ@ becomes DOC_SUFFIX (.gz for the Debian
+# package, whose dh_compress compresses the documents).
 PREFIX ?= /usr/local
 BINDIR ?= $(PREFIX)/bin
 DATADIR ?= $(PREFIX)/share
@@ -15,6 +20,7 @@ MANDIR ?= $(DATADIR)/man
 DOCDIR ?= $(DATADIR)/doc/wsgsim
 SYSCONFDIR ?= /etc
 SYSTEMDUNITDIR ?= $(PREFIX)/lib/systemd/system
+DOC_SUFFIX ?=
 INSTALL ?= install
 
 # Each program once; the C ones are built, the Python ones are scripts.
@@ -39,10 +45,22 @@ man: $(MAN_PAGES)
 
 # help2man runs the program: the page says what this build does.
 # SOURCE_DATE_EPOCH (set by dpkg-buildpackage) fixes the date in the page.
-$(BUILD)/man/%.1: man/%.h2m | man-deps
+MAN_PATHS := $(BUILD)/man/paths
+MAN_PATH_VALUES := $(DOCDIR) $(PRIVATE_DIR) $(SYSCONFDIR) $(DOC_SUFFIX)
+MAN_SED := -e 's|@DOCDIR@|$(DOCDIR)|g' -e 's|@PRIVATE_DIR@|$(PRIVATE_DIR)|g' \
+	-e 's|@SYSCONFDIR@|$(SYSCONFDIR)|g' -e 's|@GZ@|$(DOC_SUFFIX)|g'
+
+.PHONY: man-paths
+# The paths the pages name, rewritten only when they change (another PREFIX).
+$(MAN_PATHS): man-paths
 	@mkdir -p $(dir $@)
-	help2man --no-info --include=$< --output=$@.tmp \
-		$(filter %/$*,$(PROGRAMS)) && mv $@.tmp $@
+	@echo '$(MAN_PATH_VALUES)' | cmp -s - $@ || echo '$(MAN_PATH_VALUES)' > $@
+
+$(BUILD)/man/%.1: man/%.h2m $(MAN_PATHS) | man-deps
+	@mkdir -p $(dir $@)
+	sed $(MAN_SED) $< > $@.h2m
+	help2man --no-info --include=$@.h2m --output=$@.tmp \
+		$(filter %/$*,$(PROGRAMS)) && mv $@.tmp $@ && rm $@.h2m
 
 $(BUILD)/man/wsgsim.1: $(BUILD)/wsgsim
 $(BUILD)/man/fingersim.1: $(BUILD)/fingersim
@@ -73,6 +91,10 @@ install: $(PROGRAMS) man
 	$(INSTALL) -m 644 $(DOCS) $(DESTDIR)$(DOCDIR)/
 	$(INSTALL) -m 644 docs/wsgsim.example.ini $(DESTDIR)$(DOCDIR)/examples/
 	$(INSTALL) -m 644 docs/finger-bus.dbc $(DESTDIR)$(PRIVATE_DIR)/
+	@echo "install: the Python package (python/: the wsgsim module and its pytest plugin)"
+	@echo "install: is not installed by make install. Use the python3-wsgsim package"
+	@echo "install: (make deb; apt install ./build/deb/python3-wsgsim_*.deb), or from this"
+	@echo "install: tree PYTHONPATH=$(abspath python) and pytest -p wsgsim.pytest_plugin"
 
 uninstall:
 	rm -f $(addprefix $(DESTDIR)$(BINDIR)/,$(PROGRAM_NAMES)) \

@@ -1,13 +1,13 @@
 # SPDX-License-Identifier: BSD-3-Clause
 # The web interface (issue 13, docs/web.md): the page's files built into
 # build/wsgsim, and its end-to-end tests.
-#   web-tests   tests/web/: the peer rule's Check test, then the end-to-end
+#   web-tests   tests/web/: the peer, Host and slow-client rules' Check tests, then the end-to-end
 #               tests against build/wsgsim (every route and error)
-# The page is web/* (index.html, app.js, style.css); the chart library is
-# Debian's libjs-dygraphs, embedded at build time, never fetched at run time.
+# The page is web/* (index.html, app.js, style.css), built in; the chart
+# library is Debian's libjs-dygraphs, which wsgsim reads at run time from
+# /usr/share/javascript/dygraphs (host/web/web_static.c): never built in,
+# never fetched from the internet.
 WEB_PAGE_FILES := $(sort $(wildcard web/*))
-WEB_DYGRAPH_DIR := /usr/share/javascript/dygraphs
-WEB_DYGRAPH_FILES := $(WEB_DYGRAPH_DIR)/dygraph.min.js $(WEB_DYGRAPH_DIR)/dygraph.min.css
 WEB_ASSETS_C := $(BUILD)/gen/web_assets.c
 
 .PHONY: web-tests
@@ -22,22 +22,22 @@ $(WEB_ASSETS_LIST): web-assets-list
 	@mkdir -p $(dir $@)
 	@echo '$(WEB_PAGE_FILES)' | cmp -s - $@ || echo '$(WEB_PAGE_FILES)' > $@
 
-# libjs-dygraphs is a build dependency (debian/control): `deps` installs it.
 $(WEB_ASSETS_C): mk/web_assets.py $(WEB_PAGE_FILES) $(WEB_ASSETS_LIST) | deps
 	@mkdir -p $(dir $@)
-	python3 mk/web_assets.py $@ $(WEB_PAGE_FILES) $(WEB_DYGRAPH_FILES)
+	python3 mk/web_assets.py $@ $(WEB_PAGE_FILES)
 
 $(BUILD)/obj/gen/web_assets.o: $(WEB_ASSETS_C) host/web/web_assets.h
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_BASE) -Ihost -c $< -o $@
 
-WEB_PEER_TEST := $(BUILD)/tests/web_peer_test
+# Check tests of single modules: tests/web/test_NAME.c against host/web/web_NAME.c.
+WEB_UNIT_TESTS := $(addprefix $(BUILD)/tests/web_,$(addsuffix _test,peer host intake json))
 
-$(WEB_PEER_TEST): tests/web/test_peer.c $(BUILD)/obj/host/web/web_peer.o
+$(BUILD)/tests/web_%_test: tests/web/test_%.c $(BUILD)/obj/host/web/web_%.o $(CORE_LIBS)
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) $(shell pkg-config --cflags check) $(LDFLAGS_BASE) -o $@ $^ \
-		$(shell pkg-config --libs check)
+		$(shell pkg-config --libs check libcjson)
 
-web-tests: $(BUILD)/wsgsim $(WEB_PEER_TEST)
-	$(CHECK_ENV) $(WEB_PEER_TEST)
+web-tests: $(BUILD)/wsgsim $(WEB_UNIT_TESTS)
+	for t in $(WEB_UNIT_TESTS); do $(CHECK_ENV) $$t || exit 1; done
 	WSGSIM=$(abspath $(BUILD)/wsgsim) python3 tests/run_suite.py web tests/web

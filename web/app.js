@@ -560,8 +560,10 @@ function fillSettings(values) {
       input.value = values[name] === null ? (input.readOnly ? "–" : "") : String(values[name]);
     }
   }
-  const file = values.config_file;
-  $("settings-file").textContent = file ? "to " + file : "started without --config: nothing to save to";
+  const file = values.save_file;
+  $("settings-file").textContent = file
+    ? "to " + file
+    : "started without --config or --save-file: nothing to save to";
   $("settings-save").disabled = !file;
 }
 
@@ -623,7 +625,7 @@ async function saveSettings() {
   const result = $("settings-result");
   const refused = (error) => showResult(result, false, "save: " + error.describe());
   if (await callApi(refused, "POST", apiBase + "/settings/save")) {
-    showResult(result, true, "saved to " + settings.loaded.config_file);
+    showResult(result, true, "saved to " + settings.loaded.save_file);
   }
 }
 

@@ -69,6 +69,8 @@ typedef struct {
 } bin_req_t;
 
 #define BIN_REPLIED ((wsg_status_t)-1)
+/* The request waits for the script, which answers it (bin_script.c). */
+#define BIN_QUEUED ((wsg_status_t)-2)
 
 typedef wsg_status_t (*bin_handler_t)(bin_req_t *req);
 
@@ -127,5 +129,10 @@ wsg_status_t wsg_bin_finger_info(bin_req_t *req);
 wsg_status_t wsg_bin_finger_flags(bin_req_t *req);
 wsg_status_t wsg_bin_finger_power(bin_req_t *req);
 wsg_status_t wsg_bin_finger_data(bin_req_t *req);
+
+/* bin_script.c: the custom command channel of a user script */
+wsg_status_t wsg_bin_script_queue(bin_conn_t *b, const wsg_bin_frame_t *frame);
+void wsg_bin_script_note_host(bin_conn_t *b);
+void wsg_bin_script_drop_conn(bin_conn_t *b);
 
 #endif

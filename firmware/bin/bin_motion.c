@@ -9,12 +9,11 @@ static const wsg_config_t *config(const bin_req_t *req)
     return wsg_device_snapshot(req->dev)->config;
 }
 
-/* A motion runs that no stop has ended yet: the binary protocol refuses a
- * second one (GCL's MOVE would retarget). */
+/* A motion runs: the binary protocol refuses a second one (GCL's MOVE
+ * would retarget). A stopped one has ended already. */
 static bool motion_running(const bin_req_t *req)
 {
-    const wsg_snapshot_t *snap = wsg_device_snapshot(req->dev);
-    return snap->motion != WSG_MOTION_NONE && !snap->motion_abort_requested;
+    return wsg_device_snapshot(req->dev)->motion != WSG_MOTION_NONE;
 }
 
 static wsg_status_t pending(bin_req_t *req, wsg_status_t started)

@@ -75,22 +75,15 @@ wsg_status_t wsg_bin_system_info(bin_req_t *req)
     return wsg_bin_reply_values(req, v, sizeof(v));
 }
 
+/* Trailing NULs (a fixed-size field) are stripped; the core checks the
+ * rest, a NUL inside included. */
 wsg_status_t wsg_bin_set_tag(bin_req_t *req)
 {
     size_t len = req->length;
     while (len > 0 && req->payload[len - 1] == '\0') {
-        len--; /* trailing NULs stripped */
+        len--;
     }
-    if (len > 64) {
-        return E_RANGE_ERROR;
-    }
-    char tag[65];
-    memcpy(tag, req->payload, len);
-    tag[len] = '\0';
-    if (strlen(tag) != len) {
-        return E_INVALID_PARAMETER; /* a NUL inside the tag */
-    }
-    return wsg_op_set_tag(req->dev, tag);
+    return wsg_op_set_tag(req->dev, (const char *)req->payload, len);
 }
 
 wsg_status_t wsg_bin_get_tag(bin_req_t *req)
@@ -106,6 +99,15 @@ wsg_status_t wsg_bin_get_tag(bin_req_t *req)
     return wsg_bin_reply_values(req, (const uint8_t *)tag, strlen(tag));
 }
 
+/* The overdrive force field: the nominal maximum on a model without an
+ * overdrive mode, never 0. Drake's schunk_driver clamps every force
+ * command to this field, and with 0 it never moves the jaws
+ * (docs/binary-protocol.md). */
+static float overdrive_force(const wsg_config_t *cfg)
+{
+    return cfg->force_overdrive_n > 0.0f ? cfg->force_overdrive_n : cfg->force_max_n;
+}
+
 /* stroke, min/max speed, min/max acceleration, min/nominal/overdrive force */
 wsg_status_t wsg_bin_get_limits(bin_req_t *req)
 {
@@ -114,9 +116,9 @@ wsg_status_t wsg_bin_get_limits(bin_req_t *req)
         return status;
     }
     const wsg_config_t *cfg = wsg_device_snapshot(req->dev)->config;
-    const float limits[8] = {cfg->stroke_mm,       cfg->speed_min_mm_s,   cfg->speed_max_mm_s,
-                             cfg->accel_min_mm_s2, cfg->accel_max_mm_s2,  cfg->force_min_n,
-                             cfg->force_max_n,     cfg->force_overdrive_n};
+    const float limits[8] = {cfg->stroke_mm,       cfg->speed_min_mm_s,  cfg->speed_max_mm_s,
+                             cfg->accel_min_mm_s2, cfg->accel_max_mm_s2, cfg->force_min_n,
+                             cfg->force_max_n,     overdrive_force(cfg)};
     uint8_t v[32];
     for (unsigned i = 0; i < 8; i++) {
         wsg_bin_put_f32(v + 4 * i, limits[i]);

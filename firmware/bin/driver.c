@@ -124,6 +124,9 @@ static wsg_status_t run_frame(bin_conn_t *b, const wsg_bin_frame_t *frame)
     if (b->announced) {
         return E_ACCESS_DENIED;
     }
+    if (wsg_script_registered(bin_device(b), frame->id)) {
+        return frame->too_long ? E_CMD_FORMAT_ERROR : wsg_bin_script_queue(b, frame);
+    }
     const bin_command_t *cmd = find_command(frame->id);
     if (cmd == NULL) {
         return E_CMD_UNKNOWN;
@@ -142,6 +145,7 @@ static wsg_status_t run_frame(bin_conn_t *b, const wsg_bin_frame_t *frame)
 static void note_request(bin_conn_t *b, const wsg_bin_frame_t *frame)
 {
     if (b->conn->dev->conn_observer == NULL) {
+        wsg_conn_count_input(b->conn);
         return;
     }
     uint8_t raw[WSG_BIN_HEADER_LEN + WSG_BIN_PAYLOAD_MAX + WSG_BIN_CRC_LEN];
@@ -155,7 +159,11 @@ static void note_request(bin_conn_t *b, const wsg_bin_frame_t *frame)
 static void handle_frame(bin_conn_t *b, const wsg_bin_frame_t *frame)
 {
     note_request(b, frame);
+    wsg_bin_script_note_host(b);
     wsg_status_t status = run_frame(b, frame);
+    if (status == BIN_QUEUED) {
+        return; /* the script answers, with a status of its own */
+    }
     if (status == BIN_REPLIED) {
         wsg_device_note_result(bin_device(b), E_SUCCESS);
         return;
@@ -208,6 +216,14 @@ static void bin_close(wsg_conn_t *c, wsg_close_reason_t why)
 {
     (void)why;
     wsg_bin_updates_stop(bin_of(c));
+    wsg_bin_script_drop_conn(bin_of(c));
+}
+
+/* Inside a frame, or past the first bytes of a preamble. */
+static bool bin_partial(const wsg_conn_t *c)
+{
+    const wsg_bin_framer_t *f = &bin_of_const(c)->framer;
+    return f->state != WSG_BIN_SYNC || f->preamble_run > 0u;
 }
 
 /* 0xAA starts the binary preamble and no GCL line. */
@@ -225,4 +241,5 @@ const wsg_proto_driver_t wsg_bin_driver = {
     .done = bin_done,
     .busy = bin_busy,
     .close = bin_close,
+    .partial = bin_partial,
 };

@@ -10,6 +10,8 @@ static void power_on(wsg_dev_t *dev, const wsg_config_t *cfg)
 {
     memset(&dev->motion, 0, sizeof(dev->motion));
     memset(&dev->grip, 0, sizeof(dev->grip));
+    memset(&dev->velocity, 0, sizeof(dev->velocity));
+    memset(&dev->script, 0, sizeof(dev->script)); /* a power cycle ends the script */
     memset(&dev->injected_failure, 0, sizeof(dev->injected_failure));
     dev->cfg = *cfg;
     dev->grip.state = GS_IDLE;
@@ -77,13 +79,14 @@ void wsg_device_step(wsg_device_t *device)
     if (wsg_timer_next_due(&dev->timers) <= dev->sensed.now_us) {
         wsg_timer_run_due(&dev->timers, dev->sensed.now_us);
     }
+    dev->tick_from_us = dev->sensed.now_us;
 }
 
-/* How often the supervisor must look: 0 when nothing can change by itself.
- * Here, beside its one caller, so that it is inlined into it. */
-static uint32_t motion_tick_us(const wsg_dev_t *dev)
+/* How often the supervisor must look: 0 when nothing can change by itself. */
+uint32_t wsg_device_tick_us(const wsg_dev_t *dev)
 {
-    if (dev->motion.kind != WSG_MOTION_NONE || wsg_flags_get(dev, SF_MOVING)) {
+    if (dev->motion.kind != WSG_MOTION_NONE || dev->velocity.active ||
+        wsg_flags_get(dev, SF_MOVING)) {
         return MOTION_TICK_US;
     }
     if (dev->grip.state == GS_HOLDING ||
@@ -96,8 +99,8 @@ static uint32_t motion_tick_us(const wsg_dev_t *dev)
 uint64_t wsg_device_next_deadline_us(const wsg_device_t *device)
 {
     const wsg_dev_t *dev = dev_of_const(device);
-    uint32_t tick = motion_tick_us(dev);
-    uint64_t next = tick != 0u ? dev->sensed.now_us + tick : UINT64_MAX;
+    uint32_t tick = wsg_device_tick_us(dev);
+    uint64_t next = tick != 0u ? dev->tick_from_us + tick : UINT64_MAX;
     uint64_t timers = wsg_timer_next_due(&dev->timers);
     uint64_t bus = dev->fbus.can != NULL ? wsg_finger_bus_next_deadline_us(&dev->fbus) : UINT64_MAX;
     next = bus < next ? bus : next;

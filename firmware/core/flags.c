@@ -74,3 +74,10 @@ void wsg_flags_derive(wsg_dev_t *dev)
 {
     dev->flags = dev->latched_flags | derived_flags(dev);
 }
+
+void wsg_script_set_flags(wsg_device_t *device, bool running, bool failure)
+{
+    wsg_dev_t *dev = dev_of(device);
+    wsg_flags_set(dev, SF_SCRIPT_RUNNING, running);
+    wsg_flags_set(dev, SF_SCRIPT_FAILURE, failure);
+}

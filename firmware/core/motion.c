@@ -3,8 +3,11 @@
  * runs and decides when it has finished, failed or been aborted; and grip
  * monitoring while a part is held. It is the only writer of the axis (the
  * finger bus's force loop hands it a force request). Completion goes to the
- * operation's owner as an event, only from the control step, never from
- * the call that started the operation. */
+ * operation's owner as an event, never from the call that started the
+ * operation: an operation that runs to its end is reported by the control
+ * step; one that is ended (STOP, FAST STOP, a superseding MOVE) is reported
+ * at once, inside the call that ends it, so that its final reply precedes
+ * the reply to the command that ended it. */
 #include "priv/motion_tuning.h"
 #include "wsg/wsg_textbuf.h"
 #include "priv/wsg_dev.h"
@@ -54,7 +57,6 @@ static void finish(wsg_dev_t *dev, wsg_status_t status)
                                                : WSG_OP_RELEASE;
     m->kind = WSG_MOTION_NONE;
     m->owner = NULL;
-    m->abort_requested = false;
     wsg_flags_set(dev, SF_CMD_FAILURE, status != E_SUCCESS);
     if (owner != NULL) { /* else its connection has gone */
         owner->done(owner, op, status);
@@ -89,13 +91,8 @@ void wsg_motion_apply_force_request(wsg_dev_t *dev)
     }
 }
 
-/* A pending abort is reported before a new motion takes the axis over, so
- * STOP() followed at once by MOVE() works. */
 wsg_status_t wsg_motion_check_allowed(wsg_dev_t *dev, bool needs_reference)
 {
-    if (dev->motion.kind != WSG_MOTION_NONE && dev->motion.abort_requested) {
-        finish(dev, dev->motion.abort_status);
-    }
     if (wsg_flags_get(dev, SF_FAST_STOP)) {
         return E_ACCESS_DENIED;
     }
@@ -111,7 +108,7 @@ wsg_status_t wsg_motion_check_allowed(wsg_dev_t *dev, bool needs_reference)
 bool wsg_motion_supersede_move(wsg_dev_t *dev)
 {
     const dev_motion_t *m = &dev->motion;
-    if (m->kind != WSG_MOTION_MOVE || m->abort_requested || !dev->cfg.move_retarget) {
+    if (m->kind != WSG_MOTION_MOVE || !dev->cfg.move_retarget) {
         return false;
     }
     finish(dev, E_CMD_ABORTED);
@@ -121,12 +118,12 @@ bool wsg_motion_supersede_move(wsg_dev_t *dev)
 void wsg_motion_begin(wsg_dev_t *dev, wsg_owner_t *owner, wsg_motion_kind_t kind)
 {
     dev_motion_t *m = &dev->motion;
+    dev->velocity.active = false; /* any motion takes the axis over */
     m->kind = kind;
     m->owner = owner;
     m->stop_on_block = false;
     m->started_us = dev->sensed.now_us;
     m->condition_holding = false;
-    m->abort_requested = false;
     m->force_clear = dev->sensed.force_n < CONTACT_FORCE_N;
     m->contact_seen = false;
     m->home_released = false;
@@ -137,17 +134,16 @@ void wsg_motion_begin(wsg_dev_t *dev, wsg_owner_t *owner, wsg_motion_kind_t kind
     wsg_flags_set(dev, SF_BLOCKED_PLUS, false);
 }
 
-void wsg_motion_abort(wsg_dev_t *dev, wsg_status_t status)
+void wsg_motion_abort(wsg_dev_t *dev)
 {
-    if (dev->motion.kind != WSG_MOTION_NONE && !dev->motion.abort_requested) {
-        dev->motion.abort_requested = true;
-        dev->motion.abort_status = status;
+    if (dev->motion.kind != WSG_MOTION_NONE) {
+        finish(dev, E_CMD_ABORTED);
     }
 }
 
 void wsg_motion_fast_stop(wsg_dev_t *dev, const char *why)
 {
-    wsg_motion_abort(dev, E_CMD_ABORTED);
+    wsg_motion_velocity_end(dev);
     motion_disable(dev); /* manual 3.2.2: a held part is no longer clamped */
     wsg_flags_set(dev, SF_FAST_STOP, true);
     wsg_grip_set_state(dev, GS_ERROR);
@@ -157,6 +153,7 @@ void wsg_motion_fast_stop(wsg_dev_t *dev, const char *why)
     wsg_textbuf_put_str(&tb, "FAST STOP: ");
     wsg_textbuf_put_str(&tb, why);
     hal_log(HAL_LOG_WARN, storage);
+    wsg_motion_abort(dev);
 }
 
 /* Ends a command on a blocked axis (ERR 29). The drive stays where it is,
@@ -320,14 +317,46 @@ static bool runs_into_soft_limit(const wsg_dev_t *dev)
            (x > cfg->soft_limit_plus_mm + SOFT_LIMIT_MARGIN_MM && v > 0.0f);
 }
 
+/* Velocity mode aims at a stroke end past the jaws' travel, so that they
+ * push on whatever stops them with the force limit, or at the soft limit,
+ * where they stop. Speed 0 holds where the jaws are. */
+void wsg_motion_velocity_drive(wsg_dev_t *dev)
+{
+    const wsg_config_t *cfg = &dev->cfg;
+    float v = dev->velocity.speed_mm_s;
+    float force = dev->cfg.default_force_n;
+    if (v == 0.0f) {
+        wsg_motion_drive(dev, dev->sensed.axis.position_mm, cfg->speed_min_mm_s, force);
+        return;
+    }
+    float target = v > 0.0f ? cfg->stroke_mm + VELOCITY_OVERTRAVEL_MM : -VELOCITY_OVERTRAVEL_MM;
+    if (cfg->soft_limits_enabled) {
+        target = v > 0.0f ? cfg->soft_limit_plus_mm : cfg->soft_limit_minus_mm;
+    }
+    wsg_motion_drive(dev, target, absf(v), force);
+}
+
+void wsg_motion_velocity_end(wsg_dev_t *dev)
+{
+    dev->velocity.active = false;
+}
+
+/* Velocity mode is not ended by a block: SF_BLOCKED_± show while the jaws
+ * push on something, and clear when they move away. */
+static void velocity_step(wsg_dev_t *dev)
+{
+    int8_t blocked = dev->sensed.axis.blocked;
+    wsg_flags_set(dev, SF_BLOCKED_MINUS, blocked < 0);
+    wsg_flags_set(dev, SF_BLOCKED_PLUS, blocked > 0);
+}
+
 void wsg_motion_step(wsg_dev_t *dev)
 {
     dev_motion_t *m = &dev->motion;
     if (m->kind == WSG_MOTION_NONE) {
-        return;
-    }
-    if (m->abort_requested) {
-        finish(dev, m->abort_status);
+        if (dev->velocity.active) {
+            velocity_step(dev);
+        }
         return;
     }
     if (runs_into_soft_limit(dev)) {
@@ -384,7 +413,8 @@ void wsg_motion_block_watch_step(wsg_dev_t *dev)
 {
     dev_motion_t *m = &dev->motion;
     bool latched = wsg_flags_get(dev, SF_BLOCKED_MINUS) || wsg_flags_get(dev, SF_BLOCKED_PLUS);
-    if (!latched || m->kind != WSG_MOTION_NONE || dev->sensed.force_n >= CONTACT_FORCE_N) {
+    if (!latched || m->kind != WSG_MOTION_NONE || dev->velocity.active ||
+        dev->sensed.force_n >= CONTACT_FORCE_N) {
         m->block_clearing = false;
         return;
     }

@@ -138,30 +138,68 @@ wsg_status_t wsg_op_release(wsg_device_t *device, wsg_owner_t *owner,
     return E_SUCCESS;
 }
 
+wsg_status_t wsg_op_velocity(wsg_device_t *device, float speed_mm_s)
+{
+    wsg_dev_t *dev = dev_of(device);
+    const wsg_config_t *cfg = &dev->cfg;
+    if (speed_mm_s != speed_mm_s) {
+        return E_INVALID_PARAMETER; /* NaN */
+    }
+    wsg_status_t status = wsg_motion_check_allowed(dev, true);
+    if (status != E_SUCCESS) {
+        return status;
+    }
+    float v = speed_mm_s > cfg->speed_max_mm_s    ? cfg->speed_max_mm_s
+              : speed_mm_s < -cfg->speed_max_mm_s ? -cfg->speed_max_mm_s
+                                                  : speed_mm_s;
+    if (!dev->velocity.active) {
+        dev->grip.release_permitted = false;
+        wsg_grip_set_state(dev, GS_IDLE); /* no grip: nothing to monitor */
+        wsg_flags_set(dev, SF_AXIS_STOPPED, false);
+        wsg_flags_set(dev, SF_TARGET_POS_REACHED, false);
+    }
+    dev->velocity.active = true;
+    dev->velocity.speed_mm_s = v;
+    wsg_motion_velocity_drive(dev);
+    return E_SUCCESS;
+}
+
+bool wsg_device_velocity_mode(const wsg_device_t *device, float *speed_mm_s)
+{
+    const dev_velocity_t *v = &dev_of_const(device)->velocity;
+    if (speed_mm_s != NULL) {
+        *speed_mm_s = v->active ? v->speed_mm_s : 0.0f;
+    }
+    return v->active;
+}
+
 /* The outcome of a grip (HOLDING, NO PART, PART LOST): STOP leaves it. */
 static bool is_grip_result(wsg_grip_state_t state)
 {
     return state == GS_HOLDING || state == GS_NO_PART || state == GS_PART_LOST;
 }
 
+/* The stopped motion ends here, before the op returns: its owner hears
+ * E_CMD_ABORTED before the driver answers the STOP (docs/behaviour.md). */
 wsg_status_t wsg_op_stop(wsg_device_t *device)
 {
     wsg_dev_t *dev = dev_of(device);
+    bool running = dev->motion.kind != WSG_MOTION_NONE;
     /* a drive still leaning on a block (after ERR 29) lets go as well */
-    bool halt = dev->motion.kind != WSG_MOTION_NONE || wsg_flags_get(dev, SF_MOVING) ||
+    bool halt = running || wsg_flags_get(dev, SF_MOVING) || dev->velocity.active ||
                 wsg_flags_get(dev, SF_BLOCKED_MINUS) || wsg_flags_get(dev, SF_BLOCKED_PLUS);
-    wsg_motion_abort(dev, E_CMD_ABORTED);
+    wsg_motion_velocity_end(dev);
     if (halt) {
         wsg_motion_halt(dev, true);
     }
     wsg_flags_set(dev, SF_AXIS_STOPPED, true);
     wsg_flags_set(dev, SF_BLOCKED_MINUS, false);
     wsg_flags_set(dev, SF_BLOCKED_PLUS, false);
-    bool keep = wsg_flags_get(dev, SF_FAST_STOP) ||
-                (dev->motion.kind == WSG_MOTION_NONE && is_grip_result(dev->grip.state));
+    bool keep = wsg_flags_get(dev, SF_FAST_STOP) || (!running && is_grip_result(dev->grip.state));
     if (!keep) {
         wsg_grip_set_state(dev, GS_IDLE);
     }
+    wsg_motion_abort(dev);
     return E_SUCCESS;
 }
 
@@ -231,8 +269,14 @@ wsg_status_t wsg_op_set(wsg_device_t *device, wsg_setting_t which, float value)
         return wsg_config_accel_ok(cfg, value) ? (cfg->default_accel_mm_s2 = value, E_SUCCESS)
                                                : E_RANGE_ERROR;
     case WSG_SET_FORCE_LIMIT:
-        return wsg_config_force_ok(cfg, value) ? (cfg->default_force_n = value, E_SUCCESS)
-                                               : E_RANGE_ERROR;
+        if (!wsg_config_force_ok(cfg, value)) {
+            return E_RANGE_ERROR;
+        }
+        cfg->default_force_n = value;
+        if (dev_of(device)->velocity.active) {
+            wsg_motion_velocity_drive(dev_of(device)); /* the new limit applies at once */
+        }
+        return E_SUCCESS;
     case WSG_SET_DEFAULT_SPEED:
         return wsg_config_speed_ok(cfg, value) ? (cfg->default_speed_mm_s = value, E_SUCCESS)
                                                : E_RANGE_ERROR;
@@ -267,14 +311,21 @@ wsg_status_t wsg_op_set(wsg_device_t *device, wsg_setting_t which, float value)
     }
 }
 
-wsg_status_t wsg_op_set_tag(wsg_device_t *device, const char *tag)
+/* Validated here, once, for GCL, the binary protocol and the web page
+ * (docs/behaviour.md "Settings are validated in the core"). */
+wsg_status_t wsg_op_set_tag(wsg_device_t *device, const char *tag, size_t len)
 {
     wsg_config_t *cfg = &dev_of(device)->cfg;
-    size_t len = strlen(tag);
     if (len >= sizeof(cfg->tag)) {
         return E_RANGE_ERROR;
     }
-    memcpy(cfg->tag, tag, len + 1);
+    for (size_t i = 0; i < len; i++) {
+        if (!wsg_config_text_char_ok(tag[i])) {
+            return E_INVALID_PARAMETER;
+        }
+    }
+    memcpy(cfg->tag, tag, len);
+    cfg->tag[len] = '\0';
     return E_SUCCESS;
 }
 

@@ -47,6 +47,11 @@ bool wsg_config_length_ok(const wsg_config_t *cfg, float mm)
     return in_range(mm, 0.0f, cfg->stroke_mm);
 }
 
+bool wsg_config_text_char_ok(char c)
+{
+    return c >= 0x20 && c <= 0x7e && c != '"';
+}
+
 bool wsg_config_check(const wsg_config_t *cfg, const char **why)
 {
     if (!wsg_config_length_ok(cfg, cfg->soft_limit_minus_mm) ||

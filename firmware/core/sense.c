@@ -11,6 +11,9 @@ void wsg_sense(wsg_dev_t *dev)
 {
     dev_sensed_t *s = &dev->sensed;
     s->now_us = hal_clock_now_us();
+    if (wsg_device_tick_us(dev) == 0u) {
+        dev->tick_from_us = s->now_us; /* a tick a command starts counts from here */
+    }
     dev->hal.axis.ops->status(dev->hal.axis.ctx, &s->axis);
     dev->axis_commanded = false;
     s->force_control = wsg_fingers_force_control(&dev->fingers);

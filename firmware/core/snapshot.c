@@ -63,7 +63,6 @@ const wsg_snapshot_t *wsg_device_snapshot(wsg_device_t *device)
     snap->motion_target_mm = m->target_mm;
     snap->motion_speed_mm_s = m->speed_mm_s;
     snap->motion_force_n = m->force_n;
-    snap->motion_abort_requested = m->abort_requested;
     snap->grip_state = g->state;
     snap->grip_direction = g->direction;
     snap->grip_force_n = g->force_n;

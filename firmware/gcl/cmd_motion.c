@@ -81,17 +81,20 @@ wsg_status_t wsg_cmd_release(cmd_ctx_t *ctx)
                    wsg_op_release(ctx->dev, wsg_conn_owner(conn_public(ctx->gcl->conn)), &args));
 }
 
-/* STOP and FASTSTOP cannot fail: acknowledged first, as the device does. */
+/* STOP and FASTSTOP cannot fail. The motion they end answers ERR ... 19
+ * from inside the operation, so before this ACK (docs/behaviour.md). */
 wsg_status_t wsg_cmd_stop(cmd_ctx_t *ctx)
 {
+    wsg_status_t status = wsg_op_stop(ctx->dev);
     wsg_reply_ack(ctx);
-    return wsg_op_stop(ctx->dev);
+    return status;
 }
 
 wsg_status_t wsg_cmd_faststop(cmd_ctx_t *ctx)
 {
+    wsg_status_t status = wsg_op_fast_stop(ctx->dev, "FASTSTOP command");
     wsg_reply_ack(ctx);
-    return wsg_op_fast_stop(ctx->dev, "FASTSTOP command");
+    return status;
 }
 
 wsg_status_t wsg_cmd_fsack(cmd_ctx_t *ctx)

@@ -89,6 +89,11 @@ static void gcl_close(wsg_conn_t *c, wsg_close_reason_t why)
     wsg_timer_cancel(&conn->dev->timers, &g->autosend_timer);
 }
 
+static bool gcl_partial(const wsg_conn_t *c)
+{
+    return wsg_gcl_linebuf_pending(&gcl_of_const(c)->input);
+}
+
 const wsg_proto_driver_t wsg_gcl_driver = {
     .name = "gcl",
     .open = gcl_open,
@@ -97,6 +102,7 @@ const wsg_proto_driver_t wsg_gcl_driver = {
     .done = gcl_done,
     .busy = gcl_busy,
     .close = gcl_close,
+    .partial = gcl_partial,
 };
 
 void wsg_gcl_send(gcl_conn_t *g, wsg_textbuf_t *tb, wsg_msg_kind_t kind)

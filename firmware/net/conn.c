@@ -113,6 +113,12 @@ bool wsg_conn_wants_close(const wsg_conn_t *conn)
     return conn_of_const(conn)->said_goodbye;
 }
 
+bool wsg_conn_close_announced(const wsg_conn_t *conn)
+{
+    const conn_t *c = conn_of_const(conn);
+    return c->said_goodbye || c->close_announced;
+}
+
 void wsg_conn_close(wsg_conn_t *conn, wsg_close_reason_t why)
 {
     conn_t *c = conn_of(conn);
@@ -195,8 +201,25 @@ void wsg_conn_observe(wsg_device_t *device, const wsg_conn_observer_t *observer,
     dev->conn_observer_ctx = ctx;
 }
 
+void wsg_conn_count_input(conn_t *c)
+{
+    c->messages_in++;
+}
+
+uint32_t wsg_conn_messages_in(const wsg_conn_t *conn)
+{
+    return conn_of_const(conn)->messages_in;
+}
+
+bool wsg_conn_partial_input(const wsg_conn_t *conn)
+{
+    const conn_t *c = conn_of_const(conn);
+    return c->open && c->drv != NULL && c->drv->partial != NULL && c->drv->partial(conn);
+}
+
 void wsg_conn_note_input(conn_t *c, const char *bytes, size_t len)
 {
+    wsg_conn_count_input(c);
     const wsg_conn_observer_t *o = c->dev->conn_observer;
     if (o != NULL && o->message_in != NULL) {
         o->message_in(c->dev->conn_observer_ctx, conn_public(c), bytes, len);

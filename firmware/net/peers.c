@@ -211,33 +211,40 @@ static void refill(const wsg_peer_rules_t *r, wsg_peer_t *p, uint64_t now)
     p->refill_us += earned * MILLI / r->rate_per_s;
 }
 
-/* Takes one datagram's tokens and, for a reply, its bytes; false if the
- * peer cannot pay. */
+/* Takes one datagram's tokens and its bytes; false if the peer cannot pay.
+ * An update leaves the reply reserve; a stream_free peer's costs no bytes. */
 static bool pay(const wsg_peer_rules_t *r, wsg_peer_t *p, size_t len, wsg_msg_kind_t kind)
 {
-    uint32_t cost = (uint32_t)len + r->header_bytes;
+    bool update = kind == WSG_MSG_UPDATE;
+    uint64_t cost = (uint64_t)len + r->header_bytes;
+    uint64_t needed = cost + (update ? r->reply_reserve : 0u);
     bool rated = r->burst > 0u;
-    bool budgeted = r->reply_multiple > 0u && kind != WSG_MSG_UPDATE;
-    if ((rated && p->tokens_milli < MILLI) || (budgeted && p->credit < cost)) {
+    bool budgeted = r->reply_multiple > 0u && !(update && p->stream_free);
+    if ((rated && p->tokens_milli < MILLI) || (budgeted && p->credit < needed)) {
         return false;
     }
     p->tokens_milli -= rated ? MILLI : 0u;
-    p->credit -= budgeted ? cost : 0u;
+    p->credit -= budgeted ? (uint32_t)cost : 0u;
     return true;
 }
 
 bool wsg_peers_may_send(wsg_peer_table_t *t, wsg_peer_t *p, size_t len, wsg_msg_kind_t kind)
 {
     uint64_t now = hal_clock_now_us();
-    if (kind == WSG_MSG_UPDATE && silent_too_long(t, p, now)) {
+    bool update = kind == WSG_MSG_UPDATE;
+    if (update && !p->stream_free && silent_too_long(t, p, now)) {
         return false; /* the reap ends the subscription */
     }
     refill(&t->rules, p, now);
-    if (!pay(&t->rules, p, len, kind)) {
-        p->dropped++;
-        return false;
+    if (pay(&t->rules, p, len, kind)) {
+        return true;
     }
-    return true;
+    if (update) {
+        p->updates_dropped++;
+    } else {
+        p->dropped++;
+    }
+    return false;
 }
 
 void wsg_peers_reap(wsg_peer_table_t *t)
@@ -249,7 +256,8 @@ void wsg_peers_reap(wsg_peer_table_t *t)
         wsg_peer_forget_t why;
         if (session_ended(p, &why)) {
             wsg_peers_forget(t, p, why);
-        } else if (silent_too_long(t, p, now) && !wsg_conn_owns_motion(&p->conn)) {
+        } else if (silent_too_long(t, p, now) && !wsg_conn_owns_motion(&p->conn) &&
+                   !(p->stream_free && wsg_conn_busy(&p->conn))) {
             wsg_peers_forget(t, p, WSG_PEER_SILENT);
         }
     }

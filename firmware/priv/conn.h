@@ -18,6 +18,7 @@ typedef struct wsg_conn_impl {
     bool open;
     bool said_goodbye;    /* the protocol's goodbye was answered: close after flushing */
     bool close_announced; /* the protocol announced its close: dropping it is no fault */
+    uint32_t messages_in; /* whole messages taken in (wsg_conn_count_input) */
     struct wsg_conn_impl *next, *prev;                 /* the device's open connections */
     WSG_ALIGNED unsigned char proto[CONN_PROTO_BYTES]; /* the driver's state */
 } conn_t;
@@ -42,7 +43,10 @@ static inline wsg_conn_t *conn_public(conn_t *c)
 
 /* One whole message out: observers, then the port's write. */
 void wsg_conn_write(conn_t *c, const char *bytes, size_t len, wsg_msg_kind_t kind);
-/* A message in, as the driver framed it (observers only). */
+/* A message in, as the driver framed it: counted, then shown to observers. */
 void wsg_conn_note_input(conn_t *c, const char *bytes, size_t len);
+/* A message in, counted only (a driver that builds the observers' copy
+ * only when someone observes). */
+void wsg_conn_count_input(conn_t *c);
 
 #endif

@@ -9,6 +9,7 @@
 #include "priv/timer.h"
 #include "wsg/wsg_conn.h"
 #include "wsg/wsg_device.h"
+#include "wsg/wsg_script.h"
 
 typedef struct {
     wsg_motion_kind_t kind; /* the long operation running, or WSG_MOTION_NONE */
@@ -31,8 +32,6 @@ typedef struct {
     /* completion tracking */
     uint64_t condition_since_us; /* when the finishing condition first held */
     bool condition_holding;
-    bool abort_requested;
-    wsg_status_t abort_status;
     /* after ERR 29: how long the latched SF_BLOCKED_± has looked resolved */
     bool block_clearing;
     uint64_t block_clearing_since_us;
@@ -63,6 +62,23 @@ typedef struct {
     bool referenced;     /* dev->referenced when read */
 } dev_sensed_t;
 
+/* Velocity mode (a script's mc.speed(v)): the jaws driven at a speed until
+ * something else takes the axis over; not an operation with an owner. */
+typedef struct {
+    bool active;
+    float speed_mm_s; /* signed, positive opens; 0 holds the position */
+} dev_velocity_t;
+
+/* A user script's custom command channel (wsg_script.h): the IDs it claimed
+ * (one bit each) and its request queue, a ring. */
+typedef struct {
+    uint32_t registered[8];
+    wsg_script_request_t queue[WSG_SCRIPT_QUEUE_DEPTH];
+    uint8_t head;
+    uint8_t count;
+    uint64_t last_host_id; /* the connection that sent the last binary frame */
+} dev_script_t;
+
 typedef struct {
     bool armed;
     char name[16]; /* a command name, upper case */
@@ -77,8 +93,14 @@ typedef struct wsg_dev {
     dev_sensed_t sensed;
     bool sense_reacted;  /* the last wsg_sense_and_react() raised FAST STOP */
     bool axis_commanded; /* the supervisor commanded the axis since the last sense */
+    /* What the control step's tick counts from: the last control step, or,
+     * while nothing ticks, the last sense. A query senses too, but must not
+     * postpone the next step: queries faster than the tick starved it. */
+    uint64_t tick_from_us;
     dev_motion_t motion;
+    dev_velocity_t velocity;
     dev_grip_t grip;
+    dev_script_t script;
     wsg_fingers_t fingers;
     finger_bus_t fbus;
     bool referenced;
@@ -122,6 +144,8 @@ static inline wsg_device_t *dev_public(wsg_dev_t *dev)
 /* sense.c: reads the clock, the axis and the temperature once; derives the
  * flag register. */
 void wsg_sense(wsg_dev_t *dev);
+/* How often the control must step now (µs), 0 when nothing changes by itself. */
+uint32_t wsg_device_tick_us(const wsg_dev_t *dev);
 /* wsg_sense(), then a severe fault raises FAST STOP. */
 void wsg_sense_and_react(wsg_dev_t *dev);
 /* wsg_sense_and_react() unless a sense now would read what the last one read. */
@@ -151,13 +175,20 @@ void wsg_motion_halt(wsg_dev_t *dev, bool fast);
 wsg_status_t wsg_motion_check_allowed(wsg_dev_t *dev, bool needs_reference);
 bool wsg_motion_supersede_move(wsg_dev_t *dev);
 void wsg_motion_begin(wsg_dev_t *dev, wsg_owner_t *owner, wsg_motion_kind_t kind);
-void wsg_motion_abort(wsg_dev_t *dev, wsg_status_t status);
-/* FAST STOP: ends the motion, disables the drive, latches the flag. */
+/* Ends the running motion now: its owner hears E_CMD_ABORTED before the
+ * call returns (so before the reply to the command that ended it). */
+void wsg_motion_abort(wsg_dev_t *dev);
+/* FAST STOP: disables the drive, latches the flag, ends the motion (as
+ * wsg_motion_abort). */
 void wsg_motion_fast_stop(wsg_dev_t *dev, const char *why);
 void wsg_motion_step(wsg_dev_t *dev);
 void wsg_motion_apply_force_request(wsg_dev_t *dev);
 void wsg_grip_set_state(wsg_dev_t *dev, wsg_grip_state_t state);
 void wsg_grip_monitor_step(wsg_dev_t *dev);
 void wsg_motion_block_watch_step(wsg_dev_t *dev);
+/* Velocity mode: (re)commands the axis from dev->velocity and the force
+ * limit; ends it (the axis is left to whatever ends it). */
+void wsg_motion_velocity_drive(wsg_dev_t *dev);
+void wsg_motion_velocity_end(wsg_dev_t *dev);
 
 #endif

@@ -46,6 +46,9 @@ static const simctl_entry_t table[] = {
     {"HELP", QUERY, 0, 0, sc_help, "HELP?", true},
     {"DEVICE", SET | QUERY, 0, 0, sc_device, "DEVICE=index | DEVICE?", false},
     {"DEVICES", QUERY, 0, 0, sc_devices, "DEVICES?", true},
+    {"SCRIPT_RUN", CALL, 1, 1, sc_script_run, "SCRIPT_RUN(file)", true},
+    {"SCRIPT_STOP", CALL, 0, 0, sc_script_stop, "SCRIPT_STOP()", true},
+    {"SCRIPT", QUERY, 0, 0, sc_script, "SCRIPT?", true},
     {"BYE", CALL, 0, 0, sc_bye, "BYE()", false},
 };
 

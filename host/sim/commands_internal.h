@@ -107,4 +107,9 @@ wsg_status_t sc_device(simctl_ctx_t *ctx);
 wsg_status_t sc_devices(simctl_ctx_t *ctx);
 wsg_status_t sc_bye(simctl_ctx_t *ctx);
 
+/* sim/commands_script.c */
+wsg_status_t sc_script_run(simctl_ctx_t *ctx);
+wsg_status_t sc_script_stop(simctl_ctx_t *ctx);
+wsg_status_t sc_script(simctl_ctx_t *ctx);
+
 #endif

@@ -7,18 +7,30 @@
 
 #include "loop.h"
 #include "web/web_internal.h"
+#include "web/web_json.h"
 #include "web/web_lines.h"
 
 #define NS_PER_MS 1000000ull
 /* MHD's buffer for a callback response: one event usually fits. */
 #define STREAM_BLOCK 16384u
 
+/* One event's text, built once and shared by every stream of its device
+ * that sends it at its tick. */
+typedef struct web_event {
+    struct web_event *next;
+    const gripper_t *gripper;
+    uint64_t tick;
+    unsigned users; /* streams sending it; freed with the last */
+    size_t len;
+    char *text;
+} web_event_t;
+
 typedef struct web_stream {
     struct web_stream *prev, *next;
     struct MHD_Connection *connection;
     gripper_t *gripper;
-    char *event; /* the event being sent (malloc'd), NULL between events */
-    size_t len, sent;
+    web_event_t *event; /* the event being sent, NULL between events */
+    size_t sent;
     bool due;       /* a tick came since the last event was built */
     bool suspended; /* waiting for the next tick */
     bool ended;     /* shutting down: end of stream */
@@ -26,6 +38,7 @@ typedef struct web_stream {
 
 static struct {
     web_stream_t *first;
+    web_event_t *shared; /* the events some stream is still sending */
     unsigned count;
     uint64_t next_tick_ns; /* 0: no stream */
     uint64_t tick;         /* ticks so far: each event's id */
@@ -59,26 +72,73 @@ static void unlink_stream(web_stream_t *s)
     }
 }
 
+static web_event_t *find_event(const gripper_t *g, uint64_t tick)
+{
+    for (web_event_t *e = events.shared; e != NULL; e = e->next) {
+        if (e->gripper == g && e->tick == tick) {
+            return e;
+        }
+    }
+    return NULL;
+}
+
 /* "id: TICK\nevent: state\ndata: {...}\n\n" with the newest state: the id
  * is the tick it was built at, so a reader sees which ticks it lost. */
-static bool build_event(web_stream_t *s)
+static web_event_t *new_event(gripper_t *g)
 {
-    cJSON *state = web_state_json(s->gripper);
-    char *json = cJSON_PrintUnformatted(state);
-    cJSON_Delete(state);
-    if (json == NULL) {
+    web_event_t *e = calloc(1, sizeof(*e));
+    if (e == NULL) {
+        return NULL;
+    }
+    char head[64];
+    int head_len = snprintf(head, sizeof(head),
+                            "id: %llu\nevent: state\ndata: ", (unsigned long long)events.tick);
+    web_json_t j;
+    web_json_init(&j);
+    web_json_raw(&j, head, (size_t)head_len);
+    web_state_write(&j, g);
+    web_json_raw(&j, "\n\n", 2u);
+    e->text = web_json_take(&j, &e->len);
+    if (e->text == NULL) {
+        free(e);
+        return NULL;
+    }
+    e->gripper = g;
+    e->tick = events.tick;
+    e->next = events.shared;
+    events.shared = e;
+    return e;
+}
+
+/* The event of this tick for s's device: built by the first stream that
+ * asks, shared by the others. */
+static bool take_event(web_stream_t *s)
+{
+    web_event_t *e = find_event(s->gripper, events.tick);
+    if (e == NULL && (e = new_event(s->gripper)) == NULL) {
         return false;
     }
-    int len = asprintf(&s->event, "id: %llu\nevent: state\ndata: %s\n\n",
-                       (unsigned long long)events.tick, json);
-    free(json);
-    if (len < 0) {
-        s->event = NULL; /* asprintf leaves it undefined */
-        return false;
-    }
-    s->len = (size_t)len;
+    e->users++;
+    s->event = e;
     s->sent = 0;
     return true;
+}
+
+static void release_event(web_stream_t *s)
+{
+    web_event_t *e = s->event;
+    s->event = NULL;
+    if (e == NULL || --e->users != 0u) {
+        return;
+    }
+    for (web_event_t **p = &events.shared; *p != NULL; p = &(*p)->next) {
+        if (*p == e) {
+            *p = e->next;
+            break;
+        }
+    }
+    free(e->text);
+    free(e);
 }
 
 /* MHD asks for bytes when the socket can take some: the rest of the event
@@ -92,7 +152,7 @@ static ssize_t read_events(void *cls, uint64_t pos, char *buf, size_t max)
     }
     if (s->event == NULL && s->due) {
         s->due = false;
-        if (!build_event(s)) {
+        if (!take_event(s)) {
             return MHD_CONTENT_READER_END_WITH_ERROR;
         }
     }
@@ -101,12 +161,12 @@ static ssize_t read_events(void *cls, uint64_t pos, char *buf, size_t max)
         MHD_suspend_connection(s->connection);
         return 0;
     }
-    size_t n = s->len - s->sent < max ? s->len - s->sent : max;
-    memcpy(buf, s->event + s->sent, n);
+    size_t left = s->event->len - s->sent;
+    size_t n = left < max ? left : max;
+    memcpy(buf, s->event->text + s->sent, n);
     s->sent += n;
-    if (s->sent == s->len) {
-        free(s->event);
-        s->event = NULL;
+    if (s->sent == s->event->len) {
+        release_event(s);
     }
     return (ssize_t)n;
 }
@@ -115,7 +175,7 @@ static void free_stream(void *cls)
 {
     web_stream_t *s = cls;
     unlink_stream(s);
-    free(s->event);
+    release_event(s);
     free(s);
 }
 

@@ -55,20 +55,29 @@ bool web_fields_known(const web_request_t *req, const cJSON *body, const char *c
  * first), so an operation or a read acts on the newest state. */
 void web_device_sense(gripper_t *g);
 
-/* web_state.c: GET /api/devices/{id}/state as a JSON object. */
-cJSON *web_state_json(gripper_t *g);
+/* web_state.c: GET /api/devices/{id}/state, one JSON object written to j. */
+struct web_json;
+void web_state_write(struct web_json *j, gripper_t *g);
 /* web_settings.c */
 enum MHD_Result web_settings_route(const web_request_t *req, gripper_t *g, const char *rest);
 /* web_ops.c: POST /api/devices/{id}/ops/{op} */
 enum MHD_Result web_ops_route(const web_request_t *req, gripper_t *g, const char *op);
-/* web_ops.c: the last long operation the web started on g, for the state. */
-cJSON *web_ops_last_json(const gripper_t *g);
+/* web_ops.c: the last long operation the web started on g, for the state
+ * (null when none). */
+void web_ops_last_write(struct web_json *j, const char *key, const gripper_t *g);
+/* A JSON reply whose text came from web_json_take(): takes ownership of it
+ * (NULL: no reply, the connection is closed). */
+enum MHD_Result web_reply_json_text(const web_request_t *req, unsigned http_status, char *text);
 /* Detaches the web's owners from their devices (shutdown). */
 void web_ops_forget(void);
 /* web_sim.c: POST /api/devices/{id}/sim/{what} */
 enum MHD_Result web_sim_route(const web_request_t *req, gripper_t *g, const char *what);
 /* web_events.c: GET /api/devices/{id}/events */
 enum MHD_Result web_events_route(const web_request_t *req, gripper_t *g);
+/* web_script.c: /api/devices/{id}/script[/run|/stop|/console] and
+ * /api/devices/{id}/files[/NAME] (rest: what follows "script" / "files") */
+enum MHD_Result web_script_route(const web_request_t *req, gripper_t *g, const char *rest);
+enum MHD_Result web_files_route(const web_request_t *req, gripper_t *g, const char *rest);
 /* web_static.c: GET /, /devices/{id}, /static/NAME; false: not a page path */
 bool web_static_route(const web_request_t *req, enum MHD_Result *result);
 

@@ -122,11 +122,11 @@ static const ring_t *find(const wsg_conn_t *c)
     return r->id == wsg_conn_id(c) && r->device == wsg_conn_device(c) ? r : NULL;
 }
 
-cJSON *web_lines_json(const wsg_conn_t *c)
+void web_lines_write(web_json_t *j, const char *key, const wsg_conn_t *c)
 {
-    cJSON *list = cJSON_CreateArray();
     const ring_t *r = find(c);
     char text[LINE_CHARS + 3u];
+    web_json_open_array(j, key);
     for (unsigned i = 0; r != NULL && i < r->count; i++) {
         const line_t *line = &r->lines[(r->head + WEB_LINES_KEPT - r->count + i) % WEB_LINES_KEPT];
         if (r->binary) {
@@ -134,9 +134,9 @@ cJSON *web_lines_json(const wsg_conn_t *c)
         } else {
             format_text(text, line);
         }
-        cJSON_AddItemToArray(list, cJSON_CreateString(text));
+        web_json_string(j, NULL, text);
     }
-    return list;
+    web_json_close_array(j);
 }
 
 const char *web_lines_protocol(const wsg_conn_t *c)

@@ -13,8 +13,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include <cjson/cJSON.h>
-
+#include "web/web_json.h"
 #include "wsg/wsg_conn.h"
 
 #define WEB_LINES_KEPT 8
@@ -36,8 +35,8 @@ static inline void web_lines_note(const wsg_conn_t *c, bool incoming, const char
         web_lines_record(c, incoming, bytes, len);
     }
 }
-/* The connection's last lines, oldest first (an empty array when none). */
-cJSON *web_lines_json(const wsg_conn_t *c);
+/* The connection's last lines, oldest first, as an array (empty when none). */
+void web_lines_write(web_json_t *j, const char *key, const wsg_conn_t *c);
 /* "gcl", "binary" or "undetected" (no byte yet on an auto-detecting port). */
 const char *web_lines_protocol(const wsg_conn_t *c);
 /* The observer for devices without the hub's (devices 1.. of a fleet). */

@@ -12,6 +12,7 @@
 #include "hal_clock.h"
 #include "wsg/wsg_names.h"
 #include "web/web_internal.h"
+#include "web/web_json.h"
 
 typedef struct {
     wsg_owner_t owner; /* first: done() finds its record from it */
@@ -53,25 +54,26 @@ static web_owner_t *owner_of(gripper_t *g)
     return &owners[g->index];
 }
 
-cJSON *web_ops_last_json(const gripper_t *g)
+void web_ops_last_write(web_json_t *j, const char *key, const gripper_t *g)
 {
     const web_owner_t *w = owners != NULL ? &owners[g->index] : NULL;
     /* a power cycle (the control channel's RESET) ends a motion silently:
      * the device has forgotten it, and so does the page */
     bool forgotten = w != NULL && !w->done && !wsg_device_owns_motion(&g->device, &w->owner);
     if (w == NULL || !w->any || forgotten) {
-        return cJSON_CreateNull();
+        web_json_null(j, key);
+        return;
     }
-    cJSON *j = cJSON_CreateObject();
-    cJSON_AddStringToObject(j, "op", op_names[w->op]);
-    cJSON_AddNumberToObject(j, "started_ms", (double)w->started_us / 1000.0);
-    cJSON_AddBoolToObject(j, "done", w->done);
+    web_json_open_object(j, key);
+    web_json_string(j, "op", op_names[w->op]);
+    web_json_ms(j, "started_ms", w->started_us);
+    web_json_bool(j, "done", w->done);
     if (w->done) {
-        cJSON_AddStringToObject(j, "status", wsg_status_name(w->status));
-        cJSON_AddNumberToObject(j, "code", w->status);
-        cJSON_AddNumberToObject(j, "ended_ms", (double)w->ended_us / 1000.0);
+        web_json_string(j, "status", wsg_status_name(w->status));
+        web_json_uint(j, "code", w->status);
+        web_json_ms(j, "ended_ms", w->ended_us);
     }
-    return j;
+    web_json_close_object(j);
 }
 
 /* A request's arguments, read from its body. */

@@ -47,6 +47,11 @@ static enum MHD_Result reply_text(const web_request_t *req, unsigned http_status
     return result;
 }
 
+enum MHD_Result web_reply_json_text(const web_request_t *req, unsigned http_status, char *text)
+{
+    return reply_text(req, http_status, text, NULL);
+}
+
 enum MHD_Result web_reply_json(const web_request_t *req, unsigned http_status, cJSON *json)
 {
     char *text = json != NULL ? cJSON_PrintUnformatted(json) : NULL;

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "fleet.h"
+#include "web/web_json.h"
 #include "web/web_lines.h"
 
 #define API_DEVICES "/api/devices"
@@ -54,7 +55,10 @@ static enum MHD_Result get_state(const web_request_t *req, gripper_t *g)
         return web_reply_wrong_method(req, MHD_HTTP_METHOD_GET);
     }
     web_lines_watch();
-    return web_reply_json(req, MHD_HTTP_OK, web_state_json(g));
+    web_json_t j;
+    web_json_init(&j);
+    web_state_write(&j, g);
+    return web_reply_json_text(req, MHD_HTTP_OK, web_json_take(&j, NULL));
 }
 
 static enum MHD_Result get_events(const web_request_t *req, gripper_t *g)
@@ -86,6 +90,12 @@ static enum MHD_Result device_route(const web_request_t *req, gripper_t *g, cons
     }
     if (strncmp(rest, "settings", 8) == 0 && (rest[8] == '\0' || rest[8] == '/')) {
         return web_settings_route(req, g, rest + 8);
+    }
+    if (strncmp(rest, "script", 6) == 0 && (rest[6] == '\0' || rest[6] == '/')) {
+        return web_script_route(req, g, rest + 6);
+    }
+    if (strncmp(rest, "files", 5) == 0 && (rest[5] == '\0' || rest[5] == '/')) {
+        return web_files_route(req, g, rest + 5);
     }
     if (strncmp(rest, "ops/", 4) == 0 && rest[4] != '\0') {
         return post_only(req, g, rest + 4, web_ops_route);

@@ -2,6 +2,7 @@
 #include "web/web_server.h"
 
 #include <arpa/inet.h>
+#include <errno.h>
 #include <netinet/in.h>
 #include <poll.h>
 #include <stdio.h>
@@ -15,6 +16,8 @@
 #include "loop.h"
 #include "net.h"
 #include "web/web_events.h"
+#include "web/web_host.h"
+#include "web/web_intake.h"
 #include "web/web_internal.h"
 #include "web/web_lines.h"
 #include "web/web_peer.h"
@@ -27,13 +30,20 @@
 /* Each client's socket send buffer (accepted sockets inherit it from the
  * listener): what a stalled page can hold of the event stream. */
 #define CLIENT_SNDBUF_BYTES (32 * 1024)
-#define CONNECTIONS_MAX 64u
+#define CONNECTIONS_MAX WEB_INTAKE_CONNECTIONS_MAX
+/* Each connection's memory pool (libmicrohttpd's default is 32 KiB), which
+ * it clears for every request on a kept-alive connection: 16 KiB holds a
+ * browser's request headers and a WEB_BODY_MAX body with room to spare,
+ * and halves what an event stream or a request costs. */
+#define CONNECTION_MEMORY 16384u
 #define NS_PER_MS 1000000ull
+#define NS_PER_S 1000000000ull
 
 /* One request's upload, collected until the last call of the handler. */
 typedef struct {
     size_t len;
     bool too_big;
+    bool foreign_host; /* its Host header names no name of this server */
     char body[WEB_BODY_MAX + 1u];
 } web_call_t;
 
@@ -42,8 +52,12 @@ static struct {
     int listen_fd;
     int epoll_fd;
     int port;
-    bool sim_open;       /* --sim-bind names a non-loopback address */
-    uint64_t mhd_due_ns; /* MHD's next timeout (monotonic), 0: none */
+    bool sim_open; /* --sim-bind names a non-loopback address */
+    /* --http-allow-host: the names served besides addresses and localhost */
+    const char *allow_hosts[HOST_HTTP_ALLOW_LISTS_MAX];
+    size_t allow_host_count;
+    uint64_t mhd_due_ns;    /* MHD's next timeout (monotonic), 0: none */
+    bool connection_closed; /* in this MHD_run() */
     char describe[128];
 } web = {.listen_fd = -1, .epoll_fd = -1, .port = -1};
 
@@ -63,6 +77,7 @@ static void schedule(void)
     uint64_t now = loop_monotonic_ns();
     web.mhd_due_ns = MHD_get_timeout(web.daemon, &ms) == MHD_YES ? now + ms * NS_PER_MS : 0;
     uint64_t wake = earliest_nonzero(web.mhd_due_ns, web_events_next_tick_ns());
+    wake = earliest_nonzero(wake, web_intake_next_due_ns());
     if (wake != 0) {
         loop_wake_at_wall(wake);
     }
@@ -70,7 +85,13 @@ static void schedule(void)
 
 static void run_mhd(void)
 {
-    MHD_run(web.daemon);
+    do {
+        /* MHD takes its listening socket back into its epoll set only in the
+         * run after a connection closed at its limit: run again, or a client
+         * waiting in the backlog would wait for the next one to connect */
+        web.connection_closed = false;
+        MHD_run(web.daemon);
+    } while (web.connection_closed);
     schedule();
 }
 
@@ -84,15 +105,72 @@ static void on_epoll_ready(void *ctx, int fd, short revents)
 
 void web_server_poll(void)
 {
-    if (web.daemon == NULL || (web.mhd_due_ns == 0 && web_events_next_tick_ns() == 0)) {
+    uint64_t intake_due_ns = web_intake_next_due_ns();
+    if (web.daemon == NULL ||
+        (web.mhd_due_ns == 0 && web_events_next_tick_ns() == 0 && intake_due_ns == 0)) {
         return;
     }
     uint64_t now = loop_monotonic_ns();
     bool ticked = web_events_tick(now); /* resumes the streams that are due */
-    if (ticked || (web.mhd_due_ns != 0 && now >= web.mhd_due_ns)) {
+    if (intake_due_ns != 0 && now >= intake_due_ns) {
+        /* what has arrived is read first: a server held up (a loaded host,
+         * valgrind) cuts no request that came in time */
+        run_mhd();
+        unsigned cut = web_intake_cut_late(now);
+        if (cut > 0) {
+            host_logf(HAL_LOG_DEBUG, "http: cut %u connection(s) whose request was late", cut);
+            run_mhd();
+        }
+    } else if (ticked || (web.mhd_due_ns != 0 && now >= web.mhd_due_ns)) {
         run_mhd();
     } else {
         schedule();
+    }
+}
+
+/* The intake record of a connection (web_intake.h), NULL when it has none. */
+static web_intake_conn_t *intake_of(struct MHD_Connection *connection)
+{
+    const union MHD_ConnectionInfo *info =
+        MHD_get_connection_info(connection, MHD_CONNECTION_INFO_SOCKET_CONTEXT);
+    return info != NULL ? info->socket_context : NULL;
+}
+
+/* Accepting a connection: refused when its client already has
+ * WEB_INTAKE_PER_ADDRESS connections whose request is arriving. */
+static enum MHD_Result admit_client(void *cls, const struct sockaddr *addr, socklen_t addrlen)
+{
+    (void)cls;
+    (void)addrlen;
+    if (web_intake_admits(addr)) {
+        return MHD_YES;
+    }
+    host_logf(HAL_LOG_DEBUG, "http: refused a connection: its client has %u requests arriving",
+              WEB_INTAKE_PER_ADDRESS);
+    return MHD_NO;
+}
+
+static void connection_changed(void *cls, struct MHD_Connection *connection, void **socket_context,
+                               enum MHD_ConnectionNotificationCode code)
+{
+    (void)cls;
+    if (code != MHD_CONNECTION_NOTIFY_STARTED) {
+        web_intake_close(*socket_context);
+        *socket_context = NULL;
+        web.connection_closed = true;
+        return;
+    }
+    const union MHD_ConnectionInfo *fd =
+        MHD_get_connection_info(connection, MHD_CONNECTION_INFO_CONNECTION_FD);
+    const union MHD_ConnectionInfo *addr =
+        MHD_get_connection_info(connection, MHD_CONNECTION_INFO_CLIENT_ADDRESS);
+    if (fd == NULL) {
+        return;
+    }
+    *socket_context = web_intake_open(fd->connect_fd, addr != NULL ? addr->client_addr : NULL,
+                                      loop_monotonic_ns());
+    if (*socket_context == NULL) {
+        shutdown(fd->connect_fd, SHUT_RDWR); /* no record: MHD closes it at once */
     }
 }
 
@@ -100,15 +178,26 @@ static void request_completed(void *cls, struct MHD_Connection *connection, void
                               enum MHD_RequestTerminationCode toe)
 {
     (void)cls;
-    (void)connection;
     (void)toe;
     free(*req_cls);
     *req_cls = NULL;
+    web_intake_waiting(intake_of(connection), loop_monotonic_ns()); /* keep-alive */
 }
 
-/* The first call of a request: its upload buffer; a declared length that is
- * already too large is answered (413) at once, before the body is read, and
- * MHD then closes the connection instead of reading what a client claims. */
+/* The Host header names this server (web_host.h). A request without one is
+ * not a browser's (browsers always send it), and browsers are the one kind
+ * of client a rebound name can fool: it is served. */
+static bool host_allowed(struct MHD_Connection *connection)
+{
+    const char *host =
+        MHD_lookup_connection_value(connection, MHD_HEADER_KIND, MHD_HTTP_HEADER_HOST);
+    return host == NULL || web_host_allowed(host, web.allow_hosts, web.allow_host_count);
+}
+
+/* The first call of a request: its upload buffer; a foreign Host (403) or a
+ * declared length that is already too large (413) is answered at once,
+ * before the body is read, and MHD then closes the connection instead of
+ * reading what a client claims. */
 static enum MHD_Result begin_request(struct MHD_Connection *connection, void **req_cls)
 {
     web_call_t *call = calloc(1, sizeof(*call));
@@ -116,6 +205,7 @@ static enum MHD_Result begin_request(struct MHD_Connection *connection, void **r
         return MHD_NO;
     }
     *req_cls = call;
+    call->foreign_host = !host_allowed(connection);
     const char *length =
         MHD_lookup_connection_value(connection, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_LENGTH);
     call->too_big = length != NULL && strtoull(length, NULL, 10) > WEB_BODY_MAX;
@@ -186,7 +276,7 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *connection, cons
         return MHD_NO;
     }
     web_call_t *call = *req_cls;
-    if (first_call && !call->too_big) {
+    if (first_call && !call->too_big && !call->foreign_host) {
         return MHD_YES;
     }
     if (*upload_data_size > 0) {
@@ -194,6 +284,7 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *connection, cons
         *upload_data_size = 0;
         return MHD_YES;
     }
+    web_intake_arrived(intake_of(connection));
     const union MHD_ConnectionInfo *info =
         MHD_get_connection_info(connection, MHD_CONNECTION_INFO_CLIENT_ADDRESS);
     web_request_t req = {
@@ -204,6 +295,13 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *connection, cons
         .body_len = call->len,
         .sim_allowed = web.sim_open || (info != NULL && web_peer_is_loopback(info->client_addr)),
     };
+    if (call->foreign_host) {
+        return web_reply_error(
+            &req, MHD_HTTP_FORBIDDEN, E_ACCESS_DENIED,
+            "this server does not answer to the name in the Host header (%.64s): use its IP "
+            "address or localhost, or start wsgsim with --http-allow-host NAME",
+            MHD_lookup_connection_value(connection, MHD_HEADER_KIND, MHD_HTTP_HEADER_HOST));
+    }
     if (call->too_big) {
         return web_reply_error(&req, MHD_HTTP_CONTENT_TOO_LARGE, E_OVERRUN,
                                "the request body is larger than %u bytes", WEB_BODY_MAX);
@@ -228,12 +326,14 @@ static void log_mhd(void *cls, const char *fmt, va_list ap)
 
 static bool open_daemon(void)
 {
-    web.daemon = MHD_start_daemon(MHD_USE_EPOLL | MHD_ALLOW_SUSPEND_RESUME | MHD_USE_ERROR_LOG, 0,
-                                  NULL, NULL, handle, NULL, MHD_OPTION_LISTEN_SOCKET, web.listen_fd,
-                                  MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)CONNECTION_TIMEOUT_S,
-                                  MHD_OPTION_CONNECTION_LIMIT, (unsigned)CONNECTIONS_MAX,
-                                  MHD_OPTION_NOTIFY_COMPLETED, request_completed, NULL,
-                                  MHD_OPTION_EXTERNAL_LOGGER, log_mhd, NULL, MHD_OPTION_END);
+    /* the logger first: MHD logs (and complains) while reading the options */
+    web.daemon = MHD_start_daemon(
+        MHD_USE_EPOLL | MHD_ALLOW_SUSPEND_RESUME | MHD_USE_ERROR_LOG, 0, admit_client, NULL, handle,
+        NULL, MHD_OPTION_EXTERNAL_LOGGER, log_mhd, NULL, MHD_OPTION_LISTEN_SOCKET, web.listen_fd,
+        MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)CONNECTION_TIMEOUT_S, MHD_OPTION_CONNECTION_LIMIT,
+        (unsigned)CONNECTIONS_MAX, MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)CONNECTION_MEMORY,
+        MHD_OPTION_NOTIFY_COMPLETED, request_completed, NULL, MHD_OPTION_NOTIFY_CONNECTION,
+        connection_changed, NULL, MHD_OPTION_END);
     if (web.daemon == NULL) {
         return false;
     }
@@ -261,18 +361,23 @@ bool web_server_start(const host_options_t *opts)
         return true;
     }
     const char *bind = opts->http_bind != NULL ? opts->http_bind : opts->bind_addr;
-    web.listen_fd = net_listen(SOCK_STREAM, bind, opts->http_port);
+    /* the default port is skipped when taken: a warning, not an error line */
+    bool asked = opts->http_port_given || opts->http_bind != NULL;
+    web.listen_fd = asked ? net_listen(SOCK_STREAM, bind, opts->http_port)
+                          : net_listen_optional(SOCK_STREAM, bind, opts->http_port);
     if (web.listen_fd < 0) {
-        bool asked = opts->http_port_given || opts->http_bind != NULL;
         if (!asked) {
-            host_logf(HAL_LOG_WARN, "http port %d cannot be had: no web interface",
-                      opts->http_port);
+            host_logf(HAL_LOG_WARN, "http port %d cannot be had (%s): no web interface",
+                      opts->http_port, strerror(errno));
         }
         return !asked;
     }
     int sndbuf = CLIENT_SNDBUF_BYTES;
     setsockopt(web.listen_fd, SOL_SOCKET, SO_SNDBUF, &sndbuf, sizeof(sndbuf));
     web.sim_open = sim_bind_open(opts->sim_bind);
+    web.allow_host_count = (size_t)opts->http_allow_host_count;
+    memcpy(web.allow_hosts, opts->http_allow_hosts, sizeof(web.allow_hosts));
+    web_intake_reset((uint64_t)opts->http_request_timeout_s * NS_PER_S);
     if (!open_daemon()) {
         host_logf(HAL_LOG_ERROR, "http: cannot start the web server");
         web_server_stop();

@@ -42,8 +42,8 @@ static const setting_t settings[] = {
 
 /* Fixed at start (options, configuration file): a PUT may repeat their
  * value, never change it. */
-static const char *const fixed_fields[] = {"protocol", "tcp_port", "udp_port", "binary_udp_port",
-                                           "config_file"};
+static const char *const fixed_fields[] = {"protocol",        "tcp_port",    "udp_port",
+                                           "binary_udp_port", "config_file", "save_file"};
 #define FIXED_COUNT (sizeof(fixed_fields) / sizeof(fixed_fields[0]))
 
 static float current(const wsg_config_t *c, wsg_setting_t which)
@@ -84,6 +84,12 @@ static const char *protocol_name(host_protocol_t p)
     return p == HOST_PROTOCOL_GCL ? "gcl" : p == HOST_PROTOCOL_BINARY ? "binary" : "auto";
 }
 
+/* Where Save writes: the --save-file, else the --config file; NULL: nowhere. */
+static const char *save_path(const gripper_t *g)
+{
+    return g->opts.save_path != NULL ? g->opts.save_path : g->opts.config_path;
+}
+
 /* The fixed fields, as JSON values. */
 static cJSON *fixed_value(const gripper_t *g, unsigned i)
 {
@@ -96,9 +102,11 @@ static cJSON *fixed_value(const gripper_t *g, unsigned i)
         return cJSON_CreateNumber(fleet_udp_port(g->index));
     case 3: /* binary UDP serves device 0 only */
         return g->index == 0 ? cJSON_CreateNumber(g->opts.binary_udp_port) : cJSON_CreateNull();
-    default:
+    case 4:
         return g->opts.config_path != NULL ? cJSON_CreateString(g->opts.config_path)
                                            : cJSON_CreateNull();
+    default:
+        return save_path(g) != NULL ? cJSON_CreateString(save_path(g)) : cJSON_CreateNull();
     }
 }
 
@@ -227,7 +235,8 @@ static bool apply(change_t *ch, gripper_t *g)
         before[i] = current(cfg, settings[i].which);
     }
     order(ch, cfg, seq);
-    wsg_status_t status = ch->tag != NULL ? wsg_op_set_tag(dev, ch->tag) : E_SUCCESS;
+    wsg_status_t status =
+        ch->tag != NULL ? wsg_op_set_tag(dev, ch->tag, strlen(ch->tag)) : E_SUCCESS;
     const char *refused = "tag";
     unsigned applied = 0;
     for (; status == E_SUCCESS && applied < SETTING_COUNT; applied++) {
@@ -239,7 +248,7 @@ static bool apply(change_t *ch, gripper_t *g)
         return true;
     }
     undo(dev, seq, applied - (applied > 0 ? 1u : 0u), before);
-    wsg_op_set_tag(dev, old_tag);
+    wsg_op_set_tag(dev, old_tag, strlen(old_tag));
     ch->result =
         web_reply_error(ch->req, MHD_HTTP_UNPROCESSABLE_CONTENT, status,
                         "%s: %s (nothing was changed)", refused, wsg_status_description(status));
@@ -262,17 +271,19 @@ static enum MHD_Result put_settings(const web_request_t *req, gripper_t *g)
     return web_reply_json(req, MHD_HTTP_OK, settings_json(g));
 }
 
-/* Writes the settings in force to the --config file; what a reset powers
- * on with becomes them too, as the device keeps saved settings. */
+/* Writes the settings in force to the --save-file (else the --config file);
+ * what a reset powers on with becomes them too, as the device keeps saved
+ * settings. */
 static enum MHD_Result save_settings(const web_request_t *req, gripper_t *g)
 {
-    if (g->opts.config_path == NULL) {
+    if (save_path(g) == NULL) {
         return web_reply_error(req, MHD_HTTP_CONFLICT, E_NOT_AVAILABLE,
-                               "wsgsim was started without --config: nowhere to save");
+                               "wsgsim was started without --config or --save-file: "
+                               "nowhere to save");
     }
     const wsg_config_t *cfg = wsg_device_snapshot(&g->device)->config;
     char why[160];
-    if (!config_file_save(g->opts.config_path, g->index, cfg, why, sizeof(why))) {
+    if (!config_file_save(save_path(g), g->index, cfg, why, sizeof(why))) {
         return web_reply_error(req, MHD_HTTP_UNPROCESSABLE_CONTENT, E_WRITE_ERROR, "%s", why);
     }
     g->config = *cfg;

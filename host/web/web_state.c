@@ -1,16 +1,13 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* GET /api/devices/{id}/state: the live view's data (docs/web.md). Field
  * names carry their units; enumerations carry their number and name. */
-#include <math.h>
-#include <stdio.h>
-#include <stdlib.h>
-
 #include "hal_clock.h"
 #include "sim/sim_world.h"
 #include "wsg/wsg_names.h"
 #include "tcp_server.h"
 #include "udp_server.h"
 #include "web/web_internal.h"
+#include "web/web_json.h"
 #include "web/web_lines.h"
 #include "wsg/finger_proto.h"
 
@@ -22,160 +19,151 @@ static const char *const finger_flag_names[WSG_FINGER_FLAG_COUNT] = {
 
 static const char *const motion_names[] = {"none", "home", "move", "grip", "release"};
 
-/* A float as the shortest decimal it stands for (NaN and infinities: 0):
- * 0.599 rather than 0.59899997711181641. */
-static double num(float value)
+static void write_sysflags(web_json_t *j, uint32_t flags)
 {
-    char text[32];
-    if (!isfinite(value)) {
-        return 0.0;
-    }
-    snprintf(text, sizeof(text), "%.7g", (double)value);
-    return strtod(text, NULL);
-}
-
-static cJSON *sysflags_json(uint32_t flags)
-{
-    cJSON *j = cJSON_CreateObject();
-    cJSON_AddNumberToObject(j, "value", flags);
-    cJSON *set = cJSON_AddArrayToObject(j, "set");
-    cJSON *names = cJSON_AddArrayToObject(j, "names");
+    web_json_open_object(j, "sysflags");
+    web_json_uint(j, "value", flags);
+    web_json_open_array(j, "set");
     for (unsigned bit = 0; bit < WSG_SYSFLAG_COUNT; bit++) {
         const char *name = wsg_sysflag_name(bit);
-        cJSON_AddItemToArray(names, cJSON_CreateString(name != NULL ? name : ""));
         if (name != NULL && ((flags >> bit) & 1u) != 0u) {
-            cJSON_AddItemToArray(set, cJSON_CreateString(name));
+            web_json_string(j, NULL, name);
         }
     }
-    return j;
+    web_json_close_array(j);
+    web_json_open_array(j, "names");
+    for (unsigned bit = 0; bit < WSG_SYSFLAG_COUNT; bit++) {
+        const char *name = wsg_sysflag_name(bit);
+        web_json_string(j, NULL, name != NULL ? name : "");
+    }
+    web_json_close_array(j);
+    web_json_close_object(j);
 }
 
-static cJSON *finger_flags_json(uint16_t flags)
+static void write_finger_flags(web_json_t *j, uint16_t flags)
 {
-    cJSON *j = cJSON_CreateObject();
-    cJSON_AddNumberToObject(j, "value", flags);
-    cJSON *set = cJSON_AddArrayToObject(j, "set");
+    web_json_open_object(j, "flags");
+    web_json_uint(j, "value", flags);
+    web_json_open_array(j, "set");
     for (unsigned bit = 0; bit < WSG_FINGER_FLAG_COUNT; bit++) {
         const char *name = finger_flag_names[bit];
         if (((flags >> bit) & 1u) != 0u) {
-            cJSON_AddItemToArray(set, cJSON_CreateString(name != NULL ? name : "reserved"));
+            web_json_string(j, NULL, name != NULL ? name : "reserved");
         }
     }
-    return j;
+    web_json_close_array(j);
+    web_json_close_object(j);
 }
 
 /* FMF: its force (N); DSA: the cells, row by row; else null. */
-static void add_finger_data(cJSON *j, const wsg_finger_t *f)
+static void write_finger_data(web_json_t *j, const wsg_finger_t *f)
 {
     if (!wsg_finger_has_data(f) || f->data_count == 0) {
-        cJSON_AddNullToObject(j, "data");
+        web_json_null(j, "data");
         return;
     }
     if (f->type != FINGER_DSA) {
-        cJSON_AddNumberToObject(j, "data", num(f->data[0]));
+        web_json_float(j, "data", f->data[0]);
         return;
     }
-    cJSON *cells = cJSON_AddArrayToObject(j, "data");
+    web_json_open_array(j, "data");
     for (unsigned i = 0; i < f->data_count; i++) {
-        cJSON_AddItemToArray(cells, cJSON_CreateNumber(num(f->data[i])));
+        web_json_float(j, NULL, f->data[i]);
     }
-    cJSON_AddNumberToObject(j, "rows", FBUS_DSA_ROWS);
-    cJSON_AddNumberToObject(j, "cols", FBUS_DSA_COLS);
+    web_json_close_array(j);
+    web_json_uint(j, "rows", FBUS_DSA_ROWS);
+    web_json_uint(j, "cols", FBUS_DSA_COLS);
 }
 
-static cJSON *fingers_json(const wsg_fingers_t *fingers)
+static void write_fingers(web_json_t *j, const wsg_fingers_t *fingers)
 {
-    cJSON *list = cJSON_CreateArray();
+    web_json_open_array(j, "fingers");
     for (unsigned i = 0; i < WSG_FINGER_COUNT; i++) {
         const wsg_finger_t *f = &fingers->slot[i];
-        cJSON *j = cJSON_CreateObject();
-        cJSON_AddNumberToObject(j, "slot", i);
-        cJSON_AddStringToObject(j, "type", wsg_finger_type_name(f->type));
-        cJSON_AddItemToObject(j, "flags", finger_flags_json(f->flags));
-        add_finger_data(j, f);
-        cJSON_AddItemToArray(list, j);
+        web_json_open_object(j, NULL);
+        web_json_uint(j, "slot", i);
+        web_json_string(j, "type", wsg_finger_type_name(f->type));
+        write_finger_flags(j, f->flags);
+        write_finger_data(j, f);
+        web_json_close_object(j);
     }
-    return list;
+    web_json_close_array(j);
 }
 
-static cJSON *world_thing(bool present, float width_mm)
+/* A part or an obstacle: present, and its width when it is. */
+static void open_world_thing(web_json_t *j, const char *key, bool present, float width_mm)
 {
-    cJSON *j = cJSON_CreateObject();
-    cJSON_AddBoolToObject(j, "present", present);
+    web_json_open_object(j, key);
+    web_json_bool(j, "present", present);
     if (present) {
-        cJSON_AddNumberToObject(j, "width_mm", num(width_mm));
+        web_json_float(j, "width_mm", width_mm);
     }
-    return j;
 }
 
-static cJSON *part_json(const sim_part_t *p)
+static void write_part(web_json_t *j, const sim_part_t *p)
 {
-    cJSON *j = world_thing(p->present, p->width_mm);
+    open_world_thing(j, "part", p->present, p->width_mm);
     if (p->present) {
-        cJSON_AddNumberToObject(j, "stiffness_n_mm", num(p->stiffness_n_mm));
-        cJSON_AddNumberToObject(j, "slip_force_n", num(p->slip_force_n));
+        web_json_float(j, "stiffness_n_mm", p->stiffness_n_mm);
+        web_json_float(j, "slip_force_n", p->slip_force_n);
     }
-    return j;
+    web_json_close_object(j);
 }
 
-static cJSON *connection_json(const wsg_conn_t *c)
+static void write_connection(web_json_t *j, const wsg_conn_t *c)
 {
-    cJSON *j = cJSON_CreateObject();
     bool stream = wsg_conn_transport(c) == WSG_TRANSPORT_STREAM;
-    const char *peer = stream ? tcp_server_peer_name(c) : udp_server_peer_name(c);
-    cJSON_AddNumberToObject(j, "id", (double)wsg_conn_id(c));
-    cJSON_AddStringToObject(j, "protocol", web_lines_protocol(c));
-    cJSON_AddStringToObject(j, "transport", stream ? "tcp" : "udp");
-    if (peer != NULL) {
-        cJSON_AddStringToObject(j, "peer", peer);
-    } else {
-        cJSON_AddNullToObject(j, "peer");
-    }
-    cJSON_AddItemToObject(j, "last_lines", web_lines_json(c));
-    return j;
+    web_json_open_object(j, NULL);
+    web_json_uint(j, "id", wsg_conn_id(c));
+    web_json_string(j, "protocol", web_lines_protocol(c));
+    web_json_string(j, "transport", stream ? "tcp" : "udp");
+    web_json_string(j, "peer", stream ? tcp_server_peer_name(c) : udp_server_peer_name(c));
+    web_lines_write(j, "last_lines", c);
+    web_json_close_object(j);
 }
 
-static cJSON *connections_json(wsg_device_t *dev)
+static void write_connections(web_json_t *j, wsg_device_t *dev)
 {
-    cJSON *list = cJSON_CreateArray();
+    web_json_open_array(j, "connections");
     for (wsg_conn_t *c = wsg_device_conn_first(dev); c != NULL; c = wsg_conn_next(c)) {
-        cJSON_AddItemToArray(list, connection_json(c));
+        write_connection(j, c);
     }
-    return list;
+    web_json_close_array(j);
 }
 
-static void add_axis(cJSON *root, const wsg_snapshot_t *snap)
+static void write_axis(web_json_t *j, const wsg_snapshot_t *snap)
 {
-    cJSON_AddNumberToObject(root, "position_mm", num(snap->position_mm));
-    cJSON_AddNumberToObject(root, "speed_mm_s", num(snap->speed_mm_s));
-    cJSON_AddNumberToObject(root, "force_n", num(snap->force_n));
-    cJSON_AddNumberToObject(root, "temperature_c", num(snap->temperature_c));
-    cJSON_AddNumberToObject(root, "stroke_mm", num(snap->config->stroke_mm));
-    cJSON_AddBoolToObject(root, "referenced", snap->referenced);
-    cJSON_AddStringToObject(root, "motion", motion_names[snap->motion]);
+    web_json_float(j, "position_mm", snap->position_mm);
+    web_json_float(j, "speed_mm_s", snap->speed_mm_s);
+    web_json_float(j, "force_n", snap->force_n);
+    web_json_float(j, "temperature_c", snap->temperature_c);
+    web_json_float(j, "stroke_mm", snap->config->stroke_mm);
+    web_json_bool(j, "referenced", snap->referenced);
+    web_json_string(j, "motion", motion_names[snap->motion]);
 }
 
-cJSON *web_state_json(gripper_t *g)
+void web_state_write(web_json_t *j, gripper_t *g)
 {
     /* the newest readings, as a GCL query senses before it answers: an idle
      * device is not stepped, yet its board still cools */
     web_device_sense(g);
     const wsg_snapshot_t *snap = wsg_device_snapshot(&g->device);
-    cJSON *root = cJSON_CreateObject();
-    cJSON_AddNumberToObject(root, "id", g->index);
-    cJSON_AddNumberToObject(root, "time_ms", (double)snap->now_us / 1000.0);
-    add_axis(root, snap);
-    cJSON *grip = cJSON_AddObjectToObject(root, "grip_state");
-    cJSON_AddNumberToObject(grip, "code", snap->grip_state);
-    cJSON_AddStringToObject(grip, "name", wsg_grip_state_name(snap->grip_state));
-    cJSON_AddItemToObject(root, "sysflags", sysflags_json(snap->flags));
-    cJSON_AddItemToObject(root, "part", part_json(&g->world.axis.part));
-    cJSON_AddItemToObject(
-        root, "obstacle",
-        world_thing(g->world.axis.obstacle.present, g->world.axis.obstacle.width_mm));
-    cJSON_AddNumberToObject(root, "ambient_c", num(g->world.thermal.ambient_c));
-    cJSON_AddItemToObject(root, "fingers", fingers_json(snap->fingers));
-    cJSON_AddItemToObject(root, "web_op", web_ops_last_json(g));
-    cJSON_AddItemToObject(root, "connections", connections_json(&g->device));
-    return root;
+    web_json_open_object(j, NULL);
+    web_json_uint(j, "id", g->index);
+    web_json_ms(j, "time_ms", snap->now_us);
+    write_axis(j, snap);
+    web_json_open_object(j, "grip_state");
+    web_json_uint(j, "code", snap->grip_state);
+    web_json_string(j, "name", wsg_grip_state_name(snap->grip_state));
+    web_json_close_object(j);
+    write_sysflags(j, snap->flags);
+    write_part(j, &g->world.axis.part);
+    open_world_thing(j, "obstacle", g->world.axis.obstacle.present,
+                     g->world.axis.obstacle.width_mm);
+    web_json_close_object(j);
+    web_json_float(j, "ambient_c", g->world.thermal.ambient_c);
+    write_fingers(j, snap->fingers);
+    web_ops_last_write(j, "web_op", g);
+    write_connections(j, &g->device);
+    web_json_close_object(j);
 }

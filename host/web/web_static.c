@@ -1,15 +1,40 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* The page: / goes to device 0's, /devices/{id} is index.html (the page
- * reads its id from the path), /static/NAME any other built-in file. */
+ * reads its id from the path), /static/NAME any other built-in file or one
+ * of Debian's libjs-dygraphs files. */
+#include <errno.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "fleet.h"
+#include "log.h"
 #include "web/web_assets.h"
 #include "web/web_internal.h"
 
 #define DEVICES_PREFIX "/devices/"
 #define STATIC_PREFIX "/static/"
+
+/* The chart library is not built in: it is served from where Debian's
+ * libjs-dygraphs installs it (the wsgsim package depends on it), read on
+ * the first request and kept for the process' life, so that the binary
+ * carries none of its code. */
+#define DYGRAPHS_DIR "/usr/share/javascript/dygraphs/"
+#define SYSTEM_FILE_MAX (8u << 20) /* dygraph.min.js is about 130 KiB */
+
+typedef struct {
+    const char *name;
+    const char *content_type;
+    unsigned char *bytes; /* NULL: not read yet */
+    size_t len;
+} system_file_t;
+
+static system_file_t system_files[] = {
+    {"dygraph.min.js", "text/javascript; charset=utf-8", NULL, 0},
+    {"dygraph.min.css", "text/css; charset=utf-8", NULL, 0},
+};
+#define SYSTEM_FILE_COUNT (sizeof(system_files) / sizeof(system_files[0]))
 
 static const web_asset_t *find_asset(const char *name)
 {
@@ -32,13 +57,74 @@ static bool is_device_page(const char *url)
     return digits > 0 && digits <= 6 && id[digits] == '\0' && strtoul(id, NULL, 10) < fleet_count();
 }
 
+static bool is_read(const web_request_t *req)
+{
+    return strcmp(req->method, MHD_HTTP_METHOD_GET) == 0 ||
+           strcmp(req->method, MHD_HTTP_METHOD_HEAD) == 0;
+}
+
 static enum MHD_Result serve(const web_request_t *req, const web_asset_t *asset)
 {
-    if (strcmp(req->method, MHD_HTTP_METHOD_GET) != 0 &&
-        strcmp(req->method, MHD_HTTP_METHOD_HEAD) != 0) {
+    if (!is_read(req)) {
         return web_reply_wrong_method(req, MHD_HTTP_METHOD_GET);
     }
     return web_reply_bytes(req, MHD_HTTP_OK, asset->content_type, asset->bytes, asset->len);
+}
+
+static system_file_t *find_system_file(const char *name)
+{
+    for (unsigned i = 0; i < SYSTEM_FILE_COUNT; i++) {
+        if (strcmp(system_files[i].name, name) == 0) {
+            return &system_files[i];
+        }
+    }
+    return NULL;
+}
+
+/* Reads path whole into f; false with errno set. */
+static bool read_whole(const char *path, system_file_t *f)
+{
+    FILE *in = fopen(path, "rb");
+    struct stat st;
+    if (in == NULL) {
+        return false;
+    }
+    bool ok = fstat(fileno(in), &st) == 0;
+    if (ok && (!S_ISREG(st.st_mode) || (size_t)st.st_size > SYSTEM_FILE_MAX)) {
+        errno = EFBIG;
+        ok = false;
+    }
+    errno = ok ? 0 : errno;
+    unsigned char *bytes = ok ? malloc((size_t)st.st_size + 1u) : NULL;
+    size_t len = bytes != NULL ? fread(bytes, 1, (size_t)st.st_size, in) : 0;
+    ok = bytes != NULL && len == (size_t)st.st_size && ferror(in) == 0;
+    int read_errno = errno;
+    fclose(in);
+    if (!ok) {
+        free(bytes);
+        errno = read_errno != 0 ? read_errno : EIO;
+        return false;
+    }
+    f->bytes = bytes;
+    f->len = len;
+    return true;
+}
+
+static enum MHD_Result serve_system_file(const web_request_t *req, system_file_t *f)
+{
+    char path[sizeof(DYGRAPHS_DIR) + 64];
+    snprintf(path, sizeof(path), "%s%s", DYGRAPHS_DIR, f->name);
+    if (!is_read(req)) {
+        return web_reply_wrong_method(req, MHD_HTTP_METHOD_GET);
+    }
+    if (f->bytes == NULL && !read_whole(path, f)) {
+        const char *why = strerror(errno);
+        host_logf(HAL_LOG_WARN, "http: cannot read %s: %s (install libjs-dygraphs)", path, why);
+        return web_reply_error(req, MHD_HTTP_NOT_FOUND, E_NOT_AVAILABLE,
+                               "cannot read %s: %s (install libjs-dygraphs)", path, why);
+    }
+    web_asset_t asset = {f->name, f->content_type, f->bytes, f->len};
+    return serve(req, &asset);
 }
 
 bool web_static_route(const web_request_t *req, enum MHD_Result *result)
@@ -51,7 +137,13 @@ bool web_static_route(const web_request_t *req, enum MHD_Result *result)
     if (is_device_page(req->url)) {
         asset = find_asset("index.html");
     } else if (strncmp(req->url, STATIC_PREFIX, strlen(STATIC_PREFIX)) == 0) {
-        asset = find_asset(req->url + strlen(STATIC_PREFIX));
+        const char *name = req->url + strlen(STATIC_PREFIX);
+        system_file_t *file = find_system_file(name);
+        if (file != NULL) {
+            *result = serve_system_file(req, file);
+            return true;
+        }
+        asset = find_asset(name);
     }
     if (asset == NULL) {
         return false;

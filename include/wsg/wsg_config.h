@@ -63,5 +63,9 @@ bool wsg_config_target_ok(const wsg_config_t *cfg, float target_mm);
 bool wsg_config_length_ok(const wsg_config_t *cfg, float mm);
 /* Soft limits inside the stroke and in order; false with a reason. */
 bool wsg_config_check(const wsg_config_t *cfg, const char **why);
+/* A character a device text (the tag) may hold: printable ASCII (0x20 to
+ * 0x7E) but '"'. GCL's TAG? quotes the tag on one line, so CR, LF or '"'
+ * would let a tag forge or end a reply; no front end may store one. */
+bool wsg_config_text_char_ok(char c);
 
 #endif

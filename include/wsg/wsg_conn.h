@@ -60,6 +60,9 @@ typedef struct wsg_proto_driver {
     /* true while the driver keeps the connection busy (subscriptions) */
     bool (*busy)(const wsg_conn_t *c);
     void (*close)(wsg_conn_t *c, wsg_close_reason_t why);
+    /* true while the driver holds part of a message: a line without its
+     * end, a frame cut short (NULL: never) */
+    bool (*partial)(const wsg_conn_t *c);
 } wsg_proto_driver_t;
 
 /* The protocol drivers a connection opened without one may choose from, in
@@ -77,6 +80,10 @@ void wsg_conn_input(wsg_conn_t *c, const uint8_t *bytes, size_t len);
 void wsg_conn_end_datagram(wsg_conn_t *c);
 /* True once the protocol said goodbye: the port closes after flushing. */
 bool wsg_conn_wants_close(const wsg_conn_t *c);
+/* True once the protocol announced the connection's end: GCL's BYE (which
+ * also wants the close) or the binary 0x07 (after which the client closes).
+ * Closing it then is WSG_CLOSE_ANNOUNCED: no fault, no FAST STOP. */
+bool wsg_conn_close_announced(const wsg_conn_t *c);
 /* Detaches it from the device (no completion reaches it afterwards) and,
  * for a stream dropped without goodbye, raises FAST STOP when configured. */
 void wsg_conn_close(wsg_conn_t *c, wsg_close_reason_t why);
@@ -89,6 +96,11 @@ wsg_device_t *wsg_conn_device(const wsg_conn_t *c);
  * not forget it to make room for another peer. */
 bool wsg_conn_busy(const wsg_conn_t *c);
 bool wsg_conn_owns_motion(const wsg_conn_t *c);
+/* Whole messages (lines, frames) it has taken in so far, and whether it
+ * holds part of the next one: a port tells a connection stuck in the middle
+ * of a message from one that is quiet between commands. */
+uint32_t wsg_conn_messages_in(const wsg_conn_t *c);
+bool wsg_conn_partial_input(const wsg_conn_t *c);
 /* The owner a driver starts long operations with: its done() event reaches
  * the driver's done(); closing the connection detaches it. */
 wsg_owner_t *wsg_conn_owner(wsg_conn_t *c);

@@ -104,6 +104,16 @@ wsg_status_t wsg_op_home(wsg_device_t *dev, wsg_owner_t *owner, const wsg_home_a
 wsg_status_t wsg_op_move(wsg_device_t *dev, wsg_owner_t *owner, const wsg_move_args_t *args);
 wsg_status_t wsg_op_grip(wsg_device_t *dev, wsg_owner_t *owner, const wsg_grip_args_t *args);
 wsg_status_t wsg_op_release(wsg_device_t *dev, wsg_owner_t *owner, const wsg_release_args_t *args);
+/* Velocity mode (a script's mc.speed(v), docs/scripting.md): drives the jaws
+ * at v mm/s, positive opening, |v| clamped to the model's maximum, 0 holding
+ * the position, with the force limit setting (a new limit applies at once),
+ * pushing on whatever stops them (SF_BLOCKED_± while they push) or stopping
+ * at a soft limit. It lasts until STOP, FAST STOP, any motion or a new
+ * velocity. E_NOT_INITIALIZED, E_ACCESS_DENIED (FAST STOP),
+ * E_ALREADY_RUNNING (an operation runs), E_INVALID_PARAMETER (NaN). */
+wsg_status_t wsg_op_velocity(wsg_device_t *dev, float speed_mm_s);
+/* True in velocity mode; *speed_mm_s (may be NULL) its commanded speed. */
+bool wsg_device_velocity_mode(const wsg_device_t *dev, float *speed_mm_s);
 /* Manual 3.2.1: ends a movement (its owner hears E_CMD_ABORTED); a grip
  * result (HOLDING, NO PART, PART LOST) stays. */
 wsg_status_t wsg_op_stop(wsg_device_t *dev);
@@ -133,8 +143,12 @@ typedef enum {
 } wsg_setting_t;
 
 wsg_status_t wsg_op_set(wsg_device_t *dev, wsg_setting_t which, float value);
-/* The device tag (descriptor string); E_RANGE_ERROR when too long. */
-wsg_status_t wsg_op_set_tag(wsg_device_t *dev, const char *tag);
+/* The device tag (descriptor string): len bytes, no terminating NUL needed.
+ * The one check of every front end: E_RANGE_ERROR when longer than
+ * WSG_CONFIG_STRING_MAX - 1 characters, E_INVALID_PARAMETER for a byte
+ * wsg_config_text_char_ok() refuses (CR, LF, NUL, '"', beyond ASCII); the
+ * tag keeps its value on an error. */
+wsg_status_t wsg_op_set_tag(wsg_device_t *dev, const char *tag, size_t len);
 
 /* Fault injection (control channel): the next command called `name` (upper
  * case) fails with status before it runs. A reset disarms it. */
@@ -176,7 +190,6 @@ typedef struct {
     const wsg_owner_t *motion_owner;
     uint64_t motion_started_us;
     float motion_target_mm, motion_speed_mm_s, motion_force_n;
-    bool motion_abort_requested;
     /* grip */
     wsg_grip_state_t grip_state;
     int8_t grip_direction;

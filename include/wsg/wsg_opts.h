@@ -24,10 +24,22 @@
 #define WSG_FINGER_DATA_MAX 84
 #endif
 
+/* The custom command channel of user scripts (docs/scripting.md): binary
+ * requests with an ID a script registered wait in a per-device queue of
+ * this many requests, each with up to WSG_SCRIPT_REQUEST_MAX payload bytes
+ * (the binary protocol's longest payload). A full queue answers E_OVERRUN. */
+#ifndef WSG_SCRIPT_QUEUE_DEPTH
+#define WSG_SCRIPT_QUEUE_DEPTH 16
+#endif
+#ifndef WSG_SCRIPT_REQUEST_MAX
+#define WSG_SCRIPT_REQUEST_MAX 256
+#endif
+
 /* Storage the port provides per device and per connection (bytes). The
- * core checks at compile time that its private state fits. */
+ * core checks at compile time that its private state fits; the device's
+ * grows with the script request queue. */
 #ifndef WSG_DEVICE_STORAGE_BYTES
-#define WSG_DEVICE_STORAGE_BYTES 3072
+#define WSG_DEVICE_STORAGE_BYTES (3072 + WSG_SCRIPT_QUEUE_DEPTH * (WSG_SCRIPT_REQUEST_MAX + 16))
 #endif
 #ifndef WSG_CONN_STORAGE_BYTES
 #define WSG_CONN_STORAGE_BYTES 768

@@ -29,11 +29,16 @@ typedef struct wsg_peer {
     wsg_peer_addr_t addr;
     struct wsg_peer *prev, *next; /* the table's peers, oldest first; free list */
     uint64_t last_seen_us;
-    uint64_t refill_us;    /* when tokens were last topped up */
-    uint32_t credit;       /* reply bytes it may still be sent */
-    uint32_t tokens_milli; /* thousandths of a datagram it may still be sent now */
-    uint32_t dropped;      /* messages dropped over its budget */
-    void *port_ctx;        /* the port's own data for this peer */
+    uint64_t refill_us;       /* when tokens were last topped up */
+    uint32_t credit;          /* bytes it may still be sent (replies and updates) */
+    uint32_t tokens_milli;    /* thousandths of a datagram it may still be sent now */
+    uint32_t dropped;         /* replies dropped over its budget or rate */
+    uint32_t updates_dropped; /* updates dropped over its budget or rate */
+    /* Set by the port (its allow list): this peer's updates are the real
+     * device's, paid by no budget and not ended by its silence, since a
+     * subscriber that never speaks again looks exactly like a spoofed one. */
+    bool stream_free;
+    void *port_ctx; /* the port's own data for this peer */
 } wsg_peer_t;
 
 typedef enum {
@@ -49,12 +54,15 @@ typedef struct {
     unsigned max_peers;
     uint64_t timeout_us; /* silent this long: forgotten, unless running a motion */
     uint64_t recent_us;  /* heard this recently: never pushed out for a new peer */
-    /* Reply budget: each datagram earns reply_multiple times its size in
-     * reply bytes, header_bytes counted on both sides, capped at credit_max.
-     * reply_multiple 0: no byte budget. */
+    /* Byte budget: each datagram earns reply_multiple times its size in
+     * bytes the device may send it, header_bytes counted on both sides,
+     * capped at credit_max. Replies and updates spend it alike, except
+     * that updates leave reply_reserve bytes for the replies the peer waits
+     * for (a stream never starves them). reply_multiple 0: no budget. */
     uint32_t reply_multiple;
     uint32_t header_bytes;
     uint32_t credit_max;
+    uint32_t reply_reserve;
     /* At most burst datagrams at once, refilled at rate per second
      * (updates included). burst 0: no rate limit. */
     uint32_t burst;
@@ -65,8 +73,8 @@ typedef struct {
 #define WSG_PEER_RULES_DEFAULT(peers, timeout_s)                                                   \
     {                                                                                              \
         .max_peers = (peers), .timeout_us = (uint64_t)(timeout_s)*1000000u, .recent_us = 2000000u, \
-        .reply_multiple = 8u, .header_bytes = 28u, .credit_max = 64u * 1024u, .burst = 1000u,      \
-        .rate_per_s = 1000u,                                                                       \
+        .reply_multiple = 8u, .header_bytes = 28u, .credit_max = 64u * 1024u,                      \
+        .reply_reserve = 256u, .burst = 1000u, .rate_per_s = 1000u,                                \
     }
 
 typedef struct wsg_peer_table wsg_peer_table_t;
@@ -112,13 +120,16 @@ void wsg_peers_add(wsg_peer_table_t *t, wsg_peer_t *p, const wsg_peer_addr_t *ad
 /* The peer sent a datagram of len bytes: it earns reply credit. */
 void wsg_peers_heard(wsg_peer_table_t *t, wsg_peer_t *p, size_t len);
 /* Whether a message of len bytes may go to the peer now (and pays for it):
- * replies within its credit and rate, updates within its rate and only
- * while it is not silent longer than the timeout. A refusal counts in
- * p->dropped (1 after the first: the port may log it). */
+ * replies within its credit and rate; updates within its credit above the
+ * reserve, its rate, and only while it is not silent longer than the
+ * timeout (a stream_free peer's updates: within its rate only). A refused
+ * reply counts in p->dropped, a refused update in p->updates_dropped (1
+ * after the first: the port may log it). */
 bool wsg_peers_may_send(wsg_peer_table_t *t, wsg_peer_t *p, size_t len, wsg_msg_kind_t kind);
 
 /* Forgets peers that said goodbye, whose connection the device closed, or
- * that stayed silent too long without running a motion. */
+ * that stayed silent too long without running a motion (or, stream_free,
+ * without a subscription either). */
 void wsg_peers_reap(wsg_peer_table_t *t);
 /* When the next peer falls silent for too long (UINT64_MAX: none). */
 uint64_t wsg_peers_next_deadline_us(const wsg_peer_table_t *t);

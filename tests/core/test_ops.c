@@ -202,12 +202,31 @@ START_TEST(settings_are_device_state)
     ck_assert_int_eq(wsg_op_set(&h_dev, WSG_SET_FORCE_LIMIT, 30.0f), E_SUCCESS);
     ck_assert_int_eq(wsg_op_set(&h_dev, WSG_SET_SOFT_MINUS, 60.0f), E_SUCCESS);
     ck_assert_int_eq(wsg_op_set(&h_dev, WSG_SET_SOFT_PLUS, 50.0f), E_RANGE_ERROR);
-    ck_assert_int_eq(wsg_op_set_tag(&h_dev, "cell 7"), E_SUCCESS);
+    ck_assert_int_eq(wsg_op_set_tag(&h_dev, "cell 7", 6), E_SUCCESS);
     ASK_EQ("TAG?", "TAG=\"cell 7\"");
-    char too_long[WSG_CONFIG_STRING_MAX + 8];
-    memset(too_long, 'x', sizeof(too_long) - 1);
-    too_long[sizeof(too_long) - 1] = '\0';
-    ck_assert_int_eq(wsg_op_set_tag(&h_dev, too_long), E_RANGE_ERROR);
+    char too_long[WSG_CONFIG_STRING_MAX];
+    memset(too_long, 'x', sizeof(too_long));
+    ck_assert_int_eq(wsg_op_set_tag(&h_dev, too_long, sizeof(too_long)), E_RANGE_ERROR);
+    ck_assert_int_eq(wsg_op_set_tag(&h_dev, too_long, sizeof(too_long) - 1), E_SUCCESS);
+}
+END_TEST
+
+/* The tag is checked once, here, for every front end (issue 18): a byte
+ * that could end or forge a GCL reply line is refused and the tag stays. */
+START_TEST(tag_refuses_what_could_forge_a_reply)
+{
+    ck_assert_int_eq(wsg_op_set_tag(&h_dev, "cell-7", 6), E_SUCCESS);
+    static const char *const bad[] = {"a\nFIN HOME", "a\rb",           "say \"hi\"", "tab\there",
+                                      "caf\xc3\xa9", "bad \xff utf-8", "del\x7f"};
+    for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); i++) {
+        ck_assert_int_eq(wsg_op_set_tag(&h_dev, bad[i], strlen(bad[i])), E_INVALID_PARAMETER);
+    }
+    ck_assert_int_eq(wsg_op_set_tag(&h_dev, "a\0b", 3), E_INVALID_PARAMETER); /* a NUL inside */
+    ASK_EQ("TAG?", "TAG=\"cell-7\"");
+    const char *printable = " ~!#$%&'()*+,-./09:;<=>?@AZ[\\]^_`az{|}";
+    ck_assert_int_eq(wsg_op_set_tag(&h_dev, printable, strlen(printable)), E_SUCCESS);
+    ck_assert_str_eq(wsg_device_snapshot(&h_dev)->config->tag, printable);
+    ck_assert_int_eq(wsg_op_set_tag(&h_dev, "", 0), E_SUCCESS);
 }
 END_TEST
 
@@ -348,6 +367,7 @@ Suite *ops_suite(void)
     tcase_add_checked_fixture(policy, probe_setup, h_teardown);
     tcase_add_test(policy, max_force_honours_overdrive_once);
     tcase_add_test(policy, settings_are_device_state);
+    tcase_add_test(policy, tag_refuses_what_could_forge_a_reply);
     tcase_add_test(policy, page_settings_are_device_state);
     suite_add_tcase(s, policy);
     TCase *inst = tcase_create("instances");

@@ -12,13 +12,13 @@ import sys
 import tempfile
 import unittest
 
-from gclclient import GclError, Wsgsim, wait_for_reply
+from gclclient import GclError, Wsgsim, wait_for, wait_for_reply
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
 import wsgbinproto as wb  # noqa: E402
 
 E_SUCCESS, E_NOT_AVAILABLE, E_CHECKSUM_ERROR, E_CMD_UNKNOWN = 0, 1, 11, 14
-E_CMD_ABORTED, E_CMD_PENDING = 19, 26
+E_CMD_ABORTED, E_INVALID_PARAMETER, E_CMD_PENDING = 19, 24, 26
 SF_FAST_STOP = 1 << 12
 STEP_MS = 50
 READ_S = 0.05  # frames of a step are in the socket before the STEP reply
@@ -81,6 +81,10 @@ class BinaryCase(unittest.TestCase):
                 client.received.append(frame)
         raise GclError("no frame 0x%02X within %d ms" % (frame_id, limit_ms))
 
+    def closed_lines(self):
+        return [line.rstrip("\n") for line in self.sim.drain_log().splitlines()
+                if ": closed" in line]
+
     def home(self, client):
         self.reply(client, 0x20, b"\x01", E_CMD_PENDING)
         self.step_until(client, 0x20, E_SUCCESS)
@@ -131,6 +135,18 @@ class TcpTransport(BinaryCase):
         self.reply(binary, 0x51, b"lab")
         self.assertEqual(self.reply(binary, 0x52).values, b"lab")
         self.assertEqual(self.gcl().command("TAG?"), 'TAG="lab"')
+
+    def test_a_tag_cannot_forge_a_gcl_reply(self):
+        """Issue 18: 0x51 with a line break, a quote or a byte beyond ASCII
+        is refused (E_INVALID_PARAMETER), so TAG? stays one line."""
+        self.start()
+        binary = self.bin_tcp()
+        gcl = self.gcl()
+        for tag in (b"a\nFIN HOME", b"a\rFIN HOME", b'a" FIN', b"bad \xff utf-8"):
+            self.reply(binary, 0x51, tag, status=E_INVALID_PARAMETER)
+        self.assertEqual(gcl.command("TAG?"), 'TAG="wsgsim"')
+        self.assertEqual(gcl.command("TAG=x"), "ERR TAG 15")  # GCL has no setter
+        self.assertEqual(gcl.command("POS?"), "POS=55.0")  # no line was left over
 
 
 class Tools(BinaryCase):
@@ -203,15 +219,15 @@ class Drivers(BinaryCase):
         self.assertEqual(self.reply(ros, 0x41, query_payload()).values, b"\x04")  # HOLDING
         self.reply(ros, 0x26, struct.pack("<ff", 70.0, 50.0), E_CMD_PENDING)
         self.step_until(ros, 0x26, E_SUCCESS)
-        # stop during a move: the stop's reply, then the aborted final
+        # stop during a move: the aborted final, then the stop's reply
         self.reply(ros, 0x21, move_payload(10.0, 20.0), E_CMD_PENDING)
         self.ctl("STEP(100)")
         ros.send_request(0x22)
-        first = ros.read_frame(30)
-        self.assertEqual((first.id, first.status), (0x22, E_SUCCESS))
-        self.step_until(ros, 0x21, E_CMD_ABORTED)
-        self.assertEqual(ros.received, [])
+        frames = [ros.read_frame(30) for _ in range(2)]
+        self.assertEqual([(f.id, f.status) for f in frames],
+                         [(0x21, E_CMD_ABORTED), (0x22, E_SUCCESS)])
         self.reply(ros, 0x07)
+        self.assertEqual(ros.received, [])
 
     def test_umi_like_start(self):
         self.start()
@@ -223,6 +239,10 @@ class Drivers(BinaryCase):
         self.reply(umi, 0x07)
         self.reply(umi, 0x31, status=16)  # E_ACCESS_DENIED after the announcement
         umi.close()
+        # the log says what happened: closed after 0x07, not "without BYE"
+        log = wait_for("the close in the log", lambda: self.closed_lines())
+        self.assertEqual(len(log), 1, log)
+        self.assertTrue(log[0].endswith(": closed after the disconnect announcement (0x07)"), log)
         self.assertEqual(self.gcl().command("SYSFLAGS[12]?"), "SYSFLAGS[12]=0")
 
     def test_drake_like_udp_with_reply_port(self):
@@ -240,7 +260,73 @@ class Drivers(BinaryCase):
         self.reply(drake, 0x20, b"\x00", E_CMD_PENDING)
         self.step_until(drake, 0x20, E_SUCCESS)
         self.reply(drake, 0x38)
-        self.assertEqual(len(self.reply(drake, 0x53).values), 32)
+        limits = struct.unpack("<8f", self.reply(drake, 0x53).values)
+        # Drake clamps every force command to the overdrive force: the WSG
+        # 50-110 has no overdrive mode, so it is the nominal maximum, not 0
+        self.assertEqual((limits[6], limits[7]), (80.0, 80.0))
+
+
+class StopOrder(BinaryCase):
+    """A stopped command's final frame goes out at once, before the reply
+    to the command that stopped it (docs/binary-protocol.md)."""
+
+    def slow_move(self, client):
+        self.home(client)
+        self.reply(client, 0x21, move_payload(10.0, 5.0), E_CMD_PENDING)
+        self.ctl("STEP(100)")
+        self.assertIsNone(client.read_frame(READ_S))
+
+    def frames(self, client, count):
+        frames = [client.read_frame(30) for _ in range(count)]
+        self.assertNotIn(None, frames)
+        self.assertIsNone(client.read_frame(READ_S))
+        return [(f.id, f.status) for f in frames]
+
+    def test_stop_and_ack_in_one_write(self):
+        self.start()
+        binary = self.bin_tcp()
+        self.slow_move(binary)
+        binary.send(wb.encode_frame(0x22) + wb.encode_frame(0x24, b"ack"))
+        self.assertEqual(self.frames(binary, 3),
+                         [(0x21, E_CMD_ABORTED), (0x22, E_SUCCESS), (0x24, E_SUCCESS)])
+
+    def test_fast_stop_and_ack_in_one_write(self):
+        self.start()
+        binary = self.bin_tcp()
+        self.slow_move(binary)
+        binary.send(wb.encode_frame(0x23) + wb.encode_frame(0x24, b"ack"))
+        self.assertEqual(self.frames(binary, 3),
+                         [(0x21, E_CMD_ABORTED), (0x23, E_SUCCESS), (0x24, E_SUCCESS)])
+
+    def test_umi_stop_then_a_strict_call(self):
+        """UMI's stop_cmd() skips other IDs until the 0x22 reply; every other
+        call takes the next frame as its reply."""
+        self.start()
+        umi = self.bin_tcp()
+        self.slow_move(umi)
+        self.reply(umi, 0x22)
+        self.ctl("STEP(10)")  # the next control steps: nothing more is due
+        umi.send_request(0x24, b"ack")
+        frame = umi.read_frame(30)
+        self.assertEqual((frame.id, frame.status), (0x24, E_SUCCESS), wb.describe(frame))
+
+    def test_gcl_stop_ends_a_binary_move_at_once(self):
+        self.start()
+        binary = self.bin_tcp()
+        self.slow_move(binary)
+        self.assertEqual(self.gcl().command("STOP()"), "ACK STOP")
+        self.assertEqual(self.frames(binary, 1), [(0x21, E_CMD_ABORTED)])
+
+    def test_gcl_stop_answers_after_the_aborted_move(self):
+        self.start()
+        gcl = self.gcl()
+        self.assertEqual(gcl.command("HOME()"), "ACK HOME")
+        self.ctl("STEP(5000)")
+        self.assertEqual(gcl.read_line(), "FIN HOME")
+        self.assertEqual(gcl.command("MOVE(10, 5)"), "ACK MOVE")
+        self.ctl("STEP(100)")
+        self.assertEqual(gcl.command("STOP()"), "ERR MOVE 19")
+        self.assertEqual(gcl.read_line(), "ACK STOP")
 
 
 class UdpBudget(BinaryCase):

@@ -23,7 +23,7 @@ def doc_scenario_example():
     with open(os.path.join(ROOT, "docs", "simctl.md")) as f:
         doc = f.read()
     section = doc[doc.index("## Scenarios"):]
-    match = re.search(r"```\n(.*?)```", section, re.S)
+    match = re.search(r"```(?:text)?\n(.*?)```", section, re.S)
     return match.group(1)
 
 

@@ -13,8 +13,8 @@
  * holds). A request's first byte picks the method (bits 0-2), whether the
  * peer may use the simulation routes (bit 3) and the simulated time to run
  * afterwards (bits 4-7, index into run_ms); then the URL up to the first
- * '\n', then the body (NUL bytes included, at most WEB_BODY_MAX bytes).
- * Byte 0 of the input picks the number of devices (bits 0-1: 1..4). */
+ * '\n' (a query after '?' gives the GET arguments), then the body (NUL bytes included, at most
+ * WEB_BODY_MAX bytes). Byte 0 of the input picks the number of devices (bits 0-1: 1..4). */
 #include <stdlib.h>
 #include <string.h>
 
@@ -45,8 +45,12 @@ struct MHD_Response {
     MHD_ContentReaderFreeCallback reader_free;
 };
 
-/* The fake connection: what the route queued on it. */
+/* The fake connection: its query arguments ("k=v" strings, as MHD splits
+ * and decodes them) and what the route queued on it. */
+#define ARGS_MAX 8
 struct MHD_Connection {
+    const char *args[ARGS_MAX];
+    unsigned arg_count;
     struct MHD_Response *queued;
     unsigned status;
     bool suspended;
@@ -128,6 +132,33 @@ enum MHD_Result MHD_queue_response(struct MHD_Connection *connection, unsigned i
     return MHD_YES;
 }
 
+const char *MHD_lookup_connection_value(struct MHD_Connection *connection, enum MHD_ValueKind kind,
+                                        const char *key)
+{
+    size_t key_len = key != NULL ? strlen(key) : 0;
+    for (unsigned i = 0; kind == MHD_GET_ARGUMENT_KIND && i < connection->arg_count; i++) {
+        const char *arg = connection->args[i];
+        if (key != NULL && strncmp(arg, key, key_len) == 0 && arg[key_len] == '=') {
+            return arg + key_len + 1;
+        }
+    }
+    return NULL; /* no header reaches the routes: the server's side checks them */
+}
+
+/* "path?a=1&b=2": the URL cut at '?' and its arguments split at '&'. */
+static void split_query(char *url, struct MHD_Connection *connection)
+{
+    char *query = strchr(url, '?');
+    if (query == NULL) {
+        return;
+    }
+    *query++ = '\0';
+    for (char *arg = strtok(query, "&"); arg != NULL && connection->arg_count < ARGS_MAX;
+         arg = strtok(NULL, "&")) {
+        connection->args[connection->arg_count++] = arg;
+    }
+}
+
 void MHD_suspend_connection(struct MHD_Connection *connection)
 {
     connection->suspended = true;
@@ -204,7 +235,8 @@ static void run_request(const uint8_t *p, size_t n)
     url[url_len] = '\0';
     memcpy(body, p + body_at, body_len);
     body[body_len] = '\0';
-    struct MHD_Connection connection = {NULL, 0, false};
+    struct MHD_Connection connection = {.queued = NULL, .arg_count = 0};
+    split_query(url, &connection);
     web_request_t req = {&connection, methods[p[0] & 7u], url, body, body_len, (p[0] & 8u) != 0};
     finish_request(&connection, web_routes_dispatch(&req));
     if (!simclock_paused()) {

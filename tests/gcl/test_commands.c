@@ -340,8 +340,9 @@ START_TEST(verbose_state_errors)
     ASK_EQ("FSACK()", "ACK FSACK");
     ASK_EQ("HOME()", "ACK HOME");
     ASK_EQ("HOME()", "ERR HOME 4 The data acquisition is already running");
-    ASK_EQ("STOP()", "ACK STOP");
-    AWAIT("ERR HOME 19 Command execution was aborted by the user", 5);
+    SEND("STOP()");
+    EXPECT("ERR HOME 19 Command execution was aborted by the user");
+    EXPECT("ACK STOP");
 }
 END_TEST
 

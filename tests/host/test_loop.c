@@ -11,6 +11,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include "host_suites.h"
 #include "loop.h"
 #include "sim/clock.h"
 
@@ -334,6 +335,8 @@ static Suite *loop_suite(void)
 int main(void)
 {
     SRunner *runner = srunner_create(loop_suite());
+    srunner_add_suite(runner, net_allow_suite());
+    srunner_add_suite(runner, port_layout_suite());
     srunner_run_all(runner, CK_ENV);
     int failed = srunner_ntests_failed(runner);
     srunner_free(runner);

@@ -27,10 +27,20 @@ static void note_forgetting(void *ctx, wsg_peer_t *p, wsg_peer_forget_t why)
 
 static const wsg_peer_port_t port = {.forgetting = note_forgetting};
 
+/* With budgeted set, messages go out as the host's and the board's ports
+ * send them: only what wsg_peers_may_send() allows. */
+static bool budgeted;
+static unsigned sent_updates;
+static unsigned long sent_bytes; /* headers counted, as the budget counts them */
+static unsigned long heard_bytes;
+
 static void count_write(void *ctx, const char *bytes, size_t len, wsg_msg_kind_t kind)
 {
-    (void)ctx;
-    (void)kind;
+    if (budgeted && !wsg_peers_may_send(&table, ctx, len, kind)) {
+        return;
+    }
+    sent_updates += kind == WSG_MSG_UPDATE ? 1u : 0u;
+    sent_bytes += len + table.rules.header_bytes;
     sent++;
     size_t kept = len > 0 && bytes[len - 1] == '\n' ? len - 1u : len;
     kept = kept < sizeof(last_sent) ? kept : sizeof(last_sent) - 1u;
@@ -48,6 +58,10 @@ static void peers_setup(void)
     memset(forgotten, 0, sizeof(forgotten));
     sent = 0;
     last_sent[0] = '\0';
+    budgeted = false;
+    sent_updates = 0;
+    sent_bytes = 0;
+    heard_bytes = 0;
 }
 
 static void peers_teardown(void)
@@ -81,6 +95,7 @@ static wsg_peer_t *datagram_from(unsigned n, const char *text)
         wsg_conn_open(&p->conn, &h_dev, &wsg_gcl_driver, WSG_TRANSPORT_DATAGRAM, &io, p);
     }
     size_t len = strlen(text);
+    heard_bytes += len + table.rules.header_bytes;
     wsg_peers_heard(&table, p, len);
     wsg_conn_input(&p->conn, (const uint8_t *)text, len);
     wsg_conn_end_datagram(&p->conn);
@@ -153,7 +168,90 @@ START_TEST(replies_are_bounded_by_what_the_peer_sent)
     }
     ck_assert_uint_eq(allowed, 7);
     ck_assert_uint_eq(p->dropped, 1);
-    ck_assert(wsg_peers_may_send(&table, p, 178, WSG_MSG_UPDATE)); /* updates are not */
+    ck_assert(!wsg_peers_may_send(&table, p, 10, WSG_MSG_UPDATE)); /* nor updates */
+    ck_assert_uint_eq(p->updates_dropped, 1);
+}
+END_TEST
+
+/* Issue 18, point 1: one spoofed datagram subscribing to a stream made the
+ * device send to its victim for the whole peer timeout (600 datagrams/s
+ * for 60 s). Updates now pay from the same budget as replies. */
+START_TEST(a_one_shot_subscription_earns_at_most_its_budget)
+{
+    budgeted = true;
+    datagram_from(1, "AUTOSEND(\"POS\",10)\n");
+    advance_ms(60000);
+    wsg_peers_reap(&table);
+    ck_assert_uint_gt(sent_updates, 0); /* a stream that was paid for */
+    ck_assert_uint_le(sent_bytes, 8u * heard_bytes - table.rules.reply_reserve);
+    ck_assert_uint_lt(sent_updates, 20);
+}
+END_TEST
+
+START_TEST(a_stream_pauses_when_spent_and_resumes_when_the_peer_talks)
+{
+    budgeted = true;
+    wsg_peer_t *p = datagram_from(1, "AUTOSEND(\"POS\",10)\n");
+    advance_ms(1000);
+    unsigned first = sent_updates;
+    advance_ms(1000);
+    ck_assert_uint_eq(sent_updates, first); /* spent: paused */
+    ck_assert_uint_gt(p->updates_dropped, 0);
+    ck_assert(wsg_conn_busy(&p->conn)); /* still subscribed */
+    datagram_from(1, "POS?\n");
+    advance_ms(1000);
+    ck_assert_uint_gt(sent_updates, first);
+}
+END_TEST
+
+/* A client that talks as it listens (Drake re-commands, a GCL client polls)
+ * keeps its stream: 5 bytes a period paid for the 11-byte update. */
+START_TEST(a_peer_that_talks_keeps_its_stream)
+{
+    budgeted = true;
+    datagram_from(1, "AUTOSEND(\"POS\",20)\n");
+    unsigned replies = 0;
+    for (unsigned i = 0; i < 100; i++) { /* 2 s, a POS? every 20 ms */
+        advance_ms(20);
+        datagram_from(1, "POS?\n");
+        replies++;
+    }
+    /* one update per period, every reply */
+    ck_assert_uint_ge(sent_updates, 99);
+    ck_assert_uint_eq(sent - sent_updates, replies + 1u);
+}
+END_TEST
+
+START_TEST(updates_leave_the_reserve_for_replies)
+{
+    budgeted = true;
+    wsg_peer_t *p = datagram_from(1, "AUTOSEND(\"POS\",10)\n");
+    advance_ms(2000);
+    ck_assert_uint_gt(p->updates_dropped, 0);
+    ck_assert_uint_ge(p->credit, table.rules.reply_reserve - 40u);
+    ck_assert(wsg_peers_may_send(&table, p, 20, WSG_MSG_REPLY)); /* an answer still fits */
+}
+END_TEST
+
+/* --udp-stream-allow: the port marks the peer; its stream is the real
+ * device's, paid by nothing and kept while it is silent. */
+START_TEST(a_stream_free_peer_streams_while_silent)
+{
+    budgeted = true;
+    wsg_peer_t *p = datagram_from(1, "AUTOSEND(\"POS\",10)\n");
+    p->stream_free = true;
+    for (unsigned s = 0; s < 2u * TIMEOUT_S; s++) {
+        advance_ms(1000);
+        wsg_peers_reap(&table);
+    }
+    ck_assert_uint_eq(table.known, 1);
+    ck_assert_uint_ge(sent_updates, 100u * 2u * TIMEOUT_S);
+    ck_assert_uint_eq(p->updates_dropped, 0);
+    ck_assert(!wsg_peers_may_send(&table, p, 2000, WSG_MSG_REPLY)); /* replies stay budgeted */
+    datagram_from(1, "AUTOSEND(\"POS\",0)\n"); /* unsubscribed and silent: forgotten */
+    h_now_us += (TIMEOUT_S + 1u) * 1000000u;
+    wsg_peers_reap(&table);
+    ck_assert_uint_eq(table.known, 0);
 }
 END_TEST
 
@@ -169,6 +267,7 @@ END_TEST
 
 START_TEST(datagrams_are_rate_limited_in_simulated_time)
 {
+    table.rules.reply_multiple = 0u; /* no byte budget: the rate alone */
     wsg_peer_t *p = datagram_from(1, "POS?\n");
     unsigned burst = 0;
     while (wsg_peers_may_send(&table, p, 10, WSG_MSG_UPDATE)) {
@@ -184,7 +283,8 @@ END_TEST
 
 START_TEST(a_slow_rate_earns_its_tokens_however_often_it_is_asked)
 {
-    table.rules.rate_per_s = 10; /* one datagram per 100 ms */
+    table.rules.reply_multiple = 0u; /* no byte budget: the rate alone */
+    table.rules.rate_per_s = 10;     /* one datagram per 100 ms */
     wsg_peer_t *p = datagram_from(1, "POS?\n");
     while (wsg_peers_may_send(&table, p, 10, WSG_MSG_UPDATE)) {
     }
@@ -199,6 +299,7 @@ END_TEST
 
 START_TEST(a_silent_peer_gets_no_updates_and_is_forgotten_at_its_deadline)
 {
+    table.rules.reply_multiple = 0u; /* no byte budget: the silence alone */
     wsg_peer_t *p = datagram_from(1, "POS?\n");
     uint64_t heard = h_now_us;
     ck_assert_uint_eq(wsg_peers_next_deadline_us(&table), heard + TIMEOUT_S * 1000000u + 1u);
@@ -302,6 +403,11 @@ Suite *peers_suite(void)
     tcase_add_test(tc, the_least_recently_heard_idle_peer_makes_room);
     tcase_add_test(tc, a_peer_running_a_motion_is_never_pushed_out);
     tcase_add_test(tc, replies_are_bounded_by_what_the_peer_sent);
+    tcase_add_test(tc, a_one_shot_subscription_earns_at_most_its_budget);
+    tcase_add_test(tc, a_stream_pauses_when_spent_and_resumes_when_the_peer_talks);
+    tcase_add_test(tc, a_peer_that_talks_keeps_its_stream);
+    tcase_add_test(tc, updates_leave_the_reserve_for_replies);
+    tcase_add_test(tc, a_stream_free_peer_streams_while_silent);
     tcase_add_test(tc, credit_is_capped);
     tcase_add_test(tc, datagrams_are_rate_limited_in_simulated_time);
     tcase_add_test(tc, a_slow_rate_earns_its_tokens_however_often_it_is_asked);

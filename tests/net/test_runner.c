@@ -71,6 +71,41 @@ START_TEST(step_now_runs_at_once)
 }
 END_TEST
 
+/* Steps at the runner's deadlines up to t (virtual time); returns how many. */
+static unsigned run_deadlines_until(uint64_t t)
+{
+    unsigned steps = 0;
+    while (runner.next_deadline_us <= t) {
+        h_now_us = runner.next_deadline_us;
+        (void)wsg_runner_poll(&runner);
+        steps++;
+    }
+    h_now_us = t;
+    return steps;
+}
+
+/* A client polling POS? every 0.5 ms (faster than the 1 ms control tick)
+ * while a MOVE runs: each query senses the device, and the next control
+ * step used to count its tick from that sense, so no step ever came and
+ * the MOVE never ended (issue 18, point 7). */
+START_TEST(queries_faster_than_the_tick_do_not_postpone_steps)
+{
+    feed("HOME()\n");
+    (void)run_deadlines_until(h_now_us + 5000000u);
+    ck_assert(h_take_line(&h_main, "FIN HOME"));
+    feed("MOVE(50,100)\n"); /* about 0.5 s */
+    uint64_t start = h_now_us;
+    unsigned steps = 0;
+    for (uint64_t t = start + 500u; t <= start + 1000000u; t += 500u) {
+        steps += run_deadlines_until(t);
+        feed("POS?\n");
+        (void)wsg_runner_poll(&runner); /* the host ticks a device fed input at once */
+    }
+    ck_assert(h_take_line(&h_main, "FIN MOVE"));
+    ck_assert_uint_ge(steps, 450u); /* one per ms of the motion, as without the queries */
+}
+END_TEST
+
 Suite *runner_suite(void)
 {
     Suite *s = suite_create("runner");
@@ -79,6 +114,7 @@ Suite *runner_suite(void)
     tcase_add_test(tc, input_is_stepped_from_the_next_instant_on);
     tcase_add_test(tc, steps_at_deadlines_until_idle);
     tcase_add_test(tc, step_now_runs_at_once);
+    tcase_add_test(tc, queries_faster_than_the_tick_do_not_postpone_steps);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -6,6 +6,7 @@
 
 #include "fake_device.h"
 #include "unit_suites.h"
+#include "wsg/wsg_bin.h"
 
 /* --- per-session settings --- */
 
@@ -52,8 +53,10 @@ END_TEST
 START_TEST(bye)
 {
     ck_assert(!wsg_conn_wants_close(&h_main.conn));
+    ck_assert(!wsg_conn_close_announced(&h_main.conn));
     ASK_EQ("BYE()", "ACK BYE");
     ck_assert(wsg_conn_wants_close(&h_main.conn));
+    ck_assert(wsg_conn_close_announced(&h_main.conn));
     SEND("POS?"); /* input after BYE is ignored */
     EXPECT_NONE();
 }
@@ -170,9 +173,8 @@ START_TEST(stop_from_another_session)
     ASK_EQ("MOVE(10)", "ACK MOVE");
     advance_ms(100);
     ck_assert_str_eq(ask(&h_other, "STOP()"), "ACK STOP");
+    EXPECT("ERR MOVE 19"); /* at once, to the session that moved */
     EXPECT_NONE();
-    advance_ms(1);
-    EXPECT("ERR MOVE 19"); /* the abort goes to the session that moved */
     expect_no_line(&h_other);
 }
 END_TEST
@@ -403,8 +405,33 @@ static void probe_close(wsg_conn_t *c, wsg_close_reason_t why)
 }
 static const wsg_proto_driver_t probe_driver = {
     "probe",    probe_detect, probe_open,  probe_input, probe_end_datagram,
-    probe_done, probe_busy,   probe_close,
+    probe_done, probe_busy,   probe_close, NULL,
 };
+
+/* Issue 18, point 4: a port tells a connection stuck inside a message (it
+ * may hold a slot forever) from one quiet between commands. */
+START_TEST(a_connection_tells_a_partial_message_from_a_quiet_one)
+{
+    h_open_on(&h_other, &h_dev, &wsg_gcl_driver, WSG_TRANSPORT_STREAM);
+    ck_assert(!wsg_conn_partial_input(&h_other.conn));
+    h_send_bytes(&h_other, "SN", 2);
+    ck_assert(wsg_conn_partial_input(&h_other.conn));
+    ck_assert_uint_eq(wsg_conn_messages_in(&h_other.conn), 0);
+    h_send_bytes(&h_other, "?\nTAG?\n", 7);
+    ck_assert(!wsg_conn_partial_input(&h_other.conn));
+    ck_assert_uint_eq(wsg_conn_messages_in(&h_other.conn), 2);
+    h_discard(&h_other);
+    static const uint8_t cut_frame[] = {0xAA, 0xAA, 0xAA, 0x21, 0xFF, 0xFF};
+    h_open_on(&h_third, &h_dev, &wsg_bin_driver, WSG_TRANSPORT_STREAM);
+    h_send_bytes(&h_third, cut_frame, 2);
+    ck_assert(wsg_conn_partial_input(&h_third.conn)); /* a preamble begun */
+    h_send_bytes(&h_third, cut_frame + 2, sizeof(cut_frame) - 2);
+    ck_assert(wsg_conn_partial_input(&h_third.conn));
+    ck_assert_uint_eq(wsg_conn_messages_in(&h_third.conn), 0);
+    h_close(&h_third, WSG_CLOSE_ANNOUNCED);
+    ck_assert(!wsg_conn_partial_input(&h_third.conn)); /* closed: holds nothing */
+}
+END_TEST
 
 START_TEST(the_first_driver_that_claims_the_first_byte_serves)
 {
@@ -492,6 +519,7 @@ Suite *session_suite(void)
     TCase *drivers = tcase_create("drivers");
     tcase_add_checked_fixture(drivers, h_setup, h_teardown);
     tcase_add_test(drivers, the_first_driver_that_claims_the_first_byte_serves);
+    tcase_add_test(drivers, a_connection_tells_a_partial_message_from_a_quiet_one);
     tcase_add_test(drivers, a_reset_keeps_the_driver_table);
     tcase_add_test(drivers, bytes_no_driver_claims_are_dropped);
     suite_add_tcase(s, drivers);

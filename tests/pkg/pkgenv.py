@@ -1,7 +1,9 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """What the tests/pkg suites share: where the built things are, and how to
 run a program and start a wsgsim (the wsgsim Python package of this tree)."""
+import gzip
 import os
+import re
 import subprocess
 import sys
 
@@ -45,3 +47,19 @@ def gcl_exchange(binary):
     if code != 0:
         raise GclError("%s exited with %s:\n%s" % (binary, code, "".join(sim.log)))
     return replies
+
+
+def man_named_files(page):
+    """The files of the package a man page (.1 or .1.gz) names: its full
+    /usr/.../wsgsim/... paths and the documents (NAME.md, NAME.md.gz) it lists
+    after "The documentation in DIR:", each as an absolute path."""
+    opener = gzip.open if page.endswith(".gz") else open
+    with opener(page, "rt") as f:
+        text = f.read().replace("\\-", "-").replace("\\&", "")
+    text = re.sub(r"\\f[BRIP]", "", text)
+    named = set(re.findall(r"(/usr/[\w./-]*/wsgsim/[\w./-]*[\w])", text))
+    for folder, listing in re.findall(r"documentation in (/[\w./-]+): ([^;]*?\.)\s*$", text,
+                                      re.M | re.S):
+        named.update(os.path.join(folder, name)
+                     for name in re.findall(r"([\w-]+\.md(?:\.gz)?)", listing))
+    return sorted(named)

@@ -3,12 +3,13 @@
 programs run, wsgsim serves GCL, and the installed python3-wsgsim's pytest
 plugin loads by its entry point and passes the documented walkthrough."""
 import glob
+import gzip
 import os
 import subprocess
 import tempfile
 import unittest
 
-from pkgenv import DEB_DIR, PROGRAMS, gcl_exchange, run
+from pkgenv import DEB_DIR, PROGRAMS, gcl_exchange, man_named_files, run
 from walkthrough import run_pytest, write_example
 
 
@@ -51,6 +52,22 @@ class Packages(unittest.TestCase):
         self.assertEqual(len(entry_points), 1)
         self.assertIn("[pytest11]\nwsgsim = wsgsim.pytest_plugin", open(entry_points[0]).read())
 
+    def test_man_pages_name_the_files_the_package_ships(self):
+        """As shipped: the documents dh_compress compressed by their .gz names."""
+        named = {}
+        for name in PROGRAMS:
+            for path in man_named_files(self.path("usr/share/man/man1", name + ".1.gz")):
+                named[path] = name
+        self.assertIn("/usr/share/doc/wsgsim/README.md.gz", named)
+        self.assertIn("/usr/share/wsgsim/finger-bus.dbc", named)
+        for path, page in sorted(named.items()):
+            self.assertTrue(os.path.isfile(self.path(path.lstrip("/"))),
+                            "%s(1) names %s, which the package does not ship" % (page, path))
+        with gzip.open(self.path("usr/share/man/man1/wsgsim.1.gz"), "rt") as f:
+            see_also = f.read().split("SEE ALSO", 1)[1]
+        for program in ("wsgctl", "wsgbin", "fingersim", "wsgplot"):
+            self.assertIn(".BR %s (1)" % program, see_also)
+
     def test_scripts_use_debians_python(self):
         for name in ("wsgctl", "wsgplot", "wsgbin"):
             with open(self.path("usr/bin", name)) as f:  # wsgbin: a link into /usr/share/wsgsim
@@ -58,8 +75,11 @@ class Packages(unittest.TestCase):
 
     def test_fields(self):
         depends = run(["dpkg-deb", "-f", deb("wsgsim"), "Depends"]).stdout
-        for library in ("libcjson1", "libinih1", "libsystemd0", "python3"):
+        for library in ("libcjson1", "libinih1", "libsystemd0", "python3", "libjs-dygraphs"):
             self.assertIn(library, depends)
+        description = run(["dpkg-deb", "-f", deb("wsgsim"), "Description"]).stdout
+        for feature in ("GCL", "binary protocol", "web page"):
+            self.assertIn(feature, description)
         depends = run(["dpkg-deb", "-f", deb("python3-wsgsim"), "Depends"]).stdout
         self.assertIn("wsgsim", depends)
 

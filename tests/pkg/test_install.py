@@ -8,7 +8,7 @@ import subprocess
 import tempfile
 import unittest
 
-from pkgenv import PROGRAMS, ROOT, TIMEOUT, gcl_exchange, run
+from pkgenv import PROGRAMS, ROOT, TIMEOUT, gcl_exchange, man_named_files, run
 
 UNITS = ("wsgsim.service", "wsgsim@.service")
 
@@ -62,16 +62,30 @@ class Install(unittest.TestCase):
         replies = gcl_exchange(os.path.join(bindir, "wsgsim"))
         self.assertEqual(replies[0], "GRIPSTATE=0")
         self.assertEqual(replies[2:], ["FIN HOME", "ACK BYE"])
+        for name in PROGRAMS:
+            page = os.path.join(self.tmp, "usr/share/man/man1", name + ".1")
+            for path in man_named_files(page):
+                self.assertIn(path.lstrip("/"), files, "%s(1) names %s" % (name, path))
         unit = open(os.path.join(self.tmp, "usr/lib/systemd/system/wsgsim@.service")).read()
         self.assertIn("ExecStart=/usr/bin/wsgsim --config /etc/wsgsim/%i.ini", unit)
         make("uninstall", "DESTDIR=" + self.tmp, "PREFIX=/usr")
         self.assertEqual(files_under(self.tmp), [], "uninstall left files behind")
 
+    def test_install_says_how_to_get_the_python_package(self):
+        result = make("install", "DESTDIR=" + self.tmp, "PREFIX=/usr")
+        self.assertIn("python3-wsgsim", result.stdout)
+        self.assertIn("PYTHONPATH=" + os.path.join(ROOT, "python"), result.stdout)
+
     def test_default_prefix_is_usr_local(self):
         make("install", "DESTDIR=" + self.tmp)
         unit = open(os.path.join(self.tmp, "usr/local/lib/systemd/system/wsgsim.service")).read()
-        self.assertIn("ExecStart=/usr/local/bin/wsgsim $WSGSIM_OPTIONS", unit)
+        self.assertIn("ExecStart=/usr/local/bin/wsgsim --save-file %S/wsgsim/saved.ini "
+                      "$WSGSIM_OPTIONS", unit)
         self.assertTrue(os.access(os.path.join(self.tmp, "usr/local/bin/wsgsim"), os.X_OK))
+        named = man_named_files(os.path.join(self.tmp, "usr/local/share/man/man1/wsgsim.1"))
+        self.assertIn("/usr/local/share/doc/wsgsim/README.md", named)
+        for path in named:
+            self.assertTrue(os.path.isfile(self.tmp + path), "wsgsim(1) names " + path)
 
     def test_units_pass_systemd_analyze_verify(self):
         """Installed under a real prefix (no DESTDIR) so that the programs the

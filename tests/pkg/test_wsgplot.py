@@ -1,12 +1,13 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """tools/wsgplot draws a PNG from a short recorded run."""
 import os
+import shutil
 import struct
 import tempfile
 import unittest
 
 from demo_record import record_demo
-from pkgenv import PROGRAMS, WSGSIM, run
+from pkgenv import PROGRAMS, WSGSIM, Wsgsim, run
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
@@ -35,6 +36,76 @@ class Wsgplot(unittest.TestCase):
         self.assertEqual(result.returncode, 1)
         self.assertTrue(result.stderr.startswith("wsgplot: "), result.stderr)
         self.assertIn("AUTOSEND", result.stderr)
+
+
+def record_polled_run(binary, record):
+    """The README's transcript, in short: POS, FORCE and GRIPSTATE asked
+    for, never SPEED, on the paused clock."""
+    with Wsgsim("--part", "40:100", "--record", record, binary=binary, paused=True) as sim:
+        with sim.tcp() as gcl, sim.control() as ctl:
+            gcl.expect("HOME()", "ACK HOME")
+            ctl.step_until(gcl, "FIN HOME")
+            gcl.expect("POS?", "POS=110.0")
+            gcl.expect("GRIP(30)", "ACK GRIP")
+            ctl.step_until(gcl, "FIN GRIP")
+            gcl.expect("GRIPSTATE?", "GRIPSTATE=4")
+            gcl.command("FORCE?")
+            gcl.expect("BYE()", "ACK BYE")
+
+
+def whole_png(test, path):
+    with open(path, "rb") as f:
+        data = f.read()
+    test.assertTrue(data.startswith(PNG_SIGNATURE))
+    test.assertTrue(data.endswith(b"IEND\xaeB`\x82"), "a whole PNG")
+
+
+class WsgplotGaps(unittest.TestCase):
+    """Issue 17, point 3: a series with no samples is an empty panel with a
+    note, and no failure leaves a half-drawn PNG behind."""
+
+    def test_a_series_without_samples_is_an_empty_panel(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            record, png = os.path.join(tmp, "run.txt"), os.path.join(tmp, "run.png")
+            record_polled_run(WSGSIM, record)
+            result = run([PROGRAMS["wsgplot"], record, "-o", png])
+            self.assertEqual(result.returncode, 0, result.stderr)
+            whole_png(self, png)
+            self.assertEqual(sorted(os.listdir(tmp)), ["run.png", "run.txt"])
+
+    def test_values_that_are_no_number_are_no_samples(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            record, png = os.path.join(tmp, "run.txt"), os.path.join(tmp, "run.png")
+            with open(record, "w") as f:
+                f.write("# wsgsim record 1\n0.000000 1.0 s1t > POS=%s\n"
+                        "1.000000 1.0 s1t > POS=20.0\n2.000000 1.0 s1t > FORCE=%s\n"
+                        % ("9" * 400, "9" * 400))
+            result = run([PROGRAMS["wsgplot"], record, "-o", png])
+            self.assertEqual(result.returncode, 0, result.stderr)
+            whole_png(self, png)
+
+    def test_a_failed_drawing_leaves_the_old_png_alone(self):
+        """gnuplot fails after drawing (here: a gnuplot on PATH that runs the
+        real one, then reports failure): the previous PNG stays, no part of
+        the new one is left."""
+        with tempfile.TemporaryDirectory() as tmp:
+            record, png = os.path.join(tmp, "run.txt"), os.path.join(tmp, "run.png")
+            record_demo(WSGSIM, record)
+            with open(png, "wb") as f:
+                f.write(b"the previous picture")
+            failing = os.path.join(tmp, "bin")
+            os.mkdir(failing)
+            with open(os.path.join(failing, "gnuplot"), "w") as f:
+                f.write("#!/bin/sh\n%s \"$@\"\necho 'gnuplot: out of memory' >&2\nexit 1\n"
+                        % shutil.which("gnuplot"))
+            os.chmod(os.path.join(failing, "gnuplot"), 0o755)
+            env = dict(os.environ, PATH=failing + os.pathsep + os.environ["PATH"])
+            result = run([PROGRAMS["wsgplot"], record, "-o", png], env=env)
+            self.assertEqual(result.returncode, 1, result.stderr)
+            self.assertIn("out of memory", result.stderr)
+            with open(png, "rb") as f:
+                self.assertEqual(f.read(), b"the previous picture")
+            self.assertEqual(sorted(os.listdir(tmp)), ["bin", "run.png", "run.txt"])
 
 
 if __name__ == "__main__":

@@ -60,7 +60,7 @@ workdir=$(mktemp -d "${TMPDIR:-/tmp}/wsgsim-qemu.XXXXXX")
 set_qemu_args() { # RESTRICT -> qemu_args (UART1 is added by the caller)
     qemu_args=(-M mps2-an385 -nodefaults -display none -monitor none -kernel "$image")
     if [ "$kind" = serial ]; then
-        qemu_args+=(-serial "tcp:127.0.0.1:$tcp_port,server=on,wait=off" -nic none)
+        qemu_args+=(-serial "tcp:127.0.0.1:$tcp_port,server=on,wait=off,nodelay=on" -nic none)
     else
         # UART0 carries GCL too, but in this setup nothing listens to it.
         local fwd="hostfwd=tcp:127.0.0.1:$tcp_port-$board_ip:1000,hostfwd=udp:127.0.0.1:$udp_port-$board_ip:1000"

@@ -114,7 +114,7 @@ typedef struct {
 static bool load_config(void *arg)
 {
     config_args_t *a = arg;
-    return config_file_load(a->path, a->opts) && config_file_check(a->opts->model);
+    return config_file_load(a->path, NULL, a->opts) && config_file_check(a->opts->model);
 }
 
 static const char *config_error(const char *text, bool *ok)
@@ -146,7 +146,7 @@ START_TEST(config_sets_the_device_like_its_web_interface)
                                    "[network]\ntcp_port = 1500\nudp_port = 1501\n"
                                    "max_clients = 3\ndisconnect_faststop = no\n"
                                    "sim_port = 7000\nsim_bind = ::1\n");
-    ck_assert(config_file_load(path, &opts));
+    ck_assert(config_file_load(path, NULL, &opts));
     ck_assert(config_file_check(opts.model));
     ck_assert_int_eq(opts.tcp_port, 1500);
     ck_assert_int_eq(opts.udp_port, 1501);
@@ -211,7 +211,7 @@ START_TEST(an_indented_config_line_continues_nothing)
     host_options_t opts;
     options_parse(1, argv, &opts);
     const char *path = t_temp_file("[device]\ntag = three\n  serial = 99\n");
-    ck_assert(config_file_load(path, &opts));
+    ck_assert(config_file_load(path, NULL, &opts));
     ck_assert(config_file_check(opts.model));
     wsg_config_t cfg;
     wsg_sim_model_config(wsg_sim_model_default(), &cfg);
@@ -246,6 +246,85 @@ START_TEST(a_control_character_in_a_config_line_is_refused)
 }
 END_TEST
 
+typedef struct {
+    const char *config;
+    const char *saved;
+    host_options_t *opts;
+} layered_args_t;
+
+static bool load_layered(void *arg)
+{
+    layered_args_t *a = arg;
+    return config_file_load(a->config, a->saved, a->opts) && config_file_check(a->opts->model);
+}
+
+/* --save-file: read after --config, its keys win; missing is nothing saved;
+ * its errors name it, also those found after loading (the range check). */
+START_TEST(save_file_is_read_over_the_config)
+{
+    static char *argv[] = {"wsgsim", NULL};
+    host_options_t opts;
+    options_parse(1, argv, &opts);
+    char config[256];
+    snprintf(config, sizeof(config), "%s",
+             t_temp_file("[device]\ntag = \"cell\"\n[motion]\ndefault_force = 20\n"
+                         "default_speed = 50\n[network]\ntcp_port = 1500\n"));
+    const char *saved = t_temp_file("# saved\n[motion]\ndefault_force = 33\n"
+                                    "[device]\ntag = \"saved\"\n");
+    layered_args_t a = {config, saved, &opts};
+    bool ok = false;
+    t_capture_stderr(load_layered, &a, &ok);
+    ck_assert(ok);
+    ck_assert_int_eq(opts.tcp_port, 1500);
+    gripper_init(fleet_gripper(0), &opts, 0);
+    const wsg_config_t *cfg = wsg_device_snapshot(&fleet_gripper(0)->device)->config;
+    ck_assert_float_eq(cfg->default_force_n, 33.0f);
+    ck_assert_float_eq(cfg->default_speed_mm_s, 50.0f);
+    ck_assert_str_eq(cfg->tag, "saved");
+    remove(saved);
+    t_capture_stderr(load_layered, &a, &ok); /* nothing saved yet */
+    ck_assert(ok);
+    saved = t_temp_file("[motion]\n\ndefault_force = 500\n");
+    a.saved = saved;
+    char expect[512];
+    snprintf(expect, sizeof(expect),
+             "wsgsim: %s:3: [motion] default_force: 500 is outside 5..80 for this model\n", saved);
+    ck_assert_str_eq(t_capture_stderr(load_layered, &a, &ok), expect);
+    ck_assert(!ok);
+    remove(saved);
+    saved = t_temp_file("[motion]\ncolour = red\n");
+    a.saved = saved;
+    snprintf(expect, sizeof(expect),
+             "wsgsim: %s:2: [motion] colour: unknown key (see docs/wsgsim.example.ini)\n", saved);
+    ck_assert_str_eq(t_capture_stderr(load_layered, &a, &ok), expect);
+    ck_assert(!ok);
+    remove(saved);
+    remove(config);
+}
+END_TEST
+
+/* Given twice, --config and --save-file count as every other option: the
+ * last one. */
+START_TEST(last_config_and_save_file_count)
+{
+    char first[64], second[64];
+    snprintf(first, sizeof(first), "%s", t_temp_file("[motion]\ndefault_force = 20\n"));
+    snprintf(second, sizeof(second), "%s", t_temp_file("[motion]\ndefault_force = 30\n"));
+    char *argv[] = {"wsgsim",   "--config", first,         "--save-file=/nowhere/a.ini",
+                    "--config", second,     "--save-file", "/nowhere/b.ini",
+                    NULL};
+    host_options_t opts;
+    ck_assert_int_eq(options_parse(8, argv, &opts), OPTIONS_RUN);
+    ck_assert_str_eq(opts.config_path, second);
+    ck_assert_str_eq(opts.save_path, "/nowhere/b.ini");
+    gripper_init(fleet_gripper(0), &opts, 0);
+    ck_assert_float_eq(wsg_device_snapshot(&fleet_gripper(0)->device)->config->default_force_n,
+                       30.0f);
+    remove(first);
+    remove(second);
+}
+END_TEST
+
 /* A 199-character comment whose tail libinih's 200-byte line buffer used to
  * cut off and parse as a key line. */
 static char *long_comment_then(const char *after)
@@ -265,7 +344,7 @@ START_TEST(config_lines_are_read_whole_or_refused)
     host_options_t opts;
     options_parse(1, argv, &opts);
     const char *path = t_temp_file(long_comment_then("tag = long comments\n"));
-    ck_assert(config_file_load(path, &opts));
+    ck_assert(config_file_load(path, NULL, &opts));
     ck_assert(config_file_check(opts.model));
     remove(path);
     gripper_init(fleet_gripper(0), &opts, 0);
@@ -292,7 +371,7 @@ static bool load_config_path(void *path)
     static char *argv[] = {"wsgsim", NULL};
     host_options_t opts;
     options_parse(1, argv, &opts);
-    return config_file_load(path, &opts);
+    return config_file_load(path, NULL, &opts);
 }
 
 /* What loading `path` as a config and as a scenario prints (both must fail). */
@@ -407,7 +486,7 @@ START_TEST(config_save_ends_every_line_with_a_newline_alone)
     host_options_t opts;
     options_parse(1, argv, &opts);
     const char *path = t_temp_file("; cell 3\r\r\n[motion]\r\nclamping_travel = 4\r\n");
-    ck_assert(config_file_load(path, &opts));
+    ck_assert(config_file_load(path, NULL, &opts));
     ck_assert(config_file_check(opts.model));
     const wsg_config_t *cfg = wsg_device_snapshot(&fleet_gripper(0)->device)->config;
     char why[256];
@@ -431,14 +510,14 @@ START_TEST(config_save_replaces_colon_keys_too)
     host_options_t opts;
     options_parse(1, argv, &opts);
     const char *path = t_temp_file("[device]\ntag = a\n[motion]\n[device]\ntag : old\n");
-    ck_assert(config_file_load(path, &opts));
+    ck_assert(config_file_load(path, NULL, &opts));
     ck_assert(config_file_check(opts.model));
     wsg_config_t cfg = *wsg_device_snapshot(&fleet_gripper(0)->device)->config;
     snprintf(cfg.tag, sizeof(cfg.tag), "new");
     char why[256];
     ck_assert(config_file_save(path, 0, &cfg, why, sizeof(why)));
     ck_assert_ptr_null(strstr(read_all(path), "old"));
-    ck_assert(config_file_load(path, &opts));
+    ck_assert(config_file_load(path, NULL, &opts));
     wsg_config_t loaded;
     wsg_sim_model_config(wsg_sim_model_default(), &loaded);
     config_file_apply(&loaded);
@@ -456,14 +535,14 @@ START_TEST(config_save_puts_the_tag_where_it_counts)
     host_options_t opts;
     options_parse(1, argv, &opts);
     const char *path = t_temp_file("[device]\ntag = a\n[device.0]\ntag = zero\n");
-    ck_assert(config_file_load(path, &opts));
+    ck_assert(config_file_load(path, NULL, &opts));
     ck_assert(config_file_check(opts.model));
     wsg_config_t cfg = *wsg_device_snapshot(&fleet_gripper(0)->device)->config;
     snprintf(cfg.tag, sizeof(cfg.tag), "new");
     char why[256];
     ck_assert(config_file_save(path, 0, &cfg, why, sizeof(why)));
     ck_assert_ptr_nonnull(strstr(read_all(path), "[device]\ntag = a\n[device.0]\ntag = \"new\"\n"));
-    ck_assert(config_file_load(path, &opts));
+    ck_assert(config_file_load(path, NULL, &opts));
     wsg_config_t loaded;
     wsg_sim_model_config(wsg_sim_model_default(), &loaded);
     config_file_apply(&loaded);
@@ -491,6 +570,8 @@ Suite *files_suite(void)
     tcase_add_test(tc, a_control_character_in_a_config_line_is_refused);
     tcase_add_test(tc, config_save_replaces_colon_keys_too);
     tcase_add_test(tc, config_save_puts_the_tag_where_it_counts);
+    tcase_add_test(tc, save_file_is_read_over_the_config);
+    tcase_add_test(tc, last_config_and_save_file_count);
     tcase_add_test(tc, record_writes_every_line_with_both_clocks);
     suite_add_tcase(s, tc);
     return s;

@@ -6,7 +6,7 @@ import tempfile
 import unittest
 
 from test_api import WebCase
-from webclient import WebSim, request
+from webclient import GclError, WebSim, request
 
 
 def paused_case_args():
@@ -122,9 +122,9 @@ class Settings(WebCase):
             "protocol", "tcp_port", "udp_port", "binary_udp_port", "binary_crc_check",
             "faststop_on_disconnect", "pwt_mm", "clt_mm", "pullback_mm", "force_n",
             "speed_mm_s", "accel_mm_s2", "soft_limits", "soft_limit_minus_mm",
-            "soft_limit_plus_mm", "overdrive", "tag", "config_file"})
-        self.assertEqual((s["protocol"], s["tcp_port"], s["config_file"]),
-                         ("auto", self.sim.tcp_port, None))
+            "soft_limit_plus_mm", "overdrive", "tag", "config_file", "save_file"})
+        self.assertEqual((s["protocol"], s["tcp_port"], s["config_file"], s["save_file"]),
+                         ("auto", self.sim.tcp_port, None, None))
         self.assertFalse(s["faststop_on_disconnect"])
         self.assertEqual((s["pwt_mm"], s["clt_mm"], s["pullback_mm"]), (10, 10, 10))
 
@@ -153,6 +153,24 @@ class Settings(WebCase):
         with self.sim.tcp() as gcl:
             gcl.expect("PWT?", "PWT=10.0")
 
+    def test_a_tag_that_could_forge_a_reply_is_refused(self):
+        """The core's one rule (issue 18): CR, LF, '"' or a byte beyond ASCII
+        (invalid UTF-8 too) is 422 E_INVALID_PARAMETER naming the tag, and
+        nothing changes; a GCL client's TAG? reads the old tag."""
+        self.assertEqual(self.put({"tag": "cell-7"}).status, 200)
+        before = self.settings()
+        for tag in ("a\nFIN HOME", "a\rFIN HOME", 'a" FIN', "caf\u00e9"):
+            reply = self.put({"tag": tag, "pwt_mm": 5})
+            self.assert_error(reply, 422, "E_INVALID_PARAMETER")
+            self.assertIn("tag", reply.json()["message"])
+        raw = b'{"tag": "bad \xff\xfe utf-8", "pwt_mm": 5}'
+        self.assert_error(self.call("PUT", "/api/devices/0/settings", raw=raw), 422,
+                          "E_INVALID_PARAMETER")
+        self.assertEqual(self.settings(), before)
+        with self.sim.tcp() as gcl:
+            gcl.expect("TAG?", 'TAG="cell-7"')
+            gcl.expect("PWT?", "PWT=10.0")
+
     def test_soft_limits_move_past_each_other(self):
         self.assertEqual(self.put({"soft_limit_minus_mm": 5, "soft_limit_plus_mm": 8}).status,
                          200)
@@ -171,7 +189,7 @@ class Settings(WebCase):
         whole = self.settings()
         self.assertEqual(self.put(whole).status, 200)  # what GET gave, PUT back
         for field, value in (("tcp_port", whole["tcp_port"] + 1), ("protocol", "gcl"),
-                             ("config_file", "/tmp/x.ini")):
+                             ("config_file", "/tmp/x.ini"), ("save_file", "/tmp/y.ini")):
             j = self.put({field: value}).json()
             self.assertEqual(j["error"], "E_ACCESS_DENIED")
             self.assertIn(field, j["message"])
@@ -285,14 +303,92 @@ class Save(unittest.TestCase):
         tags = [d["tag"] for d in request(again.base + "/api/devices").json()["devices"]]
         self.assertEqual(tags, ["old", "left hand"])
 
-    def test_a_tag_the_file_cannot_hold_is_not_saved(self):
+    def test_a_tag_the_file_cannot_hold_never_reaches_it(self):
+        """The device refuses such a tag (the file's rule is the core's), so
+        a save after the refused PUT writes the tag in force."""
         sim = self.start()
         base = sim.base + "/api/devices/0/settings"
-        self.assertEqual(request(base, "PUT", {"tag": 'say "hi"'}).status, 200)
-        reply = request(base + "/save", "POST", body={})
-        self.assertEqual((reply.status, reply.json()["error"]), (422, "E_WRITE_ERROR"))
+        self.assertEqual(request(base, "PUT", {"tag": 'say "hi"'}).status, 422)
+        self.assertEqual(request(base + "/save", "POST", body={}).status, 200)
         with open(self.path) as f:
-            self.assertEqual(f.read(), self.CONFIG)
+            self.assertIn('tag = "old"', f.read())
+
+
+class SaveFile(unittest.TestCase):
+    """--save-file: Save writes it, not the --config file, and a new process
+    reads it over the configuration (docs/web.md, "Where Save writes")."""
+    CONFIG = '[device]\ntag = "config"\n[motion]\npart_width_tolerance = 8\nclamping_travel = 6\n'
+
+    def setUp(self):
+        self.dir = tempfile.TemporaryDirectory(prefix="wsgsim-web-")
+        self.addCleanup(self.dir.cleanup)
+        self.config = os.path.join(self.dir.name, "gripper.ini")
+        self.saved = os.path.join(self.dir.name, "state", "saved.ini")
+        with open(self.config, "w") as f:
+            f.write(self.CONFIG)
+
+    def start(self, *args):
+        sim = WebSim(*args)
+        sim.start()
+        self.addCleanup(sim.stop)
+        return sim, sim.base + "/api/devices/0/settings"
+
+    def save(self, base, change):
+        self.assertEqual(request(base, "PUT", change).status, 200)
+        return request(base + "/save", "POST", {})
+
+    def test_save_writes_the_save_file_and_a_restart_reads_it_over_the_config(self):
+        os.mkdir(os.path.dirname(self.saved))
+        sim, base = self.start("--config", self.config, "--save-file", self.saved)
+        self.assertEqual((request(base).json()["config_file"], request(base).json()["save_file"]),
+                         (self.config, self.saved))
+        reply = self.save(base, {"pwt_mm": 4.5, "tag": "saved"})
+        self.assertEqual(reply.status, 200, reply)
+        self.assertEqual(reply.json()["save_file"], self.saved)
+        reply = self.save(base, {"pwt_mm": 5.5})  # a second Save rewrites it in place
+        self.assertEqual(reply.status, 200, reply)
+        sim.stop()
+        with open(self.config) as f:
+            self.assertEqual(f.read(), self.CONFIG, "the configuration is not written")
+        with open(self.saved) as f:
+            text = f.read()
+        self.assertTrue(text.startswith("# The settings the wsgsim web page saved"), text)
+        self.assertEqual(text.count("part_width_tolerance = "), 1, text)
+        self.assertIn("part_width_tolerance = 5.5\n", text)
+        self.assertEqual(os.listdir(os.path.dirname(self.saved)), ["saved.ini"])
+        _, base = self.start("--config", self.config, "--save-file", self.saved)
+        s = request(base).json()
+        self.assertEqual((s["pwt_mm"], s["clt_mm"], s["tag"]), (5.5, 6, "saved"))
+        _, base = self.start("--config", self.config)  # the configuration alone
+        s = request(base).json()
+        self.assertEqual((s["pwt_mm"], s["tag"]), (8, "config"))
+
+    def test_save_file_without_config(self):
+        os.mkdir(os.path.dirname(self.saved))
+        sim, base = self.start("--save-file", self.saved)
+        self.assertEqual(self.save(base, {"clt_mm": 2.5}).status, 200)
+        sim.stop()
+        _, base = self.start("--save-file", self.saved)
+        self.assertEqual(request(base).json()["clt_mm"], 2.5)
+
+    def test_save_file_that_cannot_be_written_is_422_and_nothing_changes(self):
+        _, base = self.start("--config", self.config, "--save-file", self.saved)  # no state/
+        reply = self.save(base, {"pwt_mm": 4.5})
+        self.assertEqual((reply.status, reply.json()["error"]), (422, "E_WRITE_ERROR"))
+        self.assertIn("cannot write %s: No such file or directory" % self.saved,
+                      reply.json()["message"])
+        self.assertEqual(os.listdir(self.dir.name), ["gripper.ini"])
+
+    def test_bad_save_file_stops_the_start_naming_file_and_line(self):
+        os.mkdir(os.path.dirname(self.saved))
+        with open(self.saved, "w") as f:
+            f.write("[motion]\ndefault_speed = fast\n")
+        sim = WebSim("--config", self.config, "--save-file", self.saved)
+        with self.assertRaises(GclError):
+            sim.start()
+        self.assertIn("wsgsim: %s:2: [motion] default_speed: expected a number" % self.saved,
+                      "".join(sim.log))
+        self.assertEqual(sim.returncode, 2)
 
 
 if __name__ == "__main__":

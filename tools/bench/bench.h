@@ -83,6 +83,8 @@ typedef struct {
 } conn_t;
 
 int tcp_connect(int port);
+/* As tcp_connect(), but -1 instead of dying when nothing accepts. */
+int try_tcp_connect(int port);
 int udp_connect(int port);
 /* Sends a line (adds '\n') and reads one reply line into out. */
 bool conn_send(conn_t *c, const char *line);
@@ -124,13 +126,30 @@ typedef struct {
 void scale_run(const server_t *srv, double seconds, scale_result_t *r);
 
 /* instr.c: instructions the server executes per POS? (callgrind);
- * index 0: wsgsim, 1: echo baseline; 0: not measured. */
+ * index 0: wsgsim (clock paused), 1: echo baseline; 0: not measured.
+ * sequential_running: wsgsim with its clock running, less the timer work
+ * of the run's wall time (running_idle_per_s instructions per second). */
 typedef struct {
     double sequential[2];
     double pipelined[2];
+    double sequential_running;
+    double running_idle_per_s;
 } instr_result_t;
 void instr_run(const char *wsgsim, const char *self_exe, const char *out_dir, int seq_n, int pipe_n,
                instr_result_t *r);
+/* The "summary:" (or "totals:") line of a callgrind output file: Ir. */
+double callgrind_total(const char *path);
+
+/* fleet.c: a base port with `count` free TCP and UDP loopback ports above it. */
+int free_port_range(int count);
+
+/* web.c: instructions per GET /api/devices/0/state and per event-stream
+ * event (callgrind, the same difference method as instr.c); 0: not run. */
+typedef struct {
+    double per_state;
+    double per_event;
+} web_result_t;
+void web_run(const char *wsgsim, const char *out_dir, int state_n, int event_n, web_result_t *r);
 
 /* subscribers.c: `clients` AUTOSEND("POS",10) subscriptions made while the
  * clock is paused (so they share one phase), then the clock resumed. */
@@ -158,5 +177,14 @@ typedef struct {
 } fleet_result_t;
 void fleet_run(const char *wsgsim, const char *out_dir, int devices, double idle_s,
                fleet_result_t *r);
+
+/* pace.c: a 100 mm MOVE at 100 mm/s (1.1 s simulated) in wall time, on a
+ * quiet device and while another client sends POS? back to back. */
+typedef struct {
+    double quiet_s; /* 0: not run */
+    double flooded_s;
+    long polls; /* POS? answered during the flooded MOVE */
+} pace_result_t;
+void pace_run(const server_t *srv, pace_result_t *r);
 
 #endif

@@ -19,13 +19,34 @@
 #define REQUEST "POS?\n"
 #define REQUEST_LEN (sizeof(REQUEST) - 1)
 
-static int connect_socket(int type, int port)
+/* A socket connected to 127.0.0.1:port, or -1. */
+static int try_connect(int type, int port)
 {
     int fd = socket(AF_INET, type | SOCK_CLOEXEC, 0);
     struct sockaddr_in sa = {.sin_family = AF_INET, .sin_port = htons((uint16_t)port)};
     sa.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    if (fd < 0 || connect(fd, (struct sockaddr *)&sa, sizeof(sa)) != 0) {
+    if (fd >= 0 && connect(fd, (struct sockaddr *)&sa, sizeof(sa)) != 0) {
+        close(fd);
+        fd = -1;
+    }
+    return fd;
+}
+
+static int connect_socket(int type, int port)
+{
+    int fd = try_connect(type, port);
+    if (fd < 0) {
         die("cannot connect to 127.0.0.1:%d: %s", port, strerror(errno));
+    }
+    return fd;
+}
+
+int try_tcp_connect(int port)
+{
+    int fd = try_connect(SOCK_STREAM, port);
+    int one = 1;
+    if (fd >= 0) {
+        setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof(one));
     }
     return fd;
 }

@@ -49,8 +49,7 @@ static bool port_free(int type, int port)
     return ok;
 }
 
-/* A base port with `count` free TCP and UDP ports above it. */
-static int free_port_range(int count)
+int free_port_range(int count)
 {
     for (int base = PORT_FIRST; base + count <= PORT_LAST; base += count) {
         int i = 0;
@@ -105,8 +104,13 @@ static double rtt_p50(int port)
     return p50;
 }
 
+/* The start-up's own work (the devices' first steps and timers) goes on for
+ * a moment after the ready line: the window opens once it has settled. */
+#define FLEET_SETTLE_S 2.0
+
 static long settled_rss(const server_t *srv, double idle_s, double *wakeups_per_s)
 {
+    usleep((useconds_t)(FLEET_SETTLE_S * 1e6));
     long before = proc_wakeups(srv->pid);
     double t0 = now_us();
     usleep((useconds_t)(idle_s * 1e6));

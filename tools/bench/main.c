@@ -4,8 +4,8 @@
  *                 [--only SECTION] [--pin same|cross|none] [--firmware-sizes FILE]
  *        wsgbench --serve-echo      (the echo baseline alone, for callgrind)
  * --wsgsim-arg appends ARG to every wsgsim command line (e.g. --fingers=none).
- * --only runs one section (instr, idle, subscribers, vtime, fleet, scale, rtt,
- * load, autosend); the table then leaves out the others.
+ * --only runs one section (instr, web, idle, subscribers, vtime, fleet, scale,
+ * pace, rtt, load, autosend); the table then leaves out the others.
  * --firmware-sizes reads the Cortex-M image sizes `make bench` wrote. */
 #include <errno.h>
 #include <sched.h>
@@ -89,7 +89,8 @@ static void parse_args(int argc, char **argv, config_t *cfg)
             cfg->firmware_sizes = argv[++i];
         } else {
             die("usage: wsgbench [--wsgsim PATH] [--wsgsim-arg ARG]... [--out DIR] [--quick] "
-                "[--rtt N] [--only instr|idle|subscribers|vtime|fleet|scale|rtt|load|autosend] "
+                "[--rtt N] [--only "
+                "instr|web|idle|subscribers|vtime|fleet|scale|pace|rtt|load|autosend] "
                 "[--pin same|cross|none] [--firmware-sizes FILE]");
         }
     }
@@ -272,9 +273,20 @@ static void run_rtt_tcp(server_t *srv[2], const config_t *cfg, results_t *res)
     }
 }
 
+/* wsgsim serves a UDP peer at most 1000 datagrams per second
+ * (docs/behaviour.md) and drops the rest: the round trips keep below that
+ * rate, with the same pacing for both servers, so a lost reply means lost. */
+#define UDP_PACE_US 1100.0
+
 static void rtt_block_udp(int fd, int n, samples_t *out, long *lost)
 {
+    double next_us = now_us();
     for (int i = 0; i < n; i++) {
+        double wait_us = next_us - now_us();
+        if (wait_us > 0) {
+            usleep((useconds_t)wait_us);
+        }
+        next_us += UDP_PACE_US;
         double us;
         if (!rtt_udp(fd, "POS?", &us)) {
             (*lost)++;
@@ -286,7 +298,8 @@ static void rtt_block_udp(int fd, int n, samples_t *out, long *lost)
 
 static void run_rtt_udp(server_t *srv[2], const config_t *cfg, results_t *res)
 {
-    fprintf(stderr, "wsgbench: UDP round trips (N=%d each)\n", cfg->rtt_n);
+    fprintf(stderr, "wsgbench: UDP round trips (N=%d each, one per %.1f ms)\n", cfg->rtt_n,
+            UDP_PACE_US / 1000.0);
     int fd[2];
     long warm_lost = 0;
     for (int k = 0; k < 2; k++) {
@@ -386,6 +399,26 @@ static void run_scale(const config_t *cfg, results_t *res)
     server_stop(&srv);
 }
 
+/* A MOVE's wall time, quiet and under a POS? flood, on a server of its own
+ * without fingers (their bus would step the device every 10 ms anyway). */
+static void run_pace(const config_t *cfg, results_t *res)
+{
+    const char *argv[48];
+    int n = wsgsim_argv(argv, 44, cfg->wsgsim, false);
+    argv[n++] = "--fingers";
+    argv[n++] = "none,none";
+    argv[n] = NULL;
+    char log_path[512];
+    server_t srv;
+    snprintf(log_path, sizeof(log_path), "%s/wsgsim-pace.log", cfg->out);
+    if (!server_start_cmd(&srv, "wsgsim", argv, log_path, 30.0)) {
+        die("%s did not start (see %s)", cfg->wsgsim, log_path);
+    }
+    fprintf(stderr, "wsgbench: a MOVE, quiet and under a POS? flood\n");
+    pace_run(&srv, &res->pace);
+    server_stop(&srv);
+}
+
 static void describe_machine(results_t *res)
 {
     struct utsname u;
@@ -428,6 +461,9 @@ static void run_own_server_sections(const config_t *cfg, results_t *res)
         self[n] = '\0';
         instr_run(cfg->wsgsim, self, cfg->out, cfg->instr_seq_n, cfg->instr_pipe_n, &res->instr);
     }
+    if (wanted(cfg, "web")) {
+        web_run(cfg->wsgsim, cfg->out, cfg->instr_seq_n / 10, cfg->instr_seq_n / 20, &res->web);
+    }
     if (wanted(cfg, "vtime")) {
         fprintf(stderr, "wsgbench: virtual time, %d HOME/MOVE/GRIP/RELEASE cycles\n", cfg->cycles);
         vtime_run(cfg->cycles, &res->vtime);
@@ -445,6 +481,9 @@ static void run_own_server_sections(const config_t *cfg, results_t *res)
     }
     if (wanted(cfg, "scale")) {
         run_scale(cfg, res);
+    }
+    if (wanted(cfg, "pace")) {
+        run_pace(cfg, res);
     }
 }
 

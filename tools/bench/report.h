@@ -42,6 +42,7 @@ typedef struct {
     int vtime_ctl_step_ms;
     vtime_result_t vtime_run_until; /* the same with RUN_UNTIL_DONE; 0 cycles: not run */
     instr_result_t instr;
+    web_result_t web;
     subscribers_result_t subscribers;
     fleet_result_t fleet;
     bool firmware_expected; /* a full run: the sizes belong in it */
@@ -49,6 +50,7 @@ typedef struct {
     int firmware_count;
     firmware_size_t firmware[FIRMWARE_IMAGES_MAX];
     scale_result_t scale; /* the scaled clock's rate; rate 0: not run */
+    pace_result_t pace;   /* a MOVE's wall time under a POS? flood */
 } results_t;
 
 void report_print(const results_t *res, FILE *out);

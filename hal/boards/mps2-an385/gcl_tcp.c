@@ -99,9 +99,13 @@ static void on_err(void *arg, err_t err)
 static err_t on_recv(void *arg, struct tcp_pcb *pcb, struct pbuf *p, err_t err)
 {
     tcp_conn_t *c = arg;
-    if (p == NULL) { /* the client closed its side */
-        hal_log(HAL_LOG_INFO, c->closing ? "tcp: closed after BYE" : "tcp: closed without BYE");
-        release(c, c->closing ? WSG_CLOSE_ANNOUNCED : WSG_CLOSE_DROPPED);
+    if (p == NULL) {
+        /* the client closed its side, after BYE, after the binary 0x07, or unannounced */
+        bool announced = wsg_conn_close_announced(&c->conn);
+        hal_log(HAL_LOG_INFO, c->closing  ? "tcp: closed after BYE"
+                              : announced ? "tcp: closed after the disconnect announcement (0x07)"
+                                          : "tcp: closed without BYE");
+        release(c, announced ? WSG_CLOSE_ANNOUNCED : WSG_CLOSE_DROPPED);
         if (tcp_close(pcb) != ERR_OK) {
             tcp_abort(pcb);
             return ERR_ABRT;

@@ -5,4 +5,8 @@
 #ifndef WSGOPTS_H
 #define WSGOPTS_H
 
+/* No user script runs on the board: the script request queue (wsg_opts.h)
+ * keeps one request, the least the core compiles with (4 KiB of RAM less). */
+#define WSG_SCRIPT_QUEUE_DEPTH 1
+
 #endif

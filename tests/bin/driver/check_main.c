@@ -11,6 +11,7 @@ int main(void)
     srunner_add_suite(runner, bin_motion_suite());
     srunner_add_suite(runner, bin_updates_suite());
     srunner_add_suite(runner, bin_conn_suite());
+    srunner_add_suite(runner, bin_script_suite());
     srunner_run_all(runner, CK_ENV);
     int failed = srunner_ntests_failed(runner);
     srunner_free(runner);

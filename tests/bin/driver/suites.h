@@ -9,5 +9,6 @@ Suite *bin_requests_suite(void);
 Suite *bin_motion_suite(void);
 Suite *bin_updates_suite(void);
 Suite *bin_conn_suite(void);
+Suite *bin_script_suite(void);
 
 #endif

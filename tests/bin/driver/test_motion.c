@@ -75,17 +75,51 @@ START_TEST(second_motion_is_already_running)
 }
 END_TEST
 
-START_TEST(stop_reply_comes_before_the_aborted_final)
+/* A slow pre-position, then one write holding 0x22 and 0x24 (UMI's stop,
+ * then a strict call): the aborted command's final frame comes first, at
+ * once, then the stop's reply, then the next command's. */
+static void send_together(uint8_t first_id, uint8_t second_id, const void *second, size_t len)
 {
-    bc_move(&bc_main, 0, 10.0f, 20.0f);
+    uint8_t bytes[64];
+    size_t n = wsg_bin_encode_frame(bytes, sizeof(bytes), first_id, NULL, 0);
+    n += wsg_bin_encode_frame(bytes + n, sizeof(bytes) - n, second_id, second, len);
+    wsg_conn_input(&bc_main.conn, bytes, n);
+}
+
+static void slow_move_running(void)
+{
+    bc_move(&bc_main, 0, 10.0f, 5.0f);
     bc_expect(&bc_main, 0x21, E_CMD_PENDING);
     advance_ms(50);
-    bc_send(&bc_main, 0x22, NULL, 0);
+    bc_expect_none(&bc_main);
+}
+
+START_TEST(aborted_final_comes_before_the_stop_reply)
+{
+    slow_move_running();
+    send_together(0x22, 0x24, "ack", 3);
+    bc_expect(&bc_main, 0x21, E_CMD_ABORTED);
     bc_expect(&bc_main, 0x22, E_SUCCESS);
-    bc_await_expect(&bc_main, 0x21, E_CMD_ABORTED, 100);
+    bc_expect(&bc_main, 0x24, E_SUCCESS);
+    bc_expect_none(&bc_main);
+    ck_assert_int_eq(wsg_device_snapshot(&h_dev)->motion, WSG_MOTION_NONE);
+    advance_ms(100);
+    bc_expect_none(&bc_main);
     bc_send(&bc_main, 0x22, NULL, 0); /* nothing running */
     bc_expect(&bc_main, 0x22, E_SUCCESS);
     bc_expect_none(&bc_main);
+}
+END_TEST
+
+START_TEST(aborted_final_comes_before_the_fast_stop_reply)
+{
+    slow_move_running();
+    send_together(0x23, 0x24, "ack", 3);
+    bc_expect(&bc_main, 0x21, E_CMD_ABORTED);
+    bc_expect(&bc_main, 0x23, E_SUCCESS);
+    bc_expect(&bc_main, 0x24, E_SUCCESS);
+    bc_expect_none(&bc_main);
+    ck_assert_int_eq(ask_flag(SF_FAST_STOP), 0);
 }
 END_TEST
 
@@ -93,14 +127,15 @@ END_TEST
  * command's pending reply. */
 START_TEST(stop_and_move_together_keep_their_order)
 {
-    bc_move(&bc_main, 0, 10.0f, 20.0f);
-    bc_expect(&bc_main, 0x21, E_CMD_PENDING);
-    advance_ms(50);
-    bc_send(&bc_main, 0x22, NULL, 0);
-    bc_move(&bc_main, 0, 80.0f, 50.0f);
-    bc_expect(&bc_main, 0x22, E_SUCCESS);
+    slow_move_running();
+    uint8_t p[9] = {0};
+    wsg_bin_put_f32(p + 1, 80.0f);
+    wsg_bin_put_f32(p + 5, 50.0f);
+    send_together(0x22, 0x21, p, sizeof(p));
     bc_expect(&bc_main, 0x21, E_CMD_ABORTED);
+    bc_expect(&bc_main, 0x22, E_SUCCESS);
     bc_expect(&bc_main, 0x21, E_CMD_PENDING);
+    bc_expect_none(&bc_main);
     bc_await_expect(&bc_main, 0x21, E_SUCCESS, 10000);
 }
 END_TEST
@@ -204,17 +239,28 @@ START_TEST(gcl_move_visible_and_stopped_from_binary)
     ck_assert_float_lt(width, cfg()->stroke_mm - 1.0f);
     bc_send(&bc_main, 0x22, NULL, 0);
     bc_expect(&bc_main, 0x22, E_SUCCESS);
-    AWAIT("ERR MOVE 19", 100);
+    EXPECT("ERR MOVE 19"); /* at once */
+    EXPECT_NONE();
 }
 END_TEST
 
+/* Another owner's STOP ends the binary motion at once, not at the next
+ * control step. */
 START_TEST(binary_move_stopped_from_gcl)
 {
-    bc_move(&bc_main, 0, 10.0f, 20.0f);
-    bc_expect(&bc_main, 0x21, E_CMD_PENDING);
-    advance_ms(50);
+    slow_move_running();
     ASK_EQ("STOP()", "ACK STOP");
-    bc_await_expect(&bc_main, 0x21, E_CMD_ABORTED, 100);
+    bc_expect(&bc_main, 0x21, E_CMD_ABORTED);
+    bc_expect_none(&bc_main);
+}
+END_TEST
+
+START_TEST(binary_move_fast_stopped_from_gcl)
+{
+    slow_move_running();
+    ASK_EQ("FASTSTOP()", "ACK FASTSTOP");
+    bc_expect(&bc_main, 0x21, E_CMD_ABORTED);
+    bc_expect_none(&bc_main);
 }
 END_TEST
 
@@ -231,7 +277,8 @@ Suite *bin_motion_suite(void)
     tcase_add_test(tc, move_reaches_the_target);
     tcase_add_test(tc, width_and_speed_are_clamped);
     tcase_add_test(tc, second_motion_is_already_running);
-    tcase_add_test(tc, stop_reply_comes_before_the_aborted_final);
+    tcase_add_test(tc, aborted_final_comes_before_the_stop_reply);
+    tcase_add_test(tc, aborted_final_comes_before_the_fast_stop_reply);
     tcase_add_test(tc, stop_and_move_together_keep_their_order);
     tcase_add_test(tc, target_in_soft_limit_zone_is_range_error);
     tcase_add_test(tc, move_to_a_soft_limit_sets_its_flag);
@@ -240,6 +287,7 @@ Suite *bin_motion_suite(void)
     tcase_add_test(tc, fast_stop_and_ack);
     tcase_add_test(tc, gcl_move_visible_and_stopped_from_binary);
     tcase_add_test(tc, binary_move_stopped_from_gcl);
+    tcase_add_test(tc, binary_move_fast_stopped_from_gcl);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "fake_bin_conn.h"
+#include "sim_models.h"
 #include "suites.h"
 #include "wsg/wsg_bin.h"
 
@@ -197,6 +198,61 @@ START_TEST(system_info_tag_limits)
 }
 END_TEST
 
+static float limits_overdrive_field(void)
+{
+    bc_send(&bc_main, 0x53, NULL, 0);
+    const bc_frame_t *f = bc_expect(&bc_main, 0x53, E_SUCCESS);
+    ck_assert_uint_eq(f->values_len, 32);
+    ck_assert_float_eq(bc_f32(f, 24), cfg()->force_max_n);
+    return bc_f32(f, 28);
+}
+
+/* 0x53's overdrive force is the nominal maximum on every model without an
+ * overdrive mode (Drake clamps its force commands to it); a model with one
+ * reports its own. */
+START_TEST(limits_overdrive_force_is_never_zero)
+{
+    for (unsigned i = 0; i < wsg_sim_model_count(); i++) {
+        const sim_model_t *model = wsg_sim_model_at(i);
+        h_cfg()->force_max_n = model->force_max_n;
+        h_cfg()->force_overdrive_n = model->force_overdrive_n;
+        float expected =
+            model->force_overdrive_n > 0.0f ? model->force_overdrive_n : model->force_max_n;
+        ck_assert_msg(limits_overdrive_field() == expected, "%s", model->name);
+        ck_assert_float_gt(expected, 0.0f);
+    }
+    h_cfg()->force_overdrive_n = 120.0f;
+    ck_assert_float_eq(limits_overdrive_field(), 120.0f);
+}
+END_TEST
+
+/* 0x51 with a byte that could forge a GCL reply (issue 18): refused with
+ * E_INVALID_PARAMETER, and the tag GCL's TAG? reads stays. */
+START_TEST(set_tag_refuses_line_breaks_quotes_and_non_ascii)
+{
+    bc_send(&bc_main, 0x51, "cell-3", 6);
+    bc_expect(&bc_main, 0x51, E_SUCCESS);
+    static const char *const bad[] = {"a\nFIN HOME", "a\rFIN HOME", "a\" FIN", "bad \xff",
+                                      "caf\xc3\xa9"};
+    for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); i++) {
+        bc_send(&bc_main, 0x51, bad[i], strlen(bad[i]));
+        bc_expect(&bc_main, 0x51, E_INVALID_PARAMETER);
+        ASK_EQ("TAG?", "TAG=\"cell-3\"");
+    }
+    bc_send(&bc_main, 0x51, "a\0b", 3); /* a NUL inside */
+    bc_expect(&bc_main, 0x51, E_INVALID_PARAMETER);
+    char long_tag[WSG_CONFIG_STRING_MAX];
+    memset(long_tag, 'x', sizeof(long_tag));
+    bc_send(&bc_main, 0x51, long_tag, sizeof(long_tag));
+    bc_expect(&bc_main, 0x51, E_RANGE_ERROR);
+    bc_send(&bc_main, 0x52, NULL, 0);
+    const bc_frame_t *f = bc_expect(&bc_main, 0x52, E_SUCCESS);
+    ck_assert_uint_eq(f->values_len, 6);
+    ck_assert_mem_eq(f->values, "cell-3", 6);
+    bc_expect_none(&bc_main);
+}
+END_TEST
+
 START_TEST(fingers_without_fingers)
 {
     bc_send(&bc_main, 0x60, NULL, 0);
@@ -249,6 +305,8 @@ Suite *bin_requests_suite(void)
     tcase_add_test(tc, state_width_temperature_queries);
     tcase_add_test(tc, statistics_and_reset);
     tcase_add_test(tc, system_info_tag_limits);
+    tcase_add_test(tc, limits_overdrive_force_is_never_zero);
+    tcase_add_test(tc, set_tag_refuses_line_breaks_quotes_and_non_ascii);
     tcase_add_test(tc, fingers_without_fingers);
     tcase_add_test(tc, fmf_finger_data_and_tare);
     suite_add_tcase(s, tc);

@@ -1,0 +1,70 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/* User scripts on the gripper (docs/scripting.md): one Lua 5.4 interpreter
+ * per device, the script a coroutine resumed by the event loop. It blocks
+ * in sleep() and cmd.read() by yielding; its time is the simulated clock; an
+ * instruction-count hook ends its time slice. A script is a front end of
+ * the device like GCL, binary and web: it moves the jaws through the
+ * device's operations and answers the custom commands the core queues for
+ * it (wsg_script.h). */
+#ifndef HOST_SCRIPT_H
+#define HOST_SCRIPT_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "wsg/wsg_device.h"
+
+typedef struct script script_t;
+
+/* The interpreter of device `index` (its log prefix "script: " or
+ * "script[i]: " in a fleet); store_dir: the /user/ store (NULL: none). */
+script_t *script_create(wsg_device_t *dev, unsigned index, unsigned devices, const char *store_dir);
+void script_destroy(script_t *s);
+
+/* Runs a file (a host path, or /user/NAME in the store): stops a running
+ * script first, clears SF_SCRIPT_FAILURE, sets SF_SCRIPT_RUNNING and runs
+ * the main chunk until it first blocks. false with *why when the file cannot
+ * be read; a file that does not compile starts and fails at once. */
+bool script_run(script_t *s, const char *file, char *why, size_t why_cap);
+/* The device powered on at now_us: the finger bindings wait until the
+ * finger bus has described the fingers (SCRIPT_FINGER_STARTUP_US later). */
+void script_power_on(script_t *s, uint64_t now_us);
+/* The user stops it: SF_SCRIPT_RUNNING cleared, SF_SCRIPT_FAILURE kept. */
+bool script_stop(script_t *s);
+/* A power cycle: the device's flags and queue are gone; the interpreter
+ * closes without touching the device. */
+void script_forget(script_t *s);
+
+/* Resumes the script if it waits for something that has come (its sleep
+ * has ended, a request for cmd.read() is queued). Returns when it must run
+ * next on the simulated clock (UINT64_MAX: on an event). */
+uint64_t script_service(script_t *s);
+/* Its time slice ended while it could run on: the loop resumes it once per
+ * pass (script_continue), never blocking in between. */
+bool script_preempted(const script_t *s);
+void script_continue(script_t *s);
+
+/* The /user/ store's directory ("" when none), and whether a name is a
+ * store file name (printable ASCII, no '/', no "..", at most 64 bytes). */
+const char *script_store_dir(const script_t *s);
+bool script_store_name_ok(const char *name);
+
+/* What STATE? and the web interface show. */
+typedef struct {
+    const char *file; /* the last script run, "" when none */
+    bool running;
+    bool failure;
+    const char *error; /* the last error message, "" when none */
+    size_t memory;     /* bytes the interpreter holds */
+    uint64_t resumes;  /* times the coroutine was resumed */
+    uint64_t kinstr;   /* thousands of VM instructions run (hook counts) */
+} script_info_t;
+void script_info(const script_t *s, script_info_t *info);
+
+/* Console (spec §2.7): the last lines, numbered from 0; *next is the number
+ * the next line will get. Returns the lines numbered since.. (at most cap). */
+size_t script_console(const script_t *s, uint64_t since, const char **lines, size_t cap,
+                      uint64_t *next);
+
+#endif

@@ -1,0 +1,12 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/* The suites of build/tests/loop_tests besides the loop's own: host
+ * modules tested without sockets or a running server. */
+#ifndef TESTS_HOST_SUITES_H
+#define TESTS_HOST_SUITES_H
+
+#include <check.h>
+
+Suite *net_allow_suite(void);
+Suite *port_layout_suite(void);
+
+#endif
