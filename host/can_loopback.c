@@ -9,18 +9,25 @@
 #define LOOPBACK_RING 512u
 #define GRIPPER (-1)
 
+/* A participant's acceptance filters, and their verdict on every standard
+ * identifier worked out when they are set: every frame is offered to every
+ * participant, so a lookup instead of a pass over the filters. */
+typedef struct {
+    hal_can_filter_t filters[HAL_CAN_MAX_FILTERS];
+    unsigned count;
+    uint8_t std_ids[(HAL_CAN_STD_ID_MASK + 1u) / 8u]; /* bit per identifier */
+} acceptance_t;
+
 typedef struct {
     finger_node_t node;
     hal_can_t port;
-    hal_can_filter_t filters[HAL_CAN_MAX_FILTERS];
-    unsigned filter_count;
+    acceptance_t accept;
 } loopback_node_t;
 
 static struct {
     loopback_node_t nodes[FBUS_SLOTS];
     hal_can_t port;
-    hal_can_filter_t filters[HAL_CAN_MAX_FILTERS];
-    unsigned filter_count;
+    acceptance_t accept;
     hal_can_frame_t ring[LOOPBACK_RING];
     unsigned head, count;
     uint32_t frames;
@@ -28,9 +35,34 @@ static struct {
 
 static can_loopback_tap_t tap; /* outside bus: can_loopback_init() keeps it */
 
+static bool set_acceptance(acceptance_t *a, const hal_can_filter_t *filters, unsigned count)
+{
+    if (count > HAL_CAN_MAX_FILTERS) {
+        return false;
+    }
+    memcpy(a->filters, filters, count * sizeof(filters[0]));
+    a->count = count;
+    memset(a->std_ids, 0, sizeof(a->std_ids));
+    for (uint32_t id = 0; id <= HAL_CAN_STD_ID_MASK; id++) {
+        hal_can_frame_t probe = {.id = id};
+        if (hal_can_filters_accept(filters, count, &probe)) {
+            a->std_ids[id / 8u] |= (uint8_t)(1u << (id % 8u));
+        }
+    }
+    return true;
+}
+
+static inline bool accepts(const acceptance_t *a, const hal_can_frame_t *frame)
+{
+    if ((frame->flags & HAL_CAN_FLAG_EXT) != 0u || frame->id > HAL_CAN_STD_ID_MASK) {
+        return hal_can_filters_accept(a->filters, a->count, frame);
+    }
+    return (a->std_ids[frame->id / 8u] & (1u << (frame->id % 8u))) != 0u;
+}
+
 static void to_gripper(const hal_can_frame_t *frame)
 {
-    if (!hal_can_filters_accept(bus.filters, bus.filter_count, frame)) {
+    if (!accepts(&bus.accept, frame)) {
         return;
     }
     if (bus.count == LOOPBACK_RING) {
@@ -54,7 +86,7 @@ static void deliver(const hal_can_frame_t *frame, int from)
     }
     for (int i = 0; i < (int)FBUS_SLOTS; i++) {
         loopback_node_t *n = &bus.nodes[i];
-        if (i != from && hal_can_filters_accept(n->filters, n->filter_count, frame)) {
+        if (i != from && accepts(&n->accept, frame)) {
             wsg_finger_node_receive(&n->node, frame, now);
         }
     }
@@ -75,13 +107,7 @@ static bool node_recv(void *ctx, hal_can_frame_t *frame)
 
 static bool node_set_filters(void *ctx, const hal_can_filter_t *filters, unsigned count)
 {
-    loopback_node_t *n = &bus.nodes[(intptr_t)ctx];
-    if (count > HAL_CAN_MAX_FILTERS) {
-        return false;
-    }
-    memcpy(n->filters, filters, count * sizeof(filters[0]));
-    n->filter_count = count;
-    return true;
+    return set_acceptance(&bus.nodes[(intptr_t)ctx].accept, filters, count);
 }
 
 static bool gripper_send(void *ctx, const hal_can_frame_t *frame)
@@ -117,12 +143,7 @@ static bool gripper_recv(void *ctx, hal_can_frame_t *frame)
 static bool gripper_set_filters(void *ctx, const hal_can_filter_t *filters, unsigned count)
 {
     (void)ctx;
-    if (count > HAL_CAN_MAX_FILTERS) {
-        return false;
-    }
-    memcpy(bus.filters, filters, count * sizeof(filters[0]));
-    bus.filter_count = count;
-    return true;
+    return set_acceptance(&bus.accept, filters, count);
 }
 
 void can_loopback_init(const fbus_type_t types[FBUS_SLOTS], const finger_node_params_t *params)

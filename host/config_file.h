@@ -43,8 +43,11 @@ bool config_file_device_sets_tag(unsigned index);
  * A file that does not exist yet is created. The file is replaced at once
  * (written and synced beside it, then renamed). False with the reason in
  * why. */
-bool config_file_save(const char *path, unsigned device, const wsg_config_t *cfg, char *why,
-                      size_t cap);
+/* startup: the startup script the web page chose ("/user/NAME"), "" when
+ * it chose none (then device 0 saves autostart = no), NULL to leave the
+ * file's as they are. */
+bool config_file_save(const char *path, unsigned device, const wsg_config_t *cfg,
+                      const char *startup, char *why, size_t cap);
 /* True when cfg's [motion] settings, written as the file's global ones, fit
  * every model the loaded file's next start checks them against (the
  * devices' model and each [device.N] model); else false with the reason in

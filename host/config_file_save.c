@@ -19,7 +19,7 @@
 typedef struct {
     char section[24];
     const char *key;
-    char value[64];
+    char value[80]; /* a number, a quoted tag, a "/user/NAME" path (NAME: 64 at most) */
     bool written;
 } save_key_t;
 
@@ -230,8 +230,29 @@ static bool write_copy(const char *path, const char *tmp, save_set_t *set, char 
     return ok;
 }
 
-bool config_file_save(const char *path, unsigned device, const wsg_config_t *cfg, char *why,
-                      size_t cap)
+/* Device 0's startup script is [script] startup (with autostart), another
+ * device's [device.N] script; a fleet device has no autostart of its own,
+ * so "none" is kept only for device 0. */
+static void collect_startup(save_set_t *set, unsigned device, const char *startup)
+{
+    size_t cap = sizeof(set->keys[0].value);
+    if (startup == NULL || (startup[0] == '\0' && device > 0)) {
+        return;
+    }
+    if (device > 0) {
+        char section[24];
+        snprintf(section, sizeof(section), "device.%u", device);
+        snprintf(add(set, section, "script")->value, cap, "%s", startup);
+        return;
+    }
+    if (startup[0] != '\0') {
+        snprintf(add(set, "script", "startup")->value, cap, "%s", startup);
+    }
+    add_bool(set, "script", "autostart", startup[0] != '\0');
+}
+
+bool config_file_save(const char *path, unsigned device, const wsg_config_t *cfg,
+                      const char *startup, char *why, size_t cap)
 {
     if (!config_file_motion_fits(cfg, why, cap)) {
         return false; /* the next start would refuse the file */
@@ -239,6 +260,7 @@ bool config_file_save(const char *path, unsigned device, const wsg_config_t *cfg
     save_set_t set = {.count = 0};
     collect(&set, device, cfg);
     tag_where_it_counts(&set, device);
+    collect_startup(&set, device, startup);
     char tmp[4096];
     snprintf(tmp, sizeof(tmp), "%s.saving", path);
     if (!write_copy(path, tmp, &set, why, cap)) {

@@ -268,12 +268,11 @@ static void set_due(unsigned device, uint64_t due_us)
     }
 }
 
-/* Each device is ticked at most once per pass, as a lone gripper was: a
- * touched one by the list (its deadline may have moved), any other when its
- * deadline has come. */
-uint64_t fleet_tick(void)
+/* The devices whose deadline has come, except the touched ones (the list
+ * ticks those). Every due device leaves the heap's top before any is
+ * ticked, so none is ticked twice in a pass. */
+static void tick_due_devices(uint64_t now)
 {
-    uint64_t now = hal_clock_now_us();
     unsigned due = 0;
     while (fleet.count > 0 && due_at(0) <= now) {
         fleet.ready[due++] = fleet.heap[0];
@@ -284,6 +283,29 @@ uint64_t fleet_tick(void)
         if (!g->touched) {
             set_due(fleet.ready[k], gripper_tick(g));
         }
+    }
+}
+
+/* The same for one device (the default), which has no heap to keep: a
+ * control step per millisecond while it moves. */
+static void tick_lone_device(uint64_t now)
+{
+    gripper_t *g = &fleet.devices[0].gripper;
+    if (fleet.due_us[0] <= now && !g->touched) {
+        fleet.due_us[0] = gripper_tick(g);
+    }
+}
+
+/* Each device is ticked at most once per pass, as a lone gripper was: a
+ * touched one by the list (its deadline may have moved), any other when its
+ * deadline has come. */
+uint64_t fleet_tick(void)
+{
+    uint64_t now = hal_clock_now_us();
+    if (fleet.count == 1u) {
+        tick_lone_device(now);
+    } else {
+        tick_due_devices(now);
     }
     gripper_t *touched;
     while ((touched = gripper_take_touched()) != NULL) {

@@ -1,8 +1,11 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 #include "gripper.h"
 
+#include <limits.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "config_file.h"
 #include "finger_bus_host.h"
@@ -39,7 +42,8 @@ static void place_start_part(gripper_t *g)
 
 static void power_on_world(gripper_t *g)
 {
-    wsg_sim_world_init(&g->world, &g->config, hal_clock_now_us());
+    g->powered_on_us = hal_clock_now_us();
+    wsg_sim_world_init(&g->world, &g->config, g->powered_on_us);
     if (g->opts.part_given) {
         place_start_part(g);
     }
@@ -106,6 +110,8 @@ void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
         wsg_conn_observe(&g->device, web_lines_observer(), NULL); /* the hub is device 0's */
     }
     g->script = NULL;
+    g->startup_set = NULL;
+    g->startup_cleared = false;
     if (script_options_enabled(&g->opts)) {
         char store[4096];
         bool has_store = script_options_store(&g->opts, store, sizeof(store));
@@ -119,6 +125,47 @@ void gripper_release(gripper_t *g)
 {
     script_destroy(g->script);
     g->script = NULL;
+    free(g->startup_set);
+    g->startup_set = NULL;
+}
+
+bool gripper_set_startup(gripper_t *g, const char *file, char *why, size_t cap)
+{
+    if (file == NULL) {
+        g->opts.script_autostart = false; /* the file stays selected and runs no more */
+        g->startup_cleared = true;
+        return true;
+    }
+    const char *store = g->script != NULL ? script_store_dir(g->script) : "";
+    const char *name = strncmp(file, "/user/", 6) == 0 ? file + 6 : NULL;
+    char path[PATH_MAX];
+    struct stat st;
+    if (store[0] == '\0') {
+        snprintf(why, cap, "there is no /user/ store (--script-dir)");
+        return false;
+    }
+    if (name == NULL || !script_store_name_ok(name) ||
+        snprintf(path, sizeof(path), "%s/%s", store, name) >= (int)sizeof(path) ||
+        stat(path, &st) != 0 || !S_ISREG(st.st_mode)) {
+        snprintf(why, cap, "%s: no such file in the /user/ store", file);
+        return false;
+    }
+    char *copy = strdup(file);
+    if (copy == NULL) {
+        snprintf(why, cap, "out of memory");
+        return false;
+    }
+    free(g->startup_set);
+    g->startup_set = copy;
+    g->startup_cleared = false;
+    g->opts.script = copy;
+    g->opts.script_autostart = true;
+    return true;
+}
+
+const char *gripper_startup_choice(const gripper_t *g)
+{
+    return g->startup_cleared ? "" : g->startup_set;
 }
 
 bool gripper_run_script(gripper_t *g, const char *file, char *why, size_t cap)

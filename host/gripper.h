@@ -26,6 +26,10 @@ typedef struct gripper {
     struct gripper *next_touched;
     unsigned index;        /* its number in the fleet: 0 for the first */
     struct script *script; /* its script interpreter; NULL without scripting */
+    char *startup_set;     /* the startup script the web page chose (heap), NULL: none chosen */
+    bool startup_cleared;  /* the web page chose to run none */
+
+    uint64_t powered_on_us; /* simulated time of its last power-on (start or reset) */
 } gripper_t;
 
 /* Power-on state from the options (model, configuration file, part) for
@@ -58,6 +62,13 @@ void gripper_reset(gripper_t *g);
 bool gripper_continue_script(gripper_t *g);
 /* Runs a script file on the device (docs/scripting.md); false with *why. */
 bool gripper_run_script(gripper_t *g, const char *file, char *why, size_t cap);
+/* The startup script from now on (the next power-on runs it): a file of
+ * the /user/ store ("/user/NAME"), or none (NULL); false with *why when it
+ * is no store file. Chosen on the web page; Save keeps it. */
+bool gripper_set_startup(gripper_t *g, const char *file, char *why, size_t cap);
+/* What the web page chose, for Save: the file, "" for none, NULL when it
+ * chose nothing (the options' startup script stands). */
+const char *gripper_startup_choice(const gripper_t *g);
 /* Frees what gripper_init allocated (the script interpreter). */
 void gripper_release(gripper_t *g);
 

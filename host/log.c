@@ -18,6 +18,8 @@
 #define LOG_LINE_MAX 1024
 #define LOG_PEER_BURST 100 /* lines */
 #define LOG_PEER_RATE 20.0 /* lines per second, once the burst is spent */
+#define LOG_RECENT_LINES 100
+#define LOG_RECENT_LINE_MAX 256 /* longer lines are kept cut */
 
 /* How a line reaches stderr without blocking. */
 typedef enum {
@@ -39,6 +41,13 @@ static struct {
     double refilled_s;
     unsigned long suppressed;
 } peer_limit = {LOG_PEER_BURST, -1.0, 0};
+
+/* The last lines logged, numbered from 0, for the web page's system view
+ * (host_log_recent); kept whether or not stderr took them. */
+static struct {
+    char lines[LOG_RECENT_LINES][LOG_RECENT_LINE_MAX];
+    uint64_t next; /* the number the next line gets */
+} recent;
 
 static hal_log_level_t min_level = HAL_LOG_INFO;
 static bool wall_timestamps;
@@ -194,9 +203,33 @@ static bool report_drops(void)
     return true;
 }
 
+static void keep_recent(const char *line, size_t len)
+{
+    char *slot = recent.lines[recent.next % LOG_RECENT_LINES];
+    size_t kept = len < LOG_RECENT_LINE_MAX - 1 ? len : LOG_RECENT_LINE_MAX - 1;
+    while (kept < len && kept > 0 && ((unsigned char)line[kept] & 0xC0u) == 0x80u) {
+        kept--; /* cut before a UTF-8 sequence, not inside it: the page reads JSON */
+    }
+    memcpy(slot, line, kept);
+    slot[kept] = '\0';
+    recent.next++;
+}
+
+size_t host_log_recent(uint64_t since, const char **lines, size_t cap, uint64_t *next)
+{
+    uint64_t oldest = recent.next > LOG_RECENT_LINES ? recent.next - LOG_RECENT_LINES : 0;
+    size_t n = 0;
+    for (uint64_t i = since > oldest ? since : oldest; i < recent.next && n < cap; i++) {
+        lines[n++] = recent.lines[i % LOG_RECENT_LINES];
+    }
+    *next = recent.next;
+    return n;
+}
+
 /* line holds len characters and has room for the '\n' added here. */
 static void emit(char *line, size_t len)
 {
+    keep_recent(line, len);
     line[len] = '\n';
     if (!report_drops() || !write_now(line, len + 1)) {
         sink.dropped++;

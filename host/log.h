@@ -10,6 +10,8 @@
 #define HOST_LOG_H
 
 #include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
 
 #include "hal_log.h"
 
@@ -33,6 +35,11 @@ void host_logf(hal_log_level_t level, const char *fmt, ...) __attribute__((forma
  * burst of LOG_PEER_BURST, then LOG_PEER_RATE per second; the rest is counted. */
 void host_log_peer(hal_log_level_t level, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));
+/* The last lines logged (at most 100, each cut to 255 bytes), numbered
+ * from 0 at start: up to cap pointers to those numbered since and later,
+ * oldest first, valid until the next line is logged; *next is the number
+ * the next line will get. */
+size_t host_log_recent(uint64_t since, const char **lines, size_t cap, uint64_t *next);
 /* One whole line as it is (the trace), through the same writer. */
 void host_log_line(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 

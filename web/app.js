@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// The wsgsim device page: live view from the event stream, control,
-// settings and simulation panels on the JSON API (docs/web.md).
+// The wsgsim device page: views as on the device's own web interface
+// (live view, motion control, settings, scripting, system), chosen by the
+// address's hash (#live, ...), on the event stream and the JSON API
+// (docs/web.md).
 "use strict";
 
 const CHART_SECONDS = 30;
@@ -10,6 +12,15 @@ const SVG_MARGIN_MM = 10; // room left and right of the stroke in the drawing
 const JAW_WIDTH_MM = 6;
 const DSA_CELL_MAX = 4095; // 12-bit tactile cells: the heat map's full scale
 const FMF_BAR_FULL_SCALE_N = 80; // the WSG 50's grip force limit; the bar rescales past it
+// The force axis spans at least the model's nominal force range (GET
+// /system's force_max_n; this until it came), so a near-constant force and
+// its sensor noise are not blown up to the chart's full height.
+const FORCE_AXIS_MIN_SPAN_N = 80;
+const CONSOLE_POLL_MS = 500; // the scripting view's console, while shown
+const SYSTEM_POLL_MS = 1000; // the system view's uptime and log, while shown
+const LOG_LINES_SHOWN = 100;
+const CONSOLE_LINES_SHOWN = 1000;
+const VIEWS = ["live", "motion", "settings", "scripting", "system"];
 
 const deviceId = deviceIdFromPath(location.pathname);
 const apiBase = "/api/devices/" + deviceId;
@@ -109,6 +120,7 @@ const live = {
   lastConnections: "",
   moveTouched: false,
   stroke: 0,
+  forceSpanN: FORCE_AXIS_MIN_SPAN_N,
 };
 
 function fixed(value, digits) {
@@ -133,11 +145,16 @@ function renderReadouts(state) {
   setText("force", fixed(state.force_n, 1));
   const grip = state.grip_state || {};
   setText("grip-state", grip.name ? grip.name + " (" + grip.code + ")" : "–");
-  setText("motion", state.motion || "–");
+  setText("motion-text", state.motion || "–");
   setText("temperature", fixed(state.temperature_c, 1));
   setText("sim-time", fixed(state.time_ms / 1000, 3));
   const part = state.part;
   setText("part-text", part && part.present ? fixed(part.width_mm, 1) + " mm" : "none");
+  // the motion view's line
+  setText("m-width", fixed(state.position_mm, 1));
+  setText("m-force", fixed(state.force_n, 1));
+  setText("m-grip-state", $("grip-state").textContent);
+  setText("m-motion", state.motion || "–");
 }
 
 function setJawSpan(stroke) {
@@ -199,16 +216,54 @@ function renderFlags(sysflags) {
   if (live.flagItems.length === 0 && sysflags.names) {
     sysflags.names.forEach((name, bit) => {
       const item = document.createElement("li");
-      item.textContent = name || "bit " + bit;
+      item.innerHTML = '<span class="mark" aria-hidden="true"></span><span class="name"></span>' +
+        '<span class="sr-only"></span>';
+      item.dataset.name = name || "bit " + bit;
+      item.querySelector(".name").textContent = item.dataset.name;
       item.title = "bit " + bit;
       item.classList.toggle("reserved", !name);
       list.appendChild(item);
       live.flagItems.push(item);
     });
   }
+  // set or clear in words and a mark, not only by colour
   live.flagItems.forEach((item, bit) => {
-    item.classList.toggle("set", ((sysflags.value >>> bit) & 1) === 1);
+    const set = ((sysflags.value >>> bit) & 1) === 1;
+    if (item.classList.contains("set") !== set || !item.dataset.shown) {
+      item.dataset.shown = "1";
+      item.classList.toggle("set", set);
+      item.querySelector(".mark").textContent = set ? "✔" : "○";
+      item.querySelector(".sr-only").textContent = set ? ": set" : ": clear";
+    }
   });
+  renderFastStop(sysflags.set || []);
+  renderScriptFlags(sysflags.set || []);
+}
+
+// --------------------------------------------------------- FAST STOP banner
+
+// The severe faults that raise FAST STOP by themselves (docs/behaviour.md):
+// FSACK is refused while one persists, so the banner names them.
+const FAST_STOP_CAUSES = ["SF_TEMP_FAULT", "SF_POWER_FAULT", "SF_CURR_FAULT"];
+
+function renderFastStop(setFlags) {
+  const on = setFlags.includes("SF_FAST_STOP");
+  if (!on) {
+    $("banner-result").textContent = ""; // a refused FSACK's message is old news
+  }
+  $("faststop-banner").hidden = !on;
+  const causes = setFlags.filter((name) => FAST_STOP_CAUSES.includes(name));
+  setText("faststop-cause", causes.length
+    ? "while " + causes.join(", ") + " persists FSACK is refused"
+    : "the drive is off: motion is refused until FSACK");
+}
+
+async function bannerFsack() {
+  const result = $("banner-result");
+  const refused = (error) => showResult(result, false, "FSACK: " + error.describe());
+  if (await callApi(refused, "POST", apiBase + "/ops/fsack")) {
+    showResult(result, true, "FSACK: E_SUCCESS");
+  }
 }
 
 // ------------------------------------------------------------------ fingers
@@ -333,19 +388,45 @@ function addChartPoint(state) {
 // The chart follows every event (25 Hz), at most once per frame of the
 // browser, and not at all while the page is hidden.
 function scheduleChart() {
-  if (!live.chartDrawPending) {
+  if (!live.chartDrawPending && views.current === "live") {
     live.chartDrawPending = true;
     requestAnimationFrame(drawChart);
   }
 }
 
+// [low, high] of the force axis: the data's range grown to at least the
+// minimum span, from 0 or from below 0 (a tared or pushed finger).
+function forceAxisRange(data) {
+  let low = 0;
+  let high = 0;
+  for (const point of data) {
+    if (typeof point[2] === "number") {
+      low = Math.min(low, point[2]);
+      high = Math.max(high, point[2]);
+    }
+  }
+  const span = Math.max(high - low, live.forceSpanN);
+  return [low, low + span * 1.05]; // a little room above the highest point
+}
+
+function widthAxisRange() {
+  return [0, (live.stroke > 0 ? live.stroke : 110) * 1.05];
+}
+
 function drawChart() {
   live.chartDrawPending = false;
+  if (live.chartData.length === 0) {
+    return; // no state yet
+  }
+  const axes = {
+    y: { valueRange: widthAxisRange() },
+    y2: { independentTicks: true, valueRange: forceAxisRange(live.chartData) },
+  };
   if (!live.chart) {
     live.chart = new Dygraph($("chart"), live.chartData, {
       labels: ["time (s)", "width (mm)", "force (N)"],
       series: { "force (N)": { axis: "y2" } },
-      axes: { y2: { independentTicks: true } },
+      axes: axes,
       ylabel: "width (mm)",
       y2label: "force (N)",
       xlabel: "simulated time (s)",
@@ -355,7 +436,7 @@ function drawChart() {
       animatedZooms: false,
     });
   } else {
-    live.chart.updateOptions({ file: live.chartData });
+    live.chart.updateOptions({ file: live.chartData, axes: axes });
   }
 }
 
@@ -635,6 +716,7 @@ async function setUpSettings() {
     applySettings();
   });
   $("settings-save").addEventListener("click", saveSettings);
+  $("startup-apply").addEventListener("click", applyStartup);
   const refused = (error) => showResult($("settings-result"), false, "settings: " + error.describe());
   const values = await callApi(refused, "GET", apiBase + "/settings");
   if (values) {
@@ -701,16 +783,482 @@ function setUpSim() {
   bindClock();
 }
 
+// ---------------------------------------------------------------- the views
+
+// One view at a time, named by the address's hash (#live, #motion, ...):
+// the browser's back button and bookmarks work, the tabs are plain links.
+const views = { current: "", onShow: {}, title: "wsgsim" };
+
+// "wsgsim WSG 50-110 (device 0) · Scripting"
+function showTitle() {
+  const tab = views.current ? " · " + $("tab-" + views.current).textContent : "";
+  document.title = views.title + tab;
+}
+
+// Another hash (the "skip to the view" link's #views) keeps the view shown.
+function viewFromHash() {
+  const name = location.hash.replace(/^#/, "");
+  return VIEWS.includes(name) ? name : views.current || "live";
+}
+
+function showView() {
+  const name = viewFromHash();
+  if (name === views.current) {
+    return;
+  }
+  views.current = name;
+  for (const view of VIEWS) {
+    $("view-" + view).hidden = view !== name;
+    const tab = $("tab-" + view);
+    if (view === name) {
+      tab.setAttribute("aria-current", "page");
+    } else {
+      tab.removeAttribute("aria-current");
+    }
+  }
+  showTitle();
+  if (views.onShow[name]) {
+    views.onShow[name]();
+  }
+}
+
+function setUpViews() {
+  window.addEventListener("hashchange", showView);
+  views.onShow.live = () => {
+    if (live.chart) {
+      live.chart.resize(); // drawn while hidden, it has no size
+    }
+    scheduleChart();
+  };
+  showView();
+}
+
+// A poll that runs while its view is shown, one request at a time.
+function pollWhileShown(view, periodMs, poll) {
+  let running = false;
+  const tick = async () => {
+    if (views.current !== view) {
+      running = false;
+      return;
+    }
+    await poll();
+    setTimeout(tick, periodMs);
+  };
+  views.onShow[view] = () => {
+    if (!running) {
+      running = true;
+      tick();
+    }
+  };
+}
+
+// ----------------------------------------------------------- the scripting
+
+const scripting = {
+  allowed: true, // may this client run scripts and change files (sim_allowed)
+  writable: false, // the store can be written
+  openFile: null, // the file in the editor
+  startup: null, // the startup script (GET …/script), null: none
+  savedText: "",
+  consoleNext: 0,
+  reading: null, // the console read under way (a promise)
+};
+
+function scriptResult(ok, text) {
+  showResult($("script-result"), ok, text);
+}
+
+function storePath(name) {
+  return apiBase + "/files/" + encodeURIComponent(name);
+}
+
+function fileRow(file) {
+  const row = document.createElement("tr");
+  row.dataset.name = file.name;
+  const name = row.insertCell();
+  name.textContent = file.name;
+  row.insertCell().textContent = String(file.bytes);
+  const actions = row.insertCell();
+  const button = (text, action, needsWrite) => {
+    const b = document.createElement("button");
+    b.type = "button";
+    b.textContent = text;
+    b.setAttribute("aria-label", text + " " + file.name);
+    b.disabled = needsWrite && !(scripting.writable && scripting.allowed);
+    b.addEventListener("click", action);
+    actions.appendChild(b);
+  };
+  button("Open", () => openFile(file.name), false);
+  const download = document.createElement("a");
+  download.href = storePath(file.name);
+  download.download = file.name;
+  download.textContent = "Download";
+  download.setAttribute("aria-label", "Download " + file.name);
+  actions.appendChild(download);
+  button("Rename", () => renameFile(file.name), true);
+  button("Delete", () => deleteFile(file.name), true);
+  return row;
+}
+
+async function listFiles() {
+  const info = await system.info;
+  $("store-missing").hidden = !info || info.script_store;
+  if (info && !info.script_store) {
+    return; // no /user/ store: nothing to list (…/files is 404)
+  }
+  const refused = (error) => {
+    if (error.httpStatus === 404) {
+      $("store-missing").hidden = false;
+    } else {
+      showResult($("files-result"), false, "files: " + error.describe());
+    }
+  };
+  const listing = await callApi(refused, "GET", apiBase + "/files");
+  if (!listing) {
+    return;
+  }
+  scripting.writable = listing.writable;
+  $("store-readonly").hidden = listing.writable;
+  const canWrite = listing.writable && scripting.allowed;
+  for (const form of [$("file-new"), $("file-upload")]) {
+    for (const field of form.elements) {
+      field.disabled = !canWrite;
+    }
+  }
+  const files = listing.files.sort((a, b) => a.name.localeCompare(b.name));
+  $("file-list").replaceChildren(...files.map(fileRow));
+  fillStartupChoice(files);
+  updateEditorButtons();
+}
+
+// Settings → System: the store's files as startup scripts, the current one chosen.
+function fillStartupChoice(files) {
+  const choice = $("startup-choice");
+  const current = scripting.startup || "";
+  const options = [new Option("none", "")].concat(
+    files.map((file) => new Option("/user/" + file.name, "/user/" + file.name)));
+  choice.replaceChildren(...options);
+  choice.value = options.some((o) => o.value === current) ? current : "";
+  choice.disabled = !scripting.allowed;
+  $("startup-apply").disabled = !scripting.allowed;
+}
+
+async function applyStartup() {
+  const file = $("startup-choice").value;
+  const refused = (error) => showResult($("startup-result"), false,
+    "startup script: " + error.describe());
+  const reply = await callApi(refused, "PUT", apiBase + "/script/startup",
+    {file: file === "" ? null : file});
+  if (reply) {
+    showResult($("startup-result"), true, "startup script: " + (file || "none") +
+      ", from the next power-on (Save keeps it)");
+    renderScript(reply);
+  }
+}
+
+function updateEditorButtons() {
+  const open = scripting.openFile !== null;
+  const canWrite = scripting.writable && scripting.allowed;
+  $("editor-text").disabled = !open;
+  $("editor-text").readOnly = !canWrite;
+  $("script-save").disabled = !open || !canWrite;
+  $("script-run").disabled = !open || !scripting.allowed;
+  $("script-stop").disabled = !scripting.allowed;
+}
+
+async function openFile(name) {
+  if (scripting.openFile !== null && $("editor-text").value !== scripting.savedText &&
+      !confirm(scripting.openFile + " has changes that are not saved: drop them?")) {
+    return;
+  }
+  let text;
+  try {
+    const response = await fetch(storePath(name));
+    text = await response.text();
+    if (!response.ok) {
+      throw new ApiError(response.status, JSON.parse(text));
+    }
+  } catch (error) {
+    const problem = error instanceof ApiError ? error.describe() : error.message;
+    showResult($("files-result"), false, "open " + name + ": " + problem);
+    return;
+  }
+  scripting.openFile = name;
+  scripting.savedText = text;
+  $("editor-text").value = text;
+  $("editor-file").textContent = "/user/" + name;
+  updateEditorButtons();
+  showResult($("files-result"), true, "opened " + name);
+}
+
+function fileListed(name) {
+  return [...$("file-list").rows].some((row) => row.dataset.name === name);
+}
+
+// Writing over a listed file only after the user said so.
+function mayReplace(name) {
+  return !fileListed(name) || confirm("/user/" + name + " exists: replace it?");
+}
+
+async function writeFile(name, text, result) {
+  const refused = (error) => showResult(result, false, "save " + name + ": " + error.describe());
+  const reply = await callApi(refused, "PUT", storePath(name), { text: text });
+  if (reply) {
+    showResult(result, true, "saved " + name + " (" + reply.bytes + " bytes)");
+  }
+  return reply !== null;
+}
+
+async function saveOpenFile() {
+  const text = $("editor-text").value;
+  if (!(await writeFile(scripting.openFile, text, $("script-result")))) {
+    return false;
+  }
+  scripting.savedText = text;
+  await listFiles();
+  return true;
+}
+
+async function newFile(event) {
+  event.preventDefault();
+  const name = $("file-new").elements.name.value.trim();
+  if (fileListed(name)) {
+    showResult($("files-result"), false, name + " exists: open it from the list");
+    return;
+  }
+  if (await writeFile(name, "", $("files-result"))) {
+    await listFiles();
+    await openFile(name);
+  }
+}
+
+async function uploadFile() {
+  const input = $("file-upload").elements.file;
+  const file = input.files[0];
+  if (!file || !mayReplace(file.name)) {
+    input.value = "";
+    return;
+  }
+  if (await writeFile(file.name, await file.text(), $("files-result"))) {
+    await listFiles();
+  }
+  input.value = "";
+}
+
+// The store has no rename: the file is written under the new name, then
+// the old one deleted.
+async function renameFile(name) {
+  const to = prompt("Rename " + name + " to:", name);
+  if (!to || to === name || !mayReplace(to)) {
+    return;
+  }
+  const response = await fetch(storePath(name));
+  const text = await response.text();
+  const result = $("files-result");
+  if (!response.ok) {
+    showResult(result, false, "rename " + name + ": HTTP " + response.status);
+    return;
+  }
+  if (await writeFile(to, text, result)) {
+    await deleteFile(name, true);
+    if (scripting.openFile === name) {
+      scripting.openFile = to;
+      $("editor-file").textContent = "/user/" + to;
+    }
+    showResult(result, true, "renamed " + name + " to " + to);
+  }
+}
+
+async function deleteFile(name, quiet) {
+  if (!quiet && !confirm("Delete /user/" + name + "?")) {
+    return;
+  }
+  const result = $("files-result");
+  const refused = (error) => showResult(result, false, "delete " + name + ": " + error.describe());
+  if (await callApi(refused, "DELETE", storePath(name))) {
+    if (!quiet) {
+      showResult(result, true, "deleted " + name);
+    }
+    await listFiles();
+  }
+}
+
+// Run saves the open file first (spec: "run the open file (saved first)").
+async function runOpenFile() {
+  if (scripting.writable && $("editor-text").value !== scripting.savedText) {
+    if (!(await saveOpenFile())) {
+      return;
+    }
+  }
+  const file = "/user/" + scripting.openFile;
+  const refused = (error) => scriptResult(false, "run " + file + ": " + error.describe());
+  const reply = await callApi(refused, "POST", apiBase + "/script/run", { file: file });
+  if (reply) {
+    scriptResult(true, "run " + file + ": started");
+    renderScript(reply);
+    pollConsole();
+  }
+}
+
+async function stopScript() {
+  const refused = (error) => scriptResult(false, "stop: " + error.describe());
+  const reply = await callApi(refused, "POST", apiBase + "/script/stop");
+  if (reply) {
+    scriptResult(true, "stop: stopped");
+    renderScript(reply);
+  }
+}
+
+function renderScript(script) {
+  setText("script-file", script.running ? script.file : "no script runs" +
+    (script.file ? " (last: " + script.file + ")" : ""));
+  setText("script-error", script.error ? "error: " + script.error : "");
+  setText("startup-script", script.startup ? script.startup + " (runs at power-on)"
+    : "none (or not started at power-on: --no-script-autostart)");
+  scripting.startup = script.startup;
+  const choice = $("startup-choice");
+  if ([...choice.options].some((o) => o.value === (script.startup || ""))) {
+    choice.value = script.startup || "";
+  }
+}
+
+// SF_SCRIPT_RUNNING and SF_SCRIPT_FAILURE from the event stream.
+function renderScriptFlags(setFlags) {
+  for (const [id, flag] of [["script-flag-running", "SF_SCRIPT_RUNNING"],
+                            ["script-flag-failure", "SF_SCRIPT_FAILURE"]]) {
+    const on = setFlags.includes(flag);
+    setText(id, flag + (on ? " ✔ set" : " ○ clear"));
+    $(id).classList.toggle("set", on);
+  }
+}
+
+// One console read at a time (Run reads at once, besides the poll): two
+// reads from the same line number would show its lines twice.
+function pollConsole() {
+  if (!scripting.reading) {
+    scripting.reading = readConsole().finally(() => (scripting.reading = null));
+  }
+  return scripting.reading;
+}
+
+async function readConsole() {
+  const failed = () => {}; // the link indicator shows a lost server
+  const reply = await callApi(failed, "GET",
+    apiBase + "/script/console?since=" + scripting.consoleNext);
+  if (reply && reply.lines.length) {
+    appendLines($("console"), reply.lines, CONSOLE_LINES_SHOWN);
+  }
+  if (reply) {
+    scripting.consoleNext = reply.next;
+  }
+  const script = await callApi(failed, "GET", apiBase + "/script");
+  if (script) {
+    renderScript(script);
+  }
+}
+
+// Adds lines to a <pre>, keeping the last `keep`, scrolled to the end when
+// it was at the end.
+function appendLines(pre, lines, keep) {
+  const atEnd = pre.scrollTop + pre.clientHeight >= pre.scrollHeight - 4;
+  const all = (pre.textContent ? pre.textContent.split("\n") : []).concat(lines);
+  pre.textContent = all.slice(-keep).join("\n");
+  if (atEnd) {
+    pre.scrollTop = pre.scrollHeight;
+  }
+}
+
+function setUpScripting() {
+  $("file-new").addEventListener("submit", newFile);
+  $("file-upload").elements.file.addEventListener("change", uploadFile);
+  $("script-save").addEventListener("click", saveOpenFile);
+  $("script-run").addEventListener("click", runOpenFile);
+  $("script-stop").addEventListener("click", stopScript);
+  $("console-clear").addEventListener("click", () => ($("console").textContent = ""));
+  pollWhileShown("scripting", CONSOLE_POLL_MS, pollConsole);
+  const showScripting = views.onShow.scripting;
+  views.onShow.scripting = () => {
+    listFiles();
+    showScripting();
+  };
+  views.onShow.settings = listFiles; // the startup script's choice of files
+}
+
+// Without sim_allowed the server refuses runs and changes: shown, not tried.
+function scriptingAllowed(allowed) {
+  scripting.allowed = allowed;
+  $("script-unavailable").hidden = allowed;
+  updateEditorButtons();
+  if (views.current === "scripting" || views.current === "settings") {
+    listFiles(); // its buttons follow the rule
+  }
+}
+
+// --------------------------------------------------------------- the system
+
+// info: GET /system as the page loaded (a promise, null after a refusal).
+const system = { logNext: 0, info: null };
+
+function formatUptime(ms) {
+  const total = Math.floor(ms / 1000);
+  const hours = Math.floor(total / 3600);
+  const minutes = Math.floor((total % 3600) / 60);
+  const seconds = total % 60;
+  const two = (n) => String(n).padStart(2, "0");
+  return hours + ":" + two(minutes) + ":" + two(seconds) + " (" + (ms / 1000).toFixed(3) + " s)";
+}
+
+function renderSystem(info) {
+  setText("sys-model", info.model);
+  setText("sys-serial", String(info.serial));
+  setText("sys-firmware", info.firmware_version);
+  setText("sys-wsgsim", info.wsgsim_version);
+  setText("sys-uptime", formatUptime(info.uptime_ms));
+  if (info.force_max_n > 0) {
+    live.forceSpanN = info.force_max_n;
+  }
+  const log = info.log;
+  if (log.next < system.logNext) {
+    $("system-log").textContent = ""; // another wsgsim: its log starts again
+  }
+  if (log.lines.length) {
+    appendLines($("system-log"), log.lines, LOG_LINES_SHOWN);
+  }
+  system.logNext = log.next;
+}
+
+async function pollSystem() {
+  const info = await callApi(() => {}, "GET", apiBase + "/system?since=" + system.logNext);
+  if (info) {
+    renderSystem(info);
+  }
+}
+
+// The model's ranges (the force axis's span) and whether there is a script
+// store: GET /system once at start, without its log lines.
+async function loadSystemInfo() {
+  const info = await callApi(() => {}, "GET", apiBase + "/system?since=" + Number.MAX_SAFE_INTEGER);
+  if (info && info.force_max_n > 0) {
+    live.forceSpanN = info.force_max_n;
+    scheduleChart();
+  }
+  return info;
+}
+
 // ------------------------------------------------------------ the devices
 
 async function setUpDevices() {
   const refused = (error) => ($("identity").textContent = "devices: " + error.describe());
   const reply = await callApi(refused, "GET", "/api/devices");
   const devices = reply ? reply.devices : [];
+  if (reply) {
+    scriptingAllowed(reply.sim_allowed);
+  }
   const self = devices.find((device) => device.id === deviceId);
   if (self) {
     $("identity").textContent = self.model + (self.tag ? " · " + self.tag : "") + " · device " + deviceId;
-    document.title = "wsgsim " + self.model + " (device " + deviceId + ")";
+    views.title = "wsgsim " + self.model + " (device " + deviceId + ")";
+    showTitle();
   }
   if (devices.length < 2) {
     return;
@@ -725,11 +1273,24 @@ async function setUpDevices() {
   $("device-picker").hidden = false;
 }
 
+async function loadScriptState() {
+  const script = await callApi(() => {}, "GET", apiBase + "/script");
+  if (script) {
+    renderScript(script);
+  }
+}
+
 function main() {
   setUpControl();
   setUpSim();
   setUpSettings();
   setUpDevices();
+  system.info = loadSystemInfo();
+  setUpScripting();
+  pollWhileShown("system", SYSTEM_POLL_MS, pollSystem);
+  $("banner-fsack").addEventListener("click", bannerFsack);
+  setUpViews();
+  loadScriptState();
   openStream(RECONNECT_MIN_MS);
 }
 

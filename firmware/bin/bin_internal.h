@@ -74,7 +74,16 @@ typedef struct {
 
 typedef wsg_status_t (*bin_handler_t)(bin_req_t *req);
 
-/* driver.c: sending */
+/* commands.c: the built-in commands */
+typedef struct {
+    uint8_t id;
+    const char *name; /* as tools/wsgbin names it */
+    bin_handler_t handler;
+} bin_command_t;
+/* The built-in command with this ID, NULL for none. */
+const bin_command_t *wsg_bin_find_command(uint8_t id);
+
+/* reply.c: sending */
 void wsg_bin_send(bin_conn_t *b, uint8_t id, wsg_status_t status, const uint8_t *values, size_t len,
                   wsg_msg_kind_t kind);
 /* Replies E_SUCCESS with values and returns BIN_REPLIED. */

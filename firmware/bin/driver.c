@@ -1,119 +1,12 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* The binary protocol driver (wsg_bin.h): frames in, one reply frame per
- * write out; the checks every request passes in the documented order, the
- * command table, pending and final replies. */
-#include <math.h>
+ * write out; the checks every request passes in the documented order,
+ * pending and final replies. The command table is commands.c, the
+ * handlers' replies reply.c. */
 #include <stddef.h>
 #include <string.h>
 
 #include "bin/bin_internal.h"
-
-typedef struct {
-    uint8_t id;
-    const char *name; /* as tools/wsgbin names it */
-    bin_handler_t handler;
-} bin_command_t;
-
-static const bin_command_t commands[] = {
-    {0x06, "loop", wsg_bin_loop},
-    {0x07, "disconnect", wsg_bin_disconnect},
-    {0x20, "homing", wsg_bin_homing},
-    {0x21, "preposition", wsg_bin_preposition},
-    {0x22, "stop", wsg_bin_stop},
-    {0x23, "fast-stop", wsg_bin_fast_stop},
-    {0x24, "ack", wsg_bin_ack},
-    {0x25, "grasp", wsg_bin_grasp},
-    {0x26, "release", wsg_bin_release},
-    {0x30, "set-acc", wsg_bin_set_acc},
-    {0x31, "get-acc", wsg_bin_get_acc},
-    {0x32, "set-force", wsg_bin_set_force},
-    {0x33, "get-force-limit", wsg_bin_get_force_limit},
-    {0x34, "set-soft-limits", wsg_bin_set_soft_limits},
-    {0x35, "get-soft-limits", wsg_bin_get_soft_limits},
-    {0x36, "clear-soft-limits", wsg_bin_clear_soft_limits},
-    {0x37, "overdrive", wsg_bin_overdrive},
-    {0x38, "tare", wsg_bin_tare},
-    {0x40, "get-state", wsg_bin_get_state},
-    {0x41, "get-grasp-state", wsg_bin_get_grasp_state},
-    {0x42, "get-stats", wsg_bin_get_stats},
-    {0x43, "get-width", wsg_bin_get_width},
-    {0x44, "get-speed", wsg_bin_get_speed},
-    {0x45, "get-force", wsg_bin_get_force},
-    {0x46, "get-temp", wsg_bin_get_temp},
-    {0x50, "system-info", wsg_bin_system_info},
-    {0x51, "set-tag", wsg_bin_set_tag},
-    {0x52, "get-tag", wsg_bin_get_tag},
-    {0x53, "get-limits", wsg_bin_get_limits},
-    {0x60, "finger1-info", wsg_bin_finger_info},
-    {0x61, "finger1-flags", wsg_bin_finger_flags},
-    {0x62, "finger1-power", wsg_bin_finger_power},
-    {0x63, "finger1-data", wsg_bin_finger_data},
-    {0x70, "finger2-info", wsg_bin_finger_info},
-    {0x71, "finger2-flags", wsg_bin_finger_flags},
-    {0x72, "finger2-power", wsg_bin_finger_power},
-    {0x73, "finger2-data", wsg_bin_finger_data},
-};
-
-static const bin_command_t *find_command(uint8_t id)
-{
-    for (size_t i = 0; i < sizeof(commands) / sizeof(commands[0]); i++) {
-        if (commands[i].id == id) {
-            return &commands[i];
-        }
-    }
-    return NULL;
-}
-
-const char *wsg_bin_command_name(uint8_t id)
-{
-    const bin_command_t *cmd = find_command(id);
-    return cmd != NULL ? cmd->name : NULL;
-}
-
-void wsg_bin_send(bin_conn_t *b, uint8_t id, wsg_status_t status, const uint8_t *values, size_t len,
-                  wsg_msg_kind_t kind)
-{
-    uint8_t frame[WSG_BIN_REPLY_MAX];
-    size_t n = wsg_bin_encode_reply(frame, sizeof(frame), id, (uint16_t)status, values, len);
-    if (n == 0) {
-        n = wsg_bin_encode_reply(frame, sizeof(frame), id, E_OVERRUN, NULL, 0);
-    }
-    wsg_conn_write(b->conn, (const char *)frame, n, kind);
-}
-
-wsg_status_t wsg_bin_reply_values(bin_req_t *req, const uint8_t *values, size_t len)
-{
-    wsg_bin_send(req->bin, req->id, E_SUCCESS, values, len, WSG_MSG_REPLY);
-    return BIN_REPLIED;
-}
-
-wsg_status_t wsg_bin_reply_f32(bin_req_t *req, float value)
-{
-    uint8_t v[4];
-    wsg_bin_put_f32(v, value);
-    return wsg_bin_reply_values(req, v, sizeof(v));
-}
-
-wsg_status_t wsg_bin_expect_none(const bin_req_t *req)
-{
-    return req->length == 0 ? E_SUCCESS : E_NO_PARAM_EXPECTED;
-}
-
-wsg_status_t wsg_bin_expect_len(const bin_req_t *req, uint16_t len)
-{
-    return req->length == len ? E_SUCCESS : E_CMD_FORMAT_ERROR;
-}
-
-wsg_status_t wsg_bin_get_finite(const bin_req_t *req, size_t offset, float *out)
-{
-    *out = wsg_bin_get_f32(req->payload + offset);
-    return isfinite(*out) ? E_SUCCESS : E_INVALID_PARAMETER;
-}
-
-float wsg_bin_clamp(float value, float low, float high)
-{
-    return value < low ? low : value > high ? high : value;
-}
 
 /* The checks of docs/binary-protocol.md in their order, then the command. */
 static wsg_status_t run_frame(bin_conn_t *b, const wsg_bin_frame_t *frame)
@@ -127,7 +20,7 @@ static wsg_status_t run_frame(bin_conn_t *b, const wsg_bin_frame_t *frame)
     if (wsg_script_registered(bin_device(b), frame->id)) {
         return frame->too_long ? E_CMD_FORMAT_ERROR : wsg_bin_script_queue(b, frame);
     }
-    const bin_command_t *cmd = find_command(frame->id);
+    const bin_command_t *cmd = wsg_bin_find_command(frame->id);
     if (cmd == NULL) {
         return E_CMD_UNKNOWN;
     }

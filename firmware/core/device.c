@@ -21,6 +21,7 @@ static void power_on(wsg_dev_t *dev, const wsg_config_t *cfg)
     dev->flags = 0;
     wsg_fingers_reset(&dev->fingers);
     wsg_finger_bus_init(&dev->fbus, dev->hal.can);
+    dev->fingers_unsensed = true;
     wsg_sense(dev);
 }
 
@@ -50,10 +51,11 @@ void wsg_device_observe(wsg_device_t *device, const wsg_device_observer_t *obser
  * and it raises no force request (only its step does). */
 static void step_finger_bus(wsg_dev_t *dev)
 {
+    dev->fingers_stepped = false;
     if (dev->fbus.can == NULL) {
         return;
     }
-    wsg_finger_bus_step(
+    dev->fingers_stepped = wsg_finger_bus_step(
         &dev->fbus, &dev->fingers,
         &(fbus_input_t){
             .now_us = dev->sensed.now_us,
@@ -64,7 +66,10 @@ static void step_finger_bus(wsg_dev_t *dev)
             .grip_force_n = dev->grip.force_n,
             .force_max_n = wsg_config_force_max(&dev->cfg),
         });
-    wsg_motion_apply_force_request(dev);
+    if (dev->fingers_stepped) { /* only a full bus step raises a force request */
+        dev->fingers_unsensed = true;
+        wsg_motion_apply_force_request(dev);
+    }
 }
 
 void wsg_device_step(wsg_device_t *device)
@@ -80,20 +85,6 @@ void wsg_device_step(wsg_device_t *device)
         wsg_timer_run_due(&dev->timers, dev->sensed.now_us);
     }
     dev->tick_from_us = dev->sensed.now_us;
-}
-
-/* How often the supervisor must look: 0 when nothing can change by itself. */
-uint32_t wsg_device_tick_us(const wsg_dev_t *dev)
-{
-    if (dev->motion.kind != WSG_MOTION_NONE || dev->velocity.active ||
-        wsg_flags_get(dev, SF_MOVING)) {
-        return MOTION_TICK_US;
-    }
-    if (dev->grip.state == GS_HOLDING ||
-        (dev->flags & (WSG_FLAG(SF_BLOCKED_MINUS) | WSG_FLAG(SF_BLOCKED_PLUS))) != 0u) {
-        return HOLD_TICK_US;
-    }
-    return 0u;
 }
 
 uint64_t wsg_device_next_deadline_us(const wsg_device_t *device)

@@ -6,6 +6,38 @@
 #include "priv/wsg_dev.h"
 
 #include "hal_clock.h"
+#include "priv/motion_tuning.h"
+
+/* How often the supervisor must look: 0 when nothing can change by itself. */
+uint32_t wsg_device_tick_us(const wsg_dev_t *dev)
+{
+    if (dev->motion.kind != WSG_MOTION_NONE || dev->velocity.active ||
+        wsg_flags_get(dev, SF_MOVING)) {
+        return MOTION_TICK_US;
+    }
+    if (dev->grip.state == GS_HOLDING ||
+        (dev->flags & (WSG_FLAG(SF_BLOCKED_MINUS) | WSG_FLAG(SF_BLOCKED_PLUS))) != 0u) {
+        return HOLD_TICK_US;
+    }
+    return 0u;
+}
+
+/* With a finger bus only its full steps change the fingers (and power-on):
+ * between them the last reading stands. Without one they are read every
+ * time, as nothing marks a change made to them from outside (tests do). */
+static void sense_fingers(wsg_dev_t *dev)
+{
+    dev_sensed_t *s = &dev->sensed;
+    if (dev->fbus.can != NULL && !dev->fingers_unsensed) {
+        return;
+    }
+    dev->fingers_unsensed = false;
+    s->force_control = wsg_fingers_force_control(&dev->fingers);
+    s->finger_faulted = wsg_fingers_faulted(&dev->fingers);
+    /* the measurement averages the WSG-FMFs with data: 0 when there is none,
+     * which is exactly when the fingers are not in force control */
+    s->finger_force_n = s->force_control ? wsg_fingers_measured_force(&dev->fingers) : 0.0f;
+}
 
 void wsg_sense(wsg_dev_t *dev)
 {
@@ -16,11 +48,7 @@ void wsg_sense(wsg_dev_t *dev)
     }
     dev->hal.axis.ops->status(dev->hal.axis.ctx, &s->axis);
     dev->axis_commanded = false;
-    s->force_control = wsg_fingers_force_control(&dev->fingers);
-    s->finger_faulted = wsg_fingers_faulted(&dev->fingers);
-    /* the measurement averages the WSG-FMFs with data: 0 when there is none,
-     * which is exactly when the fingers are not in force control */
-    s->finger_force_n = s->force_control ? wsg_fingers_measured_force(&dev->fingers) : 0.0f;
+    sense_fingers(dev);
     /* FORCE? reports the finger measurement in force-control mode, else the
      * motor's estimate */
     s->force_n = s->force_control ? s->finger_force_n : s->axis.force_n;
@@ -32,8 +60,8 @@ void wsg_sense(wsg_dev_t *dev)
 /* What the sense step reads, other than the world (which the port advances
  * between control steps, never within one) and the configuration (which only
  * commands change): the clock, the axis as the supervisor commands it, the
- * reference and the fingers. The finger readings are compared only when a
- * finger bus can have changed them. */
+ * reference and the fingers. The finger readings are compared only when the
+ * finger bus's step can have changed them. */
 static bool readings_changed(const wsg_dev_t *dev)
 {
     const dev_sensed_t *s = &dev->sensed;
@@ -42,7 +70,7 @@ static bool readings_changed(const wsg_dev_t *dev)
         return true;
     }
     const wsg_fingers_t *fingers = &dev->fingers;
-    return dev->fbus.can != NULL && /* without one, nothing changes the fingers in a step */
+    return dev->fingers_stepped && /* else nothing changed the fingers in this step */
            (wsg_fingers_force_control(fingers) != s->force_control ||
             wsg_fingers_faulted(fingers) != s->finger_faulted ||
             wsg_fingers_measured_force(fingers) != s->finger_force_n);

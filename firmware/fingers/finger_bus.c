@@ -31,22 +31,6 @@ void wsg_finger_bus_init(finger_bus_t *bus, const hal_can_t *can)
     bus->wake = true;
 }
 
-/* A real bus is supervised every 10 ms: its nodes run on their own and
- * power down without STATE. On an on-demand bus the nodes run when the
- * controller polls, so every step is a complete bus cycle: it ticks only
- * while something settles or the force loop runs. */
-uint64_t wsg_finger_bus_next_deadline_us(const finger_bus_t *bus)
-{
-    if (bus->can == NULL) {
-        return UINT64_MAX;
-    }
-    if (!bus->can->on_demand || bus->regulating || bus->wake ||
-        bus->next_state_us < bus->awake_until_us) {
-        return bus->next_state_us;
-    }
-    return UINT64_MAX;
-}
-
 static void send(finger_bus_t *bus, const hal_can_frame_t *frame)
 {
     if (hal_can_send(bus->can, frame)) {
@@ -176,29 +160,49 @@ static void on_bulk(fbus_slot_t *s, wsg_finger_t *finger, const fbus_bulk_t *b)
     finger->data_count = (uint16_t)values;
 }
 
+/* The frame's function code says which type it is: one unpack, not a try
+ * of each. */
 static void dispatch_frame(fbus_slot_t *s, wsg_finger_t *finger, const hal_can_frame_t *f)
 {
     fbus_heartbeat_t hb;
     fbus_descriptor_t d;
     fbus_measure_t m;
     fbus_bulk_t b;
-    if (wsg_fbus_unpack_heartbeat(f, &hb)) {
-        on_heartbeat(s, finger, &hb);
-    } else if (wsg_fbus_unpack_descriptor(f, &d)) {
-        on_descriptor(s, finger, &d);
-    } else if (wsg_fbus_unpack_measure(f, &m)) {
-        on_measure(s, finger, &m);
-    } else if (wsg_fbus_unpack_bulk(f, &b)) {
-        on_bulk(s, finger, &b);
+    switch (fbus_func_of(f->id)) {
+    case FBUS_ID_HEARTBEAT:
+        if (wsg_fbus_unpack_heartbeat(f, &hb)) {
+            on_heartbeat(s, finger, &hb);
+        }
+        break;
+    case FBUS_ID_DESCRIPTOR:
+        if (wsg_fbus_unpack_descriptor(f, &d)) {
+            on_descriptor(s, finger, &d);
+        }
+        break;
+    case FBUS_ID_MEASURE:
+        if (wsg_fbus_unpack_measure(f, &m)) {
+            on_measure(s, finger, &m);
+        }
+        break;
+    case FBUS_ID_BULK:
+        if (wsg_fbus_unpack_bulk(f, &b)) {
+            on_bulk(s, finger, &b);
+        }
+        break;
+    default:
+        break;
     }
 }
 
-static void receive_all(finger_bus_t *bus, wsg_fingers_t *fingers, uint64_t now_us)
+/* Returns the number of frames taken. */
+static unsigned receive_all(finger_bus_t *bus, wsg_fingers_t *fingers, uint64_t now_us)
 {
     hal_can_frame_t f;
+    unsigned taken = 0;
     while (hal_can_recv(bus->can, &f)) {
+        taken++;
         uint8_t injected;
-        if (wsg_fbus_unpack_simctl(&f, &injected)) {
+        if (fbus_func_of(f.id) == FBUS_ID_SIMCTL && wsg_fbus_unpack_simctl(&f, &injected)) {
             bus->wake = true; /* only an on-demand bus passes it */
             continue;
         }
@@ -215,6 +219,7 @@ static void receive_all(finger_bus_t *bus, wsg_fingers_t *fingers, uint64_t now_
         s->last_rx_us = now_us;
         dispatch_frame(s, &fingers->slot[slot], &f);
     }
+    return taken;
 }
 
 static void supervise(finger_bus_t *bus, unsigned slot, wsg_finger_t *finger, uint64_t now_us)
@@ -345,15 +350,61 @@ bool wsg_finger_bus_take_force_request(finger_bus_t *bus, float *limit_n)
     return true;
 }
 
-void wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in)
+static uint64_t earliest(uint64_t a, uint64_t b)
+{
+    return a < b ? a : b;
+}
+
+/* The first instant supervise() can act on the slot without a frame
+ * arriving first (UINT64_MAX: only a frame changes it). */
+static uint64_t supervise_due_us(const fbus_slot_t *s)
+{
+    if (!s->heard || s->comm_fault) {
+        return UINT64_MAX;
+    }
+    uint64_t due = s->last_rx_us + FBUS_COMM_TIMEOUT_US + 1u;
+    if (!s->config && s->node_state == FBUS_NODE_OPERATIONAL) {
+        due = earliest(due, s->desc_request_us + FBUS_DESCRIPTOR_RETRY_US);
+    }
+    if (s->tare_pending) {
+        due = earliest(due, s->tare_sent_us == FBUS_TARE_UNSTAMPED
+                                ? 0u
+                                : s->tare_sent_us + FBUS_TARE_RETRY_US);
+    }
+    return due;
+}
+
+/* On an on-demand bus a step that takes no frame changes nothing before the
+ * next broadcast or supervision time, unless something woke the bus or the
+ * force loop runs: supervise(), publish() and regulate() would find what
+ * the last full step left. Such a step is a poll and nothing else (1 ms
+ * steps while moving, of which one in ten broadcasts). */
+static bool quiet(const finger_bus_t *bus, const wsg_fingers_t *fingers, const fbus_input_t *in)
+{
+    return bus->can->on_demand && !bus->wake && in->now_us < bus->quiet_until_us &&
+           !bus->regulating && !(in->holding && wsg_fingers_force_control(fingers));
+}
+
+static void note_quiet_until(finger_bus_t *bus)
+{
+    uint64_t until = bus->next_state_us;
+    for (unsigned i = 0; i < FBUS_SLOTS; i++) {
+        until = earliest(until, supervise_due_us(&bus->slot[i]));
+    }
+    bus->quiet_until_us = until;
+}
+
+bool wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in)
 {
     if (bus->can == NULL) {
-        return;
+        return false;
     }
     if (in->now_us >= bus->next_state_us) {
         broadcast_state(bus, in); /* first: the supply reaches the fingers before polling */
     }
-    receive_all(bus, fingers, in->now_us);
+    if (receive_all(bus, fingers, in->now_us) == 0u && quiet(bus, fingers, in)) {
+        return false;
+    }
     for (unsigned i = 0; i < FBUS_SLOTS; i++) {
         supervise(bus, i, &fingers->slot[i], in->now_us);
         publish(bus, i, &fingers->slot[i]);
@@ -363,6 +414,8 @@ void wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_i
         bus->wake = false;
         bus->awake_until_us = in->now_us + FBUS_SETTLE_US;
     }
+    note_quiet_until(bus);
+    return true;
 }
 
 wsg_status_t wsg_finger_bus_tare(finger_bus_t *bus, wsg_fingers_t *fingers, int index)

@@ -54,11 +54,6 @@ uint32_t wsg_fbus_id(uint32_t func, uint8_t node)
     return func + (uint32_t)(node & FBUS_NODE_MASK);
 }
 
-int wsg_fbus_slot_of_node(uint8_t node)
-{
-    return (node >= 1u && node <= FBUS_SLOTS) ? (int)node - 1 : -1;
-}
-
 void wsg_fbus_pack_state(hal_can_frame_t *f, const fbus_state_t *s)
 {
     begin(f, FBUS_ID_STATE, 8);

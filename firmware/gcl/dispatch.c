@@ -223,7 +223,7 @@ void wsg_dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_sta
         status = run_command(g, entry, &cmd);
     }
     if (status != E_SUCCESS) {
-        wsg_gcl_send_error(g, cmd.name, status);
+        wsg_gcl_send_error(g, cmd.name, entry != NULL ? (int)(entry - commands) : -1, status);
     }
     g->cmd_failed = status != E_SUCCESS;
     wsg_device_note_result(dev, status);

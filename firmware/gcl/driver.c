@@ -66,7 +66,7 @@ static void gcl_done(wsg_conn_t *c, wsg_op_t op, wsg_status_t status)
     if (status == E_SUCCESS) {
         wsg_gcl_send_word(g, "FIN", name);
     } else {
-        wsg_gcl_send_error(g, name, status);
+        wsg_gcl_send_error(g, name, wsg_gcl_command_index(name), status);
     }
 }
 
@@ -104,60 +104,6 @@ const wsg_proto_driver_t wsg_gcl_driver = {
     .close = gcl_close,
     .partial = gcl_partial,
 };
-
-void wsg_gcl_send(gcl_conn_t *g, wsg_textbuf_t *tb, wsg_msg_kind_t kind)
-{
-    wsg_textbuf_put_char(tb, '\n');
-    if (tb->overflow) {
-        /* never hand out a cut line: report the overrun instead */
-        wsg_textbuf_init(tb, tb->data, tb->cap);
-        wsg_textbuf_put_str(tb, "ERR REPLY 27\n");
-        const wsg_gcl_observer_t *o = gcl_observer(g);
-        if (o != NULL && o->error_sent != NULL) {
-            o->error_sent(gcl_observer_ctx(g), conn_public(g->conn), -1, E_OVERRUN);
-        }
-    }
-    wsg_gcl_send_line(g, tb->data, tb->len, kind);
-}
-
-void wsg_gcl_send_line(gcl_conn_t *g, const char *line, size_t len, wsg_msg_kind_t kind)
-{
-    g->lines_out++;
-    wsg_conn_write(g->conn, line, len, kind);
-}
-
-/* "ACK HOME", "FIN MOVE" */
-void wsg_gcl_send_word(gcl_conn_t *g, const char *word, const char *name)
-{
-    char storage[64];
-    wsg_textbuf_t tb;
-    wsg_textbuf_init(&tb, storage, sizeof(storage));
-    wsg_textbuf_put_str(&tb, word);
-    wsg_textbuf_put_char(&tb, ' ');
-    wsg_textbuf_put_str(&tb, name);
-    wsg_gcl_send(g, &tb, WSG_MSG_REPLY);
-}
-
-void wsg_gcl_send_error(gcl_conn_t *g, const char *name, wsg_status_t status)
-{
-    char storage[128];
-    wsg_textbuf_t tb;
-    wsg_textbuf_init(&tb, storage, sizeof(storage));
-    wsg_textbuf_put_str(&tb, "ERR ");
-    wsg_textbuf_put_str(&tb, name[0] != '\0' ? name : "?");
-    wsg_textbuf_put_char(&tb, ' ');
-    wsg_textbuf_put_uint(&tb, (uint32_t)status);
-    if (g->verbose) {
-        wsg_textbuf_put_char(&tb, ' ');
-        wsg_textbuf_put_str(&tb, wsg_status_description(status));
-    }
-    const wsg_gcl_observer_t *o = gcl_observer(g);
-    if (o != NULL && o->error_sent != NULL) {
-        o->error_sent(gcl_observer_ctx(g), conn_public(g->conn), wsg_gcl_command_index(name),
-                      status);
-    }
-    wsg_gcl_send(g, &tb, WSG_MSG_REPLY);
-}
 
 void wsg_gcl_observe(wsg_device_t *dev, const wsg_gcl_observer_t *observer, void *ctx)
 {

@@ -96,12 +96,16 @@ typedef struct cmd_entry {
 /* dispatch.c */
 void wsg_dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_status_t line_status);
 
-/* driver.c: formatting and sending; sending changes no state */
+/* send.c: every GCL line goes out here; sending changes no state but the
+ * line count. The built line with its '\n' added (ERR REPLY 27 instead of a
+ * cut one). */
 void wsg_gcl_send(gcl_conn_t *g, wsg_textbuf_t *tb, wsg_msg_kind_t kind);
 /* A whole line, its '\n' included, that surely fits a reply. */
 void wsg_gcl_send_line(gcl_conn_t *g, const char *line, size_t len, wsg_msg_kind_t kind);
 void wsg_gcl_send_word(gcl_conn_t *g, const char *word, const char *name);
-void wsg_gcl_send_error(gcl_conn_t *g, const char *name, wsg_status_t status);
+/* "ERR NAME code [text]"; command: its index in the dispatch table (what
+ * the GCL observer is told), -1 for an unknown one. */
+void wsg_gcl_send_error(gcl_conn_t *g, const char *name, int command, wsg_status_t status);
 
 /* autosend.c */
 void wsg_autosend_reschedule(gcl_conn_t *g);

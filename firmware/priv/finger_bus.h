@@ -9,6 +9,7 @@
 #define FINGER_BUS_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "hal_can.h"
@@ -56,6 +57,8 @@ typedef struct {
     /* On an on-demand bus: the bus ticks until then, as something changed */
     bool wake;
     uint64_t awake_until_us;
+    /* On an on-demand bus: until then a step that takes no frame is a poll */
+    uint64_t quiet_until_us;
 } finger_bus_t;
 
 /* What the bus hears from the core each step. */
@@ -72,9 +75,25 @@ typedef struct {
 /* Power-on state; can may be NULL. Sets the controller's filters. */
 void wsg_finger_bus_init(finger_bus_t *bus, const hal_can_t *can);
 /* One control step: broadcast the jaw state when due, receive, supervise,
- * publish to fingers and compute the grip-force loop. */
-void wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in);
-uint64_t wsg_finger_bus_next_deadline_us(const finger_bus_t *bus);
+ * publish to fingers and compute the grip-force loop. False when the step
+ * changed nothing in fingers (no bus, or a quiet poll). */
+bool wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in);
+/* A real bus is supervised every 10 ms: its nodes run on their own and
+ * power down without STATE. On an on-demand bus the nodes run when the
+ * controller polls, so every step is a complete bus cycle: it ticks only
+ * while something settles or the force loop runs. Inline: the device asks
+ * at every step. */
+static inline uint64_t wsg_finger_bus_next_deadline_us(const finger_bus_t *bus)
+{
+    if (bus->can == NULL) {
+        return UINT64_MAX;
+    }
+    if (!bus->can->on_demand || bus->regulating || bus->wake ||
+        bus->next_state_us < bus->awake_until_us) {
+        return bus->next_state_us;
+    }
+    return UINT64_MAX;
+}
 /* The force limit the loop asks the supervisor to drive with, once. */
 bool wsg_finger_bus_take_force_request(finger_bus_t *bus, float *limit_n);
 /* TARE() (index -1) or TARE(i): E_NOT_AVAILABLE without a connected FMF. */

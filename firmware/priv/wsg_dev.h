@@ -91,8 +91,10 @@ typedef struct wsg_dev {
     wsg_config_t cfg; /* with the run-time settings applied */
     wsg_hal_t hal;
     dev_sensed_t sensed;
-    bool sense_reacted;  /* the last wsg_sense_and_react() raised FAST STOP */
-    bool axis_commanded; /* the supervisor commanded the axis since the last sense */
+    bool sense_reacted;    /* the last wsg_sense_and_react() raised FAST STOP */
+    bool axis_commanded;   /* the supervisor commanded the axis since the last sense */
+    bool fingers_stepped;  /* this control step's finger bus step may have changed fingers */
+    bool fingers_unsensed; /* fingers may have changed since the sense last read them */
     /* What the control step's tick counts from: the last control step, or,
      * while nothing ticks, the last sense. A query senses too, but must not
      * postpone the next step: queries faster than the tick starved it. */

@@ -169,7 +169,7 @@ static void on_simctl(finger_node_t *node, uint8_t faults, uint64_t now_us)
     }
 }
 
-void wsg_finger_node_receive(finger_node_t *node, const hal_can_frame_t *frame, uint64_t now_us)
+static void handle_frame(finger_node_t *node, const hal_can_frame_t *frame, uint64_t now_us)
 {
     fbus_state_t state;
     uint8_t value = 0;
@@ -190,6 +190,12 @@ void wsg_finger_node_receive(finger_node_t *node, const hal_can_frame_t *frame, 
             send_descriptor(node);
         }
     }
+}
+
+void wsg_finger_node_receive(finger_node_t *node, const hal_can_frame_t *frame, uint64_t now_us)
+{
+    handle_frame(node, frame, now_us);
+    node->due_us = wsg_finger_node_next_due_us(node); /* a frame may power it, or wake it */
 }
 
 static float fmf_reading(finger_node_t *node)
@@ -284,23 +290,8 @@ static void send_data(finger_node_t *node, uint64_t now_us)
     }
 }
 
-/* A powered node steps at least every heartbeat (100 ms). A longer gap means
- * its own loop was held up (the host descheduled fingersim): the gripper's
- * silence counts only while the node ran, else a stall of the whole host
- * would cut the fingers' supply. */
-static void skip_own_stall(finger_node_t *node, uint64_t now_us)
+static void run_due(finger_node_t *node, uint64_t now_us)
 {
-    uint64_t gap = now_us - node->stepped_us;
-    if (node->stepped_us != 0u && gap > FBUS_STALL_US) {
-        uint64_t shifted = node->last_state_us + gap;
-        node->last_state_us = shifted < now_us ? shifted : now_us;
-    }
-    node->stepped_us = now_us;
-}
-
-void wsg_finger_node_step(finger_node_t *node, uint64_t now_us)
-{
-    skip_own_stall(node, now_us);
     if (node->powered && now_us - node->last_state_us > FBUS_SUPPLY_TIMEOUT_US) {
         node->powered = false; /* the gripper is gone: no supply */
     }
@@ -336,6 +327,12 @@ uint64_t wsg_finger_node_next_due_us(const finger_node_t *node)
     }
     uint64_t supply = node->last_state_us + FBUS_SUPPLY_TIMEOUT_US + 1u;
     return supply < due ? supply : due;
+}
+
+void wsg_finger_node_step_due(finger_node_t *node, uint64_t now_us)
+{
+    run_due(node, now_us);
+    node->due_us = wsg_finger_node_next_due_us(node);
 }
 
 static bool same_word(const char *a, const char *word, size_t len)

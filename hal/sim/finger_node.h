@@ -37,6 +37,7 @@ typedef struct {
     /* schedule */
     uint64_t next_heartbeat_us;
     uint64_t next_data_us;
+    uint64_t due_us; /* wsg_finger_node_next_due_us() after the last step or frame */
     uint8_t heartbeat_counter;
     uint8_t data_counter;
     /* FMF */
@@ -59,8 +60,38 @@ unsigned wsg_finger_node_filters(const finger_node_t *node, hal_can_filter_t *ou
 
 /* Handles one frame from the bus (STATE, COMMAND, SIMCTL for this node). */
 void wsg_finger_node_receive(finger_node_t *node, const hal_can_frame_t *frame, uint64_t now_us);
-/* Sends whatever is due at now_us. */
-void wsg_finger_node_step(finger_node_t *node, uint64_t now_us);
+/* The part of wsg_finger_node_step() after the stall bookkeeping, once the
+ * cached due time has come. */
+void wsg_finger_node_step_due(finger_node_t *node, uint64_t now_us);
+
+/* A powered node steps at least every heartbeat (100 ms). A longer gap means
+ * its own loop was held up (the host descheduled fingersim): the gripper's
+ * silence counts only while the node ran, else a stall of the whole host
+ * would cut the fingers' supply. */
+static inline void wsg_finger_node_skip_own_stall(finger_node_t *node, uint64_t now_us)
+{
+    uint64_t gap = now_us - node->stepped_us;
+    if (node->stepped_us != 0u && gap > FBUS_STALL_US) {
+        uint64_t shifted = node->last_state_us + gap;
+        node->last_state_us = shifted < now_us ? shifted : now_us;
+    }
+    node->stepped_us = now_us;
+}
+
+/* Sends whatever is due at now_us. A node is polled far more often than it
+ * has something to do (wsgsim's in-process bus steps it at every control
+ * step, 1 ms while moving): inline, and nothing but the stall bookkeeping
+ * before its cached due time. The bookkeeping can only move the due time
+ * later (it shifts last_state_us forward), so the cached time is never
+ * late. */
+static inline void wsg_finger_node_step(finger_node_t *node, uint64_t now_us)
+{
+    wsg_finger_node_skip_own_stall(node, now_us);
+    if (now_us >= node->due_us) {
+        wsg_finger_node_step_due(node, now_us);
+    }
+}
+
 /* When wsg_finger_node_step() must run next (UINT64_MAX: only a frame wakes it). */
 uint64_t wsg_finger_node_next_due_us(const finger_node_t *node);
 

@@ -142,6 +142,9 @@ static void run_event(const event_t *e)
 
 unsigned scenario_run_due(uint64_t now_us, unsigned max)
 {
+    if (sc.next >= sc.count) {
+        return 0; /* no scenario, or it has run: the common case, at every deadline */
+    }
     unsigned ran = 0;
     while (ran < max && sc.next < sc.count && sc.events[sc.next].at_us <= now_us) {
         const event_t *e = &sc.events[sc.next++];

@@ -15,20 +15,22 @@
 #define STREAM_BLOCK 16384u
 
 /* One event's text, built once and shared by every stream of its device
- * that sends it at its tick. */
+ * that sends it at its slot's tick. */
 typedef struct web_event {
     struct web_event *next;
     const gripper_t *gripper;
-    uint64_t tick;
+    uint64_t fire;  /* when it was built */
+    uint64_t tick;  /* its id */
     unsigned users; /* streams sending it; freed with the last */
     size_t len;
     char *text;
 } web_event_t;
 
 typedef struct web_stream {
-    struct web_stream *prev, *next;
+    struct web_stream *prev, *next; /* in its slot's list */
     struct MHD_Connection *connection;
     gripper_t *gripper;
+    unsigned slot;
     web_event_t *event; /* the event being sent, NULL between events */
     size_t sent;
     bool due;       /* a tick came since the last event was built */
@@ -36,25 +38,61 @@ typedef struct web_stream {
     bool ended;     /* shutting down: end of stream */
 } web_stream_t;
 
+/* The period is cut into EVENT_SLOTS slots and each stream is woken in one
+ * of them, the emptiest when it opened: 200 streams wake 25 at a time, so
+ * a GCL request never waits behind all of them. A slot without streams
+ * wakes nobody; one stream wakes the loop once per period. */
+#define EVENT_SLOTS 8u
+#define SLOT_NS (WEB_EVENTS_PERIOD_MS * NS_PER_MS / EVENT_SLOTS)
+
 static struct {
-    web_stream_t *first;
-    web_event_t *shared; /* the events some stream is still sending */
+    web_stream_t *slot_first[EVENT_SLOTS];
+    unsigned slot_count[EVENT_SLOTS];
     unsigned count;
-    uint64_t next_tick_ns; /* 0: no stream */
-    uint64_t tick;         /* ticks so far: each event's id */
+    web_event_t *shared;   /* the events some stream is still sending */
+    uint64_t origin_ns;    /* when slot 0 of tick 0 was due */
+    uint64_t fire;         /* the last slot that fired, counted from the origin */
+    uint64_t next_fire;    /* the next slot with streams ... */
+    uint64_t next_tick_ns; /* ... and when it is due; 0: no stream */
 } events;
+
+/* The next slot after `after` that has streams, or none. */
+static void schedule_after(uint64_t after)
+{
+    events.next_tick_ns = 0;
+    for (uint64_t f = after + 1u; f <= after + EVENT_SLOTS; f++) {
+        if (events.slot_count[f % EVENT_SLOTS] != 0u) {
+            events.next_fire = f;
+            events.next_tick_ns = events.origin_ns + f * SLOT_NS;
+            return;
+        }
+    }
+}
+
+static unsigned emptiest_slot(void)
+{
+    unsigned best = 0;
+    for (unsigned i = 1; i < EVENT_SLOTS; i++) {
+        best = events.slot_count[i] < events.slot_count[best] ? i : best;
+    }
+    return best;
+}
 
 static void link_stream(web_stream_t *s)
 {
-    s->prev = NULL;
-    s->next = events.first;
-    if (events.first != NULL) {
-        events.first->prev = s;
-    }
-    events.first = s;
     if (events.count++ == 0) {
-        events.next_tick_ns = loop_monotonic_ns() + WEB_EVENTS_PERIOD_MS * NS_PER_MS;
+        events.origin_ns = loop_monotonic_ns();
+        events.fire = 0;
     }
+    s->slot = emptiest_slot();
+    s->prev = NULL;
+    s->next = events.slot_first[s->slot];
+    if (s->next != NULL) {
+        s->next->prev = s;
+    }
+    events.slot_first[s->slot] = s;
+    events.slot_count[s->slot]++;
+    schedule_after(events.fire);
 }
 
 static void unlink_stream(web_stream_t *s)
@@ -62,37 +100,44 @@ static void unlink_stream(web_stream_t *s)
     if (s->prev != NULL) {
         s->prev->next = s->next;
     } else {
-        events.first = s->next;
+        events.slot_first[s->slot] = s->next;
     }
     if (s->next != NULL) {
         s->next->prev = s->prev;
     }
-    if (--events.count == 0) {
-        events.next_tick_ns = 0;
-    }
+    events.slot_count[s->slot]--;
+    events.count--;
+    schedule_after(events.fire);
 }
 
 static web_event_t *find_event(const gripper_t *g, uint64_t tick)
 {
     for (web_event_t *e = events.shared; e != NULL; e = e->next) {
-        if (e->gripper == g && e->tick == tick) {
+        if (e->gripper == g && e->fire == events.fire && e->tick == tick) {
             return e;
         }
     }
     return NULL;
 }
 
-/* "id: TICK\nevent: state\ndata: {...}\n\n" with the newest state: the id
- * is the tick it was built at, so a reader sees which ticks it lost. */
-static web_event_t *new_event(gripper_t *g)
+/* An event's id: how many times the stream's slot has ticked, so that ids
+ * count periods, rise with every event of a stream (its first one at once
+ * included) and show a reader which ticks it lost. */
+static uint64_t tick_of(const web_stream_t *s)
+{
+    return events.fire >= s->slot ? (events.fire - s->slot) / EVENT_SLOTS + 1u : 0u;
+}
+
+/* "id: TICK\nevent: state\ndata: {...}\n\n" with the newest state. */
+static web_event_t *new_event(gripper_t *g, uint64_t tick)
 {
     web_event_t *e = calloc(1, sizeof(*e));
     if (e == NULL) {
         return NULL;
     }
     char head[64];
-    int head_len = snprintf(head, sizeof(head),
-                            "id: %llu\nevent: state\ndata: ", (unsigned long long)events.tick);
+    int head_len =
+        snprintf(head, sizeof(head), "id: %llu\nevent: state\ndata: ", (unsigned long long)tick);
     web_json_t j;
     web_json_init(&j);
     web_json_raw(&j, head, (size_t)head_len);
@@ -104,7 +149,8 @@ static web_event_t *new_event(gripper_t *g)
         return NULL;
     }
     e->gripper = g;
-    e->tick = events.tick;
+    e->fire = events.fire;
+    e->tick = tick;
     e->next = events.shared;
     events.shared = e;
     return e;
@@ -114,8 +160,9 @@ static web_event_t *new_event(gripper_t *g)
  * asks, shared by the others. */
 static bool take_event(web_stream_t *s)
 {
-    web_event_t *e = find_event(s->gripper, events.tick);
-    if (e == NULL && (e = new_event(s->gripper)) == NULL) {
+    uint64_t tick = tick_of(s);
+    web_event_t *e = find_event(s->gripper, tick);
+    if (e == NULL && (e = new_event(s->gripper, tick)) == NULL) {
         return false;
     }
     e->users++;
@@ -216,27 +263,38 @@ static void resume(web_stream_t *s)
     }
 }
 
+static void wake_slot(unsigned slot)
+{
+    for (web_stream_t *s = events.slot_first[slot]; s != NULL; s = s->next) {
+        s->due = true;
+        resume(s);
+    }
+}
+
 bool web_events_tick(uint64_t now_ns)
 {
     if (events.next_tick_ns == 0 || now_ns < events.next_tick_ns) {
         return false;
     }
-    /* the next tick one period on; a late loop skips the ticks it missed */
-    uint64_t period = WEB_EVENTS_PERIOD_MS * NS_PER_MS;
-    uint64_t missed = (now_ns - events.next_tick_ns) / period;
-    events.next_tick_ns += (missed + 1u) * period;
-    events.tick += missed + 1u;
-    for (web_stream_t *s = events.first; s != NULL; s = s->next) {
-        s->due = true;
-        resume(s);
+    /* every slot due since the last tick wakes once: a late loop skips
+     * the ticks it missed */
+    uint64_t now_fire = (now_ns - events.origin_ns) / SLOT_NS;
+    uint64_t first =
+        now_fire - events.next_fire >= EVENT_SLOTS ? now_fire - EVENT_SLOTS + 1u : events.next_fire;
+    events.fire = now_fire;
+    for (uint64_t f = first; f <= now_fire; f++) {
+        wake_slot((unsigned)(f % EVENT_SLOTS));
     }
+    schedule_after(now_fire);
     return true;
 }
 
 void web_events_end_all(void)
 {
-    for (web_stream_t *s = events.first; s != NULL; s = s->next) {
-        s->ended = true;
-        resume(s);
+    for (unsigned slot = 0; slot < EVENT_SLOTS; slot++) {
+        for (web_stream_t *s = events.slot_first[slot]; s != NULL; s = s->next) {
+            s->ended = true;
+            resume(s);
+        }
     }
 }

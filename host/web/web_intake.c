@@ -18,12 +18,20 @@ struct web_intake_conn {
     int fd;
     client_key_t client;
     uint64_t since_ns; /* when it began to wait for this request */
+    /* in the arriving list while arriving (oldest first: the deadline is
+     * the same for all, so the head is due first), else next is the free
+     * list's link */
+    struct web_intake_conn *prev, *next;
 };
 
+/* Every rule looks only at the connections whose request is arriving,
+ * never at the whole pool: a request costs the same with 10 or 250 event
+ * streams open. */
 static struct {
     web_intake_conn_t conns[WEB_INTAKE_CONNECTIONS_MAX];
+    web_intake_conn_t *free;
+    web_intake_conn_t *oldest, *newest; /* the arriving list */
     uint64_t deadline_ns;
-    uint64_t next_due_ns; /* the oldest arriving connection's deadline, 0: none */
 } intake;
 
 static client_key_t client_key(const struct sockaddr *addr)
@@ -45,31 +53,55 @@ static client_key_t client_key(const struct sockaddr *addr)
     return key;
 }
 
-static void update_next_due(void)
+static void start_arriving(web_intake_conn_t *c, uint64_t now)
 {
-    intake.next_due_ns = 0;
-    for (unsigned i = 0; i < WEB_INTAKE_CONNECTIONS_MAX; i++) {
-        const web_intake_conn_t *c = &intake.conns[i];
-        uint64_t due = c->since_ns + intake.deadline_ns;
-        if (c->in_use && c->arriving && (intake.next_due_ns == 0 || due < intake.next_due_ns)) {
-            intake.next_due_ns = due;
-        }
+    c->arriving = true;
+    c->since_ns = now;
+    c->prev = intake.newest;
+    c->next = NULL;
+    if (intake.newest != NULL) {
+        intake.newest->next = c;
+    } else {
+        intake.oldest = c;
     }
+    intake.newest = c;
+}
+
+static void stop_arriving(web_intake_conn_t *c)
+{
+    if (!c->arriving) {
+        return;
+    }
+    c->arriving = false;
+    if (c->prev != NULL) {
+        c->prev->next = c->next;
+    } else {
+        intake.oldest = c->next;
+    }
+    if (c->next != NULL) {
+        c->next->prev = c->prev;
+    } else {
+        intake.newest = c->prev;
+    }
+    c->prev = c->next = NULL;
 }
 
 void web_intake_reset(uint64_t deadline_ns)
 {
     memset(&intake, 0, sizeof(intake));
     intake.deadline_ns = deadline_ns;
+    for (unsigned i = WEB_INTAKE_CONNECTIONS_MAX; i-- > 0;) {
+        intake.conns[i].next = intake.free;
+        intake.free = &intake.conns[i];
+    }
 }
 
 bool web_intake_admits(const struct sockaddr *addr)
 {
     client_key_t key = client_key(addr);
     unsigned arriving = 0;
-    for (unsigned i = 0; i < WEB_INTAKE_CONNECTIONS_MAX; i++) {
-        const web_intake_conn_t *c = &intake.conns[i];
-        if (c->in_use && c->arriving && memcmp(&c->client, &key, sizeof(key)) == 0) {
+    for (const web_intake_conn_t *c = intake.oldest; c != NULL; c = c->next) {
+        if (memcmp(&c->client, &key, sizeof(key)) == 0) {
             arriving++;
         }
     }
@@ -78,63 +110,56 @@ bool web_intake_admits(const struct sockaddr *addr)
 
 web_intake_conn_t *web_intake_open(int fd, const struct sockaddr *addr, uint64_t now)
 {
-    for (unsigned i = 0; i < WEB_INTAKE_CONNECTIONS_MAX; i++) {
-        web_intake_conn_t *c = &intake.conns[i];
-        if (!c->in_use) {
-            *c = (web_intake_conn_t){
-                .in_use = true, .arriving = true, .fd = fd, .client = client_key(addr)};
-            web_intake_waiting(c, now);
-            return c;
-        }
+    web_intake_conn_t *c = intake.free;
+    if (c == NULL) {
+        return NULL;
     }
-    return NULL;
+    intake.free = c->next;
+    *c = (web_intake_conn_t){.in_use = true, .fd = fd, .client = client_key(addr)};
+    start_arriving(c, now);
+    return c;
 }
 
 void web_intake_arrived(web_intake_conn_t *conn)
 {
-    if (conn != NULL && conn->arriving) {
-        conn->arriving = false;
-        update_next_due();
+    if (conn != NULL) {
+        stop_arriving(conn);
     }
 }
 
 void web_intake_waiting(web_intake_conn_t *conn, uint64_t now)
 {
     if (conn != NULL) {
-        conn->arriving = true;
-        conn->since_ns = now;
-        update_next_due();
+        stop_arriving(conn); /* a connection arrives once, from now */
+        start_arriving(conn, now);
     }
 }
 
 void web_intake_close(web_intake_conn_t *conn)
 {
-    if (conn != NULL) {
+    if (conn != NULL && conn->in_use) {
+        stop_arriving(conn);
         conn->in_use = false;
-        update_next_due();
+        conn->next = intake.free;
+        intake.free = conn;
     }
 }
 
 unsigned web_intake_cut_late(uint64_t now)
 {
     unsigned cut = 0;
-    for (unsigned i = 0; i < WEB_INTAKE_CONNECTIONS_MAX; i++) {
-        web_intake_conn_t *c = &intake.conns[i];
-        if (c->in_use && c->arriving && now >= c->since_ns + intake.deadline_ns) {
-            /* MHD reads the end of the stream and closes it in its next run;
-             * until then it is neither arriving nor cut again */
-            shutdown(c->fd, SHUT_RDWR);
-            c->arriving = false;
-            cut++;
-        }
-    }
-    if (cut > 0) {
-        update_next_due();
+    web_intake_conn_t *c;
+    while ((c = intake.oldest) != NULL && now >= c->since_ns + intake.deadline_ns) {
+        /* MHD reads the end of the stream and closes it in its next run;
+         * until then it is neither arriving nor cut again */
+        shutdown(c->fd, SHUT_RDWR);
+        stop_arriving(c);
+        cut++;
     }
     return cut;
 }
 
 uint64_t web_intake_next_due_ns(void)
 {
-    return intake.next_due_ns;
+    return intake.oldest != NULL ? intake.oldest->since_ns + intake.deadline_ns : 0u;
 }

@@ -19,8 +19,10 @@
 #include <sys/socket.h>
 
 #define WEB_INTAKE_PER_ADDRESS 16u
-/* The web server's connection limit: the records are a fixed pool. */
-#define WEB_INTAKE_CONNECTIONS_MAX 64u
+/* The web server's connection limit: the records are a fixed pool. Room
+ * for 200 event streams (10 from each of 20 addresses) and the requests
+ * beside them; an idle connection costs MHD its 16 KiB pool. */
+#define WEB_INTAKE_CONNECTIONS_MAX 256u
 
 typedef struct web_intake_conn web_intake_conn_t;
 

@@ -78,6 +78,8 @@ enum MHD_Result web_events_route(const web_request_t *req, gripper_t *g);
  * /api/devices/{id}/files[/NAME] (rest: what follows "script" / "files") */
 enum MHD_Result web_script_route(const web_request_t *req, gripper_t *g, const char *rest);
 enum MHD_Result web_files_route(const web_request_t *req, gripper_t *g, const char *rest);
+/* web_system.c: GET /api/devices/{id}/system[?since=N] */
+enum MHD_Result web_system_route(const web_request_t *req, gripper_t *g);
 /* web_static.c: GET /, /devices/{id}, /static/NAME; false: not a page path */
 bool web_static_route(const web_request_t *req, enum MHD_Result *result);
 

@@ -88,6 +88,9 @@ static enum MHD_Result device_route(const web_request_t *req, gripper_t *g, cons
     if (strcmp(rest, "events") == 0) {
         return get_events(req, g);
     }
+    if (strcmp(rest, "system") == 0) {
+        return web_system_route(req, g);
+    }
     if (strncmp(rest, "settings", 8) == 0 && (rest[8] == '\0' || rest[8] == '/')) {
         return web_settings_route(req, g, rest + 8);
     }

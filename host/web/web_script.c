@@ -108,12 +108,49 @@ static enum MHD_Result get_console(const web_request_t *req, gripper_t *g)
     return web_reply_json(req, MHD_HTTP_OK, j);
 }
 
+/* PUT .../script/startup {"file": "/user/NAME"} or {"file": null}: what
+ * the next power-on runs. */
+static enum MHD_Result set_startup(const web_request_t *req, gripper_t *g)
+{
+    enum MHD_Result result = MHD_NO;
+    cJSON *body = web_body_object(req, &result);
+    if (body == NULL) {
+        return result;
+    }
+    static const char *const names[] = {"file", NULL};
+    const cJSON *file = cJSON_GetObjectItemCaseSensitive(body, "file");
+    if (!web_fields_known(req, body, names, &result)) {
+        cJSON_Delete(body);
+        return result;
+    }
+    if (file == NULL || (!cJSON_IsString(file) && !cJSON_IsNull(file))) {
+        cJSON_Delete(body);
+        return web_reply_error(req, MHD_HTTP_BAD_REQUEST, E_INVALID_PARAMETER,
+                               "file: a /user/ file name or null");
+    }
+    char why[512];
+    bool ok =
+        gripper_set_startup(g, cJSON_IsString(file) ? file->valuestring : NULL, why, sizeof(why));
+    cJSON_Delete(body);
+    if (!ok) {
+        return web_reply_error(req, MHD_HTTP_NOT_FOUND, E_NOT_FOUND, "%s", why);
+    }
+    return get_script(req, g);
+}
+
+static const char *script_method(const char *rest)
+{
+    if (rest[0] == '\0' || strcmp(rest, "/console") == 0) {
+        return MHD_HTTP_METHOD_GET;
+    }
+    return strcmp(rest, "/startup") == 0 ? MHD_HTTP_METHOD_PUT : MHD_HTTP_METHOD_POST;
+}
+
 enum MHD_Result web_script_route(const web_request_t *req, gripper_t *g, const char *rest)
 {
-    const char *method = rest[0] == '\0' || strcmp(rest, "/console") == 0 ? MHD_HTTP_METHOD_GET
-                                                                          : MHD_HTTP_METHOD_POST;
+    const char *method = script_method(rest);
     if (strcmp(rest, "") != 0 && strcmp(rest, "/console") != 0 && strcmp(rest, "/run") != 0 &&
-        strcmp(rest, "/stop") != 0) {
+        strcmp(rest, "/stop") != 0 && strcmp(rest, "/startup") != 0) {
         return web_reply_error(req, MHD_HTTP_NOT_FOUND, E_NOT_FOUND, "no such path: %s", req->url);
     }
     if (!is_method(req, method)) {
@@ -127,6 +164,9 @@ enum MHD_Result web_script_route(const web_request_t *req, gripper_t *g, const c
     }
     if (!req->sim_allowed) {
         return forbidden(req);
+    }
+    if (strcmp(rest, "/startup") == 0) {
+        return set_startup(req, g);
     }
     return strcmp(rest, "/run") == 0 ? run_script(req, g) : stop_script(req, g);
 }

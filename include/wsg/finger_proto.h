@@ -137,7 +137,10 @@ static inline uint32_t fbus_func_of(uint32_t id)
 /* Frame identifier of a function for a node; false for an unknown node. */
 uint32_t wsg_fbus_id(uint32_t func, uint8_t node);
 /* The slot a node id stands for, or -1. */
-int wsg_fbus_slot_of_node(uint8_t node);
+static inline int wsg_fbus_slot_of_node(uint8_t node)
+{
+    return (node >= 1u && node <= FBUS_SLOTS) ? (int)node - 1 : -1;
+}
 
 void wsg_fbus_pack_state(hal_can_frame_t *f, const fbus_state_t *s);
 bool wsg_fbus_unpack_state(const hal_can_frame_t *f, fbus_state_t *s);

@@ -164,6 +164,38 @@ START_TEST(comm_fault_within_timeout_and_recovery)
 }
 END_TEST
 
+/* When the finger in slot 0 last sent a frame, from the bus's tap. */
+static uint64_t slot0_heard_us;
+
+static void note_slot0_frames(const hal_can_frame_t *frame, uint64_t time_us)
+{
+    uint32_t func = fbus_func_of(frame->id);
+    bool from_node = func == FBUS_ID_DESCRIPTOR || func == FBUS_ID_MEASURE ||
+                     func == FBUS_ID_BULK || func == FBUS_ID_HEARTBEAT;
+    if (from_node && fbus_node_of(frame->id) == FBUS_NODE_ID(0)) {
+        slot0_heard_us = time_us;
+    }
+}
+
+/* While the jaws move the device steps every millisecond, between the
+ * bus's 10 ms broadcasts: the comm fault shows at the first of those steps
+ * past the timeout, not at the next broadcast. */
+START_TEST(comm_fault_at_its_step_between_broadcasts)
+{
+    can_loopback_set_tap(note_slot0_frames);
+    t_start("fmf,dsa");
+    t_run_ms(300);
+    ck_assert_str_eq(t_ask("HOME()"), "ACK HOME");
+    t_run_ms(50);
+    inject(0, FBUS_FAULT_UNPLUG);
+    int ms = t_until("FFLAGS[0]?", "FFLAGS[0]=[1,1,0,0,0,0,0,0,0,1,0,0,0,0,0,0]", 1000);
+    can_loopback_set_tap(NULL);
+    ck_assert_int_ge(ms, 0);
+    ck_assert_str_eq(t_ask("SYSFLAGS[1]?"), "SYSFLAGS[1]=1"); /* still moving */
+    ck_assert_uint_eq(h_now_us, slot0_heard_us + FBUS_COMM_TIMEOUT_US + 1000u);
+}
+END_TEST
+
 START_TEST(power_and_init_faults)
 {
     t_start("fmf,dsa");
@@ -370,6 +402,7 @@ Suite *bus_suite(void)
     tcase_add_test(tc, force_control_regulates_on_the_fmf);
     tcase_add_test(tc, tared_fmf_gives_the_true_force);
     tcase_add_test(tc, comm_fault_within_timeout_and_recovery);
+    tcase_add_test(tc, comm_fault_at_its_step_between_broadcasts);
     tcase_add_test(tc, power_and_init_faults);
     tcase_add_test(tc, init_fault_at_power_on_has_no_config);
     tcase_add_test(tc, clock_jumps_keep_loopback_fingers);

@@ -304,6 +304,95 @@ START_TEST(injected_faults)
 }
 END_TEST
 
+/* The frames one node sent and when. */
+typedef struct {
+    hal_can_frame_t frames[REC_MAX];
+    uint64_t at_us[REC_MAX];
+    unsigned count;
+} log_t;
+
+static uint64_t twin_now;
+
+static bool log_send(void *ctx, const hal_can_frame_t *f)
+{
+    log_t *log = ctx;
+    ck_assert_uint_lt(log->count, REC_MAX);
+    log->frames[log->count] = *f;
+    log->at_us[log->count++] = twin_now;
+    return true;
+}
+
+/* Both twins hear the same frame. */
+static void twins_hear(finger_node_t twins[2], const hal_can_frame_t *f)
+{
+    for (unsigned i = 0; i < 2u; i++) {
+        wsg_finger_node_receive(&twins[i], f, twin_now);
+    }
+}
+
+/* Steps both twins every 250 us for ms, STATE every 10 ms while the supply is
+ * on: the second forgets its cached due time before each step, so it runs
+ * the whole step every time, as a node did before it had one. */
+static void twins_run(finger_node_t twins[2], unsigned ms, bool supply)
+{
+    for (unsigned i = 0; i < ms * 4u; i++) {
+        if (supply && i % 40u == 0u) {
+            fbus_state_t st = {40.0f, 12.5f + (float)(i % 7u), 0x3, 4, (uint8_t)i};
+            hal_can_frame_t f;
+            wsg_fbus_pack_state(&f, &st);
+            twins_hear(twins, &f);
+        }
+        twin_now += 250u;
+        wsg_finger_node_step(&twins[0], twin_now);
+        twins[1].due_us = 0;
+        wsg_finger_node_step(&twins[1], twin_now);
+    }
+}
+
+static void twins_hear_simctl(finger_node_t twins[2], uint8_t faults)
+{
+    hal_can_frame_t f;
+    wsg_fbus_pack_simctl(&f, 1, faults);
+    twins_hear(twins, &f);
+}
+
+START_TEST(steps_before_the_due_time_change_nothing)
+{
+    static log_t logs[2];
+    const hal_can_t buses[2] = {{log_send, rec_recv, rec_filters, &logs[0], false},
+                                {log_send, rec_recv, rec_filters, &logs[1], false}};
+    finger_node_t twins[2];
+    finger_node_params_t p;
+    wsg_finger_node_defaults(&p);
+    memset(logs, 0, sizeof(logs));
+    twin_now = 1000000u;
+    for (unsigned i = 0; i < 2u; i++) {
+        wsg_finger_node_init(&twins[i], FBUS_TYPE_FMF, 0, &p, &buses[i]);
+    }
+    twins_run(twins, 300, true);
+    hal_can_frame_t tare;
+    wsg_fbus_pack_command(&tare, 1, FBUS_CMD_TARE);
+    twins_hear(twins, &tare);
+    twins_run(twins, 200, true);
+    twins_hear_simctl(twins, FBUS_FAULT_POWER); /* announced at once */
+    twins_run(twins, 150, true);
+    twins_hear_simctl(twins, 0);
+    twins_run(twins, 150, true);
+    twins_run(twins, 1200, false); /* the supply goes: the node powers down */
+    twins_run(twins, 300, true);   /* and boots again */
+    ck_assert_uint_gt(logs[0].count, 150);
+    ck_assert_uint_eq(logs[0].count, logs[1].count);
+    for (unsigned i = 0; i < logs[0].count; i++) {
+        const hal_can_frame_t *a = &logs[0].frames[i];
+        const hal_can_frame_t *b = &logs[1].frames[i];
+        ck_assert_uint_eq(logs[0].at_us[i], logs[1].at_us[i]);
+        ck_assert_uint_eq(a->id, b->id);
+        ck_assert_uint_eq(a->dlc, b->dlc);
+        ck_assert_mem_eq(a->data, b->data, sizeof(a->data));
+    }
+}
+END_TEST
+
 START_TEST(parses_finger_lists)
 {
     fbus_type_t t[2];
@@ -334,6 +423,7 @@ Suite *node_suite(void)
     tcase_add_test(tc, dsa_pattern_follows_contact);
     tcase_add_test(tc, generic_only_heartbeats);
     tcase_add_test(tc, injected_faults);
+    tcase_add_test(tc, steps_before_the_due_time_change_nothing);
     tcase_add_test(tc, parses_finger_lists);
     suite_add_tcase(s, tc);
     return s;

@@ -490,12 +490,12 @@ START_TEST(config_save_ends_every_line_with_a_newline_alone)
     ck_assert(config_file_check(opts.model));
     const wsg_config_t *cfg = wsg_device_snapshot(&fleet_gripper(0)->device)->config;
     char why[256];
-    ck_assert(config_file_save(path, 0, cfg, why, sizeof(why)));
+    ck_assert(config_file_save(path, 0, cfg, NULL, why, sizeof(why)));
     char first[4096];
     snprintf(first, sizeof(first), "%s", read_all(path));
     ck_assert_ptr_null(strchr(first, '\r'));
     ck_assert_ptr_nonnull(strstr(first, "; cell 3\n[motion]\n"));
-    ck_assert(config_file_save(path, 0, cfg, why, sizeof(why)));
+    ck_assert(config_file_save(path, 0, cfg, NULL, why, sizeof(why)));
     ck_assert_str_eq(read_all(path), first);
     remove(path);
 }
@@ -515,7 +515,7 @@ START_TEST(config_save_replaces_colon_keys_too)
     wsg_config_t cfg = *wsg_device_snapshot(&fleet_gripper(0)->device)->config;
     snprintf(cfg.tag, sizeof(cfg.tag), "new");
     char why[256];
-    ck_assert(config_file_save(path, 0, &cfg, why, sizeof(why)));
+    ck_assert(config_file_save(path, 0, &cfg, NULL, why, sizeof(why)));
     ck_assert_ptr_null(strstr(read_all(path), "old"));
     ck_assert(config_file_load(path, NULL, &opts));
     wsg_config_t loaded;
@@ -540,7 +540,7 @@ START_TEST(config_save_puts_the_tag_where_it_counts)
     wsg_config_t cfg = *wsg_device_snapshot(&fleet_gripper(0)->device)->config;
     snprintf(cfg.tag, sizeof(cfg.tag), "new");
     char why[256];
-    ck_assert(config_file_save(path, 0, &cfg, why, sizeof(why)));
+    ck_assert(config_file_save(path, 0, &cfg, NULL, why, sizeof(why)));
     ck_assert_ptr_nonnull(strstr(read_all(path), "[device]\ntag = a\n[device.0]\ntag = \"new\"\n"));
     ck_assert(config_file_load(path, NULL, &opts));
     wsg_config_t loaded;

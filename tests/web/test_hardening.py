@@ -19,6 +19,8 @@ from test_api import WebCase
 from webclient import HTTP_TIMEOUT, EventStream, WebSim, request, wait_for
 
 REBOUND = "rebind.example"
+# The web server's connection limit (host/web/web_intake.h).
+CONNECTIONS_MAX = 256
 GUARD_S = 90.0  # stops a hung test only: every outcome below comes far sooner
 
 
@@ -353,15 +355,15 @@ class ManyTricklers(unittest.TestCase):
         self.assertGreater(trickler.open_count(), 0)
 
     def test_a_server_all_its_clients_left_at_once_serves_the_next(self):
-        """All 64 connections taken from four addresses (each served once, so
-        that the server surely holds it, then idle); a client waits in the
-        listen backlog. All 64 leave at once (the server is stopped while
+        """All CONNECTIONS_MAX connections taken from 16 addresses (each
+        served once, so that the server surely holds it, then idle); a client
+        waits in the listen backlog. All leave at once (the server is stopped while
         they close, so that it sees every end in one pass): the waiting
         client is served, and so is a new one. (MHD takes its listening
         socket back only in the pass after the one that made room; with no
         pass after it, the server never accepted again.)"""
         holders = []
-        for i in range(64):
+        for i in range(CONNECTIONS_MAX):
             s = socket.create_connection(("127.0.0.1", self.sim.http_port), timeout=HTTP_TIMEOUT,
                                          source_address=("127.0.0.%d" % (10 + i // 16), 0))
             self.addCleanup(s.close)

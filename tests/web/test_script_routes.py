@@ -20,7 +20,7 @@ class ScriptRoutes(unittest.TestCase):
         self.addCleanup(shutil.rmtree, self.store)
         with open(os.path.join(self.store, "echo.lua"), "w") as f:
             f.write(ECHO)
-        self.sim = WebSim("--script-dir", self.store, "--start-paused")
+        self.sim = WebSim("--script-dir", self.store, "--start-paused", "--sim-port", "0")
         self.sim.start()
         self.addCleanup(self.sim.stop)
         self.api = self.sim.base + "/api/devices/0"
@@ -50,6 +50,31 @@ class ScriptRoutes(unittest.TestCase):
         self.assertEqual(request(self.api + "/script/run").status, 405)
         self.assertEqual(request(self.api + "/script/console?since=x").status, 400)
         self.assertFalse(request(self.api + "/script").json()["running"])
+
+    def test_a_startup_script_chosen_here_runs_from_the_next_power_on(self):
+        reply = request(self.api + "/script/startup", "PUT", {"file": "/user/echo.lua"})
+        self.assertEqual(reply.status, 200, reply)
+        self.assertEqual(reply.json()["startup"], "/user/echo.lua")
+        self.assertFalse(reply.json()["running"], "it waits for the next power-on")
+        with self.sim.control() as ctl:
+            self.assertEqual(ctl("RESET()"), "ACK RESET")
+            state = request(self.api + "/script").json()
+            self.assertTrue(state["running"])
+            self.assertEqual((state["file"], state["registered"]), ("/user/echo.lua", [0xB5]))
+            reply = request(self.api + "/script/startup", "PUT", {"file": None})
+            self.assertEqual((reply.status, reply.json()["startup"]), (200, None))
+            request(self.api + "/script/stop", "POST", {})
+            self.assertEqual(ctl("RESET()"), "ACK RESET")
+            self.assertFalse(request(self.api + "/script").json()["running"])
+
+    def test_a_startup_script_must_be_a_store_file(self):
+        for file in ("/user/missing.lua", "echo.lua", "/user/../echo.lua", "/etc/passwd"):
+            reply = request(self.api + "/script/startup", "PUT", {"file": file})
+            self.assertEqual((reply.status, reply.json()["error"]), (404, "E_NOT_FOUND"), file)
+        for body in ({}, {"file": 3}, {"file": "/user/echo.lua", "run": True}):
+            self.assertEqual(request(self.api + "/script/startup", "PUT", body).status, 400, body)
+        self.assertEqual(request(self.api + "/script/startup", "POST", {}).status, 405)
+        self.assertIsNone(request(self.api + "/script").json()["startup"])
 
     def test_store_list_put_get_delete(self):
         listing = request(self.api + "/files").json()
@@ -99,6 +124,43 @@ class ReadOnlyStore(unittest.TestCase):
         self.assertEqual(request(sim.base + "/api/devices/0/files").status, 404)
 
 
+class SavedStartupScript(unittest.TestCase):
+    """Save keeps the startup script chosen on the page: [script] startup with
+    autostart, or autostart = no for none; a new process runs it."""
+
+    def setUp(self):
+        self.store = tempfile.mkdtemp(prefix="wsgsim-store-")
+        self.addCleanup(shutil.rmtree, self.store)
+        with open(os.path.join(self.store, "echo.lua"), "w") as f:
+            f.write(ECHO)
+        self.saved = os.path.join(self.store, "saved.ini")
+
+    def start(self):
+        sim = WebSim("--script-dir", self.store, "--save-file", self.saved)
+        sim.start()
+        self.addCleanup(sim.stop)
+        return sim, sim.base + "/api/devices/0"
+
+    def saved_text(self):
+        with open(self.saved) as f:
+            return f.read()
+
+    def test_save_keeps_the_choice_and_none(self):
+        sim, api = self.start()
+        self.assertEqual(request(api + "/script/startup", "PUT", {"file": "/user/echo.lua"}).status,
+                         200)
+        self.assertEqual(request(api + "/settings/save", "POST", {}).status, 200)
+        self.assertIn("startup = /user/echo.lua", self.saved_text())
+        self.assertIn("autostart = yes", self.saved_text())
+        sim.stop()
+        _, api = self.start()
+        state = request(api + "/script").json()
+        self.assertEqual((state["startup"], state["running"]), ("/user/echo.lua", True))
+        self.assertEqual(request(api + "/script/startup", "PUT", {"file": None}).status, 200)
+        self.assertEqual(request(api + "/settings/save", "POST", {}).status, 200)
+        self.assertIn("autostart = no", self.saved_text())
+
+
 class ScriptLoopbackRule(unittest.TestCase):
     def test_run_and_file_changes_refuse_a_non_loopback_peer(self):
         address = non_loopback_address()
@@ -113,6 +175,8 @@ class ScriptLoopbackRule(unittest.TestCase):
         reply = request(outside + "/script/run", "POST", {"file": "echo.lua"})
         self.assertEqual((reply.status, reply.json()["error"]), (403, "E_ACCESS_DENIED"))
         self.assertEqual(request(outside + "/files/echo.lua", "DELETE", {}).status, 403)
+        reply = request(outside + "/script/startup", "PUT", {"file": "/user/echo.lua"})
+        self.assertEqual(reply.status, 403)
         self.assertEqual(request(outside + "/script").status, 200)  # reading is served
         self.assertEqual(request(outside + "/files/echo.lua").status, 200)
         self.assertTrue(os.path.exists(os.path.join(store, "echo.lua")))

@@ -151,6 +151,20 @@ typedef struct {
 } web_result_t;
 void web_run(const char *wsgsim, const char *out_dir, int state_n, int event_n, web_result_t *r);
 
+/* streams.c: 200 event streams (10 from each of 20 addresses) on a
+ * free-running wsgsim, their events counted over a window while GCL POS?
+ * round trips are timed against wsgsim and the echo baseline. */
+#define WEB_EVENTS_PERIOD_MS_BENCH 40.0 /* host/web/web_events.h: 25 Hz */
+typedef struct {
+    int streams;            /* 0: not run */
+    double expected_events; /* in the window, at the stream's rate */
+    long min_events;        /* the stream that got the fewest */
+    long median_events;
+    double rtt_p99_us[2]; /* GCL POS? meanwhile: wsgsim, echo */
+} streams_result_t;
+void streams_run(const char *wsgsim, const char *out_dir, double seconds, int rtt_n,
+                 streams_result_t *r);
+
 /* subscribers.c: `clients` AUTOSEND("POS",10) subscriptions made while the
  * clock is paused (so they share one phase), then the clock resumed. */
 typedef struct {

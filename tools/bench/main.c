@@ -4,8 +4,8 @@
  *                 [--only SECTION] [--pin same|cross|none] [--firmware-sizes FILE]
  *        wsgbench --serve-echo      (the echo baseline alone, for callgrind)
  * --wsgsim-arg appends ARG to every wsgsim command line (e.g. --fingers=none).
- * --only runs one section (instr, web, idle, subscribers, vtime, fleet, scale,
- * pace, rtt, load, autosend); the table then leaves out the others.
+ * --only runs one section (instr, web, streams, idle, subscribers, vtime, fleet,
+ * scale, pace, rtt, load, autosend); the table then leaves out the others.
  * --firmware-sizes reads the Cortex-M image sizes `make bench` wrote. */
 #include <errno.h>
 #include <sched.h>
@@ -90,7 +90,7 @@ static void parse_args(int argc, char **argv, config_t *cfg)
         } else {
             die("usage: wsgbench [--wsgsim PATH] [--wsgsim-arg ARG]... [--out DIR] [--quick] "
                 "[--rtt N] [--only "
-                "instr|web|idle|subscribers|vtime|fleet|scale|pace|rtt|load|autosend] "
+                "instr|web|streams|idle|subscribers|vtime|fleet|scale|pace|rtt|load|autosend] "
                 "[--pin same|cross|none] [--firmware-sizes FILE]");
         }
     }
@@ -463,6 +463,9 @@ static void run_own_server_sections(const config_t *cfg, results_t *res)
     }
     if (wanted(cfg, "web")) {
         web_run(cfg->wsgsim, cfg->out, cfg->instr_seq_n / 10, cfg->instr_seq_n / 20, &res->web);
+    }
+    if (wanted(cfg, "streams")) {
+        streams_run(cfg->wsgsim, cfg->out, cfg->idle_s / 2.0, cfg->rtt_n / 4, &res->streams);
     }
     if (wanted(cfg, "vtime")) {
         fprintf(stderr, "wsgbench: virtual time, %d HOME/MOVE/GRIP/RELEASE cycles\n", cfg->cycles);

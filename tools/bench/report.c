@@ -171,6 +171,21 @@ static void add_web(table_t *t, const results_t *res)
     target(r, "<= 60000", r->wsg <= 60000.0);
 }
 
+/* Issue 21: 200 event streams at their rate, GCL's p99 meanwhile. */
+static void add_streams(table_t *t, const results_t *res)
+{
+    const streams_result_t *st = &res->streams;
+    if (st->streams == 0) {
+        return;
+    }
+    row_t *r = add(t, "events of the slowest of 200 streams", "events", (double)st->min_events,
+                   st->expected_events);
+    target(r, ">= 0.9x rate", r->wsg >= 0.9 * st->expected_events);
+    add(t, "  median stream there", "events", (double)st->median_events, st->expected_events);
+    r = add(t, "TCP round trip POS? p99, 200 streams", "us", st->rtt_p99_us[0], st->rtt_p99_us[1]);
+    target(r, "<= 2x echo", ratio(r) <= 2.0);
+}
+
 static void add_subscribers(table_t *t, const results_t *res)
 {
     const subscribers_result_t *sub = &res->subscribers;
@@ -312,6 +327,7 @@ static void build(const results_t *res, table_t *t)
     /* issue 11: work only for what is active */
     add_instr(t, res);
     add_web(t, res);
+    add_streams(t, res);
     add_idle(t, res);
     add_subscribers(t, res);
     add_vtime(t, res);

@@ -43,6 +43,7 @@ typedef struct {
     vtime_result_t vtime_run_until; /* the same with RUN_UNTIL_DONE; 0 cycles: not run */
     instr_result_t instr;
     web_result_t web;
+    streams_result_t streams;
     subscribers_result_t subscribers;
     fleet_result_t fleet;
     bool firmware_expected; /* a full run: the sizes belong in it */

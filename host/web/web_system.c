@@ -1,0 +1,77 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/* GET /api/devices/{id}/system (docs/web.md): the page's System view, the
+ * device's identity and uptime and the last lines of wsgsim's log. Read
+ * only, served to every client as the state is. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "hal_clock.h"
+#include "log.h"
+#include "script.h"
+#include "version.h"
+#include "web/web_internal.h"
+
+#define LOG_PAGE 100u /* every line the log keeps */
+
+/* ?since=N as the script console takes it: false after a 400. */
+static bool since_argument(const web_request_t *req, uint64_t *since, enum MHD_Result *result)
+{
+    const char *text = MHD_lookup_connection_value(req->connection, MHD_GET_ARGUMENT_KIND, "since");
+    char *end = NULL;
+    *since = text != NULL ? strtoull(text, &end, 10) : 0u;
+    if (text != NULL && (end == text || *end != '\0' || text[0] == '-')) {
+        *result = web_reply_error(req, MHD_HTTP_BAD_REQUEST, E_INVALID_PARAMETER,
+                                  "since: expected a line number");
+        return false;
+    }
+    return true;
+}
+
+static void add_log(cJSON *root, uint64_t since)
+{
+    const char *page[LOG_PAGE];
+    uint64_t next = 0;
+    size_t n = host_log_recent(since, page, LOG_PAGE, &next);
+    cJSON *log = cJSON_AddObjectToObject(root, "log");
+    cJSON_AddNumberToObject(log, "next", (double)next);
+    cJSON *lines = cJSON_AddArrayToObject(log, "lines");
+    for (size_t i = 0; i < n; i++) {
+        cJSON_AddItemToArray(lines, cJSON_CreateString(page[i]));
+    }
+}
+
+static cJSON *system_json(gripper_t *g, uint64_t log_since)
+{
+    const wsg_config_t *cfg = wsg_device_snapshot(&g->device)->config;
+    uint64_t now_us = hal_clock_now_us();
+    cJSON *root = cJSON_CreateObject();
+    cJSON_AddNumberToObject(root, "id", g->index);
+    cJSON_AddStringToObject(root, "model", cfg->devtype);
+    cJSON_AddNumberToObject(root, "serial", cfg->serial);
+    cJSON_AddStringToObject(root, "firmware_version", cfg->version);
+    cJSON_AddStringToObject(root, "wsgsim_version", WSGSIM_VERSION);
+    cJSON_AddNumberToObject(root, "stroke_mm", cfg->stroke_mm);
+    cJSON_AddNumberToObject(root, "force_min_n", cfg->force_min_n);
+    cJSON_AddNumberToObject(root, "force_max_n", cfg->force_max_n);
+    cJSON_AddNumberToObject(root, "time_ms", (double)now_us / 1000.0);
+    uint64_t up_us = now_us > g->powered_on_us ? now_us - g->powered_on_us : 0u;
+    cJSON_AddNumberToObject(root, "uptime_ms", (double)up_us / 1000.0);
+    /* whether …/files has a /user/ store to list (else 404) */
+    cJSON_AddBoolToObject(root, "script_store",
+                          g->script != NULL && script_store_dir(g->script)[0] != '\0');
+    add_log(root, log_since);
+    return root;
+}
+
+enum MHD_Result web_system_route(const web_request_t *req, gripper_t *g)
+{
+    if (strcmp(req->method, MHD_HTTP_METHOD_GET) != 0) {
+        return web_reply_wrong_method(req, MHD_HTTP_METHOD_GET);
+    }
+    enum MHD_Result result = MHD_NO;
+    uint64_t since = 0;
+    if (!since_argument(req, &since, &result)) {
+        return result;
+    }
+    return web_reply_json(req, MHD_HTTP_OK, system_json(g, since));
+}
