@@ -171,6 +171,7 @@ static struct {
     value_t values[KEY_COUNT];
     device_section_t *sections; /* malloc'd, in the order of the file */
     unsigned section_count;
+    const char *model; /* the devices' model without a [device.N] one (config_file_check) */
 } loaded;
 
 /* What the parser is doing: the reader counts lines for the handler. */
@@ -435,9 +436,20 @@ static bool is_comment(const char *text)
     return *p == ';' || *p == '#';
 }
 
-/* libinih's reader: hands it one whole line per call. A comment line of any
- * length becomes an empty line; any other line must fit libinih's line
- * buffer (num bytes with "\n" and NUL), else it is refused, never split. */
+/* The first CR, vertical tab or form feed in text, or NULL. libinih takes
+ * them for blanks where the Save does not: in a section or key line they
+ * would make the two read a file differently. (Other control characters
+ * are the values' and keys' own checks to refuse.) */
+static const char *odd_blank(const char *text)
+{
+    size_t at = strcspn(text, "\r\v\f");
+    return text[at] != '\0' ? text + at : NULL;
+}
+
+/* libinih's reader: hands it one whole line per call, without indentation.
+ * A comment line of any length becomes an empty line; any other line must
+ * hold no CR, vertical tab or form feed and fit libinih's line buffer (num
+ * bytes with "\n" and NUL), else it is refused, never split. */
 static char *read_line(char *str, int num, void *stream)
 {
     parse_state_t *st = stream;
@@ -447,7 +459,19 @@ static char *read_line(char *str, int num, void *stream)
         return NULL;
     }
     st->line = st->file.number;
-    const char *text = is_comment(st->file.line) ? "" : st->file.line;
+    /* without its indentation: libinih would take an indented line for the
+     * continuation of the key before it, which this file format has not */
+    const char *text =
+        is_comment(st->file.line) ? "" : st->file.line + strspn(st->file.line, " \t");
+    const char *bad = odd_blank(text);
+    if (bad != NULL) {
+        st->failed = true;
+        text_file_fail(&st->file,
+                       "control character 0x%02x at column %zu (a section or key line holds no "
+                       "CR, vertical tab or form feed)",
+                       (unsigned)(unsigned char)*bad, (size_t)(bad - st->file.line) + 1u);
+        return NULL;
+    }
     size_t len = strlen(text);
     if (num < 2 || len > (size_t)num - 2) {
         st->failed = true;
@@ -620,25 +644,47 @@ static bool check_soft_limits(const wsg_config_t *cfg)
                    "soft_limit_minus must be below soft_limit_plus");
 }
 
+/* The [motion] keys whose range depends on the model. */
+static const key_id_t ranged_keys[] = {MOT_FORCE, MOT_SPEED, MOT_ACCEL,      MOT_PULLBACK,
+                                       MOT_PWT,   MOT_CLT,   MOT_SOFT_MINUS, MOT_SOFT_PLUS};
+
+static void model_range(const sim_model_t *m, key_id_t id, double *min, double *max)
+{
+    switch (id) {
+    case MOT_FORCE:
+        *min = m->force_min_n;
+        *max = m->force_overdrive_n > 0.0f ? m->force_overdrive_n : m->force_max_n;
+        break;
+    case MOT_SPEED:
+        *min = m->speed_min_mm_s;
+        *max = m->speed_max_mm_s;
+        break;
+    case MOT_ACCEL:
+        *min = m->accel_min_mm_s2;
+        *max = m->accel_max_mm_s2;
+        break;
+    default: /* distances and positions: within the stroke */
+        *min = 0.0;
+        *max = m->stroke_mm;
+        break;
+    }
+}
+
 static bool check_model(const char *model)
 {
     const sim_model_t *m = wsg_sim_model_find(model);
     if (m == NULL) {
         return false;
     }
+    for (size_t i = 0; i < sizeof(ranged_keys) / sizeof(ranged_keys[0]); i++) {
+        double min, max;
+        model_range(m, ranged_keys[i], &min, &max);
+        if (!check_range(ranged_keys[i], min, max)) {
+            return false;
+        }
+    }
     wsg_config_t cfg;
     wsg_sim_model_config(m, &cfg);
-    float fmax = m->force_overdrive_n > 0.0f ? m->force_overdrive_n : m->force_max_n;
-    bool ok = check_range(MOT_FORCE, m->force_min_n, fmax) &&
-              check_range(MOT_SPEED, m->speed_min_mm_s, m->speed_max_mm_s) &&
-              check_range(MOT_ACCEL, m->accel_min_mm_s2, m->accel_max_mm_s2) &&
-              check_range(MOT_PULLBACK, 0.0, m->stroke_mm) &&
-              check_range(MOT_PWT, 0.0, m->stroke_mm) && check_range(MOT_CLT, 0.0, m->stroke_mm) &&
-              check_range(MOT_SOFT_MINUS, 0.0, m->stroke_mm) &&
-              check_range(MOT_SOFT_PLUS, 0.0, m->stroke_mm);
-    if (!ok) {
-        return false;
-    }
     config_file_apply(&cfg);
     return check_soft_limits(&cfg);
 }
@@ -646,12 +692,67 @@ static bool check_model(const char *model)
 /* The motion settings are checked against every model a device runs. */
 bool config_file_check(const char *model)
 {
+    loaded.model = model;
     bool ok = check_model(model);
     for (unsigned i = 0; i < loaded.section_count && ok; i++) {
         const value_t *m = &loaded.sections[i].values[SEC_MODEL];
         ok = !m->set || check_model(m->text);
     }
     return ok;
+}
+
+static float motion_value(const wsg_config_t *cfg, key_id_t id)
+{
+    switch (id) {
+    case MOT_FORCE:
+        return cfg->default_force_n;
+    case MOT_SPEED:
+        return cfg->default_speed_mm_s;
+    case MOT_ACCEL:
+        return cfg->default_accel_mm_s2;
+    case MOT_PULLBACK:
+        return cfg->default_pullback_mm;
+    case MOT_PWT:
+        return cfg->default_pwt_mm;
+    case MOT_CLT:
+        return cfg->default_clt_mm;
+    case MOT_SOFT_MINUS:
+        return cfg->soft_limit_minus_mm;
+    default:
+        return cfg->soft_limit_plus_mm;
+    }
+}
+
+static bool motion_fits_model(const wsg_config_t *cfg, const char *model, char *why, size_t cap)
+{
+    const sim_model_t *m = wsg_sim_model_find(model);
+    for (size_t i = 0; m != NULL && i < sizeof(ranged_keys) / sizeof(ranged_keys[0]); i++) {
+        double min, max;
+        double value = motion_value(cfg, ranged_keys[i]);
+        model_range(m, ranged_keys[i], &min, &max);
+        if (!(value >= min && value <= max)) {
+            snprintf(why, cap,
+                     "%s: %g is outside %g..%g for the %s in the file (the [motion] settings "
+                     "are every device's)",
+                     keys[ranged_keys[i]].name, value, min, max, model);
+            return false;
+        }
+    }
+    return true;
+}
+
+bool config_file_motion_fits(const wsg_config_t *cfg, char *why, size_t cap)
+{
+    if (loaded.model != NULL && !motion_fits_model(cfg, loaded.model, why, cap)) {
+        return false;
+    }
+    for (unsigned i = 0; i < loaded.section_count; i++) {
+        const value_t *m = &loaded.sections[i].values[SEC_MODEL];
+        if (m->set && !motion_fits_model(cfg, m->text, why, cap)) {
+            return false;
+        }
+    }
+    return true;
 }
 
 static const device_section_t *find_section(unsigned index)
@@ -662,6 +763,12 @@ static const device_section_t *find_section(unsigned index)
         }
     }
     return NULL;
+}
+
+bool config_file_device_sets_tag(unsigned index)
+{
+    const device_section_t *d = find_section(index);
+    return d != NULL && d->values[SEC_TAG].set;
 }
 
 unsigned config_file_devices(void)

@@ -32,6 +32,9 @@ bool config_file_device_port(unsigned index, bool udp, int *port);
 /* [device.N] script: device index's startup script (or fallback). */
 const char *config_file_device_script(unsigned index, const char *fallback);
 void config_file_apply_device(unsigned index, wsg_config_t *cfg);
+/* True when a [device.N] section for device index sets its tag (which then
+ * wins over [device]'s). */
+bool config_file_device_sets_tag(unsigned index);
 /* Saves the device's settings in force to the file at path (the web page's
  * Save): the [motion] keys, [network] disconnect_faststop and binary_crc,
  * and the tag ([device] for device 0, [device.N] for another). Keys already
@@ -45,5 +48,11 @@ void config_file_apply_device(unsigned index, wsg_config_t *cfg);
  * file's as they are. */
 bool config_file_save(const char *path, unsigned device, const wsg_config_t *cfg,
                       const char *startup, char *why, size_t cap);
+/* True when cfg's [motion] settings, written as the file's global ones, fit
+ * every model the loaded file's next start checks them against (the
+ * devices' model and each [device.N] model); else false with the reason in
+ * why. config_file_save() refuses settings that do not: a fleet of mixed
+ * models would not start from the file it wrote. */
+bool config_file_motion_fits(const wsg_config_t *cfg, char *why, size_t cap);
 
 #endif

@@ -103,19 +103,52 @@ static bool section_header(const char *line, char *name, size_t cap)
     return true;
 }
 
-/* The key of "key = value" in section, or NULL. */
+/* The key of a key line in section, or NULL. A key line is what libinih
+ * takes for one: not a comment or section header, its name running to the
+ * first '=' or ':' ("key = value" and "key : value" alike). A line the
+ * loader reads as a key must be one here, or it outlives the saved value. */
 static save_key_t *key_line(save_set_t *set, const char *section, const char *line)
 {
     const char *p = line + strspn(line, " \t");
-    size_t len = strcspn(p, " \t=:");
+    size_t sep = strcspn(p, "=:");
+    if (*p == ';' || *p == '#' || *p == '[' || p[sep] == '\0') {
+        return NULL;
+    }
+    size_t len = sep;
+    while (len > 0 && (p[len - 1] == ' ' || p[len - 1] == '\t')) {
+        len--;
+    }
     for (unsigned i = 0; i < set->count; i++) {
         save_key_t *k = &set->keys[i];
         if (strcasecmp(k->section, section) == 0 && strlen(k->key) == len &&
-            strncasecmp(k->key, p, len) == 0 && strchr(p + len, '=') != NULL) {
+            strncasecmp(k->key, p, len) == 0) {
             return k;
         }
     }
     return NULL;
+}
+
+/* A line's text without the CRs at its end: "\n" alone ends every line
+ * written, and a CR left before it (of "\r\r\n") is line-end debris that a
+ * copy would turn into a CRLF end, read differently by the next save. */
+static size_t text_length(const char *line)
+{
+    size_t len = strlen(line);
+    while (len > 0 && line[len - 1] == '\r') {
+        len--;
+    }
+    return len;
+}
+
+/* Device 0's tag goes to [device] unless the file gives device 0 a tag in a
+ * [device.0] section, which wins at the next start: it is saved there. */
+static void tag_where_it_counts(save_set_t *set, unsigned device)
+{
+    for (unsigned i = 0; i < set->count && device == 0 && config_file_device_sets_tag(0); i++) {
+        if (strcmp(set->keys[i].key, "tag") == 0) {
+            snprintf(set->keys[i].section, sizeof(set->keys[i].section), "device.0");
+        }
+    }
 }
 
 /* The first lines of a save file wsgsim creates. */
@@ -144,7 +177,7 @@ static bool rewrite(text_file_t *in, FILE *out, save_set_t *set)
             fprintf(out, "%s = %s\n", k->key, k->value);
             k->written = true;
         } else if (k == NULL) {
-            fprintf(out, "%s\n", in->line);
+            fprintf(out, "%.*s\n", (int)text_length(in->line), in->line);
         }
     }
     put_missing(out, set, section);
@@ -221,8 +254,12 @@ static void collect_startup(save_set_t *set, unsigned device, const char *startu
 bool config_file_save(const char *path, unsigned device, const wsg_config_t *cfg,
                       const char *startup, char *why, size_t cap)
 {
+    if (!config_file_motion_fits(cfg, why, cap)) {
+        return false; /* the next start would refuse the file */
+    }
     save_set_t set = {.count = 0};
     collect(&set, device, cfg);
+    tag_where_it_counts(&set, device);
     collect_startup(&set, device, startup);
     char tmp[4096];
     snprintf(tmp, sizeof(tmp), "%s.saving", path);

@@ -1,11 +1,9 @@
 # SPDX-License-Identifier: BSD-3-Clause
-# Speed and fuzzing (issues 6 and 11). Neither runs in `make check`.
+# Speed (issues 6 and 11); it does not run in `make check`. Fuzzing: mk/fuzz.mk.
 #   make bench                 benchmark build/wsgsim against a C echo server and
 #                              the issue 11 targets (table, build/bench/results.json,
 #                              PNG plot); fails only when something cannot be measured
 #   make bench BENCH_ARGS=--quick   a shorter run with smaller sample counts
-#   make fuzz [FUZZ_TIME=S]    libFuzzer on the session input path for S seconds
-#                              (default 300); crashes land in build/fuzz/artifacts/
 BENCH_DEBS := gnuplot-nox valgrind
 BENCH_SRC := $(sort $(wildcard tools/bench/*.c))
 BENCH_BIN := $(BUILD)/bench/wsgbench
@@ -17,18 +15,7 @@ BENCH_ARGS ?=
 # as a build error, with size-check.sh's OVER BUDGET line.
 BENCH_FW_SIZES := build/bench/firmware-sizes.txt
 
-FUZZ_CC := clang
-FUZZ_DIR := build/fuzz
-FUZZ_BIN := $(FUZZ_DIR)/fuzz_session
-FUZZ_TIME ?= 300
-FUZZ_JOBS ?= 1
-# libFuzzer writes fuzz-N.log per job into the working directory: keep them in build/
-FUZZ_PARALLEL = $(if $(filter-out 1,$(FUZZ_JOBS)),-jobs=$(FUZZ_JOBS) -workers=$(FUZZ_JOBS))
-FUZZ_FLAGS := -g -O1 -fno-omit-frame-pointer -fsanitize=fuzzer,address,undefined \
-	-fno-sanitize-recover=all $(CSTD) $(WARN) $(CORE_INC) -Ihost
-FUZZ_CORE_SRC := $(FIRMWARE_SRC) $(SIM_SRC) host/can_loopback.c
-
-.PHONY: bench bench-deps fuzz fuzz-deps fuzz-build $(BENCH_FW_SIZES)
+.PHONY: bench bench-deps $(BENCH_FW_SIZES)
 
 bench-deps:
 	@mk/deps.sh $(BENCH_DEBS)
@@ -52,21 +39,3 @@ bench: $(BUILD)/wsgsim $(BENCH_BIN) $(BENCH_FW_SIZES)
 	@mk/deps.sh $(BENCH_DEBS) || echo "bench: gnuplot-nox or valgrind missing"
 	$(BENCH_BIN) --wsgsim $(BUILD)/wsgsim --out build/bench --firmware-sizes $(BENCH_FW_SIZES) \
 		$(BENCH_ARGS)
-
-fuzz-deps:
-	@mk/deps.sh $(FUZZ_DEBS)
-
-$(FUZZ_BIN): tests/fuzz/fuzz_session.c $(FUZZ_CORE_SRC) $(wildcard firmware/*.h hal/*.h hal/sim/*.h) | fuzz-deps
-	@mkdir -p $(dir $@)
-	$(FUZZ_CC) $(FUZZ_FLAGS) -o $@ tests/fuzz/fuzz_session.c $(FUZZ_CORE_SRC)
-
-fuzz-build: $(FUZZ_BIN)
-
-# New corpus entries go to build/fuzz/corpus; the seeds in tests/fuzz/corpus
-# and the regression inputs are read only.
-fuzz: $(FUZZ_BIN)
-	@mkdir -p $(FUZZ_DIR)/corpus $(FUZZ_DIR)/artifacts
-	cd $(FUZZ_DIR) && ./fuzz_session -max_total_time=$(FUZZ_TIME) -max_len=4096 -timeout=20 \
-		-rss_limit_mb=2048 $(FUZZ_PARALLEL) -print_final_stats=1 \
-		-dict=$(CURDIR)/tests/fuzz/gcl.dict -artifact_prefix=artifacts/ \
-		corpus $(CURDIR)/tests/fuzz/corpus $(CURDIR)/tests/fuzz/regressions

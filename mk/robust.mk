@@ -1,7 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
 # Robustness checks (issue 6), part of `make check` (and of `make check SAN=1`):
-#   fuzz-regress     the fuzz seed corpus and every regression input through the
-#                    fuzz target, built with $(CC) (ASan+UBSan under SAN=1)
 #   valgrind-tests   the end-to-end tests (tests/e2e, tests/web) with build/wsgsim under valgrind
 #                    memcheck; fails on any memory error or leak. Under SAN=1 it
 #                    runs on the plain build (valgrind and ASan do not mix).
@@ -13,23 +11,9 @@ VALGRIND_LOGS := build/valgrind
 VALGRIND_CMD := valgrind --leak-check=full --show-leak-kinds=all \
 	--errors-for-leak-kinds=definite,indirect,possible --error-exitcode=99 \
 	--log-file=$(abspath $(VALGRIND_LOGS))/vg.%p.log
-FUZZ_REPLAY := $(BUILD)/tests/fuzz_replay
-FUZZ_INPUTS := tests/fuzz/corpus tests/fuzz/regressions
 
-.PHONY: fuzz-regress valgrind-tests valgrind-deps abuse-tests
-CHECK_TARGETS += fuzz-regress valgrind-tests
-
-# The fuzz target also runs the host's loopback finger bus (host/can_loopback.c).
-FUZZ_REPLAY_OBJ := $(BUILD)/obj/host/can_loopback.o
-
-$(FUZZ_REPLAY): tests/fuzz/fuzz_session.c tests/fuzz/replay_main.c $(FUZZ_REPLAY_OBJ) \
-		$(CORE_LIBS)
-	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_BASE) $(CORE_INC) -Ihost $(LDFLAGS_BASE) -o $@ tests/fuzz/fuzz_session.c \
-		tests/fuzz/replay_main.c $(FUZZ_REPLAY_OBJ) $(CORE_LIBS) -lm
-
-fuzz-regress: $(FUZZ_REPLAY)
-	$(FUZZ_REPLAY) $(FUZZ_INPUTS)
+.PHONY: valgrind-tests valgrind-deps abuse-tests
+CHECK_TARGETS += valgrind-tests
 
 abuse-tests: $(BUILD)/wsgsim
 	WSGSIM=$(abspath $(BUILD)/wsgsim) python3 tests/run_suite.py e2e tests/e2e test_abuse.py

@@ -6,8 +6,11 @@
  * The finger bus runs too: the host's loopback CAN bus with two simulated
  * finger nodes (host/can_loopback.c), plus raw frames from the input.
  *
- * Input layout: byte 0 picks the model (bits 0-4), the finger pair (bits 5-6)
- * and whether a dropped connection raises FAST STOP (bit 7). The rest is a
+ * Input layout: byte 0 picks the model (bits 0-3), whether the binary
+ * protocol ignores checksums (bit 4: the device's own setting, so that
+ * mutated frames reach the command handlers instead of failing their CRC),
+ * the finger pair (bits 5-6) and whether a dropped connection raises FAST
+ * STOP (bit 7). The rest is a
  * list of segments separated by 0xFF; each segment starts with a control byte:
  *   bits 0-1  session 0..3 (0 and 1 stream, 2 and 3 datagram)
  *   bits 2-3  0 feed, 1 feed and end the datagram, 2 close and reopen the
@@ -226,7 +229,7 @@ static void run_segment(const uint8_t *seg, size_t len)
 static void power_on(uint8_t config_byte)
 {
     wsg_config_t cfg;
-    unsigned model = (config_byte & 0x1fu) % wsg_sim_model_count();
+    unsigned model = (config_byte & 0x0fu) % wsg_sim_model_count();
     fbus_type_t types[FBUS_SLOTS];
     finger_node_params_t params;
     wsg_finger_node_defaults(&params);
@@ -234,6 +237,7 @@ static void power_on(uint8_t config_byte)
         abort();
     }
     wsg_sim_model_config(wsg_sim_model_at(model), &cfg);
+    cfg.bin_crc_unchecked = (config_byte & 0x10u) != 0;
     cfg.disconnect_raises_faststop = (config_byte & 0x80u) != 0;
     now_us = START_US;
     wsg_sim_world_init(&world, &cfg, now_us);

@@ -13,6 +13,7 @@
 #include "options.h"
 #include "record.h"
 #include "sim/scenario.h"
+#include "sim/sim_models.h"
 #include "wsg/wsg_types.h"
 
 static bool load_scenario(void *path)
@@ -196,6 +197,52 @@ START_TEST(bad_config_lines_name_file_and_line)
     ck_assert_str_eq(config_error("[device\n", &ok),
                      ":1: not a section header or key = value line\n");
     ck_assert(!ok);
+}
+END_TEST
+
+/* Found by fuzzing (tests/fuzz/fuzz_config.c): libinih reads an indented
+ * line as the continuation of the key before it, so " 25-064" after
+ * "tag = three" made the tag "25-064", and a Save that wrote the tag left
+ * the line to change it again at the next start. Indentation means nothing:
+ * an indented line is a line of its own. */
+START_TEST(an_indented_config_line_continues_nothing)
+{
+    static char *argv[] = {"wsgsim", NULL};
+    host_options_t opts;
+    options_parse(1, argv, &opts);
+    const char *path = t_temp_file("[device]\ntag = three\n  serial = 99\n");
+    ck_assert(config_file_load(path, NULL, &opts));
+    ck_assert(config_file_check(opts.model));
+    wsg_config_t cfg;
+    wsg_sim_model_config(wsg_sim_model_default(), &cfg);
+    config_file_apply(&cfg);
+    ck_assert_str_eq(cfg.tag, "three");
+    ck_assert_uint_eq(cfg.serial, 99);
+    remove(path);
+    bool ok = true;
+    ck_assert_str_eq(config_error("[device]\ntag = three\n 25-064\n", &ok),
+                     ":3: not a section header or key = value line\n");
+    ck_assert(!ok);
+}
+END_TEST
+
+/* Found by fuzzing: libinih skips any blank before a line (CR, form feed,
+ * ...), the Save only spaces and tabs, so "\r[device.1]" was a section for
+ * the one and text for the other, which then saved keys into the wrong
+ * section. A section or key line holds no CR, vertical tab or form feed. */
+START_TEST(a_control_character_in_a_config_line_is_refused)
+{
+    bool ok = true;
+    ck_assert_str_eq(config_error("[device]\n\r[device.1]\ntag = x\n", &ok),
+                     ":2: control character 0x0d at column 1 (a section or key line holds no "
+                     "CR, vertical tab or form feed)\n");
+    ck_assert(!ok);
+    ck_assert_str_eq(config_error("[device]\ntag = x\fy\n", &ok),
+                     ":2: control character 0x0c at column 8 (a section or key line holds no "
+                     "CR, vertical tab or form feed)\n");
+    ck_assert_str_eq(config_error("; a comment holds anything \x01\r\n[device]\n\ttag = x\n", &ok),
+                     "");
+    ck_assert(ok);
 }
 END_TEST
 
@@ -418,6 +465,93 @@ START_TEST(record_writes_every_line_with_both_clocks)
 }
 END_TEST
 
+/* Found by fuzzing (tests/fuzz/fuzz_config.c): a stray CR before a line's
+ * end ("; cell 3\r\r\n") was copied as text, so the saved line ended in
+ * "\r\n" and the next save wrote it differently again. Save ends every line
+ * it writes with "\n" alone. */
+static char *read_all(const char *path)
+{
+    static char text[4096];
+    FILE *f = fopen(path, "rb");
+    ck_assert_ptr_nonnull(f);
+    size_t n = fread(text, 1, sizeof(text) - 1, f);
+    fclose(f);
+    text[n] = '\0';
+    return text;
+}
+
+START_TEST(config_save_ends_every_line_with_a_newline_alone)
+{
+    static char *argv[] = {"wsgsim", NULL};
+    host_options_t opts;
+    options_parse(1, argv, &opts);
+    const char *path = t_temp_file("; cell 3\r\r\n[motion]\r\nclamping_travel = 4\r\n");
+    ck_assert(config_file_load(path, NULL, &opts));
+    ck_assert(config_file_check(opts.model));
+    const wsg_config_t *cfg = wsg_device_snapshot(&fleet_gripper(0)->device)->config;
+    char why[256];
+    ck_assert(config_file_save(path, 0, cfg, NULL, why, sizeof(why)));
+    char first[4096];
+    snprintf(first, sizeof(first), "%s", read_all(path));
+    ck_assert_ptr_null(strchr(first, '\r'));
+    ck_assert_ptr_nonnull(strstr(first, "; cell 3\n[motion]\n"));
+    ck_assert(config_file_save(path, 0, cfg, NULL, why, sizeof(why)));
+    ck_assert_str_eq(read_all(path), first);
+    remove(path);
+}
+END_TEST
+
+/* Found by fuzzing: libinih reads "key : value" as a key line too, the
+ * Save did not, so a "tag : old" in a later [device] section outlived the
+ * saved tag and won at the next start. */
+START_TEST(config_save_replaces_colon_keys_too)
+{
+    static char *argv[] = {"wsgsim", NULL};
+    host_options_t opts;
+    options_parse(1, argv, &opts);
+    const char *path = t_temp_file("[device]\ntag = a\n[motion]\n[device]\ntag : old\n");
+    ck_assert(config_file_load(path, NULL, &opts));
+    ck_assert(config_file_check(opts.model));
+    wsg_config_t cfg = *wsg_device_snapshot(&fleet_gripper(0)->device)->config;
+    snprintf(cfg.tag, sizeof(cfg.tag), "new");
+    char why[256];
+    ck_assert(config_file_save(path, 0, &cfg, NULL, why, sizeof(why)));
+    ck_assert_ptr_null(strstr(read_all(path), "old"));
+    ck_assert(config_file_load(path, NULL, &opts));
+    wsg_config_t loaded;
+    wsg_sim_model_config(wsg_sim_model_default(), &loaded);
+    config_file_apply(&loaded);
+    ck_assert_str_eq(loaded.tag, "new");
+    remove(path);
+}
+END_TEST
+
+/* Found by fuzzing: device 0's tag was saved to [device] even when a
+ * [device.0] section gave device 0 its tag, which then won at the next
+ * start over the saved one. */
+START_TEST(config_save_puts_the_tag_where_it_counts)
+{
+    static char *argv[] = {"wsgsim", NULL};
+    host_options_t opts;
+    options_parse(1, argv, &opts);
+    const char *path = t_temp_file("[device]\ntag = a\n[device.0]\ntag = zero\n");
+    ck_assert(config_file_load(path, NULL, &opts));
+    ck_assert(config_file_check(opts.model));
+    wsg_config_t cfg = *wsg_device_snapshot(&fleet_gripper(0)->device)->config;
+    snprintf(cfg.tag, sizeof(cfg.tag), "new");
+    char why[256];
+    ck_assert(config_file_save(path, 0, &cfg, NULL, why, sizeof(why)));
+    ck_assert_ptr_nonnull(strstr(read_all(path), "[device]\ntag = a\n[device.0]\ntag = \"new\"\n"));
+    ck_assert(config_file_load(path, NULL, &opts));
+    wsg_config_t loaded;
+    wsg_sim_model_config(wsg_sim_model_default(), &loaded);
+    config_file_apply(&loaded);
+    config_file_apply_device(0, &loaded);
+    ck_assert_str_eq(loaded.tag, "new");
+    remove(path);
+}
+END_TEST
+
 Suite *files_suite(void)
 {
     Suite *s = suite_create("files");
@@ -431,6 +565,11 @@ Suite *files_suite(void)
     tcase_add_test(tc, unreadable_files_are_refused_clearly);
     tcase_add_test(tc, config_sets_the_device_like_its_web_interface);
     tcase_add_test(tc, bad_config_lines_name_file_and_line);
+    tcase_add_test(tc, config_save_ends_every_line_with_a_newline_alone);
+    tcase_add_test(tc, an_indented_config_line_continues_nothing);
+    tcase_add_test(tc, a_control_character_in_a_config_line_is_refused);
+    tcase_add_test(tc, config_save_replaces_colon_keys_too);
+    tcase_add_test(tc, config_save_puts_the_tag_where_it_counts);
     tcase_add_test(tc, save_file_is_read_over_the_config);
     tcase_add_test(tc, last_config_and_save_file_count);
     tcase_add_test(tc, record_writes_every_line_with_both_clocks);

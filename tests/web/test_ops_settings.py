@@ -217,6 +217,38 @@ class Save(unittest.TestCase):
         self.addCleanup(sim.stop)
         return sim
 
+    def test_motion_settings_another_model_refuses_are_not_saved(self):
+        # Found by fuzzing (tests/fuzz/fuzz_config.c): the [motion] keys are
+        # every device's, so device 0's defaults (force 40 N) written for a
+        # fleet with a WSG 25-064 (5-20 N) made a file wsgsim refused.
+        fleet = self.CONFIG + "\n[device.1]\nmodel = WSG 25-064\n"
+        with open(self.path, "w") as f:
+            f.write(fleet)
+        sim = self.start()
+        reply = request(sim.base + "/api/devices/0/settings/save", "POST", body={})
+        self.assertEqual((reply.status, reply.json()["error"]), (422, "E_WRITE_ERROR"))
+        self.assertIn("default_force: 40 is outside 5..20 for the WSG 25-064",
+                      reply.json()["message"])
+        sim.stop()
+        with open(self.path) as f:
+            self.assertEqual(f.read(), fleet)
+        self.start()  # the file still starts the fleet
+
+    def test_motion_settings_every_model_takes_are_saved_for_a_fleet(self):
+        fleet = self.CONFIG + "\n[device.1]\nmodel = WSG 25-064\n"
+        with open(self.path, "w") as f:
+            f.write(fleet)
+        sim = self.start()
+        base = sim.base + "/api/devices/1/settings"
+        self.assertEqual(request(base, "PUT", {"force_n": 15}).status, 200)
+        self.assertEqual(request(base + "/save", "POST", body={}).status, 200)
+        sim.stop()
+        with open(self.path) as f:
+            self.assertIn("default_force = 15\n", f.read())
+        again = self.start()
+        s = request(again.base + "/api/devices/0/settings").json()
+        self.assertEqual(s["force_n"], 15)
+
     def test_saved_settings_are_what_a_new_process_starts_with(self):
         sim = self.start()
         base = sim.base + "/api/devices/0/settings"

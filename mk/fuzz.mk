@@ -1,0 +1,99 @@
+# SPDX-License-Identifier: BSD-3-Clause
+# Fuzzing every parser of outside input (issues 6 and 18), one libFuzzer
+# target per parser, tests/fuzz/fuzz_NAME.c:
+#   session   bytes of TCP/UDP clients: GCL, the binary framer and driver,
+#             the finger bus (raw CAN frames)
+#   control   the simulation control channel: its lines and every command
+#   web       the web server's routes with their JSON bodies
+#   config    the --config file (INI, libinih) through options_parse()
+#   scenario  the --scenario file, loaded and run
+#
+#   make fuzz [FUZZ_TIME=S]   every target for S seconds (default 300), one
+#                             after the other (a finding does not stop the
+#                             others), built with clang, ASan and UBSan;
+#                             crashes land in build/fuzz/artifacts/NAME-*
+#   make fuzz FUZZ_TARGETS=web   only the named targets
+#   make fuzz-regress         (in `make check`) the seeds (tests/fuzz/corpus/NAME)
+#                             and regression inputs (tests/fuzz/regressions/NAME)
+#                             of every target, replayed without libFuzzer by
+#                             a build with $(CC) (ASan+UBSan under SAN=1)
+FUZZ_DEBS := clang libclang-rt-14-dev
+FUZZ_CC := clang
+FUZZ_DIR := build/fuzz
+FUZZ_TIME ?= 300
+FUZZ_JOBS ?= 1
+FUZZ_TARGETS ?= session control web config scenario
+# Every target's seeds and regression inputs (a directory per target; a
+# target may have no regressions yet).
+FUZZ_INPUTS := tests/fuzz/corpus tests/fuzz/regressions
+
+# Per target: the project's sources the libFuzzer build compiles with it,
+# the objects the replay build links instead (the project's own build), the
+# harness's helpers both build, and the libraries.
+FUZZ_SRC_session := $(FIRMWARE_SRC) $(SIM_SRC) host/can_loopback.c
+FUZZ_OBJ_session := $(BUILD)/obj/host/can_loopback.o $(CORE_LIBS)
+FUZZ_LIBS_session := -lm
+# The host's parsers run in the host as build/wsgsim has it, without main()
+# and the web server's socket side (host/web/web_server.c): the web target
+# stands in for libmicrohttpd itself, the others link it.
+FUZZ_HOST_SRC := $(filter-out host/main.c host/web/web_server.c,$(HOST_SRC)) \
+	$(BUILD)/gen/web_assets.c $(FIRMWARE_SRC) $(SIM_SRC)
+FUZZ_HOST_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(filter-out host/main.c \
+	host/web/web_server.c,$(HOST_SRC))) $(BUILD)/obj/gen/web_assets.o $(CORE_LIBS)
+FUZZ_HOST_LIBS = $(filter-out -lmicrohttpd,$(HOST_LIBS))
+$(foreach t,control config scenario web,$(eval FUZZ_SRC_$(t) := $(FUZZ_HOST_SRC)) \
+	$(eval FUZZ_OBJ_$(t) := $(FUZZ_HOST_OBJ)) $(eval FUZZ_AUX_$(t) := tests/fuzz/fuzz_host.c) \
+	$(eval FUZZ_LIBS_$(t) = $(HOST_LIBS)))
+FUZZ_LIBS_web = $(FUZZ_HOST_LIBS)
+
+# libFuzzer writes fuzz-N.log per job into the working directory: keep them in build/
+FUZZ_PARALLEL = $(if $(filter-out 1,$(FUZZ_JOBS)),-jobs=$(FUZZ_JOBS) -workers=$(FUZZ_JOBS))
+FUZZ_PKG_CFLAGS = $(shell pkg-config --cflags $(HOST_PKGS) 2>/dev/null)
+FUZZ_FLAGS = -g -O1 -fno-omit-frame-pointer -fsanitize=fuzzer,address,undefined \
+	-fno-sanitize-recover=all $(CSTD) $(WARN) -D_GNU_SOURCE $(CORE_INC) -Ihost $(FUZZ_PKG_CFLAGS)
+FUZZ_REPLAY_CFLAGS = $(CFLAGS_BASE) -D_GNU_SOURCE $(CORE_INC) -Ihost $(FUZZ_PKG_CFLAGS)
+FUZZ_HEADERS = $(wildcard include/wsg/*.h firmware/*/*.h hal/*.h hal/sim/*.h host/*.h host/*/*.h)
+
+.PHONY: fuzz fuzz-deps fuzz-build fuzz-regress
+CHECK_TARGETS += fuzz-regress
+
+fuzz-deps:
+	@mk/deps.sh $(FUZZ_DEBS)
+
+define FUZZ_TARGET_RULES
+$(FUZZ_DIR)/fuzz_$(1): tests/fuzz/fuzz_$(1).c $(FUZZ_AUX_$(1)) $(FUZZ_SRC_$(1)) $(FUZZ_HEADERS) \
+		tests/fuzz/fuzz_host.h | fuzz-deps
+	@mkdir -p $$(dir $$@)
+	$(FUZZ_CC) $$(FUZZ_FLAGS) -o $$@ $$< $(FUZZ_AUX_$(1)) $(FUZZ_SRC_$(1)) $(FUZZ_LIBS_$(1))
+
+$(BUILD)/tests/fuzz_replay_$(1): tests/fuzz/fuzz_$(1).c tests/fuzz/replay_main.c $(FUZZ_AUX_$(1)) \
+		$(FUZZ_OBJ_$(1)) $(FUZZ_HEADERS) tests/fuzz/fuzz_host.h
+	@mkdir -p $$(dir $$@)
+	$$(CC) $$(FUZZ_REPLAY_CFLAGS) $$(LDFLAGS_BASE) -o $$@ tests/fuzz/fuzz_$(1).c \
+		tests/fuzz/replay_main.c $(FUZZ_AUX_$(1)) $(FUZZ_OBJ_$(1)) $(FUZZ_LIBS_$(1))
+endef
+$(foreach t,$(FUZZ_TARGETS),$(eval $(call FUZZ_TARGET_RULES,$(t))))
+
+fuzz-build: $(addprefix $(FUZZ_DIR)/fuzz_,$(FUZZ_TARGETS))
+
+# New corpus entries go to build/fuzz/corpus/NAME; the seeds and the
+# regression inputs are read only. A target without a dictionary runs without.
+# The host's own messages (a refused file names file:line on stderr) are
+# dropped (-close_fd_mask=2): libFuzzer and the sanitizers still report.
+fuzz: fuzz-build
+	@failed=; for t in $(FUZZ_TARGETS); do \
+		mkdir -p $(FUZZ_DIR)/corpus/$$t $(FUZZ_DIR)/artifacts || exit 1; \
+		dict=; [ ! -f tests/fuzz/$$t.dict ] || dict=-dict=$(CURDIR)/tests/fuzz/$$t.dict; \
+		echo "fuzz: $$t for $(FUZZ_TIME) s"; \
+		(cd $(FUZZ_DIR) && ./fuzz_$$t -max_total_time=$(FUZZ_TIME) -max_len=4096 -timeout=20 \
+			-rss_limit_mb=2048 $(FUZZ_PARALLEL) -print_final_stats=1 -close_fd_mask=2 $$dict \
+			-artifact_prefix=artifacts/$$t- corpus/$$t \
+			$$(ls -d $(FUZZ_INPUTS:%=$(CURDIR)/%/$$t) 2>/dev/null)) || failed="$$failed $$t"; \
+	done; \
+	[ -z "$$failed" ] || { echo "fuzz: findings in$$failed (build/fuzz/artifacts/)"; exit 1; }
+
+fuzz-regress: $(addprefix $(BUILD)/tests/fuzz_replay_,$(FUZZ_TARGETS))
+	@for t in $(FUZZ_TARGETS); do \
+		echo "fuzz-regress: $$t"; \
+		$(BUILD)/tests/fuzz_replay_$$t $$(ls -d $(FUZZ_INPUTS:%=%/$$t) 2>/dev/null) || exit 1; \
+	done

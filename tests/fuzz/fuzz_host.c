@@ -1,0 +1,91 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/* The host for the fuzz targets of its parsers (fuzz_host.h). */
+#include "fuzz_host.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include "finger_bus_host.h"
+#include "fleet.h"
+#include "log.h"
+#include "sim/clock.h"
+#include "sim/delay.h"
+#include "sim/faults.h"
+#include "sim/scenario.h"
+#include "sim/scheduler.h"
+
+static host_options_t options;
+static char file_path[256];
+
+host_options_t *fuzz_host_options(int argc, char **argv)
+{
+    if (options_parse(argc, argv, &options) != OPTIONS_RUN) {
+        return NULL;
+    }
+    options.tcp_enabled = false;
+    options.udp_enabled = false;
+    options.http_port = 0;
+    options.sim_port = -1;
+    return &options;
+}
+
+void fuzz_host_start(const host_options_t *opts)
+{
+    static bool logging;
+    if (!logging) {
+        host_log_init();
+        host_log_set_level(HAL_LOG_ERROR); /* the fuzzer's output stays readable */
+        logging = true;
+    }
+    simclock_init();
+    simclock_start_paused();
+    if (!finger_bus_host_start(opts) || !fleet_start(opts)) {
+        abort(); /* options that parsed must start */
+    }
+}
+
+void fuzz_host_settle(void)
+{
+    (void)simctl_tick(); /* one pass of the loop: what input made due now */
+    simctl_step_finish();
+}
+
+void fuzz_host_step(uint64_t us)
+{
+    simctl_step_begin(us);
+    simctl_step_finish();
+    if (!simclock_paused()) {
+        simclock_pause(); /* a RESUME on the way lets wall time in: inputs must replay */
+    }
+}
+
+void fuzz_host_stop(void)
+{
+    scenario_unload();
+    for (unsigned i = 0; i < fleet_count(); i++) {
+        simctl_delay_clear_all(&fleet_gripper(i)->device, false);
+    }
+    simctl_fault_clear_all();
+    fleet_stop();
+    finger_bus_host_stop();
+}
+
+const char *fuzz_host_file(const uint8_t *data, size_t size)
+{
+    const char *dir = getenv("TMPDIR");
+    if (dir == NULL) {
+        dir = access("/dev/shm", W_OK) == 0 ? "/dev/shm" : "/tmp";
+    }
+    snprintf(file_path, sizeof(file_path), "%s/wsgsim-fuzz-%ld.txt", dir, (long)getpid());
+    FILE *f = fopen(file_path, "wb");
+    if (f == NULL || fwrite(data, 1, size, f) != size || fclose(f) != 0) {
+        abort();
+    }
+    return file_path;
+}
+
+void fuzz_host_close_file(void)
+{
+    unlink(file_path);
+}
