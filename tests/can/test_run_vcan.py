@@ -5,6 +5,7 @@ backend never probes, and a probe boot that panics or hangs counts as failed.
 Run by make can-vcan-tests before the scenario."""
 import contextlib
 import glob
+import gzip
 import io
 import lzma
 import os
@@ -230,21 +231,47 @@ class Initramfs(unittest.TestCase):
 
     def test_cpio_names_and_sizes(self):
         archive = vcan_guests.cpio_newc([("bin", 0o40755, None), ("init", 0o100755, b"#!x\n")])
-        names, at = [], 0
-        while True:
-            header = archive[at:at + 110]
-            self.assertEqual(header[:6], b"070701")
-            size, namesize = int(header[54:62], 16), int(header[94:102], 16)
-            name = archive[at + 110:at + 110 + namesize - 1].decode()
-            at += 110 + namesize
-            at += -at % 4
-            names.append((name, archive[at:at + size]))
-            at += size + (-size % 4)
-            if name == "TRAILER!!!":
-                break
-        self.assertEqual(names, [("bin", b""), ("init", b"#!x\n"), ("TRAILER!!!", b"")])
-        self.assertEqual(at, len(archive))
+        self.assertEqual(cpio_entries(self, archive),
+                         [("bin", b""), ("init", b"#!x\n"), ("TRAILER!!!", b"")])
 
+
+class GuestSeesTheCheckout(unittest.TestCase):
+    def test_the_checkout_has_a_share_mounted_over_the_guests_tmp(self):
+        """The guest's /tmp is a tmpfs over the host's: a checkout under /tmp
+        (a clone there) is seen only through a share of its own, mounted
+        after that tmpfs (before, the scenario was not found)."""
+        workdir = tempfile.mkdtemp(prefix="wsgsim-qemu-test-")
+        self.addCleanup(shutil.rmtree, workdir, ignore_errors=True)
+        cmd = vcan_guests.Qemu("tcg").command(workdir)
+        shares = [cmd[i + 1] for i, arg in enumerate(cmd) if arg == "-virtfs"]
+        self.assertIn("local,path=%s,mount_tag=checkout,security_model=none,readonly=on"
+                      % vcan_guests.CHECKOUT, shares)
+        with gzip.open(os.path.join(workdir, "initramfs.gz")) as f:
+            init = dict((name, data) for name, data in cpio_entries(self, f.read()))["init"]
+        init = init.decode()
+        self.assertIn('CHECKOUT="%s"' % vcan_guests.CHECKOUT, init)
+        self.assertLess(init.index("tmpfs /newroot/tmp"),
+                        init.index('checkout "/newroot$CHECKOUT"'))
+        self.assertTrue(os.path.exists(os.path.join(vcan_guests.CHECKOUT, "tests", "can",
+                                                    "vcan_scenario.py")))
+
+
+def cpio_entries(test, archive):
+    """The (name, data) entries of a newc archive, its trailer included."""
+    entries, at = [], 0
+    while True:
+        header = archive[at:at + 110]
+        test.assertEqual(header[:6], b"070701")
+        size, namesize = int(header[54:62], 16), int(header[94:102], 16)
+        name = archive[at + 110:at + 110 + namesize - 1].decode()
+        at += 110 + namesize
+        at += -at % 4
+        entries.append((name, archive[at:at + size]))
+        at += size + (-size % 4)
+        if name == "TRAILER!!!":
+            break
+    test.assertEqual(at, len(archive))
+    return entries
 
 if __name__ == "__main__":
     unittest.main()

@@ -22,6 +22,10 @@ import subprocess
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+# The checkout (the scenario, the binaries, the DBC): shared with the QEMU
+# guest on its own, since the guest's /tmp is a tmpfs over the host's and a
+# checkout may be there.
+CHECKOUT = os.path.dirname(os.path.dirname(HERE))
 # What the initramfs loads to mount the host's filesystem (their own
 # dependencies come from modules.dep).
 NINEP_MODULES = ("virtio_pci", "9pnet_virtio", "9p")
@@ -204,7 +208,8 @@ class Qemu:
     def initramfs(self, workdir):
         """workdir/initramfs.gz: busybox, the 9p modules and /init."""
         with open(os.path.join(HERE, "qemu_init.sh")) as f:
-            init = f.read().replace("@WORKDIR@", workdir).encode()
+            init = f.read().replace("@WORKDIR@", workdir).replace("@CHECKOUT@", CHECKOUT)
+            init = init.encode()
         with open(static_busybox(), "rb") as f:
             busybox = f.read()
         entries = [(d, 0o40755, None) for d in ("bin", "dev", "proc", "sys", "modules",
@@ -229,6 +234,8 @@ class Qemu:
                "-append", "console=ttyS0 panic=-1 quiet",
                "-virtfs", "local,path=/,mount_tag=hostroot,security_model=none,"
                           "readonly=on,multidevs=remap",
+               "-virtfs", "local,path=%s,mount_tag=checkout,security_model=none,readonly=on"
+                          % CHECKOUT,
                "-virtfs", "local,path=%s,mount_tag=work,security_model=none" % workdir]
         if self.accel == "kvm":
             cmd += ["-cpu", "host"]
