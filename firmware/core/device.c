@@ -3,7 +3,6 @@
  * observers, fault injection and the snapshot. */
 #include <string.h>
 
-#include "priv/motion_tuning.h"
 #include "priv/wsg_dev.h"
 
 static void power_on(wsg_dev_t *dev, const wsg_config_t *cfg)

@@ -2,8 +2,6 @@
 /* Packing and unpacking of finger-bus frames (finger_proto.h). */
 #include "wsg/finger_proto.h"
 
-#include <string.h>
-
 static void put_u16(uint8_t *p, uint16_t v)
 {
     p[0] = (uint8_t)(v & 0xFFu);
@@ -38,9 +36,7 @@ static uint16_t to_u16(float value, float step)
 
 static void begin(hal_can_frame_t *f, uint32_t id, uint8_t dlc)
 {
-    memset(f, 0, sizeof(*f));
-    f->id = id;
-    f->dlc = dlc;
+    *f = (hal_can_frame_t){.id = id, .dlc = dlc}; /* two stores, not a memset() call */
 }
 
 static bool is(const hal_can_frame_t *f, uint32_t func, uint8_t min_dlc)
