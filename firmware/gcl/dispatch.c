@@ -191,14 +191,16 @@ static bool ran_handler_that_acts(const cmd_entry_t *entry, const gcl_command_t 
  * reply's event for long commands). */
 void wsg_dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_status_t line_status)
 {
-    if (line_status == GCL_LINE_OK && is_blank(line, len)) {
+    /* the remembered query line first: it is never blank */
+    bool repeated_query = line_status == GCL_LINE_OK && is_last_query(g, line, len);
+    if (!repeated_query && line_status == GCL_LINE_OK && is_blank(line, len)) {
         return; /* empty lines ("\r\n" keep-alives) are ignored */
     }
     wsg_device_t *dev = gcl_device(g);
     gcl_command_t cmd;
     const cmd_entry_t *entry = NULL;
     wsg_status_t status = E_SUCCESS;
-    if (line_status == GCL_LINE_OK && is_last_query(g, line, len)) {
+    if (repeated_query) {
         entry = g->query_entry;
         parsed_query(&cmd, entry);
     } else {
