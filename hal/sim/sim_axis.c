@@ -248,7 +248,7 @@ void wsg_sim_axis_advance(sim_axis_t *axis, float dt_s)
 {
     /* At rest only contacts can change (a part placed or removed): one step
      * of 0 s. One call site, so that the compiler inlines the step. */
-    bool at_rest = !axis->active && axis->v_mm_s == 0.0f;
+    bool at_rest = wsg_sim_axis_at_rest(axis);
     if (at_rest && clear_of_contacts(axis)) {
         /* what that step gives without a contact (the common case between
          * commands: the world is advanced before every input) */
