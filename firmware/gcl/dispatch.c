@@ -191,16 +191,14 @@ static bool ran_handler_that_acts(const cmd_entry_t *entry, const gcl_command_t 
  * reply's event for long commands). */
 void wsg_dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_status_t line_status)
 {
-    /* the remembered query line first: it is never blank */
-    bool repeated_query = line_status == GCL_LINE_OK && is_last_query(g, line, len);
-    if (!repeated_query && line_status == GCL_LINE_OK && is_blank(line, len)) {
+    if (line_status == GCL_LINE_OK && is_blank(line, len)) {
         return; /* empty lines ("\r\n" keep-alives) are ignored */
     }
     wsg_device_t *dev = gcl_device(g);
     gcl_command_t cmd;
     const cmd_entry_t *entry = NULL;
     wsg_status_t status = E_SUCCESS;
-    if (repeated_query) {
+    if (line_status == GCL_LINE_OK && is_last_query(g, line, len)) {
         entry = g->query_entry;
         parsed_query(&cmd, entry);
     } else {
@@ -221,7 +219,8 @@ void wsg_dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_sta
         status = E_CMD_FORMAT_ERROR;
     } else if (cmd.name[0] != '\0' && entry == NULL) {
         status = E_CMD_UNKNOWN;
-    } else if (status == E_SUCCESS && !wsg_device_take_injected_failure(dev, cmd.name, &status)) {
+    } else if (status == E_SUCCESS && !(wsg_device_failure_armed(g->conn->dev) &&
+                                        wsg_device_take_injected_failure(dev, cmd.name, &status))) {
         status = run_command(g, entry, &cmd);
     }
     if (status != E_SUCCESS) {

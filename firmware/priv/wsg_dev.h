@@ -181,6 +181,13 @@ static inline uint32_t wsg_device_tick_us(const wsg_dev_t *dev)
     return 0u;
 }
 
+/* Whether the simulation armed a failure for a command: a dispatch asks
+ * before it calls wsg_device_take_injected_failure(), which rarely has one. */
+static inline bool wsg_device_failure_armed(const wsg_dev_t *dev)
+{
+    return dev->injected_failure.armed;
+}
+
 /* A cause that raises FAST STOP by itself and blocks its acknowledge. */
 static inline bool wsg_flags_severe_fault(const wsg_dev_t *dev)
 {
