@@ -21,12 +21,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 static void run_scenario(void)
 {
-    while (scenario_pending() > 0 && scenario_next_us() <= RUN_LIMIT_US) {
-        unsigned before = scenario_pending();
+    while (scenario_pending(simctl_scenario(fuzz_host_sim())) > 0 && scenario_next_us(simctl_scenario(fuzz_host_sim())) <= RUN_LIMIT_US) {
+        unsigned before = scenario_pending(simctl_scenario(fuzz_host_sim()));
         uint64_t now = hal_clock_now_us();
-        uint64_t next = scenario_next_us();
+        uint64_t next = scenario_next_us(simctl_scenario(fuzz_host_sim()));
         fuzz_host_step(next > now ? next - now : 0u);
-        if (scenario_pending() >= before) {
+        if (scenario_pending(simctl_scenario(fuzz_host_sim())) >= before) {
             abort(); /* a due event did not run: the scheduler lost it */
         }
     }
@@ -40,7 +40,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         abort();
     }
     fuzz_host_start(opts);
-    if (scenario_load(fuzz_host_file(data, size), 0)) {
+    if (scenario_load(simctl_scenario(fuzz_host_sim()), fuzz_host_file(data, size), 0)) {
         run_scenario();
     }
     fuzz_host_close_file();
