@@ -297,7 +297,8 @@ static int wait_for_events(const struct timespec *wait)
 void loop_wait(uint64_t deadline_us)
 {
     struct timespec wait = {0, 0};
-    bool timed = apply_wall_wakeup(sim_clock != NULL && simclock_wall_wait(sim_clock, deadline_us, &wait), &wait);
+    bool timed = apply_wall_wakeup(
+        sim_clock != NULL && simclock_wall_wait(sim_clock, deadline_us, &wait), &wait);
     int count = wait_for_events(timed ? &wait : NULL);
     if (count < 0) {
         if (errno != EINTR) {

@@ -32,13 +32,6 @@ uint64_t simclock_now_us(const simclock_t *clock)
     return clock->sim_base_us + (uint64_t)(elapsed_ns / 1000.0);
 }
 
-void simclock_advance_device(simclock_t *clock, uint64_t us)
-{
-    if (us > clock->device_us) {
-        clock->device_us = us;
-    }
-}
-
 uint64_t hal_clock_now_us(void)
 {
     return hal_clock_source != NULL ? hal_clock_source->device_us : 0u;

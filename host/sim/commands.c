@@ -277,7 +277,8 @@ char *simctl_exec(simctl_t *ctl, const char *line, size_t len, unsigned *selecte
     gcl_command_t cmd;
     wsg_status_t status = E_SUCCESS;
     unsigned index = selected != NULL && *selected < fleet_count() ? *selected : 0u;
-    simctl_ctx_t ctx = {.ctl = ctl, .cmd = &cmd, .gripper = fleet_gripper(index), .selected = selected};
+    simctl_ctx_t ctx = {
+        .ctl = ctl, .cmd = &cmd, .gripper = fleet_gripper(index), .selected = selected};
     const simctl_entry_t *e = resolve(line, len, &cmd, &status, ctx.why, sizeof(ctx.why));
     wsg_sim_world_advance(&ctx.gripper->world,
                           hal_clock_now_us()); /* act on the world as it is now */

@@ -16,7 +16,8 @@ wsg_status_t sc_pause(simctl_ctx_t *ctx)
 {
     simclock_t *clock = simctl_clock(ctx->ctl);
     if (!simclock_paused(clock)) {
-        simctl_tick(simctl_scheduler(ctx->ctl)); /* everything due up to now runs before time stops */
+        /* everything due up to now runs before time stops */
+        simctl_tick(simctl_scheduler(ctx->ctl));
         simclock_pause(clock);
         host_logf(HAL_LOG_INFO, "clock paused");
     }
@@ -133,7 +134,7 @@ wsg_status_t sc_scale(simctl_ctx_t *ctx)
         if (sc_checking(ctx)) {
             return E_SUCCESS;
         }
-        simctl_tick(simctl_scheduler(ctx->ctl));        /* the old rate applies up to now */
+        simctl_tick(simctl_scheduler(ctx->ctl)); /* the old rate applies up to now */
         (void)simclock_set_scale(simctl_clock(ctx->ctl), scale); /* in range: checked above */
         simctl_reset_max_lag(simctl_scheduler(ctx->ctl));
         host_logf(HAL_LOG_INFO, "clock scale %.3fx", scale);

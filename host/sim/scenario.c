@@ -14,12 +14,6 @@
 
 #define LINE_MAX_LEN 4096
 
-typedef struct scenario_event {
-    uint64_t at_us;
-    int line;
-    char *command;
-} event_t;
-
 void scenario_init(scenario_t *sc, struct simctl *ctl)
 {
     *sc = (scenario_t){.ctl = ctl};
@@ -35,7 +29,7 @@ static bool append(scenario_t *sc, uint64_t at_us, int line, const char *command
 {
     if (sc->count == sc->cap) {
         unsigned cap = sc->cap == 0 ? 16u : sc->cap * 2u;
-        event_t *grown = realloc(sc->events, cap * sizeof(*grown));
+        scenario_event_t *grown = realloc(sc->events, cap * sizeof(*grown));
         if (grown == NULL) {
             return fail(sc, line, "out of memory", "");
         }
@@ -46,7 +40,7 @@ static bool append(scenario_t *sc, uint64_t at_us, int line, const char *command
     if (copy == NULL) {
         return fail(sc, line, "out of memory", "");
     }
-    sc->events[sc->count++] = (event_t){at_us, line, copy};
+    sc->events[sc->count++] = (scenario_event_t){at_us, line, copy};
     return true;
 }
 
@@ -81,7 +75,8 @@ static void strip(char *text)
 }
 
 /* One non-empty, non-comment line: TIME COMMAND. */
-static bool parse_line(scenario_t *sc, char *text, int line, uint64_t *previous_us, uint64_t start_us)
+static bool parse_line(scenario_t *sc, char *text, int line, uint64_t *previous_us,
+                       uint64_t start_us)
 {
     strip(text);
     char *p = text + strspn(text, " \t");
@@ -125,7 +120,7 @@ bool scenario_load(scenario_t *sc, const char *path, uint64_t start_us)
     return ok && got == TEXT_FILE_END;
 }
 
-static void run_event(scenario_t *sc, const event_t *e)
+static void run_event(scenario_t *sc, const scenario_event_t *e)
 {
     size_t len = strlen(e->command);
     record_control("scn", '<', e->command, len);
@@ -144,16 +139,11 @@ unsigned scenario_run_due(scenario_t *sc, uint64_t now_us, unsigned max)
     }
     unsigned ran = 0;
     while (ran < max && sc->next < sc->count && sc->events[sc->next].at_us <= now_us) {
-        const event_t *e = &sc->events[sc->next++];
+        const scenario_event_t *e = &sc->events[sc->next++];
         run_event(sc, e);
         ran++;
     }
     return ran;
-}
-
-uint64_t scenario_next_us(const scenario_t *sc)
-{
-    return sc->next < sc->count ? sc->events[sc->next].at_us : UINT64_MAX;
 }
 
 unsigned scenario_pending(const scenario_t *sc)

@@ -10,12 +10,17 @@
 #include <stdint.h>
 
 struct simctl;
-struct scenario_event;
+
+typedef struct scenario_event {
+    uint64_t at_us;
+    int line;
+    char *command;
+} scenario_event_t;
 
 typedef struct {
     struct simctl *ctl; /* runs and checks the commands */
     char path[256];
-    struct scenario_event *events;
+    scenario_event_t *events;
     unsigned count;
     unsigned next;
     unsigned cap;
@@ -29,8 +34,12 @@ bool scenario_load(scenario_t *sc, const char *path, uint64_t start_us);
 /* Runs the commands due at or before now_us, in file order, at most max of
  * them; returns how many ran. */
 unsigned scenario_run_due(scenario_t *sc, uint64_t now_us, unsigned max);
-/* When the next command is due, or UINT64_MAX. */
-uint64_t scenario_next_us(const scenario_t *sc);
+/* When the next command is due, or UINT64_MAX. Inline: the scheduler asks
+ * at every deadline. */
+static inline uint64_t scenario_next_us(const scenario_t *sc)
+{
+    return sc->next < sc->count ? sc->events[sc->next].at_us : UINT64_MAX;
+}
 /* Commands not yet run. */
 unsigned scenario_pending(const scenario_t *sc);
 void scenario_unload(scenario_t *sc);
