@@ -27,6 +27,9 @@ typedef struct simclock {
 /* Running at 1x from simulated time 0; from now on hal_clock_now_us()
  * reads this clock's device time. */
 void simclock_init(simclock_t *clock);
+/* Before the clock's storage goes: hal_clock_now_us() reads 0 again if it
+ * read this clock. */
+void simclock_fini(simclock_t *clock);
 /* The target: where simulated time stands now. */
 uint64_t simclock_now_us(const simclock_t *clock);
 /* Moves the device time forward to us; the caller keeps us at or before

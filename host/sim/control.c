@@ -86,6 +86,7 @@ void simctl_destroy(simctl_t *ctl)
     simctl_stop(ctl);
     scenario_unload(&ctl->scenario);
     simctl_faults_release(&ctl->faults);
+    simclock_fini(&ctl->clock);
     free(ctl);
 }
 
