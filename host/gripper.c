@@ -106,8 +106,9 @@ void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
     wsg_runner_init(&g->runner, &g->device, advance_world, g);
     if (index == 0) {
         simctl_observers_attach(&g->device, opts);
-    } else if (web_lines_enabled()) {
-        wsg_conn_observe(&g->device, web_lines_observer(), NULL); /* the hub is device 0's */
+    } else if (opts->web_lines != NULL) {
+        /* the hub is device 0's */
+        wsg_conn_observe(&g->device, web_lines_observer(), opts->web_lines);
     }
     g->script = NULL;
     g->startup_set = NULL;

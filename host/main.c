@@ -49,15 +49,15 @@ static int stop_simulation(const host_options_t *opts)
 }
 
 /* One line per further device of a fleet, then the ready line. */
-static bool announce(const host_options_t *opts)
+static bool announce(const host_options_t *opts, const web_server_t *web)
 {
     char line[512];
     char extra[256];
-    snprintf(extra, sizeof(extra), "%s%s", simctl_describe(), web_server_describe());
+    snprintf(extra, sizeof(extra), "%s%s", simctl_describe(), web_server_describe(web));
     fleet_ready_line(extra, line, sizeof(line));
     bool bin_tcp = opts->tcp_enabled && opts->protocol != HOST_PROTOCOL_GCL;
     notify_set_binary_ports(bin_tcp ? fleet_tcp_port(0) : -1, fleet_bin_udp_port(0));
-    notify_set_http_port(web_server_port());
+    notify_set_http_port(web_server_port(web));
     if (!notify_prepare(opts->ready_file)) {
         return false;
     }
@@ -114,10 +114,15 @@ int main(int argc, char **argv)
         return EXIT_STARTUP_FAILED;
     }
     /* the web server first: the devices' observers keep its connection lines */
-    if (!web_server_start(&opts) || !fleet_start(&opts) || !start_simulation(&opts)) {
+    web_server_t *web = web_server_create();
+    if (web == NULL || !web_server_start(web, &opts)) {
         return EXIT_STARTUP_FAILED;
     }
-    if (!announce(&opts)) {
+    opts.web_lines = web_server_lines(web);
+    if (!fleet_start(&opts) || !start_simulation(&opts)) {
+        return EXIT_STARTUP_FAILED;
+    }
+    if (!announce(&opts, web)) {
         return EXIT_STARTUP_FAILED;
     }
     host_logf(HAL_LOG_INFO, "finger bus: %s", finger_bus_host_describe());
@@ -125,15 +130,16 @@ int main(int argc, char **argv)
         uint64_t deadline = simctl_tick();
         fleet_run_scripts();
         loop_wait(deadline);
-        web_server_poll();
+        web_server_poll(web);
         tcp_server_reap();
         udp_server_reap();
         simctl_reap();
     }
     host_logf(HAL_LOG_INFO, "shutting down");
     notify_stopping(opts.ready_file);
-    web_server_stop(); /* while the devices its operations ran on exist */
+    web_server_stop(web); /* while the devices its operations ran on exist */
     fleet_stop();
+    web_server_destroy(web); /* after the devices: their observers held its lines */
     finger_bus_host_stop();
     can_log_close();
     return stop_simulation(&opts);

@@ -4,6 +4,7 @@
 #define HOST_OPTIONS_H
 
 #include <stdbool.h>
+#include <string.h>
 
 #include "hal_log.h"
 #include "net_allow.h"
@@ -33,6 +34,7 @@ typedef struct {
     int idle_timeout_s;      /* --idle-timeout: close TCP connections silent this long; 0: off */
     int udp_peer_timeout_s;  /* --udp-peer-timeout: forget UDP peers silent this long */
     net_allow_t udp_stream_allow; /* --udp-stream-allow: streams to them need no budget */
+    bool udp_stream_allow_given;  /* the first --udp-stream-allow replaces the file's list */
     bool disconnect_faststop;
     bool trace;
     const char *can_iface; /* --can: finger bus on SocketCAN; NULL: loopback bus */
@@ -73,13 +75,32 @@ typedef struct {
     const char *script;     /* --script: the startup script, a host path or /user/NAME */
     const char *script_dir; /* --script-dir: the /user/ store; NULL: none */
     bool script_autostart;  /* false: --no-script-autostart */
+    /* Not an option: the web server's connection lines, which the devices'
+     * message observers feed (web_lines.h); set by main once the server is
+     * on, NULL when it is off. */
+    struct web_lines *web_lines;
+    /* --list-models [--json]: printed once every option is read */
+    bool list_models;
+    bool list_models_json;
 } host_options_t;
 
 typedef enum { OPTIONS_RUN, OPTIONS_EXIT_OK, OPTIONS_EXIT_USAGE } options_result_t;
 
 /* Parses argv; prints help, version, model list or a usage error itself. */
 options_result_t options_parse(int argc, char **argv, host_options_t *opts);
-/* "auto", "gcl" or "binary" (the option and the configuration key). */
-bool options_parse_protocol(const char *text, host_protocol_t *out);
+/* "auto", "gcl" or "binary" (the option and the configuration key). Inline:
+ * the configuration file, which options_parse() reads, parses it too, and
+ * a call back into options.c would close a reference cycle. */
+static inline bool options_parse_protocol(const char *text, host_protocol_t *out)
+{
+    static const char *const names[] = {"auto", "gcl", "binary"};
+    for (unsigned i = 0; i < 3; i++) {
+        if (strcmp(text, names[i]) == 0) {
+            *out = (host_protocol_t)i;
+            return true;
+        }
+    }
+    return false;
+}
 
 #endif

@@ -179,7 +179,7 @@ static bool check_fixed(change_t *ch, const gripper_t *g, const cJSON *body)
 
 static bool read_change(change_t *ch, const gripper_t *g, const cJSON *body)
 {
-    static const char *names[SETTING_COUNT + FIXED_COUNT + 2u];
+    const char *names[SETTING_COUNT + FIXED_COUNT + 2u];
     unsigned n = 0;
     for (unsigned i = 0; i < SETTING_COUNT; i++) {
         names[n++] = settings[i].name;
