@@ -11,6 +11,7 @@
 #include <strings.h>
 #include <sys/stat.h>
 
+#include "settings_table.h"
 #include "sim/sim_models.h"
 #include "text_file.h"
 #include "web/web_host.h"
@@ -45,22 +46,12 @@ typedef enum {
     DEV_SERIAL,
     DEV_TAG,
     DEV_VERSION,
-    MOT_FORCE,
-    MOT_SPEED,
-    MOT_ACCEL,
-    MOT_PULLBACK,
-    MOT_PWT,
-    MOT_CLT,
-    MOT_SOFT_LIMITS,
-    MOT_SOFT_MINUS,
-    MOT_SOFT_PLUS,
     MOT_HOMING,
     MOT_MOVE_RETARGET,
     NET_TCP_PORT,
     NET_UDP_PORT,
     NET_BIND,
     NET_MAX_CLIENTS,
-    NET_DISCONNECT_FASTSTOP,
     NET_ADDRESS_PER_DEVICE,
     NET_IDLE_TIMEOUT,
     NET_UDP_PEER_TIMEOUT,
@@ -69,7 +60,6 @@ typedef enum {
     NET_PROTOCOL,
     NET_BINARY_UDP_PORT,
     NET_BINARY_UDP_REPLY_PORT,
-    NET_BINARY_CRC,
     NET_HTTP_PORT,
     NET_HTTP_BIND,
     NET_HTTP_ALLOW_HOST,
@@ -81,6 +71,8 @@ typedef enum {
     KEY_COUNT
 } key_id_t;
 
+/* The keys besides the device settings of settings_table.h, which the file
+ * reads from that table. */
 static const struct {
     const char *section;
     const char *name;
@@ -90,22 +82,12 @@ static const struct {
     [DEV_SERIAL] = {"device", "serial", K_SERIAL},
     [DEV_TAG] = {"device", "tag", K_TEXT},
     [DEV_VERSION] = {"device", "firmware_version", K_TEXT},
-    [MOT_FORCE] = {"motion", "default_force", K_NUMBER},
-    [MOT_SPEED] = {"motion", "default_speed", K_NUMBER},
-    [MOT_ACCEL] = {"motion", "default_acceleration", K_NUMBER},
-    [MOT_PULLBACK] = {"motion", "default_pullback", K_NUMBER},
-    [MOT_PWT] = {"motion", "part_width_tolerance", K_NUMBER},
-    [MOT_CLT] = {"motion", "clamping_travel", K_NUMBER},
-    [MOT_SOFT_LIMITS] = {"motion", "soft_limits", K_BOOL},
-    [MOT_SOFT_MINUS] = {"motion", "soft_limit_minus", K_NUMBER},
-    [MOT_SOFT_PLUS] = {"motion", "soft_limit_plus", K_NUMBER},
     [MOT_HOMING] = {"motion", "homing_direction", K_DIRECTION},
     [MOT_MOVE_RETARGET] = {"motion", "move_retarget", K_BOOL},
     [NET_TCP_PORT] = {"network", "tcp_port", K_PORT},
     [NET_UDP_PORT] = {"network", "udp_port", K_PORT},
     [NET_BIND] = {"network", "bind", K_ADDR},
     [NET_MAX_CLIENTS] = {"network", "max_clients", K_CLIENTS},
-    [NET_DISCONNECT_FASTSTOP] = {"network", "disconnect_faststop", K_BOOL},
     [NET_ADDRESS_PER_DEVICE] = {"network", "address_per_device", K_BOOL},
     [NET_IDLE_TIMEOUT] = {"network", "idle_timeout", K_SECONDS_OFF},
     [NET_UDP_PEER_TIMEOUT] = {"network", "udp_peer_timeout", K_SECONDS},
@@ -114,7 +96,6 @@ static const struct {
     [NET_PROTOCOL] = {"network", "protocol", K_PROTOCOL},
     [NET_BINARY_UDP_PORT] = {"network", "binary_udp_port", K_PORT},
     [NET_BINARY_UDP_REPLY_PORT] = {"network", "binary_udp_reply_port", K_PORT},
-    [NET_BINARY_CRC] = {"network", "binary_crc", K_BOOL},
     [NET_HTTP_PORT] = {"network", "http_port", K_PORT},
     [NET_HTTP_BIND] = {"network", "http_bind", K_ADDR},
     [NET_HTTP_ALLOW_HOST] = {"network", "http_allow_host", K_HOSTS},
@@ -169,7 +150,8 @@ static struct {
     char files[FILES_MAX][256];
     unsigned file_count;
     value_t values[KEY_COUNT];
-    device_section_t *sections; /* malloc'd, in the order of the file */
+    value_t settings[SETTINGS_TABLE_COUNT]; /* by the rows of settings_table */
+    device_section_t *sections;             /* malloc'd, in the order of the file */
     unsigned section_count;
     const char *model; /* the devices' model without a [device.N] one (config_file_check) */
 } loaded;
@@ -406,6 +388,35 @@ static int on_device_key(parse_state_t *st, const char *section, const char *nam
                                "udp_port, script)");
 }
 
+/* A device setting of settings_table.h, else an unknown key. */
+static int on_setting_key(parse_state_t *st, const char *section, const char *name,
+                          const char *text)
+{
+    for (unsigned i = 0; i < SETTINGS_TABLE_COUNT; i++) {
+        const settings_row_t *row = &settings_table[i];
+        if (row->ini_key == NULL || strcasecmp(row->ini_section, section) != 0 ||
+            strcasecmp(row->ini_key, name) != 0) {
+            continue;
+        }
+        kind_t kind = settings_table_is_switch(row) ? K_BOOL : K_NUMBER;
+        const char *why = convert(kind, text, &loaded.settings[i]);
+        if (why != NULL) {
+            st->failed = true;
+            return fail_at(st->path, st->line, section, name, why);
+        }
+        mark_set(&loaded.settings[i], st);
+        return 1;
+    }
+    st->failed = true;
+    return fail_at(st->path, st->line, section, name, "unknown key (see docs/wsgsim.example.ini)");
+}
+
+/* The file's value of a device setting (set false: none). */
+static const value_t *setting_value(wsg_setting_t id)
+{
+    return &loaded.settings[settings_table_row(id) - settings_table];
+}
+
 static int on_key(void *user, const char *section, const char *name, const char *value)
 {
     parse_state_t *st = user;
@@ -426,8 +437,7 @@ static int on_key(void *user, const char *section, const char *name, const char 
         mark_set(&loaded.values[i], st);
         return 1;
     }
-    st->failed = true;
-    return fail_at(st->path, st->line, section, name, "unknown key (see docs/wsgsim.example.ini)");
+    return on_setting_key(st, section, name, text);
 }
 
 static bool is_comment(const char *text)
@@ -500,8 +510,9 @@ static void apply_binary(host_options_t *opts)
     if (v[NET_BINARY_UDP_REPLY_PORT].set) {
         opts->binary_udp_reply_port = (int)v[NET_BINARY_UDP_REPLY_PORT].number;
     }
-    if (v[NET_BINARY_CRC].set) {
-        opts->binary_crc = v[NET_BINARY_CRC].number != 0.0;
+    const value_t *crc = setting_value(WSG_SET_BINARY_CRC_CHECK);
+    if (crc->set) { /* reaches the device through the options */
+        opts->binary_crc = crc->number != 0.0;
     }
     if (v[NET_HTTP_PORT].set) {
         opts->http_port = (int)v[NET_HTTP_PORT].number;
@@ -552,8 +563,9 @@ static void apply_host(host_options_t *opts)
     if (v[NET_MAX_CLIENTS].set) {
         opts->max_clients = (int)v[NET_MAX_CLIENTS].number;
     }
-    if (v[NET_DISCONNECT_FASTSTOP].set) {
-        opts->disconnect_faststop = v[NET_DISCONNECT_FASTSTOP].number != 0.0;
+    const value_t *faststop = setting_value(WSG_SET_DISCONNECT_FASTSTOP);
+    if (faststop->set) { /* reaches the device through the options */
+        opts->disconnect_faststop = faststop->number != 0.0;
     }
     if (v[NET_ADDRESS_PER_DEVICE].set) {
         opts->address_per_device = v[NET_ADDRESS_PER_DEVICE].number != 0.0;
@@ -621,15 +633,15 @@ bool config_file_load(const char *config_path, const char *save_path, host_optio
     return true;
 }
 
-static bool check_range(key_id_t id, double min, double max)
+static bool check_range(const settings_row_t *row, double min, double max)
 {
-    const value_t *v = &loaded.values[id];
+    const value_t *v = setting_value(row->id);
     if (!v->set || (v->number >= min && v->number <= max)) {
         return true;
     }
     char why[96];
     snprintf(why, sizeof(why), "%s is outside %g..%g for this model", v->text, min, max);
-    return fail_at(v->file, v->line, keys[id].section, keys[id].name, why);
+    return fail_at(v->file, v->line, row->ini_section, row->ini_key, why);
 }
 
 static bool check_soft_limits(const wsg_config_t *cfg)
@@ -639,35 +651,17 @@ static bool check_soft_limits(const wsg_config_t *cfg)
     if (minus < plus) {
         return true;
     }
-    key_id_t id = loaded.values[MOT_SOFT_PLUS].set ? MOT_SOFT_PLUS : MOT_SOFT_MINUS;
-    return fail_at(loaded.values[id].file, loaded.values[id].line, "motion", keys[id].name,
+    wsg_setting_t id =
+        setting_value(WSG_SET_SOFT_PLUS)->set ? WSG_SET_SOFT_PLUS : WSG_SET_SOFT_MINUS;
+    return fail_at(setting_value(id)->file, setting_value(id)->line, "motion",
+                   settings_table_row(id)->ini_key,
                    "soft_limit_minus must be below soft_limit_plus");
 }
 
-/* The [motion] keys whose range depends on the model. */
-static const key_id_t ranged_keys[] = {MOT_FORCE, MOT_SPEED, MOT_ACCEL,      MOT_PULLBACK,
-                                       MOT_PWT,   MOT_CLT,   MOT_SOFT_MINUS, MOT_SOFT_PLUS};
-
-static void model_range(const sim_model_t *m, key_id_t id, double *min, double *max)
+/* The [motion] keys whose range depends on the model: the numbers. */
+static bool is_ranged(const settings_row_t *row)
 {
-    switch (id) {
-    case MOT_FORCE:
-        *min = m->force_min_n;
-        *max = m->force_overdrive_n > 0.0f ? m->force_overdrive_n : m->force_max_n;
-        break;
-    case MOT_SPEED:
-        *min = m->speed_min_mm_s;
-        *max = m->speed_max_mm_s;
-        break;
-    case MOT_ACCEL:
-        *min = m->accel_min_mm_s2;
-        *max = m->accel_max_mm_s2;
-        break;
-    default: /* distances and positions: within the stroke */
-        *min = 0.0;
-        *max = m->stroke_mm;
-        break;
-    }
+    return row->ini_key != NULL && !settings_table_is_switch(row);
 }
 
 static bool check_model(const char *model)
@@ -676,10 +670,13 @@ static bool check_model(const char *model)
     if (m == NULL) {
         return false;
     }
-    for (size_t i = 0; i < sizeof(ranged_keys) / sizeof(ranged_keys[0]); i++) {
+    for (unsigned i = 0; i < SETTINGS_TABLE_COUNT; i++) {
         double min, max;
-        model_range(m, ranged_keys[i], &min, &max);
-        if (!check_range(ranged_keys[i], min, max)) {
+        if (!is_ranged(&settings_table[i])) {
+            continue;
+        }
+        settings_table_model_range(&settings_table[i], m, &min, &max);
+        if (!check_range(&settings_table[i], min, max)) {
             return false;
         }
     }
@@ -701,40 +698,22 @@ bool config_file_check(const char *model)
     return ok;
 }
 
-static float motion_value(const wsg_config_t *cfg, key_id_t id)
-{
-    switch (id) {
-    case MOT_FORCE:
-        return cfg->default_force_n;
-    case MOT_SPEED:
-        return cfg->default_speed_mm_s;
-    case MOT_ACCEL:
-        return cfg->default_accel_mm_s2;
-    case MOT_PULLBACK:
-        return cfg->default_pullback_mm;
-    case MOT_PWT:
-        return cfg->default_pwt_mm;
-    case MOT_CLT:
-        return cfg->default_clt_mm;
-    case MOT_SOFT_MINUS:
-        return cfg->soft_limit_minus_mm;
-    default:
-        return cfg->soft_limit_plus_mm;
-    }
-}
-
 static bool motion_fits_model(const wsg_config_t *cfg, const char *model, char *why, size_t cap)
 {
     const sim_model_t *m = wsg_sim_model_find(model);
-    for (size_t i = 0; m != NULL && i < sizeof(ranged_keys) / sizeof(ranged_keys[0]); i++) {
+    for (unsigned i = 0; m != NULL && i < SETTINGS_TABLE_COUNT; i++) {
+        const settings_row_t *row = &settings_table[i];
         double min, max;
-        double value = motion_value(cfg, ranged_keys[i]);
-        model_range(m, ranged_keys[i], &min, &max);
+        if (!is_ranged(row)) {
+            continue;
+        }
+        double value = wsg_config_setting_get(cfg, row->id);
+        settings_table_model_range(row, m, &min, &max);
         if (!(value >= min && value <= max)) {
             snprintf(why, cap,
                      "%s: %g is outside %g..%g for the %s in the file (the [motion] settings "
                      "are every device's)",
-                     keys[ranged_keys[i]].name, value, min, max, model);
+                     row->ini_key, value, min, max, model);
             return false;
         }
     }
@@ -832,13 +811,6 @@ static void set_text(char *dst, key_id_t id)
     }
 }
 
-static void set_float(float *dst, key_id_t id)
-{
-    if (loaded.values[id].set) {
-        *dst = (float)loaded.values[id].number;
-    }
-}
-
 void config_file_apply(wsg_config_t *cfg)
 {
     const value_t *v = loaded.values;
@@ -847,16 +819,12 @@ void config_file_apply(wsg_config_t *cfg)
     if (v[DEV_SERIAL].set) {
         cfg->serial = (uint32_t)v[DEV_SERIAL].number;
     }
-    set_float(&cfg->default_force_n, MOT_FORCE);
-    set_float(&cfg->default_speed_mm_s, MOT_SPEED);
-    set_float(&cfg->default_accel_mm_s2, MOT_ACCEL);
-    set_float(&cfg->default_pullback_mm, MOT_PULLBACK);
-    set_float(&cfg->default_pwt_mm, MOT_PWT);
-    set_float(&cfg->default_clt_mm, MOT_CLT);
-    set_float(&cfg->soft_limit_minus_mm, MOT_SOFT_MINUS);
-    set_float(&cfg->soft_limit_plus_mm, MOT_SOFT_PLUS);
-    if (v[MOT_SOFT_LIMITS].set) {
-        cfg->soft_limits_enabled = v[MOT_SOFT_LIMITS].number != 0.0;
+    for (unsigned i = 0; i < SETTINGS_TABLE_COUNT; i++) {
+        /* the [network] ones reach the device through the options */
+        const settings_row_t *row = &settings_table[i];
+        if (loaded.settings[i].set && strcmp(row->ini_section, "motion") == 0) {
+            wsg_config_setting_put(cfg, row->id, (float)loaded.settings[i].number);
+        }
     }
     if (v[MOT_HOMING].set) {
         cfg->home_positive = v[MOT_HOMING].number != 0.0;
