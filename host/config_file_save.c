@@ -144,9 +144,9 @@ static size_t text_length(const char *line)
 
 /* Device 0's tag goes to [device] unless the file gives device 0 a tag in a
  * [device.0] section, which wins at the next start: it is saved there. */
-static void tag_where_it_counts(save_set_t *set, unsigned device)
+static void tag_where_it_counts(const config_file_t *cf, save_set_t *set, unsigned device)
 {
-    for (unsigned i = 0; i < set->count && device == 0 && config_file_device_sets_tag(0); i++) {
+    for (unsigned i = 0; i < set->count && device == 0 && config_file_device_sets_tag(cf, 0); i++) {
         if (strcmp(set->keys[i].key, "tag") == 0) {
             snprintf(set->keys[i].section, sizeof(set->keys[i].section), "device.0");
         }
@@ -253,15 +253,15 @@ static void collect_startup(save_set_t *set, unsigned device, const char *startu
     add_bool(set, "script", "autostart", startup[0] != '\0');
 }
 
-bool config_file_save(const char *path, unsigned device, const wsg_config_t *cfg,
-                      const char *startup, char *why, size_t cap)
+bool config_file_save(const config_file_t *cf, const char *path, unsigned device,
+                      const wsg_config_t *cfg, const char *startup, char *why, size_t cap)
 {
-    if (!config_file_motion_fits(cfg, why, cap)) {
+    if (!config_file_motion_fits(cf, cfg, why, cap)) {
         return false; /* the next start would refuse the file */
     }
     save_set_t set = {.count = 0};
     collect(&set, device, cfg);
-    tag_where_it_counts(&set, device);
+    tag_where_it_counts(cf, &set, device);
     collect_startup(&set, device, startup);
     char tmp[4096];
     snprintf(tmp, sizeof(tmp), "%s.saving", path);

@@ -91,17 +91,27 @@ static void catch_up(void)
     (void)simctl_tick();
 }
 
+/* A start that failed frees what main() made (the sanitizers' leak check
+ * runs at exit). */
+static int startup_failed(host_options_t *opts, web_server_t *web)
+{
+    web_server_destroy(web);
+    options_release(opts);
+    return EXIT_STARTUP_FAILED;
+}
+
 int main(int argc, char **argv)
 {
     host_options_t opts;
     options_result_t parsed = options_parse(argc, argv, &opts);
     if (parsed != OPTIONS_RUN) {
+        options_release(&opts);
         return parsed == OPTIONS_EXIT_OK ? 0 : EXIT_STARTUP_FAILED;
     }
     setvbuf(stderr, NULL, _IOLBF, 0);
     host_log_init();
     if (!start_logging(&opts)) {
-        return EXIT_STARTUP_FAILED;
+        return startup_failed(&opts, NULL);
     }
     simclock_init();
     if (opts.start_paused) {
@@ -111,19 +121,16 @@ int main(int argc, char **argv)
     loop_set_catch_up(catch_up);
     loop_set_hangup(reopen_files);
     if (!finger_bus_host_start(&opts) || (opts.can_log != NULL && !can_log_open(opts.can_log))) {
-        return EXIT_STARTUP_FAILED;
+        return startup_failed(&opts, NULL);
     }
     /* the web server first: the devices' observers keep its connection lines */
     web_server_t *web = web_server_create();
     if (web == NULL || !web_server_start(web, &opts)) {
-        return EXIT_STARTUP_FAILED;
+        return startup_failed(&opts, web);
     }
     opts.web_lines = web_server_lines(web);
-    if (!fleet_start(&opts) || !start_simulation(&opts)) {
-        return EXIT_STARTUP_FAILED;
-    }
-    if (!announce(&opts, web)) {
-        return EXIT_STARTUP_FAILED;
+    if (!fleet_start(&opts) || !start_simulation(&opts) || !announce(&opts, web)) {
+        return startup_failed(&opts, web);
     }
     host_logf(HAL_LOG_INFO, "finger bus: %s", finger_bus_host_describe());
     while (!loop_stop_requested()) {
@@ -142,5 +149,7 @@ int main(int argc, char **argv)
     web_server_destroy(web); /* after the devices: their observers held its lines */
     finger_bus_host_stop();
     can_log_close();
-    return stop_simulation(&opts);
+    int status = stop_simulation(&opts);
+    options_release(&opts);
+    return status;
 }

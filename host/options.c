@@ -499,7 +499,12 @@ static bool load_config(int argc, char **argv, host_options_t *opts)
     if (opts->config_path == NULL && opts->save_path == NULL) {
         return true;
     }
-    return config_file_load(opts->config_path, opts->save_path, opts);
+    opts->config = config_file_create();
+    if (opts->config == NULL) {
+        fprintf(stderr, "wsgsim: out of memory\n");
+        return false;
+    }
+    return config_file_load(opts->config, opts->config_path, opts->save_path, opts);
 }
 
 /* Applies one option; returns OPTIONS_RUN to go on. */
@@ -640,13 +645,20 @@ static options_result_t check_combinations(const host_options_t *opts)
         fprintf(stderr, "wsgsim: --no-tcp and --no-udp leave nothing to serve\n");
         return OPTIONS_EXIT_USAGE;
     }
-    if ((opts->config_path != NULL || opts->save_path != NULL) && !config_file_check(opts->model)) {
+    if ((opts->config_path != NULL || opts->save_path != NULL) &&
+        !config_file_check(opts->config, opts->model)) {
         return OPTIONS_EXIT_USAGE;
     }
     if (!script_options_check(opts)) {
         return OPTIONS_EXIT_USAGE;
     }
     return OPTIONS_RUN;
+}
+
+void options_release(host_options_t *opts)
+{
+    config_file_destroy(opts->config);
+    opts->config = NULL;
 }
 
 options_result_t options_parse(int argc, char **argv, host_options_t *opts)

@@ -14,6 +14,9 @@ typedef enum { HOST_PROTOCOL_AUTO, HOST_PROTOCOL_GCL, HOST_PROTOCOL_BINARY } hos
 /* --http-allow-host: at most this many lists of names (each repeat one). */
 #define HOST_HTTP_ALLOW_LISTS_MAX 16
 
+/* The --config and --save-file read (config_file.h). */
+typedef struct config_file config_file_t;
+
 /* --devices: at most this many grippers in one process. */
 #define HOST_DEVICES_MAX 10000
 
@@ -45,6 +48,8 @@ typedef struct {
     const char *config_path;   /* --config: INI device configuration */
     const char *save_path;     /* --save-file: the web page's Save writes here, read over
                                   --config at start; NULL: Save writes the --config file */
+    config_file_t *config;     /* what those two files hold (made by options_parse(), freed
+                                  by options_release()); NULL: neither was given */
     const char *scenario_path; /* --scenario: timed control commands */
     const char *record_path;   /* --record: traffic record */
     const char *coverage_path; /* --coverage: report written at exit */
@@ -86,8 +91,12 @@ typedef struct {
 
 typedef enum { OPTIONS_RUN, OPTIONS_EXIT_OK, OPTIONS_EXIT_USAGE } options_result_t;
 
-/* Parses argv; prints help, version, model list or a usage error itself. */
+/* Parses argv; prints help, version, model list or a usage error itself.
+ * Whatever it returns, opts->config is to be released (options_release). */
 options_result_t options_parse(int argc, char **argv, host_options_t *opts);
+/* Frees what options_parse() made (the configuration read); opts->config
+ * is NULL after. */
+void options_release(host_options_t *opts);
 /* "auto", "gcl" or "binary" (the option and the configuration key). Inline:
  * the configuration file, which options_parse() reads, parses it too, and
  * a call back into options.c would close a reference cycle. */

@@ -246,8 +246,8 @@ static enum MHD_Result save_settings(const web_request_t *req, gripper_t *g)
     }
     const wsg_config_t *cfg = wsg_device_snapshot(&g->device)->config;
     char why[160];
-    if (!config_file_save(save_path(g), g->index, cfg, gripper_startup_choice(g), why,
-                          sizeof(why))) {
+    if (!config_file_save(g->opts.config, save_path(g), g->index, cfg, gripper_startup_choice(g),
+                          why, sizeof(why))) {
         return web_reply_error(req, MHD_HTTP_UNPROCESSABLE_CONTENT, E_WRITE_ERROR, "%s", why);
     }
     g->config = *cfg;
