@@ -11,11 +11,9 @@
 #include "options.h"
 #include "wsg/wsg_config.h"
 
-/* What the files read hold (typedef in options.h: host_options_t points to
- * the one options_parse() read). */
-struct config_file;
-
-/* Nothing read yet; NULL: out of memory. */
+/* config_file_t (declared in options.h, whose host_options_t points to the
+ * one options_parse() read): what the files read hold. Nothing read yet;
+ * NULL: out of memory. */
 config_file_t *config_file_create(void);
 void config_file_destroy(config_file_t *cf);
 

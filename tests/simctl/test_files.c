@@ -12,6 +12,7 @@
 #include "fleet.h"
 #include "options.h"
 #include "record.h"
+#include "settings_table.h"
 #include "sim/scenario.h"
 #include "sim/sim_models.h"
 #include "wsg/wsg_types.h"
@@ -569,6 +570,28 @@ START_TEST(config_save_puts_the_tag_where_it_counts)
 }
 END_TEST
 
+/* The settings table names every device setting once: one row each, no
+ * key given twice in the file or on the page. */
+START_TEST(settings_table_names_every_setting_once)
+{
+    for (int id = 0; id < WSG_SET_COUNT; id++) {
+        const settings_row_t *row = settings_table_row((wsg_setting_t)id);
+        ck_assert_ptr_nonnull(row);
+        ck_assert_int_eq(row->id, id);
+    }
+    for (unsigned i = 0; i < SETTINGS_TABLE_COUNT; i++) {
+        const settings_row_t *a = &settings_table[i];
+        for (unsigned k = i + 1u; k < SETTINGS_TABLE_COUNT; k++) {
+            const settings_row_t *b = &settings_table[k];
+            ck_assert_int_ne(a->id, b->id);
+            ck_assert_str_ne(a->json_key, b->json_key);
+            ck_assert(a->ini_key == NULL || b->ini_key == NULL ||
+                      strcmp(a->ini_key, b->ini_key) != 0);
+        }
+    }
+}
+END_TEST
+
 Suite *files_suite(void)
 {
     Suite *s = suite_create("files");
@@ -587,6 +610,7 @@ Suite *files_suite(void)
     tcase_add_test(tc, a_control_character_in_a_config_line_is_refused);
     tcase_add_test(tc, config_save_replaces_colon_keys_too);
     tcase_add_test(tc, config_save_puts_the_tag_where_it_counts);
+    tcase_add_test(tc, settings_table_names_every_setting_once);
     tcase_add_test(tc, save_file_is_read_over_the_config);
     tcase_add_test(tc, last_config_and_save_file_count);
     tcase_add_test(tc, record_writes_every_line_with_both_clocks);
