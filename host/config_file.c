@@ -655,9 +655,9 @@ static bool check_range(const config_file_t *cf, const settings_row_t *row, doub
     if (!v->set || (v->number >= min && v->number <= max)) {
         return true;
     }
-    char why[96];
-    snprintf(why, sizeof(why), "%s is outside %g..%g for this model", v->text, min, max);
-    return fail_at(v->file, v->line, row->ini_section, row->ini_key, why);
+    char why[96]; /* a number written with 50 characters or more is cut short */
+    int len = snprintf(why, sizeof(why), "%s is outside %g..%g for this model", v->text, min, max);
+    return len >= 0 && fail_at(v->file, v->line, row->ini_section, row->ini_key, why);
 }
 
 static bool check_soft_limits(const config_file_t *cf, const wsg_config_t *cfg)
