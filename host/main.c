@@ -12,10 +12,7 @@
 #include "notify.h"
 #include "options.h"
 #include "record.h"
-#include "sim/clock.h"
 #include "sim/control.h"
-#include "sim/scenario.h"
-#include "sim/scheduler.h"
 #include "tcp_server.h"
 #include "udp_server.h"
 #include "web/web_server.h"
@@ -23,7 +20,7 @@
 #define EXIT_STARTUP_FAILED 2
 
 /* Simulation control (docs/simctl.md): record, scenario, control channel. */
-static bool start_simulation(const host_options_t *opts)
+static bool start_simulation(simctl_t *sim, const host_options_t *opts)
 {
     if (opts->record_path != NULL && !record_open(opts->record_path)) {
         return false;
@@ -31,16 +28,17 @@ static bool start_simulation(const host_options_t *opts)
     if (opts->coverage_path != NULL && !coverage_open(opts->coverage_path)) {
         return false;
     }
-    if (opts->scenario_path != NULL && !scenario_load(opts->scenario_path, 0)) {
+    if (opts->scenario_path != NULL &&
+        !scenario_load(simctl_scenario(sim), opts->scenario_path, 0)) {
         return false;
     }
-    return opts->sim_port < 0 || simctl_start(opts->sim_bind, opts->sim_port);
+    return opts->sim_port < 0 || simctl_start(sim, opts->sim_bind, opts->sim_port);
 }
 
-static int stop_simulation(const host_options_t *opts)
+static int stop_simulation(simctl_t *sim, const host_options_t *opts)
 {
-    simctl_stop();
-    scenario_unload();
+    simctl_stop(sim);
+    scenario_unload(simctl_scenario(sim));
     record_close();
     if (opts->coverage_path != NULL && !coverage_write(opts->strict)) {
         return 1;
@@ -49,15 +47,18 @@ static int stop_simulation(const host_options_t *opts)
 }
 
 /* One line per further device of a fleet, then the ready line. */
-static bool announce(const host_options_t *opts, const web_server_t *web)
+static bool announce(const simctl_t *sim, const web_server_t *web, const host_options_t *opts)
 {
     char line[512];
     char extra[256];
-    snprintf(extra, sizeof(extra), "%s%s", simctl_describe(), web_server_describe(web));
+    char control[96];
+    simctl_describe(sim, control, sizeof(control));
+    snprintf(extra, sizeof(extra), "%s%s", control, web_server_describe(web));
     fleet_ready_line(extra, line, sizeof(line));
     bool bin_tcp = opts->tcp_enabled && opts->protocol != HOST_PROTOCOL_GCL;
     notify_set_binary_ports(bin_tcp ? fleet_tcp_port(0) : -1, fleet_bin_udp_port(0));
     notify_set_http_port(web_server_port(web));
+    notify_set_sim_port(simctl_port(sim));
     if (!notify_prepare(opts->ready_file)) {
         return false;
     }
@@ -86,18 +87,53 @@ static void reopen_files(void)
     }
 }
 
-static void catch_up(void)
+static void catch_up(void *sched)
 {
-    (void)simctl_tick();
+    (void)simctl_tick(sched);
 }
 
-/* A start that failed frees what main() made (the sanitizers' leak check
- * runs at exit). */
-static int startup_failed(host_options_t *opts, web_server_t *web)
+/* Starts everything on the simulation's clock and runs the loop until a
+ * signal stops it; the exit status. */
+static int serve(simctl_t *sim, web_server_t *web, host_options_t *opts)
 {
-    web_server_destroy(web);
-    options_release(opts);
-    return EXIT_STARTUP_FAILED;
+    if (opts->start_paused) {
+        simclock_start_paused(simctl_clock(sim)); /* simulated time stands at exactly 0 */
+    }
+    loop_init();
+    loop_set_catch_up(catch_up, simctl_scheduler(sim));
+    loop_set_clock(simctl_clock(sim));
+    loop_set_hangup(reopen_files);
+    if (!finger_bus_host_start(opts) || (opts->can_log != NULL && !can_log_open(opts->can_log))) {
+        return EXIT_STARTUP_FAILED;
+    }
+    /* the web server first: the devices' observers keep its connection lines */
+    if (!web_server_start(web, opts, sim)) {
+        return EXIT_STARTUP_FAILED;
+    }
+    opts->web_lines = web_server_lines(web);
+    if (!fleet_start(opts) || !start_simulation(sim, opts)) {
+        return EXIT_STARTUP_FAILED;
+    }
+    if (!announce(sim, web, opts)) {
+        return EXIT_STARTUP_FAILED;
+    }
+    host_logf(HAL_LOG_INFO, "finger bus: %s", finger_bus_host_describe());
+    while (!loop_stop_requested()) {
+        uint64_t deadline = simctl_tick(simctl_scheduler(sim));
+        fleet_run_scripts();
+        loop_wait(deadline);
+        web_server_poll(web);
+        tcp_server_reap();
+        udp_server_reap();
+        simctl_reap(sim);
+    }
+    host_logf(HAL_LOG_INFO, "shutting down");
+    notify_stopping(opts->ready_file);
+    web_server_stop(web); /* while the devices its operations ran on exist */
+    fleet_stop();
+    finger_bus_host_stop();
+    can_log_close();
+    return stop_simulation(sim, opts);
 }
 
 int main(int argc, char **argv)
@@ -111,45 +147,14 @@ int main(int argc, char **argv)
     setvbuf(stderr, NULL, _IOLBF, 0);
     host_log_init();
     if (!start_logging(&opts)) {
-        return startup_failed(&opts, NULL);
+        options_release(&opts);
+        return EXIT_STARTUP_FAILED;
     }
-    simclock_init();
-    if (opts.start_paused) {
-        simclock_start_paused(); /* simulated time stands at exactly 0 */
-    }
-    loop_init();
-    loop_set_catch_up(catch_up);
-    loop_set_hangup(reopen_files);
-    if (!finger_bus_host_start(&opts) || (opts.can_log != NULL && !can_log_open(opts.can_log))) {
-        return startup_failed(&opts, NULL);
-    }
-    /* the web server first: the devices' observers keep its connection lines */
+    simctl_t *sim = simctl_create();
     web_server_t *web = web_server_create();
-    if (web == NULL || !web_server_start(web, &opts)) {
-        return startup_failed(&opts, web);
-    }
-    opts.web_lines = web_server_lines(web);
-    if (!fleet_start(&opts) || !start_simulation(&opts) || !announce(&opts, web)) {
-        return startup_failed(&opts, web);
-    }
-    host_logf(HAL_LOG_INFO, "finger bus: %s", finger_bus_host_describe());
-    while (!loop_stop_requested()) {
-        uint64_t deadline = simctl_tick();
-        fleet_run_scripts();
-        loop_wait(deadline);
-        web_server_poll(web);
-        tcp_server_reap();
-        udp_server_reap();
-        simctl_reap();
-    }
-    host_logf(HAL_LOG_INFO, "shutting down");
-    notify_stopping(opts.ready_file);
-    web_server_stop(web); /* while the devices its operations ran on exist */
-    fleet_stop();
+    int status = sim != NULL && web != NULL ? serve(sim, web, &opts) : EXIT_STARTUP_FAILED;
     web_server_destroy(web); /* after the devices: their observers held its lines */
-    finger_bus_host_stop();
-    can_log_close();
-    int status = stop_simulation(&opts);
-    options_release(&opts);
+    simctl_destroy(sim);
+    options_release(&opts); /* the configuration read */
     return status;
 }

@@ -11,6 +11,7 @@
 #include <microhttpd.h>
 
 #include "gripper.h"
+#include "sim/control.h"
 #include "web/web_events.h"
 #include "web/web_lines.h"
 #include "wsg/wsg_status.h"
@@ -60,6 +61,7 @@ typedef struct {
     const char *body; /* NUL-terminated; "" when none */
     size_t body_len;
     bool sim_allowed; /* the peer may use the simulation routes */
+    simctl_t *sim;    /* runs them */
 } web_request_t;
 
 /* A JSON reply: takes ownership of json. */

@@ -15,6 +15,7 @@
 #include <stdbool.h>
 
 #include "options.h"
+#include "sim/control.h"
 
 typedef struct web_server web_server_t;
 struct web_lines;
@@ -27,8 +28,9 @@ void web_server_destroy(web_server_t *web);
  * opts->http_port; off when the port is 0. False (logged) when the port or
  * the address was given and cannot be had; the default, when taken, is
  * skipped with a warning. Call before fleet_start(): the devices' observers
- * keep the connection lines only when the server is on. */
-bool web_server_start(web_server_t *web, const host_options_t *opts);
+ * keep the connection lines only when the server is on. The simulation
+ * routes run their commands on sim. */
+bool web_server_start(web_server_t *web, const host_options_t *opts, simctl_t *sim);
 /* After every loop_wait(): runs what is due on the wall clock. Costs one
  * test when nothing is scheduled. */
 void web_server_poll(web_server_t *web);
