@@ -47,17 +47,17 @@ static int stop_simulation(simctl_t *sim, const host_options_t *opts)
 }
 
 /* One line per further device of a fleet, then the ready line. */
-static bool announce(const simctl_t *sim, const host_options_t *opts)
+static bool announce(const simctl_t *sim, const web_server_t *web, const host_options_t *opts)
 {
     char line[512];
     char extra[256];
     char control[96];
     simctl_describe(sim, control, sizeof(control));
-    snprintf(extra, sizeof(extra), "%s%s", control, web_server_describe());
+    snprintf(extra, sizeof(extra), "%s%s", control, web_server_describe(web));
     fleet_ready_line(extra, line, sizeof(line));
     bool bin_tcp = opts->tcp_enabled && opts->protocol != HOST_PROTOCOL_GCL;
     notify_set_binary_ports(bin_tcp ? fleet_tcp_port(0) : -1, fleet_bin_udp_port(0));
-    notify_set_http_port(web_server_port());
+    notify_set_http_port(web_server_port(web));
     notify_set_sim_port(simctl_port(sim));
     if (!notify_prepare(opts->ready_file)) {
         return false;
@@ -94,7 +94,7 @@ static void catch_up(void *sched)
 
 /* Starts everything on the simulation's clock and runs the loop until a
  * signal stops it; the exit status. */
-static int serve(simctl_t *sim, const host_options_t *opts)
+static int serve(simctl_t *sim, web_server_t *web, host_options_t *opts)
 {
     if (opts->start_paused) {
         simclock_start_paused(simctl_clock(sim)); /* simulated time stands at exactly 0 */
@@ -107,10 +107,14 @@ static int serve(simctl_t *sim, const host_options_t *opts)
         return EXIT_STARTUP_FAILED;
     }
     /* the web server first: the devices' observers keep its connection lines */
-    if (!web_server_start(opts, sim) || !fleet_start(opts) || !start_simulation(sim, opts)) {
+    if (!web_server_start(web, opts, sim)) {
         return EXIT_STARTUP_FAILED;
     }
-    if (!announce(sim, opts)) {
+    opts->web_lines = web_server_lines(web);
+    if (!fleet_start(opts) || !start_simulation(sim, opts)) {
+        return EXIT_STARTUP_FAILED;
+    }
+    if (!announce(sim, web, opts)) {
         return EXIT_STARTUP_FAILED;
     }
     host_logf(HAL_LOG_INFO, "finger bus: %s", finger_bus_host_describe());
@@ -118,14 +122,14 @@ static int serve(simctl_t *sim, const host_options_t *opts)
         uint64_t deadline = simctl_tick(simctl_scheduler(sim));
         fleet_run_scripts();
         loop_wait(deadline);
-        web_server_poll();
+        web_server_poll(web);
         tcp_server_reap();
         udp_server_reap();
         simctl_reap(sim);
     }
     host_logf(HAL_LOG_INFO, "shutting down");
     notify_stopping(opts->ready_file);
-    web_server_stop(); /* while the devices its operations ran on exist */
+    web_server_stop(web); /* while the devices its operations ran on exist */
     fleet_stop();
     finger_bus_host_stop();
     can_log_close();
@@ -137,15 +141,20 @@ int main(int argc, char **argv)
     host_options_t opts;
     options_result_t parsed = options_parse(argc, argv, &opts);
     if (parsed != OPTIONS_RUN) {
+        options_release(&opts);
         return parsed == OPTIONS_EXIT_OK ? 0 : EXIT_STARTUP_FAILED;
     }
     setvbuf(stderr, NULL, _IOLBF, 0);
     host_log_init();
     if (!start_logging(&opts)) {
+        options_release(&opts);
         return EXIT_STARTUP_FAILED;
     }
     simctl_t *sim = simctl_create();
-    int status = sim != NULL ? serve(sim, &opts) : EXIT_STARTUP_FAILED;
+    web_server_t *web = web_server_create();
+    int status = sim != NULL && web != NULL ? serve(sim, web, &opts) : EXIT_STARTUP_FAILED;
+    web_server_destroy(web); /* after the devices: their observers held its lines */
     simctl_destroy(sim);
+    options_release(&opts); /* the configuration read */
     return status;
 }
