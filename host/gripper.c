@@ -100,7 +100,8 @@ void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
     power_on_world(g);
     wsg_hal_t hal;
     wsg_sim_world_hal(&g->world, &hal);
-    hal.can = index == 0 ? finger_bus_host_can() : NULL;
+    const hal_can_t *bus = index == 0 ? finger_bus_host_can() : NULL;
+    hal.can = bus != NULL ? *bus : (hal_can_t){NULL, NULL};
     wsg_device_init(&g->device, &g->config, &hal);
     wsg_conn_set_drivers(&g->device, host_drivers, sizeof(host_drivers) / sizeof(host_drivers[0]));
     wsg_runner_init(&g->runner, &g->device, advance_world, g);
