@@ -34,8 +34,7 @@ static void place_start_part(gripper_t *g)
         return;
     }
     if (axis->x_mm <= opts->part_width_mm) {
-        axis->x_mm = axis->stroke_mm;
-        axis->target_mm = axis->x_mm;
+        wsg_sim_axis_place_jaws(axis, axis->stroke_mm);
     }
     wsg_sim_axis_place_part(axis, opts->part_width_mm, opts->part_stiffness_n_mm);
 }
