@@ -59,7 +59,10 @@ struct tcp_client {
 static struct {
     tcp_client_t *first, *last;
     tcp_server_t *waiting;
-} tcp;
+    /* no connection's --idle-timeout ends before this (it may be early:
+     * input moves a timeout later and leaves it; a scan then renews it) */
+    uint64_t idle_due_us;
+} tcp = {.idle_due_us = UINT64_MAX};
 
 static void link_client(tcp_client_t *c)
 {
@@ -330,6 +333,10 @@ static bool setup_client(tcp_client_t *c, int fd, const struct sockaddr_storage 
         return false;
     }
     link_client(c);
+    uint64_t timeout = c->server->idle_timeout_us;
+    if (timeout != 0 && c->heard_us + timeout < tcp.idle_due_us) {
+        tcp.idle_due_us = c->heard_us + timeout;
+    }
     gripper_touch(g); /* its --idle-timeout is a new deadline */
     return true;
 }
@@ -487,8 +494,13 @@ void tcp_server_reap(void)
     resume_listeners();
 }
 
+/* Asked at every touched tick: the connections are scanned only once the
+ * earliest timeout is due, not for every request. */
 uint64_t tcp_server_next_deadline_us(void)
 {
+    if (tcp.idle_due_us > hal_clock_now_us()) {
+        return tcp.idle_due_us;
+    }
     uint64_t due = UINT64_MAX;
     for (tcp_client_t *c = tcp.first; c != NULL; c = c->next) {
         uint64_t timeout = c->server->idle_timeout_us;
@@ -496,6 +508,7 @@ uint64_t tcp_server_next_deadline_us(void)
             due = c->heard_us + timeout;
         }
     }
+    tcp.idle_due_us = due;
     return due;
 }
 
