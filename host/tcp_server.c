@@ -46,6 +46,8 @@ struct tcp_client {
     bool dead;    /* failed or overflowed: close at the next reap */
     bool eof;     /* the client shut its side: answer, flush, then close */
     bool expired; /* closed by the server for silence: not a lost link */
+    bool marked;  /* on the list the next reap looks at */
+    tcp_client_t *next_marked;
     uint64_t connected_us;
     uint64_t heard_us;     /* last input, or connected_us */
     uint64_t completed_us; /* when its last whole command arrived, or connected_us */
@@ -62,7 +64,34 @@ static struct {
     /* no connection's --idle-timeout ends before this (it may be early:
      * input moves a timeout later and leaves it; a scan then renews it) */
     uint64_t idle_due_us;
-} tcp = {.idle_due_us = UINT64_MAX};
+    /* the connections something happened to since the last reap, in that
+     * order: the reap looks at these only (and at all once a timeout is due) */
+    tcp_client_t *marked_first, **marked_tail;
+} tcp = {.idle_due_us = UINT64_MAX, .marked_tail = &tcp.marked_first};
+
+/* Something happened to c that may finish it: the next reap looks. */
+static void mark(tcp_client_t *c)
+{
+    if (!c->marked) {
+        c->marked = true;
+        c->next_marked = NULL;
+        *tcp.marked_tail = c;
+        tcp.marked_tail = &c->next_marked;
+    }
+}
+
+static void unmark(tcp_client_t *c)
+{
+    tcp_client_t **link = &tcp.marked_first;
+    while (c->marked && *link != c) {
+        link = &(*link)->next_marked;
+    }
+    if (c->marked) {
+        *link = c->next_marked;
+        tcp.marked_tail = c->next_marked == NULL ? link : tcp.marked_tail;
+        c->marked = false;
+    }
+}
 
 static void link_client(tcp_client_t *c)
 {
@@ -127,6 +156,7 @@ static void enqueue(tcp_client_t *c, const char *line, size_t len, wsg_msg_kind_
 static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t kind)
 {
     tcp_client_t *c = ctx;
+    mark(c); /* its queue, or a failed send */
     if (c->dead) {
         return;
     }
@@ -196,6 +226,7 @@ static void close_client(tcp_client_t *c)
         host_log_peer(HAL_LOG_INFO, "tcp %s: %lu AUTOSEND lines dropped (client not reading)",
                       c->peer, c->dropped_autosend);
     }
+    unmark(c);
     loop_unwatch(c->fd);
     close(c->fd);
     wsg_conn_close(&c->conn, reason);
@@ -228,6 +259,7 @@ static void on_client(void *ctx, int fd, short revents)
 {
     tcp_client_t *c = ctx;
     (void)fd;
+    mark(c);
     if ((revents & POLLOUT) != 0) {
         flush(c);
     }
@@ -481,15 +513,30 @@ static void resume_listeners(void)
     }
 }
 
+/* Looks at the marked connections only, so idle ones cost nothing per
+ * wake-up; at all once an --idle-timeout is due. One whose input has ended
+ * stays marked until it closes: its held replies (DELAY) may be dropped
+ * without a write that would mark it again. */
 void tcp_server_reap(void)
 {
     uint64_t now = hal_clock_now_us();
-    tcp_client_t *next;
-    for (tcp_client_t *c = tcp.first; c != NULL; c = next) {
-        next = c->next;
+    if (now >= tcp.idle_due_us) {
+        for (tcp_client_t *c = tcp.first; c != NULL; c = c->next) {
+            mark(c);
+        }
+    }
+    tcp_client_t *c = tcp.marked_first;
+    tcp.marked_first = NULL;
+    tcp.marked_tail = &tcp.marked_first;
+    while (c != NULL) {
+        tcp_client_t *next = c->next_marked;
+        c->marked = false;
         if (finished(c, now)) {
             close_client(c);
+        } else if (c->eof) {
+            mark(c);
         }
+        c = next;
     }
     resume_listeners();
 }
