@@ -31,6 +31,8 @@ const char *config_file_device_model(unsigned index, const char *fallback);
 bool config_file_device_port(unsigned index, bool udp, int *port);
 /* [device.N] script: device index's startup script (or fallback). */
 const char *config_file_device_script(unsigned index, const char *fallback);
+/* [device.N] fingers: device index's loopback fingers ("fmf,dsa", or fallback). */
+const char *config_file_device_fingers(unsigned index, const char *fallback);
 void config_file_apply_device(unsigned index, wsg_config_t *cfg);
 /* True when a [device.N] section for device index sets its tag (which then
  * wins over [device]'s). */

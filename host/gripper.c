@@ -8,16 +8,13 @@
 #include <sys/stat.h>
 
 #include "config_file.h"
-#include "finger_bus_host.h"
 #include "hal_clock.h"
 #include "log.h"
 #include "script.h"
 #include "script_options.h"
-#include "sim/observers.h"
 #include "sim/sim_models.h"
 #include "wsg/wsg_bin.h"
 #include "wsg/wsg_gcl.h"
-#include "web/web_lines.h"
 
 /* What a connection opened without a driver (--protocol auto) may speak:
  * the binary protocol claims its preamble byte, GCL everything else. */
@@ -85,12 +82,22 @@ static void start_script(gripper_t *g)
     }
 }
 
-void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
+bool gripper_init(gripper_t *g, const host_options_t *opts, unsigned index,
+                  gripper_touched_t *touched)
 {
     g->opts = *opts;
     g->opts.model = config_file_device_model(index, opts->model);
     g->opts.script = config_file_device_script(index, opts->script);
+    g->opts.fingers = config_file_device_fingers(index, opts->fingers);
     g->index = index;
+    g->touched = false;
+    g->touched_list = touched;
+    g->script = NULL;
+    g->startup_set = NULL;
+    g->startup_cleared = false;
+    /* one SocketCAN bus per interface: device 0's */
+    bool bus_ok =
+        finger_bus_host_start(&g->fingers, index == 0 ? opts->can_iface : NULL, g->opts.fingers);
     wsg_sim_model_config(wsg_sim_model_find(g->opts.model), &g->config);
     config_file_apply(&g->config);
     set_identity(&g->config, index);
@@ -100,31 +107,47 @@ void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
     power_on_world(g);
     wsg_hal_t hal;
     wsg_sim_world_hal(&g->world, &hal);
-    hal.can = index == 0 ? finger_bus_host_can() : NULL;
+    hal.can = finger_bus_host_can(&g->fingers);
     wsg_device_init(&g->device, &g->config, &hal);
     wsg_conn_set_drivers(&g->device, host_drivers, sizeof(host_drivers) / sizeof(host_drivers[0]));
     wsg_runner_init(&g->runner, &g->device, advance_world, g);
-    if (index == 0) {
-        simctl_observers_attach(&g->device, opts);
-    } else if (web_lines_enabled()) {
-        wsg_conn_observe(&g->device, web_lines_observer(), NULL); /* the hub is device 0's */
-    }
-    g->script = NULL;
-    g->startup_set = NULL;
-    g->startup_cleared = false;
     if (script_options_enabled(&g->opts)) {
         char store[4096];
         bool has_store = script_options_store(&g->opts, store, sizeof(store));
         g->script =
             script_create(&g->device, index, (unsigned)opts->devices, has_store ? store : NULL);
     }
+    return bus_ok;
+}
+
+void gripper_start(gripper_t *g)
+{
     start_script(g);
+}
+
+bool gripper_inject_finger_fault(gripper_t *g, unsigned slot, finger_fault_t fault, bool active)
+{
+    const hal_can_t *can = finger_bus_host_can(&g->fingers);
+    if (slot >= FBUS_SLOTS || can == NULL) {
+        return false;
+    }
+    if (!can->on_demand) {
+        return finger_bus_host_inject(&g->fingers, slot, fault, active);
+    }
+    /* The in-process bus runs only when the device steps: bring it up to
+     * this instant first (what the finger sent until now), then let the
+     * device see the injection and watch it take effect. */
+    gripper_step_now(g);
+    bool sent = finger_bus_host_inject(&g->fingers, slot, fault, active);
+    gripper_step_now(g);
+    return sent;
 }
 
 void gripper_release(gripper_t *g)
 {
     script_destroy(g->script);
     g->script = NULL;
+    finger_bus_host_stop(&g->fingers);
     free(g->startup_set);
     g->startup_set = NULL;
 }
@@ -242,22 +265,20 @@ void gripper_input_done(gripper_t *g)
     gripper_touch(g);
 }
 
-static gripper_t *touched_first;
-
 void gripper_touch(gripper_t *g)
 {
     if (!g->touched) {
         g->touched = true;
-        g->next_touched = touched_first;
-        touched_first = g;
+        g->next_touched = g->touched_list->first;
+        g->touched_list->first = g;
     }
 }
 
-gripper_t *gripper_take_touched(void)
+gripper_t *gripper_take_touched(gripper_touched_t *touched)
 {
-    gripper_t *g = touched_first;
+    gripper_t *g = touched->first;
     if (g != NULL) {
-        touched_first = g->next_touched;
+        touched->first = g->next_touched;
         g->touched = false;
     }
     return g;

@@ -3,8 +3,8 @@
 #include <stdio.h>
 
 #include "can_log.h"
+#include "can_loopback.h"
 #include "coverage.h"
-#include "finger_bus_host.h"
 #include "fleet.h"
 #include "log.h"
 #include "loop.h"
@@ -14,10 +14,10 @@
 #include "record.h"
 #include "sim/clock.h"
 #include "sim/control.h"
+#include "sim/observers.h"
 #include "sim/scenario.h"
 #include "sim/scheduler.h"
-#include "tcp_server.h"
-#include "udp_server.h"
+#include "web/web_lines.h"
 #include "web/web_server.h"
 
 #define EXIT_STARTUP_FAILED 2
@@ -48,20 +48,41 @@ static int stop_simulation(const host_options_t *opts)
     return 0;
 }
 
+/* A device's observers, attached as the fleet powers it on: device 0
+ * carries the simulation's (trace, record, coverage) and --can-log taps its
+ * in-process bus; the others keep the web page's connection lines (the hub
+ * is device 0's). */
+static void attach_observers(void *ctx, gripper_t *g)
+{
+    const host_options_t *opts = ctx;
+    if (g->index != 0) {
+        if (web_lines_enabled()) {
+            wsg_conn_observe(&g->device, web_lines_observer(), NULL);
+        }
+        return;
+    }
+    simctl_observers_attach(&g->device, opts);
+    can_loopback_t *bus = finger_bus_host_loopback(&g->fingers);
+    if (opts->can_log != NULL && bus != NULL) {
+        can_loopback_set_tap(bus, can_log_frame, NULL);
+    }
+}
+
 /* One line per further device of a fleet, then the ready line. */
-static bool announce(const host_options_t *opts)
+static bool announce(const host_options_t *opts, fleet_t *fleet)
 {
     char line[512];
     char extra[256];
     snprintf(extra, sizeof(extra), "%s%s", simctl_describe(), web_server_describe());
-    fleet_ready_line(extra, line, sizeof(line));
+    fleet_ready_line(fleet, extra, line, sizeof(line));
     bool bin_tcp = opts->tcp_enabled && opts->protocol != HOST_PROTOCOL_GCL;
-    notify_set_binary_ports(bin_tcp ? fleet_tcp_port(0) : -1, fleet_bin_udp_port(0));
+    notify_set_ports(fleet_tcp_port(fleet, 0), fleet_udp_port(fleet, 0));
+    notify_set_binary_ports(bin_tcp ? fleet_tcp_port(fleet, 0) : -1, fleet_bin_udp_port(fleet, 0));
     notify_set_http_port(web_server_port());
     if (!notify_prepare(opts->ready_file)) {
         return false;
     }
-    fleet_announce_devices();
+    fleet_announce_devices(fleet);
     host_logf(HAL_LOG_INFO, "%s", line);
     return notify_ready(opts->ready_file, line);
 }
@@ -110,31 +131,37 @@ int main(int argc, char **argv)
     loop_init();
     loop_set_catch_up(catch_up);
     loop_set_hangup(reopen_files);
-    if (!finger_bus_host_start(&opts) || (opts.can_log != NULL && !can_log_open(opts.can_log))) {
+    fleet_t *fleet = fleet_create();
+    fleet_observer_t observers = {.device_started = attach_observers, .ctx = &opts};
+    if (fleet == NULL || (opts.can_log != NULL && !can_log_open(opts.can_log))) {
         return EXIT_STARTUP_FAILED;
     }
+    fleet_observe(fleet, &observers);
+    simctl_set_fleet(fleet);
+    web_server_set_fleet(fleet);
     /* the web server first: the devices' observers keep its connection lines */
-    if (!web_server_start(&opts) || !fleet_start(&opts) || !start_simulation(&opts)) {
+    if (!web_server_start(&opts) || !fleet_start(fleet, &opts) || !start_simulation(&opts)) {
         return EXIT_STARTUP_FAILED;
     }
-    if (!announce(&opts)) {
+    if (!announce(&opts, fleet)) {
         return EXIT_STARTUP_FAILED;
     }
-    host_logf(HAL_LOG_INFO, "finger bus: %s", finger_bus_host_describe());
+    char bus[96];
+    finger_bus_host_describe(&fleet_gripper(fleet, 0)->fingers, bus, sizeof(bus));
+    host_logf(HAL_LOG_INFO, "finger bus: %s", bus);
     while (!loop_stop_requested()) {
         uint64_t deadline = simctl_tick();
-        fleet_run_scripts();
+        fleet_run_scripts(fleet);
         loop_wait(deadline);
         web_server_poll();
-        tcp_server_reap();
-        udp_server_reap();
+        fleet_reap(fleet);
         simctl_reap();
     }
     host_logf(HAL_LOG_INFO, "shutting down");
     notify_stopping(opts.ready_file);
     web_server_stop(); /* while the devices its operations ran on exist */
-    fleet_stop();
-    finger_bus_host_stop();
+    fleet_stop(fleet);
+    fleet_destroy(fleet);
     can_log_close();
     return stop_simulation(&opts);
 }

@@ -6,11 +6,11 @@
 #include "commands_internal.h"
 #include "delay.h"
 #include "faults.h"
+#include "fleet.h"
 #include "gripper.h"
 #include "log.h"
+#include "scheduler.h"
 #include "state_json.h"
-#include "tcp_server.h"
-#include "udp_server.h"
 
 #define DELAY_MAX_MS 600000.0
 
@@ -206,7 +206,7 @@ static bool cut_session(wsg_conn_t *s)
 {
     unsigned long long id = wsg_conn_id(s);
     bool stream = wsg_conn_transport(s) == WSG_TRANSPORT_STREAM;
-    bool cut = stream ? tcp_server_cut(s) : udp_server_cut(s);
+    bool cut = fleet_cut(simctl_fleet(), s);
     if (cut) {
         host_logf(HAL_LOG_WARN, "fault injected: CUT session %llu (%s)", id,
                   stream ? "tcp" : "udp");

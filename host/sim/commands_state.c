@@ -36,7 +36,7 @@ wsg_status_t sc_reset(simctl_ctx_t *ctx)
         simctl_observers_detach(&g->device);
     }
     simctl_delay_clear_all(&g->device, false);
-    fleet_close_connections(g->index);
+    fleet_close_connections(simctl_fleet(), g->index);
     if (first) {
         simctl_fault_clear_all();
     }
@@ -54,14 +54,15 @@ wsg_status_t sc_device(simctl_ctx_t *ctx)
 {
     if (ctx->cmd->form == GCL_FORM_SET) {
         int64_t index = 0;
-        if (!sc_integer(ctx, 0, "the device index", 0, (int64_t)fleet_count() - 1, &index)) {
+        if (!sc_integer(ctx, 0, "the device index", 0, (int64_t)fleet_count(simctl_fleet()) - 1,
+                        &index)) {
             return ctx->failed;
         }
         if (ctx->selected == NULL) {
             return sc_fail(ctx, E_ACCESS_DENIED, "only a control connection selects a device");
         }
         *ctx->selected = (unsigned)index;
-        ctx->gripper = fleet_gripper((unsigned)index);
+        ctx->gripper = fleet_gripper(simctl_fleet(), (unsigned)index);
     }
     sc_reply(ctx, "%u", ctx->gripper->index);
     return E_SUCCESS;
@@ -71,12 +72,13 @@ wsg_status_t sc_device(simctl_ctx_t *ctx)
 wsg_status_t sc_devices(simctl_ctx_t *ctx)
 {
     cJSON *list = cJSON_CreateArray();
-    for (unsigned i = 0; i < fleet_count(); i++) {
-        const wsg_config_t *cfg = wsg_device_snapshot(&fleet_gripper(i)->device)->config;
+    for (unsigned i = 0; i < fleet_count(simctl_fleet()); i++) {
+        const wsg_config_t *cfg =
+            wsg_device_snapshot(&fleet_gripper(simctl_fleet(), i)->device)->config;
         cJSON *j = cJSON_CreateObject();
         cJSON_AddNumberToObject(j, "index", i);
-        cJSON_AddNumberToObject(j, "tcp", fleet_tcp_port(i));
-        cJSON_AddNumberToObject(j, "udp", fleet_udp_port(i));
+        cJSON_AddNumberToObject(j, "tcp", fleet_tcp_port(simctl_fleet(), i));
+        cJSON_AddNumberToObject(j, "udp", fleet_udp_port(simctl_fleet(), i));
         cJSON_AddNumberToObject(j, "serial", cfg->serial);
         cJSON_AddStringToObject(j, "tag", cfg->tag);
         cJSON_AddStringToObject(j, "model", cfg->devtype);

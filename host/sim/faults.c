@@ -5,8 +5,10 @@
 #include <strings.h>
 
 #include "finger_bus_host.h"
+#include "gripper.h"
 #include "hal_clock.h"
 #include "log.h"
+#include "scheduler.h"
 #include "sim/sim_world.h"
 
 #define NO_OVERRIDE (-1000.0f)
@@ -74,8 +76,9 @@ const char *simctl_fault_description(simctl_fault_t fault)
 /* The board temperature the active temperature faults force. */
 static void apply_temperature(void)
 {
-    const wsg_config_t *cfg = wsg_device_snapshot(&fleet_gripper(0)->device)->config;
-    sim_thermal_t *thermal = &fleet_gripper(0)->world.thermal;
+    const wsg_config_t *cfg =
+        wsg_device_snapshot(&fleet_gripper(simctl_fleet(), 0)->device)->config;
+    sim_thermal_t *thermal = &fleet_gripper(simctl_fleet(), 0)->world.thermal;
     thermal->override_c = NO_OVERRIDE;
     if (faults.active[SIMCTL_FAULT_TEMP_WARNING]) {
         thermal->override_c = (cfg->temp_warning_c + cfg->temp_fault_c) / 2.0f;
@@ -92,7 +95,8 @@ static void apply_finger(simctl_fault_t fault, bool on)
     unsigned slot = index % 2u;
     static const finger_fault_t kinds[] = {FINGER_FAULT_POWER, FINGER_FAULT_INIT,
                                            FINGER_FAULT_UNPLUG};
-    if (!finger_bus_host_inject(slot, kinds[index / 2u], on)) {
+    if (!gripper_inject_finger_fault(fleet_gripper(simctl_fleet(), 0), slot, kinds[index / 2u],
+                                     on)) {
         host_logf(HAL_LOG_WARN, "finger %u: the finger bus did not take the fault", slot);
     }
 }
@@ -100,7 +104,7 @@ static void apply_finger(simctl_fault_t fault, bool on)
 static void apply(simctl_fault_t fault)
 {
     bool on = faults.active[fault];
-    sim_axis_t *axis = &fleet_gripper(0)->world.axis;
+    sim_axis_t *axis = &fleet_gripper(simctl_fleet(), 0)->world.axis;
     switch (fault) {
     case SIMCTL_FAULT_TEMP_WARNING:
     case SIMCTL_FAULT_TEMP_FAULT:

@@ -15,6 +15,13 @@
  * while work is left). */
 uint64_t simctl_tick(void);
 
+struct fleet;
+/* The devices the simulation drives (main sets it before simctl_tick).
+ * Glue until the control channel is an instance of its own that is handed
+ * the fleet when created. */
+void simctl_set_fleet(struct fleet *fleet);
+struct fleet *simctl_fleet(void);
+
 /* While paused: moves simulated time forward by us; the device time follows
  * slice by slice in simctl_tick(), running everything due on the way at its
  * own instant. on_done (if set) is called once the device time got there. */

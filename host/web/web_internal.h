@@ -83,4 +83,8 @@ enum MHD_Result web_system_route(const web_request_t *req, gripper_t *g);
 /* web_static.c: GET /, /devices/{id}, /static/NAME; false: not a page path */
 bool web_static_route(const web_request_t *req, enum MHD_Result *result);
 
+/* The devices the web serves (web_server_set_fleet). Glue until the web
+ * server is an instance of its own that is handed the fleet when created. */
+struct fleet *web_fleet(void);
+
 #endif

@@ -41,14 +41,14 @@ static void on_done(wsg_owner_t *owner, wsg_op_t op, wsg_status_t status)
 static web_owner_t *owner_of(gripper_t *g)
 {
     if (owners == NULL) {
-        owners = calloc(fleet_count(), sizeof(*owners));
+        owners = calloc(fleet_count(web_fleet()), sizeof(*owners));
         if (owners == NULL) {
             return NULL;
         }
-        owner_count = fleet_count();
+        owner_count = fleet_count(web_fleet());
         for (unsigned i = 0; i < owner_count; i++) {
             owners[i].owner.done = on_done;
-            owners[i].gripper = fleet_gripper(i);
+            owners[i].gripper = fleet_gripper(web_fleet(), i);
         }
     }
     return &owners[g->index];

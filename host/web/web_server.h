@@ -22,6 +22,9 @@
  * skipped with a warning. Call before fleet_start(): the devices' observers
  * keep the connection lines only when the server is on. */
 bool web_server_start(const host_options_t *opts);
+struct fleet;
+/* The devices its pages show (main, before the loop runs). */
+void web_server_set_fleet(struct fleet *fleet);
 /* After every loop_wait(): runs what is due on the wall clock. Costs one
  * test when nothing is scheduled. */
 void web_server_poll(void);

@@ -97,9 +97,9 @@ static cJSON *fixed_value(const gripper_t *g, unsigned i)
     case 0:
         return cJSON_CreateString(protocol_name(g->opts.protocol));
     case 1:
-        return cJSON_CreateNumber(fleet_tcp_port(g->index));
+        return cJSON_CreateNumber(fleet_tcp_port(web_fleet(), g->index));
     case 2:
-        return cJSON_CreateNumber(fleet_udp_port(g->index));
+        return cJSON_CreateNumber(fleet_udp_port(web_fleet(), g->index));
     case 3: /* binary UDP serves device 0 only */
         return g->index == 0 ? cJSON_CreateNumber(g->opts.binary_udp_port) : cJSON_CreateNull();
     case 4:
