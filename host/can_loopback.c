@@ -17,19 +17,16 @@ typedef struct {
     unsigned count;
 } acceptance_t;
 
-typedef struct loopback_node {
-    finger_node_t node;
-    hal_can_t port;
-    acceptance_t accept;
-    struct can_loopback *bus;
-    int slot;
-} loopback_node_t;
-
+/* A fleet has thousands of buses, so they are kept small: the nodes share
+ * one port (a node's frames carry its node id), and a node's filters are
+ * its type's (wsg_finger_node_filters), asked per frame rather than kept. */
 struct can_loopback {
-    loopback_node_t nodes[FBUS_SLOTS];
+    finger_node_t nodes[FBUS_SLOTS];
+    hal_can_t nodes_port;
     hal_can_t port;
     acceptance_t accept;
-    hal_can_frame_t *ring; /* grows as frames queue up, up to LOOPBACK_RING */
+    hal_can_frame_t *ring; /* grows as frames queue up, up to LOOPBACK_RING;
+                              freed once the gripper took them all */
     unsigned capacity, head, count;
     uint32_t frames;
     can_loopback_tap_t tap;
@@ -49,6 +46,13 @@ static bool set_acceptance(acceptance_t *a, const hal_can_filter_t *filters, uns
 static inline bool accepts(const acceptance_t *a, const hal_can_frame_t *frame)
 {
     return hal_can_filters_accept(a->filters, a->count, frame);
+}
+
+static bool node_accepts(const finger_node_t *node, const hal_can_frame_t *frame)
+{
+    hal_can_filter_t filters[HAL_CAN_MAX_FILTERS];
+    unsigned count = wsg_finger_node_filters(node, filters);
+    return hal_can_filters_accept(filters, count, frame);
 }
 
 /* Room for one more frame to the gripper: the ring doubles while below its
@@ -104,17 +108,16 @@ static void deliver(can_loopback_t *bus, const hal_can_frame_t *frame, int from)
         to_gripper(bus, frame);
     }
     for (int i = 0; i < (int)FBUS_SLOTS; i++) {
-        loopback_node_t *n = &bus->nodes[i];
-        if (i != from && accepts(&n->accept, frame)) {
-            wsg_finger_node_receive(&n->node, frame, now);
+        finger_node_t *n = &bus->nodes[i];
+        if (i != from && node_accepts(n, frame)) {
+            wsg_finger_node_receive(n, frame, now);
         }
     }
 }
 
 static bool node_send(void *ctx, const hal_can_frame_t *frame)
 {
-    loopback_node_t *n = ctx;
-    deliver(n->bus, frame, n->slot);
+    deliver(ctx, frame, wsg_fbus_slot_of_node((uint8_t)(frame->id & FBUS_NODE_MASK)));
     return true;
 }
 
@@ -127,8 +130,9 @@ static bool node_recv(void *ctx, hal_can_frame_t *frame)
 
 static bool node_set_filters(void *ctx, const hal_can_filter_t *filters, unsigned count)
 {
-    loopback_node_t *n = ctx;
-    return set_acceptance(&n->accept, filters, count);
+    (void)ctx;
+    (void)filters;
+    return count <= HAL_CAN_MAX_FILTERS; /* the node's own: asked per frame */
 }
 
 static bool gripper_send(void *ctx, const hal_can_frame_t *frame)
@@ -149,7 +153,7 @@ static bool gripper_recv(void *ctx, hal_can_frame_t *frame)
     if (bus->count == 0u) {
         uint64_t now = hal_clock_now_us();
         for (unsigned i = 0; i < FBUS_SLOTS; i++) {
-            wsg_finger_node_step(&bus->nodes[i].node, now);
+            wsg_finger_node_step(&bus->nodes[i], now);
         }
     }
     if (bus->count == 0u) {
@@ -158,6 +162,12 @@ static bool gripper_recv(void *ctx, hal_can_frame_t *frame)
     *frame = bus->ring[bus->head];
     bus->head = (bus->head + 1u) % bus->capacity;
     bus->count--;
+    if (bus->count == 0u) { /* an idle bus holds no ring */
+        free(bus->ring);
+        bus->ring = NULL;
+        bus->capacity = 0;
+        bus->head = 0;
+    }
     return true;
 }
 
@@ -175,15 +185,9 @@ can_loopback_t *can_loopback_create(const fbus_type_t types[FBUS_SLOTS],
         return NULL;
     }
     bus->port = (hal_can_t){gripper_send, gripper_recv, gripper_set_filters, bus, true};
+    bus->nodes_port = (hal_can_t){node_send, node_recv, node_set_filters, bus, false};
     for (unsigned i = 0; i < FBUS_SLOTS; i++) {
-        loopback_node_t *n = &bus->nodes[i];
-        n->bus = bus;
-        n->slot = (int)i;
-        n->port = (hal_can_t){node_send, node_recv, node_set_filters, n, false};
-        wsg_finger_node_init(&n->node, types[i], i, params, &n->port);
-        hal_can_filter_t filters[HAL_CAN_MAX_FILTERS];
-        unsigned count = wsg_finger_node_filters(&n->node, filters);
-        set_acceptance(&n->accept, filters, count);
+        wsg_finger_node_init(&bus->nodes[i], types[i], i, params, &bus->nodes_port);
     }
     return bus;
 }

@@ -551,7 +551,7 @@ void fleet_ready_line(const fleet_t *fleet, const char *extra, char *line, size_
         snprintf(devices, sizeof(devices), ", devices %u", fleet->count);
     }
     snprintf(line, cap, "virtual %s ready: tcp %s, udp %s%s%s%s",
-             fleet->devices[0].gripper.opts.model, tcp, udp, binary, extra, devices);
+             fleet->devices[0].gripper.opts->model, tcp, udp, binary, extra, devices);
 }
 
 void fleet_note_scripting(fleet_t *fleet)

@@ -29,7 +29,11 @@ typedef struct gripper {
     wsg_device_t device;
     sim_world_t world;
     wsg_config_t config; /* what a reset powers on with */
-    host_options_t opts;
+    /* its options: the fleet's, or its own copy (own_opts) once they differ
+     * (a [device.N] model, script or fingers; a startup script chosen on the
+     * web page), so a fleet of alike devices keeps one copy */
+    const host_options_t *opts;
+    host_options_t *own_opts;
     wsg_runner_t runner;       /* feed and step: the core's, as on the board */
     finger_bus_host_t fingers; /* its finger bus */
     bool touched;              /* on the touched list (gripper_touch) */

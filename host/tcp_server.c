@@ -318,7 +318,7 @@ static bool setup_client(tcp_client_t *c, int fd, const struct sockaddr_storage 
     /* --protocol auto: the first byte chooses from the gripper's drivers (host/gripper.c) */
     static const wsg_proto_driver_t *const drivers[] = {NULL, &wsg_gcl_driver, &wsg_bin_driver};
     gripper_t *g = c->server->gripper;
-    wsg_conn_open(&c->conn, &g->device, drivers[g->opts.protocol], WSG_TRANSPORT_STREAM, &tcp_io,
+    wsg_conn_open(&c->conn, &g->device, drivers[g->opts->protocol], WSG_TRANSPORT_STREAM, &tcp_io,
                   c);
     if (!loop_watch(fd, POLLIN, on_client, c)) {
         wsg_conn_close(&c->conn, WSG_CLOSE_ANNOUNCED);

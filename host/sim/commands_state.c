@@ -42,7 +42,7 @@ wsg_status_t sc_reset(simctl_ctx_t *ctx)
     }
     gripper_reset(g);
     if (first) {
-        simctl_observers_attach(&g->device, &g->opts);
+        simctl_observers_attach(&g->device, g->opts);
     }
     simctl_reset_max_lag();
     host_logf(HAL_LOG_INFO, "device %u reset to power-on defaults", g->index);

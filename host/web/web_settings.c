@@ -87,7 +87,7 @@ static const char *protocol_name(host_protocol_t p)
 /* Where Save writes: the --save-file, else the --config file; NULL: nowhere. */
 static const char *save_path(const gripper_t *g)
 {
-    return g->opts.save_path != NULL ? g->opts.save_path : g->opts.config_path;
+    return g->opts->save_path != NULL ? g->opts->save_path : g->opts->config_path;
 }
 
 /* The fixed fields, as JSON values. */
@@ -95,16 +95,16 @@ static cJSON *fixed_value(const gripper_t *g, unsigned i)
 {
     switch (i) {
     case 0:
-        return cJSON_CreateString(protocol_name(g->opts.protocol));
+        return cJSON_CreateString(protocol_name(g->opts->protocol));
     case 1:
         return cJSON_CreateNumber(fleet_tcp_port(web_fleet(), g->index));
     case 2:
         return cJSON_CreateNumber(fleet_udp_port(web_fleet(), g->index));
     case 3: /* binary UDP serves device 0 only */
-        return g->index == 0 ? cJSON_CreateNumber(g->opts.binary_udp_port) : cJSON_CreateNull();
+        return g->index == 0 ? cJSON_CreateNumber(g->opts->binary_udp_port) : cJSON_CreateNull();
     case 4:
-        return g->opts.config_path != NULL ? cJSON_CreateString(g->opts.config_path)
-                                           : cJSON_CreateNull();
+        return g->opts->config_path != NULL ? cJSON_CreateString(g->opts->config_path)
+                                            : cJSON_CreateNull();
     default:
         return save_path(g) != NULL ? cJSON_CreateString(save_path(g)) : cJSON_CreateNull();
     }
