@@ -114,7 +114,6 @@ bool gripper_init(gripper_t *g, const host_options_t *opts, unsigned index,
         g->own_opts->script = script;
         g->own_opts->fingers = fingers;
     }
-    g->touched = false;
     g->touched_list = touched;
     g->script = NULL;
     g->startup_set = NULL;

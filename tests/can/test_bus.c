@@ -14,7 +14,7 @@ static void inject(unsigned slot, uint8_t faults)
 {
     hal_can_frame_t f;
     wsg_fbus_pack_simctl(&f, FBUS_NODE_ID(slot), faults);
-    ck_assert(hal_can_send(can_loopback_bus(), &f));
+    ck_assert(hal_can_send(can_loopback_bus(t_bus()), &f));
 }
 
 START_TEST(without_a_bus_the_slots_are_empty)
@@ -167,8 +167,9 @@ END_TEST
 /* When the finger in slot 0 last sent a frame, from the bus's tap. */
 static uint64_t slot0_heard_us;
 
-static void note_slot0_frames(const hal_can_frame_t *frame, uint64_t time_us)
+static void note_slot0_frames(void *ctx, const hal_can_frame_t *frame, uint64_t time_us)
 {
+    (void)ctx;
     uint32_t func = fbus_func_of(frame->id);
     bool from_node = func == FBUS_ID_DESCRIPTOR || func == FBUS_ID_MEASURE ||
                      func == FBUS_ID_BULK || func == FBUS_ID_HEARTBEAT;
@@ -182,14 +183,14 @@ static void note_slot0_frames(const hal_can_frame_t *frame, uint64_t time_us)
  * past the timeout, not at the next broadcast. */
 START_TEST(comm_fault_at_its_step_between_broadcasts)
 {
-    can_loopback_set_tap(note_slot0_frames);
     t_start("fmf,dsa");
+    can_loopback_set_tap(t_bus(), note_slot0_frames, NULL);
     t_run_ms(300);
     ck_assert_str_eq(t_ask("HOME()"), "ACK HOME");
     t_run_ms(50);
     inject(0, FBUS_FAULT_UNPLUG);
     int ms = t_until("FFLAGS[0]?", "FFLAGS[0]=[1,1,0,0,0,0,0,0,0,1,0,0,0,0,0,0]", 1000);
-    can_loopback_set_tap(NULL);
+    can_loopback_set_tap(t_bus(), NULL, NULL);
     ck_assert_int_ge(ms, 0);
     ck_assert_str_eq(t_ask("SYSFLAGS[1]?"), "SYSFLAGS[1]=1"); /* still moving */
     ck_assert_uint_eq(h_now_us, slot0_heard_us + FBUS_COMM_TIMEOUT_US + 1000u);
@@ -253,13 +254,13 @@ START_TEST(bus_frame_rates)
 {
     t_start("fmf,dsa");
     t_run_ms(100);
-    uint32_t before = can_loopback_frames();
+    uint32_t before = can_loopback_frames(t_bus());
     uint32_t tx = h_devp()->fbus.tx_frames;
     t_run_ms(300);
     ck_assert_uint_ge(h_devp()->fbus.tx_frames - tx, 29);
     ck_assert_uint_le(h_devp()->fbus.tx_frames - tx, 31);
     /* 30 STATE + 30 MEASURE + 6 x 28 BULK + 6 heartbeats */
-    uint32_t frames = can_loopback_frames() - before;
+    uint32_t frames = can_loopback_frames(t_bus()) - before;
     ck_assert_uint_ge(frames, 224);
     ck_assert_uint_le(frames, 244);
 }
@@ -272,13 +273,13 @@ START_TEST(idle_bus_sleeps_and_wakes_intact)
     t_start("fmf,dsa");
     t_run_ms(1000);
     ck_assert_uint_eq(wsg_device_next_deadline_us(&h_dev), UINT64_MAX);
-    uint32_t frames = can_loopback_frames();
+    uint32_t frames = can_loopback_frames(t_bus());
     h_now_us += 10000000u; /* 10 s with nothing due: nobody steps the device */
     wsg_sim_world_advance(&h_world, h_now_us);
-    ck_assert_uint_eq(can_loopback_frames() - frames, 0);
+    ck_assert_uint_eq(can_loopback_frames(t_bus()) - frames, 0);
     ck_assert_str_eq(t_ask("FFLAGS?"), "FFLAGS=[" FLAGS_OK "," FLAGS_OK "]");
     wsg_device_step(&h_dev); /* a command's step: a whole bus cycle at this instant */
-    ck_assert_uint_gt(can_loopback_frames() - frames, 0);
+    ck_assert_uint_gt(can_loopback_frames(t_bus()) - frames, 0);
     ck_assert_str_eq(t_ask("FFLAGS?"), "FFLAGS=[" FLAGS_OK "," FLAGS_OK "]");
     ck_assert_str_eq(t_ask("FTYPE?"), "FTYPE=[\"fmf\",\"dsa\"]");
     ck_assert_float_eq_tol(t_ask_float("FDATA[0]?"), 0.6f, 0.1f);

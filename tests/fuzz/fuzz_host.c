@@ -6,16 +6,35 @@
 #include <stdlib.h>
 #include <unistd.h>
 
-#include "finger_bus_host.h"
 #include "fleet.h"
 #include "log.h"
 #include "sim/clock.h"
 #include "sim/delay.h"
 #include "sim/faults.h"
+#include "sim/observers.h"
 #include "sim/scenario.h"
 #include "sim/scheduler.h"
+#include "web/web_lines.h"
+#include "web/web_server.h"
 
 static host_options_t options;
+static fleet_t *fleet;
+
+/* As build/wsgsim does: device 0 carries the simulation's observers, the
+ * others the web page's connection lines when those are kept. */
+static void attach_observers(void *ctx, gripper_t *g)
+{
+    if (g->index == 0) {
+        simctl_observers_attach(&g->device, ctx);
+    } else if (web_lines_enabled()) {
+        wsg_conn_observe(&g->device, web_lines_observer(), NULL);
+    }
+}
+
+fleet_t *fuzz_host_fleet(void)
+{
+    return fleet;
+}
 static char file_path[256];
 
 host_options_t *fuzz_host_options(int argc, char **argv)
@@ -40,7 +59,16 @@ void fuzz_host_start(const host_options_t *opts)
     }
     simclock_init();
     simclock_start_paused();
-    if (!finger_bus_host_start(opts) || !fleet_start(opts)) {
+    static fleet_observer_t observers = {.device_started = attach_observers};
+    observers.ctx = (void *)opts;
+    fleet = fleet_create();
+    if (fleet == NULL) {
+        abort();
+    }
+    fleet_observe(fleet, &observers);
+    simctl_set_fleet(fleet);
+    web_server_set_fleet(fleet);
+    if (!fleet_start(fleet, opts)) {
         abort(); /* options that parsed must start */
     }
 }
@@ -63,12 +91,13 @@ void fuzz_host_step(uint64_t us)
 void fuzz_host_stop(void)
 {
     scenario_unload();
-    for (unsigned i = 0; i < fleet_count(); i++) {
-        simctl_delay_clear_all(&fleet_gripper(i)->device, false);
+    for (unsigned i = 0; i < fleet_count(fleet); i++) {
+        simctl_delay_clear_all(&fleet_gripper(fleet, i)->device, false);
     }
     simctl_fault_clear_all();
-    fleet_stop();
-    finger_bus_host_stop();
+    fleet_stop(fleet);
+    fleet_destroy(fleet);
+    fleet = NULL;
 }
 
 const char *fuzz_host_file(const uint8_t *data, size_t size)

@@ -12,9 +12,11 @@
 #include <stdint.h>
 
 #include "fake_conn.h"
+#include "fleet.h"
 #include "gripper.h"
 
 extern h_client_t t_gcl; /* the GCL session every test starts with */
+extern fleet_t *t_fleet; /* the devices of t_setup (one) */
 
 /* Fixtures: power-on, clock paused; the homed variant also ran HOME(). */
 void t_setup(void);
@@ -22,6 +24,9 @@ void t_setup_homed(void);
 void t_teardown(void);
 /* Opens t_gcl again (after a reset or re-init closed it). */
 void t_reopen(void);
+/* Device 0 powered on afresh with these options (which must outlive it), as
+ * the fleet powers it on. */
+void t_reinit(const host_options_t *with);
 
 /* One control line; the reply stays valid until the next call. */
 const char *ctl(const char *line);

@@ -198,7 +198,7 @@ static bool flood_delayed_session(void *arg)
     wsg_conn_t *s = arg;
     for (unsigned i = 0; i < FLOOD_LINES; i++) {
         const char *line = i % 2 == 0 ? "SN?\n" : "TAG?\n";
-        gripper_feed(fleet_gripper(0), s, (const uint8_t *)line, strlen(line), 0);
+        gripper_feed(fleet_gripper(t_fleet, 0), s, (const uint8_t *)line, strlen(line), 0);
     }
     return true;
 }
@@ -218,7 +218,7 @@ START_TEST(delay_never_drops_a_reply)
     static wsg_conn_t conn;
     wsg_conn_t *s = &conn;
     counting_client_t client = {0, 0};
-    wsg_conn_open(s, &fleet_gripper(0)->device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM, &counting_io,
+    wsg_conn_open(s, &fleet_gripper(t_fleet, 0)->device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM, &counting_io,
                   &client);
     char line[48];
     snprintf(line, sizeof(line), "DELAY(60000,%u)", (unsigned)wsg_conn_id(s));
