@@ -10,7 +10,6 @@
 #include "gripper.h"
 #include "log.h"
 #include "scheduler.h"
-#include "state_json.h"
 
 #define DELAY_MAX_MS 600000.0
 
@@ -124,9 +123,68 @@ wsg_status_t sc_clear(simctl_ctx_t *ctx)
     return E_SUCCESS;
 }
 
+/* Injected-fault times in ms, to the µs (as STATE? prints times). */
+static double fault_ms(uint64_t us)
+{
+    return (double)us / 1000.0;
+}
+
+static void add_hardware_faults(cJSON *list)
+{
+    for (unsigned i = 0; i < SIMCTL_FAULT_COUNT; i++) {
+        simctl_fault_t f = (simctl_fault_t)i;
+        if (!simctl_fault_active(f)) {
+            continue;
+        }
+        cJSON *j = cJSON_CreateObject();
+        cJSON_AddStringToObject(j, "fault", simctl_fault_name(f));
+        cJSON_AddStringToObject(j, "description", simctl_fault_description(f));
+        cJSON_AddNumberToObject(j, "since_ms", fault_ms(simctl_fault_since_us(f)));
+        cJSON_AddItemToArray(list, j);
+    }
+}
+
+static void add_protocol_faults(cJSON *list, gripper_t *g)
+{
+    simctl_delay_info_t d;
+    for (unsigned i = 0; simctl_delay_info(i, &d); i++) {
+        if (d.device != &g->device) {
+            continue;
+        }
+        cJSON *j = cJSON_CreateObject();
+        cJSON_AddStringToObject(j, "fault", "DELAY");
+        cJSON_AddNumberToObject(j, "session", d.session_id);
+        cJSON_AddNumberToObject(j, "delay_ms", fault_ms(d.delay_us));
+        cJSON_AddBoolToObject(j, "holding", d.holding);
+        cJSON_AddNumberToObject(j, "lines_held", d.lines_held);
+        if (d.holding) {
+            cJSON_AddNumberToObject(j, "release_ms", fault_ms(d.release_us));
+        }
+        cJSON_AddItemToArray(list, j);
+    }
+    const wsg_snapshot_t *snap = wsg_device_snapshot(&g->device);
+    if (snap->injected_armed) {
+        cJSON *j = cJSON_CreateObject();
+        cJSON_AddStringToObject(j, "fault", "FAILNEXT");
+        cJSON_AddStringToObject(j, "command", snap->injected_name);
+        cJSON_AddNumberToObject(j, "code", snap->injected_status);
+        cJSON_AddItemToArray(list, j);
+    }
+}
+
+cJSON *sc_faults_json(gripper_t *g)
+{
+    cJSON *list = cJSON_CreateArray();
+    if (g->index == 0) {
+        add_hardware_faults(list); /* injected on device 0 only */
+    }
+    add_protocol_faults(list, g);
+    return list;
+}
+
 wsg_status_t sc_faults(simctl_ctx_t *ctx)
 {
-    cJSON *list = state_json_faults(ctx->gripper);
+    cJSON *list = sc_faults_json(ctx->gripper);
     sc_reply_json(ctx, list);
     return E_SUCCESS;
 }

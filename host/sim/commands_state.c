@@ -3,6 +3,7 @@
 #include <cjson/cJSON.h>
 #include <stdlib.h>
 
+#include "clock.h"
 #include "commands_internal.h"
 #include "coverage.h"
 #include "delay.h"
@@ -15,7 +16,12 @@
 
 wsg_status_t sc_state(simctl_ctx_t *ctx)
 {
-    sc_reply_owned(ctx, state_json(ctx->gripper, false));
+    state_json_sim_t sim = {.lag_us = simctl_lag_us(),
+                            .max_lag_us = simctl_max_lag_us(),
+                            .paused = simclock_paused(),
+                            .scale = simclock_scale(),
+                            .faults = sc_faults_json(ctx->gripper)};
+    sc_reply_owned(ctx, state_json(ctx->gripper, false, &sim));
     return E_SUCCESS;
 }
 

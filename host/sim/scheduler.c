@@ -18,7 +18,6 @@
 #define SLICE_WORK 4000u
 #define SLICE_EVENT_COST 25u
 
-static struct fleet *devices; /* simctl_set_fleet */
 static uint64_t max_lag_us;
 static bool in_catch_up; /* a scenario event may PAUSE or SCALE: no nesting */
 
@@ -29,16 +28,6 @@ static struct {
     bool (*done_early)(void *ctx); /* a step until: true ends it now */
     void *done_early_ctx;
 } step;
-
-void simctl_set_fleet(struct fleet *fleet)
-{
-    devices = fleet;
-}
-
-struct fleet *simctl_fleet(void)
-{
-    return devices;
-}
 
 static uint64_t earliest(uint64_t a, uint64_t b)
 {
@@ -84,8 +73,9 @@ static bool run_due(unsigned *budget, uint64_t *next)
     if (scenario_next_us() <= now) {
         return false;
     }
-    *next = fleet_tick(devices);
-    simctl_observers_after_tick(&fleet_gripper(devices, 0)->device); /* observers: device 0's */
+    *next = fleet_tick(simctl_fleet());
+    simctl_observers_after_tick(
+        &fleet_gripper(simctl_fleet(), 0)->device); /* observers: device 0's */
     simctl_delay_release_due(now);
     *next = earliest(*next, scenario_next_us());
     *next = earliest(*next, simctl_delay_next_us());

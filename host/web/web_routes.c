@@ -5,24 +5,11 @@
 #include <string.h>
 
 #include "fleet.h"
-#include "web/web_server.h"
 #include "web/web_json.h"
 #include "web/web_lines.h"
 
 #define API_DEVICES "/api/devices"
 #define ID_DIGITS_MAX 6
-
-static struct fleet *devices; /* web_server_set_fleet */
-
-void web_server_set_fleet(struct fleet *fleet)
-{
-    devices = fleet;
-}
-
-struct fleet *web_fleet(void)
-{
-    return devices;
-}
 
 static bool is_method(const web_request_t *req, const char *method)
 {
