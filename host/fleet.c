@@ -583,8 +583,21 @@ void fleet_destroy(fleet_t *fleet)
     free(fleet);
 }
 
+static bool observers_hold_replies(void *ctx, const wsg_conn_t *conn)
+{
+    const fleet_t *fleet = ctx;
+    for (const fleet_observer_t *o = fleet->observers; o != NULL; o = o->next) {
+        if (o->replies_held != NULL && o->replies_held(o->ctx, conn)) {
+            return true;
+        }
+    }
+    return false;
+}
+
 void fleet_observe(fleet_t *fleet, fleet_observer_t *node)
 {
+    fleet->tcp_set.replies_held = observers_hold_replies;
+    fleet->tcp_set.held_ctx = fleet;
     node->next = fleet->observers;
     fleet->observers = node;
 }

@@ -21,6 +21,9 @@ typedef struct fleet fleet_t;
  * observers it attaches see everything the device does. */
 typedef struct fleet_observer {
     void (*device_started)(void *ctx, gripper_t *g);
+    /* Replies held back for this session above the port (an injected
+     * DELAY); NULL: none. A half-closed TCP connection waits for them. */
+    bool (*replies_held)(void *ctx, const wsg_conn_t *conn);
     void *ctx;
     struct fleet_observer *next;
 } fleet_observer_t;

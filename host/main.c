@@ -14,6 +14,7 @@
 #include "record.h"
 #include "sim/clock.h"
 #include "sim/control.h"
+#include "sim/delay.h"
 #include "sim/observers.h"
 #include "sim/scenario.h"
 #include "sim/scheduler.h"
@@ -66,6 +67,12 @@ static void attach_observers(void *ctx, gripper_t *g)
     if (opts->can_log != NULL && bus != NULL) {
         can_loopback_set_tap(bus, can_log_frame, NULL);
     }
+}
+
+static bool delay_holds_replies(void *ctx, const wsg_conn_t *conn)
+{
+    (void)ctx;
+    return simctl_delay_holding(conn);
 }
 
 /* One line per further device of a fleet, then the ready line. */
@@ -132,7 +139,8 @@ int main(int argc, char **argv)
     loop_set_catch_up(catch_up);
     loop_set_hangup(reopen_files);
     fleet_t *fleet = fleet_create();
-    fleet_observer_t observers = {.device_started = attach_observers, .ctx = &opts};
+    fleet_observer_t observers = {
+        .device_started = attach_observers, .replies_held = delay_holds_replies, .ctx = &opts};
     if (fleet == NULL || (opts.can_log != NULL && !can_log_open(opts.can_log))) {
         return EXIT_STARTUP_FAILED;
     }

@@ -15,7 +15,6 @@
 #include "log.h"
 #include "loop.h"
 #include "net.h"
-#include "sim/delay.h"
 #include "wsg/wsg_bin.h"
 #include "wsg/wsg_gcl.h"
 #include "wsg/wsg_outq.h"
@@ -432,11 +431,12 @@ int tcp_server_port(const tcp_server_t *s)
     return s->listener != NULL && s->listener->fd >= 0 ? net_local_port(s->listener->fd) : -1;
 }
 
-/* Replies held back by an injected DELAY (control channel) still count as
- * queued: a half-closed connection waits for them too. */
-static bool replies_held(const wsg_conn_t *conn)
+/* Replies held back above the port (an injected DELAY of the control
+ * channel) still count as queued: a half-closed connection waits for them. */
+static bool replies_held(const tcp_client_t *c)
 {
-    return simctl_delay_holding(conn);
+    const tcp_servers_t *set = c->server->set;
+    return set->replies_held != NULL && set->replies_held(set->held_ctx, &c->conn);
 }
 
 static bool idle_too_long(tcp_client_t *c, uint64_t now)
@@ -455,7 +455,7 @@ static bool finished(tcp_client_t *c, uint64_t now)
 {
     bool flushed = wsg_outq_empty(&c->outq);
     bool said_bye = wsg_conn_wants_close(&c->conn);
-    bool input_done = c->eof && flushed && !replies_held(&c->conn);
+    bool input_done = c->eof && flushed && !replies_held(c);
     return c->dead || (said_bye && flushed) || input_done || idle_too_long(c, now);
 }
 

@@ -25,6 +25,10 @@ typedef struct tcp_server_s tcp_server_t;
 typedef struct {
     tcp_client_t *first, *last;
     tcp_server_t *waiting;
+    /* Replies an upper layer holds back for this session (NULL: none): a
+     * half-closed connection waits for them before it closes. */
+    bool (*replies_held)(void *ctx, const wsg_conn_t *conn);
+    void *held_ctx;
 } tcp_servers_t;
 
 /* A listener shared by several servers (--address-per-device): the server
