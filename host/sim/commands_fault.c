@@ -10,6 +10,7 @@
 #include "gripper.h"
 #include "log.h"
 #include "scheduler.h"
+#include "wsg/wsg_inject.h"
 
 #define DELAY_MAX_MS 600000.0
 
@@ -57,8 +58,7 @@ static void clear_failnext(simctl_ctx_t *ctx)
     const wsg_snapshot_t *snap = wsg_device_snapshot(dev);
     if (snap->injected_armed) {
         host_logf(HAL_LOG_INFO, "fault cleared: FAILNEXT %s", snap->injected_name);
-        wsg_device_inject_failure(dev, "", E_SUCCESS);
-        wsg_device_take_injected_failure(dev, "", &(wsg_status_t){E_SUCCESS});
+        wsg_device_clear_injected_failure(dev);
     }
 }
 
