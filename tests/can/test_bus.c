@@ -178,6 +178,31 @@ static void note_slot0_frames(void *ctx, const hal_can_frame_t *frame, uint64_t 
     }
 }
 
+/* Every device of a fleet has a bus of its own (issue 19): a fault sent on
+ * another bus reaches neither this bus nor its gripper. */
+START_TEST(another_bus_is_independent)
+{
+    fbus_type_t types[FBUS_SLOTS];
+    finger_node_params_t params;
+    wsg_finger_node_defaults(&params);
+    ck_assert(wsg_finger_node_parse_pair("fmf,dsa", types));
+    t_start("fmf,dsa");
+    can_loopback_t *other = can_loopback_create(types, &params);
+    ck_assert_ptr_nonnull(other);
+    t_run_ms(300);
+    uint32_t frames = can_loopback_frames(t_bus());
+    hal_can_frame_t f;
+    wsg_fbus_pack_simctl(&f, FBUS_NODE_ID(0), FBUS_FAULT_UNPLUG);
+    ck_assert(hal_can_send(can_loopback_bus(other), &f));
+    ck_assert_uint_eq(can_loopback_frames(other), 1);
+    ck_assert_uint_eq(can_loopback_frames(t_bus()), frames);
+    ck_assert_int_lt(t_until("FFLAGS[0]?", "FFLAGS[0]=[1,1,0,0,0,0,0,0,0,1,0,0,0,0,0,0]", 1000),
+                     0); /* no comm fault here */
+    ck_assert_str_eq(t_ask("FFLAGS[0]?"), "FFLAGS[0]=" FLAGS_OK);
+    can_loopback_destroy(other);
+}
+END_TEST
+
 /* While the jaws move the device steps every millisecond, between the
  * bus's 10 ms broadcasts: the comm fault shows at the first of those steps
  * past the timeout, not at the next broadcast. */
@@ -415,6 +440,7 @@ Suite *bus_suite(void)
     tcase_add_test(tc, tare_on_a_sleeping_bus_waits_before_repeating);
     tcase_add_test(tc, unconfirmed_tare_gives_up);
     tcase_add_test(tc, held_fingers_on_a_running_gripper_are_faulted);
+    tcase_add_test(tc, another_bus_is_independent);
     suite_add_tcase(s, tc);
     return s;
 }
