@@ -37,7 +37,7 @@ struct fleet {
     unsigned *slot;   /* device i's place in heap */
     unsigned *ready;  /* the devices due in this pass */
     unsigned count;
-    bool scripting; /* a device may run a script: fleet_run_scripts(fleet) looks */
+    bool scripting; /* a device may run a script: fleet_run_scripts() looks */
     const host_options_t *opts;
     port_plan_t plan; /* where each device listens */
     /* --address-per-device: one socket per protocol for every device,
@@ -573,16 +573,6 @@ void fleet_run_scripts(fleet_t *fleet)
     }
 }
 
-fleet_t *fleet_create(void)
-{
-    return calloc(1, sizeof(fleet_t));
-}
-
-void fleet_destroy(fleet_t *fleet)
-{
-    free(fleet);
-}
-
 static bool observers_hold_replies(void *ctx, const wsg_conn_t *conn)
 {
     const fleet_t *fleet = ctx;
@@ -594,10 +584,23 @@ static bool observers_hold_replies(void *ctx, const wsg_conn_t *conn)
     return false;
 }
 
+fleet_t *fleet_create(void)
+{
+    fleet_t *fleet = calloc(1, sizeof(*fleet));
+    if (fleet != NULL) {
+        fleet->tcp_set.replies_held = observers_hold_replies;
+        fleet->tcp_set.held_ctx = fleet;
+    }
+    return fleet;
+}
+
+void fleet_destroy(fleet_t *fleet)
+{
+    free(fleet);
+}
+
 void fleet_observe(fleet_t *fleet, fleet_observer_t *node)
 {
-    fleet->tcp_set.replies_held = observers_hold_replies;
-    fleet->tcp_set.held_ctx = fleet;
     node->next = fleet->observers;
     fleet->observers = node;
 }
