@@ -37,6 +37,9 @@ struct fleet {
     unsigned *slot;   /* device i's place in heap */
     unsigned *ready;  /* the devices due in this pass */
     unsigned count;
+    /* The servers' timeouts as last asked: they move only when a device
+     * is touched (input, a connection opened or closed) or come due. */
+    uint64_t servers_due_us;
     bool scripting; /* a device may run a script: fleet_run_scripts() looks */
     const host_options_t *opts;
     port_plan_t plan; /* where each device listens */
@@ -340,6 +343,7 @@ bool fleet_start(fleet_t *fleet, const host_options_t *opts)
         return false;
     }
     fleet->opts = opts;
+    fleet->servers_due_us = 0; /* asked at the first pass */
     fleet->plan = (port_plan_t){opts->tcp_port,        opts->udp_port,
                                 opts->binary_udp_port, opts->binary_udp_reply_port,
                                 opts->udp_enabled,     fleet->by_address ? 1u : n};
@@ -482,12 +486,22 @@ uint64_t fleet_tick(fleet_t *fleet)
         tick_due_devices(fleet, now);
     }
     gripper_t *touched;
+    bool any_touched = false;
     while ((touched = gripper_take_touched(&fleet->touched)) != NULL) {
         set_due(fleet, touched->index, gripper_tick(touched));
+        any_touched = true;
     }
-    uint64_t next = earliest(tcp_server_next_deadline_us(&fleet->tcp_set),
-                             udp_server_next_deadline_us(&fleet->udp_set));
+    if (any_touched || fleet->servers_due_us <= now) {
+        fleet->servers_due_us = earliest(tcp_server_next_deadline_us(&fleet->tcp_set),
+                                         udp_server_next_deadline_us(&fleet->udp_set));
+    }
+    uint64_t next = fleet->servers_due_us;
     return fleet->count > 0 ? earliest(next, due_at(fleet, 0)) : next;
+}
+
+bool fleet_touched_any(const fleet_t *fleet)
+{
+    return fleet->touched.first != NULL;
 }
 
 void fleet_close_connections(fleet_t *fleet, unsigned i)
@@ -596,7 +610,10 @@ fleet_t *fleet_create(void)
 
 void fleet_destroy(fleet_t *fleet)
 {
-    free(fleet);
+    if (fleet != NULL) {
+        fleet_stop(fleet); /* what a failed start left */
+        free(fleet);
+    }
 }
 
 void fleet_observe(fleet_t *fleet, fleet_observer_t *node)

@@ -28,7 +28,8 @@ typedef struct fleet_observer {
     struct fleet_observer *next;
 } fleet_observer_t;
 
-/* An empty fleet (NULL: out of memory); fleet_destroy() frees it. */
+/* An empty fleet (NULL: out of memory); fleet_destroy() stops what runs
+ * and frees it. */
 fleet_t *fleet_create(void);
 void fleet_destroy(fleet_t *fleet);
 void fleet_observe(fleet_t *fleet, fleet_observer_t *node);
@@ -49,6 +50,9 @@ int fleet_bin_udp_port(const fleet_t *fleet, unsigned i);
 /* Steps the devices whose deadline has come; returns the earliest deadline
  * of the fleet and of its connections' timeouts (UINT64_MAX: none). */
 uint64_t fleet_tick(fleet_t *fleet);
+/* Some device was touched since the last fleet_tick() (the scheduler's
+ * pass asks first). */
+bool fleet_touched_any(const fleet_t *fleet);
 /* Closes the connections and peers of device i (a reset). */
 void fleet_close_connections(fleet_t *fleet, unsigned i);
 /* Closes what said BYE, failed or stayed quiet too long, on every device

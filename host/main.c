@@ -12,19 +12,16 @@
 #include "notify.h"
 #include "options.h"
 #include "record.h"
-#include "sim/clock.h"
 #include "sim/control.h"
 #include "sim/delay.h"
 #include "sim/observers.h"
-#include "sim/scenario.h"
-#include "sim/scheduler.h"
 #include "web/web_lines.h"
 #include "web/web_server.h"
 
 #define EXIT_STARTUP_FAILED 2
 
 /* Simulation control (docs/simctl.md): record, scenario, control channel. */
-static bool start_simulation(const host_options_t *opts)
+static bool start_simulation(simctl_t *sim, const host_options_t *opts)
 {
     if (opts->record_path != NULL && !record_open(opts->record_path)) {
         return false;
@@ -32,16 +29,17 @@ static bool start_simulation(const host_options_t *opts)
     if (opts->coverage_path != NULL && !coverage_open(opts->coverage_path)) {
         return false;
     }
-    if (opts->scenario_path != NULL && !scenario_load(opts->scenario_path, 0)) {
+    if (opts->scenario_path != NULL &&
+        !scenario_load(simctl_scenario(sim), opts->scenario_path, 0)) {
         return false;
     }
-    return opts->sim_port < 0 || simctl_start(opts->sim_bind, opts->sim_port);
+    return opts->sim_port < 0 || simctl_start(sim, opts->sim_bind, opts->sim_port);
 }
 
-static int stop_simulation(const host_options_t *opts)
+static int stop_simulation(simctl_t *sim, const host_options_t *opts)
 {
-    simctl_stop();
-    scenario_unload();
+    simctl_stop(sim);
+    scenario_unload(simctl_scenario(sim));
     record_close();
     if (opts->coverage_path != NULL && !coverage_write(opts->strict)) {
         return 1;
@@ -76,16 +74,19 @@ static bool delay_holds_replies(void *ctx, const wsg_conn_t *conn)
 }
 
 /* One line per further device of a fleet, then the ready line. */
-static bool announce(const host_options_t *opts, fleet_t *fleet)
+static bool announce(const simctl_t *sim, const host_options_t *opts, fleet_t *fleet)
 {
     char line[512];
     char extra[256];
-    snprintf(extra, sizeof(extra), "%s%s", simctl_describe(), web_server_describe());
+    char control[96];
+    simctl_describe(sim, control, sizeof(control));
+    snprintf(extra, sizeof(extra), "%s%s", control, web_server_describe());
     fleet_ready_line(fleet, extra, line, sizeof(line));
     bool bin_tcp = opts->tcp_enabled && opts->protocol != HOST_PROTOCOL_GCL;
     notify_set_ports(fleet_tcp_port(fleet, 0), fleet_udp_port(fleet, 0));
     notify_set_binary_ports(bin_tcp ? fleet_tcp_port(fleet, 0) : -1, fleet_bin_udp_port(fleet, 0));
     notify_set_http_port(web_server_port());
+    notify_set_sim_port(simctl_port(sim));
     if (!notify_prepare(opts->ready_file)) {
         return false;
     }
@@ -114,9 +115,55 @@ static void reopen_files(void)
     }
 }
 
-static void catch_up(void)
+static void catch_up(void *sched)
 {
-    (void)simctl_tick();
+    (void)simctl_tick(sched);
+}
+
+/* Starts everything on the simulation's clock and runs the loop until a
+ * signal stops it; the exit status. */
+static int serve(simctl_t *sim, fleet_t *fleet, const host_options_t *opts)
+{
+    if (opts->start_paused) {
+        simclock_start_paused(simctl_clock(sim)); /* simulated time stands at exactly 0 */
+    }
+    loop_init();
+    loop_set_catch_up(catch_up, simctl_scheduler(sim));
+    loop_set_clock(simctl_clock(sim));
+    loop_set_hangup(reopen_files);
+    fleet_observer_t observers = {.device_started = attach_observers,
+                                  .replies_held = delay_holds_replies,
+                                  .ctx = (void *)opts};
+    if (opts->can_log != NULL && !can_log_open(opts->can_log)) {
+        return EXIT_STARTUP_FAILED;
+    }
+    fleet_observe(fleet, &observers);
+    simctl_set_fleet(sim, fleet);
+    web_server_set_fleet(fleet);
+    /* the web server first: the devices' observers keep its connection lines */
+    if (!web_server_start(opts, sim) || !fleet_start(fleet, opts) || !start_simulation(sim, opts)) {
+        return EXIT_STARTUP_FAILED;
+    }
+    if (!announce(sim, opts, fleet)) {
+        return EXIT_STARTUP_FAILED;
+    }
+    char bus[96];
+    finger_bus_host_describe(&fleet_gripper(fleet, 0)->fingers, bus, sizeof(bus));
+    host_logf(HAL_LOG_INFO, "finger bus: %s", bus);
+    while (!loop_stop_requested()) {
+        uint64_t deadline = simctl_tick(simctl_scheduler(sim));
+        fleet_run_scripts(fleet);
+        loop_wait(deadline);
+        web_server_poll();
+        fleet_reap(fleet);
+        simctl_reap(sim);
+    }
+    host_logf(HAL_LOG_INFO, "shutting down");
+    notify_stopping(opts->ready_file);
+    web_server_stop(); /* while the devices its operations ran on exist */
+    fleet_stop(fleet);
+    can_log_close();
+    return stop_simulation(sim, opts);
 }
 
 int main(int argc, char **argv)
@@ -131,45 +178,10 @@ int main(int argc, char **argv)
     if (!start_logging(&opts)) {
         return EXIT_STARTUP_FAILED;
     }
-    simclock_init();
-    if (opts.start_paused) {
-        simclock_start_paused(); /* simulated time stands at exactly 0 */
-    }
-    loop_init();
-    loop_set_catch_up(catch_up);
-    loop_set_hangup(reopen_files);
+    simctl_t *sim = simctl_create();
     fleet_t *fleet = fleet_create();
-    fleet_observer_t observers = {
-        .device_started = attach_observers, .replies_held = delay_holds_replies, .ctx = &opts};
-    if (fleet == NULL || (opts.can_log != NULL && !can_log_open(opts.can_log))) {
-        return EXIT_STARTUP_FAILED;
-    }
-    fleet_observe(fleet, &observers);
-    simctl_set_fleet(fleet);
-    web_server_set_fleet(fleet);
-    /* the web server first: the devices' observers keep its connection lines */
-    if (!web_server_start(&opts) || !fleet_start(fleet, &opts) || !start_simulation(&opts)) {
-        return EXIT_STARTUP_FAILED;
-    }
-    if (!announce(&opts, fleet)) {
-        return EXIT_STARTUP_FAILED;
-    }
-    char bus[96];
-    finger_bus_host_describe(&fleet_gripper(fleet, 0)->fingers, bus, sizeof(bus));
-    host_logf(HAL_LOG_INFO, "finger bus: %s", bus);
-    while (!loop_stop_requested()) {
-        uint64_t deadline = simctl_tick();
-        fleet_run_scripts(fleet);
-        loop_wait(deadline);
-        web_server_poll();
-        fleet_reap(fleet);
-        simctl_reap();
-    }
-    host_logf(HAL_LOG_INFO, "shutting down");
-    notify_stopping(opts.ready_file);
-    web_server_stop(); /* while the devices its operations ran on exist */
-    fleet_stop(fleet);
+    int status = sim != NULL && fleet != NULL ? serve(sim, fleet, &opts) : EXIT_STARTUP_FAILED;
     fleet_destroy(fleet);
-    can_log_close();
-    return stop_simulation(&opts);
+    simctl_destroy(sim);
+    return status;
 }

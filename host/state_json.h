@@ -17,7 +17,7 @@ typedef struct {
     uint64_t lag_us, max_lag_us;
     bool paused;
     double scale;
-    cJSON *faults; /* the active injected faults; the dump takes it over */
+    cJSON *faults; /* the device's active injected faults; the dump takes it over */
 } state_json_sim_t;
 
 /* The dump as JSON text (malloc'd; free() it). */

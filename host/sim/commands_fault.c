@@ -4,12 +4,12 @@
 #include <strings.h>
 
 #include "commands_internal.h"
+#include "control.h"
 #include "delay.h"
 #include "faults.h"
 #include "fleet.h"
 #include "gripper.h"
 #include "log.h"
-#include "scheduler.h"
 #include "wsg/wsg_inject.h"
 
 #define DELAY_MAX_MS 600000.0
@@ -38,16 +38,33 @@ static bool read_fault(simctl_ctx_t *ctx, simctl_fault_t *fault)
     return true;
 }
 
+/* A hardware fault the addressed device can take: a finger fault needs its
+ * finger bus. */
+static bool read_device_fault(simctl_ctx_t *ctx, simctl_fault_t *fault)
+{
+    if (!read_fault(ctx, fault)) {
+        return false;
+    }
+    if (!simctl_fault_possible(ctx->gripper, *fault)) {
+        sc_fail(ctx, E_FEATURE_NOT_SUPPORTED, "device %u has no finger bus (device 0 has)",
+                ctx->gripper->index);
+        return false;
+    }
+    return true;
+}
+
 wsg_status_t sc_fault(simctl_ctx_t *ctx)
 {
     simctl_fault_t fault;
-    if (!read_fault(ctx, &fault) || !sc_first_device(ctx)) {
+    if (!read_device_fault(ctx, &fault)) {
         return ctx->failed;
     }
     if (sc_checking(ctx)) {
         return E_SUCCESS;
     }
-    simctl_fault_raise(fault);
+    if (!simctl_fault_raise(simctl_faults(ctx->ctl), ctx->gripper, fault)) {
+        return sc_fail(ctx, E_INSUFFICIENT_RESOURCES, "out of memory");
+    }
     sc_world_changed(ctx);
     return E_SUCCESS;
 }
@@ -103,21 +120,19 @@ wsg_status_t sc_clear(simctl_ctx_t *ctx)
     const char *name = NULL;
     simctl_fault_t fault;
     if (!sc_has_arg(ctx, 0)) {
-        if (ctx->gripper->index == 0) {
-            simctl_fault_clear_all(); /* hardware faults live on device 0 only */
-        }
+        simctl_fault_clear_all(simctl_faults(ctx->ctl), ctx->gripper);
         clear_delays(ctx);
         clear_failnext(ctx);
     } else if (!sc_text(ctx, 0, &name)) {
         return ctx->failed;
     } else if (is_protocol_fault(name)) {
         return clear_protocol(ctx, name);
-    } else if (!read_fault(ctx, &fault) || !sc_first_device(ctx)) {
+    } else if (!read_device_fault(ctx, &fault)) {
         return ctx->failed;
     } else if (sc_checking(ctx)) {
         return E_SUCCESS;
     } else {
-        simctl_fault_clear(fault);
+        simctl_fault_clear(simctl_faults(ctx->ctl), ctx->gripper, fault);
     }
     sc_world_changed(ctx);
     return E_SUCCESS;
@@ -129,17 +144,17 @@ static double fault_ms(uint64_t us)
     return (double)us / 1000.0;
 }
 
-static void add_hardware_faults(cJSON *list)
+static void add_hardware_faults(cJSON *list, const simctl_faults_t *faults, const gripper_t *g)
 {
     for (unsigned i = 0; i < SIMCTL_FAULT_COUNT; i++) {
         simctl_fault_t f = (simctl_fault_t)i;
-        if (!simctl_fault_active(f)) {
+        if (!simctl_fault_active(faults, g, f)) {
             continue;
         }
         cJSON *j = cJSON_CreateObject();
         cJSON_AddStringToObject(j, "fault", simctl_fault_name(f));
         cJSON_AddStringToObject(j, "description", simctl_fault_description(f));
-        cJSON_AddNumberToObject(j, "since_ms", fault_ms(simctl_fault_since_us(f)));
+        cJSON_AddNumberToObject(j, "since_ms", fault_ms(simctl_fault_since_us(faults, g, f)));
         cJSON_AddItemToArray(list, j);
     }
 }
@@ -172,19 +187,17 @@ static void add_protocol_faults(cJSON *list, gripper_t *g)
     }
 }
 
-cJSON *sc_faults_json(gripper_t *g)
+cJSON *sc_faults_json(simctl_t *ctl, gripper_t *g)
 {
     cJSON *list = cJSON_CreateArray();
-    if (g->index == 0) {
-        add_hardware_faults(list); /* injected on device 0 only */
-    }
+    add_hardware_faults(list, simctl_faults(ctl), g);
     add_protocol_faults(list, g);
     return list;
 }
 
 wsg_status_t sc_faults(simctl_ctx_t *ctx)
 {
-    cJSON *list = sc_faults_json(ctx->gripper);
+    cJSON *list = sc_faults_json(ctx->ctl, ctx->gripper);
     sc_reply_json(ctx, list);
     return E_SUCCESS;
 }
@@ -260,11 +273,11 @@ wsg_status_t sc_failnext(simctl_ctx_t *ctx)
     return E_SUCCESS;
 }
 
-static bool cut_session(wsg_conn_t *s)
+static bool cut_session(simctl_ctx_t *ctx, wsg_conn_t *s)
 {
     unsigned long long id = wsg_conn_id(s);
     bool stream = wsg_conn_transport(s) == WSG_TRANSPORT_STREAM;
-    bool cut = fleet_cut(simctl_fleet(), s);
+    bool cut = fleet_cut(simctl_fleet(ctx->ctl), s);
     if (cut) {
         host_logf(HAL_LOG_WARN, "fault injected: CUT session %llu (%s)", id,
                   stream ? "tcp" : "udp");
@@ -279,15 +292,15 @@ wsg_status_t sc_cut(simctl_ctx_t *ctx)
         if (s == NULL) {
             return ctx->failed; /* E_SUCCESS while only checking a good id */
         }
-        return cut_session(s) ? E_SUCCESS
-                              : sc_fail(ctx, E_NOT_FOUND, "session has no connection to cut");
+        return cut_session(ctx, s) ? E_SUCCESS
+                                   : sc_fail(ctx, E_NOT_FOUND, "session has no connection to cut");
     }
     unsigned cut = 0;
     wsg_device_t *dev = &ctx->gripper->device;
     wsg_conn_t *c = wsg_device_conn_first(dev);
     while (c != NULL) {
         wsg_conn_t *next = wsg_conn_next(c); /* cutting closes c */
-        cut += wsg_conn_transport(c) == WSG_TRANSPORT_STREAM && cut_session(c) ? 1u : 0u;
+        cut += wsg_conn_transport(c) == WSG_TRANSPORT_STREAM && cut_session(ctx, c) ? 1u : 0u;
         c = next;
     }
     return cut > 0 ? E_SUCCESS : sc_fail(ctx, E_NOT_FOUND, "no TCP connection is open");

@@ -16,11 +16,11 @@
 
 wsg_status_t sc_state(simctl_ctx_t *ctx)
 {
-    state_json_sim_t sim = {.lag_us = simctl_lag_us(),
-                            .max_lag_us = simctl_max_lag_us(),
-                            .paused = simclock_paused(),
-                            .scale = simclock_scale(),
-                            .faults = sc_faults_json(ctx->gripper)};
+    state_json_sim_t sim = {.lag_us = simctl_lag_us(simctl_scheduler(ctx->ctl)),
+                            .max_lag_us = simctl_max_lag_us(simctl_scheduler(ctx->ctl)),
+                            .paused = simclock_paused(simctl_clock(ctx->ctl)),
+                            .scale = simclock_scale(simctl_clock(ctx->ctl)),
+                            .faults = sc_faults_json(ctx->ctl, ctx->gripper)};
     sc_reply_owned(ctx, state_json(ctx->gripper, false, &sim));
     return E_SUCCESS;
 }
@@ -33,24 +33,22 @@ wsg_status_t sc_sessions(simctl_ctx_t *ctx)
 }
 
 /* A power cycle: connections drop (unobserved: they are not the clients'
- * doing), injected faults go, and the device starts as configured. */
+ * doing), the device's injected faults go, and it starts as configured. */
 wsg_status_t sc_reset(simctl_ctx_t *ctx)
 {
     gripper_t *g = ctx->gripper;
-    bool first = g->index == 0; /* with the observers and the hardware faults */
+    bool first = g->index == 0; /* with the observers */
     if (first) {
         simctl_observers_detach(&g->device);
     }
     simctl_delay_clear_all(&g->device, false);
-    fleet_close_connections(simctl_fleet(), g->index);
-    if (first) {
-        simctl_fault_clear_all();
-    }
+    fleet_close_connections(simctl_fleet(ctx->ctl), g->index);
+    simctl_fault_clear_all(simctl_faults(ctx->ctl), g);
     gripper_reset(g);
     if (first) {
         simctl_observers_attach(&g->device, g->opts);
     }
-    simctl_reset_max_lag();
+    simctl_reset_max_lag(simctl_scheduler(ctx->ctl));
     host_logf(HAL_LOG_INFO, "device %u reset to power-on defaults", g->index);
     return E_SUCCESS;
 }
@@ -60,15 +58,15 @@ wsg_status_t sc_device(simctl_ctx_t *ctx)
 {
     if (ctx->cmd->form == GCL_FORM_SET) {
         int64_t index = 0;
-        if (!sc_integer(ctx, 0, "the device index", 0, (int64_t)fleet_count(simctl_fleet()) - 1,
-                        &index)) {
+        if (!sc_integer(ctx, 0, "the device index", 0,
+                        (int64_t)fleet_count(simctl_fleet(ctx->ctl)) - 1, &index)) {
             return ctx->failed;
         }
         if (ctx->selected == NULL) {
             return sc_fail(ctx, E_ACCESS_DENIED, "only a control connection selects a device");
         }
         *ctx->selected = (unsigned)index;
-        ctx->gripper = fleet_gripper(simctl_fleet(), (unsigned)index);
+        ctx->gripper = fleet_gripper(simctl_fleet(ctx->ctl), (unsigned)index);
     }
     sc_reply(ctx, "%u", ctx->gripper->index);
     return E_SUCCESS;
@@ -78,13 +76,13 @@ wsg_status_t sc_device(simctl_ctx_t *ctx)
 wsg_status_t sc_devices(simctl_ctx_t *ctx)
 {
     cJSON *list = cJSON_CreateArray();
-    for (unsigned i = 0; i < fleet_count(simctl_fleet()); i++) {
+    for (unsigned i = 0; i < fleet_count(simctl_fleet(ctx->ctl)); i++) {
         const wsg_config_t *cfg =
-            wsg_device_snapshot(&fleet_gripper(simctl_fleet(), i)->device)->config;
+            wsg_device_snapshot(&fleet_gripper(simctl_fleet(ctx->ctl), i)->device)->config;
         cJSON *j = cJSON_CreateObject();
         cJSON_AddNumberToObject(j, "index", i);
-        cJSON_AddNumberToObject(j, "tcp", fleet_tcp_port(simctl_fleet(), i));
-        cJSON_AddNumberToObject(j, "udp", fleet_udp_port(simctl_fleet(), i));
+        cJSON_AddNumberToObject(j, "tcp", fleet_tcp_port(simctl_fleet(ctx->ctl), i));
+        cJSON_AddNumberToObject(j, "udp", fleet_udp_port(simctl_fleet(ctx->ctl), i));
         cJSON_AddNumberToObject(j, "serial", cfg->serial);
         cJSON_AddStringToObject(j, "tag", cfg->tag);
         cJSON_AddStringToObject(j, "model", cfg->devtype);

@@ -15,13 +15,15 @@
 #include <stdbool.h>
 
 #include "options.h"
+#include "sim/control.h"
 
 /* Starts the server on opts->http_bind (or opts->bind_addr) port
  * opts->http_port; off when the port is 0. False (logged) when the port or
  * the address was given and cannot be had; the default, when taken, is
  * skipped with a warning. Call before fleet_start(): the devices' observers
- * keep the connection lines only when the server is on. */
-bool web_server_start(const host_options_t *opts);
+ * keep the connection lines only when the server is on. The simulation
+ * routes run their commands on sim. */
+bool web_server_start(const host_options_t *opts, simctl_t *sim);
 struct fleet;
 /* The devices its pages show (main, before the loop runs). */
 void web_server_set_fleet(struct fleet *fleet);

@@ -18,23 +18,8 @@
 #include "web/web_server.h"
 
 static host_options_t options;
+static simctl_t *sim;
 static fleet_t *fleet;
-
-/* As build/wsgsim does: device 0 carries the simulation's observers, the
- * others the web page's connection lines when those are kept. */
-static void attach_observers(void *ctx, gripper_t *g)
-{
-    if (g->index == 0) {
-        simctl_observers_attach(&g->device, ctx);
-    } else if (web_lines_enabled()) {
-        wsg_conn_observe(&g->device, web_lines_observer(), NULL);
-    }
-}
-
-fleet_t *fuzz_host_fleet(void)
-{
-    return fleet;
-}
 static char file_path[256];
 
 host_options_t *fuzz_host_options(int argc, char **argv)
@@ -49,24 +34,36 @@ host_options_t *fuzz_host_options(int argc, char **argv)
     return &options;
 }
 
+/* As build/wsgsim does: device 0 carries the simulation's observers, the
+ * others the web page's connection lines when those are kept. */
+static void attach_observers(void *ctx, gripper_t *g)
+{
+    if (g->index == 0) {
+        simctl_observers_attach(&g->device, ctx);
+    } else if (web_lines_enabled()) {
+        wsg_conn_observe(&g->device, web_lines_observer(), NULL);
+    }
+}
+
 void fuzz_host_start(const host_options_t *opts)
 {
+    static fleet_observer_t observers = {.device_started = attach_observers};
     static bool logging;
     if (!logging) {
         host_log_init();
         host_log_set_level(HAL_LOG_ERROR); /* the fuzzer's output stays readable */
         logging = true;
     }
-    simclock_init();
-    simclock_start_paused();
-    static fleet_observer_t observers = {.device_started = attach_observers};
-    observers.ctx = (void *)opts;
+    sim = simctl_create();
     fleet = fleet_create();
-    if (fleet == NULL) {
+    if (sim == NULL || fleet == NULL) {
         abort();
     }
+    simclock_start_paused(simctl_clock(sim));
+    observers.ctx = (void *)opts;
+    observers.next = NULL;
     fleet_observe(fleet, &observers);
-    simctl_set_fleet(fleet);
+    simctl_set_fleet(sim, fleet);
     web_server_set_fleet(fleet);
     if (!fleet_start(fleet, opts)) {
         abort(); /* options that parsed must start */
@@ -75,29 +72,40 @@ void fuzz_host_start(const host_options_t *opts)
 
 void fuzz_host_settle(void)
 {
-    (void)simctl_tick(); /* one pass of the loop: what input made due now */
-    simctl_step_finish();
+    (void)simctl_tick(simctl_scheduler(sim)); /* one pass of the loop: what input made due now */
+    simctl_step_finish(simctl_scheduler(sim));
 }
 
 void fuzz_host_step(uint64_t us)
 {
-    simctl_step_begin(us);
-    simctl_step_finish();
-    if (!simclock_paused()) {
-        simclock_pause(); /* a RESUME on the way lets wall time in: inputs must replay */
+    simctl_step_begin(simctl_scheduler(sim), us);
+    simctl_step_finish(simctl_scheduler(sim));
+    if (!simclock_paused(simctl_clock(sim))) {
+        simclock_pause(simctl_clock(sim)); /* a RESUME on the way lets wall time in */
     }
 }
 
 void fuzz_host_stop(void)
 {
-    scenario_unload();
+    scenario_unload(simctl_scenario(sim));
     for (unsigned i = 0; i < fleet_count(fleet); i++) {
         simctl_delay_clear_all(&fleet_gripper(fleet, i)->device, false);
+        simctl_fault_clear_all(simctl_faults(sim), fleet_gripper(fleet, i));
     }
-    simctl_fault_clear_all();
-    fleet_stop(fleet);
     fleet_destroy(fleet);
     fleet = NULL;
+    simctl_destroy(sim);
+    sim = NULL;
+}
+
+simctl_t *fuzz_host_sim(void)
+{
+    return sim;
+}
+
+fleet_t *fuzz_host_fleet(void)
+{
+    return fleet;
 }
 
 const char *fuzz_host_file(const uint8_t *data, size_t size)

@@ -12,6 +12,7 @@
 
 #include "fleet.h"
 #include "options.h"
+#include "sim/control.h"
 
 /* The host's options from argv (as main() parses them), with TCP, UDP, the
  * web server and the control channel off: NULL when they do not parse. */
@@ -25,7 +26,9 @@ void fuzz_host_settle(void);
  * clock is paused again if something on the way resumed it. */
 void fuzz_host_step(uint64_t us);
 void fuzz_host_stop(void);
-/* The fleet fuzz_host_start started. */
+/* The control side started with the host (NULL while stopped). */
+simctl_t *fuzz_host_sim(void);
+/* The devices started with the host (NULL while stopped). */
 fleet_t *fuzz_host_fleet(void);
 /* The bytes as a file that the host can open by path, in $TMPDIR or
  * /dev/shm (memory): one per process, removed by fuzz_host_close_file(). */

@@ -14,9 +14,9 @@
 #include "sim/commands.h"
 #include "sim/delay.h"
 #include "sim/observers.h"
-#include "sim/scheduler.h"
 
 h_client_t t_gcl;
+simctl_t *t_sim;
 fleet_t *t_fleet;
 static char *last_reply;
 static host_options_t opts; /* the fleet's, for as long as it runs */
@@ -29,23 +29,36 @@ static void attach_observers(void *ctx, gripper_t *g)
     }
 }
 
-void t_setup(void)
+static void setup_with(int argc, char **argv)
 {
-    static char *argv[] = {"wsgsim", NULL};
     static fleet_observer_t observers = {.device_started = attach_observers, .ctx = &opts};
-    ck_assert_int_eq(options_parse(1, argv, &opts), OPTIONS_RUN);
-    simclock_init();
-    simclock_start_paused();
+    ck_assert_int_eq(options_parse(argc, argv, &opts), OPTIONS_RUN);
+    t_sim = simctl_create();
+    ck_assert_ptr_nonnull(t_sim);
+    simclock_start_paused(simctl_clock(t_sim));
     opts.sim_port = 0;        /* the tests drive the control channel: coverage is observed */
     opts.tcp_enabled = false; /* one device, no sockets: the tests feed it */
     opts.udp_enabled = false;
     t_fleet = fleet_create();
     ck_assert_ptr_nonnull(t_fleet);
+    observers.next = NULL;
     fleet_observe(t_fleet, &observers);
-    simctl_set_fleet(t_fleet);
+    simctl_set_fleet(t_sim, t_fleet);
     ck_assert(fleet_start(t_fleet, &opts));
     coverage_reset();
     t_reopen();
+}
+
+void t_setup(void)
+{
+    static char *argv[] = {"wsgsim", NULL};
+    setup_with(1, argv);
+}
+
+void t_setup_three_devices(void)
+{
+    static char *argv[] = {"wsgsim", "--devices", "3", NULL};
+    setup_with(3, argv);
 }
 
 void t_reinit(const host_options_t *with)
@@ -74,9 +87,10 @@ void t_teardown(void)
 {
     ck_assert_msg(!t_gcl.bad_line, "the GCL session got something that is not one whole line");
     simctl_delay_clear_all(&fleet_gripper(t_fleet, 0)->device, false);
-    fleet_stop(t_fleet);
     fleet_destroy(t_fleet);
     t_fleet = NULL;
+    simctl_destroy(t_sim);
+    t_sim = NULL;
     free(last_reply);
     last_reply = NULL;
 }
@@ -84,9 +98,25 @@ void t_teardown(void)
 const char *ctl(const char *line)
 {
     free(last_reply);
-    last_reply = simctl_exec(line, strlen(line), NULL, NULL);
+    last_reply = simctl_exec(t_sim, line, strlen(line), NULL, NULL);
     ck_assert_ptr_nonnull(last_reply);
     return last_reply;
+}
+
+const char *ctl_on(unsigned device, const char *line)
+{
+    unsigned selected = device;
+    simctl_outcome_t outcome = {false, false};
+    free(last_reply);
+    last_reply = simctl_exec(t_sim, line, strlen(line), &selected, &outcome);
+    ck_assert_ptr_nonnull(last_reply); /* no STEP here: nothing is deferred */
+    return last_reply;
+}
+
+uint32_t t_device_flags(unsigned device)
+{
+    ck_assert_uint_lt(device, fleet_count(t_fleet));
+    return wsg_device_flags(&fleet_gripper(t_fleet, device)->device);
 }
 
 int t_err_code(const char *reply)
