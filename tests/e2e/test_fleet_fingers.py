@@ -76,6 +76,20 @@ class FleetFingers(unittest.TestCase):
         self.assertEqual(third.command("FFLAGS[0]?"), healthy)
         self.assertEqual(third.command("FTYPE?"), 'FTYPE=["fmf","dsa"]')
 
+    def test_a_finger_fault_injected_on_another_device(self):
+        """The control channel selects device 2: its finger leaves device 2's
+        bus, device 0's finger carries on."""
+        sim, ctl = self.start("--devices", "3")
+        ports = device_ports(sim, 3)
+        ctl.step(SETTLED_MS)
+        first, third = self.tcp(ports[0][0]), self.tcp(ports[2][0])
+        healthy = first.command("FFLAGS[0]?")
+        self.assertEqual(ctl("DEVICE=2"), "DEVICE=2")
+        self.assertEqual(ctl('FAULT("FINGER_UNPLUG",0)'), "ACK FAULT")
+        ctl.step(SETTLED_MS)
+        self.assertNotEqual(third.command("FFLAGS[0]?"), healthy)
+        self.assertEqual(first.command("FFLAGS[0]?"), healthy)
+
 
 if __name__ == "__main__":
     unittest.main()
