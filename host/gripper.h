@@ -52,7 +52,8 @@ typedef struct gripper {
  * index, its tag the configured one with "-<index>" appended (device 0 keeps
  * both as configured). Its finger bus: SocketCAN for device 0 with --can,
  * else a loopback bus with its fingers ([device.N] fingers, or --fingers).
- * gripper_touch() puts it on `touched`. False (logged) when its finger bus
+ * opts must outlive the gripper (it keeps a pointer, and copies them only
+ * once its own differ). gripper_touch() puts it on `touched`. False (logged) when its finger bus
  * cannot be had; gripper_release() it all the same. Observers attach next,
  * then gripper_start() runs the startup script. */
 bool gripper_init(gripper_t *g, const host_options_t *opts, unsigned index,
