@@ -177,6 +177,10 @@ static bool gripper_set_filters(void *ctx, const hal_can_filter_t *filters, unsi
     return set_acceptance(&bus->accept, filters, count);
 }
 
+/* The gripper's side runs the nodes when it polls: on demand. */
+static const hal_can_ops_t gripper_ops = {gripper_send, gripper_recv, gripper_set_filters, true};
+static const hal_can_ops_t node_ops = {node_send, node_recv, node_set_filters, false};
+
 can_loopback_t *can_loopback_create(const fbus_type_t types[FBUS_SLOTS],
                                     const finger_node_params_t *params)
 {
@@ -184,8 +188,8 @@ can_loopback_t *can_loopback_create(const fbus_type_t types[FBUS_SLOTS],
     if (bus == NULL) {
         return NULL;
     }
-    bus->port = (hal_can_t){gripper_send, gripper_recv, gripper_set_filters, bus, true};
-    bus->nodes_port = (hal_can_t){node_send, node_recv, node_set_filters, bus, false};
+    bus->port = (hal_can_t){&gripper_ops, bus};
+    bus->nodes_port = (hal_can_t){&node_ops, bus};
     for (unsigned i = 0; i < FBUS_SLOTS; i++) {
         wsg_finger_node_init(&bus->nodes[i], types[i], i, params, &bus->nodes_port);
     }

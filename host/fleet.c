@@ -101,10 +101,10 @@ static bool device_ports(const fleet_t *fleet, unsigned i, port_layout_t *ports)
         return port_layout_of(&fleet->plan, 0, ports);
     }
     bool fits = port_layout_of(&fleet->plan, i, ports);
-    if (config_file_device_port(i, false, &port)) {
+    if (config_file_device_port(fleet->opts->config, i, false, &port)) {
         ports->tcp = port;
     }
-    if (config_file_device_port(i, true, &port)) {
+    if (config_file_device_port(fleet->opts->config, i, true, &port)) {
         ports->udp = port;
     }
     static const char *const names[] = {"TCP", "UDP", "binary udp", "binary udp reply"};
@@ -325,7 +325,7 @@ static bool start_fronts(fleet_t *fleet, const host_options_t *opts)
 
 bool fleet_start(fleet_t *fleet, const host_options_t *opts)
 {
-    unsigned declared = config_file_devices(); /* [device.N] sections */
+    unsigned declared = config_file_devices(opts->config); /* [device.N] sections */
     unsigned n = declared > (unsigned)opts->devices ? declared : (unsigned)opts->devices;
     fleet->by_address = opts->address_per_device;
     if (!raise_descriptor_limit(opts, n) ||

@@ -31,8 +31,7 @@ static void place_start_part(gripper_t *g)
         return;
     }
     if (axis->x_mm <= opts->part_width_mm) {
-        axis->x_mm = axis->stroke_mm;
-        axis->target_mm = axis->x_mm;
+        wsg_sim_axis_place_jaws(axis, axis->stroke_mm);
     }
     wsg_sim_axis_place_part(axis, opts->part_width_mm, opts->part_stiffness_n_mm);
 }
@@ -104,9 +103,9 @@ bool gripper_init(gripper_t *g, const host_options_t *opts, unsigned index,
     g->index = index;
     g->opts = opts;
     g->own_opts = NULL;
-    const char *model = config_file_device_model(index, opts->model);
-    const char *script = config_file_device_script(index, opts->script);
-    const char *fingers = config_file_device_fingers(index, opts->fingers);
+    const char *model = config_file_device_model(opts->config, index, opts->model);
+    const char *script = config_file_device_script(opts->config, index, opts->script);
+    const char *fingers = config_file_device_fingers(opts->config, index, opts->fingers);
     bool differs = model != opts->model || script != opts->script || fingers != opts->fingers;
     bool opts_ok = !differs || own_options(g);
     if (g->own_opts != NULL) { /* its [device.N] section */
@@ -122,15 +121,16 @@ bool gripper_init(gripper_t *g, const host_options_t *opts, unsigned index,
     bool bus_ok =
         finger_bus_host_start(&g->fingers, index == 0 ? opts->can_iface : NULL, g->opts->fingers);
     wsg_sim_model_config(wsg_sim_model_find(g->opts->model), &g->config);
-    config_file_apply(&g->config);
+    config_file_apply(opts->config, &g->config);
     set_identity(&g->config, index);
-    config_file_apply_device(index, &g->config);
+    config_file_apply_device(opts->config, index, &g->config);
     g->config.disconnect_raises_faststop = opts->disconnect_faststop;
     g->config.bin_crc_unchecked = !opts->binary_crc;
     power_on_world(g);
     wsg_hal_t hal;
     wsg_sim_world_hal(&g->world, &hal);
-    hal.can = finger_bus_host_can(&g->fingers);
+    const hal_can_t *bus = finger_bus_host_can(&g->fingers);
+    hal.can = bus != NULL ? *bus : (hal_can_t){NULL, NULL};
     wsg_device_init(&g->device, &g->config, &hal);
     wsg_conn_set_drivers(&g->device, host_drivers, sizeof(host_drivers) / sizeof(host_drivers[0]));
     wsg_runner_init(&g->runner, &g->device, advance_world, g);
@@ -154,7 +154,7 @@ bool gripper_inject_finger_fault(gripper_t *g, unsigned slot, finger_fault_t fau
     if (slot >= FBUS_SLOTS || can == NULL) {
         return false;
     }
-    if (!can->on_demand) {
+    if (!can->ops->on_demand) {
         return finger_bus_host_inject(&g->fingers, slot, fault, active);
     }
     /* The in-process bus runs only when the device steps: bring it up to

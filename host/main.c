@@ -55,8 +55,8 @@ static void attach_observers(void *ctx, gripper_t *g)
 {
     const host_options_t *opts = ctx;
     if (g->index != 0) {
-        if (web_lines_enabled()) {
-            wsg_conn_observe(&g->device, web_lines_observer(), NULL);
+        if (opts->web_lines != NULL) {
+            wsg_conn_observe(&g->device, web_lines_observer(), opts->web_lines);
         }
         return;
     }
@@ -74,18 +74,19 @@ static bool delay_holds_replies(void *ctx, const wsg_conn_t *conn)
 }
 
 /* One line per further device of a fleet, then the ready line. */
-static bool announce(const simctl_t *sim, const host_options_t *opts, fleet_t *fleet)
+static bool announce(const simctl_t *sim, const web_server_t *web, const host_options_t *opts,
+                     fleet_t *fleet)
 {
     char line[512];
     char extra[256];
     char control[96];
     simctl_describe(sim, control, sizeof(control));
-    snprintf(extra, sizeof(extra), "%s%s", control, web_server_describe());
+    snprintf(extra, sizeof(extra), "%s%s", control, web_server_describe(web));
     fleet_ready_line(fleet, extra, line, sizeof(line));
     bool bin_tcp = opts->tcp_enabled && opts->protocol != HOST_PROTOCOL_GCL;
     notify_set_ports(fleet_tcp_port(fleet, 0), fleet_udp_port(fleet, 0));
     notify_set_binary_ports(bin_tcp ? fleet_tcp_port(fleet, 0) : -1, fleet_bin_udp_port(fleet, 0));
-    notify_set_http_port(web_server_port());
+    notify_set_http_port(web_server_port(web));
     notify_set_sim_port(simctl_port(sim));
     if (!notify_prepare(opts->ready_file)) {
         return false;
@@ -122,7 +123,7 @@ static void catch_up(void *sched)
 
 /* Starts everything on the simulation's clock and runs the loop until a
  * signal stops it; the exit status. */
-static int serve(simctl_t *sim, fleet_t *fleet, const host_options_t *opts)
+static int serve(simctl_t *sim, web_server_t *web, fleet_t *fleet, host_options_t *opts)
 {
     if (opts->start_paused) {
         simclock_start_paused(simctl_clock(sim)); /* simulated time stands at exactly 0 */
@@ -131,9 +132,8 @@ static int serve(simctl_t *sim, fleet_t *fleet, const host_options_t *opts)
     loop_set_catch_up(catch_up, simctl_scheduler(sim));
     loop_set_clock(simctl_clock(sim));
     loop_set_hangup(reopen_files);
-    fleet_observer_t observers = {.device_started = attach_observers,
-                                  .replies_held = delay_holds_replies,
-                                  .ctx = (void *)opts};
+    fleet_observer_t observers = {
+        .device_started = attach_observers, .replies_held = delay_holds_replies, .ctx = opts};
     if (opts->can_log != NULL && !can_log_open(opts->can_log)) {
         return EXIT_STARTUP_FAILED;
     }
@@ -141,10 +141,14 @@ static int serve(simctl_t *sim, fleet_t *fleet, const host_options_t *opts)
     simctl_set_fleet(sim, fleet);
     web_server_set_fleet(fleet);
     /* the web server first: the devices' observers keep its connection lines */
-    if (!web_server_start(opts, sim) || !fleet_start(fleet, opts) || !start_simulation(sim, opts)) {
+    if (!web_server_start(web, opts, sim)) {
         return EXIT_STARTUP_FAILED;
     }
-    if (!announce(sim, opts, fleet)) {
+    opts->web_lines = web_server_lines(web);
+    if (!fleet_start(fleet, opts) || !start_simulation(sim, opts)) {
+        return EXIT_STARTUP_FAILED;
+    }
+    if (!announce(sim, web, opts, fleet)) {
         return EXIT_STARTUP_FAILED;
     }
     char bus[96];
@@ -154,13 +158,13 @@ static int serve(simctl_t *sim, fleet_t *fleet, const host_options_t *opts)
         uint64_t deadline = simctl_tick(simctl_scheduler(sim));
         fleet_run_scripts(fleet);
         loop_wait(deadline);
-        web_server_poll();
+        web_server_poll(web);
         fleet_reap(fleet);
         simctl_reap(sim);
     }
     host_logf(HAL_LOG_INFO, "shutting down");
     notify_stopping(opts->ready_file);
-    web_server_stop(); /* while the devices its operations ran on exist */
+    web_server_stop(web); /* while the devices its operations ran on exist */
     fleet_stop(fleet);
     can_log_close();
     return stop_simulation(sim, opts);
@@ -171,17 +175,23 @@ int main(int argc, char **argv)
     host_options_t opts;
     options_result_t parsed = options_parse(argc, argv, &opts);
     if (parsed != OPTIONS_RUN) {
+        options_release(&opts);
         return parsed == OPTIONS_EXIT_OK ? 0 : EXIT_STARTUP_FAILED;
     }
     setvbuf(stderr, NULL, _IOLBF, 0);
     host_log_init();
     if (!start_logging(&opts)) {
+        options_release(&opts);
         return EXIT_STARTUP_FAILED;
     }
     simctl_t *sim = simctl_create();
+    web_server_t *web = web_server_create();
     fleet_t *fleet = fleet_create();
-    int status = sim != NULL && fleet != NULL ? serve(sim, fleet, &opts) : EXIT_STARTUP_FAILED;
+    int status = sim != NULL && web != NULL && fleet != NULL ? serve(sim, web, fleet, &opts)
+                                                             : EXIT_STARTUP_FAILED;
     fleet_destroy(fleet);
+    web_server_destroy(web); /* after the devices: their observers held its lines */
     simctl_destroy(sim);
+    options_release(&opts); /* the configuration read */
     return status;
 }

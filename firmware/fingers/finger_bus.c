@@ -26,7 +26,7 @@ void wsg_finger_bus_init(finger_bus_t *bus, const hal_can_t *can)
         {FBUS_ID_HEARTBEAT, 0x7FCu, 0},  {FBUS_ID_SIMCTL, 0x7FCu, 0},
     };
     unsigned count = sizeof(filters) / sizeof(filters[0]);
-    hal_can_set_filters(can, filters, can->on_demand ? count : count - 1u);
+    hal_can_set_filters(can, filters, can->ops->on_demand ? count : count - 1u);
     bus->power_mask = (uint8_t)((1u << FBUS_SLOTS) - 1u);
     bus->wake = true;
 }
@@ -144,10 +144,11 @@ static void on_measure(fbus_slot_t *s, wsg_finger_t *finger, const fbus_measure_
     }
 }
 
-static void on_bulk(fbus_slot_t *s, wsg_finger_t *finger, const fbus_bulk_t *b)
+/* A segment goes from the frame straight into the transfer. */
+static void on_bulk(fbus_slot_t *s, wsg_finger_t *finger, const hal_can_frame_t *f)
 {
     if (!s->config || s->desc.encoding != FBUS_ENC_BULK || s->node_state != FBUS_NODE_OPERATIONAL ||
-        !wsg_fbus_bulk_rx_feed(&s->bulk, b)) {
+        !wsg_fbus_bulk_rx_feed_frame(&s->bulk, f)) {
         return;
     }
     unsigned values = (unsigned)s->desc.rows * s->desc.cols;
@@ -167,7 +168,6 @@ static void dispatch_frame(fbus_slot_t *s, wsg_finger_t *finger, const hal_can_f
     fbus_heartbeat_t hb;
     fbus_descriptor_t d;
     fbus_measure_t m;
-    fbus_bulk_t b;
     switch (fbus_func_of(f->id)) {
     case FBUS_ID_HEARTBEAT:
         if (wsg_fbus_unpack_heartbeat(f, &hb)) {
@@ -185,8 +185,8 @@ static void dispatch_frame(fbus_slot_t *s, wsg_finger_t *finger, const hal_can_f
         }
         break;
     case FBUS_ID_BULK:
-        if (wsg_fbus_unpack_bulk(f, &b)) {
-            on_bulk(s, finger, &b);
+        if (wsg_fbus_is_bulk(f)) {
+            on_bulk(s, finger, f);
         }
         break;
     default:
@@ -381,7 +381,7 @@ static uint64_t supervise_due_us(const fbus_slot_t *s)
  * steps while moving, of which one in ten broadcasts). */
 static bool quiet(const finger_bus_t *bus, const wsg_fingers_t *fingers, const fbus_input_t *in)
 {
-    return bus->can->on_demand && !bus->wake && in->now_us < bus->quiet_until_us &&
+    return bus->can->ops->on_demand && !bus->wake && in->now_us < bus->quiet_until_us &&
            !bus->regulating && !(in->holding && wsg_fingers_force_control(fingers));
 }
 

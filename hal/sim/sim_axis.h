@@ -72,6 +72,12 @@ void wsg_sim_axis_place_obstacle(sim_axis_t *axis, float width_mm);
 void wsg_sim_axis_remove_obstacle(sim_axis_t *axis);
 /* Advances by dt seconds in steps of at most SIM_AXIS_MAX_STEP_S. */
 void wsg_sim_axis_advance(sim_axis_t *axis, float dt_s);
+/* No profile running and standing: only contacts change then, and a step
+ * of 0 s (wsg_sim_axis_advance(axis, 0)) changes nothing unless at rest. */
+static inline bool wsg_sim_axis_at_rest(const sim_axis_t *axis)
+{
+    return !axis->active && axis->v_mm_s == 0.0f;
+}
 
 /* Servo commands in reported (axis) coordinates. */
 void wsg_sim_axis_move(sim_axis_t *axis, float target_mm, float speed_mm_s, float accel_mm_s2,
@@ -80,6 +86,12 @@ void wsg_sim_axis_stop(sim_axis_t *axis, bool fast);
 /* Emergency stop with the drive switched off: no force until the next move. */
 void wsg_sim_axis_disable(sim_axis_t *axis);
 void wsg_sim_axis_set_position(sim_axis_t *axis, float position_mm);
+/* Puts the jaws at rest at an opening in axis coordinates (a part given at
+ * start needs them open beyond it). */
+void wsg_sim_axis_place_jaws(sim_axis_t *axis, float x_mm);
+/* Fault injection: the drive reports a supply or motor-current fault. */
+void wsg_sim_axis_set_power_fault(sim_axis_t *axis, bool on);
+void wsg_sim_axis_set_current_fault(sim_axis_t *axis, bool on);
 /* Inline: read at every step of the clock. */
 static inline float wsg_sim_axis_position(const sim_axis_t *axis)
 {

@@ -17,7 +17,9 @@ void wsg_sim_world_init(sim_world_t *world, const wsg_config_t *config, uint64_t
 void wsg_sim_world_advance(sim_world_t *world, uint64_t now_us)
 {
     if (now_us <= world->last_us) {
-        wsg_sim_axis_advance(&world->axis, 0.0f);
+        if (wsg_sim_axis_at_rest(&world->axis)) { /* else a step of 0 s does nothing */
+            wsg_sim_axis_advance(&world->axis, 0.0f);
+        }
         return;
     }
     float dt = (float)(now_us - world->last_us) * 1e-6f;
@@ -73,9 +75,11 @@ static float board_c(void *ctx)
     return wsg_sim_thermal_board_c(&((const sim_world_t *)ctx)->thermal);
 }
 
+static const hal_temp_ops_t temp_ops = {.board_c = board_c};
+
 void wsg_sim_world_hal(sim_world_t *world, wsg_hal_t *hal)
 {
     hal->axis = (hal_axis_t){&axis_ops, world};
-    hal->temp = (hal_temp_t){board_c, world};
-    hal->can = NULL;
+    hal->temp = (hal_temp_t){&temp_ops, world};
+    hal->can = (hal_can_t){NULL, NULL};
 }

@@ -24,6 +24,7 @@ static char file_path[256];
 
 host_options_t *fuzz_host_options(int argc, char **argv)
 {
+    options_release(&options); /* the configuration the last input read */
     if (options_parse(argc, argv, &options) != OPTIONS_RUN) {
         return NULL;
     }
