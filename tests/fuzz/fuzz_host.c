@@ -39,10 +39,11 @@ host_options_t *fuzz_host_options(int argc, char **argv)
  * others the web page's connection lines when those are kept. */
 static void attach_observers(void *ctx, gripper_t *g)
 {
+    const host_options_t *opts = ctx;
     if (g->index == 0) {
-        simctl_observers_attach(&g->device, ctx);
-    } else if (web_lines_enabled()) {
-        wsg_conn_observe(&g->device, web_lines_observer(), NULL);
+        simctl_observers_attach(&g->device, opts);
+    } else if (opts->web_lines != NULL) {
+        wsg_conn_observe(&g->device, web_lines_observer(), opts->web_lines);
     }
 }
 
