@@ -3,8 +3,8 @@
 #include <stdio.h>
 
 #include "can_log.h"
+#include "can_loopback.h"
 #include "coverage.h"
-#include "finger_bus_host.h"
 #include "fleet.h"
 #include "log.h"
 #include "loop.h"
@@ -13,8 +13,9 @@
 #include "options.h"
 #include "record.h"
 #include "sim/control.h"
-#include "tcp_server.h"
-#include "udp_server.h"
+#include "sim/delay.h"
+#include "sim/observers.h"
+#include "web/web_lines.h"
 #include "web/web_server.h"
 
 #define EXIT_STARTUP_FAILED 2
@@ -46,23 +47,51 @@ static int stop_simulation(simctl_t *sim, const host_options_t *opts)
     return 0;
 }
 
+/* A device's observers, attached as the fleet powers it on: device 0
+ * carries the simulation's (trace, record, coverage) and --can-log taps its
+ * in-process bus; the others keep the web page's connection lines (the hub
+ * is device 0's). */
+static void attach_observers(void *ctx, gripper_t *g)
+{
+    const host_options_t *opts = ctx;
+    if (g->index != 0) {
+        if (opts->web_lines != NULL) {
+            wsg_conn_observe(&g->device, web_lines_observer(), opts->web_lines);
+        }
+        return;
+    }
+    simctl_observers_attach(&g->device, opts);
+    can_loopback_t *bus = finger_bus_host_loopback(&g->fingers);
+    if (opts->can_log != NULL && bus != NULL) {
+        can_loopback_set_tap(bus, can_log_frame, NULL);
+    }
+}
+
+static bool delay_holds_replies(void *ctx, const wsg_conn_t *conn)
+{
+    (void)ctx;
+    return simctl_delay_holding(conn);
+}
+
 /* One line per further device of a fleet, then the ready line. */
-static bool announce(const simctl_t *sim, const web_server_t *web, const host_options_t *opts)
+static bool announce(const simctl_t *sim, const web_server_t *web, const host_options_t *opts,
+                     fleet_t *fleet)
 {
     char line[512];
     char extra[256];
     char control[96];
     simctl_describe(sim, control, sizeof(control));
     snprintf(extra, sizeof(extra), "%s%s", control, web_server_describe(web));
-    fleet_ready_line(extra, line, sizeof(line));
+    fleet_ready_line(fleet, extra, line, sizeof(line));
     bool bin_tcp = opts->tcp_enabled && opts->protocol != HOST_PROTOCOL_GCL;
-    notify_set_binary_ports(bin_tcp ? fleet_tcp_port(0) : -1, fleet_bin_udp_port(0));
+    notify_set_ports(fleet_tcp_port(fleet, 0), fleet_udp_port(fleet, 0));
+    notify_set_binary_ports(bin_tcp ? fleet_tcp_port(fleet, 0) : -1, fleet_bin_udp_port(fleet, 0));
     notify_set_http_port(web_server_port(web));
     notify_set_sim_port(simctl_port(sim));
     if (!notify_prepare(opts->ready_file)) {
         return false;
     }
-    fleet_announce_devices();
+    fleet_announce_devices(fleet);
     host_logf(HAL_LOG_INFO, "%s", line);
     return notify_ready(opts->ready_file, line);
 }
@@ -94,7 +123,7 @@ static void catch_up(void *sched)
 
 /* Starts everything on the simulation's clock and runs the loop until a
  * signal stops it; the exit status. */
-static int serve(simctl_t *sim, web_server_t *web, host_options_t *opts)
+static int serve(simctl_t *sim, web_server_t *web, fleet_t *fleet, host_options_t *opts)
 {
     if (opts->start_paused) {
         simclock_start_paused(simctl_clock(sim)); /* simulated time stands at exactly 0 */
@@ -103,35 +132,40 @@ static int serve(simctl_t *sim, web_server_t *web, host_options_t *opts)
     loop_set_catch_up(catch_up, simctl_scheduler(sim));
     loop_set_clock(simctl_clock(sim));
     loop_set_hangup(reopen_files);
-    if (!finger_bus_host_start(opts) || (opts->can_log != NULL && !can_log_open(opts->can_log))) {
+    fleet_observer_t observers = {
+        .device_started = attach_observers, .replies_held = delay_holds_replies, .ctx = opts};
+    if (opts->can_log != NULL && !can_log_open(opts->can_log)) {
         return EXIT_STARTUP_FAILED;
     }
+    fleet_observe(fleet, &observers);
+    simctl_set_fleet(sim, fleet);
+    web_server_set_fleet(fleet);
     /* the web server first: the devices' observers keep its connection lines */
     if (!web_server_start(web, opts, sim)) {
         return EXIT_STARTUP_FAILED;
     }
     opts->web_lines = web_server_lines(web);
-    if (!fleet_start(opts) || !start_simulation(sim, opts)) {
+    if (!fleet_start(fleet, opts) || !start_simulation(sim, opts)) {
         return EXIT_STARTUP_FAILED;
     }
-    if (!announce(sim, web, opts)) {
+    if (!announce(sim, web, opts, fleet)) {
         return EXIT_STARTUP_FAILED;
     }
-    host_logf(HAL_LOG_INFO, "finger bus: %s", finger_bus_host_describe());
+    char bus[96];
+    finger_bus_host_describe(&fleet_gripper(fleet, 0)->fingers, bus, sizeof(bus));
+    host_logf(HAL_LOG_INFO, "finger bus: %s", bus);
     while (!loop_stop_requested()) {
         uint64_t deadline = simctl_tick(simctl_scheduler(sim));
-        fleet_run_scripts();
+        fleet_run_scripts(fleet);
         loop_wait(deadline);
         web_server_poll(web);
-        tcp_server_reap();
-        udp_server_reap();
+        fleet_reap(fleet);
         simctl_reap(sim);
     }
     host_logf(HAL_LOG_INFO, "shutting down");
     notify_stopping(opts->ready_file);
     web_server_stop(web); /* while the devices its operations ran on exist */
-    fleet_stop();
-    finger_bus_host_stop();
+    fleet_stop(fleet);
     can_log_close();
     return stop_simulation(sim, opts);
 }
@@ -152,7 +186,10 @@ int main(int argc, char **argv)
     }
     simctl_t *sim = simctl_create();
     web_server_t *web = web_server_create();
-    int status = sim != NULL && web != NULL ? serve(sim, web, &opts) : EXIT_STARTUP_FAILED;
+    fleet_t *fleet = fleet_create();
+    int status = sim != NULL && web != NULL && fleet != NULL ? serve(sim, web, fleet, &opts)
+                                                             : EXIT_STARTUP_FAILED;
+    fleet_destroy(fleet);
     web_server_destroy(web); /* after the devices: their observers held its lines */
     simctl_destroy(sim);
     options_release(&opts); /* the configuration read */

@@ -99,6 +99,12 @@ void simctl_destroy(simctl_t *ctl)
     free(ctl);
 }
 
+void simctl_set_fleet(simctl_t *ctl, struct fleet *fleet)
+{
+    ctl->sim.fleet = fleet;
+    ctl->sim.sched.fleet = fleet;
+}
+
 static void channel_name(const control_client_t *c, char *out, size_t cap)
 {
     snprintf(out, cap, "ctl%u", c->number);

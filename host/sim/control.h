@@ -17,6 +17,7 @@
 
 #include "wsg/wsg_device.h"
 
+struct fleet;
 typedef struct simctl simctl_t;
 
 /* RUN_UNTIL_DONE: the operation it waits for, and how the run ended. */
@@ -37,6 +38,7 @@ typedef struct {
     simctl_sched_t sched;
     scenario_t scenario;
     simctl_faults_t faults;
+    struct fleet *fleet; /* the devices (simctl_set_fleet) */
     simctl_run_watch_t run;
 } simctl_sim_t;
 
@@ -77,6 +79,15 @@ static inline simctl_faults_t *simctl_faults(simctl_t *ctl)
 static inline simctl_run_watch_t *simctl_run_watch(simctl_t *ctl)
 {
     return &simctl_sim(ctl)->run;
+}
+
+/* The devices it drives and addresses, before simctl_tick() and the
+ * channel's commands run. */
+void simctl_set_fleet(simctl_t *ctl, struct fleet *fleet);
+
+static inline struct fleet *simctl_fleet(const simctl_t *ctl)
+{
+    return ((const simctl_sim_t *)(const void *)ctl)->fleet;
 }
 
 /* Listens on addr:port (addr NULL: 127.0.0.1); false after a clear message. */

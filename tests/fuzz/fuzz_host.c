@@ -6,17 +6,20 @@
 #include <stdlib.h>
 #include <unistd.h>
 
-#include "finger_bus_host.h"
 #include "fleet.h"
 #include "log.h"
 #include "sim/clock.h"
 #include "sim/delay.h"
 #include "sim/faults.h"
+#include "sim/observers.h"
 #include "sim/scenario.h"
 #include "sim/scheduler.h"
+#include "web/web_lines.h"
+#include "web/web_server.h"
 
 static host_options_t options;
 static simctl_t *sim;
+static fleet_t *fleet;
 static char file_path[256];
 
 host_options_t *fuzz_host_options(int argc, char **argv)
@@ -32,8 +35,21 @@ host_options_t *fuzz_host_options(int argc, char **argv)
     return &options;
 }
 
+/* As build/wsgsim does: device 0 carries the simulation's observers, the
+ * others the web page's connection lines when those are kept. */
+static void attach_observers(void *ctx, gripper_t *g)
+{
+    const host_options_t *opts = ctx;
+    if (g->index == 0) {
+        simctl_observers_attach(&g->device, opts);
+    } else if (opts->web_lines != NULL) {
+        wsg_conn_observe(&g->device, web_lines_observer(), opts->web_lines);
+    }
+}
+
 void fuzz_host_start(const host_options_t *opts)
 {
+    static fleet_observer_t observers = {.device_started = attach_observers};
     static bool logging;
     if (!logging) {
         host_log_init();
@@ -41,11 +57,17 @@ void fuzz_host_start(const host_options_t *opts)
         logging = true;
     }
     sim = simctl_create();
-    if (sim == NULL) {
+    fleet = fleet_create();
+    if (sim == NULL || fleet == NULL) {
         abort();
     }
     simclock_start_paused(simctl_clock(sim));
-    if (!finger_bus_host_start(opts) || !fleet_start(opts)) {
+    observers.ctx = (void *)opts;
+    observers.next = NULL;
+    fleet_observe(fleet, &observers);
+    simctl_set_fleet(sim, fleet);
+    web_server_set_fleet(fleet);
+    if (!fleet_start(fleet, opts)) {
         abort(); /* options that parsed must start */
     }
 }
@@ -68,12 +90,12 @@ void fuzz_host_step(uint64_t us)
 void fuzz_host_stop(void)
 {
     scenario_unload(simctl_scenario(sim));
-    for (unsigned i = 0; i < fleet_count(); i++) {
-        simctl_delay_clear_all(&fleet_gripper(i)->device, false);
-        simctl_fault_clear_all(simctl_faults(sim), fleet_gripper(i));
+    for (unsigned i = 0; i < fleet_count(fleet); i++) {
+        simctl_delay_clear_all(&fleet_gripper(fleet, i)->device, false);
+        simctl_fault_clear_all(simctl_faults(sim), fleet_gripper(fleet, i));
     }
-    fleet_stop();
-    finger_bus_host_stop();
+    fleet_destroy(fleet);
+    fleet = NULL;
     simctl_destroy(sim);
     sim = NULL;
 }
@@ -81,6 +103,11 @@ void fuzz_host_stop(void)
 simctl_t *fuzz_host_sim(void)
 {
     return sim;
+}
+
+fleet_t *fuzz_host_fleet(void)
+{
+    return fleet;
 }
 
 const char *fuzz_host_file(const uint8_t *data, size_t size)
