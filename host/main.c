@@ -139,9 +139,8 @@ static int serve(simctl_t *sim, web_server_t *web, fleet_t *fleet, host_options_
     }
     fleet_observe(fleet, &observers);
     simctl_set_fleet(sim, fleet);
-    web_server_set_fleet(fleet);
     /* the web server first: the devices' observers keep its connection lines */
-    if (!web_server_start(web, opts, sim)) {
+    if (!web_server_start(web, opts, sim, fleet)) {
         return EXIT_STARTUP_FAILED;
     }
     opts->web_lines = web_server_lines(web);

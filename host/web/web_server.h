@@ -30,10 +30,9 @@ void web_server_destroy(web_server_t *web);
  * skipped with a warning. Call before fleet_start(): the devices' observers
  * keep the connection lines only when the server is on. The simulation
  * routes run their commands on sim. */
-bool web_server_start(web_server_t *web, const host_options_t *opts, simctl_t *sim);
 struct fleet;
-/* The devices its pages show (main, before the loop runs). */
-void web_server_set_fleet(struct fleet *fleet);
+bool web_server_start(web_server_t *web, const host_options_t *opts, simctl_t *sim,
+                      struct fleet *fleet);
 /* After every loop_wait(): runs what is due on the wall clock. Costs one
  * test when nothing is scheduled. */
 void web_server_poll(web_server_t *web);

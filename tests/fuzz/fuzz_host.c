@@ -66,7 +66,6 @@ void fuzz_host_start(const host_options_t *opts)
     observers.next = NULL;
     fleet_observe(fleet, &observers);
     simctl_set_fleet(sim, fleet);
-    web_server_set_fleet(fleet);
     if (!fleet_start(fleet, opts)) {
         abort(); /* options that parsed must start */
     }
