@@ -13,11 +13,9 @@
 #include "log.h"
 #include "script.h"
 #include "script_options.h"
-#include "sim/observers.h"
 #include "sim/sim_models.h"
 #include "wsg/wsg_bin.h"
 #include "wsg/wsg_gcl.h"
-#include "web/web_lines.h"
 
 /* What a connection opened without a driver (--protocol auto) may speak:
  * the binary protocol claims its preamble byte, GCL everything else. */
@@ -104,11 +102,6 @@ void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
     wsg_device_init(&g->device, &g->config, &hal);
     wsg_conn_set_drivers(&g->device, host_drivers, sizeof(host_drivers) / sizeof(host_drivers[0]));
     wsg_runner_init(&g->runner, &g->device, advance_world, g);
-    if (index == 0) {
-        simctl_observers_attach(&g->device, opts);
-    } else if (web_lines_enabled()) {
-        wsg_conn_observe(&g->device, web_lines_observer(), NULL); /* the hub is device 0's */
-    }
     g->script = NULL;
     g->startup_set = NULL;
     g->startup_cleared = false;

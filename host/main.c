@@ -17,18 +17,52 @@
 #include "sim/scenario.h"
 #include "sim/scheduler.h"
 #include "tcp_server.h"
+#include "trace.h"
 #include "udp_server.h"
 #include "web/web_server.h"
 
 #define EXIT_STARTUP_FAILED 2
 
-/* Simulation control (docs/simctl.md): record, scenario, control channel. */
-static bool start_simulation(const host_options_t *opts)
+/* The diagnostics: created only when asked for (a plain run pays nothing
+ * per message), each attached to every device of the fleet. */
+typedef struct {
+    trace_t *trace;
+    record_t *record;
+    coverage_t *coverage; /* always (COVERAGE?); counting only when asked */
+} diagnostics_t;
+
+static bool start_diagnostics(diagnostics_t *d, const host_options_t *opts)
 {
-    if (opts->record_path != NULL && !record_open(opts->record_path)) {
+    unsigned devices = fleet_count();
+    bool counting = opts->coverage_path != NULL || opts->sim_port >= 0;
+    d->coverage = coverage_create(opts->strict, devices);
+    d->trace = opts->trace ? trace_create(opts->strict, devices) : NULL;
+    if (d->coverage == NULL || (opts->trace && d->trace == NULL)) {
         return false;
     }
-    if (opts->coverage_path != NULL && !coverage_open(opts->coverage_path)) {
+    if (opts->record_path != NULL && (d->record = record_open(opts->record_path, devices)) == NULL) {
+        return false;
+    }
+    if (opts->coverage_path != NULL && !coverage_open(d->coverage, opts->coverage_path)) {
+        return false;
+    }
+    for (unsigned i = 0; i < devices; i++) {
+        wsg_device_t *dev = &fleet_gripper(i)->device;
+        if (counting) {
+            coverage_attach(d->coverage, dev, i);
+        }
+        trace_attach(d->trace, dev, i);
+        record_attach(d->record, dev, i);
+        web_lines_attach(web_server_lines(), dev, i);
+    }
+    simctl_set_diagnostics(d->record, d->coverage);
+    return true;
+}
+
+/* Simulation control (docs/simctl.md): record, scenario, control channel. */
+static bool start_simulation(diagnostics_t *d, const host_options_t *opts)
+{
+    if (!start_diagnostics(d, opts)) {
         return false;
     }
     if (opts->scenario_path != NULL && !scenario_load(opts->scenario_path, 0)) {
@@ -37,15 +71,17 @@ static bool start_simulation(const host_options_t *opts)
     return opts->sim_port < 0 || simctl_start(opts->sim_bind, opts->sim_port);
 }
 
-static int stop_simulation(const host_options_t *opts)
+/* After the devices are gone. */
+static int stop_simulation(diagnostics_t *d, const host_options_t *opts)
 {
     simctl_stop();
     scenario_unload();
-    record_close();
-    if (opts->coverage_path != NULL && !coverage_write(opts->strict)) {
-        return 1;
-    }
-    return 0;
+    simctl_set_diagnostics(NULL, NULL);
+    record_close(d->record);
+    trace_destroy(d->trace);
+    bool written = opts->coverage_path == NULL || coverage_write(d->coverage);
+    coverage_destroy(d->coverage);
+    return written ? 0 : 1;
 }
 
 /* One line per further device of a fleet, then the ready line. */
@@ -78,7 +114,7 @@ static bool start_logging(const host_options_t *opts)
 static void reopen_files(void)
 {
     host_log_reopen();
-    if (!record_reopen()) {
+    if (!record_reopen(simctl_record())) {
         host_logf(HAL_LOG_ERROR, "cannot reopen the --record file (still writing the old one)");
     }
     if (!can_log_reopen()) {
@@ -113,8 +149,8 @@ int main(int argc, char **argv)
     if (!finger_bus_host_start(&opts) || (opts.can_log != NULL && !can_log_open(opts.can_log))) {
         return EXIT_STARTUP_FAILED;
     }
-    /* the web server first: the devices' observers keep its connection lines */
-    if (!web_server_start(&opts) || !fleet_start(&opts) || !start_simulation(&opts)) {
+    diagnostics_t diagnostics = {NULL, NULL, NULL};
+    if (!web_server_start(&opts) || !fleet_start(&opts) || !start_simulation(&diagnostics, &opts)) {
         return EXIT_STARTUP_FAILED;
     }
     if (!announce(&opts)) {
@@ -136,5 +172,5 @@ int main(int argc, char **argv)
     fleet_stop();
     finger_bus_host_stop();
     can_log_close();
-    return stop_simulation(&opts);
+    return stop_simulation(&diagnostics, &opts);
 }

@@ -188,8 +188,8 @@ static void add_hardware_faults(cJSON *list)
 static void add_protocol_faults(cJSON *list, gripper_t *g)
 {
     simctl_delay_info_t d;
-    for (unsigned i = 0; simctl_delay_info(i, &d); i++) {
-        if (d.device != &g->device) {
+    for (wsg_conn_t *c = wsg_device_conn_first(&g->device); c != NULL; c = wsg_conn_next(c)) {
+        if (!simctl_delay_info(c, &d)) {
             continue;
         }
         cJSON *j = cJSON_CreateObject();

@@ -15,7 +15,6 @@
 #include "log.h"
 #include "loop.h"
 #include "net.h"
-#include "sim/delay.h"
 #include "wsg/wsg_bin.h"
 #include "wsg/wsg_gcl.h"
 #include "wsg/wsg_outq.h"
@@ -431,13 +430,6 @@ int tcp_server_port(const tcp_server_t *s)
     return s->listener != NULL && s->listener->fd >= 0 ? net_local_port(s->listener->fd) : -1;
 }
 
-/* Replies held back by an injected DELAY (control channel) still count as
- * queued: a half-closed connection waits for them too. */
-static bool replies_held(const wsg_conn_t *conn)
-{
-    return simctl_delay_holding(conn);
-}
-
 static bool idle_too_long(tcp_client_t *c, uint64_t now)
 {
     uint64_t timeout = c->server->idle_timeout_us;
@@ -454,7 +446,7 @@ static bool finished(tcp_client_t *c, uint64_t now)
 {
     bool flushed = wsg_outq_empty(&c->outq);
     bool said_bye = wsg_conn_wants_close(&c->conn);
-    bool input_done = c->eof && flushed && !replies_held(&c->conn);
+    bool input_done = c->eof && flushed && !wsg_conn_replies_held(&c->conn);
     return c->dead || (said_bye && flushed) || input_done || idle_too_long(c, now);
 }
 

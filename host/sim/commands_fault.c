@@ -4,6 +4,7 @@
 #include <strings.h>
 
 #include "commands_internal.h"
+#include "control.h"
 #include "delay.h"
 #include "faults.h"
 #include "gripper.h"
@@ -65,14 +66,7 @@ static void clear_failnext(simctl_ctx_t *ctx)
 
 static void clear_delays(simctl_ctx_t *ctx)
 {
-    const wsg_device_t *dev = &ctx->gripper->device;
-    simctl_delay_info_t info;
-    bool any = false;
-    for (unsigned i = 0; simctl_delay_info(i, &info); i++) {
-        any = any || info.device == dev;
-    }
-    if (any) {
-        simctl_delay_clear_all(dev, true);
+    if (simctl_delay_clear_all(simctl_delays(), &ctx->gripper->device, true) > 0) {
         host_logf(HAL_LOG_INFO, "fault cleared: DELAY (held lines delivered)");
     }
 }
@@ -133,7 +127,7 @@ wsg_status_t sc_faults(simctl_ctx_t *ctx)
 
 static wsg_status_t delay_session(wsg_conn_t *c, double ms)
 {
-    simctl_delay_arm(c, (uint32_t)(ms * 1000.0 + 0.5));
+    simctl_delay_arm(simctl_delays(), c, (uint32_t)(ms * 1000.0 + 0.5));
     host_logf(HAL_LOG_WARN, "fault injected: DELAY next reply of session %llu by %.3f ms",
               (unsigned long long)wsg_conn_id(c), ms);
     return E_SUCCESS;

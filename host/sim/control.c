@@ -15,7 +15,6 @@
 #include "loop.h"
 #include "net.h"
 #include "wsg/wsg_outq.h"
-#include "record.h"
 #include "scheduler.h"
 #include "wsg/gcl_linebuf.h"
 
@@ -51,6 +50,9 @@ static struct {
     unsigned connections;
     control_client_t *stepper; /* waits for the reply of its STEP */
     control_client_t clients[CONTROL_CLIENTS_MAX];
+    simctl_delays_t delays; /* all zero: none armed */
+    record_t *record;
+    coverage_t *coverage;
 } ctl = {.listener = {.fd = -1}};
 
 static void channel_name(const control_client_t *c, char *out, size_t cap)
@@ -142,7 +144,7 @@ static void record_and_send(control_client_t *c, const char *reply)
 {
     char channel[16];
     channel_name(c, channel, sizeof(channel));
-    record_control(channel, '>', reply, strlen(reply));
+    record_control(ctl.record, channel, '>', reply, strlen(reply));
     send_reply(c, reply);
 }
 
@@ -154,7 +156,7 @@ static void handle_line(control_client_t *c)
     if (wsg_gcl_linebuf_status(lb) == GCL_LINE_OK && strspn(lb->text, " \t") == lb->len) {
         return; /* blank line */
     }
-    record_control(channel, '<', lb->text, lb->len);
+    record_control(ctl.record, channel, '<', lb->text, lb->len);
     char *reply = NULL;
     simctl_outcome_t outcome = {false, false};
     if (wsg_gcl_linebuf_status(lb) != GCL_LINE_OK) {
@@ -340,4 +342,25 @@ void simctl_stop(void)
         }
     }
     listener_stop(&ctl.listener);
+}
+
+void simctl_set_diagnostics(record_t *record, coverage_t *coverage)
+{
+    ctl.record = record;
+    ctl.coverage = coverage;
+}
+
+record_t *simctl_record(void)
+{
+    return ctl.record;
+}
+
+coverage_t *simctl_coverage(void)
+{
+    return ctl.coverage;
+}
+
+simctl_delays_t *simctl_delays(void)
+{
+    return &ctl.delays;
 }

@@ -7,7 +7,7 @@
 #include "delay.h"
 #include "fleet.h"
 #include "hal_clock.h"
-#include "observers.h"
+#include "control.h"
 #include "scenario.h"
 
 /* The simulated work one simctl_tick() may do before the loop serves the
@@ -74,10 +74,10 @@ static bool run_due(unsigned *budget, uint64_t *next)
         return false;
     }
     *next = fleet_tick();
-    simctl_observers_after_tick(&fleet_gripper(0)->device); /* observers: device 0's */
-    simctl_delay_release_due(now);
+    coverage_sample_flags(simctl_coverage());
+    simctl_delay_release_due(simctl_delays(), now);
     *next = earliest(*next, scenario_next_us());
-    *next = earliest(*next, simctl_delay_next_us());
+    *next = earliest(*next, simctl_delay_next_us(simctl_delays()));
     spend(budget, 1u);
     return true;
 }

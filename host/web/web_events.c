@@ -9,6 +9,7 @@
 #include "web/web_internal.h"
 #include "web/web_json.h"
 #include "web/web_lines.h"
+#include "web/web_server.h"
 
 #define NS_PER_MS 1000000ull
 /* MHD's buffer for a callback response: one event usually fits. */
@@ -242,7 +243,7 @@ enum MHD_Result web_events_route(const web_request_t *req, gripper_t *g)
         return MHD_NO;
     }
     link_stream(s);
-    web_lines_watch();
+    web_lines_watch(web_server_lines());
     MHD_add_response_header(response, MHD_HTTP_HEADER_CONTENT_TYPE, "text/event-stream");
     MHD_add_response_header(response, MHD_HTTP_HEADER_CACHE_CONTROL, "no-store");
     enum MHD_Result result = MHD_queue_response(req->connection, MHD_HTTP_OK, response);

@@ -31,47 +31,54 @@ typedef struct {
     line_t lines[WEB_LINES_KEPT];
 } ring_t;
 
-static struct {
-    ring_t *rings; /* SLOTS of them while enabled */
-} lines;
+struct web_lines {
+    bool watched; /* a client looked: lines are kept from then on */
+    unsigned count;
+    wsg_conn_observer_t *observers; /* one per device */
+    ring_t rings[SLOTS];
+};
 
-bool web_lines_watched;
-
-void web_lines_enable(void)
+web_lines_t *web_lines_create(unsigned devices)
 {
-    if (lines.rings == NULL) {
-        lines.rings = calloc(SLOTS, sizeof(*lines.rings));
+    web_lines_t *wl = calloc(1, sizeof(*wl));
+    wsg_conn_observer_t *observers = calloc(devices > 0 ? devices : 1u, sizeof(*observers));
+    if (wl == NULL || observers == NULL) {
+        free(wl);
+        free(observers);
+        return NULL;
+    }
+    wl->count = devices;
+    wl->observers = observers;
+    return wl;
+}
+
+void web_lines_destroy(web_lines_t *wl)
+{
+    if (wl != NULL) {
+        free(wl->observers);
+        free(wl);
     }
 }
 
-void web_lines_disable(void)
+void web_lines_watch(web_lines_t *wl)
 {
-    free(lines.rings);
-    lines.rings = NULL;
-    web_lines_watched = false;
+    if (wl != NULL) {
+        wl->watched = true;
+    }
 }
 
-bool web_lines_enabled(void)
-{
-    return lines.rings != NULL;
-}
-
-void web_lines_watch(void)
-{
-    web_lines_watched = lines.rings != NULL;
-}
-
-static ring_t *slot_of(const wsg_device_t *device, uint64_t id)
+static ring_t *slot_of(web_lines_t *wl, const wsg_device_t *device, uint64_t id)
 {
     uint64_t hash = (id ^ (uint64_t)((uintptr_t)device >> 4)) * 0x9E3779B97F4A7C15ull;
-    return &lines.rings[(hash >> 56) & (SLOTS - 1u)];
+    return &wl->rings[(hash >> 56) & (SLOTS - 1u)];
 }
 
-void web_lines_record(const wsg_conn_t *c, bool incoming, const char *bytes, size_t len)
+static void keep_line(web_lines_t *wl, const wsg_conn_t *c, bool incoming, const char *bytes,
+                      size_t len)
 {
     uint64_t id = wsg_conn_id(c);
     const wsg_device_t *device = wsg_conn_device(c);
-    ring_t *r = slot_of(device, id);
+    ring_t *r = slot_of(wl, device, id);
     if (r->id != id || r->device != device) {
         r->id = id;
         r->device = device;
@@ -113,18 +120,18 @@ static void format_frame(char *out, size_t cap, const line_t *line)
              name != NULL ? name : "unknown", line->len);
 }
 
-static const ring_t *find(const wsg_conn_t *c)
+static const ring_t *find(web_lines_t *wl, const wsg_conn_t *c)
 {
-    if (lines.rings == NULL) {
+    if (wl == NULL) {
         return NULL;
     }
-    const ring_t *r = slot_of(wsg_conn_device(c), wsg_conn_id(c));
+    const ring_t *r = slot_of(wl, wsg_conn_device(c), wsg_conn_id(c));
     return r->id == wsg_conn_id(c) && r->device == wsg_conn_device(c) ? r : NULL;
 }
 
-void web_lines_write(web_json_t *j, const char *key, const wsg_conn_t *c)
+void web_lines_write(web_lines_t *wl, web_json_t *j, const char *key, const wsg_conn_t *c)
 {
-    const ring_t *r = find(c);
+    const ring_t *r = find(wl, c);
     char text[LINE_CHARS + 3u];
     web_json_open_array(j, key);
     for (unsigned i = 0; r != NULL && i < r->count; i++) {
@@ -139,31 +146,40 @@ void web_lines_write(web_json_t *j, const char *key, const wsg_conn_t *c)
     web_json_close_array(j);
 }
 
-const char *web_lines_protocol(const wsg_conn_t *c)
+const char *web_lines_protocol(web_lines_t *wl, const wsg_conn_t *c)
 {
     wsg_gcl_conn_info_t info;
     if (wsg_gcl_conn_info(c, &info)) {
         return "gcl";
     }
-    const ring_t *r = find(c);
+    const ring_t *r = find(wl, c);
     return r != NULL && r->binary ? "binary" : "undetected";
 }
 
+/* A message from the client (incoming, shown as "> ...") or to it ("< ..."):
+ * until a client looks, a line costs one test. */
 static void on_in(void *ctx, const wsg_conn_t *c, const char *bytes, size_t len)
 {
-    (void)ctx;
-    web_lines_note(c, true, bytes, len);
+    web_lines_t *wl = ctx;
+    if (wl->watched) {
+        keep_line(wl, c, true, bytes, len);
+    }
 }
 
 static void on_out(void *ctx, const wsg_conn_t *c, const char *bytes, size_t len)
 {
-    (void)ctx;
-    web_lines_note(c, false, bytes, len);
+    web_lines_t *wl = ctx;
+    if (wl->watched) {
+        keep_line(wl, c, false, bytes, len);
+    }
 }
 
-static const wsg_conn_observer_t observer = {.message_in = on_in, .message_out = on_out};
-
-const wsg_conn_observer_t *web_lines_observer(void)
+void web_lines_attach(web_lines_t *wl, wsg_device_t *dev, unsigned index)
 {
-    return &observer;
+    if (wl == NULL || index >= wl->count) {
+        return;
+    }
+    wl->observers[index] =
+        (wsg_conn_observer_t){.message_in = on_in, .message_out = on_out, .ctx = wl};
+    wsg_conn_add_observer(dev, &wl->observers[index]);
 }

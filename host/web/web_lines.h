@@ -18,28 +18,20 @@
 
 #define WEB_LINES_KEPT 8
 
-void web_lines_enable(void);
-void web_lines_disable(void);
-/* True while the server is on: the observer hub then watches messages. */
-bool web_lines_enabled(void);
-/* A client looks: lines are kept from now on. */
-void web_lines_watch(void);
-/* True once a client looks: read inline by the observers, so that a line
- * nobody watches costs one test and no call. Set by web_lines_watch(). */
-extern bool web_lines_watched;
-void web_lines_record(const wsg_conn_t *c, bool incoming, const char *bytes, size_t len);
-/* A message from the client (incoming, shown as "> ...") or to it ("< ..."). */
-static inline void web_lines_note(const wsg_conn_t *c, bool incoming, const char *bytes, size_t len)
-{
-    if (web_lines_watched) {
-        web_lines_record(c, incoming, bytes, len);
-    }
-}
-/* The connection's last lines, oldest first, as an array (empty when none). */
-void web_lines_write(web_json_t *j, const char *key, const wsg_conn_t *c);
+typedef struct web_lines web_lines_t;
+
+/* The table, for a fleet of `devices`; NULL when out of memory. */
+web_lines_t *web_lines_create(unsigned devices);
+/* Keeps device `index`'s lines (below the create's count) from now on. */
+void web_lines_attach(web_lines_t *wl, wsg_device_t *dev, unsigned index);
+/* After the devices it observes are gone (or never used again). */
+void web_lines_destroy(web_lines_t *wl);
+/* A client looks: lines are kept from now on. Nothing for NULL. */
+void web_lines_watch(web_lines_t *wl);
+/* The connection's last lines, oldest first, as an array (empty when none,
+ * or wl NULL). */
+void web_lines_write(web_lines_t *wl, web_json_t *j, const char *key, const wsg_conn_t *c);
 /* "gcl", "binary" or "undetected" (no byte yet on an auto-detecting port). */
-const char *web_lines_protocol(const wsg_conn_t *c);
-/* The observer for devices without the hub's (devices 1.. of a fleet). */
-const wsg_conn_observer_t *web_lines_observer(void);
+const char *web_lines_protocol(web_lines_t *wl, const wsg_conn_t *c);
 
 #endif

@@ -7,6 +7,7 @@
 #include "fleet.h"
 #include "web/web_json.h"
 #include "web/web_lines.h"
+#include "web/web_server.h"
 
 #define API_DEVICES "/api/devices"
 #define ID_DIGITS_MAX 6
@@ -57,7 +58,7 @@ static enum MHD_Result get_state(const web_request_t *req, gripper_t *g)
     if (!is_method(req, MHD_HTTP_METHOD_GET)) {
         return web_reply_wrong_method(req, MHD_HTTP_METHOD_GET);
     }
-    web_lines_watch();
+    web_lines_watch(web_server_lines());
     web_json_t j;
     web_json_init(&j);
     web_state_write(&j, g);

@@ -59,6 +59,7 @@ static struct {
     uint64_t mhd_due_ns;    /* MHD's next timeout (monotonic), 0: none */
     bool connection_closed; /* in this MHD_run() */
     char describe[128];
+    web_lines_t *lines; /* the connection list's last lines, while on */
 } web = {.listen_fd = -1, .epoll_fd = -1, .port = -1};
 
 static uint64_t earliest_nonzero(uint64_t a, uint64_t b)
@@ -384,7 +385,7 @@ bool web_server_start(const host_options_t *opts)
         return false;
     }
     web.port = net_local_port(web.listen_fd);
-    web_lines_enable();
+    web.lines = web_lines_create((unsigned)opts->devices);
     char endpoint[96];
     net_format_endpoint(bind, web.port, endpoint, sizeof(endpoint));
     snprintf(web.describe, sizeof(web.describe), ", http %s", endpoint);
@@ -416,8 +417,19 @@ void web_server_stop(void)
         web.listen_fd = -1;
     }
     web_ops_forget();
-    web_lines_disable();
+    web_lines_destroy(web.lines);
+    web.lines = NULL;
     web.epoll_fd = -1;
     web.port = -1;
     web.mhd_due_ns = 0;
+}
+
+web_lines_t *web_server_lines(void)
+{
+    return web.lines;
+}
+
+void web_server_lend_lines(web_lines_t *lines)
+{
+    web.lines = lines;
 }

@@ -15,12 +15,12 @@
 #include <stdbool.h>
 
 #include "options.h"
+#include "web/web_lines.h"
 
 /* Starts the server on opts->http_bind (or opts->bind_addr) port
  * opts->http_port; off when the port is 0. False (logged) when the port or
  * the address was given and cannot be had; the default, when taken, is
- * skipped with a warning. Call before fleet_start(): the devices' observers
- * keep the connection lines only when the server is on. */
+ * skipped with a warning. */
 bool web_server_start(const host_options_t *opts);
 /* After every loop_wait(): runs what is due on the wall clock. Costs one
  * test when nothing is scheduled. */
@@ -30,5 +30,10 @@ const char *web_server_describe(void);
 /* The port served, or -1. */
 int web_server_port(void);
 void web_server_stop(void);
+/* The connection list's last lines while the server is on, else NULL; the
+ * caller attaches them to each device (web_lines_attach). A harness without
+ * the server lends its own (the web fuzz target), NULL to take it back. */
+web_lines_t *web_server_lines(void);
+void web_server_lend_lines(web_lines_t *lines);
 
 #endif

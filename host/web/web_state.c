@@ -9,6 +9,7 @@
 #include "web/web_internal.h"
 #include "web/web_json.h"
 #include "web/web_lines.h"
+#include "web/web_server.h"
 #include "wsg/finger_proto.h"
 
 static const char *const finger_flag_names[WSG_FINGER_FLAG_COUNT] = {
@@ -115,10 +116,10 @@ static void write_connection(web_json_t *j, const wsg_conn_t *c)
     bool stream = wsg_conn_transport(c) == WSG_TRANSPORT_STREAM;
     web_json_open_object(j, NULL);
     web_json_uint(j, "id", wsg_conn_id(c));
-    web_json_string(j, "protocol", web_lines_protocol(c));
+    web_json_string(j, "protocol", web_lines_protocol(web_server_lines(), c));
     web_json_string(j, "transport", stream ? "tcp" : "udp");
     web_json_string(j, "peer", stream ? tcp_server_peer_name(c) : udp_server_peer_name(c));
-    web_lines_write(j, "last_lines", c);
+    web_lines_write(web_server_lines(), j, "last_lines", c);
     web_json_close_object(j);
 }
 

@@ -10,7 +10,7 @@
 #include "fleet.h"
 #include "log.h"
 #include "sim/clock.h"
-#include "sim/delay.h"
+#include "sim/control.h"
 #include "sim/faults.h"
 #include "sim/scenario.h"
 #include "sim/scheduler.h"
@@ -64,7 +64,7 @@ void fuzz_host_stop(void)
 {
     scenario_unload();
     for (unsigned i = 0; i < fleet_count(); i++) {
-        simctl_delay_clear_all(&fleet_gripper(i)->device, false);
+        simctl_delay_clear_all(simctl_delays(), &fleet_gripper(i)->device, false);
     }
     simctl_fault_clear_all();
     fleet_stop();

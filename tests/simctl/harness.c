@@ -13,7 +13,7 @@
 #include "options.h"
 #include "sim/clock.h"
 #include "sim/commands.h"
-#include "sim/delay.h"
+#include "sim/control.h"
 
 h_client_t t_gcl;
 static char *last_reply;
@@ -30,7 +30,10 @@ void t_setup(void)
     opts.tcp_enabled = false; /* one device, no sockets: the tests feed it */
     opts.udp_enabled = false;
     ck_assert(fleet_start(&opts));
-    coverage_reset();
+    coverage_t *coverage = coverage_create(opts.strict, 1);
+    ck_assert_ptr_nonnull(coverage);
+    coverage_attach(coverage, &fleet_gripper(0)->device, 0);
+    simctl_set_diagnostics(NULL, coverage);
     t_reopen();
 }
 
@@ -49,8 +52,10 @@ void t_setup_homed(void)
 void t_teardown(void)
 {
     ck_assert_msg(!t_gcl.bad_line, "the GCL session got something that is not one whole line");
-    simctl_delay_clear_all(&fleet_gripper(0)->device, false);
+    simctl_delay_clear_all(simctl_delays(), &fleet_gripper(0)->device, false);
     fleet_stop();
+    coverage_destroy(simctl_coverage());
+    simctl_set_diagnostics(NULL, NULL);
     finger_bus_host_stop();
     free(last_reply);
     last_reply = NULL;
