@@ -123,8 +123,8 @@ static void note_unknown(counts_t *cov, const char *name)
     }
 }
 
-static void count_command(counts_t *cov, const char *name, int index, unsigned form,
-                          unsigned argc, wsg_status_t status)
+static void count_command(counts_t *cov, const char *name, int index, unsigned form, unsigned argc,
+                          wsg_status_t status)
 {
     if (name[0] == '\0') {
         return; /* a line without a command name */

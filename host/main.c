@@ -40,7 +40,8 @@ static bool start_diagnostics(diagnostics_t *d, const host_options_t *opts)
     if (d->coverage == NULL || (opts->trace && d->trace == NULL)) {
         return false;
     }
-    if (opts->record_path != NULL && (d->record = record_open(opts->record_path, devices)) == NULL) {
+    if (opts->record_path != NULL &&
+        (d->record = record_open(opts->record_path, devices)) == NULL) {
         return false;
     }
     if (opts->coverage_path != NULL && !coverage_open(d->coverage, opts->coverage_path)) {

@@ -86,8 +86,7 @@ static void put_text(FILE *out, const char *line, size_t len)
     }
 }
 
-static void put_record(FILE *out, const char *channel, char direction, const char *line,
-                       size_t len)
+static void put_record(FILE *out, const char *channel, char direction, const char *line, size_t len)
 {
     while (len > 0 && (line[len - 1] == '\n' || line[len - 1] == '\r')) {
         len--;
@@ -144,8 +143,7 @@ void record_detach(record_t *r, wsg_device_t *dev, unsigned index)
     }
 }
 
-void record_control(record_t *r, const char *channel, char direction, const char *line,
-                    size_t len)
+void record_control(record_t *r, const char *channel, char direction, const char *line, size_t len)
 {
     if (r != NULL) {
         put_record(r->out, channel, direction, line, len);

@@ -25,8 +25,7 @@ void record_detach(record_t *r, wsg_device_t *dev, unsigned index);
 bool record_reopen(record_t *r);
 /* channel: "ctl1", "scn", ...; direction: '<' into the emulator, '>' out of
  * it. Nothing without a record (r NULL). */
-void record_control(record_t *r, const char *channel, char direction, const char *line,
-                    size_t len);
+void record_control(record_t *r, const char *channel, char direction, const char *line, size_t len);
 /* Closes the file and frees the record, after the devices it observes are
  * gone or never used again; nothing for NULL. */
 void record_close(record_t *r);
