@@ -428,8 +428,3 @@ web_lines_t *web_server_lines(void)
 {
     return web.lines;
 }
-
-void web_server_lend_lines(web_lines_t *lines)
-{
-    web.lines = lines;
-}

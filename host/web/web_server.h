@@ -31,9 +31,7 @@ const char *web_server_describe(void);
 int web_server_port(void);
 void web_server_stop(void);
 /* The connection list's last lines while the server is on, else NULL; the
- * caller attaches them to each device (web_lines_attach). A harness without
- * the server lends its own (the web fuzz target), NULL to take it back. */
+ * caller attaches them to each device (web_lines_attach). */
 web_lines_t *web_server_lines(void);
-void web_server_lend_lines(web_lines_t *lines);
 
 #endif

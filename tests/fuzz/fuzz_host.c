@@ -14,6 +14,7 @@
 #include "sim/faults.h"
 #include "sim/scenario.h"
 #include "sim/scheduler.h"
+#include "web/web_server.h"
 
 static host_options_t options;
 static char file_path[256];
@@ -60,6 +61,25 @@ void fuzz_host_step(uint64_t us)
     }
 }
 
+/* Stands in for web_server.c's: NULL unless a target keeps the lines. */
+static web_lines_t *web_lines;
+
+web_lines_t *web_server_lines(void)
+{
+    return web_lines;
+}
+
+void fuzz_host_keep_web_lines(void)
+{
+    web_lines = web_lines_create(fleet_count());
+    if (web_lines == NULL) {
+        abort();
+    }
+    for (unsigned i = 0; i < fleet_count(); i++) {
+        web_lines_attach(web_lines, &fleet_gripper(i)->device, i);
+    }
+}
+
 void fuzz_host_stop(void)
 {
     scenario_unload();
@@ -69,6 +89,8 @@ void fuzz_host_stop(void)
     simctl_fault_clear_all();
     fleet_stop();
     finger_bus_host_stop();
+    web_lines_destroy(web_lines);
+    web_lines = NULL;
 }
 
 const char *fuzz_host_file(const uint8_t *data, size_t size)

@@ -23,6 +23,9 @@ void fuzz_host_settle(void);
 /* Simulated time runs on by us, as a STEP on the control channel does; the
  * clock is paused again if something on the way resumed it. */
 void fuzz_host_step(uint64_t us);
+/* The web server's connection lines, kept on every device as the server
+ * keeps them (web_server.c, not linked, would hold them); until the stop. */
+void fuzz_host_keep_web_lines(void);
 void fuzz_host_stop(void);
 /* The bytes as a file that the host can open by path, in $TMPDIR or
  * /dev/shm (memory): one per process, removed by fuzz_host_close_file(). */

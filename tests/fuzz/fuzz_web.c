@@ -24,10 +24,7 @@
 #include "fuzz_host.h"
 #include "sim/clock.h"
 #include "web/web_internal.h"
-#include "fleet.h"
-#include "web/web_lines.h"
 #include "web/web_routes.h"
-#include "web/web_server.h"
 
 #define SEPARATOR 0xffu
 #define EVENT_READ_MAX 65536u
@@ -261,12 +258,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (opts == NULL) {
         abort();
     }
-    web_lines_t *lines = web_lines_create((unsigned)opts->devices); /* as the server's */
-    web_server_lend_lines(lines);
     fuzz_host_start(opts);
-    for (unsigned i = 0; i < fleet_count(); i++) {
-        web_lines_attach(lines, &fleet_gripper(i)->device, i);
-    }
+    fuzz_host_keep_web_lines();
     size_t first = 1;
     for (size_t i = 1; i <= size; i++) {
         if (i == size || data[i] == SEPARATOR) {
@@ -276,7 +269,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     web_ops_forget(); /* as the server stops: before the devices go */
     fuzz_host_stop();
-    web_server_lend_lines(NULL);
-    web_lines_destroy(lines);
+
     return 0;
 }
