@@ -60,6 +60,7 @@ typedef struct {
 struct coverage {
     bool strict;
     unsigned count;
+    unsigned attached; /* devices counted: a report that counts none costs nothing per pass */
     /* The report file, opened at start so that an unwritable path is an
      * error before the run rather than after it. */
     FILE *report_file;
@@ -591,6 +592,7 @@ void coverage_attach(coverage_t *c, wsg_device_t *dev, unsigned index)
         return;
     }
     cov_device_t *cd = &c->devices[index];
+    c->attached += cd->device == NULL ? 1u : 0u;
     cd->device = dev;
     cd->messages = (wsg_conn_observer_t){
         .message_in = on_message_in, .message_out = on_message_out, .ctx = cd};
@@ -606,7 +608,7 @@ void coverage_attach(coverage_t *c, wsg_device_t *dev, unsigned index)
 
 void coverage_sample_flags(coverage_t *c)
 {
-    for (unsigned i = 0; c != NULL && i < c->count; i++) {
+    for (unsigned i = 0; c != NULL && c->attached > 0 && i < c->count; i++) {
         if (c->devices[i].device != NULL) {
             c->devices[i].counts.flags_seen |= wsg_device_flags(c->devices[i].device);
         }
