@@ -60,16 +60,25 @@ static bool start_diagnostics(diagnostics_t *d, const host_options_t *opts)
     return true;
 }
 
+/* The process ends: nothing of the diagnostics is used again. */
+static void free_diagnostics(diagnostics_t *d)
+{
+    simctl_set_diagnostics(NULL, NULL);
+    record_close(d->record);
+    trace_destroy(d->trace);
+    coverage_destroy(d->coverage);
+}
+
 /* Simulation control (docs/simctl.md): record, scenario, control channel. */
 static bool start_simulation(diagnostics_t *d, const host_options_t *opts)
 {
-    if (!start_diagnostics(d, opts)) {
-        return false;
+    bool started = start_diagnostics(d, opts) &&
+                   (opts->scenario_path == NULL || scenario_load(opts->scenario_path, 0)) &&
+                   (opts->sim_port < 0 || simctl_start(opts->sim_bind, opts->sim_port));
+    if (!started) {
+        free_diagnostics(d);
     }
-    if (opts->scenario_path != NULL && !scenario_load(opts->scenario_path, 0)) {
-        return false;
-    }
-    return opts->sim_port < 0 || simctl_start(opts->sim_bind, opts->sim_port);
+    return started;
 }
 
 /* After the devices are gone. */
@@ -77,11 +86,8 @@ static int stop_simulation(diagnostics_t *d, const host_options_t *opts)
 {
     simctl_stop();
     scenario_unload();
-    simctl_set_diagnostics(NULL, NULL);
-    record_close(d->record);
-    trace_destroy(d->trace);
     bool written = opts->coverage_path == NULL || coverage_write(d->coverage);
-    coverage_destroy(d->coverage);
+    free_diagnostics(d);
     return written ? 0 : 1;
 }
 
