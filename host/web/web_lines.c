@@ -31,39 +31,38 @@ typedef struct {
     line_t lines[WEB_LINES_KEPT];
 } ring_t;
 
+/* A device's observer, added to it only once a client looks. */
+typedef struct {
+    wsg_device_t *device; /* NULL: not attached */
+    wsg_conn_observer_t node;
+} lines_device_t;
+
 struct web_lines {
     bool watched; /* a client looked: lines are kept from then on */
     unsigned count;
-    wsg_conn_observer_t *observers; /* one per device */
+    lines_device_t *devices;
     ring_t rings[SLOTS];
 };
 
 web_lines_t *web_lines_create(unsigned devices)
 {
     web_lines_t *wl = calloc(1, sizeof(*wl));
-    wsg_conn_observer_t *observers = calloc(devices > 0 ? devices : 1u, sizeof(*observers));
-    if (wl == NULL || observers == NULL) {
+    lines_device_t *list = calloc(devices > 0 ? devices : 1u, sizeof(*list));
+    if (wl == NULL || list == NULL) {
         free(wl);
-        free(observers);
+        free(list);
         return NULL;
     }
     wl->count = devices;
-    wl->observers = observers;
+    wl->devices = list;
     return wl;
 }
 
 void web_lines_destroy(web_lines_t *wl)
 {
     if (wl != NULL) {
-        free(wl->observers);
+        free(wl->devices);
         free(wl);
-    }
-}
-
-void web_lines_watch(web_lines_t *wl)
-{
-    if (wl != NULL) {
-        wl->watched = true;
     }
 }
 
@@ -156,22 +155,21 @@ const char *web_lines_protocol(web_lines_t *wl, const wsg_conn_t *c)
     return r != NULL && r->binary ? "binary" : "undetected";
 }
 
-/* A message from the client (incoming, shown as "> ...") or to it ("< ..."):
- * until a client looks, a line costs one test. */
+/* A message from the client (incoming, shown as "> ...") or to it ("< "). */
 static void on_in(void *ctx, const wsg_conn_t *c, const char *bytes, size_t len)
 {
-    web_lines_t *wl = ctx;
-    if (wl->watched) {
-        keep_line(wl, c, true, bytes, len);
-    }
+    keep_line(ctx, c, true, bytes, len);
 }
 
 static void on_out(void *ctx, const wsg_conn_t *c, const char *bytes, size_t len)
 {
-    web_lines_t *wl = ctx;
-    if (wl->watched) {
-        keep_line(wl, c, false, bytes, len);
-    }
+    keep_line(ctx, c, false, bytes, len);
+}
+
+static void observe(web_lines_t *wl, lines_device_t *d)
+{
+    d->node = (wsg_conn_observer_t){.message_in = on_in, .message_out = on_out, .ctx = wl};
+    wsg_conn_add_observer(d->device, &d->node);
 }
 
 void web_lines_attach(web_lines_t *wl, wsg_device_t *dev, unsigned index)
@@ -179,7 +177,23 @@ void web_lines_attach(web_lines_t *wl, wsg_device_t *dev, unsigned index)
     if (wl == NULL || index >= wl->count) {
         return;
     }
-    wl->observers[index] =
-        (wsg_conn_observer_t){.message_in = on_in, .message_out = on_out, .ctx = wl};
-    wsg_conn_add_observer(dev, &wl->observers[index]);
+    wl->devices[index].device = dev;
+    if (wl->watched) {
+        observe(wl, &wl->devices[index]);
+    }
+}
+
+/* Until a client looks, the devices are not observed at all: a line costs
+ * nothing. The first look adds the observer to every device (once). */
+void web_lines_watch(web_lines_t *wl)
+{
+    if (wl == NULL || wl->watched) {
+        return;
+    }
+    wl->watched = true;
+    for (unsigned i = 0; i < wl->count; i++) {
+        if (wl->devices[i].device != NULL) {
+            observe(wl, &wl->devices[i]);
+        }
+    }
 }

@@ -3,10 +3,10 @@
  * a ring of WEB_LINES_KEPT per connection, GCL text as sent ("> POS?",
  * "< POS=12.000"), binary frames by command name. Kept only while the web
  * server is on, and only from the first time a client asks for a state or
- * opens an event stream (web_lines_watch): until someone looks, a line costs
- * one test. Storage is a table allocated when the server starts, indexed by
- * a hash of (device, connection id); two connections that meet in one slot
- * share it, the newer one's lines winning (docs/web.md). */
+ * opens an event stream (web_lines_watch): until someone looks, the devices
+ * are not observed and a line costs nothing. Storage is a table allocated when the server starts,
+ * indexed by a hash of (device, connection id); two connections that meet in one slot share it, the
+ * newer one's lines winning (docs/web.md). */
 #ifndef HOST_WEB_LINES_H
 #define HOST_WEB_LINES_H
 
@@ -22,11 +22,13 @@ typedef struct web_lines web_lines_t;
 
 /* The table, for a fleet of `devices`; NULL when out of memory. */
 web_lines_t *web_lines_create(unsigned devices);
-/* Keeps device `index`'s lines (below the create's count) from now on. */
+/* Keeps device `index`'s lines (below the create's count) from the first
+ * look on (web_lines_watch). */
 void web_lines_attach(web_lines_t *wl, wsg_device_t *dev, unsigned index);
 /* After the devices it observes are gone (or never used again). */
 void web_lines_destroy(web_lines_t *wl);
-/* A client looks: lines are kept from now on. Nothing for NULL. */
+/* A client looks: lines are kept from now on, on every attached device
+ * (O(devices), once). Nothing for NULL. */
 void web_lines_watch(web_lines_t *wl);
 /* The connection's last lines, oldest first, as an array (empty when none,
  * or wl NULL). */
