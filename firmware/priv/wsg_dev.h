@@ -192,4 +192,14 @@ void wsg_motion_block_watch_step(wsg_dev_t *dev);
 void wsg_motion_velocity_drive(wsg_dev_t *dev);
 void wsg_motion_velocity_end(wsg_dev_t *dev);
 
+/* ---- for the protocol drivers and connections (firmware/ only) ------------ */
+
+/* The outcome of a command on any connection (SF_CMD_FAILURE as the device
+ * state reports it); protocol drivers call it from their dispatcher. */
+void wsg_device_note_result(wsg_device_t *dev, wsg_status_t status);
+/* Consumes an armed injected failure (wsg_inject.h) for this command name. */
+bool wsg_device_take_injected_failure(wsg_device_t *dev, const char *name, wsg_status_t *status);
+/* A device's 64-bit connection ids (logs, trace): never 0, never reused. */
+uint64_t wsg_device_next_conn_id(wsg_device_t *dev);
+
 #endif

@@ -12,6 +12,7 @@
 #include "state_json.h"
 #include "tcp_server.h"
 #include "udp_server.h"
+#include "wsg/wsg_inject.h"
 
 #define DELAY_MAX_MS 600000.0
 
@@ -59,8 +60,7 @@ static void clear_failnext(simctl_ctx_t *ctx)
     const wsg_snapshot_t *snap = wsg_device_snapshot(dev);
     if (snap->injected_armed) {
         host_logf(HAL_LOG_INFO, "fault cleared: FAILNEXT %s", snap->injected_name);
-        wsg_device_inject_failure(dev, "", E_SUCCESS);
-        wsg_device_take_injected_failure(dev, "", &(wsg_status_t){E_SUCCESS});
+        wsg_device_clear_injected_failure(dev);
     }
 }
 

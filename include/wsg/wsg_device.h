@@ -150,16 +150,6 @@ wsg_status_t wsg_op_set(wsg_device_t *dev, wsg_setting_t which, float value);
  * tag keeps its value on an error. */
 wsg_status_t wsg_op_set_tag(wsg_device_t *dev, const char *tag, size_t len);
 
-/* Fault injection (control channel): the next command called `name` (upper
- * case) fails with status before it runs. A reset disarms it. */
-void wsg_device_inject_failure(wsg_device_t *dev, const char *name, wsg_status_t status);
-/* Consumes an armed injected failure for this command name. */
-bool wsg_device_take_injected_failure(wsg_device_t *dev, const char *name, wsg_status_t *status);
-
-/* The outcome of a command on any connection (SF_CMD_FAILURE as the device
- * state reports it); protocol drivers call it from their dispatcher. */
-void wsg_device_note_result(wsg_device_t *dev, wsg_status_t status);
-
 /* ---- the snapshot ---------------------------------------------------------- */
 
 typedef enum {
@@ -250,8 +240,5 @@ typedef struct {
 
 void wsg_device_take_observers(wsg_device_t *dev, wsg_device_observers_t *taken);
 void wsg_device_give_observers(wsg_device_t *dev, const wsg_device_observers_t *taken);
-
-/* A device's 64-bit connection ids (logs, trace): never 0, never reused. */
-uint64_t wsg_device_next_conn_id(wsg_device_t *dev);
 
 #endif
