@@ -14,7 +14,7 @@
 #define HELD_MAX_BYTES (256u * 1024u)
 #define HELD_FIRST_BYTES 4096u
 #define RECORD_HEADER 3u /* kind, length high byte, length low byte */
-#define DELAYS_MAX 144u  /* as many as connections the host serves */
+#define DELAYS_MAX 144u  /* armed at once, as many as connections the host serves */
 
 struct simctl_delay {
     struct simctl_delay *next; /* the instance's list of armed delays */
@@ -32,16 +32,10 @@ struct simctl_delay {
     simctl_delays_t *delays;
 };
 
-typedef struct simctl_delay delay_slot_t;
-
-void simctl_delays_init(simctl_delays_t *ds)
-{
-    ds->armed = NULL;
-    ds->count = 0;
-}
+typedef struct simctl_delay delay_t;
 
 /* Room for need more bytes; false past HELD_MAX_BYTES (or out of memory). */
-static bool make_room(delay_slot_t *d, size_t need)
+static bool make_room(delay_t *d, size_t need)
 {
     if (d->used + need <= d->cap) {
         return true;
@@ -63,7 +57,7 @@ static bool make_room(delay_slot_t *d, size_t need)
     return true;
 }
 
-static void drop_held(delay_slot_t *d)
+static void drop_held(delay_t *d)
 {
     free(d->held);
     d->held = NULL;
@@ -72,7 +66,7 @@ static void drop_held(delay_slot_t *d)
     d->lines = 0;
 }
 
-static bool hold_line(delay_slot_t *d, const char *line, size_t len, wsg_msg_kind_t kind)
+static bool hold_line(delay_t *d, const char *line, size_t len, wsg_msg_kind_t kind)
 {
     if (len > 0xffffu || !make_room(d, RECORD_HEADER + len)) {
         return false;
@@ -87,11 +81,11 @@ static bool hold_line(delay_slot_t *d, const char *line, size_t len, wsg_msg_kin
     return true;
 }
 
-static void release(delay_slot_t *d, bool send);
+static void release(delay_t *d, bool send);
 
 /* The hold is full: the delay ends now, everything held goes out in order,
  * then this line. Logged once per DELAY, since the delay is over. */
-static void overflow(delay_slot_t *d, const char *line, size_t len, wsg_msg_kind_t kind)
+static void overflow(delay_t *d, const char *line, size_t len, wsg_msg_kind_t kind)
 {
     host_logf(HAL_LOG_WARN,
               "DELAY of session %llu ended early: more than %u KiB of lines held; "
@@ -105,7 +99,7 @@ static void overflow(delay_slot_t *d, const char *line, size_t len, wsg_msg_kind
 
 static void delayed_write(void *ctx, const char *line, size_t len, wsg_msg_kind_t kind)
 {
-    delay_slot_t *d = ctx;
+    delay_t *d = ctx;
     if (!d->holding && kind == WSG_MSG_REPLY) {
         d->holding = true;
         d->release_us = hal_clock_now_us() + d->delay_us;
@@ -121,14 +115,14 @@ static void delayed_write(void *ctx, const char *line, size_t len, wsg_msg_kind_
  * them too (the port asks through wsg_conn_replies_held()). */
 static bool delayed_held(void *ctx)
 {
-    const delay_slot_t *d = ctx;
+    const delay_t *d = ctx;
     return d->holding;
 }
 
 static const wsg_conn_io_t delayed_io = {.write = delayed_write, .held = delayed_held};
 
 /* The delay that stands in for the connection's I/O, if it is delayed. */
-static delay_slot_t *slot_of(const wsg_conn_t *c)
+static delay_t *delay_of(const wsg_conn_t *c)
 {
     const wsg_conn_io_t *io = NULL;
     void *io_ctx = NULL;
@@ -136,9 +130,9 @@ static delay_slot_t *slot_of(const wsg_conn_t *c)
     return io == &delayed_io ? io_ctx : NULL;
 }
 
-static void link_delay(simctl_delays_t *ds, delay_slot_t *d)
+static void link_delay(simctl_delays_t *ds, delay_t *d)
 {
-    delay_slot_t **at = &ds->armed;
+    delay_t **at = &ds->armed;
     while (*at != NULL) {
         at = &(*at)->next;
     }
@@ -146,9 +140,9 @@ static void link_delay(simctl_delays_t *ds, delay_slot_t *d)
     ds->count++;
 }
 
-static void unlink_delay(simctl_delays_t *ds, delay_slot_t *d)
+static void unlink_delay(simctl_delays_t *ds, delay_t *d)
 {
-    delay_slot_t **at = &ds->armed;
+    delay_t **at = &ds->armed;
     while (*at != NULL && *at != d) {
         at = &(*at)->next;
     }
@@ -160,7 +154,7 @@ static void unlink_delay(simctl_delays_t *ds, delay_slot_t *d)
 
 void simctl_delay_arm(simctl_delays_t *ds, wsg_conn_t *c, uint32_t delay_us)
 {
-    delay_slot_t *d = slot_of(c);
+    delay_t *d = delay_of(c);
     if (d != NULL) {
         d->delay_us = delay_us; /* re-armed before it took effect */
         return;
@@ -180,13 +174,13 @@ void simctl_delay_arm(simctl_delays_t *ds, wsg_conn_t *c, uint32_t delay_us)
 }
 
 /* The connection the delay stands in for, if it is still open. */
-static wsg_conn_t *owner(const delay_slot_t *d)
+static wsg_conn_t *owner(const delay_t *d)
 {
     wsg_conn_t *c = wsg_device_conn_by_id((wsg_device_t *)d->device, d->conn_id);
-    return c != NULL && slot_of(c) == d ? c : NULL;
+    return c != NULL && delay_of(c) == d ? c : NULL;
 }
 
-static void deliver(const delay_slot_t *d)
+static void deliver(const delay_t *d)
 {
     size_t at = 0;
     while (at < d->used) {
@@ -199,7 +193,7 @@ static void deliver(const delay_slot_t *d)
 
 /* Gives the connection its own I/O back, hands over what was held and
  * frees the delay. */
-static void release(delay_slot_t *d, bool send)
+static void release(delay_t *d, bool send)
 {
     wsg_conn_t *c = owner(d);
     unlink_delay(d->delays, d);
@@ -216,8 +210,8 @@ static void release(delay_slot_t *d, bool send)
 unsigned simctl_delay_release_due(simctl_delays_t *ds, uint64_t now_us)
 {
     unsigned released = 0;
-    delay_slot_t *next = NULL;
-    for (delay_slot_t *d = ds->armed; d != NULL; d = next) {
+    delay_t *next = NULL;
+    for (delay_t *d = ds->armed; d != NULL; d = next) {
         next = d->next;
         if (owner(d) == NULL) {
             release(d, false); /* closed while armed */
@@ -232,7 +226,7 @@ unsigned simctl_delay_release_due(simctl_delays_t *ds, uint64_t now_us)
 uint64_t simctl_delay_next_us(const simctl_delays_t *ds)
 {
     uint64_t next = UINT64_MAX;
-    for (const delay_slot_t *d = ds->armed; d != NULL; d = d->next) {
+    for (const delay_t *d = ds->armed; d != NULL; d = d->next) {
         if (d->holding && d->release_us < next) {
             next = d->release_us;
         }
@@ -243,8 +237,8 @@ uint64_t simctl_delay_next_us(const simctl_delays_t *ds)
 unsigned simctl_delay_clear_all(simctl_delays_t *ds, const wsg_device_t *device, bool send)
 {
     unsigned cleared = 0;
-    delay_slot_t *next = NULL;
-    for (delay_slot_t *d = ds->armed; d != NULL; d = next) {
+    delay_t *next = NULL;
+    for (delay_t *d = ds->armed; d != NULL; d = next) {
         next = d->next;
         if (d->device == device) {
             cleared += owner(d) != NULL ? 1u : 0u;
@@ -256,7 +250,7 @@ unsigned simctl_delay_clear_all(simctl_delays_t *ds, const wsg_device_t *device,
 
 bool simctl_delay_info(const wsg_conn_t *c, simctl_delay_info_t *out)
 {
-    const delay_slot_t *d = slot_of(c);
+    const delay_t *d = delay_of(c);
     if (d == NULL) {
         return false;
     }

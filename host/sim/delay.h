@@ -11,13 +11,13 @@
 #include "wsg/wsg_conn.h"
 
 /* The armed delays of a control channel: an intrusive list of them, one
- * allocated per delayed connection (embedded in its owner). */
+ * allocated per delayed connection; embedded in its owner, all zero when
+ * none is armed. */
 typedef struct {
     struct simctl_delay *armed;
     unsigned count;
 } simctl_delays_t;
 
-void simctl_delays_init(simctl_delays_t *ds);
 /* Arms a delay of delay_us for the connection's next reply line. */
 void simctl_delay_arm(simctl_delays_t *ds, wsg_conn_t *c, uint32_t delay_us);
 /* Delivers what is due at now_us; returns how many sessions were released. */

@@ -60,10 +60,16 @@ web_lines_t *web_lines_create(unsigned devices)
 
 void web_lines_destroy(web_lines_t *wl)
 {
-    if (wl != NULL) {
-        free(wl->devices);
-        free(wl);
+    if (wl == NULL) {
+        return;
     }
+    for (unsigned i = 0; wl->watched && i < wl->count; i++) {
+        if (wl->devices[i].device != NULL) {
+            wsg_conn_remove_observer(wl->devices[i].device, &wl->devices[i].node);
+        }
+    }
+    free(wl->devices);
+    free(wl);
 }
 
 static ring_t *slot_of(web_lines_t *wl, const wsg_device_t *device, uint64_t id)

@@ -25,7 +25,8 @@ web_lines_t *web_lines_create(unsigned devices);
 /* Keeps device `index`'s lines (below the create's count) from the first
  * look on (web_lines_watch). */
 void web_lines_attach(web_lines_t *wl, wsg_device_t *dev, unsigned index);
-/* After the devices it observes are gone (or never used again). */
+/* While the devices it was attached to live on: it leaves them (the web
+ * server stops before the fleet). Nothing for NULL. */
 void web_lines_destroy(web_lines_t *wl);
 /* A client looks: lines are kept from now on, on every attached device
  * (O(devices), once). Nothing for NULL. */

@@ -87,10 +87,10 @@ void fuzz_host_stop(void)
         simctl_delay_clear_all(simctl_delays(), &fleet_gripper(i)->device, false);
     }
     simctl_fault_clear_all();
+    web_lines_destroy(web_lines); /* as the web server stops: before the devices go */
+    web_lines = NULL;
     fleet_stop();
     finger_bus_host_stop();
-    web_lines_destroy(web_lines);
-    web_lines = NULL;
 }
 
 const char *fuzz_host_file(const uint8_t *data, size_t size)
