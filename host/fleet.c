@@ -37,6 +37,9 @@ static struct {
     unsigned *slot;   /* device i's place in heap */
     unsigned *ready;  /* the devices due in this pass */
     unsigned count;
+    /* The servers' timeouts as last asked: they move only when a device
+     * is touched (input, a connection opened or closed) or come due. */
+    uint64_t servers_due_us;
     bool scripting; /* a device may run a script: fleet_run_scripts() looks */
     const host_options_t *opts;
     port_plan_t plan; /* where each device listens */
@@ -316,6 +319,7 @@ bool fleet_start(const host_options_t *opts)
         return false;
     }
     fleet.opts = opts;
+    fleet.servers_due_us = 0; /* asked at the first pass */
     fleet.plan = (port_plan_t){opts->tcp_port,        opts->udp_port,
                                opts->binary_udp_port, opts->binary_udp_reply_port,
                                opts->udp_enabled,     fleet.by_address ? 1u : n};
@@ -458,10 +462,16 @@ uint64_t fleet_tick(void)
         tick_due_devices(now);
     }
     gripper_t *touched;
+    bool any_touched = false;
     while ((touched = gripper_take_touched()) != NULL) {
         set_due(touched->index, gripper_tick(touched));
+        any_touched = true;
     }
-    uint64_t next = earliest(tcp_server_next_deadline_us(), udp_server_next_deadline_us());
+    if (any_touched || fleet.servers_due_us <= now) {
+        fleet.servers_due_us =
+            earliest(tcp_server_next_deadline_us(), udp_server_next_deadline_us());
+    }
+    uint64_t next = fleet.servers_due_us;
     return fleet.count > 0 ? earliest(next, due_at(0)) : next;
 }
 

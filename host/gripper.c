@@ -246,6 +246,11 @@ void gripper_touch(gripper_t *g)
     }
 }
 
+bool gripper_touched_any(void)
+{
+    return touched_first != NULL;
+}
+
 gripper_t *gripper_take_touched(void)
 {
     gripper_t *g = touched_first;

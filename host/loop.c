@@ -45,8 +45,11 @@ static int epoll_fd = -1;
 static int signal_fd = -1;
 static bool stop_requested;
 static bool epoll_pwait2_missing; /* kernels before 5.11: millisecond waits */
-static void (*catch_up_fn)(void);
-static void (*hangup_fn)(void);
+static void (*catch_up_fn)(void *ctx);
+static void *catch_up_ctx;
+static const simclock_t *sim_clock; /* what deadlines are measured on */
+static void (*hangup_fn)(void *ctx);
+static void *hangup_ctx;
 static uint64_t wall_wakeup_ns; /* 0: none */
 
 static int bucket_of(int fd)
@@ -97,7 +100,7 @@ static void on_signal_fd(void *ctx, int fd, short revents)
         if (info.ssi_signo != SIGHUP) {
             stop_requested = true;
         } else if (hangup_fn != NULL) {
-            hangup_fn();
+            hangup_fn(hangup_ctx);
         }
     }
 }
@@ -136,14 +139,21 @@ void loop_init(void)
     }
 }
 
-void loop_set_catch_up(void (*catch_up)(void))
+void loop_set_catch_up(void (*catch_up)(void *ctx), void *ctx)
 {
     catch_up_fn = catch_up;
+    catch_up_ctx = ctx;
 }
 
-void loop_set_hangup(void (*on_hangup)(void))
+void loop_set_clock(const simclock_t *clock)
+{
+    sim_clock = clock;
+}
+
+void loop_set_hangup(void (*on_hangup)(void *ctx), void *ctx)
 {
     hangup_fn = on_hangup;
+    hangup_ctx = ctx;
 }
 
 bool loop_stop_requested(void)
@@ -289,7 +299,8 @@ static int wait_for_events(const struct timespec *wait)
 void loop_wait(uint64_t deadline_us)
 {
     struct timespec wait = {0, 0};
-    bool timed = apply_wall_wakeup(simclock_wall_wait(deadline_us, &wait), &wait);
+    bool timed = apply_wall_wakeup(
+        sim_clock != NULL && simclock_wall_wait(sim_clock, deadline_us, &wait), &wait);
     int count = wait_for_events(timed ? &wait : NULL);
     if (count < 0) {
         if (errno != EINTR) {
@@ -299,7 +310,7 @@ void loop_wait(uint64_t deadline_us)
         return;
     }
     if (catch_up_fn != NULL) {
-        catch_up_fn();
+        catch_up_fn(catch_up_ctx);
     }
     dispatch(count);
 }

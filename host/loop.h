@@ -9,6 +9,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "sim/clock.h"
+
 #define LOOP_MAX_WATCHES 4096 /* --devices 1024: three listeners each, and clients */
 
 typedef void (*loop_callback_t)(void *ctx, int fd, short revents);
@@ -27,12 +29,14 @@ void loop_unwatch(int fd);
 void loop_init(void);
 /* SIGHUP runs on_hangup (from the loop, not a signal handler); without one
  * SIGHUP is ignored. */
-void loop_set_hangup(void (*on_hangup)(void));
+void loop_set_hangup(void (*on_hangup)(void *ctx), void *ctx);
 bool loop_stop_requested(void);
 
-/* Runs after every wake-up, before any callback: brings simulated time up to
- * date, so input is handled at the instant it arrived. */
-void loop_set_catch_up(void (*catch_up)(void));
+/* Runs catch_up(ctx) after every wake-up, before any callback: brings
+ * simulated time up to date, so input is handled at the instant it arrived. */
+void loop_set_catch_up(void (*catch_up)(void *ctx), void *ctx);
+/* loop_wait()'s deadlines are on clock (none set: no deadline is timed). */
+void loop_set_clock(const simclock_t *clock);
 
 /* CLOCK_MONOTONIC in ns. */
 uint64_t loop_monotonic_ns(void);

@@ -12,10 +12,7 @@
 #include "notify.h"
 #include "options.h"
 #include "record.h"
-#include "sim/clock.h"
 #include "sim/control.h"
-#include "sim/scenario.h"
-#include "sim/scheduler.h"
 #include "tcp_server.h"
 #include "trace.h"
 #include "udp_server.h"
@@ -31,7 +28,7 @@ typedef struct {
     coverage_t *coverage; /* always (COVERAGE?); counting only when asked */
 } diagnostics_t;
 
-static bool start_diagnostics(diagnostics_t *d, const host_options_t *opts)
+static bool start_diagnostics(simctl_t *sim, diagnostics_t *d, const host_options_t *opts)
 {
     unsigned devices = fleet_count();
     bool counting = opts->coverage_path != NULL || opts->sim_port >= 0;
@@ -56,51 +53,55 @@ static bool start_diagnostics(diagnostics_t *d, const host_options_t *opts)
         record_attach(d->record, dev, i);
         web_lines_attach(web_server_lines(), dev, i);
     }
-    simctl_set_diagnostics(d->record, d->coverage);
+    simctl_set_diagnostics(sim, d->record, d->coverage);
     return true;
 }
 
 /* The process ends: nothing of the diagnostics is used again. */
-static void free_diagnostics(diagnostics_t *d)
+static void free_diagnostics(simctl_t *sim, diagnostics_t *d)
 {
-    simctl_set_diagnostics(NULL, NULL);
+    simctl_set_diagnostics(sim, NULL, NULL);
     record_close(d->record);
     trace_destroy(d->trace);
     coverage_destroy(d->coverage);
 }
 
 /* Simulation control (docs/simctl.md): record, scenario, control channel. */
-static bool start_simulation(diagnostics_t *d, const host_options_t *opts)
+static bool start_simulation(simctl_t *sim, diagnostics_t *d, const host_options_t *opts)
 {
-    bool started = start_diagnostics(d, opts) &&
-                   (opts->scenario_path == NULL || scenario_load(opts->scenario_path, 0)) &&
-                   (opts->sim_port < 0 || simctl_start(opts->sim_bind, opts->sim_port));
+    bool started = start_diagnostics(sim, d, opts) &&
+                   (opts->scenario_path == NULL ||
+                    scenario_load(simctl_scenario(sim), opts->scenario_path, 0)) &&
+                   (opts->sim_port < 0 || simctl_start(sim, opts->sim_bind, opts->sim_port));
     if (!started) {
-        free_diagnostics(d);
+        free_diagnostics(sim, d);
     }
     return started;
 }
 
 /* After the devices are gone. */
-static int stop_simulation(diagnostics_t *d, const host_options_t *opts)
+static int stop_simulation(simctl_t *sim, diagnostics_t *d, const host_options_t *opts)
 {
-    simctl_stop();
-    scenario_unload();
+    simctl_stop(sim);
+    scenario_unload(simctl_scenario(sim));
     bool written = opts->coverage_path == NULL || coverage_write(d->coverage);
-    free_diagnostics(d);
+    free_diagnostics(sim, d);
     return written ? 0 : 1;
 }
 
 /* One line per further device of a fleet, then the ready line. */
-static bool announce(const host_options_t *opts)
+static bool announce(const simctl_t *sim, const host_options_t *opts)
 {
     char line[512];
     char extra[256];
-    snprintf(extra, sizeof(extra), "%s%s", simctl_describe(), web_server_describe());
+    char control[96];
+    simctl_describe(sim, control, sizeof(control));
+    snprintf(extra, sizeof(extra), "%s%s", control, web_server_describe());
     fleet_ready_line(extra, line, sizeof(line));
     bool bin_tcp = opts->tcp_enabled && opts->protocol != HOST_PROTOCOL_GCL;
     notify_set_binary_ports(bin_tcp ? fleet_tcp_port(0) : -1, fleet_bin_udp_port(0));
     notify_set_http_port(web_server_port());
+    notify_set_sim_port(simctl_port(sim));
     if (!notify_prepare(opts->ready_file)) {
         return false;
     }
@@ -118,10 +119,10 @@ static bool start_logging(const host_options_t *opts)
 }
 
 /* SIGHUP (log rotation): every file wsgsim appends to is opened again. */
-static void reopen_files(void)
+static void reopen_files(void *sim)
 {
     host_log_reopen();
-    if (!record_reopen(simctl_record())) {
+    if (!record_reopen(simctl_record(sim))) {
         host_logf(HAL_LOG_ERROR, "cannot reopen the --record file (still writing the old one)");
     }
     if (!can_log_reopen()) {
@@ -129,9 +130,50 @@ static void reopen_files(void)
     }
 }
 
-static void catch_up(void)
+static void catch_up(void *sched)
 {
-    (void)simctl_tick();
+    (void)simctl_tick(sched);
+}
+
+/* Starts everything on the simulation's clock and runs the loop until a
+ * signal stops it; the exit status. */
+static int serve(simctl_t *sim, const host_options_t *opts)
+{
+    if (opts->start_paused) {
+        simclock_start_paused(simctl_clock(sim)); /* simulated time stands at exactly 0 */
+    }
+    loop_init();
+    loop_set_catch_up(catch_up, simctl_scheduler(sim));
+    loop_set_clock(simctl_clock(sim));
+    loop_set_hangup(reopen_files, sim);
+    if (!finger_bus_host_start(opts) || (opts->can_log != NULL && !can_log_open(opts->can_log))) {
+        return EXIT_STARTUP_FAILED;
+    }
+    diagnostics_t diagnostics = {NULL, NULL, NULL};
+    if (!web_server_start(opts, sim) || !fleet_start(opts) ||
+        !start_simulation(sim, &diagnostics, opts)) {
+        return EXIT_STARTUP_FAILED;
+    }
+    if (!announce(sim, opts)) {
+        return EXIT_STARTUP_FAILED;
+    }
+    host_logf(HAL_LOG_INFO, "finger bus: %s", finger_bus_host_describe());
+    while (!loop_stop_requested()) {
+        uint64_t deadline = simctl_tick(simctl_scheduler(sim));
+        fleet_run_scripts();
+        loop_wait(deadline);
+        web_server_poll();
+        tcp_server_reap();
+        udp_server_reap();
+        simctl_reap(sim);
+    }
+    host_logf(HAL_LOG_INFO, "shutting down");
+    notify_stopping(opts->ready_file);
+    web_server_stop(); /* while the devices its operations ran on exist */
+    fleet_stop();
+    finger_bus_host_stop();
+    can_log_close();
+    return stop_simulation(sim, &diagnostics, opts);
 }
 
 int main(int argc, char **argv)
@@ -146,38 +188,8 @@ int main(int argc, char **argv)
     if (!start_logging(&opts)) {
         return EXIT_STARTUP_FAILED;
     }
-    simclock_init();
-    if (opts.start_paused) {
-        simclock_start_paused(); /* simulated time stands at exactly 0 */
-    }
-    loop_init();
-    loop_set_catch_up(catch_up);
-    loop_set_hangup(reopen_files);
-    if (!finger_bus_host_start(&opts) || (opts.can_log != NULL && !can_log_open(opts.can_log))) {
-        return EXIT_STARTUP_FAILED;
-    }
-    diagnostics_t diagnostics = {NULL, NULL, NULL};
-    if (!web_server_start(&opts) || !fleet_start(&opts) || !start_simulation(&diagnostics, &opts)) {
-        return EXIT_STARTUP_FAILED;
-    }
-    if (!announce(&opts)) {
-        return EXIT_STARTUP_FAILED;
-    }
-    host_logf(HAL_LOG_INFO, "finger bus: %s", finger_bus_host_describe());
-    while (!loop_stop_requested()) {
-        uint64_t deadline = simctl_tick();
-        fleet_run_scripts();
-        loop_wait(deadline);
-        web_server_poll();
-        tcp_server_reap();
-        udp_server_reap();
-        simctl_reap();
-    }
-    host_logf(HAL_LOG_INFO, "shutting down");
-    notify_stopping(opts.ready_file);
-    web_server_stop(); /* while the devices its operations ran on exist */
-    fleet_stop();
-    finger_bus_host_stop();
-    can_log_close();
-    return stop_simulation(&diagnostics, &opts);
+    simctl_t *sim = simctl_create();
+    int status = sim != NULL ? serve(sim, &opts) : EXIT_STARTUP_FAILED;
+    simctl_destroy(sim);
+    return status;
 }

@@ -11,11 +11,11 @@
 
 #include "fleet.h"
 #include "log.h"
-#include "sim/control.h"
 
 static int bin_tcp_port = -1;
 static int bin_udp_port = -1;
 static int http_port = -1;
+static int sim_port = -1;
 
 void notify_set_binary_ports(int tcp_port, int udp_port)
 {
@@ -26,6 +26,11 @@ void notify_set_binary_ports(int tcp_port, int udp_port)
 void notify_set_http_port(int port)
 {
     http_port = port;
+}
+
+void notify_set_sim_port(int port)
+{
+    sim_port = port;
 }
 
 static void put_port(FILE *f, const char *name, int port)
@@ -57,7 +62,7 @@ bool notify_prepare(const char *ready_file)
         fprintf(f, "pid=%ld\n", (long)getpid());
         put_port(f, "tcp_port", fleet_tcp_port(0)); /* device 0 */
         put_port(f, "udp_port", fleet_udp_port(0));
-        put_port(f, "sim_port", simctl_port());
+        put_port(f, "sim_port", sim_port);
         put_port(f, "bin_tcp_port", bin_tcp_port);
         put_port(f, "bin_udp_port", bin_udp_port);
         put_port(f, "http_port", http_port);

@@ -20,6 +20,9 @@ void notify_set_binary_ports(int tcp_port, int udp_port);
 /* Before notify_prepare(): the web interface's port, written as http_port=N
  * (-1: not served). */
 void notify_set_http_port(int port);
+/* Before notify_prepare(): the control channel's port, written as
+ * sim_port=N (-1: none). */
+void notify_set_sim_port(int port);
 /* Then: renames the prepared file into place (a reader never sees half of
  * it) and notifies systemd, with status as its STATUS=. */
 bool notify_ready(const char *ready_file, const char *status);

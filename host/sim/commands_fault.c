@@ -40,16 +40,33 @@ static bool read_fault(simctl_ctx_t *ctx, simctl_fault_t *fault)
     return true;
 }
 
+/* A hardware fault the addressed device can take: a finger fault needs its
+ * finger bus. */
+static bool read_device_fault(simctl_ctx_t *ctx, simctl_fault_t *fault)
+{
+    if (!read_fault(ctx, fault)) {
+        return false;
+    }
+    if (!simctl_fault_possible(ctx->gripper, *fault)) {
+        sc_fail(ctx, E_FEATURE_NOT_SUPPORTED, "device %u has no finger bus (device 0 has)",
+                ctx->gripper->index);
+        return false;
+    }
+    return true;
+}
+
 wsg_status_t sc_fault(simctl_ctx_t *ctx)
 {
     simctl_fault_t fault;
-    if (!read_fault(ctx, &fault) || !sc_first_device(ctx)) {
+    if (!read_device_fault(ctx, &fault)) {
         return ctx->failed;
     }
     if (sc_checking(ctx)) {
         return E_SUCCESS;
     }
-    simctl_fault_raise(fault);
+    if (!simctl_fault_raise(simctl_faults(ctx->ctl), ctx->gripper, fault)) {
+        return sc_fail(ctx, E_INSUFFICIENT_RESOURCES, "out of memory");
+    }
     sc_world_changed(ctx);
     return E_SUCCESS;
 }
@@ -66,7 +83,7 @@ static void clear_failnext(simctl_ctx_t *ctx)
 
 static void clear_delays(simctl_ctx_t *ctx)
 {
-    if (simctl_delay_clear_all(simctl_delays(), &ctx->gripper->device, true) > 0) {
+    if (simctl_delay_clear_all(simctl_delays(ctx->ctl), &ctx->gripper->device, true) > 0) {
         host_logf(HAL_LOG_INFO, "fault cleared: DELAY (held lines delivered)");
     }
 }
@@ -98,21 +115,19 @@ wsg_status_t sc_clear(simctl_ctx_t *ctx)
     const char *name = NULL;
     simctl_fault_t fault;
     if (!sc_has_arg(ctx, 0)) {
-        if (ctx->gripper->index == 0) {
-            simctl_fault_clear_all(); /* hardware faults live on device 0 only */
-        }
+        simctl_fault_clear_all(simctl_faults(ctx->ctl), ctx->gripper);
         clear_delays(ctx);
         clear_failnext(ctx);
     } else if (!sc_text(ctx, 0, &name)) {
         return ctx->failed;
     } else if (is_protocol_fault(name)) {
         return clear_protocol(ctx, name);
-    } else if (!read_fault(ctx, &fault) || !sc_first_device(ctx)) {
+    } else if (!read_device_fault(ctx, &fault)) {
         return ctx->failed;
     } else if (sc_checking(ctx)) {
         return E_SUCCESS;
     } else {
-        simctl_fault_clear(fault);
+        simctl_fault_clear(simctl_faults(ctx->ctl), ctx->gripper, fault);
     }
     sc_world_changed(ctx);
     return E_SUCCESS;
@@ -120,14 +135,14 @@ wsg_status_t sc_clear(simctl_ctx_t *ctx)
 
 wsg_status_t sc_faults(simctl_ctx_t *ctx)
 {
-    cJSON *list = state_json_faults(ctx->gripper);
+    cJSON *list = state_json_faults(ctx->ctl, ctx->gripper);
     sc_reply_json(ctx, list);
     return E_SUCCESS;
 }
 
-static wsg_status_t delay_session(wsg_conn_t *c, double ms)
+static wsg_status_t delay_session(simctl_ctx_t *ctx, wsg_conn_t *c, double ms)
 {
-    simctl_delay_arm(simctl_delays(), c, (uint32_t)(ms * 1000.0 + 0.5));
+    simctl_delay_arm(simctl_delays(ctx->ctl), c, (uint32_t)(ms * 1000.0 + 0.5));
     host_logf(HAL_LOG_WARN, "fault injected: DELAY next reply of session %llu by %.3f ms",
               (unsigned long long)wsg_conn_id(c), ms);
     return E_SUCCESS;
@@ -147,7 +162,7 @@ wsg_status_t sc_delay(simctl_ctx_t *ctx)
         if (sc_checking(ctx)) {
             return ctx->failed;
         }
-        return s != NULL ? delay_session(s, ms) : ctx->failed;
+        return s != NULL ? delay_session(ctx, s, ms) : ctx->failed;
     }
     if (sc_checking(ctx)) {
         return E_SUCCESS;
@@ -155,7 +170,7 @@ wsg_status_t sc_delay(simctl_ctx_t *ctx)
     unsigned armed = 0;
     wsg_device_t *dev = &ctx->gripper->device;
     for (wsg_conn_t *c = wsg_device_conn_first(dev); c != NULL; c = wsg_conn_next(c)) {
-        delay_session(c, ms);
+        delay_session(ctx, c, ms);
         armed++;
     }
     return armed > 0 ? E_SUCCESS : sc_fail(ctx, E_NOT_FOUND, "no GCL session is open");

@@ -15,7 +15,7 @@
 
 wsg_status_t sc_state(simctl_ctx_t *ctx)
 {
-    sc_reply_owned(ctx, state_json(ctx->gripper, false));
+    sc_reply_owned(ctx, state_json(ctx->ctl, ctx->gripper, false));
     return E_SUCCESS;
 }
 
@@ -27,21 +27,18 @@ wsg_status_t sc_sessions(simctl_ctx_t *ctx)
 }
 
 /* A power cycle: connections drop (unobserved: they are not the clients'
- * doing), injected faults go, and the device starts as configured. */
+ * doing), the device's injected faults go, and it starts as configured. */
 wsg_status_t sc_reset(simctl_ctx_t *ctx)
 {
     gripper_t *g = ctx->gripper;
-    bool first = g->index == 0; /* with the hardware faults */
     wsg_device_observers_t observers;
     wsg_device_take_observers(&g->device, &observers); /* whoever observes */
-    simctl_delay_clear_all(simctl_delays(), &g->device, false);
+    simctl_delay_clear_all(simctl_delays(ctx->ctl), &g->device, false);
     fleet_close_connections(g->index);
-    if (first) {
-        simctl_fault_clear_all();
-    }
+    simctl_fault_clear_all(simctl_faults(ctx->ctl), g);
     gripper_reset(g);
     wsg_device_give_observers(&g->device, &observers);
-    simctl_reset_max_lag();
+    simctl_reset_max_lag(simctl_scheduler(ctx->ctl));
     host_logf(HAL_LOG_INFO, "device %u reset to power-on defaults", g->index);
     return E_SUCCESS;
 }
@@ -85,7 +82,7 @@ wsg_status_t sc_devices(simctl_ctx_t *ctx)
 
 wsg_status_t sc_coverage(simctl_ctx_t *ctx)
 {
-    coverage_t *coverage = simctl_coverage();
+    coverage_t *coverage = simctl_coverage(ctx->ctl);
     if (coverage == NULL) {
         return sc_fail(ctx, E_NOT_AVAILABLE, "no coverage is counted");
     }
@@ -95,9 +92,8 @@ wsg_status_t sc_coverage(simctl_ctx_t *ctx)
 
 wsg_status_t sc_coverage_reset(simctl_ctx_t *ctx)
 {
-    (void)ctx;
-    if (simctl_coverage() != NULL) {
-        coverage_reset(simctl_coverage());
+    if (simctl_coverage(ctx->ctl) != NULL) {
+        coverage_reset(simctl_coverage(ctx->ctl));
     }
     return E_SUCCESS;
 }

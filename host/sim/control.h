@@ -1,31 +1,51 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* --sim-port: the simulation control channel, a line-based text port beside
- * the device protocol (docs/simctl.md). Loopback only unless --sim-bind. */
+/* The simulation control side: one instance holding the clock, the
+ * scheduler, the scenario, the injected hardware faults and --sim-port, the
+ * control channel, a line-based text port beside the device protocol
+ * (docs/simctl.md). Loopback only unless --sim-bind. */
 #ifndef SIM_CONTROL_H
 #define SIM_CONTROL_H
 
 #include <stdbool.h>
 
+#include "clock.h"
 #include "coverage.h"
 #include "delay.h"
+#include "faults.h"
 #include "record.h"
+#include "scenario.h"
+#include "scheduler.h"
+
+typedef struct simctl simctl_t;
+
+/* The clock running at 1x from simulated time 0 (hal_clock_now_us() reads
+ * it from now on), no scenario, no fault, no channel; NULL when out of
+ * memory. */
+simctl_t *simctl_create(void);
+/* Closes the channel, unloads the scenario, frees the instance. */
+void simctl_destroy(simctl_t *ctl);
+
+simclock_t *simctl_clock(simctl_t *ctl);
+simctl_sched_t *simctl_scheduler(simctl_t *ctl);
+scenario_t *simctl_scenario(simctl_t *ctl);
+simctl_faults_t *simctl_faults(simctl_t *ctl);
 
 /* Listens on addr:port (addr NULL: 127.0.0.1); false after a clear message. */
-bool simctl_start(const char *addr, int port);
-int simctl_port(void);
-/* ", control 127.0.0.1:7000" for the ready line; "" without a channel. */
-const char *simctl_describe(void);
+bool simctl_start(simctl_t *ctl, const char *addr, int port);
+int simctl_port(const simctl_t *ctl);
+/* ", control 127.0.0.1:7000" for the ready line into out; "" without a
+ * channel. */
+void simctl_describe(const simctl_t *ctl, char *out, size_t cap);
 /* Once per loop pass: a listener paused at the descriptor limit tries again. */
-void simctl_reap(void);
-void simctl_stop(void);
+void simctl_reap(simctl_t *ctl);
+void simctl_stop(simctl_t *ctl);
 
-/* The diagnostics the channel's commands and scenarios report and write to
- * (NULL: none), handed down by main (issue 19: until the channel is an
- * instance of its own that gets them when created). */
-void simctl_set_diagnostics(record_t *record, coverage_t *coverage);
-record_t *simctl_record(void);
-coverage_t *simctl_coverage(void);
-/* The channel's injected reply delays (DELAY). */
-simctl_delays_t *simctl_delays(void);
+/* The diagnostics the channel's commands, scenarios and scheduler report
+ * and write to (NULL: none), handed down by main once they exist. */
+void simctl_set_diagnostics(simctl_t *ctl, record_t *record, coverage_t *coverage);
+record_t *simctl_record(const simctl_t *ctl);
+coverage_t *simctl_coverage(const simctl_t *ctl);
+/* The injected reply delays (DELAY), released by the scheduler. */
+simctl_delays_t *simctl_delays(simctl_t *ctl);
 
 #endif

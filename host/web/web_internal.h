@@ -11,6 +11,7 @@
 #include <microhttpd.h>
 
 #include "gripper.h"
+#include "sim/control.h"
 #include "wsg/wsg_status.h"
 
 /* A request body larger than this is refused with 413. */
@@ -23,6 +24,7 @@ typedef struct {
     const char *body; /* NUL-terminated; "" when none */
     size_t body_len;
     bool sim_allowed; /* the peer may use the simulation routes */
+    simctl_t *sim;    /* runs them */
 } web_request_t;
 
 /* A JSON reply: takes ownership of json. */

@@ -53,6 +53,7 @@ static struct {
     int epoll_fd;
     int port;
     bool sim_open; /* --sim-bind names a non-loopback address */
+    simctl_t *sim; /* the simulation routes' control side */
     /* --http-allow-host: the names served besides addresses and localhost */
     const char *allow_hosts[HOST_HTTP_ALLOW_LISTS_MAX];
     size_t allow_host_count;
@@ -295,6 +296,7 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *connection, cons
         .body = call->body,
         .body_len = call->len,
         .sim_allowed = web.sim_open || (info != NULL && web_peer_is_loopback(info->client_addr)),
+        .sim = web.sim,
     };
     if (call->foreign_host) {
         return web_reply_error(
@@ -356,8 +358,9 @@ static bool sim_bind_open(const char *sim_bind)
            !IN6_IS_ADDR_LOOPBACK((const struct in6_addr *)addr);
 }
 
-bool web_server_start(const host_options_t *opts)
+bool web_server_start(const host_options_t *opts, simctl_t *sim)
 {
+    web.sim = sim;
     if (opts->http_port == 0) {
         return true;
     }

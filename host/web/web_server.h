@@ -15,13 +15,14 @@
 #include <stdbool.h>
 
 #include "options.h"
+#include "sim/control.h"
 #include "web/web_lines.h"
 
 /* Starts the server on opts->http_bind (or opts->bind_addr) port
  * opts->http_port; off when the port is 0. False (logged) when the port or
  * the address was given and cannot be had; the default, when taken, is
- * skipped with a warning. */
-bool web_server_start(const host_options_t *opts);
+ * skipped with a warning. The simulation routes run their commands on sim. */
+bool web_server_start(const host_options_t *opts, simctl_t *sim);
 /* After every loop_wait(): runs what is due on the wall clock. Costs one
  * test when nothing is scheduled. */
 void web_server_poll(void);

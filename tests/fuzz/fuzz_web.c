@@ -236,10 +236,11 @@ static void run_request(const uint8_t *p, size_t n)
     body[body_len] = '\0';
     struct MHD_Connection connection = {.queued = NULL, .arg_count = 0};
     split_query(url, &connection);
-    web_request_t req = {&connection, methods[p[0] & 7u], url, body, body_len, (p[0] & 8u) != 0};
+    web_request_t req = {&connection,      methods[p[0] & 7u], url, body, body_len,
+                         (p[0] & 8u) != 0, fuzz_host_sim()};
     finish_request(&connection, web_routes_dispatch(&req));
-    if (!simclock_paused()) {
-        simclock_pause(); /* a resume lets wall time in: inputs must replay */
+    if (!simclock_paused(simctl_clock(fuzz_host_sim()))) {
+        simclock_pause(simctl_clock(fuzz_host_sim())); /* a resume lets wall time in */
     }
     fuzz_host_settle();
     if (run_ms[p[0] >> 4] > 0) {

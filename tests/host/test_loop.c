@@ -50,16 +50,19 @@ static void count_call(void *ctx, int fd, short revents)
     p->last_revents = revents;
 }
 
+static simclock_t sim_clock; /* the deadlines loop_wait() is given */
+
 /* A wait that does not block: the simulated deadline is now. */
 static void wait_now(void)
 {
-    loop_wait(simclock_now_us());
+    loop_wait(simclock_now_us(&sim_clock));
 }
 
 static void setup(void)
 {
-    simclock_init();
+    simclock_init(&sim_clock);
     loop_init();
+    loop_set_clock(&sim_clock);
 }
 
 /* fd reuse during dispatch ------------------------------------------- */
@@ -253,7 +256,7 @@ END_TEST
 
 START_TEST(sigint_stops_a_loop_that_has_nothing_due)
 {
-    simclock_start_paused();
+    simclock_start_paused(&sim_clock);
     kill(getpid(), SIGINT);
     loop_wait(UINT64_MAX);
     ck_assert(loop_stop_requested());
@@ -262,21 +265,22 @@ END_TEST
 
 static int catch_ups;
 
-static void count_catch_up(void)
+static void count_catch_up(void *ctx)
 {
+    (void)ctx;
     catch_ups++;
 }
 
 /* Paused clock, nothing due: only the wall-clock wake-up ends the wait. */
 START_TEST(wall_wakeup_ends_an_otherwise_endless_wait)
 {
-    simclock_start_paused();
-    loop_set_catch_up(count_catch_up);
+    simclock_start_paused(&sim_clock);
+    loop_set_catch_up(count_catch_up, NULL);
     catch_ups = 0;
     loop_wake_at_wall(loop_monotonic_ns() + 2000000u);
     loop_wait(UINT64_MAX);
     ck_assert_int_eq(catch_ups, 1);
-    loop_set_catch_up(NULL);
+    loop_set_catch_up(NULL, NULL);
 }
 END_TEST
 
@@ -285,8 +289,9 @@ static int order_catch_up_at;
 static int order_callback_at;
 static int order_counter;
 
-static void note_catch_up(void)
+static void note_catch_up(void *ctx)
 {
+    (void)ctx;
     order_catch_up_at = ++order_counter;
 }
 
@@ -302,13 +307,13 @@ START_TEST(catch_up_runs_before_callbacks)
 {
     pair_t p;
     open_pair(&p);
-    loop_set_catch_up(note_catch_up);
+    loop_set_catch_up(note_catch_up, NULL);
     ck_assert(loop_watch(p.ends[0], POLLIN, note_callback, NULL));
     make_readable(&p);
     loop_wait(UINT64_MAX);
     ck_assert_int_eq(order_catch_up_at, 1);
     ck_assert_int_eq(order_callback_at, 2);
-    loop_set_catch_up(NULL);
+    loop_set_catch_up(NULL, NULL);
     close_pair(&p);
 }
 END_TEST

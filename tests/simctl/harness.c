@@ -16,25 +16,40 @@
 #include "sim/control.h"
 
 h_client_t t_gcl;
+simctl_t *t_sim;
 static char *last_reply;
 
-void t_setup(void)
+static void setup_with(int argc, char **argv)
 {
-    static char *argv[] = {"wsgsim", NULL};
     host_options_t opts;
-    ck_assert_int_eq(options_parse(1, argv, &opts), OPTIONS_RUN);
-    simclock_init();
-    simclock_start_paused();
+    ck_assert_int_eq(options_parse(argc, argv, &opts), OPTIONS_RUN);
+    t_sim = simctl_create();
+    ck_assert_ptr_nonnull(t_sim);
+    simclock_start_paused(simctl_clock(t_sim));
     opts.sim_port = 0; /* the tests drive the control channel: coverage is observed */
     ck_assert(finger_bus_host_start(&opts));
     opts.tcp_enabled = false; /* one device, no sockets: the tests feed it */
     opts.udp_enabled = false;
     ck_assert(fleet_start(&opts));
-    coverage_t *coverage = coverage_create(opts.strict, 1);
+    coverage_t *coverage = coverage_create(opts.strict, fleet_count());
     ck_assert_ptr_nonnull(coverage);
-    coverage_attach(coverage, &fleet_gripper(0)->device, 0);
-    simctl_set_diagnostics(NULL, coverage);
+    for (unsigned i = 0; i < fleet_count(); i++) {
+        coverage_attach(coverage, &fleet_gripper(i)->device, i);
+    }
+    simctl_set_diagnostics(t_sim, NULL, coverage);
     t_reopen();
+}
+
+void t_setup(void)
+{
+    static char *argv[] = {"wsgsim", NULL};
+    setup_with(1, argv);
+}
+
+void t_setup_three_devices(void)
+{
+    static char *argv[] = {"wsgsim", "--devices", "3", NULL};
+    setup_with(3, argv);
 }
 
 void t_reopen(void)
@@ -52,11 +67,15 @@ void t_setup_homed(void)
 void t_teardown(void)
 {
     ck_assert_msg(!t_gcl.bad_line, "the GCL session got something that is not one whole line");
-    simctl_delay_clear_all(simctl_delays(), &fleet_gripper(0)->device, false);
+    for (unsigned i = 0; i < fleet_count(); i++) {
+        simctl_delay_clear_all(simctl_delays(t_sim), &fleet_gripper(i)->device, false);
+    }
     fleet_stop();
-    coverage_destroy(simctl_coverage());
-    simctl_set_diagnostics(NULL, NULL);
+    coverage_destroy(simctl_coverage(t_sim));
+    simctl_set_diagnostics(t_sim, NULL, NULL);
     finger_bus_host_stop();
+    simctl_destroy(t_sim);
+    t_sim = NULL;
     free(last_reply);
     last_reply = NULL;
 }
@@ -64,9 +83,25 @@ void t_teardown(void)
 const char *ctl(const char *line)
 {
     free(last_reply);
-    last_reply = simctl_exec(line, strlen(line), NULL, NULL);
+    last_reply = simctl_exec(t_sim, line, strlen(line), NULL, NULL);
     ck_assert_ptr_nonnull(last_reply);
     return last_reply;
+}
+
+const char *ctl_on(unsigned device, const char *line)
+{
+    unsigned selected = device;
+    simctl_outcome_t outcome = {false, false};
+    free(last_reply);
+    last_reply = simctl_exec(t_sim, line, strlen(line), &selected, &outcome);
+    ck_assert_ptr_nonnull(last_reply); /* no STEP here: nothing is deferred */
+    return last_reply;
+}
+
+uint32_t t_device_flags(unsigned device)
+{
+    ck_assert_uint_lt(device, fleet_count());
+    return wsg_device_flags(&fleet_gripper(device)->device);
 }
 
 int t_err_code(const char *reply)

@@ -18,7 +18,7 @@
 
 static bool load_scenario(void *path)
 {
-    return scenario_load(path, 0);
+    return scenario_load(simctl_scenario(t_sim), path, 0);
 }
 
 START_TEST(scenario_runs_on_the_simulated_clock)
@@ -29,9 +29,9 @@ START_TEST(scenario_runs_on_the_simulated_clock)
                                    "+1400 PART_SLIP()\n"
                                    "2000 FAULT(\"POWER\")\n");
     uint64_t start = t_now_us();
-    ck_assert(scenario_load(path, start));
-    ck_assert_uint_eq(scenario_pending(), 3);
-    ck_assert_uint_eq(scenario_next_us(), start + 100000u);
+    ck_assert(scenario_load(simctl_scenario(t_sim), path, start));
+    ck_assert_uint_eq(scenario_pending(simctl_scenario(t_sim)), 3);
+    ck_assert_uint_eq(scenario_next_us(simctl_scenario(t_sim)), start + 100000u);
     t_step_ms(99);
     ck_assert_str_eq(ctl("PART?"), "PART=[0,0,0,0]");
     t_step_ms(1);
@@ -40,14 +40,14 @@ START_TEST(scenario_runs_on_the_simulated_clock)
     ck_assert_int_ge(t_until("FIN GRIP", 1000), 0);
     ck_assert_int_eq(t_gripstate(), GS_HOLDING);
     t_step_ms((double)(start + 1500000u - t_now_us()) / 1000.0);
-    ck_assert_uint_eq(scenario_pending(), 1);
+    ck_assert_uint_eq(scenario_pending(simctl_scenario(t_sim)), 1);
     t_step_ms(100);
     ck_assert_int_eq(t_gripstate(), GS_PART_LOST);
     t_step_ms(400);
-    ck_assert_uint_eq(scenario_pending(), 0);
+    ck_assert_uint_eq(scenario_pending(simctl_scenario(t_sim)), 0);
     ck_assert_int_eq(t_flag(SF_POWER_FAULT), 1);
     remove(path);
-    scenario_unload();
+    scenario_unload(simctl_scenario(t_sim));
 }
 END_TEST
 
@@ -95,14 +95,14 @@ START_TEST(scenario_arguments_are_checked_at_start)
     const char *path = t_temp_file("0 PART(40)\n0 FAULT(POWER)\n0 SCALE=2\n0 AMBIENT=30\n"
                                    "0 DELAY(10,99)\n0 CUT(98)\n0 PART_REMOVE()\n"
                                    "0 OBSTACLE(30)\n0 FAILNEXT(MOVE,18)\n0 LOG(hello)\n");
-    ck_assert(scenario_load(path, t_now_us() + 1000u));
+    ck_assert(scenario_load(simctl_scenario(t_sim), path, t_now_us() + 1000u));
     ck_assert_str_eq(ctl("PART?"), "PART=[0,0,0,0]");
     ck_assert_str_eq(ctl("OBSTACLE?"), "OBSTACLE=[0,0]");
     ck_assert_str_eq(ctl("FAULTS?"), "FAULTS=[]");
     ck_assert_str_eq(ctl("SCALE?"), "SCALE=1");
     ck_assert_str_eq(ctl("AMBIENT?"), "AMBIENT=25");
     remove(path);
-    scenario_unload();
+    scenario_unload(simctl_scenario(t_sim));
 }
 END_TEST
 
@@ -411,14 +411,14 @@ START_TEST(scenario_lines_take_trailing_comments)
     const char *path = t_temp_file("0 PART(40, 100)   # a part\n"
                                    "+10 LOG(\"# not a comment\") # but this is\n"
                                    "20\tOBSTACLE(60)#tight\n");
-    ck_assert(scenario_load(path, t_now_us()));
+    ck_assert(scenario_load(simctl_scenario(t_sim), path, t_now_us()));
     remove(path);
-    ck_assert_uint_eq(scenario_pending(), 3);
+    ck_assert_uint_eq(scenario_pending(simctl_scenario(t_sim)), 3);
     t_step_ms(20);
-    ck_assert_uint_eq(scenario_pending(), 0);
+    ck_assert_uint_eq(scenario_pending(simctl_scenario(t_sim)), 0);
     ck_assert_str_eq(ctl("PART?"), "PART=[1,40,100,0]");
     ck_assert_str_eq(ctl("OBSTACLE?"), "OBSTACLE=[1,60]");
-    scenario_unload();
+    scenario_unload(simctl_scenario(t_sim));
     char *text = malloc(5000);
     memset(text, ' ', 4999);
     memcpy(text, "0 PART(40)", 10);
