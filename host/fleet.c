@@ -90,17 +90,17 @@ static bool raise_descriptor_limit(const host_options_t *opts, unsigned devices)
 
 /* Device i's ports (host/port_layout.c); a [device.i] section's TCP and
  * UDP ports override the layout's. */
-static bool device_ports(unsigned i, port_layout_t *ports)
+static bool device_ports(const host_options_t *opts, unsigned i, port_layout_t *ports)
 {
     int port;
     if (fleet.by_address) { /* every device at the same ports */
         return port_layout_of(&fleet.plan, 0, ports);
     }
     bool fits = port_layout_of(&fleet.plan, i, ports);
-    if (config_file_device_port(i, false, &port)) {
+    if (config_file_device_port(opts->config, i, false, &port)) {
         ports->tcp = port;
     }
-    if (config_file_device_port(i, true, &port)) {
+    if (config_file_device_port(opts->config, i, true, &port)) {
         ports->udp = port;
     }
     static const char *const names[] = {"TCP", "UDP", "binary udp", "binary udp reply"};
@@ -193,7 +193,7 @@ static bool start_device(fleet_device_t *d, const host_options_t *opts, unsigned
         attach_device(d, opts, i);
         return true;
     }
-    if (!device_ports(i, &ports)) {
+    if (!device_ports(opts, i, &ports)) {
         return false;
     }
     if (opts->tcp_enabled &&
@@ -287,7 +287,7 @@ static bool start_fronts(const host_options_t *opts)
     fleet.tcp_front.own.fd = -1;
     fleet.udp_front.fd = -1;
     fleet.bin_front.fd = -1;
-    device_ports(0, &ports);
+    device_ports(opts, 0, &ports);
     if (opts->tcp_enabled &&
         !tcp_server_start_shared(&fleet.tcp_front, "0.0.0.0", (int)ports.tcp, route_tcp, NULL)) {
         return false;
@@ -302,7 +302,7 @@ static bool start_fronts(const host_options_t *opts)
 
 bool fleet_start(const host_options_t *opts)
 {
-    unsigned declared = config_file_devices(); /* [device.N] sections */
+    unsigned declared = config_file_devices(opts->config); /* [device.N] sections */
     unsigned n = declared > (unsigned)opts->devices ? declared : (unsigned)opts->devices;
     fleet.by_address = opts->address_per_device;
     if (!raise_descriptor_limit(opts, n) || (fleet.by_address && !parse_first_address(opts, n))) {

@@ -86,13 +86,13 @@ static void start_script(gripper_t *g)
 void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
 {
     g->opts = *opts;
-    g->opts.model = config_file_device_model(index, opts->model);
-    g->opts.script = config_file_device_script(index, opts->script);
+    g->opts.model = config_file_device_model(opts->config, index, opts->model);
+    g->opts.script = config_file_device_script(opts->config, index, opts->script);
     g->index = index;
     wsg_sim_model_config(wsg_sim_model_find(g->opts.model), &g->config);
-    config_file_apply(&g->config);
+    config_file_apply(opts->config, &g->config);
     set_identity(&g->config, index);
-    config_file_apply_device(index, &g->config);
+    config_file_apply_device(opts->config, index, &g->config);
     g->config.disconnect_raises_faststop = opts->disconnect_faststop;
     g->config.bin_crc_unchecked = !opts->binary_crc;
     power_on_world(g);

@@ -16,6 +16,7 @@
 #include "tcp_server.h"
 #include "trace.h"
 #include "udp_server.h"
+#include "web/web_lines.h"
 #include "web/web_server.h"
 
 #define EXIT_STARTUP_FAILED 2
@@ -28,7 +29,8 @@ typedef struct {
     coverage_t *coverage; /* always (COVERAGE?); counting only when asked */
 } diagnostics_t;
 
-static bool start_diagnostics(simctl_t *sim, diagnostics_t *d, const host_options_t *opts)
+static bool start_diagnostics(simctl_t *sim, web_server_t *web, diagnostics_t *d,
+                              const host_options_t *opts)
 {
     unsigned devices = fleet_count();
     bool counting = opts->coverage_path != NULL || opts->sim_port >= 0;
@@ -51,7 +53,7 @@ static bool start_diagnostics(simctl_t *sim, diagnostics_t *d, const host_option
         }
         trace_attach(d->trace, dev, i);
         record_attach(d->record, dev, i);
-        web_lines_attach(web_server_lines(), dev, i);
+        web_lines_attach(web_server_lines(web), dev, i);
     }
     simctl_set_diagnostics(sim, d->record, d->coverage);
     return true;
@@ -67,9 +69,10 @@ static void free_diagnostics(simctl_t *sim, diagnostics_t *d)
 }
 
 /* Simulation control (docs/simctl.md): record, scenario, control channel. */
-static bool start_simulation(simctl_t *sim, diagnostics_t *d, const host_options_t *opts)
+static bool start_simulation(simctl_t *sim, web_server_t *web, diagnostics_t *d,
+                             const host_options_t *opts)
 {
-    bool started = start_diagnostics(sim, d, opts) &&
+    bool started = start_diagnostics(sim, web, d, opts) &&
                    (opts->scenario_path == NULL ||
                     scenario_load(simctl_scenario(sim), opts->scenario_path, 0)) &&
                    (opts->sim_port < 0 || simctl_start(sim, opts->sim_bind, opts->sim_port));
@@ -90,17 +93,17 @@ static int stop_simulation(simctl_t *sim, diagnostics_t *d, const host_options_t
 }
 
 /* One line per further device of a fleet, then the ready line. */
-static bool announce(const simctl_t *sim, const host_options_t *opts)
+static bool announce(const simctl_t *sim, const web_server_t *web, const host_options_t *opts)
 {
     char line[512];
     char extra[256];
     char control[96];
     simctl_describe(sim, control, sizeof(control));
-    snprintf(extra, sizeof(extra), "%s%s", control, web_server_describe());
+    snprintf(extra, sizeof(extra), "%s%s", control, web_server_describe(web));
     fleet_ready_line(extra, line, sizeof(line));
     bool bin_tcp = opts->tcp_enabled && opts->protocol != HOST_PROTOCOL_GCL;
     notify_set_binary_ports(bin_tcp ? fleet_tcp_port(0) : -1, fleet_bin_udp_port(0));
-    notify_set_http_port(web_server_port());
+    notify_set_http_port(web_server_port(web));
     notify_set_sim_port(simctl_port(sim));
     if (!notify_prepare(opts->ready_file)) {
         return false;
@@ -137,7 +140,7 @@ static void catch_up(void *sched)
 
 /* Starts everything on the simulation's clock and runs the loop until a
  * signal stops it; the exit status. */
-static int serve(simctl_t *sim, const host_options_t *opts)
+static int serve(simctl_t *sim, web_server_t *web, host_options_t *opts)
 {
     if (opts->start_paused) {
         simclock_start_paused(simctl_clock(sim)); /* simulated time stands at exactly 0 */
@@ -150,11 +153,13 @@ static int serve(simctl_t *sim, const host_options_t *opts)
         return EXIT_STARTUP_FAILED;
     }
     diagnostics_t diagnostics = {NULL, NULL, NULL};
-    if (!web_server_start(opts, sim) || !fleet_start(opts) ||
-        !start_simulation(sim, &diagnostics, opts)) {
+    if (!web_server_start(web, opts, sim)) {
         return EXIT_STARTUP_FAILED;
     }
-    if (!announce(sim, opts)) {
+    if (!fleet_start(opts) || !start_simulation(sim, web, &diagnostics, opts)) {
+        return EXIT_STARTUP_FAILED;
+    }
+    if (!announce(sim, web, opts)) {
         return EXIT_STARTUP_FAILED;
     }
     host_logf(HAL_LOG_INFO, "finger bus: %s", finger_bus_host_describe());
@@ -162,14 +167,14 @@ static int serve(simctl_t *sim, const host_options_t *opts)
         uint64_t deadline = simctl_tick(simctl_scheduler(sim));
         fleet_run_scripts();
         loop_wait(deadline);
-        web_server_poll();
+        web_server_poll(web);
         tcp_server_reap();
         udp_server_reap();
         simctl_reap(sim);
     }
     host_logf(HAL_LOG_INFO, "shutting down");
     notify_stopping(opts->ready_file);
-    web_server_stop(); /* while the devices its operations ran on exist */
+    web_server_stop(web); /* while the devices its operations ran on exist */
     fleet_stop();
     finger_bus_host_stop();
     can_log_close();
@@ -181,15 +186,20 @@ int main(int argc, char **argv)
     host_options_t opts;
     options_result_t parsed = options_parse(argc, argv, &opts);
     if (parsed != OPTIONS_RUN) {
+        options_release(&opts);
         return parsed == OPTIONS_EXIT_OK ? 0 : EXIT_STARTUP_FAILED;
     }
     setvbuf(stderr, NULL, _IOLBF, 0);
     host_log_init();
     if (!start_logging(&opts)) {
+        options_release(&opts);
         return EXIT_STARTUP_FAILED;
     }
     simctl_t *sim = simctl_create();
-    int status = sim != NULL ? serve(sim, &opts) : EXIT_STARTUP_FAILED;
+    web_server_t *web = web_server_create();
+    int status = sim != NULL && web != NULL ? serve(sim, web, &opts) : EXIT_STARTUP_FAILED;
+    web_server_destroy(web); /* after the devices: their observers held its lines */
     simctl_destroy(sim);
+    options_release(&opts); /* the configuration read */
     return status;
 }

@@ -3,7 +3,6 @@
  * observers, fault injection and the snapshot. */
 #include <string.h>
 
-#include "priv/motion_tuning.h"
 #include "priv/wsg_dev.h"
 #include "wsg/wsg_inject.h"
 

@@ -22,68 +22,64 @@ typedef struct {
     char bytes[LINE_CHARS];
 } line_t;
 
-typedef struct {
+struct web_lines_ring {
     const wsg_device_t *device;
     uint64_t id;    /* 0: free */
     unsigned head;  /* the next line's place */
     unsigned count; /* lines kept, at most WEB_LINES_KEPT */
     bool binary;    /* its first message was a binary frame */
     line_t lines[WEB_LINES_KEPT];
-} ring_t;
-
-/* A device's observer, added to it only once a client looks. */
-typedef struct {
-    wsg_device_t *device; /* NULL: not attached */
-    wsg_conn_observer_t node;
-} lines_device_t;
-
-struct web_lines {
-    bool watched; /* a client looked: lines are kept from then on */
-    unsigned count;
-    lines_device_t *devices;
-    ring_t rings[SLOTS];
 };
 
-web_lines_t *web_lines_create(unsigned devices)
+typedef web_lines_ring_t ring_t;
+
+/* A device's message observer, added to it only once a client looks. */
+struct web_lines_device {
+    wsg_device_t *device; /* NULL: not attached */
+    wsg_conn_observer_t node;
+};
+
+void web_lines_enable(web_lines_t *lines, unsigned devices)
 {
-    web_lines_t *wl = calloc(1, sizeof(*wl));
-    lines_device_t *list = calloc(devices > 0 ? devices : 1u, sizeof(*list));
-    if (wl == NULL || list == NULL) {
-        free(wl);
-        free(list);
-        return NULL;
+    if (lines->rings == NULL) {
+        lines->rings = calloc(SLOTS, sizeof(*lines->rings));
+        lines->devices = calloc(devices > 0 ? devices : 1u, sizeof(*lines->devices));
+        lines->count = lines->devices != NULL ? devices : 0u;
     }
-    wl->count = devices;
-    wl->devices = list;
-    return wl;
 }
 
-void web_lines_destroy(web_lines_t *wl)
+void web_lines_disable(web_lines_t *lines)
 {
-    if (wl == NULL) {
-        return;
-    }
-    for (unsigned i = 0; wl->watched && i < wl->count; i++) {
-        if (wl->devices[i].device != NULL) {
-            wsg_conn_remove_observer(wl->devices[i].device, &wl->devices[i].node);
+    for (unsigned i = 0; lines->watched && i < lines->count; i++) {
+        if (lines->devices[i].device != NULL) {
+            wsg_conn_remove_observer(lines->devices[i].device, &lines->devices[i].node);
         }
     }
-    free(wl->devices);
-    free(wl);
+    free(lines->devices);
+    lines->devices = NULL;
+    lines->count = 0;
+    free(lines->rings);
+    lines->rings = NULL;
+    lines->watched = false;
 }
 
-static ring_t *slot_of(web_lines_t *wl, const wsg_device_t *device, uint64_t id)
+bool web_lines_enabled(const web_lines_t *lines)
+{
+    return lines->rings != NULL;
+}
+
+static ring_t *slot_of(const web_lines_t *lines, const wsg_device_t *device, uint64_t id)
 {
     uint64_t hash = (id ^ (uint64_t)((uintptr_t)device >> 4)) * 0x9E3779B97F4A7C15ull;
-    return &wl->rings[(hash >> 56) & (SLOTS - 1u)];
+    return &lines->rings[(hash >> 56) & (SLOTS - 1u)];
 }
 
-static void keep_line(web_lines_t *wl, const wsg_conn_t *c, bool incoming, const char *bytes,
+static void keep_line(web_lines_t *lines, const wsg_conn_t *c, bool incoming, const char *bytes,
                       size_t len)
 {
     uint64_t id = wsg_conn_id(c);
     const wsg_device_t *device = wsg_conn_device(c);
-    ring_t *r = slot_of(wl, device, id);
+    ring_t *r = slot_of(lines, device, id);
     if (r->id != id || r->device != device) {
         r->id = id;
         r->device = device;
@@ -125,18 +121,18 @@ static void format_frame(char *out, size_t cap, const line_t *line)
              name != NULL ? name : "unknown", line->len);
 }
 
-static const ring_t *find(web_lines_t *wl, const wsg_conn_t *c)
+static const ring_t *find(const web_lines_t *lines, const wsg_conn_t *c)
 {
-    if (wl == NULL) {
+    if (lines->rings == NULL) {
         return NULL;
     }
-    const ring_t *r = slot_of(wl, wsg_conn_device(c), wsg_conn_id(c));
+    const ring_t *r = slot_of(lines, wsg_conn_device(c), wsg_conn_id(c));
     return r->id == wsg_conn_id(c) && r->device == wsg_conn_device(c) ? r : NULL;
 }
 
-void web_lines_write(web_lines_t *wl, web_json_t *j, const char *key, const wsg_conn_t *c)
+void web_lines_write(const web_lines_t *lines, web_json_t *j, const char *key, const wsg_conn_t *c)
 {
-    const ring_t *r = find(wl, c);
+    const ring_t *r = find(lines, c);
     char text[LINE_CHARS + 3u];
     web_json_open_array(j, key);
     for (unsigned i = 0; r != NULL && i < r->count; i++) {
@@ -151,13 +147,13 @@ void web_lines_write(web_lines_t *wl, web_json_t *j, const char *key, const wsg_
     web_json_close_array(j);
 }
 
-const char *web_lines_protocol(web_lines_t *wl, const wsg_conn_t *c)
+const char *web_lines_protocol(const web_lines_t *lines, const wsg_conn_t *c)
 {
     wsg_gcl_conn_info_t info;
     if (wsg_gcl_conn_info(c, &info)) {
         return "gcl";
     }
-    const ring_t *r = find(wl, c);
+    const ring_t *r = find(lines, c);
     return r != NULL && r->binary ? "binary" : "undetected";
 }
 
@@ -172,34 +168,34 @@ static void on_out(void *ctx, const wsg_conn_t *c, const char *bytes, size_t len
     keep_line(ctx, c, false, bytes, len);
 }
 
-static void observe(web_lines_t *wl, lines_device_t *d)
+static void observe(web_lines_t *lines, struct web_lines_device *d)
 {
-    d->node = (wsg_conn_observer_t){.message_in = on_in, .message_out = on_out, .ctx = wl};
+    d->node = (wsg_conn_observer_t){.message_in = on_in, .message_out = on_out, .ctx = lines};
     wsg_conn_add_observer(d->device, &d->node);
 }
 
-void web_lines_attach(web_lines_t *wl, wsg_device_t *dev, unsigned index)
+void web_lines_attach(web_lines_t *lines, wsg_device_t *dev, unsigned index)
 {
-    if (wl == NULL || index >= wl->count) {
+    if (lines == NULL || index >= lines->count) {
         return;
     }
-    wl->devices[index].device = dev;
-    if (wl->watched) {
-        observe(wl, &wl->devices[index]);
+    lines->devices[index].device = dev;
+    if (lines->watched) {
+        observe(lines, &lines->devices[index]);
     }
 }
 
 /* Until a client looks, the devices are not observed at all: a line costs
- * nothing. The first look adds the observer to every device (once). */
-void web_lines_watch(web_lines_t *wl)
+ * nothing. The first look adds the observer to every attached device. */
+void web_lines_watch(web_lines_t *lines)
 {
-    if (wl == NULL || wl->watched) {
+    if (lines->rings == NULL || lines->watched) {
         return;
     }
-    wl->watched = true;
-    for (unsigned i = 0; i < wl->count; i++) {
-        if (wl->devices[i].device != NULL) {
-            observe(wl, &wl->devices[i]);
+    lines->watched = true;
+    for (unsigned i = 0; i < lines->count; i++) {
+        if (lines->devices[i].device != NULL) {
+            observe(lines, &lines->devices[i]);
         }
     }
 }

@@ -18,23 +18,32 @@
 
 #define WEB_LINES_KEPT 8
 
-typedef struct web_lines web_lines_t;
+typedef struct web_lines_ring web_lines_ring_t;
+struct web_lines_device;
 
-/* The table, for a fleet of `devices`; NULL when out of memory. */
-web_lines_t *web_lines_create(unsigned devices);
-/* Keeps device `index`'s lines (below the create's count) from the first
- * look on (web_lines_watch). */
-void web_lines_attach(web_lines_t *wl, wsg_device_t *dev, unsigned index);
-/* While the devices it was attached to live on: it leaves them (the web
- * server stops before the fleet). Nothing for NULL. */
-void web_lines_destroy(web_lines_t *wl);
+/* The lines of one web server (embedded in its routes' state). */
+typedef struct web_lines {
+    web_lines_ring_t *rings;          /* the table while the server is on, else NULL */
+    bool watched;                     /* a client looked: the devices are observed */
+    struct web_lines_device *devices; /* one message observer per device */
+    unsigned count;
+} web_lines_t;
+
+/* The table, for a fleet of `devices`. */
+void web_lines_enable(web_lines_t *lines, unsigned devices);
+/* Leaves the devices it observes (they must still exist: the web server
+ * stops before the fleet) and frees the table. */
+void web_lines_disable(web_lines_t *lines);
+bool web_lines_enabled(const web_lines_t *lines);
+/* Keeps device `index`'s lines (below the enable's count) from the first
+ * look on; nothing for NULL or a table that is off. */
+void web_lines_attach(web_lines_t *lines, wsg_device_t *dev, unsigned index);
 /* A client looks: lines are kept from now on, on every attached device
- * (O(devices), once). Nothing for NULL. */
-void web_lines_watch(web_lines_t *wl);
-/* The connection's last lines, oldest first, as an array (empty when none,
- * or wl NULL). */
-void web_lines_write(web_lines_t *wl, web_json_t *j, const char *key, const wsg_conn_t *c);
+ * (O(devices), once). */
+void web_lines_watch(web_lines_t *lines);
+/* The connection's last lines, oldest first, as an array (empty when none). */
+void web_lines_write(const web_lines_t *lines, web_json_t *j, const char *key, const wsg_conn_t *c);
 /* "gcl", "binary" or "undetected" (no byte yet on an auto-detecting port). */
-const char *web_lines_protocol(web_lines_t *wl, const wsg_conn_t *c);
+const char *web_lines_protocol(const web_lines_t *lines, const wsg_conn_t *c);
 
 #endif

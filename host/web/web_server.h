@@ -16,23 +16,29 @@
 
 #include "options.h"
 #include "sim/control.h"
-#include "web/web_lines.h"
 
+typedef struct web_server web_server_t;
+struct web_lines;
+
+/* Off, holding nothing yet; NULL: out of memory. */
+web_server_t *web_server_create(void);
+/* Stops it (when on) and frees it; NULL: nothing. */
+void web_server_destroy(web_server_t *web);
 /* Starts the server on opts->http_bind (or opts->bind_addr) port
  * opts->http_port; off when the port is 0. False (logged) when the port or
  * the address was given and cannot be had; the default, when taken, is
  * skipped with a warning. The simulation routes run their commands on sim. */
-bool web_server_start(const host_options_t *opts, simctl_t *sim);
+bool web_server_start(web_server_t *web, const host_options_t *opts, simctl_t *sim);
 /* After every loop_wait(): runs what is due on the wall clock. Costs one
  * test when nothing is scheduled. */
-void web_server_poll(void);
+void web_server_poll(web_server_t *web);
 /* ", http ADDR:PORT" for the ready line, or "" when off. */
-const char *web_server_describe(void);
+const char *web_server_describe(const web_server_t *web);
 /* The port served, or -1. */
-int web_server_port(void);
-void web_server_stop(void);
-/* The connection list's last lines while the server is on, else NULL; the
- * caller attaches them to each device (web_lines_attach). */
-web_lines_t *web_server_lines(void);
+int web_server_port(const web_server_t *web);
+void web_server_stop(web_server_t *web);
+/* The page's connection lines, NULL when the server is off: main attaches
+ * them to every device (web_lines_attach). */
+struct web_lines *web_server_lines(web_server_t *web);
 
 #endif

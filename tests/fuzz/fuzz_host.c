@@ -14,7 +14,6 @@
 #include "sim/faults.h"
 #include "sim/scenario.h"
 #include "sim/scheduler.h"
-#include "web/web_server.h"
 
 static host_options_t options;
 static simctl_t *sim;
@@ -22,6 +21,7 @@ static char file_path[256];
 
 host_options_t *fuzz_host_options(int argc, char **argv)
 {
+    options_release(&options); /* the configuration the last input read */
     if (options_parse(argc, argv, &options) != OPTIONS_RUN) {
         return NULL;
     }
@@ -65,25 +65,6 @@ void fuzz_host_step(uint64_t us)
     }
 }
 
-/* Stands in for web_server.c's: NULL unless a target keeps the lines. */
-static web_lines_t *web_lines;
-
-web_lines_t *web_server_lines(void)
-{
-    return web_lines;
-}
-
-void fuzz_host_keep_web_lines(void)
-{
-    web_lines = web_lines_create(fleet_count());
-    if (web_lines == NULL) {
-        abort();
-    }
-    for (unsigned i = 0; i < fleet_count(); i++) {
-        web_lines_attach(web_lines, &fleet_gripper(i)->device, i);
-    }
-}
-
 void fuzz_host_stop(void)
 {
     scenario_unload(simctl_scenario(sim));
@@ -91,8 +72,6 @@ void fuzz_host_stop(void)
         simctl_delay_clear_all(simctl_delays(sim), &fleet_gripper(i)->device, false);
         simctl_fault_clear_all(simctl_faults(sim), fleet_gripper(i));
     }
-    web_lines_destroy(web_lines); /* as the web server stops: before the devices go */
-    web_lines = NULL;
     fleet_stop();
     finger_bus_host_stop();
     simctl_destroy(sim);

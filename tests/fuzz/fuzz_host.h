@@ -24,9 +24,6 @@ void fuzz_host_settle(void);
 /* Simulated time runs on by us, as a STEP on the control channel does; the
  * clock is paused again if something on the way resumed it. */
 void fuzz_host_step(uint64_t us);
-/* The web server's connection lines, kept on every device as the server
- * keeps them (web_server.c, not linked, would hold them); until the stop. */
-void fuzz_host_keep_web_lines(void);
 void fuzz_host_stop(void);
 /* The control side started with the host (NULL while stopped). */
 simctl_t *fuzz_host_sim(void);

@@ -21,9 +21,11 @@
 #include <cjson/cJSON.h>
 #include <microhttpd.h>
 
+#include "fleet.h"
 #include "fuzz_host.h"
 #include "sim/clock.h"
 #include "web/web_internal.h"
+#include "web/web_lines.h"
 #include "web/web_routes.h"
 
 #define SEPARATOR 0xffu
@@ -216,7 +218,7 @@ static void finish_request(struct MHD_Connection *connection, enum MHD_Result re
     MHD_destroy_response(r); /* the connection's reference */
 }
 
-static void run_request(const uint8_t *p, size_t n)
+static void run_request(web_app_t *app, const uint8_t *p, size_t n)
 {
     static char url[4096 + 1];
     static char body[WEB_BODY_MAX + 1u];
@@ -236,8 +238,8 @@ static void run_request(const uint8_t *p, size_t n)
     body[body_len] = '\0';
     struct MHD_Connection connection = {.queued = NULL, .arg_count = 0};
     split_query(url, &connection);
-    web_request_t req = {&connection,      methods[p[0] & 7u], url, body, body_len,
-                         (p[0] & 8u) != 0, fuzz_host_sim()};
+    web_request_t req = {app,  &connection, methods[p[0] & 7u], url,
+                         body, body_len,    (p[0] & 8u) != 0,   fuzz_host_sim()};
     finish_request(&connection, web_routes_dispatch(&req));
     if (!simclock_paused(simctl_clock(fuzz_host_sim()))) {
         simclock_pause(simctl_clock(fuzz_host_sim())); /* a resume lets wall time in */
@@ -255,21 +257,25 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     char devices[2] = {(char)('1' + (data[0] & 3u)), '\0'};
     char *argv[] = {"wsgsim", "--no-udp", "--devices", devices, NULL};
-    const host_options_t *opts = fuzz_host_options(4, argv);
+    host_options_t *opts = fuzz_host_options(4, argv);
     if (opts == NULL) {
         abort();
     }
+    web_app_t app; /* what the server keeps for its routes */
+    web_app_init(&app);
+    web_lines_enable(&app.lines, (unsigned)opts->devices); /* as the server does */
     fuzz_host_start(opts);
-    fuzz_host_keep_web_lines();
+    for (unsigned i = 0; i < fleet_count(); i++) { /* as main does */
+        web_lines_attach(&app.lines, &fleet_gripper(i)->device, i);
+    }
     size_t first = 1;
     for (size_t i = 1; i <= size; i++) {
         if (i == size || data[i] == SEPARATOR) {
-            run_request(data + first, i - first);
+            run_request(&app, data + first, i - first);
             first = i + 1;
         }
     }
-    web_ops_forget(); /* as the server stops: before the devices go */
+    web_app_release(&app); /* as the server stops: before the devices go */
     fuzz_host_stop();
-
     return 0;
 }
