@@ -198,7 +198,7 @@ int main(int argc, char **argv)
     simctl_t *sim = simctl_create();
     web_server_t *web = web_server_create();
     int status = sim != NULL && web != NULL ? serve(sim, web, &opts) : EXIT_STARTUP_FAILED;
-    web_server_destroy(web); /* after the devices: their observers held its lines */
+    web_server_destroy(web); /* its stop already took its lines off the devices */
     simctl_destroy(sim);
     options_release(&opts); /* the configuration read */
     return status;
