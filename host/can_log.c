@@ -6,8 +6,6 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "can_loopback.h"
-
 static FILE *out;
 static const char *out_path;
 
@@ -36,8 +34,12 @@ static int can_log_format(const hal_can_frame_t *frame, uint64_t time_us, char *
     return n;
 }
 
-static void log_frame(const hal_can_frame_t *frame, uint64_t time_us)
+void can_log_frame(void *ctx, const hal_can_frame_t *frame, uint64_t time_us)
 {
+    (void)ctx;
+    if (out == NULL) {
+        return;
+    }
     char line[CAN_LOG_LINE_MAX];
     int n = can_log_format(frame, time_us, line);
     fprintf(out, "%.*s\n", n, line);
@@ -51,7 +53,6 @@ bool can_log_open(const char *path)
         return false;
     }
     out_path = path;
-    can_loopback_set_tap(log_frame);
     return true;
 }
 
@@ -72,7 +73,6 @@ bool can_log_reopen(void)
 void can_log_close(void)
 {
     if (out != NULL) {
-        can_loopback_set_tap(NULL);
         fclose(out);
         out = NULL;
     }

@@ -14,9 +14,11 @@
 /* The interface name each line carries: canplayer replays onto it. */
 #define CAN_LOG_IFACE "vcan0"
 
-/* Opens (truncates) the file and taps the in-process bus; false after a
- * message on stderr. */
+/* Opens (truncates) the file; false after a message on stderr. main taps
+ * device 0's in-process bus with can_log_frame. */
 bool can_log_open(const char *path);
+/* Writes one frame sent at time_us (a can_loopback_tap_t; ctx unused). */
+void can_log_frame(void *ctx, const hal_can_frame_t *frame, uint64_t time_us);
 /* Opens the file again by its path, appending (log rotation); keeps the old
  * one when that fails. No-op without --can-log. */
 bool can_log_reopen(void);

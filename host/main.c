@@ -3,8 +3,8 @@
 #include <stdio.h>
 
 #include "can_log.h"
+#include "can_loopback.h"
 #include "coverage.h"
-#include "finger_bus_host.h"
 #include "fleet.h"
 #include "log.h"
 #include "loop.h"
@@ -13,27 +13,29 @@
 #include "options.h"
 #include "record.h"
 #include "sim/control.h"
-#include "tcp_server.h"
 #include "trace.h"
-#include "udp_server.h"
 #include "web/web_lines.h"
 #include "web/web_server.h"
 
 #define EXIT_STARTUP_FAILED 2
 
 /* The diagnostics: created only when asked for (a plain run pays nothing
- * per message), each attached to every device of the fleet. */
+ * per message), each attached to every device as the fleet powers it on. */
 typedef struct {
+    const host_options_t *opts;
+    bool counting; /* --coverage or a control channel (COVERAGE?) */
     trace_t *trace;
     record_t *record;
     coverage_t *coverage; /* always (COVERAGE?); counting only when asked */
+    web_lines_t *lines;   /* the web page's, NULL when the server is off */
 } diagnostics_t;
 
-static bool start_diagnostics(simctl_t *sim, web_server_t *web, diagnostics_t *d,
-                              const host_options_t *opts)
+static bool start_diagnostics(diagnostics_t *d, web_server_t *web, const host_options_t *opts)
 {
-    unsigned devices = fleet_count();
-    bool counting = opts->coverage_path != NULL || opts->sim_port >= 0;
+    unsigned devices = (unsigned)opts->devices;
+    d->opts = opts;
+    d->counting = opts->coverage_path != NULL || opts->sim_port >= 0;
+    d->lines = web_server_lines(web);
     d->coverage = coverage_create(opts->strict, devices);
     d->trace = opts->trace ? trace_create(opts->strict, devices) : NULL;
     if (d->coverage == NULL || (opts->trace && d->trace == NULL)) {
@@ -43,20 +45,7 @@ static bool start_diagnostics(simctl_t *sim, web_server_t *web, diagnostics_t *d
         (d->record = record_open(opts->record_path, devices)) == NULL) {
         return false;
     }
-    if (opts->coverage_path != NULL && !coverage_open(d->coverage, opts->coverage_path)) {
-        return false;
-    }
-    for (unsigned i = 0; i < devices; i++) {
-        wsg_device_t *dev = &fleet_gripper(i)->device;
-        if (counting) {
-            coverage_attach(d->coverage, dev, i);
-        }
-        trace_attach(d->trace, dev, i);
-        record_attach(d->record, dev, i);
-        web_lines_attach(web_server_lines(web), dev, i);
-    }
-    simctl_set_diagnostics(sim, d->record, d->coverage);
-    return true;
+    return opts->coverage_path == NULL || coverage_open(d->coverage, opts->coverage_path);
 }
 
 /* The process ends: nothing of the diagnostics is used again. */
@@ -68,18 +57,33 @@ static void free_diagnostics(simctl_t *sim, diagnostics_t *d)
     coverage_destroy(d->coverage);
 }
 
-/* Simulation control (docs/simctl.md): record, scenario, control channel. */
-static bool start_simulation(simctl_t *sim, web_server_t *web, diagnostics_t *d,
-                             const host_options_t *opts)
+/* A device's observers, attached as the fleet powers it on (before its
+ * startup script runs): the diagnostics on every device, and --can-log
+ * taps device 0's in-process bus. */
+static void attach_observers(void *ctx, gripper_t *g)
 {
-    bool started = start_diagnostics(sim, web, d, opts) &&
-                   (opts->scenario_path == NULL ||
-                    scenario_load(simctl_scenario(sim), opts->scenario_path, 0)) &&
-                   (opts->sim_port < 0 || simctl_start(sim, opts->sim_bind, opts->sim_port));
-    if (!started) {
-        free_diagnostics(sim, d);
+    const diagnostics_t *d = ctx;
+    if (d->counting) {
+        coverage_attach(d->coverage, &g->device, g->index);
     }
-    return started;
+    trace_attach(d->trace, &g->device, g->index);
+    record_attach(d->record, &g->device, g->index);
+    web_lines_attach(d->lines, &g->device, g->index);
+    can_loopback_t *bus = finger_bus_host_loopback(&g->fingers);
+    if (g->index == 0 && d->opts->can_log != NULL && bus != NULL) {
+        can_loopback_set_tap(bus, can_log_frame, NULL);
+    }
+}
+
+/* Simulation control (docs/simctl.md): scenario, control channel. */
+static bool start_simulation(simctl_t *sim, diagnostics_t *d, const host_options_t *opts)
+{
+    simctl_set_diagnostics(sim, d->record, d->coverage);
+    if (opts->scenario_path != NULL &&
+        !scenario_load(simctl_scenario(sim), opts->scenario_path, 0)) {
+        return false;
+    }
+    return opts->sim_port < 0 || simctl_start(sim, opts->sim_bind, opts->sim_port);
 }
 
 /* After the devices are gone. */
@@ -92,23 +96,32 @@ static int stop_simulation(simctl_t *sim, diagnostics_t *d, const host_options_t
     return written ? 0 : 1;
 }
 
+/* Replies an injected DELAY holds back (the connection I/O's held() hook). */
+static bool delay_holds_replies(void *ctx, const wsg_conn_t *conn)
+{
+    (void)ctx;
+    return wsg_conn_replies_held(conn);
+}
+
 /* One line per further device of a fleet, then the ready line. */
-static bool announce(const simctl_t *sim, const web_server_t *web, const host_options_t *opts)
+static bool announce(const simctl_t *sim, const web_server_t *web, const host_options_t *opts,
+                     fleet_t *fleet)
 {
     char line[512];
     char extra[256];
     char control[96];
     simctl_describe(sim, control, sizeof(control));
     snprintf(extra, sizeof(extra), "%s%s", control, web_server_describe(web));
-    fleet_ready_line(extra, line, sizeof(line));
+    fleet_ready_line(fleet, extra, line, sizeof(line));
     bool bin_tcp = opts->tcp_enabled && opts->protocol != HOST_PROTOCOL_GCL;
-    notify_set_binary_ports(bin_tcp ? fleet_tcp_port(0) : -1, fleet_bin_udp_port(0));
+    notify_set_ports(fleet_tcp_port(fleet, 0), fleet_udp_port(fleet, 0));
+    notify_set_binary_ports(bin_tcp ? fleet_tcp_port(fleet, 0) : -1, fleet_bin_udp_port(fleet, 0));
     notify_set_http_port(web_server_port(web));
     notify_set_sim_port(simctl_port(sim));
     if (!notify_prepare(opts->ready_file)) {
         return false;
     }
-    fleet_announce_devices();
+    fleet_announce_devices(fleet);
     host_logf(HAL_LOG_INFO, "%s", line);
     return notify_ready(opts->ready_file, line);
 }
@@ -140,7 +153,7 @@ static void catch_up(void *sched)
 
 /* Starts everything on the simulation's clock and runs the loop until a
  * signal stops it; the exit status. */
-static int serve(simctl_t *sim, web_server_t *web, host_options_t *opts)
+static int serve(simctl_t *sim, web_server_t *web, fleet_t *fleet, host_options_t *opts)
 {
     if (opts->start_paused) {
         simclock_start_paused(simctl_clock(sim)); /* simulated time stands at exactly 0 */
@@ -149,34 +162,44 @@ static int serve(simctl_t *sim, web_server_t *web, host_options_t *opts)
     loop_set_catch_up(catch_up, simctl_scheduler(sim));
     loop_set_clock(simctl_clock(sim));
     loop_set_hangup(reopen_files, sim);
-    if (!finger_bus_host_start(opts) || (opts->can_log != NULL && !can_log_open(opts->can_log))) {
+    diagnostics_t diagnostics = {0};
+    fleet_observer_t observers = {.device_started = attach_observers,
+                                  .replies_held = delay_holds_replies,
+                                  .ctx = &diagnostics};
+    if (opts->can_log != NULL && !can_log_open(opts->can_log)) {
         return EXIT_STARTUP_FAILED;
     }
-    diagnostics_t diagnostics = {NULL, NULL, NULL};
+    fleet_observe(fleet, &observers);
+    simctl_set_fleet(sim, fleet);
+    web_server_set_fleet(fleet);
     if (!web_server_start(web, opts, sim)) {
         return EXIT_STARTUP_FAILED;
     }
-    if (!fleet_start(opts) || !start_simulation(sim, web, &diagnostics, opts)) {
+    if (!start_diagnostics(&diagnostics, web, opts) || !fleet_start(fleet, opts) ||
+        !start_simulation(sim, &diagnostics, opts)) {
+        web_server_stop(web); /* the devices go first: nothing observes them after */
+        fleet_stop(fleet);
+        free_diagnostics(sim, &diagnostics);
         return EXIT_STARTUP_FAILED;
     }
-    if (!announce(sim, web, opts)) {
+    if (!announce(sim, web, opts, fleet)) {
         return EXIT_STARTUP_FAILED;
     }
-    host_logf(HAL_LOG_INFO, "finger bus: %s", finger_bus_host_describe());
+    char bus[96];
+    finger_bus_host_describe(&fleet_gripper(fleet, 0)->fingers, bus, sizeof(bus));
+    host_logf(HAL_LOG_INFO, "finger bus: %s", bus);
     while (!loop_stop_requested()) {
         uint64_t deadline = simctl_tick(simctl_scheduler(sim));
-        fleet_run_scripts();
+        fleet_run_scripts(fleet);
         loop_wait(deadline);
         web_server_poll(web);
-        tcp_server_reap();
-        udp_server_reap();
+        fleet_reap(fleet);
         simctl_reap(sim);
     }
     host_logf(HAL_LOG_INFO, "shutting down");
     notify_stopping(opts->ready_file);
     web_server_stop(web); /* while the devices its operations ran on exist */
-    fleet_stop();
-    finger_bus_host_stop();
+    fleet_stop(fleet);
     can_log_close();
     return stop_simulation(sim, &diagnostics, opts);
 }
@@ -197,7 +220,10 @@ int main(int argc, char **argv)
     }
     simctl_t *sim = simctl_create();
     web_server_t *web = web_server_create();
-    int status = sim != NULL && web != NULL ? serve(sim, web, &opts) : EXIT_STARTUP_FAILED;
+    fleet_t *fleet = fleet_create();
+    int status = sim != NULL && web != NULL && fleet != NULL ? serve(sim, web, fleet, &opts)
+                                                             : EXIT_STARTUP_FAILED;
+    fleet_destroy(fleet);
     web_server_destroy(web); /* its stop already took its lines off the devices */
     simctl_destroy(sim);
     options_release(&opts); /* the configuration read */

@@ -9,13 +9,20 @@
 #include <systemd/sd-daemon.h>
 #include <unistd.h>
 
-#include "fleet.h"
 #include "log.h"
 
+static int tcp_port_0 = -1; /* device 0's GCL ports */
+static int udp_port_0 = -1;
 static int bin_tcp_port = -1;
 static int bin_udp_port = -1;
 static int http_port = -1;
 static int sim_port = -1;
+
+void notify_set_ports(int tcp_port, int udp_port)
+{
+    tcp_port_0 = tcp_port;
+    udp_port_0 = udp_port;
+}
 
 void notify_set_binary_ports(int tcp_port, int udp_port)
 {
@@ -60,8 +67,8 @@ bool notify_prepare(const char *ready_file)
     }
     if (temp_path(ready_file, tmp, sizeof(tmp)) && (f = fopen(tmp, "w")) != NULL) {
         fprintf(f, "pid=%ld\n", (long)getpid());
-        put_port(f, "tcp_port", fleet_tcp_port(0)); /* device 0 */
-        put_port(f, "udp_port", fleet_udp_port(0));
+        put_port(f, "tcp_port", tcp_port_0);
+        put_port(f, "udp_port", udp_port_0);
         put_port(f, "sim_port", sim_port);
         put_port(f, "bin_tcp_port", bin_tcp_port);
         put_port(f, "bin_udp_port", bin_udp_port);

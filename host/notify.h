@@ -14,6 +14,9 @@
  * (each port only when served). False
  * after a message on stderr when it cannot be written. */
 bool notify_prepare(const char *ready_file);
+/* Before notify_prepare(): device 0's GCL ports, written as tcp_port=N and
+ * udp_port=N (-1: not served). */
+void notify_set_ports(int tcp_port, int udp_port);
 /* Before notify_prepare(): the binary protocol's ports, written as
  * bin_tcp_port=N and bin_udp_port=N (-1: not served). */
 void notify_set_binary_ports(int tcp_port, int udp_port);

@@ -6,11 +6,11 @@
 #include <strings.h>
 
 #include "finger_bus_host.h"
+#include "gripper.h"
 #include "hal_clock.h"
 #include "log.h"
 #include "sim/sim_world.h"
 
-#define NO_OVERRIDE (-1000.0f)
 #define TEMP_FAULT_MARGIN_C 5.0f
 
 static const struct {
@@ -119,12 +119,12 @@ static void apply_temperature(const struct simctl_device_faults *f, gripper_t *g
 {
     const wsg_config_t *cfg = wsg_device_snapshot(&g->device)->config;
     sim_thermal_t *thermal = &g->world.thermal;
-    thermal->override_c = NO_OVERRIDE;
-    if (f->active[SIMCTL_FAULT_TEMP_WARNING]) {
-        thermal->override_c = (cfg->temp_warning_c + cfg->temp_fault_c) / 2.0f;
-    }
     if (f->active[SIMCTL_FAULT_TEMP_FAULT]) {
-        thermal->override_c = cfg->temp_fault_c + TEMP_FAULT_MARGIN_C;
+        wsg_sim_thermal_override(thermal, cfg->temp_fault_c + TEMP_FAULT_MARGIN_C);
+    } else if (f->active[SIMCTL_FAULT_TEMP_WARNING]) {
+        wsg_sim_thermal_override(thermal, (cfg->temp_warning_c + cfg->temp_fault_c) / 2.0f);
+    } else {
+        wsg_sim_thermal_clear_override(thermal);
     }
 }
 
@@ -133,19 +133,21 @@ static bool is_finger_fault(simctl_fault_t fault)
     return fault >= SIMCTL_FAULT_FINGER0_POWER && fault < SIMCTL_FAULT_COUNT;
 }
 
+/* A finger fault needs the device's finger bus; device 0 takes one without
+ * a bus as before (the injection then logs that no bus took it). */
 bool simctl_fault_possible(const gripper_t *g, simctl_fault_t fault)
 {
-    return !is_finger_fault(fault) || g->index == 0; /* the finger bus is device 0's */
+    return !is_finger_fault(fault) || g->index == 0 || finger_bus_host_can(&g->fingers) != NULL;
 }
 
 /* The finger itself raises it: a fault-injection frame on the finger bus. */
-static void apply_finger(simctl_fault_t fault, bool on)
+static void apply_finger(gripper_t *g, simctl_fault_t fault, bool on)
 {
     unsigned index = (unsigned)(fault - SIMCTL_FAULT_FINGER0_POWER);
     unsigned slot = index % 2u;
     static const finger_fault_t kinds[] = {FINGER_FAULT_POWER, FINGER_FAULT_INIT,
                                            FINGER_FAULT_UNPLUG};
-    if (!finger_bus_host_inject(slot, kinds[index / 2u], on)) {
+    if (!gripper_inject_finger_fault(g, slot, kinds[index / 2u], on)) {
         host_logf(HAL_LOG_WARN, "finger %u: the finger bus did not take the fault", slot);
     }
 }
@@ -171,15 +173,15 @@ static void apply(const struct simctl_device_faults *f, gripper_t *g, simctl_fau
         apply_temperature(f, g);
         break;
     case SIMCTL_FAULT_POWER:
-        axis->power_fault = on;
+        wsg_sim_axis_set_power_fault(axis, on);
         break;
     case SIMCTL_FAULT_CURRENT:
-        axis->current_fault = on;
+        wsg_sim_axis_set_current_fault(axis, on);
         break;
     case SIMCTL_FAULT_COUNT:
         break;
     default:
-        apply_finger(fault, on);
+        apply_finger(g, fault, on);
         break;
     }
 }

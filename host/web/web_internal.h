@@ -126,4 +126,8 @@ bool web_static_route(const web_request_t *req, enum MHD_Result *result);
 void web_static_init(web_system_file_t *files);
 void web_static_release(web_system_file_t *files);
 
+/* The devices the web serves (web_server_set_fleet). Glue until the web
+ * server is an instance of its own that is handed the fleet when created. */
+struct fleet *web_fleet(void);
+
 #endif

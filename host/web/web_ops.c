@@ -38,14 +38,14 @@ static void on_done(wsg_owner_t *owner, wsg_op_t op, wsg_status_t status)
 static web_owner_t *owner_of(web_ops_t *ops, gripper_t *g)
 {
     if (ops->owners == NULL) {
-        ops->owners = calloc(fleet_count(), sizeof(*ops->owners));
+        ops->owners = calloc(fleet_count(web_fleet()), sizeof(*ops->owners));
         if (ops->owners == NULL) {
             return NULL;
         }
-        ops->count = fleet_count();
+        ops->count = fleet_count(web_fleet());
         for (unsigned i = 0; i < ops->count; i++) {
             ops->owners[i].owner.done = on_done;
-            ops->owners[i].gripper = fleet_gripper(i);
+            ops->owners[i].gripper = fleet_gripper(web_fleet(), i);
         }
     }
     return &ops->owners[g->index];

@@ -23,7 +23,7 @@ static enum MHD_Result not_found(const web_request_t *req)
 
 static cJSON *device_entry(unsigned i)
 {
-    gripper_t *g = fleet_gripper(i);
+    gripper_t *g = fleet_gripper(web_fleet(), i);
     const wsg_config_t *cfg = wsg_device_snapshot(&g->device)->config;
     cJSON *j = cJSON_CreateObject();
     cJSON_AddNumberToObject(j, "id", i);
@@ -31,10 +31,10 @@ static cJSON *device_entry(unsigned i)
     cJSON_AddNumberToObject(j, "serial", cfg->serial);
     cJSON_AddStringToObject(j, "tag", cfg->tag);
     char address[64];
-    fleet_device_address(i, address, sizeof(address));
+    fleet_device_address(web_fleet(), i, address, sizeof(address));
     cJSON_AddStringToObject(j, "address", address);
-    cJSON_AddNumberToObject(j, "tcp_port", fleet_tcp_port(i));
-    cJSON_AddNumberToObject(j, "udp_port", fleet_udp_port(i));
+    cJSON_AddNumberToObject(j, "tcp_port", fleet_tcp_port(web_fleet(), i));
+    cJSON_AddNumberToObject(j, "udp_port", fleet_udp_port(web_fleet(), i));
     return j;
 }
 
@@ -46,7 +46,7 @@ static enum MHD_Result list_devices(const web_request_t *req)
     cJSON *root = cJSON_CreateObject();
     cJSON_AddBoolToObject(root, "sim_allowed", req->sim_allowed); /* may this client? */
     cJSON *list = cJSON_AddArrayToObject(root, "devices");
-    for (unsigned i = 0; i < fleet_count(); i++) {
+    for (unsigned i = 0; i < fleet_count(web_fleet()); i++) {
         cJSON_AddItemToArray(list, device_entry(i));
     }
     return web_reply_json(req, MHD_HTTP_OK, root);
@@ -127,7 +127,7 @@ static gripper_t *parse_device(const char *text, size_t *used)
     }
     unsigned long id = strtoul(text, NULL, 10);
     *used = digits;
-    return id < fleet_count() ? fleet_gripper((unsigned)id) : NULL;
+    return id < fleet_count(web_fleet()) ? fleet_gripper(web_fleet(), (unsigned)id) : NULL;
 }
 
 static enum MHD_Result api_route(const web_request_t *req, const char *rest)

@@ -29,6 +29,9 @@ void web_server_destroy(web_server_t *web);
  * the address was given and cannot be had; the default, when taken, is
  * skipped with a warning. The simulation routes run their commands on sim. */
 bool web_server_start(web_server_t *web, const host_options_t *opts, simctl_t *sim);
+struct fleet;
+/* The devices its pages show (main, before the loop runs). */
+void web_server_set_fleet(struct fleet *fleet);
 /* After every loop_wait(): runs what is due on the wall clock. Costs one
  * test when nothing is scheduled. */
 void web_server_poll(web_server_t *web);

@@ -51,7 +51,7 @@ static const char *protocol_name(host_protocol_t p)
 /* Where Save writes: the --save-file, else the --config file; NULL: nowhere. */
 static const char *save_path(const gripper_t *g)
 {
-    return g->opts.save_path != NULL ? g->opts.save_path : g->opts.config_path;
+    return g->opts->save_path != NULL ? g->opts->save_path : g->opts->config_path;
 }
 
 /* The fixed fields, as JSON values. */
@@ -59,16 +59,16 @@ static cJSON *fixed_value(const gripper_t *g, unsigned i)
 {
     switch (i) {
     case 0:
-        return cJSON_CreateString(protocol_name(g->opts.protocol));
+        return cJSON_CreateString(protocol_name(g->opts->protocol));
     case 1:
-        return cJSON_CreateNumber(fleet_tcp_port(g->index));
+        return cJSON_CreateNumber(fleet_tcp_port(web_fleet(), g->index));
     case 2:
-        return cJSON_CreateNumber(fleet_udp_port(g->index));
+        return cJSON_CreateNumber(fleet_udp_port(web_fleet(), g->index));
     case 3: /* binary UDP serves device 0 only */
-        return g->index == 0 ? cJSON_CreateNumber(g->opts.binary_udp_port) : cJSON_CreateNull();
+        return g->index == 0 ? cJSON_CreateNumber(g->opts->binary_udp_port) : cJSON_CreateNull();
     case 4:
-        return g->opts.config_path != NULL ? cJSON_CreateString(g->opts.config_path)
-                                           : cJSON_CreateNull();
+        return g->opts->config_path != NULL ? cJSON_CreateString(g->opts->config_path)
+                                            : cJSON_CreateNull();
     default:
         return save_path(g) != NULL ? cJSON_CreateString(save_path(g)) : cJSON_CreateNull();
     }
@@ -246,7 +246,7 @@ static enum MHD_Result save_settings(const web_request_t *req, gripper_t *g)
     }
     const wsg_config_t *cfg = wsg_device_snapshot(&g->device)->config;
     char why[160];
-    if (!config_file_save(g->opts.config, save_path(g), g->index, cfg, gripper_startup_choice(g),
+    if (!config_file_save(g->opts->config, save_path(g), g->index, cfg, gripper_startup_choice(g),
                           why, sizeof(why))) {
         return web_reply_error(req, MHD_HTTP_UNPROCESSABLE_CONTENT, E_WRITE_ERROR, "%s", why);
     }

@@ -1,11 +1,10 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* GET /api/devices/{id}/state: the live view's data (docs/web.md). Field
  * names carry their units; enumerations carry their number and name. */
+#include "fleet.h"
 #include "hal_clock.h"
 #include "sim/sim_world.h"
 #include "wsg/wsg_names.h"
-#include "tcp_server.h"
-#include "udp_server.h"
 #include "web/web_internal.h"
 #include "web/web_json.h"
 #include "web/web_lines.h"
@@ -117,7 +116,7 @@ static void write_connection(const web_lines_t *lines, web_json_t *j, const wsg_
     web_json_uint(j, "id", wsg_conn_id(c));
     web_json_string(j, "protocol", web_lines_protocol(lines, c));
     web_json_string(j, "transport", stream ? "tcp" : "udp");
-    web_json_string(j, "peer", stream ? tcp_server_peer_name(c) : udp_server_peer_name(c));
+    web_json_string(j, "peer", fleet_peer_name(web_fleet(), c));
     web_lines_write(lines, j, "last_lines", c);
     web_json_close_object(j);
 }

@@ -61,7 +61,8 @@ static bool is_device_page(const char *url)
     }
     const char *id = url + strlen(DEVICES_PREFIX);
     size_t digits = strspn(id, "0123456789");
-    return digits > 0 && digits <= 6 && id[digits] == '\0' && strtoul(id, NULL, 10) < fleet_count();
+    return digits > 0 && digits <= 6 && id[digits] == '\0' &&
+           strtoul(id, NULL, 10) < fleet_count(web_fleet());
 }
 
 static bool is_read(const web_request_t *req)

@@ -7,6 +7,12 @@
 #include "can_loopback.h"
 
 static uint64_t next_due;
+static can_loopback_t *bus; /* the loopback bus of the last t_start, NULL: none */
+
+can_loopback_t *t_bus(void)
+{
+    return bus;
+}
 
 bool t_log_contains(const char *text)
 {
@@ -25,8 +31,10 @@ static const hal_can_t *start_loopback(const char *fingers)
     finger_node_params_t params;
     wsg_finger_node_defaults(&params);
     ck_assert(wsg_finger_node_parse_pair(fingers, types));
-    can_loopback_init(types, &params);
-    return can_loopback_bus();
+    can_loopback_destroy(bus);
+    bus = can_loopback_create(types, &params);
+    ck_assert_ptr_nonnull(bus);
+    return can_loopback_bus(bus);
 }
 
 void t_start(const char *fingers)
@@ -73,10 +81,14 @@ static bool lossy_set_filters(void *ctx, const hal_can_filter_t *filters, unsign
     return hal_can_set_filters(lossless_bus, filters, count);
 }
 
+/* [on_demand]: the wrapped bus says what the loopback would */
+static const hal_can_ops_t lossy_ops[2] = {{lossy_send, lossy_recv, lossy_set_filters, false},
+                                           {lossy_send, lossy_recv, lossy_set_filters, true}};
+
 static void start_wrapped(const char *fingers, bool on_demand, unsigned lost)
 {
     lossless_bus = start_loopback(fingers);
-    lossy_bus = (hal_can_t){lossy_send, lossy_recv, lossy_set_filters, NULL, on_demand};
+    lossy_bus = (hal_can_t){&lossy_ops[on_demand], NULL};
     tares_to_lose = lost;
     tares_sent = 0;
     fingers_held = false;

@@ -6,7 +6,6 @@
 #include <stdlib.h>
 #include <unistd.h>
 
-#include "finger_bus_host.h"
 #include "fleet.h"
 #include "log.h"
 #include "sim/clock.h"
@@ -14,9 +13,11 @@
 #include "sim/faults.h"
 #include "sim/scenario.h"
 #include "sim/scheduler.h"
+#include "web/web_server.h"
 
 static host_options_t options;
 static simctl_t *sim;
+static fleet_t *fleet;
 static char file_path[256];
 
 host_options_t *fuzz_host_options(int argc, char **argv)
@@ -41,11 +42,14 @@ void fuzz_host_start(const host_options_t *opts)
         logging = true;
     }
     sim = simctl_create();
-    if (sim == NULL) {
+    fleet = fleet_create();
+    if (sim == NULL || fleet == NULL) {
         abort();
     }
     simclock_start_paused(simctl_clock(sim));
-    if (!finger_bus_host_start(opts) || !fleet_start(opts)) {
+    simctl_set_fleet(sim, fleet);
+    web_server_set_fleet(fleet);
+    if (!fleet_start(fleet, opts)) {
         abort(); /* options that parsed must start */
     }
 }
@@ -68,12 +72,12 @@ void fuzz_host_step(uint64_t us)
 void fuzz_host_stop(void)
 {
     scenario_unload(simctl_scenario(sim));
-    for (unsigned i = 0; i < fleet_count(); i++) {
-        simctl_delay_clear_all(simctl_delays(sim), &fleet_gripper(i)->device, false);
-        simctl_fault_clear_all(simctl_faults(sim), fleet_gripper(i));
+    for (unsigned i = 0; i < fleet_count(fleet); i++) {
+        simctl_delay_clear_all(simctl_delays(sim), &fleet_gripper(fleet, i)->device, false);
+        simctl_fault_clear_all(simctl_faults(sim), fleet_gripper(fleet, i));
     }
-    fleet_stop();
-    finger_bus_host_stop();
+    fleet_destroy(fleet);
+    fleet = NULL;
     simctl_destroy(sim);
     sim = NULL;
 }
@@ -81,6 +85,11 @@ void fuzz_host_stop(void)
 simctl_t *fuzz_host_sim(void)
 {
     return sim;
+}
+
+fleet_t *fuzz_host_fleet(void)
+{
+    return fleet;
 }
 
 const char *fuzz_host_file(const uint8_t *data, size_t size)

@@ -265,8 +265,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     web_app_init(&app);
     web_lines_enable(&app.lines, (unsigned)opts->devices); /* as the server does */
     fuzz_host_start(opts);
-    for (unsigned i = 0; i < fleet_count(); i++) { /* as main does */
-        web_lines_attach(&app.lines, &fleet_gripper(i)->device, i);
+    fleet_t *fleet = fuzz_host_fleet();
+    for (unsigned i = 0; i < fleet_count(fleet); i++) { /* as main does */
+        web_lines_attach(&app.lines, &fleet_gripper(fleet, i)->device, i);
     }
     size_t first = 1;
     for (size_t i = 1; i <= size; i++) {

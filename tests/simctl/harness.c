@@ -7,7 +7,6 @@
 #include <unistd.h>
 
 #include "coverage.h"
-#include "finger_bus_host.h"
 #include "fleet.h"
 #include "hal_clock.h"
 #include "options.h"
@@ -17,26 +16,38 @@
 
 h_client_t t_gcl;
 simctl_t *t_sim;
+fleet_t *t_fleet;
 static char *last_reply;
+static host_options_t opts; /* the fleet's, for as long as it runs */
+
+static coverage_t *t_coverage; /* counted on every device, as with a control channel */
+
+/* As build/wsgsim does: every device counts for the coverage. */
+static void attach_observers(void *ctx, gripper_t *g)
+{
+    (void)ctx;
+    coverage_attach(t_coverage, &g->device, g->index);
+}
 
 static void setup_with(int argc, char **argv)
 {
-    host_options_t opts;
+    static fleet_observer_t observers = {.device_started = attach_observers, .ctx = &opts};
     ck_assert_int_eq(options_parse(argc, argv, &opts), OPTIONS_RUN);
     t_sim = simctl_create();
     ck_assert_ptr_nonnull(t_sim);
     simclock_start_paused(simctl_clock(t_sim));
-    opts.sim_port = 0; /* the tests drive the control channel: coverage is observed */
-    ck_assert(finger_bus_host_start(&opts));
+    opts.sim_port = 0;        /* the tests drive the control channel: coverage is observed */
     opts.tcp_enabled = false; /* one device, no sockets: the tests feed it */
     opts.udp_enabled = false;
-    ck_assert(fleet_start(&opts));
-    coverage_t *coverage = coverage_create(opts.strict, fleet_count());
-    ck_assert_ptr_nonnull(coverage);
-    for (unsigned i = 0; i < fleet_count(); i++) {
-        coverage_attach(coverage, &fleet_gripper(i)->device, i);
-    }
-    simctl_set_diagnostics(t_sim, NULL, coverage);
+    t_coverage = coverage_create(opts.strict, (unsigned)opts.devices);
+    ck_assert_ptr_nonnull(t_coverage);
+    simctl_set_diagnostics(t_sim, NULL, t_coverage);
+    t_fleet = fleet_create();
+    ck_assert_ptr_nonnull(t_fleet);
+    observers.next = NULL;
+    fleet_observe(t_fleet, &observers);
+    simctl_set_fleet(t_sim, t_fleet);
+    ck_assert(fleet_start(t_fleet, &opts));
     t_reopen();
 }
 
@@ -52,9 +63,19 @@ void t_setup_three_devices(void)
     setup_with(3, argv);
 }
 
+void t_reinit(const host_options_t *with)
+{
+    gripper_t *g = fleet_gripper(t_fleet, 0);
+    gripper_touched_t *touched = g->touched_list;
+    gripper_release(g);
+    ck_assert(gripper_init(g, with, 0, touched));
+    attach_observers((void *)with, g);
+    gripper_start(g);
+}
+
 void t_reopen(void)
 {
-    h_open_on(&t_gcl, &fleet_gripper(0)->device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM);
+    h_open_on(&t_gcl, &fleet_gripper(t_fleet, 0)->device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM);
 }
 
 void t_setup_homed(void)
@@ -67,13 +88,14 @@ void t_setup_homed(void)
 void t_teardown(void)
 {
     ck_assert_msg(!t_gcl.bad_line, "the GCL session got something that is not one whole line");
-    for (unsigned i = 0; i < fleet_count(); i++) {
-        simctl_delay_clear_all(simctl_delays(t_sim), &fleet_gripper(i)->device, false);
+    for (unsigned i = 0; i < fleet_count(t_fleet); i++) {
+        simctl_delay_clear_all(simctl_delays(t_sim), &fleet_gripper(t_fleet, i)->device, false);
     }
-    fleet_stop();
-    coverage_destroy(simctl_coverage(t_sim));
+    fleet_destroy(t_fleet);
+    t_fleet = NULL;
     simctl_set_diagnostics(t_sim, NULL, NULL);
-    finger_bus_host_stop();
+    coverage_destroy(t_coverage);
+    t_coverage = NULL;
     simctl_destroy(t_sim);
     t_sim = NULL;
     free(last_reply);
@@ -100,8 +122,8 @@ const char *ctl_on(unsigned device, const char *line)
 
 uint32_t t_device_flags(unsigned device)
 {
-    ck_assert_uint_lt(device, fleet_count());
-    return wsg_device_flags(&fleet_gripper(device)->device);
+    ck_assert_uint_lt(device, fleet_count(t_fleet));
+    return wsg_device_flags(&fleet_gripper(t_fleet, device)->device);
 }
 
 int t_err_code(const char *reply)
@@ -132,7 +154,7 @@ const char *gcl(const char *line)
     memcpy(buf, line, len);
     buf[len] = '\n';
     size_t before = t_gcl.count;
-    gripper_feed(fleet_gripper(0), &t_gcl.conn, (const uint8_t *)buf, len + 1, 0);
+    gripper_feed(fleet_gripper(t_fleet, 0), &t_gcl.conn, (const uint8_t *)buf, len + 1, 0);
     return t_gcl.count > before ? gcl_next() : "<no reply>";
 }
 
