@@ -454,11 +454,11 @@ START_TEST(record_writes_every_line_with_both_clocks)
     ck_assert_int_ge(fd, 0);
     record_t *record = record_open(path, 1);
     ck_assert_ptr_nonnull(record);
-    record_attach(record, &fleet_gripper(0)->device, 0);
+    record_attach(record, &fleet_gripper(t_fleet, 0)->device, 0);
     t_step_ms(5);
     GCL_EQ("POS?", "POS=110.0");
     record_control(record, "ctl1", '<', "PAUSE()", 7);
-    record_detach(record, &fleet_gripper(0)->device, 0);
+    record_detach(record, &fleet_gripper(t_fleet, 0)->device, 0);
     record_close(record);
     FILE *f = fdopen(fd, "r");
     char lines[5][160] = {{0}};
