@@ -171,8 +171,7 @@ static int serve(simctl_t *sim, web_server_t *web, fleet_t *fleet, host_options_
     }
     fleet_observe(fleet, &observers);
     simctl_set_fleet(sim, fleet);
-    web_server_set_fleet(fleet);
-    if (!web_server_start(web, opts, sim)) {
+    if (!web_server_start(web, opts, sim, fleet)) {
         return EXIT_STARTUP_FAILED;
     }
     if (!start_diagnostics(&diagnostics, web, opts) || !fleet_start(fleet, opts) ||

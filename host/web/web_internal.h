@@ -41,14 +41,15 @@ typedef struct {
  * library. Embedded in the server (web_server.c); the fuzz target of the
  * routes has one of its own. */
 typedef struct web_app {
+    struct fleet *fleet; /* the devices it serves */
     web_events_t events;
     web_lines_t lines;
     web_ops_t ops;
     web_system_file_t system_files[WEB_SYSTEM_FILE_COUNT];
 } web_app_t;
 
-/* web_routes.c: nothing kept yet, the lines off. */
-void web_app_init(web_app_t *app);
+/* web_routes.c: serving fleet's devices, nothing kept yet, the lines off. */
+void web_app_init(web_app_t *app, struct fleet *fleet);
 /* Detaches the web's owners from their devices, frees the lines and the
  * files read (shutdown, while the devices exist). */
 void web_app_release(web_app_t *app);
@@ -125,9 +126,5 @@ bool web_static_route(const web_request_t *req, enum MHD_Result *result);
 /* web_static.c: the files of web_system_file_t, none read yet / freed. */
 void web_static_init(web_system_file_t *files);
 void web_static_release(web_system_file_t *files);
-
-/* The devices the web serves (web_server_set_fleet). Glue until the web
- * server is an instance of its own that is handed the fleet when created. */
-struct fleet *web_fleet(void);
 
 #endif

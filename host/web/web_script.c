@@ -65,7 +65,7 @@ static enum MHD_Result run_script(const web_request_t *req, gripper_t *g)
                                "file: the script to run is missing");
     }
     char why[512];
-    fleet_note_scripting(web_fleet());
+    fleet_note_scripting(req->app->fleet);
     bool ok = gripper_run_script(g, file, why, sizeof(why));
     cJSON_Delete(body);
     if (!ok) {

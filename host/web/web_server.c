@@ -78,7 +78,7 @@ web_server_t *web_server_create(void)
     web->listen_fd = -1;
     web->epoll_fd = -1;
     web->port = -1;
-    web_app_init(&web->app);
+    web_app_init(&web->app, NULL); /* the fleet comes with the start */
     return web;
 }
 
@@ -388,9 +388,11 @@ static bool sim_bind_open(const char *sim_bind)
            !IN6_IS_ADDR_LOOPBACK((const struct in6_addr *)addr);
 }
 
-bool web_server_start(web_server_t *web, const host_options_t *opts, simctl_t *sim)
+bool web_server_start(web_server_t *web, const host_options_t *opts, simctl_t *sim,
+                      struct fleet *fleet)
 {
     web->sim = sim;
+    web->app.fleet = fleet;
     if (opts->http_port == 0) {
         return true;
     }

@@ -27,11 +27,11 @@ void web_server_destroy(web_server_t *web);
 /* Starts the server on opts->http_bind (or opts->bind_addr) port
  * opts->http_port; off when the port is 0. False (logged) when the port or
  * the address was given and cannot be had; the default, when taken, is
- * skipped with a warning. The simulation routes run their commands on sim. */
-bool web_server_start(web_server_t *web, const host_options_t *opts, simctl_t *sim);
+ * skipped with a warning. The simulation routes run their commands on sim;
+ * the pages show fleet's devices. */
 struct fleet;
-/* The devices its pages show (main, before the loop runs). */
-void web_server_set_fleet(struct fleet *fleet);
+bool web_server_start(web_server_t *web, const host_options_t *opts, simctl_t *sim,
+                      struct fleet *fleet);
 /* After every loop_wait(): runs what is due on the wall clock. Costs one
  * test when nothing is scheduled. */
 void web_server_poll(web_server_t *web);

@@ -48,7 +48,6 @@ void fuzz_host_start(const host_options_t *opts)
     }
     simclock_start_paused(simctl_clock(sim));
     simctl_set_fleet(sim, fleet);
-    web_server_set_fleet(fleet);
     if (!fleet_start(fleet, opts)) {
         abort(); /* options that parsed must start */
     }

@@ -262,12 +262,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         abort();
     }
     web_app_t app; /* what the server keeps for its routes */
-    web_app_init(&app);
+    web_app_init(&app, NULL);
     web_lines_enable(&app.lines, (unsigned)opts->devices); /* as the server does */
     fuzz_host_start(opts);
-    fleet_t *fleet = fuzz_host_fleet();
-    for (unsigned i = 0; i < fleet_count(fleet); i++) { /* as main does */
-        web_lines_attach(&app.lines, &fleet_gripper(fleet, i)->device, i);
+    app.fleet = fuzz_host_fleet();                          /* as web_server_start() is given it */
+    for (unsigned i = 0; i < fleet_count(app.fleet); i++) { /* as main does */
+        web_lines_attach(&app.lines, &fleet_gripper(app.fleet, i)->device, i);
     }
     size_t first = 1;
     for (size_t i = 1; i <= size; i++) {
