@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* STATE, SESSIONS, RESET, COVERAGE, COVERAGE_RESET, LOG, HELP, BYE. */
+/* STATE, SESSIONS, RESET, DEVICE, DEVICES, COVERAGE, COVERAGE_RESET, LOG, BYE
+ * (HELP is the command table's, commands.c). */
 #include <cjson/cJSON.h>
 #include <stdlib.h>
 
@@ -116,16 +117,6 @@ wsg_status_t sc_log(simctl_ctx_t *ctx)
         return E_SUCCESS;
     }
     host_logf(HAL_LOG_INFO, "control: %s", text);
-    return E_SUCCESS;
-}
-
-wsg_status_t sc_help(simctl_ctx_t *ctx)
-{
-    cJSON *list = cJSON_CreateArray();
-    for (unsigned i = 0; i < simctl_table_count(); i++) {
-        cJSON_AddItemToArray(list, cJSON_CreateString(simctl_table_at(i)->usage));
-    }
-    sc_reply_json(ctx, list);
     return E_SUCCESS;
 }
 

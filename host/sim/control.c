@@ -10,7 +10,6 @@
 #include <unistd.h>
 
 #include "commands.h"
-#include "commands_internal.h"
 #include "listener.h"
 #include "log.h"
 #include "loop.h"
@@ -47,12 +46,8 @@ typedef struct {
 } control_client_t;
 
 struct simctl {
-    simclock_t clock;
-    simctl_sched_t sched;
-    scenario_t scenario;
-    simctl_faults_t faults;
-    struct fleet *fleet;    /* the devices (simctl_set_fleet) */
-    simctl_run_watch_t run; /* RUN_UNTIL_DONE */
+    simctl_sim_t sim;               /* first: the inline accessors of control.h */
+    simctl_due_hook_t scenario_due; /* the scenario's commands, run by the scheduler */
     listener_t listener;
     const char *addr;
     unsigned connections;
@@ -63,16 +58,29 @@ struct simctl {
     coverage_t *coverage;           /* COVERAGE?, or NULL */
 };
 
+static uint64_t scenario_due_next_us(void *ctx)
+{
+    return scenario_next_us(ctx);
+}
+
+static unsigned scenario_due_run(void *ctx, uint64_t now_us, unsigned max)
+{
+    return scenario_run_due(ctx, now_us, max);
+}
+
 simctl_t *simctl_create(void)
 {
     simctl_t *ctl = calloc(1, sizeof(*ctl));
     if (ctl == NULL) {
         return NULL;
     }
-    simclock_init(&ctl->clock);
-    scenario_init(&ctl->scenario, ctl);
-    simctl_scheduler_init(&ctl->sched, &ctl->clock, &ctl->scenario);
-    simctl_faults_init(&ctl->faults);
+    simctl_sim_t *sim = &ctl->sim;
+    simclock_init(&sim->clock);
+    scenario_init(&sim->scenario, ctl);
+    simctl_scheduler_init(&sim->sched, &sim->clock);
+    ctl->scenario_due = (simctl_due_hook_t){scenario_due_next_us, scenario_due_run, &sim->scenario};
+    simctl_scheduler_set_due_hook(&sim->sched, &ctl->scenario_due);
+    simctl_faults_init(&sim->faults);
     ctl->listener.fd = -1;
     for (unsigned i = 0; i < CONTROL_CLIENTS_MAX; i++) {
         ctl->clients[i].ctl = ctl;
@@ -86,46 +94,16 @@ void simctl_destroy(simctl_t *ctl)
         return;
     }
     simctl_stop(ctl);
-    scenario_unload(&ctl->scenario);
-    simctl_faults_release(&ctl->faults);
-    simclock_fini(&ctl->clock);
+    scenario_unload(&ctl->sim.scenario);
+    simctl_faults_release(&ctl->sim.faults);
+    simclock_fini(&ctl->sim.clock);
     free(ctl);
-}
-
-simclock_t *simctl_clock(simctl_t *ctl)
-{
-    return &ctl->clock;
-}
-
-simctl_sched_t *simctl_scheduler(simctl_t *ctl)
-{
-    return &ctl->sched;
-}
-
-scenario_t *simctl_scenario(simctl_t *ctl)
-{
-    return &ctl->scenario;
-}
-
-simctl_faults_t *simctl_faults(simctl_t *ctl)
-{
-    return &ctl->faults;
 }
 
 void simctl_set_fleet(simctl_t *ctl, struct fleet *fleet)
 {
-    ctl->fleet = fleet;
-    ctl->sched.fleet = fleet;
-}
-
-struct fleet *simctl_fleet(const simctl_t *ctl)
-{
-    return ctl->fleet;
-}
-
-simctl_run_watch_t *simctl_run_watch(simctl_t *ctl)
-{
-    return &ctl->run;
+    ctl->sim.fleet = fleet;
+    ctl->sim.sched.fleet = fleet;
 }
 
 static void channel_name(const control_client_t *c, char *out, size_t cap)
@@ -255,7 +233,7 @@ static void handle_line(control_client_t *c)
  * client has not read what it was sent. */
 static bool may_run(const control_client_t *c)
 {
-    return !c->closing && !c->dead && !simctl_step_running(&c->ctl->sched) &&
+    return !c->closing && !c->dead && !simctl_step_running(&c->ctl->sim.sched) &&
            wsg_outq_used(&c->outq) < CONTROL_OUTQ_LOW;
 }
 
@@ -284,7 +262,7 @@ static void receive(control_client_t *c)
 static void answer_step_if_done(control_client_t *c)
 {
     simctl_t *ctl = c->ctl;
-    if (ctl->stepper != c || simctl_step_running(&ctl->sched)) {
+    if (ctl->stepper != c || simctl_step_running(&ctl->sim.sched)) {
         return;
     }
     ctl->stepper = NULL;
@@ -386,7 +364,7 @@ static void on_accept(void *ctx, int fd, short revents)
 bool simctl_start(simctl_t *ctl, const char *addr, int port)
 {
     ctl->addr = addr != NULL ? addr : DEFAULT_ADDR;
-    simctl_step_on_done(&ctl->sched, on_step_done, ctl);
+    simctl_step_on_done(&ctl->sim.sched, on_step_done, ctl);
     return listener_start(&ctl->listener, "control", ctl->addr, port, on_accept, ctl);
 }
 
@@ -422,7 +400,7 @@ void simctl_set_diagnostics(simctl_t *ctl, record_t *record, coverage_t *coverag
 {
     ctl->record = record;
     ctl->coverage = coverage;
-    ctl->sched.coverage = coverage;
+    simctl_scheduler(ctl)->coverage = coverage;
 }
 
 record_t *simctl_record(const simctl_t *ctl)
@@ -437,5 +415,5 @@ coverage_t *simctl_coverage(const simctl_t *ctl)
 
 simctl_delays_t *simctl_delays(simctl_t *ctl)
 {
-    return &ctl->sched.delays;
+    return &simctl_scheduler(ctl)->delays;
 }
