@@ -11,7 +11,10 @@
 #include <stdint.h>
 
 #include "clock.h"
+#include "coverage.h"
+#include "delay.h"
 #include "faults.h"
+#include "record.h"
 #include "scenario.h"
 #include "scheduler.h"
 
@@ -99,5 +102,13 @@ void simctl_describe(const simctl_t *ctl, char *out, size_t cap);
 /* Once per loop pass: a listener paused at the descriptor limit tries again. */
 void simctl_reap(simctl_t *ctl);
 void simctl_stop(simctl_t *ctl);
+
+/* The diagnostics the channel's commands, scenarios and scheduler report
+ * and write to (NULL: none), handed down by main once they exist. */
+void simctl_set_diagnostics(simctl_t *ctl, record_t *record, coverage_t *coverage);
+record_t *simctl_record(const simctl_t *ctl);
+coverage_t *simctl_coverage(const simctl_t *ctl);
+/* The injected reply delays (DELAY), released by the scheduler. */
+simctl_delays_t *simctl_delays(simctl_t *ctl);
 
 #endif
