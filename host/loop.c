@@ -48,7 +48,8 @@ static bool epoll_pwait2_missing; /* kernels before 5.11: millisecond waits */
 static void (*catch_up_fn)(void *ctx);
 static void *catch_up_ctx;
 static const simclock_t *sim_clock; /* what deadlines are measured on */
-static void (*hangup_fn)(void);
+static void (*hangup_fn)(void *ctx);
+static void *hangup_ctx;
 static uint64_t wall_wakeup_ns; /* 0: none */
 
 static int bucket_of(int fd)
@@ -99,7 +100,7 @@ static void on_signal_fd(void *ctx, int fd, short revents)
         if (info.ssi_signo != SIGHUP) {
             stop_requested = true;
         } else if (hangup_fn != NULL) {
-            hangup_fn();
+            hangup_fn(hangup_ctx);
         }
     }
 }
@@ -149,9 +150,10 @@ void loop_set_clock(const simclock_t *clock)
     sim_clock = clock;
 }
 
-void loop_set_hangup(void (*on_hangup)(void))
+void loop_set_hangup(void (*on_hangup)(void *ctx), void *ctx)
 {
     hangup_fn = on_hangup;
+    hangup_ctx = ctx;
 }
 
 bool loop_stop_requested(void)

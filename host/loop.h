@@ -29,7 +29,7 @@ void loop_unwatch(int fd);
 void loop_init(void);
 /* SIGHUP runs on_hangup (from the loop, not a signal handler); without one
  * SIGHUP is ignored. */
-void loop_set_hangup(void (*on_hangup)(void));
+void loop_set_hangup(void (*on_hangup)(void *ctx), void *ctx);
 bool loop_stop_requested(void);
 
 /* Runs catch_up(ctx) after every wake-up, before any callback: brings

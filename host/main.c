@@ -13,22 +13,72 @@
 #include "options.h"
 #include "record.h"
 #include "sim/control.h"
-#include "sim/delay.h"
-#include "sim/observers.h"
+#include "trace.h"
 #include "web/web_lines.h"
 #include "web/web_server.h"
 
 #define EXIT_STARTUP_FAILED 2
 
-/* Simulation control (docs/simctl.md): record, scenario, control channel. */
-static bool start_simulation(simctl_t *sim, const host_options_t *opts)
+/* The diagnostics: created only when asked for (a plain run pays nothing
+ * per message), each attached to every device as the fleet powers it on. */
+typedef struct {
+    const host_options_t *opts;
+    bool counting; /* --coverage or a control channel (COVERAGE?) */
+    trace_t *trace;
+    record_t *record;
+    coverage_t *coverage; /* always (COVERAGE?); counting only when asked */
+    web_lines_t *lines;   /* the web page's, NULL when the server is off */
+} diagnostics_t;
+
+static bool start_diagnostics(diagnostics_t *d, web_server_t *web, const host_options_t *opts)
 {
-    if (opts->record_path != NULL && !record_open(opts->record_path)) {
+    unsigned devices = (unsigned)opts->devices;
+    d->opts = opts;
+    d->counting = opts->coverage_path != NULL || opts->sim_port >= 0;
+    d->lines = web_server_lines(web);
+    d->coverage = coverage_create(opts->strict, devices);
+    d->trace = opts->trace ? trace_create(opts->strict, devices) : NULL;
+    if (d->coverage == NULL || (opts->trace && d->trace == NULL)) {
         return false;
     }
-    if (opts->coverage_path != NULL && !coverage_open(opts->coverage_path)) {
+    if (opts->record_path != NULL &&
+        (d->record = record_open(opts->record_path, devices)) == NULL) {
         return false;
     }
+    return opts->coverage_path == NULL || coverage_open(d->coverage, opts->coverage_path);
+}
+
+/* The process ends: nothing of the diagnostics is used again. */
+static void free_diagnostics(simctl_t *sim, diagnostics_t *d)
+{
+    simctl_set_diagnostics(sim, NULL, NULL);
+    record_close(d->record);
+    trace_destroy(d->trace);
+    coverage_destroy(d->coverage);
+}
+
+/* A device's observers, attached as the fleet powers it on (before its
+ * startup script runs): the diagnostics on every device, and --can-log
+ * taps device 0's in-process bus. */
+static void attach_observers(void *ctx, gripper_t *g)
+{
+    const diagnostics_t *d = ctx;
+    if (d->counting) {
+        coverage_attach(d->coverage, &g->device, g->index);
+    }
+    trace_attach(d->trace, &g->device, g->index);
+    record_attach(d->record, &g->device, g->index);
+    web_lines_attach(d->lines, &g->device, g->index);
+    can_loopback_t *bus = finger_bus_host_loopback(&g->fingers);
+    if (g->index == 0 && d->opts->can_log != NULL && bus != NULL) {
+        can_loopback_set_tap(bus, can_log_frame, NULL);
+    }
+}
+
+/* Simulation control (docs/simctl.md): scenario, control channel. */
+static bool start_simulation(simctl_t *sim, diagnostics_t *d, const host_options_t *opts)
+{
+    simctl_set_diagnostics(sim, d->record, d->coverage);
     if (opts->scenario_path != NULL &&
         !scenario_load(simctl_scenario(sim), opts->scenario_path, 0)) {
         return false;
@@ -36,41 +86,21 @@ static bool start_simulation(simctl_t *sim, const host_options_t *opts)
     return opts->sim_port < 0 || simctl_start(sim, opts->sim_bind, opts->sim_port);
 }
 
-static int stop_simulation(simctl_t *sim, const host_options_t *opts)
+/* After the devices are gone. */
+static int stop_simulation(simctl_t *sim, diagnostics_t *d, const host_options_t *opts)
 {
     simctl_stop(sim);
     scenario_unload(simctl_scenario(sim));
-    record_close();
-    if (opts->coverage_path != NULL && !coverage_write(opts->strict)) {
-        return 1;
-    }
-    return 0;
+    bool written = opts->coverage_path == NULL || coverage_write(d->coverage);
+    free_diagnostics(sim, d);
+    return written ? 0 : 1;
 }
 
-/* A device's observers, attached as the fleet powers it on: device 0
- * carries the simulation's (trace, record, coverage) and --can-log taps its
- * in-process bus; the others keep the web page's connection lines (the hub
- * is device 0's). */
-static void attach_observers(void *ctx, gripper_t *g)
-{
-    const host_options_t *opts = ctx;
-    if (g->index != 0) {
-        if (opts->web_lines != NULL) {
-            wsg_conn_observe(&g->device, web_lines_observer(), opts->web_lines);
-        }
-        return;
-    }
-    simctl_observers_attach(&g->device, opts);
-    can_loopback_t *bus = finger_bus_host_loopback(&g->fingers);
-    if (opts->can_log != NULL && bus != NULL) {
-        can_loopback_set_tap(bus, can_log_frame, NULL);
-    }
-}
-
+/* Replies an injected DELAY holds back (the connection I/O's held() hook). */
 static bool delay_holds_replies(void *ctx, const wsg_conn_t *conn)
 {
     (void)ctx;
-    return simctl_delay_holding(conn);
+    return wsg_conn_replies_held(conn);
 }
 
 /* One line per further device of a fleet, then the ready line. */
@@ -105,10 +135,10 @@ static bool start_logging(const host_options_t *opts)
 }
 
 /* SIGHUP (log rotation): every file wsgsim appends to is opened again. */
-static void reopen_files(void)
+static void reopen_files(void *sim)
 {
     host_log_reopen();
-    if (!record_reopen()) {
+    if (!record_reopen(simctl_record(sim))) {
         host_logf(HAL_LOG_ERROR, "cannot reopen the --record file (still writing the old one)");
     }
     if (!can_log_reopen()) {
@@ -131,20 +161,24 @@ static int serve(simctl_t *sim, web_server_t *web, fleet_t *fleet, host_options_
     loop_init();
     loop_set_catch_up(catch_up, simctl_scheduler(sim));
     loop_set_clock(simctl_clock(sim));
-    loop_set_hangup(reopen_files);
-    fleet_observer_t observers = {
-        .device_started = attach_observers, .replies_held = delay_holds_replies, .ctx = opts};
+    loop_set_hangup(reopen_files, sim);
+    diagnostics_t diagnostics = {0};
+    fleet_observer_t observers = {.device_started = attach_observers,
+                                  .replies_held = delay_holds_replies,
+                                  .ctx = &diagnostics};
     if (opts->can_log != NULL && !can_log_open(opts->can_log)) {
         return EXIT_STARTUP_FAILED;
     }
     fleet_observe(fleet, &observers);
     simctl_set_fleet(sim, fleet);
-    /* the web server first: the devices' observers keep its connection lines */
     if (!web_server_start(web, opts, sim, fleet)) {
         return EXIT_STARTUP_FAILED;
     }
-    opts->web_lines = web_server_lines(web);
-    if (!fleet_start(fleet, opts) || !start_simulation(sim, opts)) {
+    if (!start_diagnostics(&diagnostics, web, opts) || !fleet_start(fleet, opts) ||
+        !start_simulation(sim, &diagnostics, opts)) {
+        web_server_stop(web); /* the devices go first: nothing observes them after */
+        fleet_stop(fleet);
+        free_diagnostics(sim, &diagnostics);
         return EXIT_STARTUP_FAILED;
     }
     if (!announce(sim, web, opts, fleet)) {
@@ -166,7 +200,7 @@ static int serve(simctl_t *sim, web_server_t *web, fleet_t *fleet, host_options_
     web_server_stop(web); /* while the devices its operations ran on exist */
     fleet_stop(fleet);
     can_log_close();
-    return stop_simulation(sim, opts);
+    return stop_simulation(sim, &diagnostics, opts);
 }
 
 int main(int argc, char **argv)
@@ -189,7 +223,7 @@ int main(int argc, char **argv)
     int status = sim != NULL && web != NULL && fleet != NULL ? serve(sim, web, fleet, &opts)
                                                              : EXIT_STARTUP_FAILED;
     fleet_destroy(fleet);
-    web_server_destroy(web); /* after the devices: their observers held its lines */
+    web_server_destroy(web); /* its stop already took its lines off the devices */
     simctl_destroy(sim);
     options_release(&opts); /* the configuration read */
     return status;

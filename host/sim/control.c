@@ -15,7 +15,6 @@
 #include "loop.h"
 #include "net.h"
 #include "wsg/wsg_outq.h"
-#include "record.h"
 #include "scheduler.h"
 #include "wsg/gcl_linebuf.h"
 
@@ -195,7 +194,7 @@ static void record_and_send(control_client_t *c, const char *reply)
 {
     char channel[16];
     channel_name(c, channel, sizeof(channel));
-    record_control(channel, '>', reply, strlen(reply));
+    record_control(c->ctl->sim.record, channel, '>', reply, strlen(reply));
     send_reply(c, reply);
 }
 
@@ -207,7 +206,7 @@ static void handle_line(control_client_t *c)
     if (wsg_gcl_linebuf_status(lb) == GCL_LINE_OK && strspn(lb->text, " \t") == lb->len) {
         return; /* blank line */
     }
-    record_control(channel, '<', lb->text, lb->len);
+    record_control(c->ctl->sim.record, channel, '<', lb->text, lb->len);
     char *reply = NULL;
     simctl_outcome_t outcome = {false, false};
     if (wsg_gcl_linebuf_status(lb) != GCL_LINE_OK) {
@@ -393,4 +392,11 @@ void simctl_stop(simctl_t *ctl)
         }
     }
     listener_stop(&ctl->listener);
+}
+
+void simctl_set_diagnostics(simctl_t *ctl, record_t *record, coverage_t *coverage)
+{
+    ctl->sim.record = record;
+    ctl->sim.coverage = coverage;
+    simctl_scheduler(ctl)->coverage = coverage;
 }

@@ -3,7 +3,6 @@
 
 #include "delay.h"
 #include "fleet.h"
-#include "observers.h"
 
 /* The simulated work one simctl_tick() may do before the loop serves the
  * sockets again: a control step counts 1, a scenario event SLICE_EVENT_COST
@@ -78,14 +77,14 @@ static void run_fleet_and_delays(simctl_sched_t *s, uint64_t now)
     bool ticked = fleet_touched_any(s->fleet) || s->fleet_due_us <= now;
     if (ticked) {
         s->fleet_due_us = fleet_tick(s->fleet);
-        simctl_observers_after_tick(&fleet_gripper(s->fleet, 0)->device); /* device 0's */
+        coverage_sample_flags(s->coverage);
     }
     bool releasing = s->delay_due_us <= now;
     if (releasing) {
-        simctl_delay_release_due(now);
+        simctl_delay_release_due(&s->delays, now);
     }
     if (ticked || releasing) {
-        s->delay_due_us = simctl_delay_next_us();
+        s->delay_due_us = simctl_delay_next_us(&s->delays);
     }
 }
 

@@ -10,6 +10,8 @@
 #include <stdint.h>
 
 #include "clock.h"
+#include "coverage.h"
+#include "delay.h"
 
 /* Work of a layer above the scheduler that is due at simulated times (the
  * scenario's commands): caller-owned, registered with
@@ -39,7 +41,9 @@ typedef struct {
      * or released. */
     uint64_t fleet_due_us;
     uint64_t delay_due_us;
-    uint64_t next_us; /* the earliest of them and the hook's; 0: look */
+    uint64_t next_us;       /* the earliest of them and the hook's; 0: look */
+    simctl_delays_t delays; /* injected reply delays (DELAY); all zero: none */
+    coverage_t *coverage;   /* samples the flags after each tick; NULL: none */
     struct {
         bool running;
         uint64_t until_us; /* the device time at which the STEP is done */
