@@ -77,7 +77,10 @@ def per_function(path, inclusive):
         m = re.match(r"\s*([\d,]+)\s+(\S.*?)(?:\s+\[.*\])?$", line)
         if m and ":" in m.group(2):
             name = m.group(2).split(":", 1)[1]
-            costs[name] = costs.get(name, 0) + int(m.group(1).replace(",", ""))
+            cost = int(m.group(1).replace(",", ""))
+            # a function's self cost may be split over files (inlined code);
+            # its inclusive cost is listed once per spelling of its file
+            costs[name] = max(costs.get(name, 0), cost) if inclusive else costs.get(name, 0) + cost
     return costs
 
 
