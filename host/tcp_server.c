@@ -69,32 +69,36 @@ static void link_client(tcp_client_t *c)
     c->server->open++;
 }
 
-/* Something happened to c that may finish it: the next reap looks. */
+/* Something happened to c that may finish it: the next reap looks. A
+ * connection is marked exactly while it is on its set's list. */
 static void mark(tcp_client_t *c)
 {
-    tcp_servers_t *tcp = c->server->set;
     if (!c->marked) {
+        tcp_servers_t *tcp = c->server->set;
         c->marked = true;
         c->next_marked = NULL;
         *(tcp->marked_tail != NULL ? tcp->marked_tail : &tcp->marked_first) = c;
         tcp->marked_tail = &c->next_marked;
+        tcp->marked_count++;
     }
 }
 
 static void unmark(tcp_client_t *c)
 {
+    if (!c->marked) {
+        return;
+    }
     tcp_servers_t *tcp = c->server->set;
     tcp_client_t **link = &tcp->marked_first;
-    while (c->marked && *link != c) {
+    while (*link != c) { /* the head, when the reap takes it */
         link = &(*link)->next_marked;
     }
-    if (c->marked) {
-        *link = c->next_marked;
-        if (c->next_marked == NULL) {
-            tcp->marked_tail = link == &tcp->marked_first ? NULL : link;
-        }
-        c->marked = false;
+    *link = c->next_marked;
+    if (c->next_marked == NULL) {
+        tcp->marked_tail = link;
     }
+    c->marked = false;
+    tcp->marked_count--;
 }
 
 static void unlink_client(tcp_client_t *c)
@@ -525,18 +529,15 @@ void tcp_server_reap(tcp_servers_t *tcp)
             mark(c);
         }
     }
-    tcp_client_t *c = tcp->marked_first;
-    tcp->marked_first = NULL;
-    tcp->marked_tail = NULL;
-    while (c != NULL) {
-        tcp_client_t *next = c->next_marked;
-        c->marked = false;
+    /* those marked now, once each; one marked again goes to the end */
+    for (unsigned n = tcp->marked_count; n > 0 && tcp->marked_first != NULL; n--) {
+        tcp_client_t *c = tcp->marked_first;
+        unmark(c);
         if (finished(c, now)) {
             close_client(c);
         } else if (c->eof) {
             mark(c);
         }
-        c = next;
     }
     resume_listeners(tcp);
 }

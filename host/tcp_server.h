@@ -34,8 +34,10 @@ typedef struct {
      * connections are scanned again once it is due. */
     uint64_t idle_due_us;
     /* The connections something happened to since the last reap, in that
-     * order (marked_tail NULL: none): the reap looks at these only. */
+     * order: the reap looks at these only. marked_tail: the link the next
+     * one goes into (NULL: marked_first). */
     tcp_client_t *marked_first, **marked_tail;
+    unsigned marked_count;
 } tcp_servers_t;
 
 /* A listener shared by several servers (--address-per-device): the server
