@@ -83,6 +83,18 @@ static void mark(tcp_client_t *c)
     }
 }
 
+static tcp_client_t *take_first_marked(tcp_servers_t *tcp)
+{
+    tcp_client_t *c = tcp->marked_first;
+    tcp->marked_first = c->next_marked;
+    if (tcp->marked_first == NULL) {
+        tcp->marked_tail = NULL;
+    }
+    c->marked = false;
+    tcp->marked_count--;
+    return c;
+}
+
 static void unmark(tcp_client_t *c)
 {
     if (!c->marked) {
@@ -531,8 +543,7 @@ void tcp_server_reap(tcp_servers_t *tcp)
     }
     /* those marked now, once each; one marked again goes to the end */
     for (unsigned n = tcp->marked_count; n > 0 && tcp->marked_first != NULL; n--) {
-        tcp_client_t *c = tcp->marked_first;
-        unmark(c);
+        tcp_client_t *c = take_first_marked(tcp);
         if (finished(c, now)) {
             close_client(c);
         } else if (c->eof) {
