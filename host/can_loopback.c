@@ -33,7 +33,10 @@ static struct {
     uint32_t frames;
 } bus;
 
-static can_loopback_tap_t tap; /* outside bus: can_loopback_init() keeps it */
+static struct {
+    can_loopback_tap_t fn;
+    void *ctx;
+} tap; /* outside bus: can_loopback_init() keeps it */
 
 static bool set_acceptance(acceptance_t *a, const hal_can_filter_t *filters, unsigned count)
 {
@@ -78,8 +81,8 @@ static void deliver(const hal_can_frame_t *frame, int from)
 {
     uint64_t now = hal_clock_now_us();
     bus.frames++;
-    if (tap != NULL) {
-        tap(frame, now);
+    if (tap.fn != NULL) {
+        tap.fn(tap.ctx, frame, now);
     }
     if (from != GRIPPER) {
         to_gripper(frame);
@@ -160,9 +163,10 @@ void can_loopback_init(const fbus_type_t types[FBUS_SLOTS], const finger_node_pa
     }
 }
 
-void can_loopback_set_tap(can_loopback_tap_t new_tap)
+void can_loopback_set_tap(can_loopback_tap_t fn, void *ctx)
 {
-    tap = new_tap;
+    tap.fn = fn;
+    tap.ctx = ctx;
 }
 
 const hal_can_t *can_loopback_bus(void)

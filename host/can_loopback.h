@@ -13,10 +13,10 @@
 void can_loopback_init(const fbus_type_t types[FBUS_SLOTS], const finger_node_params_t *params);
 /* The gripper's controller on the loopback bus. */
 const hal_can_t *can_loopback_bus(void);
-/* Calls tap with every frame the bus carries and the simulated time it was
- * sent at (--can-log); NULL: none. */
-typedef void (*can_loopback_tap_t)(const hal_can_frame_t *frame, uint64_t time_us);
-void can_loopback_set_tap(can_loopback_tap_t tap);
+/* Calls tap(ctx, ...) with every frame the bus carries and the simulated
+ * time it was sent at (--can-log); NULL: none. */
+typedef void (*can_loopback_tap_t)(void *ctx, const hal_can_frame_t *frame, uint64_t time_us);
+void can_loopback_set_tap(can_loopback_tap_t tap, void *ctx);
 /* Frames carried so far (every delivery attempt counts once). */
 uint32_t can_loopback_frames(void);
 

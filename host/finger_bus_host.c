@@ -21,23 +21,23 @@ static uint8_t injected[FBUS_SLOTS];
 
 static void on_readable(void *ctx, int fd, short revents)
 {
-    (void)ctx;
+    host_loop_t *loop = ctx;
     can_socketcan_drain(&sock);
     if ((revents & (POLLERR | POLLHUP | POLLNVAL)) != 0) {
         host_logf(HAL_LOG_ERROR, "finger bus: CAN socket error (%s); no longer watching it",
                   strerror(-sock.last_error));
-        loop_unwatch(fd);
+        loop_unwatch(loop, fd);
     }
 }
 
-static bool start_socketcan(const char *iface)
+static bool start_socketcan(host_loop_t *loop, const char *iface)
 {
     char err[160];
     if (!can_socketcan_open(&sock, iface, err, sizeof(err))) {
         host_logf(HAL_LOG_ERROR, "finger bus: %s", err);
         return false;
     }
-    if (!loop_watch(can_socketcan_fd(&sock), POLLIN, on_readable, NULL)) {
+    if (!loop_watch(loop, can_socketcan_fd(&sock), POLLIN, on_readable, loop)) {
         host_logf(HAL_LOG_ERROR, "finger bus: too many watched descriptors");
         can_socketcan_close(&sock);
         return false;
@@ -47,12 +47,12 @@ static bool start_socketcan(const char *iface)
     return true;
 }
 
-bool finger_bus_host_start(const host_options_t *opts)
+bool finger_bus_host_start(host_loop_t *loop, const host_options_t *opts)
 {
     memset(injected, 0, sizeof(injected));
     sock.fd = -1;
     if (opts->can_iface != NULL) {
-        if (!start_socketcan(opts->can_iface)) {
+        if (!start_socketcan(loop, opts->can_iface)) {
             return false;
         }
     } else {
@@ -76,10 +76,10 @@ bool finger_bus_host_start(const host_options_t *opts)
     return true; /* main logs the description after the ready line */
 }
 
-void finger_bus_host_stop(void)
+void finger_bus_host_stop(host_loop_t *loop)
 {
     if (sock.fd >= 0) {
-        loop_unwatch(sock.fd);
+        loop_unwatch(loop, sock.fd);
         can_socketcan_close(&sock);
     }
     active_bus = NULL;

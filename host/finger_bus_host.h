@@ -8,6 +8,7 @@
 #include <stdbool.h>
 
 #include "hal_can.h"
+#include "loop.h"
 #include "options.h"
 
 typedef enum {
@@ -16,9 +17,10 @@ typedef enum {
     FINGER_FAULT_UNPLUG, /* the finger leaves the bus: FF_COMM_FAULT after the timeout */
 } finger_fault_t;
 
-/* Opens the bus the options name and registers it with the loop. */
-bool finger_bus_host_start(const host_options_t *opts);
-void finger_bus_host_stop(void);
+/* Opens the bus the options name and registers it with loop. */
+bool finger_bus_host_start(host_loop_t *loop, const host_options_t *opts);
+/* loop: the one it was started on. */
+void finger_bus_host_stop(host_loop_t *loop);
 /* The gripper's controller (NULL before start). */
 const hal_can_t *finger_bus_host_can(void);
 /* "SocketCAN vcan0" or "loopback bus (fmf,dsa)". */

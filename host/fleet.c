@@ -29,6 +29,8 @@ typedef struct {
 } fleet_device_t;
 
 static struct {
+    host_loop_t *loop; /* the servers' sockets are watched here */
+    net_t *net;        /* and are its own */
     fleet_device_t *devices;
     /* The devices' deadlines as a binary min-heap of device numbers, so a
      * pass looks at the devices that are due and nothing else. */
@@ -125,8 +127,8 @@ static bool start_bin_udp(fleet_device_t *d, const host_options_t *opts, unsigne
     int reply_port = (int)ports->reply;
     udp_protocol_t binary = udp_protocol_binary(reply_port);
     binary.optional = !opts->binary_udp_port_given; /* the default: skipped when taken */
-    if (udp_server_start(&d->bin_udp, &d->gripper, &binary, opts->bind_addr, port,
-                         opts->udp_peer_timeout_s)) {
+    if (udp_server_start(&d->bin_udp, fleet.loop, fleet.net, &d->gripper, &binary, opts->bind_addr,
+                         port, opts->udp_peer_timeout_s)) {
         return true;
     }
     int err = errno;
@@ -194,13 +196,14 @@ static bool start_device(fleet_device_t *d, const host_options_t *opts, unsigned
         return false;
     }
     if (opts->tcp_enabled &&
-        !tcp_server_start(&d->tcp, &d->gripper, opts->bind_addr, (int)ports.tcp, opts->max_clients,
-                          opts->idle_timeout_s)) {
+        !tcp_server_start(&d->tcp, fleet.loop, fleet.net, &d->gripper, opts->bind_addr,
+                          (int)ports.tcp, opts->max_clients, opts->idle_timeout_s)) {
         return false;
     }
     udp_protocol_t gcl = udp_protocol_gcl();
-    if (opts->udp_enabled && !udp_server_start(&d->udp, &d->gripper, &gcl, opts->bind_addr,
-                                               (int)ports.udp, opts->udp_peer_timeout_s)) {
+    if (opts->udp_enabled &&
+        !udp_server_start(&d->udp, fleet.loop, fleet.net, &d->gripper, &gcl, opts->bind_addr,
+                          (int)ports.udp, opts->udp_peer_timeout_s)) {
         return false;
     }
     return start_bin_udp(d, opts, i, &ports);
@@ -261,8 +264,8 @@ static bool start_bin_front(const host_options_t *opts, const port_layout_t *por
 {
     udp_protocol_t binary = udp_protocol_binary((int)ports->reply);
     binary.optional = !opts->binary_udp_port_given;
-    if (udp_server_start_shared(&fleet.bin_front, &binary, (int)ports->binary, route_udp,
-                                &fleet.bin_front)) {
+    if (udp_server_start_shared(&fleet.bin_front, fleet.loop, fleet.net, &binary,
+                                (int)ports->binary, route_udp, &fleet.bin_front)) {
         return true;
     }
     int err = errno;
@@ -285,22 +288,24 @@ static bool start_fronts(const host_options_t *opts)
     fleet.udp_front.fd = -1;
     fleet.bin_front.fd = -1;
     device_ports(0, &ports);
-    if (opts->tcp_enabled &&
-        !tcp_server_start_shared(&fleet.tcp_front, "0.0.0.0", (int)ports.tcp, route_tcp, NULL)) {
+    if (opts->tcp_enabled && !tcp_server_start_shared(&fleet.tcp_front, fleet.loop, fleet.net,
+                                                      "0.0.0.0", (int)ports.tcp, route_tcp, NULL)) {
         return false;
     }
     udp_protocol_t gcl = udp_protocol_gcl();
-    if (opts->udp_enabled &&
-        !udp_server_start_shared(&fleet.udp_front, &gcl, (int)ports.udp, route_udp, NULL)) {
+    if (opts->udp_enabled && !udp_server_start_shared(&fleet.udp_front, fleet.loop, fleet.net, &gcl,
+                                                      (int)ports.udp, route_udp, NULL)) {
         return false;
     }
     return !opts->udp_enabled || ports.binary == 0 || start_bin_front(opts, &ports);
 }
 
-bool fleet_start(const host_options_t *opts)
+bool fleet_start(host_loop_t *loop, net_t *net, const host_options_t *opts)
 {
     unsigned declared = config_file_devices(); /* [device.N] sections */
     unsigned n = declared > (unsigned)opts->devices ? declared : (unsigned)opts->devices;
+    fleet.loop = loop;
+    fleet.net = net;
     fleet.by_address = opts->address_per_device;
     if (!raise_descriptor_limit(opts, n) || (fleet.by_address && !parse_first_address(opts, n))) {
         return false;
@@ -544,7 +549,7 @@ void fleet_run_scripts(void)
         runnable = gripper_continue_script(&fleet.devices[i].gripper) || runnable;
     }
     if (runnable) {
-        loop_wake_at_wall(loop_monotonic_ns()); /* poll, do not block */
+        loop_wake_at_wall(fleet.loop, loop_monotonic_ns()); /* poll, do not block */
     }
 }
 

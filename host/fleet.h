@@ -10,11 +10,13 @@
 #include <stdint.h>
 
 #include "gripper.h"
+#include "loop.h"
+#include "net.h"
 #include "options.h"
 
-/* Creates opts->devices grippers and starts their servers; false (logged)
- * when a port cannot be had. */
-bool fleet_start(const host_options_t *opts);
+/* Creates opts->devices grippers and starts their servers (sockets of net's,
+ * watched on loop); false (logged) when a port cannot be had. */
+bool fleet_start(host_loop_t *loop, net_t *net, const host_options_t *opts);
 unsigned fleet_count(void);
 /* Device i (i < fleet_count()). */
 gripper_t *fleet_gripper(unsigned i);

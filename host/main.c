@@ -2,13 +2,12 @@
 /* build/wsgsim: the virtual WSG gripper on a Linux host. */
 #include <stdio.h>
 
-#include "can_log.h"
+#include "can_loopback.h"
 #include "coverage.h"
 #include "finger_bus_host.h"
 #include "fleet.h"
+#include "host.h"
 #include "log.h"
-#include "loop.h"
-#include "net.h"
 #include "notify.h"
 #include "options.h"
 #include "record.h"
@@ -23,7 +22,7 @@
 #define EXIT_STARTUP_FAILED 2
 
 /* Simulation control (docs/simctl.md): record, scenario, control channel. */
-static bool start_simulation(const host_options_t *opts)
+static bool start_simulation(host_t *host, const host_options_t *opts)
 {
     if (opts->record_path != NULL && !record_open(opts->record_path)) {
         return false;
@@ -34,7 +33,8 @@ static bool start_simulation(const host_options_t *opts)
     if (opts->scenario_path != NULL && !scenario_load(opts->scenario_path, 0)) {
         return false;
     }
-    return opts->sim_port < 0 || simctl_start(opts->sim_bind, opts->sim_port);
+    return opts->sim_port < 0 ||
+           simctl_start(host->loop, &host->net, opts->sim_bind, opts->sim_port);
 }
 
 static int stop_simulation(const host_options_t *opts)
@@ -56,9 +56,13 @@ static bool announce(const host_options_t *opts)
     snprintf(extra, sizeof(extra), "%s%s", simctl_describe(), web_server_describe());
     fleet_ready_line(extra, line, sizeof(line));
     bool bin_tcp = opts->tcp_enabled && opts->protocol != HOST_PROTOCOL_GCL;
-    notify_set_binary_ports(bin_tcp ? fleet_tcp_port(0) : -1, fleet_bin_udp_port(0));
-    notify_set_http_port(web_server_port());
-    if (!notify_prepare(opts->ready_file)) {
+    notify_ports_t ports = {.tcp_port = fleet_tcp_port(0),
+                            .udp_port = fleet_udp_port(0),
+                            .sim_port = simctl_port(),
+                            .bin_tcp_port = bin_tcp ? fleet_tcp_port(0) : -1,
+                            .bin_udp_port = fleet_bin_udp_port(0),
+                            .http_port = web_server_port()};
+    if (!notify_prepare(opts->ready_file, &ports)) {
         return false;
     }
     fleet_announce_devices();
@@ -75,20 +79,91 @@ static bool start_logging(const host_options_t *opts)
 }
 
 /* SIGHUP (log rotation): every file wsgsim appends to is opened again. */
-static void reopen_files(void)
+static void reopen_files(void *ctx)
 {
+    host_t *host = ctx;
     host_log_reopen();
     if (!record_reopen()) {
         host_logf(HAL_LOG_ERROR, "cannot reopen the --record file (still writing the old one)");
     }
-    if (!can_log_reopen()) {
+    if (!can_log_reopen(&host->can_log)) {
         host_logf(HAL_LOG_ERROR, "cannot reopen the --can-log file (still writing the old one)");
     }
 }
 
-static void catch_up(void)
+/* After every wake-up of the loop: simulated time catches up with the wall
+ * clock before any input is handled. */
+static void catch_up(void *ctx)
 {
+    (void)ctx;
     (void)simctl_tick();
+}
+
+/* The simulated clock's next deadline as the loop's wall-clock timeout. */
+static uint64_t wall_timeout_ns(uint64_t deadline_us)
+{
+    struct timespec wait;
+    if (!simclock_wall_wait(deadline_us, &wait)) {
+        return LOOP_NO_TIMEOUT;
+    }
+    return (uint64_t)wait.tv_sec * 1000000000u + (uint64_t)wait.tv_nsec;
+}
+
+/* Every frame of the in-process finger bus, to the --can-log file. */
+static void tap_can_log(void *ctx, const hal_can_frame_t *frame, uint64_t time_us)
+{
+    can_log_frame(ctx, frame, time_us);
+}
+
+/* The event loop, taking the process's signals. */
+static bool start_loop(host_t *host)
+{
+    host->loop = loop_create();
+    if (host->loop == NULL || !loop_take_signals(host->loop)) {
+        return false;
+    }
+    loop_set_catch_up(host->loop, catch_up, host);
+    loop_set_hangup(host->loop, reopen_files, host);
+    return true;
+}
+
+/* The finger bus, and the --can-log file on the in-process one. */
+static bool start_finger_bus(host_t *host, const host_options_t *opts)
+{
+    if (!finger_bus_host_start(host->loop, opts)) {
+        return false;
+    }
+    if (opts->can_log == NULL) {
+        return true;
+    }
+    if (!can_log_open(&host->can_log, opts->can_log)) {
+        return false;
+    }
+    can_loopback_set_tap(tap_can_log, &host->can_log);
+    return true;
+}
+
+static void stop_finger_bus(host_t *host)
+{
+    finger_bus_host_stop(host->loop);
+    if (host->can_log.out != NULL) {
+        can_loopback_set_tap(NULL, NULL);
+        can_log_close(&host->can_log);
+    }
+}
+
+/* Until SIGINT or SIGTERM. */
+static void run(host_t *host)
+{
+    while (!loop_stop_requested(host->loop)) {
+        uint64_t deadline = simctl_tick();
+        fleet_run_scripts();
+        loop_wait(host->loop, wall_timeout_ns(deadline));
+        web_server_poll();
+        tcp_server_reap();
+        udp_server_reap();
+        simctl_reap();
+    }
 }
 
 int main(int argc, char **argv)
@@ -107,34 +182,27 @@ int main(int argc, char **argv)
     if (opts.start_paused) {
         simclock_start_paused(); /* simulated time stands at exactly 0 */
     }
-    loop_init();
-    loop_set_catch_up(catch_up);
-    loop_set_hangup(reopen_files);
-    if (!finger_bus_host_start(&opts) || (opts.can_log != NULL && !can_log_open(opts.can_log))) {
+    host_t host = {0};
+    net_init(&host.net);
+    if (!start_loop(&host) || !start_finger_bus(&host, &opts)) {
         return EXIT_STARTUP_FAILED;
     }
     /* the web server first: the devices' observers keep its connection lines */
-    if (!web_server_start(&opts) || !fleet_start(&opts) || !start_simulation(&opts)) {
+    if (!web_server_start(host.loop, &host.net, &opts) ||
+        !fleet_start(host.loop, &host.net, &opts) || !start_simulation(&host, &opts)) {
         return EXIT_STARTUP_FAILED;
     }
     if (!announce(&opts)) {
         return EXIT_STARTUP_FAILED;
     }
     host_logf(HAL_LOG_INFO, "finger bus: %s", finger_bus_host_describe());
-    while (!loop_stop_requested()) {
-        uint64_t deadline = simctl_tick();
-        fleet_run_scripts();
-        loop_wait(deadline);
-        web_server_poll();
-        tcp_server_reap();
-        udp_server_reap();
-        simctl_reap();
-    }
+    run(&host);
     host_logf(HAL_LOG_INFO, "shutting down");
     notify_stopping(opts.ready_file);
     web_server_stop(); /* while the devices its operations ran on exist */
     fleet_stop();
-    finger_bus_host_stop();
-    can_log_close();
-    return stop_simulation(&opts);
+    stop_finger_bus(&host);
+    int status = stop_simulation(&opts);
+    loop_destroy(host.loop);
+    return status;
 }

@@ -91,7 +91,7 @@ static void unlink_client(tcp_client_t *c)
 
 static void update_events(tcp_client_t *c)
 {
-    loop_set_events(c->fd,
+    loop_set_events(c->server->listener->loop, c->fd,
                     (short)((c->eof ? 0 : POLLIN) | (wsg_outq_empty(&c->outq) ? 0 : POLLOUT)));
 }
 
@@ -193,7 +193,7 @@ static void close_client(tcp_client_t *c)
         host_log_peer(HAL_LOG_INFO, "tcp %s: %lu AUTOSEND lines dropped (client not reading)",
                       c->peer, c->dropped_autosend);
     }
-    loop_unwatch(c->fd);
+    loop_unwatch(c->server->listener->loop, c->fd);
     close(c->fd);
     wsg_conn_close(&c->conn, reason);
     gripper_touch(c->server->gripper); /* e.g. FAST STOP on a lost link */
@@ -324,7 +324,7 @@ static bool setup_client(tcp_client_t *c, int fd, const struct sockaddr_storage 
     gripper_t *g = c->server->gripper;
     wsg_conn_open(&c->conn, &g->device, drivers[g->opts.protocol], WSG_TRANSPORT_STREAM, &tcp_io,
                   c);
-    if (!loop_watch(fd, POLLIN, on_client, c)) {
+    if (!loop_watch(c->server->listener->loop, fd, POLLIN, on_client, c)) {
         wsg_conn_close(&c->conn, WSG_CLOSE_ANNOUNCED);
         free(c->outq.ring);
         return false;
@@ -399,20 +399,20 @@ static void on_accept(void *ctx, int fd, short revents)
     host_log_peer(HAL_LOG_INFO, "tcp %s: connected", c->peer);
 }
 
-bool tcp_server_start(tcp_server_t *s, gripper_t *g, const char *addr, int port, int max_clients,
-                      int idle_timeout_s)
+bool tcp_server_start(tcp_server_t *s, host_loop_t *loop, net_t *net, gripper_t *g,
+                      const char *addr, int port, int max_clients, int idle_timeout_s)
 {
     tcp_server_attach(s, g, s, max_clients, idle_timeout_s);
-    return listener_start(&s->own, "tcp", addr, port, on_accept, s);
+    return listener_start(&s->own, loop, net, "tcp", addr, port, on_accept, s);
 }
 
-bool tcp_server_start_shared(tcp_server_t *s, const char *addr, int port, tcp_route_t route,
-                             void *ctx)
+bool tcp_server_start_shared(tcp_server_t *s, host_loop_t *loop, net_t *net, const char *addr,
+                             int port, tcp_route_t route, void *ctx)
 {
     tcp_server_attach(s, NULL, s, 0, 0);
     s->route = route;
     s->route_ctx = ctx;
-    return listener_start(&s->own, "tcp", addr, port, on_accept, s);
+    return listener_start(&s->own, loop, net, "tcp", addr, port, on_accept, s);
 }
 
 void tcp_server_attach(tcp_server_t *s, gripper_t *g, tcp_server_t *front, int max_clients,

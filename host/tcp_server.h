@@ -36,12 +36,13 @@ struct tcp_server_s {
     struct tcp_server_s *next_waiting;
 };
 
-bool tcp_server_start(tcp_server_t *s, gripper_t *g, const char *addr, int port, int max_clients,
-                      int idle_timeout_s);
+/* Listens on addr:port (a socket of net's, watched on loop). */
+bool tcp_server_start(tcp_server_t *s, host_loop_t *loop, net_t *net, gripper_t *g,
+                      const char *addr, int port, int max_clients, int idle_timeout_s);
 /* A listener for several servers on addr:port: route() chooses the server
  * of each connection by its local address (getsockname()). */
-bool tcp_server_start_shared(tcp_server_t *s, const char *addr, int port, tcp_route_t route,
-                             void *ctx);
+bool tcp_server_start_shared(tcp_server_t *s, host_loop_t *loop, net_t *net, const char *addr,
+                             int port, tcp_route_t route, void *ctx);
 /* A server without a socket of its own: its connections come from the
  * shared listener front (which must outlive it). */
 void tcp_server_attach(tcp_server_t *s, gripper_t *g, tcp_server_t *front, int max_clients,

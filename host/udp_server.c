@@ -202,7 +202,7 @@ static udp_peer_t *new_peer(udp_server_t *s, const wsg_peer_addr_t *addr,
  * itself (or a twin on the same host); it is dropped unanswered. */
 static bool from_ourselves(const udp_server_t *s, const struct sockaddr_storage *ss)
 {
-    if (!net_is_own_address(ss)) {
+    if (!net_is_own_address(s->net, ss)) {
         return false;
     }
     char name[64];
@@ -285,24 +285,26 @@ static void on_datagram(void *ctx, int fd, short revents)
     gripper_feed(s->gripper, &p->peer.conn, buf, (size_t)n, 1);
 }
 
-bool udp_server_start(udp_server_t *s, gripper_t *g, const udp_protocol_t *proto, const char *addr,
-                      int port, int peer_timeout_s)
+bool udp_server_start(udp_server_t *s, host_loop_t *loop, net_t *net, gripper_t *g,
+                      const udp_protocol_t *proto, const char *addr, int port, int peer_timeout_s)
 {
     memset(s, 0, sizeof(*s));
+    s->loop = loop;
+    s->net = net;
     s->gripper = g;
     s->proto = *proto;
     wsg_peer_rules_t rules = WSG_PEER_RULES_DEFAULT(proto->max_peers, peer_timeout_s);
     wsg_peers_init(&s->peers, &rules, &peer_port, s, NULL, 0);
-    s->fd = proto->optional ? net_listen_optional(SOCK_DGRAM, addr, port)
-                            : net_listen(SOCK_DGRAM, addr, port);
-    return s->fd >= 0 && loop_watch(s->fd, POLLIN, on_datagram, s);
+    s->fd = proto->optional ? net_listen_optional(net, SOCK_DGRAM, addr, port)
+                            : net_listen(net, SOCK_DGRAM, addr, port);
+    return s->fd >= 0 && loop_watch(loop, s->fd, POLLIN, on_datagram, s);
 }
 
-bool udp_server_start_shared(udp_server_t *s, const udp_protocol_t *proto, int port,
-                             udp_route_t route, void *ctx)
+bool udp_server_start_shared(udp_server_t *s, host_loop_t *loop, net_t *net,
+                             const udp_protocol_t *proto, int port, udp_route_t route, void *ctx)
 {
     int one = 1;
-    if (!udp_server_start(s, NULL, proto, "0.0.0.0", port, 0)) {
+    if (!udp_server_start(s, loop, net, NULL, proto, "0.0.0.0", port, 0)) {
         return false;
     }
     s->route = route;
@@ -314,6 +316,8 @@ void udp_server_attach(udp_server_t *s, gripper_t *g, const udp_protocol_t *prot
                        const udp_server_t *front, struct in_addr source, int peer_timeout_s)
 {
     memset(s, 0, sizeof(*s));
+    s->loop = front->loop;
+    s->net = front->net;
     s->gripper = g;
     s->proto = *proto;
     s->fd = front->fd;
@@ -384,7 +388,7 @@ void udp_server_stop(udp_server_t *s)
     if (s->shares_fd) {
         s->fd = -1;
     } else if (s->fd >= 0) {
-        loop_unwatch(s->fd);
+        loop_unwatch(s->loop, s->fd);
         close(s->fd);
         s->fd = -1;
     }

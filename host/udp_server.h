@@ -18,6 +18,8 @@
 #include <sys/socket.h>
 
 #include "gripper.h"
+#include "loop.h"
+#include "net.h"
 #include "wsg/wsg_conn.h"
 #include "wsg/wsg_peers.h"
 
@@ -37,6 +39,8 @@ typedef struct {
 } udp_protocol_t;
 
 struct udp_server {
+    host_loop_t *loop; /* fd is watched here */
+    net_t *net;        /* whose own addresses are never answered */
     int fd;
     bool shares_fd;        /* the fd is a shared socket's: not closed here */
     struct in_addr source; /* a shared socket's replies leave from here (0: any) */
@@ -54,13 +58,14 @@ udp_protocol_t udp_protocol_gcl(void);
 /* The binary protocol over UDP (8 peers, replies to reply_port). */
 udp_protocol_t udp_protocol_binary(int reply_port);
 
-bool udp_server_start(udp_server_t *s, gripper_t *g, const udp_protocol_t *proto, const char *addr,
-                      int port, int peer_timeout_s);
+/* Binds addr:port (a socket of net's, watched on loop). */
+bool udp_server_start(udp_server_t *s, host_loop_t *loop, net_t *net, gripper_t *g,
+                      const udp_protocol_t *proto, const char *addr, int port, int peer_timeout_s);
 /* A socket for several servers on the IPv4 wildcard address at port: each
  * datagram goes to the server route() names by its destination address
  * (IP_PKTINFO). */
-bool udp_server_start_shared(udp_server_t *s, const udp_protocol_t *proto, int port,
-                             udp_route_t route, void *ctx);
+bool udp_server_start_shared(udp_server_t *s, host_loop_t *loop, net_t *net,
+                             const udp_protocol_t *proto, int port, udp_route_t route, void *ctx);
 /* A server on the shared socket front (which must outlive it): its replies
  * leave from source, the address its peers sent to. */
 void udp_server_attach(udp_server_t *s, gripper_t *g, const udp_protocol_t *proto,

@@ -6,8 +6,12 @@
 
 #include <stdbool.h>
 
-/* Listens on addr:port (addr NULL: 127.0.0.1); false after a clear message. */
-bool simctl_start(const char *addr, int port);
+#include "loop.h"
+#include "net.h"
+
+/* Listens on addr:port (addr NULL: 127.0.0.1; a socket of net's, watched on
+ * loop); false after a clear message. */
+bool simctl_start(host_loop_t *loop, net_t *net, const char *addr, int port);
 int simctl_port(void);
 /* ", control 127.0.0.1:7000" for the ready line; "" without a channel. */
 const char *simctl_describe(void);

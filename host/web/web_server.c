@@ -48,6 +48,7 @@ typedef struct {
 } web_call_t;
 
 static struct {
+    host_loop_t *loop; /* the daemon's epoll descriptor is watched here */
     struct MHD_Daemon *daemon;
     int listen_fd;
     int epoll_fd;
@@ -79,7 +80,7 @@ static void schedule(void)
     uint64_t wake = earliest_nonzero(web.mhd_due_ns, web_events_next_tick_ns());
     wake = earliest_nonzero(wake, web_intake_next_due_ns());
     if (wake != 0) {
-        loop_wake_at_wall(wake);
+        loop_wake_at_wall(web.loop, wake);
     }
 }
 
@@ -339,7 +340,7 @@ static bool open_daemon(void)
     }
     const union MHD_DaemonInfo *info = MHD_get_daemon_info(web.daemon, MHD_DAEMON_INFO_EPOLL_FD);
     web.epoll_fd = info != NULL ? info->epoll_fd : -1;
-    return web.epoll_fd >= 0 && loop_watch(web.epoll_fd, POLLIN, on_epoll_ready, NULL);
+    return web.epoll_fd >= 0 && loop_watch(web.loop, web.epoll_fd, POLLIN, on_epoll_ready, NULL);
 }
 
 static bool sim_bind_open(const char *sim_bind)
@@ -355,16 +356,17 @@ static bool sim_bind_open(const char *sim_bind)
            !IN6_IS_ADDR_LOOPBACK((const struct in6_addr *)addr);
 }
 
-bool web_server_start(const host_options_t *opts)
+bool web_server_start(host_loop_t *loop, net_t *net, const host_options_t *opts)
 {
     if (opts->http_port == 0) {
         return true;
     }
+    web.loop = loop;
     const char *bind = opts->http_bind != NULL ? opts->http_bind : opts->bind_addr;
     /* the default port is skipped when taken: a warning, not an error line */
     bool asked = opts->http_port_given || opts->http_bind != NULL;
-    web.listen_fd = asked ? net_listen(SOCK_STREAM, bind, opts->http_port)
-                          : net_listen_optional(SOCK_STREAM, bind, opts->http_port);
+    web.listen_fd = asked ? net_listen(net, SOCK_STREAM, bind, opts->http_port)
+                          : net_listen_optional(net, SOCK_STREAM, bind, opts->http_port);
     if (web.listen_fd < 0) {
         if (!asked) {
             host_logf(HAL_LOG_WARN, "http port %d cannot be had (%s): no web interface",
@@ -406,7 +408,7 @@ void web_server_stop(void)
     if (web.daemon != NULL) {
         web_events_end_all(); /* MHD stops only with no connection suspended */
         MHD_run(web.daemon);
-        loop_unwatch(web.epoll_fd);
+        loop_unwatch(web.loop, web.epoll_fd);
         MHD_stop_daemon(web.daemon); /* closes the listening socket too */
         web.daemon = NULL;
         web.listen_fd = -1;

@@ -14,14 +14,17 @@
 
 #include <stdbool.h>
 
+#include "loop.h"
+#include "net.h"
 #include "options.h"
 
 /* Starts the server on opts->http_bind (or opts->bind_addr) port
  * opts->http_port; off when the port is 0. False (logged) when the port or
  * the address was given and cannot be had; the default, when taken, is
  * skipped with a warning. Call before fleet_start(): the devices' observers
- * keep the connection lines only when the server is on. */
-bool web_server_start(const host_options_t *opts);
+ * keep the connection lines only when the server is on. The socket is one
+ * of net's, watched on loop. */
+bool web_server_start(host_loop_t *loop, net_t *net, const host_options_t *opts);
 /* After every loop_wait(): runs what is due on the wall clock. Costs one
  * test when nothing is scheduled. */
 void web_server_poll(void);

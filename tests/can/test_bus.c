@@ -167,8 +167,9 @@ END_TEST
 /* When the finger in slot 0 last sent a frame, from the bus's tap. */
 static uint64_t slot0_heard_us;
 
-static void note_slot0_frames(const hal_can_frame_t *frame, uint64_t time_us)
+static void note_slot0_frames(void *ctx, const hal_can_frame_t *frame, uint64_t time_us)
 {
+    (void)ctx;
     uint32_t func = fbus_func_of(frame->id);
     bool from_node = func == FBUS_ID_DESCRIPTOR || func == FBUS_ID_MEASURE ||
                      func == FBUS_ID_BULK || func == FBUS_ID_HEARTBEAT;
@@ -182,14 +183,14 @@ static void note_slot0_frames(const hal_can_frame_t *frame, uint64_t time_us)
  * past the timeout, not at the next broadcast. */
 START_TEST(comm_fault_at_its_step_between_broadcasts)
 {
-    can_loopback_set_tap(note_slot0_frames);
+    can_loopback_set_tap(note_slot0_frames, NULL);
     t_start("fmf,dsa");
     t_run_ms(300);
     ck_assert_str_eq(t_ask("HOME()"), "ACK HOME");
     t_run_ms(50);
     inject(0, FBUS_FAULT_UNPLUG);
     int ms = t_until("FFLAGS[0]?", "FFLAGS[0]=[1,1,0,0,0,0,0,0,0,1,0,0,0,0,0,0]", 1000);
-    can_loopback_set_tap(NULL);
+    can_loopback_set_tap(NULL, NULL);
     ck_assert_int_ge(ms, 0);
     ck_assert_str_eq(t_ask("SYSFLAGS[1]?"), "SYSFLAGS[1]=1"); /* still moving */
     ck_assert_uint_eq(h_now_us, slot0_heard_us + FBUS_COMM_TIMEOUT_US + 1000u);

@@ -9,6 +9,8 @@
 #include "finger_bus_host.h"
 #include "fleet.h"
 #include "log.h"
+#include "loop.h"
+#include "net.h"
 #include "sim/clock.h"
 #include "sim/delay.h"
 #include "sim/faults.h"
@@ -17,6 +19,9 @@
 
 static host_options_t options;
 static char file_path[256];
+/* What a fleet needs below it (no sockets here: the targets feed it). */
+static host_loop_t *loop;
+static net_t net;
 
 host_options_t *fuzz_host_options(int argc, char **argv)
 {
@@ -40,7 +45,9 @@ void fuzz_host_start(const host_options_t *opts)
     }
     simclock_init();
     simclock_start_paused();
-    if (!finger_bus_host_start(opts) || !fleet_start(opts)) {
+    loop = loop_create();
+    net_init(&net);
+    if (loop == NULL || !finger_bus_host_start(loop, opts) || !fleet_start(loop, &net, opts)) {
         abort(); /* options that parsed must start */
     }
 }
@@ -68,7 +75,9 @@ void fuzz_host_stop(void)
     }
     simctl_fault_clear_all();
     fleet_stop();
-    finger_bus_host_stop();
+    finger_bus_host_stop(loop);
+    loop_destroy(loop);
+    loop = NULL;
 }
 
 const char *fuzz_host_file(const uint8_t *data, size_t size)

@@ -10,6 +10,8 @@
 #include "finger_bus_host.h"
 #include "fleet.h"
 #include "hal_clock.h"
+#include "loop.h"
+#include "net.h"
 #include "options.h"
 #include "sim/clock.h"
 #include "sim/commands.h"
@@ -17,6 +19,9 @@
 
 h_client_t t_gcl;
 static char *last_reply;
+/* What a fleet needs below it; the tests' device has no sockets. */
+static host_loop_t *loop;
+static net_t net;
 
 void t_setup(void)
 {
@@ -26,10 +31,13 @@ void t_setup(void)
     simclock_init();
     simclock_start_paused();
     opts.sim_port = 0; /* the tests drive the control channel: coverage is observed */
-    ck_assert(finger_bus_host_start(&opts));
+    loop = loop_create();
+    ck_assert_ptr_nonnull(loop);
+    net_init(&net);
+    ck_assert(finger_bus_host_start(loop, &opts));
     opts.tcp_enabled = false; /* one device, no sockets: the tests feed it */
     opts.udp_enabled = false;
-    ck_assert(fleet_start(&opts));
+    ck_assert(fleet_start(loop, &net, &opts));
     coverage_reset();
     t_reopen();
 }
@@ -51,7 +59,9 @@ void t_teardown(void)
     ck_assert_msg(!t_gcl.bad_line, "the GCL session got something that is not one whole line");
     simctl_delay_clear_all(&fleet_gripper(0)->device, false);
     fleet_stop();
-    finger_bus_host_stop();
+    finger_bus_host_stop(loop);
+    loop_destroy(loop);
+    loop = NULL;
     free(last_reply);
     last_reply = NULL;
 }
