@@ -166,6 +166,31 @@ static void run(host_t *host)
     }
 }
 
+/* Starts every server, serves until SIGINT or SIGTERM and stops them: the
+ * exit status. */
+static int serve(host_t *host, const host_options_t *opts)
+{
+    if (!start_loop(host) || !start_finger_bus(host, opts)) {
+        return EXIT_STARTUP_FAILED;
+    }
+    /* the web server first: the devices' observers keep its connection lines */
+    if (!web_server_start(host->loop, &host->net, opts) ||
+        !fleet_start(host->loop, &host->net, opts) || !start_simulation(host, opts)) {
+        return EXIT_STARTUP_FAILED;
+    }
+    if (!announce(opts)) {
+        return EXIT_STARTUP_FAILED;
+    }
+    host_logf(HAL_LOG_INFO, "finger bus: %s", finger_bus_host_describe());
+    run(host);
+    host_logf(HAL_LOG_INFO, "shutting down");
+    notify_stopping(opts->ready_file);
+    web_server_stop(); /* while the devices its operations ran on exist */
+    fleet_stop();
+    stop_finger_bus(host);
+    return stop_simulation(opts);
+}
+
 int main(int argc, char **argv)
 {
     host_options_t opts;
@@ -184,25 +209,7 @@ int main(int argc, char **argv)
     }
     host_t host = {0};
     net_init(&host.net);
-    if (!start_loop(&host) || !start_finger_bus(&host, &opts)) {
-        return EXIT_STARTUP_FAILED;
-    }
-    /* the web server first: the devices' observers keep its connection lines */
-    if (!web_server_start(host.loop, &host.net, &opts) ||
-        !fleet_start(host.loop, &host.net, &opts) || !start_simulation(&host, &opts)) {
-        return EXIT_STARTUP_FAILED;
-    }
-    if (!announce(&opts)) {
-        return EXIT_STARTUP_FAILED;
-    }
-    host_logf(HAL_LOG_INFO, "finger bus: %s", finger_bus_host_describe());
-    run(&host);
-    host_logf(HAL_LOG_INFO, "shutting down");
-    notify_stopping(opts.ready_file);
-    web_server_stop(); /* while the devices its operations ran on exist */
-    fleet_stop();
-    stop_finger_bus(&host);
-    int status = stop_simulation(&opts);
+    int status = serve(&host, &opts);
     loop_destroy(host.loop);
     return status;
 }
