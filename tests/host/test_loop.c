@@ -395,7 +395,10 @@ static Suite *loop_suite(void)
 int main(void)
 {
     SRunner *runner = srunner_create(loop_suite());
+    srunner_add_suite(runner, can_log_suite());
+    srunner_add_suite(runner, net_suite());
     srunner_add_suite(runner, net_allow_suite());
+    srunner_add_suite(runner, notify_suite());
     srunner_add_suite(runner, port_layout_suite());
     srunner_run_all(runner, CK_ENV);
     int failed = srunner_ntests_failed(runner);
