@@ -11,6 +11,7 @@
 #include <strings.h>
 #include <sys/stat.h>
 
+#include "settings_table.h"
 #include "sim/sim_models.h"
 #include "text_file.h"
 #include "web/web_host.h"
@@ -45,22 +46,12 @@ typedef enum {
     DEV_SERIAL,
     DEV_TAG,
     DEV_VERSION,
-    MOT_FORCE,
-    MOT_SPEED,
-    MOT_ACCEL,
-    MOT_PULLBACK,
-    MOT_PWT,
-    MOT_CLT,
-    MOT_SOFT_LIMITS,
-    MOT_SOFT_MINUS,
-    MOT_SOFT_PLUS,
     MOT_HOMING,
     MOT_MOVE_RETARGET,
     NET_TCP_PORT,
     NET_UDP_PORT,
     NET_BIND,
     NET_MAX_CLIENTS,
-    NET_DISCONNECT_FASTSTOP,
     NET_ADDRESS_PER_DEVICE,
     NET_IDLE_TIMEOUT,
     NET_UDP_PEER_TIMEOUT,
@@ -69,7 +60,6 @@ typedef enum {
     NET_PROTOCOL,
     NET_BINARY_UDP_PORT,
     NET_BINARY_UDP_REPLY_PORT,
-    NET_BINARY_CRC,
     NET_HTTP_PORT,
     NET_HTTP_BIND,
     NET_HTTP_ALLOW_HOST,
@@ -81,6 +71,8 @@ typedef enum {
     KEY_COUNT
 } key_id_t;
 
+/* The keys besides the device settings of settings_table.h, which the file
+ * reads from that table. */
 static const struct {
     const char *section;
     const char *name;
@@ -90,22 +82,12 @@ static const struct {
     [DEV_SERIAL] = {"device", "serial", K_SERIAL},
     [DEV_TAG] = {"device", "tag", K_TEXT},
     [DEV_VERSION] = {"device", "firmware_version", K_TEXT},
-    [MOT_FORCE] = {"motion", "default_force", K_NUMBER},
-    [MOT_SPEED] = {"motion", "default_speed", K_NUMBER},
-    [MOT_ACCEL] = {"motion", "default_acceleration", K_NUMBER},
-    [MOT_PULLBACK] = {"motion", "default_pullback", K_NUMBER},
-    [MOT_PWT] = {"motion", "part_width_tolerance", K_NUMBER},
-    [MOT_CLT] = {"motion", "clamping_travel", K_NUMBER},
-    [MOT_SOFT_LIMITS] = {"motion", "soft_limits", K_BOOL},
-    [MOT_SOFT_MINUS] = {"motion", "soft_limit_minus", K_NUMBER},
-    [MOT_SOFT_PLUS] = {"motion", "soft_limit_plus", K_NUMBER},
     [MOT_HOMING] = {"motion", "homing_direction", K_DIRECTION},
     [MOT_MOVE_RETARGET] = {"motion", "move_retarget", K_BOOL},
     [NET_TCP_PORT] = {"network", "tcp_port", K_PORT},
     [NET_UDP_PORT] = {"network", "udp_port", K_PORT},
     [NET_BIND] = {"network", "bind", K_ADDR},
     [NET_MAX_CLIENTS] = {"network", "max_clients", K_CLIENTS},
-    [NET_DISCONNECT_FASTSTOP] = {"network", "disconnect_faststop", K_BOOL},
     [NET_ADDRESS_PER_DEVICE] = {"network", "address_per_device", K_BOOL},
     [NET_IDLE_TIMEOUT] = {"network", "idle_timeout", K_SECONDS_OFF},
     [NET_UDP_PEER_TIMEOUT] = {"network", "udp_peer_timeout", K_SECONDS},
@@ -114,7 +96,6 @@ static const struct {
     [NET_PROTOCOL] = {"network", "protocol", K_PROTOCOL},
     [NET_BINARY_UDP_PORT] = {"network", "binary_udp_port", K_PORT},
     [NET_BINARY_UDP_REPLY_PORT] = {"network", "binary_udp_reply_port", K_PORT},
-    [NET_BINARY_CRC] = {"network", "binary_crc", K_BOOL},
     [NET_HTTP_PORT] = {"network", "http_port", K_PORT},
     [NET_HTTP_BIND] = {"network", "http_bind", K_ADDR},
     [NET_HTTP_ALLOW_HOST] = {"network", "http_allow_host", K_HOSTS},
@@ -127,7 +108,7 @@ static const struct {
 
 typedef struct {
     bool set;
-    const char *file; /* where it was set: one of loaded.files */
+    const char *file; /* where it was set: one of config_file_t's files */
     int line;
     double number;
     char text[128]; /* as written (texts are checked against TEXT_MAX) */
@@ -165,19 +146,21 @@ typedef struct {
  * as if they followed the --config file's. */
 #define FILES_MAX 2
 
-static struct {
+struct config_file {
     char files[FILES_MAX][256];
     unsigned file_count;
     value_t values[KEY_COUNT];
-    device_section_t *sections; /* malloc'd, in the order of the file */
+    value_t settings[SETTINGS_TABLE_COUNT]; /* by the rows of settings_table */
+    device_section_t *sections;             /* malloc'd, in the order of the file */
     unsigned section_count;
     const char *model; /* the devices' model without a [device.N] one (config_file_check) */
-} loaded;
+};
 
 /* What the parser is doing: the reader counts lines for the handler. */
 typedef struct {
     text_file_t file;
-    const char *path; /* one of loaded.files */
+    config_file_t *cf; /* what it reads into */
+    const char *path;  /* one of cf->files */
     int line;
     bool failed;
 } parse_state_t;
@@ -345,20 +328,20 @@ static void unquote(const char *value, char *out, size_t cap)
 }
 
 /* The section of device index, added when new; NULL when out of memory. */
-static device_section_t *section_of(unsigned index)
+static device_section_t *section_of(config_file_t *cf, unsigned index)
 {
-    for (unsigned i = 0; i < loaded.section_count; i++) {
-        if (loaded.sections[i].index == index) {
-            return &loaded.sections[i];
+    for (unsigned i = 0; i < cf->section_count; i++) {
+        if (cf->sections[i].index == index) {
+            return &cf->sections[i];
         }
     }
     device_section_t *grown =
-        realloc(loaded.sections, (loaded.section_count + 1u) * sizeof(*loaded.sections));
+        realloc(cf->sections, (cf->section_count + 1u) * sizeof(*cf->sections));
     if (grown == NULL) {
         return NULL;
     }
-    loaded.sections = grown;
-    device_section_t *d = &loaded.sections[loaded.section_count++];
+    cf->sections = grown;
+    device_section_t *d = &cf->sections[cf->section_count++];
     memset(d, 0, sizeof(*d));
     d->index = index;
     return d;
@@ -386,7 +369,7 @@ static int on_device_key(parse_state_t *st, const char *section, const char *nam
         st->failed = true;
         return fail_at(st->path, st->line, section, name, why);
     }
-    device_section_t *d = section_of(index);
+    device_section_t *d = section_of(st->cf, index);
     for (unsigned k = 0; k < SEC_KEY_COUNT && d != NULL; k++) {
         if (strcasecmp(sec_keys[k].name, name) != 0) {
             continue;
@@ -406,6 +389,35 @@ static int on_device_key(parse_state_t *st, const char *section, const char *nam
                                "udp_port, script)");
 }
 
+/* A device setting of settings_table.h, else an unknown key. */
+static int on_setting_key(parse_state_t *st, const char *section, const char *name,
+                          const char *text)
+{
+    for (unsigned i = 0; i < SETTINGS_TABLE_COUNT; i++) {
+        const settings_row_t *row = &settings_table[i];
+        if (row->ini_key == NULL || strcasecmp(row->ini_section, section) != 0 ||
+            strcasecmp(row->ini_key, name) != 0) {
+            continue;
+        }
+        kind_t kind = settings_table_is_switch(row) ? K_BOOL : K_NUMBER;
+        const char *why = convert(kind, text, &st->cf->settings[i]);
+        if (why != NULL) {
+            st->failed = true;
+            return fail_at(st->path, st->line, section, name, why);
+        }
+        mark_set(&st->cf->settings[i], st);
+        return 1;
+    }
+    st->failed = true;
+    return fail_at(st->path, st->line, section, name, "unknown key (see docs/wsgsim.example.ini)");
+}
+
+/* The file's value of a device setting (set false: none). */
+static const value_t *setting_value(const config_file_t *cf, wsg_setting_t id)
+{
+    return &cf->settings[settings_table_row(id) - settings_table];
+}
+
 static int on_key(void *user, const char *section, const char *name, const char *value)
 {
     parse_state_t *st = user;
@@ -418,16 +430,15 @@ static int on_key(void *user, const char *section, const char *name, const char 
         if (strcasecmp(keys[i].section, section) != 0 || strcasecmp(keys[i].name, name) != 0) {
             continue;
         }
-        const char *why = convert(keys[i].kind, text, &loaded.values[i]);
+        const char *why = convert(keys[i].kind, text, &st->cf->values[i]);
         if (why != NULL) {
             st->failed = true;
             return fail_at(st->path, st->line, section, name, why);
         }
-        mark_set(&loaded.values[i], st);
+        mark_set(&st->cf->values[i], st);
         return 1;
     }
-    st->failed = true;
-    return fail_at(st->path, st->line, section, name, "unknown key (see docs/wsgsim.example.ini)");
+    return on_setting_key(st, section, name, text);
 }
 
 static bool is_comment(const char *text)
@@ -487,9 +498,9 @@ static char *read_line(char *str, int num, void *stream)
     return str;
 }
 
-static void apply_binary(host_options_t *opts)
+static void apply_binary(const config_file_t *cf, host_options_t *opts)
 {
-    const value_t *v = loaded.values;
+    const value_t *v = cf->values;
     if (v[NET_PROTOCOL].set) {
         opts->protocol = (host_protocol_t)v[NET_PROTOCOL].number;
     }
@@ -500,8 +511,9 @@ static void apply_binary(host_options_t *opts)
     if (v[NET_BINARY_UDP_REPLY_PORT].set) {
         opts->binary_udp_reply_port = (int)v[NET_BINARY_UDP_REPLY_PORT].number;
     }
-    if (v[NET_BINARY_CRC].set) {
-        opts->binary_crc = v[NET_BINARY_CRC].number != 0.0;
+    const value_t *crc = setting_value(cf, WSG_SET_BINARY_CRC_CHECK);
+    if (crc->set) { /* reaches the device through the options */
+        opts->binary_crc = crc->number != 0.0;
     }
     if (v[NET_HTTP_PORT].set) {
         opts->http_port = (int)v[NET_HTTP_PORT].number;
@@ -519,9 +531,9 @@ static void apply_binary(host_options_t *opts)
 }
 
 /* [script]: the startup script and the store (docs/scripting.md). */
-static void apply_script(host_options_t *opts)
+static void apply_script(const config_file_t *cf, host_options_t *opts)
 {
-    const value_t *v = loaded.values;
+    const value_t *v = cf->values;
     if (v[SCRIPT_STARTUP].set) {
         opts->script = v[SCRIPT_STARTUP].text;
     }
@@ -533,9 +545,9 @@ static void apply_script(host_options_t *opts)
     }
 }
 
-static void apply_host(host_options_t *opts)
+static void apply_host(const config_file_t *cf, host_options_t *opts)
 {
-    const value_t *v = loaded.values;
+    const value_t *v = cf->values;
     if (v[DEV_MODEL].set) {
         opts->model = v[DEV_MODEL].text;
     }
@@ -552,8 +564,9 @@ static void apply_host(host_options_t *opts)
     if (v[NET_MAX_CLIENTS].set) {
         opts->max_clients = (int)v[NET_MAX_CLIENTS].number;
     }
-    if (v[NET_DISCONNECT_FASTSTOP].set) {
-        opts->disconnect_faststop = v[NET_DISCONNECT_FASTSTOP].number != 0.0;
+    const value_t *faststop = setting_value(cf, WSG_SET_DISCONNECT_FASTSTOP);
+    if (faststop->set) { /* reaches the device through the options */
+        opts->disconnect_faststop = faststop->number != 0.0;
     }
     if (v[NET_ADDRESS_PER_DEVICE].set) {
         opts->address_per_device = v[NET_ADDRESS_PER_DEVICE].number != 0.0;
@@ -574,22 +587,22 @@ static void apply_host(host_options_t *opts)
         opts->udp_stream_allow.count = 0;
         (void)net_allow_add(&opts->udp_stream_allow, v[NET_UDP_STREAM_ALLOW].text); /* checked */
     }
-    apply_binary(opts);
-    apply_script(opts);
+    apply_binary(cf, opts);
+    apply_script(cf, opts);
 }
 
-static void config_file_forget(void)
+static void config_file_forget(config_file_t *cf)
 {
-    free(loaded.sections);
-    memset(&loaded, 0, sizeof(loaded));
+    free(cf->sections);
+    memset(cf, 0, sizeof(*cf));
 }
 
 /* Reads one file over what was read before; option names it in messages. */
-static bool parse_file(const char *path, const char *option)
+static bool parse_file(config_file_t *cf, const char *path, const char *option)
 {
-    char *name = loaded.files[loaded.file_count++];
-    snprintf(name, sizeof(loaded.files[0]), "%s", path);
-    parse_state_t st = {.path = name, .line = 0, .failed = false};
+    char *name = cf->files[cf->file_count++];
+    snprintf(name, sizeof(cf->files[0]), "%s", path);
+    parse_state_t st = {.cf = cf, .path = name, .line = 0, .failed = false};
     if (!text_file_open(&st.file, path, option, FILE_LINE_MAX, FILE_BYTES_MAX)) {
         return false;
     }
@@ -608,146 +621,132 @@ static bool nothing_saved(const char *path)
     return stat(path, &st) != 0 && errno == ENOENT;
 }
 
-bool config_file_load(const char *config_path, const char *save_path, host_options_t *opts)
+config_file_t *config_file_create(void)
 {
-    config_file_forget();
-    if (config_path != NULL && !parse_file(config_path, "--config")) {
+    return calloc(1, sizeof(config_file_t));
+}
+
+void config_file_destroy(config_file_t *cf)
+{
+    if (cf != NULL) {
+        free(cf->sections);
+        free(cf);
+    }
+}
+
+bool config_file_load(config_file_t *cf, const char *config_path, const char *save_path,
+                      host_options_t *opts)
+{
+    config_file_forget(cf);
+    if (config_path != NULL && !parse_file(cf, config_path, "--config")) {
         return false;
     }
-    if (save_path != NULL && !nothing_saved(save_path) && !parse_file(save_path, "--save-file")) {
+    if (save_path != NULL && !nothing_saved(save_path) &&
+        !parse_file(cf, save_path, "--save-file")) {
         return false;
     }
-    apply_host(opts);
+    apply_host(cf, opts);
     return true;
 }
 
-static bool check_range(key_id_t id, double min, double max)
+static bool check_range(const config_file_t *cf, const settings_row_t *row, double min, double max)
 {
-    const value_t *v = &loaded.values[id];
+    const value_t *v = setting_value(cf, row->id);
     if (!v->set || (v->number >= min && v->number <= max)) {
         return true;
     }
-    char why[96];
-    snprintf(why, sizeof(why), "%s is outside %g..%g for this model", v->text, min, max);
-    return fail_at(v->file, v->line, keys[id].section, keys[id].name, why);
+    char why[96]; /* a number written with 50 characters or more is cut short */
+    int len = snprintf(why, sizeof(why), "%s is outside %g..%g for this model", v->text, min, max);
+    return len >= 0 && fail_at(v->file, v->line, row->ini_section, row->ini_key, why);
 }
 
-static bool check_soft_limits(const wsg_config_t *cfg)
+static bool check_soft_limits(const config_file_t *cf, const wsg_config_t *cfg)
 {
     float minus = cfg->soft_limit_minus_mm;
     float plus = cfg->soft_limit_plus_mm;
     if (minus < plus) {
         return true;
     }
-    key_id_t id = loaded.values[MOT_SOFT_PLUS].set ? MOT_SOFT_PLUS : MOT_SOFT_MINUS;
-    return fail_at(loaded.values[id].file, loaded.values[id].line, "motion", keys[id].name,
+    wsg_setting_t id =
+        setting_value(cf, WSG_SET_SOFT_PLUS)->set ? WSG_SET_SOFT_PLUS : WSG_SET_SOFT_MINUS;
+    return fail_at(setting_value(cf, id)->file, setting_value(cf, id)->line, "motion",
+                   settings_table_row(id)->ini_key,
                    "soft_limit_minus must be below soft_limit_plus");
 }
 
-/* The [motion] keys whose range depends on the model. */
-static const key_id_t ranged_keys[] = {MOT_FORCE, MOT_SPEED, MOT_ACCEL,      MOT_PULLBACK,
-                                       MOT_PWT,   MOT_CLT,   MOT_SOFT_MINUS, MOT_SOFT_PLUS};
-
-static void model_range(const sim_model_t *m, key_id_t id, double *min, double *max)
+/* The [motion] keys whose range depends on the model: the numbers. */
+static bool is_ranged(const settings_row_t *row)
 {
-    switch (id) {
-    case MOT_FORCE:
-        *min = m->force_min_n;
-        *max = m->force_overdrive_n > 0.0f ? m->force_overdrive_n : m->force_max_n;
-        break;
-    case MOT_SPEED:
-        *min = m->speed_min_mm_s;
-        *max = m->speed_max_mm_s;
-        break;
-    case MOT_ACCEL:
-        *min = m->accel_min_mm_s2;
-        *max = m->accel_max_mm_s2;
-        break;
-    default: /* distances and positions: within the stroke */
-        *min = 0.0;
-        *max = m->stroke_mm;
-        break;
-    }
+    return row->ini_key != NULL && !settings_table_is_switch(row);
 }
 
-static bool check_model(const char *model)
+static bool check_model(config_file_t *cf, const char *model)
 {
     const sim_model_t *m = wsg_sim_model_find(model);
     if (m == NULL) {
         return false;
     }
-    for (size_t i = 0; i < sizeof(ranged_keys) / sizeof(ranged_keys[0]); i++) {
+    for (unsigned i = 0; i < SETTINGS_TABLE_COUNT; i++) {
         double min, max;
-        model_range(m, ranged_keys[i], &min, &max);
-        if (!check_range(ranged_keys[i], min, max)) {
+        if (!is_ranged(&settings_table[i])) {
+            continue;
+        }
+        settings_table_model_range(&settings_table[i], m, &min, &max);
+        if (!check_range(cf, &settings_table[i], min, max)) {
             return false;
         }
     }
     wsg_config_t cfg;
     wsg_sim_model_config(m, &cfg);
-    config_file_apply(&cfg);
-    return check_soft_limits(&cfg);
+    config_file_apply(cf, &cfg);
+    return check_soft_limits(cf, &cfg);
 }
 
 /* The motion settings are checked against every model a device runs. */
-bool config_file_check(const char *model)
+bool config_file_check(config_file_t *cf, const char *model)
 {
-    loaded.model = model;
-    bool ok = check_model(model);
-    for (unsigned i = 0; i < loaded.section_count && ok; i++) {
-        const value_t *m = &loaded.sections[i].values[SEC_MODEL];
-        ok = !m->set || check_model(m->text);
+    cf->model = model;
+    bool ok = check_model(cf, model);
+    for (unsigned i = 0; i < cf->section_count && ok; i++) {
+        const value_t *m = &cf->sections[i].values[SEC_MODEL];
+        ok = !m->set || check_model(cf, m->text);
     }
     return ok;
-}
-
-static float motion_value(const wsg_config_t *cfg, key_id_t id)
-{
-    switch (id) {
-    case MOT_FORCE:
-        return cfg->default_force_n;
-    case MOT_SPEED:
-        return cfg->default_speed_mm_s;
-    case MOT_ACCEL:
-        return cfg->default_accel_mm_s2;
-    case MOT_PULLBACK:
-        return cfg->default_pullback_mm;
-    case MOT_PWT:
-        return cfg->default_pwt_mm;
-    case MOT_CLT:
-        return cfg->default_clt_mm;
-    case MOT_SOFT_MINUS:
-        return cfg->soft_limit_minus_mm;
-    default:
-        return cfg->soft_limit_plus_mm;
-    }
 }
 
 static bool motion_fits_model(const wsg_config_t *cfg, const char *model, char *why, size_t cap)
 {
     const sim_model_t *m = wsg_sim_model_find(model);
-    for (size_t i = 0; m != NULL && i < sizeof(ranged_keys) / sizeof(ranged_keys[0]); i++) {
+    for (unsigned i = 0; m != NULL && i < SETTINGS_TABLE_COUNT; i++) {
+        const settings_row_t *row = &settings_table[i];
         double min, max;
-        double value = motion_value(cfg, ranged_keys[i]);
-        model_range(m, ranged_keys[i], &min, &max);
+        if (!is_ranged(row)) {
+            continue;
+        }
+        double value = wsg_config_setting_get(cfg, row->id);
+        settings_table_model_range(row, m, &min, &max);
         if (!(value >= min && value <= max)) {
             snprintf(why, cap,
                      "%s: %g is outside %g..%g for the %s in the file (the [motion] settings "
                      "are every device's)",
-                     keys[ranged_keys[i]].name, value, min, max, model);
+                     row->ini_key, value, min, max, model);
             return false;
         }
     }
     return true;
 }
 
-bool config_file_motion_fits(const wsg_config_t *cfg, char *why, size_t cap)
+bool config_file_motion_fits(const config_file_t *cf, const wsg_config_t *cfg, char *why,
+                             size_t cap)
 {
-    if (loaded.model != NULL && !motion_fits_model(cfg, loaded.model, why, cap)) {
+    if (cf == NULL) {
+        return true; /* no file: nothing to fit */
+    }
+    if (cf->model != NULL && !motion_fits_model(cfg, cf->model, why, cap)) {
         return false;
     }
-    for (unsigned i = 0; i < loaded.section_count; i++) {
-        const value_t *m = &loaded.sections[i].values[SEC_MODEL];
+    for (unsigned i = 0; i < cf->section_count; i++) {
+        const value_t *m = &cf->sections[i].values[SEC_MODEL];
         if (m->set && !motion_fits_model(cfg, m->text, why, cap)) {
             return false;
         }
@@ -755,47 +754,50 @@ bool config_file_motion_fits(const wsg_config_t *cfg, char *why, size_t cap)
     return true;
 }
 
-static const device_section_t *find_section(unsigned index)
+static const device_section_t *find_section(const config_file_t *cf, unsigned index)
 {
-    for (unsigned i = 0; i < loaded.section_count; i++) {
-        if (loaded.sections[i].index == index) {
-            return &loaded.sections[i];
+    if (cf == NULL) {
+        return NULL;
+    }
+    for (unsigned i = 0; i < cf->section_count; i++) {
+        if (cf->sections[i].index == index) {
+            return &cf->sections[i];
         }
     }
     return NULL;
 }
 
-bool config_file_device_sets_tag(unsigned index)
+bool config_file_device_sets_tag(const config_file_t *cf, unsigned index)
 {
-    const device_section_t *d = find_section(index);
+    const device_section_t *d = find_section(cf, index);
     return d != NULL && d->values[SEC_TAG].set;
 }
 
-unsigned config_file_devices(void)
+unsigned config_file_devices(const config_file_t *cf)
 {
     unsigned count = 0;
-    for (unsigned i = 0; i < loaded.section_count; i++) {
-        unsigned after = loaded.sections[i].index + 1u;
+    for (unsigned i = 0; cf != NULL && i < cf->section_count; i++) {
+        unsigned after = cf->sections[i].index + 1u;
         count = after > count ? after : count;
     }
     return count;
 }
 
-const char *config_file_device_model(unsigned index, const char *fallback)
+const char *config_file_device_model(const config_file_t *cf, unsigned index, const char *fallback)
 {
-    const device_section_t *d = find_section(index);
+    const device_section_t *d = find_section(cf, index);
     return d != NULL && d->values[SEC_MODEL].set ? d->values[SEC_MODEL].text : fallback;
 }
 
-const char *config_file_device_script(unsigned index, const char *fallback)
+const char *config_file_device_script(const config_file_t *cf, unsigned index, const char *fallback)
 {
-    const device_section_t *d = find_section(index);
+    const device_section_t *d = find_section(cf, index);
     return d != NULL && d->values[SEC_SCRIPT].set ? d->values[SEC_SCRIPT].text : fallback;
 }
 
-bool config_file_device_port(unsigned index, bool udp, int *port)
+bool config_file_device_port(const config_file_t *cf, unsigned index, bool udp, int *port)
 {
-    const device_section_t *d = find_section(index);
+    const device_section_t *d = find_section(cf, index);
     const value_t *v = d != NULL ? &d->values[udp ? SEC_UDP_PORT : SEC_TCP_PORT] : NULL;
     if (v != NULL && udp && !v->set) {
         v = &d->values[SEC_TCP_PORT]; /* the UDP port follows the TCP port */
@@ -807,9 +809,9 @@ bool config_file_device_port(unsigned index, bool udp, int *port)
     return true;
 }
 
-void config_file_apply_device(unsigned index, wsg_config_t *cfg)
+void config_file_apply_device(const config_file_t *cf, unsigned index, wsg_config_t *cfg)
 {
-    const device_section_t *d = find_section(index);
+    const device_section_t *d = find_section(cf, index);
     if (d == NULL) {
         return;
     }
@@ -823,40 +825,32 @@ void config_file_apply_device(unsigned index, wsg_config_t *cfg)
     }
 }
 
-static void set_text(char *dst, key_id_t id)
+static void set_text(const config_file_t *cf, char *dst, key_id_t id)
 {
-    if (loaded.values[id].set) {
-        size_t len = strnlen(loaded.values[id].text, WSG_CONFIG_STRING_MAX - 1);
-        memcpy(dst, loaded.values[id].text, len); /* checked shorter on load */
+    if (cf->values[id].set) {
+        size_t len = strnlen(cf->values[id].text, WSG_CONFIG_STRING_MAX - 1);
+        memcpy(dst, cf->values[id].text, len); /* checked shorter on load */
         dst[len] = '\0';
     }
 }
 
-static void set_float(float *dst, key_id_t id)
+void config_file_apply(const config_file_t *cf, wsg_config_t *cfg)
 {
-    if (loaded.values[id].set) {
-        *dst = (float)loaded.values[id].number;
+    if (cf == NULL) {
+        return;
     }
-}
-
-void config_file_apply(wsg_config_t *cfg)
-{
-    const value_t *v = loaded.values;
-    set_text(cfg->tag, DEV_TAG);
-    set_text(cfg->version, DEV_VERSION);
+    const value_t *v = cf->values;
+    set_text(cf, cfg->tag, DEV_TAG);
+    set_text(cf, cfg->version, DEV_VERSION);
     if (v[DEV_SERIAL].set) {
         cfg->serial = (uint32_t)v[DEV_SERIAL].number;
     }
-    set_float(&cfg->default_force_n, MOT_FORCE);
-    set_float(&cfg->default_speed_mm_s, MOT_SPEED);
-    set_float(&cfg->default_accel_mm_s2, MOT_ACCEL);
-    set_float(&cfg->default_pullback_mm, MOT_PULLBACK);
-    set_float(&cfg->default_pwt_mm, MOT_PWT);
-    set_float(&cfg->default_clt_mm, MOT_CLT);
-    set_float(&cfg->soft_limit_minus_mm, MOT_SOFT_MINUS);
-    set_float(&cfg->soft_limit_plus_mm, MOT_SOFT_PLUS);
-    if (v[MOT_SOFT_LIMITS].set) {
-        cfg->soft_limits_enabled = v[MOT_SOFT_LIMITS].number != 0.0;
+    for (unsigned i = 0; i < SETTINGS_TABLE_COUNT; i++) {
+        /* the [network] ones reach the device through the options */
+        const settings_row_t *row = &settings_table[i];
+        if (cf->settings[i].set && strcmp(row->ini_section, "motion") == 0) {
+            wsg_config_setting_put(cfg, row->id, (float)cf->settings[i].number);
+        }
     }
     if (v[MOT_HOMING].set) {
         cfg->home_positive = v[MOT_HOMING].number != 0.0;

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "config_file.h"
+#include "settings_table.h"
 #include "text_file.h"
 
 #define SAVE_KEYS_MAX 16
@@ -48,9 +49,9 @@ static save_key_t *add(save_set_t *set, const char *section, const char *key)
     return k;
 }
 
-static void add_float(save_set_t *set, const char *key, float value)
+static void add_float(save_set_t *set, const char *section, const char *key, float value)
 {
-    format_float(value, add(set, "motion", key)->value, sizeof(set->keys[0].value));
+    format_float(value, add(set, section, key)->value, sizeof(set->keys[0].value));
 }
 
 static void add_bool(save_set_t *set, const char *section, const char *key, bool value)
@@ -60,17 +61,18 @@ static void add_bool(save_set_t *set, const char *section, const char *key, bool
 
 static void collect(save_set_t *set, unsigned device, const wsg_config_t *cfg)
 {
-    add_float(set, "default_force", cfg->default_force_n);
-    add_float(set, "default_speed", cfg->default_speed_mm_s);
-    add_float(set, "default_acceleration", cfg->default_accel_mm_s2);
-    add_float(set, "default_pullback", cfg->default_pullback_mm);
-    add_float(set, "part_width_tolerance", cfg->default_pwt_mm);
-    add_float(set, "clamping_travel", cfg->default_clt_mm);
-    add_bool(set, "motion", "soft_limits", cfg->soft_limits_enabled);
-    add_float(set, "soft_limit_minus", cfg->soft_limit_minus_mm);
-    add_float(set, "soft_limit_plus", cfg->soft_limit_plus_mm);
-    add_bool(set, "network", "disconnect_faststop", cfg->disconnect_raises_faststop);
-    add_bool(set, "network", "binary_crc", !cfg->bin_crc_unchecked);
+    for (unsigned i = 0; i < SETTINGS_TABLE_COUNT; i++) {
+        const settings_row_t *row = &settings_table[i];
+        float value = wsg_config_setting_get(cfg, row->id);
+        if (row->ini_key == NULL) {
+            continue; /* not a setting of the file */
+        }
+        if (settings_table_is_switch(row)) {
+            add_bool(set, row->ini_section, row->ini_key, value != 0.0f);
+        } else {
+            add_float(set, row->ini_section, row->ini_key, value);
+        }
+    }
     char section[24] = "device";
     if (device > 0) {
         snprintf(section, sizeof(section), "device.%u", device);
@@ -142,9 +144,9 @@ static size_t text_length(const char *line)
 
 /* Device 0's tag goes to [device] unless the file gives device 0 a tag in a
  * [device.0] section, which wins at the next start: it is saved there. */
-static void tag_where_it_counts(save_set_t *set, unsigned device)
+static void tag_where_it_counts(const config_file_t *cf, save_set_t *set, unsigned device)
 {
-    for (unsigned i = 0; i < set->count && device == 0 && config_file_device_sets_tag(0); i++) {
+    for (unsigned i = 0; i < set->count && device == 0 && config_file_device_sets_tag(cf, 0); i++) {
         if (strcmp(set->keys[i].key, "tag") == 0) {
             snprintf(set->keys[i].section, sizeof(set->keys[i].section), "device.0");
         }
@@ -251,15 +253,15 @@ static void collect_startup(save_set_t *set, unsigned device, const char *startu
     add_bool(set, "script", "autostart", startup[0] != '\0');
 }
 
-bool config_file_save(const char *path, unsigned device, const wsg_config_t *cfg,
-                      const char *startup, char *why, size_t cap)
+bool config_file_save(const config_file_t *cf, const char *path, unsigned device,
+                      const wsg_config_t *cfg, const char *startup, char *why, size_t cap)
 {
-    if (!config_file_motion_fits(cfg, why, cap)) {
+    if (!config_file_motion_fits(cf, cfg, why, cap)) {
         return false; /* the next start would refuse the file */
     }
     save_set_t set = {.count = 0};
     collect(&set, device, cfg);
-    tag_where_it_counts(&set, device);
+    tag_where_it_counts(cf, &set, device);
     collect_startup(&set, device, startup);
     char tmp[4096];
     snprintf(tmp, sizeof(tmp), "%s.saving", path);

@@ -39,6 +39,9 @@ static struct {
     unsigned *slot;   /* device i's place in heap */
     unsigned *ready;  /* the devices due in this pass */
     unsigned count;
+    /* The servers' timeouts as last asked: they move only when a device
+     * is touched (input, a connection opened or closed) or come due. */
+    uint64_t servers_due_us;
     bool scripting; /* a device may run a script: fleet_run_scripts() looks */
     const host_options_t *opts;
     port_plan_t plan; /* where each device listens */
@@ -89,17 +92,17 @@ static bool raise_descriptor_limit(const host_options_t *opts, unsigned devices)
 
 /* Device i's ports (host/port_layout.c); a [device.i] section's TCP and
  * UDP ports override the layout's. */
-static bool device_ports(unsigned i, port_layout_t *ports)
+static bool device_ports(const host_options_t *opts, unsigned i, port_layout_t *ports)
 {
     int port;
     if (fleet.by_address) { /* every device at the same ports */
         return port_layout_of(&fleet.plan, 0, ports);
     }
     bool fits = port_layout_of(&fleet.plan, i, ports);
-    if (config_file_device_port(i, false, &port)) {
+    if (config_file_device_port(opts->config, i, false, &port)) {
         ports->tcp = port;
     }
-    if (config_file_device_port(i, true, &port)) {
+    if (config_file_device_port(opts->config, i, true, &port)) {
         ports->udp = port;
     }
     static const char *const names[] = {"TCP", "UDP", "binary udp", "binary udp reply"};
@@ -192,7 +195,7 @@ static bool start_device(fleet_device_t *d, const host_options_t *opts, unsigned
         attach_device(d, opts, i);
         return true;
     }
-    if (!device_ports(i, &ports)) {
+    if (!device_ports(opts, i, &ports)) {
         return false;
     }
     if (opts->tcp_enabled &&
@@ -287,7 +290,7 @@ static bool start_fronts(const host_options_t *opts)
     fleet.tcp_front.own.fd = -1;
     fleet.udp_front.fd = -1;
     fleet.bin_front.fd = -1;
-    device_ports(0, &ports);
+    device_ports(opts, 0, &ports);
     if (opts->tcp_enabled && !tcp_server_start_shared(&fleet.tcp_front, fleet.loop, fleet.net,
                                                       "0.0.0.0", (int)ports.tcp, route_tcp, NULL)) {
         return false;
@@ -302,7 +305,7 @@ static bool start_fronts(const host_options_t *opts)
 
 bool fleet_start(host_loop_t *loop, net_t *net, const host_options_t *opts)
 {
-    unsigned declared = config_file_devices(); /* [device.N] sections */
+    unsigned declared = config_file_devices(opts->config); /* [device.N] sections */
     unsigned n = declared > (unsigned)opts->devices ? declared : (unsigned)opts->devices;
     fleet.loop = loop;
     fleet.net = net;
@@ -321,6 +324,7 @@ bool fleet_start(host_loop_t *loop, net_t *net, const host_options_t *opts)
         return false;
     }
     fleet.opts = opts;
+    fleet.servers_due_us = 0; /* asked at the first pass */
     fleet.plan = (port_plan_t){opts->tcp_port,        opts->udp_port,
                                opts->binary_udp_port, opts->binary_udp_reply_port,
                                opts->udp_enabled,     fleet.by_address ? 1u : n};
@@ -463,10 +467,16 @@ uint64_t fleet_tick(void)
         tick_due_devices(now);
     }
     gripper_t *touched;
+    bool any_touched = false;
     while ((touched = gripper_take_touched()) != NULL) {
         set_due(touched->index, gripper_tick(touched));
+        any_touched = true;
     }
-    uint64_t next = earliest(tcp_server_next_deadline_us(), udp_server_next_deadline_us());
+    if (any_touched || fleet.servers_due_us <= now) {
+        fleet.servers_due_us =
+            earliest(tcp_server_next_deadline_us(), udp_server_next_deadline_us());
+    }
+    uint64_t next = fleet.servers_due_us;
     return fleet.count > 0 ? earliest(next, due_at(0)) : next;
 }
 

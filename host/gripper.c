@@ -88,13 +88,13 @@ static void start_script(gripper_t *g)
 void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
 {
     g->opts = *opts;
-    g->opts.model = config_file_device_model(index, opts->model);
-    g->opts.script = config_file_device_script(index, opts->script);
+    g->opts.model = config_file_device_model(opts->config, index, opts->model);
+    g->opts.script = config_file_device_script(opts->config, index, opts->script);
     g->index = index;
     wsg_sim_model_config(wsg_sim_model_find(g->opts.model), &g->config);
-    config_file_apply(&g->config);
+    config_file_apply(opts->config, &g->config);
     set_identity(&g->config, index);
-    config_file_apply_device(index, &g->config);
+    config_file_apply_device(opts->config, index, &g->config);
     g->config.disconnect_raises_faststop = opts->disconnect_faststop;
     g->config.bin_crc_unchecked = !opts->binary_crc;
     power_on_world(g);
@@ -106,8 +106,9 @@ void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
     wsg_runner_init(&g->runner, &g->device, advance_world, g);
     if (index == 0) {
         simctl_observers_attach(&g->device, opts);
-    } else if (web_lines_enabled()) {
-        wsg_conn_observe(&g->device, web_lines_observer(), NULL); /* the hub is device 0's */
+    } else if (opts->web_lines != NULL) {
+        /* the hub is device 0's */
+        wsg_conn_observe(&g->device, web_lines_observer(), opts->web_lines);
     }
     g->script = NULL;
     g->startup_set = NULL;
@@ -251,6 +252,11 @@ void gripper_touch(gripper_t *g)
         g->next_touched = touched_first;
         touched_first = g;
     }
+}
+
+bool gripper_touched_any(void)
+{
+    return touched_first != NULL;
 }
 
 gripper_t *gripper_take_touched(void)

@@ -51,6 +51,8 @@ void gripper_input_done(gripper_t *g);
  * The touched grippers form one list, taken one by one. */
 void gripper_touch(gripper_t *g);
 gripper_t *gripper_take_touched(void);
+/* Some gripper is on the touched list (the scheduler's pass asks first). */
+bool gripper_touched_any(void);
 /* Runs a control step now (the control channel changed the world). */
 void gripper_step_now(gripper_t *g);
 /* Power-on again: world, configuration and device state; the ports close

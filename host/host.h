@@ -9,6 +9,8 @@
 #include "can_log.h"
 #include "loop.h"
 #include "net.h"
+#include "sim/control.h"
+#include "web/web_server.h"
 
 typedef struct host {
     /* OS layer */
@@ -18,7 +20,9 @@ typedef struct host {
     /* port layer */
     /* diagnostics */
     /* simulation control */
+    simctl_t *sim; /* clock, scheduler, scenario, faults, --sim-port */
     /* web */
+    web_server_t *web; /* --http-port */
 } host_t;
 
 #endif

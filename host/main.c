@@ -11,13 +11,8 @@
 #include "notify.h"
 #include "options.h"
 #include "record.h"
-#include "sim/clock.h"
-#include "sim/control.h"
-#include "sim/scenario.h"
-#include "sim/scheduler.h"
 #include "tcp_server.h"
 #include "udp_server.h"
-#include "web/web_server.h"
 
 #define EXIT_STARTUP_FAILED 2
 
@@ -30,17 +25,18 @@ static bool start_simulation(host_t *host, const host_options_t *opts)
     if (opts->coverage_path != NULL && !coverage_open(opts->coverage_path)) {
         return false;
     }
-    if (opts->scenario_path != NULL && !scenario_load(opts->scenario_path, 0)) {
+    if (opts->scenario_path != NULL &&
+        !scenario_load(simctl_scenario(host->sim), opts->scenario_path, 0)) {
         return false;
     }
     return opts->sim_port < 0 ||
-           simctl_start(host->loop, &host->net, opts->sim_bind, opts->sim_port);
+           simctl_start(host->sim, host->loop, &host->net, opts->sim_bind, opts->sim_port);
 }
 
-static int stop_simulation(const host_options_t *opts)
+static int stop_simulation(simctl_t *sim, const host_options_t *opts)
 {
-    simctl_stop();
-    scenario_unload();
+    simctl_stop(sim);
+    scenario_unload(simctl_scenario(sim));
     record_close();
     if (opts->coverage_path != NULL && !coverage_write(opts->strict)) {
         return 1;
@@ -49,19 +45,21 @@ static int stop_simulation(const host_options_t *opts)
 }
 
 /* One line per further device of a fleet, then the ready line. */
-static bool announce(const host_options_t *opts)
+static bool announce(const host_t *host, const host_options_t *opts)
 {
     char line[512];
     char extra[256];
-    snprintf(extra, sizeof(extra), "%s%s", simctl_describe(), web_server_describe());
+    char control[96];
+    simctl_describe(host->sim, control, sizeof(control));
+    snprintf(extra, sizeof(extra), "%s%s", control, web_server_describe(host->web));
     fleet_ready_line(extra, line, sizeof(line));
     bool bin_tcp = opts->tcp_enabled && opts->protocol != HOST_PROTOCOL_GCL;
     notify_ports_t ports = {.tcp_port = fleet_tcp_port(0),
                             .udp_port = fleet_udp_port(0),
-                            .sim_port = simctl_port(),
+                            .sim_port = simctl_port(host->sim),
                             .bin_tcp_port = bin_tcp ? fleet_tcp_port(0) : -1,
                             .bin_udp_port = fleet_bin_udp_port(0),
-                            .http_port = web_server_port()};
+                            .http_port = web_server_port(host->web)};
     if (!notify_prepare(opts->ready_file, &ports)) {
         return false;
     }
@@ -95,15 +93,15 @@ static void reopen_files(void *ctx)
  * clock before any input is handled. */
 static void catch_up(void *ctx)
 {
-    (void)ctx;
-    (void)simctl_tick();
+    host_t *host = ctx;
+    (void)simctl_tick(simctl_scheduler(host->sim));
 }
 
 /* The simulated clock's next deadline as the loop's wall-clock timeout. */
-static uint64_t wall_timeout_ns(uint64_t deadline_us)
+static uint64_t wall_timeout_ns(const simclock_t *clock, uint64_t deadline_us)
 {
     struct timespec wait;
-    if (!simclock_wall_wait(deadline_us, &wait)) {
+    if (!simclock_wall_wait(clock, deadline_us, &wait)) {
         return LOOP_NO_TIMEOUT;
     }
     return (uint64_t)wait.tv_sec * 1000000000u + (uint64_t)wait.tv_nsec;
@@ -155,40 +153,48 @@ static void stop_finger_bus(host_t *host)
 /* Until SIGINT or SIGTERM. */
 static void run(host_t *host)
 {
+    simctl_sched_t *sched = simctl_scheduler(host->sim);
+    const simclock_t *clock = simctl_clock(host->sim);
     while (!loop_stop_requested(host->loop)) {
-        uint64_t deadline = simctl_tick();
+        uint64_t deadline = simctl_tick(sched);
         fleet_run_scripts();
-        loop_wait(host->loop, wall_timeout_ns(deadline));
-        web_server_poll();
+        loop_wait(host->loop, wall_timeout_ns(clock, deadline));
+        web_server_poll(host->web);
         tcp_server_reap();
         udp_server_reap();
-        simctl_reap();
+        simctl_reap(host->sim);
     }
 }
 
-/* Starts every server, serves until SIGINT or SIGTERM and stops them: the
- * exit status. */
-static int serve(host_t *host, const host_options_t *opts)
+/* Starts everything on the simulation's clock, serves until SIGINT or
+ * SIGTERM and stops it all: the exit status. */
+static int serve(host_t *host, host_options_t *opts)
 {
+    if (opts->start_paused) {
+        simclock_start_paused(simctl_clock(host->sim)); /* simulated time stands at exactly 0 */
+    }
     if (!start_loop(host) || !start_finger_bus(host, opts)) {
         return EXIT_STARTUP_FAILED;
     }
     /* the web server first: the devices' observers keep its connection lines */
-    if (!web_server_start(host->loop, &host->net, opts) ||
-        !fleet_start(host->loop, &host->net, opts) || !start_simulation(host, opts)) {
+    if (!web_server_start(host->web, host->loop, &host->net, opts, host->sim)) {
         return EXIT_STARTUP_FAILED;
     }
-    if (!announce(opts)) {
+    opts->web_lines = web_server_lines(host->web);
+    if (!fleet_start(host->loop, &host->net, opts) || !start_simulation(host, opts)) {
+        return EXIT_STARTUP_FAILED;
+    }
+    if (!announce(host, opts)) {
         return EXIT_STARTUP_FAILED;
     }
     host_logf(HAL_LOG_INFO, "finger bus: %s", finger_bus_host_describe());
     run(host);
     host_logf(HAL_LOG_INFO, "shutting down");
     notify_stopping(opts->ready_file);
-    web_server_stop(); /* while the devices its operations ran on exist */
+    web_server_stop(host->web); /* while the devices its operations ran on exist */
     fleet_stop();
     stop_finger_bus(host);
-    return stop_simulation(opts);
+    return stop_simulation(host->sim, opts);
 }
 
 int main(int argc, char **argv)
@@ -196,20 +202,23 @@ int main(int argc, char **argv)
     host_options_t opts;
     options_result_t parsed = options_parse(argc, argv, &opts);
     if (parsed != OPTIONS_RUN) {
+        options_release(&opts);
         return parsed == OPTIONS_EXIT_OK ? 0 : EXIT_STARTUP_FAILED;
     }
     setvbuf(stderr, NULL, _IOLBF, 0);
     host_log_init();
     if (!start_logging(&opts)) {
+        options_release(&opts);
         return EXIT_STARTUP_FAILED;
-    }
-    simclock_init();
-    if (opts.start_paused) {
-        simclock_start_paused(); /* simulated time stands at exactly 0 */
     }
     host_t host = {0};
     net_init(&host.net);
-    int status = serve(&host, &opts);
+    host.sim = simctl_create();
+    host.web = web_server_create();
+    int status = host.sim != NULL && host.web != NULL ? serve(&host, &opts) : EXIT_STARTUP_FAILED;
+    web_server_destroy(host.web); /* after the devices: their observers held its lines */
+    simctl_destroy(host.sim);
     loop_destroy(host.loop);
+    options_release(&opts); /* the configuration read */
     return status;
 }

@@ -305,20 +305,9 @@ static const struct option long_options[] = {
     {NULL, 0, NULL, 0},
 };
 
-/* --list-models [--json] prints once every option is read. */
-static struct {
-    bool list_models;
-    bool json;
-} listing;
-
-/* The first --udp-stream-allow replaces the configuration file's list. */
-static bool stream_allow_given;
-
 static void set_defaults(host_options_t *opts)
 {
     memset(opts, 0, sizeof(*opts));
-    memset(&listing, 0, sizeof(listing));
-    stream_allow_given = false;
     opts->log_level = HAL_LOG_INFO;
     opts->tcp_port = DEFAULT_PORT;
     opts->udp_port = DEFAULT_PORT;
@@ -339,18 +328,6 @@ static void set_defaults(host_options_t *opts)
     opts->http_port = DEFAULT_HTTP_PORT;
     opts->http_request_timeout_s = DEFAULT_HTTP_REQUEST_TIMEOUT_S;
     opts->script_autostart = true;
-}
-
-bool options_parse_protocol(const char *text, host_protocol_t *out)
-{
-    static const char *const names[] = {"auto", "gcl", "binary"};
-    for (unsigned i = 0; i < 3; i++) {
-        if (strcmp(text, names[i]) == 0) {
-            *out = (host_protocol_t)i;
-            return true;
-        }
-    }
-    return false;
 }
 
 static options_result_t usage_error(const char *what, const char *value);
@@ -473,10 +450,10 @@ static options_result_t apply_service_option(int opt, const char *arg, host_opti
         opts->can_log = arg;
         return OPTIONS_RUN;
     case OPT_LIST_MODELS:
-        listing.list_models = true;
+        opts->list_models = true;
         return OPTIONS_RUN;
     case OPT_JSON:
-        listing.json = true;
+        opts->list_models_json = true;
         return OPTIONS_RUN;
     default:
         return OPTIONS_EXIT_USAGE;
@@ -522,7 +499,12 @@ static bool load_config(int argc, char **argv, host_options_t *opts)
     if (opts->config_path == NULL && opts->save_path == NULL) {
         return true;
     }
-    return config_file_load(opts->config_path, opts->save_path, opts);
+    opts->config = config_file_create();
+    if (opts->config == NULL) {
+        fprintf(stderr, "wsgsim: out of memory\n");
+        return false;
+    }
+    return config_file_load(opts->config, opts->config_path, opts->save_path, opts);
 }
 
 /* Applies one option; returns OPTIONS_RUN to go on. */
@@ -572,9 +554,9 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
                    ? OPTIONS_RUN
                    : usage_error("--udp-peer-timeout", arg);
     case OPT_UDP_STREAM_ALLOW:
-        if (!stream_allow_given) {
+        if (!opts->udp_stream_allow_given) {
             opts->udp_stream_allow.count = 0;
-            stream_allow_given = true;
+            opts->udp_stream_allow_given = true;
         }
         return net_allow_add(&opts->udp_stream_allow, arg) ? OPTIONS_RUN
                                                            : usage_error("--udp-stream-allow", arg);
@@ -640,15 +622,15 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
 
 static options_result_t check_combinations(const host_options_t *opts)
 {
-    if (listing.list_models) {
-        if (listing.json) {
+    if (opts->list_models) {
+        if (opts->list_models_json) {
             list_models_json();
         } else {
             list_models_text();
         }
         return OPTIONS_EXIT_OK;
     }
-    if (listing.json) {
+    if (opts->list_models_json) {
         fprintf(stderr, "wsgsim: --json goes with --list-models\n");
         return OPTIONS_EXIT_USAGE;
     }
@@ -663,13 +645,20 @@ static options_result_t check_combinations(const host_options_t *opts)
         fprintf(stderr, "wsgsim: --no-tcp and --no-udp leave nothing to serve\n");
         return OPTIONS_EXIT_USAGE;
     }
-    if ((opts->config_path != NULL || opts->save_path != NULL) && !config_file_check(opts->model)) {
+    if ((opts->config_path != NULL || opts->save_path != NULL) &&
+        !config_file_check(opts->config, opts->model)) {
         return OPTIONS_EXIT_USAGE;
     }
     if (!script_options_check(opts)) {
         return OPTIONS_EXIT_USAGE;
     }
     return OPTIONS_RUN;
+}
+
+void options_release(host_options_t *opts)
+{
+    config_file_destroy(opts->config);
+    opts->config = NULL;
 }
 
 options_result_t options_parse(int argc, char **argv, host_options_t *opts)

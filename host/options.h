@@ -4,6 +4,7 @@
 #define HOST_OPTIONS_H
 
 #include <stdbool.h>
+#include <string.h>
 
 #include "hal_log.h"
 #include "net_allow.h"
@@ -12,6 +13,9 @@ typedef enum { HOST_PROTOCOL_AUTO, HOST_PROTOCOL_GCL, HOST_PROTOCOL_BINARY } hos
 
 /* --http-allow-host: at most this many lists of names (each repeat one). */
 #define HOST_HTTP_ALLOW_LISTS_MAX 16
+
+/* The --config and --save-file read (config_file.h). */
+typedef struct config_file config_file_t;
 
 /* --devices: at most this many grippers in one process. */
 #define HOST_DEVICES_MAX 10000
@@ -33,6 +37,7 @@ typedef struct {
     int idle_timeout_s;      /* --idle-timeout: close TCP connections silent this long; 0: off */
     int udp_peer_timeout_s;  /* --udp-peer-timeout: forget UDP peers silent this long */
     net_allow_t udp_stream_allow; /* --udp-stream-allow: streams to them need no budget */
+    bool udp_stream_allow_given;  /* the first --udp-stream-allow replaces the file's list */
     bool disconnect_faststop;
     bool trace;
     const char *can_iface; /* --can: finger bus on SocketCAN; NULL: loopback bus */
@@ -43,6 +48,8 @@ typedef struct {
     const char *config_path;   /* --config: INI device configuration */
     const char *save_path;     /* --save-file: the web page's Save writes here, read over
                                   --config at start; NULL: Save writes the --config file */
+    config_file_t *config;     /* what those two files hold (made by options_parse(), freed
+                                  by options_release()); NULL: neither was given */
     const char *scenario_path; /* --scenario: timed control commands */
     const char *record_path;   /* --record: traffic record */
     const char *coverage_path; /* --coverage: report written at exit */
@@ -73,13 +80,36 @@ typedef struct {
     const char *script;     /* --script: the startup script, a host path or /user/NAME */
     const char *script_dir; /* --script-dir: the /user/ store; NULL: none */
     bool script_autostart;  /* false: --no-script-autostart */
+    /* Not an option: the web server's connection lines, which the devices'
+     * message observers feed (web_lines.h); set by main once the server is
+     * on, NULL when it is off. */
+    struct web_lines *web_lines;
+    /* --list-models [--json]: printed once every option is read */
+    bool list_models;
+    bool list_models_json;
 } host_options_t;
 
 typedef enum { OPTIONS_RUN, OPTIONS_EXIT_OK, OPTIONS_EXIT_USAGE } options_result_t;
 
-/* Parses argv; prints help, version, model list or a usage error itself. */
+/* Parses argv; prints help, version, model list or a usage error itself.
+ * Whatever it returns, opts->config is to be released (options_release). */
 options_result_t options_parse(int argc, char **argv, host_options_t *opts);
-/* "auto", "gcl" or "binary" (the option and the configuration key). */
-bool options_parse_protocol(const char *text, host_protocol_t *out);
+/* Frees what options_parse() made (the configuration read); opts->config
+ * is NULL after. */
+void options_release(host_options_t *opts);
+/* "auto", "gcl" or "binary" (the option and the configuration key). Inline:
+ * the configuration file, which options_parse() reads, parses it too, and
+ * a call back into options.c would close a reference cycle. */
+static inline bool options_parse_protocol(const char *text, host_protocol_t *out)
+{
+    static const char *const names[] = {"auto", "gcl", "binary"};
+    for (unsigned i = 0; i < 3; i++) {
+        if (strcmp(text, names[i]) == 0) {
+            *out = (host_protocol_t)i;
+            return true;
+        }
+    }
+    return false;
+}
 
 #endif

@@ -52,8 +52,8 @@ bool script_options_check(const host_options_t *opts)
         return false;
     }
     /* [device.N] script of the configuration file */
-    for (unsigned i = 0; i < config_file_devices(); i++) {
-        const char *script = config_file_device_script(i, NULL);
+    for (unsigned i = 0; i < config_file_devices(opts->config); i++) {
+        const char *script = config_file_device_script(opts->config, i, NULL);
         if (script != NULL && !check_startup(opts, script)) {
             return false;
         }

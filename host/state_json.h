@@ -9,11 +9,14 @@
 #include <cjson/cJSON.h>
 
 #include "gripper.h"
+#include "sim/control.h"
 
-/* The dump as JSON text (malloc'd; free() it). */
-char *state_json(gripper_t *g, bool pretty);
-/* The active injected faults as a JSON array (also part of the dump). */
-cJSON *state_json_faults(gripper_t *g);
+/* The dump as JSON text (malloc'd; free() it); the clock and the injected
+ * faults are ctl's. */
+char *state_json(simctl_t *ctl, gripper_t *g, bool pretty);
+/* The device's active injected faults as a JSON array (also part of the
+ * dump). */
+cJSON *state_json_faults(simctl_t *ctl, gripper_t *g);
 /* The open sessions: [{"id":..,"transport":..}, ...]. */
 cJSON *state_json_session_list(gripper_t *g);
 

@@ -330,6 +330,7 @@ static bool setup_client(tcp_client_t *c, int fd, const struct sockaddr_storage 
         return false;
     }
     link_client(c);
+    gripper_touch(g); /* its --idle-timeout is a new deadline */
     return true;
 }
 

@@ -3,8 +3,8 @@
  * observers, fault injection and the snapshot. */
 #include <string.h>
 
-#include "priv/motion_tuning.h"
 #include "priv/wsg_dev.h"
+#include "wsg/wsg_inject.h"
 
 static void power_on(wsg_dev_t *dev, const wsg_config_t *cfg)
 {
@@ -105,6 +105,11 @@ void wsg_device_inject_failure(wsg_device_t *device, const char *name, wsg_statu
     f->name[sizeof(f->name) - 1] = '\0';
     f->status = status;
     f->armed = true;
+}
+
+void wsg_device_clear_injected_failure(wsg_device_t *device)
+{
+    dev_of(device)->injected_failure.armed = false;
 }
 
 bool wsg_device_take_injected_failure(wsg_device_t *device, const char *name, wsg_status_t *status)

@@ -240,75 +240,62 @@ wsg_status_t wsg_op_reset_grip_stats(wsg_device_t *device)
     return E_SUCCESS;
 }
 
-static wsg_status_t set_soft_limit(wsg_config_t *cfg, float *limit, float value)
+/* A soft limit is set, then the configuration checked as a whole (the
+ * minus limit below the plus one, both within the stroke); refused, it
+ * keeps its value. */
+static wsg_status_t set_soft_limit(wsg_config_t *cfg, wsg_setting_t which, float value)
 {
-    float before = *limit;
+    float before = wsg_config_setting_get(cfg, which);
     const char *why = NULL;
-    *limit = value;
+    wsg_config_setting_put(cfg, which, value);
     if (!wsg_config_check(cfg, &why)) {
-        *limit = before;
+        wsg_config_setting_put(cfg, which, before);
         return E_RANGE_ERROR;
     }
     return E_SUCCESS;
 }
 
-static wsg_status_t set_length(const wsg_config_t *cfg, float *field, float value)
+static bool value_ok(const wsg_config_t *cfg, wsg_setting_check_t check, float value)
 {
-    if (!wsg_config_length_ok(cfg, value)) {
-        return E_RANGE_ERROR;
+    switch (check) {
+    case WSG_SETTING_ACCEL:
+        return wsg_config_accel_ok(cfg, value);
+    case WSG_SETTING_FORCE:
+        return wsg_config_force_ok(cfg, value);
+    case WSG_SETTING_SPEED:
+        return wsg_config_speed_ok(cfg, value);
+    case WSG_SETTING_LENGTH:
+        return wsg_config_length_ok(cfg, value);
+    case WSG_SETTING_SWITCH:
+    case WSG_SETTING_SOFT_LIMIT:
+    default:
+        return true;
     }
-    *field = value;
-    return E_SUCCESS;
 }
 
+/* Checked and set as the settings table (settings.c) describes. */
 wsg_status_t wsg_op_set(wsg_device_t *device, wsg_setting_t which, float value)
 {
-    wsg_config_t *cfg = &dev_of(device)->cfg;
-    switch (which) {
-    case WSG_SET_ACCEL:
-        return wsg_config_accel_ok(cfg, value) ? (cfg->default_accel_mm_s2 = value, E_SUCCESS)
-                                               : E_RANGE_ERROR;
-    case WSG_SET_FORCE_LIMIT:
-        if (!wsg_config_force_ok(cfg, value)) {
-            return E_RANGE_ERROR;
-        }
-        cfg->default_force_n = value;
-        if (dev_of(device)->velocity.active) {
-            wsg_motion_velocity_drive(dev_of(device)); /* the new limit applies at once */
-        }
-        return E_SUCCESS;
-    case WSG_SET_DEFAULT_SPEED:
-        return wsg_config_speed_ok(cfg, value) ? (cfg->default_speed_mm_s = value, E_SUCCESS)
-                                               : E_RANGE_ERROR;
-    case WSG_SET_SOFT_LIMITS:
-        cfg->soft_limits_enabled = value != 0.0f;
-        return E_SUCCESS;
-    case WSG_SET_SOFT_MINUS:
-        return set_soft_limit(cfg, &cfg->soft_limit_minus_mm, value);
-    case WSG_SET_SOFT_PLUS:
-        return set_soft_limit(cfg, &cfg->soft_limit_plus_mm, value);
-    case WSG_SET_OVERDRIVE:
-        if (value != 0.0f && cfg->force_overdrive_n <= 0.0f) {
-            return E_FEATURE_NOT_SUPPORTED;
-        }
-        cfg->overdrive_mode = value != 0.0f;
-        return E_SUCCESS;
-    case WSG_SET_DEFAULT_PWT:
-        return set_length(cfg, &cfg->default_pwt_mm, value);
-    case WSG_SET_DEFAULT_CLT:
-        return set_length(cfg, &cfg->default_clt_mm, value);
-    case WSG_SET_DEFAULT_PULLBACK:
-        return set_length(cfg, &cfg->default_pullback_mm, value);
-    case WSG_SET_DISCONNECT_FASTSTOP:
-        cfg->disconnect_raises_faststop = value != 0.0f;
-        return E_SUCCESS;
-    case WSG_SET_BINARY_CRC_CHECK:
-        cfg->bin_crc_unchecked = value == 0.0f;
-        return E_SUCCESS;
-    case WSG_SET_COUNT:
-    default:
+    wsg_dev_t *dev = dev_of(device);
+    wsg_config_t *cfg = &dev->cfg;
+    const wsg_setting_info_t *s = wsg_setting_info(which);
+    if (s == NULL) {
         return E_INVALID_PARAMETER;
     }
+    if (which == WSG_SET_OVERDRIVE && value != 0.0f && cfg->force_overdrive_n <= 0.0f) {
+        return E_FEATURE_NOT_SUPPORTED;
+    }
+    if (s->check == WSG_SETTING_SOFT_LIMIT) {
+        return set_soft_limit(cfg, which, value);
+    }
+    if (!value_ok(cfg, s->check, value)) {
+        return E_RANGE_ERROR;
+    }
+    wsg_config_setting_put(cfg, which, value);
+    if (which == WSG_SET_FORCE_LIMIT && dev->velocity.active) {
+        wsg_motion_velocity_drive(dev); /* the new limit applies at once */
+    }
+    return E_SUCCESS;
 }
 
 /* Validated here, once, for GCL, the binary protocol and the web page

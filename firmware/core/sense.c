@@ -6,21 +6,6 @@
 #include "priv/wsg_dev.h"
 
 #include "hal_clock.h"
-#include "priv/motion_tuning.h"
-
-/* How often the supervisor must look: 0 when nothing can change by itself. */
-uint32_t wsg_device_tick_us(const wsg_dev_t *dev)
-{
-    if (dev->motion.kind != WSG_MOTION_NONE || dev->velocity.active ||
-        wsg_flags_get(dev, SF_MOVING)) {
-        return MOTION_TICK_US;
-    }
-    if (dev->grip.state == GS_HOLDING ||
-        (dev->flags & (WSG_FLAG(SF_BLOCKED_MINUS) | WSG_FLAG(SF_BLOCKED_PLUS))) != 0u) {
-        return HOLD_TICK_US;
-    }
-    return 0u;
-}
 
 /* With a finger bus only its full steps change the fingers (and power-on):
  * between them the last reading stands. Without one they are read every

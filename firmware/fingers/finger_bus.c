@@ -144,10 +144,11 @@ static void on_measure(fbus_slot_t *s, wsg_finger_t *finger, const fbus_measure_
     }
 }
 
-static void on_bulk(fbus_slot_t *s, wsg_finger_t *finger, const fbus_bulk_t *b)
+/* A segment goes from the frame straight into the transfer. */
+static void on_bulk(fbus_slot_t *s, wsg_finger_t *finger, const hal_can_frame_t *f)
 {
     if (!s->config || s->desc.encoding != FBUS_ENC_BULK || s->node_state != FBUS_NODE_OPERATIONAL ||
-        !wsg_fbus_bulk_rx_feed(&s->bulk, b)) {
+        !wsg_fbus_bulk_rx_feed_frame(&s->bulk, f)) {
         return;
     }
     unsigned values = (unsigned)s->desc.rows * s->desc.cols;
@@ -167,7 +168,6 @@ static void dispatch_frame(fbus_slot_t *s, wsg_finger_t *finger, const hal_can_f
     fbus_heartbeat_t hb;
     fbus_descriptor_t d;
     fbus_measure_t m;
-    fbus_bulk_t b;
     switch (fbus_func_of(f->id)) {
     case FBUS_ID_HEARTBEAT:
         if (wsg_fbus_unpack_heartbeat(f, &hb)) {
@@ -185,8 +185,8 @@ static void dispatch_frame(fbus_slot_t *s, wsg_finger_t *finger, const hal_can_f
         }
         break;
     case FBUS_ID_BULK:
-        if (wsg_fbus_unpack_bulk(f, &b)) {
-            on_bulk(s, finger, &b);
+        if (wsg_fbus_is_bulk(f)) {
+            on_bulk(s, finger, f);
         }
         break;
     default:

@@ -2,8 +2,6 @@
 /* Packing and unpacking of finger-bus frames (finger_proto.h). */
 #include "wsg/finger_proto.h"
 
-#include <string.h>
-
 static void put_u16(uint8_t *p, uint16_t v)
 {
     p[0] = (uint8_t)(v & 0xFFu);
@@ -38,9 +36,7 @@ static uint16_t to_u16(float value, float step)
 
 static void begin(hal_can_frame_t *f, uint32_t id, uint8_t dlc)
 {
-    memset(f, 0, sizeof(*f));
-    f->id = id;
-    f->dlc = dlc;
+    *f = (hal_can_frame_t){.id = id, .dlc = dlc}; /* two stores, not a memset() call */
 }
 
 static bool is(const hal_can_frame_t *f, uint32_t func, uint8_t min_dlc)
@@ -205,27 +201,61 @@ void wsg_fbus_bulk_rx_reset(fbus_bulk_rx_t *rx)
     rx->count = 0;
 }
 
-bool wsg_fbus_bulk_rx_feed(fbus_bulk_rx_t *rx, const fbus_bulk_t *segment)
+/* Where a segment's values go in rx, or -1 when the segment spoils the
+ * transfer (rx is then reset). */
+static int segment_first(fbus_bulk_rx_t *rx, uint8_t segment, uint8_t transfer)
 {
-    if (segment->segment == 0u) {
+    if (segment == 0u) {
         rx->active = true;
-        rx->transfer = segment->transfer;
+        rx->transfer = transfer;
         rx->next_segment = 0;
     }
-    unsigned first = (unsigned)segment->segment * FBUS_BULK_VALUES_PER_FRAME;
-    if (!rx->active || segment->transfer != rx->transfer || segment->segment != rx->next_segment ||
+    unsigned first = (unsigned)segment * FBUS_BULK_VALUES_PER_FRAME;
+    if (!rx->active || transfer != rx->transfer || segment != rx->next_segment ||
         first + FBUS_BULK_VALUES_PER_FRAME > FBUS_BULK_MAX_VALUES) {
         wsg_fbus_bulk_rx_reset(rx); /* a lost or foreign segment spoils the transfer */
-        return false;
-    }
-    for (unsigned i = 0; i < FBUS_BULK_VALUES_PER_FRAME; i++) {
-        rx->values[first + i] = segment->values[i];
+        return -1;
     }
     rx->next_segment++;
-    if (!segment->last) {
+    return (int)first;
+}
+
+/* After a segment's values are in: true when it was the last one. */
+static bool segment_done(fbus_bulk_rx_t *rx, unsigned first, bool last)
+{
+    if (!last) {
         return false;
     }
     rx->active = false;
     rx->count = (uint16_t)(first + FBUS_BULK_VALUES_PER_FRAME);
     return true;
+}
+
+bool wsg_fbus_bulk_rx_feed(fbus_bulk_rx_t *rx, const fbus_bulk_t *segment)
+{
+    int first = segment_first(rx, segment->segment, segment->transfer);
+    if (first < 0) {
+        return false;
+    }
+    for (unsigned i = 0; i < FBUS_BULK_VALUES_PER_FRAME; i++) {
+        rx->values[(unsigned)first + i] = segment->values[i];
+    }
+    return segment_done(rx, (unsigned)first, segment->last);
+}
+
+bool wsg_fbus_is_bulk(const hal_can_frame_t *f)
+{
+    return is(f, FBUS_ID_BULK, 8);
+}
+
+bool wsg_fbus_bulk_rx_feed_frame(fbus_bulk_rx_t *rx, const hal_can_frame_t *f)
+{
+    int first = segment_first(rx, f->data[0] & 0x7Fu, f->data[1]);
+    if (first < 0) {
+        return false;
+    }
+    for (unsigned i = 0; i < FBUS_BULK_VALUES_PER_FRAME; i++) {
+        rx->values[(unsigned)first + i] = get_u16(&f->data[2 + 2 * i]);
+    }
+    return segment_done(rx, (unsigned)first, (f->data[0] & 0x80u) != 0u);
 }

@@ -219,7 +219,8 @@ void wsg_dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_sta
         status = E_CMD_FORMAT_ERROR;
     } else if (cmd.name[0] != '\0' && entry == NULL) {
         status = E_CMD_UNKNOWN;
-    } else if (status == E_SUCCESS && !wsg_device_take_injected_failure(dev, cmd.name, &status)) {
+    } else if (status == E_SUCCESS && !(wsg_device_failure_armed(g->conn->dev) &&
+                                        wsg_device_take_injected_failure(dev, cmd.name, &status))) {
         status = run_command(g, entry, &cmd);
     }
     if (status != E_SUCCESS) {

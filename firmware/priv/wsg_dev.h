@@ -6,6 +6,7 @@
 
 #include "hal_log.h"
 #include "priv/finger_bus.h"
+#include "priv/motion_tuning.h"
 #include "priv/timer.h"
 #include "wsg/wsg_conn.h"
 #include "wsg/wsg_device.h"
@@ -150,8 +151,6 @@ static inline wsg_device_t *dev_public(wsg_dev_t *dev)
 /* sense.c: reads the clock, the axis and the temperature once; derives the
  * flag register. */
 void wsg_sense(wsg_dev_t *dev);
-/* How often the control must step now (µs), 0 when nothing changes by itself. */
-uint32_t wsg_device_tick_us(const wsg_dev_t *dev);
 /* wsg_sense(), then a severe fault raises FAST STOP. */
 void wsg_sense_and_react(wsg_dev_t *dev);
 /* wsg_sense_and_react() unless a sense now would read what the last one read. */
@@ -165,6 +164,28 @@ void wsg_flags_derive(wsg_dev_t *dev);
 static inline bool wsg_flags_get(const wsg_dev_t *dev, wsg_sysflag_t flag)
 {
     return (dev->flags & WSG_FLAG(flag)) != 0u;
+}
+
+/* How often the control must step now (µs), 0 when nothing changes by
+ * itself. Inline: the sense and every deadline ask. */
+static inline uint32_t wsg_device_tick_us(const wsg_dev_t *dev)
+{
+    if (dev->motion.kind != WSG_MOTION_NONE || dev->velocity.active ||
+        wsg_flags_get(dev, SF_MOVING)) {
+        return MOTION_TICK_US;
+    }
+    if (dev->grip.state == GS_HOLDING ||
+        (dev->flags & (WSG_FLAG(SF_BLOCKED_MINUS) | WSG_FLAG(SF_BLOCKED_PLUS))) != 0u) {
+        return HOLD_TICK_US;
+    }
+    return 0u;
+}
+
+/* Whether the simulation armed a failure for a command: a dispatch asks
+ * before it calls wsg_device_take_injected_failure(), which rarely has one. */
+static inline bool wsg_device_failure_armed(const wsg_dev_t *dev)
+{
+    return dev->injected_failure.armed;
 }
 
 /* A cause that raises FAST STOP by itself and blocks its acknowledge. */
@@ -196,5 +217,15 @@ void wsg_motion_block_watch_step(wsg_dev_t *dev);
  * limit; ends it (the axis is left to whatever ends it). */
 void wsg_motion_velocity_drive(wsg_dev_t *dev);
 void wsg_motion_velocity_end(wsg_dev_t *dev);
+
+/* ---- for the protocol drivers and connections (firmware/ only) ------------ */
+
+/* The outcome of a command on any connection (SF_CMD_FAILURE as the device
+ * state reports it); protocol drivers call it from their dispatcher. */
+void wsg_device_note_result(wsg_device_t *dev, wsg_status_t status);
+/* Consumes an armed injected failure (wsg_inject.h) for this command name. */
+bool wsg_device_take_injected_failure(wsg_device_t *dev, const char *name, wsg_status_t *status);
+/* A device's 64-bit connection ids (logs, trace): never 0, never reused. */
+uint64_t wsg_device_next_conn_id(wsg_device_t *dev);
 
 #endif

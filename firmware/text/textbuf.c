@@ -90,6 +90,30 @@ void wsg_textbuf_put_int(wsg_textbuf_t *tb, int32_t value)
 /* Largest magnitude written exactly; beyond it the value saturates. */
 #define FLOAT_LIMIT 1.0e12
 
+/* The whole part of a value: below 1000 (every position, speed and force
+ * of the gripper) digit by digit without a loop. */
+static char *put_whole(char *p, uint64_t whole)
+{
+    if (whole >= 1000u) {
+        char digits[20];
+        const char *end = digits + sizeof(digits);
+        for (const char *d = digits_before(digits + sizeof(digits), whole); d < end; d++) {
+            *p++ = *d;
+        }
+        return p;
+    }
+    unsigned w = (unsigned)whole;
+    if (w >= 100u) {
+        *p++ = (char)('0' + w / 100u);
+        w %= 100u;
+        *p++ = (char)('0' + w / 10u);
+    } else if (w >= 10u) {
+        *p++ = (char)('0' + w / 10u);
+    }
+    *p++ = (char)('0' + w % 10u);
+    return p;
+}
+
 size_t wsg_textbuf_format_float(char *out, float value)
 {
     double magnitude = value < 0.0f ? -(double)value : (double)value;
@@ -106,11 +130,7 @@ size_t wsg_textbuf_format_float(char *out, float value)
     if (value < 0.0f && millis != 0u) {
         *p++ = '-'; /* never "-0.0" */
     }
-    char digits[20];
-    const char *end = digits + sizeof(digits);
-    for (const char *d = digits_before(digits + sizeof(digits), whole); d < end; d++) {
-        *p++ = *d;
-    }
+    p = put_whole(p, whole);
     *p++ = '.';
     *p++ = (char)('0' + fraction / 100u); /* one decimal at least, three at most */
     unsigned rest = fraction % 100u;

@@ -252,9 +252,22 @@ void wsg_finger_node_dsa_pattern(float force_n, uint16_t *cells)
     }
 }
 
+/* The pattern follows the contact force alone: worked out again only when
+ * the force the gripper broadcast changed since the last transfer. */
+static void update_dsa_cells(finger_node_t *node)
+{
+    float force_n = node->have_state ? node->state.force_n : 0.0f;
+    if (node->cells_valid && force_n == node->cells_force_n) {
+        return;
+    }
+    wsg_finger_node_dsa_pattern(force_n, node->cells);
+    node->cells_force_n = force_n;
+    node->cells_valid = true;
+}
+
 static void send_dsa(finger_node_t *node)
 {
-    wsg_finger_node_dsa_pattern(node->have_state ? node->state.force_n : 0.0f, node->cells);
+    update_dsa_cells(node);
     unsigned total = FBUS_DSA_ROWS * FBUS_DSA_COLS;
     unsigned segments = (total + FBUS_BULK_VALUES_PER_FRAME - 1u) / FBUS_BULK_VALUES_PER_FRAME;
     uint8_t transfer = node->data_counter++;

@@ -48,6 +48,8 @@ typedef struct {
     uint8_t tare_count;
     /* DSA */
     uint16_t cells[FBUS_DSA_ROWS * FBUS_DSA_COLS];
+    float cells_force_n; /* the force the cells show, when cells_valid */
+    bool cells_valid;
     uint32_t frames_sent;
 } finger_node_t;
 

@@ -232,11 +232,31 @@ static void step(sim_axis_t *axis, float dt)
     check_slip(axis, part_force, dt);
 }
 
+/* Whether the jaws are clear of every surface: strictly between the end
+ * stops and apart from the obstacle and the part (the tests step() makes
+ * before it applies a contact). */
+static bool clear_of_contacts(const sim_axis_t *axis)
+{
+    return axis->x_mm > 0.0f && axis->x_mm < axis->stroke_mm &&
+           (!axis->obstacle.present ||
+            apart_from(axis, axis->obstacle.width_mm, side_sign(axis->obstacle.side))) &&
+           (!axis->part.present ||
+            apart_from(axis, axis->part.width_mm, side_sign(axis->part.side)));
+}
+
 void wsg_sim_axis_advance(sim_axis_t *axis, float dt_s)
 {
     /* At rest only contacts can change (a part placed or removed): one step
      * of 0 s. One call site, so that the compiler inlines the step. */
-    bool at_rest = !axis->active && axis->v_mm_s == 0.0f;
+    bool at_rest = wsg_sim_axis_at_rest(axis);
+    if (at_rest && clear_of_contacts(axis)) {
+        /* what that step gives without a contact (the common case between
+         * commands: the world is advanced before every input) */
+        axis->blocked = 0;
+        axis->force_n = 0.0f;
+        axis->part.squeezed_s = 0.0f;
+        return;
+    }
     float left_s = at_rest ? 0.0f : dt_s;
     for (bool first = true; (first && at_rest) || left_s > 0.0f; first = false) {
         float dt = left_s < SIM_AXIS_MAX_STEP_S ? left_s : SIM_AXIS_MAX_STEP_S;

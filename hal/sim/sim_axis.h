@@ -72,6 +72,12 @@ void wsg_sim_axis_place_obstacle(sim_axis_t *axis, float width_mm);
 void wsg_sim_axis_remove_obstacle(sim_axis_t *axis);
 /* Advances by dt seconds in steps of at most SIM_AXIS_MAX_STEP_S. */
 void wsg_sim_axis_advance(sim_axis_t *axis, float dt_s);
+/* No profile running and standing: only contacts change then, and a step
+ * of 0 s (wsg_sim_axis_advance(axis, 0)) changes nothing unless at rest. */
+static inline bool wsg_sim_axis_at_rest(const sim_axis_t *axis)
+{
+    return !axis->active && axis->v_mm_s == 0.0f;
+}
 
 /* Servo commands in reported (axis) coordinates. */
 void wsg_sim_axis_move(sim_axis_t *axis, float target_mm, float speed_mm_s, float accel_mm_s2,

@@ -17,7 +17,9 @@ void wsg_sim_world_init(sim_world_t *world, const wsg_config_t *config, uint64_t
 void wsg_sim_world_advance(sim_world_t *world, uint64_t now_us)
 {
     if (now_us <= world->last_us) {
-        wsg_sim_axis_advance(&world->axis, 0.0f);
+        if (wsg_sim_axis_at_rest(&world->axis)) { /* else a step of 0 s does nothing */
+            wsg_sim_axis_advance(&world->axis, 0.0f);
+        }
         return;
     }
     float dt = (float)(now_us - world->last_us) * 1e-6f;

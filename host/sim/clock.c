@@ -3,13 +3,11 @@
 
 #include "hal_clock.h"
 
-static struct {
-    uint64_t wall_base_ns;
-    uint64_t sim_base_us;
-    double scale;
-    bool paused;
-    uint64_t device_us;
-} clock_state;
+/* The clock hal_clock_now_us() reads. The HAL's clock is link-time
+ * (hal/hal_clock.h: no instance parameter, as on the board, where it is the
+ * hardware timer), so the process has exactly one: the last one set up. */
+static const uint64_t no_clock_us;                      /* 0 until a clock is set up */
+static const uint64_t *hal_clock_source = &no_clock_us; /* its device_us */
 
 static uint64_t wall_ns(void)
 {
@@ -18,62 +16,55 @@ static uint64_t wall_ns(void)
     return (uint64_t)ts.tv_sec * 1000000000u + (uint64_t)ts.tv_nsec;
 }
 
-void simclock_init(void)
+void simclock_init(simclock_t *clock)
 {
-    clock_state.wall_base_ns = wall_ns();
-    clock_state.sim_base_us = 0;
-    clock_state.scale = 1.0;
-    clock_state.paused = false;
-    clock_state.device_us = 0;
+    *clock = (simclock_t){.wall_base_ns = wall_ns(), .scale = 1.0};
+    hal_clock_source = &clock->device_us;
 }
 
-uint64_t simclock_now_us(void)
+void simclock_fini(simclock_t *clock)
 {
-    if (clock_state.paused) {
-        return clock_state.sim_base_us;
+    if (hal_clock_source == &clock->device_us) {
+        hal_clock_source = &no_clock_us;
     }
-    double elapsed_ns = (double)(wall_ns() - clock_state.wall_base_ns) * clock_state.scale;
-    return clock_state.sim_base_us + (uint64_t)(elapsed_ns / 1000.0);
 }
 
-void simclock_advance_device(uint64_t us)
+uint64_t simclock_now_us(const simclock_t *clock)
 {
-    uint64_t target = simclock_now_us();
-    if (us > target) {
-        us = target;
+    if (clock->paused) {
+        return clock->sim_base_us;
     }
-    if (us > clock_state.device_us) {
-        clock_state.device_us = us;
-    }
+    double elapsed_ns = (double)(wall_ns() - clock->wall_base_ns) * clock->scale;
+    return clock->sim_base_us + (uint64_t)(elapsed_ns / 1000.0);
 }
 
 uint64_t hal_clock_now_us(void)
 {
-    return clock_state.device_us;
+    return *hal_clock_source; /* read often: no test, one indirection */
 }
 
 /* Re-anchors the mapping at the present instant before changing it. */
-static void rebase(void)
+static void rebase(simclock_t *clock)
 {
-    clock_state.sim_base_us = simclock_now_us();
-    clock_state.wall_base_ns = wall_ns();
+    clock->sim_base_us = simclock_now_us(clock);
+    clock->wall_base_ns = wall_ns();
 }
 
-bool simclock_wall_wait(uint64_t deadline_us, struct timespec *wait)
+bool simclock_wall_wait(const simclock_t *clock, uint64_t deadline_us, struct timespec *wait)
 {
-    if (clock_state.paused && clock_state.device_us >= clock_state.sim_base_us) {
+    if (clock->paused && clock->device_us >= clock->sim_base_us) {
         return false;
     }
-    if (clock_state.paused) { /* a STEP's device time is still catching up */
+    if (clock->paused) { /* a STEP's device time is still catching up */
         *wait = (struct timespec){0, 0};
         return true;
     }
     if (deadline_us == UINT64_MAX) { /* nothing due: no timeout */
         return false;
     }
-    uint64_t now = simclock_now_us();
+    uint64_t now = simclock_now_us(clock);
     uint64_t sim_left_us = deadline_us > now ? deadline_us - now : 0;
-    double wall_left_ns = (double)sim_left_us * 1000.0 / clock_state.scale;
+    double wall_left_ns = (double)sim_left_us * 1000.0 / clock->scale;
     if (wall_left_ns > 3600e9) {
         wall_left_ns = 3600e9;
     }
@@ -83,55 +74,55 @@ bool simclock_wall_wait(uint64_t deadline_us, struct timespec *wait)
     return true;
 }
 
-void simclock_pause(void)
+void simclock_pause(simclock_t *clock)
 {
-    rebase();
-    clock_state.paused = true;
+    rebase(clock);
+    clock->paused = true;
 }
 
-void simclock_start_paused(void)
+void simclock_start_paused(simclock_t *clock)
 {
-    clock_state.sim_base_us = 0;
-    clock_state.device_us = 0;
-    clock_state.paused = true;
+    clock->sim_base_us = 0;
+    clock->device_us = 0;
+    clock->paused = true;
 }
 
-void simclock_resume(void)
+void simclock_resume(simclock_t *clock)
 {
-    clock_state.wall_base_ns = wall_ns();
-    clock_state.paused = false;
+    clock->wall_base_ns = wall_ns();
+    clock->paused = false;
 }
 
-bool simclock_paused(void)
+bool simclock_paused(const simclock_t *clock)
 {
-    return clock_state.paused;
+    return clock->paused;
 }
 
-bool simclock_set_scale(double scale)
+bool simclock_set_scale(simclock_t *clock, double scale)
 {
     if (!(scale >= SIMCLOCK_SCALE_MIN && scale <= SIMCLOCK_SCALE_MAX)) {
         return false;
     }
-    rebase();
-    clock_state.scale = scale;
+    rebase(clock);
+    clock->scale = scale;
     return true;
 }
 
-double simclock_scale(void)
+double simclock_scale(const simclock_t *clock)
 {
-    return clock_state.scale;
+    return clock->scale;
 }
 
-void simclock_step(uint64_t us)
+void simclock_step(simclock_t *clock, uint64_t us)
 {
-    if (clock_state.paused) {
-        clock_state.sim_base_us += us;
+    if (clock->paused) {
+        clock->sim_base_us += us;
     }
 }
 
-void simclock_end_step_here(void)
+void simclock_end_step_here(simclock_t *clock)
 {
-    if (clock_state.paused && clock_state.sim_base_us > clock_state.device_us) {
-        clock_state.sim_base_us = clock_state.device_us;
+    if (clock->paused && clock->sim_base_us > clock->device_us) {
+        clock->sim_base_us = clock->device_us;
     }
 }

@@ -183,15 +183,6 @@ void sc_world_changed(simctl_ctx_t *ctx)
     gripper_step_now(ctx->gripper);
 }
 
-bool sc_first_device(simctl_ctx_t *ctx)
-{
-    if (ctx->gripper->index == 0) {
-        return true;
-    }
-    sc_fail(ctx, E_FEATURE_NOT_SUPPORTED, "hardware faults are injected on device 0 only");
-    return false;
-}
-
 /* ---- dispatch ---- */
 
 static wsg_status_t check_shape(const simctl_entry_t *e, const gcl_command_t *cmd, char *why,
@@ -237,13 +228,13 @@ static const simctl_entry_t *resolve(const char *line, size_t len, gcl_command_t
 /* Runs the handler in check-only mode when the command has arguments (what
  * a command without them can meet, e.g. no part to remove, depends on the
  * state when it runs). */
-static bool check_arguments(const simctl_entry_t *e, const gcl_command_t *cmd, char *why,
-                            size_t cap)
+static bool check_arguments(simctl_t *ctl, const simctl_entry_t *e, const gcl_command_t *cmd,
+                            char *why, size_t cap)
 {
     if (cmd->form == GCL_FORM_QUERY || cmd->argc == 0) {
         return true;
     }
-    simctl_ctx_t ctx = {.cmd = cmd, .gripper = fleet_gripper(0), .check_only = true};
+    simctl_ctx_t ctx = {.ctl = ctl, .cmd = cmd, .gripper = fleet_gripper(0), .check_only = true};
     wsg_status_t status = e->handler(&ctx);
     free(ctx.reply);
     if (status != E_SUCCESS) {
@@ -252,7 +243,8 @@ static bool check_arguments(const simctl_entry_t *e, const gcl_command_t *cmd, c
     return status == E_SUCCESS;
 }
 
-bool simctl_check(const char *line, size_t len, bool for_scenario, char *why, size_t cap)
+bool simctl_check(simctl_t *ctl, const char *line, size_t len, bool for_scenario, char *why,
+                  size_t cap)
 {
     gcl_command_t cmd;
     wsg_status_t status = E_SUCCESS;
@@ -261,7 +253,7 @@ bool simctl_check(const char *line, size_t len, bool for_scenario, char *why, si
         snprintf(why, cap, "%s cannot be used in a scenario", e->name);
         return false;
     }
-    return e != NULL && check_arguments(e, &cmd, why, cap);
+    return e != NULL && check_arguments(ctl, e, &cmd, why, cap);
 }
 
 static char *error_line(const char *name, wsg_status_t status, const char *why)
@@ -279,12 +271,14 @@ static char *ack_line(const char *name)
     return asprintf(&text, "ACK %s", name) < 0 ? NULL : text;
 }
 
-char *simctl_exec(const char *line, size_t len, unsigned *selected, simctl_outcome_t *outcome)
+char *simctl_exec(simctl_t *ctl, const char *line, size_t len, unsigned *selected,
+                  simctl_outcome_t *outcome)
 {
     gcl_command_t cmd;
     wsg_status_t status = E_SUCCESS;
     unsigned index = selected != NULL && *selected < fleet_count() ? *selected : 0u;
-    simctl_ctx_t ctx = {.cmd = &cmd, .gripper = fleet_gripper(index), .selected = selected};
+    simctl_ctx_t ctx = {
+        .ctl = ctl, .cmd = &cmd, .gripper = fleet_gripper(index), .selected = selected};
     const simctl_entry_t *e = resolve(line, len, &cmd, &status, ctx.why, sizeof(ctx.why));
     wsg_sim_world_advance(&ctx.gripper->world,
                           hal_clock_now_us()); /* act on the world as it is now */
@@ -300,8 +294,8 @@ char *simctl_exec(const char *line, size_t len, unsigned *selected, simctl_outco
         return NULL;
     }
     if (ctx.deferred) {
-        simctl_step_finish();
-        ctx.reply = simctl_step_reply();
+        simctl_step_finish(simctl_scheduler(ctl));
+        ctx.reply = simctl_step_reply(ctl);
     }
     if (status != E_SUCCESS) {
         free(ctx.reply);

@@ -12,23 +12,13 @@
 
 #define STEP_MAX_MS 3600000.0 /* one hour of simulated time per STEP */
 
-/* RUN_UNTIL_DONE: the operation it waits for, and how the run ended. */
-typedef struct {
-    bool active; /* the running step is a RUN_UNTIL_DONE */
-    bool ended;  /* the operation ended before the limit */
-    wsg_device_t *device;
-    wsg_motion_kind_t motion;
-    uint64_t started_us;
-} run_watch_t;
-
-static run_watch_t run;
-
 wsg_status_t sc_pause(simctl_ctx_t *ctx)
 {
-    (void)ctx;
-    if (!simclock_paused()) {
-        simctl_tick(); /* everything due up to now runs before time stops */
-        simclock_pause();
+    simclock_t *clock = simctl_clock(ctx->ctl);
+    if (!simclock_paused(clock)) {
+        /* everything due up to now runs before time stops */
+        simctl_tick(simctl_scheduler(ctx->ctl));
+        simclock_pause(clock);
         host_logf(HAL_LOG_INFO, "clock paused");
     }
     return E_SUCCESS;
@@ -36,10 +26,10 @@ wsg_status_t sc_pause(simctl_ctx_t *ctx)
 
 wsg_status_t sc_resume(simctl_ctx_t *ctx)
 {
-    (void)ctx;
-    if (simclock_paused()) {
-        simclock_resume();
-        host_logf(HAL_LOG_INFO, "clock resumed at %.3fx", simclock_scale());
+    simclock_t *clock = simctl_clock(ctx->ctl);
+    if (simclock_paused(clock)) {
+        simclock_resume(clock);
+        host_logf(HAL_LOG_INFO, "clock resumed at %.3fx", simclock_scale(clock));
     }
     return E_SUCCESS;
 }
@@ -56,11 +46,12 @@ wsg_status_t sc_step(simctl_ctx_t *ctx)
     if (sc_checking(ctx)) {
         return E_SUCCESS;
     }
-    if (!simclock_paused()) {
+    if (!simclock_paused(simctl_clock(ctx->ctl))) {
         return sc_fail(ctx, E_ACCESS_DENIED, "the clock is running; PAUSE() first");
     }
-    run.active = false; /* its reply is STEP's, even if the last run's never went out */
-    simctl_step_begin((uint64_t)(ms * 1000.0 + 0.5));
+    simctl_run_watch(ctx->ctl)->active = false; /* the reply is STEP's, even if the last
+                                                 * run's never went out */
+    simctl_step_begin(simctl_scheduler(ctx->ctl), (uint64_t)(ms * 1000.0 + 0.5));
     ctx->deferred = true;
     return E_SUCCESS;
 }
@@ -69,11 +60,11 @@ wsg_status_t sc_step(simctl_ctx_t *ctx)
  * reply went out), or another replaced it (which ended it as well). */
 static bool operation_ended(void *ctx)
 {
-    (void)ctx;
+    simctl_run_watch_t *run = ctx;
     uint64_t started_us = 0;
-    wsg_motion_kind_t motion = wsg_device_motion(run.device, &started_us);
-    run.ended = motion != run.motion || started_us != run.started_us;
-    return run.ended;
+    wsg_motion_kind_t motion = wsg_device_motion(run->device, &started_us);
+    run->ended = motion != run->motion || started_us != run->started_us;
+    return run->ended;
 }
 
 static char *run_reply(const char *why)
@@ -98,7 +89,7 @@ wsg_status_t sc_run_until_done(simctl_ctx_t *ctx)
     if (sc_checking(ctx)) {
         return E_SUCCESS;
     }
-    if (!simclock_paused()) {
+    if (!simclock_paused(simctl_clock(ctx->ctl))) {
         return sc_fail(ctx, E_ACCESS_DENIED, "the clock is running; PAUSE() first");
     }
     const wsg_snapshot_t *snap = wsg_device_snapshot(&ctx->gripper->device);
@@ -106,17 +97,21 @@ wsg_status_t sc_run_until_done(simctl_ctx_t *ctx)
         ctx->reply = run_reply("idle"); /* nothing that could end: time stays */
         return E_SUCCESS;
     }
-    run = (run_watch_t){true, false, &ctx->gripper->device, snap->motion, snap->motion_started_us};
-    simctl_step_until_begin((uint64_t)(ms * 1000.0 + 0.5), operation_ended, NULL);
+    simctl_run_watch_t *run = simctl_run_watch(ctx->ctl);
+    *run = (simctl_run_watch_t){true, false, &ctx->gripper->device, snap->motion,
+                                snap->motion_started_us};
+    simctl_step_until_begin(simctl_scheduler(ctx->ctl), (uint64_t)(ms * 1000.0 + 0.5),
+                            operation_ended, run);
     ctx->deferred = true;
     return E_SUCCESS;
 }
 
-char *simctl_step_reply(void)
+char *simctl_step_reply(simctl_t *ctl)
 {
-    if (run.active) {
-        run.active = false;
-        return run_reply(run.ended ? "done" : "limit");
+    simctl_run_watch_t *run = simctl_run_watch(ctl);
+    if (run->active) {
+        run->active = false;
+        return run_reply(run->ended ? "done" : "limit");
     }
     char *text = NULL;
     if (asprintf(&text, "STEP=%.3f", (double)hal_clock_now_us() / 1000.0) < 0) {
@@ -139,12 +134,12 @@ wsg_status_t sc_scale(simctl_ctx_t *ctx)
         if (sc_checking(ctx)) {
             return E_SUCCESS;
         }
-        simctl_tick();                   /* the old rate applies up to now */
-        (void)simclock_set_scale(scale); /* in range: checked above */
-        simctl_reset_max_lag();
+        simctl_tick(simctl_scheduler(ctx->ctl)); /* the old rate applies up to now */
+        (void)simclock_set_scale(simctl_clock(ctx->ctl), scale); /* in range: checked above */
+        simctl_reset_max_lag(simctl_scheduler(ctx->ctl));
         host_logf(HAL_LOG_INFO, "clock scale %.3fx", scale);
     }
-    sc_reply(ctx, "%g", simclock_scale());
+    sc_reply(ctx, "%g", simclock_scale(simctl_clock(ctx->ctl)));
     return E_SUCCESS;
 }
 
@@ -152,6 +147,6 @@ wsg_status_t sc_scale(simctl_ctx_t *ctx)
 wsg_status_t sc_simtime(simctl_ctx_t *ctx)
 {
     sc_reply(ctx, "[%.3f,%.3f]", (double)hal_clock_now_us() / 1000.0,
-             (double)simctl_lag_us() / 1000.0);
+             (double)simctl_lag_us(simctl_scheduler(ctx->ctl)) / 1000.0);
     return E_SUCCESS;
 }

@@ -11,6 +11,7 @@
 #include "state_json.h"
 #include "tcp_server.h"
 #include "udp_server.h"
+#include "wsg/wsg_inject.h"
 
 #define DELAY_MAX_MS 600000.0
 
@@ -38,16 +39,33 @@ static bool read_fault(simctl_ctx_t *ctx, simctl_fault_t *fault)
     return true;
 }
 
+/* A hardware fault the addressed device can take: a finger fault needs its
+ * finger bus. */
+static bool read_device_fault(simctl_ctx_t *ctx, simctl_fault_t *fault)
+{
+    if (!read_fault(ctx, fault)) {
+        return false;
+    }
+    if (!simctl_fault_possible(ctx->gripper, *fault)) {
+        sc_fail(ctx, E_FEATURE_NOT_SUPPORTED, "device %u has no finger bus (device 0 has)",
+                ctx->gripper->index);
+        return false;
+    }
+    return true;
+}
+
 wsg_status_t sc_fault(simctl_ctx_t *ctx)
 {
     simctl_fault_t fault;
-    if (!read_fault(ctx, &fault) || !sc_first_device(ctx)) {
+    if (!read_device_fault(ctx, &fault)) {
         return ctx->failed;
     }
     if (sc_checking(ctx)) {
         return E_SUCCESS;
     }
-    simctl_fault_raise(fault);
+    if (!simctl_fault_raise(simctl_faults(ctx->ctl), ctx->gripper, fault)) {
+        return sc_fail(ctx, E_INSUFFICIENT_RESOURCES, "out of memory");
+    }
     sc_world_changed(ctx);
     return E_SUCCESS;
 }
@@ -58,8 +76,7 @@ static void clear_failnext(simctl_ctx_t *ctx)
     const wsg_snapshot_t *snap = wsg_device_snapshot(dev);
     if (snap->injected_armed) {
         host_logf(HAL_LOG_INFO, "fault cleared: FAILNEXT %s", snap->injected_name);
-        wsg_device_inject_failure(dev, "", E_SUCCESS);
-        wsg_device_take_injected_failure(dev, "", &(wsg_status_t){E_SUCCESS});
+        wsg_device_clear_injected_failure(dev);
     }
 }
 
@@ -104,21 +121,19 @@ wsg_status_t sc_clear(simctl_ctx_t *ctx)
     const char *name = NULL;
     simctl_fault_t fault;
     if (!sc_has_arg(ctx, 0)) {
-        if (ctx->gripper->index == 0) {
-            simctl_fault_clear_all(); /* hardware faults live on device 0 only */
-        }
+        simctl_fault_clear_all(simctl_faults(ctx->ctl), ctx->gripper);
         clear_delays(ctx);
         clear_failnext(ctx);
     } else if (!sc_text(ctx, 0, &name)) {
         return ctx->failed;
     } else if (is_protocol_fault(name)) {
         return clear_protocol(ctx, name);
-    } else if (!read_fault(ctx, &fault) || !sc_first_device(ctx)) {
+    } else if (!read_device_fault(ctx, &fault)) {
         return ctx->failed;
     } else if (sc_checking(ctx)) {
         return E_SUCCESS;
     } else {
-        simctl_fault_clear(fault);
+        simctl_fault_clear(simctl_faults(ctx->ctl), ctx->gripper, fault);
     }
     sc_world_changed(ctx);
     return E_SUCCESS;
@@ -126,7 +141,7 @@ wsg_status_t sc_clear(simctl_ctx_t *ctx)
 
 wsg_status_t sc_faults(simctl_ctx_t *ctx)
 {
-    cJSON *list = state_json_faults(ctx->gripper);
+    cJSON *list = state_json_faults(ctx->ctl, ctx->gripper);
     sc_reply_json(ctx, list);
     return E_SUCCESS;
 }

@@ -8,11 +8,13 @@
 
 #include <cJSON.h>
 
+#include "control.h"
 #include "wsg/gcl_parse.h"
 #include "wsg/wsg_conn.h"
 #include "wsg/wsg_gcl.h"
 
 typedef struct {
+    simctl_t *ctl;
     const gcl_command_t *cmd;
     struct gripper *gripper; /* the device the command addresses */
     unsigned *selected;      /* the channel's DEVICE= selection; NULL: a scenario */
@@ -67,9 +69,16 @@ wsg_conn_t *sc_session(simctl_ctx_t *ctx, unsigned i);
 bool sc_checking(const simctl_ctx_t *ctx);
 /* The device noticed a change of the world at once (a control step now). */
 void sc_world_changed(simctl_ctx_t *ctx);
-/* False (ERR 5, reason set) unless device 0 is addressed: the injected
- * hardware faults act on device 0 only. */
-bool sc_first_device(simctl_ctx_t *ctx);
+/* RUN_UNTIL_DONE: the operation it waits for, and how the run ended. */
+typedef struct {
+    bool active; /* the running step is a RUN_UNTIL_DONE */
+    bool ended;  /* the operation ended before the limit */
+    wsg_device_t *device;
+    wsg_motion_kind_t motion;
+    uint64_t started_us;
+} simctl_run_watch_t;
+
+simctl_run_watch_t *simctl_run_watch(simctl_t *ctl);
 
 /* sim/commands_clock.c */
 wsg_status_t sc_pause(simctl_ctx_t *ctx);

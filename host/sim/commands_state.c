@@ -15,7 +15,7 @@
 
 wsg_status_t sc_state(simctl_ctx_t *ctx)
 {
-    sc_reply_owned(ctx, state_json(ctx->gripper, false));
+    sc_reply_owned(ctx, state_json(ctx->ctl, ctx->gripper, false));
     return E_SUCCESS;
 }
 
@@ -27,24 +27,22 @@ wsg_status_t sc_sessions(simctl_ctx_t *ctx)
 }
 
 /* A power cycle: connections drop (unobserved: they are not the clients'
- * doing), injected faults go, and the device starts as configured. */
+ * doing), the device's injected faults go, and it starts as configured. */
 wsg_status_t sc_reset(simctl_ctx_t *ctx)
 {
     gripper_t *g = ctx->gripper;
-    bool first = g->index == 0; /* with the observers and the hardware faults */
+    bool first = g->index == 0; /* with the observers */
     if (first) {
         simctl_observers_detach(&g->device);
     }
     simctl_delay_clear_all(&g->device, false);
     fleet_close_connections(g->index);
-    if (first) {
-        simctl_fault_clear_all();
-    }
+    simctl_fault_clear_all(simctl_faults(ctx->ctl), g);
     gripper_reset(g);
     if (first) {
         simctl_observers_attach(&g->device, &g->opts);
     }
-    simctl_reset_max_lag();
+    simctl_reset_max_lag(simctl_scheduler(ctx->ctl));
     host_logf(HAL_LOG_INFO, "device %u reset to power-on defaults", g->index);
     return E_SUCCESS;
 }

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "commands.h"
+#include "commands_internal.h"
 #include "listener.h"
 #include "log.h"
 #include "loop.h"
@@ -31,6 +32,7 @@
 #define DEFAULT_ADDR "127.0.0.1"
 
 typedef struct {
+    simctl_t *ctl;
     bool in_use;
     bool closing; /* BYE answered: close once flushed */
     bool dead;    /* the peer went away or failed: close now */
@@ -45,13 +47,73 @@ typedef struct {
     wsg_outq_t outq;
 } control_client_t;
 
-static struct {
+struct simctl {
+    simclock_t clock;
+    simctl_sched_t sched;
+    scenario_t scenario;
+    simctl_faults_t faults;
+    simctl_run_watch_t run; /* RUN_UNTIL_DONE */
     listener_t listener;
     const char *addr;
     unsigned connections;
     control_client_t *stepper; /* waits for the reply of its STEP */
     control_client_t clients[CONTROL_CLIENTS_MAX];
-} ctl = {.listener = {.fd = -1}};
+    char out_line[OUTQ_RECORD_MAX]; /* one queued record on its way to send() */
+};
+
+simctl_t *simctl_create(void)
+{
+    simctl_t *ctl = calloc(1, sizeof(*ctl));
+    if (ctl == NULL) {
+        return NULL;
+    }
+    simclock_init(&ctl->clock);
+    scenario_init(&ctl->scenario, ctl);
+    simctl_scheduler_init(&ctl->sched, &ctl->clock, &ctl->scenario);
+    simctl_faults_init(&ctl->faults);
+    ctl->listener.fd = -1;
+    for (unsigned i = 0; i < CONTROL_CLIENTS_MAX; i++) {
+        ctl->clients[i].ctl = ctl;
+    }
+    return ctl;
+}
+
+void simctl_destroy(simctl_t *ctl)
+{
+    if (ctl == NULL) {
+        return;
+    }
+    simctl_stop(ctl);
+    scenario_unload(&ctl->scenario);
+    simctl_faults_release(&ctl->faults);
+    simclock_fini(&ctl->clock);
+    free(ctl);
+}
+
+simclock_t *simctl_clock(simctl_t *ctl)
+{
+    return &ctl->clock;
+}
+
+simctl_sched_t *simctl_scheduler(simctl_t *ctl)
+{
+    return &ctl->sched;
+}
+
+scenario_t *simctl_scenario(simctl_t *ctl)
+{
+    return &ctl->scenario;
+}
+
+simctl_faults_t *simctl_faults(simctl_t *ctl)
+{
+    return &ctl->faults;
+}
+
+simctl_run_watch_t *simctl_run_watch(simctl_t *ctl)
+{
+    return &ctl->run;
+}
 
 static void channel_name(const control_client_t *c, char *out, size_t cap)
 {
@@ -60,12 +122,13 @@ static void channel_name(const control_client_t *c, char *out, size_t cap)
 
 static void close_client(control_client_t *c)
 {
-    if (ctl.stepper == c) {
-        ctl.stepper = NULL; /* the STEP itself runs on */
+    simctl_t *ctl = c->ctl;
+    if (ctl->stepper == c) {
+        ctl->stepper = NULL; /* the STEP itself runs on */
     }
-    loop_unwatch(ctl.listener.loop, c->fd);
+    loop_unwatch(ctl->listener.loop, c->fd);
     close(c->fd);
-    listener_fd_freed(&ctl.listener);
+    listener_fd_freed(&ctl->listener);
     free(c->outq.ring);
     c->in_use = false;
     host_logf(HAL_LOG_INFO, "control ctl%u: closed", c->number);
@@ -82,15 +145,15 @@ static void update_events(control_client_t *c, bool wake)
 {
     bool want_input = !c->eof && !input_left(c);
     bool want_output = wake || !wsg_outq_empty(&c->outq);
-    loop_set_events(ctl.listener.loop, c->fd,
+    loop_set_events(c->ctl->listener.loop, c->fd,
                     (short)((want_input ? POLLIN : 0) | (want_output ? POLLOUT : 0)));
 }
 
 static void flush(control_client_t *c)
 {
-    static char line[OUTQ_RECORD_MAX];
+    char *line = c->ctl->out_line;
     while (!wsg_outq_empty(&c->outq)) {
-        size_t len = wsg_outq_peek(&c->outq, line, sizeof(line));
+        size_t len = wsg_outq_peek(&c->outq, line, OUTQ_RECORD_MAX);
         ssize_t sent = send(c->fd, line, len, MSG_NOSIGNAL | MSG_DONTWAIT);
         if (sent < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) {
             break;
@@ -161,10 +224,10 @@ static void handle_line(control_client_t *c)
     if (wsg_gcl_linebuf_status(lb) != GCL_LINE_OK) {
         reply = strdup("ERR ? 15 line too long or with control bytes");
     } else {
-        reply = simctl_exec(lb->text, lb->len, &c->device, &outcome);
+        reply = simctl_exec(c->ctl, lb->text, lb->len, &c->device, &outcome);
     }
     if (outcome.deferred) {
-        ctl.stepper = c; /* the reply comes when the STEP has run */
+        c->ctl->stepper = c; /* the reply comes when the STEP has run */
         return;
     }
     if (reply == NULL) {
@@ -180,7 +243,7 @@ static void handle_line(control_client_t *c)
  * client has not read what it was sent. */
 static bool may_run(const control_client_t *c)
 {
-    return !c->closing && !c->dead && !simctl_step_running() &&
+    return !c->closing && !c->dead && !simctl_step_running(&c->ctl->sched) &&
            wsg_outq_used(&c->outq) < CONTROL_OUTQ_LOW;
 }
 
@@ -208,11 +271,12 @@ static void receive(control_client_t *c)
 
 static void answer_step_if_done(control_client_t *c)
 {
-    if (ctl.stepper != c || simctl_step_running()) {
+    simctl_t *ctl = c->ctl;
+    if (ctl->stepper != c || simctl_step_running(&ctl->sched)) {
         return;
     }
-    ctl.stepper = NULL;
-    char *reply = simctl_step_reply();
+    ctl->stepper = NULL;
+    char *reply = simctl_step_reply(ctl);
     if (reply != NULL) {
         record_and_send(c, reply);
         free(reply);
@@ -221,18 +285,19 @@ static void answer_step_if_done(control_client_t *c)
 
 /* A STEP ended: every connection is called back (POLLOUT) to send the STEP
  * reply or run what it received meanwhile. */
-static void on_step_done(void)
+static void on_step_done(void *ctx)
 {
+    simctl_t *ctl = ctx;
     for (unsigned i = 0; i < CONTROL_CLIENTS_MAX; i++) {
-        if (ctl.clients[i].in_use) {
-            update_events(&ctl.clients[i], true);
+        if (ctl->clients[i].in_use) {
+            update_events(&ctl->clients[i], true);
         }
     }
 }
 
 static bool finished(const control_client_t *c)
 {
-    bool nothing_left = c->eof && !input_left(c) && ctl.stepper != c;
+    bool nothing_left = c->eof && !input_left(c) && c->ctl->stepper != c;
     return c->dead || ((c->closing || nothing_left) && wsg_outq_empty(&c->outq));
 }
 
@@ -257,11 +322,11 @@ static void on_client(void *ctx, int fd, short revents)
     }
 }
 
-static control_client_t *free_slot(void)
+static control_client_t *free_slot(simctl_t *ctl)
 {
     for (unsigned i = 0; i < CONTROL_CLIENTS_MAX; i++) {
-        if (!ctl.clients[i].in_use) {
-            return &ctl.clients[i];
+        if (!ctl->clients[i].in_use) {
+            return &ctl->clients[i];
         }
     }
     return NULL;
@@ -269,16 +334,16 @@ static control_client_t *free_slot(void)
 
 static void on_accept(void *ctx, int fd, short revents)
 {
-    (void)ctx;
+    simctl_t *ctl = ctx;
     (void)fd;
     (void)revents;
     struct sockaddr_storage peer;
     socklen_t peer_len = sizeof(peer);
-    int client_fd = listener_accept(&ctl.listener, &peer, &peer_len);
+    int client_fd = listener_accept(&ctl->listener, &peer, &peer_len);
     if (client_fd < 0) {
         return;
     }
-    control_client_t *c = free_slot();
+    control_client_t *c = free_slot(ctl);
     if (c != NULL) {
         wsg_outq_init(&c->outq, malloc(CONTROL_OUTQ_BYTES), CONTROL_OUTQ_BYTES);
     }
@@ -294,10 +359,10 @@ static void on_accept(void *ctx, int fd, short revents)
     c->eof = false;
     c->pending_len = 0;
     c->pending_at = 0;
-    c->number = ++ctl.connections;
+    c->number = ++ctl->connections;
     c->device = 0;
     wsg_gcl_linebuf_reset(&c->input);
-    if (!loop_watch(ctl.listener.loop, client_fd, POLLIN, on_client, c)) {
+    if (!loop_watch(ctl->listener.loop, client_fd, POLLIN, on_client, c)) {
         free(c->outq.ring);
         close(client_fd);
         return;
@@ -306,39 +371,37 @@ static void on_accept(void *ctx, int fd, short revents)
     host_logf(HAL_LOG_INFO, "control ctl%u: connected", c->number);
 }
 
-bool simctl_start(host_loop_t *loop, net_t *net, const char *addr, int port)
+bool simctl_start(simctl_t *ctl, host_loop_t *loop, net_t *net, const char *addr, int port)
 {
-    ctl.addr = addr != NULL ? addr : DEFAULT_ADDR;
-    simctl_step_on_done(on_step_done);
-    return listener_start(&ctl.listener, loop, net, "control", ctl.addr, port, on_accept, NULL);
+    ctl->addr = addr != NULL ? addr : DEFAULT_ADDR;
+    simctl_step_on_done(&ctl->sched, on_step_done, ctl);
+    return listener_start(&ctl->listener, loop, net, "control", ctl->addr, port, on_accept, ctl);
 }
 
-int simctl_port(void)
+int simctl_port(const simctl_t *ctl)
 {
-    return ctl.listener.fd >= 0 ? net_local_port(ctl.listener.fd) : -1;
+    return ctl->listener.fd >= 0 ? net_local_port(ctl->listener.fd) : -1;
 }
 
-const char *simctl_describe(void)
+void simctl_describe(const simctl_t *ctl, char *out, size_t cap)
 {
-    static char text[96];
-    if (ctl.listener.fd < 0) {
-        return "";
+    out[0] = '\0';
+    if (ctl->listener.fd >= 0) {
+        snprintf(out, cap, ", control %s:%d", ctl->addr, simctl_port(ctl));
     }
-    snprintf(text, sizeof(text), ", control %s:%d", ctl.addr, simctl_port());
-    return text;
 }
 
-void simctl_reap(void)
+void simctl_reap(simctl_t *ctl)
 {
-    listener_resume_when_due(&ctl.listener);
+    listener_resume_when_due(&ctl->listener);
 }
 
-void simctl_stop(void)
+void simctl_stop(simctl_t *ctl)
 {
     for (unsigned i = 0; i < CONTROL_CLIENTS_MAX; i++) {
-        if (ctl.clients[i].in_use) {
-            close_client(&ctl.clients[i]);
+        if (ctl->clients[i].in_use) {
+            close_client(&ctl->clients[i]);
         }
     }
-    listener_stop(&ctl.listener);
+    listener_stop(&ctl->listener);
 }

@@ -1,22 +1,43 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* --sim-port: the simulation control channel, a line-based text port beside
- * the device protocol (docs/simctl.md). Loopback only unless --sim-bind. */
+/* The simulation control side: one instance holding the clock, the
+ * scheduler, the scenario, the injected hardware faults and --sim-port, the
+ * control channel, a line-based text port beside the device protocol
+ * (docs/simctl.md). Loopback only unless --sim-bind. */
 #ifndef SIM_CONTROL_H
 #define SIM_CONTROL_H
 
 #include <stdbool.h>
 
+#include "clock.h"
+#include "faults.h"
 #include "loop.h"
 #include "net.h"
+#include "scenario.h"
+#include "scheduler.h"
+
+typedef struct simctl simctl_t;
+
+/* The clock running at 1x from simulated time 0 (hal_clock_now_us() reads
+ * it from now on), no scenario, no fault, no channel; NULL when out of
+ * memory. */
+simctl_t *simctl_create(void);
+/* Closes the channel, unloads the scenario, frees the instance. */
+void simctl_destroy(simctl_t *ctl);
+
+simclock_t *simctl_clock(simctl_t *ctl);
+simctl_sched_t *simctl_scheduler(simctl_t *ctl);
+scenario_t *simctl_scenario(simctl_t *ctl);
+simctl_faults_t *simctl_faults(simctl_t *ctl);
 
 /* Listens on addr:port (addr NULL: 127.0.0.1; a socket of net's, watched on
  * loop); false after a clear message. */
-bool simctl_start(host_loop_t *loop, net_t *net, const char *addr, int port);
-int simctl_port(void);
-/* ", control 127.0.0.1:7000" for the ready line; "" without a channel. */
-const char *simctl_describe(void);
+bool simctl_start(simctl_t *ctl, host_loop_t *loop, net_t *net, const char *addr, int port);
+int simctl_port(const simctl_t *ctl);
+/* ", control 127.0.0.1:7000" for the ready line into out; "" without a
+ * channel. */
+void simctl_describe(const simctl_t *ctl, char *out, size_t cap);
 /* Once per loop pass: a listener paused at the descriptor limit tries again. */
-void simctl_reap(void);
-void simctl_stop(void);
+void simctl_reap(simctl_t *ctl);
+void simctl_stop(simctl_t *ctl);
 
 #endif

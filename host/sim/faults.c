@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 #include "faults.h"
-#include "fleet.h"
 
+#include <stdio.h>
+#include <stdlib.h>
 #include <strings.h>
 
 #include "finger_bus_host.h"
@@ -39,10 +40,52 @@ static const struct {
     {"FINGER_UNPLUG", SIMCTL_FAULT_FINGER0_UNPLUG},
 };
 
-static struct {
+/* One device's faults. */
+struct simctl_device_faults {
     bool active[SIMCTL_FAULT_COUNT];
     uint64_t since_us[SIMCTL_FAULT_COUNT];
-} faults;
+};
+
+void simctl_faults_init(simctl_faults_t *faults)
+{
+    *faults = (simctl_faults_t){NULL, 0};
+}
+
+void simctl_faults_release(simctl_faults_t *faults)
+{
+    for (unsigned i = 0; i < faults->count; i++) {
+        free(faults->of[i]);
+    }
+    free(faults->of);
+    simctl_faults_init(faults);
+}
+
+/* The device's record, or NULL when it never took a fault. */
+static struct simctl_device_faults *record_of(const simctl_faults_t *faults, const gripper_t *g)
+{
+    return g->index < faults->count ? faults->of[g->index] : NULL;
+}
+
+/* The device's record, allocated on its first fault; NULL: out of memory. */
+static struct simctl_device_faults *record_for(simctl_faults_t *faults, const gripper_t *g)
+{
+    if (g->index >= faults->count) {
+        unsigned count = g->index + 1u;
+        struct simctl_device_faults **grown = realloc(faults->of, count * sizeof(*grown));
+        if (grown == NULL) {
+            return NULL;
+        }
+        for (unsigned i = faults->count; i < count; i++) {
+            grown[i] = NULL;
+        }
+        faults->of = grown;
+        faults->count = count;
+    }
+    if (faults->of[g->index] == NULL) {
+        faults->of[g->index] = calloc(1, sizeof(struct simctl_device_faults));
+    }
+    return faults->of[g->index];
+}
 
 bool simctl_fault_by_name(const char *name, int finger, simctl_fault_t *out)
 {
@@ -72,17 +115,27 @@ const char *simctl_fault_description(simctl_fault_t fault)
 }
 
 /* The board temperature the active temperature faults force. */
-static void apply_temperature(void)
+static void apply_temperature(const struct simctl_device_faults *f, gripper_t *g)
 {
-    const wsg_config_t *cfg = wsg_device_snapshot(&fleet_gripper(0)->device)->config;
-    sim_thermal_t *thermal = &fleet_gripper(0)->world.thermal;
+    const wsg_config_t *cfg = wsg_device_snapshot(&g->device)->config;
+    sim_thermal_t *thermal = &g->world.thermal;
     thermal->override_c = NO_OVERRIDE;
-    if (faults.active[SIMCTL_FAULT_TEMP_WARNING]) {
+    if (f->active[SIMCTL_FAULT_TEMP_WARNING]) {
         thermal->override_c = (cfg->temp_warning_c + cfg->temp_fault_c) / 2.0f;
     }
-    if (faults.active[SIMCTL_FAULT_TEMP_FAULT]) {
+    if (f->active[SIMCTL_FAULT_TEMP_FAULT]) {
         thermal->override_c = cfg->temp_fault_c + TEMP_FAULT_MARGIN_C;
     }
+}
+
+static bool is_finger_fault(simctl_fault_t fault)
+{
+    return fault >= SIMCTL_FAULT_FINGER0_POWER && fault < SIMCTL_FAULT_COUNT;
+}
+
+bool simctl_fault_possible(const gripper_t *g, simctl_fault_t fault)
+{
+    return !is_finger_fault(fault) || g->index == 0; /* the finger bus is device 0's */
 }
 
 /* The finger itself raises it: a fault-injection frame on the finger bus. */
@@ -97,14 +150,25 @@ static void apply_finger(simctl_fault_t fault, bool on)
     }
 }
 
-static void apply(simctl_fault_t fault)
+/* " on device N" after a log line, except for device 0 (its lines stay as
+ * they were with one device). */
+static const char *device_note(const gripper_t *g, char *note, size_t cap)
 {
-    bool on = faults.active[fault];
-    sim_axis_t *axis = &fleet_gripper(0)->world.axis;
+    note[0] = '\0';
+    if (g->index != 0) {
+        snprintf(note, cap, " on device %u", g->index);
+    }
+    return note;
+}
+
+static void apply(const struct simctl_device_faults *f, gripper_t *g, simctl_fault_t fault)
+{
+    bool on = f->active[fault];
+    sim_axis_t *axis = &g->world.axis;
     switch (fault) {
     case SIMCTL_FAULT_TEMP_WARNING:
     case SIMCTL_FAULT_TEMP_FAULT:
-        apply_temperature();
+        apply_temperature(f, g);
         break;
     case SIMCTL_FAULT_POWER:
         axis->power_fault = on;
@@ -120,42 +184,54 @@ static void apply(simctl_fault_t fault)
     }
 }
 
-void simctl_fault_raise(simctl_fault_t fault)
+bool simctl_fault_raise(simctl_faults_t *faults, gripper_t *g, simctl_fault_t fault)
 {
-    if (!faults.active[fault]) {
-        faults.active[fault] = true;
-        faults.since_us[fault] = hal_clock_now_us();
+    struct simctl_device_faults *f = record_for(faults, g);
+    if (f == NULL) {
+        return false;
     }
-    apply(fault);
-    host_logf(HAL_LOG_WARN, "fault injected: %s (%s)", info[fault].name, info[fault].description);
+    if (!f->active[fault]) {
+        f->active[fault] = true;
+        f->since_us[fault] = hal_clock_now_us();
+    }
+    apply(f, g, fault);
+    char note[32];
+    host_logf(HAL_LOG_WARN, "fault injected: %s (%s)%s", info[fault].name, info[fault].description,
+              device_note(g, note, sizeof(note)));
+    return true;
 }
 
-void simctl_fault_clear(simctl_fault_t fault)
+void simctl_fault_clear(simctl_faults_t *faults, gripper_t *g, simctl_fault_t fault)
 {
-    if (!faults.active[fault]) {
+    struct simctl_device_faults *f = record_of(faults, g);
+    if (f == NULL || !f->active[fault]) {
         return;
     }
-    faults.active[fault] = false;
-    apply(fault);
-    host_logf(HAL_LOG_INFO, "fault cleared: %s", info[fault].name);
+    f->active[fault] = false;
+    apply(f, g, fault);
+    char note[32];
+    host_logf(HAL_LOG_INFO, "fault cleared: %s%s", info[fault].name,
+              device_note(g, note, sizeof(note)));
 }
 
-unsigned simctl_fault_clear_all(void)
+unsigned simctl_fault_clear_all(simctl_faults_t *faults, gripper_t *g)
 {
     unsigned cleared = 0;
     for (unsigned i = 0; i < SIMCTL_FAULT_COUNT; i++) {
-        cleared += faults.active[i] ? 1u : 0u;
-        simctl_fault_clear((simctl_fault_t)i);
+        cleared += simctl_fault_active(faults, g, (simctl_fault_t)i) ? 1u : 0u;
+        simctl_fault_clear(faults, g, (simctl_fault_t)i);
     }
     return cleared;
 }
 
-bool simctl_fault_active(simctl_fault_t fault)
+bool simctl_fault_active(const simctl_faults_t *faults, const gripper_t *g, simctl_fault_t fault)
 {
-    return (unsigned)fault < SIMCTL_FAULT_COUNT && faults.active[fault];
+    const struct simctl_device_faults *f = record_of(faults, g);
+    return (unsigned)fault < SIMCTL_FAULT_COUNT && f != NULL && f->active[fault];
 }
 
-uint64_t simctl_fault_since_us(simctl_fault_t fault)
+uint64_t simctl_fault_since_us(const simctl_faults_t *faults, const gripper_t *g,
+                               simctl_fault_t fault)
 {
-    return simctl_fault_active(fault) ? faults.since_us[fault] : 0u;
+    return simctl_fault_active(faults, g, fault) ? record_of(faults, g)->since_us[fault] : 0u;
 }

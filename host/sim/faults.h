@@ -1,12 +1,16 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* Injected hardware faults: raised and cleared from the control channel,
- * applied to the simulated world (or sent to a finger over the finger bus),
- * logged, and listed in the state dump until cleared. */
+ * applied to one device's simulated world (or sent to a finger over its
+ * finger bus), logged, and listed in the state dump until cleared. Every
+ * device has its own; a device's record is allocated when it first takes a
+ * fault, so an idle fleet pays one pointer per device at most. */
 #ifndef SIM_FAULTS_H
 #define SIM_FAULTS_H
 
 #include <stdbool.h>
 #include <stdint.h>
+
+#include "gripper.h"
 
 typedef enum {
     SIMCTL_FAULT_TEMP_WARNING, /* board temperature between warning and fault level */
@@ -30,11 +34,29 @@ bool simctl_fault_by_name(const char *name, int finger, simctl_fault_t *out);
 const char *simctl_fault_name(simctl_fault_t fault);
 const char *simctl_fault_description(simctl_fault_t fault);
 
-void simctl_fault_raise(simctl_fault_t fault);
-void simctl_fault_clear(simctl_fault_t fault);
-/* Clears every injected hardware fault; returns how many were active. */
-unsigned simctl_fault_clear_all(void);
-bool simctl_fault_active(simctl_fault_t fault);
-uint64_t simctl_fault_since_us(simctl_fault_t fault);
+struct simctl_device_faults;
+
+/* The faults of every device, indexed by the device's number in the fleet. */
+typedef struct {
+    struct simctl_device_faults **of; /* NULL: that device never took one */
+    unsigned count;                   /* entries in of */
+} simctl_faults_t;
+
+void simctl_faults_init(simctl_faults_t *faults);
+/* Frees every device's record (nothing is applied to the worlds). */
+void simctl_faults_release(simctl_faults_t *faults);
+
+/* True when the device can take the fault: a finger fault needs the
+ * device's finger bus (only device 0 has one). */
+bool simctl_fault_possible(const gripper_t *g, simctl_fault_t fault);
+/* False (nothing changed) when memory for the device's record ran out. */
+bool simctl_fault_raise(simctl_faults_t *faults, gripper_t *g, simctl_fault_t fault);
+void simctl_fault_clear(simctl_faults_t *faults, gripper_t *g, simctl_fault_t fault);
+/* Clears every injected hardware fault of the device; returns how many
+ * were active. */
+unsigned simctl_fault_clear_all(simctl_faults_t *faults, gripper_t *g);
+bool simctl_fault_active(const simctl_faults_t *faults, const gripper_t *g, simctl_fault_t fault);
+uint64_t simctl_fault_since_us(const simctl_faults_t *faults, const gripper_t *g,
+                               simctl_fault_t fault);
 
 #endif

@@ -13,6 +13,7 @@ static struct {
     bool record;
     bool coverage; /* --coverage, or a control channel that may ask for it */
     bool strict;
+    web_lines_t *web_lines; /* the web server's, NULL when it is off */
 } hub;
 
 static void on_message_in(void *ctx, const wsg_conn_t *c, const char *line, size_t len)
@@ -25,7 +26,7 @@ static void on_message_in(void *ctx, const wsg_conn_t *c, const char *line, size
         trace_line(c, '<', line, len);
     }
     record_gcl(c, '<', line, len); /* nothing unless a record is open */
-    web_lines_note(c, true, line, len);
+    web_lines_note(hub.web_lines, c, true, line, len);
 }
 
 static void on_message_out(void *ctx, const wsg_conn_t *c, const char *line, size_t len)
@@ -38,7 +39,7 @@ static void on_message_out(void *ctx, const wsg_conn_t *c, const char *line, siz
         trace_line(c, '>', line, len);
     }
     record_gcl(c, '>', line, len);
-    web_lines_note(c, false, line, len);
+    web_lines_note(hub.web_lines, c, false, line, len);
 }
 
 /* Coverage without a trace (the control channel's case): nothing to ask per
@@ -49,7 +50,7 @@ static void on_message_in_coverage(void *ctx, const wsg_conn_t *c, const char *l
     (void)ctx;
     coverage_line_in(c);
     record_gcl(c, '<', line, len);
-    web_lines_note(c, true, line, len);
+    web_lines_note(hub.web_lines, c, true, line, len);
 }
 
 static void on_message_out_coverage(void *ctx, const wsg_conn_t *c, const char *line, size_t len)
@@ -57,7 +58,7 @@ static void on_message_out_coverage(void *ctx, const wsg_conn_t *c, const char *
     (void)ctx;
     bin_coverage_frame_out((const unsigned char *)line, len);
     record_gcl(c, '>', line, len);
-    web_lines_note(c, false, line, len);
+    web_lines_note(hub.web_lines, c, false, line, len);
 }
 
 static void on_grip_state(void *ctx, wsg_grip_state_t from, wsg_grip_state_t to)
@@ -123,10 +124,11 @@ void simctl_observers_attach(wsg_device_t *dev, const host_options_t *opts)
     hub.record = opts->record_path != NULL;
     hub.coverage = opts->coverage_path != NULL || opts->sim_port >= 0;
     hub.strict = opts->strict;
+    hub.web_lines = opts->web_lines;
     const wsg_conn_observer_t *messages = NULL;
     if (hub.coverage && !hub.trace) {
         messages = &coverage_message_observer;
-    } else if (hub.trace || hub.record || hub.coverage || web_lines_enabled()) {
+    } else if (hub.trace || hub.record || hub.coverage || hub.web_lines != NULL) {
         messages = &message_observer;
     }
     wsg_conn_observe(dev, messages, NULL);

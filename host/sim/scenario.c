@@ -14,42 +14,33 @@
 
 #define LINE_MAX_LEN 4096
 
-typedef struct {
-    uint64_t at_us;
-    int line;
-    char *command;
-} event_t;
-
-static struct {
-    char path[256];
-    event_t *events;
-    unsigned count;
-    unsigned next;
-    unsigned cap;
-} sc;
-
-static bool fail(int line, const char *why, const char *detail)
+void scenario_init(scenario_t *sc, struct simctl *ctl)
 {
-    fprintf(stderr, "wsgsim: %s:%d: %s%s%s\n", sc.path, line, why, detail[0] ? ": " : "", detail);
+    *sc = (scenario_t){.ctl = ctl};
+}
+
+static bool fail(const scenario_t *sc, int line, const char *why, const char *detail)
+{
+    fprintf(stderr, "wsgsim: %s:%d: %s%s%s\n", sc->path, line, why, detail[0] ? ": " : "", detail);
     return false;
 }
 
-static bool append(uint64_t at_us, int line, const char *command)
+static bool append(scenario_t *sc, uint64_t at_us, int line, const char *command)
 {
-    if (sc.count == sc.cap) {
-        unsigned cap = sc.cap == 0 ? 16u : sc.cap * 2u;
-        event_t *grown = realloc(sc.events, cap * sizeof(*grown));
+    if (sc->count == sc->cap) {
+        unsigned cap = sc->cap == 0 ? 16u : sc->cap * 2u;
+        scenario_event_t *grown = realloc(sc->events, cap * sizeof(*grown));
         if (grown == NULL) {
-            return fail(line, "out of memory", "");
+            return fail(sc, line, "out of memory", "");
         }
-        sc.events = grown;
-        sc.cap = cap;
+        sc->events = grown;
+        sc->cap = cap;
     }
     char *copy = strdup(command);
     if (copy == NULL) {
-        return fail(line, "out of memory", "");
+        return fail(sc, line, "out of memory", "");
     }
-    sc.events[sc.count++] = (event_t){at_us, line, copy};
+    sc->events[sc->count++] = (scenario_event_t){at_us, line, copy};
     return true;
 }
 
@@ -84,7 +75,8 @@ static void strip(char *text)
 }
 
 /* One non-empty, non-comment line: TIME COMMAND. */
-static bool parse_line(char *text, int line, uint64_t *previous_us, uint64_t start_us)
+static bool parse_line(scenario_t *sc, char *text, int line, uint64_t *previous_us,
+                       uint64_t start_us)
 {
     strip(text);
     char *p = text + strspn(text, " \t");
@@ -97,23 +89,23 @@ static bool parse_line(char *text, int line, uint64_t *previous_us, uint64_t sta
     char *command = p + time_len + strspn(p + time_len, " \t");
     uint64_t at_us = 0;
     if (!parse_time(token, *previous_us, &at_us)) {
-        return fail(line, "expected a time in ms (e.g. 1500 or +200)", token);
+        return fail(sc, line, "expected a time in ms (e.g. 1500 or +200)", token);
     }
     if (at_us < *previous_us) {
-        return fail(line, "times must not go backwards", token);
+        return fail(sc, line, "times must not go backwards", token);
     }
     char why[256];
-    if (!simctl_check(command, strlen(command), true, why, sizeof(why))) {
-        return fail(line, why, command);
+    if (!simctl_check(sc->ctl, command, strlen(command), true, why, sizeof(why))) {
+        return fail(sc, line, why, command);
     }
     *previous_us = at_us;
-    return append(start_us + at_us, line, command);
+    return append(sc, start_us + at_us, line, command);
 }
 
-bool scenario_load(const char *path, uint64_t start_us)
+bool scenario_load(scenario_t *sc, const char *path, uint64_t start_us)
 {
-    scenario_unload();
-    snprintf(sc.path, sizeof(sc.path), "%s", path);
+    scenario_unload(sc);
+    snprintf(sc->path, sizeof(sc->path), "%s", path);
     text_file_t file;
     if (!text_file_open(&file, path, "--scenario", LINE_MAX_LEN, 0)) {
         return false;
@@ -122,53 +114,48 @@ bool scenario_load(const char *path, uint64_t start_us)
     text_file_read_t got = TEXT_FILE_LINE;
     bool ok = true;
     while (ok && (got = text_file_next(&file)) == TEXT_FILE_LINE) {
-        ok = parse_line(file.line, file.number, &previous_us, start_us);
+        ok = parse_line(sc, file.line, file.number, &previous_us, start_us);
     }
     text_file_close(&file);
     return ok && got == TEXT_FILE_END;
 }
 
-static void run_event(const event_t *e)
+static void run_event(scenario_t *sc, const scenario_event_t *e)
 {
     size_t len = strlen(e->command);
     record_control("scn", '<', e->command, len);
-    char *reply = simctl_exec(e->command, len, NULL, NULL);
+    char *reply = simctl_exec(sc->ctl, e->command, len, NULL, NULL);
     record_control("scn", '>', reply, strlen(reply));
     bool failed = strncmp(reply, "ERR", 3) == 0;
-    host_logf(failed ? HAL_LOG_WARN : HAL_LOG_INFO, "scenario %s:%d: %s -> %s", sc.path, e->line,
+    host_logf(failed ? HAL_LOG_WARN : HAL_LOG_INFO, "scenario %s:%d: %s -> %s", sc->path, e->line,
               e->command, reply);
     free(reply);
 }
 
-unsigned scenario_run_due(uint64_t now_us, unsigned max)
+unsigned scenario_run_due(scenario_t *sc, uint64_t now_us, unsigned max)
 {
-    if (sc.next >= sc.count) {
+    if (sc->next >= sc->count) {
         return 0; /* no scenario, or it has run: the common case, at every deadline */
     }
     unsigned ran = 0;
-    while (ran < max && sc.next < sc.count && sc.events[sc.next].at_us <= now_us) {
-        const event_t *e = &sc.events[sc.next++];
-        run_event(e);
+    while (ran < max && sc->next < sc->count && sc->events[sc->next].at_us <= now_us) {
+        const scenario_event_t *e = &sc->events[sc->next++];
+        run_event(sc, e);
         ran++;
     }
     return ran;
 }
 
-uint64_t scenario_next_us(void)
+unsigned scenario_pending(const scenario_t *sc)
 {
-    return sc.next < sc.count ? sc.events[sc.next].at_us : UINT64_MAX;
+    return sc->count - sc->next;
 }
 
-unsigned scenario_pending(void)
+void scenario_unload(scenario_t *sc)
 {
-    return sc.count - sc.next;
-}
-
-void scenario_unload(void)
-{
-    for (unsigned i = 0; i < sc.count; i++) {
-        free(sc.events[i].command);
+    for (unsigned i = 0; i < sc->count; i++) {
+        free(sc->events[i].command);
     }
-    free(sc.events);
-    memset(&sc, 0, sizeof(sc));
+    free(sc->events);
+    *sc = (scenario_t){.ctl = sc->ctl};
 }

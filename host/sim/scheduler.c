@@ -1,14 +1,9 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 #include "scheduler.h"
 
-#include <stdbool.h>
-
-#include "clock.h"
 #include "delay.h"
 #include "fleet.h"
-#include "hal_clock.h"
 #include "observers.h"
-#include "scenario.h"
 
 /* The simulated work one simctl_tick() may do before the loop serves the
  * sockets again: a control step counts 1, a scenario event SLICE_EVENT_COST
@@ -18,43 +13,45 @@
 #define SLICE_WORK 4000u
 #define SLICE_EVENT_COST 25u
 
-static uint64_t max_lag_us;
-static bool in_catch_up; /* a scenario event may PAUSE or SCALE: no nesting */
+void simctl_scheduler_init(simctl_sched_t *s, simclock_t *clock, scenario_t *scenario)
+{
+    /* due at 0: the first pass asks the fleet and the delays */
+    *s = (simctl_sched_t){.clock = clock, .scenario = scenario};
+}
 
-static struct {
-    bool running;
-    uint64_t until_us; /* the device time at which the STEP is done */
-    void (*on_done)(void);
-    bool (*done_early)(void *ctx); /* a step until: true ends it now */
-    void *done_early_ctx;
-} step;
+/* The device time (hal_clock_now_us()), read where the pass keeps it. */
+static uint64_t device_now(const simctl_sched_t *s)
+{
+    return s->clock->device_us;
+}
 
 static uint64_t earliest(uint64_t a, uint64_t b)
 {
     return a < b ? a : b;
 }
 
-/* How far the device time is behind the target right now. On a paused
- * clock the target moves only by STEP, whose catch-up is work asked for,
- * not lateness: no lag. */
-uint64_t simctl_lag_us(void)
+/* How far the device time is behind target. On a paused clock the target
+ * moves only by STEP, whose catch-up is work asked for, not lateness: no
+ * lag. */
+static uint64_t lag_behind(const simctl_sched_t *s, uint64_t target)
 {
-    if (simclock_paused()) {
-        return 0u;
-    }
-    uint64_t target = simclock_now_us();
-    uint64_t device = hal_clock_now_us();
-    return target > device ? target - device : 0u;
+    uint64_t device = device_now(s);
+    return !simclock_paused(s->clock) && target > device ? target - device : 0u;
 }
 
-uint64_t simctl_max_lag_us(void)
+uint64_t simctl_lag_us(const simctl_sched_t *s)
 {
-    return max_lag_us;
+    return lag_behind(s, simclock_now_us(s->clock));
 }
 
-void simctl_reset_max_lag(void)
+uint64_t simctl_max_lag_us(const simctl_sched_t *s)
 {
-    max_lag_us = 0;
+    return s->max_lag_us;
+}
+
+void simctl_reset_max_lag(simctl_sched_t *s)
+{
+    s->max_lag_us = 0;
 }
 
 static void spend(unsigned *budget, unsigned work)
@@ -62,113 +59,151 @@ static void spend(unsigned *budget, unsigned work)
     *budget = *budget > work ? *budget - work : 0u;
 }
 
+/* The devices and the delayed replies, each only when something of theirs
+ * is due or a device was touched. */
+static void run_fleet_and_delays(simctl_sched_t *s, uint64_t now)
+{
+    bool ticked = gripper_touched_any() || s->fleet_due_us <= now;
+    if (ticked) {
+        s->fleet_due_us = fleet_tick();
+        simctl_observers_after_tick(&fleet_gripper(0)->device); /* observers: device 0's */
+    }
+    bool releasing = s->delay_due_us <= now;
+    if (releasing) {
+        simctl_delay_release_due(now);
+    }
+    if (ticked || releasing) {
+        s->delay_due_us = simctl_delay_next_us();
+    }
+}
+
 /* Runs everything due at the present device time, as far as the budget
  * goes; false when scenario events due now are left for the next slice
  * (the device time must not move past them). *next: the next due time. */
-static bool run_due(unsigned *budget, uint64_t *next)
+static bool run_due(simctl_sched_t *s, unsigned *budget, uint64_t *next)
 {
-    uint64_t now = hal_clock_now_us();
-    unsigned events = *budget / SLICE_EVENT_COST;
-    spend(budget, scenario_run_due(now, events > 0 ? events : 1u) * SLICE_EVENT_COST);
-    if (scenario_next_us() <= now) {
-        return false;
+    uint64_t now = device_now(s);
+    if (scenario_next_us(s->scenario) <= now) {
+        unsigned events = *budget / SLICE_EVENT_COST;
+        unsigned ran = scenario_run_due(s->scenario, now, events > 0 ? events : 1u);
+        spend(budget, ran * SLICE_EVENT_COST);
+        if (scenario_next_us(s->scenario) <= now) {
+            return false;
+        }
     }
-    *next = fleet_tick();
-    simctl_observers_after_tick(&fleet_gripper(0)->device); /* observers: device 0's */
-    simctl_delay_release_due(now);
-    *next = earliest(*next, scenario_next_us());
-    *next = earliest(*next, simctl_delay_next_us());
+    run_fleet_and_delays(s, now);
+    *next = earliest(earliest(s->fleet_due_us, s->delay_due_us), scenario_next_us(s->scenario));
     spend(budget, 1u);
     return true;
 }
 
 /* A step until its condition: ends at the present instant once it holds. */
-static bool step_ends_early(void)
+static bool step_ends_early(simctl_sched_t *s)
 {
-    if (!step.running || step.done_early == NULL || !step.done_early(step.done_early_ctx)) {
+    if (!s->step.running || s->step.done_early == NULL ||
+        !s->step.done_early(s->step.done_early_ctx)) {
         return false;
     }
-    simclock_end_step_here();
-    step.until_us = hal_clock_now_us();
+    simclock_end_step_here(s->clock);
+    s->step.until_us = device_now(s);
     return true;
 }
 
-static void finish_step_if_done(void)
+static void finish_step_if_done(simctl_sched_t *s)
 {
-    if (step.running && hal_clock_now_us() >= step.until_us) {
-        step.running = false;
-        step.done_early = NULL;
-        if (step.on_done != NULL) {
-            step.on_done();
+    if (s->step.running && device_now(s) >= s->step.until_us) {
+        s->step.running = false;
+        s->step.done_early = NULL;
+        if (s->step.on_done != NULL) {
+            s->step.on_done(s->step.on_done_ctx);
         }
     }
 }
 
-/* Moves the device time towards the target, deadline by deadline, for one
+/* Moves the device time towards target, deadline by deadline, for one
  * slice of work. Returns the next due time, or the present device time when
  * work is left (the loop then polls without waiting). */
-static uint64_t catch_up(void)
+static uint64_t catch_up(simctl_sched_t *s, uint64_t target)
 {
-    if (in_catch_up) {
-        return hal_clock_now_us();
+    if (s->in_catch_up) {
+        return device_now(s);
     }
-    in_catch_up = true;
-    uint64_t target = simclock_now_us();
+    s->in_catch_up = true;
     unsigned budget = SLICE_WORK;
     uint64_t next = UINT64_MAX;
-    bool all_due_ran = run_due(&budget, &next);
-    bool ended = all_due_ran && step_ends_early();
-    while (!ended && all_due_ran && budget > 0 && hal_clock_now_us() < target) {
-        uint64_t now = hal_clock_now_us();
-        simclock_advance_device(earliest(target, next > now ? next : now + 1u));
-        all_due_ran = run_due(&budget, &next);
-        ended = all_due_ran && step_ends_early();
+    bool all_due_ran = run_due(s, &budget, &next);
+    bool ended = all_due_ran && step_ends_early(s);
+    while (!ended && all_due_ran && budget > 0 && device_now(s) < target) {
+        uint64_t now = device_now(s);
+        if (next > target && !gripper_touched_any()) {
+            simclock_advance_device(s->clock, target); /* nothing is due on the way */
+            break;
+        }
+        simclock_advance_device(s->clock, earliest(target, next > now ? next : now + 1u));
+        all_due_ran = run_due(s, &budget, &next);
+        ended = all_due_ran && step_ends_early(s);
     }
     if (ended) {
-        target = hal_clock_now_us();
+        target = device_now(s);
     }
-    in_catch_up = false;
-    finish_step_if_done();
-    bool left = !all_due_ran || hal_clock_now_us() < target;
-    return left ? hal_clock_now_us() : next;
+    s->in_catch_up = false;
+    finish_step_if_done(s);
+    bool left = !all_due_ran || device_now(s) < target;
+    s->next_us = left ? 0u : next;
+    return left ? device_now(s) : next;
 }
 
-uint64_t simctl_tick(void)
+/* Nothing is due up to target and nothing was touched: the device time
+ * moves there and nothing else is looked at. */
+static bool nothing_due(const simctl_sched_t *s, uint64_t target)
 {
-    uint64_t lag = simctl_lag_us(); /* how late the loop woke */
-    if (lag > max_lag_us) {
-        max_lag_us = lag;
+    return target < s->next_us && !s->step.running && !s->in_catch_up && !gripper_touched_any() &&
+           target < scenario_next_us(s->scenario);
+}
+
+uint64_t simctl_tick(simctl_sched_t *s)
+{
+    uint64_t target = simclock_now_us(s->clock); /* read once per pass */
+    uint64_t lag = lag_behind(s, target);        /* how late the loop woke */
+    if (lag > s->max_lag_us) {
+        s->max_lag_us = lag;
     }
-    return catch_up();
+    if (nothing_due(s, target)) {
+        simclock_advance_device(s->clock, target);
+        return earliest(s->next_us, scenario_next_us(s->scenario));
+    }
+    return catch_up(s, target);
 }
 
-void simctl_step_begin(uint64_t us)
+void simctl_step_begin(simctl_sched_t *s, uint64_t us)
 {
-    simctl_step_until_begin(us, NULL, NULL);
+    simctl_step_until_begin(s, us, NULL, NULL);
 }
 
-void simctl_step_until_begin(uint64_t us, bool (*done)(void *ctx), void *ctx)
+void simctl_step_until_begin(simctl_sched_t *s, uint64_t us, bool (*done)(void *ctx), void *ctx)
 {
-    simclock_step(us); /* a step is not lateness: no lag is recorded */
-    step.running = true;
-    step.until_us = simclock_now_us();
-    step.done_early = done;
-    step.done_early_ctx = ctx;
+    simclock_step(s->clock, us); /* a step is not lateness: no lag is recorded */
+    s->next_us = 0u;
+    s->step.running = true;
+    s->step.until_us = simclock_now_us(s->clock);
+    s->step.done_early = done;
+    s->step.done_early_ctx = ctx;
 }
 
-bool simctl_step_running(void)
+bool simctl_step_running(const simctl_sched_t *s)
 {
-    return step.running;
+    return s->step.running;
 }
 
-void simctl_step_finish(void)
+void simctl_step_finish(simctl_sched_t *s)
 {
-    while (step.running) {
-        catch_up();
+    while (s->step.running) {
+        catch_up(s, simclock_now_us(s->clock));
     }
 }
 
-void simctl_step_on_done(void (*on_done)(void))
+void simctl_step_on_done(simctl_sched_t *s, void (*on_done)(void *ctx), void *ctx)
 {
-    step.on_done = on_done;
+    s->step.on_done = on_done;
+    s->step.on_done_ctx = ctx;
 }

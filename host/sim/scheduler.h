@@ -1,37 +1,68 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* Runs everything that lives on the simulated clock — the device, the
- * scenario and delayed replies — and steps the paused clock. */
+/* Runs everything that lives on the simulated clock — the devices, the
+ * scenario and delayed replies — and steps the paused clock. An instance,
+ * embedded by the control side (host/sim/control.c). */
 #ifndef SIM_SCHEDULER_H
 #define SIM_SCHEDULER_H
 
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "clock.h"
+#include "scenario.h"
+
+typedef struct {
+    simclock_t *clock;
+    scenario_t *scenario;
+    uint64_t max_lag_us; /* the largest lag at a wake-up of the loop */
+    bool in_catch_up;    /* a scenario event may PAUSE or SCALE: no nesting */
+    /* The earliest deadlines as last seen, so a pass with nothing due
+     * compares a few numbers and looks at the touched list, nothing more.
+     * The fleet's moves only when a device is ticked or touched (input, a
+     * connection opened or closed, a control command); the delayed
+     * replies' only when a reply is held (inside a device's tick or input)
+     * or released. */
+    uint64_t fleet_due_us;
+    uint64_t delay_due_us;
+    uint64_t next_us; /* the earliest of them and the scenario's; 0: look */
+    struct {
+        bool running;
+        uint64_t until_us; /* the device time at which the STEP is done */
+        void (*on_done)(void *ctx);
+        void *on_done_ctx;
+        bool (*done_early)(void *ctx); /* a step until: true ends it now */
+        void *done_early_ctx;
+    } step;
+} simctl_sched_t;
+
+/* Runs on clock, with the scenario's commands among what is due. */
+void simctl_scheduler_init(simctl_sched_t *s, simclock_t *clock, scenario_t *scenario);
+
 /* Moves the device time towards the clock's target, stopping at every
- * deadline of the device, the scenario and delayed replies and running what
+ * deadline of the devices, the scenario and delayed replies and running what
  * is due there. Does one bounded slice of work, so the loop serves the
  * sockets between slices of a long STEP or of many scenario events; returns
  * the next simulated time at which anything is due (the present device time
  * while work is left). */
-uint64_t simctl_tick(void);
+uint64_t simctl_tick(simctl_sched_t *s);
 
 /* While paused: moves simulated time forward by us; the device time follows
  * slice by slice in simctl_tick(), running everything due on the way at its
  * own instant. on_done (if set) is called once the device time got there. */
-void simctl_step_begin(uint64_t us);
+void simctl_step_begin(simctl_sched_t *s, uint64_t us);
 /* A step of at most us that ends early, at the first instant at which
  * done(ctx) is true (asked after everything due at each instant has run);
  * simulated time then stays at that instant. */
-void simctl_step_until_begin(uint64_t us, bool (*done)(void *ctx), void *ctx);
-bool simctl_step_running(void);
+void simctl_step_until_begin(simctl_sched_t *s, uint64_t us, bool (*done)(void *ctx), void *ctx);
+bool simctl_step_running(const simctl_sched_t *s);
 /* Runs the rest of the STEP now (callers without an event loop). */
-void simctl_step_finish(void);
-void simctl_step_on_done(void (*on_done)(void));
+void simctl_step_finish(simctl_sched_t *s);
+void simctl_step_on_done(simctl_sched_t *s, void (*on_done)(void *ctx), void *ctx);
 
 /* How far the device time is behind the clock's target right now. */
-uint64_t simctl_lag_us(void);
+uint64_t simctl_lag_us(const simctl_sched_t *s);
 /* The largest lag at a wake-up of the loop since start or reset. */
-uint64_t simctl_max_lag_us(void);
-void simctl_reset_max_lag(void);
+uint64_t simctl_max_lag_us(const simctl_sched_t *s);
+void simctl_reset_max_lag(simctl_sched_t *s);
 
 #endif

@@ -16,7 +16,7 @@
 
 /* One event's text, built once and shared by every stream of its device
  * that sends it at its slot's tick. */
-typedef struct web_event {
+struct web_event {
     struct web_event *next;
     const gripper_t *gripper;
     uint64_t fire;  /* when it was built */
@@ -24,10 +24,11 @@ typedef struct web_event {
     unsigned users; /* streams sending it; freed with the last */
     size_t len;
     char *text;
-} web_event_t;
+};
 
-typedef struct web_stream {
+struct web_stream {
     struct web_stream *prev, *next; /* in its slot's list */
+    web_app_t *app;                 /* the server's routes: its events, the state */
     struct MHD_Connection *connection;
     gripper_t *gripper;
     unsigned slot;
@@ -36,84 +37,71 @@ typedef struct web_stream {
     bool due;       /* a tick came since the last event was built */
     bool suspended; /* waiting for the next tick */
     bool ended;     /* shutting down: end of stream */
-} web_stream_t;
+};
 
-/* The period is cut into EVENT_SLOTS slots and each stream is woken in one
- * of them, the emptiest when it opened: 200 streams wake 25 at a time, so
- * a GCL request never waits behind all of them. A slot without streams
- * wakes nobody; one stream wakes the loop once per period. */
-#define EVENT_SLOTS 8u
+#define EVENT_SLOTS WEB_EVENTS_SLOTS
 #define SLOT_NS (WEB_EVENTS_PERIOD_MS * NS_PER_MS / EVENT_SLOTS)
 
-static struct {
-    web_stream_t *slot_first[EVENT_SLOTS];
-    unsigned slot_count[EVENT_SLOTS];
-    unsigned count;
-    web_event_t *shared;   /* the events some stream is still sending */
-    uint64_t origin_ns;    /* when slot 0 of tick 0 was due */
-    uint64_t fire;         /* the last slot that fired, counted from the origin */
-    uint64_t next_fire;    /* the next slot with streams ... */
-    uint64_t next_tick_ns; /* ... and when it is due; 0: no stream */
-} events;
-
 /* The next slot after `after` that has streams, or none. */
-static void schedule_after(uint64_t after)
+static void schedule_after(web_events_t *events, uint64_t after)
 {
-    events.next_tick_ns = 0;
+    events->next_tick_ns = 0;
     for (uint64_t f = after + 1u; f <= after + EVENT_SLOTS; f++) {
-        if (events.slot_count[f % EVENT_SLOTS] != 0u) {
-            events.next_fire = f;
-            events.next_tick_ns = events.origin_ns + f * SLOT_NS;
+        if (events->slot_count[f % EVENT_SLOTS] != 0u) {
+            events->next_fire = f;
+            events->next_tick_ns = events->origin_ns + f * SLOT_NS;
             return;
         }
     }
 }
 
-static unsigned emptiest_slot(void)
+static unsigned emptiest_slot(const web_events_t *events)
 {
     unsigned best = 0;
     for (unsigned i = 1; i < EVENT_SLOTS; i++) {
-        best = events.slot_count[i] < events.slot_count[best] ? i : best;
+        best = events->slot_count[i] < events->slot_count[best] ? i : best;
     }
     return best;
 }
 
 static void link_stream(web_stream_t *s)
 {
-    if (events.count++ == 0) {
-        events.origin_ns = loop_monotonic_ns();
-        events.fire = 0;
+    web_events_t *events = &s->app->events;
+    if (events->count++ == 0) {
+        events->origin_ns = loop_monotonic_ns();
+        events->fire = 0;
     }
-    s->slot = emptiest_slot();
+    s->slot = emptiest_slot(events);
     s->prev = NULL;
-    s->next = events.slot_first[s->slot];
+    s->next = events->slot_first[s->slot];
     if (s->next != NULL) {
         s->next->prev = s;
     }
-    events.slot_first[s->slot] = s;
-    events.slot_count[s->slot]++;
-    schedule_after(events.fire);
+    events->slot_first[s->slot] = s;
+    events->slot_count[s->slot]++;
+    schedule_after(events, events->fire);
 }
 
 static void unlink_stream(web_stream_t *s)
 {
+    web_events_t *events = &s->app->events;
     if (s->prev != NULL) {
         s->prev->next = s->next;
     } else {
-        events.slot_first[s->slot] = s->next;
+        events->slot_first[s->slot] = s->next;
     }
     if (s->next != NULL) {
         s->next->prev = s->prev;
     }
-    events.slot_count[s->slot]--;
-    events.count--;
-    schedule_after(events.fire);
+    events->slot_count[s->slot]--;
+    events->count--;
+    schedule_after(events, events->fire);
 }
 
-static web_event_t *find_event(const gripper_t *g, uint64_t tick)
+static web_event_t *find_event(const web_events_t *events, const gripper_t *g, uint64_t tick)
 {
-    for (web_event_t *e = events.shared; e != NULL; e = e->next) {
-        if (e->gripper == g && e->fire == events.fire && e->tick == tick) {
+    for (web_event_t *e = events->shared; e != NULL; e = e->next) {
+        if (e->gripper == g && e->fire == events->fire && e->tick == tick) {
             return e;
         }
     }
@@ -125,12 +113,14 @@ static web_event_t *find_event(const gripper_t *g, uint64_t tick)
  * included) and show a reader which ticks it lost. */
 static uint64_t tick_of(const web_stream_t *s)
 {
-    return events.fire >= s->slot ? (events.fire - s->slot) / EVENT_SLOTS + 1u : 0u;
+    const web_events_t *events = &s->app->events;
+    return events->fire >= s->slot ? (events->fire - s->slot) / EVENT_SLOTS + 1u : 0u;
 }
 
 /* "id: TICK\nevent: state\ndata: {...}\n\n" with the newest state. */
-static web_event_t *new_event(gripper_t *g, uint64_t tick)
+static web_event_t *new_event(web_app_t *app, gripper_t *g, uint64_t tick)
 {
+    web_events_t *events = &app->events;
     web_event_t *e = calloc(1, sizeof(*e));
     if (e == NULL) {
         return NULL;
@@ -141,7 +131,7 @@ static web_event_t *new_event(gripper_t *g, uint64_t tick)
     web_json_t j;
     web_json_init(&j);
     web_json_raw(&j, head, (size_t)head_len);
-    web_state_write(&j, g);
+    web_state_write(app, &j, g);
     web_json_raw(&j, "\n\n", 2u);
     e->text = web_json_take(&j, &e->len);
     if (e->text == NULL) {
@@ -149,10 +139,10 @@ static web_event_t *new_event(gripper_t *g, uint64_t tick)
         return NULL;
     }
     e->gripper = g;
-    e->fire = events.fire;
+    e->fire = events->fire;
     e->tick = tick;
-    e->next = events.shared;
-    events.shared = e;
+    e->next = events->shared;
+    events->shared = e;
     return e;
 }
 
@@ -161,8 +151,8 @@ static web_event_t *new_event(gripper_t *g, uint64_t tick)
 static bool take_event(web_stream_t *s)
 {
     uint64_t tick = tick_of(s);
-    web_event_t *e = find_event(s->gripper, tick);
-    if (e == NULL && (e = new_event(s->gripper, tick)) == NULL) {
+    web_event_t *e = find_event(&s->app->events, s->gripper, tick);
+    if (e == NULL && (e = new_event(s->app, s->gripper, tick)) == NULL) {
         return false;
     }
     e->users++;
@@ -178,7 +168,7 @@ static void release_event(web_stream_t *s)
     if (e == NULL || --e->users != 0u) {
         return;
     }
-    for (web_event_t **p = &events.shared; *p != NULL; p = &(*p)->next) {
+    for (web_event_t **p = &s->app->events.shared; *p != NULL; p = &(*p)->next) {
         if (*p == e) {
             *p = e->next;
             break;
@@ -232,6 +222,7 @@ enum MHD_Result web_events_route(const web_request_t *req, gripper_t *g)
     if (s == NULL) {
         return MHD_NO;
     }
+    s->app = req->app;
     s->connection = req->connection;
     s->gripper = g;
     s->due = true; /* the first event at once */
@@ -242,7 +233,7 @@ enum MHD_Result web_events_route(const web_request_t *req, gripper_t *g)
         return MHD_NO;
     }
     link_stream(s);
-    web_lines_watch();
+    web_lines_watch(&req->app->lines);
     MHD_add_response_header(response, MHD_HTTP_HEADER_CONTENT_TYPE, "text/event-stream");
     MHD_add_response_header(response, MHD_HTTP_HEADER_CACHE_CONTROL, "no-store");
     enum MHD_Result result = MHD_queue_response(req->connection, MHD_HTTP_OK, response);
@@ -250,9 +241,9 @@ enum MHD_Result web_events_route(const web_request_t *req, gripper_t *g)
     return result;
 }
 
-uint64_t web_events_next_tick_ns(void)
+uint64_t web_events_next_tick_ns(const web_events_t *events)
 {
-    return events.next_tick_ns;
+    return events->next_tick_ns;
 }
 
 static void resume(web_stream_t *s)
@@ -263,36 +254,36 @@ static void resume(web_stream_t *s)
     }
 }
 
-static void wake_slot(unsigned slot)
+static void wake_slot(web_events_t *events, unsigned slot)
 {
-    for (web_stream_t *s = events.slot_first[slot]; s != NULL; s = s->next) {
+    for (web_stream_t *s = events->slot_first[slot]; s != NULL; s = s->next) {
         s->due = true;
         resume(s);
     }
 }
 
-bool web_events_tick(uint64_t now_ns)
+bool web_events_tick(web_events_t *events, uint64_t now_ns)
 {
-    if (events.next_tick_ns == 0 || now_ns < events.next_tick_ns) {
+    if (events->next_tick_ns == 0 || now_ns < events->next_tick_ns) {
         return false;
     }
     /* every slot due since the last tick wakes once: a late loop skips
      * the ticks it missed */
-    uint64_t now_fire = (now_ns - events.origin_ns) / SLOT_NS;
-    uint64_t first =
-        now_fire - events.next_fire >= EVENT_SLOTS ? now_fire - EVENT_SLOTS + 1u : events.next_fire;
-    events.fire = now_fire;
+    uint64_t now_fire = (now_ns - events->origin_ns) / SLOT_NS;
+    uint64_t first = now_fire - events->next_fire >= EVENT_SLOTS ? now_fire - EVENT_SLOTS + 1u
+                                                                 : events->next_fire;
+    events->fire = now_fire;
     for (uint64_t f = first; f <= now_fire; f++) {
-        wake_slot((unsigned)(f % EVENT_SLOTS));
+        wake_slot(events, (unsigned)(f % EVENT_SLOTS));
     }
-    schedule_after(now_fire);
+    schedule_after(events, now_fire);
     return true;
 }
 
-void web_events_end_all(void)
+void web_events_end_all(web_events_t *events)
 {
     for (unsigned slot = 0; slot < EVENT_SLOTS; slot++) {
-        for (web_stream_t *s = events.slot_first[slot]; s != NULL; s = s->next) {
+        for (web_stream_t *s = events->slot_first[slot]; s != NULL; s = s->next) {
             s->ended = true;
             resume(s);
         }

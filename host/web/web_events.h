@@ -13,13 +13,34 @@
 #include <stdint.h>
 
 #define WEB_EVENTS_PERIOD_MS 40u /* 25 Hz */
+/* The period is cut into WEB_EVENTS_SLOTS slots and each stream is woken in
+ * one of them, the emptiest when it opened: 200 streams wake 25 at a time,
+ * so a GCL request never waits behind all of them. A slot without streams
+ * wakes nobody; one stream wakes the loop once per period. */
+#define WEB_EVENTS_SLOTS 8u
+
+typedef struct web_stream web_stream_t;
+typedef struct web_event web_event_t;
+
+/* One web server's event streams (embedded in its routes' state; zeroed:
+ * none). */
+typedef struct web_events {
+    web_stream_t *slot_first[WEB_EVENTS_SLOTS];
+    unsigned slot_count[WEB_EVENTS_SLOTS];
+    unsigned count;
+    web_event_t *shared;   /* the events some stream is still sending */
+    uint64_t origin_ns;    /* when slot 0 of tick 0 was due */
+    uint64_t fire;         /* the last slot that fired, counted from the origin */
+    uint64_t next_fire;    /* the next slot with streams ... */
+    uint64_t next_tick_ns; /* ... and when it is due; 0: no stream */
+} web_events_t;
 
 /* When the next tick is due (monotonic ns), 0 without streams. */
-uint64_t web_events_next_tick_ns(void);
+uint64_t web_events_next_tick_ns(const web_events_t *events);
 /* At or after the tick: marks every stream due and resumes the waiting
  * ones; true when it did (MHD must run). */
-bool web_events_tick(uint64_t now_ns);
+bool web_events_tick(web_events_t *events, uint64_t now_ns);
 /* Ends every stream (shutdown): each is resumed and finishes. */
-void web_events_end_all(void);
+void web_events_end_all(web_events_t *events);
 
 #endif

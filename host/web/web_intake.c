@@ -2,6 +2,7 @@
 #include "web/web_intake.h"
 
 #include <netinet/in.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
 
@@ -27,12 +28,26 @@ struct web_intake_conn {
 /* Every rule looks only at the connections whose request is arriving,
  * never at the whole pool: a request costs the same with 10 or 250 event
  * streams open. */
-static struct {
+struct web_intake {
     web_intake_conn_t conns[WEB_INTAKE_CONNECTIONS_MAX];
     web_intake_conn_t *free;
     web_intake_conn_t *oldest, *newest; /* the arriving list */
     uint64_t deadline_ns;
-} intake;
+};
+
+web_intake_t *web_intake_create(void)
+{
+    web_intake_t *intake = calloc(1, sizeof(*intake));
+    if (intake != NULL) {
+        web_intake_reset(intake, 0);
+    }
+    return intake;
+}
+
+void web_intake_destroy(web_intake_t *intake)
+{
+    free(intake);
+}
 
 static client_key_t client_key(const struct sockaddr *addr)
 {
@@ -53,21 +68,21 @@ static client_key_t client_key(const struct sockaddr *addr)
     return key;
 }
 
-static void start_arriving(web_intake_conn_t *c, uint64_t now)
+static void start_arriving(web_intake_t *intake, web_intake_conn_t *c, uint64_t now)
 {
     c->arriving = true;
     c->since_ns = now;
-    c->prev = intake.newest;
+    c->prev = intake->newest;
     c->next = NULL;
-    if (intake.newest != NULL) {
-        intake.newest->next = c;
+    if (intake->newest != NULL) {
+        intake->newest->next = c;
     } else {
-        intake.oldest = c;
+        intake->oldest = c;
     }
-    intake.newest = c;
+    intake->newest = c;
 }
 
-static void stop_arriving(web_intake_conn_t *c)
+static void stop_arriving(web_intake_t *intake, web_intake_conn_t *c)
 {
     if (!c->arriving) {
         return;
@@ -76,31 +91,31 @@ static void stop_arriving(web_intake_conn_t *c)
     if (c->prev != NULL) {
         c->prev->next = c->next;
     } else {
-        intake.oldest = c->next;
+        intake->oldest = c->next;
     }
     if (c->next != NULL) {
         c->next->prev = c->prev;
     } else {
-        intake.newest = c->prev;
+        intake->newest = c->prev;
     }
     c->prev = c->next = NULL;
 }
 
-void web_intake_reset(uint64_t deadline_ns)
+void web_intake_reset(web_intake_t *intake, uint64_t deadline_ns)
 {
-    memset(&intake, 0, sizeof(intake));
-    intake.deadline_ns = deadline_ns;
+    memset(intake, 0, sizeof(*intake));
+    intake->deadline_ns = deadline_ns;
     for (unsigned i = WEB_INTAKE_CONNECTIONS_MAX; i-- > 0;) {
-        intake.conns[i].next = intake.free;
-        intake.free = &intake.conns[i];
+        intake->conns[i].next = intake->free;
+        intake->free = &intake->conns[i];
     }
 }
 
-bool web_intake_admits(const struct sockaddr *addr)
+bool web_intake_admits(const web_intake_t *intake, const struct sockaddr *addr)
 {
     client_key_t key = client_key(addr);
     unsigned arriving = 0;
-    for (const web_intake_conn_t *c = intake.oldest; c != NULL; c = c->next) {
+    for (const web_intake_conn_t *c = intake->oldest; c != NULL; c = c->next) {
         if (memcmp(&c->client, &key, sizeof(key)) == 0) {
             arriving++;
         }
@@ -108,58 +123,59 @@ bool web_intake_admits(const struct sockaddr *addr)
     return arriving < WEB_INTAKE_PER_ADDRESS;
 }
 
-web_intake_conn_t *web_intake_open(int fd, const struct sockaddr *addr, uint64_t now)
+web_intake_conn_t *web_intake_open(web_intake_t *intake, int fd, const struct sockaddr *addr,
+                                   uint64_t now)
 {
-    web_intake_conn_t *c = intake.free;
+    web_intake_conn_t *c = intake->free;
     if (c == NULL) {
         return NULL;
     }
-    intake.free = c->next;
+    intake->free = c->next;
     *c = (web_intake_conn_t){.in_use = true, .fd = fd, .client = client_key(addr)};
-    start_arriving(c, now);
+    start_arriving(intake, c, now);
     return c;
 }
 
-void web_intake_arrived(web_intake_conn_t *conn)
+void web_intake_arrived(web_intake_t *intake, web_intake_conn_t *conn)
 {
     if (conn != NULL) {
-        stop_arriving(conn);
+        stop_arriving(intake, conn);
     }
 }
 
-void web_intake_waiting(web_intake_conn_t *conn, uint64_t now)
+void web_intake_waiting(web_intake_t *intake, web_intake_conn_t *conn, uint64_t now)
 {
     if (conn != NULL) {
-        stop_arriving(conn); /* a connection arrives once, from now */
-        start_arriving(conn, now);
+        stop_arriving(intake, conn); /* a connection arrives once, from now */
+        start_arriving(intake, conn, now);
     }
 }
 
-void web_intake_close(web_intake_conn_t *conn)
+void web_intake_close(web_intake_t *intake, web_intake_conn_t *conn)
 {
     if (conn != NULL && conn->in_use) {
-        stop_arriving(conn);
+        stop_arriving(intake, conn);
         conn->in_use = false;
-        conn->next = intake.free;
-        intake.free = conn;
+        conn->next = intake->free;
+        intake->free = conn;
     }
 }
 
-unsigned web_intake_cut_late(uint64_t now)
+unsigned web_intake_cut_late(web_intake_t *intake, uint64_t now)
 {
     unsigned cut = 0;
     web_intake_conn_t *c;
-    while ((c = intake.oldest) != NULL && now >= c->since_ns + intake.deadline_ns) {
+    while ((c = intake->oldest) != NULL && now >= c->since_ns + intake->deadline_ns) {
         /* MHD reads the end of the stream and closes it in its next run;
          * until then it is neither arriving nor cut again */
         shutdown(c->fd, SHUT_RDWR);
-        stop_arriving(c);
+        stop_arriving(intake, c);
         cut++;
     }
     return cut;
 }
 
-uint64_t web_intake_next_due_ns(void)
+uint64_t web_intake_next_due_ns(const web_intake_t *intake)
 {
-    return intake.oldest != NULL ? intake.oldest->since_ns + intake.deadline_ns : 0u;
+    return intake->oldest != NULL ? intake->oldest->since_ns + intake->deadline_ns : 0u;
 }

@@ -25,23 +25,30 @@
 #define WEB_INTAKE_CONNECTIONS_MAX 256u
 
 typedef struct web_intake_conn web_intake_conn_t;
+/* One web server's connection records. */
+typedef struct web_intake web_intake_t;
 
+/* Empty, with no deadline yet (web_intake_reset() sets one); NULL: out of
+ * memory. */
+web_intake_t *web_intake_create(void);
+void web_intake_destroy(web_intake_t *intake);
 /* Starts with no connection and this deadline for a request to arrive. */
-void web_intake_reset(uint64_t deadline_ns);
+void web_intake_reset(web_intake_t *intake, uint64_t deadline_ns);
 /* Whether a client at addr may open one more connection. */
-bool web_intake_admits(const struct sockaddr *addr);
+bool web_intake_admits(const web_intake_t *intake, const struct sockaddr *addr);
 /* A connection was opened on socket fd by addr at now; its record (NULL
  * when the pool is full: the caller closes it). */
-web_intake_conn_t *web_intake_open(int fd, const struct sockaddr *addr, uint64_t now);
+web_intake_conn_t *web_intake_open(web_intake_t *intake, int fd, const struct sockaddr *addr,
+                                   uint64_t now);
 /* Its request has arrived in full (it is being answered). */
-void web_intake_arrived(web_intake_conn_t *conn);
+void web_intake_arrived(web_intake_t *intake, web_intake_conn_t *conn);
 /* Its reply is done: it waits for its next request from now. */
-void web_intake_waiting(web_intake_conn_t *conn, uint64_t now);
+void web_intake_waiting(web_intake_t *intake, web_intake_conn_t *conn, uint64_t now);
 /* It is closed; its record is free. */
-void web_intake_close(web_intake_conn_t *conn);
+void web_intake_close(web_intake_t *intake, web_intake_conn_t *conn);
 /* Shuts down every connection whose request is late at now; the number. */
-unsigned web_intake_cut_late(uint64_t now);
+unsigned web_intake_cut_late(web_intake_t *intake, uint64_t now);
 /* When the oldest arriving request is due (monotonic ns), 0: none. */
-uint64_t web_intake_next_due_ns(void);
+uint64_t web_intake_next_due_ns(const web_intake_t *intake);
 
 #endif

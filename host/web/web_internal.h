@@ -11,18 +11,57 @@
 #include <microhttpd.h>
 
 #include "gripper.h"
+#include "sim/control.h"
+#include "web/web_events.h"
+#include "web/web_lines.h"
 #include "wsg/wsg_status.h"
 
 /* A request body larger than this is refused with 413. */
 #define WEB_BODY_MAX 4096u
 
+/* web_ops.c: each device's web owner, allocated at the first operation. */
+typedef struct web_owner web_owner_t;
 typedef struct {
+    web_owner_t *owners; /* one per device, NULL until the first op */
+    unsigned count;
+} web_ops_t;
+
+/* web_static.c: a file of Debian's libjs-dygraphs, read at its first request
+ * and kept until the server stops. */
+typedef struct {
+    const char *name;
+    const char *content_type;
+    unsigned char *bytes; /* NULL: not read yet */
+    size_t len;
+} web_system_file_t;
+#define WEB_SYSTEM_FILE_COUNT 2u
+
+/* What the routes of one web server keep between requests: its event
+ * streams, the connection lines, the devices' web owners and the chart
+ * library. Embedded in the server (web_server.c); the fuzz target of the
+ * routes has one of its own. */
+typedef struct web_app {
+    web_events_t events;
+    web_lines_t lines;
+    web_ops_t ops;
+    web_system_file_t system_files[WEB_SYSTEM_FILE_COUNT];
+} web_app_t;
+
+/* web_routes.c: nothing kept yet, the lines off. */
+void web_app_init(web_app_t *app);
+/* Detaches the web's owners from their devices, frees the lines and the
+ * files read (shutdown, while the devices exist). */
+void web_app_release(web_app_t *app);
+
+typedef struct {
+    web_app_t *app; /* the server's routes that answer it */
     struct MHD_Connection *connection;
     const char *method;
     const char *url;
     const char *body; /* NUL-terminated; "" when none */
     size_t body_len;
     bool sim_allowed; /* the peer may use the simulation routes */
+    simctl_t *sim;    /* runs them */
 } web_request_t;
 
 /* A JSON reply: takes ownership of json. */
@@ -57,19 +96,20 @@ void web_device_sense(gripper_t *g);
 
 /* web_state.c: GET /api/devices/{id}/state, one JSON object written to j. */
 struct web_json;
-void web_state_write(struct web_json *j, gripper_t *g);
+void web_state_write(web_app_t *app, struct web_json *j, gripper_t *g);
 /* web_settings.c */
 enum MHD_Result web_settings_route(const web_request_t *req, gripper_t *g, const char *rest);
 /* web_ops.c: POST /api/devices/{id}/ops/{op} */
 enum MHD_Result web_ops_route(const web_request_t *req, gripper_t *g, const char *op);
 /* web_ops.c: the last long operation the web started on g, for the state
  * (null when none). */
-void web_ops_last_write(struct web_json *j, const char *key, const gripper_t *g);
+void web_ops_last_write(const web_ops_t *ops, struct web_json *j, const char *key,
+                        const gripper_t *g);
 /* A JSON reply whose text came from web_json_take(): takes ownership of it
  * (NULL: no reply, the connection is closed). */
 enum MHD_Result web_reply_json_text(const web_request_t *req, unsigned http_status, char *text);
 /* Detaches the web's owners from their devices (shutdown). */
-void web_ops_forget(void);
+void web_ops_forget(web_ops_t *ops);
 /* web_sim.c: POST /api/devices/{id}/sim/{what} */
 enum MHD_Result web_sim_route(const web_request_t *req, gripper_t *g, const char *what);
 /* web_events.c: GET /api/devices/{id}/events */
@@ -82,5 +122,8 @@ enum MHD_Result web_files_route(const web_request_t *req, gripper_t *g, const ch
 enum MHD_Result web_system_route(const web_request_t *req, gripper_t *g);
 /* web_static.c: GET /, /devices/{id}, /static/NAME; false: not a page path */
 bool web_static_route(const web_request_t *req, enum MHD_Result *result);
+/* web_static.c: the files of web_system_file_t, none read yet / freed. */
+void web_static_init(web_system_file_t *files);
+void web_static_release(web_system_file_t *files);
 
 #endif

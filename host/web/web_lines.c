@@ -22,56 +22,53 @@ typedef struct {
     char bytes[LINE_CHARS];
 } line_t;
 
-typedef struct {
+struct web_lines_ring {
     const wsg_device_t *device;
     uint64_t id;    /* 0: free */
     unsigned head;  /* the next line's place */
     unsigned count; /* lines kept, at most WEB_LINES_KEPT */
     bool binary;    /* its first message was a binary frame */
     line_t lines[WEB_LINES_KEPT];
-} ring_t;
+};
 
-static struct {
-    ring_t *rings; /* SLOTS of them while enabled */
-} lines;
+typedef web_lines_ring_t ring_t;
 
-bool web_lines_watched;
-
-void web_lines_enable(void)
+void web_lines_enable(web_lines_t *lines)
 {
-    if (lines.rings == NULL) {
-        lines.rings = calloc(SLOTS, sizeof(*lines.rings));
+    if (lines->rings == NULL) {
+        lines->rings = calloc(SLOTS, sizeof(*lines->rings));
     }
 }
 
-void web_lines_disable(void)
+void web_lines_disable(web_lines_t *lines)
 {
-    free(lines.rings);
-    lines.rings = NULL;
-    web_lines_watched = false;
+    free(lines->rings);
+    lines->rings = NULL;
+    lines->watched = false;
 }
 
-bool web_lines_enabled(void)
+bool web_lines_enabled(const web_lines_t *lines)
 {
-    return lines.rings != NULL;
+    return lines->rings != NULL;
 }
 
-void web_lines_watch(void)
+void web_lines_watch(web_lines_t *lines)
 {
-    web_lines_watched = lines.rings != NULL;
+    lines->watched = lines->rings != NULL;
 }
 
-static ring_t *slot_of(const wsg_device_t *device, uint64_t id)
+static ring_t *slot_of(const web_lines_t *lines, const wsg_device_t *device, uint64_t id)
 {
     uint64_t hash = (id ^ (uint64_t)((uintptr_t)device >> 4)) * 0x9E3779B97F4A7C15ull;
-    return &lines.rings[(hash >> 56) & (SLOTS - 1u)];
+    return &lines->rings[(hash >> 56) & (SLOTS - 1u)];
 }
 
-void web_lines_record(const wsg_conn_t *c, bool incoming, const char *bytes, size_t len)
+void web_lines_record(web_lines_t *lines, const wsg_conn_t *c, bool incoming, const char *bytes,
+                      size_t len)
 {
     uint64_t id = wsg_conn_id(c);
     const wsg_device_t *device = wsg_conn_device(c);
-    ring_t *r = slot_of(device, id);
+    ring_t *r = slot_of(lines, device, id);
     if (r->id != id || r->device != device) {
         r->id = id;
         r->device = device;
@@ -113,18 +110,18 @@ static void format_frame(char *out, size_t cap, const line_t *line)
              name != NULL ? name : "unknown", line->len);
 }
 
-static const ring_t *find(const wsg_conn_t *c)
+static const ring_t *find(const web_lines_t *lines, const wsg_conn_t *c)
 {
-    if (lines.rings == NULL) {
+    if (lines->rings == NULL) {
         return NULL;
     }
-    const ring_t *r = slot_of(wsg_conn_device(c), wsg_conn_id(c));
+    const ring_t *r = slot_of(lines, wsg_conn_device(c), wsg_conn_id(c));
     return r->id == wsg_conn_id(c) && r->device == wsg_conn_device(c) ? r : NULL;
 }
 
-void web_lines_write(web_json_t *j, const char *key, const wsg_conn_t *c)
+void web_lines_write(const web_lines_t *lines, web_json_t *j, const char *key, const wsg_conn_t *c)
 {
-    const ring_t *r = find(c);
+    const ring_t *r = find(lines, c);
     char text[LINE_CHARS + 3u];
     web_json_open_array(j, key);
     for (unsigned i = 0; r != NULL && i < r->count; i++) {
@@ -139,26 +136,24 @@ void web_lines_write(web_json_t *j, const char *key, const wsg_conn_t *c)
     web_json_close_array(j);
 }
 
-const char *web_lines_protocol(const wsg_conn_t *c)
+const char *web_lines_protocol(const web_lines_t *lines, const wsg_conn_t *c)
 {
     wsg_gcl_conn_info_t info;
     if (wsg_gcl_conn_info(c, &info)) {
         return "gcl";
     }
-    const ring_t *r = find(c);
+    const ring_t *r = find(lines, c);
     return r != NULL && r->binary ? "binary" : "undetected";
 }
 
 static void on_in(void *ctx, const wsg_conn_t *c, const char *bytes, size_t len)
 {
-    (void)ctx;
-    web_lines_note(c, true, bytes, len);
+    web_lines_note(ctx, c, true, bytes, len);
 }
 
 static void on_out(void *ctx, const wsg_conn_t *c, const char *bytes, size_t len)
 {
-    (void)ctx;
-    web_lines_note(c, false, bytes, len);
+    web_lines_note(ctx, c, false, bytes, len);
 }
 
 static const wsg_conn_observer_t observer = {.message_in = on_in, .message_out = on_out};

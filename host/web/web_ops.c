@@ -14,7 +14,7 @@
 #include "web/web_internal.h"
 #include "web/web_json.h"
 
-typedef struct {
+struct web_owner {
     wsg_owner_t owner; /* first: done() finds its record from it */
     gripper_t *gripper;
     bool any;            /* the web started a long operation on this device */
@@ -22,10 +22,7 @@ typedef struct {
     bool done;           /* it has ended ... */
     wsg_status_t status; /* ... with this status */
     uint64_t started_us, ended_us;
-} web_owner_t;
-
-static web_owner_t *owners; /* one per device, allocated at the first op */
-static unsigned owner_count;
+};
 
 static const char *const op_names[WSG_OP_COUNT] = {"home", "move", "grip", "release"};
 
@@ -38,25 +35,25 @@ static void on_done(wsg_owner_t *owner, wsg_op_t op, wsg_status_t status)
     w->ended_us = hal_clock_now_us();
 }
 
-static web_owner_t *owner_of(gripper_t *g)
+static web_owner_t *owner_of(web_ops_t *ops, gripper_t *g)
 {
-    if (owners == NULL) {
-        owners = calloc(fleet_count(), sizeof(*owners));
-        if (owners == NULL) {
+    if (ops->owners == NULL) {
+        ops->owners = calloc(fleet_count(), sizeof(*ops->owners));
+        if (ops->owners == NULL) {
             return NULL;
         }
-        owner_count = fleet_count();
-        for (unsigned i = 0; i < owner_count; i++) {
-            owners[i].owner.done = on_done;
-            owners[i].gripper = fleet_gripper(i);
+        ops->count = fleet_count();
+        for (unsigned i = 0; i < ops->count; i++) {
+            ops->owners[i].owner.done = on_done;
+            ops->owners[i].gripper = fleet_gripper(i);
         }
     }
-    return &owners[g->index];
+    return &ops->owners[g->index];
 }
 
-void web_ops_last_write(web_json_t *j, const char *key, const gripper_t *g)
+void web_ops_last_write(const web_ops_t *ops, web_json_t *j, const char *key, const gripper_t *g)
 {
-    const web_owner_t *w = owners != NULL ? &owners[g->index] : NULL;
+    const web_owner_t *w = ops->owners != NULL ? &ops->owners[g->index] : NULL;
     /* a power cycle (the control channel's RESET) ends a motion silently:
      * the device has forgotten it, and so does the page */
     bool forgotten = w != NULL && !w->done && !wsg_device_owns_motion(&g->device, &w->owner);
@@ -274,7 +271,7 @@ enum MHD_Result web_ops_route(const web_request_t *req, gripper_t *g, const char
     if (!known_op(op)) {
         return web_reply_error(req, MHD_HTTP_NOT_FOUND, E_NOT_FOUND, "no such operation: %s", op);
     }
-    web_owner_t *w = owner_of(g);
+    web_owner_t *w = owner_of(&req->app->ops, g);
     op_call_t call = {.req = req, .result = MHD_NO};
     call.body = web_body_object(req, &call.result);
     if (w == NULL || call.body == NULL) {
@@ -287,12 +284,12 @@ enum MHD_Result web_ops_route(const web_request_t *req, gripper_t *g, const char
     return result;
 }
 
-void web_ops_forget(void)
+void web_ops_forget(web_ops_t *ops)
 {
-    for (unsigned i = 0; owners != NULL && i < owner_count; i++) {
-        wsg_device_detach(&owners[i].gripper->device, &owners[i].owner);
+    for (unsigned i = 0; ops->owners != NULL && i < ops->count; i++) {
+        wsg_device_detach(&ops->owners[i].gripper->device, &ops->owners[i].owner);
     }
-    free(owners);
-    owners = NULL;
-    owner_count = 0;
+    free(ops->owners);
+    ops->owners = NULL;
+    ops->count = 0;
 }

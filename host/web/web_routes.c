@@ -57,10 +57,10 @@ static enum MHD_Result get_state(const web_request_t *req, gripper_t *g)
     if (!is_method(req, MHD_HTTP_METHOD_GET)) {
         return web_reply_wrong_method(req, MHD_HTTP_METHOD_GET);
     }
-    web_lines_watch();
+    web_lines_watch(&req->app->lines);
     web_json_t j;
     web_json_init(&j);
-    web_state_write(&j, g);
+    web_state_write(req->app, &j, g);
     return web_reply_json_text(req, MHD_HTTP_OK, web_json_take(&j, NULL));
 }
 
@@ -147,6 +147,19 @@ static enum MHD_Result api_route(const web_request_t *req, const char *rest)
         return not_found(req);
     }
     return device_route(req, g, after + 1);
+}
+
+void web_app_init(web_app_t *app)
+{
+    memset(app, 0, sizeof(*app));
+    web_static_init(app->system_files);
+}
+
+void web_app_release(web_app_t *app)
+{
+    web_ops_forget(&app->ops);
+    web_lines_disable(&app->lines);
+    web_static_release(app->system_files);
 }
 
 enum MHD_Result web_routes_dispatch(const web_request_t *req)

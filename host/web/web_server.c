@@ -47,20 +47,50 @@ typedef struct {
     char body[WEB_BODY_MAX + 1u];
 } web_call_t;
 
-static struct {
+struct web_server {
     host_loop_t *loop; /* the daemon's epoll descriptor is watched here */
     struct MHD_Daemon *daemon;
     int listen_fd;
     int epoll_fd;
     int port;
     bool sim_open; /* --sim-bind names a non-loopback address */
+    simctl_t *sim; /* the simulation routes' control side */
     /* --http-allow-host: the names served besides addresses and localhost */
     const char *allow_hosts[HOST_HTTP_ALLOW_LISTS_MAX];
     size_t allow_host_count;
     uint64_t mhd_due_ns;    /* MHD's next timeout (monotonic), 0: none */
     bool connection_closed; /* in this MHD_run() */
     char describe[128];
-} web = {.listen_fd = -1, .epoll_fd = -1, .port = -1};
+    web_intake_t *intake; /* the connections whose request is arriving */
+    web_app_t app;        /* what the routes keep */
+};
+
+web_server_t *web_server_create(void)
+{
+    web_server_t *web = calloc(1, sizeof(*web));
+    if (web == NULL) {
+        return NULL;
+    }
+    web->intake = web_intake_create();
+    if (web->intake == NULL) {
+        free(web);
+        return NULL;
+    }
+    web->listen_fd = -1;
+    web->epoll_fd = -1;
+    web->port = -1;
+    web_app_init(&web->app);
+    return web;
+}
+
+void web_server_destroy(web_server_t *web)
+{
+    if (web != NULL) {
+        web_server_stop(web);
+        web_intake_destroy(web->intake);
+        free(web);
+    }
+}
 
 static uint64_t earliest_nonzero(uint64_t a, uint64_t b)
 {
@@ -72,60 +102,60 @@ static uint64_t earliest_nonzero(uint64_t a, uint64_t b)
 
 /* Asks MHD when it must run next and the streams when they tick, and wakes
  * the loop then. */
-static void schedule(void)
+static void schedule(web_server_t *web)
 {
     MHD_UNSIGNED_LONG_LONG ms = 0;
     uint64_t now = loop_monotonic_ns();
-    web.mhd_due_ns = MHD_get_timeout(web.daemon, &ms) == MHD_YES ? now + ms * NS_PER_MS : 0;
-    uint64_t wake = earliest_nonzero(web.mhd_due_ns, web_events_next_tick_ns());
-    wake = earliest_nonzero(wake, web_intake_next_due_ns());
+    web->mhd_due_ns = MHD_get_timeout(web->daemon, &ms) == MHD_YES ? now + ms * NS_PER_MS : 0;
+    uint64_t wake = earliest_nonzero(web->mhd_due_ns, web_events_next_tick_ns(&web->app.events));
+    wake = earliest_nonzero(wake, web_intake_next_due_ns(web->intake));
     if (wake != 0) {
-        loop_wake_at_wall(web.loop, wake);
+        loop_wake_at_wall(web->loop, wake);
     }
 }
 
-static void run_mhd(void)
+static void run_mhd(web_server_t *web)
 {
     do {
         /* MHD takes its listening socket back into its epoll set only in the
          * run after a connection closed at its limit: run again, or a client
          * waiting in the backlog would wait for the next one to connect */
-        web.connection_closed = false;
-        MHD_run(web.daemon);
-    } while (web.connection_closed);
-    schedule();
+        web->connection_closed = false;
+        MHD_run(web->daemon);
+    } while (web->connection_closed);
+    schedule(web);
 }
 
 static void on_epoll_ready(void *ctx, int fd, short revents)
 {
-    (void)ctx;
     (void)fd;
     (void)revents;
-    run_mhd();
+    run_mhd(ctx);
 }
 
-void web_server_poll(void)
+void web_server_poll(web_server_t *web)
 {
-    uint64_t intake_due_ns = web_intake_next_due_ns();
-    if (web.daemon == NULL ||
-        (web.mhd_due_ns == 0 && web_events_next_tick_ns() == 0 && intake_due_ns == 0)) {
+    uint64_t intake_due_ns = web_intake_next_due_ns(web->intake);
+    if (web->daemon == NULL ||
+        (web->mhd_due_ns == 0 && web_events_next_tick_ns(&web->app.events) == 0 &&
+         intake_due_ns == 0)) {
         return;
     }
     uint64_t now = loop_monotonic_ns();
-    bool ticked = web_events_tick(now); /* resumes the streams that are due */
+    bool ticked = web_events_tick(&web->app.events, now); /* resumes the streams that are due */
     if (intake_due_ns != 0 && now >= intake_due_ns) {
         /* what has arrived is read first: a server held up (a loaded host,
          * valgrind) cuts no request that came in time */
-        run_mhd();
-        unsigned cut = web_intake_cut_late(now);
+        run_mhd(web);
+        unsigned cut = web_intake_cut_late(web->intake, now);
         if (cut > 0) {
             host_logf(HAL_LOG_DEBUG, "http: cut %u connection(s) whose request was late", cut);
-            run_mhd();
+            run_mhd(web);
         }
-    } else if (ticked || (web.mhd_due_ns != 0 && now >= web.mhd_due_ns)) {
-        run_mhd();
+    } else if (ticked || (web->mhd_due_ns != 0 && now >= web->mhd_due_ns)) {
+        run_mhd(web);
     } else {
-        schedule();
+        schedule(web);
     }
 }
 
@@ -141,9 +171,9 @@ static web_intake_conn_t *intake_of(struct MHD_Connection *connection)
  * WEB_INTAKE_PER_ADDRESS connections whose request is arriving. */
 static enum MHD_Result admit_client(void *cls, const struct sockaddr *addr, socklen_t addrlen)
 {
-    (void)cls;
+    const web_server_t *web = cls;
     (void)addrlen;
-    if (web_intake_admits(addr)) {
+    if (web_intake_admits(web->intake, addr)) {
         return MHD_YES;
     }
     host_logf(HAL_LOG_DEBUG, "http: refused a connection: its client has %u requests arriving",
@@ -154,11 +184,11 @@ static enum MHD_Result admit_client(void *cls, const struct sockaddr *addr, sock
 static void connection_changed(void *cls, struct MHD_Connection *connection, void **socket_context,
                                enum MHD_ConnectionNotificationCode code)
 {
-    (void)cls;
+    web_server_t *web = cls;
     if (code != MHD_CONNECTION_NOTIFY_STARTED) {
-        web_intake_close(*socket_context);
+        web_intake_close(web->intake, *socket_context);
         *socket_context = NULL;
-        web.connection_closed = true;
+        web->connection_closed = true;
         return;
     }
     const union MHD_ConnectionInfo *fd =
@@ -168,8 +198,8 @@ static void connection_changed(void *cls, struct MHD_Connection *connection, voi
     if (fd == NULL) {
         return;
     }
-    *socket_context = web_intake_open(fd->connect_fd, addr != NULL ? addr->client_addr : NULL,
-                                      loop_monotonic_ns());
+    *socket_context = web_intake_open(web->intake, fd->connect_fd,
+                                      addr != NULL ? addr->client_addr : NULL, loop_monotonic_ns());
     if (*socket_context == NULL) {
         shutdown(fd->connect_fd, SHUT_RDWR); /* no record: MHD closes it at once */
     }
@@ -178,35 +208,36 @@ static void connection_changed(void *cls, struct MHD_Connection *connection, voi
 static void request_completed(void *cls, struct MHD_Connection *connection, void **req_cls,
                               enum MHD_RequestTerminationCode toe)
 {
-    (void)cls;
+    web_server_t *web = cls;
     (void)toe;
     free(*req_cls);
     *req_cls = NULL;
-    web_intake_waiting(intake_of(connection), loop_monotonic_ns()); /* keep-alive */
+    web_intake_waiting(web->intake, intake_of(connection), loop_monotonic_ns()); /* keep-alive */
 }
 
 /* The Host header names this server (web_host.h). A request without one is
  * not a browser's (browsers always send it), and browsers are the one kind
  * of client a rebound name can fool: it is served. */
-static bool host_allowed(struct MHD_Connection *connection)
+static bool host_allowed(const web_server_t *web, struct MHD_Connection *connection)
 {
     const char *host =
         MHD_lookup_connection_value(connection, MHD_HEADER_KIND, MHD_HTTP_HEADER_HOST);
-    return host == NULL || web_host_allowed(host, web.allow_hosts, web.allow_host_count);
+    return host == NULL || web_host_allowed(host, web->allow_hosts, web->allow_host_count);
 }
 
 /* The first call of a request: its upload buffer; a foreign Host (403) or a
  * declared length that is already too large (413) is answered at once,
  * before the body is read, and MHD then closes the connection instead of
  * reading what a client claims. */
-static enum MHD_Result begin_request(struct MHD_Connection *connection, void **req_cls)
+static enum MHD_Result begin_request(const web_server_t *web, struct MHD_Connection *connection,
+                                     void **req_cls)
 {
     web_call_t *call = calloc(1, sizeof(*call));
     if (call == NULL) {
         return MHD_NO;
     }
     *req_cls = call;
-    call->foreign_host = !host_allowed(connection);
+    call->foreign_host = !host_allowed(web, connection);
     const char *length =
         MHD_lookup_connection_value(connection, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_LENGTH);
     call->too_big = length != NULL && strtoull(length, NULL, 10) > WEB_BODY_MAX;
@@ -270,10 +301,10 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *connection, cons
                               const char *method, const char *version, const char *upload_data,
                               size_t *upload_data_size, void **req_cls)
 {
-    (void)cls;
+    web_server_t *web = cls;
     (void)version;
     bool first_call = *req_cls == NULL;
-    if (first_call && begin_request(connection, req_cls) == MHD_NO) {
+    if (first_call && begin_request(web, connection, req_cls) == MHD_NO) {
         return MHD_NO;
     }
     web_call_t *call = *req_cls;
@@ -285,16 +316,18 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *connection, cons
         *upload_data_size = 0;
         return MHD_YES;
     }
-    web_intake_arrived(intake_of(connection));
+    web_intake_arrived(web->intake, intake_of(connection));
     const union MHD_ConnectionInfo *info =
         MHD_get_connection_info(connection, MHD_CONNECTION_INFO_CLIENT_ADDRESS);
     web_request_t req = {
+        .app = &web->app,
         .connection = connection,
         .method = method,
         .url = url,
         .body = call->body,
         .body_len = call->len,
-        .sim_allowed = web.sim_open || (info != NULL && web_peer_is_loopback(info->client_addr)),
+        .sim_allowed = web->sim_open || (info != NULL && web_peer_is_loopback(info->client_addr)),
+        .sim = web->sim,
     };
     if (call->foreign_host) {
         return web_reply_error(
@@ -325,22 +358,22 @@ static void log_mhd(void *cls, const char *fmt, va_list ap)
     host_logf(HAL_LOG_DEBUG, "http: %s", text);
 }
 
-static bool open_daemon(void)
+static bool open_daemon(web_server_t *web)
 {
     /* the logger first: MHD logs (and complains) while reading the options */
-    web.daemon = MHD_start_daemon(
-        MHD_USE_EPOLL | MHD_ALLOW_SUSPEND_RESUME | MHD_USE_ERROR_LOG, 0, admit_client, NULL, handle,
-        NULL, MHD_OPTION_EXTERNAL_LOGGER, log_mhd, NULL, MHD_OPTION_LISTEN_SOCKET, web.listen_fd,
+    web->daemon = MHD_start_daemon(
+        MHD_USE_EPOLL | MHD_ALLOW_SUSPEND_RESUME | MHD_USE_ERROR_LOG, 0, admit_client, web, handle,
+        web, MHD_OPTION_EXTERNAL_LOGGER, log_mhd, NULL, MHD_OPTION_LISTEN_SOCKET, web->listen_fd,
         MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)CONNECTION_TIMEOUT_S, MHD_OPTION_CONNECTION_LIMIT,
         (unsigned)CONNECTIONS_MAX, MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)CONNECTION_MEMORY,
-        MHD_OPTION_NOTIFY_COMPLETED, request_completed, NULL, MHD_OPTION_NOTIFY_CONNECTION,
-        connection_changed, NULL, MHD_OPTION_END);
-    if (web.daemon == NULL) {
+        MHD_OPTION_NOTIFY_COMPLETED, request_completed, web, MHD_OPTION_NOTIFY_CONNECTION,
+        connection_changed, web, MHD_OPTION_END);
+    if (web->daemon == NULL) {
         return false;
     }
-    const union MHD_DaemonInfo *info = MHD_get_daemon_info(web.daemon, MHD_DAEMON_INFO_EPOLL_FD);
-    web.epoll_fd = info != NULL ? info->epoll_fd : -1;
-    return web.epoll_fd >= 0 && loop_watch(web.loop, web.epoll_fd, POLLIN, on_epoll_ready, NULL);
+    const union MHD_DaemonInfo *info = MHD_get_daemon_info(web->daemon, MHD_DAEMON_INFO_EPOLL_FD);
+    web->epoll_fd = info != NULL ? info->epoll_fd : -1;
+    return web->epoll_fd >= 0 && loop_watch(web->loop, web->epoll_fd, POLLIN, on_epoll_ready, web);
 }
 
 static bool sim_bind_open(const char *sim_bind)
@@ -356,18 +389,20 @@ static bool sim_bind_open(const char *sim_bind)
            !IN6_IS_ADDR_LOOPBACK((const struct in6_addr *)addr);
 }
 
-bool web_server_start(host_loop_t *loop, net_t *net, const host_options_t *opts)
+bool web_server_start(web_server_t *web, host_loop_t *loop, net_t *net, const host_options_t *opts,
+                      simctl_t *sim)
 {
+    web->sim = sim;
     if (opts->http_port == 0) {
         return true;
     }
-    web.loop = loop;
+    web->loop = loop;
     const char *bind = opts->http_bind != NULL ? opts->http_bind : opts->bind_addr;
     /* the default port is skipped when taken: a warning, not an error line */
     bool asked = opts->http_port_given || opts->http_bind != NULL;
-    web.listen_fd = asked ? net_listen(net, SOCK_STREAM, bind, opts->http_port)
-                          : net_listen_optional(net, SOCK_STREAM, bind, opts->http_port);
-    if (web.listen_fd < 0) {
+    web->listen_fd = asked ? net_listen(net, SOCK_STREAM, bind, opts->http_port)
+                           : net_listen_optional(net, SOCK_STREAM, bind, opts->http_port);
+    if (web->listen_fd < 0) {
         if (!asked) {
             host_logf(HAL_LOG_WARN, "http port %d cannot be had (%s): no web interface",
                       opts->http_port, strerror(errno));
@@ -375,51 +410,55 @@ bool web_server_start(host_loop_t *loop, net_t *net, const host_options_t *opts)
         return !asked;
     }
     int sndbuf = CLIENT_SNDBUF_BYTES;
-    setsockopt(web.listen_fd, SOL_SOCKET, SO_SNDBUF, &sndbuf, sizeof(sndbuf));
-    web.sim_open = sim_bind_open(opts->sim_bind);
-    web.allow_host_count = (size_t)opts->http_allow_host_count;
-    memcpy(web.allow_hosts, opts->http_allow_hosts, sizeof(web.allow_hosts));
-    web_intake_reset((uint64_t)opts->http_request_timeout_s * NS_PER_S);
-    if (!open_daemon()) {
+    setsockopt(web->listen_fd, SOL_SOCKET, SO_SNDBUF, &sndbuf, sizeof(sndbuf));
+    web->sim_open = sim_bind_open(opts->sim_bind);
+    web->allow_host_count = (size_t)opts->http_allow_host_count;
+    memcpy(web->allow_hosts, opts->http_allow_hosts, sizeof(web->allow_hosts));
+    web_intake_reset(web->intake, (uint64_t)opts->http_request_timeout_s * NS_PER_S);
+    if (!open_daemon(web)) {
         host_logf(HAL_LOG_ERROR, "http: cannot start the web server");
-        web_server_stop();
+        web_server_stop(web);
         return false;
     }
-    web.port = net_local_port(web.listen_fd);
-    web_lines_enable();
+    web->port = net_local_port(web->listen_fd);
+    web_lines_enable(&web->app.lines);
     char endpoint[96];
-    net_format_endpoint(bind, web.port, endpoint, sizeof(endpoint));
-    snprintf(web.describe, sizeof(web.describe), ", http %s", endpoint);
+    net_format_endpoint(bind, web->port, endpoint, sizeof(endpoint));
+    snprintf(web->describe, sizeof(web->describe), ", http %s", endpoint);
     return true;
 }
 
-const char *web_server_describe(void)
+const char *web_server_describe(const web_server_t *web)
 {
-    return web.daemon != NULL ? web.describe : "";
+    return web->daemon != NULL ? web->describe : "";
 }
 
-int web_server_port(void)
+int web_server_port(const web_server_t *web)
 {
-    return web.daemon != NULL ? web.port : -1;
+    return web->daemon != NULL ? web->port : -1;
 }
 
-void web_server_stop(void)
+void web_server_stop(web_server_t *web)
 {
-    if (web.daemon != NULL) {
-        web_events_end_all(); /* MHD stops only with no connection suspended */
-        MHD_run(web.daemon);
-        loop_unwatch(web.loop, web.epoll_fd);
-        MHD_stop_daemon(web.daemon); /* closes the listening socket too */
-        web.daemon = NULL;
-        web.listen_fd = -1;
+    if (web->daemon != NULL) {
+        web_events_end_all(&web->app.events); /* MHD stops only with no connection suspended */
+        MHD_run(web->daemon);
+        loop_unwatch(web->loop, web->epoll_fd);
+        MHD_stop_daemon(web->daemon); /* closes the listening socket too */
+        web->daemon = NULL;
+        web->listen_fd = -1;
     }
-    if (web.listen_fd >= 0) {
-        close(web.listen_fd);
-        web.listen_fd = -1;
+    if (web->listen_fd >= 0) {
+        close(web->listen_fd);
+        web->listen_fd = -1;
     }
-    web_ops_forget();
-    web_lines_disable();
-    web.epoll_fd = -1;
-    web.port = -1;
-    web.mhd_due_ns = 0;
+    web_app_release(&web->app);
+    web->epoll_fd = -1;
+    web->port = -1;
+    web->mhd_due_ns = 0;
+}
+
+web_lines_t *web_server_lines(web_server_t *web)
+{
+    return web->daemon != NULL ? &web->app.lines : NULL;
 }

@@ -17,21 +17,34 @@
 #include "loop.h"
 #include "net.h"
 #include "options.h"
+#include "sim/control.h"
 
+typedef struct web_server web_server_t;
+struct web_lines;
+
+/* Off, holding nothing yet; NULL: out of memory. */
+web_server_t *web_server_create(void);
+/* Stops it (when on) and frees it; NULL: nothing. */
+void web_server_destroy(web_server_t *web);
 /* Starts the server on opts->http_bind (or opts->bind_addr) port
  * opts->http_port; off when the port is 0. False (logged) when the port or
  * the address was given and cannot be had; the default, when taken, is
  * skipped with a warning. Call before fleet_start(): the devices' observers
- * keep the connection lines only when the server is on. The socket is one
- * of net's, watched on loop. */
-bool web_server_start(host_loop_t *loop, net_t *net, const host_options_t *opts);
+ * keep the connection lines only when the server is on. The simulation
+ * routes run their commands on sim. The socket is one of net's, watched on
+ * loop. */
+bool web_server_start(web_server_t *web, host_loop_t *loop, net_t *net, const host_options_t *opts,
+                      simctl_t *sim);
 /* After every loop_wait(): runs what is due on the wall clock. Costs one
  * test when nothing is scheduled. */
-void web_server_poll(void);
+void web_server_poll(web_server_t *web);
 /* ", http ADDR:PORT" for the ready line, or "" when off. */
-const char *web_server_describe(void);
+const char *web_server_describe(const web_server_t *web);
 /* The port served, or -1. */
-int web_server_port(void);
-void web_server_stop(void);
+int web_server_port(const web_server_t *web);
+void web_server_stop(web_server_t *web);
+/* The connection lines the devices' message observers feed (context of
+ * web_lines_observer()), NULL when the server is off. */
+struct web_lines *web_server_lines(web_server_t *web);
 
 #endif

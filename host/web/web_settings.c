@@ -11,32 +11,19 @@
 
 #include "config_file.h"
 #include "fleet.h"
+#include "settings_table.h"
 #include "web/web_internal.h"
 
-/* The settings a PUT may change, in the order it applies them: overdrive
- * before the force it allows, and the soft limits as apply_soft_limits()
- * orders them. */
-typedef struct {
-    const char *name;
-    wsg_setting_t which;
-    bool is_bool;
-} setting_t;
-
-static const setting_t settings[] = {
-    {"overdrive", WSG_SET_OVERDRIVE, true},
-    {"force_n", WSG_SET_FORCE_LIMIT, false},
-    {"speed_mm_s", WSG_SET_DEFAULT_SPEED, false},
-    {"accel_mm_s2", WSG_SET_ACCEL, false},
-    {"pwt_mm", WSG_SET_DEFAULT_PWT, false},
-    {"clt_mm", WSG_SET_DEFAULT_CLT, false},
-    {"pullback_mm", WSG_SET_DEFAULT_PULLBACK, false},
-    {"soft_limit_minus_mm", WSG_SET_SOFT_MINUS, false},
-    {"soft_limit_plus_mm", WSG_SET_SOFT_PLUS, false},
-    {"soft_limits", WSG_SET_SOFT_LIMITS, true},
-    {"faststop_on_disconnect", WSG_SET_DISCONNECT_FASTSTOP, true},
-    {"binary_crc_check", WSG_SET_BINARY_CRC_CHECK, true},
+/* The settings a PUT may change (their names: settings_table.h), in the
+ * order it applies them and the page lists them: overdrive before the force
+ * it allows, and the soft limits as order() orders them. */
+static const wsg_setting_t settings[] = {
+    WSG_SET_OVERDRIVE,   WSG_SET_FORCE_LIMIT, WSG_SET_DEFAULT_SPEED,       WSG_SET_ACCEL,
+    WSG_SET_DEFAULT_PWT, WSG_SET_DEFAULT_CLT, WSG_SET_DEFAULT_PULLBACK,    WSG_SET_SOFT_MINUS,
+    WSG_SET_SOFT_PLUS,   WSG_SET_SOFT_LIMITS, WSG_SET_DISCONNECT_FASTSTOP, WSG_SET_BINARY_CRC_CHECK,
 };
 #define SETTING_COUNT (sizeof(settings) / sizeof(settings[0]))
+_Static_assert(SETTING_COUNT == SETTINGS_TABLE_COUNT, "the page lists every setting");
 #define SOFT_MINUS_AT 7u
 #define SOFT_PLUS_AT 8u
 
@@ -46,37 +33,14 @@ static const char *const fixed_fields[] = {"protocol",        "tcp_port",    "ud
                                            "binary_udp_port", "config_file", "save_file"};
 #define FIXED_COUNT (sizeof(fixed_fields) / sizeof(fixed_fields[0]))
 
-static float current(const wsg_config_t *c, wsg_setting_t which)
+static const char *name_of(unsigned i)
 {
-    switch (which) {
-    case WSG_SET_ACCEL:
-        return c->default_accel_mm_s2;
-    case WSG_SET_FORCE_LIMIT:
-        return c->default_force_n;
-    case WSG_SET_SOFT_LIMITS:
-        return c->soft_limits_enabled ? 1.0f : 0.0f;
-    case WSG_SET_SOFT_MINUS:
-        return c->soft_limit_minus_mm;
-    case WSG_SET_SOFT_PLUS:
-        return c->soft_limit_plus_mm;
-    case WSG_SET_OVERDRIVE:
-        return c->overdrive_mode ? 1.0f : 0.0f;
-    case WSG_SET_DEFAULT_SPEED:
-        return c->default_speed_mm_s;
-    case WSG_SET_DEFAULT_PWT:
-        return c->default_pwt_mm;
-    case WSG_SET_DEFAULT_CLT:
-        return c->default_clt_mm;
-    case WSG_SET_DEFAULT_PULLBACK:
-        return c->default_pullback_mm;
-    case WSG_SET_DISCONNECT_FASTSTOP:
-        return c->disconnect_raises_faststop ? 1.0f : 0.0f;
-    case WSG_SET_BINARY_CRC_CHECK:
-        return c->bin_crc_unchecked ? 0.0f : 1.0f;
-    case WSG_SET_COUNT:
-    default:
-        return 0.0f;
-    }
+    return settings_table_row(settings[i])->json_key;
+}
+
+static bool is_switch(unsigned i)
+{
+    return settings_table_is_switch(settings_table_row(settings[i]));
 }
 
 static const char *protocol_name(host_protocol_t p)
@@ -118,11 +82,11 @@ static cJSON *settings_json(gripper_t *g)
         cJSON_AddItemToObject(j, fixed_fields[i], fixed_value(g, i));
     }
     for (unsigned i = 0; i < SETTING_COUNT; i++) {
-        float v = current(cfg, settings[i].which);
-        if (settings[i].is_bool) {
-            cJSON_AddBoolToObject(j, settings[i].name, v != 0.0f);
+        float v = wsg_config_setting_get(cfg, settings[i]);
+        if (is_switch(i)) {
+            cJSON_AddBoolToObject(j, name_of(i), v != 0.0f);
         } else {
-            cJSON_AddNumberToObject(j, settings[i].name, (double)v);
+            cJSON_AddNumberToObject(j, name_of(i), (double)v);
         }
     }
     cJSON_AddStringToObject(j, "tag", cfg->tag);
@@ -140,17 +104,16 @@ typedef struct {
 
 static bool read_setting(change_t *ch, const cJSON *body, unsigned i)
 {
-    const setting_t *s = &settings[i];
-    if (s->is_bool) {
+    if (is_switch(i)) {
         bool on = false;
-        if (!web_field_bool(ch->req, body, s->name, &on, &ch->given[i], &ch->result)) {
+        if (!web_field_bool(ch->req, body, name_of(i), &on, &ch->given[i], &ch->result)) {
             return false;
         }
         ch->value[i] = on ? 1.0f : 0.0f;
         return true;
     }
     double v = 0.0;
-    if (!web_field_number(ch->req, body, s->name, false, &v, &ch->given[i], &ch->result)) {
+    if (!web_field_number(ch->req, body, name_of(i), false, &v, &ch->given[i], &ch->result)) {
         return false;
     }
     /* beyond a float's range it stays a value the device refuses */
@@ -179,10 +142,10 @@ static bool check_fixed(change_t *ch, const gripper_t *g, const cJSON *body)
 
 static bool read_change(change_t *ch, const gripper_t *g, const cJSON *body)
 {
-    static const char *names[SETTING_COUNT + FIXED_COUNT + 2u];
+    const char *names[SETTING_COUNT + FIXED_COUNT + 2u];
     unsigned n = 0;
     for (unsigned i = 0; i < SETTING_COUNT; i++) {
-        names[n++] = settings[i].name;
+        names[n++] = name_of(i);
     }
     for (unsigned i = 0; i < FIXED_COUNT; i++) {
         names[n++] = fixed_fields[i];
@@ -218,7 +181,7 @@ static void order(const change_t *ch, const wsg_config_t *cfg, unsigned *seq)
 static void undo(wsg_device_t *dev, const unsigned *seq, unsigned applied, const float *before)
 {
     while (applied-- > 0) {
-        wsg_op_set(dev, settings[seq[applied]].which, before[seq[applied]]);
+        wsg_op_set(dev, settings[seq[applied]], before[seq[applied]]);
     }
 }
 
@@ -232,7 +195,7 @@ static bool apply(change_t *ch, gripper_t *g)
     char old_tag[WSG_CONFIG_STRING_MAX];
     snprintf(old_tag, sizeof(old_tag), "%s", cfg->tag);
     for (unsigned i = 0; i < SETTING_COUNT; i++) {
-        before[i] = current(cfg, settings[i].which);
+        before[i] = wsg_config_setting_get(cfg, settings[i]);
     }
     order(ch, cfg, seq);
     wsg_status_t status =
@@ -241,8 +204,8 @@ static bool apply(change_t *ch, gripper_t *g)
     unsigned applied = 0;
     for (; status == E_SUCCESS && applied < SETTING_COUNT; applied++) {
         unsigned i = seq[applied];
-        status = ch->given[i] ? wsg_op_set(dev, settings[i].which, ch->value[i]) : E_SUCCESS;
-        refused = settings[i].name;
+        status = ch->given[i] ? wsg_op_set(dev, settings[i], ch->value[i]) : E_SUCCESS;
+        refused = name_of(i);
     }
     if (status == E_SUCCESS) {
         return true;
@@ -283,8 +246,8 @@ static enum MHD_Result save_settings(const web_request_t *req, gripper_t *g)
     }
     const wsg_config_t *cfg = wsg_device_snapshot(&g->device)->config;
     char why[160];
-    if (!config_file_save(save_path(g), g->index, cfg, gripper_startup_choice(g), why,
-                          sizeof(why))) {
+    if (!config_file_save(g->opts.config, save_path(g), g->index, cfg, gripper_startup_choice(g),
+                          why, sizeof(why))) {
         return web_reply_error(req, MHD_HTTP_UNPROCESSABLE_CONTENT, E_WRITE_ERROR, "%s", why);
     }
     g->config = *cfg;

@@ -246,7 +246,7 @@ enum MHD_Result web_sim_route(const web_request_t *req, gripper_t *g, const char
     }
     unsigned selected = g->index;
     simctl_outcome_t outcome = {0};
-    char *text = simctl_exec(call.line, call.len, &selected, &outcome);
+    char *text = simctl_exec(req->sim, call.line, call.len, &selected, &outcome);
     enum MHD_Result result = reply(req, text, text == NULL && outcome.deferred);
     free(text);
     return result;

@@ -110,23 +110,23 @@ static void write_part(web_json_t *j, const sim_part_t *p)
     web_json_close_object(j);
 }
 
-static void write_connection(web_json_t *j, const wsg_conn_t *c)
+static void write_connection(const web_lines_t *lines, web_json_t *j, const wsg_conn_t *c)
 {
     bool stream = wsg_conn_transport(c) == WSG_TRANSPORT_STREAM;
     web_json_open_object(j, NULL);
     web_json_uint(j, "id", wsg_conn_id(c));
-    web_json_string(j, "protocol", web_lines_protocol(c));
+    web_json_string(j, "protocol", web_lines_protocol(lines, c));
     web_json_string(j, "transport", stream ? "tcp" : "udp");
     web_json_string(j, "peer", stream ? tcp_server_peer_name(c) : udp_server_peer_name(c));
-    web_lines_write(j, "last_lines", c);
+    web_lines_write(lines, j, "last_lines", c);
     web_json_close_object(j);
 }
 
-static void write_connections(web_json_t *j, wsg_device_t *dev)
+static void write_connections(const web_lines_t *lines, web_json_t *j, wsg_device_t *dev)
 {
     web_json_open_array(j, "connections");
     for (wsg_conn_t *c = wsg_device_conn_first(dev); c != NULL; c = wsg_conn_next(c)) {
-        write_connection(j, c);
+        write_connection(lines, j, c);
     }
     web_json_close_array(j);
 }
@@ -142,7 +142,7 @@ static void write_axis(web_json_t *j, const wsg_snapshot_t *snap)
     web_json_string(j, "motion", motion_names[snap->motion]);
 }
 
-void web_state_write(web_json_t *j, gripper_t *g)
+void web_state_write(web_app_t *app, web_json_t *j, gripper_t *g)
 {
     /* the newest readings, as a GCL query senses before it answers: an idle
      * device is not stepped, yet its board still cools */
@@ -163,7 +163,7 @@ void web_state_write(web_json_t *j, gripper_t *g)
     web_json_close_object(j);
     web_json_float(j, "ambient_c", g->world.thermal.ambient_c);
     write_fingers(j, snap->fingers);
-    web_ops_last_write(j, "web_op", g);
-    write_connections(j, &g->device);
+    web_ops_last_write(&app->ops, j, "web_op", g);
+    write_connections(&app->lines, j, &g->device);
     web_json_close_object(j);
 }

@@ -18,23 +18,30 @@
 
 /* The chart library is not built in: it is served from where Debian's
  * libjs-dygraphs installs it (the wsgsim package depends on it), read on
- * the first request and kept for the process' life, so that the binary
+ * the first request and kept until the server stops, so that the binary
  * carries none of its code. */
 #define DYGRAPHS_DIR "/usr/share/javascript/dygraphs/"
 #define SYSTEM_FILE_MAX (8u << 20) /* dygraph.min.js is about 130 KiB */
 
-typedef struct {
-    const char *name;
-    const char *content_type;
-    unsigned char *bytes; /* NULL: not read yet */
-    size_t len;
-} system_file_t;
+typedef web_system_file_t system_file_t;
 
-static system_file_t system_files[] = {
+static const system_file_t system_file_names[WEB_SYSTEM_FILE_COUNT] = {
     {"dygraph.min.js", "text/javascript; charset=utf-8", NULL, 0},
     {"dygraph.min.css", "text/css; charset=utf-8", NULL, 0},
 };
-#define SYSTEM_FILE_COUNT (sizeof(system_files) / sizeof(system_files[0]))
+
+void web_static_init(web_system_file_t *files)
+{
+    memcpy(files, system_file_names, sizeof(system_file_names));
+}
+
+void web_static_release(web_system_file_t *files)
+{
+    for (unsigned i = 0; i < WEB_SYSTEM_FILE_COUNT; i++) {
+        free(files[i].bytes);
+    }
+    web_static_init(files);
+}
 
 static const web_asset_t *find_asset(const char *name)
 {
@@ -71,11 +78,11 @@ static enum MHD_Result serve(const web_request_t *req, const web_asset_t *asset)
     return web_reply_bytes(req, MHD_HTTP_OK, asset->content_type, asset->bytes, asset->len);
 }
 
-static system_file_t *find_system_file(const char *name)
+static system_file_t *find_system_file(system_file_t *files, const char *name)
 {
-    for (unsigned i = 0; i < SYSTEM_FILE_COUNT; i++) {
-        if (strcmp(system_files[i].name, name) == 0) {
-            return &system_files[i];
+    for (unsigned i = 0; i < WEB_SYSTEM_FILE_COUNT; i++) {
+        if (strcmp(files[i].name, name) == 0) {
+            return &files[i];
         }
     }
     return NULL;
@@ -138,7 +145,7 @@ bool web_static_route(const web_request_t *req, enum MHD_Result *result)
         asset = find_asset("index.html");
     } else if (strncmp(req->url, STATIC_PREFIX, strlen(STATIC_PREFIX)) == 0) {
         const char *name = req->url + strlen(STATIC_PREFIX);
-        system_file_t *file = find_system_file(name);
+        system_file_t *file = find_system_file(req->app->system_files, name);
         if (file != NULL) {
             *result = serve_system_file(req, file);
             return true;

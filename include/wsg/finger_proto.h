@@ -160,5 +160,10 @@ bool wsg_fbus_unpack_simctl(const hal_can_frame_t *f, uint8_t *faults);
 void wsg_fbus_bulk_rx_reset(fbus_bulk_rx_t *rx);
 /* Feeds one segment; true when it completed a transfer (rx->count values). */
 bool wsg_fbus_bulk_rx_feed(fbus_bulk_rx_t *rx, const fbus_bulk_t *segment);
+/* A well-formed BULK frame (what wsg_fbus_unpack_bulk() accepts). */
+bool wsg_fbus_is_bulk(const hal_can_frame_t *f);
+/* wsg_fbus_bulk_rx_feed() of a frame wsg_fbus_is_bulk() accepted, without
+ * unpacking it first (the gripper receives 28 per DSA transfer). */
+bool wsg_fbus_bulk_rx_feed_frame(fbus_bulk_rx_t *rx, const hal_can_frame_t *f);
 
 #endif

@@ -142,6 +142,37 @@ typedef enum {
     WSG_SET_COUNT
 } wsg_setting_t;
 
+/* How a setting is held and checked: the one description wsg_op_set() works
+ * from, and that a front end's table of names (host/settings_table.c)
+ * derives units, ranges and fields from. */
+typedef enum {
+    WSG_SETTING_SWITCH,     /* on/off, any value: 0 is off */
+    WSG_SETTING_ACCEL,      /* wsg_config_accel_ok() */
+    WSG_SETTING_FORCE,      /* wsg_config_force_ok(): force_min_n..wsg_config_force_max() */
+    WSG_SETTING_SPEED,      /* wsg_config_speed_ok() */
+    WSG_SETTING_LENGTH,     /* wsg_config_length_ok(): 0..stroke_mm */
+    WSG_SETTING_SOFT_LIMIT, /* a position: the configuration stays valid (wsg_config_check()) */
+} wsg_setting_check_t;
+
+typedef struct {
+    const char *unit; /* "mm", "mm/s", "mm/s^2", "N"; "" for a switch */
+    wsg_setting_check_t check;
+    unsigned offset; /* of its field in wsg_config_t: a float, or a bool for a switch */
+    bool inverted;   /* a switch whose field holds the opposite (bin_crc_unchecked) */
+} wsg_setting_info_t;
+
+/* The description of a setting; NULL for no such setting. */
+const wsg_setting_info_t *wsg_setting_info(wsg_setting_t which);
+/* A setting's value in cfg (a switch: 1 on, 0 off); 0 for no such setting. */
+float wsg_config_setting_get(const wsg_config_t *cfg, wsg_setting_t which);
+/* Stores value in cfg's field without a check (a switch: on unless 0), for
+ * a configuration being made before a device runs it; nothing for no such
+ * setting. A running device's settings change through wsg_op_set(). */
+void wsg_config_setting_put(wsg_config_t *cfg, wsg_setting_t which, float value);
+
+/* Checks value as wsg_setting_info() describes and sets it: E_RANGE_ERROR
+ * outside its range, E_FEATURE_NOT_SUPPORTED for overdrive on a model
+ * without it, E_INVALID_PARAMETER for no such setting. */
 wsg_status_t wsg_op_set(wsg_device_t *dev, wsg_setting_t which, float value);
 /* The device tag (descriptor string): len bytes, no terminating NUL needed.
  * The one check of every front end: E_RANGE_ERROR when longer than
@@ -149,16 +180,6 @@ wsg_status_t wsg_op_set(wsg_device_t *dev, wsg_setting_t which, float value);
  * wsg_config_text_char_ok() refuses (CR, LF, NUL, '"', beyond ASCII); the
  * tag keeps its value on an error. */
 wsg_status_t wsg_op_set_tag(wsg_device_t *dev, const char *tag, size_t len);
-
-/* Fault injection (control channel): the next command called `name` (upper
- * case) fails with status before it runs. A reset disarms it. */
-void wsg_device_inject_failure(wsg_device_t *dev, const char *name, wsg_status_t status);
-/* Consumes an armed injected failure for this command name. */
-bool wsg_device_take_injected_failure(wsg_device_t *dev, const char *name, wsg_status_t *status);
-
-/* The outcome of a command on any connection (SF_CMD_FAILURE as the device
- * state reports it); protocol drivers call it from their dispatcher. */
-void wsg_device_note_result(wsg_device_t *dev, wsg_status_t status);
 
 /* ---- the snapshot ---------------------------------------------------------- */
 
@@ -234,8 +255,5 @@ typedef struct {
 } wsg_device_observer_t;
 
 void wsg_device_observe(wsg_device_t *dev, const wsg_device_observer_t *observer, void *ctx);
-
-/* A device's 64-bit connection ids (logs, trace): never 0, never reused. */
-uint64_t wsg_device_next_conn_id(wsg_device_t *dev);
 
 #endif

@@ -236,6 +236,38 @@ START_TEST(dsa_sends_84_cells_in_28_segments)
 }
 END_TEST
 
+/* The node works its pattern out again only when the broadcast force
+ * changed: every transfer still shows the force of its time, through
+ * changes, a return to an earlier force, no contact and a power cycle. */
+START_TEST(dsa_transfers_follow_every_force_change)
+{
+    static const float forces[] = {30.0f, 30.0f, 12.5f, 0.0f, 30.0f, 80.0f, 0.04f, 12.5f};
+    start(FBUS_TYPE_DSA, 1);
+    run(100, 30.0f, 0x2);
+    for (unsigned k = 0; k < sizeof(forces) / sizeof(forces[0]); k++) {
+        if (k == 5u) {
+            run(1100, forces[k], 0x0); /* unpowered: boots again */
+            run(100, forces[k], 0x2);
+        }
+        sent_count = 0;
+        run(100, forces[k], 0x2);
+        fbus_bulk_rx_t rx;
+        wsg_fbus_bulk_rx_reset(&rx);
+        unsigned done = 0;
+        for (unsigned i = 0; i < sent_count; i++) {
+            fbus_bulk_t b;
+            if (wsg_fbus_unpack_bulk(&sent[i], &b) && wsg_fbus_bulk_rx_feed(&rx, &b)) {
+                done++;
+                uint16_t want[84];
+                wsg_finger_node_dsa_pattern(forces[k], want);
+                ck_assert_mem_eq(rx.values, want, sizeof(want));
+            }
+        }
+        ck_assert_uint_ge(done, 1u);
+    }
+}
+END_TEST
+
 START_TEST(dsa_pattern_follows_contact)
 {
     uint16_t cells[84];
@@ -421,6 +453,7 @@ Suite *node_suite(void)
     tcase_add_test(tc, a_held_up_node_keeps_its_supply);
     tcase_add_test(tc, dsa_sends_84_cells_in_28_segments);
     tcase_add_test(tc, dsa_pattern_follows_contact);
+    tcase_add_test(tc, dsa_transfers_follow_every_force_change);
     tcase_add_test(tc, generic_only_heartbeats);
     tcase_add_test(tc, injected_faults);
     tcase_add_test(tc, steps_before_the_due_time_change_nothing);

@@ -168,6 +168,49 @@ START_TEST(bulk_interleaved_transfer_restarts)
 }
 END_TEST
 
+/* The gripper feeds BULK frames without unpacking them: on any stream of
+ * frames (good, lost, foreign, reordered segments, malformed frames) it
+ * keeps the same transfer as unpacking each frame and feeding that. */
+START_TEST(bulk_fed_from_frames_as_when_unpacked)
+{
+    fbus_bulk_rx_t by_frame;
+    fbus_bulk_rx_t unpacked;
+    memset(&by_frame, 0, sizeof(by_frame)); /* padding included: compared whole below */
+    memset(&unpacked, 0, sizeof(unpacked));
+    wsg_fbus_bulk_rx_reset(&by_frame);
+    wsg_fbus_bulk_rx_reset(&unpacked);
+    uint32_t rng = 12345u;
+    unsigned completed = 0;
+    for (unsigned n = 0; n < 20000u; n++) {
+        rng = rng * 1103515245u + 12345u;
+        hal_can_frame_t f = {wsg_fbus_id(FBUS_ID_BULK, 2), 8, 0, {0}};
+        unsigned segment = (n % 29u) < 28u ? n % 29u : (rng >> 8) % 40u;
+        if ((rng >> 20) % 50u == 0u) {
+            segment = (rng >> 4) % 128u; /* lost or foreign segments */
+        }
+        f.data[0] = (uint8_t)(segment | ((segment == 27u || (rng >> 12) % 97u == 0u) ? 0x80u : 0u));
+        f.data[1] = (uint8_t)((n / 29u) ^ ((rng >> 28) % 7u == 0u ? 1u : 0u));
+        for (unsigned i = 2; i < 8u; i++) {
+            f.data[i] = (uint8_t)(rng >> (i * 3u));
+        }
+        if ((rng >> 16) % 61u == 0u) {
+            f.dlc = 7; /* too short: not a BULK frame */
+        }
+        fbus_bulk_t b;
+        bool is_bulk = wsg_fbus_unpack_bulk(&f, &b);
+        ck_assert(is_bulk == wsg_fbus_is_bulk(&f));
+        if (!is_bulk) {
+            continue;
+        }
+        bool done = wsg_fbus_bulk_rx_feed(&unpacked, &b);
+        ck_assert(done == wsg_fbus_bulk_rx_feed_frame(&by_frame, &f));
+        completed += done ? 1u : 0u;
+        ck_assert(memcmp(&by_frame, &unpacked, sizeof(by_frame)) == 0);
+    }
+    ck_assert_uint_gt(completed, 20u); /* whole transfers did complete */
+}
+END_TEST
+
 START_TEST(filters_match_id_and_mask)
 {
     hal_can_filter_t f[2] = {{0x100, 0x7FC, 0}, {0x700, 0x7FC, 0}};
@@ -197,6 +240,7 @@ Suite *proto_suite(void)
     tcase_add_test(tc, bulk_reassembles_84_cells_in_28_frames);
     tcase_add_test(tc, bulk_with_a_lost_segment_is_dropped);
     tcase_add_test(tc, bulk_interleaved_transfer_restarts);
+    tcase_add_test(tc, bulk_fed_from_frames_as_when_unpacked);
     tcase_add_test(tc, filters_match_id_and_mask);
     suite_add_tcase(s, tc);
     return s;

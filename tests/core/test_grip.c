@@ -396,6 +396,32 @@ START_TEST(part_removed_while_holding)
 }
 END_TEST
 
+/* A step at rest clear of every contact is taken without the integration:
+ * it must still clear what the last contact left (force, blocked side, the
+ * slip timer of a part pressed too weakly). */
+START_TEST(part_moved_away_at_rest_leaves_no_contact)
+{
+    sim_axis_t axis;
+    wsg_sim_axis_init(&axis, 110.0f, 2000.0f);
+    wsg_sim_axis_set_part(&axis, 30.0f, STIFF_PART_N_MM, 50.0f); /* slips below 50 N */
+    wsg_sim_axis_move(&axis, 0.0f, 100.0f, 1000.0f, 20.0f);
+    for (int ms = 0; ms < 1000 && axis.part.squeezed_s <= 0.0f; ms++) {
+        wsg_sim_axis_advance(&axis, 0.001f);
+    }
+    wsg_sim_axis_stop(&axis, false); /* pressed: stands at once, the outputs still set */
+    ck_assert(!axis.active);
+    ck_assert(axis.force_n > 0.0f);
+    ck_assert_int_ne(axis.blocked, 0);
+    ck_assert(axis.part.squeezed_s > 0.0f);
+    wsg_sim_axis_set_part(&axis, 20.0f, STIFF_PART_N_MM, 50.0f); /* now clear of the jaws */
+    wsg_sim_axis_advance(&axis, 0.0f);
+    ck_assert(axis.force_n == 0.0f);
+    ck_assert_int_eq(axis.blocked, 0);
+    ck_assert(axis.part.squeezed_s == 0.0f);
+    ck_assert(axis.part.present);
+}
+END_TEST
+
 START_TEST(part_lost_is_debounced)
 {
     place_part(30.0f, STIFF_PART_N_MM);
@@ -502,6 +528,7 @@ Suite *grip_suite(void)
     TCase *monitor = tcase_create("monitoring");
     tcase_add_checked_fixture(monitor, h_setup_homed, h_teardown);
     tcase_add_test(monitor, part_removed_while_holding);
+    tcase_add_test(monitor, part_moved_away_at_rest_leaves_no_contact);
     tcase_add_test(monitor, part_lost_is_debounced);
     tcase_add_test(monitor, gripstats_count_every_outcome);
     tcase_add_test(monitor, grip_without_width_is_not_monitored);

@@ -250,6 +250,36 @@ START_TEST(page_settings_are_device_state)
 }
 END_TEST
 
+/* The settings' one description (wsg_setting_info): every setting reads
+ * back from its own field what was stored, a switch as 0/1 whatever its
+ * field holds (binary_crc_check is the opposite of bin_crc_unchecked). */
+START_TEST(every_setting_reads_back_from_its_field)
+{
+    wsg_config_t cfg;
+    wsg_sim_model_config(wsg_sim_model_default(), &cfg);
+    for (int id = 0; id < WSG_SET_COUNT; id++) {
+        const wsg_setting_info_t *info = wsg_setting_info((wsg_setting_t)id);
+        ck_assert_ptr_nonnull(info);
+        bool is_switch = info->check == WSG_SETTING_SWITCH;
+        ck_assert(is_switch == (info->unit[0] == '\0')); /* a number has a unit */
+        float value = is_switch ? 1.0f : 3.25f + (float)id;
+        wsg_config_setting_put(&cfg, (wsg_setting_t)id, value);
+        ck_assert_float_eq(wsg_config_setting_get(&cfg, (wsg_setting_t)id), value);
+        if (is_switch) {
+            wsg_config_setting_put(&cfg, (wsg_setting_t)id, 0.0f);
+            ck_assert_float_eq(wsg_config_setting_get(&cfg, (wsg_setting_t)id), 0.0f);
+        }
+    }
+    wsg_config_setting_put(&cfg, WSG_SET_FORCE_LIMIT, 33.0f);
+    ck_assert_float_eq(cfg.default_force_n, 33.0f);
+    wsg_config_setting_put(&cfg, WSG_SET_BINARY_CRC_CHECK, 1.0f);
+    ck_assert(!cfg.bin_crc_unchecked);
+    ck_assert_ptr_null(wsg_setting_info(WSG_SET_COUNT));
+    ck_assert_float_eq(wsg_config_setting_get(&cfg, WSG_SET_COUNT), 0.0f);
+    ck_assert_int_eq(wsg_op_set(&h_dev, WSG_SET_COUNT, 1.0f), E_INVALID_PARAMETER);
+}
+END_TEST
+
 /* A closed connection's owner is detached: the motion's end reaches nobody,
  * not even a new connection in the same storage. */
 START_TEST(owner_detached_on_close_hears_nothing)
@@ -369,6 +399,7 @@ Suite *ops_suite(void)
     tcase_add_test(policy, settings_are_device_state);
     tcase_add_test(policy, tag_refuses_what_could_forge_a_reply);
     tcase_add_test(policy, page_settings_are_device_state);
+    tcase_add_test(policy, every_setting_reads_back_from_its_field);
     suite_add_tcase(s, policy);
     TCase *inst = tcase_create("instances");
     tcase_add_checked_fixture(inst, probe_setup, h_teardown);

@@ -172,7 +172,12 @@ class Fleet(unittest.TestCase):
         c2.expect("GRIPSTATE?", "GRIPSTATE=0")
         self.assertEqual([s["transport"] for s in ctl.json("SESSIONS?")], ["tcp"])
         self.assertEqual(other.json("SESSIONS?"), [])
-        self.assertTrue(ctl("FAULT(POWER)").startswith("ERR FAULT 5"))  # device 0 only
+        self.assertEqual(ctl("FAULT(POWER)"), "ACK FAULT")  # device 2's own fault
+        self.assertEqual([f["fault"] for f in ctl.json("FAULTS?")], ["POWER"])
+        self.assertEqual(other.json("FAULTS?"), [])  # device 0 has none
+        self.assertTrue(ctl('FAULT("FINGER_POWER",0)').startswith("ERR FAULT 5"))  # no finger bus
+        self.assertEqual(ctl("CLEAR()"), "ACK CLEAR")
+        self.assertEqual(ctl.json("FAULTS?"), [])
 
     def test_reset_of_one_device_closes_only_its_connections(self):
         sim = self.start("--devices", "2", "--sim-port", "0", "--fingers", "none,none")

@@ -53,7 +53,7 @@ static bool start_and_save(const host_options_t *opts, const char *path, bool ch
         cfg.default_clt_mm = SAVED_CLT_MM;
     }
     char why[256];
-    bool saved_ok = config_file_save(path, 0, &cfg, NULL, why, sizeof(why));
+    bool saved_ok = config_file_save(opts->config, path, 0, &cfg, NULL, why, sizeof(why));
     fuzz_host_stop();
     FILE *f = fopen(path, "rb");
     if (f == NULL) {

@@ -65,21 +65,21 @@ static void handle_line(void)
         return; /* the channel answers these itself, or not at all */
     }
     simctl_outcome_t outcome = {false, false};
-    char *reply = simctl_exec(input.text, input.len, &selected, &outcome);
+    char *reply = simctl_exec(fuzz_host_sim(), input.text, input.len, &selected, &outcome);
     if (outcome.deferred) {
         if (reply != NULL) {
             abort(); /* a deferred STEP answers when it has run */
         }
-        simctl_step_finish();
-        if (simctl_step_running()) {
+        simctl_step_finish(simctl_scheduler(fuzz_host_sim()));
+        if (simctl_step_running(simctl_scheduler(fuzz_host_sim()))) {
             abort();
         }
-        reply = simctl_step_reply();
+        reply = simctl_step_reply(fuzz_host_sim());
     }
     check_reply(reply);
     free(reply);
-    if (!simclock_paused()) {
-        simclock_pause();
+    if (!simclock_paused(simctl_clock(fuzz_host_sim()))) {
+        simclock_pause(simctl_clock(fuzz_host_sim()));
     }
 }
 

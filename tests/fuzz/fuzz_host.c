@@ -18,6 +18,7 @@
 #include "sim/scheduler.h"
 
 static host_options_t options;
+static simctl_t *sim;
 static char file_path[256];
 /* What a fleet needs below it (no sockets here: the targets feed it). */
 static host_loop_t *loop;
@@ -25,6 +26,7 @@ static net_t net;
 
 host_options_t *fuzz_host_options(int argc, char **argv)
 {
+    options_release(&options); /* the configuration the last input read */
     if (options_parse(argc, argv, &options) != OPTIONS_RUN) {
         return NULL;
     }
@@ -43,8 +45,11 @@ void fuzz_host_start(const host_options_t *opts)
         host_log_set_level(HAL_LOG_ERROR); /* the fuzzer's output stays readable */
         logging = true;
     }
-    simclock_init();
-    simclock_start_paused();
+    sim = simctl_create();
+    if (sim == NULL) {
+        abort();
+    }
+    simclock_start_paused(simctl_clock(sim));
     loop = loop_create();
     net_init(&net);
     if (loop == NULL || !finger_bus_host_start(loop, opts) || !fleet_start(loop, &net, opts)) {
@@ -54,30 +59,37 @@ void fuzz_host_start(const host_options_t *opts)
 
 void fuzz_host_settle(void)
 {
-    (void)simctl_tick(); /* one pass of the loop: what input made due now */
-    simctl_step_finish();
+    (void)simctl_tick(simctl_scheduler(sim)); /* one pass of the loop: what input made due now */
+    simctl_step_finish(simctl_scheduler(sim));
 }
 
 void fuzz_host_step(uint64_t us)
 {
-    simctl_step_begin(us);
-    simctl_step_finish();
-    if (!simclock_paused()) {
-        simclock_pause(); /* a RESUME on the way lets wall time in: inputs must replay */
+    simctl_step_begin(simctl_scheduler(sim), us);
+    simctl_step_finish(simctl_scheduler(sim));
+    if (!simclock_paused(simctl_clock(sim))) {
+        simclock_pause(simctl_clock(sim)); /* a RESUME on the way lets wall time in */
     }
 }
 
 void fuzz_host_stop(void)
 {
-    scenario_unload();
+    scenario_unload(simctl_scenario(sim));
     for (unsigned i = 0; i < fleet_count(); i++) {
         simctl_delay_clear_all(&fleet_gripper(i)->device, false);
+        simctl_fault_clear_all(simctl_faults(sim), fleet_gripper(i));
     }
-    simctl_fault_clear_all();
     fleet_stop();
     finger_bus_host_stop(loop);
     loop_destroy(loop);
     loop = NULL;
+    simctl_destroy(sim);
+    sim = NULL;
+}
+
+simctl_t *fuzz_host_sim(void)
+{
+    return sim;
 }
 
 const char *fuzz_host_file(const uint8_t *data, size_t size)

@@ -11,6 +11,7 @@
 #include <stdint.h>
 
 #include "options.h"
+#include "sim/control.h"
 
 /* The host's options from argv (as main() parses them), with TCP, UDP, the
  * web server and the control channel off: NULL when they do not parse. */
@@ -24,6 +25,8 @@ void fuzz_host_settle(void);
  * clock is paused again if something on the way resumed it. */
 void fuzz_host_step(uint64_t us);
 void fuzz_host_stop(void);
+/* The control side started with the host (NULL while stopped). */
+simctl_t *fuzz_host_sim(void);
 /* The bytes as a file that the host can open by path, in $TMPDIR or
  * /dev/shm (memory): one per process, removed by fuzz_host_close_file(). */
 const char *fuzz_host_file(const uint8_t *data, size_t size);

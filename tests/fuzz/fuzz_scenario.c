@@ -19,14 +19,14 @@
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
-static void run_scenario(void)
+static void run_scenario(scenario_t *sc)
 {
-    while (scenario_pending() > 0 && scenario_next_us() <= RUN_LIMIT_US) {
-        unsigned before = scenario_pending();
+    while (scenario_pending(sc) > 0 && scenario_next_us(sc) <= RUN_LIMIT_US) {
+        unsigned before = scenario_pending(sc);
         uint64_t now = hal_clock_now_us();
-        uint64_t next = scenario_next_us();
+        uint64_t next = scenario_next_us(sc);
         fuzz_host_step(next > now ? next - now : 0u);
-        if (scenario_pending() >= before) {
+        if (scenario_pending(sc) >= before) {
             abort(); /* a due event did not run: the scheduler lost it */
         }
     }
@@ -40,8 +40,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         abort();
     }
     fuzz_host_start(opts);
-    if (scenario_load(fuzz_host_file(data, size), 0)) {
-        run_scenario();
+    scenario_t *sc = simctl_scenario(fuzz_host_sim());
+    if (scenario_load(sc, fuzz_host_file(data, size), 0)) {
+        run_scenario(sc);
     }
     fuzz_host_close_file();
     fuzz_host_stop();

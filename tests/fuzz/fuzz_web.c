@@ -217,7 +217,7 @@ static void finish_request(struct MHD_Connection *connection, enum MHD_Result re
     MHD_destroy_response(r); /* the connection's reference */
 }
 
-static void run_request(const uint8_t *p, size_t n)
+static void run_request(web_app_t *app, const uint8_t *p, size_t n)
 {
     static char url[4096 + 1];
     static char body[WEB_BODY_MAX + 1u];
@@ -237,10 +237,11 @@ static void run_request(const uint8_t *p, size_t n)
     body[body_len] = '\0';
     struct MHD_Connection connection = {.queued = NULL, .arg_count = 0};
     split_query(url, &connection);
-    web_request_t req = {&connection, methods[p[0] & 7u], url, body, body_len, (p[0] & 8u) != 0};
+    web_request_t req = {app,  &connection, methods[p[0] & 7u], url,
+                         body, body_len,    (p[0] & 8u) != 0,   fuzz_host_sim()};
     finish_request(&connection, web_routes_dispatch(&req));
-    if (!simclock_paused()) {
-        simclock_pause(); /* a resume lets wall time in: inputs must replay */
+    if (!simclock_paused(simctl_clock(fuzz_host_sim()))) {
+        simclock_pause(simctl_clock(fuzz_host_sim())); /* a resume lets wall time in */
     }
     fuzz_host_settle();
     if (run_ms[p[0] >> 4] > 0) {
@@ -255,21 +256,23 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     char devices[2] = {(char)('1' + (data[0] & 3u)), '\0'};
     char *argv[] = {"wsgsim", "--no-udp", "--devices", devices, NULL};
-    const host_options_t *opts = fuzz_host_options(4, argv);
+    host_options_t *opts = fuzz_host_options(4, argv);
     if (opts == NULL) {
         abort();
     }
-    web_lines_enable(); /* as the server does before the fleet starts */
+    web_app_t app; /* what the server keeps for its routes */
+    web_app_init(&app);
+    web_lines_enable(&app.lines); /* as the server does before the fleet starts */
+    opts->web_lines = &app.lines;
     fuzz_host_start(opts);
     size_t first = 1;
     for (size_t i = 1; i <= size; i++) {
         if (i == size || data[i] == SEPARATOR) {
-            run_request(data + first, i - first);
+            run_request(&app, data + first, i - first);
             first = i + 1;
         }
     }
-    web_ops_forget(); /* as the server stops: before the devices go */
+    web_app_release(&app); /* as the server stops: before the devices go */
     fuzz_host_stop();
-    web_lines_disable();
     return 0;
 }

@@ -18,18 +18,19 @@
 #include "sim/delay.h"
 
 h_client_t t_gcl;
+simctl_t *t_sim;
 static char *last_reply;
 /* What a fleet needs below it; the tests' device has no sockets. */
 static host_loop_t *loop;
 static net_t net;
 
-void t_setup(void)
+static void setup_with(int argc, char **argv)
 {
-    static char *argv[] = {"wsgsim", NULL};
     host_options_t opts;
-    ck_assert_int_eq(options_parse(1, argv, &opts), OPTIONS_RUN);
-    simclock_init();
-    simclock_start_paused();
+    ck_assert_int_eq(options_parse(argc, argv, &opts), OPTIONS_RUN);
+    t_sim = simctl_create();
+    ck_assert_ptr_nonnull(t_sim);
+    simclock_start_paused(simctl_clock(t_sim));
     opts.sim_port = 0; /* the tests drive the control channel: coverage is observed */
     loop = loop_create();
     ck_assert_ptr_nonnull(loop);
@@ -40,6 +41,18 @@ void t_setup(void)
     ck_assert(fleet_start(loop, &net, &opts));
     coverage_reset();
     t_reopen();
+}
+
+void t_setup(void)
+{
+    static char *argv[] = {"wsgsim", NULL};
+    setup_with(1, argv);
+}
+
+void t_setup_three_devices(void)
+{
+    static char *argv[] = {"wsgsim", "--devices", "3", NULL};
+    setup_with(3, argv);
 }
 
 void t_reopen(void)
@@ -62,6 +75,8 @@ void t_teardown(void)
     finger_bus_host_stop(loop);
     loop_destroy(loop);
     loop = NULL;
+    simctl_destroy(t_sim);
+    t_sim = NULL;
     free(last_reply);
     last_reply = NULL;
 }
@@ -69,9 +84,25 @@ void t_teardown(void)
 const char *ctl(const char *line)
 {
     free(last_reply);
-    last_reply = simctl_exec(line, strlen(line), NULL, NULL);
+    last_reply = simctl_exec(t_sim, line, strlen(line), NULL, NULL);
     ck_assert_ptr_nonnull(last_reply);
     return last_reply;
+}
+
+const char *ctl_on(unsigned device, const char *line)
+{
+    unsigned selected = device;
+    simctl_outcome_t outcome = {false, false};
+    free(last_reply);
+    last_reply = simctl_exec(t_sim, line, strlen(line), &selected, &outcome);
+    ck_assert_ptr_nonnull(last_reply); /* no STEP here: nothing is deferred */
+    return last_reply;
+}
+
+uint32_t t_device_flags(unsigned device)
+{
+    ck_assert_uint_lt(device, fleet_count());
+    return wsg_device_flags(&fleet_gripper(device)->device);
 }
 
 int t_err_code(const char *reply)

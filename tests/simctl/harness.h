@@ -13,18 +13,26 @@
 
 #include "fake_conn.h"
 #include "gripper.h"
+#include "sim/control.h"
 
 extern h_client_t t_gcl; /* the GCL session every test starts with */
+extern simctl_t *t_sim;  /* the control side the tests drive */
 
 /* Fixtures: power-on, clock paused; the homed variant also ran HOME(). */
 void t_setup(void);
 void t_setup_homed(void);
+/* Three devices (--devices 3); t_gcl is device 0's. */
+void t_setup_three_devices(void);
 void t_teardown(void);
 /* Opens t_gcl again (after a reset or re-init closed it). */
 void t_reopen(void);
 
 /* One control line; the reply stays valid until the next call. */
 const char *ctl(const char *line);
+/* The same on a channel that selected device (DEVICE=device). */
+const char *ctl_on(unsigned device, const char *line);
+/* Device i's system flags as the core has them (bit SF_*). */
+uint32_t t_device_flags(unsigned device);
 /* One GCL line from t_gcl; returns its first reply line (or "<no reply>"). */
 const char *gcl(const char *line);
 /* Next unread GCL line, or "<no line>". */

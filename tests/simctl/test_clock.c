@@ -66,10 +66,10 @@ END_TEST
 START_TEST(step_is_refused_while_the_clock_runs)
 {
     CTL_EQ("RESUME()", "ACK RESUME");
-    ck_assert(!simclock_paused());
+    ck_assert(!simclock_paused(simctl_clock(t_sim)));
     ck_assert_str_eq(ctl("STEP(10)"), "ERR STEP 16 the clock is running; PAUSE() first");
     CTL_EQ("PAUSE()", "ACK PAUSE");
-    ck_assert(simclock_paused());
+    ck_assert(simclock_paused(simctl_clock(t_sim)));
 }
 END_TEST
 
@@ -94,7 +94,7 @@ START_TEST(scale_accepts_its_range_only)
     CTL_ERR("SCALE=1001", 28);
     CTL_ERR("SCALE=0.001", 28);
     CTL_ERR("SCALE=fast", 24);
-    ck_assert(simclock_scale() == 1000.0);
+    ck_assert(simclock_scale(simctl_clock(t_sim)) == 1000.0);
 }
 END_TEST
 
@@ -116,10 +116,10 @@ END_TEST
 static void start_step(const char *line)
 {
     simctl_outcome_t outcome = {false, false};
-    char *reply = simctl_exec(line, strlen(line), NULL, &outcome);
+    char *reply = simctl_exec(t_sim, line, strlen(line), NULL, &outcome);
     ck_assert_ptr_null(reply);
     ck_assert(outcome.deferred);
-    ck_assert(simctl_step_running());
+    ck_assert(simctl_step_running(simctl_scheduler(t_sim)));
 }
 
 START_TEST(a_long_step_is_sliced_and_gcl_is_served_between_slices)
@@ -132,18 +132,18 @@ START_TEST(a_long_step_is_sliced_and_gcl_is_served_between_slices)
     ck_assert_int_ge(t_until("FIN GRIP", 5000), 0);
     uint64_t t0 = t_now_us();
     start_step("STEP(3600000)");
-    simctl_tick(); /* one slice, as the event loop runs it between polls */
+    simctl_tick(simctl_scheduler(t_sim)); /* one slice, as the event loop runs it between polls */
     uint64_t mid = t_now_us();
     ck_assert_uint_gt(mid, t0);
     ck_assert_uint_lt(mid, t0 + 3600000000u);
-    ck_assert(simctl_step_running());
+    ck_assert(simctl_step_running(simctl_scheduler(t_sim)));
     /* a GCL command between two slices is answered at the instant reached */
     ck_assert_str_ne(gcl("POS?"), "<no reply>");
     ck_assert_uint_eq(t_now_us(), mid);
-    simctl_step_finish();
-    ck_assert(!simctl_step_running());
+    simctl_step_finish(simctl_scheduler(t_sim));
+    ck_assert(!simctl_step_running(simctl_scheduler(t_sim)));
     ck_assert_uint_eq(t_now_us(), t0 + 3600000000u);
-    char *reply = simctl_step_reply();
+    char *reply = simctl_step_reply(t_sim);
     ck_assert_str_eq(reply, expected_time("STEP", t0 + 3600000000u));
     free(reply);
 }
@@ -156,8 +156,8 @@ static void home_transcript(bool sliced, char lines[][H_LINE_LEN], size_t *count
     GCL_EQ("HOME()", "ACK HOME");
     if (sliced) {
         start_step("STEP(1500)");
-        while (simctl_step_running()) {
-            simctl_tick();
+        while (simctl_step_running(simctl_scheduler(t_sim))) {
+            simctl_tick(simctl_scheduler(t_sim));
         }
     } else {
         for (int i = 0; i < 1500; i++) {
@@ -201,19 +201,19 @@ START_TEST(many_events_at_one_instant_are_sliced_at_that_instant)
     }
     const char *path = t_temp_file(text);
     uint64_t t0 = t_now_us();
-    ck_assert(scenario_load(path, t0));
+    ck_assert(scenario_load(simctl_scenario(t_sim), path, t0));
     remove(path);
-    simctl_tick(); /* one slice */
-    ck_assert_uint_gt(scenario_pending(), 0);
-    ck_assert_uint_lt(scenario_pending(), EVENTS);
+    simctl_tick(simctl_scheduler(t_sim)); /* one slice */
+    ck_assert_uint_gt(scenario_pending(simctl_scenario(t_sim)), 0);
+    ck_assert_uint_lt(scenario_pending(simctl_scenario(t_sim)), EVENTS);
     ck_assert_uint_eq(t_now_us(), t0); /* the rest still runs at its own instant */
     ck_assert_str_ne(gcl("POS?"), "<no reply>");
-    while (scenario_pending() > 0) {
-        simctl_tick();
+    while (scenario_pending(simctl_scenario(t_sim)) > 0) {
+        simctl_tick(simctl_scheduler(t_sim));
     }
     ck_assert_uint_eq(t_now_us(), t0);
     CTL_EQ("AMBIENT?", "AMBIENT=99");
-    scenario_unload();
+    scenario_unload(simctl_scenario(t_sim));
 }
 END_TEST
 
@@ -303,10 +303,10 @@ START_TEST(a_step_after_an_unanswered_run_answers_as_a_step)
     GCL_EQ("HOME()", "ACK HOME");
     simctl_outcome_t outcome = {0};
     const char *line = "RUN_UNTIL_DONE(5000)";
-    char *reply = simctl_exec(line, strlen(line), NULL, &outcome);
+    char *reply = simctl_exec(t_sim, line, strlen(line), NULL, &outcome);
     ck_assert_ptr_null(reply);
     ck_assert(outcome.deferred);
-    simctl_step_finish(); /* the run ends; nobody asks for its reply */
+    simctl_step_finish(simctl_scheduler(t_sim)); /* the run ends; nobody asks for its reply */
     uint64_t t0 = t_now_us();
     CTL_EQ("STEP(10)", expected_time("STEP", t0 + 10000u));
 }
@@ -326,8 +326,8 @@ START_TEST(run_until_done_is_checked_like_step)
                      "ERR RUN_UNTIL_DONE 16 the clock is running; PAUSE() first");
     CTL_EQ("PAUSE()", "ACK PAUSE");
     char why[256];
-    ck_assert(!simctl_check("RUN_UNTIL_DONE(10)", 18, true, why, sizeof(why)));
-    ck_assert(simctl_check("RUN_UNTIL_DONE(10)", 18, false, why, sizeof(why)));
+    ck_assert(!simctl_check(t_sim, "RUN_UNTIL_DONE(10)", 18, true, why, sizeof(why)));
+    ck_assert(simctl_check(t_sim, "RUN_UNTIL_DONE(10)", 18, false, why, sizeof(why)));
     ck_assert_uint_ge(t_now_us(), t0);
 }
 END_TEST

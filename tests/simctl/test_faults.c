@@ -259,6 +259,72 @@ START_TEST(finger_fault_reaches_the_finger)
 }
 END_TEST
 
+/* Issue 19: every device of a fleet has its own hardware faults. */
+
+static bool has_flag(unsigned device, int flag)
+{
+    return (t_device_flags(device) & (1u << flag)) != 0u;
+}
+
+START_TEST(a_fault_acts_on_the_selected_device_only)
+{
+    ck_assert_str_eq(ctl_on(2, "FAULT(\"TEMP_WARNING\")"), "ACK FAULT");
+    ck_assert(has_flag(2, SF_TEMP_WARNING));
+    ck_assert(!has_flag(0, SF_TEMP_WARNING));
+    ck_assert(!has_flag(1, SF_TEMP_WARNING));
+    GCL_EQ("TEMP?", "TEMP=34.0"); /* device 0's board keeps its temperature */
+    ck_assert_str_eq(ctl_on(0, "FAULTS?"), "FAULTS=[]");
+    ck_assert_str_eq(ctl_on(1, "FAULTS?"), "FAULTS=[]");
+    ck_assert_ptr_nonnull(strstr(ctl_on(2, "FAULTS?"), "\"fault\":\"TEMP_WARNING\""));
+    ck_assert_str_eq(ctl_on(0, "FAULT(POWER)"), "ACK FAULT");
+    ck_assert(has_flag(0, SF_POWER_FAULT));
+    ck_assert(has_flag(0, SF_FAST_STOP));
+    ck_assert(!has_flag(2, SF_POWER_FAULT));
+    ck_assert(!has_flag(2, SF_FAST_STOP));
+    ck_assert(has_flag(2, SF_TEMP_WARNING)); /* device 0's fault left device 2's alone */
+}
+END_TEST
+
+START_TEST(clearing_acts_on_the_selected_device_only)
+{
+    ck_assert_str_eq(ctl_on(0, "FAULT(TEMP_WARNING)"), "ACK FAULT");
+    ck_assert_str_eq(ctl_on(2, "FAULT(TEMP_WARNING)"), "ACK FAULT");
+    ck_assert_str_eq(ctl_on(2, "FAULT(CURRENT)"), "ACK FAULT");
+    ck_assert_str_eq(ctl_on(2, "CLEAR(TEMP_WARNING)"), "ACK CLEAR");
+    ck_assert(!has_flag(2, SF_TEMP_WARNING));
+    ck_assert(has_flag(2, SF_CURR_FAULT));
+    ck_assert(has_flag(0, SF_TEMP_WARNING));
+    ck_assert_str_eq(ctl_on(2, "CLEAR()"), "ACK CLEAR");
+    ck_assert(!has_flag(2, SF_CURR_FAULT));
+    ck_assert_str_eq(ctl_on(2, "FAULTS?"), "FAULTS=[]");
+    ck_assert(has_flag(0, SF_TEMP_WARNING)); /* device 2's CLEAR() left device 0's */
+    GCL_EQ("TEMP?", "TEMP=65.0");
+    ck_assert_str_eq(ctl_on(0, "CLEAR()"), "ACK CLEAR");
+    ck_assert(!has_flag(0, SF_TEMP_WARNING));
+}
+END_TEST
+
+START_TEST(a_reset_clears_the_faults_of_its_device_only)
+{
+    ck_assert_str_eq(ctl_on(0, "FAULT(TEMP_WARNING)"), "ACK FAULT");
+    ck_assert_str_eq(ctl_on(1, "FAULT(TEMP_WARNING)"), "ACK FAULT");
+    ck_assert_str_eq(ctl_on(1, "RESET()"), "ACK RESET");
+    ck_assert_str_eq(ctl_on(1, "FAULTS?"), "FAULTS=[]");
+    ck_assert(!has_flag(1, SF_TEMP_WARNING));
+    ck_assert(has_flag(0, SF_TEMP_WARNING));
+}
+END_TEST
+
+/* The finger bus is device 0's: the other devices have no finger to tell. */
+START_TEST(a_finger_fault_needs_the_devices_finger_bus)
+{
+    ck_assert_int_eq(t_err_code(ctl_on(2, "FAULT(\"FINGER_POWER\",0)")), 5);
+    ck_assert_int_eq(t_err_code(ctl_on(2, "CLEAR(\"FINGER_POWER\",0)")), 5);
+    ck_assert_str_eq(ctl_on(2, "FAULTS?"), "FAULTS=[]");
+    ck_assert_str_eq(ctl_on(0, "FAULTS?"), "FAULTS=[]");
+}
+END_TEST
+
 Suite *faults_suite(void)
 {
     Suite *s = suite_create("faults");
@@ -279,5 +345,12 @@ Suite *faults_suite(void)
     tcase_add_test(tc, cut_needs_a_connection);
     tcase_add_test(tc, finger_fault_reaches_the_finger);
     suite_add_tcase(s, tc);
+    TCase *fleet = tcase_create("faults of a fleet");
+    tcase_add_checked_fixture(fleet, t_setup_three_devices, t_teardown);
+    tcase_add_test(fleet, a_fault_acts_on_the_selected_device_only);
+    tcase_add_test(fleet, clearing_acts_on_the_selected_device_only);
+    tcase_add_test(fleet, a_reset_clears_the_faults_of_its_device_only);
+    tcase_add_test(fleet, a_finger_fault_needs_the_devices_finger_bus);
+    suite_add_tcase(s, fleet);
     return s;
 }

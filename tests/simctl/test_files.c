@@ -12,13 +12,14 @@
 #include "fleet.h"
 #include "options.h"
 #include "record.h"
+#include "settings_table.h"
 #include "sim/scenario.h"
 #include "sim/sim_models.h"
 #include "wsg/wsg_types.h"
 
 static bool load_scenario(void *path)
 {
-    return scenario_load(path, 0);
+    return scenario_load(simctl_scenario(t_sim), path, 0);
 }
 
 START_TEST(scenario_runs_on_the_simulated_clock)
@@ -29,9 +30,9 @@ START_TEST(scenario_runs_on_the_simulated_clock)
                                    "+1400 PART_SLIP()\n"
                                    "2000 FAULT(\"POWER\")\n");
     uint64_t start = t_now_us();
-    ck_assert(scenario_load(path, start));
-    ck_assert_uint_eq(scenario_pending(), 3);
-    ck_assert_uint_eq(scenario_next_us(), start + 100000u);
+    ck_assert(scenario_load(simctl_scenario(t_sim), path, start));
+    ck_assert_uint_eq(scenario_pending(simctl_scenario(t_sim)), 3);
+    ck_assert_uint_eq(scenario_next_us(simctl_scenario(t_sim)), start + 100000u);
     t_step_ms(99);
     ck_assert_str_eq(ctl("PART?"), "PART=[0,0,0,0]");
     t_step_ms(1);
@@ -40,14 +41,14 @@ START_TEST(scenario_runs_on_the_simulated_clock)
     ck_assert_int_ge(t_until("FIN GRIP", 1000), 0);
     ck_assert_int_eq(t_gripstate(), GS_HOLDING);
     t_step_ms((double)(start + 1500000u - t_now_us()) / 1000.0);
-    ck_assert_uint_eq(scenario_pending(), 1);
+    ck_assert_uint_eq(scenario_pending(simctl_scenario(t_sim)), 1);
     t_step_ms(100);
     ck_assert_int_eq(t_gripstate(), GS_PART_LOST);
     t_step_ms(400);
-    ck_assert_uint_eq(scenario_pending(), 0);
+    ck_assert_uint_eq(scenario_pending(simctl_scenario(t_sim)), 0);
     ck_assert_int_eq(t_flag(SF_POWER_FAULT), 1);
     remove(path);
-    scenario_unload();
+    scenario_unload(simctl_scenario(t_sim));
 }
 END_TEST
 
@@ -95,16 +96,30 @@ START_TEST(scenario_arguments_are_checked_at_start)
     const char *path = t_temp_file("0 PART(40)\n0 FAULT(POWER)\n0 SCALE=2\n0 AMBIENT=30\n"
                                    "0 DELAY(10,99)\n0 CUT(98)\n0 PART_REMOVE()\n"
                                    "0 OBSTACLE(30)\n0 FAILNEXT(MOVE,18)\n0 LOG(hello)\n");
-    ck_assert(scenario_load(path, t_now_us() + 1000u));
+    ck_assert(scenario_load(simctl_scenario(t_sim), path, t_now_us() + 1000u));
     ck_assert_str_eq(ctl("PART?"), "PART=[0,0,0,0]");
     ck_assert_str_eq(ctl("OBSTACLE?"), "OBSTACLE=[0,0]");
     ck_assert_str_eq(ctl("FAULTS?"), "FAULTS=[]");
     ck_assert_str_eq(ctl("SCALE?"), "SCALE=1");
     ck_assert_str_eq(ctl("AMBIENT?"), "AMBIENT=25");
     remove(path);
-    scenario_unload();
+    scenario_unload(simctl_scenario(t_sim));
 }
 END_TEST
+
+/* The configuration the tests read files into themselves (options_parse()
+ * makes one only for --config or --save-file): one for the process, given
+ * to opts. */
+static config_file_t *config_of(host_options_t *opts)
+{
+    static config_file_t *shared;
+    if (shared == NULL) {
+        shared = config_file_create();
+        ck_assert_ptr_nonnull(shared);
+    }
+    opts->config = shared;
+    return shared;
+}
 
 typedef struct {
     const char *path;
@@ -114,7 +129,8 @@ typedef struct {
 static bool load_config(void *arg)
 {
     config_args_t *a = arg;
-    return config_file_load(a->path, NULL, a->opts) && config_file_check(a->opts->model);
+    return config_file_load(config_of(a->opts), a->path, NULL, a->opts) &&
+           config_file_check(a->opts->config, a->opts->model);
 }
 
 static const char *config_error(const char *text, bool *ok)
@@ -146,8 +162,8 @@ START_TEST(config_sets_the_device_like_its_web_interface)
                                    "[network]\ntcp_port = 1500\nudp_port = 1501\n"
                                    "max_clients = 3\ndisconnect_faststop = no\n"
                                    "sim_port = 7000\nsim_bind = ::1\n");
-    ck_assert(config_file_load(path, NULL, &opts));
-    ck_assert(config_file_check(opts.model));
+    ck_assert(config_file_load(config_of(&opts), path, NULL, &opts));
+    ck_assert(config_file_check(opts.config, opts.model));
     ck_assert_int_eq(opts.tcp_port, 1500);
     ck_assert_int_eq(opts.udp_port, 1501);
     ck_assert_int_eq(opts.max_clients, 3);
@@ -211,11 +227,11 @@ START_TEST(an_indented_config_line_continues_nothing)
     host_options_t opts;
     options_parse(1, argv, &opts);
     const char *path = t_temp_file("[device]\ntag = three\n  serial = 99\n");
-    ck_assert(config_file_load(path, NULL, &opts));
-    ck_assert(config_file_check(opts.model));
+    ck_assert(config_file_load(config_of(&opts), path, NULL, &opts));
+    ck_assert(config_file_check(opts.config, opts.model));
     wsg_config_t cfg;
     wsg_sim_model_config(wsg_sim_model_default(), &cfg);
-    config_file_apply(&cfg);
+    config_file_apply(opts.config, &cfg);
     ck_assert_str_eq(cfg.tag, "three");
     ck_assert_uint_eq(cfg.serial, 99);
     remove(path);
@@ -255,7 +271,8 @@ typedef struct {
 static bool load_layered(void *arg)
 {
     layered_args_t *a = arg;
-    return config_file_load(a->config, a->saved, a->opts) && config_file_check(a->opts->model);
+    return config_file_load(config_of(a->opts), a->config, a->saved, a->opts) &&
+           config_file_check(a->opts->config, a->opts->model);
 }
 
 /* --save-file: read after --config, its keys win; missing is nothing saved;
@@ -322,6 +339,7 @@ START_TEST(last_config_and_save_file_count)
                        30.0f);
     remove(first);
     remove(second);
+    options_release(&opts);
 }
 END_TEST
 
@@ -344,8 +362,8 @@ START_TEST(config_lines_are_read_whole_or_refused)
     host_options_t opts;
     options_parse(1, argv, &opts);
     const char *path = t_temp_file(long_comment_then("tag = long comments\n"));
-    ck_assert(config_file_load(path, NULL, &opts));
-    ck_assert(config_file_check(opts.model));
+    ck_assert(config_file_load(config_of(&opts), path, NULL, &opts));
+    ck_assert(config_file_check(opts.config, opts.model));
     remove(path);
     gripper_init(fleet_gripper(0), &opts, 0);
     t_reopen();
@@ -371,7 +389,7 @@ static bool load_config_path(void *path)
     static char *argv[] = {"wsgsim", NULL};
     host_options_t opts;
     options_parse(1, argv, &opts);
-    return config_file_load(path, NULL, &opts);
+    return config_file_load(config_of(&opts), path, NULL, &opts);
 }
 
 /* What loading `path` as a config and as a scenario prints (both must fail). */
@@ -411,14 +429,14 @@ START_TEST(scenario_lines_take_trailing_comments)
     const char *path = t_temp_file("0 PART(40, 100)   # a part\n"
                                    "+10 LOG(\"# not a comment\") # but this is\n"
                                    "20\tOBSTACLE(60)#tight\n");
-    ck_assert(scenario_load(path, t_now_us()));
+    ck_assert(scenario_load(simctl_scenario(t_sim), path, t_now_us()));
     remove(path);
-    ck_assert_uint_eq(scenario_pending(), 3);
+    ck_assert_uint_eq(scenario_pending(simctl_scenario(t_sim)), 3);
     t_step_ms(20);
-    ck_assert_uint_eq(scenario_pending(), 0);
+    ck_assert_uint_eq(scenario_pending(simctl_scenario(t_sim)), 0);
     ck_assert_str_eq(ctl("PART?"), "PART=[1,40,100,0]");
     ck_assert_str_eq(ctl("OBSTACLE?"), "OBSTACLE=[1,60]");
-    scenario_unload();
+    scenario_unload(simctl_scenario(t_sim));
     char *text = malloc(5000);
     memset(text, ' ', 4999);
     memcpy(text, "0 PART(40)", 10);
@@ -486,16 +504,16 @@ START_TEST(config_save_ends_every_line_with_a_newline_alone)
     host_options_t opts;
     options_parse(1, argv, &opts);
     const char *path = t_temp_file("; cell 3\r\r\n[motion]\r\nclamping_travel = 4\r\n");
-    ck_assert(config_file_load(path, NULL, &opts));
-    ck_assert(config_file_check(opts.model));
+    ck_assert(config_file_load(config_of(&opts), path, NULL, &opts));
+    ck_assert(config_file_check(opts.config, opts.model));
     const wsg_config_t *cfg = wsg_device_snapshot(&fleet_gripper(0)->device)->config;
     char why[256];
-    ck_assert(config_file_save(path, 0, cfg, NULL, why, sizeof(why)));
+    ck_assert(config_file_save(opts.config, path, 0, cfg, NULL, why, sizeof(why)));
     char first[4096];
     snprintf(first, sizeof(first), "%s", read_all(path));
     ck_assert_ptr_null(strchr(first, '\r'));
     ck_assert_ptr_nonnull(strstr(first, "; cell 3\n[motion]\n"));
-    ck_assert(config_file_save(path, 0, cfg, NULL, why, sizeof(why)));
+    ck_assert(config_file_save(opts.config, path, 0, cfg, NULL, why, sizeof(why)));
     ck_assert_str_eq(read_all(path), first);
     remove(path);
 }
@@ -510,17 +528,17 @@ START_TEST(config_save_replaces_colon_keys_too)
     host_options_t opts;
     options_parse(1, argv, &opts);
     const char *path = t_temp_file("[device]\ntag = a\n[motion]\n[device]\ntag : old\n");
-    ck_assert(config_file_load(path, NULL, &opts));
-    ck_assert(config_file_check(opts.model));
+    ck_assert(config_file_load(config_of(&opts), path, NULL, &opts));
+    ck_assert(config_file_check(opts.config, opts.model));
     wsg_config_t cfg = *wsg_device_snapshot(&fleet_gripper(0)->device)->config;
     snprintf(cfg.tag, sizeof(cfg.tag), "new");
     char why[256];
-    ck_assert(config_file_save(path, 0, &cfg, NULL, why, sizeof(why)));
+    ck_assert(config_file_save(opts.config, path, 0, &cfg, NULL, why, sizeof(why)));
     ck_assert_ptr_null(strstr(read_all(path), "old"));
-    ck_assert(config_file_load(path, NULL, &opts));
+    ck_assert(config_file_load(config_of(&opts), path, NULL, &opts));
     wsg_config_t loaded;
     wsg_sim_model_config(wsg_sim_model_default(), &loaded);
-    config_file_apply(&loaded);
+    config_file_apply(opts.config, &loaded);
     ck_assert_str_eq(loaded.tag, "new");
     remove(path);
 }
@@ -535,20 +553,42 @@ START_TEST(config_save_puts_the_tag_where_it_counts)
     host_options_t opts;
     options_parse(1, argv, &opts);
     const char *path = t_temp_file("[device]\ntag = a\n[device.0]\ntag = zero\n");
-    ck_assert(config_file_load(path, NULL, &opts));
-    ck_assert(config_file_check(opts.model));
+    ck_assert(config_file_load(config_of(&opts), path, NULL, &opts));
+    ck_assert(config_file_check(opts.config, opts.model));
     wsg_config_t cfg = *wsg_device_snapshot(&fleet_gripper(0)->device)->config;
     snprintf(cfg.tag, sizeof(cfg.tag), "new");
     char why[256];
-    ck_assert(config_file_save(path, 0, &cfg, NULL, why, sizeof(why)));
+    ck_assert(config_file_save(opts.config, path, 0, &cfg, NULL, why, sizeof(why)));
     ck_assert_ptr_nonnull(strstr(read_all(path), "[device]\ntag = a\n[device.0]\ntag = \"new\"\n"));
-    ck_assert(config_file_load(path, NULL, &opts));
+    ck_assert(config_file_load(config_of(&opts), path, NULL, &opts));
     wsg_config_t loaded;
     wsg_sim_model_config(wsg_sim_model_default(), &loaded);
-    config_file_apply(&loaded);
-    config_file_apply_device(0, &loaded);
+    config_file_apply(opts.config, &loaded);
+    config_file_apply_device(opts.config, 0, &loaded);
     ck_assert_str_eq(loaded.tag, "new");
     remove(path);
+}
+END_TEST
+
+/* The settings table names every device setting once: one row each, no
+ * key given twice in the file or on the page. */
+START_TEST(settings_table_names_every_setting_once)
+{
+    for (int id = 0; id < WSG_SET_COUNT; id++) {
+        const settings_row_t *row = settings_table_row((wsg_setting_t)id);
+        ck_assert_ptr_nonnull(row);
+        ck_assert_int_eq(row->id, id);
+    }
+    for (unsigned i = 0; i < SETTINGS_TABLE_COUNT; i++) {
+        const settings_row_t *a = &settings_table[i];
+        for (unsigned k = i + 1u; k < SETTINGS_TABLE_COUNT; k++) {
+            const settings_row_t *b = &settings_table[k];
+            ck_assert_int_ne(a->id, b->id);
+            ck_assert_str_ne(a->json_key, b->json_key);
+            ck_assert(a->ini_key == NULL || b->ini_key == NULL ||
+                      strcmp(a->ini_key, b->ini_key) != 0);
+        }
+    }
 }
 END_TEST
 
@@ -570,6 +610,7 @@ Suite *files_suite(void)
     tcase_add_test(tc, a_control_character_in_a_config_line_is_refused);
     tcase_add_test(tc, config_save_replaces_colon_keys_too);
     tcase_add_test(tc, config_save_puts_the_tag_where_it_counts);
+    tcase_add_test(tc, settings_table_names_every_setting_once);
     tcase_add_test(tc, save_file_is_read_over_the_config);
     tcase_add_test(tc, last_config_and_save_file_count);
     tcase_add_test(tc, record_writes_every_line_with_both_clocks);

@@ -145,12 +145,12 @@ END_TEST
 START_TEST(scenarios_cannot_step_or_say_bye)
 {
     char why[128];
-    ck_assert(simctl_check("PART_SLIP()", 11, true, why, sizeof(why)));
-    ck_assert(!simctl_check("STEP(5)", 7, true, why, sizeof(why)));
+    ck_assert(simctl_check(t_sim, "PART_SLIP()", 11, true, why, sizeof(why)));
+    ck_assert(!simctl_check(t_sim, "STEP(5)", 7, true, why, sizeof(why)));
     ck_assert_str_eq(why, "STEP cannot be used in a scenario");
-    ck_assert(simctl_check("STEP(5)", 7, false, why, sizeof(why)));
-    ck_assert(!simctl_check("BYE()", 5, true, why, sizeof(why)));
-    ck_assert(!simctl_check("PART(1,2,3,4)", 13, true, why, sizeof(why)));
+    ck_assert(simctl_check(t_sim, "STEP(5)", 7, false, why, sizeof(why)));
+    ck_assert(!simctl_check(t_sim, "BYE()", 5, true, why, sizeof(why)));
+    ck_assert(!simctl_check(t_sim, "PART(1,2,3,4)", 13, true, why, sizeof(why)));
 }
 END_TEST
 

@@ -31,21 +31,32 @@ static struct sockaddr_storage address(const char *text)
     return a;
 }
 
+/* The connection records under test: a fresh one for every test. */
+static web_intake_t *intake;
+
 static bool admits(const char *text)
 {
     struct sockaddr_storage a = address(text);
-    return web_intake_admits((const struct sockaddr *)&a);
+    return web_intake_admits(intake, (const struct sockaddr *)&a);
 }
 
 static web_intake_conn_t *open_from(const char *text, int fd, uint64_t now)
 {
     struct sockaddr_storage a = address(text);
-    return web_intake_open(fd, (const struct sockaddr *)&a, now);
+    return web_intake_open(intake, fd, (const struct sockaddr *)&a, now);
 }
 
 static void setup(void)
 {
-    web_intake_reset(DEADLINE_NS);
+    intake = web_intake_create();
+    ck_assert_ptr_nonnull(intake);
+    web_intake_reset(intake, DEADLINE_NS);
+}
+
+static void teardown(void)
+{
+    web_intake_destroy(intake);
+    intake = NULL;
 }
 
 START_TEST(an_address_may_have_16_requests_arriving)
@@ -59,11 +70,11 @@ START_TEST(an_address_may_have_16_requests_arriving)
     ck_assert(!admits("127.0.0.2"));
     ck_assert(!admits("::ffff:127.0.0.2")); /* the same client on a dual-stack socket */
     ck_assert(admits("127.0.0.3"));
-    web_intake_arrived(conns[0]); /* being answered: no longer counted */
+    web_intake_arrived(intake, conns[0]); /* being answered: no longer counted */
     ck_assert(admits("127.0.0.2"));
-    web_intake_waiting(conns[0], 5); /* its next request arriving */
+    web_intake_waiting(intake, conns[0], 5); /* its next request arriving */
     ck_assert(!admits("127.0.0.2"));
-    web_intake_close(conns[1]);
+    web_intake_close(intake, conns[1]);
     ck_assert(admits("127.0.0.2"));
 }
 END_TEST
@@ -86,15 +97,15 @@ START_TEST(a_late_request_is_shut_down_at_its_deadline)
 {
     int pair[2];
     ck_assert_int_eq(socketpair(AF_UNIX, SOCK_STREAM, 0, pair), 0);
-    ck_assert_uint_eq(web_intake_next_due_ns(), 0);
+    ck_assert_uint_eq(web_intake_next_due_ns(intake), 0);
     ck_assert_ptr_nonnull(open_from("127.0.0.2", pair[0], 1000));
-    ck_assert_uint_eq(web_intake_next_due_ns(), 1000 + DEADLINE_NS);
-    ck_assert_uint_eq(web_intake_cut_late(1000 + DEADLINE_NS - 1), 0);
-    ck_assert_uint_eq(web_intake_cut_late(1000 + DEADLINE_NS), 1);
+    ck_assert_uint_eq(web_intake_next_due_ns(intake), 1000 + DEADLINE_NS);
+    ck_assert_uint_eq(web_intake_cut_late(intake, 1000 + DEADLINE_NS - 1), 0);
+    ck_assert_uint_eq(web_intake_cut_late(intake, 1000 + DEADLINE_NS), 1);
     char byte;
     ck_assert_int_eq(read(pair[1], &byte, 1), 0); /* the client sees the end */
-    ck_assert_uint_eq(web_intake_next_due_ns(), 0);
-    ck_assert_uint_eq(web_intake_cut_late(UINT64_MAX / 2), 0); /* not cut twice */
+    ck_assert_uint_eq(web_intake_next_due_ns(intake), 0);
+    ck_assert_uint_eq(web_intake_cut_late(intake, UINT64_MAX / 2), 0); /* not cut twice */
     close(pair[0]);
     close(pair[1]);
 }
@@ -105,13 +116,13 @@ START_TEST(an_answered_connection_is_never_late)
     int pair[2];
     ck_assert_int_eq(socketpair(AF_UNIX, SOCK_STREAM, 0, pair), 0);
     web_intake_conn_t *stream = open_from("127.0.0.2", pair[0], 0);
-    web_intake_arrived(stream);
-    ck_assert_uint_eq(web_intake_next_due_ns(), 0);
-    ck_assert_uint_eq(web_intake_cut_late(100 * DEADLINE_NS), 0);
+    web_intake_arrived(intake, stream);
+    ck_assert_uint_eq(web_intake_next_due_ns(intake), 0);
+    ck_assert_uint_eq(web_intake_cut_late(intake, 100 * DEADLINE_NS), 0);
     /* a keep-alive connection waits from the end of its reply */
-    web_intake_waiting(stream, 7 * DEADLINE_NS);
-    ck_assert_uint_eq(web_intake_next_due_ns(), 8 * DEADLINE_NS);
-    ck_assert_uint_eq(web_intake_cut_late(8 * DEADLINE_NS - 1), 0);
+    web_intake_waiting(intake, stream, 7 * DEADLINE_NS);
+    ck_assert_uint_eq(web_intake_next_due_ns(intake), 8 * DEADLINE_NS);
+    ck_assert_uint_eq(web_intake_cut_late(intake, 8 * DEADLINE_NS - 1), 0);
     close(pair[0]);
     close(pair[1]);
 }
@@ -121,9 +132,9 @@ START_TEST(the_oldest_arriving_request_is_due_first)
 {
     web_intake_conn_t *old = open_from("127.0.0.2", -1, 100);
     open_from("127.0.0.3", -1, 200);
-    ck_assert_uint_eq(web_intake_next_due_ns(), 100 + DEADLINE_NS);
-    web_intake_close(old);
-    ck_assert_uint_eq(web_intake_next_due_ns(), 200 + DEADLINE_NS);
+    ck_assert_uint_eq(web_intake_next_due_ns(intake), 100 + DEADLINE_NS);
+    web_intake_close(intake, old);
+    ck_assert_uint_eq(web_intake_next_due_ns(intake), 200 + DEADLINE_NS);
 }
 END_TEST
 
@@ -138,7 +149,7 @@ START_TEST(the_pool_holds_the_connection_limit)
         first = first != NULL ? first : c;
     }
     ck_assert_ptr_null(open_from("10.1.0.1", -1, 0));
-    web_intake_close(first);
+    web_intake_close(intake, first);
     ck_assert_ptr_nonnull(open_from("10.1.0.1", -1, 0));
 }
 END_TEST
@@ -147,7 +158,7 @@ int main(void)
 {
     Suite *s = suite_create("web_intake");
     TCase *tc = tcase_create("intake");
-    tcase_add_checked_fixture(tc, setup, NULL);
+    tcase_add_checked_fixture(tc, setup, teardown);
     tcase_add_test(tc, an_address_may_have_16_requests_arriving);
     tcase_add_test(tc, an_ipv6_client_counts_by_its_64);
     tcase_add_test(tc, a_late_request_is_shut_down_at_its_deadline);
