@@ -12,7 +12,7 @@
 typedef struct {
     hal_axis_t axis;
     hal_temp_t temp;
-    const hal_can_t *can;
+    hal_can_t can; /* can.ops NULL: no finger bus */
 } wsg_hal_t;
 
 #endif

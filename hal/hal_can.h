@@ -39,28 +39,34 @@ typedef struct {
     bool (*recv)(void *ctx, hal_can_frame_t *frame);
     /* Replaces the acceptance filters; count 0 accepts every frame. */
     bool (*set_filters)(void *ctx, const hal_can_filter_t *filters, unsigned count);
-    void *ctx;
     /* True when the nodes on this bus run only when the controller polls it
      * (an in-process simulation): nothing happens on the bus between two
      * polls, so the controller need not poll on a timer while nothing
      * changes. False for a real bus. */
     bool on_demand;
+} hal_can_ops_t;
+
+/* A bus: the driver's operations and its instance (the shape of every HAL
+ * handle). ops NULL: no bus. */
+typedef struct {
+    const hal_can_ops_t *ops;
+    void *ctx;
 } hal_can_t;
 
 static inline bool hal_can_send(const hal_can_t *can, const hal_can_frame_t *frame)
 {
-    return can->send(can->ctx, frame);
+    return can->ops->send(can->ctx, frame);
 }
 
 static inline bool hal_can_recv(const hal_can_t *can, hal_can_frame_t *frame)
 {
-    return can->recv(can->ctx, frame);
+    return can->ops->recv(can->ctx, frame);
 }
 
 static inline bool hal_can_set_filters(const hal_can_t *can, const hal_can_filter_t *filters,
                                        unsigned count)
 {
-    return can->set_filters(can->ctx, filters, count);
+    return can->ops->set_filters(can->ctx, filters, count);
 }
 
 /* The software form of the filters, for drivers without hardware filtering. */

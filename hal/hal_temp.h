@@ -5,6 +5,10 @@
 
 typedef struct {
     float (*board_c)(void *ctx);
+} hal_temp_ops_t;
+
+typedef struct {
+    const hal_temp_ops_t *ops;
     void *ctx;
 } hal_temp_t;
 

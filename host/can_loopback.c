@@ -149,13 +149,17 @@ static bool gripper_set_filters(void *ctx, const hal_can_filter_t *filters, unsi
     return set_acceptance(&bus.accept, filters, count);
 }
 
+/* The gripper's side runs the nodes when it polls: on demand. */
+static const hal_can_ops_t gripper_ops = {gripper_send, gripper_recv, gripper_set_filters, true};
+static const hal_can_ops_t node_ops = {node_send, node_recv, node_set_filters, false};
+
 void can_loopback_init(const fbus_type_t types[FBUS_SLOTS], const finger_node_params_t *params)
 {
     memset(&bus, 0, sizeof(bus));
-    bus.port = (hal_can_t){gripper_send, gripper_recv, gripper_set_filters, NULL, true};
+    bus.port = (hal_can_t){&gripper_ops, NULL};
     for (unsigned i = 0; i < FBUS_SLOTS; i++) {
         loopback_node_t *n = &bus.nodes[i];
-        n->port = (hal_can_t){node_send, node_recv, node_set_filters, (void *)(intptr_t)i, false};
+        n->port = (hal_can_t){&node_ops, (void *)(intptr_t)i};
         wsg_finger_node_init(&n->node, types[i], i, params, &n->port);
         hal_can_filter_t filters[HAL_CAN_MAX_FILTERS];
         unsigned count = wsg_finger_node_filters(&n->node, filters);

@@ -66,11 +66,13 @@ static bool sc_set_filters(void *ctx, const hal_can_filter_t *filters, unsigned 
     return rc == 0;
 }
 
+static const hal_can_ops_t sc_ops = {sc_send, sc_recv, sc_set_filters, false};
+
 bool can_socketcan_open(can_socketcan_t *s, const char *ifname, char *err, size_t err_len)
 {
     memset(s, 0, sizeof(*s));
     s->fd = can_adapt_open(ifname, err, err_len);
-    s->can = (hal_can_t){sc_send, sc_recv, sc_set_filters, s, false};
+    s->can = (hal_can_t){&sc_ops, s};
     return s->fd >= 0;
 }
 

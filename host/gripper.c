@@ -34,8 +34,7 @@ static void place_start_part(gripper_t *g)
         return;
     }
     if (axis->x_mm <= opts->part_width_mm) {
-        axis->x_mm = axis->stroke_mm;
-        axis->target_mm = axis->x_mm;
+        wsg_sim_axis_place_jaws(axis, axis->stroke_mm);
     }
     wsg_sim_axis_place_part(axis, opts->part_width_mm, opts->part_stiffness_n_mm);
 }
@@ -100,7 +99,8 @@ void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
     power_on_world(g);
     wsg_hal_t hal;
     wsg_sim_world_hal(&g->world, &hal);
-    hal.can = index == 0 ? finger_bus_host_can() : NULL;
+    const hal_can_t *bus = index == 0 ? finger_bus_host_can() : NULL;
+    hal.can = bus != NULL ? *bus : (hal_can_t){NULL, NULL};
     wsg_device_init(&g->device, &g->config, &hal);
     wsg_conn_set_drivers(&g->device, host_drivers, sizeof(host_drivers) / sizeof(host_drivers[0]));
     wsg_runner_init(&g->runner, &g->device, advance_world, g);

@@ -20,7 +20,7 @@ static void power_on(wsg_dev_t *dev, const wsg_config_t *cfg)
     dev->latched_flags = 0;
     dev->flags = 0;
     wsg_fingers_reset(&dev->fingers);
-    wsg_finger_bus_init(&dev->fbus, dev->hal.can);
+    wsg_finger_bus_init(&dev->fbus, dev->hal.can.ops != NULL ? &dev->hal.can : NULL);
     dev->fingers_unsensed = true;
     wsg_sense(dev);
 }

@@ -37,7 +37,7 @@ void wsg_sense(wsg_dev_t *dev)
     /* FORCE? reports the finger measurement in force-control mode, else the
      * motor's estimate */
     s->force_n = s->force_control ? s->finger_force_n : s->axis.force_n;
-    s->temperature_c = dev->hal.temp.board_c(dev->hal.temp.ctx);
+    s->temperature_c = dev->hal.temp.ops->board_c(dev->hal.temp.ctx);
     s->referenced = dev->referenced;
     wsg_flags_derive(dev);
 }

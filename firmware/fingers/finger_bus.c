@@ -26,7 +26,7 @@ void wsg_finger_bus_init(finger_bus_t *bus, const hal_can_t *can)
         {FBUS_ID_HEARTBEAT, 0x7FCu, 0},  {FBUS_ID_SIMCTL, 0x7FCu, 0},
     };
     unsigned count = sizeof(filters) / sizeof(filters[0]);
-    hal_can_set_filters(can, filters, can->on_demand ? count : count - 1u);
+    hal_can_set_filters(can, filters, can->ops->on_demand ? count : count - 1u);
     bus->power_mask = (uint8_t)((1u << FBUS_SLOTS) - 1u);
     bus->wake = true;
 }
@@ -381,7 +381,7 @@ static uint64_t supervise_due_us(const fbus_slot_t *s)
  * steps while moving, of which one in ten broadcasts). */
 static bool quiet(const finger_bus_t *bus, const wsg_fingers_t *fingers, const fbus_input_t *in)
 {
-    return bus->can->on_demand && !bus->wake && in->now_us < bus->quiet_until_us &&
+    return bus->can->ops->on_demand && !bus->wake && in->now_us < bus->quiet_until_us &&
            !bus->regulating && !(in->holding && wsg_fingers_force_control(fingers));
 }
 

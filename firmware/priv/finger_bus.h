@@ -88,7 +88,7 @@ static inline uint64_t wsg_finger_bus_next_deadline_us(const finger_bus_t *bus)
     if (bus->can == NULL) {
         return UINT64_MAX;
     }
-    if (!bus->can->on_demand || bus->regulating || bus->wake ||
+    if (!bus->can->ops->on_demand || bus->regulating || bus->wake ||
         bus->next_state_us < bus->awake_until_us) {
         return bus->next_state_us;
     }

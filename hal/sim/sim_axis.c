@@ -107,6 +107,22 @@ void wsg_sim_axis_set_position(sim_axis_t *axis, float position_mm)
     axis->offset_mm += shift;
 }
 
+void wsg_sim_axis_place_jaws(sim_axis_t *axis, float x_mm)
+{
+    axis->x_mm = x_mm;
+    axis->target_mm = x_mm;
+}
+
+void wsg_sim_axis_set_power_fault(sim_axis_t *axis, bool on)
+{
+    axis->power_fault = on;
+}
+
+void wsg_sim_axis_set_current_fault(sim_axis_t *axis, bool on)
+{
+    axis->current_fault = on;
+}
+
 /* One step of the trapezoidal profile, ignoring contact. Comparisons use
  * fabsf (one instruction); they compare the same as absf, which keeps the
  * sign of -0 where a magnitude enters arithmetic. */

@@ -86,6 +86,12 @@ void wsg_sim_axis_stop(sim_axis_t *axis, bool fast);
 /* Emergency stop with the drive switched off: no force until the next move. */
 void wsg_sim_axis_disable(sim_axis_t *axis);
 void wsg_sim_axis_set_position(sim_axis_t *axis, float position_mm);
+/* Puts the jaws at rest at an opening in axis coordinates (a part given at
+ * start needs them open beyond it). */
+void wsg_sim_axis_place_jaws(sim_axis_t *axis, float x_mm);
+/* Fault injection: the drive reports a supply or motor-current fault. */
+void wsg_sim_axis_set_power_fault(sim_axis_t *axis, bool on);
+void wsg_sim_axis_set_current_fault(sim_axis_t *axis, bool on);
 /* Inline: read at every step of the clock. */
 static inline float wsg_sim_axis_position(const sim_axis_t *axis)
 {

@@ -19,7 +19,15 @@ typedef struct {
     float last_share;
 } sim_thermal_t;
 
+#define SIM_THERMAL_NO_OVERRIDE (-1000.0f)
+
 void wsg_sim_thermal_init(sim_thermal_t *thermal, float ambient_c);
+/* The room's temperature; the board settles towards it from now on. */
+void wsg_sim_thermal_set_ambient(sim_thermal_t *thermal, float ambient_c);
+/* Fault injection: the sensor reads board_c whatever the model says, until
+ * the override is cleared. */
+void wsg_sim_thermal_override(sim_thermal_t *thermal, float board_c);
+void wsg_sim_thermal_clear_override(sim_thermal_t *thermal);
 
 /* The step functions are inline: the world advances the model and the
  * device reads it at every step of the clock. */

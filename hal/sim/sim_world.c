@@ -75,9 +75,11 @@ static float board_c(void *ctx)
     return wsg_sim_thermal_board_c(&((const sim_world_t *)ctx)->thermal);
 }
 
+static const hal_temp_ops_t temp_ops = {.board_c = board_c};
+
 void wsg_sim_world_hal(sim_world_t *world, wsg_hal_t *hal)
 {
     hal->axis = (hal_axis_t){&axis_ops, world};
-    hal->temp = (hal_temp_t){board_c, world};
-    hal->can = NULL;
+    hal->temp = (hal_temp_t){&temp_ops, world};
+    hal->can = (hal_can_t){NULL, NULL};
 }

@@ -148,7 +148,7 @@ wsg_status_t sc_ambient(simctl_ctx_t *ctx)
         if (sc_checking(ctx)) {
             return E_SUCCESS;
         }
-        thermal->ambient_c = (float)celsius;
+        wsg_sim_thermal_set_ambient(thermal, (float)celsius);
         host_logf(HAL_LOG_INFO, "world: ambient %.1f C", celsius);
     }
     sc_reply(ctx, "%g", (double)thermal->ambient_c);

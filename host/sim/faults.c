@@ -10,7 +10,6 @@
 #include "log.h"
 #include "sim/sim_world.h"
 
-#define NO_OVERRIDE (-1000.0f)
 #define TEMP_FAULT_MARGIN_C 5.0f
 
 static const struct {
@@ -119,12 +118,12 @@ static void apply_temperature(const struct simctl_device_faults *f, gripper_t *g
 {
     const wsg_config_t *cfg = wsg_device_snapshot(&g->device)->config;
     sim_thermal_t *thermal = &g->world.thermal;
-    thermal->override_c = NO_OVERRIDE;
-    if (f->active[SIMCTL_FAULT_TEMP_WARNING]) {
-        thermal->override_c = (cfg->temp_warning_c + cfg->temp_fault_c) / 2.0f;
-    }
     if (f->active[SIMCTL_FAULT_TEMP_FAULT]) {
-        thermal->override_c = cfg->temp_fault_c + TEMP_FAULT_MARGIN_C;
+        wsg_sim_thermal_override(thermal, cfg->temp_fault_c + TEMP_FAULT_MARGIN_C);
+    } else if (f->active[SIMCTL_FAULT_TEMP_WARNING]) {
+        wsg_sim_thermal_override(thermal, (cfg->temp_warning_c + cfg->temp_fault_c) / 2.0f);
+    } else {
+        wsg_sim_thermal_clear_override(thermal);
     }
 }
 
@@ -171,10 +170,10 @@ static void apply(const struct simctl_device_faults *f, gripper_t *g, simctl_fau
         apply_temperature(f, g);
         break;
     case SIMCTL_FAULT_POWER:
-        axis->power_fault = on;
+        wsg_sim_axis_set_power_fault(axis, on);
         break;
     case SIMCTL_FAULT_CURRENT:
-        axis->current_fault = on;
+        wsg_sim_axis_set_current_fault(axis, on);
         break;
     case SIMCTL_FAULT_COUNT:
         break;

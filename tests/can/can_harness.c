@@ -73,10 +73,14 @@ static bool lossy_set_filters(void *ctx, const hal_can_filter_t *filters, unsign
     return hal_can_set_filters(lossless_bus, filters, count);
 }
 
+/* [on_demand]: the wrapped bus says what the loopback would */
+static const hal_can_ops_t lossy_ops[2] = {{lossy_send, lossy_recv, lossy_set_filters, false},
+                                           {lossy_send, lossy_recv, lossy_set_filters, true}};
+
 static void start_wrapped(const char *fingers, bool on_demand, unsigned lost)
 {
     lossless_bus = start_loopback(fingers);
-    lossy_bus = (hal_can_t){lossy_send, lossy_recv, lossy_set_filters, NULL, on_demand};
+    lossy_bus = (hal_can_t){&lossy_ops[on_demand], NULL};
     tares_to_lose = lost;
     tares_sent = 0;
     fingers_held = false;

@@ -78,7 +78,7 @@ void h_setup_on_can(const hal_can_t *can)
     wsg_sim_world_init(&h_world, &config, h_now_us);
     wsg_hal_t hal;
     wsg_sim_world_hal(&h_world, &hal);
-    hal.can = can;
+    hal.can = can != NULL ? *can : (hal_can_t){NULL, NULL};
     wsg_device_init(&h_dev, &config, &hal);
     wsg_conn_set_drivers(&h_dev, h_drivers, sizeof(h_drivers) / sizeof(h_drivers[0]));
     h_open(&h_main, WSG_TRANSPORT_STREAM);

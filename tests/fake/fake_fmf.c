@@ -46,7 +46,8 @@ static bool no_filters(void *ctx, const hal_can_filter_t *filters, unsigned coun
     return true;
 }
 
-static const hal_can_t node_port = {node_send, no_recv, no_filters, NULL, false};
+static const hal_can_ops_t node_ops = {node_send, no_recv, no_filters, false};
+static const hal_can_t node_port = {&node_ops, NULL};
 
 static bool device_send(void *ctx, const hal_can_frame_t *frame)
 {
@@ -82,7 +83,7 @@ static bool device_set_filters(void *ctx, const hal_can_filter_t *filters, unsig
     return true;
 }
 
-static const hal_can_t device_port = {device_send, device_recv, device_set_filters, NULL, false};
+static const hal_can_ops_t device_ops = {device_send, device_recv, device_set_filters, false};
 
 void h_setup_fmf_homed(void)
 {
@@ -92,8 +93,8 @@ void h_setup_fmf_homed(void)
     wsg_finger_node_defaults(&params);
     wsg_finger_node_init(&fmf.node, FBUS_TYPE_FMF, 0, &params, &node_port);
     fmf.node_filter_count = wsg_finger_node_filters(&fmf.node, fmf.node_filters);
-    h_devp()->hal.can = &device_port; /* the finger bus wired in after power-on */
-    wsg_finger_bus_init(&h_devp()->fbus, &device_port);
+    h_devp()->hal.can = (hal_can_t){&device_ops, NULL}; /* the bus wired in after power-on */
+    wsg_finger_bus_init(&h_devp()->fbus, &h_devp()->hal.can);
     advance_ms(200); /* the finger boots and delivers data */
     ck_assert_int_eq(ask_flag(SF_FORCECNTL_MODE), 1);
     SEND("HOME()");

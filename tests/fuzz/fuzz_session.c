@@ -145,7 +145,7 @@ static bool can_set_filters(void *ctx, const hal_can_filter_t *filters, unsigned
     return hal_can_set_filters(raw.loopback, filters, count);
 }
 
-static const hal_can_t fuzz_can = {can_send, can_recv, can_set_filters, NULL, false};
+static const hal_can_ops_t fuzz_can_ops = {can_send, can_recv, can_set_filters, false};
 
 static void queue_raw_frames(const uint8_t *p, size_t n)
 {
@@ -246,7 +246,7 @@ static void power_on(uint8_t config_byte)
     raw.loopback = can_loopback_bus();
     wsg_hal_t hal;
     wsg_sim_world_hal(&world, &hal);
-    hal.can = &fuzz_can;
+    hal.can = (hal_can_t){&fuzz_can_ops, NULL};
     wsg_device_init(&device, &cfg, &hal);
     static const wsg_proto_driver_t *const drivers[] = {&wsg_bin_driver, &wsg_gcl_driver};
     wsg_conn_set_drivers(&device, drivers, sizeof(drivers) / sizeof(drivers[0]));
