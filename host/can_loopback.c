@@ -2,41 +2,36 @@
 /* The in-process finger bus (can_loopback.h). */
 #include "can_loopback.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 #include "hal_clock.h"
 
-#define LOOPBACK_RING 512u
+#define LOOPBACK_RING 512u /* frames waiting for the gripper, at most */
+#define LOOPBACK_RING_FIRST 8u
 #define GRIPPER (-1)
 
-/* A participant's acceptance filters, and their verdict on every standard
- * identifier worked out when they are set: every frame is offered to every
- * participant, so a lookup instead of a pass over the filters. */
+/* A participant's acceptance filters. */
 typedef struct {
     hal_can_filter_t filters[HAL_CAN_MAX_FILTERS];
     unsigned count;
-    uint8_t std_ids[(HAL_CAN_STD_ID_MASK + 1u) / 8u]; /* bit per identifier */
 } acceptance_t;
 
-typedef struct {
-    finger_node_t node;
+/* A fleet has thousands of buses, so they are kept small: the nodes share
+ * one port (a node's frames carry its node id), and a node's filters are
+ * its type's (wsg_finger_node_filters), asked per frame rather than kept. */
+struct can_loopback {
+    finger_node_t nodes[FBUS_SLOTS];
+    hal_can_t nodes_port;
     hal_can_t port;
     acceptance_t accept;
-} loopback_node_t;
-
-static struct {
-    loopback_node_t nodes[FBUS_SLOTS];
-    hal_can_t port;
-    acceptance_t accept;
-    hal_can_frame_t ring[LOOPBACK_RING];
-    unsigned head, count;
+    hal_can_frame_t *ring; /* grows as frames queue up, up to LOOPBACK_RING;
+                              freed once the gripper took them all */
+    unsigned capacity, head, count;
     uint32_t frames;
-} bus;
-
-static struct {
-    can_loopback_tap_t fn;
-    void *ctx;
-} tap; /* outside bus: can_loopback_init() keeps it */
+    can_loopback_tap_t tap;
+    void *tap_ctx;
+};
 
 static bool set_acceptance(acceptance_t *a, const hal_can_filter_t *filters, unsigned count)
 {
@@ -45,59 +40,84 @@ static bool set_acceptance(acceptance_t *a, const hal_can_filter_t *filters, uns
     }
     memcpy(a->filters, filters, count * sizeof(filters[0]));
     a->count = count;
-    memset(a->std_ids, 0, sizeof(a->std_ids));
-    for (uint32_t id = 0; id <= HAL_CAN_STD_ID_MASK; id++) {
-        hal_can_frame_t probe = {.id = id};
-        if (hal_can_filters_accept(filters, count, &probe)) {
-            a->std_ids[id / 8u] |= (uint8_t)(1u << (id % 8u));
-        }
-    }
     return true;
 }
 
 static inline bool accepts(const acceptance_t *a, const hal_can_frame_t *frame)
 {
-    if ((frame->flags & HAL_CAN_FLAG_EXT) != 0u || frame->id > HAL_CAN_STD_ID_MASK) {
-        return hal_can_filters_accept(a->filters, a->count, frame);
-    }
-    return (a->std_ids[frame->id / 8u] & (1u << (frame->id % 8u))) != 0u;
+    return hal_can_filters_accept(a->filters, a->count, frame);
 }
 
-static void to_gripper(const hal_can_frame_t *frame)
+static bool node_accepts(const finger_node_t *node, const hal_can_frame_t *frame)
 {
-    if (!accepts(&bus.accept, frame)) {
+    hal_can_filter_t filters[HAL_CAN_MAX_FILTERS];
+    unsigned count = wsg_finger_node_filters(node, filters);
+    return hal_can_filters_accept(filters, count, frame);
+}
+
+/* Room for one more frame to the gripper: the ring doubles while below its
+ * bound; false when it cannot (full at the bound, or out of memory). */
+static bool grow_ring(can_loopback_t *bus)
+{
+    if (bus->count < bus->capacity) {
+        return true;
+    }
+    unsigned capacity = bus->capacity == 0u ? LOOPBACK_RING_FIRST : 2u * bus->capacity;
+    if (capacity > LOOPBACK_RING) {
+        return false;
+    }
+    hal_can_frame_t *ring = malloc(capacity * sizeof(*ring));
+    if (ring == NULL) {
+        return false;
+    }
+    for (unsigned k = 0; k < bus->count; k++) { /* unwrapped, oldest first */
+        ring[k] = bus->ring[(bus->head + k) % bus->capacity];
+    }
+    free(bus->ring);
+    bus->ring = ring;
+    bus->capacity = capacity;
+    bus->head = 0;
+    return true;
+}
+
+static void to_gripper(can_loopback_t *bus, const hal_can_frame_t *frame)
+{
+    if (!accepts(&bus->accept, frame)) {
         return;
     }
-    if (bus.count == LOOPBACK_RING) {
-        bus.head = (bus.head + 1u) % LOOPBACK_RING;
-        bus.count--;
+    if (!grow_ring(bus)) { /* full: the oldest frame is lost, as on an overrun */
+        if (bus->capacity == 0u) {
+            return;
+        }
+        bus->head = (bus->head + 1u) % bus->capacity;
+        bus->count--;
     }
-    bus.ring[(bus.head + bus.count) % LOOPBACK_RING] = *frame;
-    bus.count++;
+    bus->ring[(bus->head + bus->count) % bus->capacity] = *frame;
+    bus->count++;
 }
 
 /* Every other participant sees the frame, as on a real bus. */
-static void deliver(const hal_can_frame_t *frame, int from)
+static void deliver(can_loopback_t *bus, const hal_can_frame_t *frame, int from)
 {
     uint64_t now = hal_clock_now_us();
-    bus.frames++;
-    if (tap.fn != NULL) {
-        tap.fn(tap.ctx, frame, now);
+    bus->frames++;
+    if (bus->tap != NULL) {
+        bus->tap(bus->tap_ctx, frame, now);
     }
     if (from != GRIPPER) {
-        to_gripper(frame);
+        to_gripper(bus, frame);
     }
     for (int i = 0; i < (int)FBUS_SLOTS; i++) {
-        loopback_node_t *n = &bus.nodes[i];
-        if (i != from && accepts(&n->accept, frame)) {
-            wsg_finger_node_receive(&n->node, frame, now);
+        finger_node_t *n = &bus->nodes[i];
+        if (i != from && node_accepts(n, frame)) {
+            wsg_finger_node_receive(n, frame, now);
         }
     }
 }
 
 static bool node_send(void *ctx, const hal_can_frame_t *frame)
 {
-    deliver(frame, (int)(intptr_t)ctx);
+    deliver(ctx, frame, wsg_fbus_slot_of_node((uint8_t)(frame->id & FBUS_NODE_MASK)));
     return true;
 }
 
@@ -110,16 +130,18 @@ static bool node_recv(void *ctx, hal_can_frame_t *frame)
 
 static bool node_set_filters(void *ctx, const hal_can_filter_t *filters, unsigned count)
 {
-    return set_acceptance(&bus.nodes[(intptr_t)ctx].accept, filters, count);
+    (void)ctx;
+    (void)filters;
+    return count <= HAL_CAN_MAX_FILTERS; /* the node's own: asked per frame */
 }
 
 static bool gripper_send(void *ctx, const hal_can_frame_t *frame)
 {
-    (void)ctx;
+    can_loopback_t *bus = ctx;
     uint8_t faults;
-    deliver(frame, GRIPPER);
+    deliver(bus, frame, GRIPPER);
     if (wsg_fbus_unpack_simctl(frame, &faults)) {
-        to_gripper(frame); /* the controller wakes to watch the fault take effect */
+        to_gripper(bus, frame); /* the controller wakes to watch the fault take effect */
     }
     return true;
 }
@@ -127,58 +149,73 @@ static bool gripper_send(void *ctx, const hal_can_frame_t *frame)
 /* Lets the nodes catch up with the simulated clock, then hands out a frame. */
 static bool gripper_recv(void *ctx, hal_can_frame_t *frame)
 {
-    (void)ctx;
-    if (bus.count == 0u) {
+    can_loopback_t *bus = ctx;
+    if (bus->count == 0u) {
         uint64_t now = hal_clock_now_us();
         for (unsigned i = 0; i < FBUS_SLOTS; i++) {
-            wsg_finger_node_step(&bus.nodes[i].node, now);
+            wsg_finger_node_step(&bus->nodes[i], now);
         }
     }
-    if (bus.count == 0u) {
+    if (bus->count == 0u) {
         return false;
     }
-    *frame = bus.ring[bus.head];
-    bus.head = (bus.head + 1u) % LOOPBACK_RING;
-    bus.count--;
+    *frame = bus->ring[bus->head];
+    bus->head = (bus->head + 1u) % bus->capacity;
+    bus->count--;
+    if (bus->count == 0u) { /* an idle bus holds no ring */
+        free(bus->ring);
+        bus->ring = NULL;
+        bus->capacity = 0;
+        bus->head = 0;
+    }
     return true;
 }
 
 static bool gripper_set_filters(void *ctx, const hal_can_filter_t *filters, unsigned count)
 {
-    (void)ctx;
-    return set_acceptance(&bus.accept, filters, count);
+    can_loopback_t *bus = ctx;
+    return set_acceptance(&bus->accept, filters, count);
 }
 
 /* The gripper's side runs the nodes when it polls: on demand. */
 static const hal_can_ops_t gripper_ops = {gripper_send, gripper_recv, gripper_set_filters, true};
 static const hal_can_ops_t node_ops = {node_send, node_recv, node_set_filters, false};
 
-void can_loopback_init(const fbus_type_t types[FBUS_SLOTS], const finger_node_params_t *params)
+can_loopback_t *can_loopback_create(const fbus_type_t types[FBUS_SLOTS],
+                                    const finger_node_params_t *params)
 {
-    memset(&bus, 0, sizeof(bus));
-    bus.port = (hal_can_t){&gripper_ops, NULL};
+    can_loopback_t *bus = calloc(1, sizeof(*bus));
+    if (bus == NULL) {
+        return NULL;
+    }
+    bus->port = (hal_can_t){&gripper_ops, bus};
+    bus->nodes_port = (hal_can_t){&node_ops, bus};
     for (unsigned i = 0; i < FBUS_SLOTS; i++) {
-        loopback_node_t *n = &bus.nodes[i];
-        n->port = (hal_can_t){&node_ops, (void *)(intptr_t)i};
-        wsg_finger_node_init(&n->node, types[i], i, params, &n->port);
-        hal_can_filter_t filters[HAL_CAN_MAX_FILTERS];
-        unsigned count = wsg_finger_node_filters(&n->node, filters);
-        node_set_filters((void *)(intptr_t)i, filters, count);
+        wsg_finger_node_init(&bus->nodes[i], types[i], i, params, &bus->nodes_port);
+    }
+    return bus;
+}
+
+void can_loopback_destroy(can_loopback_t *bus)
+{
+    if (bus != NULL) {
+        free(bus->ring);
+        free(bus);
     }
 }
 
-void can_loopback_set_tap(can_loopback_tap_t fn, void *ctx)
+void can_loopback_set_tap(can_loopback_t *bus, can_loopback_tap_t tap, void *ctx)
 {
-    tap.fn = fn;
-    tap.ctx = ctx;
+    bus->tap = tap;
+    bus->tap_ctx = ctx;
 }
 
-const hal_can_t *can_loopback_bus(void)
+const hal_can_t *can_loopback_bus(can_loopback_t *bus)
 {
-    return &bus.port;
+    return &bus->port;
 }
 
-uint32_t can_loopback_frames(void)
+uint32_t can_loopback_frames(const can_loopback_t *bus)
 {
-    return bus.frames;
+    return bus->frames;
 }

@@ -12,6 +12,7 @@
 #include <sys/stat.h>
 
 #include "settings_table.h"
+#include "sim/finger_node.h"
 #include "sim/sim_models.h"
 #include "text_file.h"
 #include "web/web_host.h"
@@ -39,6 +40,7 @@ typedef enum {
     K_HOSTS,       /* host names, comma-separated (web_host_names_valid) */
     K_PATH,        /* a file or directory name: printable, not empty */
     K_ALLOW,       /* comma-separated ADDR[/PREFIX] (net_allow.h) */
+    K_FINGERS,     /* A[,B]: the fingers of a loopback bus (wsg_finger_node_parse_pair) */
 } kind_t;
 
 typedef enum {
@@ -123,6 +125,7 @@ typedef enum {
     SEC_TCP_PORT,
     SEC_UDP_PORT,
     SEC_SCRIPT,
+    SEC_FINGERS,
     SEC_KEY_COUNT
 } sec_key_t;
 
@@ -130,9 +133,13 @@ static const struct {
     const char *name;
     kind_t kind;
 } sec_keys[SEC_KEY_COUNT] = {
-    [SEC_MODEL] = {"model", K_MODEL},      [SEC_SERIAL] = {"serial", K_SERIAL},
-    [SEC_TAG] = {"tag", K_TEXT},           [SEC_TCP_PORT] = {"tcp_port", K_PORT},
-    [SEC_UDP_PORT] = {"udp_port", K_PORT}, [SEC_SCRIPT] = {"script", K_PATH},
+    [SEC_MODEL] = {"model", K_MODEL},
+    [SEC_SERIAL] = {"serial", K_SERIAL},
+    [SEC_TAG] = {"tag", K_TEXT},
+    [SEC_TCP_PORT] = {"tcp_port", K_PORT},
+    [SEC_UDP_PORT] = {"udp_port", K_PORT},
+    [SEC_SCRIPT] = {"script", K_PATH},
+    [SEC_FINGERS] = {"fingers", K_FINGERS},
 };
 
 #define DEVICE_SECTION "device."
@@ -301,6 +308,12 @@ static const char *convert(kind_t kind, const char *text, value_t *v)
         return text[0] != '\0' && strlen(text) < sizeof(v->text) - 1u && text_ok_long(text)
                    ? NULL
                    : "expected a path of printable characters";
+    case K_FINGERS: {
+        fbus_type_t types[FBUS_SLOTS];
+        return wsg_finger_node_parse_pair(text, types)
+                   ? NULL
+                   : "expected fingers A[,B], each none, generic, fmf or dsa";
+    }
     case K_ALLOW: {
         net_allow_t list = {.count = 0};
         return strlen(text) < sizeof(v->text) && net_allow_add(&list, text)
@@ -386,7 +399,7 @@ static int on_device_key(parse_state_t *st, const char *section, const char *nam
     return fail_at(st->path, st->line, section, name,
                    d == NULL ? "out of memory"
                              : "unknown key in a device section (model, serial, tag, tcp_port, "
-                               "udp_port, script)");
+                               "udp_port, script, fingers)");
 }
 
 /* A device setting of settings_table.h, else an unknown key. */
@@ -793,6 +806,13 @@ const char *config_file_device_script(const config_file_t *cf, unsigned index, c
 {
     const device_section_t *d = find_section(cf, index);
     return d != NULL && d->values[SEC_SCRIPT].set ? d->values[SEC_SCRIPT].text : fallback;
+}
+
+const char *config_file_device_fingers(const config_file_t *cf, unsigned index,
+                                       const char *fallback)
+{
+    const device_section_t *d = find_section(cf, index);
+    return d != NULL && d->values[SEC_FINGERS].set ? d->values[SEC_FINGERS].text : fallback;
 }
 
 bool config_file_device_port(const config_file_t *cf, unsigned index, bool udp, int *port)

@@ -41,6 +41,9 @@ bool config_file_device_port(const config_file_t *cf, unsigned index, bool udp, 
 /* [device.N] script: device index's startup script (or fallback). */
 const char *config_file_device_script(const config_file_t *cf, unsigned index,
                                       const char *fallback);
+/* [device.N] fingers: device index's loopback fingers ("fmf,dsa", or fallback). */
+const char *config_file_device_fingers(const config_file_t *cf, unsigned index,
+                                       const char *fallback);
 void config_file_apply_device(const config_file_t *cf, unsigned index, wsg_config_t *cfg);
 /* True when a [device.N] section for device index sets its tag (which then
  * wins over [device]'s). */

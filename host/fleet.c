@@ -28,9 +28,8 @@ typedef struct {
     udp_server_t bin_udp; /* the binary protocol over UDP, fd -1 when off */
 } fleet_device_t;
 
-static struct {
+struct fleet {
     host_loop_t *loop; /* the servers' sockets are watched here */
-    net_t *net;        /* and are its own */
     fleet_device_t *devices;
     /* The devices' deadlines as a binary min-heap of device numbers, so a
      * pass looks at the devices that are due and nothing else. */
@@ -51,7 +50,11 @@ static struct {
     uint32_t first_address; /* device 0's IPv4 address, host byte order */
     tcp_server_t tcp_front;
     udp_server_t udp_front, bin_front; /* bin_front.fd -1: no binary UDP */
-} fleet;
+    tcp_servers_t tcp_set;             /* every server's connections */
+    udp_servers_t udp_set;             /* every server's peers */
+    gripper_touched_t touched;
+    fleet_observer_t *observers;
+};
 
 /* A fleet needs up to three listening sockets per device (GCL TCP and UDP,
  * binary UDP), or three in all with --address-per-device: when the soft
@@ -92,17 +95,17 @@ static bool raise_descriptor_limit(const host_options_t *opts, unsigned devices)
 
 /* Device i's ports (host/port_layout.c); a [device.i] section's TCP and
  * UDP ports override the layout's. */
-static bool device_ports(const host_options_t *opts, unsigned i, port_layout_t *ports)
+static bool device_ports(const fleet_t *fleet, unsigned i, port_layout_t *ports)
 {
     int port;
-    if (fleet.by_address) { /* every device at the same ports */
-        return port_layout_of(&fleet.plan, 0, ports);
+    if (fleet->by_address) { /* every device at the same ports */
+        return port_layout_of(&fleet->plan, 0, ports);
     }
-    bool fits = port_layout_of(&fleet.plan, i, ports);
-    if (config_file_device_port(opts->config, i, false, &port)) {
+    bool fits = port_layout_of(&fleet->plan, i, ports);
+    if (config_file_device_port(fleet->opts->config, i, false, &port)) {
         ports->tcp = port;
     }
-    if (config_file_device_port(opts->config, i, true, &port)) {
+    if (config_file_device_port(fleet->opts->config, i, true, &port)) {
         ports->udp = port;
     }
     static const char *const names[] = {"TCP", "UDP", "binary udp", "binary udp reply"};
@@ -120,7 +123,7 @@ static bool device_ports(const host_options_t *opts, unsigned i, port_layout_t *
 /* The binary protocol over UDP: device i on its layout's binary port,
  * replying to its reply port. A default port that is taken is skipped with
  * a warning; one given explicitly must be had. */
-static bool start_bin_udp(fleet_device_t *d, const host_options_t *opts, unsigned i,
+static bool start_bin_udp(fleet_t *fleet, fleet_device_t *d, const host_options_t *opts, unsigned i,
                           const port_layout_t *ports)
 {
     if (!opts->udp_enabled || ports->binary == 0) {
@@ -130,8 +133,8 @@ static bool start_bin_udp(fleet_device_t *d, const host_options_t *opts, unsigne
     int reply_port = (int)ports->reply;
     udp_protocol_t binary = udp_protocol_binary(reply_port);
     binary.optional = !opts->binary_udp_port_given; /* the default: skipped when taken */
-    if (udp_server_start(&d->bin_udp, fleet.loop, fleet.net, &d->gripper, &binary, opts->bind_addr,
-                         port, opts->udp_peer_timeout_s)) {
+    if (udp_server_start(&d->bin_udp, &fleet->udp_set, &d->gripper, &binary, opts->bind_addr, port,
+                         opts->udp_peer_timeout_s)) {
         return true;
     }
     int err = errno;
@@ -149,12 +152,12 @@ static bool start_bin_udp(fleet_device_t *d, const host_options_t *opts, unsigne
  * should not overlap: a client on this host that receives device i's
  * replies could not bind a port another device listens on. The default
  * layout never overlaps. */
-static void warn_binary_overlap(const host_options_t *opts, unsigned n)
+static void warn_binary_overlap(fleet_t *fleet, const host_options_t *opts, unsigned n)
 {
     int p = opts->binary_udp_port;
     int r = opts->binary_udp_reply_port;
-    if (n > 1 && !fleet.by_address && opts->udp_enabled && p != 0 && r != 0 &&
-        !port_layout_paired(&fleet.plan) && r < p + (int)n && p < r + (int)n) {
+    if (n > 1 && !fleet->by_address && opts->udp_enabled && p != 0 && r != 0 &&
+        !port_layout_paired(&fleet->plan) && r < p + (int)n && p < r + (int)n) {
         host_logf(HAL_LOG_WARN,
                   "--devices %u: binary udp ports %d-%d overlap the reply ports %d-%d; local "
                   "clients cannot receive on a port a device listens on",
@@ -164,85 +167,100 @@ static void warn_binary_overlap(const host_options_t *opts, unsigned n)
 
 /* --address-per-device: device i's servers on the shared sockets, its
  * replies from its own address. */
-static void attach_device(fleet_device_t *d, const host_options_t *opts, unsigned i)
+static void attach_device(fleet_t *fleet, fleet_device_t *d, const host_options_t *opts, unsigned i)
 {
-    struct in_addr source = {.s_addr = htonl(fleet.first_address + i)};
+    struct in_addr source = {.s_addr = htonl(fleet->first_address + i)};
     if (opts->tcp_enabled) {
-        tcp_server_attach(&d->tcp, &d->gripper, &fleet.tcp_front, opts->max_clients,
+        tcp_server_attach(&d->tcp, &d->gripper, &fleet->tcp_front, opts->max_clients,
                           opts->idle_timeout_s);
     }
     udp_protocol_t gcl = udp_protocol_gcl();
     if (opts->udp_enabled) {
-        udp_server_attach(&d->udp, &d->gripper, &gcl, &fleet.udp_front, source,
+        udp_server_attach(&d->udp, &d->gripper, &gcl, &fleet->udp_front, source,
                           opts->udp_peer_timeout_s);
     }
-    udp_protocol_t binary = udp_protocol_binary(fleet.bin_front.proto.reply_port);
-    if (fleet.bin_front.fd >= 0) {
-        udp_server_attach(&d->bin_udp, &d->gripper, &binary, &fleet.bin_front, source,
+    udp_protocol_t binary = udp_protocol_binary(fleet->bin_front.proto.reply_port);
+    if (fleet->bin_front.fd >= 0) {
+        udp_server_attach(&d->bin_udp, &d->gripper, &binary, &fleet->bin_front, source,
                           opts->udp_peer_timeout_s);
     }
 }
 
-static bool start_device(fleet_device_t *d, const host_options_t *opts, unsigned i)
+static bool start_device(fleet_t *fleet, fleet_device_t *d, const host_options_t *opts, unsigned i)
 {
     port_layout_t ports;
     d->tcp.own.fd = -1;
     d->udp.fd = -1;
     d->bin_udp.fd = -1;
-    gripper_init(&d->gripper, opts, i);
-    fleet.scripting = fleet.scripting || d->gripper.script != NULL;
-    if (fleet.by_address) {
-        attach_device(d, opts, i);
+    d->tcp.set = &fleet->tcp_set; /* a server that does not start stops all the same */
+    d->udp.set = &fleet->udp_set;
+    d->bin_udp.set = &fleet->udp_set;
+    bool bus_ok = gripper_init(&d->gripper, fleet->loop, opts, i, &fleet->touched);
+    for (fleet_observer_t *o = fleet->observers; o != NULL; o = o->next) {
+        o->device_started(o->ctx, &d->gripper);
+    }
+    gripper_start(&d->gripper);
+    fleet->scripting = fleet->scripting || d->gripper.script != NULL;
+    if (!bus_ok) {
+        return false;
+    }
+    if (fleet->by_address) {
+        attach_device(fleet, d, opts, i);
         return true;
     }
-    if (!device_ports(opts, i, &ports)) {
+    if (!device_ports(fleet, i, &ports)) {
         return false;
     }
     if (opts->tcp_enabled &&
-        !tcp_server_start(&d->tcp, fleet.loop, fleet.net, &d->gripper, opts->bind_addr,
-                          (int)ports.tcp, opts->max_clients, opts->idle_timeout_s)) {
+        !tcp_server_start(&d->tcp, &fleet->tcp_set, &d->gripper, opts->bind_addr, (int)ports.tcp,
+                          opts->max_clients, opts->idle_timeout_s)) {
         return false;
     }
     udp_protocol_t gcl = udp_protocol_gcl();
     if (opts->udp_enabled &&
-        !udp_server_start(&d->udp, fleet.loop, fleet.net, &d->gripper, &gcl, opts->bind_addr,
+        !udp_server_start(&d->udp, &fleet->udp_set, &d->gripper, &gcl, opts->bind_addr,
                           (int)ports.udp, opts->udp_peer_timeout_s)) {
         return false;
     }
-    return start_bin_udp(d, opts, i, &ports);
+    return start_bin_udp(fleet, d, opts, i, &ports);
 }
 
 /* The device whose address is the destination, or -1 (outside the
  * range [--bind, --bind + N)). */
-static long device_at(const struct sockaddr_storage *destination)
+static long device_at(const fleet_t *fleet, const struct sockaddr_storage *destination)
 {
     if (destination->ss_family != AF_INET) {
         return -1;
     }
     uint32_t addr = ntohl(((const struct sockaddr_in *)destination)->sin_addr.s_addr);
-    uint32_t i = addr - fleet.first_address; /* wraps below the first: too large */
-    return i < fleet.count ? (long)i : -1;
+    uint32_t i = addr - fleet->first_address; /* wraps below the first: too large */
+    return i < fleet->count ? (long)i : -1;
 }
 
 static tcp_server_t *route_tcp(void *ctx, const struct sockaddr_storage *local)
 {
-    (void)ctx;
-    long i = device_at(local);
-    return i >= 0 ? &fleet.devices[i].tcp : NULL;
+    fleet_t *fleet = ctx;
+    long i = device_at(fleet, local);
+    return i >= 0 ? &fleet->devices[i].tcp : NULL;
 }
 
 static udp_server_t *route_udp(void *ctx, const struct sockaddr_storage *destination)
 {
-    long i = device_at(destination);
-    if (i < 0) {
-        return NULL;
-    }
-    return ctx == &fleet.bin_front ? &fleet.devices[i].bin_udp : &fleet.devices[i].udp;
+    fleet_t *fleet = ctx;
+    long i = device_at(fleet, destination);
+    return i >= 0 ? &fleet->devices[i].udp : NULL;
+}
+
+static udp_server_t *route_bin_udp(void *ctx, const struct sockaddr_storage *destination)
+{
+    fleet_t *fleet = ctx;
+    long i = device_at(fleet, destination);
+    return i >= 0 ? &fleet->devices[i].bin_udp : NULL;
 }
 
 /* --address-per-device: the --bind address is device 0's, an IPv4 one;
  * the last device's must not pass 255.255.255.255. */
-static bool parse_first_address(const host_options_t *opts, unsigned n)
+static bool parse_first_address(fleet_t *fleet, const host_options_t *opts, unsigned n)
 {
     struct in_addr first;
     if (inet_pton(AF_INET, opts->bind_addr, &first) != 1 || first.s_addr == htonl(INADDR_ANY)) {
@@ -252,8 +270,8 @@ static bool parse_first_address(const host_options_t *opts, unsigned n)
                   opts->bind_addr);
         return false;
     }
-    fleet.first_address = ntohl(first.s_addr);
-    if (UINT32_MAX - fleet.first_address < n - 1u) {
+    fleet->first_address = ntohl(first.s_addr);
+    if (UINT32_MAX - fleet->first_address < n - 1u) {
         host_logf(HAL_LOG_ERROR, "--address-per-device: %u devices from %s pass 255.255.255.255", n,
                   opts->bind_addr);
         return false;
@@ -263,16 +281,16 @@ static bool parse_first_address(const host_options_t *opts, unsigned n)
 
 /* The binary UDP socket of every device; a default port that is taken is
  * skipped with a warning, one given explicitly must be had. */
-static bool start_bin_front(const host_options_t *opts, const port_layout_t *ports)
+static bool start_bin_front(fleet_t *fleet, const host_options_t *opts, const port_layout_t *ports)
 {
     udp_protocol_t binary = udp_protocol_binary((int)ports->reply);
     binary.optional = !opts->binary_udp_port_given;
-    if (udp_server_start_shared(&fleet.bin_front, fleet.loop, fleet.net, &binary,
-                                (int)ports->binary, route_udp, &fleet.bin_front)) {
+    if (udp_server_start_shared(&fleet->bin_front, &fleet->udp_set, &binary, (int)ports->binary,
+                                route_bin_udp, fleet)) {
         return true;
     }
     int err = errno;
-    udp_server_stop(&fleet.bin_front);
+    udp_server_stop(&fleet->bin_front);
     if (binary.optional) {
         host_logf(HAL_LOG_WARN,
                   "binary udp port %ld cannot be had (%s): the devices speak binary on TCP only",
@@ -284,90 +302,92 @@ static bool start_bin_front(const host_options_t *opts, const port_layout_t *por
 /* --address-per-device: one socket per protocol on the IPv4 wildcard
  * address (no socket can bind a range); destinations outside the devices'
  * addresses are refused. */
-static bool start_fronts(const host_options_t *opts)
+static bool start_fronts(fleet_t *fleet, const host_options_t *opts)
 {
     port_layout_t ports;
-    fleet.tcp_front.own.fd = -1;
-    fleet.udp_front.fd = -1;
-    fleet.bin_front.fd = -1;
-    device_ports(opts, 0, &ports);
-    if (opts->tcp_enabled && !tcp_server_start_shared(&fleet.tcp_front, fleet.loop, fleet.net,
-                                                      "0.0.0.0", (int)ports.tcp, route_tcp, NULL)) {
+    fleet->tcp_front.own.fd = -1;
+    fleet->udp_front.fd = -1;
+    fleet->bin_front.fd = -1;
+    fleet->tcp_front.set = &fleet->tcp_set;
+    fleet->udp_front.set = &fleet->udp_set;
+    fleet->bin_front.set = &fleet->udp_set;
+    device_ports(fleet, 0, &ports);
+    if (opts->tcp_enabled && !tcp_server_start_shared(&fleet->tcp_front, &fleet->tcp_set, "0.0.0.0",
+                                                      (int)ports.tcp, route_tcp, fleet)) {
         return false;
     }
     udp_protocol_t gcl = udp_protocol_gcl();
-    if (opts->udp_enabled && !udp_server_start_shared(&fleet.udp_front, fleet.loop, fleet.net, &gcl,
-                                                      (int)ports.udp, route_udp, NULL)) {
+    if (opts->udp_enabled && !udp_server_start_shared(&fleet->udp_front, &fleet->udp_set, &gcl,
+                                                      (int)ports.udp, route_udp, fleet)) {
         return false;
     }
-    return !opts->udp_enabled || ports.binary == 0 || start_bin_front(opts, &ports);
+    return !opts->udp_enabled || ports.binary == 0 || start_bin_front(fleet, opts, &ports);
 }
 
-bool fleet_start(host_loop_t *loop, net_t *net, const host_options_t *opts)
+bool fleet_start(fleet_t *fleet, const host_options_t *opts)
 {
     unsigned declared = config_file_devices(opts->config); /* [device.N] sections */
     unsigned n = declared > (unsigned)opts->devices ? declared : (unsigned)opts->devices;
-    fleet.loop = loop;
-    fleet.net = net;
-    fleet.by_address = opts->address_per_device;
-    if (!raise_descriptor_limit(opts, n) || (fleet.by_address && !parse_first_address(opts, n))) {
+    fleet->by_address = opts->address_per_device;
+    if (!raise_descriptor_limit(opts, n) ||
+        (fleet->by_address && !parse_first_address(fleet, opts, n))) {
         return false;
     }
-    fleet.devices = calloc(n, sizeof(*fleet.devices));
-    fleet.due_us = calloc(n, sizeof(*fleet.due_us)); /* 0: every device ticks first */
-    fleet.heap = calloc(n, sizeof(*fleet.heap));
-    fleet.slot = calloc(n, sizeof(*fleet.slot));
-    fleet.ready = calloc(n, sizeof(*fleet.ready));
-    if (fleet.devices == NULL || fleet.due_us == NULL || fleet.heap == NULL || fleet.slot == NULL ||
-        fleet.ready == NULL) {
+    fleet->devices = calloc(n, sizeof(*fleet->devices));
+    fleet->due_us = calloc(n, sizeof(*fleet->due_us)); /* 0: every device ticks first */
+    fleet->heap = calloc(n, sizeof(*fleet->heap));
+    fleet->slot = calloc(n, sizeof(*fleet->slot));
+    fleet->ready = calloc(n, sizeof(*fleet->ready));
+    if (fleet->devices == NULL || fleet->due_us == NULL || fleet->heap == NULL ||
+        fleet->slot == NULL || fleet->ready == NULL) {
         host_logf(HAL_LOG_ERROR, "--devices %u: out of memory", n);
         return false;
     }
-    fleet.opts = opts;
-    fleet.servers_due_us = 0; /* asked at the first pass */
-    fleet.plan = (port_plan_t){opts->tcp_port,        opts->udp_port,
-                               opts->binary_udp_port, opts->binary_udp_reply_port,
-                               opts->udp_enabled,     fleet.by_address ? 1u : n};
-    warn_binary_overlap(opts, n);
-    if (fleet.by_address && !start_fronts(opts)) {
+    fleet->opts = opts;
+    fleet->servers_due_us = 0; /* asked at the first pass */
+    fleet->plan = (port_plan_t){opts->tcp_port,        opts->udp_port,
+                                opts->binary_udp_port, opts->binary_udp_reply_port,
+                                opts->udp_enabled,     fleet->by_address ? 1u : n};
+    warn_binary_overlap(fleet, opts, n);
+    if (fleet->by_address && !start_fronts(fleet, opts)) {
         return false; /* routes run from the loop, once every device is started */
     }
     for (unsigned i = 0; i < n; i++) { /* all due at 0: any order is a heap */
-        fleet.heap[i] = i;
-        fleet.slot[i] = i;
+        fleet->heap[i] = i;
+        fleet->slot[i] = i;
     }
-    for (fleet.count = 0; fleet.count < n; fleet.count++) {
-        if (!start_device(&fleet.devices[fleet.count], opts, fleet.count)) {
-            fleet.count++; /* stopped with the others */
+    for (fleet->count = 0; fleet->count < n; fleet->count++) {
+        if (!start_device(fleet, &fleet->devices[fleet->count], opts, fleet->count)) {
+            fleet->count++; /* stopped with the others */
             return false;
         }
     }
     return true;
 }
 
-unsigned fleet_count(void)
+unsigned fleet_count(const fleet_t *fleet)
 {
-    return fleet.count;
+    return fleet->count;
 }
 
-gripper_t *fleet_gripper(unsigned i)
+gripper_t *fleet_gripper(fleet_t *fleet, unsigned i)
 {
-    return &fleet.devices[i].gripper;
+    return &fleet->devices[i].gripper;
 }
 
-int fleet_tcp_port(unsigned i)
+int fleet_tcp_port(const fleet_t *fleet, unsigned i)
 {
-    return tcp_server_port(&fleet.devices[i].tcp);
+    return tcp_server_port(&fleet->devices[i].tcp);
 }
 
-int fleet_udp_port(unsigned i)
+int fleet_udp_port(const fleet_t *fleet, unsigned i)
 {
-    return udp_server_port(&fleet.devices[i].udp);
+    return udp_server_port(&fleet->devices[i].udp);
 }
 
-int fleet_bin_udp_port(unsigned i)
+int fleet_bin_udp_port(const fleet_t *fleet, unsigned i)
 {
-    return udp_server_port(&fleet.devices[i].bin_udp);
+    return udp_server_port(&fleet->devices[i].bin_udp);
 }
 
 static uint64_t earliest(uint64_t a, uint64_t b)
@@ -375,219 +395,281 @@ static uint64_t earliest(uint64_t a, uint64_t b)
     return a < b ? a : b;
 }
 
-static uint64_t due_at(unsigned place)
+static uint64_t due_at(const fleet_t *fleet, unsigned place)
 {
-    return fleet.due_us[fleet.heap[place]];
+    return fleet->due_us[fleet->heap[place]];
 }
 
-static void swap_places(unsigned a, unsigned b)
+static void swap_places(fleet_t *fleet, unsigned a, unsigned b)
 {
-    unsigned device = fleet.heap[a];
-    fleet.heap[a] = fleet.heap[b];
-    fleet.heap[b] = device;
-    fleet.slot[fleet.heap[a]] = a;
-    fleet.slot[fleet.heap[b]] = b;
+    unsigned device = fleet->heap[a];
+    fleet->heap[a] = fleet->heap[b];
+    fleet->heap[b] = device;
+    fleet->slot[fleet->heap[a]] = a;
+    fleet->slot[fleet->heap[b]] = b;
 }
 
-static void sift_up(unsigned place)
+static void sift_up(fleet_t *fleet, unsigned place)
 {
-    while (place > 0 && due_at((place - 1u) / 2u) > due_at(place)) {
-        swap_places(place, (place - 1u) / 2u);
+    while (place > 0 && due_at(fleet, (place - 1u) / 2u) > due_at(fleet, place)) {
+        swap_places(fleet, place, (place - 1u) / 2u);
         place = (place - 1u) / 2u;
     }
 }
 
-static void sift_down(unsigned place)
+static void sift_down(fleet_t *fleet, unsigned place)
 {
     for (;;) {
         unsigned least = place;
         unsigned left = 2u * place + 1u;
-        if (left < fleet.count && due_at(left) < due_at(least)) {
+        if (left < fleet->count && due_at(fleet, left) < due_at(fleet, least)) {
             least = left;
         }
-        if (left + 1u < fleet.count && due_at(left + 1u) < due_at(least)) {
+        if (left + 1u < fleet->count && due_at(fleet, left + 1u) < due_at(fleet, least)) {
             least = left + 1u;
         }
         if (least == place) {
             return;
         }
-        swap_places(place, least);
+        swap_places(fleet, place, least);
         place = least;
     }
 }
 
-static void set_due(unsigned device, uint64_t due_us)
+static void set_due(fleet_t *fleet, unsigned device, uint64_t due_us)
 {
-    bool earlier = due_us < fleet.due_us[device];
-    fleet.due_us[device] = due_us;
+    bool earlier = due_us < fleet->due_us[device];
+    fleet->due_us[device] = due_us;
     if (earlier) {
-        sift_up(fleet.slot[device]);
+        sift_up(fleet, fleet->slot[device]);
     } else {
-        sift_down(fleet.slot[device]);
+        sift_down(fleet, fleet->slot[device]);
     }
 }
 
 /* The devices whose deadline has come, except the touched ones (the list
  * ticks those). Every due device leaves the heap's top before any is
  * ticked, so none is ticked twice in a pass. */
-static void tick_due_devices(uint64_t now)
+static void tick_due_devices(fleet_t *fleet, uint64_t now)
 {
     unsigned due = 0;
-    while (fleet.count > 0 && due_at(0) <= now) {
-        fleet.ready[due++] = fleet.heap[0];
-        set_due(fleet.heap[0], UINT64_MAX); /* until ticked below */
+    while (fleet->count > 0 && due_at(fleet, 0) <= now) {
+        fleet->ready[due++] = fleet->heap[0];
+        set_due(fleet, fleet->heap[0], UINT64_MAX); /* until ticked below */
     }
     for (unsigned k = 0; k < due; k++) {
-        gripper_t *g = &fleet.devices[fleet.ready[k]].gripper;
+        gripper_t *g = &fleet->devices[fleet->ready[k]].gripper;
         if (!g->touched) {
-            set_due(fleet.ready[k], gripper_tick(g));
+            set_due(fleet, fleet->ready[k], gripper_tick(g));
         }
     }
 }
 
 /* The same for one device (the default), which has no heap to keep: a
  * control step per millisecond while it moves. */
-static void tick_lone_device(uint64_t now)
+static void tick_lone_device(fleet_t *fleet, uint64_t now)
 {
-    gripper_t *g = &fleet.devices[0].gripper;
-    if (fleet.due_us[0] <= now && !g->touched) {
-        fleet.due_us[0] = gripper_tick(g);
+    gripper_t *g = &fleet->devices[0].gripper;
+    if (fleet->due_us[0] <= now && !g->touched) {
+        fleet->due_us[0] = gripper_tick(g);
     }
 }
 
 /* Each device is ticked at most once per pass, as a lone gripper was: a
  * touched one by the list (its deadline may have moved), any other when its
  * deadline has come. */
-uint64_t fleet_tick(void)
+uint64_t fleet_tick(fleet_t *fleet)
 {
     uint64_t now = hal_clock_now_us();
-    if (fleet.count == 1u) {
-        tick_lone_device(now);
+    if (fleet->count == 1u) {
+        tick_lone_device(fleet, now);
     } else {
-        tick_due_devices(now);
+        tick_due_devices(fleet, now);
     }
     gripper_t *touched;
     bool any_touched = false;
-    while ((touched = gripper_take_touched()) != NULL) {
-        set_due(touched->index, gripper_tick(touched));
+    while ((touched = gripper_take_touched(&fleet->touched)) != NULL) {
+        set_due(fleet, touched->index, gripper_tick(touched));
         any_touched = true;
     }
-    if (any_touched || fleet.servers_due_us <= now) {
-        fleet.servers_due_us =
-            earliest(tcp_server_next_deadline_us(), udp_server_next_deadline_us());
+    if (any_touched || fleet->servers_due_us <= now) {
+        fleet->servers_due_us = earliest(tcp_server_next_deadline_us(&fleet->tcp_set),
+                                         udp_server_next_deadline_us(&fleet->udp_set));
     }
-    uint64_t next = fleet.servers_due_us;
-    return fleet.count > 0 ? earliest(next, due_at(0)) : next;
+    uint64_t next = fleet->servers_due_us;
+    return fleet->count > 0 ? earliest(next, due_at(fleet, 0)) : next;
 }
 
-void fleet_close_connections(unsigned i)
+bool fleet_touched_any(const fleet_t *fleet)
 {
-    tcp_server_close_all(&fleet.devices[i].tcp);
-    udp_server_close_all(&fleet.devices[i].udp);
-    udp_server_close_all(&fleet.devices[i].bin_udp);
+    return fleet->touched.first != NULL;
 }
 
-void fleet_device_address(unsigned i, char *out, size_t cap)
+void fleet_close_connections(fleet_t *fleet, unsigned i)
 {
-    if (!fleet.by_address) {
-        snprintf(out, cap, "%s", fleet.opts->bind_addr);
+    tcp_server_close_all(&fleet->devices[i].tcp);
+    udp_server_close_all(&fleet->devices[i].udp);
+    udp_server_close_all(&fleet->devices[i].bin_udp);
+}
+
+void fleet_device_address(const fleet_t *fleet, unsigned i, char *out, size_t cap)
+{
+    if (!fleet->by_address) {
+        snprintf(out, cap, "%s", fleet->opts->bind_addr);
         return;
     }
-    struct in_addr addr = {.s_addr = htonl(fleet.first_address + i)};
+    struct in_addr addr = {.s_addr = htonl(fleet->first_address + i)};
     char text[INET_ADDRSTRLEN];
     inet_ntop(AF_INET, &addr, text, sizeof(text));
     snprintf(out, cap, "%s", text);
 }
 
-static void format_endpoints(unsigned i, char *tcp, char *udp, size_t cap)
+static void format_endpoints(const fleet_t *fleet, unsigned i, char *tcp, char *udp, size_t cap)
 {
-    const fleet_device_t *d = &fleet.devices[i];
+    const fleet_device_t *d = &fleet->devices[i];
     char addr[64];
-    fleet_device_address(i, addr, sizeof(addr));
+    fleet_device_address(fleet, i, addr, sizeof(addr));
     net_format_endpoint(addr, tcp_server_port(&d->tcp), tcp, cap);
     net_format_endpoint(addr, udp_server_port(&d->udp), udp, cap);
 }
 
 /* ", binary udp P", or nothing when device i serves no binary UDP. */
-static void format_binary_udp(unsigned i, char *out, size_t cap)
+static void format_binary_udp(const fleet_t *fleet, unsigned i, char *out, size_t cap)
 {
-    int port = fleet_bin_udp_port(i);
+    int port = fleet_bin_udp_port(fleet, i);
     out[0] = '\0';
     if (port >= 0) {
         snprintf(out, cap, ", binary udp %d", port);
     }
 }
 
-void fleet_announce_devices(void)
+void fleet_announce_devices(const fleet_t *fleet)
 {
     char tcp[96], udp[96];
-    for (unsigned i = 1; i < fleet.count; i++) {
-        const wsg_config_t *cfg = &fleet.devices[i].gripper.config;
+    for (unsigned i = 1; i < fleet->count; i++) {
+        const wsg_config_t *cfg = &fleet->devices[i].gripper.config;
         char binary[32];
-        format_binary_udp(i, binary, sizeof(binary));
-        format_endpoints(i, tcp, udp, sizeof(tcp));
+        format_binary_udp(fleet, i, binary, sizeof(binary));
+        format_endpoints(fleet, i, tcp, udp, sizeof(tcp));
         host_logf(HAL_LOG_INFO, "device %u: tcp %s, udp %s%s, serial %u, tag %s", i, tcp, udp,
                   binary, (unsigned)cfg->serial, cfg->tag);
     }
 }
 
-void fleet_ready_line(const char *extra, char *line, size_t cap)
+void fleet_ready_line(const fleet_t *fleet, const char *extra, char *line, size_t cap)
 {
     char tcp[96], udp[96], binary[32];
     char devices[32] = "";
-    format_endpoints(0, tcp, udp, sizeof(tcp));
-    format_binary_udp(0, binary, sizeof(binary));
-    if (fleet.count > 1) {
-        snprintf(devices, sizeof(devices), ", devices %u", fleet.count);
+    format_endpoints(fleet, 0, tcp, udp, sizeof(tcp));
+    format_binary_udp(fleet, 0, binary, sizeof(binary));
+    if (fleet->count > 1) {
+        snprintf(devices, sizeof(devices), ", devices %u", fleet->count);
     }
     snprintf(line, cap, "virtual %s ready: tcp %s, udp %s%s%s%s",
-             fleet.devices[0].gripper.opts.model, tcp, udp, binary, extra, devices);
+             fleet->devices[0].gripper.opts->model, tcp, udp, binary, extra, devices);
 }
 
-void fleet_note_scripting(void)
+void fleet_note_scripting(fleet_t *fleet)
 {
-    fleet.scripting = true;
+    fleet->scripting = true;
 }
 
-void fleet_run_scripts(void)
+void fleet_run_scripts(fleet_t *fleet)
 {
-    if (!fleet.scripting) {
+    if (!fleet->scripting) {
         return;
     }
     bool runnable = false;
-    for (unsigned i = 0; i < fleet.count; i++) {
-        runnable = gripper_continue_script(&fleet.devices[i].gripper) || runnable;
+    for (unsigned i = 0; i < fleet->count; i++) {
+        runnable = gripper_continue_script(&fleet->devices[i].gripper) || runnable;
     }
     if (runnable) {
-        loop_wake_at_wall(fleet.loop, loop_monotonic_ns()); /* poll, do not block */
+        loop_wake_at_wall(fleet->loop, loop_monotonic_ns()); /* poll, do not block */
     }
 }
 
-void fleet_stop(void)
+static bool observers_hold_replies(void *ctx, const wsg_conn_t *conn)
 {
-    for (unsigned i = 0; i < fleet.count; i++) {
-        tcp_server_stop(&fleet.devices[i].tcp);
-        udp_server_stop(&fleet.devices[i].udp);
-        udp_server_stop(&fleet.devices[i].bin_udp);
-        gripper_release(&fleet.devices[i].gripper);
+    const fleet_t *fleet = ctx;
+    for (const fleet_observer_t *o = fleet->observers; o != NULL; o = o->next) {
+        if (o->replies_held != NULL && o->replies_held(o->ctx, conn)) {
+            return true;
+        }
     }
-    while (gripper_take_touched() != NULL) {
+    return false;
+}
+
+fleet_t *fleet_create(host_loop_t *loop, net_t *net)
+{
+    fleet_t *fleet = calloc(1, sizeof(*fleet));
+    if (fleet != NULL) {
+        fleet->loop = loop;
+        fleet->tcp_set.loop = loop;
+        fleet->tcp_set.net = net;
+        fleet->udp_set.loop = loop;
+        fleet->udp_set.net = net;
+        fleet->tcp_set.replies_held = observers_hold_replies;
+        fleet->tcp_set.held_ctx = fleet;
     }
-    if (fleet.by_address) {
-        tcp_server_stop(&fleet.tcp_front);
-        udp_server_stop(&fleet.udp_front);
-        udp_server_stop(&fleet.bin_front);
-        fleet.by_address = false;
+    return fleet;
+}
+
+void fleet_destroy(fleet_t *fleet)
+{
+    if (fleet != NULL) {
+        fleet_stop(fleet); /* what a failed start left */
+        free(fleet);
     }
-    free(fleet.devices);
-    free(fleet.due_us);
-    free(fleet.heap);
-    free(fleet.slot);
-    free(fleet.ready);
-    fleet.devices = NULL;
-    fleet.due_us = NULL;
-    fleet.heap = NULL;
-    fleet.slot = NULL;
-    fleet.ready = NULL;
-    fleet.count = 0;
+}
+
+void fleet_observe(fleet_t *fleet, fleet_observer_t *node)
+{
+    node->next = fleet->observers;
+    fleet->observers = node;
+}
+
+void fleet_reap(fleet_t *fleet)
+{
+    tcp_server_reap(&fleet->tcp_set);
+    udp_server_reap(&fleet->udp_set);
+}
+
+bool fleet_cut(fleet_t *fleet, const wsg_conn_t *conn)
+{
+    return tcp_server_cut(&fleet->tcp_set, conn) || udp_server_cut(&fleet->udp_set, conn);
+}
+
+const char *fleet_peer_name(const fleet_t *fleet, const wsg_conn_t *conn)
+{
+    const char *name = tcp_server_peer_name(&fleet->tcp_set, conn);
+    return name != NULL ? name : udp_server_peer_name(&fleet->udp_set, conn);
+}
+
+void fleet_stop(fleet_t *fleet)
+{
+    for (unsigned i = 0; i < fleet->count; i++) {
+        tcp_server_stop(&fleet->devices[i].tcp);
+        udp_server_stop(&fleet->devices[i].udp);
+        udp_server_stop(&fleet->devices[i].bin_udp);
+        gripper_release(&fleet->devices[i].gripper);
+    }
+    while (gripper_take_touched(&fleet->touched) != NULL) {
+    }
+    if (fleet->by_address) {
+        tcp_server_stop(&fleet->tcp_front);
+        udp_server_stop(&fleet->udp_front);
+        udp_server_stop(&fleet->bin_front);
+        fleet->by_address = false;
+    }
+    free(fleet->devices);
+    free(fleet->due_us);
+    free(fleet->heap);
+    free(fleet->slot);
+    free(fleet->ready);
+    fleet->devices = NULL;
+    fleet->due_us = NULL;
+    fleet->heap = NULL;
+    fleet->slot = NULL;
+    fleet->ready = NULL;
+    fleet->count = 0;
 }

@@ -13,39 +13,72 @@
 #include "loop.h"
 #include "net.h"
 #include "options.h"
+#include "wsg/wsg_conn.h"
 
-/* Creates opts->devices grippers and starts their servers (sockets of net's,
- * watched on loop); false (logged) when a port cannot be had. */
-bool fleet_start(host_loop_t *loop, net_t *net, const host_options_t *opts);
-unsigned fleet_count(void);
+typedef struct fleet fleet_t;
+
+/* An upper layer's hook on the devices (caller-owned node, registered
+ * before fleet_start): device_started is called for each device once its
+ * power-on state is set and before its startup script runs, so the
+ * observers it attaches see everything the device does. */
+typedef struct fleet_observer {
+    void (*device_started)(void *ctx, gripper_t *g);
+    /* Replies held back for this session above the port (an injected
+     * DELAY); NULL: none. A half-closed TCP connection waits for them. */
+    bool (*replies_held)(void *ctx, const wsg_conn_t *conn);
+    void *ctx;
+    struct fleet_observer *next;
+} fleet_observer_t;
+
+/* An empty fleet (NULL: out of memory) whose sockets will be net's, watched
+ * on loop; fleet_destroy() stops what runs and frees it. */
+fleet_t *fleet_create(host_loop_t *loop, net_t *net);
+void fleet_destroy(fleet_t *fleet);
+void fleet_observe(fleet_t *fleet, fleet_observer_t *node);
+/* Creates opts->devices grippers and starts their servers; false (logged)
+ * when a port or a finger bus cannot be had. */
+bool fleet_start(fleet_t *fleet, const host_options_t *opts);
+unsigned fleet_count(const fleet_t *fleet);
 /* Device i (i < fleet_count()). */
-gripper_t *fleet_gripper(unsigned i);
+gripper_t *fleet_gripper(fleet_t *fleet, unsigned i);
 /* Device i's listening ports (-1: that server is off). */
-int fleet_tcp_port(unsigned i);
-int fleet_udp_port(unsigned i);
+int fleet_tcp_port(const fleet_t *fleet, unsigned i);
+int fleet_udp_port(const fleet_t *fleet, unsigned i);
 /* Device i's address: the --bind address, or with --address-per-device
  * the --bind address + i. */
-void fleet_device_address(unsigned i, char *out, size_t cap);
+void fleet_device_address(const fleet_t *fleet, unsigned i, char *out, size_t cap);
 /* Device i's binary UDP port (binary port + i), -1 when not served. */
-int fleet_bin_udp_port(unsigned i);
+int fleet_bin_udp_port(const fleet_t *fleet, unsigned i);
 /* Steps the devices whose deadline has come; returns the earliest deadline
  * of the fleet and of its connections' timeouts (UINT64_MAX: none). */
-uint64_t fleet_tick(void);
+uint64_t fleet_tick(fleet_t *fleet);
+/* Some device was touched since the last fleet_tick() (the scheduler's
+ * pass asks first). */
+bool fleet_touched_any(const fleet_t *fleet);
 /* Closes the connections and peers of device i (a reset). */
-void fleet_close_connections(unsigned i);
+void fleet_close_connections(fleet_t *fleet, unsigned i);
+/* Closes what said BYE, failed or stayed quiet too long, on every device
+ * (tcp_server_reap, udp_server_reap). */
+void fleet_reap(fleet_t *fleet);
+/* Pulls the cable of the TCP connection or forgets the UDP peer that
+ * carries this session; false if none does. */
+bool fleet_cut(fleet_t *fleet, const wsg_conn_t *conn);
+/* The peer ("ADDR:PORT") that carries this session, or NULL. */
+const char *fleet_peer_name(const fleet_t *fleet, const wsg_conn_t *conn);
 /* Logs one line per device after the first: "device i: tcp ADDR:P, udp
  * ADDR:P[, binary udp P], serial S, tag T". */
-void fleet_announce_devices(void);
+void fleet_announce_devices(const fleet_t *fleet);
 /* The ready line: device 0's ports first, as with one device (", binary
  * udp P" only when it serves binary UDP), then extra (the control channel,
  * the web server) and, for a fleet, ", devices N". */
-void fleet_ready_line(const char *extra, char *line, size_t cap);
+void fleet_ready_line(const fleet_t *fleet, const char *extra, char *line, size_t cap);
 /* Scripts whose time slice ended run on for a slice each; the loop then
  * polls without blocking while one still wants to run. */
-void fleet_run_scripts(void);
+void fleet_run_scripts(fleet_t *fleet);
 /* Any device may run a script (scripting configured, or started by the
  * control channel): fleet_run_scripts() has work to look for. */
-void fleet_note_scripting(void);
-void fleet_stop(void);
+void fleet_note_scripting(fleet_t *fleet);
+/* Stops the servers and releases the devices (the fleet can start again). */
+void fleet_stop(fleet_t *fleet);
 
 #endif

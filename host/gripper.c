@@ -8,16 +8,13 @@
 #include <sys/stat.h>
 
 #include "config_file.h"
-#include "finger_bus_host.h"
 #include "hal_clock.h"
 #include "log.h"
 #include "script.h"
 #include "script_options.h"
-#include "sim/observers.h"
 #include "sim/sim_models.h"
 #include "wsg/wsg_bin.h"
 #include "wsg/wsg_gcl.h"
-#include "web/web_lines.h"
 
 /* What a connection opened without a driver (--protocol auto) may speak:
  * the binary protocol claims its preamble byte, GCL everything else. */
@@ -27,7 +24,7 @@ static const wsg_proto_driver_t *const host_drivers[] = {&wsg_bin_driver, &wsg_g
 static void place_start_part(gripper_t *g)
 {
     sim_axis_t *axis = &g->world.axis;
-    const host_options_t *opts = &g->opts;
+    const host_options_t *opts = g->opts;
     if (opts->part_width_mm >= axis->stroke_mm) {
         host_logf(HAL_LOG_WARN, "part of %.1f mm does not fit a %.0f mm stroke; ignored",
                   (double)opts->part_width_mm, (double)axis->stroke_mm);
@@ -43,7 +40,7 @@ static void power_on_world(gripper_t *g)
 {
     g->powered_on_us = hal_clock_now_us();
     wsg_sim_world_init(&g->world, &g->config, g->powered_on_us);
-    if (g->opts.part_given) {
+    if (g->opts->part_given) {
         place_start_part(g);
     }
     wsg_runner_due_now(&g->runner);
@@ -69,28 +66,61 @@ static void set_identity(wsg_config_t *cfg, unsigned index)
     memcpy(&cfg->tag[tag_len], suffix, (size_t)len + 1u);
 }
 
+/* The gripper's own copy of its options from now on; false when out of
+ * memory (it keeps the shared ones). */
+static bool own_options(gripper_t *g)
+{
+    if (g->own_opts == NULL) {
+        g->own_opts = malloc(sizeof(*g->own_opts));
+        if (g->own_opts == NULL) {
+            host_logf(HAL_LOG_ERROR, "device %u: out of memory", g->index);
+            return false;
+        }
+        *g->own_opts = *g->opts;
+        g->opts = g->own_opts;
+    }
+    return true;
+}
+
 /* The startup script (--script), at power-on and after a reset. */
 static void start_script(gripper_t *g)
 {
     if (g->script != NULL) {
         script_power_on(g->script, hal_clock_now_us());
     }
-    if (g->script == NULL || g->opts.script == NULL || !g->opts.script_autostart) {
+    if (g->script == NULL || g->opts->script == NULL || !g->opts->script_autostart) {
         return;
     }
     char why[256];
-    if (!script_run(g->script, g->opts.script, why, sizeof(why))) {
+    if (!script_run(g->script, g->opts->script, why, sizeof(why))) {
         host_logf(HAL_LOG_ERROR, "script: %s", why);
     }
 }
 
-void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
+bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, unsigned index,
+                  gripper_touched_t *touched)
 {
-    g->opts = *opts;
-    g->opts.model = config_file_device_model(opts->config, index, opts->model);
-    g->opts.script = config_file_device_script(opts->config, index, opts->script);
     g->index = index;
-    wsg_sim_model_config(wsg_sim_model_find(g->opts.model), &g->config);
+    g->opts = opts;
+    g->own_opts = NULL;
+    const char *model = config_file_device_model(opts->config, index, opts->model);
+    const char *script = config_file_device_script(opts->config, index, opts->script);
+    const char *fingers = config_file_device_fingers(opts->config, index, opts->fingers);
+    bool differs = model != opts->model || script != opts->script || fingers != opts->fingers;
+    bool opts_ok = !differs || own_options(g);
+    if (g->own_opts != NULL) { /* its [device.N] section */
+        g->own_opts->model = model;
+        g->own_opts->script = script;
+        g->own_opts->fingers = fingers;
+    }
+    g->touched_list = touched;
+    g->script = NULL;
+    g->startup_set = NULL;
+    g->startup_cleared = false;
+    /* one SocketCAN bus per interface: device 0's */
+    bool bus_ok = finger_bus_host_start(&g->fingers, loop, index == 0 ? opts->can_iface : NULL,
+                                        g->opts->fingers);
+    wsg_sim_model_config(wsg_sim_model_find(g->opts->model), &g->config);
     config_file_apply(opts->config, &g->config);
     set_identity(&g->config, index);
     config_file_apply_device(opts->config, index, &g->config);
@@ -99,33 +129,51 @@ void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index)
     power_on_world(g);
     wsg_hal_t hal;
     wsg_sim_world_hal(&g->world, &hal);
-    const hal_can_t *bus = index == 0 ? finger_bus_host_can() : NULL;
+    const hal_can_t *bus = finger_bus_host_can(&g->fingers);
     hal.can = bus != NULL ? *bus : (hal_can_t){NULL, NULL};
     wsg_device_init(&g->device, &g->config, &hal);
     wsg_conn_set_drivers(&g->device, host_drivers, sizeof(host_drivers) / sizeof(host_drivers[0]));
     wsg_runner_init(&g->runner, &g->device, advance_world, g);
-    if (index == 0) {
-        simctl_observers_attach(&g->device, opts);
-    } else if (opts->web_lines != NULL) {
-        /* the hub is device 0's */
-        wsg_conn_observe(&g->device, web_lines_observer(), opts->web_lines);
-    }
-    g->script = NULL;
-    g->startup_set = NULL;
-    g->startup_cleared = false;
-    if (script_options_enabled(&g->opts)) {
+    if (script_options_enabled(g->opts)) {
         char store[4096];
-        bool has_store = script_options_store(&g->opts, store, sizeof(store));
+        bool has_store = script_options_store(g->opts, store, sizeof(store));
         g->script =
             script_create(&g->device, index, (unsigned)opts->devices, has_store ? store : NULL);
     }
+    return bus_ok && opts_ok;
+}
+
+void gripper_start(gripper_t *g)
+{
     start_script(g);
+}
+
+bool gripper_inject_finger_fault(gripper_t *g, unsigned slot, finger_fault_t fault, bool active)
+{
+    const hal_can_t *can = finger_bus_host_can(&g->fingers);
+    if (slot >= FBUS_SLOTS || can == NULL) {
+        return false;
+    }
+    if (!can->ops->on_demand) {
+        return finger_bus_host_inject(&g->fingers, slot, fault, active);
+    }
+    /* The in-process bus runs only when the device steps: bring it up to
+     * this instant first (what the finger sent until now), then let the
+     * device see the injection and watch it take effect. */
+    gripper_step_now(g);
+    bool sent = finger_bus_host_inject(&g->fingers, slot, fault, active);
+    gripper_step_now(g);
+    return sent;
 }
 
 void gripper_release(gripper_t *g)
 {
     script_destroy(g->script);
     g->script = NULL;
+    finger_bus_host_stop(&g->fingers);
+    free(g->own_opts);
+    g->own_opts = NULL;
+    g->opts = NULL;
     free(g->startup_set);
     g->startup_set = NULL;
 }
@@ -133,7 +181,11 @@ void gripper_release(gripper_t *g)
 bool gripper_set_startup(gripper_t *g, const char *file, char *why, size_t cap)
 {
     if (file == NULL) {
-        g->opts.script_autostart = false; /* the file stays selected and runs no more */
+        if (!own_options(g)) {
+            snprintf(why, cap, "out of memory");
+            return false;
+        }
+        g->own_opts->script_autostart = false; /* the file stays selected and runs no more */
         g->startup_cleared = true;
         return true;
     }
@@ -152,15 +204,16 @@ bool gripper_set_startup(gripper_t *g, const char *file, char *why, size_t cap)
         return false;
     }
     char *copy = strdup(file);
-    if (copy == NULL) {
+    if (copy == NULL || !own_options(g)) {
+        free(copy);
         snprintf(why, cap, "out of memory");
         return false;
     }
     free(g->startup_set);
     g->startup_set = copy;
     g->startup_cleared = false;
-    g->opts.script = copy;
-    g->opts.script_autostart = true;
+    g->own_opts->script = copy;
+    g->own_opts->script_autostart = true;
     return true;
 }
 
@@ -243,27 +296,20 @@ void gripper_input_done(gripper_t *g)
     gripper_touch(g);
 }
 
-static gripper_t *touched_first;
-
 void gripper_touch(gripper_t *g)
 {
     if (!g->touched) {
         g->touched = true;
-        g->next_touched = touched_first;
-        touched_first = g;
+        g->next_touched = g->touched_list->first;
+        g->touched_list->first = g;
     }
 }
 
-bool gripper_touched_any(void)
+gripper_t *gripper_take_touched(gripper_touched_t *touched)
 {
-    return touched_first != NULL;
-}
-
-gripper_t *gripper_take_touched(void)
-{
-    gripper_t *g = touched_first;
+    gripper_t *g = touched->first;
     if (g != NULL) {
-        touched_first = g->next_touched;
+        touched->first = g->next_touched;
         g->touched = false;
     }
     return g;

@@ -2,7 +2,8 @@
 /* One virtual gripper of the host: the device core, its simulated world and
  * the configuration it powers on with, kept on the simulated clock. Every
  * entry point first brings the world up to now. An instance: the fleet
- * (host/fleet.c) holds one per device and hands it to that device's servers. */
+ * (host/fleet.c) holds one per device and hands it to that device's servers.
+ * Each gripper is a whole device: its own finger bus with its fingers. */
 #ifndef HOST_GRIPPER_H
 #define HOST_GRIPPER_H
 
@@ -10,20 +11,34 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "finger_bus_host.h"
 #include "options.h"
 #include "sim/sim_world.h"
 #include "wsg/wsg_conn.h"
 #include "wsg/wsg_device.h"
 #include "wsg/wsg_runner.h"
 
+struct gripper;
+/* The grippers touched since they were last ticked: one list per fleet,
+ * which hands it to its grippers (gripper_init). */
+typedef struct {
+    struct gripper *first;
+} gripper_touched_t;
+
 typedef struct gripper {
     wsg_device_t device;
     sim_world_t world;
     wsg_config_t config; /* what a reset powers on with */
-    host_options_t opts;
-    wsg_runner_t runner; /* feed and step: the core's, as on the board */
-    bool touched;        /* on the touched list (gripper_touch) */
+    /* its options: the fleet's, or its own copy (own_opts) once they differ
+     * (a [device.N] model, script or fingers; a startup script chosen on the
+     * web page), so a fleet of alike devices keeps one copy */
+    const host_options_t *opts;
+    host_options_t *own_opts;
+    wsg_runner_t runner;       /* feed and step: the core's, as on the board */
+    finger_bus_host_t fingers; /* its finger bus */
+    bool touched;              /* on the touched list (gripper_touch) */
     struct gripper *next_touched;
+    gripper_touched_t *touched_list;
     unsigned index;        /* its number in the fleet: 0 for the first */
     struct script *script; /* its script interpreter; NULL without scripting */
     char *startup_set;     /* the startup script the web page chose (heap), NULL: none chosen */
@@ -35,9 +50,16 @@ typedef struct gripper {
 /* Power-on state from the options (model, configuration file, part) for
  * device `index` of the fleet: its serial number is the configured one plus
  * index, its tag the configured one with "-<index>" appended (device 0 keeps
- * both as configured). Only device 0 has the finger bus and the observers
- * (trace, record, coverage). */
-void gripper_init(gripper_t *g, const host_options_t *opts, unsigned index);
+ * both as configured). Its finger bus: SocketCAN for device 0 with --can,
+ * else a loopback bus with its fingers ([device.N] fingers, or --fingers).
+ * opts must outlive the gripper (it keeps a pointer, and copies them only
+ * once its own differ). gripper_touch() puts it on `touched`. False (logged) when its finger bus
+ * cannot be had; gripper_release() it all the same. Observers attach next,
+ * then gripper_start() runs the startup script. */
+bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, unsigned index,
+                  gripper_touched_t *touched);
+/* Runs the startup script (--script), as at power-on. */
+void gripper_start(gripper_t *g);
 /* Runs the control step if it is due; returns the next deadline. The fleet
  * calls it when the deadline has come or the gripper was touched. */
 uint64_t gripper_tick(gripper_t *g);
@@ -50,15 +72,17 @@ void gripper_input_done(gripper_t *g);
  * control command): the fleet ticks it at the next pass even if not due.
  * The touched grippers form one list, taken one by one. */
 void gripper_touch(gripper_t *g);
-gripper_t *gripper_take_touched(void);
-/* Some gripper is on the touched list (the scheduler's pass asks first). */
-bool gripper_touched_any(void);
+gripper_t *gripper_take_touched(gripper_touched_t *touched);
 /* Runs a control step now (the control channel changed the world). */
 void gripper_step_now(gripper_t *g);
 /* Power-on again: world, configuration and device state; the ports close
  * their connections first, any left over is closed here. The startup
  * script runs again. */
 void gripper_reset(gripper_t *g);
+/* Raises or clears an injected fault of the finger in slot 0 or 1
+ * (finger_bus_host_inject); a loopback bus is brought up to now first and
+ * the device steps to see it take effect. False: bad slot, no bus. */
+bool gripper_inject_finger_fault(gripper_t *g, unsigned slot, finger_fault_t fault, bool active);
 /* A script whose time slice ended runs on for one slice; true while it
  * still wants to run (the loop must not block). */
 bool gripper_continue_script(gripper_t *g);
@@ -71,7 +95,7 @@ bool gripper_set_startup(gripper_t *g, const char *file, char *why, size_t cap);
 /* What the web page chose, for Save: the file, "" for none, NULL when it
  * chose nothing (the options' startup script stands). */
 const char *gripper_startup_choice(const gripper_t *g);
-/* Frees what gripper_init allocated (the script interpreter). */
+/* Frees what gripper_init allocated (finger bus, script interpreter). */
 void gripper_release(gripper_t *g);
 
 #endif

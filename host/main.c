@@ -4,21 +4,22 @@
 
 #include "can_loopback.h"
 #include "coverage.h"
-#include "finger_bus_host.h"
 #include "fleet.h"
 #include "host.h"
 #include "log.h"
 #include "notify.h"
 #include "options.h"
 #include "record.h"
-#include "tcp_server.h"
-#include "udp_server.h"
+#include "sim/delay.h"
+#include "sim/observers.h"
+#include "web/web_lines.h"
 
 #define EXIT_STARTUP_FAILED 2
 
 /* Simulation control (docs/simctl.md): record, scenario, control channel. */
 static bool start_simulation(host_t *host, const host_options_t *opts)
 {
+    simctl_t *sim = host->sim;
     if (opts->record_path != NULL && !record_open(opts->record_path)) {
         return false;
     }
@@ -26,11 +27,11 @@ static bool start_simulation(host_t *host, const host_options_t *opts)
         return false;
     }
     if (opts->scenario_path != NULL &&
-        !scenario_load(simctl_scenario(host->sim), opts->scenario_path, 0)) {
+        !scenario_load(simctl_scenario(sim), opts->scenario_path, 0)) {
         return false;
     }
     return opts->sim_port < 0 ||
-           simctl_start(host->sim, host->loop, &host->net, opts->sim_bind, opts->sim_port);
+           simctl_start(sim, host->loop, &host->net, opts->sim_bind, opts->sim_port);
 }
 
 static int stop_simulation(simctl_t *sim, const host_options_t *opts)
@@ -44,26 +45,61 @@ static int stop_simulation(simctl_t *sim, const host_options_t *opts)
     return 0;
 }
 
+/* Every frame of device 0's in-process finger bus, to the --can-log file. */
+static void tap_can_log(void *ctx, const hal_can_frame_t *frame, uint64_t time_us)
+{
+    can_log_frame(ctx, frame, time_us);
+}
+
+/* A device's observers, attached as the fleet powers it on: device 0
+ * carries the simulation's (trace, record, coverage) and --can-log taps its
+ * in-process bus; the others keep the web page's connection lines (the hub
+ * is device 0's). */
+static void attach_observers(void *ctx, gripper_t *g)
+{
+    host_t *host = ctx;
+    const host_options_t *opts = host->opts;
+    if (g->index != 0) {
+        if (opts->web_lines != NULL) {
+            wsg_conn_observe(&g->device, web_lines_observer(), opts->web_lines);
+        }
+        return;
+    }
+    simctl_observers_attach(&g->device, opts);
+    can_loopback_t *bus = finger_bus_host_loopback(&g->fingers);
+    if (opts->can_log != NULL && bus != NULL) {
+        can_loopback_set_tap(bus, tap_can_log, &host->can_log);
+    }
+}
+
+static bool delay_holds_replies(void *ctx, const wsg_conn_t *conn)
+{
+    (void)ctx;
+    return simctl_delay_holding(conn);
+}
+
 /* One line per further device of a fleet, then the ready line. */
 static bool announce(const host_t *host, const host_options_t *opts)
 {
+    const simctl_t *sim = host->sim;
+    fleet_t *fleet = host->fleet;
     char line[512];
     char extra[256];
     char control[96];
-    simctl_describe(host->sim, control, sizeof(control));
+    simctl_describe(sim, control, sizeof(control));
     snprintf(extra, sizeof(extra), "%s%s", control, web_server_describe(host->web));
-    fleet_ready_line(extra, line, sizeof(line));
+    fleet_ready_line(fleet, extra, line, sizeof(line));
     bool bin_tcp = opts->tcp_enabled && opts->protocol != HOST_PROTOCOL_GCL;
-    notify_ports_t ports = {.tcp_port = fleet_tcp_port(0),
-                            .udp_port = fleet_udp_port(0),
-                            .sim_port = simctl_port(host->sim),
-                            .bin_tcp_port = bin_tcp ? fleet_tcp_port(0) : -1,
-                            .bin_udp_port = fleet_bin_udp_port(0),
+    notify_ports_t ports = {.tcp_port = fleet_tcp_port(fleet, 0),
+                            .udp_port = fleet_udp_port(fleet, 0),
+                            .sim_port = simctl_port(sim),
+                            .bin_tcp_port = bin_tcp ? fleet_tcp_port(fleet, 0) : -1,
+                            .bin_udp_port = fleet_bin_udp_port(fleet, 0),
                             .http_port = web_server_port(host->web)};
     if (!notify_prepare(opts->ready_file, &ports)) {
         return false;
     }
-    fleet_announce_devices();
+    fleet_announce_devices(fleet);
     host_logf(HAL_LOG_INFO, "%s", line);
     return notify_ready(opts->ready_file, line);
 }
@@ -107,47 +143,15 @@ static uint64_t wall_timeout_ns(const simclock_t *clock, uint64_t deadline_us)
     return (uint64_t)wait.tv_sec * 1000000000u + (uint64_t)wait.tv_nsec;
 }
 
-/* Every frame of the in-process finger bus, to the --can-log file. */
-static void tap_can_log(void *ctx, const hal_can_frame_t *frame, uint64_t time_us)
-{
-    can_log_frame(ctx, frame, time_us);
-}
-
 /* The event loop, taking the process's signals. */
 static bool start_loop(host_t *host)
 {
-    host->loop = loop_create();
     if (host->loop == NULL || !loop_take_signals(host->loop)) {
         return false;
     }
     loop_set_catch_up(host->loop, catch_up, host);
     loop_set_hangup(host->loop, reopen_files, host);
     return true;
-}
-
-/* The finger bus, and the --can-log file on the in-process one. */
-static bool start_finger_bus(host_t *host, const host_options_t *opts)
-{
-    if (!finger_bus_host_start(host->loop, opts)) {
-        return false;
-    }
-    if (opts->can_log == NULL) {
-        return true;
-    }
-    if (!can_log_open(&host->can_log, opts->can_log)) {
-        return false;
-    }
-    can_loopback_set_tap(tap_can_log, &host->can_log);
-    return true;
-}
-
-static void stop_finger_bus(host_t *host)
-{
-    finger_bus_host_stop(host->loop);
-    if (host->can_log.out != NULL) {
-        can_loopback_set_tap(NULL, NULL);
-        can_log_close(&host->can_log);
-    }
 }
 
 /* Until SIGINT or SIGTERM. */
@@ -157,44 +161,53 @@ static void run(host_t *host)
     const simclock_t *clock = simctl_clock(host->sim);
     while (!loop_stop_requested(host->loop)) {
         uint64_t deadline = simctl_tick(sched);
-        fleet_run_scripts();
+        fleet_run_scripts(host->fleet);
         loop_wait(host->loop, wall_timeout_ns(clock, deadline));
         web_server_poll(host->web);
-        tcp_server_reap();
-        udp_server_reap();
+        fleet_reap(host->fleet);
         simctl_reap(host->sim);
     }
 }
 
-/* Starts everything on the simulation's clock, serves until SIGINT or
- * SIGTERM and stops it all: the exit status. */
+/* Starts everything on the simulation's clock and runs the loop until a
+ * signal stops it; the exit status. */
 static int serve(host_t *host, host_options_t *opts)
 {
+    simctl_t *sim = host->sim;
     if (opts->start_paused) {
-        simclock_start_paused(simctl_clock(host->sim)); /* simulated time stands at exactly 0 */
+        simclock_start_paused(simctl_clock(sim)); /* simulated time stands at exactly 0 */
     }
-    if (!start_loop(host) || !start_finger_bus(host, opts)) {
+    if (!start_loop(host)) {
         return EXIT_STARTUP_FAILED;
     }
+    fleet_observer_t observers = {
+        .device_started = attach_observers, .replies_held = delay_holds_replies, .ctx = host};
+    if (opts->can_log != NULL && !can_log_open(&host->can_log, opts->can_log)) {
+        return EXIT_STARTUP_FAILED;
+    }
+    fleet_observe(host->fleet, &observers);
+    simctl_set_fleet(sim, host->fleet);
     /* the web server first: the devices' observers keep its connection lines */
-    if (!web_server_start(host->web, host->loop, &host->net, opts, host->sim)) {
+    if (!web_server_start(host->web, host->loop, &host->net, opts, sim, host->fleet)) {
         return EXIT_STARTUP_FAILED;
     }
     opts->web_lines = web_server_lines(host->web);
-    if (!fleet_start(host->loop, &host->net, opts) || !start_simulation(host, opts)) {
+    if (!fleet_start(host->fleet, opts) || !start_simulation(host, opts)) {
         return EXIT_STARTUP_FAILED;
     }
     if (!announce(host, opts)) {
         return EXIT_STARTUP_FAILED;
     }
-    host_logf(HAL_LOG_INFO, "finger bus: %s", finger_bus_host_describe());
+    char bus[96];
+    finger_bus_host_describe(&fleet_gripper(host->fleet, 0)->fingers, bus, sizeof(bus));
+    host_logf(HAL_LOG_INFO, "finger bus: %s", bus);
     run(host);
     host_logf(HAL_LOG_INFO, "shutting down");
     notify_stopping(opts->ready_file);
     web_server_stop(host->web); /* while the devices its operations ran on exist */
-    fleet_stop();
-    stop_finger_bus(host);
-    return stop_simulation(host->sim, opts);
+    fleet_stop(host->fleet);
+    can_log_close(&host->can_log);
+    return stop_simulation(sim, opts);
 }
 
 int main(int argc, char **argv)
@@ -211,11 +224,15 @@ int main(int argc, char **argv)
         options_release(&opts);
         return EXIT_STARTUP_FAILED;
     }
-    host_t host = {0};
+    host_t host = {.opts = &opts};
     net_init(&host.net);
+    host.loop = loop_create();
     host.sim = simctl_create();
     host.web = web_server_create();
-    int status = host.sim != NULL && host.web != NULL ? serve(&host, &opts) : EXIT_STARTUP_FAILED;
+    host.fleet = fleet_create(host.loop, &host.net);
+    bool made = host.loop != NULL && host.sim != NULL && host.web != NULL && host.fleet != NULL;
+    int status = made ? serve(&host, &opts) : EXIT_STARTUP_FAILED;
+    fleet_destroy(host.fleet);
     web_server_destroy(host.web); /* after the devices: their observers held its lines */
     simctl_destroy(host.sim);
     loop_destroy(host.loop);

@@ -44,13 +44,6 @@ static void *capped_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
     return grown;
 }
 
-script_t *script_of_state(lua_State *L)
-{
-    script_t *s;
-    memcpy(&s, lua_getextraspace(L), sizeof(s));
-    return s;
-}
-
 script_t *script_create(wsg_device_t *dev, unsigned index, unsigned devices, const char *store_dir)
 {
     script_t *s = calloc(1, sizeof(*s));
@@ -152,22 +145,6 @@ static void slice_hook(lua_State *L, lua_Debug *ar)
     if (s->slice_kinstr >= SCRIPT_UNYIELDABLE_KINSTR) {
         luaL_error(L, "script ran too long where it cannot yield (inside a C call)");
     }
-}
-
-int script_block(lua_State *L, script_wait_t wait, uint64_t wake_us)
-{
-    script_t *s = script_of_state(L);
-    s->wait = wait;
-    s->wake_us = wake_us;
-    return lua_yield(L, 0);
-}
-
-int script_block_k(lua_State *L, uint64_t wake_us, lua_KContext ctx, lua_KFunction k)
-{
-    script_t *s = script_of_state(L);
-    s->wait = SCRIPT_WAIT_SLEEP;
-    s->wake_us = wake_us;
-    return lua_yieldk(L, 0, ctx, k);
 }
 
 void script_power_on(script_t *s, uint64_t now_us)

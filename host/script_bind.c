@@ -71,18 +71,6 @@ static int push_status(lua_State *L, wsg_status_t status)
 
 /* A Lua number as a float: beyond the float range it is an infinity
  * (converting it directly would be undefined). */
-float script_check_float(lua_State *L, int arg)
-{
-    lua_Number v = luaL_checknumber(L, arg);
-    if (v > FLT_MAX) {
-        return INFINITY;
-    }
-    if (v < -FLT_MAX) {
-        return -INFINITY;
-    }
-    return (float)v; /* NaN stays NaN */
-}
-
 static float clampf(float v, float low, float high)
 {
     return v < low ? low : v > high ? high : v;

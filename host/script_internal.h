@@ -61,8 +61,15 @@ struct script {
     uint64_t kinstr;
 };
 
+/* script_state.c, below the others: */
 /* The script that runs on L (stored in L's extra space). */
 script_t *script_of_state(lua_State *L);
+/* Argument arg as a float; beyond the float range an infinity. */
+float script_check_float(lua_State *L, int arg);
+/* Blocking calls yield with the wait set. */
+int script_block(lua_State *L, script_wait_t wait, uint64_t wake_us);
+/* The same, for a binding that runs again (k) when the wait is over. */
+int script_block_k(lua_State *L, uint64_t wake_us, lua_KContext ctx, lua_KFunction k);
 
 /* script_console.c: console output, to the ring and the log */
 /* "script" or "script[i]" in a fleet: how the log names the script. */
@@ -82,17 +89,11 @@ bool script_resolve(const script_t *s, const char *name, bool allow_host, char *
 char *script_read_file(const char *path, size_t *len, char *why, size_t why_cap);
 
 /* script_bind.c: globals, mc, gripper, finger, grasping, socket */
-/* Argument arg as a float; beyond the float range an infinity. */
-float script_check_float(lua_State *L, int arg);
 void script_open_device(lua_State *L);
 /* script_cmd.c: cmd, etob, ntob, bton */
 void script_open_cmd(lua_State *L);
 
-/* script.c: blocking calls yield with the wait set */
-int script_block(lua_State *L, script_wait_t wait, uint64_t wake_us);
-/* The same, for a binding that runs again (k) when the wait is over. */
-int script_block_k(lua_State *L, uint64_t wake_us, lua_KContext ctx, lua_KFunction k);
-/* Pushes id and payload table of a request; for cmd.read(). */
+/* Pushes id and payload table of a request; for cmd.read() (script_cmd.c). */
 void script_push_request(lua_State *L, const wsg_script_request_t *req);
 
 #endif

@@ -7,11 +7,7 @@
 #include "gripper.h"
 #include "hal_clock.h"
 #include "script_json.h"
-#include "sim/clock.h"
-#include "sim/delay.h"
-#include "sim/faults.h"
 #include "wsg/wsg_names.h"
-#include "sim/scheduler.h"
 #include "sim/sim_world.h"
 #include "wsg/wsg_gcl.h"
 
@@ -28,16 +24,14 @@ static void add_reading(cJSON *obj, const char *name, float value)
     cJSON_AddNumberToObject(obj, name, rounded == 0.0 ? 0.0 : rounded);
 }
 
-static cJSON *time_json(simctl_t *ctl)
+static cJSON *time_json(const state_json_sim_t *sim)
 {
-    const simctl_sched_t *sched = simctl_scheduler(ctl);
-    const simclock_t *clock = simctl_clock(ctl);
     cJSON *t = cJSON_CreateObject();
     cJSON_AddNumberToObject(t, "sim_ms", ms(hal_clock_now_us()));
-    cJSON_AddNumberToObject(t, "lag_ms", ms(simctl_lag_us(sched)));
-    cJSON_AddNumberToObject(t, "max_lag_ms", ms(simctl_max_lag_us(sched)));
-    cJSON_AddBoolToObject(t, "paused", simclock_paused(clock));
-    cJSON_AddNumberToObject(t, "scale", simclock_scale(clock));
+    cJSON_AddNumberToObject(t, "lag_ms", ms(sim->lag_us));
+    cJSON_AddNumberToObject(t, "max_lag_ms", ms(sim->max_lag_us));
+    cJSON_AddBoolToObject(t, "paused", sim->paused);
+    cJSON_AddNumberToObject(t, "scale", sim->scale);
     return t;
 }
 
@@ -172,57 +166,6 @@ static cJSON *fingers_json(const wsg_snapshot_t *snap)
     return list;
 }
 
-static void add_hardware_faults(cJSON *list, const simctl_faults_t *faults, const gripper_t *g)
-{
-    for (unsigned i = 0; i < SIMCTL_FAULT_COUNT; i++) {
-        simctl_fault_t f = (simctl_fault_t)i;
-        if (!simctl_fault_active(faults, g, f)) {
-            continue;
-        }
-        cJSON *j = cJSON_CreateObject();
-        cJSON_AddStringToObject(j, "fault", simctl_fault_name(f));
-        cJSON_AddStringToObject(j, "description", simctl_fault_description(f));
-        cJSON_AddNumberToObject(j, "since_ms", ms(simctl_fault_since_us(faults, g, f)));
-        cJSON_AddItemToArray(list, j);
-    }
-}
-
-static void add_protocol_faults(cJSON *list, gripper_t *g)
-{
-    simctl_delay_info_t d;
-    for (unsigned i = 0; simctl_delay_info(i, &d); i++) {
-        if (d.device != &g->device) {
-            continue;
-        }
-        cJSON *j = cJSON_CreateObject();
-        cJSON_AddStringToObject(j, "fault", "DELAY");
-        cJSON_AddNumberToObject(j, "session", d.session_id);
-        cJSON_AddNumberToObject(j, "delay_ms", ms(d.delay_us));
-        cJSON_AddBoolToObject(j, "holding", d.holding);
-        cJSON_AddNumberToObject(j, "lines_held", d.lines_held);
-        if (d.holding) {
-            cJSON_AddNumberToObject(j, "release_ms", ms(d.release_us));
-        }
-        cJSON_AddItemToArray(list, j);
-    }
-    const wsg_snapshot_t *snap = wsg_device_snapshot(&g->device);
-    if (snap->injected_armed) {
-        cJSON *j = cJSON_CreateObject();
-        cJSON_AddStringToObject(j, "fault", "FAILNEXT");
-        cJSON_AddStringToObject(j, "command", snap->injected_name);
-        cJSON_AddNumberToObject(j, "code", snap->injected_status);
-        cJSON_AddItemToArray(list, j);
-    }
-}
-
-cJSON *state_json_faults(simctl_t *ctl, gripper_t *g)
-{
-    cJSON *list = cJSON_CreateArray();
-    add_hardware_faults(list, simctl_faults(ctl), g);
-    add_protocol_faults(list, g);
-    return list;
-}
-
 static cJSON *autosend_json(const wsg_gcl_conn_info_t *info)
 {
     cJSON *list = cJSON_CreateArray();
@@ -285,12 +228,12 @@ cJSON *state_json_session_list(gripper_t *g)
     return sessions_json(&g->device, false);
 }
 
-char *state_json(simctl_t *ctl, gripper_t *g, bool pretty)
+char *state_json(gripper_t *g, bool pretty, const state_json_sim_t *sim)
 {
     wsg_device_t *dev = &g->device;
     const wsg_snapshot_t *snap = wsg_device_snapshot(dev);
     cJSON *root = cJSON_CreateObject();
-    cJSON_AddItemToObject(root, "time", time_json(ctl));
+    cJSON_AddItemToObject(root, "time", time_json(sim));
     cJSON_AddItemToObject(root, "device", device_json(snap->config));
     cJSON_AddItemToObject(root, "axis", axis_json(snap));
     cJSON_AddItemToObject(root, "motion", motion_json(dev, snap));
@@ -298,7 +241,7 @@ char *state_json(simctl_t *ctl, gripper_t *g, bool pretty)
     cJSON_AddItemToObject(root, "flags", flags_json(snap->flags));
     cJSON_AddItemToObject(root, "world", world_json(&g->world, snap));
     cJSON_AddItemToObject(root, "fingers", fingers_json(snap));
-    cJSON_AddItemToObject(root, "faults", state_json_faults(ctl, g));
+    cJSON_AddItemToObject(root, "faults", sim->faults);
     cJSON_AddItemToObject(root, "sessions", sessions_json(dev, true));
     cJSON_AddItemToObject(root, "script", script_json(g));
     char *text = pretty ? cJSON_Print(root) : cJSON_PrintUnformatted(root);

@@ -5,18 +5,23 @@
 #define HOST_STATE_JSON_H
 
 #include <stdbool.h>
+#include <stdint.h>
 
 #include <cjson/cJSON.h>
 
 #include "gripper.h"
-#include "sim/control.h"
 
-/* The dump as JSON text (malloc'd; free() it); the clock and the injected
- * faults are ctl's. */
-char *state_json(simctl_t *ctl, gripper_t *g, bool pretty);
-/* The device's active injected faults as a JSON array (also part of the
- * dump). */
-cJSON *state_json_faults(simctl_t *ctl, gripper_t *g);
+/* What the simulation adds to the dump, filled in by its caller (the
+ * control channel): the clock's fields of "time" and the "faults" list. */
+typedef struct {
+    uint64_t lag_us, max_lag_us;
+    bool paused;
+    double scale;
+    cJSON *faults; /* the device's active injected faults; the dump takes it over */
+} state_json_sim_t;
+
+/* The dump as JSON text (malloc'd; free() it). */
+char *state_json(gripper_t *g, bool pretty, const state_json_sim_t *sim);
 /* The open sessions: [{"id":..,"transport":..}, ...]. */
 cJSON *state_json_session_list(gripper_t *g);
 

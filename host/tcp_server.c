@@ -15,7 +15,6 @@
 #include "log.h"
 #include "loop.h"
 #include "net.h"
-#include "sim/delay.h"
 #include "wsg/wsg_bin.h"
 #include "wsg/wsg_gcl.h"
 #include "wsg/wsg_outq.h"
@@ -54,44 +53,39 @@ struct tcp_client {
     char peer[64];
 };
 
-/* What the module keeps across servers: the open connections (the reap
- * visits these only) and the servers whose listener waits for descriptors. */
-static struct {
-    tcp_client_t *first, *last;
-    tcp_server_t *waiting;
-} tcp;
-
 static void link_client(tcp_client_t *c)
 {
-    c->prev = tcp.last;
+    tcp_servers_t *tcp = c->server->set;
+    c->prev = tcp->last;
     c->next = NULL;
-    if (tcp.last != NULL) {
-        tcp.last->next = c;
+    if (tcp->last != NULL) {
+        tcp->last->next = c;
     } else {
-        tcp.first = c;
+        tcp->first = c;
     }
-    tcp.last = c;
+    tcp->last = c;
     c->server->open++;
 }
 
 static void unlink_client(tcp_client_t *c)
 {
+    tcp_servers_t *tcp = c->server->set;
     if (c->prev != NULL) {
         c->prev->next = c->next;
     } else {
-        tcp.first = c->next;
+        tcp->first = c->next;
     }
     if (c->next != NULL) {
         c->next->prev = c->prev;
     } else {
-        tcp.last = c->prev;
+        tcp->last = c->prev;
     }
     c->server->open--;
 }
 
 static void update_events(tcp_client_t *c)
 {
-    loop_set_events(c->server->listener->loop, c->fd,
+    loop_set_events(c->server->set->loop, c->fd,
                     (short)((c->eof ? 0 : POLLIN) | (wsg_outq_empty(&c->outq) ? 0 : POLLOUT)));
 }
 
@@ -193,7 +187,7 @@ static void close_client(tcp_client_t *c)
         host_log_peer(HAL_LOG_INFO, "tcp %s: %lu AUTOSEND lines dropped (client not reading)",
                       c->peer, c->dropped_autosend);
     }
-    loop_unwatch(c->server->listener->loop, c->fd);
+    loop_unwatch(c->server->set->loop, c->fd);
     close(c->fd);
     wsg_conn_close(&c->conn, reason);
     gripper_touch(c->server->gripper); /* e.g. FAST STOP on a lost link */
@@ -263,7 +257,8 @@ static tcp_client_t *stalled_connection(const tcp_server_t *s)
 {
     uint64_t now = hal_clock_now_us();
     tcp_client_t *found = NULL;
-    for (tcp_client_t *c = tcp.first; c != NULL; c = c->next) {
+    const tcp_servers_t *tcp = s->set;
+    for (tcp_client_t *c = tcp->first; c != NULL; c = c->next) {
         if (c->server == s && stalled(c, now) &&
             (found == NULL || c->completed_us < found->completed_us)) {
             found = c;
@@ -322,9 +317,9 @@ static bool setup_client(tcp_client_t *c, int fd, const struct sockaddr_storage 
     /* --protocol auto: the first byte chooses from the gripper's drivers (host/gripper.c) */
     static const wsg_proto_driver_t *const drivers[] = {NULL, &wsg_gcl_driver, &wsg_bin_driver};
     gripper_t *g = c->server->gripper;
-    wsg_conn_open(&c->conn, &g->device, drivers[g->opts.protocol], WSG_TRANSPORT_STREAM, &tcp_io,
+    wsg_conn_open(&c->conn, &g->device, drivers[g->opts->protocol], WSG_TRANSPORT_STREAM, &tcp_io,
                   c);
-    if (!loop_watch(c->server->listener->loop, fd, POLLIN, on_client, c)) {
+    if (!loop_watch(c->server->set->loop, fd, POLLIN, on_client, c)) {
         wsg_conn_close(&c->conn, WSG_CLOSE_ANNOUNCED);
         free(c->outq.ring);
         return false;
@@ -336,10 +331,11 @@ static bool setup_client(tcp_client_t *c, int fd, const struct sockaddr_storage 
 
 static void wait_for_descriptors(tcp_server_t *s)
 {
+    tcp_servers_t *tcp = s->set;
     if (s->listener->starved && !s->waits_for_fds) {
         s->waits_for_fds = true;
-        s->next_waiting = tcp.waiting;
-        tcp.waiting = s;
+        s->next_waiting = tcp->waiting;
+        tcp->waiting = s;
     }
 }
 
@@ -400,26 +396,30 @@ static void on_accept(void *ctx, int fd, short revents)
     host_log_peer(HAL_LOG_INFO, "tcp %s: connected", c->peer);
 }
 
-bool tcp_server_start(tcp_server_t *s, host_loop_t *loop, net_t *net, gripper_t *g,
-                      const char *addr, int port, int max_clients, int idle_timeout_s)
+bool tcp_server_start(tcp_server_t *s, tcp_servers_t *set, gripper_t *g, const char *addr, int port,
+                      int max_clients, int idle_timeout_s)
 {
+    s->set = set;
     tcp_server_attach(s, g, s, max_clients, idle_timeout_s);
-    return listener_start(&s->own, loop, net, "tcp", addr, port, on_accept, s);
+    return listener_start(&s->own, set->loop, set->net, "tcp", addr, port, on_accept, s);
 }
 
-bool tcp_server_start_shared(tcp_server_t *s, host_loop_t *loop, net_t *net, const char *addr,
-                             int port, tcp_route_t route, void *ctx)
+bool tcp_server_start_shared(tcp_server_t *s, tcp_servers_t *set, const char *addr, int port,
+                             tcp_route_t route, void *ctx)
 {
+    s->set = set;
     tcp_server_attach(s, NULL, s, 0, 0);
     s->route = route;
     s->route_ctx = ctx;
-    return listener_start(&s->own, loop, net, "tcp", addr, port, on_accept, s);
+    return listener_start(&s->own, set->loop, set->net, "tcp", addr, port, on_accept, s);
 }
 
 void tcp_server_attach(tcp_server_t *s, gripper_t *g, tcp_server_t *front, int max_clients,
                        int idle_timeout_s)
 {
+    tcp_servers_t *set = front->set;
     memset(s, 0, sizeof(*s));
+    s->set = set;
     s->own.fd = -1;
     s->listener = &front->own;
     s->gripper = g;
@@ -432,11 +432,12 @@ int tcp_server_port(const tcp_server_t *s)
     return s->listener != NULL && s->listener->fd >= 0 ? net_local_port(s->listener->fd) : -1;
 }
 
-/* Replies held back by an injected DELAY (control channel) still count as
- * queued: a half-closed connection waits for them too. */
-static bool replies_held(const wsg_conn_t *conn)
+/* Replies held back above the port (an injected DELAY of the control
+ * channel) still count as queued: a half-closed connection waits for them. */
+static bool replies_held(const tcp_client_t *c)
 {
-    return simctl_delay_holding(conn);
+    const tcp_servers_t *set = c->server->set;
+    return set->replies_held != NULL && set->replies_held(set->held_ctx, &c->conn);
 }
 
 static bool idle_too_long(tcp_client_t *c, uint64_t now)
@@ -455,13 +456,13 @@ static bool finished(tcp_client_t *c, uint64_t now)
 {
     bool flushed = wsg_outq_empty(&c->outq);
     bool said_bye = wsg_conn_wants_close(&c->conn);
-    bool input_done = c->eof && flushed && !replies_held(&c->conn);
+    bool input_done = c->eof && flushed && !replies_held(c);
     return c->dead || (said_bye && flushed) || input_done || idle_too_long(c, now);
 }
 
-static void resume_listeners(void)
+static void resume_listeners(tcp_servers_t *tcp)
 {
-    tcp_server_t **link = &tcp.waiting;
+    tcp_server_t **link = &tcp->waiting;
     while (*link != NULL) {
         tcp_server_t *s = *link;
         listener_resume_when_due(s->listener);
@@ -474,23 +475,23 @@ static void resume_listeners(void)
     }
 }
 
-void tcp_server_reap(void)
+void tcp_server_reap(tcp_servers_t *tcp)
 {
     uint64_t now = hal_clock_now_us();
     tcp_client_t *next;
-    for (tcp_client_t *c = tcp.first; c != NULL; c = next) {
+    for (tcp_client_t *c = tcp->first; c != NULL; c = next) {
         next = c->next;
         if (finished(c, now)) {
             close_client(c);
         }
     }
-    resume_listeners();
+    resume_listeners(tcp);
 }
 
-uint64_t tcp_server_next_deadline_us(void)
+uint64_t tcp_server_next_deadline_us(const tcp_servers_t *tcp)
 {
     uint64_t due = UINT64_MAX;
-    for (tcp_client_t *c = tcp.first; c != NULL; c = c->next) {
+    for (tcp_client_t *c = tcp->first; c != NULL; c = c->next) {
         uint64_t timeout = c->server->idle_timeout_us;
         if (timeout != 0 && c->heard_us + timeout < due) {
             due = c->heard_us + timeout;
@@ -499,9 +500,9 @@ uint64_t tcp_server_next_deadline_us(void)
     return due;
 }
 
-bool tcp_server_cut(const wsg_conn_t *conn)
+bool tcp_server_cut(tcp_servers_t *tcp, const wsg_conn_t *conn)
 {
-    for (tcp_client_t *c = tcp.first; c != NULL; c = c->next) {
+    for (tcp_client_t *c = tcp->first; c != NULL; c = c->next) {
         if (&c->conn == conn) {
             struct linger abort_close = {.l_onoff = 1, .l_linger = 0};
             setsockopt(c->fd, SOL_SOCKET, SO_LINGER, &abort_close, sizeof(abort_close));
@@ -513,9 +514,9 @@ bool tcp_server_cut(const wsg_conn_t *conn)
     return false;
 }
 
-const char *tcp_server_peer_name(const wsg_conn_t *conn)
+const char *tcp_server_peer_name(const tcp_servers_t *tcp, const wsg_conn_t *conn)
 {
-    for (const tcp_client_t *c = tcp.first; c != NULL; c = c->next) {
+    for (const tcp_client_t *c = tcp->first; c != NULL; c = c->next) {
         if (&c->conn == conn) {
             return c->peer;
         }
@@ -525,8 +526,9 @@ const char *tcp_server_peer_name(const wsg_conn_t *conn)
 
 void tcp_server_close_all(tcp_server_t *s)
 {
+    tcp_servers_t *tcp = s->set;
     tcp_client_t *next;
-    for (tcp_client_t *c = tcp.first; c != NULL; c = next) {
+    for (tcp_client_t *c = tcp->first; c != NULL; c = next) {
         next = c->next;
         if (c->server == s) {
             close_client(c);

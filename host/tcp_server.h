@@ -19,11 +19,26 @@
 typedef struct tcp_client tcp_client_t;
 typedef struct tcp_server_s tcp_server_t;
 
+/* What a set of servers (the fleet's) keeps across them: the open
+ * connections (the reap visits these only) and the servers whose listener
+ * waits for descriptors. Zeroed: empty. */
+typedef struct {
+    host_loop_t *loop; /* every socket of the set is watched here */
+    net_t *net;        /* and is one of its own */
+    tcp_client_t *first, *last;
+    tcp_server_t *waiting;
+    /* Replies an upper layer holds back for this session (NULL: none): a
+     * half-closed connection waits for them before it closes. */
+    bool (*replies_held)(void *ctx, const wsg_conn_t *conn);
+    void *held_ctx;
+} tcp_servers_t;
+
 /* A listener shared by several servers (--address-per-device): the server
  * whose device owns the connection's local address, or NULL to refuse it. */
 typedef tcp_server_t *(*tcp_route_t)(void *ctx, const struct sockaddr_storage *local);
 
 struct tcp_server_s {
+    tcp_servers_t *set;   /* the set it belongs to */
     listener_t own;       /* its own listening socket (fd -1 when it shares one) */
     listener_t *listener; /* the socket its connections arrive on */
     tcp_route_t route;    /* a shared listener's: whose connection it is */
@@ -36,15 +51,14 @@ struct tcp_server_s {
     struct tcp_server_s *next_waiting;
 };
 
-/* Listens on addr:port (a socket of net's, watched on loop). */
-bool tcp_server_start(tcp_server_t *s, host_loop_t *loop, net_t *net, gripper_t *g,
-                      const char *addr, int port, int max_clients, int idle_timeout_s);
+bool tcp_server_start(tcp_server_t *s, tcp_servers_t *set, gripper_t *g, const char *addr, int port,
+                      int max_clients, int idle_timeout_s);
 /* A listener for several servers on addr:port: route() chooses the server
  * of each connection by its local address (getsockname()). */
-bool tcp_server_start_shared(tcp_server_t *s, host_loop_t *loop, net_t *net, const char *addr,
-                             int port, tcp_route_t route, void *ctx);
+bool tcp_server_start_shared(tcp_server_t *s, tcp_servers_t *set, const char *addr, int port,
+                             tcp_route_t route, void *ctx);
 /* A server without a socket of its own: its connections come from the
- * shared listener front (which must outlive it). */
+ * shared listener front (which must outlive it), in front's set. */
 void tcp_server_attach(tcp_server_t *s, gripper_t *g, tcp_server_t *front, int max_clients,
                        int idle_timeout_s);
 int tcp_server_port(const tcp_server_t *s);
@@ -52,17 +66,17 @@ int tcp_server_port(const tcp_server_t *s);
 void tcp_server_close_all(tcp_server_t *s);
 void tcp_server_stop(tcp_server_t *s);
 
-/* Across every server: closes connections that said BYE (once flushed),
+/* Across every server of the set: closes connections that said BYE (once flushed),
  * failed or stayed quiet beyond --idle-timeout. Visits open connections only. */
-void tcp_server_reap(void);
+void tcp_server_reap(tcp_servers_t *tcp);
 /* The earliest --idle-timeout of an open connection (simulated clock), or
  * UINT64_MAX: the loop must wake for it even when the device is idle. */
-uint64_t tcp_server_next_deadline_us(void);
+uint64_t tcp_server_next_deadline_us(const tcp_servers_t *tcp);
 /* Pulls the cable of the connection that carries this session: the session
  * ends without BYE and the socket is reset. False if none carries it. */
-bool tcp_server_cut(const wsg_conn_t *conn);
+bool tcp_server_cut(tcp_servers_t *tcp, const wsg_conn_t *conn);
 /* The peer ("ADDR:PORT") of the connection that carries this session, or
  * NULL if none does (the web page's connection list). */
-const char *tcp_server_peer_name(const wsg_conn_t *conn);
+const char *tcp_server_peer_name(const tcp_servers_t *tcp, const wsg_conn_t *conn);
 
 #endif

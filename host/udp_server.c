@@ -18,7 +18,6 @@
 
 #define GCL_PEERS_MAX 16
 #define BINARY_PEERS_MAX 8
-#define DATAGRAM_MAX 65536
 
 typedef struct {
     wsg_peer_t peer; /* first: the core's node is the allocation */
@@ -29,12 +28,9 @@ typedef struct {
     char addr_text[INET6_ADDRSTRLEN]; /* the address alone, for --udp-stream-allow */
 } udp_peer_t;
 
-/* The servers that know a peer: the reap, the deadline and the cut visit
- * these only. */
-static udp_server_t *active_first;
-
 static void set_active(udp_server_t *s)
 {
+    udp_servers_t *set = s->set;
     bool active = s->peers.known > 0;
     if (active == s->active) {
         return;
@@ -42,17 +38,17 @@ static void set_active(udp_server_t *s)
     s->active = active;
     if (active) {
         s->prev_active = NULL;
-        s->next_active = active_first;
-        if (active_first != NULL) {
-            active_first->prev_active = s;
+        s->next_active = set->active_first;
+        if (set->active_first != NULL) {
+            set->active_first->prev_active = s;
         }
-        active_first = s;
+        set->active_first = s;
         return;
     }
     if (s->prev_active != NULL) {
         s->prev_active->next_active = s->next_active;
     } else {
-        active_first = s->next_active;
+        set->active_first = s->next_active;
     }
     if (s->next_active != NULL) {
         s->next_active->prev_active = s->prev_active;
@@ -191,7 +187,7 @@ static udp_peer_t *new_peer(udp_server_t *s, const wsg_peer_addr_t *addr,
     set_reply_address(p, ss, len, s->proto.reply_port);
     net_format_peer(ss, p->name, sizeof(p->name));
     net_format_address(ss, p->addr_text, sizeof(p->addr_text));
-    p->peer.stream_free = net_allow_match(&s->gripper->opts.udp_stream_allow, ss);
+    p->peer.stream_free = net_allow_match(&s->gripper->opts->udp_stream_allow, ss);
     wsg_conn_open(&p->peer.conn, &s->gripper->device, s->proto.driver, WSG_TRANSPORT_DATAGRAM,
                   &udp_io, p);
     host_log_peer(HAL_LOG_INFO, "%s %s: new peer", s->proto.label, p->name);
@@ -202,7 +198,7 @@ static udp_peer_t *new_peer(udp_server_t *s, const wsg_peer_addr_t *addr,
  * itself (or a twin on the same host); it is dropped unanswered. */
 static bool from_ourselves(const udp_server_t *s, const struct sockaddr_storage *ss)
 {
-    if (!net_is_own_address(s->net, ss)) {
+    if (!net_is_own_address(s->set->net, ss)) {
         return false;
     }
     char name[64];
@@ -252,13 +248,13 @@ static void on_datagram(void *ctx, int fd, short revents)
 {
     udp_server_t *s = ctx;
     (void)revents;
-    static uint8_t buf[DATAGRAM_MAX];
+    uint8_t *buf = s->set->datagram;
     struct sockaddr_storage ss;
     union {
         char bytes[CMSG_SPACE(sizeof(struct in_pktinfo))];
         struct cmsghdr align;
     } control;
-    struct iovec iov = {.iov_base = buf, .iov_len = sizeof(buf)};
+    struct iovec iov = {.iov_base = buf, .iov_len = UDP_DATAGRAM_MAX};
     struct msghdr msg = {.msg_name = &ss,
                          .msg_namelen = sizeof(ss),
                          .msg_iov = &iov,
@@ -285,26 +281,25 @@ static void on_datagram(void *ctx, int fd, short revents)
     gripper_feed(s->gripper, &p->peer.conn, buf, (size_t)n, 1);
 }
 
-bool udp_server_start(udp_server_t *s, host_loop_t *loop, net_t *net, gripper_t *g,
+bool udp_server_start(udp_server_t *s, udp_servers_t *set, gripper_t *g,
                       const udp_protocol_t *proto, const char *addr, int port, int peer_timeout_s)
 {
     memset(s, 0, sizeof(*s));
-    s->loop = loop;
-    s->net = net;
+    s->set = set;
     s->gripper = g;
     s->proto = *proto;
     wsg_peer_rules_t rules = WSG_PEER_RULES_DEFAULT(proto->max_peers, peer_timeout_s);
     wsg_peers_init(&s->peers, &rules, &peer_port, s, NULL, 0);
-    s->fd = proto->optional ? net_listen_optional(net, SOCK_DGRAM, addr, port)
-                            : net_listen(net, SOCK_DGRAM, addr, port);
-    return s->fd >= 0 && loop_watch(loop, s->fd, POLLIN, on_datagram, s);
+    s->fd = proto->optional ? net_listen_optional(set->net, SOCK_DGRAM, addr, port)
+                            : net_listen(set->net, SOCK_DGRAM, addr, port);
+    return s->fd >= 0 && loop_watch(set->loop, s->fd, POLLIN, on_datagram, s);
 }
 
-bool udp_server_start_shared(udp_server_t *s, host_loop_t *loop, net_t *net,
-                             const udp_protocol_t *proto, int port, udp_route_t route, void *ctx)
+bool udp_server_start_shared(udp_server_t *s, udp_servers_t *set, const udp_protocol_t *proto,
+                             int port, udp_route_t route, void *ctx)
 {
     int one = 1;
-    if (!udp_server_start(s, loop, net, NULL, proto, "0.0.0.0", port, 0)) {
+    if (!udp_server_start(s, set, NULL, proto, "0.0.0.0", port, 0)) {
         return false;
     }
     s->route = route;
@@ -316,8 +311,7 @@ void udp_server_attach(udp_server_t *s, gripper_t *g, const udp_protocol_t *prot
                        const udp_server_t *front, struct in_addr source, int peer_timeout_s)
 {
     memset(s, 0, sizeof(*s));
-    s->loop = front->loop;
-    s->net = front->net;
+    s->set = front->set;
     s->gripper = g;
     s->proto = *proto;
     s->fd = front->fd;
@@ -332,29 +326,29 @@ int udp_server_port(const udp_server_t *s)
     return s->fd >= 0 ? net_local_port(s->fd) : -1;
 }
 
-void udp_server_reap(void)
+void udp_server_reap(udp_servers_t *set)
 {
     udp_server_t *next;
-    for (udp_server_t *s = active_first; s != NULL; s = next) {
+    for (udp_server_t *s = set->active_first; s != NULL; s = next) {
         next = s->next_active;
         wsg_peers_reap(&s->peers);
         set_active(s);
     }
 }
 
-uint64_t udp_server_next_deadline_us(void)
+uint64_t udp_server_next_deadline_us(const udp_servers_t *set)
 {
     uint64_t due = UINT64_MAX;
-    for (udp_server_t *s = active_first; s != NULL; s = s->next_active) {
+    for (udp_server_t *s = set->active_first; s != NULL; s = s->next_active) {
         uint64_t server_due = wsg_peers_next_deadline_us(&s->peers);
         due = server_due < due ? server_due : due;
     }
     return due;
 }
 
-bool udp_server_cut(const wsg_conn_t *conn)
+bool udp_server_cut(udp_servers_t *set, const wsg_conn_t *conn)
 {
-    for (udp_server_t *s = active_first; s != NULL; s = s->next_active) {
+    for (udp_server_t *s = set->active_first; s != NULL; s = s->next_active) {
         wsg_peer_t *peer = wsg_peers_by_conn(&s->peers, conn);
         if (peer != NULL) {
             wsg_peers_forget(&s->peers, peer, WSG_PEER_CUT);
@@ -365,9 +359,9 @@ bool udp_server_cut(const wsg_conn_t *conn)
     return false;
 }
 
-const char *udp_server_peer_name(const wsg_conn_t *conn)
+const char *udp_server_peer_name(const udp_servers_t *set, const wsg_conn_t *conn)
 {
-    for (udp_server_t *s = active_first; s != NULL; s = s->next_active) {
+    for (udp_server_t *s = set->active_first; s != NULL; s = s->next_active) {
         wsg_peer_t *peer = wsg_peers_by_conn(&s->peers, conn);
         if (peer != NULL) {
             return ((const udp_peer_t *)peer)->name; /* the node is the allocation's first member */
@@ -388,7 +382,7 @@ void udp_server_stop(udp_server_t *s)
     if (s->shares_fd) {
         s->fd = -1;
     } else if (s->fd >= 0) {
-        loop_unwatch(s->loop, s->fd);
+        loop_unwatch(s->set->loop, s->fd);
         close(s->fd);
         s->fd = -1;
     }

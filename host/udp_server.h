@@ -25,6 +25,18 @@
 
 typedef struct udp_server udp_server_t;
 
+#define UDP_DATAGRAM_MAX 65536
+
+/* What a set of servers (the fleet's) keeps across them: the servers that
+ * know a peer (the reap, the deadline and the cut visit these only) and
+ * the buffer a datagram is read into. Zeroed: empty. */
+typedef struct {
+    host_loop_t *loop; /* every socket of the set is watched here */
+    net_t *net;        /* whose own addresses are never answered */
+    udp_server_t *active_first;
+    uint8_t datagram[UDP_DATAGRAM_MAX];
+} udp_servers_t;
+
 /* A socket shared by several servers (--address-per-device): the server
  * whose device owns the datagram's destination address, or NULL to drop it. */
 typedef udp_server_t *(*udp_route_t)(void *ctx, const struct sockaddr_storage *destination);
@@ -39,8 +51,7 @@ typedef struct {
 } udp_protocol_t;
 
 struct udp_server {
-    host_loop_t *loop; /* fd is watched here */
-    net_t *net;        /* whose own addresses are never answered */
+    udp_servers_t *set; /* the set it belongs to */
     int fd;
     bool shares_fd;        /* the fd is a shared socket's: not closed here */
     struct in_addr source; /* a shared socket's replies leave from here (0: any) */
@@ -58,14 +69,13 @@ udp_protocol_t udp_protocol_gcl(void);
 /* The binary protocol over UDP (8 peers, replies to reply_port). */
 udp_protocol_t udp_protocol_binary(int reply_port);
 
-/* Binds addr:port (a socket of net's, watched on loop). */
-bool udp_server_start(udp_server_t *s, host_loop_t *loop, net_t *net, gripper_t *g,
+bool udp_server_start(udp_server_t *s, udp_servers_t *set, gripper_t *g,
                       const udp_protocol_t *proto, const char *addr, int port, int peer_timeout_s);
 /* A socket for several servers on the IPv4 wildcard address at port: each
  * datagram goes to the server route() names by its destination address
  * (IP_PKTINFO). */
-bool udp_server_start_shared(udp_server_t *s, host_loop_t *loop, net_t *net,
-                             const udp_protocol_t *proto, int port, udp_route_t route, void *ctx);
+bool udp_server_start_shared(udp_server_t *s, udp_servers_t *set, const udp_protocol_t *proto,
+                             int port, udp_route_t route, void *ctx);
 /* A server on the shared socket front (which must outlive it): its replies
  * leave from source, the address its peers sent to. */
 void udp_server_attach(udp_server_t *s, gripper_t *g, const udp_protocol_t *proto,
@@ -75,16 +85,16 @@ int udp_server_port(const udp_server_t *s);
 void udp_server_close_all(udp_server_t *s);
 void udp_server_stop(udp_server_t *s);
 
-/* Across every server with peers: forgets peers that said goodbye or stayed
+/* Across every server of the set with peers: forgets peers that said goodbye or stayed
  * silent too long (unless running a motion). */
-void udp_server_reap(void);
+void udp_server_reap(udp_servers_t *set);
 /* When the next known peer falls silent for too long, or UINT64_MAX. */
-uint64_t udp_server_next_deadline_us(void);
+uint64_t udp_server_next_deadline_us(const udp_servers_t *set);
 /* Forgets the peer that owns this session, as if it vanished without BYE.
  * False if no peer owns it. */
-bool udp_server_cut(const wsg_conn_t *conn);
+bool udp_server_cut(udp_servers_t *set, const wsg_conn_t *conn);
 /* The address ("ADDR:PORT") of the peer that owns this session, or NULL if
  * none does (the web page's connection list). */
-const char *udp_server_peer_name(const wsg_conn_t *conn);
+const char *udp_server_peer_name(const udp_servers_t *set, const wsg_conn_t *conn);
 
 #endif

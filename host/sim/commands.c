@@ -234,7 +234,8 @@ static bool check_arguments(simctl_t *ctl, const simctl_entry_t *e, const gcl_co
     if (cmd->form == GCL_FORM_QUERY || cmd->argc == 0) {
         return true;
     }
-    simctl_ctx_t ctx = {.ctl = ctl, .cmd = cmd, .gripper = fleet_gripper(0), .check_only = true};
+    simctl_ctx_t ctx = {
+        .ctl = ctl, .cmd = cmd, .gripper = fleet_gripper(simctl_fleet(ctl), 0), .check_only = true};
     wsg_status_t status = e->handler(&ctx);
     free(ctx.reply);
     if (status != E_SUCCESS) {
@@ -276,9 +277,12 @@ char *simctl_exec(simctl_t *ctl, const char *line, size_t len, unsigned *selecte
 {
     gcl_command_t cmd;
     wsg_status_t status = E_SUCCESS;
-    unsigned index = selected != NULL && *selected < fleet_count() ? *selected : 0u;
-    simctl_ctx_t ctx = {
-        .ctl = ctl, .cmd = &cmd, .gripper = fleet_gripper(index), .selected = selected};
+    unsigned index =
+        selected != NULL && *selected < fleet_count(simctl_fleet(ctl)) ? *selected : 0u;
+    simctl_ctx_t ctx = {.ctl = ctl,
+                        .cmd = &cmd,
+                        .gripper = fleet_gripper(simctl_fleet(ctl), index),
+                        .selected = selected};
     const simctl_entry_t *e = resolve(line, len, &cmd, &status, ctx.why, sizeof(ctx.why));
     wsg_sim_world_advance(&ctx.gripper->world,
                           hal_clock_now_us()); /* act on the world as it is now */

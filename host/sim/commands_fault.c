@@ -4,13 +4,12 @@
 #include <strings.h>
 
 #include "commands_internal.h"
+#include "control.h"
 #include "delay.h"
 #include "faults.h"
+#include "fleet.h"
 #include "gripper.h"
 #include "log.h"
-#include "state_json.h"
-#include "tcp_server.h"
-#include "udp_server.h"
 #include "wsg/wsg_inject.h"
 
 #define DELAY_MAX_MS 600000.0
@@ -139,9 +138,66 @@ wsg_status_t sc_clear(simctl_ctx_t *ctx)
     return E_SUCCESS;
 }
 
+/* Injected-fault times in ms, to the µs (as STATE? prints times). */
+static double fault_ms(uint64_t us)
+{
+    return (double)us / 1000.0;
+}
+
+static void add_hardware_faults(cJSON *list, const simctl_faults_t *faults, const gripper_t *g)
+{
+    for (unsigned i = 0; i < SIMCTL_FAULT_COUNT; i++) {
+        simctl_fault_t f = (simctl_fault_t)i;
+        if (!simctl_fault_active(faults, g, f)) {
+            continue;
+        }
+        cJSON *j = cJSON_CreateObject();
+        cJSON_AddStringToObject(j, "fault", simctl_fault_name(f));
+        cJSON_AddStringToObject(j, "description", simctl_fault_description(f));
+        cJSON_AddNumberToObject(j, "since_ms", fault_ms(simctl_fault_since_us(faults, g, f)));
+        cJSON_AddItemToArray(list, j);
+    }
+}
+
+static void add_protocol_faults(cJSON *list, gripper_t *g)
+{
+    simctl_delay_info_t d;
+    for (unsigned i = 0; simctl_delay_info(i, &d); i++) {
+        if (d.device != &g->device) {
+            continue;
+        }
+        cJSON *j = cJSON_CreateObject();
+        cJSON_AddStringToObject(j, "fault", "DELAY");
+        cJSON_AddNumberToObject(j, "session", d.session_id);
+        cJSON_AddNumberToObject(j, "delay_ms", fault_ms(d.delay_us));
+        cJSON_AddBoolToObject(j, "holding", d.holding);
+        cJSON_AddNumberToObject(j, "lines_held", d.lines_held);
+        if (d.holding) {
+            cJSON_AddNumberToObject(j, "release_ms", fault_ms(d.release_us));
+        }
+        cJSON_AddItemToArray(list, j);
+    }
+    const wsg_snapshot_t *snap = wsg_device_snapshot(&g->device);
+    if (snap->injected_armed) {
+        cJSON *j = cJSON_CreateObject();
+        cJSON_AddStringToObject(j, "fault", "FAILNEXT");
+        cJSON_AddStringToObject(j, "command", snap->injected_name);
+        cJSON_AddNumberToObject(j, "code", snap->injected_status);
+        cJSON_AddItemToArray(list, j);
+    }
+}
+
+cJSON *sc_faults_json(simctl_t *ctl, gripper_t *g)
+{
+    cJSON *list = cJSON_CreateArray();
+    add_hardware_faults(list, simctl_faults(ctl), g);
+    add_protocol_faults(list, g);
+    return list;
+}
+
 wsg_status_t sc_faults(simctl_ctx_t *ctx)
 {
-    cJSON *list = state_json_faults(ctx->ctl, ctx->gripper);
+    cJSON *list = sc_faults_json(ctx->ctl, ctx->gripper);
     sc_reply_json(ctx, list);
     return E_SUCCESS;
 }
@@ -217,11 +273,11 @@ wsg_status_t sc_failnext(simctl_ctx_t *ctx)
     return E_SUCCESS;
 }
 
-static bool cut_session(wsg_conn_t *s)
+static bool cut_session(simctl_ctx_t *ctx, wsg_conn_t *s)
 {
     unsigned long long id = wsg_conn_id(s);
     bool stream = wsg_conn_transport(s) == WSG_TRANSPORT_STREAM;
-    bool cut = stream ? tcp_server_cut(s) : udp_server_cut(s);
+    bool cut = fleet_cut(simctl_fleet(ctx->ctl), s);
     if (cut) {
         host_logf(HAL_LOG_WARN, "fault injected: CUT session %llu (%s)", id,
                   stream ? "tcp" : "udp");
@@ -236,15 +292,15 @@ wsg_status_t sc_cut(simctl_ctx_t *ctx)
         if (s == NULL) {
             return ctx->failed; /* E_SUCCESS while only checking a good id */
         }
-        return cut_session(s) ? E_SUCCESS
-                              : sc_fail(ctx, E_NOT_FOUND, "session has no connection to cut");
+        return cut_session(ctx, s) ? E_SUCCESS
+                                   : sc_fail(ctx, E_NOT_FOUND, "session has no connection to cut");
     }
     unsigned cut = 0;
     wsg_device_t *dev = &ctx->gripper->device;
     wsg_conn_t *c = wsg_device_conn_first(dev);
     while (c != NULL) {
         wsg_conn_t *next = wsg_conn_next(c); /* cutting closes c */
-        cut += wsg_conn_transport(c) == WSG_TRANSPORT_STREAM && cut_session(c) ? 1u : 0u;
+        cut += wsg_conn_transport(c) == WSG_TRANSPORT_STREAM && cut_session(ctx, c) ? 1u : 0u;
         c = next;
     }
     return cut > 0 ? E_SUCCESS : sc_fail(ctx, E_NOT_FOUND, "no TCP connection is open");

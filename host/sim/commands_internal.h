@@ -100,6 +100,9 @@ wsg_status_t sc_ambient(simctl_ctx_t *ctx);
 wsg_status_t sc_fault(simctl_ctx_t *ctx);
 wsg_status_t sc_clear(simctl_ctx_t *ctx);
 wsg_status_t sc_faults(simctl_ctx_t *ctx);
+/* The active injected faults of the device as a JSON array (FAULTS?, and
+ * the "faults" of STATE?). */
+cJSON *sc_faults_json(simctl_t *ctl, struct gripper *g);
 wsg_status_t sc_delay(simctl_ctx_t *ctx);
 wsg_status_t sc_failnext(simctl_ctx_t *ctx);
 wsg_status_t sc_cut(simctl_ctx_t *ctx);

@@ -4,6 +4,7 @@
 #include "commands_internal.h"
 #include "fleet.h"
 #include "gripper.h"
+#include "scheduler.h"
 #include "script.h"
 #include "script_json.h"
 
@@ -17,7 +18,7 @@ wsg_status_t sc_script_run(simctl_ctx_t *ctx)
         return E_SUCCESS;
     }
     char why[512];
-    fleet_note_scripting();
+    fleet_note_scripting(simctl_fleet(ctx->ctl));
     if (!gripper_run_script(ctx->gripper, file, why, sizeof(why))) {
         return sc_fail(ctx, E_NOT_FOUND, "%s", why);
     }

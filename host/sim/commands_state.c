@@ -3,6 +3,7 @@
 #include <cjson/cJSON.h>
 #include <stdlib.h>
 
+#include "clock.h"
 #include "commands_internal.h"
 #include "coverage.h"
 #include "delay.h"
@@ -15,7 +16,12 @@
 
 wsg_status_t sc_state(simctl_ctx_t *ctx)
 {
-    sc_reply_owned(ctx, state_json(ctx->ctl, ctx->gripper, false));
+    state_json_sim_t sim = {.lag_us = simctl_lag_us(simctl_scheduler(ctx->ctl)),
+                            .max_lag_us = simctl_max_lag_us(simctl_scheduler(ctx->ctl)),
+                            .paused = simclock_paused(simctl_clock(ctx->ctl)),
+                            .scale = simclock_scale(simctl_clock(ctx->ctl)),
+                            .faults = sc_faults_json(ctx->ctl, ctx->gripper)};
+    sc_reply_owned(ctx, state_json(ctx->gripper, false, &sim));
     return E_SUCCESS;
 }
 
@@ -36,11 +42,11 @@ wsg_status_t sc_reset(simctl_ctx_t *ctx)
         simctl_observers_detach(&g->device);
     }
     simctl_delay_clear_all(&g->device, false);
-    fleet_close_connections(g->index);
+    fleet_close_connections(simctl_fleet(ctx->ctl), g->index);
     simctl_fault_clear_all(simctl_faults(ctx->ctl), g);
     gripper_reset(g);
     if (first) {
-        simctl_observers_attach(&g->device, &g->opts);
+        simctl_observers_attach(&g->device, g->opts);
     }
     simctl_reset_max_lag(simctl_scheduler(ctx->ctl));
     host_logf(HAL_LOG_INFO, "device %u reset to power-on defaults", g->index);
@@ -52,14 +58,15 @@ wsg_status_t sc_device(simctl_ctx_t *ctx)
 {
     if (ctx->cmd->form == GCL_FORM_SET) {
         int64_t index = 0;
-        if (!sc_integer(ctx, 0, "the device index", 0, (int64_t)fleet_count() - 1, &index)) {
+        if (!sc_integer(ctx, 0, "the device index", 0,
+                        (int64_t)fleet_count(simctl_fleet(ctx->ctl)) - 1, &index)) {
             return ctx->failed;
         }
         if (ctx->selected == NULL) {
             return sc_fail(ctx, E_ACCESS_DENIED, "only a control connection selects a device");
         }
         *ctx->selected = (unsigned)index;
-        ctx->gripper = fleet_gripper((unsigned)index);
+        ctx->gripper = fleet_gripper(simctl_fleet(ctx->ctl), (unsigned)index);
     }
     sc_reply(ctx, "%u", ctx->gripper->index);
     return E_SUCCESS;
@@ -69,12 +76,13 @@ wsg_status_t sc_device(simctl_ctx_t *ctx)
 wsg_status_t sc_devices(simctl_ctx_t *ctx)
 {
     cJSON *list = cJSON_CreateArray();
-    for (unsigned i = 0; i < fleet_count(); i++) {
-        const wsg_config_t *cfg = wsg_device_snapshot(&fleet_gripper(i)->device)->config;
+    for (unsigned i = 0; i < fleet_count(simctl_fleet(ctx->ctl)); i++) {
+        const wsg_config_t *cfg =
+            wsg_device_snapshot(&fleet_gripper(simctl_fleet(ctx->ctl), i)->device)->config;
         cJSON *j = cJSON_CreateObject();
         cJSON_AddNumberToObject(j, "index", i);
-        cJSON_AddNumberToObject(j, "tcp", fleet_tcp_port(i));
-        cJSON_AddNumberToObject(j, "udp", fleet_udp_port(i));
+        cJSON_AddNumberToObject(j, "tcp", fleet_tcp_port(simctl_fleet(ctx->ctl), i));
+        cJSON_AddNumberToObject(j, "udp", fleet_udp_port(simctl_fleet(ctx->ctl), i));
         cJSON_AddNumberToObject(j, "serial", cfg->serial);
         cJSON_AddStringToObject(j, "tag", cfg->tag);
         cJSON_AddStringToObject(j, "model", cfg->devtype);

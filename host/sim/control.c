@@ -52,6 +52,7 @@ struct simctl {
     simctl_sched_t sched;
     scenario_t scenario;
     simctl_faults_t faults;
+    struct fleet *fleet;    /* the devices (simctl_set_fleet) */
     simctl_run_watch_t run; /* RUN_UNTIL_DONE */
     listener_t listener;
     const char *addr;
@@ -108,6 +109,17 @@ scenario_t *simctl_scenario(simctl_t *ctl)
 simctl_faults_t *simctl_faults(simctl_t *ctl)
 {
     return &ctl->faults;
+}
+
+void simctl_set_fleet(simctl_t *ctl, struct fleet *fleet)
+{
+    ctl->fleet = fleet;
+    ctl->sched.fleet = fleet;
+}
+
+struct fleet *simctl_fleet(const simctl_t *ctl)
+{
+    return ctl->fleet;
 }
 
 simctl_run_watch_t *simctl_run_watch(simctl_t *ctl)

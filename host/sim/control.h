@@ -28,6 +28,11 @@ simclock_t *simctl_clock(simctl_t *ctl);
 simctl_sched_t *simctl_scheduler(simctl_t *ctl);
 scenario_t *simctl_scenario(simctl_t *ctl);
 simctl_faults_t *simctl_faults(simctl_t *ctl);
+struct fleet;
+/* The devices it drives and addresses, before simctl_tick() and the
+ * channel's commands run. */
+void simctl_set_fleet(simctl_t *ctl, struct fleet *fleet);
+struct fleet *simctl_fleet(const simctl_t *ctl);
 
 /* Listens on addr:port (addr NULL: 127.0.0.1; a socket of net's, watched on
  * loop); false after a clear message. */

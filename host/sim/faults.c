@@ -6,6 +6,7 @@
 #include <strings.h>
 
 #include "finger_bus_host.h"
+#include "gripper.h"
 #include "hal_clock.h"
 #include "log.h"
 #include "sim/sim_world.h"
@@ -132,19 +133,21 @@ static bool is_finger_fault(simctl_fault_t fault)
     return fault >= SIMCTL_FAULT_FINGER0_POWER && fault < SIMCTL_FAULT_COUNT;
 }
 
+/* A finger fault needs the device's finger bus; device 0 takes one without
+ * a bus as before (the injection then logs that no bus took it). */
 bool simctl_fault_possible(const gripper_t *g, simctl_fault_t fault)
 {
-    return !is_finger_fault(fault) || g->index == 0; /* the finger bus is device 0's */
+    return !is_finger_fault(fault) || g->index == 0 || finger_bus_host_can(&g->fingers) != NULL;
 }
 
 /* The finger itself raises it: a fault-injection frame on the finger bus. */
-static void apply_finger(simctl_fault_t fault, bool on)
+static void apply_finger(gripper_t *g, simctl_fault_t fault, bool on)
 {
     unsigned index = (unsigned)(fault - SIMCTL_FAULT_FINGER0_POWER);
     unsigned slot = index % 2u;
     static const finger_fault_t kinds[] = {FINGER_FAULT_POWER, FINGER_FAULT_INIT,
                                            FINGER_FAULT_UNPLUG};
-    if (!finger_bus_host_inject(slot, kinds[index / 2u], on)) {
+    if (!gripper_inject_finger_fault(g, slot, kinds[index / 2u], on)) {
         host_logf(HAL_LOG_WARN, "finger %u: the finger bus did not take the fault", slot);
     }
 }
@@ -178,7 +181,7 @@ static void apply(const struct simctl_device_faults *f, gripper_t *g, simctl_fau
     case SIMCTL_FAULT_COUNT:
         break;
     default:
-        apply_finger(fault, on);
+        apply_finger(g, fault, on);
         break;
     }
 }

@@ -63,10 +63,10 @@ static void spend(unsigned *budget, unsigned work)
  * is due or a device was touched. */
 static void run_fleet_and_delays(simctl_sched_t *s, uint64_t now)
 {
-    bool ticked = gripper_touched_any() || s->fleet_due_us <= now;
+    bool ticked = fleet_touched_any(s->fleet) || s->fleet_due_us <= now;
     if (ticked) {
-        s->fleet_due_us = fleet_tick();
-        simctl_observers_after_tick(&fleet_gripper(0)->device); /* observers: device 0's */
+        s->fleet_due_us = fleet_tick(s->fleet);
+        simctl_observers_after_tick(&fleet_gripper(s->fleet, 0)->device); /* device 0's */
     }
     bool releasing = s->delay_due_us <= now;
     if (releasing) {
@@ -135,7 +135,7 @@ static uint64_t catch_up(simctl_sched_t *s, uint64_t target)
     bool ended = all_due_ran && step_ends_early(s);
     while (!ended && all_due_ran && budget > 0 && device_now(s) < target) {
         uint64_t now = device_now(s);
-        if (next > target && !gripper_touched_any()) {
+        if (next > target && !fleet_touched_any(s->fleet)) {
             simclock_advance_device(s->clock, target); /* nothing is due on the way */
             break;
         }
@@ -157,8 +157,8 @@ static uint64_t catch_up(simctl_sched_t *s, uint64_t target)
  * moves there and nothing else is looked at. */
 static bool nothing_due(const simctl_sched_t *s, uint64_t target)
 {
-    return target < s->next_us && !s->step.running && !s->in_catch_up && !gripper_touched_any() &&
-           target < scenario_next_us(s->scenario);
+    return target < s->next_us && !s->step.running && !s->in_catch_up &&
+           !fleet_touched_any(s->fleet) && target < scenario_next_us(s->scenario);
 }
 
 uint64_t simctl_tick(simctl_sched_t *s)

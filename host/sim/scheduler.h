@@ -11,9 +11,12 @@
 #include "clock.h"
 #include "scenario.h"
 
+struct fleet;
+
 typedef struct {
     simclock_t *clock;
     scenario_t *scenario;
+    struct fleet *fleet; /* the devices it ticks (simctl_set_fleet) */
     uint64_t max_lag_us; /* the largest lag at a wake-up of the loop */
     bool in_catch_up;    /* a scenario event may PAUSE or SCALE: no nesting */
     /* The earliest deadlines as last seen, so a pass with nothing due

@@ -41,14 +41,15 @@ typedef struct {
  * library. Embedded in the server (web_server.c); the fuzz target of the
  * routes has one of its own. */
 typedef struct web_app {
+    struct fleet *fleet; /* the devices it serves */
     web_events_t events;
     web_lines_t lines;
     web_ops_t ops;
     web_system_file_t system_files[WEB_SYSTEM_FILE_COUNT];
 } web_app_t;
 
-/* web_routes.c: nothing kept yet, the lines off. */
-void web_app_init(web_app_t *app);
+/* web_routes.c: serving fleet's devices, nothing kept yet, the lines off. */
+void web_app_init(web_app_t *app, struct fleet *fleet);
 /* Detaches the web's owners from their devices, frees the lines and the
  * files read (shutdown, while the devices exist). */
 void web_app_release(web_app_t *app);

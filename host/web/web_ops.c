@@ -35,17 +35,17 @@ static void on_done(wsg_owner_t *owner, wsg_op_t op, wsg_status_t status)
     w->ended_us = hal_clock_now_us();
 }
 
-static web_owner_t *owner_of(web_ops_t *ops, gripper_t *g)
+static web_owner_t *owner_of(web_ops_t *ops, fleet_t *fleet, gripper_t *g)
 {
     if (ops->owners == NULL) {
-        ops->owners = calloc(fleet_count(), sizeof(*ops->owners));
+        ops->owners = calloc(fleet_count(fleet), sizeof(*ops->owners));
         if (ops->owners == NULL) {
             return NULL;
         }
-        ops->count = fleet_count();
+        ops->count = fleet_count(fleet);
         for (unsigned i = 0; i < ops->count; i++) {
             ops->owners[i].owner.done = on_done;
-            ops->owners[i].gripper = fleet_gripper(i);
+            ops->owners[i].gripper = fleet_gripper(fleet, i);
         }
     }
     return &ops->owners[g->index];
@@ -271,7 +271,7 @@ enum MHD_Result web_ops_route(const web_request_t *req, gripper_t *g, const char
     if (!known_op(op)) {
         return web_reply_error(req, MHD_HTTP_NOT_FOUND, E_NOT_FOUND, "no such operation: %s", op);
     }
-    web_owner_t *w = owner_of(&req->app->ops, g);
+    web_owner_t *w = owner_of(&req->app->ops, req->app->fleet, g);
     op_call_t call = {.req = req, .result = MHD_NO};
     call.body = web_body_object(req, &call.result);
     if (w == NULL || call.body == NULL) {

@@ -21,9 +21,9 @@ static enum MHD_Result not_found(const web_request_t *req)
     return web_reply_error(req, MHD_HTTP_NOT_FOUND, E_NOT_FOUND, "no such path: %s", req->url);
 }
 
-static cJSON *device_entry(unsigned i)
+static cJSON *device_entry(fleet_t *fleet, unsigned i)
 {
-    gripper_t *g = fleet_gripper(i);
+    gripper_t *g = fleet_gripper(fleet, i);
     const wsg_config_t *cfg = wsg_device_snapshot(&g->device)->config;
     cJSON *j = cJSON_CreateObject();
     cJSON_AddNumberToObject(j, "id", i);
@@ -31,10 +31,10 @@ static cJSON *device_entry(unsigned i)
     cJSON_AddNumberToObject(j, "serial", cfg->serial);
     cJSON_AddStringToObject(j, "tag", cfg->tag);
     char address[64];
-    fleet_device_address(i, address, sizeof(address));
+    fleet_device_address(fleet, i, address, sizeof(address));
     cJSON_AddStringToObject(j, "address", address);
-    cJSON_AddNumberToObject(j, "tcp_port", fleet_tcp_port(i));
-    cJSON_AddNumberToObject(j, "udp_port", fleet_udp_port(i));
+    cJSON_AddNumberToObject(j, "tcp_port", fleet_tcp_port(fleet, i));
+    cJSON_AddNumberToObject(j, "udp_port", fleet_udp_port(fleet, i));
     return j;
 }
 
@@ -46,8 +46,8 @@ static enum MHD_Result list_devices(const web_request_t *req)
     cJSON *root = cJSON_CreateObject();
     cJSON_AddBoolToObject(root, "sim_allowed", req->sim_allowed); /* may this client? */
     cJSON *list = cJSON_AddArrayToObject(root, "devices");
-    for (unsigned i = 0; i < fleet_count(); i++) {
-        cJSON_AddItemToArray(list, device_entry(i));
+    for (unsigned i = 0; i < fleet_count(req->app->fleet); i++) {
+        cJSON_AddItemToArray(list, device_entry(req->app->fleet, i));
     }
     return web_reply_json(req, MHD_HTTP_OK, root);
 }
@@ -119,7 +119,7 @@ static enum MHD_Result device_route(const web_request_t *req, gripper_t *g, cons
 
 /* "{id}" or "{id}/..." after /api/devices/: the device, its number of
  * characters, or NULL for no such device. */
-static gripper_t *parse_device(const char *text, size_t *used)
+static gripper_t *parse_device(fleet_t *fleet, const char *text, size_t *used)
 {
     size_t digits = strspn(text, "0123456789");
     if (digits == 0 || digits > ID_DIGITS_MAX || (text[digits] != '\0' && text[digits] != '/')) {
@@ -127,7 +127,7 @@ static gripper_t *parse_device(const char *text, size_t *used)
     }
     unsigned long id = strtoul(text, NULL, 10);
     *used = digits;
-    return id < fleet_count() ? fleet_gripper((unsigned)id) : NULL;
+    return id < fleet_count(fleet) ? fleet_gripper(fleet, (unsigned)id) : NULL;
 }
 
 static enum MHD_Result api_route(const web_request_t *req, const char *rest)
@@ -136,7 +136,7 @@ static enum MHD_Result api_route(const web_request_t *req, const char *rest)
         return list_devices(req);
     }
     size_t used = 0;
-    gripper_t *g = rest[0] == '/' ? parse_device(rest + 1, &used) : NULL;
+    gripper_t *g = rest[0] == '/' ? parse_device(req->app->fleet, rest + 1, &used) : NULL;
     if (g == NULL) {
         return rest[0] == '/' && strspn(rest + 1, "0123456789") > 0
                    ? web_reply_error(req, MHD_HTTP_NOT_FOUND, E_NOT_FOUND, "no such device")
@@ -149,9 +149,10 @@ static enum MHD_Result api_route(const web_request_t *req, const char *rest)
     return device_route(req, g, after + 1);
 }
 
-void web_app_init(web_app_t *app)
+void web_app_init(web_app_t *app, struct fleet *fleet)
 {
     memset(app, 0, sizeof(*app));
+    app->fleet = fleet;
     web_static_init(app->system_files);
 }
 

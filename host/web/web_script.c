@@ -35,8 +35,8 @@ static enum MHD_Result forbidden(const web_request_t *req)
 static enum MHD_Result get_script(const web_request_t *req, gripper_t *g)
 {
     cJSON *j = script_json(g);
-    const char *startup = g->opts.script;
-    if (startup != NULL && g->opts.script_autostart) {
+    const char *startup = g->opts->script;
+    if (startup != NULL && g->opts->script_autostart) {
         cJSON_AddStringToObject(j, "startup", startup);
     } else {
         cJSON_AddNullToObject(j, "startup");
@@ -65,7 +65,7 @@ static enum MHD_Result run_script(const web_request_t *req, gripper_t *g)
                                "file: the script to run is missing");
     }
     char why[512];
-    fleet_note_scripting();
+    fleet_note_scripting(req->app->fleet);
     bool ok = gripper_run_script(g, file, why, sizeof(why));
     cJSON_Delete(body);
     if (!ok) {
@@ -181,7 +181,7 @@ static const char *store_of(const gripper_t *g)
 
 static bool store_writable(const gripper_t *g)
 {
-    return g->opts.script_dir != NULL; /* else: the --script file's directory */
+    return g->opts->script_dir != NULL; /* else: the --script file's directory */
 }
 
 static enum MHD_Result list_files(const web_request_t *req, const char *dir, bool writable)

@@ -79,7 +79,7 @@ web_server_t *web_server_create(void)
     web->listen_fd = -1;
     web->epoll_fd = -1;
     web->port = -1;
-    web_app_init(&web->app);
+    web_app_init(&web->app, NULL); /* the fleet comes with the start */
     return web;
 }
 
@@ -390,13 +390,14 @@ static bool sim_bind_open(const char *sim_bind)
 }
 
 bool web_server_start(web_server_t *web, host_loop_t *loop, net_t *net, const host_options_t *opts,
-                      simctl_t *sim)
+                      simctl_t *sim, struct fleet *fleet)
 {
+    web->loop = loop;
     web->sim = sim;
+    web->app.fleet = fleet;
     if (opts->http_port == 0) {
         return true;
     }
-    web->loop = loop;
     const char *bind = opts->http_bind != NULL ? opts->http_bind : opts->bind_addr;
     /* the default port is skipped when taken: a warning, not an error line */
     bool asked = opts->http_port_given || opts->http_bind != NULL;

@@ -33,8 +33,9 @@ void web_server_destroy(web_server_t *web);
  * keep the connection lines only when the server is on. The simulation
  * routes run their commands on sim. The socket is one of net's, watched on
  * loop. */
+struct fleet;
 bool web_server_start(web_server_t *web, host_loop_t *loop, net_t *net, const host_options_t *opts,
-                      simctl_t *sim);
+                      simctl_t *sim, struct fleet *fleet);
 /* After every loop_wait(): runs what is due on the wall clock. Costs one
  * test when nothing is scheduled. */
 void web_server_poll(web_server_t *web);

@@ -51,35 +51,35 @@ static const char *protocol_name(host_protocol_t p)
 /* Where Save writes: the --save-file, else the --config file; NULL: nowhere. */
 static const char *save_path(const gripper_t *g)
 {
-    return g->opts.save_path != NULL ? g->opts.save_path : g->opts.config_path;
+    return g->opts->save_path != NULL ? g->opts->save_path : g->opts->config_path;
 }
 
 /* The fixed fields, as JSON values. */
-static cJSON *fixed_value(const gripper_t *g, unsigned i)
+static cJSON *fixed_value(fleet_t *fleet, const gripper_t *g, unsigned i)
 {
     switch (i) {
     case 0:
-        return cJSON_CreateString(protocol_name(g->opts.protocol));
+        return cJSON_CreateString(protocol_name(g->opts->protocol));
     case 1:
-        return cJSON_CreateNumber(fleet_tcp_port(g->index));
+        return cJSON_CreateNumber(fleet_tcp_port(fleet, g->index));
     case 2:
-        return cJSON_CreateNumber(fleet_udp_port(g->index));
+        return cJSON_CreateNumber(fleet_udp_port(fleet, g->index));
     case 3: /* binary UDP serves device 0 only */
-        return g->index == 0 ? cJSON_CreateNumber(g->opts.binary_udp_port) : cJSON_CreateNull();
+        return g->index == 0 ? cJSON_CreateNumber(g->opts->binary_udp_port) : cJSON_CreateNull();
     case 4:
-        return g->opts.config_path != NULL ? cJSON_CreateString(g->opts.config_path)
-                                           : cJSON_CreateNull();
+        return g->opts->config_path != NULL ? cJSON_CreateString(g->opts->config_path)
+                                            : cJSON_CreateNull();
     default:
         return save_path(g) != NULL ? cJSON_CreateString(save_path(g)) : cJSON_CreateNull();
     }
 }
 
-static cJSON *settings_json(gripper_t *g)
+static cJSON *settings_json(fleet_t *fleet, gripper_t *g)
 {
     const wsg_config_t *cfg = wsg_device_snapshot(&g->device)->config;
     cJSON *j = cJSON_CreateObject();
     for (unsigned i = 0; i < FIXED_COUNT; i++) {
-        cJSON_AddItemToObject(j, fixed_fields[i], fixed_value(g, i));
+        cJSON_AddItemToObject(j, fixed_fields[i], fixed_value(fleet, g, i));
     }
     for (unsigned i = 0; i < SETTING_COUNT; i++) {
         float v = wsg_config_setting_get(cfg, settings[i]);
@@ -126,7 +126,7 @@ static bool check_fixed(change_t *ch, const gripper_t *g, const cJSON *body)
 {
     for (unsigned i = 0; i < FIXED_COUNT; i++) {
         const cJSON *asked = cJSON_GetObjectItemCaseSensitive(body, fixed_fields[i]);
-        cJSON *now = fixed_value(g, i);
+        cJSON *now = fixed_value(ch->req->app->fleet, g, i);
         bool same = asked == NULL || cJSON_Compare(asked, now, true);
         cJSON_Delete(now);
         if (!same) {
@@ -231,7 +231,7 @@ static enum MHD_Result put_settings(const web_request_t *req, gripper_t *g)
         return ch.result;
     }
     gripper_input_done(g);
-    return web_reply_json(req, MHD_HTTP_OK, settings_json(g));
+    return web_reply_json(req, MHD_HTTP_OK, settings_json(req->app->fleet, g));
 }
 
 /* Writes the settings in force to the --save-file (else the --config file);
@@ -246,12 +246,12 @@ static enum MHD_Result save_settings(const web_request_t *req, gripper_t *g)
     }
     const wsg_config_t *cfg = wsg_device_snapshot(&g->device)->config;
     char why[160];
-    if (!config_file_save(g->opts.config, save_path(g), g->index, cfg, gripper_startup_choice(g),
+    if (!config_file_save(g->opts->config, save_path(g), g->index, cfg, gripper_startup_choice(g),
                           why, sizeof(why))) {
         return web_reply_error(req, MHD_HTTP_UNPROCESSABLE_CONTENT, E_WRITE_ERROR, "%s", why);
     }
     g->config = *cfg;
-    cJSON *j = settings_json(g);
+    cJSON *j = settings_json(req->app->fleet, g);
     cJSON_AddBoolToObject(j, "saved", true);
     return web_reply_json(req, MHD_HTTP_OK, j);
 }
@@ -262,7 +262,7 @@ enum MHD_Result web_settings_route(const web_request_t *req, gripper_t *g, const
     bool put = strcmp(req->method, MHD_HTTP_METHOD_PUT) == 0;
     bool post = strcmp(req->method, MHD_HTTP_METHOD_POST) == 0;
     if (rest[0] == '\0') {
-        return get   ? web_reply_json(req, MHD_HTTP_OK, settings_json(g))
+        return get   ? web_reply_json(req, MHD_HTTP_OK, settings_json(req->app->fleet, g))
                : put ? put_settings(req, g)
                      : web_reply_wrong_method(req, "GET, PUT");
     }

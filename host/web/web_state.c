@@ -1,11 +1,10 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* GET /api/devices/{id}/state: the live view's data (docs/web.md). Field
  * names carry their units; enumerations carry their number and name. */
+#include "fleet.h"
 #include "hal_clock.h"
 #include "sim/sim_world.h"
 #include "wsg/wsg_names.h"
-#include "tcp_server.h"
-#include "udp_server.h"
 #include "web/web_internal.h"
 #include "web/web_json.h"
 #include "web/web_lines.h"
@@ -110,23 +109,23 @@ static void write_part(web_json_t *j, const sim_part_t *p)
     web_json_close_object(j);
 }
 
-static void write_connection(const web_lines_t *lines, web_json_t *j, const wsg_conn_t *c)
+static void write_connection(const web_app_t *app, web_json_t *j, const wsg_conn_t *c)
 {
     bool stream = wsg_conn_transport(c) == WSG_TRANSPORT_STREAM;
     web_json_open_object(j, NULL);
     web_json_uint(j, "id", wsg_conn_id(c));
-    web_json_string(j, "protocol", web_lines_protocol(lines, c));
+    web_json_string(j, "protocol", web_lines_protocol(&app->lines, c));
     web_json_string(j, "transport", stream ? "tcp" : "udp");
-    web_json_string(j, "peer", stream ? tcp_server_peer_name(c) : udp_server_peer_name(c));
-    web_lines_write(lines, j, "last_lines", c);
+    web_json_string(j, "peer", fleet_peer_name(app->fleet, c));
+    web_lines_write(&app->lines, j, "last_lines", c);
     web_json_close_object(j);
 }
 
-static void write_connections(const web_lines_t *lines, web_json_t *j, wsg_device_t *dev)
+static void write_connections(const web_app_t *app, web_json_t *j, wsg_device_t *dev)
 {
     web_json_open_array(j, "connections");
     for (wsg_conn_t *c = wsg_device_conn_first(dev); c != NULL; c = wsg_conn_next(c)) {
-        write_connection(lines, j, c);
+        write_connection(app, j, c);
     }
     web_json_close_array(j);
 }
@@ -164,6 +163,6 @@ void web_state_write(web_app_t *app, web_json_t *j, gripper_t *g)
     web_json_float(j, "ambient_c", g->world.thermal.ambient_c);
     write_fingers(j, snap->fingers);
     web_ops_last_write(&app->ops, j, "web_op", g);
-    write_connections(&app->lines, j, &g->device);
+    write_connections(app, j, &g->device);
     web_json_close_object(j);
 }

@@ -54,14 +54,15 @@ static const web_asset_t *find_asset(const char *name)
 }
 
 /* "/devices/{id}" with an existing device id. */
-static bool is_device_page(const char *url)
+static bool is_device_page(fleet_t *fleet, const char *url)
 {
     if (strncmp(url, DEVICES_PREFIX, strlen(DEVICES_PREFIX)) != 0) {
         return false;
     }
     const char *id = url + strlen(DEVICES_PREFIX);
     size_t digits = strspn(id, "0123456789");
-    return digits > 0 && digits <= 6 && id[digits] == '\0' && strtoul(id, NULL, 10) < fleet_count();
+    return digits > 0 && digits <= 6 && id[digits] == '\0' &&
+           strtoul(id, NULL, 10) < fleet_count(fleet);
 }
 
 static bool is_read(const web_request_t *req)
@@ -141,7 +142,7 @@ bool web_static_route(const web_request_t *req, enum MHD_Result *result)
         *result = web_reply_redirect(req, "/devices/0");
         return true;
     }
-    if (is_device_page(req->url)) {
+    if (is_device_page(req->app->fleet, req->url)) {
         asset = find_asset("index.html");
     } else if (strncmp(req->url, STATIC_PREFIX, strlen(STATIC_PREFIX)) == 0) {
         const char *name = req->url + strlen(STATIC_PREFIX);

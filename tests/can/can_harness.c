@@ -7,6 +7,12 @@
 #include "can_loopback.h"
 
 static uint64_t next_due;
+static can_loopback_t *bus; /* the loopback bus of the last t_start, NULL: none */
+
+can_loopback_t *t_bus(void)
+{
+    return bus;
+}
 
 bool t_log_contains(const char *text)
 {
@@ -25,8 +31,10 @@ static const hal_can_t *start_loopback(const char *fingers)
     finger_node_params_t params;
     wsg_finger_node_defaults(&params);
     ck_assert(wsg_finger_node_parse_pair(fingers, types));
-    can_loopback_init(types, &params);
-    return can_loopback_bus();
+    can_loopback_destroy(bus);
+    bus = can_loopback_create(types, &params);
+    ck_assert_ptr_nonnull(bus);
+    return can_loopback_bus(bus);
 }
 
 void t_start(const char *fingers)

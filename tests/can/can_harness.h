@@ -12,6 +12,9 @@
 #include "fake_device.h"
 #include "sim/finger_node.h"
 
+/* The loopback bus the last t_start powered on with (the previous one is
+ * freed by the next t_start). */
+struct can_loopback *t_bus(void);
 /* Power-on with the given fingers on the loopback bus (NULL: no bus). */
 void t_start(const char *fingers);
 /* t_start, on a bus that loses the gripper's first `lost` TARE commands

@@ -14,7 +14,7 @@ static void inject(unsigned slot, uint8_t faults)
 {
     hal_can_frame_t f;
     wsg_fbus_pack_simctl(&f, FBUS_NODE_ID(slot), faults);
-    ck_assert(hal_can_send(can_loopback_bus(), &f));
+    ck_assert(hal_can_send(can_loopback_bus(t_bus()), &f));
 }
 
 START_TEST(without_a_bus_the_slots_are_empty)
@@ -178,19 +178,44 @@ static void note_slot0_frames(void *ctx, const hal_can_frame_t *frame, uint64_t 
     }
 }
 
+/* Every device of a fleet has a bus of its own (issue 19): a fault sent on
+ * another bus reaches neither this bus nor its gripper. */
+START_TEST(another_bus_is_independent)
+{
+    fbus_type_t types[FBUS_SLOTS];
+    finger_node_params_t params;
+    wsg_finger_node_defaults(&params);
+    ck_assert(wsg_finger_node_parse_pair("fmf,dsa", types));
+    t_start("fmf,dsa");
+    can_loopback_t *other = can_loopback_create(types, &params);
+    ck_assert_ptr_nonnull(other);
+    t_run_ms(300);
+    uint32_t frames = can_loopback_frames(t_bus());
+    hal_can_frame_t f;
+    wsg_fbus_pack_simctl(&f, FBUS_NODE_ID(0), FBUS_FAULT_UNPLUG);
+    ck_assert(hal_can_send(can_loopback_bus(other), &f));
+    ck_assert_uint_eq(can_loopback_frames(other), 1);
+    ck_assert_uint_eq(can_loopback_frames(t_bus()), frames);
+    ck_assert_int_lt(t_until("FFLAGS[0]?", "FFLAGS[0]=[1,1,0,0,0,0,0,0,0,1,0,0,0,0,0,0]", 1000),
+                     0); /* no comm fault here */
+    ck_assert_str_eq(t_ask("FFLAGS[0]?"), "FFLAGS[0]=" FLAGS_OK);
+    can_loopback_destroy(other);
+}
+END_TEST
+
 /* While the jaws move the device steps every millisecond, between the
  * bus's 10 ms broadcasts: the comm fault shows at the first of those steps
  * past the timeout, not at the next broadcast. */
 START_TEST(comm_fault_at_its_step_between_broadcasts)
 {
-    can_loopback_set_tap(note_slot0_frames, NULL);
     t_start("fmf,dsa");
+    can_loopback_set_tap(t_bus(), note_slot0_frames, NULL);
     t_run_ms(300);
     ck_assert_str_eq(t_ask("HOME()"), "ACK HOME");
     t_run_ms(50);
     inject(0, FBUS_FAULT_UNPLUG);
     int ms = t_until("FFLAGS[0]?", "FFLAGS[0]=[1,1,0,0,0,0,0,0,0,1,0,0,0,0,0,0]", 1000);
-    can_loopback_set_tap(NULL, NULL);
+    can_loopback_set_tap(t_bus(), NULL, NULL);
     ck_assert_int_ge(ms, 0);
     ck_assert_str_eq(t_ask("SYSFLAGS[1]?"), "SYSFLAGS[1]=1"); /* still moving */
     ck_assert_uint_eq(h_now_us, slot0_heard_us + FBUS_COMM_TIMEOUT_US + 1000u);
@@ -254,13 +279,13 @@ START_TEST(bus_frame_rates)
 {
     t_start("fmf,dsa");
     t_run_ms(100);
-    uint32_t before = can_loopback_frames();
+    uint32_t before = can_loopback_frames(t_bus());
     uint32_t tx = h_devp()->fbus.tx_frames;
     t_run_ms(300);
     ck_assert_uint_ge(h_devp()->fbus.tx_frames - tx, 29);
     ck_assert_uint_le(h_devp()->fbus.tx_frames - tx, 31);
     /* 30 STATE + 30 MEASURE + 6 x 28 BULK + 6 heartbeats */
-    uint32_t frames = can_loopback_frames() - before;
+    uint32_t frames = can_loopback_frames(t_bus()) - before;
     ck_assert_uint_ge(frames, 224);
     ck_assert_uint_le(frames, 244);
 }
@@ -273,13 +298,13 @@ START_TEST(idle_bus_sleeps_and_wakes_intact)
     t_start("fmf,dsa");
     t_run_ms(1000);
     ck_assert_uint_eq(wsg_device_next_deadline_us(&h_dev), UINT64_MAX);
-    uint32_t frames = can_loopback_frames();
+    uint32_t frames = can_loopback_frames(t_bus());
     h_now_us += 10000000u; /* 10 s with nothing due: nobody steps the device */
     wsg_sim_world_advance(&h_world, h_now_us);
-    ck_assert_uint_eq(can_loopback_frames() - frames, 0);
+    ck_assert_uint_eq(can_loopback_frames(t_bus()) - frames, 0);
     ck_assert_str_eq(t_ask("FFLAGS?"), "FFLAGS=[" FLAGS_OK "," FLAGS_OK "]");
     wsg_device_step(&h_dev); /* a command's step: a whole bus cycle at this instant */
-    ck_assert_uint_gt(can_loopback_frames() - frames, 0);
+    ck_assert_uint_gt(can_loopback_frames(t_bus()) - frames, 0);
     ck_assert_str_eq(t_ask("FFLAGS?"), "FFLAGS=[" FLAGS_OK "," FLAGS_OK "]");
     ck_assert_str_eq(t_ask("FTYPE?"), "FTYPE=[\"fmf\",\"dsa\"]");
     ck_assert_float_eq_tol(t_ask_float("FDATA[0]?"), 0.6f, 0.1f);
@@ -415,6 +440,7 @@ Suite *bus_suite(void)
     tcase_add_test(tc, tare_on_a_sleeping_bus_waits_before_repeating);
     tcase_add_test(tc, unconfirmed_tare_gives_up);
     tcase_add_test(tc, held_fingers_on_a_running_gripper_are_faulted);
+    tcase_add_test(tc, another_bus_is_independent);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -43,7 +43,7 @@ static bool start_and_save(const host_options_t *opts, const char *path, bool ch
                            size_t *len)
 {
     fuzz_host_start(opts);
-    wsg_config_t cfg = *wsg_device_snapshot(&fleet_gripper(0)->device)->config;
+    wsg_config_t cfg = *wsg_device_snapshot(&fleet_gripper(fuzz_host_fleet(), 0)->device)->config;
     if (!change && (strcmp(cfg.tag, SAVED_TAG) != 0 || cfg.default_clt_mm != SAVED_CLT_MM)) {
         fprintf(stderr, "fuzz_config: the saved settings are not what the device starts with\n");
         abort();

@@ -94,7 +94,7 @@ static void control_bytes(const uint8_t *p, size_t n)
 
 static void session_bytes(unsigned slot, const uint8_t *p, size_t n)
 {
-    gripper_t *g = fleet_gripper(0);
+    gripper_t *g = fleet_gripper(fuzz_host_fleet(), 0);
     if (!wsg_conn_is_open(&sessions[slot])) {
         return; /* RESET or CUT closed it */
     }
@@ -129,7 +129,7 @@ static void start(uint8_t config)
         abort();
     }
     fuzz_host_start(opts);
-    gripper_t *g = fleet_gripper(0);
+    gripper_t *g = fleet_gripper(fuzz_host_fleet(), 0);
     wsg_conn_open(&sessions[0], &g->device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM, &session_io,
                   NULL);
     wsg_conn_open(&sessions[1], &g->device, &wsg_gcl_driver, WSG_TRANSPORT_DATAGRAM, &session_io,

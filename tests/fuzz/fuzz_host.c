@@ -6,7 +6,6 @@
 #include <stdlib.h>
 #include <unistd.h>
 
-#include "finger_bus_host.h"
 #include "fleet.h"
 #include "log.h"
 #include "loop.h"
@@ -14,11 +13,15 @@
 #include "sim/clock.h"
 #include "sim/delay.h"
 #include "sim/faults.h"
+#include "sim/observers.h"
 #include "sim/scenario.h"
 #include "sim/scheduler.h"
+#include "web/web_lines.h"
+#include "web/web_server.h"
 
 static host_options_t options;
 static simctl_t *sim;
+static fleet_t *fleet;
 static char file_path[256];
 /* What a fleet needs below it (no sockets here: the targets feed it). */
 static host_loop_t *loop;
@@ -37,8 +40,21 @@ host_options_t *fuzz_host_options(int argc, char **argv)
     return &options;
 }
 
+/* As build/wsgsim does: device 0 carries the simulation's observers, the
+ * others the web page's connection lines when those are kept. */
+static void attach_observers(void *ctx, gripper_t *g)
+{
+    const host_options_t *opts = ctx;
+    if (g->index == 0) {
+        simctl_observers_attach(&g->device, opts);
+    } else if (opts->web_lines != NULL) {
+        wsg_conn_observe(&g->device, web_lines_observer(), opts->web_lines);
+    }
+}
+
 void fuzz_host_start(const host_options_t *opts)
 {
+    static fleet_observer_t observers = {.device_started = attach_observers};
     static bool logging;
     if (!logging) {
         host_log_init();
@@ -46,13 +62,18 @@ void fuzz_host_start(const host_options_t *opts)
         logging = true;
     }
     sim = simctl_create();
-    if (sim == NULL) {
+    loop = loop_create();
+    net_init(&net);
+    fleet = fleet_create(loop, &net);
+    if (sim == NULL || loop == NULL || fleet == NULL) {
         abort();
     }
     simclock_start_paused(simctl_clock(sim));
-    loop = loop_create();
-    net_init(&net);
-    if (loop == NULL || !finger_bus_host_start(loop, opts) || !fleet_start(loop, &net, opts)) {
+    observers.ctx = (void *)opts;
+    observers.next = NULL;
+    fleet_observe(fleet, &observers);
+    simctl_set_fleet(sim, fleet);
+    if (!fleet_start(fleet, opts)) {
         abort(); /* options that parsed must start */
     }
 }
@@ -75,12 +96,12 @@ void fuzz_host_step(uint64_t us)
 void fuzz_host_stop(void)
 {
     scenario_unload(simctl_scenario(sim));
-    for (unsigned i = 0; i < fleet_count(); i++) {
-        simctl_delay_clear_all(&fleet_gripper(i)->device, false);
-        simctl_fault_clear_all(simctl_faults(sim), fleet_gripper(i));
+    for (unsigned i = 0; i < fleet_count(fleet); i++) {
+        simctl_delay_clear_all(&fleet_gripper(fleet, i)->device, false);
+        simctl_fault_clear_all(simctl_faults(sim), fleet_gripper(fleet, i));
     }
-    fleet_stop();
-    finger_bus_host_stop(loop);
+    fleet_destroy(fleet);
+    fleet = NULL;
     loop_destroy(loop);
     loop = NULL;
     simctl_destroy(sim);
@@ -90,6 +111,11 @@ void fuzz_host_stop(void)
 simctl_t *fuzz_host_sim(void)
 {
     return sim;
+}
+
+fleet_t *fuzz_host_fleet(void)
+{
+    return fleet;
 }
 
 const char *fuzz_host_file(const uint8_t *data, size_t size)

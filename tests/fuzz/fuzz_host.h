@@ -10,6 +10,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "fleet.h"
 #include "options.h"
 #include "sim/control.h"
 
@@ -27,6 +28,8 @@ void fuzz_host_step(uint64_t us);
 void fuzz_host_stop(void);
 /* The control side started with the host (NULL while stopped). */
 simctl_t *fuzz_host_sim(void);
+/* The devices started with the host (NULL while stopped). */
+fleet_t *fuzz_host_fleet(void);
 /* The bytes as a file that the host can open by path, in $TMPDIR or
  * /dev/shm (memory): one per process, removed by fuzz_host_close_file(). */
 const char *fuzz_host_file(const uint8_t *data, size_t size);

@@ -50,6 +50,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 static wsg_device_t device;
 static sim_world_t world;
 static uint64_t now_us;
+static can_loopback_t *loopback; /* the fingers of this input, freed by the next */
 static wsg_conn_t sessions[FUZZ_SESSIONS];
 static const char *const finger_pairs[4] = {"fmf,dsa", "dsa,generic", "none,fmf", "generic,none"};
 static struct {
@@ -242,8 +243,12 @@ static void power_on(uint8_t config_byte)
     now_us = START_US;
     wsg_sim_world_init(&world, &cfg, now_us);
     memset(&raw, 0, sizeof(raw));
-    can_loopback_init(types, &params);
-    raw.loopback = can_loopback_bus();
+    can_loopback_destroy(loopback);
+    loopback = can_loopback_create(types, &params);
+    if (loopback == NULL) {
+        abort();
+    }
+    raw.loopback = can_loopback_bus(loopback);
     wsg_hal_t hal;
     wsg_sim_world_hal(&world, &hal);
     hal.can = (hal_can_t){&fuzz_can_ops, NULL};

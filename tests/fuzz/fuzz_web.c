@@ -261,10 +261,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         abort();
     }
     web_app_t app; /* what the server keeps for its routes */
-    web_app_init(&app);
+    web_app_init(&app, NULL);
     web_lines_enable(&app.lines); /* as the server does before the fleet starts */
     opts->web_lines = &app.lines;
     fuzz_host_start(opts);
+    app.fleet = fuzz_host_fleet(); /* as web_server_start() is given it */
     size_t first = 1;
     for (size_t i = 1; i <= size; i++) {
         if (i == size || data[i] == SEPARATOR) {

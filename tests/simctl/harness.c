@@ -7,7 +7,6 @@
 #include <unistd.h>
 
 #include "coverage.h"
-#include "finger_bus_host.h"
 #include "fleet.h"
 #include "hal_clock.h"
 #include "loop.h"
@@ -16,29 +15,44 @@
 #include "sim/clock.h"
 #include "sim/commands.h"
 #include "sim/delay.h"
+#include "sim/observers.h"
 
 h_client_t t_gcl;
 simctl_t *t_sim;
+fleet_t *t_fleet;
 static char *last_reply;
+static host_options_t opts; /* the fleet's, for as long as it runs */
 /* What a fleet needs below it; the tests' device has no sockets. */
 static host_loop_t *loop;
 static net_t net;
 
+/* As build/wsgsim does: device 0 carries the simulation's observers. */
+static void attach_observers(void *ctx, gripper_t *g)
+{
+    if (g->index == 0) {
+        simctl_observers_attach(&g->device, ctx);
+    }
+}
+
 static void setup_with(int argc, char **argv)
 {
-    host_options_t opts;
+    static fleet_observer_t observers = {.device_started = attach_observers, .ctx = &opts};
     ck_assert_int_eq(options_parse(argc, argv, &opts), OPTIONS_RUN);
     t_sim = simctl_create();
     ck_assert_ptr_nonnull(t_sim);
     simclock_start_paused(simctl_clock(t_sim));
-    opts.sim_port = 0; /* the tests drive the control channel: coverage is observed */
+    opts.sim_port = 0;        /* the tests drive the control channel: coverage is observed */
+    opts.tcp_enabled = false; /* one device, no sockets: the tests feed it */
+    opts.udp_enabled = false;
     loop = loop_create();
     ck_assert_ptr_nonnull(loop);
     net_init(&net);
-    ck_assert(finger_bus_host_start(loop, &opts));
-    opts.tcp_enabled = false; /* one device, no sockets: the tests feed it */
-    opts.udp_enabled = false;
-    ck_assert(fleet_start(loop, &net, &opts));
+    t_fleet = fleet_create(loop, &net);
+    ck_assert_ptr_nonnull(t_fleet);
+    observers.next = NULL;
+    fleet_observe(t_fleet, &observers);
+    simctl_set_fleet(t_sim, t_fleet);
+    ck_assert(fleet_start(t_fleet, &opts));
     coverage_reset();
     t_reopen();
 }
@@ -55,9 +69,19 @@ void t_setup_three_devices(void)
     setup_with(3, argv);
 }
 
+void t_reinit(const host_options_t *with)
+{
+    gripper_t *g = fleet_gripper(t_fleet, 0);
+    gripper_touched_t *touched = g->touched_list;
+    gripper_release(g);
+    ck_assert(gripper_init(g, loop, with, 0, touched));
+    attach_observers((void *)with, g);
+    gripper_start(g);
+}
+
 void t_reopen(void)
 {
-    h_open_on(&t_gcl, &fleet_gripper(0)->device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM);
+    h_open_on(&t_gcl, &fleet_gripper(t_fleet, 0)->device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM);
 }
 
 void t_setup_homed(void)
@@ -70,9 +94,9 @@ void t_setup_homed(void)
 void t_teardown(void)
 {
     ck_assert_msg(!t_gcl.bad_line, "the GCL session got something that is not one whole line");
-    simctl_delay_clear_all(&fleet_gripper(0)->device, false);
-    fleet_stop();
-    finger_bus_host_stop(loop);
+    simctl_delay_clear_all(&fleet_gripper(t_fleet, 0)->device, false);
+    fleet_destroy(t_fleet);
+    t_fleet = NULL;
     loop_destroy(loop);
     loop = NULL;
     simctl_destroy(t_sim);
@@ -101,8 +125,8 @@ const char *ctl_on(unsigned device, const char *line)
 
 uint32_t t_device_flags(unsigned device)
 {
-    ck_assert_uint_lt(device, fleet_count());
-    return wsg_device_flags(&fleet_gripper(device)->device);
+    ck_assert_uint_lt(device, fleet_count(t_fleet));
+    return wsg_device_flags(&fleet_gripper(t_fleet, device)->device);
 }
 
 int t_err_code(const char *reply)
@@ -133,7 +157,7 @@ const char *gcl(const char *line)
     memcpy(buf, line, len);
     buf[len] = '\n';
     size_t before = t_gcl.count;
-    gripper_feed(fleet_gripper(0), &t_gcl.conn, (const uint8_t *)buf, len + 1, 0);
+    gripper_feed(fleet_gripper(t_fleet, 0), &t_gcl.conn, (const uint8_t *)buf, len + 1, 0);
     return t_gcl.count > before ? gcl_next() : "<no reply>";
 }
 

@@ -12,11 +12,13 @@
 #include <stdint.h>
 
 #include "fake_conn.h"
+#include "fleet.h"
 #include "gripper.h"
 #include "sim/control.h"
 
 extern h_client_t t_gcl; /* the GCL session every test starts with */
 extern simctl_t *t_sim;  /* the control side the tests drive */
+extern fleet_t *t_fleet; /* the devices of t_setup */
 
 /* Fixtures: power-on, clock paused; the homed variant also ran HOME(). */
 void t_setup(void);
@@ -26,6 +28,9 @@ void t_setup_three_devices(void);
 void t_teardown(void);
 /* Opens t_gcl again (after a reset or re-init closed it). */
 void t_reopen(void);
+/* Device 0 powered on afresh with these options (which must outlive it), as
+ * the fleet powers it on. */
+void t_reinit(const host_options_t *with);
 
 /* One control line; the reply stays valid until the next call. */
 const char *ctl(const char *line);

@@ -198,7 +198,7 @@ static bool flood_delayed_session(void *arg)
     wsg_conn_t *s = arg;
     for (unsigned i = 0; i < FLOOD_LINES; i++) {
         const char *line = i % 2 == 0 ? "SN?\n" : "TAG?\n";
-        gripper_feed(fleet_gripper(0), s, (const uint8_t *)line, strlen(line), 0);
+        gripper_feed(fleet_gripper(t_fleet, 0), s, (const uint8_t *)line, strlen(line), 0);
     }
     return true;
 }
@@ -218,8 +218,8 @@ START_TEST(delay_never_drops_a_reply)
     static wsg_conn_t conn;
     wsg_conn_t *s = &conn;
     counting_client_t client = {0, 0};
-    wsg_conn_open(s, &fleet_gripper(0)->device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM, &counting_io,
-                  &client);
+    wsg_conn_open(s, &fleet_gripper(t_fleet, 0)->device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM,
+                  &counting_io, &client);
     char line[48];
     snprintf(line, sizeof(line), "DELAY(60000,%u)", (unsigned)wsg_conn_id(s));
     CTL_EQ(line, "ACK DELAY");
@@ -315,13 +315,15 @@ START_TEST(a_reset_clears_the_faults_of_its_device_only)
 }
 END_TEST
 
-/* The finger bus is device 0's: the other devices have no finger to tell. */
-START_TEST(a_finger_fault_needs_the_devices_finger_bus)
+/* Every device has a finger bus of its own (issue 19): a finger fault goes
+ * to the selected device's finger and to no other device's. */
+START_TEST(a_finger_fault_goes_to_the_devices_own_finger)
 {
-    ck_assert_int_eq(t_err_code(ctl_on(2, "FAULT(\"FINGER_POWER\",0)")), 5);
-    ck_assert_int_eq(t_err_code(ctl_on(2, "CLEAR(\"FINGER_POWER\",0)")), 5);
-    ck_assert_str_eq(ctl_on(2, "FAULTS?"), "FAULTS=[]");
+    ck_assert_str_eq(ctl_on(2, "FAULT(\"FINGER_POWER\",0)"), "ACK FAULT");
+    ck_assert_ptr_nonnull(strstr(ctl_on(2, "FAULTS?"), "\"FINGER0_POWER\""));
     ck_assert_str_eq(ctl_on(0, "FAULTS?"), "FAULTS=[]");
+    ck_assert_str_eq(ctl_on(2, "CLEAR(\"FINGER_POWER\",0)"), "ACK CLEAR");
+    ck_assert_str_eq(ctl_on(2, "FAULTS?"), "FAULTS=[]");
 }
 END_TEST
 
@@ -350,7 +352,7 @@ Suite *faults_suite(void)
     tcase_add_test(fleet, a_fault_acts_on_the_selected_device_only);
     tcase_add_test(fleet, clearing_acts_on_the_selected_device_only);
     tcase_add_test(fleet, a_reset_clears_the_faults_of_its_device_only);
-    tcase_add_test(fleet, a_finger_fault_needs_the_devices_finger_bus);
+    tcase_add_test(fleet, a_finger_fault_goes_to_the_devices_own_finger);
     suite_add_tcase(s, fleet);
     return s;
 }

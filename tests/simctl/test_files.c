@@ -170,8 +170,8 @@ START_TEST(config_sets_the_device_like_its_web_interface)
     ck_assert(!opts.disconnect_faststop);
     ck_assert_int_eq(opts.sim_port, 7000);
     ck_assert_str_eq(opts.sim_bind, "::1");
-    gripper_init(fleet_gripper(0), &opts, 0);
-    const wsg_config_t *cfg = wsg_device_snapshot(&fleet_gripper(0)->device)->config;
+    t_reinit(&opts);
+    const wsg_config_t *cfg = wsg_device_snapshot(&fleet_gripper(t_fleet, 0)->device)->config;
     ck_assert_str_eq(cfg->devtype, "WSG 32-068");
     ck_assert_uint_eq(cfg->serial, 4711);
     ck_assert_str_eq(cfg->tag, "cell 3");
@@ -293,8 +293,8 @@ START_TEST(save_file_is_read_over_the_config)
     t_capture_stderr(load_layered, &a, &ok);
     ck_assert(ok);
     ck_assert_int_eq(opts.tcp_port, 1500);
-    gripper_init(fleet_gripper(0), &opts, 0);
-    const wsg_config_t *cfg = wsg_device_snapshot(&fleet_gripper(0)->device)->config;
+    t_reinit(&opts);
+    const wsg_config_t *cfg = wsg_device_snapshot(&fleet_gripper(t_fleet, 0)->device)->config;
     ck_assert_float_eq(cfg->default_force_n, 33.0f);
     ck_assert_float_eq(cfg->default_speed_mm_s, 50.0f);
     ck_assert_str_eq(cfg->tag, "saved");
@@ -334,9 +334,9 @@ START_TEST(last_config_and_save_file_count)
     ck_assert_int_eq(options_parse(8, argv, &opts), OPTIONS_RUN);
     ck_assert_str_eq(opts.config_path, second);
     ck_assert_str_eq(opts.save_path, "/nowhere/b.ini");
-    gripper_init(fleet_gripper(0), &opts, 0);
-    ck_assert_float_eq(wsg_device_snapshot(&fleet_gripper(0)->device)->config->default_force_n,
-                       30.0f);
+    t_reinit(&opts);
+    ck_assert_float_eq(
+        wsg_device_snapshot(&fleet_gripper(t_fleet, 0)->device)->config->default_force_n, 30.0f);
     remove(first);
     remove(second);
     options_release(&opts);
@@ -365,7 +365,7 @@ START_TEST(config_lines_are_read_whole_or_refused)
     ck_assert(config_file_load(config_of(&opts), path, NULL, &opts));
     ck_assert(config_file_check(opts.config, opts.model));
     remove(path);
-    gripper_init(fleet_gripper(0), &opts, 0);
+    t_reinit(&opts);
     t_reopen();
     GCL_EQ("SN?", "SN=12345678"); /* the comment set nothing */
     GCL_EQ("TAG?", "TAG=\"long comments\"");
@@ -506,7 +506,7 @@ START_TEST(config_save_ends_every_line_with_a_newline_alone)
     const char *path = t_temp_file("; cell 3\r\r\n[motion]\r\nclamping_travel = 4\r\n");
     ck_assert(config_file_load(config_of(&opts), path, NULL, &opts));
     ck_assert(config_file_check(opts.config, opts.model));
-    const wsg_config_t *cfg = wsg_device_snapshot(&fleet_gripper(0)->device)->config;
+    const wsg_config_t *cfg = wsg_device_snapshot(&fleet_gripper(t_fleet, 0)->device)->config;
     char why[256];
     ck_assert(config_file_save(opts.config, path, 0, cfg, NULL, why, sizeof(why)));
     char first[4096];
@@ -530,7 +530,7 @@ START_TEST(config_save_replaces_colon_keys_too)
     const char *path = t_temp_file("[device]\ntag = a\n[motion]\n[device]\ntag : old\n");
     ck_assert(config_file_load(config_of(&opts), path, NULL, &opts));
     ck_assert(config_file_check(opts.config, opts.model));
-    wsg_config_t cfg = *wsg_device_snapshot(&fleet_gripper(0)->device)->config;
+    wsg_config_t cfg = *wsg_device_snapshot(&fleet_gripper(t_fleet, 0)->device)->config;
     snprintf(cfg.tag, sizeof(cfg.tag), "new");
     char why[256];
     ck_assert(config_file_save(opts.config, path, 0, &cfg, NULL, why, sizeof(why)));
@@ -555,7 +555,7 @@ START_TEST(config_save_puts_the_tag_where_it_counts)
     const char *path = t_temp_file("[device]\ntag = a\n[device.0]\ntag = zero\n");
     ck_assert(config_file_load(config_of(&opts), path, NULL, &opts));
     ck_assert(config_file_check(opts.config, opts.model));
-    wsg_config_t cfg = *wsg_device_snapshot(&fleet_gripper(0)->device)->config;
+    wsg_config_t cfg = *wsg_device_snapshot(&fleet_gripper(t_fleet, 0)->device)->config;
     snprintf(cfg.tag, sizeof(cfg.tag), "new");
     char why[256];
     ck_assert(config_file_save(opts.config, path, 0, &cfg, NULL, why, sizeof(why)));

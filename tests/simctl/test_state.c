@@ -79,7 +79,7 @@ START_TEST(reset_returns_to_power_on)
     CTL_EQ("FAILNEXT(MOVE,4)", "ACK FAILNEXT");
     CTL_EQ("AMBIENT=40", "AMBIENT=40");
     CTL_EQ("RESET()", "ACK RESET");
-    const wsg_snapshot_t *snap = wsg_device_snapshot(&fleet_gripper(0)->device);
+    const wsg_snapshot_t *snap = wsg_device_snapshot(&fleet_gripper(t_fleet, 0)->device);
     ck_assert(!wsg_conn_is_open(&t_gcl.conn)); /* a power cycle ends every session */
     ck_assert(!snap->referenced);
     ck_assert_int_eq(snap->grip_state, GS_IDLE);

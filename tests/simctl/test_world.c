@@ -36,7 +36,7 @@ START_TEST(slipping_part_turns_holding_into_part_lost)
     ck_assert_int_eq(t_gripstate(), GS_PART_LOST);
     GCL_EQ("GRIPSTATS[2]?", "GRIPSTATS[2]=1");
     CTL_EQ("PART?", "PART=[0,40,100,0]");
-    ck_assert_uint_eq(fleet_gripper(0)->world.axis.part.slips, 1);
+    ck_assert_uint_eq(fleet_gripper(t_fleet, 0)->world.axis.part.slips, 1);
 }
 END_TEST
 
@@ -70,7 +70,7 @@ START_TEST(removed_part_is_lost)
     t_step_ms(100);
     ck_assert_int_eq(t_gripstate(), GS_PART_LOST);
     GCL_EQ("GRIPSTATS?", "GRIPSTATS=[1,0,1]");
-    ck_assert_uint_eq(fleet_gripper(0)->world.axis.part.slips, 0);
+    ck_assert_uint_eq(fleet_gripper(t_fleet, 0)->world.axis.part.slips, 0);
 }
 END_TEST
 
