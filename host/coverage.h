@@ -1,35 +1,38 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* Protocol coverage: what the clients exercised (command forms, error codes,
  * grip-state transitions, flags) and what they never touched; with --strict
- * also the input the emulator tolerated but the manual does not allow. */
+ * also the input the emulator tolerated but the manual does not allow. One
+ * count per device; a fleet's report has the total and a section per device
+ * (docs/simctl.md). */
 #ifndef HOST_COVERAGE_H
 #define HOST_COVERAGE_H
 
 #include <stdbool.h>
-#include <stddef.h>
-#include <stdint.h>
 
-#include "wsg/wsg_gcl.h"
+#include "wsg/wsg_device.h"
 
-void coverage_reset(void);
+typedef struct coverage coverage_t;
 
-/* Observations (called by the device hooks and the control step). */
-void coverage_command(const char *name, int index, unsigned form, unsigned argc,
-                      wsg_status_t status);
-void coverage_error(int index, wsg_status_t status);
-void coverage_grip(wsg_grip_state_t from, wsg_grip_state_t to);
-void coverage_flags(uint32_t flags);
-void coverage_tolerated(const wsg_conn_t *c, const char *name, const char *what);
-/* Counts the sessions that sent at least one line. */
-void coverage_line_in(const wsg_conn_t *c);
+/* A report for a fleet of `devices`; strict: it lists tolerated input.
+ * NULL when out of memory. */
+coverage_t *coverage_create(bool strict, unsigned devices);
+/* Counts device `index`'s (below the create's count) events from now on. */
+void coverage_attach(coverage_t *c, wsg_device_t *dev, unsigned index);
+void coverage_reset(coverage_t *c);
+/* After every loop pass: samples what the report tracks over time (the
+ * flags, also those raised outside a control step, such as FAST STOP on a
+ * dropped connection). Nothing for NULL. */
+void coverage_sample_flags(coverage_t *c);
 
 /* The report as JSON text (malloc'd; free() it). pretty: indented. */
-char *coverage_report_json(bool strict, bool pretty);
+char *coverage_report_json(const coverage_t *c, bool pretty);
 /* Opens (truncates) the report file at start; false with a message on
  * stderr when it cannot be written. */
-bool coverage_open(const char *path);
+bool coverage_open(coverage_t *c, const char *path);
 /* Writes the indented report to the opened file and closes it; false with a
  * message on stderr. */
-bool coverage_write(bool strict);
+bool coverage_write(coverage_t *c);
+/* After the devices it observes are gone (or never used again). */
+void coverage_destroy(coverage_t *c);
 
 #endif

@@ -10,22 +10,79 @@
 #include "notify.h"
 #include "options.h"
 #include "record.h"
-#include "sim/delay.h"
-#include "sim/observers.h"
+#include "trace.h"
 #include "web/web_lines.h"
 
 #define EXIT_STARTUP_FAILED 2
 
-/* Simulation control (docs/simctl.md): record, scenario, control channel. */
-static bool start_simulation(host_t *host, const host_options_t *opts)
+/* The diagnostics: created only when asked for (a plain run pays nothing
+ * per message), each attached to every device as the fleet powers it on. */
+typedef struct {
+    const host_options_t *opts;
+    bool counting; /* --coverage or a control channel (COVERAGE?) */
+    trace_t *trace;
+    record_t *record;
+    coverage_t *coverage; /* always (COVERAGE?); counting only when asked */
+    web_lines_t *lines;   /* the web page's, NULL when the server is off */
+    can_log_t *can_log;   /* --can-log: device 0's in-process bus */
+} diagnostics_t;
+
+/* Every frame of device 0's in-process finger bus, to the --can-log file. */
+static void tap_can_log(void *ctx, const hal_can_frame_t *frame, uint64_t time_us)
+{
+    can_log_frame(ctx, frame, time_us);
+}
+
+static bool start_diagnostics(diagnostics_t *d, web_server_t *web, const host_options_t *opts)
+{
+    unsigned devices = (unsigned)opts->devices;
+    d->opts = opts;
+    d->counting = opts->coverage_path != NULL || opts->sim_port >= 0;
+    d->lines = web_server_lines(web);
+    d->coverage = coverage_create(opts->strict, devices);
+    d->trace = opts->trace ? trace_create(opts->strict, devices) : NULL;
+    if (d->coverage == NULL || (opts->trace && d->trace == NULL)) {
+        return false;
+    }
+    if (opts->record_path != NULL &&
+        (d->record = record_open(opts->record_path, devices)) == NULL) {
+        return false;
+    }
+    return opts->coverage_path == NULL || coverage_open(d->coverage, opts->coverage_path);
+}
+
+/* The process ends: nothing of the diagnostics is used again. */
+static void free_diagnostics(simctl_t *sim, diagnostics_t *d)
+{
+    simctl_set_diagnostics(sim, NULL, NULL);
+    record_close(d->record);
+    trace_destroy(d->trace);
+    coverage_destroy(d->coverage);
+}
+
+/* A device's observers, attached as the fleet powers it on (before its
+ * startup script runs): the diagnostics on every device, and --can-log
+ * taps device 0's in-process bus. */
+static void attach_observers(void *ctx, gripper_t *g)
+{
+    const diagnostics_t *d = ctx;
+    if (d->counting) {
+        coverage_attach(d->coverage, &g->device, g->index);
+    }
+    trace_attach(d->trace, &g->device, g->index);
+    record_attach(d->record, &g->device, g->index);
+    web_lines_attach(d->lines, &g->device, g->index);
+    can_loopback_t *bus = finger_bus_host_loopback(&g->fingers);
+    if (g->index == 0 && d->opts->can_log != NULL && bus != NULL) {
+        can_loopback_set_tap(bus, tap_can_log, d->can_log);
+    }
+}
+
+/* Simulation control (docs/simctl.md): scenario, control channel. */
+static bool start_simulation(host_t *host, diagnostics_t *d, const host_options_t *opts)
 {
     simctl_t *sim = host->sim;
-    if (opts->record_path != NULL && !record_open(opts->record_path)) {
-        return false;
-    }
-    if (opts->coverage_path != NULL && !coverage_open(opts->coverage_path)) {
-        return false;
-    }
+    simctl_set_diagnostics(sim, d->record, d->coverage);
     if (opts->scenario_path != NULL &&
         !scenario_load(simctl_scenario(sim), opts->scenario_path, 0)) {
         return false;
@@ -34,48 +91,21 @@ static bool start_simulation(host_t *host, const host_options_t *opts)
            simctl_start(sim, host->loop, &host->net, opts->sim_bind, opts->sim_port);
 }
 
-static int stop_simulation(simctl_t *sim, const host_options_t *opts)
+/* After the devices are gone. */
+static int stop_simulation(simctl_t *sim, diagnostics_t *d, const host_options_t *opts)
 {
     simctl_stop(sim);
     scenario_unload(simctl_scenario(sim));
-    record_close();
-    if (opts->coverage_path != NULL && !coverage_write(opts->strict)) {
-        return 1;
-    }
-    return 0;
+    bool written = opts->coverage_path == NULL || coverage_write(d->coverage);
+    free_diagnostics(sim, d);
+    return written ? 0 : 1;
 }
 
-/* Every frame of device 0's in-process finger bus, to the --can-log file. */
-static void tap_can_log(void *ctx, const hal_can_frame_t *frame, uint64_t time_us)
-{
-    can_log_frame(ctx, frame, time_us);
-}
-
-/* A device's observers, attached as the fleet powers it on: device 0
- * carries the simulation's (trace, record, coverage) and --can-log taps its
- * in-process bus; the others keep the web page's connection lines (the hub
- * is device 0's). */
-static void attach_observers(void *ctx, gripper_t *g)
-{
-    host_t *host = ctx;
-    const host_options_t *opts = host->opts;
-    if (g->index != 0) {
-        if (opts->web_lines != NULL) {
-            wsg_conn_observe(&g->device, web_lines_observer(), opts->web_lines);
-        }
-        return;
-    }
-    simctl_observers_attach(&g->device, opts);
-    can_loopback_t *bus = finger_bus_host_loopback(&g->fingers);
-    if (opts->can_log != NULL && bus != NULL) {
-        can_loopback_set_tap(bus, tap_can_log, &host->can_log);
-    }
-}
-
+/* Replies an injected DELAY holds back (the connection I/O's held() hook). */
 static bool delay_holds_replies(void *ctx, const wsg_conn_t *conn)
 {
     (void)ctx;
-    return simctl_delay_holding(conn);
+    return wsg_conn_replies_held(conn);
 }
 
 /* One line per further device of a fleet, then the ready line. */
@@ -117,7 +147,7 @@ static void reopen_files(void *ctx)
 {
     host_t *host = ctx;
     host_log_reopen();
-    if (!record_reopen()) {
+    if (!record_reopen(simctl_record(host->sim))) {
         host_logf(HAL_LOG_ERROR, "cannot reopen the --record file (still writing the old one)");
     }
     if (!can_log_reopen(&host->can_log)) {
@@ -146,7 +176,7 @@ static uint64_t wall_timeout_ns(const simclock_t *clock, uint64_t deadline_us)
 /* The event loop, taking the process's signals. */
 static bool start_loop(host_t *host)
 {
-    if (host->loop == NULL || !loop_take_signals(host->loop)) {
+    if (!loop_take_signals(host->loop)) {
         return false;
     }
     loop_set_catch_up(host->loop, catch_up, host);
@@ -174,40 +204,46 @@ static void run(host_t *host)
 static int serve(host_t *host, host_options_t *opts)
 {
     simctl_t *sim = host->sim;
+    web_server_t *web = host->web;
+    fleet_t *fleet = host->fleet;
     if (opts->start_paused) {
         simclock_start_paused(simctl_clock(sim)); /* simulated time stands at exactly 0 */
     }
     if (!start_loop(host)) {
         return EXIT_STARTUP_FAILED;
     }
-    fleet_observer_t observers = {
-        .device_started = attach_observers, .replies_held = delay_holds_replies, .ctx = host};
+    diagnostics_t diagnostics = {.can_log = &host->can_log};
+    fleet_observer_t observers = {.device_started = attach_observers,
+                                  .replies_held = delay_holds_replies,
+                                  .ctx = &diagnostics};
     if (opts->can_log != NULL && !can_log_open(&host->can_log, opts->can_log)) {
         return EXIT_STARTUP_FAILED;
     }
-    fleet_observe(host->fleet, &observers);
-    simctl_set_fleet(sim, host->fleet);
-    /* the web server first: the devices' observers keep its connection lines */
-    if (!web_server_start(host->web, host->loop, &host->net, opts, sim, host->fleet)) {
+    fleet_observe(fleet, &observers);
+    simctl_set_fleet(sim, fleet);
+    if (!web_server_start(web, host->loop, &host->net, opts, sim, fleet)) {
         return EXIT_STARTUP_FAILED;
     }
-    opts->web_lines = web_server_lines(host->web);
-    if (!fleet_start(host->fleet, opts) || !start_simulation(host, opts)) {
+    if (!start_diagnostics(&diagnostics, web, opts) || !fleet_start(fleet, opts) ||
+        !start_simulation(host, &diagnostics, opts)) {
+        web_server_stop(web); /* the devices go first: nothing observes them after */
+        fleet_stop(fleet);
+        free_diagnostics(sim, &diagnostics);
         return EXIT_STARTUP_FAILED;
     }
     if (!announce(host, opts)) {
         return EXIT_STARTUP_FAILED;
     }
     char bus[96];
-    finger_bus_host_describe(&fleet_gripper(host->fleet, 0)->fingers, bus, sizeof(bus));
+    finger_bus_host_describe(&fleet_gripper(fleet, 0)->fingers, bus, sizeof(bus));
     host_logf(HAL_LOG_INFO, "finger bus: %s", bus);
     run(host);
     host_logf(HAL_LOG_INFO, "shutting down");
     notify_stopping(opts->ready_file);
-    web_server_stop(host->web); /* while the devices its operations ran on exist */
-    fleet_stop(host->fleet);
+    web_server_stop(web); /* while the devices its operations ran on exist */
+    fleet_stop(fleet);
     can_log_close(&host->can_log);
-    return stop_simulation(sim, opts);
+    return stop_simulation(sim, &diagnostics, opts);
 }
 
 int main(int argc, char **argv)
@@ -233,7 +269,7 @@ int main(int argc, char **argv)
     bool made = host.loop != NULL && host.sim != NULL && host.web != NULL && host.fleet != NULL;
     int status = made ? serve(&host, &opts) : EXIT_STARTUP_FAILED;
     fleet_destroy(host.fleet);
-    web_server_destroy(host.web); /* after the devices: their observers held its lines */
+    web_server_destroy(host.web); /* its stop already took its lines off the devices */
     simctl_destroy(host.sim);
     loop_destroy(host.loop);
     options_release(&opts); /* the configuration read */

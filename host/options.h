@@ -80,10 +80,6 @@ typedef struct {
     const char *script;     /* --script: the startup script, a host path or /user/NAME */
     const char *script_dir; /* --script-dir: the /user/ store; NULL: none */
     bool script_autostart;  /* false: --no-script-autostart */
-    /* Not an option: the web server's connection lines, which the devices'
-     * message observers feed (web_lines.h); set by main once the server is
-     * on, NULL when it is off. */
-    struct web_lines *web_lines;
     /* --list-models [--json]: printed once every option is read */
     bool list_models;
     bool list_models_json;

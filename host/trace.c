@@ -2,11 +2,13 @@
 #include "trace.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "hal_clock.h"
 #include "log.h"
 #include "wsg/wsg_bin.h"
+#include "wsg/wsg_gcl.h"
 
 #define FRAME_HEADER 6u
 #define FRAME_HEX_MAX 48u /* payload bytes shown; longer ones end in "..." */
@@ -38,7 +40,24 @@ static size_t describe_frame(char direction, const uint8_t *f, size_t len, char 
     return (size_t)n < cap ? (size_t)n : cap - 1;
 }
 
-void trace_line(const wsg_conn_t *c, char direction, const char *line, size_t len)
+/* What the trace attaches to one device: its observers, and which device
+ * the lines name. */
+typedef struct {
+    const trace_t *trace;
+    unsigned index;
+    wsg_conn_observer_t messages;
+    wsg_gcl_observer_t tolerated; /* --strict only */
+} trace_device_t;
+
+struct trace {
+    bool strict;
+    bool name_devices; /* more than one device: "d2.s1t" instead of "s1t" */
+    unsigned count;
+    trace_device_t devices[];
+};
+
+static void trace_line(const trace_device_t *td, const wsg_conn_t *c, char direction,
+                       const char *line, size_t len)
 {
     char decoded[256];
     if (len >= FRAME_HEADER && (unsigned char)line[0] == 0xAAu) {
@@ -48,16 +67,62 @@ void trace_line(const wsg_conn_t *c, char direction, const char *line, size_t le
     while (len > 0 && (line[len - 1] == '\n' || line[len - 1] == '\r')) {
         len--;
     }
+    char device[16] = "";
+    if (td->trace->name_devices) {
+        snprintf(device, sizeof(device), "d%u.", td->index);
+    }
     uint64_t now = hal_clock_now_us();
-    host_log_line("trace [%llu.%06llu] s%llu%c %c %.*s", (unsigned long long)(now / 1000000u),
-                  (unsigned long long)(now % 1000000u), (unsigned long long)wsg_conn_id(c),
+    host_log_line("trace [%llu.%06llu] %ss%llu%c %c %.*s", (unsigned long long)(now / 1000000u),
+                  (unsigned long long)(now % 1000000u), device, (unsigned long long)wsg_conn_id(c),
                   wsg_conn_transport(c) == WSG_TRANSPORT_STREAM ? 't' : 'u', direction, (int)len,
                   line);
 }
 
-void trace_tolerated(const wsg_conn_t *c, const char *name, const char *what)
+static void on_in(void *ctx, const wsg_conn_t *c, const char *line, size_t len)
+{
+    trace_line(ctx, c, '<', line, len);
+}
+
+static void on_out(void *ctx, const wsg_conn_t *c, const char *line, size_t len)
+{
+    trace_line(ctx, c, '>', line, len);
+}
+
+static void on_tolerated(void *ctx, const wsg_conn_t *c, const char *name, const char *what)
 {
     char text[160];
     snprintf(text, sizeof(text), "strict: %s: %s", name, what);
-    trace_line(c, '!', text, strlen(text));
+    trace_line(ctx, c, '!', text, strlen(text));
+}
+
+trace_t *trace_create(bool strict, unsigned devices)
+{
+    trace_t *t = calloc(1, sizeof(*t) + devices * sizeof(t->devices[0]));
+    if (t != NULL) {
+        t->strict = strict;
+        t->name_devices = devices > 1;
+        t->count = devices;
+    }
+    return t;
+}
+
+void trace_attach(trace_t *t, wsg_device_t *dev, unsigned index)
+{
+    if (t == NULL || index >= t->count) {
+        return;
+    }
+    trace_device_t *td = &t->devices[index];
+    td->trace = t;
+    td->index = index;
+    td->messages = (wsg_conn_observer_t){.message_in = on_in, .message_out = on_out, .ctx = td};
+    wsg_conn_add_observer(dev, &td->messages);
+    if (t->strict) {
+        td->tolerated = (wsg_gcl_observer_t){.tolerated = on_tolerated, .ctx = td};
+        wsg_gcl_add_observer(dev, &td->tolerated);
+    }
+}
+
+void trace_destroy(trace_t *t)
+{
+    free(t);
 }

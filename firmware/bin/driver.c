@@ -37,7 +37,7 @@ static wsg_status_t run_frame(bin_conn_t *b, const wsg_bin_frame_t *frame)
  * bytes. */
 static void note_request(bin_conn_t *b, const wsg_bin_frame_t *frame)
 {
-    if (b->conn->dev->conn_observer == NULL) {
+    if (b->conn->dev->observers.conn == NULL) {
         wsg_conn_count_input(b->conn);
         return;
     }

@@ -40,11 +40,40 @@ void wsg_device_reset(wsg_device_t *device, const wsg_config_t *cfg)
     power_on(dev, cfg);
 }
 
-void wsg_device_observe(wsg_device_t *device, const wsg_device_observer_t *observer, void *ctx)
+void wsg_device_add_observer(wsg_device_t *device, wsg_device_observer_t *node)
+{
+    wsg_device_observer_t **at = &dev_of(device)->observers.device;
+    while (*at != NULL && *at != node) {
+        at = &(*at)->next;
+    }
+    if (*at == NULL) {
+        node->next = NULL;
+        *at = node;
+    }
+}
+
+void wsg_device_remove_observer(wsg_device_t *device, wsg_device_observer_t *node)
+{
+    wsg_device_observer_t **at = &dev_of(device)->observers.device;
+    while (*at != NULL && *at != node) {
+        at = &(*at)->next;
+    }
+    if (*at != NULL) {
+        *at = node->next;
+        node->next = NULL;
+    }
+}
+
+void wsg_device_take_observers(wsg_device_t *device, wsg_device_observers_t *taken)
 {
     wsg_dev_t *dev = dev_of(device);
-    dev->observer = observer;
-    dev->observer_ctx = ctx;
+    *taken = dev->observers;
+    dev->observers = (wsg_device_observers_t){NULL, NULL, NULL};
+}
+
+void wsg_device_give_observers(wsg_device_t *device, const wsg_device_observers_t *taken)
+{
+    dev_of(device)->observers = *taken;
 }
 
 /* Without a CAN handle the bus has nothing to do: its input is not built,

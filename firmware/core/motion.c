@@ -25,8 +25,10 @@ void wsg_grip_set_state(wsg_dev_t *dev, wsg_grip_state_t state)
     }
     dev->grip.state = state;
     dev->grip.weak = false;
-    if (dev->observer != NULL && dev->observer->grip_state_changed != NULL) {
-        dev->observer->grip_state_changed(dev->observer_ctx, from, state);
+    for (const wsg_device_observer_t *o = dev->observers.device; o != NULL; o = o->next) {
+        if (o->grip_state_changed != NULL) {
+            o->grip_state_changed(o->ctx, from, state);
+        }
     }
 }
 

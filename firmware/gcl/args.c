@@ -6,9 +6,10 @@
 
 void wsg_note_tolerated(const cmd_ctx_t *ctx, const char *what)
 {
-    const wsg_gcl_observer_t *o = gcl_observer(ctx->gcl);
-    if (o != NULL && o->tolerated != NULL) {
-        o->tolerated(gcl_observer_ctx(ctx->gcl), conn_public(ctx->gcl->conn), ctx->cmd->name, what);
+    for (const wsg_gcl_observer_t *o = gcl_observers(ctx->gcl); o != NULL; o = o->next) {
+        if (o->tolerated != NULL) {
+            o->tolerated(o->ctx, conn_public(ctx->gcl->conn), ctx->cmd->name, what);
+        }
     }
 }
 

@@ -117,11 +117,12 @@ static wsg_status_t check_shape(const cmd_entry_t *entry, const gcl_command_t *c
 static void report_done(gcl_conn_t *g, const gcl_command_t *cmd, const cmd_entry_t *entry,
                         wsg_status_t status)
 {
-    const wsg_gcl_observer_t *o = gcl_observer(g);
-    if (o != NULL && o->command_done != NULL) {
-        int index = entry != NULL ? (int)(entry - commands) : -1;
-        o->command_done(gcl_observer_ctx(g), conn_public(g->conn), cmd->name, index,
-                        (unsigned)cmd->form, cmd->argc, status);
+    int index = entry != NULL ? (int)(entry - commands) : -1;
+    for (const wsg_gcl_observer_t *o = gcl_observers(g); o != NULL; o = o->next) {
+        if (o->command_done != NULL) {
+            o->command_done(o->ctx, conn_public(g->conn), cmd->name, index, (unsigned)cmd->form,
+                            cmd->argc, status);
+        }
     }
 }
 

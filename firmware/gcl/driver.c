@@ -80,11 +80,12 @@ static void gcl_close(wsg_conn_t *c, wsg_close_reason_t why)
 {
     gcl_conn_t *g = gcl_of(c);
     conn_t *conn = g->conn;
-    const wsg_gcl_observer_t *o = gcl_observer(g);
     bool missing =
         why == WSG_CLOSE_DROPPED && !conn->said_goodbye && conn->transport == WSG_TRANSPORT_STREAM;
-    if (missing && o != NULL && o->tolerated != NULL) {
-        o->tolerated(gcl_observer_ctx(g), c, "BYE", "connection closed without BYE()");
+    for (const wsg_gcl_observer_t *o = gcl_observers(g); missing && o != NULL; o = o->next) {
+        if (o->tolerated != NULL) {
+            o->tolerated(o->ctx, c, "BYE", "connection closed without BYE()");
+        }
     }
     wsg_timer_cancel(&conn->dev->timers, &g->autosend_timer);
 }
@@ -105,10 +106,28 @@ const wsg_proto_driver_t wsg_gcl_driver = {
     .partial = gcl_partial,
 };
 
-void wsg_gcl_observe(wsg_device_t *dev, const wsg_gcl_observer_t *observer, void *ctx)
+void wsg_gcl_add_observer(wsg_device_t *dev, wsg_gcl_observer_t *node)
 {
-    dev_of(dev)->gcl_observer = observer;
-    dev_of(dev)->gcl_observer_ctx = ctx;
+    wsg_gcl_observer_t **at = &dev_of(dev)->observers.gcl;
+    while (*at != NULL && *at != node) {
+        at = &(*at)->next;
+    }
+    if (*at == NULL) {
+        node->next = NULL;
+        *at = node;
+    }
+}
+
+void wsg_gcl_remove_observer(wsg_device_t *dev, wsg_gcl_observer_t *node)
+{
+    wsg_gcl_observer_t **at = &dev_of(dev)->observers.gcl;
+    while (*at != NULL && *at != node) {
+        at = &(*at)->next;
+    }
+    if (*at != NULL) {
+        *at = node->next;
+        node->next = NULL;
+    }
 }
 
 bool wsg_gcl_conn_info(const wsg_conn_t *c, wsg_gcl_conn_info_t *info)

@@ -69,15 +69,10 @@ static inline wsg_device_t *gcl_device(const gcl_conn_t *g)
     return dev_public(g->conn->dev);
 }
 
-/* The GCL observer attached to the connection's device, or NULL. */
-static inline const wsg_gcl_observer_t *gcl_observer(const gcl_conn_t *g)
+/* The first GCL observer of the connection's device (a list), or NULL. */
+static inline const wsg_gcl_observer_t *gcl_observers(const gcl_conn_t *g)
 {
-    return (const wsg_gcl_observer_t *)g->conn->dev->gcl_observer;
-}
-
-static inline void *gcl_observer_ctx(const gcl_conn_t *g)
-{
-    return g->conn->dev->gcl_observer_ctx;
+    return g->conn->dev->observers.gcl;
 }
 
 typedef struct {

@@ -5,6 +5,15 @@
  * depend on the driver that calls them. */
 #include "gcl/gcl_internal.h"
 
+static void notify_error_sent(gcl_conn_t *g, int command, wsg_status_t status)
+{
+    for (const wsg_gcl_observer_t *o = gcl_observers(g); o != NULL; o = o->next) {
+        if (o->error_sent != NULL) {
+            o->error_sent(o->ctx, conn_public(g->conn), command, status);
+        }
+    }
+}
+
 void wsg_gcl_send(gcl_conn_t *g, wsg_textbuf_t *tb, wsg_msg_kind_t kind)
 {
     wsg_textbuf_put_char(tb, '\n');
@@ -12,10 +21,7 @@ void wsg_gcl_send(gcl_conn_t *g, wsg_textbuf_t *tb, wsg_msg_kind_t kind)
         /* never hand out a cut line: report the overrun instead */
         wsg_textbuf_init(tb, tb->data, tb->cap);
         wsg_textbuf_put_str(tb, "ERR REPLY 27\n");
-        const wsg_gcl_observer_t *o = gcl_observer(g);
-        if (o != NULL && o->error_sent != NULL) {
-            o->error_sent(gcl_observer_ctx(g), conn_public(g->conn), -1, E_OVERRUN);
-        }
+        notify_error_sent(g, -1, E_OVERRUN);
     }
     wsg_gcl_send_line(g, tb->data, tb->len, kind);
 }
@@ -51,9 +57,6 @@ void wsg_gcl_send_error(gcl_conn_t *g, const char *name, int command, wsg_status
         wsg_textbuf_put_char(&tb, ' ');
         wsg_textbuf_put_str(&tb, wsg_status_description(status));
     }
-    const wsg_gcl_observer_t *o = gcl_observer(g);
-    if (o != NULL && o->error_sent != NULL) {
-        o->error_sent(gcl_observer_ctx(g), conn_public(g->conn), command, status);
-    }
+    notify_error_sent(g, command, status);
     wsg_gcl_send(g, &tb, WSG_MSG_REPLY);
 }

@@ -194,11 +194,34 @@ void wsg_conn_set_io(wsg_conn_t *conn, const wsg_conn_io_t *io, void *io_ctx)
     c->io_ctx = io_ctx;
 }
 
-void wsg_conn_observe(wsg_device_t *device, const wsg_conn_observer_t *observer, void *ctx)
+bool wsg_conn_replies_held(const wsg_conn_t *conn)
 {
-    wsg_dev_t *dev = dev_of(device);
-    dev->conn_observer = observer;
-    dev->conn_observer_ctx = ctx;
+    const conn_t *c = conn_of_const(conn);
+    return c->io != NULL && c->io->held != NULL && c->io->held(c->io_ctx);
+}
+
+void wsg_conn_add_observer(wsg_device_t *device, wsg_conn_observer_t *node)
+{
+    wsg_conn_observer_t **at = &dev_of(device)->observers.conn;
+    while (*at != NULL && *at != node) {
+        at = &(*at)->next;
+    }
+    if (*at == NULL) {
+        node->next = NULL;
+        *at = node;
+    }
+}
+
+void wsg_conn_remove_observer(wsg_device_t *device, wsg_conn_observer_t *node)
+{
+    wsg_conn_observer_t **at = &dev_of(device)->observers.conn;
+    while (*at != NULL && *at != node) {
+        at = &(*at)->next;
+    }
+    if (*at != NULL) {
+        *at = node->next;
+        node->next = NULL;
+    }
 }
 
 void wsg_conn_count_input(conn_t *c)
@@ -220,9 +243,10 @@ bool wsg_conn_partial_input(const wsg_conn_t *conn)
 void wsg_conn_note_input(conn_t *c, const char *bytes, size_t len)
 {
     wsg_conn_count_input(c);
-    const wsg_conn_observer_t *o = c->dev->conn_observer;
-    if (o != NULL && o->message_in != NULL) {
-        o->message_in(c->dev->conn_observer_ctx, conn_public(c), bytes, len);
+    for (const wsg_conn_observer_t *o = c->dev->observers.conn; o != NULL; o = o->next) {
+        if (o->message_in != NULL) {
+            o->message_in(o->ctx, conn_public(c), bytes, len);
+        }
     }
 }
 
@@ -231,9 +255,10 @@ void wsg_conn_write(conn_t *c, const char *bytes, size_t len, wsg_msg_kind_t kin
     if (!c->open || c->io == NULL) {
         return;
     }
-    const wsg_conn_observer_t *o = c->dev->conn_observer;
-    if (o != NULL && o->message_out != NULL) {
-        o->message_out(c->dev->conn_observer_ctx, conn_public(c), bytes, len);
+    for (const wsg_conn_observer_t *o = c->dev->observers.conn; o != NULL; o = o->next) {
+        if (o->message_out != NULL) {
+            o->message_out(o->ctx, conn_public(c), bytes, len);
+        }
     }
     c->io->write(c->io_ctx, bytes, len, kind);
 }

@@ -121,13 +121,8 @@ typedef struct wsg_dev {
     size_t driver_count;
     uint64_t next_conn_id;
     wsg_snapshot_t snapshot;
-    /* observers: NULL unless attached */
-    const wsg_device_observer_t *observer;
-    void *observer_ctx;
-    const wsg_conn_observer_t *conn_observer;
-    void *conn_observer_ctx;
-    const void *gcl_observer; /* const wsg_gcl_observer_t *, owned by the GCL driver */
-    void *gcl_observer_ctx;
+    /* observer lists of caller-owned nodes: NULL unless attached */
+    wsg_device_observers_t observers;
 } wsg_dev_t;
 
 _Static_assert(sizeof(wsg_dev_t) <= sizeof(wsg_device_t),

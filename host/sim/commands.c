@@ -2,8 +2,6 @@
 /* Control line -> command -> handler -> reply line. */
 #include "commands.h"
 
-#include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -17,6 +15,8 @@
 #define CALL GCL_FORM_CALL
 #define QUERY GCL_FORM_QUERY
 #define SET GCL_FORM_SET
+
+static wsg_status_t help(simctl_ctx_t *ctx);
 
 static const simctl_entry_t table[] = {
     {"PAUSE", CALL, 0, 0, sc_pause, "PAUSE()", true},
@@ -43,7 +43,7 @@ static const simctl_entry_t table[] = {
     {"COVERAGE", QUERY, 0, 0, sc_coverage, "COVERAGE?", true},
     {"COVERAGE_RESET", CALL, 0, 0, sc_coverage_reset, "COVERAGE_RESET()", true},
     {"LOG", CALL, 1, 1, sc_log, "LOG(text)", true},
-    {"HELP", QUERY, 0, 0, sc_help, "HELP?", true},
+    {"HELP", QUERY, 0, 0, help, "HELP?", true},
     {"DEVICE", SET | QUERY, 0, 0, sc_device, "DEVICE=index | DEVICE?", false},
     {"DEVICES", QUERY, 0, 0, sc_devices, "DEVICES?", true},
     {"SCRIPT_RUN", CALL, 1, 1, sc_script_run, "SCRIPT_RUN(file)", true},
@@ -52,135 +52,28 @@ static const simctl_entry_t table[] = {
     {"BYE", CALL, 0, 0, sc_bye, "BYE()", false},
 };
 
-unsigned simctl_table_count(void)
-{
-    return (unsigned)(sizeof(table) / sizeof(table[0]));
-}
+#define TABLE_COUNT (sizeof(table) / sizeof(table[0]))
 
-const simctl_entry_t *simctl_table_at(unsigned i)
+/* HELP? lists the usage of every command; here, beside the table, so no
+ * handler file refers back to it. */
+static wsg_status_t help(simctl_ctx_t *ctx)
 {
-    return i < simctl_table_count() ? &table[i] : NULL;
+    cJSON *list = cJSON_CreateArray();
+    for (size_t i = 0; i < TABLE_COUNT; i++) {
+        cJSON_AddItemToArray(list, cJSON_CreateString(table[i].usage));
+    }
+    sc_reply_json(ctx, list);
+    return E_SUCCESS;
 }
 
 static const simctl_entry_t *find(const char *name)
 {
-    for (unsigned i = 0; i < simctl_table_count(); i++) {
+    for (size_t i = 0; i < TABLE_COUNT; i++) {
         if (strcmp(table[i].name, name) == 0) {
             return &table[i];
         }
     }
     return NULL;
-}
-
-/* ---- helpers for the handlers ---- */
-
-wsg_status_t sc_fail(simctl_ctx_t *ctx, wsg_status_t status, const char *fmt, ...)
-{
-    va_list args;
-    va_start(args, fmt);
-    vsnprintf(ctx->why, sizeof(ctx->why), fmt, args);
-    va_end(args);
-    ctx->failed = status;
-    return status;
-}
-
-void sc_reply_owned(simctl_ctx_t *ctx, char *text)
-{
-    free(ctx->reply);
-    ctx->reply = NULL;
-    if (text != NULL && asprintf(&ctx->reply, "%s=%s", ctx->cmd->name, text) < 0) {
-        ctx->reply = NULL;
-    }
-    free(text);
-}
-
-void sc_reply_json(simctl_ctx_t *ctx, cJSON *json)
-{
-    sc_reply_owned(ctx, cJSON_PrintUnformatted(json));
-    cJSON_Delete(json);
-}
-
-void sc_reply(simctl_ctx_t *ctx, const char *fmt, ...)
-{
-    char *text = NULL;
-    va_list args;
-    va_start(args, fmt);
-    if (vasprintf(&text, fmt, args) < 0) {
-        text = NULL;
-    }
-    va_end(args);
-    sc_reply_owned(ctx, text);
-}
-
-bool sc_has_arg(const simctl_ctx_t *ctx, unsigned i)
-{
-    return i < ctx->cmd->argc;
-}
-
-bool sc_number(simctl_ctx_t *ctx, unsigned i, double *out)
-{
-    const gcl_arg_t *arg = &ctx->cmd->args[i];
-    if (arg->kind != GCL_ARG_NUMBER) {
-        sc_fail(ctx, E_INVALID_PARAMETER, "argument %u must be a number", i + 1);
-        return false;
-    }
-    *out = arg->number;
-    return true;
-}
-
-bool sc_text(simctl_ctx_t *ctx, unsigned i, const char **out)
-{
-    const gcl_arg_t *arg = &ctx->cmd->args[i];
-    if (arg->kind == GCL_ARG_NUMBER) {
-        sc_fail(ctx, E_INVALID_PARAMETER, "argument %u must be a name or a quoted string", i + 1);
-        return false;
-    }
-    *out = arg->text;
-    return true;
-}
-
-bool sc_integer(simctl_ctx_t *ctx, unsigned i, const char *what, int64_t min, int64_t max,
-                int64_t *out)
-{
-    double v = 0.0;
-    if (!sc_number(ctx, i, &v)) {
-        return false;
-    }
-    /* compared as doubles first: only a value known to fit is converted */
-    if (!(v >= (double)min && v <= (double)max && v == floor(v))) {
-        sc_fail(ctx, E_RANGE_ERROR, "%s must be an integer %lld to %lld", what, (long long)min,
-                (long long)max);
-        return false;
-    }
-    *out = (int64_t)v;
-    return true;
-}
-
-bool sc_checking(const simctl_ctx_t *ctx)
-{
-    return ctx->check_only;
-}
-
-/* Session ids are counted from 1; every exact integer a double holds. */
-#define SESSION_ID_MAX ((int64_t)1 << 53)
-
-wsg_conn_t *sc_session(simctl_ctx_t *ctx, unsigned i)
-{
-    int64_t id = 0;
-    if (!sc_integer(ctx, i, "the session id", 1, SESSION_ID_MAX, &id) || sc_checking(ctx)) {
-        return NULL;
-    }
-    wsg_conn_t *c = wsg_device_conn_by_id(&ctx->gripper->device, (uint64_t)id);
-    if (c != NULL) {
-        return c;
-    }
-    sc_fail(ctx, E_NOT_FOUND, "no open session %lld (see SESSIONS?)", (long long)id);
-    return NULL;
-}
-
-void sc_world_changed(simctl_ctx_t *ctx)
-{
-    gripper_step_now(ctx->gripper);
 }
 
 /* ---- dispatch ---- */

@@ -81,14 +81,7 @@ static void clear_failnext(simctl_ctx_t *ctx)
 
 static void clear_delays(simctl_ctx_t *ctx)
 {
-    const wsg_device_t *dev = &ctx->gripper->device;
-    simctl_delay_info_t info;
-    bool any = false;
-    for (unsigned i = 0; simctl_delay_info(i, &info); i++) {
-        any = any || info.device == dev;
-    }
-    if (any) {
-        simctl_delay_clear_all(dev, true);
+    if (simctl_delay_clear_all(simctl_delays(ctx->ctl), &ctx->gripper->device, true) > 0) {
         host_logf(HAL_LOG_INFO, "fault cleared: DELAY (held lines delivered)");
     }
 }
@@ -162,8 +155,8 @@ static void add_hardware_faults(cJSON *list, const simctl_faults_t *faults, cons
 static void add_protocol_faults(cJSON *list, gripper_t *g)
 {
     simctl_delay_info_t d;
-    for (unsigned i = 0; simctl_delay_info(i, &d); i++) {
-        if (d.device != &g->device) {
+    for (wsg_conn_t *c = wsg_device_conn_first(&g->device); c != NULL; c = wsg_conn_next(c)) {
+        if (!simctl_delay_info(c, &d)) {
             continue;
         }
         cJSON *j = cJSON_CreateObject();
@@ -202,9 +195,9 @@ wsg_status_t sc_faults(simctl_ctx_t *ctx)
     return E_SUCCESS;
 }
 
-static wsg_status_t delay_session(wsg_conn_t *c, double ms)
+static wsg_status_t delay_session(simctl_ctx_t *ctx, wsg_conn_t *c, double ms)
 {
-    simctl_delay_arm(c, (uint32_t)(ms * 1000.0 + 0.5));
+    simctl_delay_arm(simctl_delays(ctx->ctl), c, (uint32_t)(ms * 1000.0 + 0.5));
     host_logf(HAL_LOG_WARN, "fault injected: DELAY next reply of session %llu by %.3f ms",
               (unsigned long long)wsg_conn_id(c), ms);
     return E_SUCCESS;
@@ -224,7 +217,7 @@ wsg_status_t sc_delay(simctl_ctx_t *ctx)
         if (sc_checking(ctx)) {
             return ctx->failed;
         }
-        return s != NULL ? delay_session(s, ms) : ctx->failed;
+        return s != NULL ? delay_session(ctx, s, ms) : ctx->failed;
     }
     if (sc_checking(ctx)) {
         return E_SUCCESS;
@@ -232,7 +225,7 @@ wsg_status_t sc_delay(simctl_ctx_t *ctx)
     unsigned armed = 0;
     wsg_device_t *dev = &ctx->gripper->device;
     for (wsg_conn_t *c = wsg_device_conn_first(dev); c != NULL; c = wsg_conn_next(c)) {
-        delay_session(c, ms);
+        delay_session(ctx, c, ms);
         armed++;
     }
     return armed > 0 ? E_SUCCESS : sc_fail(ctx, E_NOT_FOUND, "no GCL session is open");

@@ -38,8 +38,7 @@ typedef struct {
     bool in_scenario; /* a scenario may run it */
 } simctl_entry_t;
 
-unsigned simctl_table_count(void);
-const simctl_entry_t *simctl_table_at(unsigned i);
+/* sim/commands_ctx.c: what a handler does with its context. */
 
 /* Sets the reason of an ERR reply and returns status. */
 wsg_status_t sc_fail(simctl_ctx_t *ctx, wsg_status_t status, const char *fmt, ...)
@@ -69,17 +68,6 @@ wsg_conn_t *sc_session(simctl_ctx_t *ctx, unsigned i);
 bool sc_checking(const simctl_ctx_t *ctx);
 /* The device noticed a change of the world at once (a control step now). */
 void sc_world_changed(simctl_ctx_t *ctx);
-/* RUN_UNTIL_DONE: the operation it waits for, and how the run ended. */
-typedef struct {
-    bool active; /* the running step is a RUN_UNTIL_DONE */
-    bool ended;  /* the operation ended before the limit */
-    wsg_device_t *device;
-    wsg_motion_kind_t motion;
-    uint64_t started_us;
-} simctl_run_watch_t;
-
-simctl_run_watch_t *simctl_run_watch(simctl_t *ctl);
-
 /* sim/commands_clock.c */
 wsg_status_t sc_pause(simctl_ctx_t *ctx);
 wsg_status_t sc_resume(simctl_ctx_t *ctx);
@@ -113,7 +101,6 @@ wsg_status_t sc_sessions(simctl_ctx_t *ctx);
 wsg_status_t sc_reset(simctl_ctx_t *ctx);
 wsg_status_t sc_coverage(simctl_ctx_t *ctx);
 wsg_status_t sc_coverage_reset(simctl_ctx_t *ctx);
-wsg_status_t sc_help(simctl_ctx_t *ctx);
 wsg_status_t sc_log(simctl_ctx_t *ctx);
 wsg_status_t sc_device(simctl_ctx_t *ctx);
 wsg_status_t sc_devices(simctl_ctx_t *ctx);

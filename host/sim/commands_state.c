@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* STATE, SESSIONS, RESET, COVERAGE, COVERAGE_RESET, LOG, HELP, BYE. */
+/* STATE, SESSIONS, RESET, DEVICE, DEVICES, COVERAGE, COVERAGE_RESET, LOG, BYE
+ * (HELP is the command table's, commands.c). */
 #include <cjson/cJSON.h>
 #include <stdlib.h>
 
@@ -10,7 +11,7 @@
 #include "faults.h"
 #include "fleet.h"
 #include "log.h"
-#include "observers.h"
+#include "control.h"
 #include "scheduler.h"
 #include "state_json.h"
 
@@ -37,17 +38,13 @@ wsg_status_t sc_sessions(simctl_ctx_t *ctx)
 wsg_status_t sc_reset(simctl_ctx_t *ctx)
 {
     gripper_t *g = ctx->gripper;
-    bool first = g->index == 0; /* with the observers */
-    if (first) {
-        simctl_observers_detach(&g->device);
-    }
-    simctl_delay_clear_all(&g->device, false);
+    wsg_device_observers_t observers;
+    wsg_device_take_observers(&g->device, &observers); /* whoever observes */
+    simctl_delay_clear_all(simctl_delays(ctx->ctl), &g->device, false);
     fleet_close_connections(simctl_fleet(ctx->ctl), g->index);
     simctl_fault_clear_all(simctl_faults(ctx->ctl), g);
     gripper_reset(g);
-    if (first) {
-        simctl_observers_attach(&g->device, g->opts);
-    }
+    wsg_device_give_observers(&g->device, &observers);
     simctl_reset_max_lag(simctl_scheduler(ctx->ctl));
     host_logf(HAL_LOG_INFO, "device %u reset to power-on defaults", g->index);
     return E_SUCCESS;
@@ -94,14 +91,19 @@ wsg_status_t sc_devices(simctl_ctx_t *ctx)
 
 wsg_status_t sc_coverage(simctl_ctx_t *ctx)
 {
-    sc_reply_owned(ctx, coverage_report_json(simctl_observers_strict(), false));
+    coverage_t *coverage = simctl_coverage(ctx->ctl);
+    if (coverage == NULL) {
+        return sc_fail(ctx, E_NOT_AVAILABLE, "no coverage is counted");
+    }
+    sc_reply_owned(ctx, coverage_report_json(coverage, false));
     return E_SUCCESS;
 }
 
 wsg_status_t sc_coverage_reset(simctl_ctx_t *ctx)
 {
-    (void)ctx;
-    coverage_reset();
+    if (simctl_coverage(ctx->ctl) != NULL) {
+        coverage_reset(simctl_coverage(ctx->ctl));
+    }
     return E_SUCCESS;
 }
 
@@ -115,16 +117,6 @@ wsg_status_t sc_log(simctl_ctx_t *ctx)
         return E_SUCCESS;
     }
     host_logf(HAL_LOG_INFO, "control: %s", text);
-    return E_SUCCESS;
-}
-
-wsg_status_t sc_help(simctl_ctx_t *ctx)
-{
-    cJSON *list = cJSON_CreateArray();
-    for (unsigned i = 0; i < simctl_table_count(); i++) {
-        cJSON_AddItemToArray(list, cJSON_CreateString(simctl_table_at(i)->usage));
-    }
-    sc_reply_json(ctx, list);
     return E_SUCCESS;
 }
 

@@ -10,13 +10,11 @@
 #include <unistd.h>
 
 #include "commands.h"
-#include "commands_internal.h"
 #include "listener.h"
 #include "log.h"
 #include "loop.h"
 #include "net.h"
 #include "wsg/wsg_outq.h"
-#include "record.h"
 #include "scheduler.h"
 #include "wsg/gcl_linebuf.h"
 
@@ -48,19 +46,27 @@ typedef struct {
 } control_client_t;
 
 struct simctl {
-    simclock_t clock;
-    simctl_sched_t sched;
-    scenario_t scenario;
-    simctl_faults_t faults;
-    struct fleet *fleet;    /* the devices (simctl_set_fleet) */
-    simctl_run_watch_t run; /* RUN_UNTIL_DONE */
+    simctl_sim_t sim;               /* first: the inline accessors of control.h */
+    simctl_due_hook_t scenario_due; /* the scenario's commands, run by the scheduler */
     listener_t listener;
     const char *addr;
     unsigned connections;
     control_client_t *stepper; /* waits for the reply of its STEP */
     control_client_t clients[CONTROL_CLIENTS_MAX];
     char out_line[OUTQ_RECORD_MAX]; /* one queued record on its way to send() */
+    record_t *record;               /* --record, or NULL */
+    coverage_t *coverage;           /* COVERAGE?, or NULL */
 };
+
+static uint64_t scenario_due_next_us(void *ctx)
+{
+    return scenario_next_us(ctx);
+}
+
+static unsigned scenario_due_run(void *ctx, uint64_t now_us, unsigned max)
+{
+    return scenario_run_due(ctx, now_us, max);
+}
 
 simctl_t *simctl_create(void)
 {
@@ -68,10 +74,13 @@ simctl_t *simctl_create(void)
     if (ctl == NULL) {
         return NULL;
     }
-    simclock_init(&ctl->clock);
-    scenario_init(&ctl->scenario, ctl);
-    simctl_scheduler_init(&ctl->sched, &ctl->clock, &ctl->scenario);
-    simctl_faults_init(&ctl->faults);
+    simctl_sim_t *sim = &ctl->sim;
+    simclock_init(&sim->clock);
+    scenario_init(&sim->scenario, ctl);
+    simctl_scheduler_init(&sim->sched, &sim->clock);
+    ctl->scenario_due = (simctl_due_hook_t){scenario_due_next_us, scenario_due_run, &sim->scenario};
+    simctl_scheduler_set_due_hook(&sim->sched, &ctl->scenario_due);
+    simctl_faults_init(&sim->faults);
     ctl->listener.fd = -1;
     for (unsigned i = 0; i < CONTROL_CLIENTS_MAX; i++) {
         ctl->clients[i].ctl = ctl;
@@ -85,46 +94,16 @@ void simctl_destroy(simctl_t *ctl)
         return;
     }
     simctl_stop(ctl);
-    scenario_unload(&ctl->scenario);
-    simctl_faults_release(&ctl->faults);
-    simclock_fini(&ctl->clock);
+    scenario_unload(&ctl->sim.scenario);
+    simctl_faults_release(&ctl->sim.faults);
+    simclock_fini(&ctl->sim.clock);
     free(ctl);
-}
-
-simclock_t *simctl_clock(simctl_t *ctl)
-{
-    return &ctl->clock;
-}
-
-simctl_sched_t *simctl_scheduler(simctl_t *ctl)
-{
-    return &ctl->sched;
-}
-
-scenario_t *simctl_scenario(simctl_t *ctl)
-{
-    return &ctl->scenario;
-}
-
-simctl_faults_t *simctl_faults(simctl_t *ctl)
-{
-    return &ctl->faults;
 }
 
 void simctl_set_fleet(simctl_t *ctl, struct fleet *fleet)
 {
-    ctl->fleet = fleet;
-    ctl->sched.fleet = fleet;
-}
-
-struct fleet *simctl_fleet(const simctl_t *ctl)
-{
-    return ctl->fleet;
-}
-
-simctl_run_watch_t *simctl_run_watch(simctl_t *ctl)
-{
-    return &ctl->run;
+    ctl->sim.fleet = fleet;
+    ctl->sim.sched.fleet = fleet;
 }
 
 static void channel_name(const control_client_t *c, char *out, size_t cap)
@@ -218,7 +197,7 @@ static void record_and_send(control_client_t *c, const char *reply)
 {
     char channel[16];
     channel_name(c, channel, sizeof(channel));
-    record_control(channel, '>', reply, strlen(reply));
+    record_control(c->ctl->record, channel, '>', reply, strlen(reply));
     send_reply(c, reply);
 }
 
@@ -230,7 +209,7 @@ static void handle_line(control_client_t *c)
     if (wsg_gcl_linebuf_status(lb) == GCL_LINE_OK && strspn(lb->text, " \t") == lb->len) {
         return; /* blank line */
     }
-    record_control(channel, '<', lb->text, lb->len);
+    record_control(c->ctl->record, channel, '<', lb->text, lb->len);
     char *reply = NULL;
     simctl_outcome_t outcome = {false, false};
     if (wsg_gcl_linebuf_status(lb) != GCL_LINE_OK) {
@@ -255,7 +234,7 @@ static void handle_line(control_client_t *c)
  * client has not read what it was sent. */
 static bool may_run(const control_client_t *c)
 {
-    return !c->closing && !c->dead && !simctl_step_running(&c->ctl->sched) &&
+    return !c->closing && !c->dead && !simctl_step_running(&c->ctl->sim.sched) &&
            wsg_outq_used(&c->outq) < CONTROL_OUTQ_LOW;
 }
 
@@ -284,7 +263,7 @@ static void receive(control_client_t *c)
 static void answer_step_if_done(control_client_t *c)
 {
     simctl_t *ctl = c->ctl;
-    if (ctl->stepper != c || simctl_step_running(&ctl->sched)) {
+    if (ctl->stepper != c || simctl_step_running(&ctl->sim.sched)) {
         return;
     }
     ctl->stepper = NULL;
@@ -386,7 +365,7 @@ static void on_accept(void *ctx, int fd, short revents)
 bool simctl_start(simctl_t *ctl, host_loop_t *loop, net_t *net, const char *addr, int port)
 {
     ctl->addr = addr != NULL ? addr : DEFAULT_ADDR;
-    simctl_step_on_done(&ctl->sched, on_step_done, ctl);
+    simctl_step_on_done(&ctl->sim.sched, on_step_done, ctl);
     return listener_start(&ctl->listener, loop, net, "control", ctl->addr, port, on_accept, ctl);
 }
 
@@ -416,4 +395,26 @@ void simctl_stop(simctl_t *ctl)
         }
     }
     listener_stop(&ctl->listener);
+}
+
+void simctl_set_diagnostics(simctl_t *ctl, record_t *record, coverage_t *coverage)
+{
+    ctl->record = record;
+    ctl->coverage = coverage;
+    simctl_scheduler(ctl)->coverage = coverage;
+}
+
+record_t *simctl_record(const simctl_t *ctl)
+{
+    return ctl->record;
+}
+
+coverage_t *simctl_coverage(const simctl_t *ctl)
+{
+    return ctl->coverage;
+}
+
+simctl_delays_t *simctl_delays(simctl_t *ctl)
+{
+    return &simctl_scheduler(ctl)->delays;
 }

@@ -14,10 +14,10 @@
 #define HELD_MAX_BYTES (256u * 1024u)
 #define HELD_FIRST_BYTES 4096u
 #define RECORD_HEADER 3u /* kind, length high byte, length low byte */
-#define DELAYS_MAX 144u  /* as many as connections the host serves */
+#define DELAYS_MAX 144u  /* armed at once, as many as connections the host serves */
 
-typedef struct {
-    bool armed;
+struct simctl_delay {
+    struct simctl_delay *next; /* the instance's list of armed delays */
     bool holding;
     const wsg_device_t *device; /* whose connection (ids are per device) */
     uint64_t conn_id;
@@ -29,13 +29,13 @@ typedef struct {
     size_t used;
     size_t cap;
     uint8_t *held; /* malloc'd, grows up to HELD_MAX_BYTES */
-} delay_slot_t;
+    simctl_delays_t *delays;
+};
 
-static delay_slot_t slots[DELAYS_MAX];
-static unsigned armed_count; /* nothing to scan while it is 0 */
+typedef struct simctl_delay delay_t;
 
 /* Room for need more bytes; false past HELD_MAX_BYTES (or out of memory). */
-static bool make_room(delay_slot_t *d, size_t need)
+static bool make_room(delay_t *d, size_t need)
 {
     if (d->used + need <= d->cap) {
         return true;
@@ -57,7 +57,7 @@ static bool make_room(delay_slot_t *d, size_t need)
     return true;
 }
 
-static void drop_held(delay_slot_t *d)
+static void drop_held(delay_t *d)
 {
     free(d->held);
     d->held = NULL;
@@ -66,7 +66,7 @@ static void drop_held(delay_slot_t *d)
     d->lines = 0;
 }
 
-static bool hold_line(delay_slot_t *d, const char *line, size_t len, wsg_msg_kind_t kind)
+static bool hold_line(delay_t *d, const char *line, size_t len, wsg_msg_kind_t kind)
 {
     if (len > 0xffffu || !make_room(d, RECORD_HEADER + len)) {
         return false;
@@ -81,11 +81,11 @@ static bool hold_line(delay_slot_t *d, const char *line, size_t len, wsg_msg_kin
     return true;
 }
 
-static void release(delay_slot_t *d, bool send);
+static void release(delay_t *d, bool send);
 
 /* The hold is full: the delay ends now, everything held goes out in order,
  * then this line. Logged once per DELAY, since the delay is over. */
-static void overflow(delay_slot_t *d, const char *line, size_t len, wsg_msg_kind_t kind)
+static void overflow(delay_t *d, const char *line, size_t len, wsg_msg_kind_t kind)
 {
     host_logf(HAL_LOG_WARN,
               "DELAY of session %llu ended early: more than %u KiB of lines held; "
@@ -99,7 +99,7 @@ static void overflow(delay_slot_t *d, const char *line, size_t len, wsg_msg_kind
 
 static void delayed_write(void *ctx, const char *line, size_t len, wsg_msg_kind_t kind)
 {
-    delay_slot_t *d = ctx;
+    delay_t *d = ctx;
     if (!d->holding && kind == WSG_MSG_REPLY) {
         d->holding = true;
         d->release_us = hal_clock_now_us() + d->delay_us;
@@ -111,10 +111,18 @@ static void delayed_write(void *ctx, const char *line, size_t len, wsg_msg_kind_
     }
 }
 
-static const wsg_conn_io_t delayed_io = {.write = delayed_write};
+/* Held replies still count as queued: a half-closed connection waits for
+ * them too (the port asks through wsg_conn_replies_held()). */
+static bool delayed_held(void *ctx)
+{
+    const delay_t *d = ctx;
+    return d->holding;
+}
 
-/* The slot that stands in for the connection's I/O, if it is delayed. */
-static delay_slot_t *slot_of(const wsg_conn_t *c)
+static const wsg_conn_io_t delayed_io = {.write = delayed_write, .held = delayed_held};
+
+/* The delay that stands in for the connection's I/O, if it is delayed. */
+static delay_t *delay_of(const wsg_conn_t *c)
 {
     const wsg_conn_io_t *io = NULL;
     void *io_ctx = NULL;
@@ -122,57 +130,57 @@ static delay_slot_t *slot_of(const wsg_conn_t *c)
     return io == &delayed_io ? io_ctx : NULL;
 }
 
-static delay_slot_t *free_slot(void)
+static void link_delay(simctl_delays_t *ds, delay_t *d)
 {
-    for (unsigned i = 0; i < DELAYS_MAX; i++) {
-        if (!slots[i].armed) {
-            return &slots[i];
-        }
+    delay_t **at = &ds->armed;
+    while (*at != NULL) {
+        at = &(*at)->next;
     }
-    return NULL;
+    *at = d;
+    ds->count++;
 }
 
-void simctl_delay_arm(wsg_conn_t *c, uint32_t delay_us)
+static void unlink_delay(simctl_delays_t *ds, delay_t *d)
 {
-    delay_slot_t *d = slot_of(c);
+    delay_t **at = &ds->armed;
+    while (*at != NULL && *at != d) {
+        at = &(*at)->next;
+    }
+    if (*at != NULL) {
+        *at = d->next;
+        ds->count--;
+    }
+}
+
+void simctl_delay_arm(simctl_delays_t *ds, wsg_conn_t *c, uint32_t delay_us)
+{
+    delay_t *d = delay_of(c);
     if (d != NULL) {
         d->delay_us = delay_us; /* re-armed before it took effect */
         return;
     }
-    const wsg_conn_io_t *io = NULL;
-    void *io_ctx = NULL;
-    wsg_conn_get_io(c, &io, &io_ctx);
-    d = free_slot();
+    d = ds->count < DELAYS_MAX ? calloc(1, sizeof(*d)) : NULL;
     if (d == NULL) {
         host_logf(HAL_LOG_WARN, "DELAY: every delay slot is taken");
         return;
     }
-    drop_held(d);
-    memset(d, 0, sizeof(*d));
-    d->armed = true;
+    wsg_conn_get_io(c, &d->io, &d->io_ctx);
+    d->delays = ds;
     d->device = wsg_conn_device(c);
     d->conn_id = wsg_conn_id(c);
     d->delay_us = delay_us;
-    d->io = io;
-    d->io_ctx = io_ctx;
-    armed_count++;
+    link_delay(ds, d);
     wsg_conn_set_io(c, &delayed_io, d);
 }
 
-/* The connection the slot stands in for, if it is still open. */
-static wsg_conn_t *owner(const delay_slot_t *d)
+/* The connection the delay stands in for, if it is still open. */
+static wsg_conn_t *owner(const delay_t *d)
 {
     wsg_conn_t *c = wsg_device_conn_by_id((wsg_device_t *)d->device, d->conn_id);
-    if (c == NULL) {
-        return NULL;
-    }
-    const wsg_conn_io_t *io = NULL;
-    void *io_ctx = NULL;
-    wsg_conn_get_io(c, &io, &io_ctx);
-    return io == &delayed_io && io_ctx == d ? c : NULL;
+    return c != NULL && delay_of(c) == d ? c : NULL;
 }
 
-static void deliver(const delay_slot_t *d)
+static void deliver(const delay_t *d)
 {
     size_t at = 0;
     while (at < d->used) {
@@ -183,13 +191,12 @@ static void deliver(const delay_slot_t *d)
     }
 }
 
-/* Gives the connection its own I/O back and hands over what was held. */
-static void release(delay_slot_t *d, bool send)
+/* Gives the connection its own I/O back, hands over what was held and
+ * frees the delay. */
+static void release(delay_t *d, bool send)
 {
     wsg_conn_t *c = owner(d);
-    d->armed = false;
-    d->holding = false;
-    armed_count--;
+    unlink_delay(d->delays, d);
     if (c != NULL) { /* else the connection went away: its lines have no receiver */
         wsg_conn_set_io(c, d->io, d->io_ctx);
         if (send) {
@@ -197,19 +204,18 @@ static void release(delay_slot_t *d, bool send)
         }
     }
     drop_held(d);
+    free(d);
 }
 
-unsigned simctl_delay_release_due(uint64_t now_us)
+unsigned simctl_delay_release_due(simctl_delays_t *ds, uint64_t now_us)
 {
-    if (armed_count == 0) {
-        return 0; /* the common case, at every deadline */
-    }
     unsigned released = 0;
-    for (unsigned i = 0; i < DELAYS_MAX && armed_count > 0; i++) {
-        delay_slot_t *d = &slots[i];
-        if (d->armed && owner(d) == NULL) {
+    delay_t *next = NULL;
+    for (delay_t *d = ds->armed; d != NULL; d = next) {
+        next = d->next;
+        if (owner(d) == NULL) {
             release(d, false); /* closed while armed */
-        } else if (d->armed && d->holding && now_us >= d->release_us) {
+        } else if (d->holding && now_us >= d->release_us) {
             release(d, true);
             released++;
         }
@@ -217,45 +223,38 @@ unsigned simctl_delay_release_due(uint64_t now_us)
     return released;
 }
 
-uint64_t simctl_delay_next_us(void)
+uint64_t simctl_delay_next_us(const simctl_delays_t *ds)
 {
     uint64_t next = UINT64_MAX;
-    for (unsigned i = 0; i < DELAYS_MAX && armed_count > 0; i++) {
-        if (slots[i].armed && slots[i].holding && slots[i].release_us < next) {
-            next = slots[i].release_us;
+    for (const delay_t *d = ds->armed; d != NULL; d = d->next) {
+        if (d->holding && d->release_us < next) {
+            next = d->release_us;
         }
     }
     return next;
 }
 
-void simctl_delay_clear_all(const wsg_device_t *device, bool send)
+unsigned simctl_delay_clear_all(simctl_delays_t *ds, const wsg_device_t *device, bool send)
 {
-    for (unsigned i = 0; i < DELAYS_MAX && armed_count > 0; i++) {
-        if (slots[i].armed && slots[i].device == device) {
-            release(&slots[i], send);
+    unsigned cleared = 0;
+    delay_t *next = NULL;
+    for (delay_t *d = ds->armed; d != NULL; d = next) {
+        next = d->next;
+        if (d->device == device) {
+            cleared += owner(d) != NULL ? 1u : 0u;
+            release(d, send);
         }
     }
+    return cleared;
 }
 
-bool simctl_delay_holding(const wsg_conn_t *c)
+bool simctl_delay_info(const wsg_conn_t *c, simctl_delay_info_t *out)
 {
-    const delay_slot_t *d = slot_of(c);
-    return d != NULL && d->holding;
-}
-
-bool simctl_delay_info(unsigned i, simctl_delay_info_t *out)
-{
-    unsigned seen = 0;
-    for (unsigned k = 0; k < DELAYS_MAX && armed_count > 0; k++) {
-        const delay_slot_t *d = &slots[k];
-        if (!d->armed || owner(d) == NULL) {
-            continue;
-        }
-        if (seen++ == i) {
-            *out = (simctl_delay_info_t){d->device,  d->conn_id,    d->delay_us,
-                                         d->holding, d->release_us, d->lines};
-            return true;
-        }
+    const delay_t *d = delay_of(c);
+    if (d == NULL) {
+        return false;
     }
-    return false;
+    *out = (simctl_delay_info_t){d->device,  d->conn_id,    d->delay_us,
+                                 d->holding, d->release_us, d->lines};
+    return true;
 }

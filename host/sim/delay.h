@@ -10,15 +10,24 @@
 
 #include "wsg/wsg_conn.h"
 
+/* The armed delays of a control channel: an intrusive list of them, one
+ * allocated per delayed connection; embedded in its owner, all zero when
+ * none is armed. */
+typedef struct {
+    struct simctl_delay *armed;
+    unsigned count;
+} simctl_delays_t;
+
 /* Arms a delay of delay_us for the connection's next reply line. */
-void simctl_delay_arm(wsg_conn_t *c, uint32_t delay_us);
+void simctl_delay_arm(simctl_delays_t *ds, wsg_conn_t *c, uint32_t delay_us);
 /* Delivers what is due at now_us; returns how many sessions were released. */
-unsigned simctl_delay_release_due(uint64_t now_us);
+unsigned simctl_delay_release_due(simctl_delays_t *ds, uint64_t now_us);
 /* Earliest pending release, or UINT64_MAX. */
-uint64_t simctl_delay_next_us(void);
-/* Drops every delay (armed or holding); held lines are delivered first when
- * send is true, otherwise discarded. */
-void simctl_delay_clear_all(const wsg_device_t *device, bool send);
+uint64_t simctl_delay_next_us(const simctl_delays_t *ds);
+/* Drops every delay of the device (armed or holding); held lines are
+ * delivered first when send is true, otherwise discarded. Returns how many
+ * open connections had one. */
+unsigned simctl_delay_clear_all(simctl_delays_t *ds, const wsg_device_t *device, bool send);
 
 typedef struct {
     const wsg_device_t *device;
@@ -29,10 +38,9 @@ typedef struct {
     unsigned lines_held;
 } simctl_delay_info_t;
 
-/* True while the connection's replies are held back. */
-bool simctl_delay_holding(const wsg_conn_t *c);
-
-/* The i-th active delay (0-based); false past the last. */
-bool simctl_delay_info(unsigned i, simctl_delay_info_t *out);
+/* The connection's delay, read from its I/O (no instance needed: the
+ * state dump lists a device's delays by its connections); false when it
+ * has none. Its replies are held back while out->holding. */
+bool simctl_delay_info(const wsg_conn_t *c, simctl_delay_info_t *out);
 
 #endif

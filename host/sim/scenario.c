@@ -9,7 +9,7 @@
 
 #include "commands.h"
 #include "log.h"
-#include "record.h"
+#include "control.h"
 #include "text_file.h"
 
 #define LINE_MAX_LEN 4096
@@ -123,9 +123,9 @@ bool scenario_load(scenario_t *sc, const char *path, uint64_t start_us)
 static void run_event(scenario_t *sc, const scenario_event_t *e)
 {
     size_t len = strlen(e->command);
-    record_control("scn", '<', e->command, len);
+    record_control(simctl_record(sc->ctl), "scn", '<', e->command, len);
     char *reply = simctl_exec(sc->ctl, e->command, len, NULL, NULL);
-    record_control("scn", '>', reply, strlen(reply));
+    record_control(simctl_record(sc->ctl), "scn", '>', reply, strlen(reply));
     bool failed = strncmp(reply, "ERR", 3) == 0;
     host_logf(failed ? HAL_LOG_WARN : HAL_LOG_INFO, "scenario %s:%d: %s -> %s", sc->path, e->line,
               e->command, reply);

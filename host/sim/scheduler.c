@@ -3,7 +3,6 @@
 
 #include "delay.h"
 #include "fleet.h"
-#include "observers.h"
 
 /* The simulated work one simctl_tick() may do before the loop serves the
  * sockets again: a control step counts 1, a scenario event SLICE_EVENT_COST
@@ -13,10 +12,22 @@
 #define SLICE_WORK 4000u
 #define SLICE_EVENT_COST 25u
 
-void simctl_scheduler_init(simctl_sched_t *s, simclock_t *clock, scenario_t *scenario)
+void simctl_scheduler_init(simctl_sched_t *s, simclock_t *clock)
 {
     /* due at 0: the first pass asks the fleet and the delays */
-    *s = (simctl_sched_t){.clock = clock, .scenario = scenario};
+    *s = (simctl_sched_t){.clock = clock};
+}
+
+void simctl_scheduler_set_due_hook(simctl_sched_t *s, const simctl_due_hook_t *hook)
+{
+    s->due = hook;
+    s->next_us = 0u; /* look again */
+}
+
+/* When the hook's next item is due. */
+static uint64_t hook_next_us(const simctl_sched_t *s)
+{
+    return s->due != NULL ? s->due->next_us(s->due->ctx) : UINT64_MAX;
 }
 
 /* The device time (hal_clock_now_us()), read where the pass keeps it. */
@@ -66,33 +77,34 @@ static void run_fleet_and_delays(simctl_sched_t *s, uint64_t now)
     bool ticked = fleet_touched_any(s->fleet) || s->fleet_due_us <= now;
     if (ticked) {
         s->fleet_due_us = fleet_tick(s->fleet);
-        simctl_observers_after_tick(&fleet_gripper(s->fleet, 0)->device); /* device 0's */
+        coverage_sample_flags(s->coverage);
     }
     bool releasing = s->delay_due_us <= now;
     if (releasing) {
-        simctl_delay_release_due(now);
+        simctl_delay_release_due(&s->delays, now);
     }
     if (ticked || releasing) {
-        s->delay_due_us = simctl_delay_next_us();
+        s->delay_due_us = simctl_delay_next_us(&s->delays);
     }
 }
 
 /* Runs everything due at the present device time, as far as the budget
- * goes; false when scenario events due now are left for the next slice
- * (the device time must not move past them). *next: the next due time. */
+ * goes; false when the hook's items (scenario events) due now are left for
+ * the next slice (the device time must not move past them). *next: the
+ * next due time. */
 static bool run_due(simctl_sched_t *s, unsigned *budget, uint64_t *next)
 {
     uint64_t now = device_now(s);
-    if (scenario_next_us(s->scenario) <= now) {
+    if (hook_next_us(s) <= now) {
         unsigned events = *budget / SLICE_EVENT_COST;
-        unsigned ran = scenario_run_due(s->scenario, now, events > 0 ? events : 1u);
+        unsigned ran = s->due->run_due(s->due->ctx, now, events > 0 ? events : 1u);
         spend(budget, ran * SLICE_EVENT_COST);
-        if (scenario_next_us(s->scenario) <= now) {
+        if (hook_next_us(s) <= now) {
             return false;
         }
     }
     run_fleet_and_delays(s, now);
-    *next = earliest(earliest(s->fleet_due_us, s->delay_due_us), scenario_next_us(s->scenario));
+    *next = earliest(earliest(s->fleet_due_us, s->delay_due_us), hook_next_us(s));
     spend(budget, 1u);
     return true;
 }
@@ -158,7 +170,7 @@ static uint64_t catch_up(simctl_sched_t *s, uint64_t target)
 static bool nothing_due(const simctl_sched_t *s, uint64_t target)
 {
     return target < s->next_us && !s->step.running && !s->in_catch_up &&
-           !fleet_touched_any(s->fleet) && target < scenario_next_us(s->scenario);
+           !fleet_touched_any(s->fleet) && target < hook_next_us(s);
 }
 
 uint64_t simctl_tick(simctl_sched_t *s)
@@ -170,7 +182,7 @@ uint64_t simctl_tick(simctl_sched_t *s)
     }
     if (nothing_due(s, target)) {
         simclock_advance_device(s->clock, target);
-        return earliest(s->next_us, scenario_next_us(s->scenario));
+        return earliest(s->next_us, hook_next_us(s));
     }
     return catch_up(s, target);
 }

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* Runs everything that lives on the simulated clock — the devices, the
- * scenario and delayed replies — and steps the paused clock. An instance,
- * embedded by the control side (host/sim/control.c). */
+ * delayed replies and what is registered above it (the scenario) — and
+ * steps the paused clock. An instance, embedded by the control side
+ * (host/sim/control.c). */
 #ifndef SIM_SCHEDULER_H
 #define SIM_SCHEDULER_H
 
@@ -9,16 +10,29 @@
 #include <stdint.h>
 
 #include "clock.h"
-#include "scenario.h"
+#include "coverage.h"
+#include "delay.h"
+
+/* Work of a layer above the scheduler that is due at simulated times (the
+ * scenario's commands): caller-owned, registered with
+ * simctl_scheduler_set_due_hook(), so the scheduler names nothing above it. */
+typedef struct {
+    /* When its next item is due; UINT64_MAX: none. */
+    uint64_t (*next_us)(void *ctx);
+    /* Runs the items due at or before now_us, at most max of them, in
+     * order; returns how many ran. */
+    unsigned (*run_due)(void *ctx, uint64_t now_us, unsigned max);
+    void *ctx;
+} simctl_due_hook_t;
 
 struct fleet;
 
 typedef struct {
     simclock_t *clock;
-    scenario_t *scenario;
-    struct fleet *fleet; /* the devices it ticks (simctl_set_fleet) */
-    uint64_t max_lag_us; /* the largest lag at a wake-up of the loop */
-    bool in_catch_up;    /* a scenario event may PAUSE or SCALE: no nesting */
+    const simctl_due_hook_t *due; /* NULL: nothing above is ever due */
+    struct fleet *fleet;          /* the devices it ticks (simctl_set_fleet) */
+    uint64_t max_lag_us;          /* the largest lag at a wake-up of the loop */
+    bool in_catch_up;             /* a scenario event may PAUSE or SCALE: no nesting */
     /* The earliest deadlines as last seen, so a pass with nothing due
      * compares a few numbers and looks at the touched list, nothing more.
      * The fleet's moves only when a device is ticked or touched (input, a
@@ -27,7 +41,9 @@ typedef struct {
      * or released. */
     uint64_t fleet_due_us;
     uint64_t delay_due_us;
-    uint64_t next_us; /* the earliest of them and the scenario's; 0: look */
+    uint64_t next_us;       /* the earliest of them and the hook's; 0: look */
+    simctl_delays_t delays; /* injected reply delays (DELAY); all zero: none */
+    coverage_t *coverage;   /* samples the flags after each tick; NULL: none */
     struct {
         bool running;
         uint64_t until_us; /* the device time at which the STEP is done */
@@ -38,11 +54,14 @@ typedef struct {
     } step;
 } simctl_sched_t;
 
-/* Runs on clock, with the scenario's commands among what is due. */
-void simctl_scheduler_init(simctl_sched_t *s, simclock_t *clock, scenario_t *scenario);
+/* Runs on clock; no due hook yet. */
+void simctl_scheduler_init(simctl_sched_t *s, simclock_t *clock);
+/* From now on also runs what hook says is due (NULL: nothing); the hook
+ * stays the caller's and must outlive its registration. */
+void simctl_scheduler_set_due_hook(simctl_sched_t *s, const simctl_due_hook_t *hook);
 
 /* Moves the device time towards the clock's target, stopping at every
- * deadline of the devices, the scenario and delayed replies and running what
+ * deadline of the devices, the due hook and delayed replies and running what
  * is due there. Does one bounded slice of work, so the loop serves the
  * sockets between slices of a long STEP or of many scenario events; returns
  * the next simulated time at which anything is due (the present device time

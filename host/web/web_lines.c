@@ -33,15 +33,31 @@ struct web_lines_ring {
 
 typedef web_lines_ring_t ring_t;
 
-void web_lines_enable(web_lines_t *lines)
+/* A device's message observer, added to it only once a client looks. */
+struct web_lines_device {
+    wsg_device_t *device; /* NULL: not attached */
+    wsg_conn_observer_t node;
+};
+
+void web_lines_enable(web_lines_t *lines, unsigned devices)
 {
     if (lines->rings == NULL) {
         lines->rings = calloc(SLOTS, sizeof(*lines->rings));
+        lines->devices = calloc(devices > 0 ? devices : 1u, sizeof(*lines->devices));
+        lines->count = lines->devices != NULL ? devices : 0u;
     }
 }
 
 void web_lines_disable(web_lines_t *lines)
 {
+    for (unsigned i = 0; lines->watched && i < lines->count; i++) {
+        if (lines->devices[i].device != NULL) {
+            wsg_conn_remove_observer(lines->devices[i].device, &lines->devices[i].node);
+        }
+    }
+    free(lines->devices);
+    lines->devices = NULL;
+    lines->count = 0;
     free(lines->rings);
     lines->rings = NULL;
     lines->watched = false;
@@ -52,18 +68,13 @@ bool web_lines_enabled(const web_lines_t *lines)
     return lines->rings != NULL;
 }
 
-void web_lines_watch(web_lines_t *lines)
-{
-    lines->watched = lines->rings != NULL;
-}
-
 static ring_t *slot_of(const web_lines_t *lines, const wsg_device_t *device, uint64_t id)
 {
     uint64_t hash = (id ^ (uint64_t)((uintptr_t)device >> 4)) * 0x9E3779B97F4A7C15ull;
     return &lines->rings[(hash >> 56) & (SLOTS - 1u)];
 }
 
-void web_lines_record(web_lines_t *lines, const wsg_conn_t *c, bool incoming, const char *bytes,
+static void keep_line(web_lines_t *lines, const wsg_conn_t *c, bool incoming, const char *bytes,
                       size_t len)
 {
     uint64_t id = wsg_conn_id(c);
@@ -146,19 +157,45 @@ const char *web_lines_protocol(const web_lines_t *lines, const wsg_conn_t *c)
     return r != NULL && r->binary ? "binary" : "undetected";
 }
 
+/* A message from the client (incoming, shown as "> ...") or to it ("< "). */
 static void on_in(void *ctx, const wsg_conn_t *c, const char *bytes, size_t len)
 {
-    web_lines_note(ctx, c, true, bytes, len);
+    keep_line(ctx, c, true, bytes, len);
 }
 
 static void on_out(void *ctx, const wsg_conn_t *c, const char *bytes, size_t len)
 {
-    web_lines_note(ctx, c, false, bytes, len);
+    keep_line(ctx, c, false, bytes, len);
 }
 
-static const wsg_conn_observer_t observer = {.message_in = on_in, .message_out = on_out};
-
-const wsg_conn_observer_t *web_lines_observer(void)
+static void observe(web_lines_t *lines, struct web_lines_device *d)
 {
-    return &observer;
+    d->node = (wsg_conn_observer_t){.message_in = on_in, .message_out = on_out, .ctx = lines};
+    wsg_conn_add_observer(d->device, &d->node);
+}
+
+void web_lines_attach(web_lines_t *lines, wsg_device_t *dev, unsigned index)
+{
+    if (lines == NULL || index >= lines->count) {
+        return;
+    }
+    lines->devices[index].device = dev;
+    if (lines->watched) {
+        observe(lines, &lines->devices[index]);
+    }
+}
+
+/* Until a client looks, the devices are not observed at all: a line costs
+ * nothing. The first look adds the observer to every attached device. */
+void web_lines_watch(web_lines_t *lines)
+{
+    if (lines->rings == NULL || lines->watched) {
+        return;
+    }
+    lines->watched = true;
+    for (unsigned i = 0; i < lines->count; i++) {
+        if (lines->devices[i].device != NULL) {
+            observe(lines, &lines->devices[i]);
+        }
+    }
 }

@@ -422,7 +422,7 @@ bool web_server_start(web_server_t *web, host_loop_t *loop, net_t *net, const ho
         return false;
     }
     web->port = net_local_port(web->listen_fd);
-    web_lines_enable(&web->app.lines);
+    web_lines_enable(&web->app.lines, (unsigned)opts->devices);
     char endpoint[96];
     net_format_endpoint(bind, web->port, endpoint, sizeof(endpoint));
     snprintf(web->describe, sizeof(web->describe), ", http %s", endpoint);

@@ -29,9 +29,8 @@ void web_server_destroy(web_server_t *web);
 /* Starts the server on opts->http_bind (or opts->bind_addr) port
  * opts->http_port; off when the port is 0. False (logged) when the port or
  * the address was given and cannot be had; the default, when taken, is
- * skipped with a warning. Call before fleet_start(): the devices' observers
- * keep the connection lines only when the server is on. The simulation
- * routes run their commands on sim. The socket is one of net's, watched on
+ * skipped with a warning. The simulation routes run their commands on sim;
+ * the pages show fleet's devices. The socket is one of net's, watched on
  * loop. */
 struct fleet;
 bool web_server_start(web_server_t *web, host_loop_t *loop, net_t *net, const host_options_t *opts,
@@ -44,8 +43,8 @@ const char *web_server_describe(const web_server_t *web);
 /* The port served, or -1. */
 int web_server_port(const web_server_t *web);
 void web_server_stop(web_server_t *web);
-/* The connection lines the devices' message observers feed (context of
- * web_lines_observer()), NULL when the server is off. */
+/* The page's connection lines, NULL when the server is off: main attaches
+ * them to every device (web_lines_attach). */
 struct web_lines *web_server_lines(web_server_t *web);
 
 #endif

@@ -41,6 +41,10 @@ typedef enum {
  * send(): real clients compare one recv() with one reply. */
 typedef struct {
     void (*write)(void *ctx, const char *bytes, size_t len, wsg_msg_kind_t kind);
+    /* Optional: true while something interposed on the port's output holds
+     * replies back (the control channel's DELAY); they still count as
+     * queued, so a half-closed connection waits for them. */
+    bool (*held)(void *ctx);
 } wsg_conn_io_t;
 
 typedef struct wsg_conn {
@@ -108,6 +112,8 @@ wsg_owner_t *wsg_conn_owner(wsg_conn_t *c);
 /* The port may interpose on its own output (the control channel's DELAY). */
 void wsg_conn_get_io(const wsg_conn_t *c, const wsg_conn_io_t **io, void **io_ctx);
 void wsg_conn_set_io(wsg_conn_t *c, const wsg_conn_io_t *io, void *io_ctx);
+/* True while the connection's I/O holds replies back (its held() hook). */
+bool wsg_conn_replies_held(const wsg_conn_t *c);
 
 /* The device's open connections, oldest first (NULL at the end). */
 wsg_conn_t *wsg_device_conn_first(wsg_device_t *dev);
@@ -115,12 +121,22 @@ wsg_conn_t *wsg_conn_next(const wsg_conn_t *c);
 /* The open connection with this id, or NULL. */
 wsg_conn_t *wsg_device_conn_by_id(wsg_device_t *dev, uint64_t id);
 
-/* Message observers (trace, record): attached only when asked for. */
-typedef struct {
+/* A message observer (trace, record, the web page's lines): a list node the
+ * caller owns and fills in (callbacks may be NULL, ctx is theirs); the core
+ * only links it (next), as lwIP's netif_add_ext_callback. Observers hear
+ * every message of every connection of the device, in the order they were
+ * added; a device without any pays one pointer test per message. Adding a
+ * node that is already on the list does nothing; add and remove are
+ * O(observers) and never allocate. Not from inside a callback. */
+typedef struct wsg_conn_observer {
     void (*message_in)(void *ctx, const wsg_conn_t *c, const char *bytes, size_t len);
     void (*message_out)(void *ctx, const wsg_conn_t *c, const char *bytes, size_t len);
+    void *ctx;
+    struct wsg_conn_observer *next; /* the core's */
 } wsg_conn_observer_t;
 
-void wsg_conn_observe(wsg_device_t *dev, const wsg_conn_observer_t *observer, void *ctx);
+void wsg_conn_add_observer(wsg_device_t *dev, wsg_conn_observer_t *node);
+/* Unlinks the node; nothing when it is not on the device's list. */
+void wsg_conn_remove_observer(wsg_device_t *dev, wsg_conn_observer_t *node);
 
 #endif

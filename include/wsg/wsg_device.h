@@ -248,12 +248,28 @@ wsg_motion_kind_t wsg_device_motion(const wsg_device_t *dev, uint64_t *started_u
 
 /* ---- observers ------------------------------------------------------------- */
 
-/* Attached only when asked for (trace, record, coverage): a device without
- * observers pays one pointer test per event. */
-typedef struct {
+/* Caller-owned list nodes, as wsg_conn_observer_t (wsg_conn.h): attached
+ * only when asked for (coverage); called in the order they were added; a
+ * device without observers pays one pointer test per event. */
+typedef struct wsg_device_observer {
     void (*grip_state_changed)(void *ctx, wsg_grip_state_t from, wsg_grip_state_t to);
+    void *ctx;
+    struct wsg_device_observer *next; /* the core's */
 } wsg_device_observer_t;
 
-void wsg_device_observe(wsg_device_t *dev, const wsg_device_observer_t *observer, void *ctx);
+void wsg_device_add_observer(wsg_device_t *dev, wsg_device_observer_t *node);
+void wsg_device_remove_observer(wsg_device_t *dev, wsg_device_observer_t *node);
+
+/* Every observer list of the device (device, connection and GCL observers),
+ * taken away for a while and given back: what happens meanwhile goes
+ * unobserved (a power cycle's closures), whoever observes. */
+typedef struct {
+    struct wsg_device_observer *device;
+    struct wsg_conn_observer *conn;
+    struct wsg_gcl_observer *gcl;
+} wsg_device_observers_t;
+
+void wsg_device_take_observers(wsg_device_t *dev, wsg_device_observers_t *taken);
+void wsg_device_give_observers(wsg_device_t *dev, const wsg_device_observers_t *taken);
 
 #endif

@@ -54,7 +54,8 @@ typedef struct {
 /* false when c is not an open GCL connection. */
 bool wsg_gcl_conn_info(const wsg_conn_t *c, wsg_gcl_conn_info_t *info);
 
-typedef struct {
+/* A caller-owned list node, as wsg_conn_observer_t (wsg_conn.h). */
+typedef struct wsg_gcl_observer {
     /* a parsed line: command index (-1: unknown name or none), its form and
      * argument count, and the status it was answered with */
     void (*command_done)(void *ctx, const wsg_conn_t *c, const char *name, int index, unsigned form,
@@ -63,8 +64,11 @@ typedef struct {
     void (*error_sent)(void *ctx, const wsg_conn_t *c, int index, wsg_status_t status);
     /* input the manual does not allow but the device accepted */
     void (*tolerated)(void *ctx, const wsg_conn_t *c, const char *name, const char *what);
+    void *ctx;
+    struct wsg_gcl_observer *next; /* the core's */
 } wsg_gcl_observer_t;
 
-void wsg_gcl_observe(wsg_device_t *dev, const wsg_gcl_observer_t *observer, void *ctx);
+void wsg_gcl_add_observer(wsg_device_t *dev, wsg_gcl_observer_t *node);
+void wsg_gcl_remove_observer(wsg_device_t *dev, wsg_gcl_observer_t *node);
 
 #endif

@@ -29,7 +29,7 @@ static void write_frame(void *ctx, const char *bytes, size_t len, wsg_msg_kind_t
     f->at_us = h_now_us;
 }
 
-static const wsg_conn_io_t capture_io = {write_frame};
+static const wsg_conn_io_t capture_io = {.write = write_frame};
 
 void bc_open(bin_client_t *c, wsg_transport_t transport, const wsg_proto_driver_t *drv)
 {

@@ -21,7 +21,7 @@ static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t k
     out->at_us = hal_clock_now_us();
 }
 
-static const wsg_conn_io_t capture_io = {write_line};
+static const wsg_conn_io_t capture_io = {.write = write_line};
 
 void h_open_on(h_client_t *c, wsg_device_t *device, const wsg_proto_driver_t *drv,
                wsg_transport_t transport)

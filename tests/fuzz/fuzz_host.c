@@ -11,12 +11,10 @@
 #include "loop.h"
 #include "net.h"
 #include "sim/clock.h"
-#include "sim/delay.h"
+#include "sim/control.h"
 #include "sim/faults.h"
-#include "sim/observers.h"
 #include "sim/scenario.h"
 #include "sim/scheduler.h"
-#include "web/web_lines.h"
 #include "web/web_server.h"
 
 static host_options_t options;
@@ -40,21 +38,8 @@ host_options_t *fuzz_host_options(int argc, char **argv)
     return &options;
 }
 
-/* As build/wsgsim does: device 0 carries the simulation's observers, the
- * others the web page's connection lines when those are kept. */
-static void attach_observers(void *ctx, gripper_t *g)
-{
-    const host_options_t *opts = ctx;
-    if (g->index == 0) {
-        simctl_observers_attach(&g->device, opts);
-    } else if (opts->web_lines != NULL) {
-        wsg_conn_observe(&g->device, web_lines_observer(), opts->web_lines);
-    }
-}
-
 void fuzz_host_start(const host_options_t *opts)
 {
-    static fleet_observer_t observers = {.device_started = attach_observers};
     static bool logging;
     if (!logging) {
         host_log_init();
@@ -69,9 +54,6 @@ void fuzz_host_start(const host_options_t *opts)
         abort();
     }
     simclock_start_paused(simctl_clock(sim));
-    observers.ctx = (void *)opts;
-    observers.next = NULL;
-    fleet_observe(fleet, &observers);
     simctl_set_fleet(sim, fleet);
     if (!fleet_start(fleet, opts)) {
         abort(); /* options that parsed must start */
@@ -97,7 +79,7 @@ void fuzz_host_stop(void)
 {
     scenario_unload(simctl_scenario(sim));
     for (unsigned i = 0; i < fleet_count(fleet); i++) {
-        simctl_delay_clear_all(&fleet_gripper(fleet, i)->device, false);
+        simctl_delay_clear_all(simctl_delays(sim), &fleet_gripper(fleet, i)->device, false);
         simctl_fault_clear_all(simctl_faults(sim), fleet_gripper(fleet, i));
     }
     fleet_destroy(fleet);

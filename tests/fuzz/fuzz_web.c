@@ -21,6 +21,7 @@
 #include <cjson/cJSON.h>
 #include <microhttpd.h>
 
+#include "fleet.h"
 #include "fuzz_host.h"
 #include "sim/clock.h"
 #include "web/web_internal.h"
@@ -262,10 +263,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     web_app_t app; /* what the server keeps for its routes */
     web_app_init(&app, NULL);
-    web_lines_enable(&app.lines); /* as the server does before the fleet starts */
-    opts->web_lines = &app.lines;
+    web_lines_enable(&app.lines, (unsigned)opts->devices); /* as the server does */
     fuzz_host_start(opts);
-    app.fleet = fuzz_host_fleet(); /* as web_server_start() is given it */
+    app.fleet = fuzz_host_fleet();                          /* as web_server_start() is given it */
+    for (unsigned i = 0; i < fleet_count(app.fleet); i++) { /* as main does */
+        web_lines_attach(&app.lines, &fleet_gripper(app.fleet, i)->device, i);
+    }
     size_t first = 1;
     for (size_t i = 1; i <= size; i++) {
         if (i == size || data[i] == SEPARATOR) {

@@ -218,7 +218,7 @@ static void sink_write(void *ctx, const char *line, size_t len, wsg_msg_kind_t k
  * Now the owner is detached on close: no id is compared at all. */
 START_TEST(final_line_not_delivered_after_65536_sessions)
 {
-    static const wsg_conn_io_t sink = {sink_write};
+    static const wsg_conn_io_t sink = {.write = sink_write};
     static wsg_conn_t reused;
     ASK_EQ("HOME()", "ACK HOME");
     h_close(&h_main, WSG_CLOSE_EXPIRED);
@@ -238,7 +238,7 @@ END_TEST
  * given, and iterates only the open ones. */
 START_TEST(connections_are_the_ports)
 {
-    static const wsg_conn_io_t sink = {sink_write};
+    static const wsg_conn_io_t sink = {.write = sink_write};
     static wsg_conn_t many[200];
     sink_lines = 0;
     for (unsigned i = 0; i < 200u; i++) {
@@ -318,16 +318,16 @@ static void on_tolerated(void *ctx, const wsg_conn_t *c, const char *name, const
     seen.tolerated++;
 }
 
-static const wsg_conn_observer_t conn_hooks = {on_line_in, on_line_out};
-static const wsg_device_observer_t device_hooks = {.grip_state_changed = on_state};
-static const wsg_gcl_observer_t gcl_hooks = {.command_done = on_done, .tolerated = on_tolerated};
+static wsg_conn_observer_t conn_hooks = {.message_in = on_line_in, .message_out = on_line_out};
+static wsg_device_observer_t device_hooks = {.grip_state_changed = on_state};
+static wsg_gcl_observer_t gcl_hooks = {.command_done = on_done, .tolerated = on_tolerated};
 
 static void attach_all(void)
 {
     memset(&seen, 0, sizeof(seen));
-    wsg_conn_observe(&h_dev, &conn_hooks, NULL);
-    wsg_device_observe(&h_dev, &device_hooks, NULL);
-    wsg_gcl_observe(&h_dev, &gcl_hooks, NULL);
+    wsg_conn_add_observer(&h_dev, &conn_hooks);
+    wsg_device_add_observer(&h_dev, &device_hooks);
+    wsg_gcl_add_observer(&h_dev, &gcl_hooks);
 }
 
 START_TEST(hooks_observe_the_device)
@@ -362,6 +362,134 @@ START_TEST(hooks_survive_reset)
     h_open(&h_main, WSG_TRANSPORT_STREAM);
     ASK_EQ("SN?", "SN=12345678");
     ck_assert_uint_eq(seen.lines_out, 1);
+}
+END_TEST
+
+/* Observers are lists (issue 19): each node says who it is through its ctx,
+ * and every call is logged as "<who><what>" in the order it happened. */
+static char calls[64];
+
+static void log_call(void *ctx, char what)
+{
+    size_t n = strlen(calls);
+    if (n + 2 < sizeof(calls)) {
+        calls[n] = *(const char *)ctx;
+        calls[n + 1] = what;
+        calls[n + 2] = '\0';
+    }
+}
+
+static void log_in(void *ctx, const wsg_conn_t *c, const char *line, size_t len)
+{
+    (void)c, (void)line, (void)len;
+    log_call(ctx, '<');
+}
+
+static void log_out(void *ctx, const wsg_conn_t *c, const char *line, size_t len)
+{
+    (void)c, (void)line, (void)len;
+    log_call(ctx, '>');
+}
+
+static void log_state(void *ctx, wsg_grip_state_t from, wsg_grip_state_t to)
+{
+    (void)from, (void)to;
+    log_call(ctx, 's');
+}
+
+static void log_done(void *ctx, const wsg_conn_t *c, const char *name, int index, unsigned form,
+                     unsigned argc, wsg_status_t status)
+{
+    (void)c, (void)name, (void)index, (void)form, (void)argc, (void)status;
+    log_call(ctx, 'd');
+}
+
+static void log_error(void *ctx, const wsg_conn_t *c, int index, wsg_status_t status)
+{
+    (void)c, (void)index, (void)status;
+    log_call(ctx, 'e');
+}
+
+static void log_tolerated(void *ctx, const wsg_conn_t *c, const char *name, const char *what)
+{
+    (void)c, (void)name, (void)what;
+    log_call(ctx, 't');
+}
+
+static char name_a = 'A', name_b = 'B';
+static wsg_conn_observer_t conn_a = {log_in, log_out, &name_a, NULL};
+static wsg_conn_observer_t conn_b = {log_in, log_out, &name_b, NULL};
+
+START_TEST(two_message_observers_hear_every_message_in_the_order_added)
+{
+    calls[0] = '\0';
+    wsg_conn_add_observer(&h_dev, &conn_a);
+    wsg_conn_add_observer(&h_dev, &conn_b);
+    wsg_conn_add_observer(&h_dev, &conn_a); /* already on the list: nothing */
+    ASK_EQ("SN?", "SN=12345678");
+    ck_assert_str_eq(calls, "A<B<A>B>");
+}
+END_TEST
+
+START_TEST(a_removed_message_observer_hears_nothing_more)
+{
+    calls[0] = '\0';
+    wsg_conn_add_observer(&h_dev, &conn_a);
+    wsg_conn_add_observer(&h_dev, &conn_b);
+    wsg_conn_remove_observer(&h_dev, &conn_a); /* the head */
+    ASK_EQ("SN?", "SN=12345678");
+    ck_assert_str_eq(calls, "B<B>");
+    wsg_conn_remove_observer(&h_dev, &conn_a); /* not on the list: nothing */
+    wsg_conn_add_observer(&h_dev, &conn_a);    /* back, now after B */
+    wsg_conn_remove_observer(&h_dev, &conn_b);
+    calls[0] = '\0';
+    ASK_EQ("SN?", "SN=12345678");
+    ck_assert_str_eq(calls, "A<A>");
+    wsg_conn_remove_observer(&h_dev, &conn_a);
+    calls[0] = '\0';
+    ASK_EQ("SN?", "SN=12345678");
+    ck_assert_str_eq(calls, "");
+}
+END_TEST
+
+static wsg_gcl_observer_t gcl_a = {log_done, log_error, log_tolerated, &name_a, NULL};
+static wsg_gcl_observer_t gcl_b = {log_done, log_error, log_tolerated, &name_b, NULL};
+static wsg_device_observer_t device_a = {log_state, &name_a, NULL};
+static wsg_device_observer_t device_b = {log_state, &name_b, NULL};
+
+START_TEST(two_gcl_and_device_observers_are_both_called_in_order)
+{
+    calls[0] = '\0';
+    wsg_gcl_add_observer(&h_dev, &gcl_a);
+    wsg_gcl_add_observer(&h_dev, &gcl_b);
+    wsg_device_add_observer(&h_dev, &device_a);
+    wsg_device_add_observer(&h_dev, &device_b);
+    ASK_EQ("MOVE(1,2,3)", "ERR MOVE 12");
+    ck_assert_str_eq(calls, "AeBeAdBd");
+    calls[0] = '\0';
+    ASK_EQ("AUTOSEND(POS,0)", "ACK AUTOSEND"); /* unquoted string: tolerated */
+    ck_assert_str_eq(calls, "AtBtAdBd");
+    wsg_gcl_remove_observer(&h_dev, &gcl_a);
+    wsg_device_remove_observer(&h_dev, &device_b);
+    calls[0] = '\0';
+    ASK_EQ("HOME()", "ACK HOME");
+    ck_assert_str_eq(calls, "AsBd");
+}
+END_TEST
+
+/* RESET's closures go unobserved: the lists are taken away and given back. */
+START_TEST(observers_taken_away_hear_nothing_until_given_back)
+{
+    calls[0] = '\0';
+    wsg_conn_add_observer(&h_dev, &conn_a);
+    wsg_gcl_add_observer(&h_dev, &gcl_b);
+    wsg_device_observers_t taken;
+    wsg_device_take_observers(&h_dev, &taken);
+    ASK_EQ("SN?", "SN=12345678");
+    ck_assert_str_eq(calls, "");
+    wsg_device_give_observers(&h_dev, &taken);
+    ASK_EQ("SN?", "SN=12345678");
+    ck_assert_str_eq(calls, "A<A>Bd");
 }
 END_TEST
 
@@ -514,6 +642,10 @@ Suite *session_suite(void)
     tcase_add_checked_fixture(hook, h_setup, h_teardown);
     tcase_add_test(hook, hooks_observe_the_device);
     tcase_add_test(hook, hooks_survive_reset);
+    tcase_add_test(hook, two_message_observers_hear_every_message_in_the_order_added);
+    tcase_add_test(hook, a_removed_message_observer_hears_nothing_more);
+    tcase_add_test(hook, two_gcl_and_device_observers_are_both_called_in_order);
+    tcase_add_test(hook, observers_taken_away_hear_nothing_until_given_back);
     suite_add_tcase(s, hook);
 
     TCase *drivers = tcase_create("drivers");

@@ -27,6 +27,20 @@ class Wsgplot(unittest.TestCase):
         self.assertTrue(data.endswith(b"IEND\xaeB`\x82"), "a whole PNG")
         self.assertGreater(len(data), 20000, "four panels of curves, not an empty frame")
 
+    def test_a_fleet_record_names_the_device_in_the_session(self):
+        """With --devices N a GCL channel is d<i>.s<id>t (docs/simctl.md): its
+        values are plotted, and --session takes that name."""
+        with tempfile.TemporaryDirectory() as tmp:
+            record, png = os.path.join(tmp, "run.txt"), os.path.join(tmp, "run.png")
+            with open(record, "w") as f:
+                f.write("# wsgsim record 1\n0.000000 1.0 d1.s1t < POS?\n"
+                        "0.000000 1.0 d1.s1t > POS=10.0\n0.500000 1.5 d1.s1t > @POS=20.0\n"
+                        "1.000000 2.0 d1.s1t > @POS=30.0\n0.200000 1.2 ctl1 < PAUSE()\n")
+            result = run([PROGRAMS["wsgplot"], record, "-o", png, "--session", "d1.s1t"])
+            self.assertEqual(result.returncode, 0, result.stderr)
+            with open(png, "rb") as f:
+                self.assertTrue(f.read().startswith(PNG_SIGNATURE))
+
     def test_a_record_without_values_is_refused(self):
         with tempfile.TemporaryDirectory() as tmp:
             record = os.path.join(tmp, "run.txt")

@@ -14,8 +14,7 @@
 #include "options.h"
 #include "sim/clock.h"
 #include "sim/commands.h"
-#include "sim/delay.h"
-#include "sim/observers.h"
+#include "sim/control.h"
 
 h_client_t t_gcl;
 simctl_t *t_sim;
@@ -26,12 +25,13 @@ static host_options_t opts; /* the fleet's, for as long as it runs */
 static host_loop_t *loop;
 static net_t net;
 
-/* As build/wsgsim does: device 0 carries the simulation's observers. */
+static coverage_t *t_coverage; /* counted on every device, as with a control channel */
+
+/* As build/wsgsim does: every device counts for the coverage. */
 static void attach_observers(void *ctx, gripper_t *g)
 {
-    if (g->index == 0) {
-        simctl_observers_attach(&g->device, ctx);
-    }
+    (void)ctx;
+    coverage_attach(t_coverage, &g->device, g->index);
 }
 
 static void setup_with(int argc, char **argv)
@@ -44,6 +44,9 @@ static void setup_with(int argc, char **argv)
     opts.sim_port = 0;        /* the tests drive the control channel: coverage is observed */
     opts.tcp_enabled = false; /* one device, no sockets: the tests feed it */
     opts.udp_enabled = false;
+    t_coverage = coverage_create(opts.strict, (unsigned)opts.devices);
+    ck_assert_ptr_nonnull(t_coverage);
+    simctl_set_diagnostics(t_sim, NULL, t_coverage);
     loop = loop_create();
     ck_assert_ptr_nonnull(loop);
     net_init(&net);
@@ -53,7 +56,6 @@ static void setup_with(int argc, char **argv)
     fleet_observe(t_fleet, &observers);
     simctl_set_fleet(t_sim, t_fleet);
     ck_assert(fleet_start(t_fleet, &opts));
-    coverage_reset();
     t_reopen();
 }
 
@@ -94,9 +96,14 @@ void t_setup_homed(void)
 void t_teardown(void)
 {
     ck_assert_msg(!t_gcl.bad_line, "the GCL session got something that is not one whole line");
-    simctl_delay_clear_all(&fleet_gripper(t_fleet, 0)->device, false);
+    for (unsigned i = 0; i < fleet_count(t_fleet); i++) {
+        simctl_delay_clear_all(simctl_delays(t_sim), &fleet_gripper(t_fleet, i)->device, false);
+    }
     fleet_destroy(t_fleet);
     t_fleet = NULL;
+    simctl_set_diagnostics(t_sim, NULL, NULL);
+    coverage_destroy(t_coverage);
+    t_coverage = NULL;
     loop_destroy(loop);
     loop = NULL;
     simctl_destroy(t_sim);

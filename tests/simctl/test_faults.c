@@ -214,7 +214,7 @@ static unsigned count_of(const char *text, const char *what)
 
 START_TEST(delay_never_drops_a_reply)
 {
-    static const wsg_conn_io_t counting_io = {count_line};
+    static const wsg_conn_io_t counting_io = {.write = count_line};
     static wsg_conn_t conn;
     wsg_conn_t *s = &conn;
     counting_client_t client = {0, 0};

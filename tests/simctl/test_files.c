@@ -452,11 +452,14 @@ START_TEST(record_writes_every_line_with_both_clocks)
     char path[] = "/tmp/simctl_record_XXXXXX";
     int fd = mkstemp(path);
     ck_assert_int_ge(fd, 0);
-    ck_assert(record_open(path));
+    record_t *record = record_open(path, 1);
+    ck_assert_ptr_nonnull(record);
+    record_attach(record, &fleet_gripper(t_fleet, 0)->device, 0);
     t_step_ms(5);
     GCL_EQ("POS?", "POS=110.0");
-    record_control("ctl1", '<', "PAUSE()", 7);
-    record_close();
+    record_control(record, "ctl1", '<', "PAUSE()", 7);
+    record_detach(record, &fleet_gripper(t_fleet, 0)->device, 0);
+    record_close(record);
     FILE *f = fdopen(fd, "r");
     char lines[5][160] = {{0}};
     for (int i = 0; i < 5 && fgets(lines[i], sizeof(lines[i]), f) != NULL; i++) {

@@ -56,7 +56,7 @@ static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t k
     }
 }
 
-static const wsg_conn_io_t tcp_io = {write_line};
+static const wsg_conn_io_t tcp_io = {.write = write_line};
 
 /* Detaches the connection from its pcb and session; frees the slot. */
 static void release(tcp_conn_t *c, wsg_close_reason_t reason)

@@ -44,7 +44,7 @@ static void write_message(void *ctx, const char *bytes, size_t len, wsg_msg_kind
     pbuf_free(p);
 }
 
-static const wsg_conn_io_t udp_io = {write_message};
+static const wsg_conn_io_t udp_io = {.write = write_message};
 
 static wsg_peer_t *new_peer(lwip_udp_server_t *s, const wsg_peer_addr_t *key)
 {

@@ -34,7 +34,7 @@ static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t k
     }
 }
 
-static const wsg_conn_io_t serial_io = {write_line};
+static const wsg_conn_io_t serial_io = {.write = write_line};
 
 static void open_session(void)
 {
