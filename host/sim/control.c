@@ -54,8 +54,6 @@ struct simctl {
     control_client_t *stepper; /* waits for the reply of its STEP */
     control_client_t clients[CONTROL_CLIENTS_MAX];
     char out_line[OUTQ_RECORD_MAX]; /* one queued record on its way to send() */
-    record_t *record;               /* --record, or NULL */
-    coverage_t *coverage;           /* COVERAGE?, or NULL */
 };
 
 static uint64_t scenario_due_next_us(void *ctx)
@@ -197,7 +195,7 @@ static void record_and_send(control_client_t *c, const char *reply)
 {
     char channel[16];
     channel_name(c, channel, sizeof(channel));
-    record_control(c->ctl->record, channel, '>', reply, strlen(reply));
+    record_control(c->ctl->sim.record, channel, '>', reply, strlen(reply));
     send_reply(c, reply);
 }
 
@@ -209,7 +207,7 @@ static void handle_line(control_client_t *c)
     if (wsg_gcl_linebuf_status(lb) == GCL_LINE_OK && strspn(lb->text, " \t") == lb->len) {
         return; /* blank line */
     }
-    record_control(c->ctl->record, channel, '<', lb->text, lb->len);
+    record_control(c->ctl->sim.record, channel, '<', lb->text, lb->len);
     char *reply = NULL;
     simctl_outcome_t outcome = {false, false};
     if (wsg_gcl_linebuf_status(lb) != GCL_LINE_OK) {
@@ -399,22 +397,7 @@ void simctl_stop(simctl_t *ctl)
 
 void simctl_set_diagnostics(simctl_t *ctl, record_t *record, coverage_t *coverage)
 {
-    ctl->record = record;
-    ctl->coverage = coverage;
+    ctl->sim.record = record;
+    ctl->sim.coverage = coverage;
     simctl_scheduler(ctl)->coverage = coverage;
-}
-
-record_t *simctl_record(const simctl_t *ctl)
-{
-    return ctl->record;
-}
-
-coverage_t *simctl_coverage(const simctl_t *ctl)
-{
-    return ctl->coverage;
-}
-
-simctl_delays_t *simctl_delays(simctl_t *ctl)
-{
-    return &simctl_scheduler(ctl)->delays;
 }

@@ -45,6 +45,8 @@ typedef struct {
     simctl_faults_t faults;
     struct fleet *fleet; /* the devices (simctl_set_fleet) */
     simctl_run_watch_t run;
+    record_t *record;     /* --record, or NULL (simctl_set_diagnostics) */
+    coverage_t *coverage; /* COVERAGE?, or NULL */
 } simctl_sim_t;
 
 /* A pointer to a struct, converted, points to its first member (C11
@@ -109,9 +111,21 @@ void simctl_stop(simctl_t *ctl);
 /* The diagnostics the channel's commands, scenarios and scheduler report
  * and write to (NULL: none), handed down by main once they exist. */
 void simctl_set_diagnostics(simctl_t *ctl, record_t *record, coverage_t *coverage);
-record_t *simctl_record(const simctl_t *ctl);
-coverage_t *simctl_coverage(const simctl_t *ctl);
+
+static inline record_t *simctl_record(const simctl_t *ctl)
+{
+    return ((const simctl_sim_t *)(const void *)ctl)->record;
+}
+
+static inline coverage_t *simctl_coverage(const simctl_t *ctl)
+{
+    return ((const simctl_sim_t *)(const void *)ctl)->coverage;
+}
+
 /* The injected reply delays (DELAY), released by the scheduler. */
-simctl_delays_t *simctl_delays(simctl_t *ctl);
+static inline simctl_delays_t *simctl_delays(simctl_t *ctl)
+{
+    return &simctl_sim(ctl)->sched.delays;
+}
 
 #endif
