@@ -29,6 +29,7 @@ typedef struct {
 } fleet_device_t;
 
 struct fleet {
+    host_loop_t *loop; /* the servers' sockets are watched here */
     fleet_device_t *devices;
     /* The devices' deadlines as a binary min-heap of device numbers, so a
      * pass looks at the devices that are due and nothing else. */
@@ -194,7 +195,7 @@ static bool start_device(fleet_t *fleet, fleet_device_t *d, const host_options_t
     d->tcp.set = &fleet->tcp_set; /* a server that does not start stops all the same */
     d->udp.set = &fleet->udp_set;
     d->bin_udp.set = &fleet->udp_set;
-    bool bus_ok = gripper_init(&d->gripper, opts, i, &fleet->touched);
+    bool bus_ok = gripper_init(&d->gripper, fleet->loop, opts, i, &fleet->touched);
     for (fleet_observer_t *o = fleet->observers; o != NULL; o = o->next) {
         o->device_started(o->ctx, &d->gripper);
     }
@@ -583,7 +584,7 @@ void fleet_run_scripts(fleet_t *fleet)
         runnable = gripper_continue_script(&fleet->devices[i].gripper) || runnable;
     }
     if (runnable) {
-        loop_wake_at_wall(loop_monotonic_ns()); /* poll, do not block */
+        loop_wake_at_wall(fleet->loop, loop_monotonic_ns()); /* poll, do not block */
     }
 }
 
@@ -598,10 +599,15 @@ static bool observers_hold_replies(void *ctx, const wsg_conn_t *conn)
     return false;
 }
 
-fleet_t *fleet_create(void)
+fleet_t *fleet_create(host_loop_t *loop, net_t *net)
 {
     fleet_t *fleet = calloc(1, sizeof(*fleet));
     if (fleet != NULL) {
+        fleet->loop = loop;
+        fleet->tcp_set.loop = loop;
+        fleet->tcp_set.net = net;
+        fleet->udp_set.loop = loop;
+        fleet->udp_set.net = net;
         fleet->tcp_set.replies_held = observers_hold_replies;
         fleet->tcp_set.held_ctx = fleet;
     }

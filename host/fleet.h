@@ -10,6 +10,8 @@
 #include <stdint.h>
 
 #include "gripper.h"
+#include "loop.h"
+#include "net.h"
 #include "options.h"
 #include "wsg/wsg_conn.h"
 
@@ -28,9 +30,9 @@ typedef struct fleet_observer {
     struct fleet_observer *next;
 } fleet_observer_t;
 
-/* An empty fleet (NULL: out of memory); fleet_destroy() stops what runs
- * and frees it. */
-fleet_t *fleet_create(void);
+/* An empty fleet (NULL: out of memory) whose sockets will be net's, watched
+ * on loop; fleet_destroy() stops what runs and frees it. */
+fleet_t *fleet_create(host_loop_t *loop, net_t *net);
 void fleet_destroy(fleet_t *fleet);
 void fleet_observe(fleet_t *fleet, fleet_observer_t *node);
 /* Creates opts->devices grippers and starts their servers; false (logged)
