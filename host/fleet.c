@@ -450,10 +450,10 @@ static void set_due(fleet_t *fleet, unsigned device, uint64_t due_us)
 /* The devices whose deadline has come, except the touched ones (the list
  * ticks those). Every due device leaves the heap's top before any is
  * ticked, so none is ticked twice in a pass. */
-static void tick_due_devices(fleet_t *fleet, uint64_t now)
+static unsigned tick_due_devices(fleet_t *fleet, uint64_t now, unsigned max_steps)
 {
     unsigned due = 0;
-    while (fleet->count > 0 && due_at(fleet, 0) <= now) {
+    while (fleet->count > 0 && due_at(fleet, 0) <= now && due < max_steps) {
         fleet->ready[due++] = fleet->heap[0];
         set_due(fleet, fleet->heap[0], UINT64_MAX); /* until ticked below */
     }
@@ -463,41 +463,51 @@ static void tick_due_devices(fleet_t *fleet, uint64_t now)
             set_due(fleet, fleet->ready[k], gripper_tick(g));
         }
     }
+    return due;
 }
 
 /* The same for one device (the default), which has no heap to keep: a
  * control step per millisecond while it moves. */
-static void tick_lone_device(fleet_t *fleet, uint64_t now)
+static unsigned tick_lone_device(fleet_t *fleet, uint64_t now)
 {
     gripper_t *g = &fleet->devices[0].gripper;
     if (fleet->due_us[0] <= now && !g->touched) {
         fleet->due_us[0] = gripper_tick(g);
+        return 1u;
     }
+    return 0u;
 }
 
 /* Each device is ticked at most once per pass, as a lone gripper was: a
  * touched one by the list (its deadline may have moved), any other when its
- * deadline has come. */
-uint64_t fleet_tick(fleet_t *fleet)
+ * deadline has come. The budget bounds a pass of a large fleet whose
+ * devices fall due together (10,000 fingers settling after the start): the
+ * rest stay due, and the loop serves the sockets before the next pass. */
+uint64_t fleet_tick(fleet_t *fleet, unsigned max_steps, unsigned *steps)
 {
     uint64_t now = hal_clock_now_us();
-    if (fleet->count == 1u) {
-        tick_lone_device(fleet, now);
-    } else {
-        tick_due_devices(fleet, now);
-    }
+    unsigned ran = fleet->count == 1u
+                       ? tick_lone_device(fleet, now)
+                       : tick_due_devices(fleet, now, max_steps > 0 ? max_steps : 1u);
     gripper_t *touched;
     bool any_touched = false;
     while ((touched = gripper_take_touched(&fleet->touched)) != NULL) {
         set_due(fleet, touched->index, gripper_tick(touched));
         any_touched = true;
+        ran++;
     }
+    *steps = ran;
     if (any_touched || fleet->servers_due_us <= now) {
         fleet->servers_due_us = earliest(tcp_server_next_deadline_us(&fleet->tcp_set),
                                          udp_server_next_deadline_us(&fleet->udp_set));
     }
     uint64_t next = fleet->servers_due_us;
     return fleet->count > 0 ? earliest(next, due_at(fleet, 0)) : next;
+}
+
+bool fleet_devices_due(const fleet_t *fleet, uint64_t now)
+{
+    return fleet->count > 1u && due_at(fleet, 0) <= now;
 }
 
 bool fleet_touched_any(const fleet_t *fleet)
