@@ -3,11 +3,7 @@
 #include "can_log.h"
 
 #include <errno.h>
-#include <stdio.h>
 #include <string.h>
-
-static FILE *out;
-static const char *out_path;
 
 #define CAN_LOG_LINE_MAX 64
 
@@ -34,46 +30,45 @@ static int can_log_format(const hal_can_frame_t *frame, uint64_t time_us, char *
     return n;
 }
 
-void can_log_frame(void *ctx, const hal_can_frame_t *frame, uint64_t time_us)
+void can_log_frame(can_log_t *log, const hal_can_frame_t *frame, uint64_t time_us)
 {
-    (void)ctx;
-    if (out == NULL) {
+    if (log->out == NULL) {
         return;
     }
     char line[CAN_LOG_LINE_MAX];
     int n = can_log_format(frame, time_us, line);
-    fprintf(out, "%.*s\n", n, line);
+    fprintf(log->out, "%.*s\n", n, line);
 }
 
-bool can_log_open(const char *path)
+bool can_log_open(can_log_t *log, const char *path)
 {
-    out = fopen(path, "w");
-    if (out == NULL) {
+    log->out = fopen(path, "w");
+    if (log->out == NULL) {
         fprintf(stderr, "wsgsim: cannot write --can-log file %s: %s\n", path, strerror(errno));
         return false;
     }
-    out_path = path;
+    log->path = path;
     return true;
 }
 
-bool can_log_reopen(void)
+bool can_log_reopen(can_log_t *log)
 {
-    if (out == NULL) {
+    if (log->out == NULL) {
         return true;
     }
-    FILE *f = fopen(out_path, "a");
+    FILE *f = fopen(log->path, "a");
     if (f == NULL) {
         return false;
     }
-    fclose(out);
-    out = f;
+    fclose(log->out);
+    log->out = f;
     return true;
 }
 
-void can_log_close(void)
+void can_log_close(can_log_t *log)
 {
-    if (out != NULL) {
-        fclose(out);
-        out = NULL;
+    if (log->out != NULL) {
+        fclose(log->out);
+        log->out = NULL;
     }
 }

@@ -18,7 +18,7 @@ static void on_readable(void *ctx, int fd, short revents)
     if ((revents & (POLLERR | POLLHUP | POLLNVAL)) != 0) {
         host_logf(HAL_LOG_ERROR, "finger bus: CAN socket error (%s); no longer watching it",
                   strerror(-b->sock->last_error));
-        loop_unwatch(fd);
+        loop_unwatch(b->loop, fd);
     }
 }
 
@@ -36,7 +36,7 @@ static bool start_socketcan(finger_bus_host_t *b, const char *iface)
         b->sock = NULL;
         return false;
     }
-    if (!loop_watch(can_socketcan_fd(b->sock), POLLIN, on_readable, b)) {
+    if (!loop_watch(b->loop, can_socketcan_fd(b->sock), POLLIN, on_readable, b)) {
         host_logf(HAL_LOG_ERROR, "finger bus: too many watched descriptors");
         can_socketcan_close(b->sock);
         free(b->sock);
@@ -67,9 +67,11 @@ static bool start_loopback(finger_bus_host_t *b, const char *fingers)
     return true;
 }
 
-bool finger_bus_host_start(finger_bus_host_t *b, const char *can_iface, const char *fingers)
+bool finger_bus_host_start(finger_bus_host_t *b, host_loop_t *loop, const char *can_iface,
+                           const char *fingers)
 {
     memset(b, 0, sizeof(*b));
+    b->loop = loop;
     b->fingers = fingers;
     return can_iface != NULL ? start_socketcan(b, can_iface) : start_loopback(b, fingers);
 }
@@ -77,7 +79,7 @@ bool finger_bus_host_start(finger_bus_host_t *b, const char *can_iface, const ch
 void finger_bus_host_stop(finger_bus_host_t *b)
 {
     if (b->sock != NULL) {
-        loop_unwatch(b->sock->fd);
+        loop_unwatch(b->loop, b->sock->fd);
         can_socketcan_close(b->sock);
         free(b->sock);
         b->sock = NULL;

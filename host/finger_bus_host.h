@@ -14,6 +14,7 @@
 #include "can_loopback.h"
 #include "can_socketcan.h"
 #include "hal_can.h"
+#include "loop.h"
 
 typedef enum {
     FINGER_FAULT_POWER,  /* the finger reports an over-current: FF_POWER_FAULT */
@@ -22,6 +23,7 @@ typedef enum {
 } finger_fault_t;
 
 typedef struct {
+    host_loop_t *loop;        /* the SocketCAN port is watched here */
     can_socketcan_t *sock;    /* --can: the SocketCAN port (heap), else NULL */
     can_loopback_t *loopback; /* the in-process bus (heap), else NULL */
     const char *iface;        /* --can IFACE, or NULL */
@@ -32,7 +34,8 @@ typedef struct {
 /* Opens SocketCAN on can_iface (registered with the loop), or else the
  * loopback bus with the fingers listed ("fmf,dsa"; none of either: no bus).
  * False (logged) on a bad list or an interface that cannot be had. */
-bool finger_bus_host_start(finger_bus_host_t *b, const char *can_iface, const char *fingers);
+bool finger_bus_host_start(finger_bus_host_t *b, host_loop_t *loop, const char *can_iface,
+                           const char *fingers);
 void finger_bus_host_stop(finger_bus_host_t *b);
 /* The gripper's controller (NULL: no bus). */
 const hal_can_t *finger_bus_host_can(const finger_bus_host_t *b);

@@ -29,6 +29,7 @@ typedef struct {
 } fleet_device_t;
 
 struct fleet {
+    host_loop_t *loop; /* the servers' sockets are watched here */
     fleet_device_t *devices;
     /* The devices' deadlines as a binary min-heap of device numbers, so a
      * pass looks at the devices that are due and nothing else. */
@@ -194,7 +195,7 @@ static bool start_device(fleet_t *fleet, fleet_device_t *d, const host_options_t
     d->tcp.set = &fleet->tcp_set; /* a server that does not start stops all the same */
     d->udp.set = &fleet->udp_set;
     d->bin_udp.set = &fleet->udp_set;
-    bool bus_ok = gripper_init(&d->gripper, opts, i, &fleet->touched);
+    bool bus_ok = gripper_init(&d->gripper, fleet->loop, opts, i, &fleet->touched);
     for (fleet_observer_t *o = fleet->observers; o != NULL; o = o->next) {
         o->device_started(o->ctx, &d->gripper);
     }
@@ -453,10 +454,10 @@ static void set_due(fleet_t *fleet, unsigned device, uint64_t due_us)
 /* The devices whose deadline has come, except the touched ones (the list
  * ticks those). Every due device leaves the heap's top before any is
  * ticked, so none is ticked twice in a pass. */
-static void tick_due_devices(fleet_t *fleet, uint64_t now)
+static unsigned tick_due_devices(fleet_t *fleet, uint64_t now, unsigned max_steps)
 {
     unsigned due = 0;
-    while (fleet->count > 0 && due_at(fleet, 0) <= now) {
+    while (fleet->count > 0 && due_at(fleet, 0) <= now && due < max_steps) {
         fleet->ready[due++] = fleet->heap[0];
         set_due(fleet, fleet->heap[0], UINT64_MAX); /* until ticked below */
     }
@@ -466,41 +467,51 @@ static void tick_due_devices(fleet_t *fleet, uint64_t now)
             set_due(fleet, fleet->ready[k], gripper_tick(g));
         }
     }
+    return due;
 }
 
 /* The same for one device (the default), which has no heap to keep: a
  * control step per millisecond while it moves. */
-static void tick_lone_device(fleet_t *fleet, uint64_t now)
+static unsigned tick_lone_device(fleet_t *fleet, uint64_t now)
 {
     gripper_t *g = &fleet->devices[0].gripper;
     if (fleet->due_us[0] <= now && !g->touched) {
         fleet->due_us[0] = gripper_tick(g);
+        return 1u;
     }
+    return 0u;
 }
 
 /* Each device is ticked at most once per pass, as a lone gripper was: a
  * touched one by the list (its deadline may have moved), any other when its
- * deadline has come. */
-uint64_t fleet_tick(fleet_t *fleet)
+ * deadline has come. The budget bounds a pass of a large fleet whose
+ * devices fall due together (10,000 fingers settling after the start): the
+ * rest stay due, and the loop serves the sockets before the next pass. */
+uint64_t fleet_tick(fleet_t *fleet, unsigned max_steps, unsigned *steps)
 {
     uint64_t now = hal_clock_now_us();
-    if (fleet->count == 1u) {
-        tick_lone_device(fleet, now);
-    } else {
-        tick_due_devices(fleet, now);
-    }
+    unsigned ran = fleet->count == 1u
+                       ? tick_lone_device(fleet, now)
+                       : tick_due_devices(fleet, now, max_steps > 0 ? max_steps : 1u);
     gripper_t *touched;
     bool any_touched = false;
     while ((touched = gripper_take_touched(&fleet->touched)) != NULL) {
         set_due(fleet, touched->index, gripper_tick(touched));
         any_touched = true;
+        ran++;
     }
+    *steps = ran;
     if (any_touched || fleet->servers_due_us <= now) {
         fleet->servers_due_us = earliest(tcp_server_next_deadline_us(&fleet->tcp_set),
                                          udp_server_next_deadline_us(&fleet->udp_set));
     }
     uint64_t next = fleet->servers_due_us;
     return fleet->count > 0 ? earliest(next, due_at(fleet, 0)) : next;
+}
+
+bool fleet_devices_due(const fleet_t *fleet, uint64_t now)
+{
+    return fleet->count > 1u && due_at(fleet, 0) <= now;
 }
 
 bool fleet_touched_any(const fleet_t *fleet)
@@ -587,7 +598,7 @@ void fleet_run_scripts(fleet_t *fleet)
         runnable = gripper_continue_script(&fleet->devices[i].gripper) || runnable;
     }
     if (runnable) {
-        loop_wake_at_wall(loop_monotonic_ns()); /* poll, do not block */
+        loop_wake_at_wall(fleet->loop, loop_monotonic_ns()); /* poll, do not block */
     }
 }
 
@@ -602,10 +613,15 @@ static bool observers_hold_replies(void *ctx, const wsg_conn_t *conn)
     return false;
 }
 
-fleet_t *fleet_create(void)
+fleet_t *fleet_create(host_loop_t *loop, net_t *net)
 {
     fleet_t *fleet = calloc(1, sizeof(*fleet));
     if (fleet != NULL) {
+        fleet->loop = loop;
+        fleet->tcp_set.loop = loop;
+        fleet->tcp_set.net = net;
+        fleet->udp_set.loop = loop;
+        fleet->udp_set.net = net;
         fleet->tcp_set.replies_held = observers_hold_replies;
         fleet->tcp_set.held_ctx = fleet;
     }

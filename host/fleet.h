@@ -10,6 +10,8 @@
 #include <stdint.h>
 
 #include "gripper.h"
+#include "loop.h"
+#include "net.h"
 #include "options.h"
 #include "wsg/wsg_conn.h"
 
@@ -28,9 +30,9 @@ typedef struct fleet_observer {
     struct fleet_observer *next;
 } fleet_observer_t;
 
-/* An empty fleet (NULL: out of memory); fleet_destroy() stops what runs
- * and frees it. */
-fleet_t *fleet_create(void);
+/* An empty fleet (NULL: out of memory) whose sockets will be net's, watched
+ * on loop; fleet_destroy() stops what runs and frees it. */
+fleet_t *fleet_create(host_loop_t *loop, net_t *net);
 void fleet_destroy(fleet_t *fleet);
 void fleet_observe(fleet_t *fleet, fleet_observer_t *node);
 /* Creates opts->devices grippers and starts their servers; false (logged)
@@ -47,9 +49,14 @@ int fleet_udp_port(const fleet_t *fleet, unsigned i);
 void fleet_device_address(const fleet_t *fleet, unsigned i, char *out, size_t cap);
 /* Device i's binary UDP port (binary port + i), -1 when not served. */
 int fleet_bin_udp_port(const fleet_t *fleet, unsigned i);
-/* Steps the devices whose deadline has come; returns the earliest deadline
- * of the fleet and of its connections' timeouts (UINT64_MAX: none). */
-uint64_t fleet_tick(fleet_t *fleet);
+/* Steps the touched devices and, up to max_steps control steps in all, the
+ * devices whose deadline has come; *steps: how many ran. Returns the
+ * earliest deadline of the fleet and of its connections' timeouts
+ * (UINT64_MAX: none): not later than now while due devices are left. */
+uint64_t fleet_tick(fleet_t *fleet, unsigned max_steps, unsigned *steps);
+/* Devices whose deadline has come wait for the next fleet_tick() (its
+ * budget ran out). */
+bool fleet_devices_due(const fleet_t *fleet, uint64_t now);
 /* Some device was touched since the last fleet_tick() (the scheduler's
  * pass asks first). */
 bool fleet_touched_any(const fleet_t *fleet);

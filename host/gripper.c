@@ -97,7 +97,7 @@ static void start_script(gripper_t *g)
     }
 }
 
-bool gripper_init(gripper_t *g, const host_options_t *opts, unsigned index,
+bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, unsigned index,
                   gripper_touched_t *touched)
 {
     g->index = index;
@@ -118,8 +118,8 @@ bool gripper_init(gripper_t *g, const host_options_t *opts, unsigned index,
     g->startup_set = NULL;
     g->startup_cleared = false;
     /* one SocketCAN bus per interface: device 0's */
-    bool bus_ok =
-        finger_bus_host_start(&g->fingers, index == 0 ? opts->can_iface : NULL, g->opts->fingers);
+    bool bus_ok = finger_bus_host_start(&g->fingers, loop, index == 0 ? opts->can_iface : NULL,
+                                        g->opts->fingers);
     wsg_sim_model_config(wsg_sim_model_find(g->opts->model), &g->config);
     config_file_apply(opts->config, &g->config);
     set_identity(&g->config, index);

@@ -56,7 +56,7 @@ typedef struct gripper {
  * once its own differ). gripper_touch() puts it on `touched`. False (logged) when its finger bus
  * cannot be had; gripper_release() it all the same. Observers attach next,
  * then gripper_start() runs the startup script. */
-bool gripper_init(gripper_t *g, const host_options_t *opts, unsigned index,
+bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, unsigned index,
                   gripper_touched_t *touched);
 /* Runs the startup script (--script), as at power-on. */
 void gripper_start(gripper_t *g);

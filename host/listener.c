@@ -11,11 +11,11 @@
 
 #define RETRY_NS 100000000u /* 100 ms between accept() attempts while starved */
 
-bool listener_start(listener_t *l, const char *name, const char *addr, int port,
-                    loop_callback_t on_accept, void *ctx)
+bool listener_start(listener_t *l, host_loop_t *loop, net_t *net, const char *name,
+                    const char *addr, int port, loop_callback_t on_accept, void *ctx)
 {
-    *l = (listener_t){.fd = net_listen(SOCK_STREAM, addr, port), .name = name};
-    return l->fd >= 0 && loop_watch(l->fd, POLLIN, on_accept, ctx);
+    *l = (listener_t){.loop = loop, .fd = net_listen(net, SOCK_STREAM, addr, port), .name = name};
+    return l->fd >= 0 && loop_watch(loop, l->fd, POLLIN, on_accept, ctx);
 }
 
 static bool out_of_descriptors(int err)
@@ -32,9 +32,9 @@ static void pause_listener(listener_t *l, int err)
                   "clients wait (see ulimit -n)",
                   l->name, strerror(err));
     }
-    loop_set_events(l->fd, 0);
+    loop_set_events(l->loop, l->fd, 0);
     l->retry_ns = loop_monotonic_ns() + RETRY_NS;
-    loop_wake_at_wall(l->retry_ns);
+    loop_wake_at_wall(l->loop, l->retry_ns);
 }
 
 int listener_accept(listener_t *l, struct sockaddr_storage *peer, socklen_t *peer_len)
@@ -61,14 +61,14 @@ void listener_fd_freed(listener_t *l)
 void listener_resume_when_due(listener_t *l)
 {
     if (l->fd >= 0 && l->starved && loop_monotonic_ns() >= l->retry_ns) {
-        loop_set_events(l->fd, POLLIN);
+        loop_set_events(l->loop, l->fd, POLLIN);
     }
 }
 
 void listener_stop(listener_t *l)
 {
     if (l->fd >= 0) {
-        loop_unwatch(l->fd);
+        loop_unwatch(l->loop, l->fd);
         close(l->fd);
         l->fd = -1;
     }

@@ -11,17 +11,20 @@
 #include <sys/socket.h>
 
 #include "loop.h"
+#include "net.h"
 
 typedef struct {
+    host_loop_t *loop; /* the loop it is watched on */
     int fd;
     const char *name; /* for the log: "tcp", "control" */
     bool starved;     /* out of descriptors: not polled until retry_ns */
     uint64_t retry_ns;
 } listener_t;
 
-/* Listens on addr:port and watches the socket with on_accept. */
-bool listener_start(listener_t *l, const char *name, const char *addr, int port,
-                    loop_callback_t on_accept, void *ctx);
+/* Listens on addr:port (a socket of net's) and watches it on loop with
+ * on_accept. */
+bool listener_start(listener_t *l, host_loop_t *loop, net_t *net, const char *name,
+                    const char *addr, int port, loop_callback_t on_accept, void *ctx);
 /* accept4() for on_accept: the new descriptor, or -1 (out of descriptors:
  * the listener is paused and the episode logged once). */
 int listener_accept(listener_t *l, struct sockaddr_storage *peer, socklen_t *peer_len);

@@ -21,7 +21,7 @@
 #define LOG_RECENT_LINES 100
 #define LOG_RECENT_LINE_MAX 256 /* longer lines are kept cut */
 
-/* How a line reaches stderr without blocking. */
+/* Where stderr leads. */
 typedef enum {
     SINK_FILE,   /* a regular file or /dev/null: writes do not block */
     SINK_OWN_FD, /* a pipe or terminal reopened with O_NONBLOCK (own file description) */
@@ -29,33 +29,48 @@ typedef enum {
     SINK_SOCKET, /* send(MSG_DONTWAIT) */
 } sink_kind_t;
 
-static struct {
+/* How a line reaches stderr without blocking. */
+typedef struct {
     sink_kind_t kind;
     int fd;
     unsigned long dropped;  /* lines stderr could not take */
     unsigned long reported; /* of those, already reported */
-} sink = {SINK_FILE, STDERR_FILENO, 0, 0};
+} sink_t;
 
-static struct {
+/* host_log_peer()'s token bucket. */
+typedef struct {
     double tokens;
     double refilled_s;
     unsigned long suppressed;
-} peer_limit = {LOG_PEER_BURST, -1.0, 0};
+} peer_limit_t;
 
 /* The last lines logged, numbered from 0, for the web page's system view
  * (host_log_recent); kept whether or not stderr took them. */
-static struct {
+typedef struct {
     char lines[LOG_RECENT_LINES][LOG_RECENT_LINE_MAX];
     uint64_t next; /* the number the next line gets */
-} recent;
+} recent_t;
 
-static hal_log_level_t min_level = HAL_LOG_INFO;
-static bool wall_timestamps;
-static const char *log_path; /* --log-file; NULL: stderr */
+/* The process's one log, and the one piece of state it keeps: the device's
+ * log is hal_log() (hal/hal_log.h), a link-time function without a context
+ * pointer that the firmware calls from anywhere, and it writes to the
+ * process's stderr (or --log-file), which every module shares. */
+static struct {
+    sink_t sink;
+    peer_limit_t peer_limit;
+    recent_t recent;
+    hal_log_level_t min_level;
+    bool wall_timestamps;
+    const char *path; /* --log-file; NULL: stderr */
+} the_log = {
+    .sink = {SINK_FILE, STDERR_FILENO, 0, 0},
+    .peer_limit = {LOG_PEER_BURST, -1.0, 0},
+    .min_level = HAL_LOG_INFO,
+};
 
 void host_log_set_level(hal_log_level_t level)
 {
-    min_level = level;
+    the_log.min_level = level;
 }
 
 bool host_log_parse_level(const char *name, hal_log_level_t *level)
@@ -79,7 +94,7 @@ bool host_log_parse_level(const char *name, hal_log_level_t *level)
 
 void host_log_set_timestamps(bool on)
 {
-    wall_timestamps = on;
+    the_log.wall_timestamps = on;
 }
 
 static int open_log_file(const char *path)
@@ -94,25 +109,25 @@ bool host_log_open_file(const char *path)
         fprintf(stderr, "wsgsim: cannot write --log-file %s: %s\n", path, strerror(errno));
         return false;
     }
-    log_path = path;
-    sink.kind = SINK_FILE;
-    sink.fd = fd;
+    the_log.path = path;
+    the_log.sink.kind = SINK_FILE;
+    the_log.sink.fd = fd;
     return true;
 }
 
 void host_log_reopen(void)
 {
-    if (log_path == NULL) {
+    if (the_log.path == NULL) {
         return;
     }
-    int fd = open_log_file(log_path);
+    int fd = open_log_file(the_log.path);
     if (fd < 0) {
         host_logf(HAL_LOG_ERROR, "cannot reopen --log-file %s: %s (still writing the old file)",
-                  log_path, strerror(errno));
+                  the_log.path, strerror(errno));
         return;
     }
-    close(sink.fd);
-    sink.fd = fd;
+    close(the_log.sink.fd);
+    the_log.sink.fd = fd;
     host_logf(HAL_LOG_INFO, "log file reopened");
 }
 
@@ -121,27 +136,27 @@ void host_log_reopen(void)
 void host_log_init(void)
 {
     struct stat st;
-    sink.kind = SINK_FILE;
-    sink.fd = STDERR_FILENO;
+    the_log.sink.kind = SINK_FILE;
+    the_log.sink.fd = STDERR_FILENO;
     if (fstat(STDERR_FILENO, &st) != 0 || S_ISREG(st.st_mode)) {
         return;
     }
     if (S_ISSOCK(st.st_mode)) {
-        sink.kind = SINK_SOCKET;
+        the_log.sink.kind = SINK_SOCKET;
         return;
     }
     int fd = open("/proc/self/fd/2", O_WRONLY | O_NONBLOCK | O_CLOEXEC | O_APPEND);
     if (fd >= 0) {
-        sink.kind = SINK_OWN_FD;
-        sink.fd = fd;
+        the_log.sink.kind = SINK_OWN_FD;
+        the_log.sink.fd = fd;
         return;
     }
-    sink.kind = SINK_POLLED;
+    the_log.sink.kind = SINK_POLLED;
 }
 
 static bool room_to_write(void)
 {
-    struct pollfd p = {.fd = sink.fd, .events = POLLOUT, .revents = 0};
+    struct pollfd p = {.fd = the_log.sink.fd, .events = POLLOUT, .revents = 0};
     return poll(&p, 1, 0) == 1 && (p.revents & POLLOUT) != 0;
 }
 
@@ -149,12 +164,12 @@ static bool room_to_write(void)
 static bool write_now(const char *text, size_t len)
 {
     ssize_t n;
-    if (sink.kind == SINK_SOCKET) {
-        n = send(sink.fd, text, len, MSG_DONTWAIT | MSG_NOSIGNAL);
-    } else if (sink.kind == SINK_POLLED && !room_to_write()) {
+    if (the_log.sink.kind == SINK_SOCKET) {
+        n = send(the_log.sink.fd, text, len, MSG_DONTWAIT | MSG_NOSIGNAL);
+    } else if (the_log.sink.kind == SINK_POLLED && !room_to_write()) {
         n = -1;
     } else {
-        n = write(sink.fd, text, len);
+        n = write(the_log.sink.fd, text, len);
     }
     return n > 0; /* a terminal may take part of a line: the rest is lost, not waited for */
 }
@@ -164,7 +179,7 @@ static size_t wall_stamp(char *out, size_t cap)
 {
     struct timespec now;
     struct tm utc;
-    if (!wall_timestamps || clock_gettime(CLOCK_REALTIME, &now) != 0 ||
+    if (!the_log.wall_timestamps || clock_gettime(CLOCK_REALTIME, &now) != 0 ||
         gmtime_r(&now.tv_sec, &utc) == NULL) {
         return 0;
     }
@@ -188,41 +203,42 @@ static size_t stamp(char *out, size_t cap, const char *what)
 /* Reports lines lost earlier before the next one goes out. */
 static bool report_drops(void)
 {
-    if (sink.dropped == sink.reported) {
+    if (the_log.sink.dropped == the_log.sink.reported) {
         return true;
     }
     char line[160];
     size_t len = stamp(line, sizeof(line), "warning");
     int n = snprintf(line + len, sizeof(line) - len,
                      "%lu log lines dropped (stderr was not being read)\n",
-                     sink.dropped - sink.reported);
+                     the_log.sink.dropped - the_log.sink.reported);
     if (n < 0 || !write_now(line, len + (size_t)n)) {
         return false;
     }
-    sink.reported = sink.dropped;
+    the_log.sink.reported = the_log.sink.dropped;
     return true;
 }
 
 static void keep_recent(const char *line, size_t len)
 {
-    char *slot = recent.lines[recent.next % LOG_RECENT_LINES];
+    char *slot = the_log.recent.lines[the_log.recent.next % LOG_RECENT_LINES];
     size_t kept = len < LOG_RECENT_LINE_MAX - 1 ? len : LOG_RECENT_LINE_MAX - 1;
     while (kept < len && kept > 0 && ((unsigned char)line[kept] & 0xC0u) == 0x80u) {
         kept--; /* cut before a UTF-8 sequence, not inside it: the page reads JSON */
     }
     memcpy(slot, line, kept);
     slot[kept] = '\0';
-    recent.next++;
+    the_log.recent.next++;
 }
 
 size_t host_log_recent(uint64_t since, const char **lines, size_t cap, uint64_t *next)
 {
-    uint64_t oldest = recent.next > LOG_RECENT_LINES ? recent.next - LOG_RECENT_LINES : 0;
+    uint64_t oldest =
+        the_log.recent.next > LOG_RECENT_LINES ? the_log.recent.next - LOG_RECENT_LINES : 0;
     size_t n = 0;
-    for (uint64_t i = since > oldest ? since : oldest; i < recent.next && n < cap; i++) {
-        lines[n++] = recent.lines[i % LOG_RECENT_LINES];
+    for (uint64_t i = since > oldest ? since : oldest; i < the_log.recent.next && n < cap; i++) {
+        lines[n++] = the_log.recent.lines[i % LOG_RECENT_LINES];
     }
-    *next = recent.next;
+    *next = the_log.recent.next;
     return n;
 }
 
@@ -232,7 +248,7 @@ static void emit(char *line, size_t len)
     keep_recent(line, len);
     line[len] = '\n';
     if (!report_drops() || !write_now(line, len + 1)) {
-        sink.dropped++;
+        the_log.sink.dropped++;
     }
 }
 
@@ -267,7 +283,7 @@ void hal_log(hal_log_level_t level, const char *message)
 
 void host_logf(hal_log_level_t level, const char *fmt, ...)
 {
-    if (level < min_level) {
+    if (level < the_log.min_level) {
         return;
     }
     va_list args;
@@ -287,30 +303,30 @@ static double monotonic_s(void)
 static bool peer_line_allowed(void)
 {
     double now = monotonic_s();
-    if (peer_limit.refilled_s >= 0.0) {
-        peer_limit.tokens += (now - peer_limit.refilled_s) * LOG_PEER_RATE;
+    if (the_log.peer_limit.refilled_s >= 0.0) {
+        the_log.peer_limit.tokens += (now - the_log.peer_limit.refilled_s) * LOG_PEER_RATE;
     }
-    if (peer_limit.tokens > LOG_PEER_BURST) {
-        peer_limit.tokens = LOG_PEER_BURST;
+    if (the_log.peer_limit.tokens > LOG_PEER_BURST) {
+        the_log.peer_limit.tokens = LOG_PEER_BURST;
     }
-    peer_limit.refilled_s = now;
-    if (peer_limit.tokens < 1.0) {
-        peer_limit.suppressed++;
+    the_log.peer_limit.refilled_s = now;
+    if (the_log.peer_limit.tokens < 1.0) {
+        the_log.peer_limit.suppressed++;
         return false;
     }
-    peer_limit.tokens -= 1.0;
+    the_log.peer_limit.tokens -= 1.0;
     return true;
 }
 
 void host_log_peer(hal_log_level_t level, const char *fmt, ...)
 {
-    if (level < min_level || !peer_line_allowed()) {
+    if (level < the_log.min_level || !peer_line_allowed()) {
         return;
     }
-    if (peer_limit.suppressed > 0) {
+    if (the_log.peer_limit.suppressed > 0) {
         host_logf(HAL_LOG_WARN, "%lu messages about peers suppressed (rate limit)",
-                  peer_limit.suppressed);
-        peer_limit.suppressed = 0;
+                  the_log.peer_limit.suppressed);
+        the_log.peer_limit.suppressed = 0;
     }
     va_list args;
     va_start(args, fmt);

@@ -5,7 +5,11 @@
  * Logging never blocks the event loop: a line that stderr cannot take at
  * once (a pipe nobody reads, a stalled terminal) is dropped and counted, and
  * the count is logged once stderr takes lines again. Messages remote peers
- * can trigger at will go through host_log_peer(), which is rate-limited. */
+ * can trigger at will go through host_log_peer(), which is rate-limited.
+ *
+ * The log is the process's, like its stderr: the firmware logs through
+ * hal_log(), a link-time function without a context, so these functions
+ * take no instance either. */
 #ifndef HOST_LOG_H
 #define HOST_LOG_H
 

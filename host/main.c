@@ -2,20 +2,16 @@
 /* build/wsgsim: the virtual WSG gripper on a Linux host. */
 #include <stdio.h>
 
-#include "can_log.h"
 #include "can_loopback.h"
 #include "coverage.h"
 #include "fleet.h"
+#include "host.h"
 #include "log.h"
-#include "loop.h"
-#include "net.h"
 #include "notify.h"
 #include "options.h"
 #include "record.h"
-#include "sim/control.h"
 #include "trace.h"
 #include "web/web_lines.h"
-#include "web/web_server.h"
 
 #define EXIT_STARTUP_FAILED 2
 
@@ -28,7 +24,14 @@ typedef struct {
     record_t *record;
     coverage_t *coverage; /* always (COVERAGE?); counting only when asked */
     web_lines_t *lines;   /* the web page's, NULL when the server is off */
+    can_log_t *can_log;   /* --can-log: device 0's in-process bus */
 } diagnostics_t;
+
+/* Every frame of device 0's in-process finger bus, to the --can-log file. */
+static void tap_can_log(void *ctx, const hal_can_frame_t *frame, uint64_t time_us)
+{
+    can_log_frame(ctx, frame, time_us);
+}
 
 static bool start_diagnostics(diagnostics_t *d, web_server_t *web, const host_options_t *opts)
 {
@@ -71,19 +74,21 @@ static void attach_observers(void *ctx, gripper_t *g)
     web_lines_attach(d->lines, &g->device, g->index);
     can_loopback_t *bus = finger_bus_host_loopback(&g->fingers);
     if (g->index == 0 && d->opts->can_log != NULL && bus != NULL) {
-        can_loopback_set_tap(bus, can_log_frame, NULL);
+        can_loopback_set_tap(bus, tap_can_log, d->can_log);
     }
 }
 
 /* Simulation control (docs/simctl.md): scenario, control channel. */
-static bool start_simulation(simctl_t *sim, diagnostics_t *d, const host_options_t *opts)
+static bool start_simulation(host_t *host, diagnostics_t *d, const host_options_t *opts)
 {
+    simctl_t *sim = host->sim;
     simctl_set_diagnostics(sim, d->record, d->coverage);
     if (opts->scenario_path != NULL &&
         !scenario_load(simctl_scenario(sim), opts->scenario_path, 0)) {
         return false;
     }
-    return opts->sim_port < 0 || simctl_start(sim, opts->sim_bind, opts->sim_port);
+    return opts->sim_port < 0 ||
+           simctl_start(sim, host->loop, &host->net, opts->sim_bind, opts->sim_port);
 }
 
 /* After the devices are gone. */
@@ -104,21 +109,24 @@ static bool delay_holds_replies(void *ctx, const wsg_conn_t *conn)
 }
 
 /* One line per further device of a fleet, then the ready line. */
-static bool announce(const simctl_t *sim, const web_server_t *web, const host_options_t *opts,
-                     fleet_t *fleet)
+static bool announce(const host_t *host, const host_options_t *opts)
 {
+    const simctl_t *sim = host->sim;
+    fleet_t *fleet = host->fleet;
     char line[512];
     char extra[256];
     char control[96];
     simctl_describe(sim, control, sizeof(control));
-    snprintf(extra, sizeof(extra), "%s%s", control, web_server_describe(web));
+    snprintf(extra, sizeof(extra), "%s%s", control, web_server_describe(host->web));
     fleet_ready_line(fleet, extra, line, sizeof(line));
     bool bin_tcp = opts->tcp_enabled && opts->protocol != HOST_PROTOCOL_GCL;
-    notify_set_ports(fleet_tcp_port(fleet, 0), fleet_udp_port(fleet, 0));
-    notify_set_binary_ports(bin_tcp ? fleet_tcp_port(fleet, 0) : -1, fleet_bin_udp_port(fleet, 0));
-    notify_set_http_port(web_server_port(web));
-    notify_set_sim_port(simctl_port(sim));
-    if (!notify_prepare(opts->ready_file)) {
+    notify_ports_t ports = {.tcp_port = fleet_tcp_port(fleet, 0),
+                            .udp_port = fleet_udp_port(fleet, 0),
+                            .sim_port = simctl_port(sim),
+                            .bin_tcp_port = bin_tcp ? fleet_tcp_port(fleet, 0) : -1,
+                            .bin_udp_port = fleet_bin_udp_port(fleet, 0),
+                            .http_port = web_server_port(host->web)};
+    if (!notify_prepare(opts->ready_file, &ports)) {
         return false;
     }
     fleet_announce_devices(fleet);
@@ -135,71 +143,106 @@ static bool start_logging(const host_options_t *opts)
 }
 
 /* SIGHUP (log rotation): every file wsgsim appends to is opened again. */
-static void reopen_files(void *sim)
+static void reopen_files(void *ctx)
 {
+    host_t *host = ctx;
     host_log_reopen();
-    if (!record_reopen(simctl_record(sim))) {
+    if (!record_reopen(simctl_record(host->sim))) {
         host_logf(HAL_LOG_ERROR, "cannot reopen the --record file (still writing the old one)");
     }
-    if (!can_log_reopen()) {
+    if (!can_log_reopen(&host->can_log)) {
         host_logf(HAL_LOG_ERROR, "cannot reopen the --can-log file (still writing the old one)");
     }
 }
 
-static void catch_up(void *sched)
+/* After every wake-up of the loop: simulated time catches up with the wall
+ * clock before any input is handled. */
+static void catch_up(void *ctx)
 {
-    (void)simctl_tick(sched);
+    host_t *host = ctx;
+    (void)simctl_tick(simctl_scheduler(host->sim));
+}
+
+/* The simulated clock's next deadline as the loop's wall-clock timeout. */
+static uint64_t wall_timeout_ns(const simclock_t *clock, uint64_t deadline_us)
+{
+    struct timespec wait;
+    if (!simclock_wall_wait(clock, deadline_us, &wait)) {
+        return LOOP_NO_TIMEOUT;
+    }
+    return (uint64_t)wait.tv_sec * 1000000000u + (uint64_t)wait.tv_nsec;
+}
+
+/* The event loop, taking the process's signals. */
+static bool start_loop(host_t *host)
+{
+    if (!loop_take_signals(host->loop)) {
+        return false;
+    }
+    loop_set_catch_up(host->loop, catch_up, host);
+    loop_set_hangup(host->loop, reopen_files, host);
+    return true;
+}
+
+/* Until SIGINT or SIGTERM. */
+static void run(host_t *host)
+{
+    simctl_sched_t *sched = simctl_scheduler(host->sim);
+    const simclock_t *clock = simctl_clock(host->sim);
+    while (!loop_stop_requested(host->loop)) {
+        uint64_t deadline = simctl_tick(sched);
+        fleet_run_scripts(host->fleet);
+        loop_wait(host->loop, wall_timeout_ns(clock, deadline));
+        web_server_poll(host->web);
+        fleet_reap(host->fleet);
+        simctl_reap(host->sim);
+    }
 }
 
 /* Starts everything on the simulation's clock and runs the loop until a
  * signal stops it; the exit status. */
-static int serve(simctl_t *sim, web_server_t *web, fleet_t *fleet, host_options_t *opts)
+static int serve(host_t *host, host_options_t *opts)
 {
+    simctl_t *sim = host->sim;
+    web_server_t *web = host->web;
+    fleet_t *fleet = host->fleet;
     if (opts->start_paused) {
         simclock_start_paused(simctl_clock(sim)); /* simulated time stands at exactly 0 */
     }
-    loop_init();
-    loop_set_catch_up(catch_up, simctl_scheduler(sim));
-    loop_set_clock(simctl_clock(sim));
-    loop_set_hangup(reopen_files, sim);
-    diagnostics_t diagnostics = {0};
+    if (!start_loop(host)) {
+        return EXIT_STARTUP_FAILED;
+    }
+    diagnostics_t diagnostics = {.can_log = &host->can_log};
     fleet_observer_t observers = {.device_started = attach_observers,
                                   .replies_held = delay_holds_replies,
                                   .ctx = &diagnostics};
-    if (opts->can_log != NULL && !can_log_open(opts->can_log)) {
+    if (opts->can_log != NULL && !can_log_open(&host->can_log, opts->can_log)) {
         return EXIT_STARTUP_FAILED;
     }
     fleet_observe(fleet, &observers);
     simctl_set_fleet(sim, fleet);
-    if (!web_server_start(web, opts, sim, fleet)) {
+    if (!web_server_start(web, host->loop, &host->net, opts, sim, fleet)) {
         return EXIT_STARTUP_FAILED;
     }
     if (!start_diagnostics(&diagnostics, web, opts) || !fleet_start(fleet, opts) ||
-        !start_simulation(sim, &diagnostics, opts)) {
+        !start_simulation(host, &diagnostics, opts)) {
         web_server_stop(web); /* the devices go first: nothing observes them after */
         fleet_stop(fleet);
         free_diagnostics(sim, &diagnostics);
         return EXIT_STARTUP_FAILED;
     }
-    if (!announce(sim, web, opts, fleet)) {
+    if (!announce(host, opts)) {
         return EXIT_STARTUP_FAILED;
     }
     char bus[96];
     finger_bus_host_describe(&fleet_gripper(fleet, 0)->fingers, bus, sizeof(bus));
     host_logf(HAL_LOG_INFO, "finger bus: %s", bus);
-    while (!loop_stop_requested()) {
-        uint64_t deadline = simctl_tick(simctl_scheduler(sim));
-        fleet_run_scripts(fleet);
-        loop_wait(deadline);
-        web_server_poll(web);
-        fleet_reap(fleet);
-        simctl_reap(sim);
-    }
+    run(host);
     host_logf(HAL_LOG_INFO, "shutting down");
     notify_stopping(opts->ready_file);
     web_server_stop(web); /* while the devices its operations ran on exist */
     fleet_stop(fleet);
-    can_log_close();
+    can_log_close(&host->can_log);
     return stop_simulation(sim, &diagnostics, opts);
 }
 
@@ -217,14 +260,18 @@ int main(int argc, char **argv)
         options_release(&opts);
         return EXIT_STARTUP_FAILED;
     }
-    simctl_t *sim = simctl_create();
-    web_server_t *web = web_server_create();
-    fleet_t *fleet = fleet_create();
-    int status = sim != NULL && web != NULL && fleet != NULL ? serve(sim, web, fleet, &opts)
-                                                             : EXIT_STARTUP_FAILED;
-    fleet_destroy(fleet);
-    web_server_destroy(web); /* its stop already took its lines off the devices */
-    simctl_destroy(sim);
+    host_t host = {.opts = &opts};
+    net_init(&host.net);
+    host.loop = loop_create();
+    host.sim = simctl_create();
+    host.web = web_server_create();
+    host.fleet = fleet_create(host.loop, &host.net);
+    bool made = host.loop != NULL && host.sim != NULL && host.web != NULL && host.fleet != NULL;
+    int status = made ? serve(&host, &opts) : EXIT_STARTUP_FAILED;
+    fleet_destroy(host.fleet);
+    web_server_destroy(host.web); /* its stop already took its lines off the devices */
+    simctl_destroy(host.sim);
+    loop_destroy(host.loop);
     options_release(&opts); /* the configuration read */
     return status;
 }

@@ -14,22 +14,19 @@
 /* A small backlog makes Linux drop the SYN of a client that reconnects
  * quickly after closing (a 1 s retransmit stall every ~17 connections). */
 #define LISTEN_BACKLOG 128
-/* The server's own sockets: GCL TCP and UDP, control channel. */
-#define OWN_SOCKETS_MAX 8
-
-static struct {
-    struct sockaddr_storage addr[OWN_SOCKETS_MAX];
-    unsigned count;
-} own;
-
 static bool is_wildcard(const struct sockaddr_storage *ss);
 
-static void remember_own_socket(int fd)
+void net_init(net_t *net)
 {
-    socklen_t len = sizeof(own.addr[0]);
-    if (own.count < OWN_SOCKETS_MAX &&
-        getsockname(fd, (struct sockaddr *)&own.addr[own.count], &len) == 0) {
-        own.count++;
+    memset(net, 0, sizeof(*net));
+}
+
+static void remember_own_socket(net_t *net, int fd)
+{
+    socklen_t len = sizeof(net->own[0]);
+    if (net->own_count < NET_OWN_SOCKETS_MAX &&
+        getsockname(fd, (struct sockaddr *)&net->own[net->own_count], &len) == 0) {
+        net->own_count++;
     }
 }
 
@@ -79,7 +76,7 @@ static bool parse_addr(const char *addr, int port, struct sockaddr_storage *ss, 
 }
 
 /* Binds (and listens); -1 with errno set on failure, printing nothing. */
-static int open_listening(int type, const struct sockaddr_storage *ss, socklen_t len)
+static int open_listening(net_t *net, int type, const struct sockaddr_storage *ss, socklen_t len)
 {
     int fd = socket(ss->ss_family, type | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
     int one = 1;
@@ -102,11 +99,11 @@ static int open_listening(int type, const struct sockaddr_storage *ss, socklen_t
         errno = err;
         return -1;
     }
-    remember_own_socket(fd);
+    remember_own_socket(net, fd);
     return fd;
 }
 
-int net_listen_optional(int type, const char *addr, int port)
+int net_listen_optional(net_t *net, int type, const char *addr, int port)
 {
     struct sockaddr_storage ss;
     socklen_t len = 0;
@@ -114,10 +111,10 @@ int net_listen_optional(int type, const char *addr, int port)
         errno = EADDRNOTAVAIL;
         return -1;
     }
-    return open_listening(type, &ss, len);
+    return open_listening(net, type, &ss, len);
 }
 
-int net_listen(int type, const char *addr, int port)
+int net_listen(net_t *net, int type, const char *addr, int port)
 {
     const char *proto = type == SOCK_STREAM ? "TCP" : "UDP";
     struct sockaddr_storage ss;
@@ -127,7 +124,7 @@ int net_listen(int type, const char *addr, int port)
                 proto, addr, port);
         return -1;
     }
-    int fd = open_listening(type, &ss, len);
+    int fd = open_listening(net, type, &ss, len);
     if (fd < 0) {
         int err = errno;
         fprintf(stderr, "wsgsim: cannot listen on %s %s:%d: %s%s\n", proto, addr, port,
@@ -254,13 +251,13 @@ static bool is_local_host(const struct sockaddr_storage *ss)
     return found;
 }
 
-bool net_is_own_address(const struct sockaddr_storage *peer)
+bool net_is_own_address(const net_t *net, const struct sockaddr_storage *peer)
 {
     struct sockaddr_storage src;
     unmap(peer, &src);
-    for (unsigned i = 0; i < own.count; i++) {
+    for (unsigned i = 0; i < net->own_count; i++) {
         struct sockaddr_storage mine;
-        unmap(&own.addr[i], &mine);
+        unmap(&net->own[i], &mine);
         if (port_of(&mine) != port_of(&src)) {
             continue;
         }

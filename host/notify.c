@@ -11,35 +11,6 @@
 
 #include "log.h"
 
-static int tcp_port_0 = -1; /* device 0's GCL ports */
-static int udp_port_0 = -1;
-static int bin_tcp_port = -1;
-static int bin_udp_port = -1;
-static int http_port = -1;
-static int sim_port = -1;
-
-void notify_set_ports(int tcp_port, int udp_port)
-{
-    tcp_port_0 = tcp_port;
-    udp_port_0 = udp_port;
-}
-
-void notify_set_binary_ports(int tcp_port, int udp_port)
-{
-    bin_tcp_port = tcp_port;
-    bin_udp_port = udp_port;
-}
-
-void notify_set_http_port(int port)
-{
-    http_port = port;
-}
-
-void notify_set_sim_port(int port)
-{
-    sim_port = port;
-}
-
 static void put_port(FILE *f, const char *name, int port)
 {
     if (port >= 0) {
@@ -58,7 +29,7 @@ static bool temp_path(const char *path, char *out, size_t cap)
 
 /* Written beside the target, renamed over it by notify_ready(): a reader
  * never sees half a file. */
-bool notify_prepare(const char *ready_file)
+bool notify_prepare(const char *ready_file, const notify_ports_t *ports)
 {
     char tmp[PATH_MAX];
     FILE *f = NULL;
@@ -67,12 +38,12 @@ bool notify_prepare(const char *ready_file)
     }
     if (temp_path(ready_file, tmp, sizeof(tmp)) && (f = fopen(tmp, "w")) != NULL) {
         fprintf(f, "pid=%ld\n", (long)getpid());
-        put_port(f, "tcp_port", tcp_port_0);
-        put_port(f, "udp_port", udp_port_0);
-        put_port(f, "sim_port", sim_port);
-        put_port(f, "bin_tcp_port", bin_tcp_port);
-        put_port(f, "bin_udp_port", bin_udp_port);
-        put_port(f, "http_port", http_port);
+        put_port(f, "tcp_port", ports->tcp_port);
+        put_port(f, "udp_port", ports->udp_port);
+        put_port(f, "sim_port", ports->sim_port);
+        put_port(f, "bin_tcp_port", ports->bin_tcp_port);
+        put_port(f, "bin_udp_port", ports->bin_udp_port);
+        put_port(f, "http_port", ports->http_port);
         bool written = ferror(f) == 0;
         if (fclose(f) == 0 && written) {
             return true;

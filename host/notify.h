@@ -7,25 +7,22 @@
 
 #include <stdbool.h>
 
+/* The ports the ready file lists (-1: not served); the device's are device 0's. */
+typedef struct {
+    int tcp_port;
+    int udp_port;
+    int sim_port;
+    int bin_tcp_port;
+    int bin_udp_port;
+    int http_port;
+} notify_ports_t;
+
 /* Call once every server listens, before saying so in the log: writes the
  * ready file's content (NULL: none) beside it, as shell-style lines: pid=N,
- * tcp_port=N, udp_port=N, sim_port=N, bin_tcp_port=N, bin_udp_port=N and
- * http_port=N
- * (each port only when served). False
- * after a message on stderr when it cannot be written. */
-bool notify_prepare(const char *ready_file);
-/* Before notify_prepare(): device 0's GCL ports, written as tcp_port=N and
- * udp_port=N (-1: not served). */
-void notify_set_ports(int tcp_port, int udp_port);
-/* Before notify_prepare(): the binary protocol's ports, written as
- * bin_tcp_port=N and bin_udp_port=N (-1: not served). */
-void notify_set_binary_ports(int tcp_port, int udp_port);
-/* Before notify_prepare(): the web interface's port, written as http_port=N
- * (-1: not served). */
-void notify_set_http_port(int port);
-/* Before notify_prepare(): the control channel's port, written as
- * sim_port=N (-1: none). */
-void notify_set_sim_port(int port);
+ * then tcp_port=N, udp_port=N, sim_port=N, bin_tcp_port=N, bin_udp_port=N
+ * and http_port=N for each port served. False after a message on stderr
+ * when it cannot be written. */
+bool notify_prepare(const char *ready_file, const notify_ports_t *ports);
 /* Then: renames the prepared file into place (a reader never sees half of
  * it) and notifies systemd, with status as its STATUS=. */
 bool notify_ready(const char *ready_file, const char *status);

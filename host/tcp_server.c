@@ -131,7 +131,7 @@ static void unlink_client(tcp_client_t *c)
 
 static void update_events(tcp_client_t *c)
 {
-    loop_set_events(c->fd,
+    loop_set_events(c->server->set->loop, c->fd,
                     (short)((c->eof ? 0 : POLLIN) | (wsg_outq_empty(&c->outq) ? 0 : POLLOUT)));
 }
 
@@ -235,7 +235,7 @@ static void close_client(tcp_client_t *c)
                       c->peer, c->dropped_autosend);
     }
     unmark(c);
-    loop_unwatch(c->fd);
+    loop_unwatch(c->server->set->loop, c->fd);
     close(c->fd);
     wsg_conn_close(&c->conn, reason);
     gripper_touch(c->server->gripper); /* e.g. FAST STOP on a lost link */
@@ -368,7 +368,7 @@ static bool setup_client(tcp_client_t *c, int fd, const struct sockaddr_storage 
     gripper_t *g = c->server->gripper;
     wsg_conn_open(&c->conn, &g->device, drivers[g->opts->protocol], WSG_TRANSPORT_STREAM, &tcp_io,
                   c);
-    if (!loop_watch(fd, POLLIN, on_client, c)) {
+    if (!loop_watch(c->server->set->loop, fd, POLLIN, on_client, c)) {
         wsg_conn_close(&c->conn, WSG_CLOSE_ANNOUNCED);
         free(c->outq.ring);
         return false;
@@ -455,7 +455,7 @@ bool tcp_server_start(tcp_server_t *s, tcp_servers_t *set, gripper_t *g, const c
 {
     s->set = set;
     tcp_server_attach(s, g, s, max_clients, idle_timeout_s);
-    return listener_start(&s->own, "tcp", addr, port, on_accept, s);
+    return listener_start(&s->own, set->loop, set->net, "tcp", addr, port, on_accept, s);
 }
 
 bool tcp_server_start_shared(tcp_server_t *s, tcp_servers_t *set, const char *addr, int port,
@@ -465,7 +465,7 @@ bool tcp_server_start_shared(tcp_server_t *s, tcp_servers_t *set, const char *ad
     tcp_server_attach(s, NULL, s, 0, 0);
     s->route = route;
     s->route_ctx = ctx;
-    return listener_start(&s->own, "tcp", addr, port, on_accept, s);
+    return listener_start(&s->own, set->loop, set->net, "tcp", addr, port, on_accept, s);
 }
 
 void tcp_server_attach(tcp_server_t *s, gripper_t *g, tcp_server_t *front, int max_clients,

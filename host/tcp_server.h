@@ -23,6 +23,8 @@ typedef struct tcp_server_s tcp_server_t;
  * connections (the reap visits these only) and the servers whose listener
  * waits for descriptors. Zeroed: empty. */
 typedef struct {
+    host_loop_t *loop; /* every socket of the set is watched here */
+    net_t *net;        /* and is one of its own */
     tcp_client_t *first, *last;
     tcp_server_t *waiting;
     /* Replies an upper layer holds back for this session (NULL: none): a

@@ -198,7 +198,7 @@ static udp_peer_t *new_peer(udp_server_t *s, const wsg_peer_addr_t *addr,
  * itself (or a twin on the same host); it is dropped unanswered. */
 static bool from_ourselves(const udp_server_t *s, const struct sockaddr_storage *ss)
 {
-    if (!net_is_own_address(ss)) {
+    if (!net_is_own_address(s->set->net, ss)) {
         return false;
     }
     char name[64];
@@ -290,9 +290,9 @@ bool udp_server_start(udp_server_t *s, udp_servers_t *set, gripper_t *g,
     s->proto = *proto;
     wsg_peer_rules_t rules = WSG_PEER_RULES_DEFAULT(proto->max_peers, peer_timeout_s);
     wsg_peers_init(&s->peers, &rules, &peer_port, s, NULL, 0);
-    s->fd = proto->optional ? net_listen_optional(SOCK_DGRAM, addr, port)
-                            : net_listen(SOCK_DGRAM, addr, port);
-    return s->fd >= 0 && loop_watch(s->fd, POLLIN, on_datagram, s);
+    s->fd = proto->optional ? net_listen_optional(set->net, SOCK_DGRAM, addr, port)
+                            : net_listen(set->net, SOCK_DGRAM, addr, port);
+    return s->fd >= 0 && loop_watch(set->loop, s->fd, POLLIN, on_datagram, s);
 }
 
 bool udp_server_start_shared(udp_server_t *s, udp_servers_t *set, const udp_protocol_t *proto,
@@ -382,7 +382,7 @@ void udp_server_stop(udp_server_t *s)
     if (s->shares_fd) {
         s->fd = -1;
     } else if (s->fd >= 0) {
-        loop_unwatch(s->fd);
+        loop_unwatch(s->set->loop, s->fd);
         close(s->fd);
         s->fd = -1;
     }

@@ -18,6 +18,8 @@
 #include <sys/socket.h>
 
 #include "gripper.h"
+#include "loop.h"
+#include "net.h"
 #include "wsg/wsg_conn.h"
 #include "wsg/wsg_peers.h"
 
@@ -29,6 +31,8 @@ typedef struct udp_server udp_server_t;
  * know a peer (the reap, the deadline and the cut visit these only) and
  * the buffer a datagram is read into. Zeroed: empty. */
 typedef struct {
+    host_loop_t *loop; /* every socket of the set is watched here */
+    net_t *net;        /* whose own addresses are never answered */
     udp_server_t *active_first;
     uint8_t datagram[UDP_DATAGRAM_MAX];
 } udp_servers_t;

@@ -20,7 +20,7 @@ $(LOOP_TEST_BIN): $(LOOP_TEST_OBJ) $(filter-out %/host/main.o,$(HOST_OBJ)) $(COR
 
 .PHONY: loop-tests
 loop-tests: $(LOOP_TEST_BIN)
-	$(LOOP_TEST_BIN)
+	$(CHECK_ENV) $(LOOP_TEST_BIN)
 
 CHECK_TARGETS += loop-tests
 

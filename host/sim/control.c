@@ -115,7 +115,7 @@ static void close_client(control_client_t *c)
     if (ctl->stepper == c) {
         ctl->stepper = NULL; /* the STEP itself runs on */
     }
-    loop_unwatch(c->fd);
+    loop_unwatch(ctl->listener.loop, c->fd);
     close(c->fd);
     listener_fd_freed(&ctl->listener);
     free(c->outq.ring);
@@ -134,7 +134,8 @@ static void update_events(control_client_t *c, bool wake)
 {
     bool want_input = !c->eof && !input_left(c);
     bool want_output = wake || !wsg_outq_empty(&c->outq);
-    loop_set_events(c->fd, (short)((want_input ? POLLIN : 0) | (want_output ? POLLOUT : 0)));
+    loop_set_events(c->ctl->listener.loop, c->fd,
+                    (short)((want_input ? POLLIN : 0) | (want_output ? POLLOUT : 0)));
 }
 
 static void flush(control_client_t *c)
@@ -350,7 +351,7 @@ static void on_accept(void *ctx, int fd, short revents)
     c->number = ++ctl->connections;
     c->device = 0;
     wsg_gcl_linebuf_reset(&c->input);
-    if (!loop_watch(client_fd, POLLIN, on_client, c)) {
+    if (!loop_watch(ctl->listener.loop, client_fd, POLLIN, on_client, c)) {
         free(c->outq.ring);
         close(client_fd);
         return;
@@ -359,11 +360,11 @@ static void on_accept(void *ctx, int fd, short revents)
     host_logf(HAL_LOG_INFO, "control ctl%u: connected", c->number);
 }
 
-bool simctl_start(simctl_t *ctl, const char *addr, int port)
+bool simctl_start(simctl_t *ctl, host_loop_t *loop, net_t *net, const char *addr, int port)
 {
     ctl->addr = addr != NULL ? addr : DEFAULT_ADDR;
     simctl_step_on_done(&ctl->sim.sched, on_step_done, ctl);
-    return listener_start(&ctl->listener, "control", ctl->addr, port, on_accept, ctl);
+    return listener_start(&ctl->listener, loop, net, "control", ctl->addr, port, on_accept, ctl);
 }
 
 int simctl_port(const simctl_t *ctl)

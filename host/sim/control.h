@@ -14,6 +14,8 @@
 #include "coverage.h"
 #include "delay.h"
 #include "faults.h"
+#include "loop.h"
+#include "net.h"
 #include "record.h"
 #include "scenario.h"
 #include "scheduler.h"
@@ -95,8 +97,9 @@ static inline struct fleet *simctl_fleet(const simctl_t *ctl)
     return ((const simctl_sim_t *)(const void *)ctl)->fleet;
 }
 
-/* Listens on addr:port (addr NULL: 127.0.0.1); false after a clear message. */
-bool simctl_start(simctl_t *ctl, const char *addr, int port);
+/* Listens on addr:port (addr NULL: 127.0.0.1; a socket of net's, watched on
+ * loop); false after a clear message. */
+bool simctl_start(simctl_t *ctl, host_loop_t *loop, net_t *net, const char *addr, int port);
 int simctl_port(const simctl_t *ctl);
 /* ", control 127.0.0.1:7000" for the ready line into out; "" without a
  * channel. */

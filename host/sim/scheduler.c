@@ -71,12 +71,15 @@ static void spend(unsigned *budget, unsigned work)
 }
 
 /* The devices and the delayed replies, each only when something of theirs
- * is due or a device was touched. */
-static void run_fleet_and_delays(simctl_sched_t *s, uint64_t now)
+ * is due or a device was touched; the devices' control steps are paid from
+ * the budget. */
+static void run_fleet_and_delays(simctl_sched_t *s, uint64_t now, unsigned *budget)
 {
     bool ticked = fleet_touched_any(s->fleet) || s->fleet_due_us <= now;
     if (ticked) {
-        s->fleet_due_us = fleet_tick(s->fleet);
+        unsigned steps = 0;
+        s->fleet_due_us = fleet_tick(s->fleet, *budget, &steps);
+        spend(budget, steps);
         coverage_sample_flags(s->coverage);
     }
     bool releasing = s->delay_due_us <= now;
@@ -103,10 +106,10 @@ static bool run_due(simctl_sched_t *s, unsigned *budget, uint64_t *next)
             return false;
         }
     }
-    run_fleet_and_delays(s, now);
+    run_fleet_and_delays(s, now, budget);
     *next = earliest(earliest(s->fleet_due_us, s->delay_due_us), hook_next_us(s));
     spend(budget, 1u);
-    return true;
+    return !fleet_devices_due(s->fleet, now); /* the time waits for the devices still due */
 }
 
 /* A step until its condition: ends at the present instant once it holds. */

@@ -48,6 +48,7 @@ typedef struct {
 } web_call_t;
 
 struct web_server {
+    host_loop_t *loop; /* the daemon's epoll descriptor is watched here */
     struct MHD_Daemon *daemon;
     int listen_fd;
     int epoll_fd;
@@ -109,7 +110,7 @@ static void schedule(web_server_t *web)
     uint64_t wake = earliest_nonzero(web->mhd_due_ns, web_events_next_tick_ns(&web->app.events));
     wake = earliest_nonzero(wake, web_intake_next_due_ns(web->intake));
     if (wake != 0) {
-        loop_wake_at_wall(wake);
+        loop_wake_at_wall(web->loop, wake);
     }
 }
 
@@ -372,7 +373,7 @@ static bool open_daemon(web_server_t *web)
     }
     const union MHD_DaemonInfo *info = MHD_get_daemon_info(web->daemon, MHD_DAEMON_INFO_EPOLL_FD);
     web->epoll_fd = info != NULL ? info->epoll_fd : -1;
-    return web->epoll_fd >= 0 && loop_watch(web->epoll_fd, POLLIN, on_epoll_ready, web);
+    return web->epoll_fd >= 0 && loop_watch(web->loop, web->epoll_fd, POLLIN, on_epoll_ready, web);
 }
 
 static bool sim_bind_open(const char *sim_bind)
@@ -388,9 +389,10 @@ static bool sim_bind_open(const char *sim_bind)
            !IN6_IS_ADDR_LOOPBACK((const struct in6_addr *)addr);
 }
 
-bool web_server_start(web_server_t *web, const host_options_t *opts, simctl_t *sim,
-                      struct fleet *fleet)
+bool web_server_start(web_server_t *web, host_loop_t *loop, net_t *net, const host_options_t *opts,
+                      simctl_t *sim, struct fleet *fleet)
 {
+    web->loop = loop;
     web->sim = sim;
     web->app.fleet = fleet;
     if (opts->http_port == 0) {
@@ -399,8 +401,8 @@ bool web_server_start(web_server_t *web, const host_options_t *opts, simctl_t *s
     const char *bind = opts->http_bind != NULL ? opts->http_bind : opts->bind_addr;
     /* the default port is skipped when taken: a warning, not an error line */
     bool asked = opts->http_port_given || opts->http_bind != NULL;
-    web->listen_fd = asked ? net_listen(SOCK_STREAM, bind, opts->http_port)
-                           : net_listen_optional(SOCK_STREAM, bind, opts->http_port);
+    web->listen_fd = asked ? net_listen(net, SOCK_STREAM, bind, opts->http_port)
+                           : net_listen_optional(net, SOCK_STREAM, bind, opts->http_port);
     if (web->listen_fd < 0) {
         if (!asked) {
             host_logf(HAL_LOG_WARN, "http port %d cannot be had (%s): no web interface",
@@ -442,7 +444,7 @@ void web_server_stop(web_server_t *web)
     if (web->daemon != NULL) {
         web_events_end_all(&web->app.events); /* MHD stops only with no connection suspended */
         MHD_run(web->daemon);
-        loop_unwatch(web->epoll_fd);
+        loop_unwatch(web->loop, web->epoll_fd);
         MHD_stop_daemon(web->daemon); /* closes the listening socket too */
         web->daemon = NULL;
         web->listen_fd = -1;

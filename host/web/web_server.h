@@ -14,6 +14,8 @@
 
 #include <stdbool.h>
 
+#include "loop.h"
+#include "net.h"
 #include "options.h"
 #include "sim/control.h"
 
@@ -28,10 +30,11 @@ void web_server_destroy(web_server_t *web);
  * opts->http_port; off when the port is 0. False (logged) when the port or
  * the address was given and cannot be had; the default, when taken, is
  * skipped with a warning. The simulation routes run their commands on sim;
- * the pages show fleet's devices. */
+ * the pages show fleet's devices. The socket is one of net's, watched on
+ * loop. */
 struct fleet;
-bool web_server_start(web_server_t *web, const host_options_t *opts, simctl_t *sim,
-                      struct fleet *fleet);
+bool web_server_start(web_server_t *web, host_loop_t *loop, net_t *net, const host_options_t *opts,
+                      simctl_t *sim, struct fleet *fleet);
 /* After every loop_wait(): runs what is due on the wall clock. Costs one
  * test when nothing is scheduled. */
 void web_server_poll(web_server_t *web);

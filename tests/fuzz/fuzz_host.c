@@ -8,6 +8,8 @@
 
 #include "fleet.h"
 #include "log.h"
+#include "loop.h"
+#include "net.h"
 #include "sim/clock.h"
 #include "sim/control.h"
 #include "sim/faults.h"
@@ -19,6 +21,9 @@ static host_options_t options;
 static simctl_t *sim;
 static fleet_t *fleet;
 static char file_path[256];
+/* What a fleet needs below it (no sockets here: the targets feed it). */
+static host_loop_t *loop;
+static net_t net;
 
 host_options_t *fuzz_host_options(int argc, char **argv)
 {
@@ -42,8 +47,10 @@ void fuzz_host_start(const host_options_t *opts)
         logging = true;
     }
     sim = simctl_create();
-    fleet = fleet_create();
-    if (sim == NULL || fleet == NULL) {
+    loop = loop_create();
+    net_init(&net);
+    fleet = fleet_create(loop, &net);
+    if (sim == NULL || loop == NULL || fleet == NULL) {
         abort();
     }
     simclock_start_paused(simctl_clock(sim));
@@ -77,6 +84,8 @@ void fuzz_host_stop(void)
     }
     fleet_destroy(fleet);
     fleet = NULL;
+    loop_destroy(loop);
+    loop = NULL;
     simctl_destroy(sim);
     sim = NULL;
 }

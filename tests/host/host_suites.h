@@ -6,7 +6,10 @@
 
 #include <check.h>
 
+Suite *can_log_suite(void);
+Suite *net_suite(void);
 Suite *net_allow_suite(void);
+Suite *notify_suite(void);
 Suite *port_layout_suite(void);
 
 #endif

@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* Check tests of the host's event loop (host/loop.c): dispatch while
  * callbacks unwatch and reuse descriptors, event masks, signals, wall-clock
- * wake-ups. Every wait here ends on an event that has already happened (a
- * readable socket, a pending signal) or on a wake-up a few milliseconds
- * away; Check's timeout only guards against a hang. */
+ * wake-ups and timeouts, loops that share nothing. Every wait here ends on an event that has
+ * already happened (a readable socket, a pending signal) or on a wake-up a few milliseconds away;
+ * Check's timeout only guards against a hang. */
 #include <check.h>
 #include <poll.h>
 #include <signal.h>
@@ -13,7 +13,6 @@
 
 #include "host_suites.h"
 #include "loop.h"
-#include "sim/clock.h"
 
 #define MANY 200
 
@@ -50,19 +49,26 @@ static void count_call(void *ctx, int fd, short revents)
     p->last_revents = revents;
 }
 
-static simclock_t sim_clock; /* the deadlines loop_wait() is given */
+/* The loop of the test at hand, taking the signals as wsgsim's does. */
+static host_loop_t *loop;
 
-/* A wait that does not block: the simulated deadline is now. */
+/* A wait that does not block. */
 static void wait_now(void)
 {
-    loop_wait(simclock_now_us(&sim_clock));
+    loop_wait(loop, 0);
 }
 
 static void setup(void)
 {
-    simclock_init(&sim_clock);
-    loop_init();
-    loop_set_clock(&sim_clock);
+    loop = loop_create();
+    ck_assert_ptr_nonnull(loop);
+    ck_assert(loop_take_signals(loop));
+}
+
+static void teardown(void)
+{
+    loop_destroy(loop);
+    loop = NULL;
 }
 
 /* fd reuse during dispatch ------------------------------------------- */
@@ -85,21 +91,21 @@ static void close_other_and_reuse(void *ctx, int fd, short revents)
     }
     open_pair(&newcomer);
     int number = other->ends[0];
-    loop_unwatch(number);
+    loop_unwatch(loop, number);
     close(number);
     other->ends[0] = -1;
     ck_assert_int_eq(dup2(newcomer.ends[0], number), number);
     close(newcomer.ends[0]);
     newcomer.ends[0] = number;
-    ck_assert(loop_watch(number, POLLIN, count_call, &newcomer));
+    ck_assert(loop_watch(loop, number, POLLIN, count_call, &newcomer));
 }
 
 START_TEST(stale_event_never_reaches_a_reused_descriptor)
 {
     open_pair(&first);
     open_pair(&second);
-    ck_assert(loop_watch(first.ends[0], POLLIN, close_other_and_reuse, &first));
-    ck_assert(loop_watch(second.ends[0], POLLIN, close_other_and_reuse, &second));
+    ck_assert(loop_watch(loop, first.ends[0], POLLIN, close_other_and_reuse, &first));
+    ck_assert(loop_watch(loop, second.ends[0], POLLIN, close_other_and_reuse, &second));
     make_readable(&first);
     make_readable(&second);
     wait_now();
@@ -124,14 +130,14 @@ static void unwatch_the_other(void *ctx, int fd, short revents)
     (void)revents;
     self->calls++;
     pair_t *other = self == &victims[0] ? &victims[1] : &victims[0];
-    loop_unwatch(other->ends[0]);
+    loop_unwatch(loop, other->ends[0]);
 }
 
 START_TEST(unwatched_during_dispatch_gets_no_callback)
 {
     for (int i = 0; i < 2; i++) {
         open_pair(&victims[i]);
-        ck_assert(loop_watch(victims[i].ends[0], POLLIN, unwatch_the_other, &victims[i]));
+        ck_assert(loop_watch(loop, victims[i].ends[0], POLLIN, unwatch_the_other, &victims[i]));
         make_readable(&victims[i]);
     }
     wait_now();
@@ -151,7 +157,7 @@ START_TEST(only_ready_descriptors_are_called_back)
     static pair_t idle[MANY];
     for (int i = 0; i < MANY; i++) {
         open_pair(&idle[i]);
-        ck_assert(loop_watch(idle[i].ends[0], POLLIN, count_call, &idle[i]));
+        ck_assert(loop_watch(loop, idle[i].ends[0], POLLIN, count_call, &idle[i]));
     }
     make_readable(&idle[MANY / 2]);
     wait_now();
@@ -174,15 +180,15 @@ START_TEST(watches_beyond_capacity_are_refused_and_slots_reused)
     for (; watched < LOOP_MAX_WATCHES; watched++) {
         copies[watched] = dup(idle.ends[0]);
         ck_assert_int_ge(copies[watched], 0);
-        if (!loop_watch(copies[watched], POLLIN, count_call, &idle)) {
+        if (!loop_watch(loop, copies[watched], POLLIN, count_call, &idle)) {
             break;
         }
     }
     /* the loop's own signal descriptor takes one slot */
     ck_assert_int_eq(watched, LOOP_MAX_WATCHES - 1);
-    ck_assert(!loop_watch(late.ends[0], POLLIN, count_call, &late));
-    loop_unwatch(copies[0]);
-    ck_assert(loop_watch(late.ends[0], POLLIN, count_call, &late));
+    ck_assert(!loop_watch(loop, late.ends[0], POLLIN, count_call, &late));
+    loop_unwatch(loop, copies[0]);
+    ck_assert(loop_watch(loop, late.ends[0], POLLIN, count_call, &late));
     make_readable(&late);
     wait_now();
     ck_assert_int_eq(late.calls, 1);
@@ -201,18 +207,18 @@ START_TEST(set_events_turns_writability_on_and_off)
 {
     pair_t p;
     open_pair(&p);
-    ck_assert(loop_watch(p.ends[0], POLLIN, count_call, &p));
+    ck_assert(loop_watch(loop, p.ends[0], POLLIN, count_call, &p));
     wait_now();
     ck_assert_int_eq(p.calls, 0);
-    loop_set_events(p.ends[0], POLLIN | POLLOUT);
+    loop_set_events(loop, p.ends[0], POLLIN | POLLOUT);
     wait_now();
     ck_assert_int_eq(p.calls, 1);
     ck_assert_int_eq(p.last_revents, POLLOUT);
-    loop_set_events(p.ends[0], 0);
+    loop_set_events(loop, p.ends[0], 0);
     make_readable(&p);
     wait_now();
     ck_assert_int_eq(p.calls, 1);
-    loop_set_events(p.ends[0], POLLIN);
+    loop_set_events(loop, p.ends[0], POLLIN);
     wait_now();
     ck_assert_int_eq(p.calls, 2);
     ck_assert_int_eq(p.last_revents, POLLIN);
@@ -224,7 +230,7 @@ START_TEST(hang_up_is_reported_without_asking)
 {
     pair_t p;
     open_pair(&p);
-    ck_assert(loop_watch(p.ends[0], 0, count_call, &p));
+    ck_assert(loop_watch(loop, p.ends[0], 0, count_call, &p));
     close(p.ends[1]);
     wait_now();
     ck_assert_int_eq(p.calls, 1);
@@ -240,13 +246,13 @@ START_TEST(signal_is_noticed_among_ready_descriptors)
     static pair_t busy[MANY];
     for (int i = 0; i < MANY; i++) {
         open_pair(&busy[i]);
-        ck_assert(loop_watch(busy[i].ends[0], POLLIN, count_call, &busy[i]));
+        ck_assert(loop_watch(loop, busy[i].ends[0], POLLIN, count_call, &busy[i]));
         make_readable(&busy[i]);
     }
-    ck_assert(!loop_stop_requested());
-    kill(getpid(), SIGTERM); /* blocked by loop_init: stays pending */
+    ck_assert(!loop_stop_requested(loop));
+    kill(getpid(), SIGTERM); /* blocked by loop_take_signals: stays pending */
     wait_now();
-    ck_assert(loop_stop_requested());
+    ck_assert(loop_stop_requested(loop));
     for (int i = 0; i < MANY; i++) {
         ck_assert_int_eq(busy[i].calls, 1);
         close_pair(&busy[i]);
@@ -256,31 +262,77 @@ END_TEST
 
 START_TEST(sigint_stops_a_loop_that_has_nothing_due)
 {
-    simclock_start_paused(&sim_clock);
     kill(getpid(), SIGINT);
-    loop_wait(UINT64_MAX);
-    ck_assert(loop_stop_requested());
+    loop_wait(loop, LOOP_NO_TIMEOUT);
+    ck_assert(loop_stop_requested(loop));
 }
 END_TEST
 
-static int catch_ups;
-
-static void count_catch_up(void *ctx)
+/* The hooks' owner gets its own context back. */
+static void count_in_ctx(void *ctx)
 {
-    (void)ctx;
-    catch_ups++;
+    (*(int *)ctx)++;
 }
 
-/* Paused clock, nothing due: only the wall-clock wake-up ends the wait. */
+START_TEST(sighup_runs_the_hangup_hook_and_does_not_stop)
+{
+    int hangups = 0;
+    loop_set_hangup(loop, count_in_ctx, &hangups);
+    kill(getpid(), SIGHUP);
+    wait_now();
+    ck_assert_int_eq(hangups, 1);
+    ck_assert(!loop_stop_requested(loop));
+}
+END_TEST
+
+/* No timeout, nothing ready: only the wall-clock wake-up ends the wait. */
 START_TEST(wall_wakeup_ends_an_otherwise_endless_wait)
 {
-    simclock_start_paused(&sim_clock);
-    loop_set_catch_up(count_catch_up, NULL);
-    catch_ups = 0;
-    loop_wake_at_wall(loop_monotonic_ns() + 2000000u);
-    loop_wait(UINT64_MAX);
+    int catch_ups = 0;
+    loop_set_catch_up(loop, count_in_ctx, &catch_ups);
+    loop_wake_at_wall(loop, loop_monotonic_ns() + 2000000u);
+    loop_wait(loop, LOOP_NO_TIMEOUT);
     ck_assert_int_eq(catch_ups, 1);
-    loop_set_catch_up(NULL, NULL);
+    loop_set_catch_up(loop, NULL, NULL);
+}
+END_TEST
+
+/* The owner's timeout is wall-clock time, and the wait never ends before it. */
+START_TEST(timeout_ends_the_wait_no_sooner)
+{
+    int catch_ups = 0;
+    loop_set_catch_up(loop, count_in_ctx, &catch_ups);
+    uint64_t start = loop_monotonic_ns();
+    loop_wait(loop, 2000000u);
+    ck_assert_uint_ge(loop_monotonic_ns() - start, 2000000u);
+    ck_assert_int_eq(catch_ups, 1);
+    loop_set_catch_up(loop, NULL, NULL);
+}
+END_TEST
+
+/* Two loops share nothing: each reports its own descriptors only, and
+ * unwatching on one leaves the other's watch alone. */
+START_TEST(two_loops_keep_their_watches_apart)
+{
+    host_loop_t *other = loop_create();
+    ck_assert_ptr_nonnull(other);
+    pair_t mine, theirs;
+    open_pair(&mine);
+    open_pair(&theirs);
+    ck_assert(loop_watch(loop, mine.ends[0], POLLIN, count_call, &mine));
+    ck_assert(loop_watch(other, theirs.ends[0], POLLIN, count_call, &theirs));
+    make_readable(&mine);
+    make_readable(&theirs);
+    loop_unwatch(loop, theirs.ends[0]); /* not this loop's: nothing happens */
+    wait_now();
+    ck_assert_int_eq(mine.calls, 1);
+    ck_assert_int_eq(theirs.calls, 0);
+    loop_wait(other, 0);
+    ck_assert_int_eq(theirs.calls, 1);
+    ck_assert_int_eq(mine.calls, 1);
+    loop_destroy(other);
+    close_pair(&mine);
+    close_pair(&theirs);
 }
 END_TEST
 
@@ -307,13 +359,13 @@ START_TEST(catch_up_runs_before_callbacks)
 {
     pair_t p;
     open_pair(&p);
-    loop_set_catch_up(note_catch_up, NULL);
-    ck_assert(loop_watch(p.ends[0], POLLIN, note_callback, NULL));
+    loop_set_catch_up(loop, note_catch_up, NULL);
+    ck_assert(loop_watch(loop, p.ends[0], POLLIN, note_callback, NULL));
     make_readable(&p);
-    loop_wait(UINT64_MAX);
+    loop_wait(loop, LOOP_NO_TIMEOUT);
     ck_assert_int_eq(order_catch_up_at, 1);
     ck_assert_int_eq(order_callback_at, 2);
-    loop_set_catch_up(NULL, NULL);
+    loop_set_catch_up(loop, NULL, NULL);
     close_pair(&p);
 }
 END_TEST
@@ -322,7 +374,7 @@ static Suite *loop_suite(void)
 {
     Suite *s = suite_create("loop");
     TCase *tc = tcase_create("dispatch");
-    tcase_add_checked_fixture(tc, setup, NULL);
+    tcase_add_checked_fixture(tc, setup, teardown);
     tcase_add_test(tc, stale_event_never_reaches_a_reused_descriptor);
     tcase_add_test(tc, unwatched_during_dispatch_gets_no_callback);
     tcase_add_test(tc, only_ready_descriptors_are_called_back);
@@ -331,7 +383,10 @@ static Suite *loop_suite(void)
     tcase_add_test(tc, hang_up_is_reported_without_asking);
     tcase_add_test(tc, signal_is_noticed_among_ready_descriptors);
     tcase_add_test(tc, sigint_stops_a_loop_that_has_nothing_due);
+    tcase_add_test(tc, sighup_runs_the_hangup_hook_and_does_not_stop);
     tcase_add_test(tc, wall_wakeup_ends_an_otherwise_endless_wait);
+    tcase_add_test(tc, timeout_ends_the_wait_no_sooner);
+    tcase_add_test(tc, two_loops_keep_their_watches_apart);
     tcase_add_test(tc, catch_up_runs_before_callbacks);
     suite_add_tcase(s, tc);
     return s;
@@ -340,7 +395,10 @@ static Suite *loop_suite(void)
 int main(void)
 {
     SRunner *runner = srunner_create(loop_suite());
+    srunner_add_suite(runner, can_log_suite());
+    srunner_add_suite(runner, net_suite());
     srunner_add_suite(runner, net_allow_suite());
+    srunner_add_suite(runner, notify_suite());
     srunner_add_suite(runner, port_layout_suite());
     srunner_run_all(runner, CK_ENV);
     int failed = srunner_ntests_failed(runner);

@@ -9,6 +9,8 @@
 #include "coverage.h"
 #include "fleet.h"
 #include "hal_clock.h"
+#include "loop.h"
+#include "net.h"
 #include "options.h"
 #include "sim/clock.h"
 #include "sim/commands.h"
@@ -19,6 +21,9 @@ simctl_t *t_sim;
 fleet_t *t_fleet;
 static char *last_reply;
 static host_options_t opts; /* the fleet's, for as long as it runs */
+/* What a fleet needs below it; the tests' device has no sockets. */
+static host_loop_t *loop;
+static net_t net;
 
 static coverage_t *t_coverage; /* counted on every device, as with a control channel */
 
@@ -42,7 +47,10 @@ static void setup_with(int argc, char **argv)
     t_coverage = coverage_create(opts.strict, (unsigned)opts.devices);
     ck_assert_ptr_nonnull(t_coverage);
     simctl_set_diagnostics(t_sim, NULL, t_coverage);
-    t_fleet = fleet_create();
+    loop = loop_create();
+    ck_assert_ptr_nonnull(loop);
+    net_init(&net);
+    t_fleet = fleet_create(loop, &net);
     ck_assert_ptr_nonnull(t_fleet);
     observers.next = NULL;
     fleet_observe(t_fleet, &observers);
@@ -68,7 +76,7 @@ void t_reinit(const host_options_t *with)
     gripper_t *g = fleet_gripper(t_fleet, 0);
     gripper_touched_t *touched = g->touched_list;
     gripper_release(g);
-    ck_assert(gripper_init(g, with, 0, touched));
+    ck_assert(gripper_init(g, loop, with, 0, touched));
     attach_observers((void *)with, g);
     gripper_start(g);
 }
@@ -96,6 +104,8 @@ void t_teardown(void)
     simctl_set_diagnostics(t_sim, NULL, NULL);
     coverage_destroy(t_coverage);
     t_coverage = NULL;
+    loop_destroy(loop);
+    loop = NULL;
     simctl_destroy(t_sim);
     t_sim = NULL;
     free(last_reply);

@@ -217,6 +217,25 @@ START_TEST(many_events_at_one_instant_are_sliced_at_that_instant)
 }
 END_TEST
 
+/* 10,000 devices powered on together fall due together while their fingers
+ * settle: one pass must not step them all before the loop serves the
+ * sockets again (a driver's first SN? waited 1.5 s for the start-up burst). */
+START_TEST(a_fleet_pass_steps_no_more_devices_than_its_budget)
+{
+    unsigned steps = 0;
+    uint64_t next = fleet_tick(t_fleet, 3, &steps);
+    ck_assert_uint_gt(next, t_now_us());
+    simclock_advance_device(simctl_clock(t_sim), next); /* all three are due now */
+    ck_assert(fleet_devices_due(t_fleet, next));
+    ck_assert_uint_le(fleet_tick(t_fleet, 2, &steps), next); /* one is left due */
+    ck_assert_uint_eq(steps, 2);
+    ck_assert(fleet_devices_due(t_fleet, next));
+    ck_assert_uint_gt(fleet_tick(t_fleet, 2, &steps), next);
+    ck_assert_uint_eq(steps, 1);
+    ck_assert(!fleet_devices_due(t_fleet, next));
+}
+END_TEST
+
 /* "RUN_UNTIL_DONE=[ms,"why"]": the simulated µs and the reason. */
 static uint64_t run_until_done(const char *line, const char *why)
 {
@@ -354,5 +373,9 @@ Suite *clock_suite(void)
     tcase_add_test(tc, run_until_done_is_checked_like_step);
     tcase_add_test(tc, a_step_after_an_unanswered_run_answers_as_a_step);
     suite_add_tcase(s, tc);
+    TCase *fleet = tcase_create("clock of a fleet");
+    tcase_add_checked_fixture(fleet, t_setup_three_devices, t_teardown);
+    tcase_add_test(fleet, a_fleet_pass_steps_no_more_devices_than_its_budget);
+    suite_add_tcase(s, fleet);
     return s;
 }
