@@ -113,6 +113,13 @@ static void unmark(tcp_client_t *c)
     tcp->marked_count--;
 }
 
+/* Failed or overflowed: the next reap closes it. */
+static void mark_dead(tcp_client_t *c)
+{
+    c->dead = true;
+    mark(c);
+}
+
 static void unlink_client(tcp_client_t *c)
 {
     tcp_servers_t *tcp = c->server->set;
@@ -156,7 +163,7 @@ static void enqueue(tcp_client_t *c, const char *line, size_t len, wsg_msg_kind_
         break;
     case WSG_OUTQ_OVERFLOW:
         host_logf(HAL_LOG_WARN, "tcp %s: not reading its replies; disconnected", c->peer);
-        c->dead = true;
+        mark_dead(c);
         break;
     }
 }
@@ -164,14 +171,13 @@ static void enqueue(tcp_client_t *c, const char *line, size_t len, wsg_msg_kind_
 static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t kind)
 {
     tcp_client_t *c = ctx;
-    mark(c); /* its queue, or a failed send */
     if (c->dead) {
         return;
     }
     if (wsg_outq_empty(&c->outq)) {
         ssize_t sent = send_line(c, line, len);
         if (sent < 0) {
-            c->dead = true;
+            mark_dead(c);
             return;
         }
         if ((size_t)sent == len) {
@@ -193,7 +199,7 @@ static void flush(tcp_client_t *c)
         size_t len = wsg_outq_peek(&c->outq, line, sizeof(line));
         ssize_t sent = send_line(c, line, len);
         if (sent < 0) {
-            c->dead = true;
+            mark_dead(c);
             return;
         }
         wsg_outq_consume(&c->outq, (size_t)sent);
@@ -251,6 +257,7 @@ static void on_end_of_input(tcp_client_t *c)
 {
     c->eof = true;
     update_events(c);
+    mark(c); /* and stays marked until it closes (tcp_server_reap) */
 }
 
 /* A command completed in this input restarts its grace (stalled()). */
@@ -267,13 +274,15 @@ static void on_client(void *ctx, int fd, short revents)
 {
     tcp_client_t *c = ctx;
     (void)fd;
-    mark(c);
     if ((revents & POLLOUT) != 0) {
         flush(c);
+        mark(c); /* its queue may be out */
     }
     if (c->eof) {
         /* only the reply direction is left: a hang-up or error ends it */
-        c->dead = c->dead || (revents & (POLLHUP | POLLERR)) != 0;
+        if ((revents & (POLLHUP | POLLERR)) != 0) {
+            mark_dead(c);
+        }
         return;
     }
     if ((revents & (POLLIN | POLLHUP | POLLERR)) == 0 || c->dead) {
@@ -285,10 +294,13 @@ static void on_client(void *ctx, int fd, short revents)
         c->heard_us = hal_clock_now_us();
         gripper_feed(c->server->gripper, &c->conn, buf, (size_t)n, 0);
         note_completed(c);
+        if (wsg_conn_wants_close(&c->conn)) {
+            mark(c); /* BYE: closes once its reply is out */
+        }
     } else if (n == 0) {
         on_end_of_input(c);
     } else if (errno != EAGAIN && errno != EINTR) {
-        c->dead = true;
+        mark_dead(c);
     }
 }
 
@@ -529,10 +541,11 @@ static void resume_listeners(tcp_servers_t *tcp)
     }
 }
 
-/* Idle connections cost nothing here: only the marked ones are looked at,
- * and all of them once an --idle-timeout is due. One whose input has ended
- * stays marked until it closes: its held replies may be dropped without a
- * write that would mark it again. */
+/* Only the marked connections are looked at: those that failed, said BYE,
+ * flushed their queue or ended their input since the last reap, and all
+ * once an --idle-timeout is due; a request answered at once marks nothing.
+ * One whose input has ended stays marked until it closes: its held replies
+ * (DELAY) may go without anything that would mark it again. */
 void tcp_server_reap(tcp_servers_t *tcp)
 {
     uint64_t now = hal_clock_now_us();

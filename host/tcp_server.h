@@ -76,8 +76,8 @@ void tcp_server_close_all(tcp_server_t *s);
 void tcp_server_stop(tcp_server_t *s);
 
 /* Across every server of the set: closes connections that said BYE (once flushed),
- * failed or stayed quiet beyond --idle-timeout. Visits the connections
- * something happened to since the last reap (all once a timeout is due). */
+ * failed or stayed quiet beyond --idle-timeout. Visits only connections that
+ * may have finished since the last reap (all once a timeout is due). */
 void tcp_server_reap(tcp_servers_t *tcp);
 /* The earliest --idle-timeout of an open connection (simulated clock), or
  * UINT64_MAX: the loop must wake for it even when the device is idle. */
