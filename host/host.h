@@ -11,7 +11,7 @@
 #include "loop.h"
 #include "net.h"
 #include "options.h"
-#include "sim/control.h"
+#include "simctl/control.h"
 #include "web/web_server.h"
 
 typedef struct host {

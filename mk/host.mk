@@ -7,7 +7,7 @@
 # use the finger bus's wire format from libwsgfw.a.
 # The host sees the public headers only (PUBLIC_INC); its capacities come
 # from host/opts/wsgopts.h like every other Linux build of the libraries.
-HOST_SRC := $(sort $(wildcard host/*.c host/sim/*.c host/web/*.c))
+HOST_SRC := $(sort $(wildcard host/*.c host/simctl/*.c host/web/*.c))
 HOST_PKGS := inih libcjson libsystemd libmicrohttpd lua5.4
 HOST_CFLAGS = $(CFLAGS_BASE) -D_GNU_SOURCE $(PUBLIC_INC) -Ihost $(shell pkg-config --cflags $(HOST_PKGS) 2>/dev/null)
 HOST_LIBS = $(shell pkg-config --libs $(HOST_PKGS) 2>/dev/null) -lm

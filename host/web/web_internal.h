@@ -11,7 +11,7 @@
 #include <microhttpd.h>
 
 #include "gripper.h"
-#include "sim/control.h"
+#include "simctl/control.h"
 #include "web/web_events.h"
 #include "web/web_lines.h"
 #include "wsg/wsg_status.h"

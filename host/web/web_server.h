@@ -17,7 +17,7 @@
 #include "loop.h"
 #include "net.h"
 #include "options.h"
-#include "sim/control.h"
+#include "simctl/control.h"
 
 typedef struct web_server web_server_t;
 struct web_lines;

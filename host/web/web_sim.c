@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "sim/commands.h"
+#include "simctl/commands.h"
 #include "web/web_internal.h"
 
 #define LINE_MAX_CHARS 160

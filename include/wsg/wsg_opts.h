@@ -51,10 +51,4 @@
 #define WSG_PEER_ADDR_BYTES 28
 #endif
 
-/* Observers (trace, record, coverage): 0 compiles their calls out (a board
- * without a debug port saves the flash). */
-#ifndef WSG_OBSERVERS
-#define WSG_OBSERVERS 1
-#endif
-
 #endif

@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* libFuzzer target: arbitrary bytes on the simulation control channel,
  * assembled into lines by the channel's line buffer and handled as
- * host/sim/control.c handles them (mirrored in handle_line() below:
+ * host/simctl/control.c handles them (mirrored in handle_line() below:
  * control.c itself is the socket side), so that every command of
- * host/sim/commands*.c runs against the real host: fleet, finger bus,
+ * host/simctl/commands*.c runs against the real host: fleet, finger bus,
  * faults, delays, on the paused simulated clock.
  *
  * Input layout: byte 0 picks the number of devices (bits 0-1: 1..4) and the
@@ -23,9 +23,9 @@
 #include "fuzz_host.h"
 #include "gripper.h"
 #include "fleet.h"
-#include "sim/clock.h"
-#include "sim/commands.h"
-#include "sim/scheduler.h"
+#include "simctl/clock.h"
+#include "simctl/commands.h"
+#include "simctl/scheduler.h"
 #include "wsg/gcl_linebuf.h"
 #include "wsg/wsg_conn.h"
 #include "wsg/wsg_gcl.h"

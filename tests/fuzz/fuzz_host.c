@@ -10,11 +10,11 @@
 #include "log.h"
 #include "loop.h"
 #include "net.h"
-#include "sim/clock.h"
-#include "sim/control.h"
-#include "sim/faults.h"
-#include "sim/scenario.h"
-#include "sim/scheduler.h"
+#include "simctl/clock.h"
+#include "simctl/control.h"
+#include "simctl/faults.h"
+#include "simctl/scenario.h"
+#include "simctl/scheduler.h"
 #include "web/web_server.h"
 
 static host_options_t options;

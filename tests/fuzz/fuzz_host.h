@@ -12,7 +12,7 @@
 
 #include "fleet.h"
 #include "options.h"
-#include "sim/control.h"
+#include "simctl/control.h"
 
 /* The host's options from argv (as main() parses them), with TCP, UDP, the
  * web server and the control channel off: NULL when they do not parse. */

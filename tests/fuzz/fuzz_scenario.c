@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* libFuzzer target: the input is a --scenario file (host/sim/scenario.c:
+/* libFuzzer target: the input is a --scenario file (host/simctl/scenario.c:
  * times, comments, every line checked by simctl_check() at load), loaded
  * into the real host on the paused simulated clock and, when accepted, run:
  * simulated time steps from event to event, as the event loop's scheduler
@@ -13,7 +13,7 @@
 
 #include "fuzz_host.h"
 #include "hal_clock.h"
-#include "sim/scenario.h"
+#include "simctl/scenario.h"
 
 #define RUN_LIMIT_US 120000000u /* two simulated minutes */
 

@@ -12,9 +12,9 @@
 #include "loop.h"
 #include "net.h"
 #include "options.h"
-#include "sim/clock.h"
-#include "sim/commands.h"
-#include "sim/control.h"
+#include "simctl/clock.h"
+#include "simctl/commands.h"
+#include "simctl/control.h"
 
 h_client_t t_gcl;
 simctl_t *t_sim;

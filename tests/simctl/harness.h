@@ -14,7 +14,7 @@
 #include "fake_conn.h"
 #include "fleet.h"
 #include "gripper.h"
-#include "sim/control.h"
+#include "simctl/control.h"
 
 extern h_client_t t_gcl; /* the GCL session every test starts with */
 extern simctl_t *t_sim;  /* the control side the tests drive */

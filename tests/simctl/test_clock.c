@@ -8,10 +8,10 @@
 #include "harness.h"
 
 #include "fleet.h"
-#include "sim/clock.h"
-#include "sim/commands.h"
-#include "sim/scenario.h"
-#include "sim/scheduler.h"
+#include "simctl/clock.h"
+#include "simctl/commands.h"
+#include "simctl/scenario.h"
+#include "simctl/scheduler.h"
 
 static const char *expected_time(const char *name, uint64_t us)
 {

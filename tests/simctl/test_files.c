@@ -13,7 +13,7 @@
 #include "options.h"
 #include "record.h"
 #include "settings_table.h"
-#include "sim/scenario.h"
+#include "simctl/scenario.h"
 #include "sim/sim_models.h"
 #include "wsg/wsg_types.h"
 

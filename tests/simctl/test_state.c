@@ -8,7 +8,7 @@
 #include "harness.h"
 
 #include "fleet.h"
-#include "sim/commands.h"
+#include "simctl/commands.h"
 #include "wsg/wsg_types.h"
 
 /* The JSON after "NAME=" of a reply; the caller deletes it. */

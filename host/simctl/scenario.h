@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* --scenario FILE: control commands at given simulated times, so a test run
  * replays the same physical story every time. Format in docs/simctl.md.
- * An instance, embedded by the control side (host/sim/control.c), whose
+ * An instance, embedded by the control side (host/simctl/control.c), whose
  * commands it runs. */
 #ifndef SIM_SCENARIO_H
 #define SIM_SCENARIO_H

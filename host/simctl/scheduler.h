@@ -2,7 +2,7 @@
 /* Runs everything that lives on the simulated clock — the devices, the
  * delayed replies and what is registered above it (the scenario) — and
  * steps the paused clock. An instance, embedded by the control side
- * (host/sim/control.c). */
+ * (host/simctl/control.c). */
 #ifndef SIM_SCHEDULER_H
 #define SIM_SCHEDULER_H
 

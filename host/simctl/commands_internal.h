@@ -38,7 +38,7 @@ typedef struct {
     bool in_scenario; /* a scenario may run it */
 } simctl_entry_t;
 
-/* sim/commands_ctx.c: what a handler does with its context. */
+/* simctl/commands_ctx.c: what a handler does with its context. */
 
 /* Sets the reason of an ERR reply and returns status. */
 wsg_status_t sc_fail(simctl_ctx_t *ctx, wsg_status_t status, const char *fmt, ...)
@@ -68,7 +68,7 @@ wsg_conn_t *sc_session(simctl_ctx_t *ctx, unsigned i);
 bool sc_checking(const simctl_ctx_t *ctx);
 /* The device noticed a change of the world at once (a control step now). */
 void sc_world_changed(simctl_ctx_t *ctx);
-/* sim/commands_clock.c */
+/* simctl/commands_clock.c */
 wsg_status_t sc_pause(simctl_ctx_t *ctx);
 wsg_status_t sc_resume(simctl_ctx_t *ctx);
 wsg_status_t sc_step(simctl_ctx_t *ctx);
@@ -76,7 +76,7 @@ wsg_status_t sc_run_until_done(simctl_ctx_t *ctx);
 wsg_status_t sc_scale(simctl_ctx_t *ctx);
 wsg_status_t sc_simtime(simctl_ctx_t *ctx);
 
-/* sim/commands_world.c */
+/* simctl/commands_world.c */
 wsg_status_t sc_part(simctl_ctx_t *ctx);
 wsg_status_t sc_part_remove(simctl_ctx_t *ctx);
 wsg_status_t sc_part_slip(simctl_ctx_t *ctx);
@@ -84,7 +84,7 @@ wsg_status_t sc_obstacle(simctl_ctx_t *ctx);
 wsg_status_t sc_obstacle_remove(simctl_ctx_t *ctx);
 wsg_status_t sc_ambient(simctl_ctx_t *ctx);
 
-/* sim/commands_fault.c */
+/* simctl/commands_fault.c */
 wsg_status_t sc_fault(simctl_ctx_t *ctx);
 wsg_status_t sc_clear(simctl_ctx_t *ctx);
 wsg_status_t sc_faults(simctl_ctx_t *ctx);
@@ -95,7 +95,7 @@ wsg_status_t sc_delay(simctl_ctx_t *ctx);
 wsg_status_t sc_failnext(simctl_ctx_t *ctx);
 wsg_status_t sc_cut(simctl_ctx_t *ctx);
 
-/* sim/commands_state.c */
+/* simctl/commands_state.c */
 wsg_status_t sc_state(simctl_ctx_t *ctx);
 wsg_status_t sc_sessions(simctl_ctx_t *ctx);
 wsg_status_t sc_reset(simctl_ctx_t *ctx);
@@ -106,7 +106,7 @@ wsg_status_t sc_device(simctl_ctx_t *ctx);
 wsg_status_t sc_devices(simctl_ctx_t *ctx);
 wsg_status_t sc_bye(simctl_ctx_t *ctx);
 
-/* sim/commands_script.c */
+/* simctl/commands_script.c */
 wsg_status_t sc_script_run(simctl_ctx_t *ctx);
 wsg_status_t sc_script_stop(simctl_ctx_t *ctx);
 wsg_status_t sc_script(simctl_ctx_t *ctx);

@@ -4,7 +4,7 @@
  * hal_clock_now_us() returns) is moved up to the target by the scheduler,
  * deadline by deadline, so every control step happens at its exact simulated
  * instant whatever the scale. An instance, embedded by its owner (the
- * control side, host/sim/control.c); the HAL's link-time clock reads the
+ * control side, host/simctl/control.c); the HAL's link-time clock reads the
  * one initialised last. */
 #ifndef SIM_CLOCK_H
 #define SIM_CLOCK_H
