@@ -438,6 +438,10 @@ static void sift_down(fleet_t *fleet, unsigned place)
 
 static void set_due(fleet_t *fleet, unsigned device, uint64_t due_us)
 {
+    if (fleet->count == 1u) {
+        fleet->due_us[device] = due_us; /* a heap of one is always in order */
+        return;
+    }
     bool earlier = due_us < fleet->due_us[device];
     fleet->due_us[device] = due_us;
     if (earlier) {

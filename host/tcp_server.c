@@ -45,6 +45,8 @@ struct tcp_client {
     bool dead;    /* failed or overflowed: close at the next reap */
     bool eof;     /* the client shut its side: answer, flush, then close */
     bool expired; /* closed by the server for silence: not a lost link */
+    bool marked;  /* on its set's list for the next reap */
+    tcp_client_t *next_marked;
     uint64_t connected_us;
     uint64_t heard_us;     /* last input, or connected_us */
     uint64_t completed_us; /* when its last whole command arrived, or connected_us */
@@ -65,6 +67,57 @@ static void link_client(tcp_client_t *c)
     }
     tcp->last = c;
     c->server->open++;
+}
+
+/* Something happened to c that may finish it: the next reap looks. A
+ * connection is marked exactly while it is on its set's list. */
+static void mark(tcp_client_t *c)
+{
+    if (!c->marked) {
+        tcp_servers_t *tcp = c->server->set;
+        c->marked = true;
+        c->next_marked = NULL;
+        *(tcp->marked_tail != NULL ? tcp->marked_tail : &tcp->marked_first) = c;
+        tcp->marked_tail = &c->next_marked;
+        tcp->marked_count++;
+    }
+}
+
+static tcp_client_t *take_first_marked(tcp_servers_t *tcp)
+{
+    tcp_client_t *c = tcp->marked_first;
+    tcp->marked_first = c->next_marked;
+    if (tcp->marked_first == NULL) {
+        tcp->marked_tail = NULL;
+    }
+    c->marked = false;
+    tcp->marked_count--;
+    return c;
+}
+
+static void unmark(tcp_client_t *c)
+{
+    if (!c->marked) {
+        return;
+    }
+    tcp_servers_t *tcp = c->server->set;
+    tcp_client_t **link = &tcp->marked_first;
+    while (*link != c) { /* the head, when the reap takes it */
+        link = &(*link)->next_marked;
+    }
+    *link = c->next_marked;
+    if (c->next_marked == NULL) {
+        tcp->marked_tail = link;
+    }
+    c->marked = false;
+    tcp->marked_count--;
+}
+
+/* Failed or overflowed: the next reap closes it. */
+static void mark_dead(tcp_client_t *c)
+{
+    c->dead = true;
+    mark(c);
 }
 
 static void unlink_client(tcp_client_t *c)
@@ -110,7 +163,7 @@ static void enqueue(tcp_client_t *c, const char *line, size_t len, wsg_msg_kind_
         break;
     case WSG_OUTQ_OVERFLOW:
         host_logf(HAL_LOG_WARN, "tcp %s: not reading its replies; disconnected", c->peer);
-        c->dead = true;
+        mark_dead(c);
         break;
     }
 }
@@ -124,7 +177,7 @@ static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t k
     if (wsg_outq_empty(&c->outq)) {
         ssize_t sent = send_line(c, line, len);
         if (sent < 0) {
-            c->dead = true;
+            mark_dead(c);
             return;
         }
         if ((size_t)sent == len) {
@@ -146,7 +199,7 @@ static void flush(tcp_client_t *c)
         size_t len = wsg_outq_peek(&c->outq, line, sizeof(line));
         ssize_t sent = send_line(c, line, len);
         if (sent < 0) {
-            c->dead = true;
+            mark_dead(c);
             return;
         }
         wsg_outq_consume(&c->outq, (size_t)sent);
@@ -187,6 +240,7 @@ static void close_client(tcp_client_t *c)
         host_log_peer(HAL_LOG_INFO, "tcp %s: %lu AUTOSEND lines dropped (client not reading)",
                       c->peer, c->dropped_autosend);
     }
+    unmark(c);
     loop_unwatch(c->server->set->loop, c->fd);
     close(c->fd);
     wsg_conn_close(&c->conn, reason);
@@ -203,6 +257,7 @@ static void on_end_of_input(tcp_client_t *c)
 {
     c->eof = true;
     update_events(c);
+    mark(c); /* and stays marked until it closes (tcp_server_reap) */
 }
 
 /* A command completed in this input restarts its grace (stalled()). */
@@ -221,10 +276,13 @@ static void on_client(void *ctx, int fd, short revents)
     (void)fd;
     if ((revents & POLLOUT) != 0) {
         flush(c);
+        mark(c); /* its queue may be out */
     }
     if (c->eof) {
         /* only the reply direction is left: a hang-up or error ends it */
-        c->dead = c->dead || (revents & (POLLHUP | POLLERR)) != 0;
+        if ((revents & (POLLHUP | POLLERR)) != 0) {
+            mark_dead(c);
+        }
         return;
     }
     if ((revents & (POLLIN | POLLHUP | POLLERR)) == 0 || c->dead) {
@@ -236,10 +294,13 @@ static void on_client(void *ctx, int fd, short revents)
         c->heard_us = hal_clock_now_us();
         gripper_feed(c->server->gripper, &c->conn, buf, (size_t)n, 0);
         note_completed(c);
+        if (wsg_conn_wants_close(&c->conn)) {
+            mark(c); /* BYE: closes once its reply is out */
+        }
     } else if (n == 0) {
         on_end_of_input(c);
     } else if (errno != EAGAIN && errno != EINTR) {
-        c->dead = true;
+        mark_dead(c);
     }
 }
 
@@ -325,6 +386,11 @@ static bool setup_client(tcp_client_t *c, int fd, const struct sockaddr_storage 
         return false;
     }
     link_client(c);
+    uint64_t timeout = c->server->idle_timeout_us;
+    tcp_servers_t *tcp = c->server->set;
+    if (timeout != 0 && c->heard_us + timeout < tcp->idle_due_us) {
+        tcp->idle_due_us = c->heard_us + timeout;
+    }
     gripper_touch(g); /* its --idle-timeout is a new deadline */
     return true;
 }
@@ -475,21 +541,38 @@ static void resume_listeners(tcp_servers_t *tcp)
     }
 }
 
+/* Only the marked connections are looked at: those that failed, said BYE,
+ * flushed their queue or ended their input since the last reap, and all
+ * once an --idle-timeout is due; a request answered at once marks nothing.
+ * One whose input has ended stays marked until it closes: its held replies
+ * (DELAY) may go without anything that would mark it again. */
 void tcp_server_reap(tcp_servers_t *tcp)
 {
     uint64_t now = hal_clock_now_us();
-    tcp_client_t *next;
-    for (tcp_client_t *c = tcp->first; c != NULL; c = next) {
-        next = c->next;
+    if (now >= tcp->idle_due_us) {
+        for (tcp_client_t *c = tcp->first; c != NULL; c = c->next) {
+            mark(c);
+        }
+    }
+    /* those marked now, once each; one marked again goes to the end */
+    for (unsigned n = tcp->marked_count; n > 0 && tcp->marked_first != NULL; n--) {
+        tcp_client_t *c = take_first_marked(tcp);
         if (finished(c, now)) {
             close_client(c);
+        } else if (c->eof) {
+            mark(c);
         }
     }
     resume_listeners(tcp);
 }
 
-uint64_t tcp_server_next_deadline_us(const tcp_servers_t *tcp)
+/* Asked at every touched tick: the connections are scanned only once the
+ * earliest timeout is due (or not known yet), not for every request. */
+uint64_t tcp_server_next_deadline_us(tcp_servers_t *tcp)
 {
+    if (tcp->idle_due_us > hal_clock_now_us()) {
+        return tcp->idle_due_us;
+    }
     uint64_t due = UINT64_MAX;
     for (tcp_client_t *c = tcp->first; c != NULL; c = c->next) {
         uint64_t timeout = c->server->idle_timeout_us;
@@ -497,6 +580,7 @@ uint64_t tcp_server_next_deadline_us(const tcp_servers_t *tcp)
             due = c->heard_us + timeout;
         }
     }
+    tcp->idle_due_us = due;
     return due;
 }
 

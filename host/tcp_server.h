@@ -31,6 +31,15 @@ typedef struct {
      * half-closed connection waits for them before it closes. */
     bool (*replies_held)(void *ctx, const wsg_conn_t *conn);
     void *held_ctx;
+    /* No connection's --idle-timeout ends before this (0: not known yet).
+     * It may be early: input moves a timeout later and leaves it; the
+     * connections are scanned again once it is due. */
+    uint64_t idle_due_us;
+    /* The connections something happened to since the last reap, in that
+     * order: the reap looks at these only. marked_tail: the link the next
+     * one goes into (NULL: marked_first). */
+    tcp_client_t *marked_first, **marked_tail;
+    unsigned marked_count;
 } tcp_servers_t;
 
 /* A listener shared by several servers (--address-per-device): the server
@@ -67,11 +76,12 @@ void tcp_server_close_all(tcp_server_t *s);
 void tcp_server_stop(tcp_server_t *s);
 
 /* Across every server of the set: closes connections that said BYE (once flushed),
- * failed or stayed quiet beyond --idle-timeout. Visits open connections only. */
+ * failed or stayed quiet beyond --idle-timeout. Visits only connections that
+ * may have finished since the last reap (all once a timeout is due). */
 void tcp_server_reap(tcp_servers_t *tcp);
 /* The earliest --idle-timeout of an open connection (simulated clock), or
  * UINT64_MAX: the loop must wake for it even when the device is idle. */
-uint64_t tcp_server_next_deadline_us(const tcp_servers_t *tcp);
+uint64_t tcp_server_next_deadline_us(tcp_servers_t *tcp);
 /* Pulls the cable of the connection that carries this session: the session
  * ends without BYE and the socket is reset. False if none carries it. */
 bool tcp_server_cut(tcp_servers_t *tcp, const wsg_conn_t *conn);

@@ -44,14 +44,20 @@ static inline void simclock_advance_device(simclock_t *clock, uint64_t us)
 /* Wall time left until simulated time reaches deadline_us; false when the
  * clock is paused (only a step or resume will get there), unless the device
  * time is still behind a step: then no wait at all; false as well when
- * deadline_us is UINT64_MAX (nothing is due). */
+ * deadline_us is UINT64_MAX (nothing is due). Measured from the device time,
+ * not from a fresh clock read: call it right after the scheduler's pass
+ * (simctl_tick), which moved the device time to the present. */
 bool simclock_wall_wait(const simclock_t *clock, uint64_t deadline_us, struct timespec *wait);
 
 void simclock_pause(simclock_t *clock);
 /* Right after init: paused with simulated time at exactly 0. */
 void simclock_start_paused(simclock_t *clock);
 void simclock_resume(simclock_t *clock);
-bool simclock_paused(const simclock_t *clock);
+/* Inline: the scheduler asks at every pass. */
+static inline bool simclock_paused(const simclock_t *clock)
+{
+    return clock->paused;
+}
 /* 0.01x to 1000x; false when out of range. */
 bool simclock_set_scale(simclock_t *clock, double scale);
 double simclock_scale(const simclock_t *clock);
