@@ -91,16 +91,6 @@ static bool start_simulation(host_t *host, diagnostics_t *d, const host_options_
            simctl_start(sim, host->loop, &host->net, opts->sim_bind, opts->sim_port);
 }
 
-/* After the devices are gone. */
-static int stop_simulation(simctl_t *sim, diagnostics_t *d, const host_options_t *opts)
-{
-    simctl_stop(sim);
-    scenario_unload(simctl_scenario(sim));
-    bool written = opts->coverage_path == NULL || coverage_write(d->coverage);
-    free_diagnostics(sim, d);
-    return written ? 0 : 1;
-}
-
 /* Replies an injected DELAY holds back (the connection I/O's held() hook). */
 static bool delay_holds_replies(void *ctx, const wsg_conn_t *conn)
 {
@@ -199,15 +189,42 @@ static void run(host_t *host)
     }
 }
 
+/* Everything after the loop, in the order the devices need: the web server
+ * first (the devices' observers keep its connection lines), the
+ * diagnostics before the devices they observe; false after a clear message. */
+static bool start_all(host_t *host, diagnostics_t *d, host_options_t *opts)
+{
+    if (opts->can_log != NULL && !can_log_open(&host->can_log, opts->can_log)) {
+        return false;
+    }
+    return web_server_start(host->web, host->loop, &host->net, opts, host->sim, host->fleet) &&
+           start_diagnostics(d, host->web, opts) && fleet_start(host->fleet, opts) &&
+           start_simulation(host, d, opts) && announce(host, opts);
+}
+
+/* Stops whatever start_all() started, also after it failed half-way: the
+ * web's operations while their devices exist, the devices, the control
+ * channel, then what observed them. write_coverage: --coverage's report
+ * is written (false when it cannot be). */
+static bool stop_all(host_t *host, diagnostics_t *d, const host_options_t *opts,
+                     bool write_coverage)
+{
+    web_server_stop(host->web);
+    fleet_stop(host->fleet);
+    can_log_close(&host->can_log);
+    simctl_stop(host->sim);
+    scenario_unload(simctl_scenario(host->sim));
+    bool written = !write_coverage || opts->coverage_path == NULL || coverage_write(d->coverage);
+    free_diagnostics(host->sim, d);
+    return written;
+}
+
 /* Starts everything on the simulation's clock and runs the loop until a
  * signal stops it; the exit status. */
 static int serve(host_t *host, host_options_t *opts)
 {
-    simctl_t *sim = host->sim;
-    web_server_t *web = host->web;
-    fleet_t *fleet = host->fleet;
     if (opts->start_paused) {
-        simclock_start_paused(simctl_clock(sim)); /* simulated time stands at exactly 0 */
+        simclock_start_paused(simctl_clock(host->sim)); /* simulated time stands at exactly 0 */
     }
     if (!start_loop(host)) {
         return EXIT_STARTUP_FAILED;
@@ -216,34 +233,19 @@ static int serve(host_t *host, host_options_t *opts)
     fleet_observer_t observers = {.device_started = attach_observers,
                                   .replies_held = delay_holds_replies,
                                   .ctx = &diagnostics};
-    if (opts->can_log != NULL && !can_log_open(&host->can_log, opts->can_log)) {
-        return EXIT_STARTUP_FAILED;
-    }
-    fleet_observe(fleet, &observers);
-    simctl_set_fleet(sim, fleet);
-    if (!web_server_start(web, host->loop, &host->net, opts, sim, fleet)) {
-        return EXIT_STARTUP_FAILED;
-    }
-    if (!start_diagnostics(&diagnostics, web, opts) || !fleet_start(fleet, opts) ||
-        !start_simulation(host, &diagnostics, opts)) {
-        web_server_stop(web); /* the devices go first: nothing observes them after */
-        fleet_stop(fleet);
-        free_diagnostics(sim, &diagnostics);
-        return EXIT_STARTUP_FAILED;
-    }
-    if (!announce(host, opts)) {
+    fleet_observe(host->fleet, &observers);
+    simctl_set_fleet(host->sim, host->fleet);
+    if (!start_all(host, &diagnostics, opts)) {
+        stop_all(host, &diagnostics, opts, false);
         return EXIT_STARTUP_FAILED;
     }
     char bus[96];
-    finger_bus_host_describe(&fleet_gripper(fleet, 0)->fingers, bus, sizeof(bus));
+    finger_bus_host_describe(&fleet_gripper(host->fleet, 0)->fingers, bus, sizeof(bus));
     host_logf(HAL_LOG_INFO, "finger bus: %s", bus);
     run(host);
     host_logf(HAL_LOG_INFO, "shutting down");
     notify_stopping(opts->ready_file);
-    web_server_stop(web); /* while the devices its operations ran on exist */
-    fleet_stop(fleet);
-    can_log_close(&host->can_log);
-    return stop_simulation(sim, &diagnostics, opts);
+    return stop_all(host, &diagnostics, opts, true) ? 0 : 1;
 }
 
 int main(int argc, char **argv)
