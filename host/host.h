@@ -22,7 +22,8 @@ typedef struct host {
     can_log_t can_log; /* --can-log: the in-process bus's frames */
     /* port layer */
     fleet_t *fleet; /* the devices and their servers and finger buses */
-    /* diagnostics */
+    /* diagnostics: trace, record and coverage are created in main.c only
+     * when asked for, and attached to each device by a fleet observer */
     /* simulation control */
     simctl_t *sim; /* clock, scheduler, scenario, faults, --sim-port */
     /* web */
