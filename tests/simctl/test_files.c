@@ -522,28 +522,41 @@ START_TEST(config_save_ends_every_line_with_a_newline_alone)
 }
 END_TEST
 
-/* Found by fuzzing: libinih reads "key : value" as a key line too, the
- * Save did not, so a "tag : old" in a later [device] section outlived the
- * saved tag and won at the next start. */
-START_TEST(config_save_replaces_colon_keys_too)
+/* Loads text as the configuration file, saves device 0's configuration
+ * with the tag "new" over it and loads the saved file again: the file as
+ * saved (into saved), and the tag device 0 starts with from it. */
+static const char *save_new_tag(const char *text, char *saved, size_t cap)
 {
     static char *argv[] = {"wsgsim", NULL};
+    static wsg_config_t loaded;
     host_options_t opts;
     options_parse(1, argv, &opts);
-    const char *path = t_temp_file("[device]\ntag = a\n[motion]\n[device]\ntag : old\n");
+    const char *path = t_temp_file(text);
     ck_assert(config_file_load(config_of(&opts), path, NULL, &opts));
     ck_assert(config_file_check(opts.config, opts.model));
     wsg_config_t cfg = *wsg_device_snapshot(&fleet_gripper(t_fleet, 0)->device)->config;
     snprintf(cfg.tag, sizeof(cfg.tag), "new");
     char why[256];
     ck_assert(config_file_save(opts.config, path, 0, &cfg, NULL, why, sizeof(why)));
-    ck_assert_ptr_null(strstr(read_all(path), "old"));
+    snprintf(saved, cap, "%s", read_all(path));
     ck_assert(config_file_load(config_of(&opts), path, NULL, &opts));
-    wsg_config_t loaded;
     wsg_sim_model_config(wsg_sim_model_default(), &loaded);
     config_file_apply(opts.config, &loaded);
-    ck_assert_str_eq(loaded.tag, "new");
+    config_file_apply_device(opts.config, 0, &loaded);
     remove(path);
+    return loaded.tag;
+}
+
+/* Found by fuzzing: libinih reads "key : value" as a key line too, the
+ * Save did not, so a "tag : old" in a later [device] section outlived the
+ * saved tag and won at the next start. */
+START_TEST(config_save_replaces_colon_keys_too)
+{
+    char saved[4096];
+    const char *tag =
+        save_new_tag("[device]\ntag = a\n[motion]\n[device]\ntag : old\n", saved, sizeof(saved));
+    ck_assert_ptr_null(strstr(saved, "old"));
+    ck_assert_str_eq(tag, "new");
 }
 END_TEST
 
@@ -552,24 +565,11 @@ END_TEST
  * start over the saved one. */
 START_TEST(config_save_puts_the_tag_where_it_counts)
 {
-    static char *argv[] = {"wsgsim", NULL};
-    host_options_t opts;
-    options_parse(1, argv, &opts);
-    const char *path = t_temp_file("[device]\ntag = a\n[device.0]\ntag = zero\n");
-    ck_assert(config_file_load(config_of(&opts), path, NULL, &opts));
-    ck_assert(config_file_check(opts.config, opts.model));
-    wsg_config_t cfg = *wsg_device_snapshot(&fleet_gripper(t_fleet, 0)->device)->config;
-    snprintf(cfg.tag, sizeof(cfg.tag), "new");
-    char why[256];
-    ck_assert(config_file_save(opts.config, path, 0, &cfg, NULL, why, sizeof(why)));
-    ck_assert_ptr_nonnull(strstr(read_all(path), "[device]\ntag = a\n[device.0]\ntag = \"new\"\n"));
-    ck_assert(config_file_load(config_of(&opts), path, NULL, &opts));
-    wsg_config_t loaded;
-    wsg_sim_model_config(wsg_sim_model_default(), &loaded);
-    config_file_apply(opts.config, &loaded);
-    config_file_apply_device(opts.config, 0, &loaded);
-    ck_assert_str_eq(loaded.tag, "new");
-    remove(path);
+    char saved[4096];
+    const char *tag =
+        save_new_tag("[device]\ntag = a\n[device.0]\ntag = zero\n", saved, sizeof(saved));
+    ck_assert_ptr_nonnull(strstr(saved, "[device]\ntag = a\n[device.0]\ntag = \"new\"\n"));
+    ck_assert_str_eq(tag, "new");
 }
 END_TEST
 
