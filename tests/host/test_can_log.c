@@ -28,17 +28,6 @@ static void teardown(void)
     unlink(path);
 }
 
-static const char *read_all(const char *file)
-{
-    static char text[512];
-    FILE *f = fopen(file, "r");
-    ck_assert_ptr_nonnull(f);
-    size_t n = fread(text, 1, sizeof(text) - 1, f);
-    text[n] = '\0';
-    fclose(f);
-    return text;
-}
-
 static hal_can_frame_t frame(uint32_t id, uint8_t flags, uint8_t dlc)
 {
     hal_can_frame_t f;
@@ -63,9 +52,9 @@ START_TEST(frames_become_candump_lines)
     can_log_frame(&log, &ext, 2000001u);
     can_log_frame(&log, &rtr, 3000000u);
     can_log_close(&log);
-    ck_assert_str_eq(read_all(path), "(0000000001.500000) " CAN_LOG_IFACE " 123#A0A1\n"
-                                     "(0000000002.000001) " CAN_LOG_IFACE " 001ABCDE#\n"
-                                     "(0000000003.000000) " CAN_LOG_IFACE " 7FF#R4\n");
+    ck_assert_str_eq(t_read_all(path), "(0000000001.500000) " CAN_LOG_IFACE " 123#A0A1\n"
+                                       "(0000000002.000001) " CAN_LOG_IFACE " 001ABCDE#\n"
+                                       "(0000000003.000000) " CAN_LOG_IFACE " 7FF#R4\n");
 }
 END_TEST
 
@@ -82,8 +71,8 @@ START_TEST(reopen_appends_to_the_path)
     ck_assert(can_log_reopen(&log));
     can_log_frame(&log, &f, 1);
     can_log_close(&log);
-    ck_assert_str_eq(read_all(moved), "(0000000000.000000) " CAN_LOG_IFACE " 010#A0\n");
-    ck_assert_str_eq(read_all(path), "(0000000000.000001) " CAN_LOG_IFACE " 010#A0\n");
+    ck_assert_str_eq(t_read_all(moved), "(0000000000.000000) " CAN_LOG_IFACE " 010#A0\n");
+    ck_assert_str_eq(t_read_all(path), "(0000000000.000001) " CAN_LOG_IFACE " 010#A0\n");
     unlink(moved);
 }
 END_TEST
@@ -95,7 +84,7 @@ START_TEST(a_closed_log_writes_nothing)
     can_log_frame(&log, &f, 0);
     ck_assert(can_log_reopen(&log));
     can_log_close(&log);
-    ck_assert_str_eq(read_all(path), "");
+    ck_assert_str_eq(t_read_all(path), "");
 }
 END_TEST
 

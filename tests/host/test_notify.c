@@ -29,17 +29,6 @@ static void teardown(void)
     rmdir(dir);
 }
 
-static const char *read_all(const char *path)
-{
-    static char text[512];
-    FILE *f = fopen(path, "r");
-    ck_assert_ptr_nonnull(f);
-    size_t n = fread(text, 1, sizeof(text) - 1, f);
-    text[n] = '\0';
-    fclose(f);
-    return text;
-}
-
 START_TEST(the_ready_file_lists_the_ports_it_is_given)
 {
     notify_ports_t ports = {.tcp_port = 1000,
@@ -55,7 +44,7 @@ START_TEST(the_ready_file_lists_the_ports_it_is_given)
     snprintf(expect, sizeof(expect),
              "pid=%ld\ntcp_port=1000\nsim_port=7000\nbin_tcp_port=1000\nbin_udp_port=1500\n",
              (long)getpid());
-    ck_assert_str_eq(read_all(ready), expect);
+    ck_assert_str_eq(t_read_all(ready), expect);
     notify_stopping(ready);
     ck_assert_int_ne(access(ready, F_OK), 0);
 }
