@@ -8,18 +8,25 @@
 #include "hal_clock.h"
 
 #define LOOPBACK_RING 512u /* frames waiting for the gripper, at most */
-#define LOOPBACK_RING_FIRST 8u
+/* A poll's frames fit the first ring: a DSA transfer (28 BULK frames), the
+ * FMF's MEASURE and heartbeats. Allocated once per poll that brings frames. */
+#define LOOPBACK_RING_FIRST 32u
 #define GRIPPER (-1)
 
-/* A participant's acceptance filters. */
+/* A participant's acceptance filters, and their verdict on the identifier
+ * and EXT flag of the last frame asked about (a DSA transfer is 28 frames
+ * with one identifier). */
 typedef struct {
     hal_can_filter_t filters[HAL_CAN_MAX_FILTERS];
     unsigned count;
+    bool cached, cached_verdict, cached_ext;
+    uint32_t cached_id;
 } acceptance_t;
 
 /* A fleet has thousands of buses, so they are kept small: the nodes share
  * one port (a node's frames carry its node id), and a node's filters are
- * its type's (wsg_finger_node_filters), asked per frame rather than kept. */
+ * its type's (wsg_finger_node_filters), tested per frame rather than kept
+ * (wsg_finger_node_accepts). */
 struct can_loopback {
     finger_node_t nodes[FBUS_SLOTS];
     hal_can_t nodes_port;
@@ -40,19 +47,20 @@ static bool set_acceptance(acceptance_t *a, const hal_can_filter_t *filters, uns
     }
     memcpy(a->filters, filters, count * sizeof(filters[0]));
     a->count = count;
+    a->cached = false;
     return true;
 }
 
-static inline bool accepts(const acceptance_t *a, const hal_can_frame_t *frame)
+static inline bool accepts(acceptance_t *a, const hal_can_frame_t *frame)
 {
-    return hal_can_filters_accept(a->filters, a->count, frame);
-}
-
-static bool node_accepts(const finger_node_t *node, const hal_can_frame_t *frame)
-{
-    hal_can_filter_t filters[HAL_CAN_MAX_FILTERS];
-    unsigned count = wsg_finger_node_filters(node, filters);
-    return hal_can_filters_accept(filters, count, frame);
+    bool ext = (frame->flags & HAL_CAN_FLAG_EXT) != 0u;
+    if (!a->cached || frame->id != a->cached_id || ext != a->cached_ext) {
+        a->cached_verdict = hal_can_filters_accept(a->filters, a->count, frame);
+        a->cached_id = frame->id;
+        a->cached_ext = ext;
+        a->cached = true;
+    }
+    return a->cached_verdict;
 }
 
 /* Room for one more frame to the gripper: the ring doubles while below its
@@ -109,7 +117,7 @@ static void deliver(can_loopback_t *bus, const hal_can_frame_t *frame, int from)
     }
     for (int i = 0; i < (int)FBUS_SLOTS; i++) {
         finger_node_t *n = &bus->nodes[i];
-        if (i != from && node_accepts(n, frame)) {
+        if (i != from && wsg_finger_node_accepts(n, frame)) {
             wsg_finger_node_receive(n, frame, now);
         }
     }

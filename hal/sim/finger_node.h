@@ -60,6 +60,17 @@ void wsg_finger_node_init(finger_node_t *node, fbus_type_t type, unsigned slot,
 /* The filters the node needs on its controller (at most 3). */
 unsigned wsg_finger_node_filters(const finger_node_t *node, hal_can_filter_t *out);
 
+/* hal_can_filters_accept() with the node's wsg_finger_node_filters(), as one
+ * test: a standard STATE frame, or a COMMAND or SIMCTL to this node. The
+ * loopback asks it for every frame on the bus. */
+static inline bool wsg_finger_node_accepts(const finger_node_t *node, const hal_can_frame_t *frame)
+{
+    uint32_t id = frame->id & HAL_CAN_STD_ID_MASK;
+    uint32_t own = (uint32_t)(node->node & FBUS_NODE_MASK);
+    return (frame->flags & HAL_CAN_FLAG_EXT) == 0u &&
+           (id == FBUS_ID_STATE || id == FBUS_ID_COMMAND + own || id == FBUS_ID_SIMCTL + own);
+}
+
 /* Handles one frame from the bus (STATE, COMMAND, SIMCTL for this node). */
 void wsg_finger_node_receive(finger_node_t *node, const hal_can_frame_t *frame, uint64_t now_us);
 /* The part of wsg_finger_node_step() after the stall bookkeeping, once the

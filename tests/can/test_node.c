@@ -426,6 +426,34 @@ START_TEST(steps_before_the_due_time_change_nothing)
 }
 END_TEST
 
+/* The loopback tests a node's filters in one expression: the same verdict
+ * as the filters themselves on every standard identifier and a sample of
+ * extended ones, with and without the RTR flag. */
+START_TEST(acceptance_test_matches_the_filters)
+{
+    static const uint8_t flags[] = {0, HAL_CAN_FLAG_RTR, HAL_CAN_FLAG_EXT,
+                                    HAL_CAN_FLAG_EXT | HAL_CAN_FLAG_RTR};
+    for (unsigned slot = 0; slot < FBUS_SLOTS; slot++) {
+        start(FBUS_TYPE_DSA, slot);
+        hal_can_filter_t filters[HAL_CAN_MAX_FILTERS];
+        unsigned count = wsg_finger_node_filters(&node, filters);
+        unsigned accepted = 0;
+        for (uint32_t id = 0; id < 0x1000u; id++) {
+            for (unsigned k = 0; k < sizeof(flags); k++) {
+                hal_can_frame_t f = {.id = id, .dlc = 8, .flags = flags[k]};
+                bool want = hal_can_filters_accept(filters, count, &f);
+                ck_assert_msg(wsg_finger_node_accepts(&node, &f) == want,
+                              "slot %u id 0x%x flags %u", slot, id, flags[k]);
+                accepted += want ? 1u : 0u;
+            }
+        }
+        /* STATE, COMMAND, SIMCTL; RTR or not; bit 11 set or not (the filters
+         * mask it off) */
+        ck_assert_uint_eq(accepted, 3u * 2u * 2u);
+    }
+}
+END_TEST
+
 START_TEST(parses_finger_lists)
 {
     fbus_type_t t[2];
@@ -458,6 +486,7 @@ Suite *node_suite(void)
     tcase_add_test(tc, generic_only_heartbeats);
     tcase_add_test(tc, injected_faults);
     tcase_add_test(tc, steps_before_the_due_time_change_nothing);
+    tcase_add_test(tc, acceptance_test_matches_the_filters);
     tcase_add_test(tc, parses_finger_lists);
     suite_add_tcase(s, tc);
     return s;
