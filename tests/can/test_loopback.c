@@ -50,16 +50,19 @@ static unsigned take_all(const hal_can_t *can, uint32_t id)
  * filters forget it. */
 START_TEST(new_filters_apply_to_the_next_frame)
 {
-    const hal_can_t *can = open_bus("fmf,none");
+    const hal_can_t *can = open_bus("generic,none"); /* heartbeats and a descriptor */
     const hal_can_filter_t heartbeats = {FBUS_ID_HEARTBEAT, 0x7F0u, 0};
     const hal_can_filter_t measures = {FBUS_ID_MEASURE, 0x7F0u, 0};
     ck_assert(hal_can_set_filters(can, &heartbeats, 1));
     supply(can);
     ck_assert_uint_eq(take_all(can, 0x701u), 1); /* powered: its first heartbeat */
+    h_now_us += FBUS_BOOT_US;
+    supply(can);
+    ck_assert_uint_eq(take_all(can, 0x701u), 1); /* booted: descriptor (filtered), heartbeat */
     ck_assert(hal_can_set_filters(can, &measures, 1));
     h_now_us += FBUS_HEARTBEAT_PERIOD_US;
     supply(can);
-    ck_assert_uint_eq(take_all(can, 0x701u), 0);
+    ck_assert_uint_eq(take_all(can, 0x701u), 0); /* the same identifier, now filtered */
     ck_assert(hal_can_set_filters(can, &heartbeats, 1));
     h_now_us += FBUS_HEARTBEAT_PERIOD_US;
     supply(can);
