@@ -35,6 +35,9 @@ struct can_loopback {
     hal_can_frame_t *ring; /* grows as frames queue up, up to LOOPBACK_RING;
                               freed once the gripper took them all */
     unsigned capacity, head, count;
+    /* The nodes' loop is the gripper's poll (run_nodes) */
+    uint64_t polled_us;
+    uint64_t nodes_due_us; /* never later than the earliest node's due_us */
     uint32_t frames;
     can_loopback_tap_t tap;
     void *tap_ctx;
@@ -119,6 +122,9 @@ static void deliver(can_loopback_t *bus, const hal_can_frame_t *frame, int from)
         finger_node_t *n = &bus->nodes[i];
         if (i != from && wsg_finger_node_accepts(n, frame)) {
             wsg_finger_node_receive(n, frame, now);
+            if (n->due_us < bus->nodes_due_us) { /* a frame may power it, or wake it */
+                bus->nodes_due_us = n->due_us;
+            }
         }
     }
 }
@@ -154,15 +160,40 @@ static bool gripper_send(void *ctx, const hal_can_frame_t *frame)
     return true;
 }
 
+/* wsg_finger_node_step() of every node, with the gripper's poll as their
+ * loop: they are always polled together, so one stall bookkeeping serves
+ * all (done for all before any steps: a node's frames never reach another
+ * node, whose acceptance takes only the gripper's frames), and nothing
+ * runs before the earliest due time. */
+static void run_nodes(can_loopback_t *bus, uint64_t now)
+{
+    uint64_t gap = now - bus->polled_us;
+    if (bus->polled_us != 0u && gap > FBUS_STALL_US) {
+        for (unsigned i = 0; i < FBUS_SLOTS; i++) {
+            wsg_finger_node_skip_stall(&bus->nodes[i], gap, now);
+        }
+    }
+    bus->polled_us = now;
+    if (now < bus->nodes_due_us) {
+        return;
+    }
+    uint64_t due = UINT64_MAX;
+    for (unsigned i = 0; i < FBUS_SLOTS; i++) {
+        finger_node_t *n = &bus->nodes[i];
+        if (now >= n->due_us) {
+            wsg_finger_node_step_due(n, now);
+        }
+        due = n->due_us < due ? n->due_us : due;
+    }
+    bus->nodes_due_us = due;
+}
+
 /* Lets the nodes catch up with the simulated clock, then hands out a frame. */
 static bool gripper_recv(void *ctx, hal_can_frame_t *frame)
 {
     can_loopback_t *bus = ctx;
     if (bus->count == 0u) {
-        uint64_t now = hal_clock_now_us();
-        for (unsigned i = 0; i < FBUS_SLOTS; i++) {
-            wsg_finger_node_step(&bus->nodes[i], now);
-        }
+        run_nodes(bus, hal_clock_now_us());
     }
     if (bus->count == 0u) {
         return false;

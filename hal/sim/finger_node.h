@@ -80,13 +80,21 @@ void wsg_finger_node_step_due(finger_node_t *node, uint64_t now_us);
 /* A powered node steps at least every heartbeat (100 ms). A longer gap means
  * its own loop was held up (the host descheduled fingersim): the gripper's
  * silence counts only while the node ran, else a stall of the whole host
- * would cut the fingers' supply. */
+ * would cut the fingers' supply. The gap is skipped: the silence before it
+ * is moved forward by it (not past now_us). */
+static inline void wsg_finger_node_skip_stall(finger_node_t *node, uint64_t gap_us, uint64_t now_us)
+{
+    uint64_t shifted = node->last_state_us + gap_us;
+    node->last_state_us = shifted < now_us ? shifted : now_us;
+}
+
+/* The loop that steps the node is its own: a gap of more than FBUS_STALL_US
+ * since its last step was a stall. */
 static inline void wsg_finger_node_skip_own_stall(finger_node_t *node, uint64_t now_us)
 {
     uint64_t gap = now_us - node->stepped_us;
     if (node->stepped_us != 0u && gap > FBUS_STALL_US) {
-        uint64_t shifted = node->last_state_us + gap;
-        node->last_state_us = shifted < now_us ? shifted : now_us;
+        wsg_finger_node_skip_stall(node, gap, now_us);
     }
     node->stepped_us = now_us;
 }

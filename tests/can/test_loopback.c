@@ -70,12 +70,196 @@ START_TEST(new_filters_apply_to_the_next_frame)
 }
 END_TEST
 
+/* A frame on the bus and when it was sent. */
+typedef struct {
+    hal_can_frame_t frame;
+    uint64_t at_us;
+} logged_t;
+
+#define LOG_MAX 8192u
+
+typedef struct {
+    logged_t entries[LOG_MAX];
+    unsigned count;
+} bus_log_t;
+
+static bus_log_t loopback_log, model_log;
+
+static void log_frame(bus_log_t *log, const hal_can_frame_t *frame, uint64_t at_us)
+{
+    ck_assert_uint_lt(log->count, LOG_MAX);
+    log->entries[log->count++] = (logged_t){*frame, at_us};
+}
+
+static void tap(void *ctx, const hal_can_frame_t *frame, uint64_t time_us)
+{
+    log_frame(ctx, frame, time_us);
+}
+
+/* The model of the loopback bus: two nodes, each stepped with
+ * wsg_finger_node_step() (its own stall bookkeeping) at every poll, in slot
+ * order, until a round of steps sends nothing; every frame reaches every
+ * other node that accepts it. */
+static finger_node_t model[FBUS_SLOTS];
+
+static void model_deliver(const hal_can_frame_t *frame, int from)
+{
+    log_frame(&model_log, frame, h_now_us);
+    for (int i = 0; i < (int)FBUS_SLOTS; i++) {
+        if (i != from && wsg_finger_node_accepts(&model[i], frame)) {
+            wsg_finger_node_receive(&model[i], frame, h_now_us);
+        }
+    }
+}
+
+static bool model_node_send(void *ctx, const hal_can_frame_t *frame)
+{
+    (void)ctx;
+    model_deliver(frame, wsg_fbus_slot_of_node(fbus_node_of(frame->id)));
+    return true;
+}
+
+static bool model_node_recv(void *ctx, hal_can_frame_t *frame)
+{
+    (void)ctx;
+    (void)frame;
+    return false;
+}
+
+static bool model_node_filters(void *ctx, const hal_can_filter_t *filters, unsigned count)
+{
+    (void)ctx;
+    (void)filters;
+    return count <= HAL_CAN_MAX_FILTERS;
+}
+
+static const hal_can_ops_t model_ops = {model_node_send, model_node_recv, model_node_filters,
+                                        false};
+static const hal_can_t model_port = {&model_ops, NULL};
+
+static void model_poll(void)
+{
+    unsigned before;
+    do {
+        before = model_log.count;
+        for (unsigned i = 0; i < FBUS_SLOTS; i++) {
+            wsg_finger_node_step(&model[i], h_now_us);
+        }
+    } while (model_log.count != before);
+}
+
+/* The gripper's side, on both buses at the fake clock's now. */
+static const hal_can_t *gripper;
+
+static void both_send(const hal_can_frame_t *frame)
+{
+    ck_assert(hal_can_send(gripper, frame));
+    model_deliver(frame, -1);
+}
+
+static void both_poll(void)
+{
+    hal_can_frame_t f;
+    while (hal_can_recv(gripper, &f)) {
+    }
+    model_poll();
+}
+
+static uint8_t state_counter;
+
+/* ms of 1 ms polls, STATE every 10 ms first when power_mask is not 0xFF. */
+static void both_run(unsigned ms, uint8_t power_mask)
+{
+    for (unsigned i = 0; i < ms; i++) {
+        h_now_us += 1000u;
+        if (power_mask != 0xFFu && i % 10u == 0u) {
+            fbus_state_t st = {30.0f + (float)(i % 50u), 0.5f * (float)(i % 13u), power_mask, 4,
+                               state_counter++};
+            hal_can_frame_t f;
+            wsg_fbus_pack_state(&f, &st);
+            both_send(&f);
+        }
+        both_poll();
+    }
+}
+
+static void both_command(unsigned slot, uint8_t command)
+{
+    hal_can_frame_t f;
+    wsg_fbus_pack_command(&f, FBUS_NODE_ID(slot), command);
+    both_send(&f);
+}
+
+static void both_inject(unsigned slot, uint8_t faults)
+{
+    hal_can_frame_t f;
+    wsg_fbus_pack_simctl(&f, FBUS_NODE_ID(slot), faults);
+    both_send(&f);
+}
+
+/* The loopback runs its nodes with one stall bookkeeping for both and
+ * nothing before their earliest due time: the frames on it, and their
+ * times, are those of nodes stepped one by one at every poll, through boot,
+ * TARE, faults, an unplugged finger, a lost supply and stalls of the
+ * gripper's polls. */
+START_TEST(nodes_run_as_if_stepped_at_every_poll)
+{
+    gripper = open_bus("fmf,dsa");
+    finger_node_params_t params;
+    wsg_finger_node_defaults(&params);
+    wsg_finger_node_init(&model[0], FBUS_TYPE_FMF, 0, &params, &model_port);
+    wsg_finger_node_init(&model[1], FBUS_TYPE_DSA, 1, &params, &model_port);
+    loopback_log.count = 0;
+    model_log.count = 0;
+    can_loopback_set_tap(lb, tap, &loopback_log);
+    both_run(300, 0x3);
+    both_command(0, FBUS_CMD_TARE);
+    both_command(1, FBUS_CMD_REQ_DESCRIPTOR);
+    both_run(200, 0x3);
+    h_now_us += 400000u; /* the gripper stalls: no poll, no STATE */
+    both_run(200, 0x3);
+    both_inject(0, FBUS_FAULT_POWER);
+    both_run(150, 0x3);
+    both_inject(0, 0);
+    both_inject(1, FBUS_FAULT_INIT);
+    both_run(150, 0x3);
+    both_inject(1, 0);
+    both_inject(1, FBUS_FAULT_UNPLUG);
+    both_run(350, 0x3);
+    both_inject(1, 0);
+    both_run(300, 0x3);
+    both_run(1300, 0xFF); /* polled, but the supply is lost */
+    both_run(300, 0x3);
+    both_run(200, 0x1); /* slot 1 switched off */
+    both_run(100, 0x3);
+    static const uint32_t gaps_ms[] = {3, 7, 251, 249, 2, 260, 1, 600, 90, 1100, 5};
+    for (unsigned i = 0; i < sizeof(gaps_ms) / sizeof(gaps_ms[0]); i++) {
+        h_now_us += gaps_ms[i] * 1000u - 1000u;
+        both_run(1, i % 2u == 0u ? 0x3 : 0xFF);
+    }
+    both_run(300, 0x3);
+    ck_assert_uint_gt(model_log.count, 1000);
+    ck_assert_uint_eq(loopback_log.count, model_log.count);
+    for (unsigned i = 0; i < model_log.count; i++) {
+        const logged_t *a = &loopback_log.entries[i];
+        const logged_t *b = &model_log.entries[i];
+        ck_assert_msg(a->at_us == b->at_us && a->frame.id == b->frame.id &&
+                          a->frame.dlc == b->frame.dlc && a->frame.flags == b->frame.flags &&
+                          memcmp(a->frame.data, b->frame.data, sizeof(a->frame.data)) == 0,
+                      "frame %u: 0x%03x at %llu us, model 0x%03x at %llu us", i,
+                      (unsigned)a->frame.id, (unsigned long long)a->at_us, (unsigned)b->frame.id,
+                      (unsigned long long)b->at_us);
+    }
+}
+END_TEST
+
 Suite *loopback_suite(void)
 {
     Suite *s = suite_create("loopback bus");
     TCase *tc = tcase_create("loopback");
     tcase_add_checked_fixture(tc, NULL, teardown);
     tcase_add_test(tc, new_filters_apply_to_the_next_frame);
+    tcase_add_test(tc, nodes_run_as_if_stepped_at_every_poll);
     suite_add_tcase(s, tc);
     return s;
 }
