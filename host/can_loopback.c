@@ -7,10 +7,10 @@
 
 #include "hal_clock.h"
 
-#define LOOPBACK_RING 512u /* frames waiting for the gripper, at most */
-/* A poll's frames fit the first ring: a DSA transfer (28 BULK frames), the
+#define LOOPBACK_QUEUE 512u /* frames waiting for the gripper, at most */
+/* A poll's frames fit the first queue: a DSA transfer (28 BULK frames), the
  * FMF's MEASURE and heartbeats. Allocated once per poll that brings frames. */
-#define LOOPBACK_RING_FIRST 32u
+#define LOOPBACK_QUEUE_FIRST 32u
 #define GRIPPER (-1)
 
 /* A participant's acceptance filters, and their verdict on the identifier
@@ -32,8 +32,10 @@ struct can_loopback {
     hal_can_t nodes_port;
     hal_can_t port;
     acceptance_t accept;
-    hal_can_frame_t *ring; /* grows as frames queue up, up to LOOPBACK_RING;
-                              freed once the gripper took them all */
+    /* Frames for the gripper: queue[head..head + count), in a row so that
+     * the gripper takes them in place (recv_many). Grows as frames queue
+     * up, up to LOOPBACK_QUEUE; freed when a poll finds nothing. */
+    hal_can_frame_t *queue;
     unsigned capacity, head, count;
     /* The nodes' loop is the gripper's poll (run_nodes) */
     uint64_t polled_us;
@@ -66,28 +68,29 @@ static inline bool accepts(acceptance_t *a, const hal_can_frame_t *frame)
     return a->cached_verdict;
 }
 
-/* Room for one more frame to the gripper: the ring doubles while below its
- * bound; false when it cannot (full at the bound, or out of memory). */
-static bool grow_ring(can_loopback_t *bus)
+/* Room for one more frame at the queue's end: the frames move to its start,
+ * or it doubles while below its bound; false when it cannot (full at the
+ * bound, or out of memory). */
+static bool make_room(can_loopback_t *bus)
 {
-    if (bus->count < bus->capacity) {
+    if (bus->head + bus->count < bus->capacity) {
         return true;
     }
-    unsigned capacity = bus->capacity == 0u ? LOOPBACK_RING_FIRST : 2u * bus->capacity;
-    if (capacity > LOOPBACK_RING) {
+    if (bus->head > 0u) {
+        memmove(bus->queue, bus->queue + bus->head, bus->count * sizeof(bus->queue[0]));
+        bus->head = 0;
+        return true;
+    }
+    unsigned capacity = bus->capacity == 0u ? LOOPBACK_QUEUE_FIRST : 2u * bus->capacity;
+    if (capacity > LOOPBACK_QUEUE) {
         return false;
     }
-    hal_can_frame_t *ring = malloc(capacity * sizeof(*ring));
-    if (ring == NULL) {
+    hal_can_frame_t *queue = realloc(bus->queue, capacity * sizeof(*queue));
+    if (queue == NULL) {
         return false;
     }
-    for (unsigned k = 0; k < bus->count; k++) { /* unwrapped, oldest first */
-        ring[k] = bus->ring[(bus->head + k) % bus->capacity];
-    }
-    free(bus->ring);
-    bus->ring = ring;
+    bus->queue = queue;
     bus->capacity = capacity;
-    bus->head = 0;
     return true;
 }
 
@@ -96,14 +99,15 @@ static void to_gripper(can_loopback_t *bus, const hal_can_frame_t *frame)
     if (!accepts(&bus->accept, frame)) {
         return;
     }
-    if (!grow_ring(bus)) { /* full: the oldest frame is lost, as on an overrun */
+    if (!make_room(bus)) { /* full: the oldest frame is lost, as on an overrun */
         if (bus->capacity == 0u) {
             return;
         }
-        bus->head = (bus->head + 1u) % bus->capacity;
+        bus->head++;
         bus->count--;
+        make_room(bus);
     }
-    bus->ring[(bus->head + bus->count) % bus->capacity] = *frame;
+    bus->queue[bus->head + bus->count] = *frame;
     bus->count++;
 }
 
@@ -188,26 +192,48 @@ static void run_nodes(can_loopback_t *bus, uint64_t now)
     bus->nodes_due_us = due;
 }
 
-/* Lets the nodes catch up with the simulated clock, then hands out a frame. */
+/* With no frame waiting, lets the nodes catch up with the simulated clock;
+ * false when they sent nothing either (an idle bus holds no queue then). */
+static bool frames_waiting(can_loopback_t *bus)
+{
+    if (bus->count > 0u) {
+        return true;
+    }
+    bus->head = 0;
+    run_nodes(bus, hal_clock_now_us());
+    if (bus->count > 0u) {
+        return true;
+    }
+    free(bus->queue);
+    bus->queue = NULL;
+    bus->capacity = 0;
+    return false;
+}
+
 static bool gripper_recv(void *ctx, hal_can_frame_t *frame)
 {
     can_loopback_t *bus = ctx;
-    if (bus->count == 0u) {
-        run_nodes(bus, hal_clock_now_us());
-    }
-    if (bus->count == 0u) {
+    if (!frames_waiting(bus)) {
         return false;
     }
-    *frame = bus->ring[bus->head];
-    bus->head = (bus->head + 1u) % bus->capacity;
+    *frame = bus->queue[bus->head];
+    bus->head++;
     bus->count--;
-    if (bus->count == 0u) { /* an idle bus holds no ring */
-        free(bus->ring);
-        bus->ring = NULL;
-        bus->capacity = 0;
-        bus->head = 0;
-    }
     return true;
+}
+
+/* All waiting frames, in place: the next call starts the queue afresh. */
+static const hal_can_frame_t *gripper_recv_many(void *ctx, unsigned *count)
+{
+    can_loopback_t *bus = ctx;
+    if (!frames_waiting(bus)) {
+        return NULL;
+    }
+    const hal_can_frame_t *frames = &bus->queue[bus->head];
+    *count = bus->count;
+    bus->head += bus->count;
+    bus->count = 0;
+    return frames;
 }
 
 static bool gripper_set_filters(void *ctx, const hal_can_filter_t *filters, unsigned count)
@@ -217,8 +243,9 @@ static bool gripper_set_filters(void *ctx, const hal_can_filter_t *filters, unsi
 }
 
 /* The gripper's side runs the nodes when it polls: on demand. */
-static const hal_can_ops_t gripper_ops = {gripper_send, gripper_recv, gripper_set_filters, true};
-static const hal_can_ops_t node_ops = {node_send, node_recv, node_set_filters, false};
+static const hal_can_ops_t gripper_ops = {gripper_send, gripper_recv, gripper_set_filters, true,
+                                          gripper_recv_many};
+static const hal_can_ops_t node_ops = {node_send, node_recv, node_set_filters, false, NULL};
 
 can_loopback_t *can_loopback_create(const fbus_type_t types[FBUS_SLOTS],
                                     const finger_node_params_t *params)
@@ -238,7 +265,7 @@ can_loopback_t *can_loopback_create(const fbus_type_t types[FBUS_SLOTS],
 void can_loopback_destroy(can_loopback_t *bus)
 {
     if (bus != NULL) {
-        free(bus->ring);
+        free(bus->queue);
         free(bus);
     }
 }

@@ -144,13 +144,9 @@ static void on_measure(fbus_slot_t *s, wsg_finger_t *finger, const fbus_measure_
     }
 }
 
-/* A segment goes from the frame straight into the transfer. */
-static void on_bulk(fbus_slot_t *s, wsg_finger_t *finger, const hal_can_frame_t *f)
+/* A completed transfer becomes the finger's data. */
+static void on_transfer(fbus_slot_t *s, wsg_finger_t *finger)
 {
-    if (!s->config || s->desc.encoding != FBUS_ENC_BULK || s->node_state != FBUS_NODE_OPERATIONAL ||
-        !wsg_fbus_bulk_rx_feed_frame(&s->bulk, f)) {
-        return;
-    }
     unsigned values = (unsigned)s->desc.rows * s->desc.cols;
     if (s->bulk.count < values) {
         return; /* a short transfer: keep the previous data */
@@ -161,9 +157,29 @@ static void on_bulk(fbus_slot_t *s, wsg_finger_t *finger, const hal_can_frame_t 
     finger->data_count = (uint16_t)values;
 }
 
-/* The frame's function code says which type it is: one unpack, not a try
- * of each. */
-static void dispatch_frame(fbus_slot_t *s, wsg_finger_t *finger, const hal_can_frame_t *f)
+/* Segments go from the frames straight into the transfer: a run of BULK
+ * frames of one node (nothing in it changes what is checked here). */
+static void on_bulk(fbus_slot_t *s, wsg_finger_t *finger, const hal_can_frame_t *f, unsigned n)
+{
+    if (!s->config || s->desc.encoding != FBUS_ENC_BULK || s->node_state != FBUS_NODE_OPERATIONAL) {
+        return;
+    }
+    while (n > 0u) {
+        bool done = false;
+        unsigned fed = wsg_fbus_bulk_rx_feed_frames(&s->bulk, f, n, &done);
+        if (done) {
+            on_transfer(s, finger);
+        }
+        f += fed;
+        n -= fed;
+    }
+}
+
+/* The frames f[0..n) have one identifier: a run of BULK frames is taken
+ * in one go, anything else is n = 1. The frame's function code says which
+ * type it is: one unpack, not a try of each. */
+static void dispatch_frames(fbus_slot_t *s, wsg_finger_t *finger, const hal_can_frame_t *f,
+                            unsigned n)
 {
     fbus_heartbeat_t hb;
     fbus_descriptor_t d;
@@ -185,39 +201,65 @@ static void dispatch_frame(fbus_slot_t *s, wsg_finger_t *finger, const hal_can_f
         }
         break;
     case FBUS_ID_BULK:
-        if (wsg_fbus_is_bulk(f)) {
-            on_bulk(s, finger, f);
-        }
+        on_bulk(s, finger, f, n);
         break;
     default:
         break;
     }
 }
 
+/* How many frames from f on are BULK frames with f's identifier (1 for
+ * any other frame). */
+static unsigned run_length(const hal_can_frame_t *f, unsigned n)
+{
+    if (fbus_func_of(f->id) != FBUS_ID_BULK) {
+        return 1;
+    }
+    unsigned run = 1;
+    while (run < n && f[run].id == f->id) {
+        run++;
+    }
+    return run;
+}
+
+/* Takes the first frame of f[0..n), with those after it that are taken in
+ * the same go: returns how many. */
+static unsigned take_frames(finger_bus_t *bus, wsg_fingers_t *fingers, const hal_can_frame_t *f,
+                            unsigned n, uint64_t now_us)
+{
+    uint8_t injected;
+    if (fbus_func_of(f->id) == FBUS_ID_SIMCTL && wsg_fbus_unpack_simctl(f, &injected)) {
+        bus->wake = true; /* only an on-demand bus passes it */
+        return 1;
+    }
+    int slot = wsg_fbus_slot_of_node(fbus_node_of(f->id));
+    if (slot < 0 || (bus->power_mask & (1u << slot)) == 0u) {
+        return 1;
+    }
+    fbus_slot_t *s = &bus->slot[slot];
+    if (s->comm_fault) {
+        slot_log(HAL_LOG_INFO, (unsigned)slot, "communication restored");
+    }
+    s->heard = true;
+    s->comm_fault = false;
+    s->last_rx_us = now_us;
+    unsigned run = run_length(f, n);
+    dispatch_frames(s, &fingers->slot[slot], f, run);
+    return run;
+}
+
 /* Returns the number of frames taken. */
 static unsigned receive_all(finger_bus_t *bus, wsg_fingers_t *fingers, uint64_t now_us)
 {
-    hal_can_frame_t f;
+    hal_can_frame_t one;
+    const hal_can_frame_t *frames;
+    unsigned count;
     unsigned taken = 0;
-    while (hal_can_recv(bus->can, &f)) {
-        taken++;
-        uint8_t injected;
-        if (fbus_func_of(f.id) == FBUS_ID_SIMCTL && wsg_fbus_unpack_simctl(&f, &injected)) {
-            bus->wake = true; /* only an on-demand bus passes it */
-            continue;
+    while ((frames = hal_can_recv_many(bus->can, &one, &count)) != NULL) {
+        taken += count;
+        for (unsigned i = 0; i < count;) {
+            i += take_frames(bus, fingers, &frames[i], count - i, now_us);
         }
-        int slot = wsg_fbus_slot_of_node(fbus_node_of(f.id));
-        if (slot < 0 || (bus->power_mask & (1u << slot)) == 0u) {
-            continue;
-        }
-        fbus_slot_t *s = &bus->slot[slot];
-        if (s->comm_fault) {
-            slot_log(HAL_LOG_INFO, (unsigned)slot, "communication restored");
-        }
-        s->heard = true;
-        s->comm_fault = false;
-        s->last_rx_us = now_us;
-        dispatch_frame(s, &fingers->slot[slot], &f);
     }
     return taken;
 }

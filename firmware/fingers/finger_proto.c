@@ -248,7 +248,9 @@ bool wsg_fbus_is_bulk(const hal_can_frame_t *f)
     return is(f, FBUS_ID_BULK, 8);
 }
 
-bool wsg_fbus_bulk_rx_feed_frame(fbus_bulk_rx_t *rx, const hal_can_frame_t *f)
+/* wsg_fbus_bulk_rx_feed() of a frame wsg_fbus_is_bulk() accepted, without
+ * unpacking it first. */
+static bool feed_frame(fbus_bulk_rx_t *rx, const hal_can_frame_t *f)
 {
     int first = segment_first(rx, f->data[0] & 0x7Fu, f->data[1]);
     if (first < 0) {
@@ -258,4 +260,17 @@ bool wsg_fbus_bulk_rx_feed_frame(fbus_bulk_rx_t *rx, const hal_can_frame_t *f)
         rx->values[(unsigned)first + i] = get_u16(&f->data[2 + 2 * i]);
     }
     return segment_done(rx, (unsigned)first, (f->data[0] & 0x80u) != 0u);
+}
+
+unsigned wsg_fbus_bulk_rx_feed_frames(fbus_bulk_rx_t *rx, const hal_can_frame_t *f, unsigned n,
+                                      bool *done)
+{
+    for (unsigned i = 0; i < n; i++) {
+        if (wsg_fbus_is_bulk(&f[i]) && feed_frame(rx, &f[i])) {
+            *done = true;
+            return i + 1u;
+        }
+    }
+    *done = false;
+    return n;
 }
