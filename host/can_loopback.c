@@ -68,14 +68,11 @@ static inline bool accepts(acceptance_t *a, const hal_can_frame_t *frame)
     return a->cached_verdict;
 }
 
-/* Room for one more frame at the queue's end: the frames move to its start,
- * or it doubles while below its bound; false when it cannot (full at the
- * bound, or out of memory). */
+/* Room for one more frame at the end of a full queue: the frames move to
+ * its start, or it doubles while below its bound; false when it cannot
+ * (full at the bound, or out of memory). */
 static bool make_room(can_loopback_t *bus)
 {
-    if (bus->head + bus->count < bus->capacity) {
-        return true;
-    }
     if (bus->head > 0u) {
         memmove(bus->queue, bus->queue + bus->head, bus->count * sizeof(bus->queue[0]));
         bus->head = 0;
@@ -99,7 +96,8 @@ static void to_gripper(can_loopback_t *bus, const hal_can_frame_t *frame)
     if (!accepts(&bus->accept, frame)) {
         return;
     }
-    if (!make_room(bus)) { /* full: the oldest frame is lost, as on an overrun */
+    bool full = bus->head + bus->count == bus->capacity;
+    if (full && !make_room(bus)) { /* the oldest frame is lost, as on an overrun */
         if (bus->capacity == 0u) {
             return;
         }
@@ -121,6 +119,9 @@ static void deliver(can_loopback_t *bus, const hal_can_frame_t *frame, int from)
     }
     if (from != GRIPPER) {
         to_gripper(bus, frame);
+    }
+    if (!wsg_finger_node_may_accept(frame)) {
+        return; /* a node's measurement or heartbeat, for the gripper alone */
     }
     for (int i = 0; i < (int)FBUS_SLOTS; i++) {
         finger_node_t *n = &bus->nodes[i];

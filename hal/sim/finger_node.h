@@ -71,6 +71,14 @@ static inline bool wsg_finger_node_accepts(const finger_node_t *node, const hal_
            (id == FBUS_ID_STATE || id == FBUS_ID_COMMAND + own || id == FBUS_ID_SIMCTL + own);
 }
 
+/* False for a frame no node accepts (wsg_finger_node_accepts), by its
+ * function code alone: anything but STATE, COMMAND and SIMCTL. */
+static inline bool wsg_finger_node_may_accept(const hal_can_frame_t *frame)
+{
+    uint32_t func = fbus_func_of(frame->id);
+    return func == FBUS_ID_STATE || func == FBUS_ID_COMMAND || func == FBUS_ID_SIMCTL;
+}
+
 /* Handles one frame from the bus (STATE, COMMAND, SIMCTL for this node). */
 void wsg_finger_node_receive(finger_node_t *node, const hal_can_frame_t *frame, uint64_t now_us);
 /* The part of wsg_finger_node_step() after the stall bookkeeping, once the
