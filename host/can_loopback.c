@@ -31,18 +31,18 @@ struct can_loopback {
     finger_node_t nodes[FBUS_SLOTS];
     hal_can_t nodes_port;
     hal_can_t port;
-    acceptance_t accept;
     /* Frames for the gripper: queue[head..head + count), in a row so that
      * the gripper takes them in place (recv_many). Grows as frames queue
      * up, up to LOOPBACK_QUEUE; freed when a poll finds nothing. */
     hal_can_frame_t *queue;
-    unsigned capacity, head, count;
+    can_loopback_tap_t tap;
+    void *tap_ctx;
     /* The nodes' loop is the gripper's poll (run_nodes) */
     uint64_t polled_us;
     uint64_t nodes_due_us; /* never later than the earliest node's due_us */
+    unsigned capacity, head, count;
     uint32_t frames;
-    can_loopback_tap_t tap;
-    void *tap_ctx;
+    acceptance_t accept;
 };
 
 static bool set_acceptance(acceptance_t *a, const hal_can_filter_t *filters, unsigned count)

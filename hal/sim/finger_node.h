@@ -20,37 +20,37 @@ typedef struct {
 } finger_node_params_t;
 
 typedef struct {
-    fbus_type_t type;
-    uint8_t node;
-    finger_node_params_t params;
+    /* Wider fields first, so that a fleet's thousands of nodes hold no
+     * padding. */
     const hal_can_t *bus;
-    /* power and lifecycle */
-    bool powered;
-    bool operational;
+    /* power, lifecycle and schedule */
     uint64_t powered_at_us;
     uint64_t last_state_us;
     uint64_t stepped_us; /* the last step: a longer gap than FBUS_STALL_US was a stall */
-    uint8_t sim_faults;  /* FBUS_FAULT_*: injected through SIMCTL */
-    /* what the gripper last broadcast */
-    fbus_state_t state;
-    bool have_state;
-    /* schedule */
     uint64_t next_heartbeat_us;
     uint64_t next_data_us;
     uint64_t due_us; /* wsg_finger_node_next_due_us() after the last step or frame */
-    uint8_t heartbeat_counter;
-    uint8_t data_counter;
+    fbus_type_t type;
+    finger_node_params_t params;
+    fbus_state_t state; /* what the gripper last broadcast, when have_state */
+    uint32_t frames_sent;
     /* FMF */
     uint32_t rng;
     float average_n; /* running mean of the raw reading, the tare reference */
     float tare_n;
-    bool tared;
-    uint8_t tare_count;
     /* DSA */
-    uint16_t cells[FBUS_DSA_ROWS * FBUS_DSA_COLS];
     float cells_force_n; /* the force the cells show, when cells_valid */
-    bool cells_valid;
-    uint32_t frames_sent;
+    uint16_t cells[FBUS_DSA_ROWS * FBUS_DSA_COLS];
+    uint8_t node;
+    bool powered;
+    bool operational;
+    uint8_t sim_faults; /* FBUS_FAULT_*: injected through SIMCTL */
+    bool have_state;
+    uint8_t heartbeat_counter;
+    uint8_t data_counter;
+    bool tared;         /* FMF */
+    uint8_t tare_count; /* FMF */
+    bool cells_valid;   /* DSA */
 } finger_node_t;
 
 void wsg_finger_node_defaults(finger_node_params_t *params);
