@@ -256,9 +256,11 @@ static bool feed_frame(fbus_bulk_rx_t *rx, const hal_can_frame_t *f)
     if (first < 0) {
         return false;
     }
-    for (unsigned i = 0; i < FBUS_BULK_VALUES_PER_FRAME; i++) {
-        rx->values[(unsigned)first + i] = get_u16(&f->data[2 + 2 * i]);
-    }
+    _Static_assert(FBUS_BULK_VALUES_PER_FRAME == 3u, "a BULK frame's values, one by one");
+    uint16_t *values = &rx->values[first];
+    values[0] = get_u16(&f->data[2]);
+    values[1] = get_u16(&f->data[4]);
+    values[2] = get_u16(&f->data[6]);
     return segment_done(rx, (unsigned)first, (f->data[0] & 0x80u) != 0u);
 }
 
