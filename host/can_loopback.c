@@ -195,7 +195,7 @@ static void run_nodes(can_loopback_t *bus, uint64_t now)
 
 /* With no frame waiting, lets the nodes catch up with the simulated clock;
  * false when they sent nothing either (an idle bus holds no queue then). */
-static bool frames_waiting(can_loopback_t *bus)
+static inline bool frames_waiting(can_loopback_t *bus)
 {
     if (bus->count > 0u) {
         return true;
@@ -205,9 +205,11 @@ static bool frames_waiting(can_loopback_t *bus)
     if (bus->count > 0u) {
         return true;
     }
-    free(bus->queue);
-    bus->queue = NULL;
-    bus->capacity = 0;
+    if (bus->queue != NULL) {
+        free(bus->queue);
+        bus->queue = NULL;
+        bus->capacity = 0;
+    }
     return false;
 }
 
