@@ -8,8 +8,11 @@
 #include "hal_clock.h"
 
 #define LOOPBACK_QUEUE 512u /* frames waiting for the gripper, at most */
-/* A poll's frames fit the first queue: a DSA transfer (28 BULK frames), the
- * FMF's MEASURE and heartbeats. Allocated once per poll that brings frames. */
+/* Most polls bring one or two frames (an FMF's MEASURE, heartbeats): they
+ * wait in the bus itself. */
+#define LOOPBACK_QUEUE_INLINE 2u
+/* A poll's frames fit the first heap queue: a DSA transfer (28 BULK
+ * frames), the FMF's MEASURE and heartbeats. */
 #define LOOPBACK_QUEUE_FIRST 32u
 #define GRIPPER (-1)
 
@@ -32,8 +35,9 @@ struct can_loopback {
     hal_can_t nodes_port;
     hal_can_t port;
     /* Frames for the gripper: queue[head..head + count), in a row so that
-     * the gripper takes them in place (recv_many). Grows as frames queue
-     * up, up to LOOPBACK_QUEUE; freed when a poll finds nothing. */
+     * the gripper takes them in place (recv_many). In inline_queue, or on
+     * the heap as more frames queue up, up to LOOPBACK_QUEUE; freed when a
+     * poll finds nothing. */
     hal_can_frame_t *queue;
     can_loopback_tap_t tap;
     void *tap_ctx;
@@ -43,6 +47,7 @@ struct can_loopback {
     unsigned capacity, head, count;
     uint32_t frames;
     acceptance_t accept;
+    hal_can_frame_t inline_queue[LOOPBACK_QUEUE_INLINE];
 };
 
 static bool set_acceptance(acceptance_t *a, const hal_can_filter_t *filters, unsigned count)
@@ -78,13 +83,17 @@ static bool make_room(can_loopback_t *bus)
         bus->head = 0;
         return true;
     }
-    unsigned capacity = bus->capacity == 0u ? LOOPBACK_QUEUE_FIRST : 2u * bus->capacity;
+    bool on_heap = bus->queue != bus->inline_queue;
+    unsigned capacity = on_heap ? 2u * bus->capacity : LOOPBACK_QUEUE_FIRST;
     if (capacity > LOOPBACK_QUEUE) {
         return false;
     }
-    hal_can_frame_t *queue = realloc(bus->queue, capacity * sizeof(*queue));
+    hal_can_frame_t *queue = realloc(on_heap ? bus->queue : NULL, capacity * sizeof(*queue));
     if (queue == NULL) {
         return false;
+    }
+    if (!on_heap) {
+        memcpy(queue, bus->inline_queue, bus->count * sizeof(*queue));
     }
     bus->queue = queue;
     bus->capacity = capacity;
@@ -98,9 +107,6 @@ static void to_gripper(can_loopback_t *bus, const hal_can_frame_t *frame)
     }
     bool full = bus->head + bus->count == bus->capacity;
     if (full && !make_room(bus)) { /* the oldest frame is lost, as on an overrun */
-        if (bus->capacity == 0u) {
-            return;
-        }
         bus->head++;
         bus->count--;
         make_room(bus);
@@ -194,7 +200,8 @@ static void run_nodes(can_loopback_t *bus, uint64_t now)
 }
 
 /* With no frame waiting, lets the nodes catch up with the simulated clock;
- * false when they sent nothing either (an idle bus holds no queue then). */
+ * false when they sent nothing either (an idle bus holds no heap queue
+ * then). */
 static inline bool frames_waiting(can_loopback_t *bus)
 {
     if (bus->count > 0u) {
@@ -205,10 +212,10 @@ static inline bool frames_waiting(can_loopback_t *bus)
     if (bus->count > 0u) {
         return true;
     }
-    if (bus->queue != NULL) {
+    if (bus->queue != bus->inline_queue) {
         free(bus->queue);
-        bus->queue = NULL;
-        bus->capacity = 0;
+        bus->queue = bus->inline_queue;
+        bus->capacity = LOOPBACK_QUEUE_INLINE;
     }
     return false;
 }
@@ -259,6 +266,8 @@ can_loopback_t *can_loopback_create(const fbus_type_t types[FBUS_SLOTS],
     }
     bus->port = (hal_can_t){&gripper_ops, bus};
     bus->nodes_port = (hal_can_t){&node_ops, bus};
+    bus->queue = bus->inline_queue;
+    bus->capacity = LOOPBACK_QUEUE_INLINE;
     for (unsigned i = 0; i < FBUS_SLOTS; i++) {
         wsg_finger_node_init(&bus->nodes[i], types[i], i, params, &bus->nodes_port);
     }
@@ -268,7 +277,9 @@ can_loopback_t *can_loopback_create(const fbus_type_t types[FBUS_SLOTS],
 void can_loopback_destroy(can_loopback_t *bus)
 {
     if (bus != NULL) {
-        free(bus->queue);
+        if (bus->queue != bus->inline_queue) {
+            free(bus->queue);
+        }
         free(bus);
     }
 }

@@ -70,6 +70,71 @@ START_TEST(new_filters_apply_to_the_next_frame)
 }
 END_TEST
 
+/* A SIMCTL frame to no node, numbered k: the loopback hands it back to the
+ * gripper (which watches injections), and no node takes it. */
+static void send_numbered(const hal_can_t *can, unsigned k)
+{
+    hal_can_frame_t f;
+    wsg_fbus_pack_simctl(&f, 3, 0);
+    f.data[1] = (uint8_t)(k & 0xFFu);
+    f.data[2] = (uint8_t)(k >> 8);
+    ck_assert(hal_can_send(can, &f));
+}
+
+static unsigned number_of(const hal_can_frame_t *f)
+{
+    ck_assert_uint_eq(f->id, wsg_fbus_id(FBUS_ID_SIMCTL, 3));
+    return (unsigned)f->data[1] | ((unsigned)f->data[2] << 8);
+}
+
+/* Frames wait for the gripper in the bus, then on the heap as they queue
+ * up, in order; taken one at a time or all at once. */
+START_TEST(queued_frames_keep_their_order)
+{
+    const hal_can_t *can = open_bus("fmf,dsa");
+    hal_can_frame_t f;
+    for (unsigned k = 0; k < 3u; k++) {
+        send_numbered(can, k);
+    }
+    ck_assert(hal_can_recv(can, &f));
+    ck_assert_uint_eq(number_of(&f), 0);
+    for (unsigned k = 3; k < 43u; k++) {
+        send_numbered(can, k);
+    }
+    unsigned count = 0;
+    const hal_can_frame_t *frames = hal_can_recv_many(can, &f, &count);
+    ck_assert_ptr_nonnull(frames);
+    ck_assert_uint_eq(count, 42);
+    for (unsigned i = 0; i < count; i++) {
+        ck_assert_uint_eq(number_of(&frames[i]), i + 1u);
+    }
+    ck_assert_ptr_null(hal_can_recv_many(can, &f, &count)); /* unpowered nodes: nothing */
+    send_numbered(can, 7);
+    ck_assert(hal_can_recv(can, &f)); /* back in the bus's own queue */
+    ck_assert_uint_eq(number_of(&f), 7);
+    ck_assert(!hal_can_recv(can, &f));
+}
+END_TEST
+
+/* At most 512 frames wait: on an overrun the oldest are lost. */
+START_TEST(an_overrun_loses_the_oldest_frames)
+{
+    const hal_can_t *can = open_bus("fmf,dsa");
+    for (unsigned k = 0; k < 600u; k++) {
+        send_numbered(can, k);
+    }
+    hal_can_frame_t f;
+    unsigned count = 0;
+    const hal_can_frame_t *frames = hal_can_recv_many(can, &f, &count);
+    ck_assert_ptr_nonnull(frames);
+    ck_assert_uint_eq(count, 512);
+    for (unsigned i = 0; i < count; i++) {
+        ck_assert_uint_eq(number_of(&frames[i]), 600u - 512u + i);
+    }
+    ck_assert_uint_eq(can_loopback_frames(lb), 600);
+}
+END_TEST
+
 /* A frame on the bus and when it was sent. */
 typedef struct {
     hal_can_frame_t frame;
@@ -259,6 +324,8 @@ Suite *loopback_suite(void)
     TCase *tc = tcase_create("loopback");
     tcase_add_checked_fixture(tc, NULL, teardown);
     tcase_add_test(tc, new_filters_apply_to_the_next_frame);
+    tcase_add_test(tc, queued_frames_keep_their_order);
+    tcase_add_test(tc, an_overrun_loses_the_oldest_frames);
     tcase_add_test(tc, nodes_run_as_if_stepped_at_every_poll);
     suite_add_tcase(s, tc);
     return s;
