@@ -6,16 +6,22 @@
 #include "can_harness.h"
 #include "can_loopback.h"
 
-static can_loopback_t *lb;
+static can_loopback_t *lb, *lb_untapped;
 
-static const hal_can_t *open_bus(const char *fingers)
+static can_loopback_t *create(const char *fingers)
 {
     fbus_type_t types[FBUS_SLOTS];
     finger_node_params_t params;
     wsg_finger_node_defaults(&params);
     ck_assert(wsg_finger_node_parse_pair(fingers, types));
-    lb = can_loopback_create(types, &params);
-    ck_assert_ptr_nonnull(lb);
+    can_loopback_t *bus = can_loopback_create(types, &params);
+    ck_assert_ptr_nonnull(bus);
+    return bus;
+}
+
+static const hal_can_t *open_bus(const char *fingers)
+{
+    lb = create(fingers);
     h_now_us = 1000000u;
     return can_loopback_bus(lb);
 }
@@ -23,7 +29,9 @@ static const hal_can_t *open_bus(const char *fingers)
 static void teardown(void)
 {
     can_loopback_destroy(lb);
+    can_loopback_destroy(lb_untapped);
     lb = NULL;
+    lb_untapped = NULL;
 }
 
 /* The gripper's STATE with both slots powered. */
@@ -148,7 +156,9 @@ typedef struct {
     unsigned count;
 } bus_log_t;
 
-static bus_log_t loopback_log, model_log;
+/* The tapped bus's frames, the model's, and what the gripper took from the
+ * tapped bus and from an untapped one. */
+static bus_log_t loopback_log, model_log, taken_log, untapped_taken_log;
 
 static void log_frame(bus_log_t *log, const hal_can_frame_t *frame, uint64_t at_us)
 {
@@ -213,20 +223,32 @@ static void model_poll(void)
     } while (model_log.count != before);
 }
 
-/* The gripper's side, on both buses at the fake clock's now. */
-static const hal_can_t *gripper;
+/* The gripper's side, on all buses at the fake clock's now. */
+static const hal_can_t *gripper, *untapped;
 
 static void both_send(const hal_can_frame_t *frame)
 {
     ck_assert(hal_can_send(gripper, frame));
+    ck_assert(hal_can_send(untapped, frame));
     model_deliver(frame, -1);
+}
+
+static void take_all_into(const hal_can_t *can, bus_log_t *log)
+{
+    hal_can_frame_t one;
+    const hal_can_frame_t *frames;
+    unsigned count;
+    while ((frames = hal_can_recv_many(can, &one, &count)) != NULL) {
+        for (unsigned i = 0; i < count; i++) {
+            log_frame(log, &frames[i], h_now_us);
+        }
+    }
 }
 
 static void both_poll(void)
 {
-    hal_can_frame_t f;
-    while (hal_can_recv(gripper, &f)) {
-    }
+    take_all_into(gripper, &taken_log);
+    take_all_into(untapped, &untapped_taken_log);
     model_poll();
 }
 
@@ -262,20 +284,41 @@ static void both_inject(unsigned slot, uint8_t faults)
     both_send(&f);
 }
 
+static void assert_same_logs(const bus_log_t *a_log, const bus_log_t *b_log)
+{
+    ck_assert_uint_gt(b_log->count, 1000);
+    ck_assert_uint_eq(a_log->count, b_log->count);
+    for (unsigned i = 0; i < b_log->count; i++) {
+        const logged_t *a = &a_log->entries[i];
+        const logged_t *b = &b_log->entries[i];
+        ck_assert_msg(a->at_us == b->at_us && a->frame.id == b->frame.id &&
+                          a->frame.dlc == b->frame.dlc && a->frame.flags == b->frame.flags &&
+                          memcmp(a->frame.data, b->frame.data, sizeof(a->frame.data)) == 0,
+                      "frame %u: 0x%03x at %llu us, model 0x%03x at %llu us", i,
+                      (unsigned)a->frame.id, (unsigned long long)a->at_us, (unsigned)b->frame.id,
+                      (unsigned long long)b->at_us);
+    }
+}
+
 /* The loopback runs its nodes with one stall bookkeeping for both and
  * nothing before their earliest due time: the frames on it, and their
  * times, are those of nodes stepped one by one at every poll, through boot,
  * TARE, faults, an unplugged finger, a lost supply and stalls of the
- * gripper's polls. */
+ * gripper's polls. Without a tap (--can-log) the gripper takes the same
+ * frames at the same times. */
 START_TEST(nodes_run_as_if_stepped_at_every_poll)
 {
     gripper = open_bus("fmf,dsa");
+    lb_untapped = create("fmf,dsa");
+    untapped = can_loopback_bus(lb_untapped);
     finger_node_params_t params;
     wsg_finger_node_defaults(&params);
     wsg_finger_node_init(&model[0], FBUS_TYPE_FMF, 0, &params, &model_port);
     wsg_finger_node_init(&model[1], FBUS_TYPE_DSA, 1, &params, &model_port);
     loopback_log.count = 0;
     model_log.count = 0;
+    taken_log.count = 0;
+    untapped_taken_log.count = 0;
     can_loopback_set_tap(lb, tap, &loopback_log);
     both_run(300, 0x3);
     both_command(0, FBUS_CMD_TARE);
@@ -303,18 +346,8 @@ START_TEST(nodes_run_as_if_stepped_at_every_poll)
         both_run(1, i % 2u == 0u ? 0x3 : 0xFF);
     }
     both_run(300, 0x3);
-    ck_assert_uint_gt(model_log.count, 1000);
-    ck_assert_uint_eq(loopback_log.count, model_log.count);
-    for (unsigned i = 0; i < model_log.count; i++) {
-        const logged_t *a = &loopback_log.entries[i];
-        const logged_t *b = &model_log.entries[i];
-        ck_assert_msg(a->at_us == b->at_us && a->frame.id == b->frame.id &&
-                          a->frame.dlc == b->frame.dlc && a->frame.flags == b->frame.flags &&
-                          memcmp(a->frame.data, b->frame.data, sizeof(a->frame.data)) == 0,
-                      "frame %u: 0x%03x at %llu us, model 0x%03x at %llu us", i,
-                      (unsigned)a->frame.id, (unsigned long long)a->at_us, (unsigned)b->frame.id,
-                      (unsigned long long)b->at_us);
-    }
+    assert_same_logs(&loopback_log, &model_log);
+    assert_same_logs(&untapped_taken_log, &taken_log);
 }
 END_TEST
 
