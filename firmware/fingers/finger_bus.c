@@ -248,20 +248,17 @@ static unsigned take_frames(finger_bus_t *bus, wsg_fingers_t *fingers, const hal
     return run;
 }
 
-/* Returns the number of frames taken. */
-static unsigned receive_all(finger_bus_t *bus, wsg_fingers_t *fingers, uint64_t now_us)
+/* Takes frames[0..count), the first poll's, and all that follow. */
+static void receive_all(finger_bus_t *bus, wsg_fingers_t *fingers, const hal_can_frame_t *frames,
+                        unsigned count, uint64_t now_us)
 {
     hal_can_frame_t one;
-    const hal_can_frame_t *frames;
-    unsigned count;
-    unsigned taken = 0;
-    while ((frames = hal_can_recv_many(bus->can, &one, &count)) != NULL) {
-        taken += count;
+    while (frames != NULL) {
         for (unsigned i = 0; i < count;) {
             i += take_frames(bus, fingers, &frames[i], count - i, now_us);
         }
+        frames = hal_can_recv_many(bus->can, &one, &count);
     }
-    return taken;
 }
 
 static void supervise(finger_bus_t *bus, unsigned slot, wsg_finger_t *finger, uint64_t now_us)
@@ -436,17 +433,10 @@ static void note_quiet_until(finger_bus_t *bus)
     bus->quiet_until_us = until;
 }
 
-bool wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in)
+void wsg_finger_bus_step_full(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in,
+                              const hal_can_frame_t *frames, unsigned count)
 {
-    if (bus->can == NULL) {
-        return false;
-    }
-    if (in->now_us >= bus->next_state_us) {
-        broadcast_state(bus, in); /* first: the supply reaches the fingers before polling */
-    }
-    if (receive_all(bus, fingers, in->now_us) == 0u && quiet(bus, fingers, in)) {
-        return false;
-    }
+    receive_all(bus, fingers, frames, count, in->now_us);
     for (unsigned i = 0; i < FBUS_SLOTS; i++) {
         supervise(bus, i, &fingers->slot[i], in->now_us);
         publish(bus, i, &fingers->slot[i]);
@@ -457,6 +447,23 @@ bool wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_i
         bus->awake_until_us = in->now_us + FBUS_SETTLE_US;
     }
     note_quiet_until(bus);
+}
+
+bool wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in)
+{
+    if (bus->can == NULL) {
+        return false;
+    }
+    if (in->now_us >= bus->next_state_us) {
+        broadcast_state(bus, in); /* first: the supply reaches the fingers before polling */
+    }
+    hal_can_frame_t one;
+    unsigned count;
+    const hal_can_frame_t *frames = hal_can_recv_many(bus->can, &one, &count);
+    if (frames == NULL && quiet(bus, fingers, in)) {
+        return false;
+    }
+    wsg_finger_bus_step_full(bus, fingers, in, frames, count);
     return true;
 }
 
