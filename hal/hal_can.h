@@ -51,6 +51,10 @@ typedef struct {
      * NULL when none is waiting. Saves a call and a copy per frame on a bus
      * whose frames come in bursts (a DSA's 28-frame transfer). */
     const hal_can_frame_t *(*recv_many)(void *ctx, unsigned *count);
+    /* Optional (NULL: send, frame by frame): sends frames[0..count) in
+     * order, each as send() would; returns how many were taken. Saves a
+     * call per frame of a burst. */
+    unsigned (*send_many)(void *ctx, const hal_can_frame_t *frames, unsigned count);
 } hal_can_ops_t;
 
 /* A bus: the driver's operations and its instance (the shape of every HAL
@@ -63,6 +67,20 @@ typedef struct {
 static inline bool hal_can_send(const hal_can_t *can, const hal_can_frame_t *frame)
 {
     return can->ops->send(can->ctx, frame);
+}
+
+/* Sends frames[0..count) in order; returns how many were taken. */
+static inline unsigned hal_can_send_many(const hal_can_t *can, const hal_can_frame_t *frames,
+                                         unsigned count)
+{
+    if (can->ops->send_many != NULL) {
+        return can->ops->send_many(can->ctx, frames, count);
+    }
+    unsigned sent = 0;
+    for (unsigned i = 0; i < count; i++) {
+        sent += can->ops->send(can->ctx, &frames[i]) ? 1u : 0u;
+    }
+    return sent;
 }
 
 static inline bool hal_can_recv(const hal_can_t *can, hal_can_frame_t *frame)

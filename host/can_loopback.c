@@ -155,6 +155,15 @@ static bool node_send(void *ctx, const hal_can_frame_t *frame)
     return true;
 }
 
+/* A DSA's transfer: node_send() of each frame, without a call per frame. */
+static unsigned node_send_many(void *ctx, const hal_can_frame_t *frames, unsigned count)
+{
+    for (unsigned i = 0; i < count; i++) {
+        node_send(ctx, &frames[i]);
+    }
+    return count;
+}
+
 static bool node_recv(void *ctx, hal_can_frame_t *frame)
 {
     (void)ctx;
@@ -268,9 +277,10 @@ static bool gripper_set_filters(void *ctx, const hal_can_filter_t *filters, unsi
 }
 
 /* The gripper's side runs the nodes when it polls: on demand. */
-static const hal_can_ops_t gripper_ops = {gripper_send, gripper_recv, gripper_set_filters, true,
-                                          gripper_recv_many};
-static const hal_can_ops_t node_ops = {node_send, node_recv, node_set_filters, false, NULL};
+static const hal_can_ops_t gripper_ops = {gripper_send, gripper_recv,      gripper_set_filters,
+                                          true,         gripper_recv_many, NULL};
+static const hal_can_ops_t node_ops = {node_send, node_recv, node_set_filters,
+                                       false,     NULL,      node_send_many};
 
 can_loopback_t *can_loopback_create(const fbus_type_t types[FBUS_SLOTS],
                                     const finger_node_params_t *params)

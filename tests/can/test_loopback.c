@@ -208,8 +208,8 @@ static bool model_node_filters(void *ctx, const hal_can_filter_t *filters, unsig
     return count <= HAL_CAN_MAX_FILTERS;
 }
 
-static const hal_can_ops_t model_ops = {model_node_send, model_node_recv, model_node_filters, false,
-                                        NULL};
+static const hal_can_ops_t model_ops = {
+    model_node_send, model_node_recv, model_node_filters, false, NULL, NULL};
 static const hal_can_t model_port = {&model_ops, NULL};
 
 static void model_poll(void)
