@@ -73,18 +73,23 @@ static inline bool accepts(acceptance_t *a, const hal_can_frame_t *frame)
     return a->cached_verdict;
 }
 
-/* Room for one more frame at the end of a full queue: the frames move to
- * its start, or it doubles while below its bound; false when it cannot
- * (full at the bound, or out of memory). */
-static bool make_room(can_loopback_t *bus)
+/* Room for n more frames at the end of a queue without it: the frames
+ * move to its start, and it doubles while below its bound; false when it
+ * cannot (the bound, or out of memory). */
+static bool make_room(can_loopback_t *bus, unsigned n)
 {
     if (bus->head > 0u) {
         memmove(bus->queue, bus->queue + bus->head, bus->count * sizeof(bus->queue[0]));
         bus->head = 0;
+    }
+    if (bus->count + n <= bus->capacity) {
         return true;
     }
     bool on_heap = bus->queue != bus->inline_queue;
     unsigned capacity = on_heap ? 2u * bus->capacity : LOOPBACK_QUEUE_FIRST;
+    while (capacity < bus->count + n) {
+        capacity *= 2u;
+    }
     if (capacity > LOOPBACK_QUEUE) {
         return false;
     }
@@ -106,10 +111,10 @@ static inline void to_gripper(can_loopback_t *bus, const hal_can_frame_t *frame)
         return;
     }
     bool full = bus->head + bus->count == bus->capacity;
-    if (full && !make_room(bus)) { /* the oldest frame is lost, as on an overrun */
+    if (full && !make_room(bus, 1)) { /* the oldest frame is lost, as on an overrun */
         bus->head++;
         bus->count--;
-        make_room(bus);
+        make_room(bus, 1);
     }
     bus->queue[bus->head + bus->count] = *frame;
     bus->count++;
@@ -155,9 +160,34 @@ static bool node_send(void *ctx, const hal_can_frame_t *frame)
     return true;
 }
 
-/* A DSA's transfer: node_send() of each frame, without a call per frame. */
+/* node_send() of frames[0..count) (count > 0) at once, when it can: one
+ * identifier, for the gripper alone, no tap, and room for all. */
+static bool to_gripper_at_once(can_loopback_t *bus, const hal_can_frame_t *frames, unsigned count)
+{
+    const hal_can_frame_t *first = &frames[0];
+    if (bus->tap != NULL || wsg_finger_node_may_accept(first) || !accepts(&bus->accept, first)) {
+        return false;
+    }
+    for (unsigned i = 1; i < count; i++) {
+        if (frames[i].id != first->id || frames[i].flags != first->flags) {
+            return false;
+        }
+    }
+    if (bus->head + bus->count + count > bus->capacity && !make_room(bus, count)) {
+        return false;
+    }
+    memcpy(&bus->queue[bus->head + bus->count], frames, count * sizeof(frames[0]));
+    bus->count += count;
+    bus->frames += count;
+    return true;
+}
+
+/* A DSA's transfer: 28 BULK frames of one identifier. */
 static unsigned node_send_many(void *ctx, const hal_can_frame_t *frames, unsigned count)
 {
+    if (count > 0u && to_gripper_at_once(ctx, frames, count)) {
+        return count;
+    }
     for (unsigned i = 0; i < count; i++) {
         node_send(ctx, &frames[i]);
     }
