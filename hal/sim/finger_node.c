@@ -169,26 +169,35 @@ static void on_simctl(finger_node_t *node, uint8_t faults, uint64_t now_us)
     }
 }
 
+/* The frame's function code says what it can be: one unpack, not a try of
+ * each (STATE comes every 10 ms). */
 static void handle_frame(finger_node_t *node, const hal_can_frame_t *frame, uint64_t now_us)
 {
     fbus_state_t state;
     uint8_t value = 0;
-    if (wsg_fbus_unpack_simctl(frame, &value) && fbus_node_of(frame->id) == node->node) {
-        on_simctl(node, value, now_us);
-        return;
-    }
-    if (!present(node)) {
-        return;
-    }
-    if (wsg_fbus_unpack_state(frame, &state)) {
-        on_state(node, &state, now_us);
-    } else if (node->powered && wsg_fbus_unpack_command(frame, &value) &&
-               fbus_node_of(frame->id) == node->node) {
-        if (value == FBUS_CMD_TARE) {
-            tare(node);
-        } else if (value == FBUS_CMD_REQ_DESCRIPTOR) {
-            send_descriptor(node);
+    bool mine = fbus_node_of(frame->id) == node->node;
+    switch (fbus_func_of(frame->id)) {
+    case FBUS_ID_SIMCTL:
+        if (mine && wsg_fbus_unpack_simctl(frame, &value)) {
+            on_simctl(node, value, now_us);
         }
+        break;
+    case FBUS_ID_STATE:
+        if (present(node) && wsg_fbus_unpack_state(frame, &state)) {
+            on_state(node, &state, now_us);
+        }
+        break;
+    case FBUS_ID_COMMAND:
+        if (present(node) && node->powered && mine && wsg_fbus_unpack_command(frame, &value)) {
+            if (value == FBUS_CMD_TARE) {
+                tare(node);
+            } else if (value == FBUS_CMD_REQ_DESCRIPTOR) {
+                send_descriptor(node);
+            }
+        }
+        break;
+    default:
+        break;
     }
 }
 
