@@ -253,16 +253,13 @@ static inline void run_nodes(can_loopback_t *bus, uint64_t now)
     }
 }
 
-/* With no frame waiting, lets the nodes catch up with the simulated clock;
- * false when they sent nothing either (an idle bus holds no heap queue
- * then). */
-static inline bool frames_waiting(can_loopback_t *bus)
+/* With no frame waiting, lets the nodes catch up with the simulated clock
+ * (now); false when they sent nothing either (an idle bus holds no heap
+ * queue then). */
+static bool nodes_sent(can_loopback_t *bus, uint64_t now)
 {
-    if (bus->count > 0u) {
-        return true;
-    }
     bus->head = 0;
-    run_nodes(bus, hal_clock_now_us());
+    run_nodes(bus, now);
     if (bus->count > 0u) {
         return true;
     }
@@ -277,7 +274,7 @@ static inline bool frames_waiting(can_loopback_t *bus)
 static bool gripper_recv(void *ctx, hal_can_frame_t *frame)
 {
     can_loopback_t *bus = ctx;
-    if (!frames_waiting(bus)) {
+    if (bus->count == 0u && !nodes_sent(bus, hal_clock_now_us())) {
         return false;
     }
     *frame = bus->queue[bus->head];
@@ -286,12 +283,28 @@ static bool gripper_recv(void *ctx, hal_can_frame_t *frame)
     return true;
 }
 
+/* What nodes_sent() finds at most polls, and all it changes then: no
+ * stall, no node due, no heap queue to free. */
+static inline bool poll_finds_nothing(can_loopback_t *bus, uint64_t now)
+{
+    bool stalled = bus->polled_us != 0u && now - bus->polled_us > FBUS_STALL_US;
+    if (stalled || now >= bus->nodes_due_us || bus->queue != bus->inline_queue) {
+        return false;
+    }
+    bus->head = 0;
+    bus->polled_us = now;
+    return true;
+}
+
 /* All waiting frames, in place: the next call starts the queue afresh. */
 static const hal_can_frame_t *gripper_recv_many(void *ctx, unsigned *count)
 {
     can_loopback_t *bus = ctx;
-    if (!frames_waiting(bus)) {
-        return NULL;
+    if (bus->count == 0u) {
+        uint64_t now = hal_clock_now_us();
+        if (poll_finds_nothing(bus, now) || !nodes_sent(bus, now)) {
+            return NULL;
+        }
     }
     const hal_can_frame_t *frames = &bus->queue[bus->head];
     *count = bus->count;
