@@ -1,0 +1,80 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/* Comparing and copying a few bytes (a command name, a polled query line)
+ * without a library call: the core is built freestanding, where memcpy()
+ * and memcmp() are always calls, and a byte loop costs a compare and a
+ * branch per byte. The compiler's builtin copy of a constant size is one
+ * load or store (unaligned where the target allows it, bytewise where not). */
+#ifndef WSG_SMALL_BYTES_H
+#define WSG_SMALL_BYTES_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#if defined(__GNUC__)
+#define WSG_COPY_FIXED(dst, src, n) __builtin_memcpy((dst), (src), (n))
+#else
+#include <string.h>
+#define WSG_COPY_FIXED(dst, src, n) memcpy((dst), (src), (n))
+#endif
+
+static inline uint64_t wsg_load_u64(const unsigned char *p)
+{
+    uint64_t v;
+    WSG_COPY_FIXED(&v, p, sizeof(v));
+    return v;
+}
+
+static inline uint32_t wsg_load_u32(const unsigned char *p)
+{
+    uint32_t v;
+    WSG_COPY_FIXED(&v, p, sizeof(v));
+    return v;
+}
+
+/* Whether a[0..n) and b[0..n) hold the same bytes. */
+static inline bool wsg_small_equal(const void *a, const void *b, size_t n)
+{
+    const unsigned char *pa = a;
+    const unsigned char *pb = b;
+    for (; n >= 8u; n -= 8u, pa += 8, pb += 8) {
+        if (wsg_load_u64(pa) != wsg_load_u64(pb)) {
+            return false;
+        }
+    }
+    if (n >= 4u) {
+        if (wsg_load_u32(pa) != wsg_load_u32(pb)) {
+            return false;
+        }
+        n -= 4u;
+        pa += 4;
+        pb += 4;
+    }
+    for (; n > 0u; n--) {
+        if (*pa++ != *pb++) {
+            return false;
+        }
+    }
+    return true;
+}
+
+/* dst[0..n) = src[0..n); the two do not overlap. */
+static inline void wsg_small_copy(void *dst, const void *src, size_t n)
+{
+    unsigned char *d = dst;
+    const unsigned char *s = src;
+    for (; n >= 8u; n -= 8u, d += 8, s += 8) {
+        WSG_COPY_FIXED(d, s, 8u);
+    }
+    if (n >= 4u) {
+        WSG_COPY_FIXED(d, s, 4u);
+        n -= 4u;
+        d += 4;
+        s += 4;
+    }
+    for (; n > 0u; n--) {
+        *d++ = *s++;
+    }
+}
+
+#endif
