@@ -106,11 +106,8 @@ void wsg_reply_float(cmd_ctx_t *ctx, float value)
 {
     char line[GCL_NAME_MAX + 1 + WSG_TEXTBUF_FLOAT_MAX + 1];
     const char *name = ctx->cmd->name;
-    WSG_COPY_FIXED(line, name, sizeof(ctx->cmd->name)); /* all of it, then say how much counts */
-    size_t len = 0;
-    while (name[len] != '\0') {
-        len++;
-    }
+    WSG_COPY_FIXED(line, name, sizeof(ctx->cmd->name)); /* all of it: the length says what counts */
+    size_t len = ctx->name_len;
     line[len++] = '=';
     len += wsg_textbuf_format_float(line + len, value);
     line[len++] = '\n';

@@ -158,8 +158,10 @@ static void remember_query(gcl_conn_t *g, const char *line, size_t len, const cm
     wsg_small_copy(g->query_line, line, len);
     g->query_line_len = (uint8_t)len;
     const char *name = entry->info.name;
+    g->query_name_len = 0;
     for (size_t i = 0; i < sizeof(g->query_name); i++) {
         g->query_name[i] = *name; /* the rest NUL, as a parse leaves it */
+        g->query_name_len += *name != '\0';
         name += *name != '\0';
     }
     g->query_entry = entry;
@@ -195,7 +197,11 @@ static wsg_status_t run_command(gcl_conn_t *g, wsg_device_t *dev, const cmd_entr
     if (status != E_SUCCESS) {
         return status;
     }
-    cmd_ctx_t ctx = {g, dev, cmd};
+    size_t name_len = 0;
+    while (cmd->name[name_len] != '\0') {
+        name_len++;
+    }
+    cmd_ctx_t ctx = {g, dev, cmd, name_len};
     return entry->handler(&ctx);
 }
 
@@ -264,7 +270,7 @@ void wsg_dispatch_repeated_query(gcl_conn_t *g)
         finish_line(g, dev, &cmd, entry, run_command(g, dev, entry, &cmd));
         return;
     }
-    cmd_ctx_t ctx = {g, dev, &cmd};
+    cmd_ctx_t ctx = {g, dev, &cmd, g->query_name_len};
     wsg_status_t status = entry->handler(&ctx); /* its shape was checked when remembered */
     if (status != E_SUCCESS || gcl_observers(g) != NULL) {
         finish_line(g, dev, &cmd, entry, status);

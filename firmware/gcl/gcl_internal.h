@@ -50,6 +50,7 @@ typedef struct {
     uint8_t query_line_len; /* 0: none yet */
     const struct cmd_entry *query_entry;
     char query_name[GCL_NAME_MAX + 1]; /* its command's name, NUL-padded */
+    uint8_t query_name_len;
 } gcl_conn_t;
 
 _Static_assert(sizeof(gcl_conn_t) <= CONN_PROTO_BYTES,
@@ -80,6 +81,7 @@ typedef struct {
     gcl_conn_t *gcl;
     wsg_device_t *dev;
     const gcl_command_t *cmd;
+    size_t name_len; /* of cmd->name, for the replies that start with it */
 } cmd_ctx_t;
 
 typedef wsg_status_t (*cmd_handler_t)(cmd_ctx_t *ctx);
