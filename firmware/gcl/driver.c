@@ -30,6 +30,9 @@ static void handle_completed_line(gcl_conn_t *g)
  * it needs neither a byte-by-byte assembly nor a parse. */
 static size_t take_repeated_query(gcl_conn_t *g, const uint8_t *bytes, size_t len)
 {
+    if (g->query_line_len == 0) {
+        return 0; /* no query line yet */
+    }
     size_t taken =
         wsg_gcl_linebuf_take_line(&g->input, bytes, len, g->query_line, g->query_line_len);
     if (taken != 0) {

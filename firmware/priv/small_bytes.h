@@ -32,48 +32,51 @@ static inline uint32_t wsg_load_u32(const unsigned char *p)
     return v;
 }
 
-/* Whether a[0..n) and b[0..n) hold the same bytes. */
+/* Whether a[0..n) and b[0..n) hold the same bytes. From 4 bytes on, the
+ * last word may overlap the one before: no byte loop for the tail. */
 static inline bool wsg_small_equal(const void *a, const void *b, size_t n)
 {
     const unsigned char *pa = a;
     const unsigned char *pb = b;
-    for (; n >= 8u; n -= 8u, pa += 8, pb += 8) {
-        if (wsg_load_u64(pa) != wsg_load_u64(pb)) {
-            return false;
+    if (n >= 8u) {
+        for (size_t i = 0; i + 8u < n; i += 8u) {
+            if (wsg_load_u64(pa + i) != wsg_load_u64(pb + i)) {
+                return false;
+            }
         }
+        return wsg_load_u64(pa + n - 8u) == wsg_load_u64(pb + n - 8u);
     }
     if (n >= 4u) {
-        if (wsg_load_u32(pa) != wsg_load_u32(pb)) {
-            return false;
-        }
-        n -= 4u;
-        pa += 4;
-        pb += 4;
+        return wsg_load_u32(pa) == wsg_load_u32(pb) &&
+               wsg_load_u32(pa + n - 4u) == wsg_load_u32(pb + n - 4u);
     }
-    for (; n > 0u; n--) {
-        if (*pa++ != *pb++) {
+    for (size_t i = 0; i < n; i++) {
+        if (pa[i] != pb[i]) {
             return false;
         }
     }
     return true;
 }
 
-/* dst[0..n) = src[0..n); the two do not overlap. */
+/* dst[0..n) = src[0..n); the two do not overlap. Words as above. */
 static inline void wsg_small_copy(void *dst, const void *src, size_t n)
 {
     unsigned char *d = dst;
     const unsigned char *s = src;
-    for (; n >= 8u; n -= 8u, d += 8, s += 8) {
-        WSG_COPY_FIXED(d, s, 8u);
+    if (n >= 8u) {
+        for (size_t i = 0; i + 8u < n; i += 8u) {
+            WSG_COPY_FIXED(d + i, s + i, 8u);
+        }
+        WSG_COPY_FIXED(d + n - 8u, s + n - 8u, 8u);
+        return;
     }
     if (n >= 4u) {
         WSG_COPY_FIXED(d, s, 4u);
-        n -= 4u;
-        d += 4;
-        s += 4;
+        WSG_COPY_FIXED(d + n - 4u, s + n - 4u, 4u);
+        return;
     }
-    for (; n > 0u; n--) {
-        *d++ = *s++;
+    for (size_t i = 0; i < n; i++) {
+        d[i] = s[i];
     }
 }
 
