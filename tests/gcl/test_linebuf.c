@@ -353,14 +353,20 @@ START_TEST(take_line_matches_bytewise)
             }
         }
     }
-    /* the longest line a connection remembers, and one byte more */
+    /* every length up to the longest line a connection remembers, and beyond;
+     * a last byte that differs */
     char known[GCL_LINE_MAX + 1];
     char input[GCL_LINE_MAX + 3];
-    for (size_t n = 20; n <= 26; n++) {
+    for (size_t n = 1; n <= 26; n++) {
         fill(known, n, 'Q');
         snprintf(input, sizeof(input), "%s\r\n", known);
         expect_take_matches_feed("", input, known);
         expect_take_matches_feed("TAG?\r", input, known);
+        input[n - 1] = 'R';
+        expect_take_matches_feed("", input, known);
+        input[0] = 'R';
+        input[n - 1] = 'Q';
+        expect_take_matches_feed("", input, known);
     }
 }
 END_TEST
