@@ -157,12 +157,13 @@ static void remember_query(gcl_conn_t *g, const char *line, size_t len, const cm
     }
     wsg_small_copy(g->query_line, line, len);
     g->query_line_len = (uint8_t)len;
-    const char *name = entry->info.name;
+    const char *name = entry->info.name; /* at most GCL_NAME_MAX letters */
+    bool ended = false;
     g->query_name_len = 0;
     for (size_t i = 0; i < sizeof(g->query_name); i++) {
-        g->query_name[i] = *name; /* the rest NUL, as a parse leaves it */
-        g->query_name_len += *name != '\0';
-        name += *name != '\0';
+        ended = ended || name[i] == '\0';
+        g->query_name[i] = ended ? '\0' : name[i]; /* the rest NUL, as a parse leaves it */
+        g->query_name_len += !ended;
     }
     g->query_entry = entry;
 }
