@@ -255,8 +255,8 @@ void wsg_dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_sta
  * gives is the command's name in the query form, without arguments or
  * index, so no parse runs. Only what a query's handler, the observers and
  * the injected failure read is set: arguments are read for argc > 0 only.
- * The common outcome (no failure armed, success, nobody observing) is
- * written out; every other goes the general way. */
+ * The common outcome (no failure armed, success) is written out; every
+ * other goes the general way. */
 void wsg_dispatch_repeated_query(gcl_conn_t *g)
 {
     const cmd_entry_t *entry = g->query_entry;
@@ -273,13 +273,17 @@ void wsg_dispatch_repeated_query(gcl_conn_t *g)
     }
     cmd_ctx_t ctx = {g, dev, &cmd, g->query_name_len};
     wsg_status_t status = entry->handler(&ctx); /* its shape was checked when remembered */
-    if (status != E_SUCCESS || gcl_observers(g) != NULL) {
+    if (status != E_SUCCESS) {
         finish_line(g, dev, &cmd, entry, status);
         return;
     }
+    /* finish_line() of a success, step by step */
     g->cmd_failed = false;
     if (wsg_flags_get(g->conn->dev, SF_CMD_FAILURE)) { /* clearing a clear flag changes nothing */
         wsg_device_note_result(dev, E_SUCCESS);
+    }
+    if (gcl_observers(g) != NULL) {
+        report_done(g, &cmd, entry, E_SUCCESS);
     }
     g->quiet_since_sense = g->in_input; /* a query does not act */
 }
