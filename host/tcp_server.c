@@ -390,6 +390,7 @@ static bool setup_client(tcp_client_t *c, int fd, const struct sockaddr_storage 
     tcp_servers_t *tcp = c->server->set;
     if (timeout != 0 && c->heard_us + timeout < tcp->idle_due_us) {
         tcp->idle_due_us = c->heard_us + timeout;
+        tcp->deadline_lowered = true;
     }
     gripper_touch(g); /* its --idle-timeout is a new deadline */
     return true;
@@ -570,6 +571,7 @@ void tcp_server_reap(tcp_servers_t *tcp)
  * earliest timeout is due (or not known yet), not for every request. */
 uint64_t tcp_server_next_deadline_us(tcp_servers_t *tcp)
 {
+    tcp->deadline_lowered = false;
     if (tcp->idle_due_us > hal_clock_now_us()) {
         return tcp->idle_due_us;
     }

@@ -67,6 +67,13 @@ void simctl_scheduler_set_due_hook(simctl_sched_t *s, const simctl_due_hook_t *h
  * the next simulated time at which anything is due (the present device time
  * while work is left). */
 uint64_t simctl_tick(simctl_sched_t *s);
+/* Before the loop sleeps: what the wake-up's input touched runs at the
+ * present device time (the one simctl_tick() set after the wake-up), without
+ * reading the clock again; a slice of work left over, a step or a due hook
+ * item takes the whole pass of simctl_tick(). Returns the same as it. What
+ * falls due while the input was handled is caught up by the next wake-up,
+ * which the loop's absolute timer makes immediate. */
+uint64_t simctl_settle(simctl_sched_t *s);
 
 /* While paused: moves simulated time forward by us; the device time follows
  * slice by slice in simctl_tick(), running everything due on the way at its
