@@ -451,6 +451,18 @@ static void set_due(fleet_t *fleet, unsigned device, uint64_t due_us)
     }
 }
 
+/* A device's control step, then its observers; its next deadline. */
+static uint64_t tick(const fleet_t *fleet, gripper_t *g)
+{
+    uint64_t next = gripper_tick(g);
+    for (const fleet_observer_t *o = fleet->observers; o != NULL; o = o->next) {
+        if (o->device_ticked != NULL) {
+            o->device_ticked(o->ctx, g);
+        }
+    }
+    return next;
+}
+
 /* The devices whose deadline has come, except the touched ones (the list
  * ticks those). Every due device leaves the heap's top before any is
  * ticked, so none is ticked twice in a pass. */
@@ -464,7 +476,7 @@ static unsigned tick_due_devices(fleet_t *fleet, uint64_t now, unsigned max_step
     for (unsigned k = 0; k < due; k++) {
         gripper_t *g = &fleet->devices[fleet->ready[k]].gripper;
         if (!g->touched) {
-            set_due(fleet, fleet->ready[k], gripper_tick(g));
+            set_due(fleet, fleet->ready[k], tick(fleet, g));
         }
     }
     return due;
@@ -476,7 +488,7 @@ static unsigned tick_touched_devices(fleet_t *fleet)
     unsigned ran = 0;
     gripper_t *touched;
     while ((touched = gripper_take_touched(&fleet->touched)) != NULL) {
-        set_due(fleet, touched->index, gripper_tick(touched));
+        set_due(fleet, touched->index, tick(fleet, touched));
         ran++;
     }
     return ran;
@@ -491,7 +503,7 @@ static unsigned tick_lone_device(fleet_t *fleet, uint64_t now)
         return 0u;
     }
     (void)gripper_take_touched(&fleet->touched); /* g, if touched: the only one */
-    fleet->due_us[0] = gripper_tick(g);
+    fleet->due_us[0] = tick(fleet, g);
     return 1u;
 }
 

@@ -91,6 +91,15 @@ static bool start_simulation(host_t *host, diagnostics_t *d, const host_options_
            simctl_start(sim, host->loop, &host->net, opts->sim_bind, opts->sim_port);
 }
 
+/* The flags each control step leaves, for the coverage report. */
+static void sample_coverage(void *ctx, gripper_t *g)
+{
+    const diagnostics_t *d = ctx;
+    if (d->counting) {
+        coverage_sample_flags(d->coverage, g->index);
+    }
+}
+
 /* Replies an injected DELAY holds back (the connection I/O's held() hook). */
 static bool delay_holds_replies(void *ctx, const wsg_conn_t *conn)
 {
@@ -225,6 +234,7 @@ static int serve(host_t *host, host_options_t *opts)
     diagnostics_t diagnostics = {.can_log = &host->can_log};
     fleet_observer_t observers = {.device_started = attach_observers,
                                   .replies_held = delay_holds_replies,
+                                  .device_ticked = sample_coverage,
                                   .ctx = &diagnostics};
     fleet_observe(host->fleet, &observers);
     simctl_set_fleet(host->sim, host->fleet);

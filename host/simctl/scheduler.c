@@ -80,7 +80,6 @@ static void run_fleet_and_delays(simctl_sched_t *s, uint64_t now, unsigned *budg
         unsigned steps = 0;
         s->fleet_due_us = fleet_tick(s->fleet, *budget, &steps);
         spend(budget, steps);
-        coverage_sample_flags(s->coverage);
     }
     bool releasing = s->delay_due_us <= now;
     if (releasing) {
@@ -98,16 +97,18 @@ static void run_fleet_and_delays(simctl_sched_t *s, uint64_t now, unsigned *budg
 static bool run_due(simctl_sched_t *s, unsigned *budget, uint64_t *next)
 {
     uint64_t now = device_now(s);
-    if (hook_next_us(s) <= now) {
+    uint64_t hook_next = hook_next_us(s);
+    if (hook_next <= now) {
         unsigned events = *budget / SLICE_EVENT_COST;
         unsigned ran = s->due->run_due(s->due->ctx, now, events > 0 ? events : 1u);
         spend(budget, ran * SLICE_EVENT_COST);
-        if (hook_next_us(s) <= now) {
+        hook_next = hook_next_us(s);
+        if (hook_next <= now) {
             return false;
         }
     }
-    run_fleet_and_delays(s, now, budget);
-    *next = earliest(earliest(s->fleet_due_us, s->delay_due_us), hook_next_us(s));
+    run_fleet_and_delays(s, now, budget); /* the devices do not move the hook's items */
+    *next = earliest(earliest(s->fleet_due_us, s->delay_due_us), hook_next);
     spend(budget, 1u);
     return !fleet_devices_due(s->fleet, now); /* the time waits for the devices still due */
 }

@@ -10,7 +10,6 @@
 #include <stdint.h>
 
 #include "clock.h"
-#include "coverage.h"
 #include "delay.h"
 
 /* Work of a layer above the scheduler that is due at simulated times (the
@@ -43,7 +42,6 @@ typedef struct {
     uint64_t delay_due_us;
     uint64_t next_us;       /* the earliest of them and the hook's; 0: look */
     simctl_delays_t delays; /* injected reply delays (DELAY); all zero: none */
-    coverage_t *coverage;   /* samples the flags after each tick; NULL: none */
     struct {
         bool running;
         uint64_t until_us; /* the device time at which the STEP is done */
