@@ -264,7 +264,7 @@ typedef struct {
     float high_mm;
 } clear_span_t;
 
-static void narrow_span(clear_span_t *span, float width_mm, sim_part_side_t side)
+static inline void narrow_span(clear_span_t *span, float width_mm, sim_part_side_t side)
 {
     if (side == SIM_PART_INSIDE) {
         span->low_mm = width_mm < span->low_mm ? span->low_mm : width_mm;
@@ -273,7 +273,7 @@ static void narrow_span(clear_span_t *span, float width_mm, sim_part_side_t side
     }
 }
 
-static clear_span_t clear_span(const sim_axis_t *axis)
+static inline clear_span_t clear_span(const sim_axis_t *axis)
 {
     clear_span_t span = {0.0f, axis->stroke_mm};
     if (axis->obstacle.present) {
@@ -376,16 +376,18 @@ static void move_steps(sim_axis_t *axis, float dt_s, clear_span_t span)
 
 void wsg_sim_axis_advance(sim_axis_t *axis, float dt_s)
 {
-    clear_span_t span = clear_span(axis);
-    if (!wsg_sim_axis_at_rest(axis)) {
-        if (!free_run(axis, dt_s, span)) {
-            move_steps(axis, dt_s, span);
+    if (wsg_sim_axis_at_rest(axis)) {
+        if (within(clear_span(axis), axis->x_mm)) {
+            /* what the step of 0 s gives without a contact (the common case
+             * between commands: the world is advanced before every input) */
+            clear_outputs(axis);
+        } else {
+            wsg_sim_axis_advance_stepwise(axis, 0.0f);
         }
-    } else if (within(span, axis->x_mm)) {
-        /* what the step of 0 s gives without a contact (the common case
-         * between commands: the world is advanced before every input) */
-        clear_outputs(axis);
-    } else {
-        wsg_sim_axis_advance_stepwise(axis, 0.0f);
+        return;
+    }
+    clear_span_t span = clear_span(axis);
+    if (!free_run(axis, dt_s, span)) {
+        move_steps(axis, dt_s, span);
     }
 }
