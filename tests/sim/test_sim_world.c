@@ -247,6 +247,39 @@ START_TEST(outside_parts_obstacles_and_end_stops_match_the_full_model)
 }
 END_TEST
 
+/* Moves so short or so slow that the jaws arrive while still speeding up
+ * (the limit below a * dt: a step ends within AT_TARGET of the target
+ * before braking), and accelerations the firmware never commands (0,
+ * negative), where the speed does not grow; an axis moving with no
+ * profile. */
+START_TEST(short_slow_and_odd_moves_match_the_full_model)
+{
+    static const struct {
+        float distance_mm, speed_mm_s, accel_mm_s2;
+    } moves[] = {{1.2e-4f, 0.1f, 1000.0f}, {2e-4f, 0.2f, 50000.0f}, {0.01f, 1.0f, 20000.0f},
+                 {0.3f, 2.0f, 20000.0f},   {5.0f, 1.5f, 100000.0f}, {3e-5f, 400.0f, 5000.0f},
+                 {2.0f, 50.0f, 0.0f},      {2.0f, 50.0f, -300.0f},  {2.0f, 50.0f, -1e6f}};
+    axis_twin_t twin;
+    twin_init(&twin);
+    BOTH(&twin, wsg_sim_axis_place_jaws, 40.0f);
+    for (unsigned k = 0; k < sizeof(moves) / sizeof(moves[0]); k++) {
+        for (float dir = -1.0f; dir <= 1.0f; dir += 2.0f) {
+            float target = wsg_sim_axis_position(&twin.ref) + dir * moves[k].distance_mm;
+            BOTH(&twin, wsg_sim_axis_move, target, moves[k].speed_mm_s, moves[k].accel_mm_s2,
+                 20.0f);
+            twin_steps(&twin, 200, STEP_S);
+            BOTH(&twin, wsg_sim_axis_stop, true); /* the odd accelerations never arrive */
+            twin_run(&twin, 1000);
+        }
+    }
+    BOTH(&twin, wsg_sim_axis_move, 90.0f, 100.0f, 1000.0f, 20.0f);
+    twin_steps(&twin, 200, STEP_S);
+    twin.fast.active = twin.ref.active = false; /* white box: moving with no profile */
+    twin_steps(&twin, 10, STEP_S);
+    ck_assert_uint_gt(twin.speeding, 10u);
+}
+END_TEST
+
 /* A deterministic stream of random commands, surfaces and time steps. */
 static uint32_t lcg_state;
 
@@ -269,7 +302,8 @@ static void random_command(axis_twin_t *twin)
     case 2:
     case 3: {
         float target = uniform(-10.0f, STROKE_MM + 10.0f), speed = uniform(0.1f, 500.0f);
-        float accel = uniform(1.0f, 20000.0f), force = uniform(0.0f, 80.0f);
+        float accel = lcg() % 50u == 0u ? uniform(-100.0f, 0.0f) : uniform(1.0f, 20000.0f);
+        float force = uniform(0.0f, 80.0f);
         BOTH(twin, wsg_sim_axis_move, target, speed, accel, force);
         break;
     }
@@ -359,6 +393,31 @@ START_TEST(thermal_steps_match_the_formula)
 }
 END_TEST
 
+/* A fast time constant (white box): the board comes within a few units in
+ * the last place of its steady temperature, where a step may no longer
+ * change it, and reaches it. */
+START_TEST(thermal_settling_matches_the_formula)
+{
+    sim_thermal_t fast, ref;
+    wsg_sim_thermal_init(&fast, 25.0f);
+    wsg_sim_thermal_init(&ref, 25.0f);
+    fast.time_constant_s = ref.time_constant_s = 0.05f;
+    unsigned settled = 0, stuck = 0;
+    for (unsigned k = 0; k < 20000u; k++) {
+        float force = (k / 4000u) % 2u == 0u ? 30.0f : 0.0f;
+        float dt = k % 3u == 0u ? 0.0007f : STEP_S;
+        float before = ref.board_c;
+        float steady = ref.ambient_c + ref.idle_rise_c + ref.rise_per_newton_c * force;
+        wsg_sim_thermal_advance(&fast, force, dt);
+        thermal_reference(&ref, force, dt);
+        same_board(&fast, &ref, k);
+        settled += ref.board_c == steady;
+        stuck += ref.board_c == before && before != steady;
+    }
+    ck_assert_uint_gt(settled + stuck, 1000u);
+}
+END_TEST
+
 /* A board at -0 C settling to +0: the sum keeps the sign rules of the
  * formula. */
 START_TEST(thermal_signed_zero_matches_the_formula)
@@ -439,10 +498,12 @@ Suite *sim_suite(void)
     tcase_add_test(axis, retargets_and_stops_match_the_full_model);
     tcase_add_test(axis, grips_and_slips_match_the_full_model);
     tcase_add_test(axis, outside_parts_obstacles_and_end_stops_match_the_full_model);
+    tcase_add_test(axis, short_slow_and_odd_moves_match_the_full_model);
     tcase_add_test(axis, random_commands_match_the_full_model);
     suite_add_tcase(s, axis);
     TCase *thermal = tcase_create("thermal");
     tcase_add_test(thermal, thermal_steps_match_the_formula);
+    tcase_add_test(thermal, thermal_settling_matches_the_formula);
     tcase_add_test(thermal, thermal_signed_zero_matches_the_formula);
     suite_add_tcase(s, thermal);
     TCase *world = tcase_create("world");
