@@ -315,14 +315,24 @@ static bool free_run(sim_axis_t *axis, float dt_s, clear_span_t span)
         !(dt_s > 0.0f)) {
         return false; /* not profile_step()'s speed-up, or a speed that may shrink */
     }
-    for (float left_s = dt_s; left_s > 0.0f;) {
-        float dt = left_s < SIM_AXIS_MAX_STEP_S ? left_s : SIM_AXIS_MAX_STEP_S;
-        v += dir * a * dt;
-        if (fabsf(v) > vmax) {
-            v = dir * vmax; /* signf(v) is dir: v * dir >= 0 and v != 0 */
+    if (fabsf(v) == vmax && vmax > 0.0f) {
+        /* cruising: a step's speed-up leaves v or passes the limit and is
+         * clamped back to it, dir * vmax, which is v */
+        for (float left_s = dt_s; left_s > 0.0f;) {
+            float dt = left_s < SIM_AXIS_MAX_STEP_S ? left_s : SIM_AXIS_MAX_STEP_S;
+            x = x + v * dt;
+            left_s -= dt;
         }
-        x = x + v * dt;
-        left_s -= dt;
+    } else {
+        for (float left_s = dt_s; left_s > 0.0f;) {
+            float dt = left_s < SIM_AXIS_MAX_STEP_S ? left_s : SIM_AXIS_MAX_STEP_S;
+            v += dir * a * dt;
+            if (fabsf(v) > vmax) {
+                v = dir * vmax; /* signf(v) is dir: v * dir >= 0 and v != 0 */
+            }
+            x = x + v * dt;
+            left_s -= dt;
+        }
     }
     float ahead = (target - x) * dir;
     float stopping = v * v / (2.0f * a);                  /* as profile_step() computes it */

@@ -250,19 +250,20 @@ END_TEST
 /* Moves so short or so slow that the jaws arrive while still speeding up
  * (the limit below a * dt: a step ends within AT_TARGET of the target
  * before braking), and accelerations the firmware never commands (0,
- * negative), where the speed does not grow; an axis moving with no
- * profile. */
+ * negative), where the speed does not grow; no speed at all (the sign of
+ * its zero); an axis moving with no profile. */
 START_TEST(short_slow_and_odd_moves_match_the_full_model)
 {
     static const struct {
         float distance_mm, speed_mm_s, accel_mm_s2;
     } moves[] = {{1.2e-4f, 0.1f, 1000.0f}, {2e-4f, 0.2f, 50000.0f}, {0.01f, 1.0f, 20000.0f},
                  {0.3f, 2.0f, 20000.0f},   {5.0f, 1.5f, 100000.0f}, {3e-5f, 400.0f, 5000.0f},
-                 {2.0f, 50.0f, 0.0f},      {2.0f, 50.0f, -300.0f},  {2.0f, 50.0f, -1e6f}};
+                 {2.0f, 50.0f, 0.0f},      {2.0f, 50.0f, -300.0f},  {2.0f, 50.0f, -1e6f},
+                 {2.0f, 0.0f, 1000.0f}};
     axis_twin_t twin;
     twin_init(&twin);
-    BOTH(&twin, wsg_sim_axis_place_jaws, 40.0f);
     for (unsigned k = 0; k < sizeof(moves) / sizeof(moves[0]); k++) {
+        BOTH(&twin, wsg_sim_axis_place_jaws, 40.0f); /* clear of the end stops */
         for (float dir = -1.0f; dir <= 1.0f; dir += 2.0f) {
             float target = wsg_sim_axis_position(&twin.ref) + dir * moves[k].distance_mm;
             BOTH(&twin, wsg_sim_axis_move, target, moves[k].speed_mm_s, moves[k].accel_mm_s2,
