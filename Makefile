@@ -13,12 +13,21 @@ OPT ?= -O2 -g
 SAN ?= 0
 SANITIZERS := -fsanitize=address,undefined,float-cast-overflow
 LDFLAGS_BASE :=
+# Link-time optimisation of build/wsgsim: the core and the host are many
+# small functions in many files (the clock, the flags, the observers, the
+# pass), which it inlines across files (docs/benchmark.md). Fat objects:
+# the test programs link the same objects without it. LTO= turns it off.
+LTO ?= -flto=auto -ffat-lto-objects
 ifeq ($(SAN),1)
   OPT := -O1 -g -fno-omit-frame-pointer $(SANITIZERS) -fno-sanitize-recover=all
   LDFLAGS_BASE := $(SANITIZERS)
   BUILD := build/san
+  LTO :=
 endif
 CFLAGS_BASE := $(CSTD) $(WARN) $(OPT)
+# The objects of build/wsgsim carry $(LTO); its link compiles them again,
+# with the same options.
+LTO_LINK := $(if $(LTO),-flto=auto $(OPT))
 
 # The portable core (libwsgfw.a) and the simulated hardware (libwsgsim.a):
 # no OS, no heap. Ports compile against the public headers only:

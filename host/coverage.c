@@ -606,12 +606,10 @@ void coverage_attach(coverage_t *c, wsg_device_t *dev, unsigned index)
     wsg_gcl_add_observer(dev, &cd->gcl);
 }
 
-void coverage_sample_flags(coverage_t *c)
+void coverage_sample_flags(coverage_t *c, unsigned index)
 {
-    for (unsigned i = 0; c != NULL && c->attached > 0 && i < c->count; i++) {
-        if (c->devices[i].device != NULL) {
-            c->devices[i].counts.flags_seen |= wsg_device_flags(c->devices[i].device);
-        }
+    if (c != NULL && index < c->count && c->devices[index].device != NULL) {
+        c->devices[index].counts.flags_seen |= wsg_device_flags(c->devices[index].device);
     }
 }
 

@@ -19,10 +19,11 @@ coverage_t *coverage_create(bool strict, unsigned devices);
 /* Counts device `index`'s (below the create's count) events from now on. */
 void coverage_attach(coverage_t *c, wsg_device_t *dev, unsigned index);
 void coverage_reset(coverage_t *c);
-/* After every loop pass: samples what the report tracks over time (the
- * flags, also those raised outside a control step, such as FAST STOP on a
- * dropped connection). Nothing for NULL. */
-void coverage_sample_flags(coverage_t *c);
+/* After every tick of device index: samples what the report tracks over
+ * time (the flags, also those raised outside a control step, such as FAST
+ * STOP on a dropped connection: that touches the device, which is then
+ * ticked). Nothing for NULL or a device not attached. */
+void coverage_sample_flags(coverage_t *c, unsigned index);
 
 /* The report as JSON text (malloc'd; free() it). pretty: indented. */
 char *coverage_report_json(const coverage_t *c, bool pretty);

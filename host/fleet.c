@@ -451,6 +451,18 @@ static void set_due(fleet_t *fleet, unsigned device, uint64_t due_us)
     }
 }
 
+/* A device's control step, then its observers; its next deadline. */
+static uint64_t tick(const fleet_t *fleet, gripper_t *g)
+{
+    uint64_t next = gripper_tick(g);
+    for (const fleet_observer_t *o = fleet->observers; o != NULL; o = o->next) {
+        if (o->device_ticked != NULL) {
+            o->device_ticked(o->ctx, g);
+        }
+    }
+    return next;
+}
+
 /* The devices whose deadline has come, except the touched ones (the list
  * ticks those). Every due device leaves the heap's top before any is
  * ticked, so none is ticked twice in a pass. */
@@ -464,22 +476,47 @@ static unsigned tick_due_devices(fleet_t *fleet, uint64_t now, unsigned max_step
     for (unsigned k = 0; k < due; k++) {
         gripper_t *g = &fleet->devices[fleet->ready[k]].gripper;
         if (!g->touched) {
-            set_due(fleet, fleet->ready[k], gripper_tick(g));
+            set_due(fleet, fleet->ready[k], tick(fleet, g));
         }
     }
     return due;
 }
 
+/* The touched devices, each once: their deadlines may have moved. */
+static unsigned tick_touched_devices(fleet_t *fleet)
+{
+    unsigned ran = 0;
+    gripper_t *touched;
+    while ((touched = gripper_take_touched(&fleet->touched)) != NULL) {
+        set_due(fleet, touched->index, tick(fleet, touched));
+        ran++;
+    }
+    return ran;
+}
+
 /* The same for one device (the default), which has no heap to keep: a
- * control step per millisecond while it moves. */
+ * control step per millisecond while it moves, or a touch. */
 static unsigned tick_lone_device(fleet_t *fleet, uint64_t now)
 {
     gripper_t *g = &fleet->devices[0].gripper;
-    if (fleet->due_us[0] <= now && !g->touched) {
-        fleet->due_us[0] = gripper_tick(g);
-        return 1u;
+    if (!g->touched && fleet->due_us[0] > now) {
+        return 0u;
     }
-    return 0u;
+    (void)gripper_take_touched(&fleet->touched); /* g, if touched: the only one */
+    fleet->due_us[0] = tick(fleet, g);
+    return 1u;
+}
+
+/* The servers' timeouts are asked again only when one may have come or
+ * moved earlier (an accept, a datagram): input only moves them later. */
+static uint64_t servers_next_us(fleet_t *fleet, uint64_t now)
+{
+    if (fleet->tcp_set.deadline_lowered || fleet->udp_set.deadline_moved ||
+        fleet->servers_due_us <= now) {
+        fleet->servers_due_us = earliest(tcp_server_next_deadline_us(&fleet->tcp_set),
+                                         udp_server_next_deadline_us(&fleet->udp_set));
+    }
+    return fleet->servers_due_us;
 }
 
 /* Each device is ticked at most once per pass, as a lone gripper was: a
@@ -490,22 +527,13 @@ static unsigned tick_lone_device(fleet_t *fleet, uint64_t now)
 uint64_t fleet_tick(fleet_t *fleet, unsigned max_steps, unsigned *steps)
 {
     uint64_t now = hal_clock_now_us();
-    unsigned ran = fleet->count == 1u
-                       ? tick_lone_device(fleet, now)
-                       : tick_due_devices(fleet, now, max_steps > 0 ? max_steps : 1u);
-    gripper_t *touched;
-    bool any_touched = false;
-    while ((touched = gripper_take_touched(&fleet->touched)) != NULL) {
-        set_due(fleet, touched->index, gripper_tick(touched));
-        any_touched = true;
-        ran++;
+    if (fleet->count == 1u) {
+        *steps = tick_lone_device(fleet, now);
+        return earliest(servers_next_us(fleet, now), fleet->due_us[0]);
     }
-    *steps = ran;
-    if (any_touched || fleet->servers_due_us <= now) {
-        fleet->servers_due_us = earliest(tcp_server_next_deadline_us(&fleet->tcp_set),
-                                         udp_server_next_deadline_us(&fleet->udp_set));
-    }
-    uint64_t next = fleet->servers_due_us;
+    unsigned ran = tick_due_devices(fleet, now, max_steps > 0 ? max_steps : 1u);
+    *steps = ran + tick_touched_devices(fleet);
+    uint64_t next = servers_next_us(fleet, now);
     return fleet->count > 0 ? earliest(next, due_at(fleet, 0)) : next;
 }
 
@@ -598,7 +626,7 @@ void fleet_run_scripts(fleet_t *fleet)
         runnable = gripper_continue_script(&fleet->devices[i].gripper) || runnable;
     }
     if (runnable) {
-        loop_wake_at_wall(fleet->loop, loop_monotonic_ns()); /* poll, do not block */
+        loop_wake_at_wall(fleet->loop, LOOP_NOW); /* poll, do not block */
     }
 }
 

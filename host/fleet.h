@@ -26,6 +26,8 @@ typedef struct fleet_observer {
     /* Replies held back for this session above the port (an injected
      * DELAY); NULL: none. A half-closed TCP connection waits for them. */
     bool (*replies_held)(void *ctx, const wsg_conn_t *conn);
+    /* After each control step of a device (touched or due); NULL: none. */
+    void (*device_ticked)(void *ctx, gripper_t *g);
     void *ctx;
     struct fleet_observer *next;
 } fleet_observer_t;

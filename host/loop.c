@@ -8,6 +8,7 @@
 #include <string.h>
 #include <sys/epoll.h>
 #include <sys/signalfd.h>
+#include <sys/timerfd.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -45,13 +46,14 @@ struct host_loop {
     struct epoll_event ready[LOOP_MAX_WATCHES];
     int epoll_fd;
     int signal_fd;
+    int timer_fd;            /* absolute CLOCK_MONOTONIC wake-ups */
+    uint64_t timer_armed_ns; /* when it fires; LOOP_NO_TIMEOUT: disarmed */
     bool stop_requested;
-    bool epoll_pwait2_missing; /* kernels before 5.11: millisecond waits */
     loop_hook_t catch_up;
     void *catch_up_ctx;
     loop_hook_t hangup;
     void *hangup_ctx;
-    uint64_t wall_wakeup_ns; /* 0: none */
+    uint64_t wall_wakeup_ns; /* LOOP_NO_TIMEOUT: none */
 };
 
 static int bucket_of(int fd)
@@ -94,6 +96,20 @@ static void on_signal_fd(void *ctx, int fd, short revents)
     }
 }
 
+/* The timer fired: it is disarmed now (one-shot), and a wall-clock wake-up
+ * it served is done. */
+static void on_timer_fd(void *ctx, int fd, short revents)
+{
+    host_loop_t *loop = ctx;
+    (void)revents;
+    uint64_t expirations;
+    (void)!read(fd, &expirations, sizeof(expirations));
+    if (loop->wall_wakeup_ns <= loop->timer_armed_ns) {
+        loop->wall_wakeup_ns = LOOP_NO_TIMEOUT;
+    }
+    loop->timer_armed_ns = LOOP_NO_TIMEOUT;
+}
+
 /* SIGINT, SIGTERM and SIGHUP stay blocked and arrive through a descriptor in
  * the epoll set: a wake-up that reports ready sockets reports a pending
  * signal too, however busy the loop is, and nothing runs in a signal handler. */
@@ -123,8 +139,12 @@ host_loop_t *loop_create(void)
     }
     forget_all(loop);
     loop->signal_fd = -1;
+    loop->timer_armed_ns = LOOP_NO_TIMEOUT;
+    loop->wall_wakeup_ns = LOOP_NO_TIMEOUT;
     loop->epoll_fd = epoll_create1(EPOLL_CLOEXEC);
-    if (loop->epoll_fd < 0) {
+    loop->timer_fd = timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC);
+    if (loop->epoll_fd < 0 || loop->timer_fd < 0 ||
+        !loop_watch(loop, loop->timer_fd, POLLIN, on_timer_fd, loop)) {
         host_logf(HAL_LOG_ERROR, "event loop: %s", strerror(errno));
         loop_destroy(loop);
         return NULL;
@@ -142,6 +162,9 @@ void loop_destroy(host_loop_t *loop)
     }
     if (loop->signal_fd >= 0) {
         close(loop->signal_fd);
+    }
+    if (loop->timer_fd >= 0) {
+        close(loop->timer_fd);
     }
     free(loop);
 }
@@ -254,51 +277,48 @@ uint64_t loop_monotonic_ns(void)
 
 void loop_wake_at_wall(host_loop_t *loop, uint64_t monotonic_ns)
 {
-    if (loop->wall_wakeup_ns == 0 || monotonic_ns < loop->wall_wakeup_ns) {
+    if (monotonic_ns < loop->wall_wakeup_ns) {
         loop->wall_wakeup_ns = monotonic_ns;
     }
 }
 
-/* Shortens the owner's timeout to the wall-clock wake-up, if any. */
-static uint64_t apply_wall_wakeup(host_loop_t *loop, uint64_t timeout_ns)
+/* The timer is set only when the instant changes: a request answered at
+ * once leaves the next deadline where it was, and costs no system call.
+ * False when the timer cannot be set (an instant the kernel refuses). */
+static bool arm_timer(host_loop_t *loop, uint64_t deadline_ns)
 {
-    if (loop->wall_wakeup_ns == 0) {
-        return timeout_ns;
+    if (deadline_ns == loop->timer_armed_ns) {
+        return true;
     }
-    uint64_t now = loop_monotonic_ns();
-    uint64_t left = loop->wall_wakeup_ns > now ? loop->wall_wakeup_ns - now : 0;
-    if (left == 0) {
-        loop->wall_wakeup_ns = 0;
+    struct itimerspec at = {0}; /* all zero: disarmed */
+    if (deadline_ns != LOOP_NO_TIMEOUT) {
+        at.it_value.tv_sec = (time_t)(deadline_ns / 1000000000u);
+        at.it_value.tv_nsec = (long)(deadline_ns % 1000000000u);
     }
-    return left < timeout_ns ? left : timeout_ns;
+    if (timerfd_settime(loop->timer_fd, TFD_TIMER_ABSTIME, &at, NULL) != 0) {
+        host_logf(HAL_LOG_ERROR, "event loop: timer: %s", strerror(errno));
+        loop->timer_armed_ns = LOOP_NO_TIMEOUT;
+        return false;
+    }
+    loop->timer_armed_ns = deadline_ns;
+    return true;
 }
 
-/* epoll_pwait2() takes a timespec; without it (Linux < 5.11) the wait is
- * rounded up to whole milliseconds, so it never ends before the deadline. */
-static int wait_for_events(host_loop_t *loop, uint64_t timeout_ns)
+void loop_wait(host_loop_t *loop, uint64_t deadline_ns)
 {
-    struct timespec wait = {.tv_sec = (time_t)(timeout_ns / 1000000000u),
-                            .tv_nsec = (long)(timeout_ns % 1000000000u)};
-    bool timed = timeout_ns != LOOP_NO_TIMEOUT;
-    if (!loop->epoll_pwait2_missing) {
-        int n =
-            epoll_pwait2(loop->epoll_fd, loop->ready, LOOP_MAX_WATCHES, timed ? &wait : NULL, NULL);
-        if (n >= 0 || errno != ENOSYS) {
-            return n;
-        }
-        loop->epoll_pwait2_missing = true;
+    if (loop->wall_wakeup_ns == LOOP_NOW) { /* served by not sleeping */
+        loop->wall_wakeup_ns = LOOP_NO_TIMEOUT;
+        deadline_ns = LOOP_NOW;
+    } else if (loop->wall_wakeup_ns < deadline_ns) {
+        deadline_ns = loop->wall_wakeup_ns;
     }
-    int ms = -1;
-    if (timed) {
-        uint64_t rounded_ms = timeout_ns / 1000000u + (timeout_ns % 1000000u != 0);
-        ms = rounded_ms > (uint64_t)INT32_MAX ? INT32_MAX : (int)rounded_ms;
+    int timeout_ms = -1;
+    if (deadline_ns == LOOP_NOW) {
+        timeout_ms = 0;
+    } else if (!arm_timer(loop, deadline_ns)) {
+        timeout_ms = 1; /* neither sleep past the deadline nor spin */
     }
-    return epoll_wait(loop->epoll_fd, loop->ready, LOOP_MAX_WATCHES, ms);
-}
-
-void loop_wait(host_loop_t *loop, uint64_t timeout_ns)
-{
-    int count = wait_for_events(loop, apply_wall_wakeup(loop, timeout_ns));
+    int count = epoll_wait(loop->epoll_fd, loop->ready, LOOP_MAX_WATCHES, timeout_ms);
     if (count < 0) {
         if (errno != EINTR) {
             host_logf(HAL_LOG_ERROR, "epoll_wait: %s", strerror(errno));

@@ -1,10 +1,13 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* The single-threaded event loop: file descriptors with callbacks, woken by
- * epoll until a wall-clock timeout. A wake-up costs in proportion to the
+ * epoll until a wall-clock deadline. A wake-up costs in proportion to the
  * descriptors that are ready, not to those that are watched; without a
- * timeout it sleeps until a descriptor or a signal is ready. The loop knows
- * no simulated clock: its owner turns the device's next deadline into a
- * timeout and brings simulated time up to date in the wake hook. */
+ * deadline it sleeps until a descriptor or a signal is ready. The deadline
+ * is an absolute CLOCK_MONOTONIC instant kept in a timerfd, set again only
+ * when it changes, so a wait needs no clock read and a request that moves
+ * no deadline costs no timer call. The loop knows no simulated clock: its
+ * owner turns the device's next deadline into a wall-clock instant and
+ * brings simulated time up to date in the wake hook. */
 #ifndef HOST_LOOP_H
 #define HOST_LOOP_H
 
@@ -12,8 +15,10 @@
 #include <stdint.h>
 
 #define LOOP_MAX_WATCHES 4096 /* --devices 1024: three listeners each, and clients */
-/* loop_wait()'s timeout when nothing is due: wait for a descriptor or signal. */
+/* loop_wait()'s deadline when nothing is due: wait for a descriptor or signal. */
 #define LOOP_NO_TIMEOUT UINT64_MAX
+/* loop_wait()'s deadline when work is left: look at the descriptors, do not sleep. */
+#define LOOP_NOW 0u
 
 typedef struct host_loop host_loop_t;
 
@@ -52,12 +57,14 @@ void loop_set_catch_up(host_loop_t *loop, loop_hook_t catch_up, void *ctx);
 
 /* CLOCK_MONOTONIC in ns. */
 uint64_t loop_monotonic_ns(void);
-/* Makes the next loop_wait() return by this wall-clock instant at the latest
- * (for back-offs that must not depend on the owner's timeout). */
+/* Makes a loop_wait() return by this wall-clock instant at the latest (for
+ * back-offs that must not depend on the owner's deadline); it holds until
+ * that instant has come. LOOP_NOW: the next wait does not sleep. */
 void loop_wake_at_wall(host_loop_t *loop, uint64_t monotonic_ns);
 
-/* Waits for events, at most timeout_ns of wall-clock time (LOOP_NO_TIMEOUT:
- * no limit), then runs the callbacks of ready descriptors. */
-void loop_wait(host_loop_t *loop, uint64_t timeout_ns);
+/* Waits for events until the CLOCK_MONOTONIC instant deadline_ns at the
+ * latest (LOOP_NO_TIMEOUT: no limit, LOOP_NOW: no wait), runs the catch-up
+ * hook, then the callbacks of ready descriptors. */
+void loop_wait(host_loop_t *loop, uint64_t deadline_ns);
 
 #endif

@@ -91,6 +91,15 @@ static bool start_simulation(host_t *host, diagnostics_t *d, const host_options_
            simctl_start(sim, host->loop, &host->net, opts->sim_bind, opts->sim_port);
 }
 
+/* The flags each control step leaves, for the coverage report. */
+static void sample_coverage(void *ctx, gripper_t *g)
+{
+    const diagnostics_t *d = ctx;
+    if (d->counting) {
+        coverage_sample_flags(d->coverage, g->index);
+    }
+}
+
 /* Replies an injected DELAY holds back (the connection I/O's held() hook). */
 static bool delay_holds_replies(void *ctx, const wsg_conn_t *conn)
 {
@@ -153,15 +162,8 @@ static void catch_up(void *ctx)
     (void)simctl_tick(simctl_scheduler(host->sim));
 }
 
-/* The simulated clock's next deadline as the loop's wall-clock timeout. */
-static uint64_t wall_timeout_ns(const simclock_t *clock, uint64_t deadline_us)
-{
-    struct timespec wait;
-    if (!simclock_wall_wait(clock, deadline_us, &wait)) {
-        return LOOP_NO_TIMEOUT;
-    }
-    return (uint64_t)wait.tv_sec * 1000000000u + (uint64_t)wait.tv_nsec;
-}
+_Static_assert(SIMCLOCK_NEVER == LOOP_NO_TIMEOUT && SIMCLOCK_NOW == LOOP_NOW,
+               "the clock's wall deadlines are the loop's");
 
 /* The event loop, taking the process's signals. */
 static bool start_loop(host_t *host)
@@ -180,9 +182,9 @@ static void run(host_t *host)
     simctl_sched_t *sched = simctl_scheduler(host->sim);
     const simclock_t *clock = simctl_clock(host->sim);
     while (!loop_stop_requested(host->loop)) {
-        uint64_t deadline = simctl_tick(sched);
+        uint64_t deadline = simctl_settle(sched);
         fleet_run_scripts(host->fleet);
-        loop_wait(host->loop, wall_timeout_ns(clock, deadline));
+        loop_wait(host->loop, simclock_wall_deadline_ns(clock, deadline));
         web_server_poll(host->web);
         fleet_reap(host->fleet);
         simctl_reap(host->sim);
@@ -232,6 +234,7 @@ static int serve(host_t *host, host_options_t *opts)
     diagnostics_t diagnostics = {.can_log = &host->can_log};
     fleet_observer_t observers = {.device_started = attach_observers,
                                   .replies_held = delay_holds_replies,
+                                  .device_ticked = sample_coverage,
                                   .ctx = &diagnostics};
     fleet_observe(host->fleet, &observers);
     simctl_set_fleet(host->sim, host->fleet);

@@ -390,6 +390,7 @@ static bool setup_client(tcp_client_t *c, int fd, const struct sockaddr_storage 
     tcp_servers_t *tcp = c->server->set;
     if (timeout != 0 && c->heard_us + timeout < tcp->idle_due_us) {
         tcp->idle_due_us = c->heard_us + timeout;
+        tcp->deadline_lowered = true;
     }
     gripper_touch(g); /* its --idle-timeout is a new deadline */
     return true;
@@ -549,6 +550,9 @@ static void resume_listeners(tcp_servers_t *tcp)
 void tcp_server_reap(tcp_servers_t *tcp)
 {
     uint64_t now = hal_clock_now_us();
+    if (tcp->marked_count == 0 && tcp->waiting == NULL && now < tcp->idle_due_us) {
+        return; /* after most wake-ups: nothing happened to any connection */
+    }
     if (now >= tcp->idle_due_us) {
         for (tcp_client_t *c = tcp->first; c != NULL; c = c->next) {
             mark(c);
@@ -570,6 +574,7 @@ void tcp_server_reap(tcp_servers_t *tcp)
  * earliest timeout is due (or not known yet), not for every request. */
 uint64_t tcp_server_next_deadline_us(tcp_servers_t *tcp)
 {
+    tcp->deadline_lowered = false;
     if (tcp->idle_due_us > hal_clock_now_us()) {
         return tcp->idle_due_us;
     }

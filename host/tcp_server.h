@@ -35,6 +35,9 @@ typedef struct {
      * It may be early: input moves a timeout later and leaves it; the
      * connections are scanned again once it is due. */
     uint64_t idle_due_us;
+    /* idle_due_us was lowered (an accept) since the owner last asked
+     * tcp_server_next_deadline_us(): until then the owner's copy stands. */
+    bool deadline_lowered;
     /* The connections something happened to since the last reap, in that
      * order: the reap looks at these only. marked_tail: the link the next
      * one goes into (NULL: marked_first). */

@@ -274,6 +274,7 @@ static void on_datagram(void *ctx, int fd, short revents)
     wsg_peer_t *peer = wsg_peers_session_for(&s->peers, &addr);
     udp_peer_t *p = peer != NULL ? peer->port_ctx : new_peer(s, &addr, &ss, len);
     set_active(s);
+    s->set->deadline_moved = true;
     if (p == NULL) {
         return;
     }
@@ -336,8 +337,9 @@ void udp_server_reap(udp_servers_t *set)
     }
 }
 
-uint64_t udp_server_next_deadline_us(const udp_servers_t *set)
+uint64_t udp_server_next_deadline_us(udp_servers_t *set)
 {
+    set->deadline_moved = false;
     uint64_t due = UINT64_MAX;
     for (udp_server_t *s = set->active_first; s != NULL; s = s->next_active) {
         uint64_t server_due = wsg_peers_next_deadline_us(&s->peers);

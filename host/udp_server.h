@@ -34,6 +34,9 @@ typedef struct {
     host_loop_t *loop; /* every socket of the set is watched here */
     net_t *net;        /* whose own addresses are never answered */
     udp_server_t *active_first;
+    /* A datagram came (a peer's silence deadline may be new) since the owner
+     * last asked udp_server_next_deadline_us(). */
+    bool deadline_moved;
     uint8_t datagram[UDP_DATAGRAM_MAX];
 } udp_servers_t;
 
@@ -89,7 +92,7 @@ void udp_server_stop(udp_server_t *s);
  * silent too long (unless running a motion). */
 void udp_server_reap(udp_servers_t *set);
 /* When the next known peer falls silent for too long, or UINT64_MAX. */
-uint64_t udp_server_next_deadline_us(const udp_servers_t *set);
+uint64_t udp_server_next_deadline_us(udp_servers_t *set);
 /* Forgets the peer that owns this session, as if it vanished without BYE.
  * False if no peer owns it. */
 bool udp_server_cut(udp_servers_t *set, const wsg_conn_t *conn);

@@ -9,7 +9,7 @@
 # from host/opts/wsgopts.h like every other Linux build of the libraries.
 HOST_SRC := $(sort $(wildcard host/*.c host/simctl/*.c host/web/*.c))
 HOST_PKGS := inih libcjson libsystemd libmicrohttpd lua5.4
-HOST_CFLAGS = $(CFLAGS_BASE) -D_GNU_SOURCE $(PUBLIC_INC) -Ihost $(shell pkg-config --cflags $(HOST_PKGS) 2>/dev/null)
+HOST_CFLAGS = $(CFLAGS_BASE) $(LTO) -D_GNU_SOURCE $(PUBLIC_INC) -Ihost $(shell pkg-config --cflags $(HOST_PKGS) 2>/dev/null)
 HOST_LIBS = $(shell pkg-config --libs $(HOST_PKGS) 2>/dev/null) -lm
 
 FW_LIB_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(FIRMWARE_SRC))
@@ -21,11 +21,11 @@ CORE_LIBS = $(BUILD)/libwsgsim.a $(BUILD)/libwsgfw.a
 
 $(BUILD)/obj/firmware/%.o: firmware/%.c
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_BASE) $(FIRMWARE_INC) -ffreestanding -MMD -MP -c $< -o $@
+	$(CC) $(CFLAGS_BASE) $(LTO) $(FIRMWARE_INC) -ffreestanding -MMD -MP -c $< -o $@
 
 $(BUILD)/obj/hal/%.o: hal/%.c
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_BASE) $(PUBLIC_INC) -MMD -MP -c $< -o $@
+	$(CC) $(CFLAGS_BASE) $(LTO) $(PUBLIC_INC) -MMD -MP -c $< -o $@
 
 $(BUILD)/obj/host/%.o: host/%.c | deps
 	@mkdir -p $(dir $@)
@@ -40,6 +40,6 @@ $(BUILD)/libwsgsim.a: $(SIM_LIB_OBJ)
 	ar rcs $@ $^
 
 $(BUILD)/wsgsim: $(HOST_OBJ) $(CORE_LIBS)
-	$(CC) $(LDFLAGS_BASE) -o $@ $(HOST_OBJ) $(CORE_LIBS) $(HOST_LIBS)
+	$(CC) $(LDFLAGS_BASE) $(LTO_LINK) -o $@ $(HOST_OBJ) $(CORE_LIBS) $(HOST_LIBS)
 
 -include $(CORE_OBJ:.o=.d) $(HOST_OBJ:.o=.d)

@@ -28,7 +28,7 @@ $(WEB_ASSETS_C): mk/web_assets.py $(WEB_PAGE_FILES) $(WEB_ASSETS_LIST) | deps
 
 $(BUILD)/obj/gen/web_assets.o: $(WEB_ASSETS_C) host/web/web_assets.h
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_BASE) -Ihost -c $< -o $@
+	$(CC) $(CFLAGS_BASE) $(LTO) -Ihost -c $< -o $@
 
 # Check tests of single modules: tests/web/test_NAME.c against host/web/web_NAME.c.
 WEB_UNIT_TESTS := $(addprefix $(BUILD)/tests/web_,$(addsuffix _test,peer host intake json))

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* Argument conversion and the small reply helpers handlers share. */
 #include "gcl/gcl_internal.h"
+#include "priv/small_bytes.h"
 
 #define FLOAT_ARG_LIMIT 1.0e30
 
@@ -104,10 +105,9 @@ static void reply_begin(cmd_ctx_t *ctx, wsg_textbuf_t *tb, char *storage, size_t
 void wsg_reply_float(cmd_ctx_t *ctx, float value)
 {
     char line[GCL_NAME_MAX + 1 + WSG_TEXTBUF_FLOAT_MAX + 1];
-    size_t len = 0;
-    for (const char *name = ctx->cmd->name; *name != '\0'; name++) {
-        line[len++] = *name;
-    }
+    const char *name = ctx->cmd->name;
+    WSG_COPY_FIXED(line, name, sizeof(ctx->cmd->name)); /* all of it: the length says what counts */
+    size_t len = ctx->name_len;
     line[len++] = '=';
     len += wsg_textbuf_format_float(line + len, value);
     line[len++] = '\n';

@@ -1,9 +1,8 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* Line → command → handler, and the one place that turns a failed
  * handler into an ERR line. */
-#include <string.h>
-
 #include "gcl/gcl_internal.h"
+#include "priv/small_bytes.h"
 
 #define CALL WSG_GCL_FORM_CALL
 #define QUERY WSG_GCL_FORM_QUERY
@@ -126,16 +125,6 @@ static void report_done(gcl_conn_t *g, const gcl_command_t *cmd, const cmd_entry
     }
 }
 
-static wsg_status_t run_command(gcl_conn_t *g, const cmd_entry_t *entry, const gcl_command_t *cmd)
-{
-    wsg_status_t status = check_shape(entry, cmd);
-    if (status != E_SUCCESS) {
-        return status;
-    }
-    cmd_ctx_t ctx = {g, gcl_device(g), cmd};
-    return entry->handler(&ctx);
-}
-
 static bool is_blank(const char *line, size_t len)
 {
     for (size_t i = 0; i < len; i++) {
@@ -159,25 +148,24 @@ static bool is_last_query(const gcl_conn_t *g, const char *line, size_t len)
     return len != 0u;
 }
 
+/* Only a query its command answers is remembered: its repeats then run the
+ * handler without a shape check (the slow path gives the others their ERR). */
 static void remember_query(gcl_conn_t *g, const char *line, size_t len, const cmd_entry_t *entry)
 {
-    if (len > sizeof(g->query_line)) {
+    if (len > sizeof(g->query_line) || (entry->info.forms & (unsigned)GCL_FORM_QUERY) == 0u) {
         return;
     }
-    memcpy(g->query_line, line, len);
+    wsg_small_copy(g->query_line, line, len);
     g->query_line_len = (uint8_t)len;
-    g->query_entry = entry;
-}
-
-/* What wsg_gcl_parse_line() gives for a plain query line of this command. */
-static void parsed_query(gcl_command_t *cmd, const cmd_entry_t *entry)
-{
-    memset(cmd, 0, sizeof(*cmd));
-    const char *name = entry->info.name;
-    for (size_t i = 0; name[i] != '\0'; i++) {
-        cmd->name[i] = name[i];
+    const char *name = entry->info.name; /* at most GCL_NAME_MAX letters */
+    bool ended = false;
+    g->query_name_len = 0;
+    for (size_t i = 0; i < sizeof(g->query_name); i++) {
+        ended = ended || name[i] == '\0';
+        g->query_name[i] = ended ? '\0' : name[i]; /* the rest NUL, as a parse leaves it */
+        g->query_name_len += !ended;
     }
-    cmd->form = GCL_FORM_QUERY;
+    g->query_entry = entry;
 }
 
 /* Queries only read; a line without a known command runs no handler. */
@@ -186,49 +174,116 @@ static bool ran_handler_that_acts(const cmd_entry_t *entry, const gcl_command_t 
     return entry != NULL && cmd->form != GCL_FORM_QUERY && cmd->form != GCL_FORM_INDEXED_QUERY;
 }
 
-/* Which error a line earns is decided in this order: a bad line (too long,
- * control bytes), an unknown name, a syntax error, then the handler's own.
- * The outcome sets SF_CMD_FAILURE, here and only here (and in the final
- * reply's event for long commands). */
-void wsg_dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_status_t line_status)
+static void sense_for_line(gcl_conn_t *g, wsg_device_t *dev)
 {
-    if (line_status == GCL_LINE_OK && is_blank(line, len)) {
-        return; /* empty lines ("\r\n" keep-alives) are ignored */
-    }
-    wsg_device_t *dev = gcl_device(g);
-    gcl_command_t cmd;
-    const cmd_entry_t *entry = NULL;
-    wsg_status_t status = E_SUCCESS;
-    if (line_status == GCL_LINE_OK && is_last_query(g, line, len)) {
-        entry = g->query_entry;
-        parsed_query(&cmd, entry);
-    } else {
-        status = wsg_gcl_parse_line(line, len, &cmd);
-        entry = cmd.name[0] != '\0' ? find_for(g, cmd.name) : NULL;
-        bool plain_query = line_status == GCL_LINE_OK && status == E_SUCCESS && entry != NULL &&
-                           cmd.form == GCL_FORM_QUERY;
-        if (plain_query) {
-            remember_query(g, line, len, entry);
-        }
-    }
     if (g->quiet_since_sense) {
         wsg_device_sense_if_moved_on(dev);
     } else {
         wsg_device_sense(dev); /* answer from the newest reading */
     }
+}
+
+/* A command that passed the line, name and syntax checks: an injected
+ * failure answers instead of it if the simulation armed one, then its shape
+ * is checked and its handler runs. */
+static wsg_status_t run_command(gcl_conn_t *g, wsg_device_t *dev, const cmd_entry_t *entry,
+                                const gcl_command_t *cmd)
+{
+    wsg_status_t status = E_SUCCESS;
+    if (wsg_device_failure_armed(g->conn->dev) &&
+        wsg_device_take_injected_failure(dev, cmd->name, &status)) {
+        return status;
+    }
+    status = check_shape(entry, cmd);
+    if (status != E_SUCCESS) {
+        return status;
+    }
+    size_t name_len = 0;
+    while (cmd->name[name_len] != '\0') {
+        name_len++;
+    }
+    cmd_ctx_t ctx = {g, dev, cmd, name_len};
+    return entry->handler(&ctx);
+}
+
+/* The end of every command line: its ERR line, SF_CMD_FAILURE (here and
+ * only here, and in the final reply's event for long commands), the
+ * observers, and whether the next line of this input may reuse the reading. */
+static void finish_line(gcl_conn_t *g, wsg_device_t *dev, const gcl_command_t *cmd,
+                        const cmd_entry_t *entry, wsg_status_t status)
+{
+    if (status != E_SUCCESS) {
+        wsg_gcl_send_error(g, cmd->name, entry != NULL ? (int)(entry - commands) : -1, status);
+    }
+    g->cmd_failed = status != E_SUCCESS;
+    wsg_device_note_result(dev, status);
+    report_done(g, cmd, entry, status);
+    g->quiet_since_sense = g->in_input && !ran_handler_that_acts(entry, cmd);
+}
+
+/* Which error a line earns is decided in this order: a bad line (too long,
+ * control bytes), an unknown name, a syntax error, then the handler's own. */
+void wsg_dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_status_t line_status)
+{
+    if (line_status == GCL_LINE_OK && is_last_query(g, line, len)) {
+        wsg_dispatch_repeated_query(g);
+        return;
+    }
+    if (line_status == GCL_LINE_OK && is_blank(line, len)) {
+        return; /* empty lines ("\r\n" keep-alives) are ignored */
+    }
+    wsg_device_t *dev = gcl_device(g);
+    gcl_command_t cmd;
+    wsg_status_t status = wsg_gcl_parse_line(line, len, &cmd);
+    const cmd_entry_t *entry = cmd.name[0] != '\0' ? find_for(g, cmd.name) : NULL;
+    if (line_status == GCL_LINE_OK && status == E_SUCCESS && entry != NULL &&
+        cmd.form == GCL_FORM_QUERY) {
+        remember_query(g, line, len, entry);
+    }
+    sense_for_line(g, dev);
     if (line_status != GCL_LINE_OK) {
         status = E_CMD_FORMAT_ERROR;
     } else if (cmd.name[0] != '\0' && entry == NULL) {
         status = E_CMD_UNKNOWN;
-    } else if (status == E_SUCCESS && !(wsg_device_failure_armed(g->conn->dev) &&
-                                        wsg_device_take_injected_failure(dev, cmd.name, &status))) {
-        status = run_command(g, entry, &cmd);
+    } else if (status == E_SUCCESS) {
+        status = run_command(g, dev, entry, &cmd);
     }
+    finish_line(g, dev, &cmd, entry, status);
+}
+
+/* The connection's last plain query line again: the command its parse
+ * gives is the command's name in the query form, without arguments or
+ * index, so no parse runs. Only what a query's handler, the observers and
+ * the injected failure read is set: arguments are read for argc > 0 only.
+ * The common outcome (no failure armed, success) is written out; every
+ * other goes the general way. */
+void wsg_dispatch_repeated_query(gcl_conn_t *g)
+{
+    const cmd_entry_t *entry = g->query_entry;
+    wsg_device_t *dev = gcl_device(g);
+    gcl_command_t cmd;
+    WSG_COPY_FIXED(cmd.name, g->query_name, sizeof(cmd.name));
+    cmd.form = GCL_FORM_QUERY;
+    cmd.index = 0;
+    cmd.argc = 0;
+    sense_for_line(g, dev);
+    if (wsg_device_failure_armed(g->conn->dev)) {
+        finish_line(g, dev, &cmd, entry, run_command(g, dev, entry, &cmd));
+        return;
+    }
+    cmd_ctx_t ctx = {g, dev, &cmd, g->query_name_len};
+    wsg_status_t status = entry->handler(&ctx); /* its shape was checked when remembered */
     if (status != E_SUCCESS) {
-        wsg_gcl_send_error(g, cmd.name, entry != NULL ? (int)(entry - commands) : -1, status);
+        finish_line(g, dev, &cmd, entry, status);
+        return;
     }
-    g->cmd_failed = status != E_SUCCESS;
-    wsg_device_note_result(dev, status);
-    report_done(g, &cmd, entry, status);
-    g->quiet_since_sense = g->in_input && !ran_handler_that_acts(entry, &cmd);
+    /* finish_line() of a success, step by step */
+    g->cmd_failed = false;
+    if (wsg_flags_get(g->conn->dev, SF_CMD_FAILURE)) { /* clearing a clear flag changes nothing */
+        wsg_device_note_result(dev, E_SUCCESS);
+    }
+    if (gcl_observers(g) != NULL) {
+        report_done(g, &cmd, entry, E_SUCCESS);
+    }
+    g->quiet_since_sense = g->in_input; /* a query does not act */
 }

@@ -26,12 +26,34 @@ static void handle_completed_line(gcl_conn_t *g)
     wsg_dispatch_line(g, lb->text, lb->len, wsg_gcl_linebuf_status(lb));
 }
 
+/* A poller repeats one query line: when the input starts with it again,
+ * it needs neither a byte-by-byte assembly nor a parse. */
+static size_t take_repeated_query(gcl_conn_t *g, const uint8_t *bytes, size_t len)
+{
+    if (g->query_line_len == 0) {
+        return 0; /* no query line yet */
+    }
+    size_t taken =
+        wsg_gcl_linebuf_take_line(&g->input, bytes, len, g->query_line, g->query_line_len);
+    if (taken != 0) {
+        g->lines_in++;
+        wsg_conn_note_input(g->conn, g->input.text, g->input.len);
+        wsg_dispatch_repeated_query(g);
+    }
+    return taken;
+}
+
 static void gcl_input(wsg_conn_t *c, const uint8_t *bytes, size_t len)
 {
     gcl_conn_t *g = gcl_of(c);
     size_t i = 0;
     g->in_input = true;
     while (i < len && !g->conn->said_goodbye) {
+        size_t taken = take_repeated_query(g, bytes + i, len - i);
+        if (taken != 0) {
+            i += taken;
+            continue;
+        }
         bool line_done = false;
         i += wsg_gcl_linebuf_feed_bytes(&g->input, bytes + i, len - i, &line_done);
         if (line_done) {

@@ -49,6 +49,8 @@ typedef struct {
     char query_line[GCL_QUERY_LINE_MAX];
     uint8_t query_line_len; /* 0: none yet */
     const struct cmd_entry *query_entry;
+    char query_name[GCL_NAME_MAX + 1]; /* its command's name, NUL-padded */
+    uint8_t query_name_len;
 } gcl_conn_t;
 
 _Static_assert(sizeof(gcl_conn_t) <= CONN_PROTO_BYTES,
@@ -79,6 +81,7 @@ typedef struct {
     gcl_conn_t *gcl;
     wsg_device_t *dev;
     const gcl_command_t *cmd;
+    size_t name_len; /* of cmd->name, for the replies that start with it */
 } cmd_ctx_t;
 
 typedef wsg_status_t (*cmd_handler_t)(cmd_ctx_t *ctx);
@@ -90,13 +93,21 @@ typedef struct cmd_entry {
 
 /* dispatch.c */
 void wsg_dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_status_t line_status);
+/* The connection's last plain query line (NAME?, as it came) again. */
+void wsg_dispatch_repeated_query(gcl_conn_t *g);
 
 /* send.c: every GCL line goes out here; sending changes no state but the
  * line count. The built line with its '\n' added (ERR REPLY 27 instead of a
  * cut one). */
 void wsg_gcl_send(gcl_conn_t *g, wsg_textbuf_t *tb, wsg_msg_kind_t kind);
-/* A whole line, its '\n' included, that surely fits a reply. */
-void wsg_gcl_send_line(gcl_conn_t *g, const char *line, size_t len, wsg_msg_kind_t kind);
+/* A whole line, its '\n' included, that surely fits a reply. Inline: the
+ * replies to polled queries come this way. */
+static inline void wsg_gcl_send_line(gcl_conn_t *g, const char *line, size_t len,
+                                     wsg_msg_kind_t kind)
+{
+    g->lines_out++;
+    wsg_conn_write(g->conn, line, len, kind);
+}
 void wsg_gcl_send_word(gcl_conn_t *g, const char *word, const char *name);
 /* "ERR NAME code [text]"; command: its index in the dispatch table (what
  * the GCL observer is told), -1 for an unknown one. */

@@ -1,6 +1,8 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 #include "wsg/gcl_linebuf.h"
 
+#include "priv/small_bytes.h"
+
 static void start_line(gcl_linebuf_t *lb)
 {
     lb->len = 0;
@@ -101,6 +103,34 @@ size_t wsg_gcl_linebuf_feed_bytes(gcl_linebuf_t *lb, const uint8_t *bytes, size_
     return i;
 }
 
+/* Between two lines: the next byte that is not the "\n" of a "\r\n" starts one. */
+static bool between_lines(const gcl_linebuf_t *lb)
+{
+    return lb->complete || (lb->len == 0 && !lb->too_long && !lb->bad_byte);
+}
+
+size_t wsg_gcl_linebuf_take_line(gcl_linebuf_t *lb, const uint8_t *bytes, size_t len,
+                                 const char *line, size_t line_len)
+{
+    if (line_len == 0 || line_len >= len || !between_lines(lb)) {
+        return 0;
+    }
+    uint8_t end = bytes[line_len];
+    if (end != '\n' && end != '\r') {
+        return 0;
+    }
+    if (!wsg_small_equal(bytes, line, line_len)) {
+        return 0;
+    }
+    wsg_small_copy(lb->text, line, line_len);
+    lb->len = line_len;
+    lb->too_long = false;
+    lb->bad_byte = false;
+    finish_line(lb);
+    lb->ended_by_cr = end == '\r';
+    return line_len + 1u;
+}
+
 bool wsg_gcl_linebuf_flush(gcl_linebuf_t *lb)
 {
     if (!wsg_gcl_linebuf_pending(lb)) {
@@ -108,14 +138,6 @@ bool wsg_gcl_linebuf_flush(gcl_linebuf_t *lb)
     }
     finish_line(lb);
     return true;
-}
-
-gcl_line_status_t wsg_gcl_linebuf_status(const gcl_linebuf_t *lb)
-{
-    if (lb->bad_byte) {
-        return GCL_LINE_BAD_BYTE;
-    }
-    return lb->too_long ? GCL_LINE_TOO_LONG : GCL_LINE_OK;
 }
 
 bool wsg_gcl_linebuf_pending(const gcl_linebuf_t *lb)

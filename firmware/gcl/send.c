@@ -26,12 +26,6 @@ void wsg_gcl_send(gcl_conn_t *g, wsg_textbuf_t *tb, wsg_msg_kind_t kind)
     wsg_gcl_send_line(g, tb->data, tb->len, kind);
 }
 
-void wsg_gcl_send_line(gcl_conn_t *g, const char *line, size_t len, wsg_msg_kind_t kind)
-{
-    g->lines_out++;
-    wsg_conn_write(g->conn, line, len, kind);
-}
-
 /* "ACK HOME", "FIN MOVE" */
 void wsg_gcl_send_word(gcl_conn_t *g, const char *word, const char *name)
 {

@@ -84,20 +84,29 @@ static const wsg_proto_driver_t *detect(const wsg_dev_t *dev, uint8_t first_byte
     return NULL;
 }
 
-void wsg_conn_input(wsg_conn_t *conn, const uint8_t *bytes, size_t len)
+void wsg_conn_input_choosing_driver(wsg_conn_t *conn, const uint8_t *bytes, size_t len)
 {
     conn_t *c = conn_of(conn);
     if (!c->open || len == 0) {
         return;
     }
+    c->drv = detect(c->dev, bytes[0]);
     if (c->drv == NULL) {
-        c->drv = detect(c->dev, bytes[0]);
-        if (c->drv == NULL) {
-            return; /* no driver speaks it: nothing can answer */
-        }
-        c->drv->open(conn);
+        return; /* no driver speaks it: nothing can answer */
     }
+    c->drv->open(conn);
     c->drv->input(conn, bytes, len);
+}
+
+void wsg_conn_input(wsg_conn_t *conn, const uint8_t *bytes, size_t len)
+{
+    conn_t *c = conn_of(conn);
+    const wsg_proto_driver_t *drv = c->drv;
+    if (drv == NULL) {
+        wsg_conn_input_choosing_driver(conn, bytes, len);
+    } else if (c->open && len != 0) {
+        drv->input(conn, bytes, len);
+    }
 }
 
 void wsg_conn_end_datagram(wsg_conn_t *conn)
@@ -224,11 +233,6 @@ void wsg_conn_remove_observer(wsg_device_t *device, wsg_conn_observer_t *node)
     }
 }
 
-void wsg_conn_count_input(conn_t *c)
-{
-    c->messages_in++;
-}
-
 uint32_t wsg_conn_messages_in(const wsg_conn_t *conn)
 {
     return conn_of_const(conn)->messages_in;
@@ -240,9 +244,8 @@ bool wsg_conn_partial_input(const wsg_conn_t *conn)
     return c->open && c->drv != NULL && c->drv->partial != NULL && c->drv->partial(conn);
 }
 
-void wsg_conn_note_input(conn_t *c, const char *bytes, size_t len)
+void wsg_conn_show_input(conn_t *c, const char *bytes, size_t len)
 {
-    wsg_conn_count_input(c);
     for (const wsg_conn_observer_t *o = c->dev->observers.conn; o != NULL; o = o->next) {
         if (o->message_in != NULL) {
             o->message_in(o->ctx, conn_public(c), bytes, len);
@@ -250,17 +253,13 @@ void wsg_conn_note_input(conn_t *c, const char *bytes, size_t len)
     }
 }
 
-void wsg_conn_write(conn_t *c, const char *bytes, size_t len, wsg_msg_kind_t kind)
+void wsg_conn_show_output(conn_t *c, const char *bytes, size_t len)
 {
-    if (!c->open || c->io == NULL) {
-        return;
-    }
     for (const wsg_conn_observer_t *o = c->dev->observers.conn; o != NULL; o = o->next) {
         if (o->message_out != NULL) {
             o->message_out(o->ctx, conn_public(c), bytes, len);
         }
     }
-    c->io->write(c->io_ctx, bytes, len, kind);
 }
 
 wsg_conn_t *wsg_device_conn_first(wsg_device_t *device)

@@ -41,12 +41,41 @@ static inline wsg_conn_t *conn_public(conn_t *c)
     return (wsg_conn_t *)(void *)c;
 }
 
-/* One whole message out: observers, then the port's write. */
-void wsg_conn_write(conn_t *c, const char *bytes, size_t len, wsg_msg_kind_t kind);
-/* A message in, as the driver framed it: counted, then shown to observers. */
-void wsg_conn_note_input(conn_t *c, const char *bytes, size_t len);
+/* wsg_conn_input() of a connection that has no driver yet: its first byte
+ * chooses one. Apart, so that the input of every other stays short. */
+void wsg_conn_input_choosing_driver(wsg_conn_t *conn, const uint8_t *bytes, size_t len);
+
+/* The observers' view of a message in or out (wsg_conn_observer_t). */
+void wsg_conn_show_input(conn_t *c, const char *bytes, size_t len);
+void wsg_conn_show_output(conn_t *c, const char *bytes, size_t len);
+
+/* One whole message out: observers, then the port's write. Inline: every
+ * reply goes through here, and mostly nobody observes. */
+static inline void wsg_conn_write(conn_t *c, const char *bytes, size_t len, wsg_msg_kind_t kind)
+{
+    if (!c->open || c->io == NULL) {
+        return;
+    }
+    if (c->dev->observers.conn != NULL) {
+        wsg_conn_show_output(c, bytes, len);
+    }
+    c->io->write(c->io_ctx, bytes, len, kind);
+}
+
 /* A message in, counted only (a driver that builds the observers' copy
  * only when someone observes). */
-void wsg_conn_count_input(conn_t *c);
+static inline void wsg_conn_count_input(conn_t *c)
+{
+    c->messages_in++;
+}
+
+/* A message in, as the driver framed it: counted, then shown to observers. */
+static inline void wsg_conn_note_input(conn_t *c, const char *bytes, size_t len)
+{
+    wsg_conn_count_input(c);
+    if (c->dev->observers.conn != NULL) {
+        wsg_conn_show_input(c, bytes, len);
+    }
+}
 
 #endif

@@ -1,6 +1,8 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 #include "wsg/wsg_textbuf.h"
 
+#include "priv/small_bytes.h"
+
 void wsg_textbuf_init(wsg_textbuf_t *tb, char *storage, size_t cap)
 {
     tb->data = storage;
@@ -90,8 +92,27 @@ void wsg_textbuf_put_int(wsg_textbuf_t *tb, int32_t value)
 /* Largest magnitude written exactly; beyond it the value saturates. */
 #define FLOAT_LIMIT 1.0e12
 
+/* "00" to "99": two digits with one copy. */
+static const char digit_pairs[201] = "00010203040506070809"
+                                     "10111213141516171819"
+                                     "20212223242526272829"
+                                     "30313233343536373839"
+                                     "40414243444546474849"
+                                     "50515253545556575859"
+                                     "60616263646566676869"
+                                     "70717273747576777879"
+                                     "80818283848586878889"
+                                     "90919293949596979899";
+
+/* The two digits of v < 100. */
+static char *put_pair(char *p, unsigned v)
+{
+    WSG_COPY_FIXED(p, &digit_pairs[2u * v], 2u);
+    return p + 2;
+}
+
 /* The whole part of a value: below 1000 (every position, speed and force
- * of the gripper) digit by digit without a loop. */
+ * of the gripper) without a loop. */
 static char *put_whole(char *p, uint64_t whole)
 {
     if (whole >= 1000u) {
@@ -105,25 +126,23 @@ static char *put_whole(char *p, uint64_t whole)
     unsigned w = (unsigned)whole;
     if (w >= 100u) {
         *p++ = (char)('0' + w / 100u);
-        w %= 100u;
-        *p++ = (char)('0' + w / 10u);
-    } else if (w >= 10u) {
-        *p++ = (char)('0' + w / 10u);
+        return put_pair(p, w % 100u);
     }
-    *p++ = (char)('0' + w % 10u);
+    if (w >= 10u) {
+        return put_pair(p, w);
+    }
+    *p++ = (char)('0' + w);
     return p;
 }
 
 size_t wsg_textbuf_format_float(char *out, float value)
 {
     double magnitude = value < 0.0f ? -(double)value : (double)value;
-    if (!(magnitude == magnitude)) { /* NaN: the core never produces one */
-        magnitude = 0.0;
+    if (!(magnitude <= FLOAT_LIMIT)) { /* beyond it, or NaN (the core never produces one) */
+        magnitude = magnitude == magnitude ? FLOAT_LIMIT : 0.0;
     }
-    if (magnitude > FLOAT_LIMIT) {
-        magnitude = FLOAT_LIMIT;
-    }
-    uint64_t millis = (uint64_t)(magnitude * 1000.0 + 0.5);
+    /* below 2^63: the signed conversion is exact and shorter */
+    uint64_t millis = (uint64_t)(int64_t)(magnitude * 1000.0 + 0.5);
     uint64_t whole = millis / 1000u;
     unsigned fraction = (unsigned)(millis - whole * 1000u);
     char *p = out;
@@ -134,11 +153,10 @@ size_t wsg_textbuf_format_float(char *out, float value)
     *p++ = '.';
     *p++ = (char)('0' + fraction / 100u); /* one decimal at least, three at most */
     unsigned rest = fraction % 100u;
-    if (rest != 0u) {
+    if (rest % 10u != 0u) {
+        p = put_pair(p, rest);
+    } else if (rest != 0u) {
         *p++ = (char)('0' + rest / 10u);
-        if (rest % 10u != 0u) {
-            *p++ = (char)('0' + rest % 10u);
-        }
     }
     return (size_t)(p - out);
 }

@@ -34,8 +34,11 @@ uint64_t simclock_now_us(const simclock_t *clock)
     if (clock->paused) {
         return clock->sim_base_us;
     }
-    double elapsed_ns = (double)(wall_ns() - clock->wall_base_ns) * clock->scale;
-    return clock->sim_base_us + (uint64_t)(elapsed_ns / 1000.0);
+    uint64_t elapsed_ns = wall_ns() - clock->wall_base_ns;
+    if (clock->scale == 1.0) { /* the default: read at every wake-up */
+        return clock->sim_base_us + elapsed_ns / 1000u;
+    }
+    return clock->sim_base_us + (uint64_t)((double)elapsed_ns * clock->scale / 1000.0);
 }
 
 uint64_t hal_clock_now_us(void)
@@ -50,30 +53,30 @@ static void rebase(simclock_t *clock)
     clock->wall_base_ns = wall_ns();
 }
 
-bool simclock_wall_wait(const simclock_t *clock, uint64_t deadline_us, struct timespec *wait)
+/* The furthest a wait looks ahead of the device time: a later deadline is
+ * looked at again then (and the arithmetic cannot overflow). */
+#define SIM_AHEAD_MAX_US 3600000000u
+
+uint64_t simclock_wall_deadline_ns(const simclock_t *clock, uint64_t deadline_us)
 {
-    if (clock->paused && clock->device_us >= clock->sim_base_us) {
-        return false;
+    if (clock->paused) { /* a STEP's device time may still be catching up */
+        return clock->device_us < clock->sim_base_us ? SIMCLOCK_NOW : SIMCLOCK_NEVER;
     }
-    if (clock->paused) { /* a STEP's device time is still catching up */
-        *wait = (struct timespec){0, 0};
-        return true;
+    if (deadline_us == UINT64_MAX) {
+        return SIMCLOCK_NEVER;
     }
-    if (deadline_us == UINT64_MAX) { /* nothing due: no timeout */
-        return false;
+    if (deadline_us <= clock->device_us || deadline_us <= clock->sim_base_us) {
+        return SIMCLOCK_NOW;
     }
-    /* the scheduler's pass has just moved the device time to the present
-     * (or left work, and then the deadline is not later): no clock read */
-    uint64_t now = clock->device_us;
-    uint64_t sim_left_us = deadline_us > now ? deadline_us - now : 0;
-    double wall_left_ns = (double)sim_left_us * 1000.0 / clock->scale;
-    if (wall_left_ns > 3600e9) {
-        wall_left_ns = 3600e9;
+    if (deadline_us - clock->device_us > SIM_AHEAD_MAX_US) {
+        deadline_us = clock->device_us + SIM_AHEAD_MAX_US;
     }
-    uint64_t ns = (uint64_t)wall_left_ns;
-    wait->tv_sec = (time_t)(ns / 1000000000u);
-    wait->tv_nsec = (long)(ns % 1000000000u);
-    return true;
+    uint64_t sim_ahead_us = deadline_us - clock->sim_base_us;
+    if (clock->scale == 1.0) { /* the inverse of simclock_now_us()'s mapping */
+        return clock->wall_base_ns + sim_ahead_us * 1000u;
+    }
+    /* +1: never before the instant (the cast truncates) */
+    return clock->wall_base_ns + (uint64_t)((double)sim_ahead_us * 1000.0 / clock->scale) + 1u;
 }
 
 void simclock_pause(simclock_t *clock)

@@ -41,13 +41,16 @@ static inline void simclock_advance_device(simclock_t *clock, uint64_t us)
         clock->device_us = us;
     }
 }
-/* Wall time left until simulated time reaches deadline_us; false when the
- * clock is paused (only a step or resume will get there), unless the device
- * time is still behind a step: then no wait at all; false as well when
- * deadline_us is UINT64_MAX (nothing is due). Measured from the device time,
- * not from a fresh clock read: call it right after the scheduler's pass
- * (simctl_tick), which moved the device time to the present. */
-bool simclock_wall_wait(const simclock_t *clock, uint64_t deadline_us, struct timespec *wait);
+/* simclock_wall_deadline_ns()'s answers besides an instant. */
+#define SIMCLOCK_NEVER UINT64_MAX /* nothing to wait for but input */
+#define SIMCLOCK_NOW 0u           /* work is left: do not sleep */
+/* The CLOCK_MONOTONIC instant at which simulated time reaches deadline_us;
+ * SIMCLOCK_NEVER when the clock is paused (only a step or resume will get
+ * there) or deadline_us is UINT64_MAX (nothing is due); SIMCLOCK_NOW when
+ * it has come, or the device time is still behind a step. No clock read:
+ * the same deadline gives the same instant until the clock is paused,
+ * resumed or scaled. */
+uint64_t simclock_wall_deadline_ns(const simclock_t *clock, uint64_t deadline_us);
 
 void simclock_pause(simclock_t *clock);
 /* Right after init: paused with simulated time at exactly 0. */

@@ -399,5 +399,4 @@ void simctl_set_diagnostics(simctl_t *ctl, record_t *record, coverage_t *coverag
 {
     ctl->sim.record = record;
     ctl->sim.coverage = coverage;
-    simctl_scheduler(ctl)->coverage = coverage;
 }

@@ -80,7 +80,6 @@ static void run_fleet_and_delays(simctl_sched_t *s, uint64_t now, unsigned *budg
         unsigned steps = 0;
         s->fleet_due_us = fleet_tick(s->fleet, *budget, &steps);
         spend(budget, steps);
-        coverage_sample_flags(s->coverage);
     }
     bool releasing = s->delay_due_us <= now;
     if (releasing) {
@@ -98,16 +97,18 @@ static void run_fleet_and_delays(simctl_sched_t *s, uint64_t now, unsigned *budg
 static bool run_due(simctl_sched_t *s, unsigned *budget, uint64_t *next)
 {
     uint64_t now = device_now(s);
-    if (hook_next_us(s) <= now) {
+    uint64_t hook_next = hook_next_us(s);
+    if (hook_next <= now) {
         unsigned events = *budget / SLICE_EVENT_COST;
         unsigned ran = s->due->run_due(s->due->ctx, now, events > 0 ? events : 1u);
         spend(budget, ran * SLICE_EVENT_COST);
-        if (hook_next_us(s) <= now) {
+        hook_next = hook_next_us(s);
+        if (hook_next <= now) {
             return false;
         }
     }
-    run_fleet_and_delays(s, now, budget);
-    *next = earliest(earliest(s->fleet_due_us, s->delay_due_us), hook_next_us(s));
+    run_fleet_and_delays(s, now, budget); /* the devices do not move the hook's items */
+    *next = earliest(earliest(s->fleet_due_us, s->delay_due_us), hook_next);
     spend(budget, 1u);
     return !fleet_devices_due(s->fleet, now); /* the time waits for the devices still due */
 }
@@ -168,12 +169,13 @@ static uint64_t catch_up(simctl_sched_t *s, uint64_t target)
     return left ? device_now(s) : next;
 }
 
-/* Nothing is due up to target and nothing was touched: the device time
- * moves there and nothing else is looked at. */
-static bool nothing_due(const simctl_sched_t *s, uint64_t target)
+/* Nothing is due up to target (the hook's next item at hook_next) and
+ * nothing was touched: the device time moves there and nothing else is
+ * looked at. */
+static bool nothing_due(const simctl_sched_t *s, uint64_t target, uint64_t hook_next)
 {
     return target < s->next_us && !s->step.running && !s->in_catch_up &&
-           !fleet_touched_any(s->fleet) && target < hook_next_us(s);
+           !fleet_touched_any(s->fleet) && target < hook_next;
 }
 
 uint64_t simctl_tick(simctl_sched_t *s)
@@ -183,11 +185,28 @@ uint64_t simctl_tick(simctl_sched_t *s)
     if (lag > s->max_lag_us) {
         s->max_lag_us = lag;
     }
-    if (nothing_due(s, target)) {
+    uint64_t hook_next = hook_next_us(s);
+    if (nothing_due(s, target, hook_next)) {
         simclock_advance_device(s->clock, target);
-        return earliest(s->next_us, hook_next_us(s));
+        return earliest(s->next_us, hook_next);
     }
     return catch_up(s, target);
+}
+
+uint64_t simctl_settle(simctl_sched_t *s)
+{
+    uint64_t now = device_now(s);
+    uint64_t hook_next = hook_next_us(s);
+    if (s->next_us <= now || s->step.running || s->in_catch_up || hook_next <= now) {
+        return simctl_tick(s);
+    }
+    if (fleet_touched_any(s->fleet)) { /* run_due() at the present, the hook not due */
+        unsigned budget = SLICE_WORK;
+        run_fleet_and_delays(s, now, &budget);
+        bool left = fleet_devices_due(s->fleet, now);
+        s->next_us = left ? 0u : earliest(earliest(s->fleet_due_us, s->delay_due_us), hook_next);
+    }
+    return earliest(s->next_us, hook_next);
 }
 
 void simctl_step_begin(simctl_sched_t *s, uint64_t us)

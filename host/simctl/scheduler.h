@@ -10,7 +10,6 @@
 #include <stdint.h>
 
 #include "clock.h"
-#include "coverage.h"
 #include "delay.h"
 
 /* Work of a layer above the scheduler that is due at simulated times (the
@@ -43,7 +42,6 @@ typedef struct {
     uint64_t delay_due_us;
     uint64_t next_us;       /* the earliest of them and the hook's; 0: look */
     simctl_delays_t delays; /* injected reply delays (DELAY); all zero: none */
-    coverage_t *coverage;   /* samples the flags after each tick; NULL: none */
     struct {
         bool running;
         uint64_t until_us; /* the device time at which the STEP is done */
@@ -67,6 +65,13 @@ void simctl_scheduler_set_due_hook(simctl_sched_t *s, const simctl_due_hook_t *h
  * the next simulated time at which anything is due (the present device time
  * while work is left). */
 uint64_t simctl_tick(simctl_sched_t *s);
+/* Before the loop sleeps: what the wake-up's input touched runs at the
+ * present device time (the one simctl_tick() set after the wake-up), without
+ * reading the clock again; a slice of work left over, a step or a due hook
+ * item takes the whole pass of simctl_tick(). Returns the same as it. What
+ * falls due while the input was handled is caught up by the next wake-up,
+ * which the loop's absolute timer makes immediate. */
+uint64_t simctl_settle(simctl_sched_t *s);
 
 /* While paused: moves simulated time forward by us; the device time follows
  * slice by slice in simctl_tick(), running everything due on the way at its

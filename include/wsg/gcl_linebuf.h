@@ -40,10 +40,25 @@ bool wsg_gcl_linebuf_feed(gcl_linebuf_t *lb, uint8_t byte);
 size_t wsg_gcl_linebuf_feed_bytes(gcl_linebuf_t *lb, const uint8_t *bytes, size_t len,
                                   bool *line_done);
 
+/* The common case of a poller, without looking at each byte: if lb is
+ * between lines and bytes start with line[0..line_len) and a line end,
+ * takes them as wsg_gcl_linebuf_feed_bytes() would (the line completes, OK)
+ * and returns how many; else returns 0 and changes nothing. line holds
+ * plain bytes only (a line that completed OK), line_len <= GCL_LINE_MAX. */
+size_t wsg_gcl_linebuf_take_line(gcl_linebuf_t *lb, const uint8_t *bytes, size_t len,
+                                 const char *line, size_t line_len);
+
 /* Ends the pending line as if "\n" had arrived; false if nothing is pending. */
 bool wsg_gcl_linebuf_flush(gcl_linebuf_t *lb);
 
-gcl_line_status_t wsg_gcl_linebuf_status(const gcl_linebuf_t *lb);
+/* Inline: asked of every line. */
+static inline gcl_line_status_t wsg_gcl_linebuf_status(const gcl_linebuf_t *lb)
+{
+    if (lb->bad_byte) {
+        return GCL_LINE_BAD_BYTE;
+    }
+    return lb->too_long ? GCL_LINE_TOO_LONG : GCL_LINE_OK;
+}
 
 bool wsg_gcl_linebuf_pending(const gcl_linebuf_t *lb);
 

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "fake_device.h"
+#include "wsg/wsg_inject.h"
 #include "unit_suites.h"
 
 /* "[b0,b1,...]" for `count` bits of `bits`. */
@@ -124,6 +125,181 @@ START_TEST(repeated_query_lines_are_each_answered_for_their_own_bytes)
     EXPECT("ERR POS 15"); /* E_CMD_FORMAT_ERROR */
     EXPECT("POS=55.0");
     EXPECT_NONE();
+}
+END_TEST
+
+/* --- a repeated query line answers as its parse did --- */
+
+/* What the GCL observer heard of the last command line. */
+typedef struct {
+    char name[WSG_GCL_NAME_MAX + 1];
+    int index;
+    unsigned form;
+    unsigned argc;
+    wsg_status_t status;
+    unsigned count;
+} heard_t;
+
+static heard_t heard;
+
+static void on_command_done(void *ctx, const wsg_conn_t *c, const char *name, int index,
+                            unsigned form, unsigned argc, wsg_status_t status)
+{
+    (void)ctx;
+    (void)c;
+    snprintf(heard.name, sizeof(heard.name), "%s", name);
+    heard.index = index;
+    heard.form = form;
+    heard.argc = argc;
+    heard.status = status;
+    heard.count++;
+}
+
+/* Everything one line leaves behind: its reply, the command event, the
+ * connection's and the device's SF_CMD_FAILURE, the line counts. */
+typedef struct {
+    char reply[H_LINE_LEN];
+    heard_t heard;
+    bool conn_failed;
+    bool device_failed;
+    uint32_t lines_in;
+    uint32_t lines_out;
+} outcome_t;
+
+static outcome_t outcome_of(const char *bytes)
+{
+    outcome_t o;
+    memset(&o, 0, sizeof(o));
+    memset(&heard, 0, sizeof(heard));
+    uint32_t in = h_gcl_lines_in(&h_main);
+    uint32_t out = h_gcl_lines_out(&h_main);
+    h_send_bytes(&h_main, bytes, strlen(bytes));
+    snprintf(o.reply, sizeof(o.reply), "%s", h_next_line(&h_main));
+    ck_assert_msg(h_unread(&h_main) == 0, "\"%s\" gave more than one line", bytes);
+    o.heard = heard;
+    wsg_gcl_conn_info_t info;
+    ck_assert(wsg_gcl_conn_info(&h_main.conn, &info));
+    o.conn_failed = info.cmd_failed;
+    o.device_failed = (wsg_device_flags(&h_dev) & WSG_FLAG(SF_CMD_FAILURE)) != 0u;
+    o.lines_in = h_gcl_lines_in(&h_main) - in;
+    o.lines_out = h_gcl_lines_out(&h_main) - out;
+    return o;
+}
+
+static void expect_same_outcome(const outcome_t *a, const outcome_t *b, const char *line)
+{
+    ck_assert_msg(strcmp(a->reply, b->reply) == 0, "%s: \"%s\" then \"%s\"", line, a->reply,
+                  b->reply);
+    ck_assert_msg(memcmp(&a->heard, &b->heard, sizeof(a->heard)) == 0, "%s: events differ", line);
+    ck_assert_msg(a->conn_failed == b->conn_failed && a->device_failed == b->device_failed,
+                  "%s: SF_CMD_FAILURE differs", line);
+    ck_assert_uint_eq(a->lines_in, b->lines_in);
+    ck_assert_uint_eq(a->lines_out, b->lines_out);
+}
+
+static void send_text(const char *text)
+{
+    h_send_bytes(&h_main, text, strlen(text));
+    h_discard(&h_main);
+}
+
+/* A line as the drivers send it, parsed, then repeated: a plain query's
+ * repeat is not parsed (the dispatcher remembers the line). Each runs after
+ * the same line before it (a success, or a failure that SF_CMD_FAILURE
+ * shows), ended by "\n", "\r" or "\r\n": the outcome must not tell them
+ * apart. Another query before the parsed one makes it forget the line. */
+static void expect_repeats_answer_as_first(const char *line)
+{
+    static const char *const before[] = {"SN?\n", "NOSUCH?\n"};
+    static const char *const ends[] = {"\n", "\r", "\r\n"};
+    char bytes[64];
+    char remember[64];
+    snprintf(remember, sizeof(remember), "%s\n", line);
+    for (size_t b = 0; b < sizeof(before) / sizeof(before[0]); b++) {
+        for (size_t e = 0; e < sizeof(ends) / sizeof(ends[0]); e++) {
+            snprintf(bytes, sizeof(bytes), "%s%s", line, ends[e]);
+            send_text("TAG?\n");
+            send_text(before[b]);
+            outcome_t parsed = outcome_of(bytes);
+            send_text(remember);
+            send_text(before[b]);
+            outcome_t repeated = outcome_of(bytes);
+            expect_same_outcome(&parsed, &repeated, line);
+        }
+    }
+}
+
+/* The spellings drivers send: every query of the table, in lower case,
+ * with spaces and tabs, and the forms a query's name does not allow. */
+static const char *const repeat_lines[] = {
+    "POS?",
+    "pos?",
+    " POS?",
+    "POS ?",
+    "\tPoS\t?  ",
+    "SPEED?",
+    "speed?",
+    "FORCE?",
+    "GRIPSTATE?",
+    "gripstate?",
+    "DEVTYPE?",
+    "VERSION?",
+    "SN?",
+    "TAG?",
+    "TEMP?",
+    "PWT?",
+    "clt ?",
+    "VERBOSE?",
+    "SYSFLAGS?",
+    "MOVE?",
+    "HOME?",
+    "GRIPSTATS?",
+    "FDATA?",
+    "NOSUCH?",
+    "POS??",
+    "PWT=50",
+    "pwt = 50.00",
+    "CLT=20.000000",
+    "SYSFLAGS[1]?",
+    "MOVE(50)",
+    "MOVE(50.00, 20.000000)",
+    "VERBOSE=0",
+    "POSITION?",
+    "P?",
+    "A_VERY_LONG_NAME?",
+};
+
+START_TEST(repeated_query_lines_answer_as_their_parse)
+{
+    for (size_t i = 0; i < sizeof(repeat_lines) / sizeof(repeat_lines[0]); i++) {
+        expect_repeats_answer_as_first(repeat_lines[i]);
+    }
+}
+END_TEST
+
+/* The same, watched: with a GCL observer the command events must match too. */
+START_TEST(repeated_query_lines_report_as_their_parse)
+{
+    wsg_gcl_observer_t observer = {.command_done = on_command_done};
+    wsg_gcl_add_observer(&h_dev, &observer);
+    for (size_t i = 0; i < sizeof(repeat_lines) / sizeof(repeat_lines[0]); i++) {
+        expect_repeats_answer_as_first(repeat_lines[i]);
+        ck_assert_uint_eq(heard.count, 1u); /* the last line was heard, once */
+    }
+    wsg_gcl_remove_observer(&h_dev, &observer);
+}
+END_TEST
+
+/* A failure the simulation injects answers a repeated query too, once. */
+START_TEST(repeated_query_meets_an_injected_failure)
+{
+    ASK_EQ("POS?", "POS=55.0");
+    ASK_EQ("POS?", "POS=55.0");
+    wsg_device_inject_failure(&h_dev, "POS", E_CMD_FAILED);
+    ASK_EQ("POS?", "ERR POS 18");
+    ck_assert(wsg_device_flags(&h_dev) & WSG_FLAG(SF_CMD_FAILURE));
+    ASK_EQ("POS?", "POS=55.0");
+    ck_assert(!(wsg_device_flags(&h_dev) & WSG_FLAG(SF_CMD_FAILURE)));
 }
 END_TEST
 
@@ -370,6 +546,9 @@ Suite *commands_suite(void)
     tcase_add_test(query, verbose_query_is_tolerated);
     tcase_add_test(query, identity);
     tcase_add_test(query, repeated_query_lines_are_each_answered_for_their_own_bytes);
+    tcase_add_test(query, repeated_query_lines_answer_as_their_parse);
+    tcase_add_test(query, repeated_query_lines_report_as_their_parse);
+    tcase_add_test(query, repeated_query_meets_an_injected_failure);
     tcase_add_test(query, pipelined_queries_see_the_world_change_between_inputs);
     tcase_add_test(query, lower_case_commands_answer_upper_case);
     tcase_add_test(query, temperature);

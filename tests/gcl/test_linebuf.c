@@ -2,6 +2,7 @@
 /* gcl_linebuf: assembling a byte stream into lines, and how the device
  * answers lines the assembler flags. */
 #include <check.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "wsg/gcl_linebuf.h"
@@ -294,6 +295,82 @@ START_TEST(bulk_feed_matches_bytewise)
 }
 END_TEST
 
+/* Whether two buffers hold the same state: what a later feed, flush or
+ * status reads (the text up to its length and its NUL). */
+static void expect_same_state(const gcl_linebuf_t *a, const gcl_linebuf_t *b)
+{
+    ck_assert_uint_eq(a->len, b->len);
+    ck_assert(a->too_long == b->too_long && a->bad_byte == b->bad_byte);
+    ck_assert(a->complete == b->complete && a->ended_by_cr == b->ended_by_cr);
+    ck_assert(memcmp(a->text, b->text, a->len + 1u) == 0);
+}
+
+/* After prefix, take_line takes input's known line exactly when feeding the
+ * bytes one at a time completes that line, OK, with its line end as the
+ * next byte, and leaves the buffer as that feed does; else it takes nothing
+ * and changes nothing. */
+static void expect_take_matches_feed(const char *prefix, const char *input, const char *line)
+{
+    gcl_linebuf_t fed;
+    gcl_linebuf_t taken;
+    wsg_gcl_linebuf_reset(&fed);
+    for (size_t i = 0; prefix[i] != '\0'; i++) {
+        (void)wsg_gcl_linebuf_feed(&fed, (uint8_t)prefix[i]);
+    }
+    taken = fed;
+    gcl_linebuf_t before = fed;
+    size_t len = strlen(input);
+    size_t consumed = 0;
+    bool done = false;
+    while (consumed < len && !done) {
+        done = wsg_gcl_linebuf_feed(&fed, (uint8_t)input[consumed++]);
+    }
+    bool same_line = done && consumed == strlen(line) + 1u &&
+                     wsg_gcl_linebuf_status(&fed) == GCL_LINE_OK && strcmp(fed.text, line) == 0;
+    size_t n = wsg_gcl_linebuf_take_line(&taken, (const uint8_t *)input, len, line, strlen(line));
+    ck_assert_msg(n == (same_line ? consumed : 0u), "after \"%s\", \"%s\" for \"%s\": took %zu",
+                  prefix, input, line, n);
+    expect_same_state(&taken, same_line ? &fed : &before);
+}
+
+START_TEST(take_line_matches_bytewise)
+{
+    static char long_line[GCL_LINE_MAX + 8];
+    fill(long_line, GCL_LINE_MAX + 5, 'A');
+    char long_ended[sizeof(long_line) + 1];
+    snprintf(long_ended, sizeof(long_ended), "%s\n", long_line);
+    const char *const prefixes[] = {"",   "TAG?\n", "TAG?\r", "TAG?\r\n", "PO",      "\x01",
+                                    "\r", "\n",     "\x01\n", long_line,  long_ended};
+    static const char *const inputs[] = {
+        "POS?\n",     "POS?\r",         "POS?\r\n",    "\nPOS?\n", "POS?", "POS? \n",
+        "POS?x\n",    "pos?\n",         "POS",         "",         "\n",   "\tPOS ?\n",
+        "POS?\x01\n", "SPEED?\nPOS?\n", "POSITION?\n", "PO\nS?\n"};
+    static const char *const lines[] = {"POS?", "\tPOS ?", "pos?", "SPEED?", "P"};
+    for (size_t p = 0; p < sizeof(prefixes) / sizeof(prefixes[0]); p++) {
+        for (size_t i = 0; i < sizeof(inputs) / sizeof(inputs[0]); i++) {
+            for (size_t l = 0; l < sizeof(lines) / sizeof(lines[0]); l++) {
+                expect_take_matches_feed(prefixes[p], inputs[i], lines[l]);
+            }
+        }
+    }
+    /* every length up to the longest line a connection remembers, and beyond;
+     * a last byte that differs */
+    char known[GCL_LINE_MAX + 1];
+    char input[GCL_LINE_MAX + 3];
+    for (size_t n = 1; n <= 26; n++) {
+        fill(known, n, 'Q');
+        snprintf(input, sizeof(input), "%s\r\n", known);
+        expect_take_matches_feed("", input, known);
+        expect_take_matches_feed("TAG?\r", input, known);
+        input[n - 1] = 'R';
+        expect_take_matches_feed("", input, known);
+        input[0] = 'R';
+        input[n - 1] = 'Q';
+        expect_take_matches_feed("", input, known);
+    }
+}
+END_TEST
+
 /* --- through a session --- */
 
 START_TEST(device_split_bytes)
@@ -447,6 +524,7 @@ Suite *linebuf_suite(void)
     tcase_add_test(unit, flush);
     tcase_add_test(unit, flush_of_a_bad_byte_alone);
     tcase_add_test(unit, bulk_feed_matches_bytewise);
+    tcase_add_test(unit, take_line_matches_bytewise);
     suite_add_tcase(s, unit);
 
     TCase *device = tcase_create("device");

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* Check tests of the host's event loop (host/loop.c): dispatch while
  * callbacks unwatch and reuse descriptors, event masks, signals, wall-clock
- * wake-ups and timeouts, loops that share nothing. Every wait here ends on an event that has
+ * wake-ups and deadlines, loops that share nothing. Every wait here ends on an event that has
  * already happened (a readable socket, a pending signal) or on a wake-up a few milliseconds away;
  * Check's timeout only guards against a hang. */
 #include <check.h>
@@ -184,8 +184,8 @@ START_TEST(watches_beyond_capacity_are_refused_and_slots_reused)
             break;
         }
     }
-    /* the loop's own signal descriptor takes one slot */
-    ck_assert_int_eq(watched, LOOP_MAX_WATCHES - 1);
+    /* the loop's own signal and timer descriptors take one slot each */
+    ck_assert_int_eq(watched, LOOP_MAX_WATCHES - 2);
     ck_assert(!loop_watch(loop, late.ends[0], POLLIN, count_call, &late));
     loop_unwatch(loop, copies[0]);
     ck_assert(loop_watch(loop, late.ends[0], POLLIN, count_call, &late));
@@ -297,16 +297,82 @@ START_TEST(wall_wakeup_ends_an_otherwise_endless_wait)
 }
 END_TEST
 
-/* The owner's timeout is wall-clock time, and the wait never ends before it. */
-START_TEST(timeout_ends_the_wait_no_sooner)
+/* The owner's deadline is a wall-clock instant, and the wait never ends
+ * before it. */
+START_TEST(deadline_ends_the_wait_no_sooner)
 {
     int catch_ups = 0;
     loop_set_catch_up(loop, count_in_ctx, &catch_ups);
-    uint64_t start = loop_monotonic_ns();
-    loop_wait(loop, 2000000u);
-    ck_assert_uint_ge(loop_monotonic_ns() - start, 2000000u);
+    uint64_t deadline = loop_monotonic_ns() + 2000000u;
+    loop_wait(loop, deadline);
+    ck_assert_uint_ge(loop_monotonic_ns(), deadline);
     ck_assert_int_eq(catch_ups, 1);
     loop_set_catch_up(loop, NULL, NULL);
+}
+END_TEST
+
+/* The timer is set again when the deadline moves later: the earlier
+ * instant it was set to before no longer ends a wait. */
+START_TEST(a_later_deadline_replaces_an_earlier_one)
+{
+    pair_t p;
+    open_pair(&p);
+    ck_assert(loop_watch(loop, p.ends[0], POLLIN, count_call, &p));
+    make_readable(&p);
+    loop_wait(loop, loop_monotonic_ns() + 1000000u); /* returns at once: p is readable */
+    ck_assert_int_eq(p.calls, 1);
+    char byte;
+    ck_assert_int_eq(read(p.ends[0], &byte, 1), 1);
+    uint64_t later = loop_monotonic_ns() + 20000000u;
+    loop_wait(loop, later);
+    ck_assert_uint_ge(loop_monotonic_ns(), later);
+    loop_unwatch(loop, p.ends[0]);
+    close_pair(&p);
+}
+END_TEST
+
+/* A deadline that has passed ends the wait at once, as LOOP_NOW does. */
+START_TEST(a_past_deadline_does_not_sleep)
+{
+    int catch_ups = 0;
+    loop_set_catch_up(loop, count_in_ctx, &catch_ups);
+    loop_wait(loop, loop_monotonic_ns() - 1000000u);
+    loop_wait(loop, LOOP_NOW);
+    ck_assert_int_eq(catch_ups, 2);
+    loop_set_catch_up(loop, NULL, NULL);
+}
+END_TEST
+
+/* LOOP_NOW as a wall-clock wake-up: the next wait only polls, the one
+ * after it sleeps until its own deadline again. */
+START_TEST(wake_now_polls_once)
+{
+    loop_wake_at_wall(loop, LOOP_NOW);
+    loop_wait(loop, LOOP_NO_TIMEOUT); /* would hang without the wake-up */
+    uint64_t deadline = loop_monotonic_ns() + 2000000u;
+    loop_wait(loop, deadline);
+    ck_assert_uint_ge(loop_monotonic_ns(), deadline);
+}
+END_TEST
+
+/* A wall-clock wake-up holds until its instant has come, however many waits
+ * end earlier on input. */
+START_TEST(wall_wakeup_outlives_earlier_wake_ups)
+{
+    pair_t p;
+    open_pair(&p);
+    ck_assert(loop_watch(loop, p.ends[0], POLLIN, count_call, &p));
+    uint64_t wake = loop_monotonic_ns() + 5000000u;
+    loop_wake_at_wall(loop, wake);
+    make_readable(&p);
+    loop_wait(loop, LOOP_NO_TIMEOUT); /* ends on p */
+    ck_assert_int_eq(p.calls, 1);
+    char byte;
+    ck_assert_int_eq(read(p.ends[0], &byte, 1), 1);
+    loop_wait(loop, LOOP_NO_TIMEOUT); /* ends on the wake-up */
+    ck_assert_uint_ge(loop_monotonic_ns(), wake);
+    loop_unwatch(loop, p.ends[0]);
+    close_pair(&p);
 }
 END_TEST
 
@@ -385,7 +451,11 @@ static Suite *loop_suite(void)
     tcase_add_test(tc, sigint_stops_a_loop_that_has_nothing_due);
     tcase_add_test(tc, sighup_runs_the_hangup_hook_and_does_not_stop);
     tcase_add_test(tc, wall_wakeup_ends_an_otherwise_endless_wait);
-    tcase_add_test(tc, timeout_ends_the_wait_no_sooner);
+    tcase_add_test(tc, deadline_ends_the_wait_no_sooner);
+    tcase_add_test(tc, a_later_deadline_replaces_an_earlier_one);
+    tcase_add_test(tc, a_past_deadline_does_not_sleep);
+    tcase_add_test(tc, wake_now_polls_once);
+    tcase_add_test(tc, wall_wakeup_outlives_earlier_wake_ups);
     tcase_add_test(tc, two_loops_keep_their_watches_apart);
     tcase_add_test(tc, catch_up_runs_before_callbacks);
     suite_add_tcase(s, tc);

@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "gripper.h"
 #include "harness.h"
@@ -351,6 +352,73 @@ START_TEST(run_until_done_is_checked_like_step)
 }
 END_TEST
 
+/* The loop sleeps until simclock_wall_deadline_ns(): once that instant has
+ * come, simulated time has reached the deadline, at any scale. */
+static void sleep_until_ns(uint64_t monotonic_ns)
+{
+    struct timespec at = {.tv_sec = (time_t)(monotonic_ns / 1000000000u),
+                          .tv_nsec = (long)(monotonic_ns % 1000000000u)};
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &at, NULL) != 0) {
+    }
+}
+
+static void deadline_is_reached_at_its_wall_instant(double scale)
+{
+    simclock_t clock;
+    simclock_init(&clock);
+    ck_assert(simclock_set_scale(&clock, scale));
+    clock.device_us = simclock_now_us(&clock);
+    uint64_t deadline_us = clock.device_us + 3000u;
+    uint64_t wall_ns = simclock_wall_deadline_ns(&clock, deadline_us);
+    ck_assert_uint_ne(wall_ns, SIMCLOCK_NOW);
+    ck_assert_uint_ne(wall_ns, SIMCLOCK_NEVER);
+    sleep_until_ns(wall_ns);
+    ck_assert_uint_ge(simclock_now_us(&clock), deadline_us);
+    /* no clock read: the same deadline gives the same instant */
+    ck_assert_uint_eq(simclock_wall_deadline_ns(&clock, deadline_us), wall_ns);
+    simclock_fini(&clock);
+}
+
+START_TEST(a_deadline_is_reached_at_its_wall_instant)
+{
+    deadline_is_reached_at_its_wall_instant(1.0);
+    deadline_is_reached_at_its_wall_instant(2.5);
+    deadline_is_reached_at_its_wall_instant(0.37);
+}
+END_TEST
+
+START_TEST(wall_deadlines_of_a_paused_clock_and_of_the_past)
+{
+    simclock_t clock;
+    simclock_init(&clock);
+    clock.device_us = simclock_now_us(&clock);
+    ck_assert_uint_eq(simclock_wall_deadline_ns(&clock, UINT64_MAX), SIMCLOCK_NEVER);
+    ck_assert_uint_eq(simclock_wall_deadline_ns(&clock, clock.device_us), SIMCLOCK_NOW);
+    simclock_pause(&clock);
+    clock.device_us = simclock_now_us(&clock);
+    ck_assert_uint_eq(simclock_wall_deadline_ns(&clock, clock.device_us + 5u), SIMCLOCK_NEVER);
+    simclock_step(&clock, 100u); /* the device time is behind the step */
+    ck_assert_uint_eq(simclock_wall_deadline_ns(&clock, clock.device_us + 5u), SIMCLOCK_NOW);
+    simclock_fini(&clock);
+}
+END_TEST
+
+/* However far ahead the deadline, the wait ends within the hour. */
+START_TEST(a_far_deadline_is_looked_at_again_within_the_hour)
+{
+    simclock_t clock;
+    simclock_init(&clock);
+    clock.device_us = simclock_now_us(&clock);
+    uint64_t wall_ns = simclock_wall_deadline_ns(&clock, UINT64_MAX - 1u);
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    uint64_t now_ns = (uint64_t)ts.tv_sec * 1000000000u + (uint64_t)ts.tv_nsec;
+    ck_assert_uint_gt(wall_ns, now_ns);
+    ck_assert_uint_le(wall_ns, now_ns + 3600000000000u);
+    simclock_fini(&clock);
+}
+END_TEST
+
 Suite *clock_suite(void)
 {
     Suite *s = suite_create("clock");
@@ -377,5 +445,10 @@ Suite *clock_suite(void)
     tcase_add_checked_fixture(fleet, t_setup_three_devices, t_teardown);
     tcase_add_test(fleet, a_fleet_pass_steps_no_more_devices_than_its_budget);
     suite_add_tcase(s, fleet);
+    TCase *wall = tcase_create("wall deadlines");
+    tcase_add_test(wall, a_deadline_is_reached_at_its_wall_instant);
+    tcase_add_test(wall, wall_deadlines_of_a_paused_clock_and_of_the_past);
+    tcase_add_test(wall, a_far_deadline_is_looked_at_again_within_the_hour);
+    suite_add_tcase(s, wall);
     return s;
 }

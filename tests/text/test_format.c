@@ -4,6 +4,7 @@
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "unit_suites.h"
@@ -124,6 +125,52 @@ START_TEST(float_nan_is_zero)
 }
 END_TEST
 
+/* The rule of the float text, with the C library's digits: |value| in
+ * thousandths, rounded half up in double and saturated at 1e12, its whole
+ * part, then one to three decimals without trailing zeros. */
+static void reference_text(char *out, size_t cap, float value)
+{
+    double magnitude = fabs((double)value);
+    magnitude = isnan(magnitude) ? 0.0 : fmin(magnitude, 1.0e12);
+    unsigned long long millis = (unsigned long long)(magnitude * 1000.0 + 0.5);
+    char decimals[4];
+    snprintf(decimals, sizeof(decimals), "%03llu", millis % 1000u);
+    for (int last = 2; last > 0 && decimals[last] == '0'; last--) {
+        decimals[last] = '\0';
+    }
+    snprintf(out, cap, "%s%llu.%s", value < 0.0f && millis != 0u ? "-" : "", millis / 1000u,
+             decimals);
+}
+
+static void expect_reference(float value)
+{
+    char expected[64];
+    char out[WSG_TEXTBUF_FLOAT_MAX + 1];
+    reference_text(expected, sizeof(expected), value);
+    size_t len = wsg_textbuf_format_float(out, value);
+    out[len] = '\0';
+    if (strcmp(out, expected) != 0) { /* asserted only then: a million values */
+        ck_assert_msg(0, "%.9g: \"%s\", the rule says \"%s\"", (double)value, out, expected);
+    }
+}
+
+/* Every whole part up to beyond 1000 and every decimal (a stride prime to
+ * 1000), both signs, and values across every magnitude. */
+START_TEST(float_matches_the_rule_everywhere)
+{
+    for (uint32_t millis = 0; millis <= 1200000u; millis += 7u) {
+        expect_reference((float)millis / 1000.0f);
+        expect_reference(-(float)millis / 1000.0f);
+    }
+    uint32_t seed = 99u;
+    for (int i = 0; i < 100000; i++) {
+        seed = seed * 1664525u + 1013904223u;
+        float value = ldexpf((float)(seed >> 8) / 16777216.0f, (int)(seed % 60u) - 20);
+        expect_reference((seed & 1u) != 0u ? -value : value);
+    }
+}
+END_TEST
+
 START_TEST(integers)
 {
     ck_assert_str_eq(fmt_int(0), "0");
@@ -194,6 +241,7 @@ Suite *format_suite(void)
     tcase_add_test(floats, float_large_values);
     tcase_add_test(floats, float_saturates_without_exponent);
     tcase_add_test(floats, float_nan_is_zero);
+    tcase_add_test(floats, float_matches_the_rule_everywhere);
     suite_add_tcase(s, floats);
 
     TCase *other = tcase_create("other");
