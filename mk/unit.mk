@@ -1,12 +1,13 @@
 # SPDX-License-Identifier: BSD-3-Clause
 # Check (libcheck) unit tests of the device core: build/tests/unit_tests.
-# The tests mirror firmware/: tests/core, gcl, net, text; every Check
+# The tests mirror firmware/: tests/core, gcl, net, text (tests/sim: the
+# simulated world of hal/sim); every Check
 # suite runs on the one fake port in tests/fake (virtual clock, captured log,
 # the device on the simulated world, capturing connections, an FMF finger).
 #   make unit-tests         build and run them
 #   make unit-tests SAN=1   the same under ASan/UBSan (build/san)
 UNIT_SRC := tests/unit_main.c \
-	$(sort $(wildcard tests/core/*.c tests/gcl/*.c tests/net/*.c tests/text/*.c))
+	$(sort $(wildcard tests/core/*.c tests/gcl/*.c tests/net/*.c tests/text/*.c tests/sim/*.c))
 UNIT_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(UNIT_SRC)) $(FAKE_CORE_OBJ)
 UNIT_BIN := $(BUILD)/tests/unit_tests
 UNIT_CFLAGS = $(CFLAGS_BASE) $(CORE_INC) -Itests -Itests/fake $(shell pkg-config --cflags check)

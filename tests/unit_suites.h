@@ -21,5 +21,6 @@ Suite *ops_suite(void);
 Suite *peers_suite(void);
 Suite *outq_suite(void);
 Suite *runner_suite(void);
+Suite *sim_suite(void);
 
 #endif

@@ -161,9 +161,9 @@ static void profile_step(sim_axis_t *axis, float dt)
 
 /* Whether the jaws are clear of a surface: apply_contact would then return 0
  * and change nothing. The common case, tested inline before the call. */
-static bool apart_from(const sim_axis_t *axis, float surface_mm, float side)
+static bool apart_from(float x_mm, float surface_mm, float side)
 {
-    return (axis->x_mm - surface_mm) * side < 0.0f;
+    return (x_mm - surface_mm) * side < 0.0f;
 }
 
 /* Applies one contact: a surface at surface_mm that limits closing (side -1)
@@ -218,11 +218,8 @@ static void check_slip(sim_axis_t *axis, float part_force_n, float dt)
  * slip). Closed, the fingers press on each other ("the gripper grips
  * itself"); fully open, the drive leans on its internal end stop, not on the
  * fingers, so that force is not on the jaws. */
-static void step(sim_axis_t *axis, float dt)
+static void touch(sim_axis_t *axis, float dt)
 {
-    if (axis->active) {
-        profile_step(axis, dt);
-    }
     axis->blocked = 0;
     float force = 0.0f;
     /* strictly between the end stops, neither touches the jaws */
@@ -232,14 +229,14 @@ static void step(sim_axis_t *axis, float dt)
     }
     if (axis->obstacle.present) {
         float side = side_sign(axis->obstacle.side);
-        if (!apart_from(axis, axis->obstacle.width_mm, side)) {
+        if (!apart_from(axis->x_mm, axis->obstacle.width_mm, side)) {
             force += apply_contact(axis, axis->obstacle.width_mm, side, 0.0f);
         }
     }
     float part_force = 0.0f;
     if (axis->part.present) {
         float side = side_sign(axis->part.side);
-        if (!apart_from(axis, axis->part.width_mm, side)) {
+        if (!apart_from(axis->x_mm, axis->part.width_mm, side)) {
             part_force = apply_contact(axis, axis->part.width_mm, side, axis->part.stiffness_n_mm);
         }
         force += part_force;
@@ -248,35 +245,159 @@ static void step(sim_axis_t *axis, float dt)
     check_slip(axis, part_force, dt);
 }
 
-/* Whether the jaws are clear of every surface: strictly between the end
- * stops and apart from the obstacle and the part (the tests step() makes
- * before it applies a contact). */
-static bool clear_of_contacts(const sim_axis_t *axis)
+/* What touch() gives where the jaws are clear of every surface: no force,
+ * nothing blocked, a part (if any) not squeezed. */
+static void clear_outputs(sim_axis_t *axis)
 {
-    return axis->x_mm > 0.0f && axis->x_mm < axis->stroke_mm &&
-           (!axis->obstacle.present ||
-            apart_from(axis, axis->obstacle.width_mm, side_sign(axis->obstacle.side))) &&
-           (!axis->part.present ||
-            apart_from(axis, axis->part.width_mm, side_sign(axis->part.side)));
+    axis->blocked = 0;
+    axis->force_n = 0.0f;
+    axis->part.squeezed_s = 0.0f;
+}
+
+/* The open interval of openings clear of every surface: strictly between
+ * the end stops and apart from the obstacle and the part, the tests touch()
+ * makes before it applies a contact. Apart from a surface inside the jaws
+ * ((x - w) * -1 < 0) is x > w, from one outside x < w: exact comparisons.
+ * A NaN width leaves no interval, as apart_from() finds nothing apart. */
+typedef struct {
+    float low_mm;
+    float high_mm;
+} clear_span_t;
+
+static inline void narrow_span(clear_span_t *span, float width_mm, sim_part_side_t side)
+{
+    if (side == SIM_PART_INSIDE) {
+        span->low_mm = width_mm < span->low_mm ? span->low_mm : width_mm;
+    } else {
+        span->high_mm = width_mm > span->high_mm ? span->high_mm : width_mm;
+    }
+}
+
+static inline clear_span_t clear_span(const sim_axis_t *axis)
+{
+    clear_span_t span = {0.0f, axis->stroke_mm};
+    if (axis->obstacle.present) {
+        narrow_span(&span, axis->obstacle.width_mm, axis->obstacle.side);
+    }
+    if (axis->part.present) {
+        narrow_span(&span, axis->part.width_mm, axis->part.side);
+    }
+    return span;
+}
+
+static bool within(clear_span_t span, float x_mm)
+{
+    return x_mm > span.low_mm && x_mm < span.high_mm;
+}
+
+/* Accelerating or cruising towards the target, far from it and clear of
+ * every surface, a step of the profile only speeds up (up to the limit) and
+ * moves, and nothing is reached or touched. Does the steps of dt_s that way
+ * when every one of them is such a step, and returns whether it did;
+ * otherwise changes nothing.
+ *
+ * The arithmetic is profile_step()'s; its tests are made once, after the
+ * last step. Towards the target the speed only grows and (target - x) * dir
+ * only shrinks from step to step (float arithmetic is monotone): if the
+ * stopping distance at the end is below what is left to go then, it was at
+ * every step before, and jaws clear of the surfaces where they start and
+ * where they end were clear at every position between. */
+static bool free_run(sim_axis_t *axis, float dt_s, clear_span_t span)
+{
+    float x = axis->x_mm;
+    float v = axis->v_mm_s;
+    float a = axis->amax_mm_s2;
+    float vmax = axis->vmax_mm_s;
+    float target = axis->target_mm;
+    /* signf(target - x), 0 (arrived) left to profile_step() */
+    float dir = target > x ? 1.0f : (target < x ? -1.0f : 0.0f);
+    if (!axis->active || dir == 0.0f || v * dir < 0.0f || !(fabsf(v) <= vmax) || !(a > 0.0f) ||
+        !(dt_s > 0.0f)) {
+        return false; /* not profile_step()'s speed-up, or a speed that may shrink */
+    }
+    if (fabsf(v) == vmax && vmax > 0.0f) {
+        /* cruising: a step's speed-up leaves v or passes the limit and is
+         * clamped back to it, dir * vmax, which is v */
+        for (float left_s = dt_s; left_s > 0.0f;) {
+            float dt = left_s < SIM_AXIS_MAX_STEP_S ? left_s : SIM_AXIS_MAX_STEP_S;
+            x = x + v * dt;
+            left_s -= dt;
+        }
+    } else {
+        for (float left_s = dt_s; left_s > 0.0f;) {
+            float dt = left_s < SIM_AXIS_MAX_STEP_S ? left_s : SIM_AXIS_MAX_STEP_S;
+            v += dir * a * dt;
+            if (fabsf(v) > vmax) {
+                v = dir * vmax; /* signf(v) is dir: v * dir >= 0 and v != 0 */
+            }
+            x = x + v * dt;
+            left_s -= dt;
+        }
+    }
+    float ahead = (target - x) * dir;
+    float stopping = v * v / (2.0f * a);                  /* as profile_step() computes it */
+    bool far = ahead > stopping && ahead >= AT_TARGET_MM; /* no braking, crossing, arriving */
+    float low_x = dir > 0.0f ? axis->x_mm : x;
+    float high_x = dir > 0.0f ? x : axis->x_mm;
+    if (!far || !(low_x > span.low_mm) || !(high_x < span.high_mm)) {
+        return false;
+    }
+    axis->x_mm = x;
+    axis->v_mm_s = v;
+    clear_outputs(axis);
+    return true;
+}
+
+void wsg_sim_axis_advance_stepwise(sim_axis_t *axis, float dt_s)
+{
+    /* At rest only contacts can change (a part placed or removed): one step
+     * of 0 s. */
+    bool at_rest = wsg_sim_axis_at_rest(axis);
+    float left_s = at_rest ? 0.0f : dt_s;
+    for (bool first = true; (first && at_rest) || left_s > 0.0f; first = false) {
+        float dt = left_s < SIM_AXIS_MAX_STEP_S ? left_s : SIM_AXIS_MAX_STEP_S;
+        if (axis->active) {
+            profile_step(axis, dt);
+        }
+        touch(axis, dt);
+        left_s -= dt;
+    }
+}
+
+/* The steps of wsg_sim_axis_advance_stepwise() where the jaws move, touch()
+ * cut short where they end a step clear of every surface. The span is taken
+ * once: a step can only take a surface away (a part slips out), which leaves
+ * the true span wider. */
+static void move_steps(sim_axis_t *axis, float dt_s, clear_span_t span)
+{
+    for (float left_s = dt_s; left_s > 0.0f;) {
+        float dt = left_s < SIM_AXIS_MAX_STEP_S ? left_s : SIM_AXIS_MAX_STEP_S;
+        if (axis->active) {
+            profile_step(axis, dt);
+        }
+        if (within(span, axis->x_mm)) {
+            clear_outputs(axis);
+        } else {
+            touch(axis, dt);
+        }
+        left_s -= dt;
+    }
 }
 
 void wsg_sim_axis_advance(sim_axis_t *axis, float dt_s)
 {
-    /* At rest only contacts can change (a part placed or removed): one step
-     * of 0 s. One call site, so that the compiler inlines the step. */
-    bool at_rest = wsg_sim_axis_at_rest(axis);
-    if (at_rest && clear_of_contacts(axis)) {
-        /* what that step gives without a contact (the common case between
-         * commands: the world is advanced before every input) */
-        axis->blocked = 0;
-        axis->force_n = 0.0f;
-        axis->part.squeezed_s = 0.0f;
+    if (wsg_sim_axis_at_rest(axis)) {
+        if (within(clear_span(axis), axis->x_mm)) {
+            /* what the step of 0 s gives without a contact (the common case
+             * between commands: the world is advanced before every input) */
+            clear_outputs(axis);
+        } else {
+            wsg_sim_axis_advance_stepwise(axis, 0.0f);
+        }
         return;
     }
-    float left_s = at_rest ? 0.0f : dt_s;
-    for (bool first = true; (first && at_rest) || left_s > 0.0f; first = false) {
-        float dt = left_s < SIM_AXIS_MAX_STEP_S ? left_s : SIM_AXIS_MAX_STEP_S;
-        step(axis, dt);
-        left_s -= dt;
+    clear_span_t span = clear_span(axis);
+    if (!free_run(axis, dt_s, span)) {
+        move_steps(axis, dt_s, span);
     }
 }

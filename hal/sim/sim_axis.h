@@ -72,6 +72,11 @@ void wsg_sim_axis_place_obstacle(sim_axis_t *axis, float width_mm);
 void wsg_sim_axis_remove_obstacle(sim_axis_t *axis);
 /* Advances by dt seconds in steps of at most SIM_AXIS_MAX_STEP_S. */
 void wsg_sim_axis_advance(sim_axis_t *axis, float dt_s);
+/* The same through every step of the model, without the shortcuts
+ * wsg_sim_axis_advance takes where a step's outcome is known (at rest and
+ * clear of every surface; speeding up or cruising far from the target and
+ * every surface): the reference its tests compare it with bit for bit. */
+void wsg_sim_axis_advance_stepwise(sim_axis_t *axis, float dt_s);
 /* No profile running and standing: only contacts change then, and a step
  * of 0 s (wsg_sim_axis_advance(axis, 0)) changes nothing unless at rest. */
 static inline bool wsg_sim_axis_at_rest(const sim_axis_t *axis)

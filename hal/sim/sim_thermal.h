@@ -43,11 +43,19 @@ static inline float wsg_sim_thermal_settle_share(sim_thermal_t *thermal, float d
     return thermal->last_share;
 }
 
+/* Settles the board towards its steady temperature for dt_s >= 0 seconds
+ * (finite, the time constant > 0: the share is then in [0, 1]). */
 static inline void wsg_sim_thermal_advance(sim_thermal_t *thermal, float force_n, float dt_s)
 {
     float steady = thermal->ambient_c + thermal->idle_rise_c + thermal->rise_per_newton_c * force_n;
-    float share = wsg_sim_thermal_settle_share(thermal, dt_s);
-    thermal->board_c += (steady - thermal->board_c) * share;
+    float gap = steady - thermal->board_c;
+    if (gap == 0.0f) {
+        /* settled: gap * share is gap (a zero of gap's sign) for any share
+         * in [0, 1], so the same sum without the share (no expf) */
+        thermal->board_c += gap;
+        return;
+    }
+    thermal->board_c += gap * wsg_sim_thermal_settle_share(thermal, dt_s);
 }
 
 static inline float wsg_sim_thermal_board_c(const sim_thermal_t *thermal)

@@ -6,6 +6,7 @@ import os
 import socket
 import subprocess
 import tempfile
+import time
 import unittest
 
 from webclient import (GclError, GclTcp, Wsgsim, WebSim, request, request_no_redirect,
@@ -122,14 +123,20 @@ class Devices(WebCase):
 
 class Startup(unittest.TestCase):
     def hold_port(self, port=0):
-        """A listening socket on port (a free one for 0); None when another
-        program holds it already (it is taken either way)."""
-        s = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
-        try:
-            s.bind(("0.0.0.0", port))
-        except OSError:
-            s.close()
-            return None
+        """A listening socket of this test on port (a free one for 0). When
+        another program holds the port, it waits until that one lets it go:
+        a port held by someone else may be freed before wsgsim starts."""
+        deadline = time.monotonic() + 120
+        while True:
+            s = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+            try:
+                s.bind(("0.0.0.0", port))
+                break
+            except OSError:
+                s.close()
+                if time.monotonic() > deadline:
+                    self.fail("port %d stayed taken by another program for 120 s" % port)
+                time.sleep(0.1)
         s.listen(1)
         self.addCleanup(s.close)
         return s
