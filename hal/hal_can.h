@@ -7,6 +7,7 @@
 #define HAL_CAN_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #define HAL_CAN_MAX_DLC 8u
@@ -44,6 +45,16 @@ typedef struct {
      * polls, so the controller need not poll on a timer while nothing
      * changes. False for a real bus. */
     bool on_demand;
+    /* Optional (NULL: recv only): takes every frame waiting at once, in the
+     * controller's own storage: the oldest, *count (at least 1) of them in
+     * a row, valid until the next call of an operation on this controller;
+     * NULL when none is waiting. Saves a call and a copy per frame on a bus
+     * whose frames come in bursts (a DSA's 28-frame transfer). */
+    const hal_can_frame_t *(*recv_many)(void *ctx, unsigned *count);
+    /* Optional (NULL: send, frame by frame): sends frames[0..count) in
+     * order, each as send() would; returns how many were taken. Saves a
+     * call per frame of a burst. */
+    unsigned (*send_many)(void *ctx, const hal_can_frame_t *frames, unsigned count);
 } hal_can_ops_t;
 
 /* A bus: the driver's operations and its instance (the shape of every HAL
@@ -58,9 +69,36 @@ static inline bool hal_can_send(const hal_can_t *can, const hal_can_frame_t *fra
     return can->ops->send(can->ctx, frame);
 }
 
+/* Sends frames[0..count) in order; returns how many were taken. */
+static inline unsigned hal_can_send_many(const hal_can_t *can, const hal_can_frame_t *frames,
+                                         unsigned count)
+{
+    if (can->ops->send_many != NULL) {
+        return can->ops->send_many(can->ctx, frames, count);
+    }
+    unsigned sent = 0;
+    for (unsigned i = 0; i < count; i++) {
+        sent += can->ops->send(can->ctx, &frames[i]) ? 1u : 0u;
+    }
+    return sent;
+}
+
 static inline bool hal_can_recv(const hal_can_t *can, hal_can_frame_t *frame)
 {
     return can->ops->recv(can->ctx, frame);
+}
+
+/* Takes the frames waiting: all at once where the controller can hand them
+ * out in place (recv_many), else one, into *one. NULL when none is waiting;
+ * else *count frames, valid until the next call on the controller. */
+static inline const hal_can_frame_t *hal_can_recv_many(const hal_can_t *can, hal_can_frame_t *one,
+                                                       unsigned *count)
+{
+    if (can->ops->recv_many != NULL) {
+        return can->ops->recv_many(can->ctx, count);
+    }
+    *count = 1;
+    return can->ops->recv(can->ctx, one) ? one : NULL;
 }
 
 static inline bool hal_can_set_filters(const hal_can_t *can, const hal_can_filter_t *filters,

@@ -7,30 +7,48 @@
 
 #include "hal_clock.h"
 
-#define LOOPBACK_RING 512u /* frames waiting for the gripper, at most */
-#define LOOPBACK_RING_FIRST 8u
+#define LOOPBACK_QUEUE 512u /* frames waiting for the gripper, at most */
+/* Most polls bring one frame (an FMF's MEASURE every 10 ms): it waits in
+ * the bus itself. One, not two: a fleet's 10 000 buses stay in the same
+ * malloc size as before (a cell's peak memory is at its limit). */
+#define LOOPBACK_QUEUE_INLINE 1u
+/* A poll's frames fit the first heap queue: a DSA transfer (28 BULK
+ * frames), the FMF's MEASURE and heartbeats. */
+#define LOOPBACK_QUEUE_FIRST 32u
 #define GRIPPER (-1)
 
-/* A participant's acceptance filters. */
+/* A participant's acceptance filters, and their verdict on the identifier
+ * and EXT flag of the last frame asked about (a DSA transfer is 28 frames
+ * with one identifier). */
 typedef struct {
     hal_can_filter_t filters[HAL_CAN_MAX_FILTERS];
     unsigned count;
+    bool cached, cached_verdict, cached_ext;
+    uint32_t cached_id;
 } acceptance_t;
 
 /* A fleet has thousands of buses, so they are kept small: the nodes share
  * one port (a node's frames carry its node id), and a node's filters are
- * its type's (wsg_finger_node_filters), asked per frame rather than kept. */
+ * its type's (wsg_finger_node_filters), tested per frame rather than kept
+ * (wsg_finger_node_accepts). */
 struct can_loopback {
     finger_node_t nodes[FBUS_SLOTS];
     hal_can_t nodes_port;
     hal_can_t port;
-    acceptance_t accept;
-    hal_can_frame_t *ring; /* grows as frames queue up, up to LOOPBACK_RING;
-                              freed once the gripper took them all */
-    unsigned capacity, head, count;
-    uint32_t frames;
+    /* Frames for the gripper: queue[head..head + count), in a row so that
+     * the gripper takes them in place (recv_many). In inline_queue, or on
+     * the heap as more frames queue up, up to LOOPBACK_QUEUE; freed when a
+     * poll finds nothing. */
+    hal_can_frame_t *queue;
     can_loopback_tap_t tap;
     void *tap_ctx;
+    /* The nodes' loop is the gripper's poll (run_nodes) */
+    uint64_t polled_us;
+    uint64_t nodes_due_us; /* never later than the earliest node's due_us */
+    unsigned capacity, head, count;
+    uint32_t frames;
+    acceptance_t accept;
+    hal_can_frame_t inline_queue[LOOPBACK_QUEUE_INLINE];
 };
 
 static bool set_acceptance(acceptance_t *a, const hal_can_filter_t *filters, unsigned count)
@@ -40,59 +58,66 @@ static bool set_acceptance(acceptance_t *a, const hal_can_filter_t *filters, uns
     }
     memcpy(a->filters, filters, count * sizeof(filters[0]));
     a->count = count;
+    a->cached = false;
     return true;
 }
 
-static inline bool accepts(const acceptance_t *a, const hal_can_frame_t *frame)
+static inline bool accepts(acceptance_t *a, const hal_can_frame_t *frame)
 {
-    return hal_can_filters_accept(a->filters, a->count, frame);
+    bool ext = (frame->flags & HAL_CAN_FLAG_EXT) != 0u;
+    if (!a->cached || frame->id != a->cached_id || ext != a->cached_ext) {
+        a->cached_verdict = hal_can_filters_accept(a->filters, a->count, frame);
+        a->cached_id = frame->id;
+        a->cached_ext = ext;
+        a->cached = true;
+    }
+    return a->cached_verdict;
 }
 
-static bool node_accepts(const finger_node_t *node, const hal_can_frame_t *frame)
+/* Room for n more frames at the end of a queue without it: the frames
+ * move to its start, and it doubles while below its bound; false when it
+ * cannot (the bound, or out of memory). */
+static bool make_room(can_loopback_t *bus, unsigned n)
 {
-    hal_can_filter_t filters[HAL_CAN_MAX_FILTERS];
-    unsigned count = wsg_finger_node_filters(node, filters);
-    return hal_can_filters_accept(filters, count, frame);
-}
-
-/* Room for one more frame to the gripper: the ring doubles while below its
- * bound; false when it cannot (full at the bound, or out of memory). */
-static bool grow_ring(can_loopback_t *bus)
-{
-    if (bus->count < bus->capacity) {
+    if (bus->head > 0u) {
+        memmove(bus->queue, bus->queue + bus->head, bus->count * sizeof(bus->queue[0]));
+        bus->head = 0;
+    }
+    if (bus->count + n <= bus->capacity) {
         return true;
     }
-    unsigned capacity = bus->capacity == 0u ? LOOPBACK_RING_FIRST : 2u * bus->capacity;
-    if (capacity > LOOPBACK_RING) {
+    bool on_heap = bus->queue != bus->inline_queue;
+    unsigned capacity = on_heap ? 2u * bus->capacity : LOOPBACK_QUEUE_FIRST;
+    while (capacity < bus->count + n) {
+        capacity *= 2u;
+    }
+    if (capacity > LOOPBACK_QUEUE) {
         return false;
     }
-    hal_can_frame_t *ring = malloc(capacity * sizeof(*ring));
-    if (ring == NULL) {
+    hal_can_frame_t *queue = realloc(on_heap ? bus->queue : NULL, capacity * sizeof(*queue));
+    if (queue == NULL) {
         return false;
     }
-    for (unsigned k = 0; k < bus->count; k++) { /* unwrapped, oldest first */
-        ring[k] = bus->ring[(bus->head + k) % bus->capacity];
+    if (!on_heap) {
+        memcpy(queue, bus->inline_queue, bus->count * sizeof(*queue));
     }
-    free(bus->ring);
-    bus->ring = ring;
+    bus->queue = queue;
     bus->capacity = capacity;
-    bus->head = 0;
     return true;
 }
 
-static void to_gripper(can_loopback_t *bus, const hal_can_frame_t *frame)
+static inline void to_gripper(can_loopback_t *bus, const hal_can_frame_t *frame)
 {
     if (!accepts(&bus->accept, frame)) {
         return;
     }
-    if (!grow_ring(bus)) { /* full: the oldest frame is lost, as on an overrun */
-        if (bus->capacity == 0u) {
-            return;
-        }
-        bus->head = (bus->head + 1u) % bus->capacity;
+    bool full = bus->head + bus->count == bus->capacity;
+    if (full && !make_room(bus, 1)) { /* the oldest frame is lost, as on an overrun */
+        bus->head++;
         bus->count--;
+        make_room(bus, 1);
     }
-    bus->ring[(bus->head + bus->count) % bus->capacity] = *frame;
+    bus->queue[bus->head + bus->count] = *frame;
     bus->count++;
 }
 
@@ -107,18 +132,67 @@ static void deliver(can_loopback_t *bus, const hal_can_frame_t *frame, int from)
     if (from != GRIPPER) {
         to_gripper(bus, frame);
     }
+    if (!wsg_finger_node_may_accept(frame)) {
+        return; /* a node's measurement or heartbeat, for the gripper alone */
+    }
     for (int i = 0; i < (int)FBUS_SLOTS; i++) {
         finger_node_t *n = &bus->nodes[i];
-        if (i != from && node_accepts(n, frame)) {
+        if (i != from && wsg_finger_node_accepts(n, frame)) {
             wsg_finger_node_receive(n, frame, now);
+            if (n->due_us < bus->nodes_due_us) { /* a frame may power it, or wake it */
+                bus->nodes_due_us = n->due_us;
+            }
         }
     }
 }
 
+/* Most frames a node sends are for the gripper alone (measurements,
+ * heartbeats: deliver() would find no node to take them), and with no tap
+ * they need no time either. */
 static bool node_send(void *ctx, const hal_can_frame_t *frame)
 {
-    deliver(ctx, frame, wsg_fbus_slot_of_node((uint8_t)(frame->id & FBUS_NODE_MASK)));
+    can_loopback_t *bus = ctx;
+    if (bus->tap == NULL && !wsg_finger_node_may_accept(frame)) {
+        bus->frames++;
+        to_gripper(bus, frame);
+        return true;
+    }
+    deliver(bus, frame, wsg_fbus_slot_of_node((uint8_t)(frame->id & FBUS_NODE_MASK)));
     return true;
+}
+
+/* node_send() of frames[0..count) (count > 0) at once, when it can: one
+ * identifier, for the gripper alone, no tap, and room for all. */
+static bool to_gripper_at_once(can_loopback_t *bus, const hal_can_frame_t *frames, unsigned count)
+{
+    const hal_can_frame_t *first = &frames[0];
+    if (bus->tap != NULL || wsg_finger_node_may_accept(first) || !accepts(&bus->accept, first)) {
+        return false;
+    }
+    for (unsigned i = 1; i < count; i++) {
+        if (frames[i].id != first->id || frames[i].flags != first->flags) {
+            return false;
+        }
+    }
+    if (bus->head + bus->count + count > bus->capacity && !make_room(bus, count)) {
+        return false;
+    }
+    memcpy(&bus->queue[bus->head + bus->count], frames, count * sizeof(frames[0]));
+    bus->count += count;
+    bus->frames += count;
+    return true;
+}
+
+/* A DSA's transfer: 28 BULK frames of one identifier. */
+static unsigned node_send_many(void *ctx, const hal_can_frame_t *frames, unsigned count)
+{
+    if (count > 0u && to_gripper_at_once(ctx, frames, count)) {
+        return count;
+    }
+    for (unsigned i = 0; i < count; i++) {
+        node_send(ctx, &frames[i]);
+    }
+    return count;
 }
 
 static bool node_recv(void *ctx, hal_can_frame_t *frame)
@@ -146,29 +220,98 @@ static bool gripper_send(void *ctx, const hal_can_frame_t *frame)
     return true;
 }
 
-/* Lets the nodes catch up with the simulated clock, then hands out a frame. */
+/* The nodes whose due time has come step, and the earliest due time is
+ * kept. */
+static void step_due_nodes(can_loopback_t *bus, uint64_t now)
+{
+    uint64_t due = UINT64_MAX;
+    for (unsigned i = 0; i < FBUS_SLOTS; i++) {
+        finger_node_t *n = &bus->nodes[i];
+        if (now >= n->due_us) {
+            wsg_finger_node_step_due(n, now);
+        }
+        due = n->due_us < due ? n->due_us : due;
+    }
+    bus->nodes_due_us = due;
+}
+
+/* wsg_finger_node_step() of every node, with the gripper's poll as their
+ * loop: they are always polled together, so one stall bookkeeping serves
+ * all (done for all before any steps: a node's frames never reach another
+ * node, whose acceptance takes only the gripper's frames), and nothing
+ * runs before the earliest due time. Inline: most polls end here. */
+static inline void run_nodes(can_loopback_t *bus, uint64_t now)
+{
+    uint64_t gap = now - bus->polled_us;
+    if (bus->polled_us != 0u && gap > FBUS_STALL_US) {
+        for (unsigned i = 0; i < FBUS_SLOTS; i++) {
+            wsg_finger_node_skip_stall(&bus->nodes[i], gap, now);
+        }
+    }
+    bus->polled_us = now;
+    if (now >= bus->nodes_due_us) {
+        step_due_nodes(bus, now);
+    }
+}
+
+/* With no frame waiting, lets the nodes catch up with the simulated clock
+ * (now); false when they sent nothing either (an idle bus holds no heap
+ * queue then). */
+static bool nodes_sent(can_loopback_t *bus, uint64_t now)
+{
+    bus->head = 0;
+    run_nodes(bus, now);
+    if (bus->count > 0u) {
+        return true;
+    }
+    if (bus->queue != bus->inline_queue) {
+        free(bus->queue);
+        bus->queue = bus->inline_queue;
+        bus->capacity = LOOPBACK_QUEUE_INLINE;
+    }
+    return false;
+}
+
 static bool gripper_recv(void *ctx, hal_can_frame_t *frame)
+{
+    can_loopback_t *bus = ctx;
+    if (bus->count == 0u && !nodes_sent(bus, hal_clock_now_us())) {
+        return false;
+    }
+    *frame = bus->queue[bus->head];
+    bus->head++;
+    bus->count--;
+    return true;
+}
+
+/* What nodes_sent() finds at most polls, and all it changes then: no
+ * stall, no node due, no heap queue to free. */
+static inline bool poll_finds_nothing(can_loopback_t *bus, uint64_t now)
+{
+    bool stalled = bus->polled_us != 0u && now - bus->polled_us > FBUS_STALL_US;
+    if (stalled || now >= bus->nodes_due_us || bus->queue != bus->inline_queue) {
+        return false;
+    }
+    bus->head = 0;
+    bus->polled_us = now;
+    return true;
+}
+
+/* All waiting frames, in place: the next call starts the queue afresh. */
+static const hal_can_frame_t *gripper_recv_many(void *ctx, unsigned *count)
 {
     can_loopback_t *bus = ctx;
     if (bus->count == 0u) {
         uint64_t now = hal_clock_now_us();
-        for (unsigned i = 0; i < FBUS_SLOTS; i++) {
-            wsg_finger_node_step(&bus->nodes[i], now);
+        if (poll_finds_nothing(bus, now) || !nodes_sent(bus, now)) {
+            return NULL;
         }
     }
-    if (bus->count == 0u) {
-        return false;
-    }
-    *frame = bus->ring[bus->head];
-    bus->head = (bus->head + 1u) % bus->capacity;
-    bus->count--;
-    if (bus->count == 0u) { /* an idle bus holds no ring */
-        free(bus->ring);
-        bus->ring = NULL;
-        bus->capacity = 0;
-        bus->head = 0;
-    }
-    return true;
+    const hal_can_frame_t *frames = &bus->queue[bus->head];
+    *count = bus->count;
+    bus->head += bus->count;
+    bus->count = 0;
+    return frames;
 }
 
 static bool gripper_set_filters(void *ctx, const hal_can_filter_t *filters, unsigned count)
@@ -178,8 +321,10 @@ static bool gripper_set_filters(void *ctx, const hal_can_filter_t *filters, unsi
 }
 
 /* The gripper's side runs the nodes when it polls: on demand. */
-static const hal_can_ops_t gripper_ops = {gripper_send, gripper_recv, gripper_set_filters, true};
-static const hal_can_ops_t node_ops = {node_send, node_recv, node_set_filters, false};
+static const hal_can_ops_t gripper_ops = {gripper_send, gripper_recv,      gripper_set_filters,
+                                          true,         gripper_recv_many, NULL};
+static const hal_can_ops_t node_ops = {node_send, node_recv, node_set_filters,
+                                       false,     NULL,      node_send_many};
 
 can_loopback_t *can_loopback_create(const fbus_type_t types[FBUS_SLOTS],
                                     const finger_node_params_t *params)
@@ -190,6 +335,8 @@ can_loopback_t *can_loopback_create(const fbus_type_t types[FBUS_SLOTS],
     }
     bus->port = (hal_can_t){&gripper_ops, bus};
     bus->nodes_port = (hal_can_t){&node_ops, bus};
+    bus->queue = bus->inline_queue;
+    bus->capacity = LOOPBACK_QUEUE_INLINE;
     for (unsigned i = 0; i < FBUS_SLOTS; i++) {
         wsg_finger_node_init(&bus->nodes[i], types[i], i, params, &bus->nodes_port);
     }
@@ -199,7 +346,9 @@ can_loopback_t *can_loopback_create(const fbus_type_t types[FBUS_SLOTS],
 void can_loopback_destroy(can_loopback_t *bus)
 {
     if (bus != NULL) {
-        free(bus->ring);
+        if (bus->queue != bus->inline_queue) {
+            free(bus->queue);
+        }
         free(bus);
     }
 }

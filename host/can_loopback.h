@@ -2,8 +2,9 @@
 /* The in-process finger bus used when wsgsim runs without --can: the same
  * finger nodes tools/fingersim runs (hal/sim/finger_node.c) on a software
  * bus, driven by the simulated clock, so fingers work on any machine. One
- * bus per device; frames waiting for the gripper take heap storage only as
- * they queue up, so an idle device's bus stays small. */
+ * bus per device; frames waiting for the gripper beyond a poll's usual one
+ * take heap storage only as they queue up, so an idle device's bus stays
+ * small. */
 #ifndef CAN_LOOPBACK_H
 #define CAN_LOOPBACK_H
 

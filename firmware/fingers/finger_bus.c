@@ -144,26 +144,49 @@ static void on_measure(fbus_slot_t *s, wsg_finger_t *finger, const fbus_measure_
     }
 }
 
-/* A segment goes from the frame straight into the transfer. */
-static void on_bulk(fbus_slot_t *s, wsg_finger_t *finger, const hal_can_frame_t *f)
+/* A completed transfer becomes the finger's data. */
+static void on_transfer(fbus_slot_t *s, wsg_finger_t *finger)
 {
-    if (!s->config || s->desc.encoding != FBUS_ENC_BULK || s->node_state != FBUS_NODE_OPERATIONAL ||
-        !wsg_fbus_bulk_rx_feed_frame(&s->bulk, f)) {
-        return;
-    }
     unsigned values = (unsigned)s->desc.rows * s->desc.cols;
     if (s->bulk.count < values) {
         return; /* a short transfer: keep the previous data */
     }
-    for (unsigned i = 0; i < values; i++) {
+    unsigned i = 0;
+    for (; i + 4u <= values; i += 4u) { /* four at a time: the compiler may use vectors */
+        finger->data[i] = (float)s->bulk.values[i];
+        finger->data[i + 1u] = (float)s->bulk.values[i + 1u];
+        finger->data[i + 2u] = (float)s->bulk.values[i + 2u];
+        finger->data[i + 3u] = (float)s->bulk.values[i + 3u];
+    }
+    for (; i < values; i++) {
         finger->data[i] = (float)s->bulk.values[i];
     }
     finger->data_count = (uint16_t)values;
 }
 
-/* The frame's function code says which type it is: one unpack, not a try
- * of each. */
-static void dispatch_frame(fbus_slot_t *s, wsg_finger_t *finger, const hal_can_frame_t *f)
+/* Segments go from the frames straight into the transfer: a run of BULK
+ * frames of one node (nothing in it changes what is checked here). */
+static void on_bulk(fbus_slot_t *s, wsg_finger_t *finger, const hal_can_frame_t *f, unsigned n)
+{
+    if (!s->config || s->desc.encoding != FBUS_ENC_BULK || s->node_state != FBUS_NODE_OPERATIONAL) {
+        return;
+    }
+    while (n > 0u) {
+        bool done = false;
+        unsigned fed = wsg_fbus_bulk_rx_feed_frames(&s->bulk, f, n, &done);
+        if (done) {
+            on_transfer(s, finger);
+        }
+        f += fed;
+        n -= fed;
+    }
+}
+
+/* The frames f[0..n) have one identifier: a run of BULK frames is taken
+ * in one go, anything else is n = 1. The frame's function code says which
+ * type it is: one unpack, not a try of each. */
+static void dispatch_frames(fbus_slot_t *s, wsg_finger_t *finger, const hal_can_frame_t *f,
+                            unsigned n)
 {
     fbus_heartbeat_t hb;
     fbus_descriptor_t d;
@@ -185,41 +208,64 @@ static void dispatch_frame(fbus_slot_t *s, wsg_finger_t *finger, const hal_can_f
         }
         break;
     case FBUS_ID_BULK:
-        if (wsg_fbus_is_bulk(f)) {
-            on_bulk(s, finger, f);
-        }
+        on_bulk(s, finger, f, n);
         break;
     default:
         break;
     }
 }
 
-/* Returns the number of frames taken. */
-static unsigned receive_all(finger_bus_t *bus, wsg_fingers_t *fingers, uint64_t now_us)
+/* How many frames from f on are BULK frames with f's identifier (1 for
+ * any other frame). */
+static unsigned run_length(const hal_can_frame_t *f, unsigned n)
 {
-    hal_can_frame_t f;
-    unsigned taken = 0;
-    while (hal_can_recv(bus->can, &f)) {
-        taken++;
-        uint8_t injected;
-        if (fbus_func_of(f.id) == FBUS_ID_SIMCTL && wsg_fbus_unpack_simctl(&f, &injected)) {
-            bus->wake = true; /* only an on-demand bus passes it */
-            continue;
-        }
-        int slot = wsg_fbus_slot_of_node(fbus_node_of(f.id));
-        if (slot < 0 || (bus->power_mask & (1u << slot)) == 0u) {
-            continue;
-        }
-        fbus_slot_t *s = &bus->slot[slot];
-        if (s->comm_fault) {
-            slot_log(HAL_LOG_INFO, (unsigned)slot, "communication restored");
-        }
-        s->heard = true;
-        s->comm_fault = false;
-        s->last_rx_us = now_us;
-        dispatch_frame(s, &fingers->slot[slot], &f);
+    if (fbus_func_of(f->id) != FBUS_ID_BULK) {
+        return 1;
     }
-    return taken;
+    unsigned run = 1;
+    while (run < n && f[run].id == f->id) {
+        run++;
+    }
+    return run;
+}
+
+/* Takes the first frame of f[0..n), with those after it that are taken in
+ * the same go: returns how many. */
+static unsigned take_frames(finger_bus_t *bus, wsg_fingers_t *fingers, const hal_can_frame_t *f,
+                            unsigned n, uint64_t now_us)
+{
+    uint8_t injected;
+    if (fbus_func_of(f->id) == FBUS_ID_SIMCTL && wsg_fbus_unpack_simctl(f, &injected)) {
+        bus->wake = true; /* only an on-demand bus passes it */
+        return 1;
+    }
+    int slot = wsg_fbus_slot_of_node(fbus_node_of(f->id));
+    if (slot < 0 || (bus->power_mask & (1u << slot)) == 0u) {
+        return 1;
+    }
+    fbus_slot_t *s = &bus->slot[slot];
+    if (s->comm_fault) {
+        slot_log(HAL_LOG_INFO, (unsigned)slot, "communication restored");
+    }
+    s->heard = true;
+    s->comm_fault = false;
+    s->last_rx_us = now_us;
+    unsigned run = run_length(f, n);
+    dispatch_frames(s, &fingers->slot[slot], f, run);
+    return run;
+}
+
+/* Takes frames[0..count), the first poll's, and all that follow. */
+static void receive_all(finger_bus_t *bus, wsg_fingers_t *fingers, const hal_can_frame_t *frames,
+                        unsigned count, uint64_t now_us)
+{
+    hal_can_frame_t one;
+    while (frames != NULL) {
+        for (unsigned i = 0; i < count;) {
+            i += take_frames(bus, fingers, &frames[i], count - i, now_us);
+        }
+        frames = hal_can_recv_many(bus->can, &one, &count);
+    }
 }
 
 static void supervise(finger_bus_t *bus, unsigned slot, wsg_finger_t *finger, uint64_t now_us)
@@ -394,17 +440,10 @@ static void note_quiet_until(finger_bus_t *bus)
     bus->quiet_until_us = until;
 }
 
-bool wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in)
+void wsg_finger_bus_step_full(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in,
+                              const hal_can_frame_t *frames, unsigned count)
 {
-    if (bus->can == NULL) {
-        return false;
-    }
-    if (in->now_us >= bus->next_state_us) {
-        broadcast_state(bus, in); /* first: the supply reaches the fingers before polling */
-    }
-    if (receive_all(bus, fingers, in->now_us) == 0u && quiet(bus, fingers, in)) {
-        return false;
-    }
+    receive_all(bus, fingers, frames, count, in->now_us);
     for (unsigned i = 0; i < FBUS_SLOTS; i++) {
         supervise(bus, i, &fingers->slot[i], in->now_us);
         publish(bus, i, &fingers->slot[i]);
@@ -415,6 +454,23 @@ bool wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_i
         bus->awake_until_us = in->now_us + FBUS_SETTLE_US;
     }
     note_quiet_until(bus);
+}
+
+bool wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in)
+{
+    if (bus->can == NULL) {
+        return false;
+    }
+    if (in->now_us >= bus->next_state_us) {
+        broadcast_state(bus, in); /* first: the supply reaches the fingers before polling */
+    }
+    hal_can_frame_t one;
+    unsigned count;
+    const hal_can_frame_t *frames = hal_can_recv_many(bus->can, &one, &count);
+    if (frames == NULL && quiet(bus, fingers, in)) {
+        return false;
+    }
+    wsg_finger_bus_step_full(bus, fingers, in, frames, count);
     return true;
 }
 

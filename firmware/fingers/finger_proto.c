@@ -248,14 +248,31 @@ bool wsg_fbus_is_bulk(const hal_can_frame_t *f)
     return is(f, FBUS_ID_BULK, 8);
 }
 
-bool wsg_fbus_bulk_rx_feed_frame(fbus_bulk_rx_t *rx, const hal_can_frame_t *f)
+/* wsg_fbus_bulk_rx_feed() of a frame wsg_fbus_is_bulk() accepted, without
+ * unpacking it first. */
+static bool feed_frame(fbus_bulk_rx_t *rx, const hal_can_frame_t *f)
 {
     int first = segment_first(rx, f->data[0] & 0x7Fu, f->data[1]);
     if (first < 0) {
         return false;
     }
-    for (unsigned i = 0; i < FBUS_BULK_VALUES_PER_FRAME; i++) {
-        rx->values[(unsigned)first + i] = get_u16(&f->data[2 + 2 * i]);
-    }
+    _Static_assert(FBUS_BULK_VALUES_PER_FRAME == 3u, "a BULK frame's values, one by one");
+    uint16_t *values = &rx->values[first];
+    values[0] = get_u16(&f->data[2]);
+    values[1] = get_u16(&f->data[4]);
+    values[2] = get_u16(&f->data[6]);
     return segment_done(rx, (unsigned)first, (f->data[0] & 0x80u) != 0u);
+}
+
+unsigned wsg_fbus_bulk_rx_feed_frames(fbus_bulk_rx_t *rx, const hal_can_frame_t *f, unsigned n,
+                                      bool *done)
+{
+    for (unsigned i = 0; i < n; i++) {
+        if (wsg_fbus_is_bulk(&f[i]) && feed_frame(rx, &f[i])) {
+            *done = true;
+            return i + 1u;
+        }
+    }
+    *done = false;
+    return n;
 }

@@ -78,6 +78,11 @@ void wsg_finger_bus_init(finger_bus_t *bus, const hal_can_t *can);
  * publish to fingers and compute the grip-force loop. False when the step
  * changed nothing in fingers (no bus, or a quiet poll). */
 bool wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in);
+/* The rest of a step that is not a quiet poll, from the frames its first
+ * poll took (frames[0..count); NULL: none) on. Not inline: a quiet step,
+ * nine in ten while the jaws move, stays a small function. */
+void wsg_finger_bus_step_full(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in,
+                              const hal_can_frame_t *frames, unsigned count);
 /* A real bus is supervised every 10 ms: its nodes run on their own and
  * power down without STATE. On an on-demand bus the nodes run when the
  * controller polls, so every step is a complete bus cycle: it ticks only

@@ -169,26 +169,35 @@ static void on_simctl(finger_node_t *node, uint8_t faults, uint64_t now_us)
     }
 }
 
+/* The frame's function code says what it can be: one unpack, not a try of
+ * each (STATE comes every 10 ms). */
 static void handle_frame(finger_node_t *node, const hal_can_frame_t *frame, uint64_t now_us)
 {
     fbus_state_t state;
     uint8_t value = 0;
-    if (wsg_fbus_unpack_simctl(frame, &value) && fbus_node_of(frame->id) == node->node) {
-        on_simctl(node, value, now_us);
-        return;
-    }
-    if (!present(node)) {
-        return;
-    }
-    if (wsg_fbus_unpack_state(frame, &state)) {
-        on_state(node, &state, now_us);
-    } else if (node->powered && wsg_fbus_unpack_command(frame, &value) &&
-               fbus_node_of(frame->id) == node->node) {
-        if (value == FBUS_CMD_TARE) {
-            tare(node);
-        } else if (value == FBUS_CMD_REQ_DESCRIPTOR) {
-            send_descriptor(node);
+    bool mine = fbus_node_of(frame->id) == node->node;
+    switch (fbus_func_of(frame->id)) {
+    case FBUS_ID_SIMCTL:
+        if (mine && wsg_fbus_unpack_simctl(frame, &value)) {
+            on_simctl(node, value, now_us);
         }
+        break;
+    case FBUS_ID_STATE:
+        if (present(node) && wsg_fbus_unpack_state(frame, &state)) {
+            on_state(node, &state, now_us);
+        }
+        break;
+    case FBUS_ID_COMMAND:
+        if (present(node) && node->powered && mine && wsg_fbus_unpack_command(frame, &value)) {
+            if (value == FBUS_CMD_TARE) {
+                tare(node);
+            } else if (value == FBUS_CMD_REQ_DESCRIPTOR) {
+                send_descriptor(node);
+            }
+        }
+        break;
+    default:
+        break;
     }
 }
 
@@ -265,22 +274,24 @@ static void update_dsa_cells(finger_node_t *node)
     node->cells_valid = true;
 }
 
+#define DSA_CELLS (FBUS_DSA_ROWS * FBUS_DSA_COLS)
+#define DSA_SEGMENTS ((DSA_CELLS + FBUS_BULK_VALUES_PER_FRAME - 1u) / FBUS_BULK_VALUES_PER_FRAME)
+
+/* A transfer's frames go out in one burst. */
 static void send_dsa(finger_node_t *node)
 {
     update_dsa_cells(node);
-    unsigned total = FBUS_DSA_ROWS * FBUS_DSA_COLS;
-    unsigned segments = (total + FBUS_BULK_VALUES_PER_FRAME - 1u) / FBUS_BULK_VALUES_PER_FRAME;
     uint8_t transfer = node->data_counter++;
-    for (unsigned s = 0; s < segments; s++) {
-        fbus_bulk_t b = {(uint8_t)s, s + 1u == segments, transfer, {0, 0, 0}};
+    hal_can_frame_t frames[DSA_SEGMENTS];
+    for (unsigned s = 0; s < DSA_SEGMENTS; s++) {
+        fbus_bulk_t b = {(uint8_t)s, s + 1u == DSA_SEGMENTS, transfer, {0, 0, 0}};
         for (unsigned i = 0; i < FBUS_BULK_VALUES_PER_FRAME; i++) {
             unsigned k = s * FBUS_BULK_VALUES_PER_FRAME + i;
-            b.values[i] = k < total ? node->cells[k] : 0u;
+            b.values[i] = k < DSA_CELLS ? node->cells[k] : 0u;
         }
-        hal_can_frame_t f;
-        wsg_fbus_pack_bulk(&f, node->node, &b);
-        send(node, &f);
+        wsg_fbus_pack_bulk(&frames[s], node->node, &b);
     }
+    node->frames_sent += hal_can_send_many(node->bus, frames, DSA_SEGMENTS);
 }
 
 /* The next time of a periodic event that was due at `due`. */

@@ -20,37 +20,37 @@ typedef struct {
 } finger_node_params_t;
 
 typedef struct {
-    fbus_type_t type;
-    uint8_t node;
-    finger_node_params_t params;
+    /* Wider fields first, so that a fleet's thousands of nodes hold no
+     * padding. */
     const hal_can_t *bus;
-    /* power and lifecycle */
-    bool powered;
-    bool operational;
+    /* power, lifecycle and schedule */
     uint64_t powered_at_us;
     uint64_t last_state_us;
     uint64_t stepped_us; /* the last step: a longer gap than FBUS_STALL_US was a stall */
-    uint8_t sim_faults;  /* FBUS_FAULT_*: injected through SIMCTL */
-    /* what the gripper last broadcast */
-    fbus_state_t state;
-    bool have_state;
-    /* schedule */
     uint64_t next_heartbeat_us;
     uint64_t next_data_us;
     uint64_t due_us; /* wsg_finger_node_next_due_us() after the last step or frame */
-    uint8_t heartbeat_counter;
-    uint8_t data_counter;
+    fbus_type_t type;
+    finger_node_params_t params;
+    fbus_state_t state; /* what the gripper last broadcast, when have_state */
+    uint32_t frames_sent;
     /* FMF */
     uint32_t rng;
     float average_n; /* running mean of the raw reading, the tare reference */
     float tare_n;
-    bool tared;
-    uint8_t tare_count;
     /* DSA */
-    uint16_t cells[FBUS_DSA_ROWS * FBUS_DSA_COLS];
     float cells_force_n; /* the force the cells show, when cells_valid */
-    bool cells_valid;
-    uint32_t frames_sent;
+    uint16_t cells[FBUS_DSA_ROWS * FBUS_DSA_COLS];
+    uint8_t node;
+    bool powered;
+    bool operational;
+    uint8_t sim_faults; /* FBUS_FAULT_*: injected through SIMCTL */
+    bool have_state;
+    uint8_t heartbeat_counter;
+    uint8_t data_counter;
+    bool tared;         /* FMF */
+    uint8_t tare_count; /* FMF */
+    bool cells_valid;   /* DSA */
 } finger_node_t;
 
 void wsg_finger_node_defaults(finger_node_params_t *params);
@@ -59,6 +59,25 @@ void wsg_finger_node_init(finger_node_t *node, fbus_type_t type, unsigned slot,
 
 /* The filters the node needs on its controller (at most 3). */
 unsigned wsg_finger_node_filters(const finger_node_t *node, hal_can_filter_t *out);
+
+/* hal_can_filters_accept() with the node's wsg_finger_node_filters(), as one
+ * test: a standard STATE frame, or a COMMAND or SIMCTL to this node. The
+ * loopback asks it for every frame on the bus. */
+static inline bool wsg_finger_node_accepts(const finger_node_t *node, const hal_can_frame_t *frame)
+{
+    uint32_t id = frame->id & HAL_CAN_STD_ID_MASK;
+    uint32_t own = (uint32_t)(node->node & FBUS_NODE_MASK);
+    return (frame->flags & HAL_CAN_FLAG_EXT) == 0u &&
+           (id == FBUS_ID_STATE || id == FBUS_ID_COMMAND + own || id == FBUS_ID_SIMCTL + own);
+}
+
+/* False for a frame no node accepts (wsg_finger_node_accepts), by its
+ * function code alone: anything but STATE, COMMAND and SIMCTL. */
+static inline bool wsg_finger_node_may_accept(const hal_can_frame_t *frame)
+{
+    uint32_t func = fbus_func_of(frame->id);
+    return func == FBUS_ID_STATE || func == FBUS_ID_COMMAND || func == FBUS_ID_SIMCTL;
+}
 
 /* Handles one frame from the bus (STATE, COMMAND, SIMCTL for this node). */
 void wsg_finger_node_receive(finger_node_t *node, const hal_can_frame_t *frame, uint64_t now_us);
@@ -69,13 +88,21 @@ void wsg_finger_node_step_due(finger_node_t *node, uint64_t now_us);
 /* A powered node steps at least every heartbeat (100 ms). A longer gap means
  * its own loop was held up (the host descheduled fingersim): the gripper's
  * silence counts only while the node ran, else a stall of the whole host
- * would cut the fingers' supply. */
+ * would cut the fingers' supply. The gap is skipped: the silence before it
+ * is moved forward by it (not past now_us). */
+static inline void wsg_finger_node_skip_stall(finger_node_t *node, uint64_t gap_us, uint64_t now_us)
+{
+    uint64_t shifted = node->last_state_us + gap_us;
+    node->last_state_us = shifted < now_us ? shifted : now_us;
+}
+
+/* The loop that steps the node is its own: a gap of more than FBUS_STALL_US
+ * since its last step was a stall. */
 static inline void wsg_finger_node_skip_own_stall(finger_node_t *node, uint64_t now_us)
 {
     uint64_t gap = now_us - node->stepped_us;
     if (node->stepped_us != 0u && gap > FBUS_STALL_US) {
-        uint64_t shifted = node->last_state_us + gap;
-        node->last_state_us = shifted < now_us ? shifted : now_us;
+        wsg_finger_node_skip_stall(node, gap, now_us);
     }
     node->stepped_us = now_us;
 }

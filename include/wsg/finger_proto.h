@@ -162,8 +162,11 @@ void wsg_fbus_bulk_rx_reset(fbus_bulk_rx_t *rx);
 bool wsg_fbus_bulk_rx_feed(fbus_bulk_rx_t *rx, const fbus_bulk_t *segment);
 /* A well-formed BULK frame (what wsg_fbus_unpack_bulk() accepts). */
 bool wsg_fbus_is_bulk(const hal_can_frame_t *f);
-/* wsg_fbus_bulk_rx_feed() of a frame wsg_fbus_is_bulk() accepted, without
- * unpacking it first (the gripper receives 28 per DSA transfer). */
-bool wsg_fbus_bulk_rx_feed_frame(fbus_bulk_rx_t *rx, const hal_can_frame_t *f);
+/* wsg_fbus_bulk_rx_feed() of each frame of f[0..n) that wsg_fbus_is_bulk()
+ * accepts (the others are skipped), in order, without unpacking them (the
+ * gripper receives 28 per DSA transfer), until one completes a transfer
+ * (*done then true): returns how many frames it took. */
+unsigned wsg_fbus_bulk_rx_feed_frames(fbus_bulk_rx_t *rx, const hal_can_frame_t *f, unsigned n,
+                                      bool *done);
 
 #endif

@@ -40,5 +40,6 @@ bool t_log_contains(const char *text);
 Suite *proto_suite(void);
 Suite *node_suite(void);
 Suite *bus_suite(void);
+Suite *loopback_suite(void);
 
 #endif

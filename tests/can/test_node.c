@@ -33,7 +33,7 @@ static bool rec_filters(void *ctx, const hal_can_filter_t *f, unsigned n)
     return true;
 }
 
-static const hal_can_ops_t rec_ops = {rec_send, rec_recv, rec_filters, false};
+static const hal_can_ops_t rec_ops = {rec_send, rec_recv, rec_filters, false, NULL, NULL};
 static const hal_can_t rec_bus = {&rec_ops, NULL};
 static finger_node_t node;
 static uint64_t now;
@@ -392,7 +392,7 @@ static void twins_hear_simctl(finger_node_t twins[2], uint8_t faults)
 START_TEST(steps_before_the_due_time_change_nothing)
 {
     static log_t logs[2];
-    static const hal_can_ops_t log_ops = {log_send, rec_recv, rec_filters, false};
+    static const hal_can_ops_t log_ops = {log_send, rec_recv, rec_filters, false, NULL, NULL};
     const hal_can_t buses[2] = {{&log_ops, &logs[0]}, {&log_ops, &logs[1]}};
     finger_node_t twins[2];
     finger_node_params_t p;
@@ -422,6 +422,36 @@ START_TEST(steps_before_the_due_time_change_nothing)
         ck_assert_uint_eq(a->id, b->id);
         ck_assert_uint_eq(a->dlc, b->dlc);
         ck_assert_mem_eq(a->data, b->data, sizeof(a->data));
+    }
+}
+END_TEST
+
+/* The loopback tests a node's filters in one expression: the same verdict
+ * as the filters themselves on every standard identifier and a sample of
+ * extended ones, with and without the RTR flag; the function-code check
+ * before it lets every accepted frame through. */
+START_TEST(acceptance_test_matches_the_filters)
+{
+    static const uint8_t flags[] = {0, HAL_CAN_FLAG_RTR, HAL_CAN_FLAG_EXT,
+                                    HAL_CAN_FLAG_EXT | HAL_CAN_FLAG_RTR};
+    for (unsigned slot = 0; slot < FBUS_SLOTS; slot++) {
+        start(FBUS_TYPE_DSA, slot);
+        hal_can_filter_t filters[HAL_CAN_MAX_FILTERS];
+        unsigned count = wsg_finger_node_filters(&node, filters);
+        unsigned accepted = 0;
+        for (uint32_t id = 0; id < 0x1000u; id++) {
+            for (unsigned k = 0; k < sizeof(flags); k++) {
+                hal_can_frame_t f = {.id = id, .dlc = 8, .flags = flags[k]};
+                bool want = hal_can_filters_accept(filters, count, &f);
+                ck_assert_msg(wsg_finger_node_accepts(&node, &f) == want,
+                              "slot %u id 0x%x flags %u", slot, id, flags[k]);
+                ck_assert(!want || wsg_finger_node_may_accept(&f));
+                accepted += want ? 1u : 0u;
+            }
+        }
+        /* STATE, COMMAND, SIMCTL; RTR or not; bit 11 set or not (the filters
+         * mask it off) */
+        ck_assert_uint_eq(accepted, 3u * 2u * 2u);
     }
 }
 END_TEST
@@ -458,6 +488,7 @@ Suite *node_suite(void)
     tcase_add_test(tc, generic_only_heartbeats);
     tcase_add_test(tc, injected_faults);
     tcase_add_test(tc, steps_before_the_due_time_change_nothing);
+    tcase_add_test(tc, acceptance_test_matches_the_filters);
     tcase_add_test(tc, parses_finger_lists);
     suite_add_tcase(s, tc);
     return s;

@@ -168,20 +168,13 @@ START_TEST(bulk_interleaved_transfer_restarts)
 }
 END_TEST
 
-/* The gripper feeds BULK frames without unpacking them: on any stream of
- * frames (good, lost, foreign, reordered segments, malformed frames) it
- * keeps the same transfer as unpacking each frame and feeding that. */
-START_TEST(bulk_fed_from_frames_as_when_unpacked)
+#define STREAM_FRAMES 20000u
+
+/* Good, lost, foreign, reordered segments and malformed frames. */
+static void bulk_stream(hal_can_frame_t *frames)
 {
-    fbus_bulk_rx_t by_frame;
-    fbus_bulk_rx_t unpacked;
-    memset(&by_frame, 0, sizeof(by_frame)); /* padding included: compared whole below */
-    memset(&unpacked, 0, sizeof(unpacked));
-    wsg_fbus_bulk_rx_reset(&by_frame);
-    wsg_fbus_bulk_rx_reset(&unpacked);
     uint32_t rng = 12345u;
-    unsigned completed = 0;
-    for (unsigned n = 0; n < 20000u; n++) {
+    for (unsigned n = 0; n < STREAM_FRAMES; n++) {
         rng = rng * 1103515245u + 12345u;
         hal_can_frame_t f = {wsg_fbus_id(FBUS_ID_BULK, 2), 8, 0, {0}};
         unsigned segment = (n % 29u) < 28u ? n % 29u : (rng >> 8) % 40u;
@@ -196,16 +189,46 @@ START_TEST(bulk_fed_from_frames_as_when_unpacked)
         if ((rng >> 16) % 61u == 0u) {
             f.dlc = 7; /* too short: not a BULK frame */
         }
-        fbus_bulk_t b;
-        bool is_bulk = wsg_fbus_unpack_bulk(&f, &b);
-        ck_assert(is_bulk == wsg_fbus_is_bulk(&f));
-        if (!is_bulk) {
-            continue;
+        frames[n] = f;
+    }
+}
+
+/* The gripper feeds BULK frames without unpacking them, in runs of any
+ * length: on any stream of frames it keeps the same transfer as unpacking
+ * each frame and feeding that, and stops a run right after a transfer
+ * completes. */
+START_TEST(bulk_fed_from_frames_as_when_unpacked)
+{
+    static hal_can_frame_t frames[STREAM_FRAMES];
+    fbus_bulk_rx_t by_frame;
+    fbus_bulk_rx_t unpacked;
+    memset(&by_frame, 0, sizeof(by_frame)); /* padding included: compared whole below */
+    memset(&unpacked, 0, sizeof(unpacked));
+    wsg_fbus_bulk_rx_reset(&by_frame);
+    wsg_fbus_bulk_rx_reset(&unpacked);
+    bulk_stream(frames);
+    unsigned completed = 0;
+    unsigned next = 0; /* the first frame not unpacked yet */
+    for (unsigned n = 0; n < STREAM_FRAMES;) {
+        unsigned run = 1u + (n * 7u) % 40u;
+        run = run < STREAM_FRAMES - n ? run : STREAM_FRAMES - n;
+        bool done = true;
+        unsigned fed = wsg_fbus_bulk_rx_feed_frames(&by_frame, &frames[n], run, &done);
+        ck_assert_uint_ge(fed, 1);
+        ck_assert_uint_le(fed, run);
+        bool unpacked_done = false;
+        for (; next < n + fed; next++) {
+            fbus_bulk_t b;
+            bool is_bulk = wsg_fbus_unpack_bulk(&frames[next], &b);
+            ck_assert(is_bulk == wsg_fbus_is_bulk(&frames[next]));
+            ck_assert(!unpacked_done); /* only the run's last frame completes */
+            unpacked_done = is_bulk && wsg_fbus_bulk_rx_feed(&unpacked, &b);
         }
-        bool done = wsg_fbus_bulk_rx_feed(&unpacked, &b);
-        ck_assert(done == wsg_fbus_bulk_rx_feed_frame(&by_frame, &f));
+        ck_assert(done == unpacked_done);
+        ck_assert(done || fed == run);
         completed += done ? 1u : 0u;
         ck_assert(memcmp(&by_frame, &unpacked, sizeof(by_frame)) == 0);
+        n += fed;
     }
     ck_assert_uint_gt(completed, 20u); /* whole transfers did complete */
 }
