@@ -29,6 +29,7 @@ void wsg_sim_axis_init(sim_axis_t *axis, float stroke_mm, float emergency_accel_
 
 void wsg_sim_axis_place_part(sim_axis_t *axis, float width_mm, float stiffness_n_mm)
 {
+    axis->rest_step_current = false;
     axis->part.present = true;
     axis->part.squeezed_s = 0.0f;
     axis->part.width_mm = width_mm;
@@ -38,6 +39,7 @@ void wsg_sim_axis_place_part(sim_axis_t *axis, float width_mm, float stiffness_n
 
 void wsg_sim_axis_remove_part(sim_axis_t *axis)
 {
+    axis->rest_step_current = false;
     axis->part.present = false;
     axis->part.squeezed_s = 0.0f;
 }
@@ -45,6 +47,7 @@ void wsg_sim_axis_remove_part(sim_axis_t *axis)
 void wsg_sim_axis_set_part(sim_axis_t *axis, float width_mm, float stiffness_n_mm,
                            float slip_force_n)
 {
+    axis->rest_step_current = false;
     if (!axis->part.present) {
         wsg_sim_axis_place_part(axis, width_mm, stiffness_n_mm);
     }
@@ -55,6 +58,7 @@ void wsg_sim_axis_set_part(sim_axis_t *axis, float width_mm, float stiffness_n_m
 
 void wsg_sim_axis_slip_part(sim_axis_t *axis)
 {
+    axis->rest_step_current = false;
     if (axis->part.present) {
         axis->part.slips++;
         wsg_sim_axis_remove_part(axis);
@@ -63,6 +67,7 @@ void wsg_sim_axis_slip_part(sim_axis_t *axis)
 
 void wsg_sim_axis_place_obstacle(sim_axis_t *axis, float width_mm)
 {
+    axis->rest_step_current = false;
     axis->obstacle.present = true;
     axis->obstacle.width_mm = width_mm;
     axis->obstacle.side = axis->x_mm >= width_mm ? SIM_PART_INSIDE : SIM_PART_OUTSIDE;
@@ -70,12 +75,14 @@ void wsg_sim_axis_place_obstacle(sim_axis_t *axis, float width_mm)
 
 void wsg_sim_axis_remove_obstacle(sim_axis_t *axis)
 {
+    axis->rest_step_current = false;
     axis->obstacle.present = false;
 }
 
 void wsg_sim_axis_move(sim_axis_t *axis, float target_mm, float speed_mm_s, float accel_mm_s2,
                        float force_limit_n)
 {
+    axis->rest_step_current = false;
     axis->target_mm = target_mm - axis->offset_mm;
     axis->vmax_mm_s = speed_mm_s;
     axis->amax_mm_s2 = accel_mm_s2;
@@ -85,6 +92,7 @@ void wsg_sim_axis_move(sim_axis_t *axis, float target_mm, float speed_mm_s, floa
 
 void wsg_sim_axis_stop(sim_axis_t *axis, bool fast)
 {
+    axis->rest_step_current = false;
     float accel = fast ? axis->emergency_accel_mm_s2 : axis->amax_mm_s2;
     if (accel <= 0.0f) {
         accel = axis->emergency_accel_mm_s2;
@@ -97,29 +105,34 @@ void wsg_sim_axis_stop(sim_axis_t *axis, bool fast)
 
 void wsg_sim_axis_disable(sim_axis_t *axis)
 {
+    axis->rest_step_current = false;
     axis->fmax_n = 0.0f;
     wsg_sim_axis_stop(axis, true);
 }
 
 void wsg_sim_axis_set_position(sim_axis_t *axis, float position_mm)
 {
+    axis->rest_step_current = false;
     float shift = position_mm - wsg_sim_axis_position(axis);
     axis->offset_mm += shift;
 }
 
 void wsg_sim_axis_place_jaws(sim_axis_t *axis, float x_mm)
 {
+    axis->rest_step_current = false;
     axis->x_mm = x_mm;
     axis->target_mm = x_mm;
 }
 
 void wsg_sim_axis_set_power_fault(sim_axis_t *axis, bool on)
 {
+    axis->rest_step_current = false;
     axis->power_fault = on;
 }
 
 void wsg_sim_axis_set_current_fault(sim_axis_t *axis, bool on)
 {
+    axis->rest_step_current = false;
     axis->current_fault = on;
 }
 
@@ -350,6 +363,7 @@ static bool free_run(sim_axis_t *axis, float dt_s, clear_span_t span)
 
 void wsg_sim_axis_advance_stepwise(sim_axis_t *axis, float dt_s)
 {
+    axis->rest_step_current = false;
     /* At rest only contacts can change (a part placed or removed): one step
      * of 0 s. */
     bool at_rest = wsg_sim_axis_at_rest(axis);
@@ -387,15 +401,22 @@ static void move_steps(sim_axis_t *axis, float dt_s, clear_span_t span)
 void wsg_sim_axis_advance(sim_axis_t *axis, float dt_s)
 {
     if (wsg_sim_axis_at_rest(axis)) {
+        if (axis->rest_step_current) {
+            return; /* the world is advanced before every input and every tick */
+        }
         if (within(clear_span(axis), axis->x_mm)) {
             /* what the step of 0 s gives without a contact (the common case
-             * between commands: the world is advanced before every input) */
+             * between commands), and gives again until something changes */
             clear_outputs(axis);
+            axis->rest_step_current = true;
         } else {
+            /* in contact a step at rest settles the jaws further: each
+             * counts */
             wsg_sim_axis_advance_stepwise(axis, 0.0f);
         }
         return;
     }
+    axis->rest_step_current = false;
     clear_span_t span = clear_span(axis);
     if (!free_run(axis, dt_s, span)) {
         move_steps(axis, dt_s, span);

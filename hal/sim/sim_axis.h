@@ -54,6 +54,11 @@ typedef struct {
     sim_obstacle_t obstacle;
     bool current_fault;
     bool power_fault;
+    /* At rest and clear of every surface, the outputs are those of a step
+     * at rest and nothing changed since: another step at rest (any dt: it
+     * does not integrate) would give them again, so it is skipped. Every
+     * change clears it. (In contact a step at rest is not idempotent.) */
+    bool rest_step_current;
 } sim_axis_t;
 
 #define SIM_AXIS_MAX_STEP_S 0.0005f

@@ -295,6 +295,46 @@ static float uniform(float low, float high)
     return low + (high - low) * (float)(lcg() % 100000u) / 100000.0f;
 }
 
+/* The world's changes that the tests above do not make at random. */
+static void random_world_change(axis_twin_t *twin)
+{
+    switch (lcg() % 7u) {
+    case 0: {
+        float width = uniform(1.0f, STROKE_MM - 1.0f), stiffness = uniform(0.0f, 1000.0f);
+        BOTH(twin, wsg_sim_axis_place_part, width, stiffness);
+        break;
+    }
+    case 1:
+        wsg_sim_axis_slip_part(&twin->fast);
+        wsg_sim_axis_slip_part(&twin->ref);
+        break;
+    case 2:
+        wsg_sim_axis_disable(&twin->fast);
+        wsg_sim_axis_disable(&twin->ref);
+        break;
+    case 3: {
+        float position = uniform(0.0f, STROKE_MM);
+        BOTH(twin, wsg_sim_axis_set_position, position);
+        break;
+    }
+    case 4: {
+        float x = uniform(0.0f, STROKE_MM);
+        BOTH(twin, wsg_sim_axis_place_jaws, x);
+        break;
+    }
+    case 5: {
+        bool on = lcg() % 2u == 0u;
+        BOTH(twin, wsg_sim_axis_set_power_fault, on);
+        break;
+    }
+    default: {
+        bool on = lcg() % 2u == 0u;
+        BOTH(twin, wsg_sim_axis_set_current_fault, on);
+        break;
+    }
+    }
+}
+
 static void random_command(axis_twin_t *twin)
 {
     switch (lcg() % 10u) {
@@ -338,6 +378,35 @@ static void random_command(axis_twin_t *twin)
     }
 }
 
+/* An axis at rest and clear skips the steps at rest that follow the first;
+ * each change of its world is stepped again, at once. */
+START_TEST(changes_at_rest_are_stepped_again)
+{
+    axis_twin_t twin;
+    twin_init(&twin);
+    BOTH(&twin, wsg_sim_axis_place_jaws, 40.0f);
+    twin_steps(&twin, 3, STEP_S); /* at rest and clear: the later two are skipped */
+    BOTH(&twin, wsg_sim_axis_place_part, 40.0f, 20.0f); /* right at the jaws */
+    twin_steps(&twin, 3, 0.0f);
+    wsg_sim_axis_remove_part(&twin.fast);
+    wsg_sim_axis_remove_part(&twin.ref);
+    twin_steps(&twin, 2, STEP_S);
+    BOTH(&twin, wsg_sim_axis_set_part, 41.0f, 5.0f, 30.0f);
+    twin_steps(&twin, 2, STEP_S);
+    wsg_sim_axis_remove_part(&twin.fast);
+    wsg_sim_axis_remove_part(&twin.ref);
+    twin_steps(&twin, 2, STEP_S);
+    BOTH(&twin, wsg_sim_axis_place_obstacle, 42.0f);
+    twin_steps(&twin, 2, STEP_S);
+    wsg_sim_axis_remove_obstacle(&twin.fast);
+    wsg_sim_axis_remove_obstacle(&twin.ref);
+    twin_steps(&twin, 2, STEP_S);
+    BOTH(&twin, wsg_sim_axis_place_jaws, 0.0f); /* onto the end stop */
+    twin_steps(&twin, 2, STEP_S);
+    ck_assert_uint_eq(twin.at_rest, twin.advances);
+}
+END_TEST
+
 START_TEST(random_commands_match_the_full_model)
 {
     static const float steps_s[] = {STEP_S, STEP_S, STEP_S, 0.0f, 0.0002f, 0.0021f, 0.0005f};
@@ -347,6 +416,9 @@ START_TEST(random_commands_match_the_full_model)
     for (unsigned k = 0; k < 200000u; k++) {
         if (lcg() % 300u == 0u) {
             random_command(&twin);
+        }
+        if (lcg() % 2000u == 0u) {
+            random_world_change(&twin);
         }
         twin_advance(&twin, steps_s[lcg() % (sizeof(steps_s) / sizeof(steps_s[0]))]);
     }
@@ -500,6 +572,7 @@ Suite *sim_suite(void)
     tcase_add_test(axis, grips_and_slips_match_the_full_model);
     tcase_add_test(axis, outside_parts_obstacles_and_end_stops_match_the_full_model);
     tcase_add_test(axis, short_slow_and_odd_moves_match_the_full_model);
+    tcase_add_test(axis, changes_at_rest_are_stepped_again);
     tcase_add_test(axis, random_commands_match_the_full_model);
     suite_add_tcase(s, axis);
     TCase *thermal = tcase_create("thermal");
