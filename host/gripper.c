@@ -286,7 +286,8 @@ void gripper_reset(gripper_t *g)
 void gripper_feed(gripper_t *g, wsg_conn_t *c, const uint8_t *bytes, size_t len,
                   int end_of_datagram)
 {
-    wsg_runner_feed(&g->runner, c, bytes, len, end_of_datagram != 0);
+    /* the touch ticks g at this instant, before the clock moves on */
+    wsg_runner_feed_before_poll(&g->runner, c, bytes, len, end_of_datagram != 0);
     gripper_touch(g);
 }
 

@@ -35,15 +35,21 @@ void wsg_runner_due_now(wsg_runner_t *r)
     r->next_deadline_us = hal_clock_now_us();
 }
 
-void wsg_runner_feed(wsg_runner_t *r, wsg_conn_t *c, const uint8_t *bytes, size_t len,
-                     bool end_of_datagram)
+void wsg_runner_feed_before_poll(wsg_runner_t *r, wsg_conn_t *c, const uint8_t *bytes, size_t len,
+                                 bool end_of_datagram)
 {
-    uint64_t now = advance(r);
+    (void)advance(r);
     wsg_conn_input(c, bytes, len);
     if (end_of_datagram) {
         wsg_conn_end_datagram(c);
     }
-    due_after(r, now);
+}
+
+void wsg_runner_feed(wsg_runner_t *r, wsg_conn_t *c, const uint8_t *bytes, size_t len,
+                     bool end_of_datagram)
+{
+    wsg_runner_feed_before_poll(r, c, bytes, len, end_of_datagram);
+    due_after(r, hal_clock_now_us()); /* input takes no device time */
 }
 
 void wsg_runner_input_done(wsg_runner_t *r)

@@ -106,6 +106,81 @@ START_TEST(queries_faster_than_the_tick_do_not_postpone_steps)
 }
 END_TEST
 
+/* What a port sees of the device: each poll's deadline, the steps (world
+ * advances) and the replies, in order. */
+typedef struct {
+    uint64_t polls[4096];
+    unsigned poll_count;
+    unsigned advances;
+    char replies[4096];
+} seen_t;
+
+static void note_poll(seen_t *seen, uint64_t deadline)
+{
+    if (seen->poll_count < sizeof(seen->polls) / sizeof(seen->polls[0])) {
+        seen->polls[seen->poll_count] = deadline;
+    }
+    seen->poll_count++;
+}
+
+/* Input at instants between and at the control step's deadlines, each
+ * followed by a poll at the same instant (as the host does), then steps to
+ * the deadlines: commands that start, supersede and stop motion, and
+ * queries. */
+static void run_story(bool before_poll, seen_t *seen)
+{
+    static const struct {
+        const char *line;
+        uint64_t then_us; /* how long the story runs on after it */
+    } story[] = {{"HOME()\n", 3000000u}, {"POS?\n", 0u},           {"MOVE(20)\n", 250u},
+                 {"POS?\n", 1000u},      {"MOVE(60,50)\n", 1700u}, {"POS?\n", 0u},
+                 {"STOP()\n", 3000u},    {"SPEED?\n", 0u},         {"MOVE(100)\n", 40000u},
+                 {"POS?\n", 2000000u},   {"MOVE(30)\n", 500u},     {"FASTSTOP()\n", 0u},
+                 {"FSACK()\n", 1000u},   {"MOVE(80)\n", 2000000u}};
+    memset(seen, 0, sizeof(*seen));
+    for (unsigned k = 0; k < sizeof(story) / sizeof(story[0]); k++) {
+        const char *line = story[k].line;
+        if (before_poll) {
+            wsg_runner_feed_before_poll(&runner, &h_main.conn, (const uint8_t *)line, strlen(line),
+                                        false);
+        } else {
+            feed(line);
+        }
+        note_poll(seen, wsg_runner_poll(&runner));
+        uint64_t until = h_now_us + story[k].then_us;
+        while (runner.next_deadline_us <= until) {
+            h_now_us = runner.next_deadline_us;
+            note_poll(seen, wsg_runner_poll(&runner));
+        }
+        h_now_us = until;
+    }
+    seen->advances = advances;
+    while (h_unread(&h_main) > 0 && strlen(seen->replies) + 64 < sizeof(seen->replies)) {
+        strcat(seen->replies, h_next_line(&h_main));
+        strcat(seen->replies, "|");
+    }
+}
+
+START_TEST(a_feed_before_a_poll_steps_as_a_feed)
+{
+    static seen_t fed, fed_before_poll;
+    run_story(false, &fed);
+    h_teardown();
+    runner_setup();
+    run_story(true, &fed_before_poll);
+    ck_assert_uint_gt(fed.poll_count, 100u);
+    ck_assert_uint_eq(fed_before_poll.poll_count, fed.poll_count);
+    ck_assert_uint_eq(fed_before_poll.advances, fed.advances);
+    for (unsigned i = 0; i < fed.poll_count && i < 4096u; i++) {
+        ck_assert_msg(fed_before_poll.polls[i] == fed.polls[i], "poll %u: %llu, fed: %llu", i,
+                      (unsigned long long)fed_before_poll.polls[i],
+                      (unsigned long long)fed.polls[i]);
+    }
+    ck_assert_str_eq(fed_before_poll.replies, fed.replies);
+    ck_assert_msg(strstr(fed.replies, "FIN MOVE") != NULL, "%s", fed.replies);
+}
+END_TEST
+
 Suite *runner_suite(void)
 {
     Suite *s = suite_create("runner");
@@ -115,6 +190,7 @@ Suite *runner_suite(void)
     tcase_add_test(tc, steps_at_deadlines_until_idle);
     tcase_add_test(tc, step_now_runs_at_once);
     tcase_add_test(tc, queries_faster_than_the_tick_do_not_postpone_steps);
+    tcase_add_test(tc, a_feed_before_a_poll_steps_as_a_feed);
     suite_add_tcase(s, tc);
     return s;
 }
