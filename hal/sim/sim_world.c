@@ -14,7 +14,7 @@ void wsg_sim_world_init(sim_world_t *world, const wsg_config_t *config, uint64_t
     world->last_us = now_us;
 }
 
-void wsg_sim_world_advance(sim_world_t *world, uint64_t now_us)
+void wsg_sim_world_advance_full(sim_world_t *world, uint64_t now_us)
 {
     if (now_us <= world->last_us) {
         if (wsg_sim_axis_at_rest(&world->axis)) { /* else a step of 0 s does nothing */

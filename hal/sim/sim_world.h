@@ -21,8 +21,21 @@ typedef struct {
 /* Power-on: a device with this configuration's mechanics, the jaws mid-stroke. */
 void wsg_sim_world_init(sim_world_t *world, const wsg_config_t *config, uint64_t now_us);
 
-/* Integrates mechanics and temperature up to now_us. */
-void wsg_sim_world_advance(sim_world_t *world, uint64_t now_us);
+/* What wsg_sim_world_advance() does when the time moved or the axis may
+ * need a step at rest. */
+void wsg_sim_world_advance_full(sim_world_t *world, uint64_t now_us);
+/* Integrates mechanics and temperature up to now_us. Inline: the port
+ * advances the world before every input and twice at every tick, and a
+ * second advance at one instant does nothing unless the axis rests with
+ * something changed since its last step at rest. */
+static inline void wsg_sim_world_advance(sim_world_t *world, uint64_t now_us)
+{
+    if (now_us <= world->last_us &&
+        (!wsg_sim_axis_at_rest(&world->axis) || world->axis.rest_step_current)) {
+        return;
+    }
+    wsg_sim_world_advance_full(world, now_us);
+}
 
 /* The HAL handles of this world (axis and temperature; can is left NULL). */
 void wsg_sim_world_hal(sim_world_t *world, wsg_hal_t *hal);
