@@ -23,6 +23,7 @@ static void forget_steps(sim_axis_t *axis)
 {
     axis->rest_step_current = false;
     axis->cruise.current = false;
+    axis->hold_current = false;
 }
 
 void wsg_sim_axis_init(sim_axis_t *axis, float stroke_mm, float emergency_accel_mm_s2)
@@ -432,14 +433,50 @@ void wsg_sim_axis_advance_stepwise(sim_axis_t *axis, float dt_s)
     }
 }
 
+/* What a step writes, by bits (a float's sign of zero counts): a step that
+ * leaves all of it as it was leaves the whole axis as it was, as the rest
+ * (command, surfaces, stroke) only the commands change. */
+typedef struct {
+    uint32_t x, v, force, squeezed;
+    int8_t blocked;
+    bool active, part_present;
+} step_state_t;
+
+static uint32_t float_bits(float v)
+{
+    uint32_t u;
+    memcpy(&u, &v, sizeof(u));
+    return u;
+}
+
+static step_state_t step_state(const sim_axis_t *axis)
+{
+    return (step_state_t){float_bits(axis->x_mm),
+                          float_bits(axis->v_mm_s),
+                          float_bits(axis->force_n),
+                          float_bits(axis->part.squeezed_s),
+                          axis->blocked,
+                          axis->active,
+                          axis->part.present};
+}
+
+static bool same_state(const step_state_t *a, const step_state_t *b)
+{
+    return a->x == b->x && a->v == b->v && a->force == b->force && a->squeezed == b->squeezed &&
+           a->blocked == b->blocked && a->active == b->active && a->part_present == b->part_present;
+}
+
 /* The steps of wsg_sim_axis_advance_stepwise() where the jaws move, touch()
  * cut short where they end a step clear of every surface. The span is taken
  * once: a step can only take a surface away (a part slips out), which leaves
- * the true span wider. */
-static void move_steps(sim_axis_t *axis, float dt_s, clear_span_t span)
+ * the true span wider. Returns whether every step left the axis as it found
+ * it (only a step that ends standing can). */
+static bool move_steps(sim_axis_t *axis, float dt_s, clear_span_t span)
 {
+    bool unchanged = true;
     for (float left_s = dt_s; left_s > 0.0f;) {
         float dt = left_s < SIM_AXIS_MAX_STEP_S ? left_s : SIM_AXIS_MAX_STEP_S;
+        step_state_t before = step_state(axis);
         if (axis->active) {
             profile_step(axis, dt);
         }
@@ -448,14 +485,24 @@ static void move_steps(sim_axis_t *axis, float dt_s, clear_span_t span)
         } else {
             touch(axis, dt);
         }
+        if (unchanged && axis->v_mm_s == 0.0f) {
+            step_state_t after = step_state(axis);
+            unchanged = same_state(&before, &after);
+        } else {
+            unchanged = false;
+        }
         left_s -= dt;
     }
+    return unchanged;
 }
 
 void wsg_sim_axis_advance(sim_axis_t *axis, float dt_s)
 {
     if (cruise_on(axis, dt_s)) {
         return;
+    }
+    if (axis->hold_current && axis->active && dt_s == axis->hold_dt_s) {
+        return; /* the same steps again, each leaving the axis as it was */
     }
     if (wsg_sim_axis_at_rest(axis)) {
         if (axis->rest_step_current) {
@@ -475,7 +522,8 @@ void wsg_sim_axis_advance(sim_axis_t *axis, float dt_s)
     }
     forget_steps(axis);
     clear_span_t span = clear_span(axis);
-    if (!free_run(axis, dt_s, span)) {
-        move_steps(axis, dt_s, span);
+    if (!free_run(axis, dt_s, span) && move_steps(axis, dt_s, span)) {
+        axis->hold_current = true;
+        axis->hold_dt_s = dt_s;
     }
 }

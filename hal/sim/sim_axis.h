@@ -73,6 +73,11 @@ typedef struct {
         float clear_low_mm; /* the clear span (clear_span()) */
         float clear_high_mm;
     } cruise;
+    /* Pushing on a surface (or anything else steady), the last advance's
+     * steps each left every field of the axis as they found it: another of
+     * the same length would too, so it is skipped. Every change clears it. */
+    bool hold_current;
+    float hold_dt_s; /* the length of that advance */
 } sim_axis_t;
 
 #define SIM_AXIS_MAX_STEP_S 0.0005f

@@ -3,7 +3,8 @@
  *
  * wsg_sim_axis_advance() skips the work of steps whose outcome is known (at
  * rest and clear of every surface; accelerating or cruising far from the
- * target and every surface; cruising on as the last advance found), and the thermal model skips its
+ * target and every surface; cruising on as the last advance found; steps
+ * that left the axis as it was, pushing on a surface), and the thermal model skips its
  * share where the board has settled. Each test runs a twin: the same commands on two models, one
  * advanced through the shortcuts, the other through every step (wsg_sim_axis_advance_stepwise, the
  * thermal formula itself), and compares every field after every advance. Floats are compared by
@@ -43,6 +44,7 @@ typedef struct {
     unsigned contacts; /* ... that ended with a force on the jaws */
     unsigned at_rest;  /* ... that started at rest */
     unsigned cruised;  /* ... that started with a cruise remembered (white box) */
+    unsigned held;     /* ... that started with a steady push remembered (white box) */
 } axis_twin_t;
 
 static void same_axis(const axis_twin_t *twin, const char *where)
@@ -92,6 +94,7 @@ static void twin_advance(axis_twin_t *twin, float dt_s)
     float v_before = fabsf(ref->v_mm_s);
     bool rest_before = wsg_sim_axis_at_rest(ref);
     twin->cruised += twin->fast.cruise.current;
+    twin->held += twin->fast.hold_current;
     wsg_sim_axis_advance(&twin->fast, dt_s);
     wsg_sim_axis_advance_stepwise(&twin->ref, dt_s);
     twin->advances++;
@@ -211,6 +214,7 @@ START_TEST(grips_and_slips_match_the_full_model)
     ck_assert_uint_eq(twin.ref.part.slips, 1u);
     ck_assert(!twin.ref.part.present);
     ck_assert_uint_gt(twin.contacts, 100u);
+    ck_assert_uint_gt(twin.held, 100u);
 }
 END_TEST
 
@@ -320,6 +324,53 @@ START_TEST(cruises_forget_every_change)
     twin_steps(&twin, 1200, STEP_S);
     ck_assert_int_eq(twin.ref.blocked, -1);
     ck_assert_uint_gt(twin.cruised, 500u);
+}
+END_TEST
+
+/* Pushing steadily on a surface, an advance leaves the axis as it was and
+ * the next of the same length is skipped: each change while pushing (a
+ * weaker or stronger force, a part that gives way or slips, the surface
+ * taken away, a fault, an offset), an advance of another length. */
+START_TEST(steady_pushes_forget_every_change)
+{
+    axis_twin_t twin;
+    twin_init(&twin);
+    BOTH(&twin, wsg_sim_axis_place_jaws, 50.0f);
+    BOTH(&twin, wsg_sim_axis_place_part, 30.0f, 0.0f); /* rigid, inside */
+    BOTH(&twin, wsg_sim_axis_move, -2.0f, 100.0f, 5000.0f, 40.0f);
+    twin_steps(&twin, 400, STEP_S);
+    ck_assert(twin.fast.hold_current);
+    BOTH(&twin, wsg_sim_axis_move, -2.0f, 100.0f, 5000.0f, 20.0f); /* weaker */
+    twin_steps(&twin, 5, STEP_S);
+    BOTH(&twin, wsg_sim_axis_set_part, 30.0f, 50.0f, 0.0f); /* soft: gives way */
+    twin_steps(&twin, 5, STEP_S);
+    twin_steps(&twin, 5, 0.0003f); /* another length */
+    twin_steps(&twin, 5, STEP_S);
+    BOTH(&twin, wsg_sim_axis_set_current_fault, true);
+    twin_steps(&twin, 5, STEP_S);
+    BOTH(&twin, wsg_sim_axis_set_position, 10.0f);
+    twin_steps(&twin, 5, STEP_S);
+    BOTH(&twin, wsg_sim_axis_set_part, 30.0f, 50.0f, 30.0f); /* slips below 30 N */
+    twin_steps(&twin, 200, STEP_S);
+    ck_assert_uint_eq(twin.ref.part.slips, 1u);
+    twin_steps(&twin, 300, STEP_S); /* on to the end stop */
+    ck_assert_int_eq(twin.ref.blocked, -1);
+    wsg_sim_axis_disable(&twin.fast);
+    wsg_sim_axis_disable(&twin.ref);
+    twin_steps(&twin, 5, STEP_S);
+    BOTH(&twin, wsg_sim_axis_move, STROKE_MM + 3.0f, 200.0f, 5000.0f, 30.0f);
+    twin_steps(&twin, 1000, STEP_S); /* onto the other end stop */
+    ck_assert(twin.fast.hold_current);
+    twin.fast.active = twin.ref.active = false; /* white box: the profile gone */
+    twin_steps(&twin, 5, STEP_S);
+    BOTH(&twin, wsg_sim_axis_move, STROKE_MM + 3.0f, 200.0f, 5000.0f, 30.0f);
+    twin_steps(&twin, 20, STEP_S);
+    BOTH(&twin, wsg_sim_axis_place_obstacle, 100.0f); /* inside: not in the way */
+    twin_steps(&twin, 5, STEP_S);
+    wsg_sim_axis_remove_obstacle(&twin.fast);
+    wsg_sim_axis_remove_obstacle(&twin.ref);
+    twin_steps(&twin, 5, STEP_S);
+    ck_assert_uint_gt(twin.held, 300u);
 }
 END_TEST
 
@@ -466,6 +517,7 @@ START_TEST(random_commands_match_the_full_model)
     }
     ck_assert_uint_gt(twin.at_limit, 10000u);
     ck_assert_uint_gt(twin.cruised, 5000u);
+    ck_assert_uint_gt(twin.held, 1000u);
     ck_assert_uint_gt(twin.speeding, 1000u);
     ck_assert_uint_gt(twin.contacts, 1000u);
     ck_assert_uint_gt(twin.at_rest, 1000u);
@@ -617,6 +669,7 @@ Suite *sim_suite(void)
     tcase_add_test(axis, short_slow_and_odd_moves_match_the_full_model);
     tcase_add_test(axis, changes_at_rest_are_stepped_again);
     tcase_add_test(axis, cruises_forget_every_change);
+    tcase_add_test(axis, steady_pushes_forget_every_change);
     tcase_add_test(axis, random_commands_match_the_full_model);
     suite_add_tcase(s, axis);
     TCase *thermal = tcase_create("thermal");
