@@ -498,12 +498,7 @@ static bool move_steps(sim_axis_t *axis, float dt_s, clear_span_t span)
 
 void wsg_sim_axis_advance(sim_axis_t *axis, float dt_s)
 {
-    if (cruise_on(axis, dt_s)) {
-        return;
-    }
-    if (axis->hold_current && axis->active && dt_s == axis->hold_dt_s) {
-        return; /* the same steps again, each leaving the axis as it was */
-    }
+    /* at rest first: the shortcuts below need a profile running */
     if (wsg_sim_axis_at_rest(axis)) {
         if (axis->rest_step_current) {
             return; /* the world is advanced before every input and every tick */
@@ -519,6 +514,12 @@ void wsg_sim_axis_advance(sim_axis_t *axis, float dt_s)
             wsg_sim_axis_advance_stepwise(axis, 0.0f);
         }
         return;
+    }
+    if (cruise_on(axis, dt_s)) {
+        return;
+    }
+    if (axis->hold_current && axis->active && dt_s == axis->hold_dt_s) {
+        return; /* the same steps again, each leaving the axis as it was */
     }
     forget_steps(axis);
     clear_span_t span = clear_span(axis);
