@@ -70,6 +70,13 @@ static void spend(unsigned *budget, unsigned work)
     *budget = *budget > work ? *budget - work : 0u;
 }
 
+/* The delayed replies' next release. A reply is held only on an armed
+ * delay, so while none is armed there is none, without a call. */
+static uint64_t delays_next_us(const simctl_sched_t *s)
+{
+    return s->delays.armed != NULL ? simctl_delay_next_us(&s->delays) : UINT64_MAX;
+}
+
 /* The devices and the delayed replies, each only when something of theirs
  * is due or a device was touched; the devices' control steps are paid from
  * the budget. */
@@ -86,7 +93,7 @@ static void run_fleet_and_delays(simctl_sched_t *s, uint64_t now, unsigned *budg
         simctl_delay_release_due(&s->delays, now);
     }
     if (ticked || releasing) {
-        s->delay_due_us = simctl_delay_next_us(&s->delays);
+        s->delay_due_us = delays_next_us(s);
     }
 }
 
@@ -136,6 +143,71 @@ static void finish_step_if_done(simctl_sched_t *s)
     }
 }
 
+/* One slice of catch_up(): how far it may go and what it found so far. */
+typedef struct {
+    uint64_t target;  /* the device time it moves towards */
+    unsigned budget;  /* work left in the slice */
+    uint64_t next;    /* the next due time, as the last instant left it */
+    bool all_due_ran; /* false: work due at the present instant is left */
+    bool ended;       /* the step's condition ended it at the present instant */
+} slice_t;
+
+/* The fleet's next deadline comes alone: before the hook's next item and
+ * the delayed replies, after the present, not after the target, and no
+ * device is touched. */
+static bool fleet_alone_next(const simctl_sched_t *s, const slice_t *slice, uint64_t hook_next)
+{
+    uint64_t at = s->fleet_due_us;
+    return at <= slice->target && at > device_now(s) && at < hook_next && at < s->delay_due_us &&
+           !fleet_touched_any(s->fleet);
+}
+
+/* The common stretch of a slice (a lone device moving, nothing else due
+ * before the target): from one fleet deadline to the next, each instant
+ * does what run_due() would do there (the fleet's tick, the delays' next
+ * release, the same work spent) and asks the step's condition, and nothing
+ * more: the hook is asked once (only its own events move its items, and
+ * none runs here). Returns how many instants it ran; none when the next
+ * instant is not the fleet's alone. */
+static unsigned run_fleet_deadlines(simctl_sched_t *s, slice_t *slice)
+{
+    uint64_t hook_next = hook_next_us(s);
+    unsigned instants = 0;
+    while (slice->budget > 0 && fleet_alone_next(s, slice, hook_next)) {
+        uint64_t at = s->fleet_due_us;
+        unsigned steps = 0;
+        simclock_advance_device(s->clock, at);
+        s->fleet_due_us = fleet_tick(s->fleet, slice->budget, &steps);
+        s->delay_due_us = delays_next_us(s); /* a tick may hold a reply */
+        spend(&slice->budget, steps + 1u);
+        instants++;
+        slice->all_due_ran = !fleet_devices_due(s->fleet, at);
+        slice->ended = slice->all_due_ran && step_ends_early(s);
+        if (!slice->all_due_ran || slice->ended) {
+            break;
+        }
+    }
+    slice->next = earliest(earliest(s->fleet_due_us, s->delay_due_us), hook_next);
+    return instants;
+}
+
+/* One instant of the general kind: the device time moves to the next due
+ * time (or the target, when nothing is due before it) and what is due there
+ * runs. False when the slice stops here. */
+static bool run_next_instant(simctl_sched_t *s, slice_t *slice)
+{
+    uint64_t now = device_now(s);
+    uint64_t next = slice->next;
+    if (next > slice->target && !fleet_touched_any(s->fleet)) {
+        simclock_advance_device(s->clock, slice->target); /* nothing is due on the way */
+        return false;
+    }
+    simclock_advance_device(s->clock, earliest(slice->target, next > now ? next : now + 1u));
+    slice->all_due_ran = run_due(s, &slice->budget, &slice->next);
+    slice->ended = slice->all_due_ran && step_ends_early(s);
+    return true;
+}
+
 /* Moves the device time towards target, deadline by deadline, for one
  * slice of work. Returns the next due time, or the present device time when
  * work is left (the loop then polls without waiting). */
@@ -145,28 +217,22 @@ static uint64_t catch_up(simctl_sched_t *s, uint64_t target)
         return device_now(s);
     }
     s->in_catch_up = true;
-    unsigned budget = SLICE_WORK;
-    uint64_t next = UINT64_MAX;
-    bool all_due_ran = run_due(s, &budget, &next);
-    bool ended = all_due_ran && step_ends_early(s);
-    while (!ended && all_due_ran && budget > 0 && device_now(s) < target) {
-        uint64_t now = device_now(s);
-        if (next > target && !fleet_touched_any(s->fleet)) {
-            simclock_advance_device(s->clock, target); /* nothing is due on the way */
+    slice_t slice = {.target = target, .budget = SLICE_WORK, .next = UINT64_MAX};
+    slice.all_due_ran = run_due(s, &slice.budget, &slice.next);
+    slice.ended = slice.all_due_ran && step_ends_early(s);
+    while (!slice.ended && slice.all_due_ran && slice.budget > 0 && device_now(s) < target) {
+        if (run_fleet_deadlines(s, &slice) == 0 && !run_next_instant(s, &slice)) {
             break;
         }
-        simclock_advance_device(s->clock, earliest(target, next > now ? next : now + 1u));
-        all_due_ran = run_due(s, &budget, &next);
-        ended = all_due_ran && step_ends_early(s);
     }
-    if (ended) {
+    if (slice.ended) {
         target = device_now(s);
     }
     s->in_catch_up = false;
     finish_step_if_done(s);
-    bool left = !all_due_ran || device_now(s) < target;
-    s->next_us = left ? 0u : next;
-    return left ? device_now(s) : next;
+    bool left = !slice.all_due_ran || device_now(s) < target;
+    s->next_us = left ? 0u : slice.next;
+    return left ? device_now(s) : slice.next;
 }
 
 /* Nothing is due up to target (the hook's next item at hook_next) and
