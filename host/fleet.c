@@ -503,10 +503,15 @@ static void ask_servers(fleet_t *fleet)
 
 /* The servers' timeouts are asked again only when one may have come or
  * moved earlier (an accept, a datagram): input only moves them later. */
+static bool servers_to_ask(const fleet_t *fleet, uint64_t now)
+{
+    return fleet->tcp_set.deadline_lowered || fleet->udp_set.deadline_moved ||
+           fleet->servers_due_us <= now;
+}
+
 static uint64_t servers_next_us(fleet_t *fleet, uint64_t now)
 {
-    if (fleet->tcp_set.deadline_lowered || fleet->udp_set.deadline_moved ||
-        fleet->servers_due_us <= now) {
+    if (servers_to_ask(fleet, now)) {
         ask_servers(fleet);
     }
     return fleet->servers_due_us;
@@ -550,6 +555,39 @@ uint64_t fleet_tick(fleet_t *fleet, unsigned max_steps, unsigned *steps)
         return tick_lone_device(fleet, now, steps);
     }
     return tick_many_devices(fleet, now, max_steps, steps);
+}
+
+unsigned fleet_run_lone(fleet_t *fleet, fleet_lone_run_t *run)
+{
+    run->stopped = false;
+    if (fleet->count != 1u) {
+        return 0u;
+    }
+    gripper_t *g = &fleet->devices[0].gripper;
+    unsigned steps = 0;
+    while (steps < run->max_steps && fleet->touched.first == NULL) {
+        uint64_t at = fleet->due_us[0];
+        if (at >= run->before || at <= *run->device_us || at >= fleet->servers_due_us) {
+            break;
+        }
+        *run->device_us = at;
+        fleet->due_us[0] = tick(fleet, g);
+        if (servers_to_ask(fleet, at)) { /* as fleet_tick() does after the tick */
+            ask_servers(fleet);
+        }
+        steps++;
+        if (run->stop != NULL && run->stop(run->ctx)) {
+            run->stopped = true;
+            break;
+        }
+    }
+    return steps;
+}
+
+uint64_t fleet_next_us(const fleet_t *fleet)
+{
+    return fleet->count > 0 ? earliest(fleet->servers_due_us, due_at(fleet, 0))
+                            : fleet->servers_due_us;
 }
 
 bool fleet_devices_due(const fleet_t *fleet, uint64_t now)

@@ -120,6 +120,13 @@ static bool run_due(simctl_sched_t *s, unsigned *budget, uint64_t *next)
     return !fleet_devices_due(s->fleet, now); /* the time waits for the devices still due */
 }
 
+/* A step until its condition, which holds: it ends at the present instant. */
+static void end_step_here(simctl_sched_t *s)
+{
+    simclock_end_step_here(s->clock);
+    s->step.until_us = device_now(s);
+}
+
 /* A step until its condition: ends at the present instant once it holds. */
 static bool step_ends_early(simctl_sched_t *s)
 {
@@ -127,8 +134,7 @@ static bool step_ends_early(simctl_sched_t *s)
         !s->step.done_early(s->step.done_early_ctx)) {
         return false;
     }
-    simclock_end_step_here(s->clock);
-    s->step.until_us = device_now(s);
+    end_step_here(s);
     return true;
 }
 
@@ -152,42 +158,40 @@ typedef struct {
     bool ended;       /* the step's condition ended it at the present instant */
 } slice_t;
 
-/* The fleet's next deadline comes alone: before the hook's next item and
- * the delayed replies, after the present, not after the target, and no
- * device is touched. */
-static bool fleet_alone_next(const simctl_sched_t *s, const slice_t *slice, uint64_t hook_next)
-{
-    uint64_t at = s->fleet_due_us;
-    return at <= slice->target && at > device_now(s) && at < hook_next && at < s->delay_due_us &&
-           !fleet_touched_any(s->fleet);
-}
-
-/* The common stretch of a slice (a lone device moving, nothing else due
- * before the target): from one fleet deadline to the next, each instant
- * does what run_due() would do there (the fleet's tick, the delays' next
- * release, the same work spent) and asks the step's condition, and nothing
- * more: the hook is asked once (only its own events move its items, and
- * none runs here). Returns how many instants it ran; none when the next
- * instant is not the fleet's alone. */
+/* The common stretch of a slice: a lone device moving, nothing else due
+ * before the target. Each of its deadlines up to the first instant at
+ * which anything else is due (the hook's next item, a delayed reply, the
+ * servers' timeouts, a touch) is an instant at which run_due() would only
+ * tick the fleet and spend a step and an instant of work; the fleet runs
+ * them in a row (fleet_run_lone()) and asks the step's condition after
+ * each, as step_ends_early() would. Only while no delay is armed: a tick may hold a reply on an
+ * armed one, and with none the delays' next release is none after a tick. The hook is asked once:
+ * only its own events move its items, and none runs here. Returns how many instants ran. */
 static unsigned run_fleet_deadlines(simctl_sched_t *s, slice_t *slice)
 {
-    uint64_t hook_next = hook_next_us(s);
-    unsigned instants = 0;
-    while (slice->budget > 0 && fleet_alone_next(s, slice, hook_next)) {
-        uint64_t at = s->fleet_due_us;
-        unsigned steps = 0;
-        simclock_advance_device(s->clock, at);
-        s->fleet_due_us = fleet_tick(s->fleet, slice->budget, &steps);
-        s->delay_due_us = delays_next_us(s); /* a tick may hold a reply */
-        spend(&slice->budget, steps + 1u);
-        instants++;
-        slice->all_due_ran = !fleet_devices_due(s->fleet, at);
-        slice->ended = slice->all_due_ran && step_ends_early(s);
-        if (!slice->all_due_ran || slice->ended) {
-            break;
-        }
+    if (s->delays.armed != NULL) {
+        return 0u;
     }
-    slice->next = earliest(earliest(s->fleet_due_us, s->delay_due_us), hook_next);
+    uint64_t hook_next = hook_next_us(s);
+    uint64_t before = earliest(earliest(hook_next, s->delay_due_us),
+                               slice->target < UINT64_MAX ? slice->target + 1u : UINT64_MAX);
+    fleet_lone_run_t run = {.device_us = &s->clock->device_us,
+                            .before = before,
+                            .max_steps = slice->budget / 2u + slice->budget % 2u,
+                            .stop = s->step.running ? s->step.done_early : NULL,
+                            .ctx = s->step.done_early_ctx};
+    unsigned instants = fleet_run_lone(s->fleet, &run);
+    if (run.stopped) {
+        end_step_here(s);
+        slice->ended = true;
+    }
+    if (instants > 0) {
+        s->fleet_due_us = fleet_next_us(s->fleet);
+        s->delay_due_us = UINT64_MAX;
+        spend(&slice->budget, 2u * instants); /* a step and an instant each */
+        slice->all_due_ran = true;            /* a lone device is never left due */
+        slice->next = earliest(s->fleet_due_us, hook_next);
+    }
     return instants;
 }
 
