@@ -72,9 +72,9 @@ typedef struct {
  * comes after *device_us, before run->before and before the servers'
  * timeouts, and no device is touched, *device_us moves to it, the device
  * steps (its observers hear it) and run->stop is asked. Returns how many
- * steps ran (run->stopped: the last ended it): none for a fleet of other
- * than one device. fleet_next_us()
- * then tells the earliest deadline, as fleet_tick() would have. */
+ * steps ran (run->stopped: the last one's stop() was true); none for a
+ * fleet of other than one device. fleet_next_us() then tells the earliest
+ * deadline, as fleet_tick() would have. */
 unsigned fleet_run_lone(fleet_t *fleet, fleet_lone_run_t *run);
 /* The earliest deadline of the fleet and of its connections' timeouts, as
  * the last fleet_tick() or fleet_run_lone() left them. */

@@ -164,9 +164,11 @@ typedef struct {
  * servers' timeouts, a touch) is an instant at which run_due() would only
  * tick the fleet and spend a step and an instant of work; the fleet runs
  * them in a row (fleet_run_lone()) and asks the step's condition after
- * each, as step_ends_early() would. Only while no delay is armed: a tick may hold a reply on an
- * armed one, and with none the delays' next release is none after a tick. The hook is asked once:
- * only its own events move its items, and none runs here. Returns how many instants ran. */
+ * each, as step_ends_early() would. Only while no delay is armed: a tick
+ * may hold a reply on an armed one, and with none the delays' next
+ * release is none after a tick. The hook is asked once: only its own
+ * events move its items, and none runs here. Returns how many instants
+ * ran. */
 static unsigned run_fleet_deadlines(simctl_sched_t *s, slice_t *slice)
 {
     if (s->delays.armed != NULL) {
