@@ -531,11 +531,8 @@ static uint64_t tick_lone_device(fleet_t *fleet, uint64_t now, unsigned *steps)
     return earliest(servers_next_us(fleet, now), fleet->due_us[0]);
 }
 
-/* A fleet's pass (fleet_tick()). Not inlined there: the lone device's
- * pass, which runs at every millisecond of a moving device, then saves no
- * registers for the heap's work. */
-__attribute__((noinline)) static uint64_t tick_many_devices(fleet_t *fleet, uint64_t now,
-                                                            unsigned max_steps, unsigned *steps)
+/* A fleet's pass (fleet_tick()). */
+static uint64_t tick_many_devices(fleet_t *fleet, uint64_t now, unsigned max_steps, unsigned *steps)
 {
     unsigned ran = tick_due_devices(fleet, now, max_steps > 0 ? max_steps : 1u);
     *steps = ran + tick_touched_devices(fleet);
