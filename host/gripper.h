@@ -39,6 +39,7 @@ typedef struct gripper {
     bool touched;              /* on the touched list (gripper_touch) */
     struct gripper *next_touched;
     gripper_touched_t *touched_list;
+    uint32_t ticked_flags; /* the flag register its last tick left (what observers saw) */
     unsigned index;        /* its number in the fleet: 0 for the first */
     struct script *script; /* its script interpreter; NULL without scripting */
     char *startup_set;     /* the startup script the web page chose (heap), NULL: none chosen */
