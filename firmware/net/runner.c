@@ -52,8 +52,7 @@ bool wsg_runner_feed_before_poll(wsg_runner_t *r, wsg_conn_t *c, const uint8_t *
 {
     uint64_t now = feed_input(r, c, bytes, len, end_of_datagram);
     /* what wsg_runner_poll() would do now: step, or store another deadline */
-    return now >= r->next_deadline_us ||
-           wsg_device_next_deadline_us(r->dev) != r->next_deadline_us;
+    return now >= r->next_deadline_us || wsg_device_next_deadline_us(r->dev) != r->next_deadline_us;
 }
 
 void wsg_runner_feed(wsg_runner_t *r, wsg_conn_t *c, const uint8_t *bytes, size_t len,
