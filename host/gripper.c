@@ -114,6 +114,7 @@ bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, u
         g->own_opts->fingers = fingers;
     }
     g->touched_list = touched;
+    g->ticked_flags = 0u; /* its first tick is due at once (power-on) */
     g->script = NULL;
     g->startup_set = NULL;
     g->startup_cleared = false;

@@ -100,8 +100,6 @@ static void reply_begin(cmd_ctx_t *ctx, wsg_textbuf_t *tb, char *storage, size_t
     wsg_textbuf_put_char(tb, '=');
 }
 
-/* The most frequent reply (POS?, SPEED?, FORCE?, polled), written straight
- * into one line: it always fits, so it needs no textbuf bookkeeping. */
 /* The text of value at out (room for WSG_TEXTBUF_FLOAT_MAX): the
  * connection's kept text when the value is the last one's, bit for bit
  * (the text depends on nothing else); else formatted and kept. */
@@ -123,6 +121,8 @@ static size_t put_float(gcl_conn_t *g, char *out, float value)
     return len;
 }
 
+/* The most frequent reply (POS?, SPEED?, FORCE?, polled), written straight
+ * into one line: it always fits, so it needs no textbuf bookkeeping. */
 void wsg_reply_float(cmd_ctx_t *ctx, float value)
 {
     char line[GCL_NAME_MAX + 1 + WSG_TEXTBUF_FLOAT_MAX + 1];
