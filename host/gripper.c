@@ -114,6 +114,7 @@ bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, u
         g->own_opts->fingers = fingers;
     }
     g->touched_list = touched;
+    g->ticked_flags = 0u; /* its first tick is due at once (power-on) */
     g->script = NULL;
     g->startup_set = NULL;
     g->startup_cleared = false;
@@ -257,6 +258,7 @@ uint64_t gripper_tick(gripper_t *g)
         wsg_sim_world_advance(&g->world, now);
     } /* else the runner advances it before the step: once is enough */
     uint64_t next = wsg_runner_poll(&g->runner);
+    g->ticked_flags = wsg_device_flags(&g->device);
     if (g->script == NULL) {
         return next;
     }
@@ -286,12 +288,29 @@ void gripper_reset(gripper_t *g)
     start_script(g);
 }
 
+/* Whether a tick of g now, after input on c that its runner's poll need not
+ * follow, would still do something: advance the world, serve a script,
+ * show its observers (coverage) a flag register they have not seen, or
+ * learn a deadline of what is interposed on c's output (the control
+ * channel's DELAY holds replies until a time of its own). */
+static bool tick_needed(const gripper_t *g, const wsg_conn_t *c)
+{
+    const wsg_conn_io_t *io = NULL;
+    void *io_ctx = NULL;
+    wsg_conn_get_io(c, &io, &io_ctx);
+    return g->script != NULL || !wsg_sim_world_current(&g->world, hal_clock_now_us()) ||
+           wsg_device_flags(&g->device) != g->ticked_flags || io == NULL || io->held != NULL;
+}
+
 void gripper_feed(gripper_t *g, wsg_conn_t *c, const uint8_t *bytes, size_t len,
                   int end_of_datagram)
 {
-    /* the touch ticks g at this instant, before the clock moves on */
-    wsg_runner_feed_before_poll(&g->runner, c, bytes, len, end_of_datagram != 0);
-    gripper_touch(g);
+    /* the touch ticks g at this instant, before the clock moves on; input
+     * that left nothing for that tick to do (a query) needs none */
+    if (wsg_runner_feed_before_poll(&g->runner, c, bytes, len, end_of_datagram != 0) ||
+        tick_needed(g, c)) {
+        gripper_touch(g);
+    }
 }
 
 void gripper_input_done(gripper_t *g)

@@ -39,6 +39,7 @@ typedef struct gripper {
     bool touched;              /* on the touched list (gripper_touch) */
     struct gripper *next_touched;
     gripper_touched_t *touched_list;
+    uint32_t ticked_flags; /* the flag register its last tick left (what observers saw) */
     unsigned index;        /* its number in the fleet: 0 for the first */
     struct script *script; /* its script interpreter; NULL without scripting */
     char *startup_set;     /* the startup script the web page chose (heap), NULL: none chosen */
@@ -63,6 +64,10 @@ void gripper_start(gripper_t *g);
 /* Runs the control step if it is due; returns the next deadline. The fleet
  * calls it when the deadline has come or the gripper was touched. */
 uint64_t gripper_tick(gripper_t *g);
+/* Input on one of its connections, at the present instant; touches g
+ * unless its tick would have nothing to do (a query that changed nothing:
+ * neither a step due nor a new deadline, no flag its observers have not
+ * seen, no script, no DELAY on c's output). */
 void gripper_feed(gripper_t *g, wsg_conn_t *c, const uint8_t *bytes, size_t len,
                   int end_of_datagram);
 /* After input reached the device (a line, a web request): what it started

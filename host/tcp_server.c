@@ -547,12 +547,8 @@ static void resume_listeners(tcp_servers_t *tcp)
  * once an --idle-timeout is due; a request answered at once marks nothing.
  * One whose input has ended stays marked until it closes: its held replies
  * (DELAY) may go without anything that would mark it again. */
-void tcp_server_reap(tcp_servers_t *tcp)
+void tcp_server_reap_due(tcp_servers_t *tcp, uint64_t now)
 {
-    uint64_t now = hal_clock_now_us();
-    if (tcp->marked_count == 0 && tcp->waiting == NULL && now < tcp->idle_due_us) {
-        return; /* after most wake-ups: nothing happened to any connection */
-    }
     if (now >= tcp->idle_due_us) {
         for (tcp_client_t *c = tcp->first; c != NULL; c = c->next) {
             mark(c);

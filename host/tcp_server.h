@@ -13,6 +13,7 @@
 #include <stdint.h>
 
 #include "gripper.h"
+#include "hal_clock.h"
 #include "listener.h"
 #include "wsg/wsg_conn.h"
 
@@ -78,10 +79,20 @@ int tcp_server_port(const tcp_server_t *s);
 void tcp_server_close_all(tcp_server_t *s);
 void tcp_server_stop(tcp_server_t *s);
 
+/* tcp_server_reap() when something happened to a connection, a listener
+ * waits for descriptors or a timeout is due (now: the device time). */
+void tcp_server_reap_due(tcp_servers_t *tcp, uint64_t now);
 /* Across every server of the set: closes connections that said BYE (once flushed),
  * failed or stayed quiet beyond --idle-timeout. Visits only connections that
- * may have finished since the last reap (all once a timeout is due). */
-void tcp_server_reap(tcp_servers_t *tcp);
+ * may have finished since the last reap (all once a timeout is due). Inline:
+ * asked after every wake-up, most of which leave it nothing to do. */
+static inline void tcp_server_reap(tcp_servers_t *tcp)
+{
+    uint64_t now = hal_clock_now_us();
+    if (tcp->marked_count != 0 || tcp->waiting != NULL || now >= tcp->idle_due_us) {
+        tcp_server_reap_due(tcp, now);
+    }
+}
 /* The earliest --idle-timeout of an open connection (simulated clock), or
  * UINT64_MAX: the loop must wake for it even when the device is idle. */
 uint64_t tcp_server_next_deadline_us(tcp_servers_t *tcp);

@@ -280,6 +280,7 @@ static void on_datagram(void *ctx, int fd, short revents)
     }
     wsg_peers_heard(&s->peers, &p->peer, (size_t)n);
     gripper_feed(s->gripper, &p->peer.conn, buf, (size_t)n, 1);
+    gripper_touch(s->gripper); /* its tick asks the servers' moved deadlines again */
 }
 
 bool udp_server_start(udp_server_t *s, udp_servers_t *set, gripper_t *g,

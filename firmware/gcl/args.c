@@ -100,16 +100,38 @@ static void reply_begin(cmd_ctx_t *ctx, wsg_textbuf_t *tb, char *storage, size_t
     wsg_textbuf_put_char(tb, '=');
 }
 
+/* The text of value at out (room for WSG_TEXTBUF_FLOAT_MAX): the
+ * connection's kept text when the value is the last one's, bit for bit
+ * (the text depends on nothing else); else formatted and kept. */
+static size_t put_float(gcl_conn_t *g, char *out, float value)
+{
+    uint32_t bits;
+    WSG_COPY_FIXED(&bits, &value, sizeof(bits));
+    if (bits == g->float_bits && g->float_len != 0u) {
+        WSG_COPY_FIXED(out, g->float_text, GCL_FLOAT_TEXT_KEPT); /* the rest is room */
+        return g->float_len;
+    }
+    size_t len = wsg_textbuf_format_float(out, value);
+    g->float_len = 0u;
+    if (len <= GCL_FLOAT_TEXT_KEPT) {
+        wsg_small_copy(g->float_text, out, len);
+        g->float_bits = bits;
+        g->float_len = (uint8_t)len;
+    }
+    return len;
+}
+
 /* The most frequent reply (POS?, SPEED?, FORCE?, polled), written straight
  * into one line: it always fits, so it needs no textbuf bookkeeping. */
 void wsg_reply_float(cmd_ctx_t *ctx, float value)
 {
     char line[GCL_NAME_MAX + 1 + WSG_TEXTBUF_FLOAT_MAX + 1];
+    _Static_assert(GCL_FLOAT_TEXT_KEPT <= WSG_TEXTBUF_FLOAT_MAX, "a kept text fits the line");
     const char *name = ctx->cmd->name;
     WSG_COPY_FIXED(line, name, sizeof(ctx->cmd->name)); /* all of it: the length says what counts */
     size_t len = ctx->name_len;
     line[len++] = '=';
-    len += wsg_textbuf_format_float(line + len, value);
+    len += put_float(ctx->gcl, line + len, value);
     line[len++] = '\n';
     wsg_gcl_send_line(ctx->gcl, line, len, WSG_MSG_REPLY);
 }

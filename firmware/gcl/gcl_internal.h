@@ -25,6 +25,7 @@ typedef struct {
 } gcl_autosend_sub_t;
 
 #define GCL_QUERY_LINE_MAX 24
+#define GCL_FLOAT_TEXT_KEPT 11u /* "-12345.678" and shorter: any position, speed, force */
 
 /* A GCL connection's state, inside its wsg_conn_t. */
 typedef struct {
@@ -51,6 +52,11 @@ typedef struct {
     const struct cmd_entry *query_entry;
     char query_name[GCL_NAME_MAX + 1]; /* its command's name, NUL-padded */
     uint8_t query_name_len;
+    /* The last float reply's text and its value's bits: a poller reads one
+     * value again and again while the gripper rests (wsg_reply_float). */
+    uint8_t float_len; /* 0: none kept */
+    char float_text[GCL_FLOAT_TEXT_KEPT];
+    uint32_t float_bits;
 } gcl_conn_t;
 
 _Static_assert(sizeof(gcl_conn_t) <= CONN_PROTO_BYTES,

@@ -35,20 +35,30 @@ void wsg_runner_due_now(wsg_runner_t *r)
     r->next_deadline_us = hal_clock_now_us();
 }
 
-void wsg_runner_feed_before_poll(wsg_runner_t *r, wsg_conn_t *c, const uint8_t *bytes, size_t len,
-                                 bool end_of_datagram)
+/* Input into the device at the present instant; returns that instant. */
+static uint64_t feed_input(wsg_runner_t *r, wsg_conn_t *c, const uint8_t *bytes, size_t len,
+                           bool end_of_datagram)
 {
-    (void)advance(r);
+    uint64_t now = advance(r);
     wsg_conn_input(c, bytes, len);
     if (end_of_datagram) {
         wsg_conn_end_datagram(c);
     }
+    return now;
+}
+
+bool wsg_runner_feed_before_poll(wsg_runner_t *r, wsg_conn_t *c, const uint8_t *bytes, size_t len,
+                                 bool end_of_datagram)
+{
+    uint64_t now = feed_input(r, c, bytes, len, end_of_datagram);
+    /* what wsg_runner_poll() would do now: step, or store another deadline */
+    return now >= r->next_deadline_us || wsg_device_next_deadline_us(r->dev) != r->next_deadline_us;
 }
 
 void wsg_runner_feed(wsg_runner_t *r, wsg_conn_t *c, const uint8_t *bytes, size_t len,
                      bool end_of_datagram)
 {
-    wsg_runner_feed_before_poll(r, c, bytes, len, end_of_datagram);
+    (void)feed_input(r, c, bytes, len, end_of_datagram);
     due_after(r, hal_clock_now_us()); /* input takes no device time */
 }
 

@@ -5,6 +5,7 @@
 #ifndef SIM_WORLD_H
 #define SIM_WORLD_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "hal.h"
@@ -27,11 +28,17 @@ void wsg_sim_world_advance_full(sim_world_t *world, uint64_t now_us);
 /* Integrates mechanics and temperature up to now_us. Inline: the port
  * advances the world before every input and twice at every tick, and a
  * second advance at one instant does nothing unless the axis rests with
- * something changed since its last step at rest. */
+ * something changed since its last step at rest. wsg_sim_world_current():
+ * an advance to now_us would do nothing. */
+static inline bool wsg_sim_world_current(const sim_world_t *world, uint64_t now_us)
+{
+    return now_us <= world->last_us &&
+           (!wsg_sim_axis_at_rest(&world->axis) || world->axis.rest_step_current);
+}
+
 static inline void wsg_sim_world_advance(sim_world_t *world, uint64_t now_us)
 {
-    if (now_us <= world->last_us &&
-        (!wsg_sim_axis_at_rest(&world->axis) || world->axis.rest_step_current)) {
+    if (wsg_sim_world_current(world, now_us)) {
         return;
     }
     wsg_sim_world_advance_full(world, now_us);

@@ -30,13 +30,16 @@ void wsg_runner_init(wsg_runner_t *r, wsg_device_t *dev, void (*advance)(void *c
  * never at this one: on a paused clock it runs at the next step of time. */
 void wsg_runner_feed(wsg_runner_t *r, wsg_conn_t *c, const uint8_t *bytes, size_t len,
                      bool end_of_datagram);
-/* The same for a port that polls at the same instant after every input,
- * before its clock moves on (the host ticks each touched device in the
- * pass that follows): that poll decides as it would after
- * wsg_runner_feed(), whose deadline (from the next instant on) never makes
- * a step due at this one, and sets the next deadline itself, so it is not
- * worked out here too. */
-void wsg_runner_feed_before_poll(wsg_runner_t *r, wsg_conn_t *c, const uint8_t *bytes, size_t len,
+/* The same for a port that polls at the same instant after input, before
+ * its clock moves on (the host ticks each touched device in the pass that
+ * follows): that poll decides as it would after wsg_runner_feed(), whose
+ * deadline (from the next instant on) never makes a step due at this one,
+ * and sets the next deadline itself, so it is not worked out here too.
+ * Returns whether that poll is needed: false when it would do nothing,
+ * that is neither step nor store another deadline (the input was a query,
+ * or changed nothing the control step or its deadline depend on), so the
+ * port may leave the device alone until its deadline. */
+bool wsg_runner_feed_before_poll(wsg_runner_t *r, wsg_conn_t *c, const uint8_t *bytes, size_t len,
                                  bool end_of_datagram);
 /* An operation reached the device by another way than its connections (a
  * web page's request): what it started is due from the next instant on, as

@@ -310,6 +310,20 @@ class TestFaults(SimctlCase):
         # one can only arrive if it is not held
         self.assertEqual(gcl.command("POS?"), "POS=55.0")
 
+    def test_delayed_query_reply_arrives_on_a_running_clock(self):
+        # A query that changes nothing leaves the device untouched, but the
+        # delay holding its reply has a deadline of its own that the host
+        # must still learn: no control command follows to wake it up, and
+        # without fingers the device has no deadline of its own at rest.
+        sim, ctl = self.start("--fingers", "none,none")
+        gcl = sim.tcp()
+        gcl.expect("FSACK()", "ACK FSACK")
+        self.assertEqual(gcl.command("POS?"), "POS=55.0")
+        self.assertEqual(ctl("DELAY(20)"), "ACK DELAY")
+        gcl.send("POS?")
+        self.assertEqual(gcl.read_line(), "POS=55.0")
+        self.assertEqual(gcl.command("POS?"), "POS=55.0")
+
     def test_failnext_over_udp(self):
         sim, ctl = self.start()
         udp = sim.udp()
@@ -426,6 +440,20 @@ class TestRecordAndCoverage(SimctlCase):
             self.assertEqual(sim.returncode, 2, option)
             self.assertIn("wsgsim: cannot write %s file %s: No such file or directory"
                           % (option, missing), "".join(sim.log))
+
+    def test_coverage_sees_a_flag_a_failed_query_raised(self):
+        # A failed query changes no deadline, but it raises SF_CMD_FAILURE:
+        # the device is ticked so that its observers see the flag. Without
+        # fingers nothing else ticks it at rest, and COVERAGE? answers from
+        # what was seen before the control command's own tick.
+        report = tempfile.mktemp(suffix=".json")
+        self.addCleanup(lambda: os.path.exists(report) and os.remove(report))
+        sim, ctl = self.start("--coverage", report, "--fingers", "none,none")
+        gcl = sim.tcp()
+        self.assertEqual(gcl.command("POS?"), "POS=55.0")
+        self.assertNotIn("SF_CMD_FAILURE", ctl.json("COVERAGE?")["flags"]["raised"])
+        self.assertEqual(gcl.command("FDATA?").split(" ")[:2], ["ERR", "FDATA"])
+        self.assertIn("SF_CMD_FAILURE", ctl.json("COVERAGE?")["flags"]["raised"])
 
     def test_strict_coverage_lists_tolerated_input(self):
         report = tempfile.mktemp(suffix=".json")

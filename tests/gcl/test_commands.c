@@ -6,6 +6,7 @@
 
 #include "fake_device.h"
 #include "wsg/wsg_inject.h"
+#include "wsg/wsg_textbuf.h"
 #include "unit_suites.h"
 
 /* "[b0,b1,...]" for `count` bits of `bits`. */
@@ -105,6 +106,27 @@ START_TEST(pipelined_queries_see_the_world_change_between_inputs)
     EXPECT("TEMP=50.0");
     EXPECT("TEMP=50.0");
     EXPECT_NONE();
+}
+END_TEST
+
+/* A float reply reuses its connection's kept text only for the same value,
+ * bit for bit: each reply is the rule's text, whether the value repeats,
+ * returns after another, differs only in its sign bit, or has a text too
+ * long to keep. */
+START_TEST(float_replies_kept_or_formatted_are_the_rule_s_text)
+{
+    /* above absolute zero: the thermal model's override */
+    static const float values[] = {34.0f,       34.0f,     34.001f,   34.0f,     0.0f,
+                                   -0.0f,       0.0f,      -272.125f, -272.125f, 1.0f / 3.0f,
+                                   1.0f / 3.0f, 1.0e9f,    1.0e9f,    33.25f,    12345678.0f,
+                                   12345678.0f, 99999.99f, 0.0005f,   0.0004f,   0.0005f};
+    for (size_t i = 0; i < sizeof(values) / sizeof(values[0]); i++) {
+        h_world.thermal.override_c = values[i];
+        advance_ms(1); /* a sense at a new instant */
+        char expected[64] = "TEMP=";
+        expected[5 + wsg_textbuf_format_float(expected + 5, values[i])] = '\0';
+        ck_assert_str_eq(ask(&h_main, "TEMP?"), expected);
+    }
 }
 END_TEST
 
@@ -550,6 +572,7 @@ Suite *commands_suite(void)
     tcase_add_test(query, repeated_query_lines_report_as_their_parse);
     tcase_add_test(query, repeated_query_meets_an_injected_failure);
     tcase_add_test(query, pipelined_queries_see_the_world_change_between_inputs);
+    tcase_add_test(query, float_replies_kept_or_formatted_are_the_rule_s_text);
     tcase_add_test(query, lower_case_commands_answer_upper_case);
     tcase_add_test(query, temperature);
     tcase_add_test(query, sysflags_at_power_on);

@@ -127,7 +127,13 @@ static void note_poll(seen_t *seen, uint64_t deadline)
  * followed by a poll at the same instant (as the host does), then steps to
  * the deadlines: commands that start, supersede and stop motion, and
  * queries. */
-static void run_story(bool before_poll, seen_t *seen)
+typedef enum {
+    FEED,             /* wsg_runner_feed(), then a poll */
+    FEED_BEFORE_POLL, /* wsg_runner_feed_before_poll(), then a poll */
+    POLL_IF_NEEDED,   /* the same, the poll only when it says it is needed */
+} feeding_t;
+
+static void run_story(feeding_t feeding, seen_t *seen, unsigned *skipped)
 {
     static const struct {
         const char *line;
@@ -140,13 +146,19 @@ static void run_story(bool before_poll, seen_t *seen)
     memset(seen, 0, sizeof(*seen));
     for (unsigned k = 0; k < sizeof(story) / sizeof(story[0]); k++) {
         const char *line = story[k].line;
-        if (before_poll) {
-            wsg_runner_feed_before_poll(&runner, &h_main.conn, (const uint8_t *)line, strlen(line),
-                                        false);
-        } else {
+        bool needed = true;
+        if (feeding == FEED) {
             feed(line);
+        } else {
+            needed = wsg_runner_feed_before_poll(&runner, &h_main.conn, (const uint8_t *)line,
+                                                 strlen(line), false);
         }
-        note_poll(seen, wsg_runner_poll(&runner));
+        if (needed || feeding != POLL_IF_NEEDED) {
+            note_poll(seen, wsg_runner_poll(&runner));
+        } else {
+            note_poll(seen, runner.next_deadline_us); /* what the poll would have kept */
+            (*skipped)++;
+        }
         uint64_t until = h_now_us + story[k].then_us;
         while (runner.next_deadline_us <= until) {
             h_now_us = runner.next_deadline_us;
@@ -164,10 +176,11 @@ static void run_story(bool before_poll, seen_t *seen)
 START_TEST(a_feed_before_a_poll_steps_as_a_feed)
 {
     static seen_t fed, fed_before_poll;
-    run_story(false, &fed);
+    unsigned skipped = 0;
+    run_story(FEED, &fed, &skipped);
     h_teardown();
     runner_setup();
-    run_story(true, &fed_before_poll);
+    run_story(FEED_BEFORE_POLL, &fed_before_poll, &skipped);
     ck_assert_uint_gt(fed.poll_count, 100u);
     ck_assert_uint_eq(fed_before_poll.poll_count, fed.poll_count);
     ck_assert_uint_eq(fed_before_poll.advances, fed.advances);
@@ -181,6 +194,62 @@ START_TEST(a_feed_before_a_poll_steps_as_a_feed)
 }
 END_TEST
 
+/* A query leaves nothing for the poll after it to do, at rest or between
+ * the steps of a motion; a command that starts one does not, nor does
+ * input at the instant a step is due. */
+START_TEST(a_query_needs_no_poll_a_command_does)
+{
+    feed("HOME()\n");
+    (void)run_deadlines_until(h_now_us + 5000000u);
+    ck_assert(h_take_line(&h_main, "FIN HOME"));
+    ck_assert_uint_eq(runner.next_deadline_us, UINT64_MAX); /* at rest */
+    ck_assert(
+        !wsg_runner_feed_before_poll(&runner, &h_main.conn, (const uint8_t *)"POS?\n", 5u, false));
+    ck_assert(h_take_line(&h_main, "POS=110.0"));
+    ck_assert(wsg_runner_feed_before_poll(&runner, &h_main.conn, (const uint8_t *)"MOVE(50)\n", 9u,
+                                          false));
+    ck_assert(h_take_line(&h_main, "ACK MOVE"));
+    uint64_t due = wsg_runner_poll(&runner);
+    ck_assert_uint_ne(due, UINT64_MAX);
+    h_now_us = due - 1u; /* between two steps */
+    unsigned before = advances;
+    ck_assert(
+        !wsg_runner_feed_before_poll(&runner, &h_main.conn, (const uint8_t *)"POS?\n", 5u, false));
+    ck_assert_uint_eq(advances, before + 1u);         /* the feed's own catch-up, no step */
+    ck_assert_uint_eq(wsg_runner_poll(&runner), due); /* a poll would keep the deadline */
+    ck_assert_uint_eq(advances, before + 1u);
+    h_now_us = due; /* a step is due: the poll must run it */
+    ck_assert(
+        wsg_runner_feed_before_poll(&runner, &h_main.conn, (const uint8_t *)"POS?\n", 5u, false));
+    ck_assert_uint_eq(advances, before + 2u);
+    (void)wsg_runner_poll(&runner);
+    ck_assert_uint_eq(advances, before + 3u); /* the step */
+}
+END_TEST
+
+/* The story again, polled only when the feed says the poll is needed: the
+ * same deadlines, steps and replies as when every input is polled. */
+START_TEST(polling_only_when_needed_steps_as_polling_always)
+{
+    static seen_t always, when_needed;
+    unsigned skipped = 0;
+    run_story(FEED_BEFORE_POLL, &always, &skipped);
+    ck_assert_uint_eq(skipped, 0u);
+    h_teardown();
+    runner_setup();
+    run_story(POLL_IF_NEEDED, &when_needed, &skipped);
+    ck_assert_uint_ge(skipped, 4u); /* the queries, at least */
+    ck_assert_uint_eq(when_needed.poll_count, always.poll_count);
+    ck_assert_uint_eq(when_needed.advances, always.advances);
+    for (unsigned i = 0; i < always.poll_count && i < 4096u; i++) {
+        ck_assert_msg(when_needed.polls[i] == always.polls[i], "poll %u: %llu, always: %llu", i,
+                      (unsigned long long)when_needed.polls[i],
+                      (unsigned long long)always.polls[i]);
+    }
+    ck_assert_str_eq(when_needed.replies, always.replies);
+}
+END_TEST
+
 Suite *runner_suite(void)
 {
     Suite *s = suite_create("runner");
@@ -191,6 +260,8 @@ Suite *runner_suite(void)
     tcase_add_test(tc, step_now_runs_at_once);
     tcase_add_test(tc, queries_faster_than_the_tick_do_not_postpone_steps);
     tcase_add_test(tc, a_feed_before_a_poll_steps_as_a_feed);
+    tcase_add_test(tc, a_query_needs_no_poll_a_command_does);
+    tcase_add_test(tc, polling_only_when_needed_steps_as_polling_always);
     suite_add_tcase(s, tc);
     return s;
 }
