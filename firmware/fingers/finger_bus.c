@@ -12,13 +12,18 @@
  * (20 ms), a descriptor retry (100 ms) and a comm fault (300-310 ms) to show. */
 #define FBUS_SETTLE_US 500000u
 
+/* The quiet time of a bus that keeps none: every step polls. */
+static const uint64_t never_quiet_us;
+
 void wsg_finger_bus_init(finger_bus_t *bus, const hal_can_t *can)
 {
     memset(bus, 0, sizeof(*bus));
     bus->can = can;
+    bus->bus_quiet_until_us = &never_quiet_us;
     if (can == NULL) {
         return;
     }
+    bus->bus_quiet_until_us = hal_can_quiet_until_us(can, &never_quiet_us);
     /* the last one only on an on-demand bus: the simulation's fault
      * injections, which change the bus without a node saying so */
     static const hal_can_filter_t filters[] = {
@@ -66,6 +71,7 @@ static void send_tare(finger_bus_t *bus, unsigned slot, uint64_t sent_us)
     s->tare_sends++;
     s->tare_sent_us = sent_us;
     bus->wake = true;
+    bus->quiet_until_us = 0; /* TARE() comes between steps: the next one is not quiet */
 }
 
 static void repeat_tare(finger_bus_t *bus, unsigned slot, uint64_t now_us)
@@ -424,15 +430,22 @@ static uint64_t supervise_due_us(const fbus_slot_t *s)
  * next broadcast or supervision time, unless something woke the bus or the
  * force loop runs: supervise(), publish() and regulate() would find what
  * the last full step left. Such a step is a poll and nothing else (1 ms
- * steps while moving, of which one in ten broadcasts). */
-static bool quiet(const finger_bus_t *bus, const wsg_fingers_t *fingers, const fbus_input_t *in)
+ * steps while moving, of which one in ten broadcasts). What the bus alone
+ * decides is in quiet_until_us (note_quiet_until, send_tare). */
+static inline bool quiet(const finger_bus_t *bus, const wsg_fingers_t *fingers,
+                         const fbus_input_t *in)
 {
-    return bus->can->ops->on_demand && !bus->wake && in->now_us < bus->quiet_until_us &&
-           !bus->regulating && !(in->holding && wsg_fingers_force_control(fingers));
+    return in->now_us < bus->quiet_until_us && !(in->holding && wsg_fingers_force_control(fingers));
 }
 
+/* After a full step: never quiet on a real bus or while the force loop
+ * runs (a full step leaves wake clear). */
 static void note_quiet_until(finger_bus_t *bus)
 {
+    if (!bus->can->ops->on_demand || bus->regulating) {
+        bus->quiet_until_us = 0;
+        return;
+    }
     uint64_t until = bus->next_state_us;
     for (unsigned i = 0; i < FBUS_SLOTS; i++) {
         until = earliest(until, supervise_due_us(&bus->slot[i]));
@@ -464,10 +477,19 @@ bool wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_i
     if (in->now_us >= bus->next_state_us) {
         broadcast_state(bus, in); /* first: the supply reaches the fingers before polling */
     }
+    bool is_quiet = quiet(bus, fingers, in);
+    if (is_quiet && in->now_us < *bus->bus_quiet_until_us) {
+        bus->unpolled_us = in->now_us; /* the poll would find nothing */
+        return false;
+    }
+    if (bus->unpolled_us != 0u) {
+        hal_can_polls_skipped(bus->can, bus->unpolled_us);
+        bus->unpolled_us = 0;
+    }
     hal_can_frame_t one;
     unsigned count;
     const hal_can_frame_t *frames = hal_can_recv_many(bus->can, &one, &count);
-    if (frames == NULL && quiet(bus, fingers, in)) {
+    if (frames == NULL && is_quiet) {
         return false;
     }
     wsg_finger_bus_step_full(bus, fingers, in, frames, count);

@@ -59,6 +59,11 @@ typedef struct {
     uint64_t awake_until_us;
     /* On an on-demand bus: until then a step that takes no frame is a poll */
     uint64_t quiet_until_us;
+    /* The bus's own quiet time (hal_can_quiet_until_us): a quiet step before
+     * it does not poll, and the last such step (unpolled_us, 0: none) is
+     * told to the bus before the next poll. */
+    const uint64_t *bus_quiet_until_us;
+    uint64_t unpolled_us;
 } finger_bus_t;
 
 /* What the bus hears from the core each step. */

@@ -83,8 +83,8 @@ static bool lossy_set_filters(void *ctx, const hal_can_filter_t *filters, unsign
 
 /* [on_demand]: the wrapped bus says what the loopback would */
 static const hal_can_ops_t lossy_ops[2] = {
-    {lossy_send, lossy_recv, lossy_set_filters, false, NULL, NULL},
-    {lossy_send, lossy_recv, lossy_set_filters, true, NULL, NULL}};
+    {lossy_send, lossy_recv, lossy_set_filters, false, NULL, NULL, NULL, NULL},
+    {lossy_send, lossy_recv, lossy_set_filters, true, NULL, NULL, NULL, NULL}};
 
 static void start_wrapped(const char *fingers, bool on_demand, unsigned lost)
 {

@@ -209,7 +209,7 @@ static bool model_node_filters(void *ctx, const hal_can_filter_t *filters, unsig
 }
 
 static const hal_can_ops_t model_ops = {
-    model_node_send, model_node_recv, model_node_filters, false, NULL, NULL};
+    model_node_send, model_node_recv, model_node_filters, false, NULL, NULL, NULL, NULL};
 static const hal_can_t model_port = {&model_ops, NULL};
 
 static void model_poll(void)
