@@ -122,7 +122,6 @@ static inline void to_gripper(can_loopback_t *bus, const hal_can_frame_t *frame)
     }
     bus->queue[bus->head + bus->count] = *frame;
     bus->count++;
-    bus->quiet_until_us = 0;
 }
 
 /* Every other participant sees the frame, as on a real bus. */
@@ -184,7 +183,6 @@ static bool to_gripper_at_once(can_loopback_t *bus, const hal_can_frame_t *frame
     memcpy(&bus->queue[bus->head + bus->count], frames, count * sizeof(frames[0]));
     bus->count += count;
     bus->frames += count;
-    bus->quiet_until_us = 0;
     return true;
 }
 
