@@ -261,7 +261,9 @@ static unsigned take_frames(finger_bus_t *bus, wsg_fingers_t *fingers, const hal
     return run;
 }
 
-/* Takes frames[0..count), the first poll's, and all that follow. */
+/* Takes frames[0..count), the first poll's, and all that follow. The bus
+ * was polled at this instant already: a poll its quiet time says finds
+ * nothing changes nothing, and is not made. */
 static void receive_all(finger_bus_t *bus, wsg_fingers_t *fingers, const hal_can_frame_t *frames,
                         unsigned count, uint64_t now_us)
 {
@@ -270,7 +272,8 @@ static void receive_all(finger_bus_t *bus, wsg_fingers_t *fingers, const hal_can
         for (unsigned i = 0; i < count;) {
             i += take_frames(bus, fingers, &frames[i], count - i, now_us);
         }
-        frames = hal_can_recv_many(bus->can, &one, &count);
+        frames =
+            now_us < *bus->bus_quiet_until_us ? NULL : hal_can_recv_many(bus->can, &one, &count);
     }
 }
 

@@ -203,8 +203,15 @@ static void handle_frame(finger_node_t *node, const hal_can_frame_t *frame, uint
 
 void wsg_finger_node_receive(finger_node_t *node, const hal_can_frame_t *frame, uint64_t now_us)
 {
+    bool was_powered = node->powered;
     handle_frame(node, frame, now_us);
-    node->due_us = wsg_finger_node_next_due_us(node); /* a frame may power it, or wake it */
+    /* A STATE that keeps the node powered (one every 10 ms) moves only its
+     * supply timeout, and only later: the due time it had stays early
+     * enough. Any other frame may power it, or wake it. */
+    bool kept_powered = was_powered && node->powered && fbus_func_of(frame->id) == FBUS_ID_STATE;
+    if (!kept_powered) {
+        node->due_us = wsg_finger_node_next_due_us(node);
+    }
 }
 
 static float fmf_reading(finger_node_t *node)

@@ -29,7 +29,9 @@ typedef struct {
     uint64_t stepped_us; /* the last step: a longer gap than FBUS_STALL_US was a stall */
     uint64_t next_heartbeat_us;
     uint64_t next_data_us;
-    uint64_t due_us; /* wsg_finger_node_next_due_us() after the last step or frame */
+    /* Never later than wsg_finger_node_next_due_us() (a step before it does
+     * nothing): worked out again at every step and at most frames. */
+    uint64_t due_us;
     fbus_type_t type;
     finger_node_params_t params;
     fbus_state_t state; /* what the gripper last broadcast, when have_state */
