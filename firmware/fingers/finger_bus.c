@@ -429,18 +429,6 @@ static uint64_t supervise_due_us(const fbus_slot_t *s)
     return due;
 }
 
-/* On an on-demand bus a step that takes no frame changes nothing before the
- * next broadcast or supervision time, unless something woke the bus or the
- * force loop runs: supervise(), publish() and regulate() would find what
- * the last full step left. Such a step is a poll and nothing else (1 ms
- * steps while moving, of which one in ten broadcasts). What the bus alone
- * decides is in quiet_until_us (note_quiet_until, send_tare). */
-static inline bool quiet(const finger_bus_t *bus, const wsg_fingers_t *fingers,
-                         const fbus_input_t *in)
-{
-    return in->now_us < bus->quiet_until_us && !(in->holding && wsg_fingers_force_control(fingers));
-}
-
 /* After a full step: never quiet on a real bus or while the force loop
  * runs (a full step leaves wake clear). */
 static void note_quiet_until(finger_bus_t *bus)
@@ -474,17 +462,13 @@ void wsg_finger_bus_step_full(finger_bus_t *bus, wsg_fingers_t *fingers, const f
 
 bool wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in)
 {
-    if (bus->can == NULL) {
+    if (bus->can == NULL || wsg_finger_bus_skip_step(bus, fingers, in->now_us, in->holding)) {
         return false;
     }
     if (in->now_us >= bus->next_state_us) {
         broadcast_state(bus, in); /* first: the supply reaches the fingers before polling */
     }
-    bool is_quiet = quiet(bus, fingers, in);
-    if (is_quiet && in->now_us < *bus->bus_quiet_until_us) {
-        bus->unpolled_us = in->now_us; /* the poll would find nothing */
-        return false;
-    }
+    bool quiet = wsg_finger_bus_quiet(bus, fingers, in->now_us, in->holding);
     if (bus->unpolled_us != 0u) {
         hal_can_polls_skipped(bus->can, bus->unpolled_us);
         bus->unpolled_us = 0;
@@ -492,7 +476,7 @@ bool wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_i
     hal_can_frame_t one;
     unsigned count;
     const hal_can_frame_t *frames = hal_can_recv_many(bus->can, &one, &count);
-    if (frames == NULL && is_quiet) {
+    if (frames == NULL && quiet) {
         return false;
     }
     wsg_finger_bus_step_full(bus, fingers, in, frames, count);

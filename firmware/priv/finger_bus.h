@@ -83,6 +83,32 @@ void wsg_finger_bus_init(finger_bus_t *bus, const hal_can_t *can);
  * publish to fingers and compute the grip-force loop. False when the step
  * changed nothing in fingers (no bus, or a quiet poll). */
 bool wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in);
+/* On an on-demand bus a step that takes no frame changes nothing before the
+ * next broadcast or supervision time, unless something woke the bus or the
+ * force loop runs: supervise(), publish() and regulate() would find what
+ * the last full step left. Such a step is a poll and nothing else (1 ms
+ * steps while moving, of which one in ten broadcasts). What the bus alone
+ * decides is in quiet_until_us (0 on a real bus, while the force loop runs
+ * and after a TARE() between steps). */
+static inline bool wsg_finger_bus_quiet(const finger_bus_t *bus, const wsg_fingers_t *fingers,
+                                        uint64_t now_us, bool holding)
+{
+    return now_us < bus->quiet_until_us && !(holding && wsg_fingers_force_control(fingers));
+}
+/* A quiet step at an instant the bus says its poll would find nothing
+ * (bus_quiet_until_us): the step only notes that it skipped the poll, and
+ * is done (true): wsg_finger_bus_step() would do just that and return
+ * false. Inline and without the step's input, for the device to ask first:
+ * most steps while the jaws move. */
+static inline bool wsg_finger_bus_skip_step(finger_bus_t *bus, const wsg_fingers_t *fingers,
+                                            uint64_t now_us, bool holding)
+{
+    if (now_us < *bus->bus_quiet_until_us && wsg_finger_bus_quiet(bus, fingers, now_us, holding)) {
+        bus->unpolled_us = now_us;
+        return true;
+    }
+    return false;
+}
 /* The rest of a step that is not a quiet poll, from the frames its first
  * poll took (frames[0..count); NULL: none) on. Not inline: a quiet step,
  * nine in ten while the jaws move, stays a small function. */
