@@ -15,11 +15,22 @@
 /* The quiet time of a bus that keeps none: every step polls. */
 static const uint64_t never_quiet_us;
 
+/* The bus ticks while it settles after a change (wake, awake_until_us) or
+ * the force loop runs; a real bus always. What it follows changes in a full
+ * step (a broadcast is always in one) and at a TARE between steps. */
+static void note_deadline(finger_bus_t *bus)
+{
+    bool ticking = !bus->can->ops->on_demand || bus->regulating || bus->wake ||
+                   bus->next_state_us < bus->awake_until_us;
+    bus->deadline_us = ticking ? bus->next_state_us : UINT64_MAX;
+}
+
 void wsg_finger_bus_init(finger_bus_t *bus, const hal_can_t *can)
 {
     memset(bus, 0, sizeof(*bus));
     bus->can = can;
     bus->bus_quiet_until_us = &never_quiet_us;
+    bus->deadline_us = UINT64_MAX;
     if (can == NULL) {
         return;
     }
@@ -34,6 +45,7 @@ void wsg_finger_bus_init(finger_bus_t *bus, const hal_can_t *can)
     hal_can_set_filters(can, filters, can->ops->on_demand ? count : count - 1u);
     bus->power_mask = (uint8_t)((1u << FBUS_SLOTS) - 1u);
     bus->wake = true;
+    note_deadline(bus);
 }
 
 static void send(finger_bus_t *bus, const hal_can_frame_t *frame)
@@ -72,6 +84,7 @@ static void send_tare(finger_bus_t *bus, unsigned slot, uint64_t sent_us)
     s->tare_sent_us = sent_us;
     bus->wake = true;
     bus->quiet_until_us = 0; /* TARE() comes between steps: the next one is not quiet */
+    note_deadline(bus);
 }
 
 static void repeat_tare(finger_bus_t *bus, unsigned slot, uint64_t now_us)
@@ -458,6 +471,7 @@ void wsg_finger_bus_step_full(finger_bus_t *bus, wsg_fingers_t *fingers, const f
         bus->awake_until_us = in->now_us + FBUS_SETTLE_US;
     }
     note_quiet_until(bus);
+    note_deadline(bus);
 }
 
 bool wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in)

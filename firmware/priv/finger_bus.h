@@ -59,6 +59,9 @@ typedef struct {
     uint64_t awake_until_us;
     /* On an on-demand bus: until then a step that takes no frame is a poll */
     uint64_t quiet_until_us;
+    /* wsg_finger_bus_next_deadline_us(), worked out where what it follows
+     * changes */
+    uint64_t deadline_us;
     /* The bus's own quiet time (hal_can_quiet_until_us): a quiet step before
      * it does not poll, and the last such step (unpolled_us, 0: none) is
      * told to the bus before the next poll. */
@@ -121,14 +124,7 @@ void wsg_finger_bus_step_full(finger_bus_t *bus, wsg_fingers_t *fingers, const f
  * at every step. */
 static inline uint64_t wsg_finger_bus_next_deadline_us(const finger_bus_t *bus)
 {
-    if (bus->can == NULL) {
-        return UINT64_MAX;
-    }
-    if (!bus->can->ops->on_demand || bus->regulating || bus->wake ||
-        bus->next_state_us < bus->awake_until_us) {
-        return bus->next_state_us;
-    }
-    return UINT64_MAX;
+    return bus->deadline_us;
 }
 /* The force limit the loop asks the supervisor to drive with, once. */
 bool wsg_finger_bus_take_force_request(finger_bus_t *bus, float *limit_n);
