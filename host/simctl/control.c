@@ -52,6 +52,7 @@ struct simctl {
     const char *addr;
     unsigned connections;
     control_client_t *stepper; /* waits for the reply of its STEP */
+    bool step_ended;           /* a STEP ended: its reply and the queued commands wait */
     control_client_t clients[CONTROL_CLIENTS_MAX];
     char out_line[OUTQ_RECORD_MAX]; /* one queued record on its way to send() */
 };
@@ -128,12 +129,11 @@ static bool input_left(const control_client_t *c)
     return c->pending_at < c->pending_len;
 }
 
-/* POLLIN once the received bytes have run; POLLOUT while replies wait (or
- * to be called back when a STEP ended and queued input can run). */
-static void update_events(control_client_t *c, bool wake)
+/* POLLIN once the received bytes have run; POLLOUT while replies wait. */
+static void update_events(control_client_t *c)
 {
     bool want_input = !c->eof && !input_left(c);
-    bool want_output = wake || !wsg_outq_empty(&c->outq);
+    bool want_output = !wsg_outq_empty(&c->outq);
     loop_set_events(c->ctl->listener.loop, c->fd,
                     (short)((want_input ? POLLIN : 0) | (want_output ? POLLOUT : 0)));
 }
@@ -156,7 +156,7 @@ static void flush(control_client_t *c)
             break;
         }
     }
-    update_events(c, false);
+    update_events(c);
 }
 
 /* Queues reply + "\n" in pieces outq takes (a short reply is one piece, so
@@ -272,16 +272,12 @@ static void answer_step_if_done(control_client_t *c)
     }
 }
 
-/* A STEP ended: every connection is called back (POLLOUT) to send the STEP
- * reply or run what it received meanwhile. */
+/* A STEP ended, inside the scheduler's pass: its reply and the commands
+ * queued meanwhile wait for simctl_answer_steps(), outside the pass. */
 static void on_step_done(void *ctx)
 {
     simctl_t *ctl = ctx;
-    for (unsigned i = 0; i < CONTROL_CLIENTS_MAX; i++) {
-        if (ctl->clients[i].in_use) {
-            update_events(&ctl->clients[i], true);
-        }
-    }
+    ctl->step_ended = true;
 }
 
 static bool finished(const control_client_t *c)
@@ -307,8 +303,38 @@ static void on_client(void *ctx, int fd, short revents)
     if (finished(c)) {
         close_client(c);
     } else {
-        update_events(c, false);
+        update_events(c);
     }
+}
+
+/* The stepper gets its reply; every connection runs what it received while
+ * the STEP ran, straight away rather than from a writable callback (which
+ * would cost two epoll_ctl calls and a pass per STEP). */
+bool simctl_answer_steps(simctl_t *ctl)
+{
+    if (!ctl->step_ended) {
+        return false;
+    }
+    ctl->step_ended = false;
+    for (unsigned i = 0; i < CONTROL_CLIENTS_MAX; i++) {
+        control_client_t *c = &ctl->clients[i];
+        if (!c->in_use) {
+            continue;
+        }
+        answer_step_if_done(c);
+        run_pending(c);
+        if (finished(c)) {
+            close_client(c);
+        } else {
+            update_events(c);
+        }
+    }
+    return true;
+}
+
+bool simctl_answer_due(const simctl_t *ctl)
+{
+    return ctl->step_ended;
 }
 
 static control_client_t *free_slot(simctl_t *ctl)

@@ -104,6 +104,13 @@ int simctl_port(const simctl_t *ctl);
 /* ", control 127.0.0.1:7000" for the ready line into out; "" without a
  * channel. */
 void simctl_describe(const simctl_t *ctl, char *out, size_t cap);
+/* After the pass's simulated work (simctl_settle()), outside the loop's
+ * callbacks: a STEP that ended in it is answered and the commands the
+ * connections queued meanwhile run (one may start the next STEP). False
+ * when no STEP had ended. */
+bool simctl_answer_steps(simctl_t *ctl);
+/* A STEP ended and waits for simctl_answer_steps(): the loop must not sleep. */
+bool simctl_answer_due(const simctl_t *ctl);
 /* Once per loop pass: a listener paused at the descriptor limit tries again. */
 void simctl_reap(simctl_t *ctl);
 void simctl_stop(simctl_t *ctl);

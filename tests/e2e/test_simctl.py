@@ -138,6 +138,16 @@ class TestRunUntilDone(SimctlCase):
         # each run stopped at the simulated instant of its FIN
         self.assertEqual([round(s * 1000.0, 3) for s in fins], reached)
 
+    def test_commands_sent_with_steps_run_after_each_in_order(self):
+        """Commands queued behind a STEP run when it has ended (the reply of
+        each first), even when the next one is another STEP."""
+        _, ctl = self.start("--start-paused")
+        ctl.send("STEP(100)\nSIMTIME?\nSTEP(2.5)\nRUN_UNTIL_DONE(50)\nSIMTIME?")
+        replies = [ctl.read_line() for _ in range(5)]
+        self.assertEqual(replies, ["STEP=100.000", "SIMTIME=[100.000,0.000]", "STEP=102.500",
+                                   'RUN_UNTIL_DONE=[102.500,"idle"]',
+                                   "SIMTIME=[102.500,0.000]"])
+
     def test_it_stops_at_its_limit_and_goes_on(self):
         sim, ctl = self.start("--start-paused")
         gcl = sim.tcp()
