@@ -162,12 +162,15 @@ void wsg_fbus_pack_bulk_transfer(hal_can_frame_t *frames, uint8_t node, uint8_t 
     for (unsigned s = 0; s < segments; s++) {
         hal_can_frame_t *f = &frames[s];
         begin(f, id, 8);
-        f->data[0] = (uint8_t)((s & 0x7Fu) | (s + 1u == segments ? 0x80u : 0u));
+        f->data[0] = (uint8_t)(s & 0x7Fu);
         f->data[1] = transfer;
         const uint8_t *values = &wire[s * BULK_WIRE_BYTES];
         for (unsigned i = 0; i < BULK_WIRE_BYTES; i++) { /* six stores (no memcpy() call) */
             f->data[2u + i] = values[i];
         }
+    }
+    if (segments > 0u) {
+        frames[segments - 1u].data[0] |= 0x80u; /* the last one */
     }
 }
 
