@@ -494,29 +494,50 @@ static unsigned tick_touched_devices(fleet_t *fleet)
     return ran;
 }
 
-/* The same for one device (the default), which has no heap to keep: a
- * control step per millisecond while it moves, or a touch. */
-static unsigned tick_lone_device(fleet_t *fleet, uint64_t now)
+/* The servers' timeouts asked again (see servers_next_us()). */
+static void ask_servers(fleet_t *fleet)
 {
-    gripper_t *g = &fleet->devices[0].gripper;
-    if (!g->touched && fleet->due_us[0] > now) {
-        return 0u;
-    }
-    (void)gripper_take_touched(&fleet->touched); /* g, if touched: the only one */
-    fleet->due_us[0] = tick(fleet, g);
-    return 1u;
+    fleet->servers_due_us = earliest(tcp_server_next_deadline_us(&fleet->tcp_set),
+                                     udp_server_next_deadline_us(&fleet->udp_set));
 }
 
 /* The servers' timeouts are asked again only when one may have come or
  * moved earlier (an accept, a datagram): input only moves them later. */
+static bool servers_to_ask(const fleet_t *fleet, uint64_t now)
+{
+    return fleet->tcp_set.deadline_lowered || fleet->udp_set.deadline_moved ||
+           fleet->servers_due_us <= now;
+}
+
 static uint64_t servers_next_us(fleet_t *fleet, uint64_t now)
 {
-    if (fleet->tcp_set.deadline_lowered || fleet->udp_set.deadline_moved ||
-        fleet->servers_due_us <= now) {
-        fleet->servers_due_us = earliest(tcp_server_next_deadline_us(&fleet->tcp_set),
-                                         udp_server_next_deadline_us(&fleet->udp_set));
+    if (servers_to_ask(fleet, now)) {
+        ask_servers(fleet);
     }
     return fleet->servers_due_us;
+}
+
+/* The same for one device (the default), which has no heap to keep: a
+ * control step per millisecond while it moves, or a touch. */
+static uint64_t tick_lone_device(fleet_t *fleet, uint64_t now, unsigned *steps)
+{
+    gripper_t *g = &fleet->devices[0].gripper;
+    *steps = 0u;
+    if (g->touched || fleet->due_us[0] <= now) {
+        (void)gripper_take_touched(&fleet->touched); /* g, if touched: the only one */
+        fleet->due_us[0] = tick(fleet, g);
+        *steps = 1u;
+    }
+    return earliest(servers_next_us(fleet, now), fleet->due_us[0]);
+}
+
+/* A fleet's pass (fleet_tick()). */
+static uint64_t tick_many_devices(fleet_t *fleet, uint64_t now, unsigned max_steps, unsigned *steps)
+{
+    unsigned ran = tick_due_devices(fleet, now, max_steps > 0 ? max_steps : 1u);
+    *steps = ran + tick_touched_devices(fleet);
+    uint64_t next = servers_next_us(fleet, now);
+    return fleet->count > 0 ? earliest(next, due_at(fleet, 0)) : next;
 }
 
 /* Each device is ticked at most once per pass, as a lone gripper was: a
@@ -528,13 +549,42 @@ uint64_t fleet_tick(fleet_t *fleet, unsigned max_steps, unsigned *steps)
 {
     uint64_t now = hal_clock_now_us();
     if (fleet->count == 1u) {
-        *steps = tick_lone_device(fleet, now);
-        return earliest(servers_next_us(fleet, now), fleet->due_us[0]);
+        return tick_lone_device(fleet, now, steps);
     }
-    unsigned ran = tick_due_devices(fleet, now, max_steps > 0 ? max_steps : 1u);
-    *steps = ran + tick_touched_devices(fleet);
-    uint64_t next = servers_next_us(fleet, now);
-    return fleet->count > 0 ? earliest(next, due_at(fleet, 0)) : next;
+    return tick_many_devices(fleet, now, max_steps, steps);
+}
+
+unsigned fleet_run_lone(fleet_t *fleet, fleet_lone_run_t *run)
+{
+    run->stopped = false;
+    if (fleet->count != 1u) {
+        return 0u;
+    }
+    gripper_t *g = &fleet->devices[0].gripper;
+    unsigned steps = 0;
+    while (steps < run->max_steps && fleet->touched.first == NULL) {
+        uint64_t at = fleet->due_us[0];
+        if (at >= run->before || at <= *run->device_us || at >= fleet->servers_due_us) {
+            break;
+        }
+        *run->device_us = at;
+        fleet->due_us[0] = tick(fleet, g);
+        if (servers_to_ask(fleet, at)) { /* as fleet_tick() does after the tick */
+            ask_servers(fleet);
+        }
+        steps++;
+        if (run->stop != NULL && run->stop(run->ctx)) {
+            run->stopped = true;
+            break;
+        }
+    }
+    return steps;
+}
+
+uint64_t fleet_next_us(const fleet_t *fleet)
+{
+    return fleet->count > 0 ? earliest(fleet->servers_due_us, due_at(fleet, 0))
+                            : fleet->servers_due_us;
 }
 
 bool fleet_devices_due(const fleet_t *fleet, uint64_t now)

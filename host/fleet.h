@@ -56,6 +56,29 @@ int fleet_bin_udp_port(const fleet_t *fleet, unsigned i);
  * earliest deadline of the fleet and of its connections' timeouts
  * (UINT64_MAX: none): not later than now while due devices are left. */
 uint64_t fleet_tick(fleet_t *fleet, unsigned max_steps, unsigned *steps);
+/* A run of a lone device's control steps, the common stretch of a pass
+ * (one device moving, nothing else due): see fleet_run_lone(). */
+typedef struct {
+    uint64_t *device_us;     /* the device time the HAL clock reads, moved to each step */
+    uint64_t before;         /* steps only at deadlines before it */
+    unsigned max_steps;      /* at most this many */
+    bool (*stop)(void *ctx); /* asked after each step; true ends the run; NULL: never */
+    void *ctx;
+    bool stopped; /* out: stop() ended the run */
+} fleet_lone_run_t;
+
+/* What fleet_tick() would do at each of the lone device's deadlines in a
+ * row, with none of a pass's bookkeeping: while the device's deadline
+ * comes after *device_us, before run->before and before the servers'
+ * timeouts, and no device is touched, *device_us moves to it, the device
+ * steps (its observers hear it) and run->stop is asked. Returns how many
+ * steps ran (run->stopped: the last one's stop() was true); none for a
+ * fleet of other than one device. fleet_next_us() then tells the earliest
+ * deadline, as fleet_tick() would have. */
+unsigned fleet_run_lone(fleet_t *fleet, fleet_lone_run_t *run);
+/* The earliest deadline of the fleet and of its connections' timeouts, as
+ * the last fleet_tick() or fleet_run_lone() left them. */
+uint64_t fleet_next_us(const fleet_t *fleet);
 /* Devices whose deadline has come wait for the next fleet_tick() (its
  * budget ran out). */
 bool fleet_devices_due(const fleet_t *fleet, uint64_t now);

@@ -252,7 +252,10 @@ bool gripper_continue_script(gripper_t *g)
 
 uint64_t gripper_tick(gripper_t *g)
 {
-    wsg_sim_world_advance(&g->world, hal_clock_now_us()); /* a touch may come from the world */
+    uint64_t now = hal_clock_now_us();
+    if (now < g->runner.next_deadline_us) { /* a touch may come from the world */
+        wsg_sim_world_advance(&g->world, now);
+    } /* else the runner advances it before the step: once is enough */
     uint64_t next = wsg_runner_poll(&g->runner);
     if (g->script == NULL) {
         return next;

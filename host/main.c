@@ -176,34 +176,19 @@ static bool start_loop(host_t *host)
     return true;
 }
 
-/* The pass's simulated work: what the input touched or is due, then the
- * reply of a STEP that ended in it, whose queued commands may start the next
- * STEP. What the STEP finished is reaped (a half-closed connection whose held
- * replies it released closes, touching its device), and the next settle
- * ticks that and runs the new STEP's first slice, so that nothing waits for
- * a wake-up a paused clock would never bring. Returns the wall-clock instant
- * the loop may sleep until. */
-static uint64_t settle(host_t *host)
-{
-    simctl_sched_t *sched = simctl_scheduler(host->sim);
-    uint64_t deadline = simctl_settle(sched);
-    if (simctl_answer_steps(host->sim)) {
-        fleet_reap(host->fleet);
-        deadline = simctl_settle(sched);
-    }
-    if (simctl_answer_due(host->sim)) {
-        return LOOP_NOW;
-    }
-    return simclock_wall_deadline_ns(simctl_clock(host->sim), deadline);
-}
-
-/* Until SIGINT or SIGTERM. */
+/* Until SIGINT or SIGTERM. A STEP that ended in the pass's simulated work is
+ * answered right after it, and the commands queued behind it run (one may
+ * start the next STEP); the wait then only looks at the descriptors, and
+ * the next pass reaps and settles what they did. */
 static void run(host_t *host)
 {
+    simctl_sched_t *sched = simctl_scheduler(host->sim);
+    const simclock_t *clock = simctl_clock(host->sim);
     while (!loop_stop_requested(host->loop)) {
-        uint64_t wall_deadline = settle(host);
+        uint64_t deadline = simctl_settle(sched);
+        bool answered = simctl_answer_steps(host->sim);
         fleet_run_scripts(host->fleet);
-        loop_wait(host->loop, wall_deadline);
+        loop_wait(host->loop, answered ? LOOP_NOW : simclock_wall_deadline_ns(clock, deadline));
         web_server_poll(host->web);
         fleet_reap(host->fleet);
         simctl_reap(host->sim);

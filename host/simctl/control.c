@@ -332,11 +332,6 @@ bool simctl_answer_steps(simctl_t *ctl)
     return true;
 }
 
-bool simctl_answer_due(const simctl_t *ctl)
-{
-    return ctl->step_ended;
-}
-
 static control_client_t *free_slot(simctl_t *ctl)
 {
     for (unsigned i = 0; i < CONTROL_CLIENTS_MAX; i++) {

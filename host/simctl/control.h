@@ -107,10 +107,9 @@ void simctl_describe(const simctl_t *ctl, char *out, size_t cap);
 /* After the pass's simulated work (simctl_settle()), outside the loop's
  * callbacks: a STEP that ended in it is answered and the commands the
  * connections queued meanwhile run (one may start the next STEP). False
- * when no STEP had ended. */
+ * when no STEP had ended; true: the loop should not sleep, the next pass
+ * settles what those commands did. */
 bool simctl_answer_steps(simctl_t *ctl);
-/* A STEP ended and waits for simctl_answer_steps(): the loop must not sleep. */
-bool simctl_answer_due(const simctl_t *ctl);
 /* Once per loop pass: a listener paused at the descriptor limit tries again. */
 void simctl_reap(simctl_t *ctl);
 void simctl_stop(simctl_t *ctl);

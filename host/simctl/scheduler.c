@@ -70,6 +70,13 @@ static void spend(unsigned *budget, unsigned work)
     *budget = *budget > work ? *budget - work : 0u;
 }
 
+/* The delayed replies' next release. A reply is held only on an armed
+ * delay, so while none is armed there is none, without a call. */
+static uint64_t delays_next_us(const simctl_sched_t *s)
+{
+    return s->delays.armed != NULL ? simctl_delay_next_us(&s->delays) : UINT64_MAX;
+}
+
 /* The devices and the delayed replies, each only when something of theirs
  * is due or a device was touched; the devices' control steps are paid from
  * the budget. */
@@ -86,7 +93,7 @@ static void run_fleet_and_delays(simctl_sched_t *s, uint64_t now, unsigned *budg
         simctl_delay_release_due(&s->delays, now);
     }
     if (ticked || releasing) {
-        s->delay_due_us = simctl_delay_next_us(&s->delays);
+        s->delay_due_us = delays_next_us(s);
     }
 }
 
@@ -113,6 +120,13 @@ static bool run_due(simctl_sched_t *s, unsigned *budget, uint64_t *next)
     return !fleet_devices_due(s->fleet, now); /* the time waits for the devices still due */
 }
 
+/* A step until its condition, which holds: it ends at the present instant. */
+static void end_step_here(simctl_sched_t *s)
+{
+    simclock_end_step_here(s->clock);
+    s->step.until_us = device_now(s);
+}
+
 /* A step until its condition: ends at the present instant once it holds. */
 static bool step_ends_early(simctl_sched_t *s)
 {
@@ -120,8 +134,7 @@ static bool step_ends_early(simctl_sched_t *s)
         !s->step.done_early(s->step.done_early_ctx)) {
         return false;
     }
-    simclock_end_step_here(s->clock);
-    s->step.until_us = device_now(s);
+    end_step_here(s);
     return true;
 }
 
@@ -136,6 +149,71 @@ static void finish_step_if_done(simctl_sched_t *s)
     }
 }
 
+/* One slice of catch_up(): how far it may go and what it found so far. */
+typedef struct {
+    uint64_t target;  /* the device time it moves towards */
+    unsigned budget;  /* work left in the slice */
+    uint64_t next;    /* the next due time, as the last instant left it */
+    bool all_due_ran; /* false: work due at the present instant is left */
+    bool ended;       /* the step's condition ended it at the present instant */
+} slice_t;
+
+/* The common stretch of a slice: a lone device moving, nothing else due
+ * before the target. Each of its deadlines up to the first instant at
+ * which anything else is due (the hook's next item, a delayed reply, the
+ * servers' timeouts, a touch) is an instant at which run_due() would only
+ * tick the fleet and spend a step and an instant of work; the fleet runs
+ * them in a row (fleet_run_lone()) and asks the step's condition after
+ * each, as step_ends_early() would. Only while no delay is armed: a tick
+ * may hold a reply on an armed one, and with none the delays' next
+ * release is none after a tick. The hook is asked once: only its own
+ * events move its items, and none runs here. Returns how many instants
+ * ran. */
+static unsigned run_fleet_deadlines(simctl_sched_t *s, slice_t *slice)
+{
+    if (s->delays.armed != NULL) {
+        return 0u;
+    }
+    uint64_t hook_next = hook_next_us(s);
+    uint64_t before = earliest(earliest(hook_next, s->delay_due_us),
+                               slice->target < UINT64_MAX ? slice->target + 1u : UINT64_MAX);
+    fleet_lone_run_t run = {.device_us = &s->clock->device_us,
+                            .before = before,
+                            .max_steps = slice->budget / 2u + slice->budget % 2u,
+                            .stop = s->step.running ? s->step.done_early : NULL,
+                            .ctx = s->step.done_early_ctx};
+    unsigned instants = fleet_run_lone(s->fleet, &run);
+    if (run.stopped) {
+        end_step_here(s);
+        slice->ended = true;
+    }
+    if (instants > 0) {
+        s->fleet_due_us = fleet_next_us(s->fleet);
+        s->delay_due_us = UINT64_MAX;
+        spend(&slice->budget, 2u * instants); /* a step and an instant each */
+        slice->all_due_ran = true;            /* a lone device is never left due */
+        slice->next = earliest(s->fleet_due_us, hook_next);
+    }
+    return instants;
+}
+
+/* One instant of the general kind: the device time moves to the next due
+ * time (or the target, when nothing is due before it) and what is due there
+ * runs. False when the slice stops here. */
+static bool run_next_instant(simctl_sched_t *s, slice_t *slice)
+{
+    uint64_t now = device_now(s);
+    uint64_t next = slice->next;
+    if (next > slice->target && !fleet_touched_any(s->fleet)) {
+        simclock_advance_device(s->clock, slice->target); /* nothing is due on the way */
+        return false;
+    }
+    simclock_advance_device(s->clock, earliest(slice->target, next > now ? next : now + 1u));
+    slice->all_due_ran = run_due(s, &slice->budget, &slice->next);
+    slice->ended = slice->all_due_ran && step_ends_early(s);
+    return true;
+}
+
 /* Moves the device time towards target, deadline by deadline, for one
  * slice of work. Returns the next due time, or the present device time when
  * work is left (the loop then polls without waiting). */
@@ -145,28 +223,22 @@ static uint64_t catch_up(simctl_sched_t *s, uint64_t target)
         return device_now(s);
     }
     s->in_catch_up = true;
-    unsigned budget = SLICE_WORK;
-    uint64_t next = UINT64_MAX;
-    bool all_due_ran = run_due(s, &budget, &next);
-    bool ended = all_due_ran && step_ends_early(s);
-    while (!ended && all_due_ran && budget > 0 && device_now(s) < target) {
-        uint64_t now = device_now(s);
-        if (next > target && !fleet_touched_any(s->fleet)) {
-            simclock_advance_device(s->clock, target); /* nothing is due on the way */
+    slice_t slice = {.target = target, .budget = SLICE_WORK, .next = UINT64_MAX};
+    slice.all_due_ran = run_due(s, &slice.budget, &slice.next);
+    slice.ended = slice.all_due_ran && step_ends_early(s);
+    while (!slice.ended && slice.all_due_ran && slice.budget > 0 && device_now(s) < target) {
+        if (run_fleet_deadlines(s, &slice) == 0 && !run_next_instant(s, &slice)) {
             break;
         }
-        simclock_advance_device(s->clock, earliest(target, next > now ? next : now + 1u));
-        all_due_ran = run_due(s, &budget, &next);
-        ended = all_due_ran && step_ends_early(s);
     }
-    if (ended) {
+    if (slice.ended) {
         target = device_now(s);
     }
     s->in_catch_up = false;
     finish_step_if_done(s);
-    bool left = !all_due_ran || device_now(s) < target;
-    s->next_us = left ? 0u : next;
-    return left ? device_now(s) : next;
+    bool left = !slice.all_due_ran || device_now(s) < target;
+    s->next_us = left ? 0u : slice.next;
+    return left ? device_now(s) : slice.next;
 }
 
 /* Nothing is due up to target (the hook's next item at hook_next) and

@@ -316,6 +316,66 @@ START_TEST(run_until_done_stops_at_its_limit)
 }
 END_TEST
 
+/* Where a lone device's runs end: a grip cycle under RUN_UNTIL_DONE, a
+ * slow MOVE that a scenario event (a power fault) ends mid-way, and one
+ * slice of a long STEP. With `instant_by_instant` a DELAY is armed on a
+ * second, idle session: the scheduler then takes every instant on its own
+ * (a tick could hold a reply), as it did before lone runs; both ways must
+ * end at the same instants and spend the same work per slice. */
+static size_t lone_run_ends(bool instant_by_instant, uint64_t ends[8])
+{
+    static const char *const cycle[][2] = {
+        {"HOME()", "HOME"}, {"MOVE(80)", "MOVE"}, {"GRIP(20)", "GRIP"}, {"RELEASE(10)", "RELEASE"}};
+    h_client_t idle;
+    h_open_on(&idle, &fleet_gripper(t_fleet, 0)->device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM);
+    if (instant_by_instant) {
+        char line[64];
+        snprintf(line, sizeof(line), "DELAY(60000,%u)", (unsigned)wsg_conn_id(&idle.conn));
+        CTL_EQ(line, "ACK DELAY");
+    }
+    size_t n = 0;
+    CTL_EQ("PART(30)", "ACK PART");
+    for (size_t i = 0; i < sizeof(cycle) / sizeof(cycle[0]); i++) {
+        char ack[32];
+        snprintf(ack, sizeof(ack), "ACK %s", cycle[i][1]);
+        GCL_EQ(cycle[i][0], ack);
+        ends[n++] = run_until_done("RUN_UNTIL_DONE(10000)", "done");
+        h_discard(&t_gcl);
+    }
+    const char *path = t_temp_file("1234.5 FAULT(\"POWER\")\n");
+    ck_assert(scenario_load(simctl_scenario(t_sim), path, t_now_us()));
+    remove(path);
+    GCL_EQ("MOVE(100,10)", "ACK MOVE"); /* 8 s and more */
+    ends[n++] = run_until_done("RUN_UNTIL_DONE(20000)", "done");
+    ck_assert_str_eq(gcl_next(), "ERR MOVE 19");
+    scenario_unload(simctl_scenario(t_sim));
+    CTL_EQ("CLEAR(\"POWER\")", "ACK CLEAR"); /* the DELAY stays */
+    GCL_EQ("FSACK()", "ACK FSACK");
+    GCL_EQ("MOVE(10,10)", "ACK MOVE");
+    start_step("STEP(3600000)");
+    simctl_tick(simctl_scheduler(t_sim)); /* one slice */
+    ends[n++] = t_now_us();
+    simctl_step_finish(simctl_scheduler(t_sim));
+    free(simctl_step_reply(t_sim));
+    h_close(&idle, WSG_CLOSE_ANNOUNCED);
+    return n;
+}
+
+START_TEST(a_lone_run_ends_where_instant_by_instant_passes_end)
+{
+    uint64_t lone[8];
+    uint64_t by_instant[8];
+    size_t n = lone_run_ends(false, lone);
+    t_teardown();
+    t_setup();
+    ck_assert_uint_eq(lone_run_ends(true, by_instant), n);
+    for (size_t i = 0; i < n; i++) {
+        ck_assert_msg(lone[i] == by_instant[i], "end %zu: %llu, instant by instant %llu", i,
+                      (unsigned long long)lone[i], (unsigned long long)by_instant[i]);
+    }
+}
+END_TEST
+
 /* A control connection that closes during its RUN_UNTIL_DONE never takes the
  * reply; a STEP after it still answers as a STEP. */
 START_TEST(a_step_after_an_unanswered_run_answers_as_a_step)
@@ -440,6 +500,7 @@ Suite *clock_suite(void)
     tcase_add_test(tc, run_until_done_stops_at_its_limit);
     tcase_add_test(tc, run_until_done_is_checked_like_step);
     tcase_add_test(tc, a_step_after_an_unanswered_run_answers_as_a_step);
+    tcase_add_test(tc, a_lone_run_ends_where_instant_by_instant_passes_end);
     suite_add_tcase(s, tc);
     TCase *fleet = tcase_create("clock of a fleet");
     tcase_add_checked_fixture(fleet, t_setup_three_devices, t_teardown);
