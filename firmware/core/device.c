@@ -106,16 +106,16 @@ static void step_finger_bus(wsg_dev_t *dev)
 void wsg_device_step(wsg_device_t *device)
 {
     wsg_dev_t *dev = dev_of(device);
-    wsg_sense_and_react(dev);
+    wsg_step_sense_and_react(dev);
     step_finger_bus(dev);
     wsg_motion_step(dev);
     wsg_grip_monitor_step(dev);
     wsg_motion_block_watch_step(dev);
-    wsg_sense_and_react_if_changed(dev); /* what the step changed, for the timers below */
+    wsg_step_sense_and_react_if_changed(dev); /* what the step changed, for the timers below */
     if (wsg_timer_next_due(&dev->timers) <= dev->sensed.now_us) {
         wsg_timer_run_due(&dev->timers, dev->sensed.now_us);
     }
-    dev->tick_from_us = dev->sensed.now_us;
+    dev->tick_from_us = dev->sensed.now_us; /* the senses above leave it to here */
 }
 
 uint64_t wsg_device_next_deadline_us(const wsg_device_t *device)

@@ -24,13 +24,11 @@ static void sense_fingers(wsg_dev_t *dev)
     s->finger_force_n = s->force_control ? wsg_fingers_measured_force(&dev->fingers) : 0.0f;
 }
 
-void wsg_sense(wsg_dev_t *dev)
+/* The sense at s->now_us, read already: the axis, the fingers, the
+ * temperature, and the flags derived from them. */
+static void read_hardware(wsg_dev_t *dev)
 {
     dev_sensed_t *s = &dev->sensed;
-    s->now_us = hal_clock_now_us();
-    if (wsg_device_tick_us(dev) == 0u) {
-        dev->tick_from_us = s->now_us; /* a tick a command starts counts from here */
-    }
     dev->hal.axis.ops->status(dev->hal.axis.ctx, &s->axis);
     dev->axis_commanded = false;
     sense_fingers(dev);
@@ -40,6 +38,16 @@ void wsg_sense(wsg_dev_t *dev)
     s->temperature_c = dev->hal.temp.ops->board_c(dev->hal.temp.ctx);
     s->referenced = dev->referenced;
     wsg_flags_derive(dev);
+}
+
+void wsg_sense(wsg_dev_t *dev)
+{
+    dev_sensed_t *s = &dev->sensed;
+    s->now_us = hal_clock_now_us();
+    if (wsg_device_tick_us(dev) == 0u) {
+        dev->tick_from_us = s->now_us; /* a tick a command starts counts from here */
+    }
+    read_hardware(dev);
 }
 
 /* What the sense step reads, other than the world (which the port advances
@@ -61,19 +69,40 @@ static bool readings_changed(const wsg_dev_t *dev)
             wsg_fingers_measured_force(fingers) != s->finger_force_n);
 }
 
-void wsg_sense_and_react(wsg_dev_t *dev)
+/* The flags were derived from this sense's readings with this
+ * configuration: their fault bits are wsg_flags_severe_fault() (the core
+ * never latches them), read in one test. */
+#define SEVERE_FAULT_FLAGS                                                                         \
+    (WSG_FLAG(SF_TEMP_FAULT) | WSG_FLAG(SF_POWER_FAULT) | WSG_FLAG(SF_CURR_FAULT))
+
+static void react(wsg_dev_t *dev)
 {
-    wsg_sense(dev);
     /* a reaction changes what the next sense reads, even at this instant */
-    dev->sense_reacted = wsg_flags_severe_fault(dev) && !wsg_flags_get(dev, SF_FAST_STOP);
+    dev->sense_reacted =
+        (dev->flags & SEVERE_FAULT_FLAGS) != 0u && !wsg_flags_get(dev, SF_FAST_STOP);
     if (dev->sense_reacted) {
         wsg_motion_fast_stop(dev, "severe fault (temperature, power or motor current)");
     }
 }
 
-void wsg_sense_and_react_if_changed(wsg_dev_t *dev)
+void wsg_sense_and_react(wsg_dev_t *dev)
+{
+    wsg_sense(dev);
+    react(dev);
+}
+
+/* A control step counts its tick from its own end (tick_from_us), and
+ * nothing reads that within the step: its senses leave it alone. */
+void wsg_step_sense_and_react(wsg_dev_t *dev)
+{
+    dev->sensed.now_us = hal_clock_now_us();
+    read_hardware(dev);
+    react(dev);
+}
+
+void wsg_step_sense_and_react_if_changed(wsg_dev_t *dev)
 {
     if (readings_changed(dev)) {
-        wsg_sense_and_react(dev);
+        wsg_step_sense_and_react(dev);
     }
 }

@@ -148,8 +148,12 @@ static inline wsg_device_t *dev_public(wsg_dev_t *dev)
 void wsg_sense(wsg_dev_t *dev);
 /* wsg_sense(), then a severe fault raises FAST STOP. */
 void wsg_sense_and_react(wsg_dev_t *dev);
-/* wsg_sense_and_react() unless a sense now would read what the last one read. */
-void wsg_sense_and_react_if_changed(wsg_dev_t *dev);
+/* wsg_sense_and_react() within a control step, which sets tick_from_us
+ * when it ends. */
+void wsg_step_sense_and_react(wsg_dev_t *dev);
+/* wsg_step_sense_and_react() unless a sense now would read what the last
+ * one read. */
+void wsg_step_sense_and_react_if_changed(wsg_dev_t *dev);
 
 /* flags.c: the register (pure) */
 void wsg_flags_set(wsg_dev_t *dev, wsg_sysflag_t flag, bool on);

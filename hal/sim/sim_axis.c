@@ -17,6 +17,15 @@ static float signf(float v)
     return v > 0.0f ? 1.0f : (v < 0.0f ? -1.0f : 0.0f);
 }
 
+/* Anything that changes the axis or its world voids what the last steps
+ * found: the next advance steps again. */
+static void forget_steps(sim_axis_t *axis)
+{
+    axis->rest_step_current = false;
+    axis->cruise.current = false;
+    axis->hold_current = false;
+}
+
 void wsg_sim_axis_init(sim_axis_t *axis, float stroke_mm, float emergency_accel_mm_s2)
 {
     memset(axis, 0, sizeof(*axis));
@@ -29,7 +38,7 @@ void wsg_sim_axis_init(sim_axis_t *axis, float stroke_mm, float emergency_accel_
 
 void wsg_sim_axis_place_part(sim_axis_t *axis, float width_mm, float stiffness_n_mm)
 {
-    axis->rest_step_current = false;
+    forget_steps(axis);
     axis->part.present = true;
     axis->part.squeezed_s = 0.0f;
     axis->part.width_mm = width_mm;
@@ -39,7 +48,7 @@ void wsg_sim_axis_place_part(sim_axis_t *axis, float width_mm, float stiffness_n
 
 void wsg_sim_axis_remove_part(sim_axis_t *axis)
 {
-    axis->rest_step_current = false;
+    forget_steps(axis);
     axis->part.present = false;
     axis->part.squeezed_s = 0.0f;
 }
@@ -47,7 +56,7 @@ void wsg_sim_axis_remove_part(sim_axis_t *axis)
 void wsg_sim_axis_set_part(sim_axis_t *axis, float width_mm, float stiffness_n_mm,
                            float slip_force_n)
 {
-    axis->rest_step_current = false;
+    forget_steps(axis);
     if (!axis->part.present) {
         wsg_sim_axis_place_part(axis, width_mm, stiffness_n_mm);
     }
@@ -58,7 +67,7 @@ void wsg_sim_axis_set_part(sim_axis_t *axis, float width_mm, float stiffness_n_m
 
 void wsg_sim_axis_slip_part(sim_axis_t *axis)
 {
-    axis->rest_step_current = false;
+    forget_steps(axis);
     if (axis->part.present) {
         axis->part.slips++;
         wsg_sim_axis_remove_part(axis);
@@ -67,7 +76,7 @@ void wsg_sim_axis_slip_part(sim_axis_t *axis)
 
 void wsg_sim_axis_place_obstacle(sim_axis_t *axis, float width_mm)
 {
-    axis->rest_step_current = false;
+    forget_steps(axis);
     axis->obstacle.present = true;
     axis->obstacle.width_mm = width_mm;
     axis->obstacle.side = axis->x_mm >= width_mm ? SIM_PART_INSIDE : SIM_PART_OUTSIDE;
@@ -75,14 +84,14 @@ void wsg_sim_axis_place_obstacle(sim_axis_t *axis, float width_mm)
 
 void wsg_sim_axis_remove_obstacle(sim_axis_t *axis)
 {
-    axis->rest_step_current = false;
+    forget_steps(axis);
     axis->obstacle.present = false;
 }
 
 void wsg_sim_axis_move(sim_axis_t *axis, float target_mm, float speed_mm_s, float accel_mm_s2,
                        float force_limit_n)
 {
-    axis->rest_step_current = false;
+    forget_steps(axis);
     axis->target_mm = target_mm - axis->offset_mm;
     axis->vmax_mm_s = speed_mm_s;
     axis->amax_mm_s2 = accel_mm_s2;
@@ -92,7 +101,7 @@ void wsg_sim_axis_move(sim_axis_t *axis, float target_mm, float speed_mm_s, floa
 
 void wsg_sim_axis_stop(sim_axis_t *axis, bool fast)
 {
-    axis->rest_step_current = false;
+    forget_steps(axis);
     float accel = fast ? axis->emergency_accel_mm_s2 : axis->amax_mm_s2;
     if (accel <= 0.0f) {
         accel = axis->emergency_accel_mm_s2;
@@ -105,34 +114,34 @@ void wsg_sim_axis_stop(sim_axis_t *axis, bool fast)
 
 void wsg_sim_axis_disable(sim_axis_t *axis)
 {
-    axis->rest_step_current = false;
+    forget_steps(axis);
     axis->fmax_n = 0.0f;
     wsg_sim_axis_stop(axis, true);
 }
 
 void wsg_sim_axis_set_position(sim_axis_t *axis, float position_mm)
 {
-    axis->rest_step_current = false;
+    forget_steps(axis);
     float shift = position_mm - wsg_sim_axis_position(axis);
     axis->offset_mm += shift;
 }
 
 void wsg_sim_axis_place_jaws(sim_axis_t *axis, float x_mm)
 {
-    axis->rest_step_current = false;
+    forget_steps(axis);
     axis->x_mm = x_mm;
     axis->target_mm = x_mm;
 }
 
 void wsg_sim_axis_set_power_fault(sim_axis_t *axis, bool on)
 {
-    axis->rest_step_current = false;
+    forget_steps(axis);
     axis->power_fault = on;
 }
 
 void wsg_sim_axis_set_current_fault(sim_axis_t *axis, bool on)
 {
-    axis->rest_step_current = false;
+    forget_steps(axis);
     axis->current_fault = on;
 }
 
@@ -303,6 +312,18 @@ static bool within(clear_span_t span, float x_mm)
     return x_mm > span.low_mm && x_mm < span.high_mm;
 }
 
+static void remember_cruise(sim_axis_t *axis, float dt_s, unsigned steps, float dir,
+                            float stopping_mm, clear_span_t span)
+{
+    axis->cruise.current = true;
+    axis->cruise.steps = (uint8_t)steps;
+    axis->cruise.dt_s = dt_s;
+    axis->cruise.dir = dir;
+    axis->cruise.stopping_mm = stopping_mm;
+    axis->cruise.clear_low_mm = span.low_mm;
+    axis->cruise.clear_high_mm = span.high_mm;
+}
+
 /* Accelerating or cruising towards the target, far from it and clear of
  * every surface, a step of the profile only speeds up (up to the limit) and
  * moves, and nothing is reached or touched. Does the steps of dt_s that way
@@ -328,12 +349,17 @@ static bool free_run(sim_axis_t *axis, float dt_s, clear_span_t span)
         !(dt_s > 0.0f)) {
         return false; /* not profile_step()'s speed-up, or a speed that may shrink */
     }
+    unsigned cruise_steps = 0; /* stays 0 unless cruising */
     if (fabsf(v) == vmax && vmax > 0.0f) {
         /* cruising: a step's speed-up leaves v or passes the limit and is
          * clamped back to it, dir * vmax, which is v */
-        for (float left_s = dt_s; left_s > 0.0f;) {
+        for (float left_s = dt_s; left_s > 0.0f; cruise_steps++) {
             float dt = left_s < SIM_AXIS_MAX_STEP_S ? left_s : SIM_AXIS_MAX_STEP_S;
-            x = x + v * dt;
+            float step = v * dt;
+            if (cruise_steps < 2u) {
+                axis->cruise.step_mm[cruise_steps] = step;
+            }
+            x = x + step;
             left_s -= dt;
         }
     } else {
@@ -358,12 +384,41 @@ static bool free_run(sim_axis_t *axis, float dt_s, clear_span_t span)
     axis->x_mm = x;
     axis->v_mm_s = v;
     clear_outputs(axis);
+    if (cruise_steps == 1u || cruise_steps == 2u) {
+        remember_cruise(axis, dt_s, cruise_steps, dir, stopping, span);
+    }
+    return true;
+}
+
+/* free_run() once more, cruising as it found at its last advance, which
+ * had the same length: while the profile runs, the speed, target, limits
+ * and surfaces are as they were (any change forgets the cruise), so each
+ * sub-step adds the same v * dt, and the tests that passed at the start
+ * hold still. The jaws start where the last advance ended, which it found
+ * far from the target and inside the clear span, past where that one
+ * started: only where this one ends needs checking, with free_run()'s own
+ * comparisons. Changes nothing and returns false where that check fails. */
+static bool cruise_on(sim_axis_t *axis, float dt_s)
+{
+    if (!axis->cruise.current || !axis->active || dt_s != axis->cruise.dt_s) {
+        return false;
+    }
+    float x = axis->x_mm + axis->cruise.step_mm[0];
+    if (axis->cruise.steps == 2u) {
+        x = x + axis->cruise.step_mm[1];
+    }
+    float ahead = (axis->target_mm - x) * axis->cruise.dir;
+    bool far = ahead > axis->cruise.stopping_mm && ahead >= AT_TARGET_MM;
+    if (!far || !(x > axis->cruise.clear_low_mm) || !(x < axis->cruise.clear_high_mm)) {
+        return false;
+    }
+    axis->x_mm = x; /* the outputs are clear_outputs()' already */
     return true;
 }
 
 void wsg_sim_axis_advance_stepwise(sim_axis_t *axis, float dt_s)
 {
-    axis->rest_step_current = false;
+    forget_steps(axis);
     /* At rest only contacts can change (a part placed or removed): one step
      * of 0 s. */
     bool at_rest = wsg_sim_axis_at_rest(axis);
@@ -378,14 +433,50 @@ void wsg_sim_axis_advance_stepwise(sim_axis_t *axis, float dt_s)
     }
 }
 
+/* What a step writes, by bits (a float's sign of zero counts): a step that
+ * leaves all of it as it was leaves the whole axis as it was, as the rest
+ * (command, surfaces, stroke) only the commands change. */
+typedef struct {
+    uint32_t x, v, force, squeezed;
+    int8_t blocked;
+    bool active, part_present;
+} step_state_t;
+
+static uint32_t float_bits(float v)
+{
+    uint32_t u;
+    memcpy(&u, &v, sizeof(u));
+    return u;
+}
+
+static step_state_t step_state(const sim_axis_t *axis)
+{
+    return (step_state_t){float_bits(axis->x_mm),
+                          float_bits(axis->v_mm_s),
+                          float_bits(axis->force_n),
+                          float_bits(axis->part.squeezed_s),
+                          axis->blocked,
+                          axis->active,
+                          axis->part.present};
+}
+
+static bool same_state(const step_state_t *a, const step_state_t *b)
+{
+    return a->x == b->x && a->v == b->v && a->force == b->force && a->squeezed == b->squeezed &&
+           a->blocked == b->blocked && a->active == b->active && a->part_present == b->part_present;
+}
+
 /* The steps of wsg_sim_axis_advance_stepwise() where the jaws move, touch()
  * cut short where they end a step clear of every surface. The span is taken
  * once: a step can only take a surface away (a part slips out), which leaves
- * the true span wider. */
-static void move_steps(sim_axis_t *axis, float dt_s, clear_span_t span)
+ * the true span wider. Returns whether every step left the axis as it found
+ * it (only a step that ends standing can). */
+static bool move_steps(sim_axis_t *axis, float dt_s, clear_span_t span)
 {
+    bool unchanged = true;
     for (float left_s = dt_s; left_s > 0.0f;) {
         float dt = left_s < SIM_AXIS_MAX_STEP_S ? left_s : SIM_AXIS_MAX_STEP_S;
+        step_state_t before = step_state(axis);
         if (axis->active) {
             profile_step(axis, dt);
         }
@@ -394,12 +485,20 @@ static void move_steps(sim_axis_t *axis, float dt_s, clear_span_t span)
         } else {
             touch(axis, dt);
         }
+        if (unchanged && axis->v_mm_s == 0.0f) {
+            step_state_t after = step_state(axis);
+            unchanged = same_state(&before, &after);
+        } else {
+            unchanged = false;
+        }
         left_s -= dt;
     }
+    return unchanged;
 }
 
 void wsg_sim_axis_advance(sim_axis_t *axis, float dt_s)
 {
+    /* at rest first: the shortcuts below need a profile running */
     if (wsg_sim_axis_at_rest(axis)) {
         if (axis->rest_step_current) {
             return; /* the world is advanced before every input and every tick */
@@ -416,9 +515,16 @@ void wsg_sim_axis_advance(sim_axis_t *axis, float dt_s)
         }
         return;
     }
-    axis->rest_step_current = false;
+    if (cruise_on(axis, dt_s)) {
+        return;
+    }
+    if (axis->hold_current && axis->active && dt_s == axis->hold_dt_s) {
+        return; /* the same steps again, each leaving the axis as it was */
+    }
+    forget_steps(axis);
     clear_span_t span = clear_span(axis);
-    if (!free_run(axis, dt_s, span)) {
-        move_steps(axis, dt_s, span);
+    if (!free_run(axis, dt_s, span) && move_steps(axis, dt_s, span)) {
+        axis->hold_current = true;
+        axis->hold_dt_s = dt_s;
     }
 }

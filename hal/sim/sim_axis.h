@@ -59,6 +59,25 @@ typedef struct {
      * does not integrate) would give them again, so it is skipped. Every
      * change clears it. (In contact a step at rest is not idempotent.) */
     bool rest_step_current;
+    /* Cruising at the speed limit, far from the target and every surface,
+     * the last advance was free_run()'s; another of the same length takes
+     * the same sub-steps at the same speed, and only where it ends needs
+     * checking. What free_run() found, until anything changes. */
+    struct {
+        bool current;
+        uint8_t steps;      /* sub-steps of an advance of dt_s: 1 or 2 */
+        float dt_s;         /* the advance's length */
+        float step_mm[2];   /* v * each sub-step's length: exactly what free_run() adds */
+        float dir;          /* +1 opening, -1 closing */
+        float stopping_mm;  /* v * v / (2 * a), as free_run() computes it */
+        float clear_low_mm; /* the clear span (clear_span()) */
+        float clear_high_mm;
+    } cruise;
+    /* Pushing on a surface (or anything else steady), the last advance's
+     * steps each left every field of the axis as they found it: another of
+     * the same length would too, so it is skipped. Every change clears it. */
+    bool hold_current;
+    float hold_dt_s; /* the length of that advance */
 } sim_axis_t;
 
 #define SIM_AXIS_MAX_STEP_S 0.0005f

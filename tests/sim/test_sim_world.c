@@ -3,12 +3,12 @@
  *
  * wsg_sim_axis_advance() skips the work of steps whose outcome is known (at
  * rest and clear of every surface; accelerating or cruising far from the
- * target and every surface), and the thermal model skips its share where the
- * board has settled. Each test runs a twin: the same commands on two
- * models, one advanced through the shortcuts, the other through every step
- * (wsg_sim_axis_advance_stepwise, the thermal formula itself), and compares
- * every field after every advance. Floats are compared by their bits: the
- * shortcuts must give the same values, not close ones. */
+ * target and every surface; cruising on as the last advance found; steps
+ * that left the axis as it was, pushing on a surface), and the thermal model skips its
+ * share where the board has settled. Each test runs a twin: the same commands on two models, one
+ * advanced through the shortcuts, the other through every step (wsg_sim_axis_advance_stepwise, the
+ * thermal formula itself), and compares every field after every advance. Floats are compared by
+ * their bits: the shortcuts must give the same values, not close ones. */
 #include <check.h>
 #include <math.h>
 #include <stdint.h>
@@ -43,6 +43,8 @@ typedef struct {
     unsigned speeding; /* ... that started below it and ended faster */
     unsigned contacts; /* ... that ended with a force on the jaws */
     unsigned at_rest;  /* ... that started at rest */
+    unsigned cruised;  /* ... that started with a cruise remembered (white box) */
+    unsigned held;     /* ... that started with a steady push remembered (white box) */
 } axis_twin_t;
 
 static void same_axis(const axis_twin_t *twin, const char *where)
@@ -91,6 +93,8 @@ static void twin_advance(axis_twin_t *twin, float dt_s)
     const sim_axis_t *ref = &twin->ref;
     float v_before = fabsf(ref->v_mm_s);
     bool rest_before = wsg_sim_axis_at_rest(ref);
+    twin->cruised += twin->fast.cruise.current;
+    twin->held += twin->fast.hold_current;
     wsg_sim_axis_advance(&twin->fast, dt_s);
     wsg_sim_axis_advance_stepwise(&twin->ref, dt_s);
     twin->advances++;
@@ -136,6 +140,7 @@ START_TEST(moves_match_the_full_model)
         twin_run(&twin, 3000);
     }
     ck_assert_uint_gt(twin.at_limit, 500u);
+    ck_assert_uint_gt(twin.cruised, 400u);
     ck_assert_uint_gt(twin.speeding, 50u);
     ck_assert_uint_gt(twin.contacts, 0u);
 }
@@ -209,6 +214,7 @@ START_TEST(grips_and_slips_match_the_full_model)
     ck_assert_uint_eq(twin.ref.part.slips, 1u);
     ck_assert(!twin.ref.part.present);
     ck_assert_uint_gt(twin.contacts, 100u);
+    ck_assert_uint_gt(twin.held, 100u);
 }
 END_TEST
 
@@ -278,6 +284,93 @@ START_TEST(short_slow_and_odd_moves_match_the_full_model)
     twin.fast.active = twin.ref.active = false; /* white box: moving with no profile */
     twin_steps(&twin, 10, STEP_S);
     ck_assert_uint_gt(twin.speeding, 10u);
+}
+END_TEST
+
+/* Cruising on as the last advance found: each change while cruising (a
+ * surface ahead, a new command, an offset, a fault, the jaws placed), an
+ * advance of another length, the target and a surface come near. */
+START_TEST(cruises_forget_every_change)
+{
+    axis_twin_t twin;
+    twin_init(&twin);
+    BOTH(&twin, wsg_sim_axis_place_jaws, 5.0f);
+    BOTH(&twin, wsg_sim_axis_move, 100.0f, 50.0f, 5000.0f, 30.0f);
+    twin_steps(&twin, 30, STEP_S);
+    ck_assert(twin.fast.cruise.current);
+    BOTH(&twin, wsg_sim_axis_place_obstacle, 3.0f); /* behind the jaws: the span narrows */
+    twin_steps(&twin, 3, STEP_S);
+    BOTH(&twin, wsg_sim_axis_place_part, 9.5f, 0.0f); /* ahead: the span ends there */
+    twin_steps(&twin, 3, STEP_S);
+    wsg_sim_axis_remove_part(&twin.fast);
+    wsg_sim_axis_remove_part(&twin.ref);
+    twin_steps(&twin, 3, STEP_S);
+    twin_steps(&twin, 3, 0.0007f); /* another length */
+    twin_steps(&twin, 3, STEP_S);
+    BOTH(&twin, wsg_sim_axis_set_position, 20.0f); /* shifts the target of the next move */
+    twin_steps(&twin, 3, STEP_S);
+    BOTH(&twin, wsg_sim_axis_move, 30.0f, 50.0f, 5000.0f, 30.0f); /* same speed, new target */
+    twin_steps(&twin, 3, STEP_S);
+    BOTH(&twin, wsg_sim_axis_set_power_fault, true);
+    twin_steps(&twin, 3, STEP_S);
+    BOTH(&twin, wsg_sim_axis_place_jaws, 50.0f);
+    twin_steps(&twin, 3, STEP_S);
+    BOTH(&twin, wsg_sim_axis_move, 100.0f, 50.0f, 5000.0f, 30.0f);
+    twin_steps(&twin, 30, STEP_S);
+    BOTH(&twin, wsg_sim_axis_place_part, 70.0f, 20.0f); /* outside, ahead: met while cruising */
+    twin_steps(&twin, 600, STEP_S);
+    ck_assert_int_eq(twin.ref.blocked, 1);
+    BOTH(&twin, wsg_sim_axis_move, 0.0f, 80.0f, 5000.0f, 30.0f); /* closing onto the obstacle */
+    twin_steps(&twin, 1200, STEP_S);
+    ck_assert_int_eq(twin.ref.blocked, -1);
+    ck_assert_uint_gt(twin.cruised, 500u);
+}
+END_TEST
+
+/* Pushing steadily on a surface, an advance leaves the axis as it was and
+ * the next of the same length is skipped: each change while pushing (a
+ * weaker or stronger force, a part that gives way or slips, the surface
+ * taken away, a fault, an offset), an advance of another length. */
+START_TEST(steady_pushes_forget_every_change)
+{
+    axis_twin_t twin;
+    twin_init(&twin);
+    BOTH(&twin, wsg_sim_axis_place_jaws, 50.0f);
+    BOTH(&twin, wsg_sim_axis_place_part, 30.0f, 0.0f); /* rigid, inside */
+    BOTH(&twin, wsg_sim_axis_move, -2.0f, 100.0f, 5000.0f, 40.0f);
+    twin_steps(&twin, 400, STEP_S);
+    ck_assert(twin.fast.hold_current);
+    BOTH(&twin, wsg_sim_axis_move, -2.0f, 100.0f, 5000.0f, 20.0f); /* weaker */
+    twin_steps(&twin, 5, STEP_S);
+    BOTH(&twin, wsg_sim_axis_set_part, 30.0f, 50.0f, 0.0f); /* soft: gives way */
+    twin_steps(&twin, 5, STEP_S);
+    twin_steps(&twin, 5, 0.0003f); /* another length */
+    twin_steps(&twin, 5, STEP_S);
+    BOTH(&twin, wsg_sim_axis_set_current_fault, true);
+    twin_steps(&twin, 5, STEP_S);
+    BOTH(&twin, wsg_sim_axis_set_position, 10.0f);
+    twin_steps(&twin, 5, STEP_S);
+    BOTH(&twin, wsg_sim_axis_set_part, 30.0f, 50.0f, 30.0f); /* slips below 30 N */
+    twin_steps(&twin, 200, STEP_S);
+    ck_assert_uint_eq(twin.ref.part.slips, 1u);
+    twin_steps(&twin, 300, STEP_S); /* on to the end stop */
+    ck_assert_int_eq(twin.ref.blocked, -1);
+    wsg_sim_axis_disable(&twin.fast);
+    wsg_sim_axis_disable(&twin.ref);
+    twin_steps(&twin, 5, STEP_S);
+    BOTH(&twin, wsg_sim_axis_move, STROKE_MM + 3.0f, 200.0f, 5000.0f, 30.0f);
+    twin_steps(&twin, 1000, STEP_S); /* onto the other end stop */
+    ck_assert(twin.fast.hold_current);
+    twin.fast.active = twin.ref.active = false; /* white box: the profile gone */
+    twin_steps(&twin, 5, STEP_S);
+    BOTH(&twin, wsg_sim_axis_move, STROKE_MM + 3.0f, 200.0f, 5000.0f, 30.0f);
+    twin_steps(&twin, 20, STEP_S);
+    BOTH(&twin, wsg_sim_axis_place_obstacle, 100.0f); /* inside: not in the way */
+    twin_steps(&twin, 5, STEP_S);
+    wsg_sim_axis_remove_obstacle(&twin.fast);
+    wsg_sim_axis_remove_obstacle(&twin.ref);
+    twin_steps(&twin, 5, STEP_S);
+    ck_assert_uint_gt(twin.held, 300u);
 }
 END_TEST
 
@@ -423,6 +516,8 @@ START_TEST(random_commands_match_the_full_model)
         twin_advance(&twin, steps_s[lcg() % (sizeof(steps_s) / sizeof(steps_s[0]))]);
     }
     ck_assert_uint_gt(twin.at_limit, 10000u);
+    ck_assert_uint_gt(twin.cruised, 5000u);
+    ck_assert_uint_gt(twin.held, 1000u);
     ck_assert_uint_gt(twin.speeding, 1000u);
     ck_assert_uint_gt(twin.contacts, 1000u);
     ck_assert_uint_gt(twin.at_rest, 1000u);
@@ -573,6 +668,8 @@ Suite *sim_suite(void)
     tcase_add_test(axis, outside_parts_obstacles_and_end_stops_match_the_full_model);
     tcase_add_test(axis, short_slow_and_odd_moves_match_the_full_model);
     tcase_add_test(axis, changes_at_rest_are_stepped_again);
+    tcase_add_test(axis, cruises_forget_every_change);
+    tcase_add_test(axis, steady_pushes_forget_every_change);
     tcase_add_test(axis, random_commands_match_the_full_model);
     suite_add_tcase(s, axis);
     TCase *thermal = tcase_create("thermal");
