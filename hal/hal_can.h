@@ -55,6 +55,15 @@ typedef struct {
      * order, each as send() would; returns how many were taken. Saves a
      * call per frame of a burst. */
     unsigned (*send_many)(void *ctx, const hal_can_frame_t *frames, unsigned count);
+    /* Optional, on an on-demand bus (NULL: every poll is made): where the
+     * bus keeps the instant before which a poll would find nothing and
+     * change nothing but the time the bus was last polled at. The bus's own
+     * operations keep it current, so the controller reads it (no call) and
+     * may skip such polls, as long as it tells the bus the time of the last
+     * one it skipped with polls_skipped() before it polls again. Saves a
+     * call per control step while the nodes have nothing to do. */
+    const uint64_t *(*quiet_until_us)(void *ctx);
+    void (*polls_skipped)(void *ctx, uint64_t last_us);
 } hal_can_ops_t;
 
 /* A bus: the driver's operations and its instance (the shape of every HAL
@@ -99,6 +108,19 @@ static inline const hal_can_frame_t *hal_can_recv_many(const hal_can_t *can, hal
     }
     *count = 1;
     return can->ops->recv(can->ctx, one) ? one : NULL;
+}
+
+/* Where the bus keeps the end of its quiet time (quiet_until_us): a
+ * controller skips no poll on a bus without one (its own zero). */
+static inline const uint64_t *hal_can_quiet_until_us(const hal_can_t *can, const uint64_t *none)
+{
+    return can->ops->quiet_until_us != NULL ? can->ops->quiet_until_us(can->ctx) : none;
+}
+
+/* For a bus with quiet_until_us only. */
+static inline void hal_can_polls_skipped(const hal_can_t *can, uint64_t last_us)
+{
+    can->ops->polls_skipped(can->ctx, last_us);
 }
 
 static inline bool hal_can_set_filters(const hal_can_t *can, const hal_can_filter_t *filters,

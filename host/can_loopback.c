@@ -22,7 +22,7 @@
  * with one identifier). */
 typedef struct {
     hal_can_filter_t filters[HAL_CAN_MAX_FILTERS];
-    unsigned count;
+    uint8_t count; /* narrow: the bus stays in its malloc size */
     bool cached, cached_verdict, cached_ext;
     uint32_t cached_id;
 } acceptance_t;
@@ -45,6 +45,9 @@ struct can_loopback {
     /* The nodes' loop is the gripper's poll (run_nodes) */
     uint64_t polled_us;
     uint64_t nodes_due_us; /* never later than the earliest node's due_us */
+    /* Before then a poll finds nothing (quiet_until_us in hal_can.h): the
+     * gripper reads it at every step. */
+    uint64_t quiet_until_us;
     unsigned capacity, head, count;
     uint32_t frames;
     acceptance_t accept;
@@ -57,7 +60,7 @@ static bool set_acceptance(acceptance_t *a, const hal_can_filter_t *filters, uns
         return false;
     }
     memcpy(a->filters, filters, count * sizeof(filters[0]));
-    a->count = count;
+    a->count = (uint8_t)count;
     a->cached = false;
     return true;
 }
@@ -209,6 +212,19 @@ static bool node_set_filters(void *ctx, const hal_can_filter_t *filters, unsigne
     return count <= HAL_CAN_MAX_FILTERS; /* the node's own: asked per frame */
 }
 
+/* Until when a poll would find what poll_finds_nothing() looks for, as
+ * the bus stands: never while frames wait or a heap queue is to be freed;
+ * else until the earliest node's due time, and a stall after the last
+ * poll (so that no poll the gripper skips would have been a stall). Every
+ * gripper operation ends with it: all the nodes' work happens in them. */
+static void note_quiet_until(can_loopback_t *bus)
+{
+    uint64_t unstalled = bus->polled_us + FBUS_STALL_US + 1u;
+    uint64_t until = bus->nodes_due_us < unstalled ? bus->nodes_due_us : unstalled;
+    bool empty = bus->count == 0u && bus->queue == bus->inline_queue;
+    bus->quiet_until_us = empty ? until : 0u;
+}
+
 static bool gripper_send(void *ctx, const hal_can_frame_t *frame)
 {
     can_loopback_t *bus = ctx;
@@ -217,6 +233,7 @@ static bool gripper_send(void *ctx, const hal_can_frame_t *frame)
     if (wsg_fbus_unpack_simctl(frame, &faults)) {
         to_gripper(bus, frame); /* the controller wakes to watch the fault take effect */
     }
+    note_quiet_until(bus);
     return true;
 }
 
@@ -272,9 +289,8 @@ static bool nodes_sent(can_loopback_t *bus, uint64_t now)
     return false;
 }
 
-static bool gripper_recv(void *ctx, hal_can_frame_t *frame)
+static bool take_one(can_loopback_t *bus, hal_can_frame_t *frame)
 {
-    can_loopback_t *bus = ctx;
     if (bus->count == 0u && !nodes_sent(bus, hal_clock_now_us())) {
         return false;
     }
@@ -282,6 +298,13 @@ static bool gripper_recv(void *ctx, hal_can_frame_t *frame)
     bus->head++;
     bus->count--;
     return true;
+}
+
+static bool gripper_recv(void *ctx, hal_can_frame_t *frame)
+{
+    bool taken = take_one(ctx, frame);
+    note_quiet_until(ctx);
+    return taken;
 }
 
 /* What nodes_sent() finds at most polls, and all it changes then: no
@@ -298,9 +321,8 @@ static inline bool poll_finds_nothing(can_loopback_t *bus, uint64_t now)
 }
 
 /* All waiting frames, in place: the next call starts the queue afresh. */
-static const hal_can_frame_t *gripper_recv_many(void *ctx, unsigned *count)
+static const hal_can_frame_t *take_many(can_loopback_t *bus, unsigned *count)
 {
-    can_loopback_t *bus = ctx;
     if (bus->count == 0u) {
         uint64_t now = hal_clock_now_us();
         if (poll_finds_nothing(bus, now) || !nodes_sent(bus, now)) {
@@ -314,6 +336,29 @@ static const hal_can_frame_t *gripper_recv_many(void *ctx, unsigned *count)
     return frames;
 }
 
+static const hal_can_frame_t *gripper_recv_many(void *ctx, unsigned *count)
+{
+    const hal_can_frame_t *frames = take_many(ctx, count);
+    note_quiet_until(ctx);
+    return frames;
+}
+
+static const uint64_t *gripper_quiet_until_us(void *ctx)
+{
+    can_loopback_t *bus = ctx;
+    return &bus->quiet_until_us;
+}
+
+/* The gripper skipped its polls up to last_us: what poll_finds_nothing()
+ * would have done at each, the last one counting. */
+static void gripper_polls_skipped(void *ctx, uint64_t last_us)
+{
+    can_loopback_t *bus = ctx;
+    bus->head = 0;
+    bus->polled_us = last_us;
+    note_quiet_until(bus);
+}
+
 static bool gripper_set_filters(void *ctx, const hal_can_filter_t *filters, unsigned count)
 {
     can_loopback_t *bus = ctx;
@@ -321,10 +366,11 @@ static bool gripper_set_filters(void *ctx, const hal_can_filter_t *filters, unsi
 }
 
 /* The gripper's side runs the nodes when it polls: on demand. */
-static const hal_can_ops_t gripper_ops = {gripper_send, gripper_recv,      gripper_set_filters,
-                                          true,         gripper_recv_many, NULL};
-static const hal_can_ops_t node_ops = {node_send, node_recv, node_set_filters,
-                                       false,     NULL,      node_send_many};
+static const hal_can_ops_t gripper_ops = {
+    gripper_send,      gripper_recv, gripper_set_filters,    true,
+    gripper_recv_many, NULL,         gripper_quiet_until_us, gripper_polls_skipped};
+static const hal_can_ops_t node_ops = {
+    node_send, node_recv, node_set_filters, false, NULL, node_send_many, NULL, NULL};
 
 can_loopback_t *can_loopback_create(const fbus_type_t types[FBUS_SLOTS],
                                     const finger_node_params_t *params)

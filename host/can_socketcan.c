@@ -66,7 +66,8 @@ static bool sc_set_filters(void *ctx, const hal_can_filter_t *filters, unsigned 
     return rc == 0;
 }
 
-static const hal_can_ops_t sc_ops = {sc_send, sc_recv, sc_set_filters, false, NULL, NULL};
+static const hal_can_ops_t sc_ops = {sc_send, sc_recv, sc_set_filters, false,
+                                     NULL,    NULL,    NULL,           NULL};
 
 bool can_socketcan_open(can_socketcan_t *s, const char *ifname, char *err, size_t err_len)
 {

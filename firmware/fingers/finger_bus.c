@@ -12,13 +12,29 @@
  * (20 ms), a descriptor retry (100 ms) and a comm fault (300-310 ms) to show. */
 #define FBUS_SETTLE_US 500000u
 
+/* The quiet time of a bus that keeps none: every step polls. */
+static const uint64_t never_quiet_us;
+
+/* The bus ticks while it settles after a change (wake, awake_until_us) or
+ * the force loop runs; a real bus always. What it follows changes in a full
+ * step (a broadcast is always in one) and at a TARE between steps. */
+static void note_deadline(finger_bus_t *bus)
+{
+    bool ticking = !bus->can->ops->on_demand || bus->regulating || bus->wake ||
+                   bus->next_state_us < bus->awake_until_us;
+    bus->deadline_us = ticking ? bus->next_state_us : UINT64_MAX;
+}
+
 void wsg_finger_bus_init(finger_bus_t *bus, const hal_can_t *can)
 {
     memset(bus, 0, sizeof(*bus));
     bus->can = can;
+    bus->bus_quiet_until_us = &never_quiet_us;
+    bus->deadline_us = UINT64_MAX;
     if (can == NULL) {
         return;
     }
+    bus->bus_quiet_until_us = hal_can_quiet_until_us(can, &never_quiet_us);
     /* the last one only on an on-demand bus: the simulation's fault
      * injections, which change the bus without a node saying so */
     static const hal_can_filter_t filters[] = {
@@ -29,6 +45,7 @@ void wsg_finger_bus_init(finger_bus_t *bus, const hal_can_t *can)
     hal_can_set_filters(can, filters, can->ops->on_demand ? count : count - 1u);
     bus->power_mask = (uint8_t)((1u << FBUS_SLOTS) - 1u);
     bus->wake = true;
+    note_deadline(bus);
 }
 
 static void send(finger_bus_t *bus, const hal_can_frame_t *frame)
@@ -66,6 +83,8 @@ static void send_tare(finger_bus_t *bus, unsigned slot, uint64_t sent_us)
     s->tare_sends++;
     s->tare_sent_us = sent_us;
     bus->wake = true;
+    bus->quiet_until_us = 0; /* TARE() comes between steps: the next one is not quiet */
+    note_deadline(bus);
 }
 
 static void repeat_tare(finger_bus_t *bus, unsigned slot, uint64_t now_us)
@@ -255,7 +274,9 @@ static unsigned take_frames(finger_bus_t *bus, wsg_fingers_t *fingers, const hal
     return run;
 }
 
-/* Takes frames[0..count), the first poll's, and all that follow. */
+/* Takes frames[0..count), the first poll's, and all that follow. The bus
+ * was polled at this instant already: a poll its quiet time says finds
+ * nothing changes nothing, and is not made. */
 static void receive_all(finger_bus_t *bus, wsg_fingers_t *fingers, const hal_can_frame_t *frames,
                         unsigned count, uint64_t now_us)
 {
@@ -264,7 +285,8 @@ static void receive_all(finger_bus_t *bus, wsg_fingers_t *fingers, const hal_can
         for (unsigned i = 0; i < count;) {
             i += take_frames(bus, fingers, &frames[i], count - i, now_us);
         }
-        frames = hal_can_recv_many(bus->can, &one, &count);
+        frames =
+            now_us < *bus->bus_quiet_until_us ? NULL : hal_can_recv_many(bus->can, &one, &count);
     }
 }
 
@@ -420,19 +442,14 @@ static uint64_t supervise_due_us(const fbus_slot_t *s)
     return due;
 }
 
-/* On an on-demand bus a step that takes no frame changes nothing before the
- * next broadcast or supervision time, unless something woke the bus or the
- * force loop runs: supervise(), publish() and regulate() would find what
- * the last full step left. Such a step is a poll and nothing else (1 ms
- * steps while moving, of which one in ten broadcasts). */
-static bool quiet(const finger_bus_t *bus, const wsg_fingers_t *fingers, const fbus_input_t *in)
-{
-    return bus->can->ops->on_demand && !bus->wake && in->now_us < bus->quiet_until_us &&
-           !bus->regulating && !(in->holding && wsg_fingers_force_control(fingers));
-}
-
+/* After a full step: never quiet on a real bus or while the force loop
+ * runs (a full step leaves wake clear). */
 static void note_quiet_until(finger_bus_t *bus)
 {
+    if (!bus->can->ops->on_demand || bus->regulating) {
+        bus->quiet_until_us = 0;
+        return;
+    }
     uint64_t until = bus->next_state_us;
     for (unsigned i = 0; i < FBUS_SLOTS; i++) {
         until = earliest(until, supervise_due_us(&bus->slot[i]));
@@ -454,20 +471,26 @@ void wsg_finger_bus_step_full(finger_bus_t *bus, wsg_fingers_t *fingers, const f
         bus->awake_until_us = in->now_us + FBUS_SETTLE_US;
     }
     note_quiet_until(bus);
+    note_deadline(bus);
 }
 
 bool wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in)
 {
-    if (bus->can == NULL) {
+    if (bus->can == NULL || wsg_finger_bus_skip_step(bus, fingers, in->now_us, in->holding)) {
         return false;
     }
     if (in->now_us >= bus->next_state_us) {
         broadcast_state(bus, in); /* first: the supply reaches the fingers before polling */
     }
+    bool quiet = wsg_finger_bus_quiet(bus, fingers, in->now_us, in->holding);
+    if (bus->unpolled_us != 0u) {
+        hal_can_polls_skipped(bus->can, bus->unpolled_us);
+        bus->unpolled_us = 0;
+    }
     hal_can_frame_t one;
     unsigned count;
     const hal_can_frame_t *frames = hal_can_recv_many(bus->can, &one, &count);
-    if (frames == NULL && quiet(bus, fingers, in)) {
+    if (frames == NULL && quiet) {
         return false;
     }
     wsg_finger_bus_step_full(bus, fingers, in, frames, count);

@@ -146,6 +146,34 @@ void wsg_fbus_pack_bulk(hal_can_frame_t *f, uint8_t node, const fbus_bulk_t *b)
     }
 }
 
+void wsg_fbus_bulk_wire(uint8_t *out, const uint16_t *values, unsigned count)
+{
+    for (unsigned i = 0; i < count; i++) {
+        put_u16(&out[2u * i], values[i]);
+    }
+}
+
+#define BULK_WIRE_BYTES (2u * FBUS_BULK_VALUES_PER_FRAME)
+
+void wsg_fbus_pack_bulk_transfer(hal_can_frame_t *frames, uint8_t node, uint8_t transfer,
+                                 const uint8_t *wire, unsigned segments)
+{
+    uint32_t id = wsg_fbus_id(FBUS_ID_BULK, node);
+    for (unsigned s = 0; s < segments; s++) {
+        hal_can_frame_t *f = &frames[s];
+        begin(f, id, 8);
+        f->data[0] = (uint8_t)(s & 0x7Fu);
+        f->data[1] = transfer;
+        const uint8_t *values = &wire[s * BULK_WIRE_BYTES];
+        for (unsigned i = 0; i < BULK_WIRE_BYTES; i++) { /* six stores (no memcpy() call) */
+            f->data[2u + i] = values[i];
+        }
+    }
+    if (segments > 0u) {
+        frames[segments - 1u].data[0] |= 0x80u; /* the last one */
+    }
+}
+
 bool wsg_fbus_unpack_bulk(const hal_can_frame_t *f, fbus_bulk_t *b)
 {
     if (!is(f, FBUS_ID_BULK, 8)) {

@@ -59,6 +59,14 @@ typedef struct {
     uint64_t awake_until_us;
     /* On an on-demand bus: until then a step that takes no frame is a poll */
     uint64_t quiet_until_us;
+    /* wsg_finger_bus_next_deadline_us(), worked out where what it follows
+     * changes */
+    uint64_t deadline_us;
+    /* The bus's own quiet time (hal_can_quiet_until_us): a quiet step before
+     * it does not poll, and the last such step (unpolled_us, 0: none) is
+     * told to the bus before the next poll. */
+    const uint64_t *bus_quiet_until_us;
+    uint64_t unpolled_us;
 } finger_bus_t;
 
 /* What the bus hears from the core each step. */
@@ -78,6 +86,32 @@ void wsg_finger_bus_init(finger_bus_t *bus, const hal_can_t *can);
  * publish to fingers and compute the grip-force loop. False when the step
  * changed nothing in fingers (no bus, or a quiet poll). */
 bool wsg_finger_bus_step(finger_bus_t *bus, wsg_fingers_t *fingers, const fbus_input_t *in);
+/* On an on-demand bus a step that takes no frame changes nothing before the
+ * next broadcast or supervision time, unless something woke the bus or the
+ * force loop runs: supervise(), publish() and regulate() would find what
+ * the last full step left. Such a step is a poll and nothing else (1 ms
+ * steps while moving, of which one in ten broadcasts). What the bus alone
+ * decides is in quiet_until_us (0 on a real bus, while the force loop runs
+ * and after a TARE() between steps). */
+static inline bool wsg_finger_bus_quiet(const finger_bus_t *bus, const wsg_fingers_t *fingers,
+                                        uint64_t now_us, bool holding)
+{
+    return now_us < bus->quiet_until_us && !(holding && wsg_fingers_force_control(fingers));
+}
+/* A quiet step at an instant the bus says its poll would find nothing
+ * (bus_quiet_until_us): the step only notes that it skipped the poll, and
+ * is done (true): wsg_finger_bus_step() would do just that and return
+ * false. Inline and without the step's input, for the device to ask first:
+ * most steps while the jaws move. */
+static inline bool wsg_finger_bus_skip_step(finger_bus_t *bus, const wsg_fingers_t *fingers,
+                                            uint64_t now_us, bool holding)
+{
+    if (now_us < *bus->bus_quiet_until_us && wsg_finger_bus_quiet(bus, fingers, now_us, holding)) {
+        bus->unpolled_us = now_us;
+        return true;
+    }
+    return false;
+}
 /* The rest of a step that is not a quiet poll, from the frames its first
  * poll took (frames[0..count); NULL: none) on. Not inline: a quiet step,
  * nine in ten while the jaws move, stays a small function. */
@@ -90,14 +124,7 @@ void wsg_finger_bus_step_full(finger_bus_t *bus, wsg_fingers_t *fingers, const f
  * at every step. */
 static inline uint64_t wsg_finger_bus_next_deadline_us(const finger_bus_t *bus)
 {
-    if (bus->can == NULL) {
-        return UINT64_MAX;
-    }
-    if (!bus->can->ops->on_demand || bus->regulating || bus->wake ||
-        bus->next_state_us < bus->awake_until_us) {
-        return bus->next_state_us;
-    }
-    return UINT64_MAX;
+    return bus->deadline_us;
 }
 /* The force limit the loop asks the supervisor to drive with, once. */
 bool wsg_finger_bus_take_force_request(finger_bus_t *bus, float *limit_n);

@@ -203,8 +203,15 @@ static void handle_frame(finger_node_t *node, const hal_can_frame_t *frame, uint
 
 void wsg_finger_node_receive(finger_node_t *node, const hal_can_frame_t *frame, uint64_t now_us)
 {
+    bool was_powered = node->powered;
     handle_frame(node, frame, now_us);
-    node->due_us = wsg_finger_node_next_due_us(node); /* a frame may power it, or wake it */
+    /* A STATE that keeps the node powered (one every 10 ms) moves only its
+     * supply timeout, and only later: the due time it had stays early
+     * enough. Any other frame may power it, or wake it. */
+    bool kept_powered = was_powered && node->powered && fbus_func_of(frame->id) == FBUS_ID_STATE;
+    if (!kept_powered) {
+        node->due_us = wsg_finger_node_next_due_us(node);
+    }
 }
 
 static float fmf_reading(finger_node_t *node)
@@ -261,21 +268,25 @@ void wsg_finger_node_dsa_pattern(float force_n, uint16_t *cells)
     }
 }
 
+#define DSA_SEGMENTS FINGER_NODE_DSA_SEGMENTS
+#define DSA_VALUES                                                                                 \
+    (DSA_SEGMENTS * FBUS_BULK_VALUES_PER_FRAME) /* the cells, the last segment padded */
+
 /* The pattern follows the contact force alone: worked out again only when
- * the force the gripper broadcast changed since the last transfer. */
+ * the force the gripper broadcast changed since the last transfer, and
+ * kept as it goes on the wire. */
 static void update_dsa_cells(finger_node_t *node)
 {
     float force_n = node->have_state ? node->state.force_n : 0.0f;
     if (node->cells_valid && force_n == node->cells_force_n) {
         return;
     }
-    wsg_finger_node_dsa_pattern(force_n, node->cells);
+    uint16_t cells[DSA_VALUES] = {0};
+    wsg_finger_node_dsa_pattern(force_n, cells);
+    wsg_fbus_bulk_wire(node->cells_wire, cells, DSA_VALUES);
     node->cells_force_n = force_n;
     node->cells_valid = true;
 }
-
-#define DSA_CELLS (FBUS_DSA_ROWS * FBUS_DSA_COLS)
-#define DSA_SEGMENTS ((DSA_CELLS + FBUS_BULK_VALUES_PER_FRAME - 1u) / FBUS_BULK_VALUES_PER_FRAME)
 
 /* A transfer's frames go out in one burst. */
 static void send_dsa(finger_node_t *node)
@@ -283,14 +294,7 @@ static void send_dsa(finger_node_t *node)
     update_dsa_cells(node);
     uint8_t transfer = node->data_counter++;
     hal_can_frame_t frames[DSA_SEGMENTS];
-    for (unsigned s = 0; s < DSA_SEGMENTS; s++) {
-        fbus_bulk_t b = {(uint8_t)s, s + 1u == DSA_SEGMENTS, transfer, {0, 0, 0}};
-        for (unsigned i = 0; i < FBUS_BULK_VALUES_PER_FRAME; i++) {
-            unsigned k = s * FBUS_BULK_VALUES_PER_FRAME + i;
-            b.values[i] = k < DSA_CELLS ? node->cells[k] : 0u;
-        }
-        wsg_fbus_pack_bulk(&frames[s], node->node, &b);
-    }
+    wsg_fbus_pack_bulk_transfer(frames, node->node, transfer, node->cells_wire, DSA_SEGMENTS);
     node->frames_sent += hal_can_send_many(node->bus, frames, DSA_SEGMENTS);
 }
 

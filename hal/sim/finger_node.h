@@ -19,6 +19,10 @@ typedef struct {
     uint32_t seed;  /* noise generator seed (0: a fixed default) */
 } finger_node_params_t;
 
+/* The BULK segments of a DSA transfer. */
+#define FINGER_NODE_DSA_SEGMENTS                                                                   \
+    ((FBUS_DSA_ROWS * FBUS_DSA_COLS + FBUS_BULK_VALUES_PER_FRAME - 1u) / FBUS_BULK_VALUES_PER_FRAME)
+
 typedef struct {
     /* Wider fields first, so that a fleet's thousands of nodes hold no
      * padding. */
@@ -29,7 +33,9 @@ typedef struct {
     uint64_t stepped_us; /* the last step: a longer gap than FBUS_STALL_US was a stall */
     uint64_t next_heartbeat_us;
     uint64_t next_data_us;
-    uint64_t due_us; /* wsg_finger_node_next_due_us() after the last step or frame */
+    /* Never later than wsg_finger_node_next_due_us() (a step before it does
+     * nothing): worked out again at every step and at most frames. */
+    uint64_t due_us;
     fbus_type_t type;
     finger_node_params_t params;
     fbus_state_t state; /* what the gripper last broadcast, when have_state */
@@ -40,7 +46,8 @@ typedef struct {
     float tare_n;
     /* DSA */
     float cells_force_n; /* the force the cells show, when cells_valid */
-    uint16_t cells[FBUS_DSA_ROWS * FBUS_DSA_COLS];
+    /* the cells as they go on the wire (wsg_fbus_bulk_wire) */
+    uint8_t cells_wire[FINGER_NODE_DSA_SEGMENTS * FBUS_BULK_VALUES_PER_FRAME * 2u];
     uint8_t node;
     bool powered;
     bool operational;

@@ -152,6 +152,16 @@ void wsg_fbus_pack_measure(hal_can_frame_t *f, uint8_t node, const fbus_measure_
 bool wsg_fbus_unpack_measure(const hal_can_frame_t *f, fbus_measure_t *m);
 void wsg_fbus_pack_bulk(hal_can_frame_t *f, uint8_t node, const fbus_bulk_t *b);
 bool wsg_fbus_unpack_bulk(const hal_can_frame_t *f, fbus_bulk_t *b);
+/* A transfer's values[0..count) as they go on the wire, out[0..2 * count),
+ * for wsg_fbus_pack_bulk_transfer(). */
+void wsg_fbus_bulk_wire(uint8_t *out, const uint16_t *values, unsigned count);
+/* frames[0..segments): what wsg_fbus_pack_bulk() makes of a transfer's
+ * segments, the last one marked, from its values in wire order
+ * (wsg_fbus_bulk_wire(), FBUS_BULK_VALUES_PER_FRAME a segment, the last
+ * one padded with zeros). A sender whose values did not change keeps them
+ * so: a transfer is then a few stores a frame (a DSA sends 28 every 50 ms). */
+void wsg_fbus_pack_bulk_transfer(hal_can_frame_t *frames, uint8_t node, uint8_t transfer,
+                                 const uint8_t *wire, unsigned segments);
 void wsg_fbus_pack_heartbeat(hal_can_frame_t *f, uint8_t node, const fbus_heartbeat_t *h);
 bool wsg_fbus_unpack_heartbeat(const hal_can_frame_t *f, fbus_heartbeat_t *h);
 void wsg_fbus_pack_simctl(hal_can_frame_t *f, uint8_t node, uint8_t faults);

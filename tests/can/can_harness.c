@@ -83,13 +83,13 @@ static bool lossy_set_filters(void *ctx, const hal_can_filter_t *filters, unsign
 
 /* [on_demand]: the wrapped bus says what the loopback would */
 static const hal_can_ops_t lossy_ops[2] = {
-    {lossy_send, lossy_recv, lossy_set_filters, false, NULL, NULL},
-    {lossy_send, lossy_recv, lossy_set_filters, true, NULL, NULL}};
+    {lossy_send, lossy_recv, lossy_set_filters, false, NULL, NULL, NULL, NULL},
+    {lossy_send, lossy_recv, lossy_set_filters, true, NULL, NULL, NULL, NULL}};
 
-static void start_wrapped(const char *fingers, bool on_demand, unsigned lost)
+static void start_wrapped(const char *fingers, const hal_can_ops_t *ops, unsigned lost)
 {
     lossless_bus = start_loopback(fingers);
-    lossy_bus = (hal_can_t){&lossy_ops[on_demand], NULL};
+    lossy_bus = (hal_can_t){ops, NULL};
     tares_to_lose = lost;
     tares_sent = 0;
     fingers_held = false;
@@ -98,12 +98,64 @@ static void start_wrapped(const char *fingers, bool on_demand, unsigned lost)
 
 void t_start_losing_tares(const char *fingers, unsigned lost)
 {
-    start_wrapped(fingers, true, lost);
+    start_wrapped(fingers, &lossy_ops[true], lost);
 }
 
 void t_start_real_time(const char *fingers)
 {
-    start_wrapped(fingers, false, 0);
+    start_wrapped(fingers, &lossy_ops[false], 0);
+}
+
+/* The loopback bus, polls and all, behind a controller that counts them. */
+static unsigned polls;
+static unsigned skips_told;
+static uint64_t skip_told_us;
+
+static const hal_can_frame_t *counting_recv_many(void *ctx, unsigned *count)
+{
+    (void)ctx;
+    polls++;
+    hal_can_frame_t one;
+    const hal_can_frame_t *frames = hal_can_recv_many(lossless_bus, &one, count);
+    ck_assert_ptr_ne(frames, &one); /* the loopback hands its frames out in place */
+    return frames;
+}
+
+static const uint64_t *counting_quiet_until_us(void *ctx)
+{
+    (void)ctx;
+    return hal_can_quiet_until_us(lossless_bus, NULL);
+}
+
+static void counting_polls_skipped(void *ctx, uint64_t last_us)
+{
+    (void)ctx;
+    skips_told++;
+    skip_told_us = last_us;
+    hal_can_polls_skipped(lossless_bus, last_us);
+}
+
+static const hal_can_ops_t counting_ops = {
+    lossy_send,         lossy_recv, lossy_set_filters,       true,
+    counting_recv_many, NULL,       counting_quiet_until_us, counting_polls_skipped};
+
+void t_start_counting_polls(const char *fingers)
+{
+    polls = 0;
+    skips_told = 0;
+    skip_told_us = 0;
+    start_wrapped(fingers, &counting_ops, 0);
+}
+
+unsigned t_polls(void)
+{
+    return polls;
+}
+
+unsigned t_skips_told(uint64_t *last_us)
+{
+    *last_us = skip_told_us;
+    return skips_told;
 }
 
 void t_hold_fingers(bool held)

@@ -25,6 +25,12 @@ unsigned t_tares_sent(void);
 /* t_start, on the loopback bus presented as a real one (not on demand): the
  * gripper steps it every 10 ms, as it does a SocketCAN bus. */
 void t_start_real_time(const char *fingers);
+/* t_start, on the loopback bus behind a controller that counts the polls
+ * the core makes (t_polls) and the skipped ones it tells (t_skips_told:
+ * how many times, and the last time told). */
+void t_start_counting_polls(const char *fingers);
+unsigned t_polls(void);
+unsigned t_skips_told(uint64_t *last_us);
 /* While held, the fingers of that bus do not run: nothing reaches the gripper. */
 void t_hold_fingers(bool held);
 /* 1 ms ticks: clock, world, device step when due. */

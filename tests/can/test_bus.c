@@ -414,6 +414,117 @@ START_TEST(held_fingers_on_a_running_gripper_are_faulted)
 }
 END_TEST
 
+/* The frames a tapped loopback carried, at device times from the start. */
+#define SEEN_MAX 16384u
+typedef struct {
+    hal_can_frame_t frames[SEEN_MAX];
+    uint64_t at_us[SEEN_MAX];
+    unsigned count;
+    uint64_t start_us;
+} seen_t;
+static seen_t seen_skipping, seen_polling;
+
+static void see(void *ctx, const hal_can_frame_t *frame, uint64_t time_us)
+{
+    seen_t *seen = ctx;
+    ck_assert_uint_lt(seen->count, SEEN_MAX);
+    seen->frames[seen->count] = *frame;
+    seen->at_us[seen->count] = time_us - seen->start_us;
+    seen->count++;
+}
+
+/* Moves, a grip under force control, TARE, an injected fault, a bus that
+ * sleeps and wakes, with every frame on the bus seen. */
+static void run_seen(seen_t *seen)
+{
+    seen->count = 0;
+    seen->start_us = h_now_us;
+    can_loopback_set_tap(t_bus(), see, seen);
+    t_run_ms(300);
+    ck_assert_str_eq(t_ask("TARE()"), "ACK TARE");
+    t_run_ms(50);
+    grip_part(30.0f, 1000);
+    ck_assert_str_eq(t_ask("RELEASE(10)"), "ACK RELEASE");
+    t_run_ms(700);
+    inject(1, FBUS_FAULT_INIT);
+    t_run_ms(400);
+    inject(1, 0);
+    t_run_ms(1500); /* the bus sleeps: the device is not stepped */
+    ck_assert_str_eq(t_ask("MOVE(60)"), "ACK MOVE");
+    t_run_ms(1500);
+    can_loopback_set_tap(t_bus(), NULL, NULL);
+}
+
+/* The core skips the polls the loopback says would find nothing
+ * (hal_can_quiet_until_us): the bus carries the frames, at the times, of a
+ * core that polls at every step (the same loopback behind a wrapper that
+ * keeps no quiet time). */
+START_TEST(skipped_quiet_polls_change_no_frame)
+{
+    t_start("fmf,dsa");
+    run_seen(&seen_skipping);
+    t_start_losing_tares("fmf,dsa", 0);
+    run_seen(&seen_polling);
+    ck_assert_uint_gt(seen_polling.count, 3000u);
+    ck_assert_uint_eq(seen_skipping.count, seen_polling.count);
+    for (unsigned i = 0; i < seen_polling.count; i++) {
+        const hal_can_frame_t *a = &seen_skipping.frames[i];
+        const hal_can_frame_t *b = &seen_polling.frames[i];
+        ck_assert_msg(seen_skipping.at_us[i] == seen_polling.at_us[i] && a->id == b->id &&
+                          a->dlc == b->dlc && memcmp(a->data, b->data, sizeof(a->data)) == 0,
+                      "frame %u: 0x%03x at %llu us, polling 0x%03x at %llu us", i, (unsigned)a->id,
+                      (unsigned long long)seen_skipping.at_us[i], (unsigned)b->id,
+                      (unsigned long long)seen_polling.at_us[i]);
+    }
+}
+END_TEST
+
+/* A device step at every ms; whether it polled the bus. When a poll
+ * follows skipped ones, the core told the bus the last skipped step's time
+ * first (the nodes' stall bookkeeping counts polls). */
+static bool step_polled(uint64_t *last_step_us, bool *skipped_before)
+{
+    h_now_us += 1000u;
+    wsg_sim_world_advance(&h_world, h_now_us);
+    unsigned polls = t_polls();
+    uint64_t told_us;
+    unsigned told = t_skips_told(&told_us);
+    wsg_device_step(&h_dev);
+    bool polled = t_polls() != polls;
+    unsigned told_now = t_skips_told(&told_us);
+    if (polled && *skipped_before) {
+        ck_assert_uint_eq(told_now, told + 1u);
+        ck_assert_uint_eq(told_us, *last_step_us);
+    } else {
+        ck_assert_uint_eq(told_now, told);
+    }
+    *skipped_before = !polled;
+    *last_step_us = h_now_us;
+    return polled;
+}
+
+/* While the jaws move the core skips most polls (nine in ten steps take no
+ * frame), tells the bus the last one skipped before it polls again, and
+ * polls at the step after a TARE() between steps. */
+START_TEST(quiet_steps_skip_the_poll_and_tell_it)
+{
+    t_start_counting_polls("fmf,dsa");
+    t_run_ms(300);
+    ck_assert_str_eq(t_ask("HOME()"), "ACK HOME");
+    uint64_t last_step_us = h_now_us;
+    bool skipped_before = false;
+    unsigned skipped = 0;
+    for (unsigned ms = 0; ms < 200u; ms++) {
+        skipped += step_polled(&last_step_us, &skipped_before) ? 0u : 1u;
+    }
+    ck_assert_uint_ge(skipped, 150u);
+    while (step_polled(&last_step_us, &skipped_before)) {
+    }
+    ck_assert_str_eq(t_ask("TARE()"), "ACK TARE");
+    ck_assert(step_polled(&last_step_us, &skipped_before));
+}
+END_TEST
+
 Suite *bus_suite(void)
 {
     Suite *s = suite_create("finger bus in the core");
@@ -441,6 +552,8 @@ Suite *bus_suite(void)
     tcase_add_test(tc, unconfirmed_tare_gives_up);
     tcase_add_test(tc, held_fingers_on_a_running_gripper_are_faulted);
     tcase_add_test(tc, another_bus_is_independent);
+    tcase_add_test(tc, skipped_quiet_polls_change_no_frame);
+    tcase_add_test(tc, quiet_steps_skip_the_poll_and_tell_it);
     suite_add_tcase(s, tc);
     return s;
 }

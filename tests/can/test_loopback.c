@@ -6,7 +6,7 @@
 #include "can_harness.h"
 #include "can_loopback.h"
 
-static can_loopback_t *lb, *lb_untapped;
+static can_loopback_t *lb, *lb_untapped, *lb_skipping;
 
 static can_loopback_t *create(const char *fingers)
 {
@@ -30,8 +30,10 @@ static void teardown(void)
 {
     can_loopback_destroy(lb);
     can_loopback_destroy(lb_untapped);
+    can_loopback_destroy(lb_skipping);
     lb = NULL;
     lb_untapped = NULL;
+    lb_skipping = NULL;
 }
 
 /* The gripper's STATE with both slots powered. */
@@ -157,8 +159,10 @@ typedef struct {
 } bus_log_t;
 
 /* The tapped bus's frames, the model's, and what the gripper took from the
- * tapped bus and from an untapped one. */
+ * tapped bus and from an untapped one; the frames on a bus whose gripper
+ * skips quiet polls, and what it took. */
 static bus_log_t loopback_log, model_log, taken_log, untapped_taken_log;
+static bus_log_t skipping_log, skipping_taken_log;
 
 static void log_frame(bus_log_t *log, const hal_can_frame_t *frame, uint64_t at_us)
 {
@@ -209,7 +213,7 @@ static bool model_node_filters(void *ctx, const hal_can_filter_t *filters, unsig
 }
 
 static const hal_can_ops_t model_ops = {
-    model_node_send, model_node_recv, model_node_filters, false, NULL, NULL};
+    model_node_send, model_node_recv, model_node_filters, false, NULL, NULL, NULL, NULL};
 static const hal_can_t model_port = {&model_ops, NULL};
 
 static void model_poll(void)
@@ -224,12 +228,13 @@ static void model_poll(void)
 }
 
 /* The gripper's side, on all buses at the fake clock's now. */
-static const hal_can_t *gripper, *untapped;
+static const hal_can_t *gripper, *untapped, *skipping;
 
 static void both_send(const hal_can_frame_t *frame)
 {
     ck_assert(hal_can_send(gripper, frame));
     ck_assert(hal_can_send(untapped, frame));
+    ck_assert(hal_can_send(skipping, frame));
     model_deliver(frame, -1);
 }
 
@@ -245,10 +250,31 @@ static void take_all_into(const hal_can_t *can, bus_log_t *log)
     }
 }
 
+/* The skipping gripper's polls, as the core makes them: none while the bus
+ * says it is quiet; the last one skipped told before the next. */
+static const uint64_t *skipping_quiet_until_us;
+static uint64_t skipped_us; /* 0: none since the last poll */
+static unsigned polls_skipped;
+
+static void skipping_poll(void)
+{
+    if (h_now_us < *skipping_quiet_until_us) {
+        skipped_us = h_now_us;
+        polls_skipped++;
+        return;
+    }
+    if (skipped_us != 0u) {
+        hal_can_polls_skipped(skipping, skipped_us);
+        skipped_us = 0;
+    }
+    take_all_into(skipping, &skipping_taken_log);
+}
+
 static void both_poll(void)
 {
     take_all_into(gripper, &taken_log);
     take_all_into(untapped, &untapped_taken_log);
+    skipping_poll();
     model_poll();
 }
 
@@ -305,12 +331,21 @@ static void assert_same_logs(const bus_log_t *a_log, const bus_log_t *b_log)
  * times, are those of nodes stepped one by one at every poll, through boot,
  * TARE, faults, an unplugged finger, a lost supply and stalls of the
  * gripper's polls. Without a tap (--can-log) the gripper takes the same
- * frames at the same times. */
+ * frames at the same times, and so does a gripper that skips the polls
+ * the bus says would find nothing (hal_can_quiet_until_us), also when
+ * such polls end a stretch that would have been a stall without them. */
 START_TEST(nodes_run_as_if_stepped_at_every_poll)
 {
     gripper = open_bus("fmf,dsa");
     lb_untapped = create("fmf,dsa");
     untapped = can_loopback_bus(lb_untapped);
+    lb_skipping = create("fmf,dsa");
+    skipping = can_loopback_bus(lb_skipping);
+    static const uint64_t none_us;
+    skipping_quiet_until_us = hal_can_quiet_until_us(skipping, &none_us);
+    ck_assert_ptr_ne(skipping_quiet_until_us, &none_us);
+    skipped_us = 0;
+    polls_skipped = 0;
     finger_node_params_t params;
     wsg_finger_node_defaults(&params);
     wsg_finger_node_init(&model[0], FBUS_TYPE_FMF, 0, &params, &model_port);
@@ -319,7 +354,10 @@ START_TEST(nodes_run_as_if_stepped_at_every_poll)
     model_log.count = 0;
     taken_log.count = 0;
     untapped_taken_log.count = 0;
+    skipping_log.count = 0;
+    skipping_taken_log.count = 0;
     can_loopback_set_tap(lb, tap, &loopback_log);
+    can_loopback_set_tap(lb_skipping, tap, &skipping_log);
     both_run(300, 0x3);
     both_command(0, FBUS_CMD_TARE);
     both_command(1, FBUS_CMD_REQ_DESCRIPTOR);
@@ -336,6 +374,11 @@ START_TEST(nodes_run_as_if_stepped_at_every_poll)
     both_run(350, 0x3);
     both_inject(1, 0);
     both_run(300, 0x3);
+    for (unsigned i = 0; i < 12u; i++) { /* the same faults: only the gripper has a frame to take */
+        h_now_us += 1000u;
+        both_inject(1, 0);
+        both_poll();
+    }
     both_run(1300, 0xFF); /* polled, but the supply is lost */
     both_run(300, 0x3);
     both_run(200, 0x1); /* slot 1 switched off */
@@ -346,8 +389,18 @@ START_TEST(nodes_run_as_if_stepped_at_every_poll)
         both_run(1, i % 2u == 0u ? 0x3 : 0xFF);
     }
     both_run(300, 0x3);
+    /* Without STATE: a poll, three skipped ones, 249 ms to the next (not a
+     * stall; 252 ms after the poll), until the supply times out. */
+    for (unsigned i = 0; i < 6u; i++) {
+        both_run(4, 0xFF);
+        h_now_us += 248000u;
+    }
+    both_run(300, 0x3);
     assert_same_logs(&loopback_log, &model_log);
     assert_same_logs(&untapped_taken_log, &taken_log);
+    assert_same_logs(&skipping_log, &model_log);
+    assert_same_logs(&skipping_taken_log, &taken_log);
+    ck_assert_uint_gt(polls_skipped, 3000u); /* of some 4 200 polls */
 }
 END_TEST
 

@@ -33,7 +33,8 @@ static bool rec_filters(void *ctx, const hal_can_filter_t *f, unsigned n)
     return true;
 }
 
-static const hal_can_ops_t rec_ops = {rec_send, rec_recv, rec_filters, false, NULL, NULL};
+static const hal_can_ops_t rec_ops = {rec_send, rec_recv, rec_filters, false,
+                                      NULL,     NULL,     NULL,        NULL};
 static const hal_can_t rec_bus = {&rec_ops, NULL};
 static finger_node_t node;
 static uint64_t now;
@@ -392,7 +393,8 @@ static void twins_hear_simctl(finger_node_t twins[2], uint8_t faults)
 START_TEST(steps_before_the_due_time_change_nothing)
 {
     static log_t logs[2];
-    static const hal_can_ops_t log_ops = {log_send, rec_recv, rec_filters, false, NULL, NULL};
+    static const hal_can_ops_t log_ops = {log_send, rec_recv, rec_filters, false,
+                                          NULL,     NULL,     NULL,        NULL};
     const hal_can_t buses[2] = {{&log_ops, &logs[0]}, {&log_ops, &logs[1]}};
     finger_node_t twins[2];
     finger_node_params_t p;

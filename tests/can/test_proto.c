@@ -234,6 +234,38 @@ START_TEST(bulk_fed_from_frames_as_when_unpacked)
 }
 END_TEST
 
+/* A transfer packed from its values in wire order is what wsg_fbus_pack_bulk()
+ * makes of each segment: 28 full segments (a DSA), and 4 with the last
+ * padded; the values span all 16 bits. */
+START_TEST(bulk_transfer_packed_from_wire_order_as_by_segment)
+{
+    static const unsigned counts[] = {84, 10};
+    for (unsigned c = 0; c < 2u; c++) {
+        unsigned segments = (counts[c] + 2u) / 3u;
+        uint16_t values[84 + 2] = {0};
+        for (unsigned i = 0; i < counts[c]; i++) {
+            values[i] = (uint16_t)(0x0101u * i + 0x8000u * (i % 2u) + 7u);
+        }
+        uint8_t wire[2u * (84 + 2)];
+        wsg_fbus_bulk_wire(wire, values, segments * 3u);
+        hal_can_frame_t frames[28];
+        memset(frames, 0xAB, sizeof(frames)); /* every byte is written */
+        wsg_fbus_pack_bulk_transfer(frames, 2, 0xC5, wire, segments);
+        for (unsigned s = 0; s < segments; s++) {
+            fbus_bulk_t b = {(uint8_t)s, s + 1u == segments, 0xC5, {0, 0, 0}};
+            memcpy(b.values, &values[3u * s], sizeof(b.values));
+            hal_can_frame_t expected;
+            memset(&expected, 0xAB, sizeof(expected));
+            wsg_fbus_pack_bulk(&expected, 2, &b);
+            ck_assert_uint_eq(frames[s].id, expected.id);
+            ck_assert_uint_eq(frames[s].dlc, expected.dlc);
+            ck_assert_uint_eq(frames[s].flags, expected.flags);
+            ck_assert_mem_eq(frames[s].data, expected.data, sizeof(expected.data));
+        }
+    }
+}
+END_TEST
+
 START_TEST(filters_match_id_and_mask)
 {
     hal_can_filter_t f[2] = {{0x100, 0x7FC, 0}, {0x700, 0x7FC, 0}};
@@ -264,6 +296,7 @@ Suite *proto_suite(void)
     tcase_add_test(tc, bulk_with_a_lost_segment_is_dropped);
     tcase_add_test(tc, bulk_interleaved_transfer_restarts);
     tcase_add_test(tc, bulk_fed_from_frames_as_when_unpacked);
+    tcase_add_test(tc, bulk_transfer_packed_from_wire_order_as_by_segment);
     tcase_add_test(tc, filters_match_id_and_mask);
     suite_add_tcase(s, tc);
     return s;

@@ -46,7 +46,8 @@ static bool no_filters(void *ctx, const hal_can_filter_t *filters, unsigned coun
     return true;
 }
 
-static const hal_can_ops_t node_ops = {node_send, no_recv, no_filters, false, NULL, NULL};
+static const hal_can_ops_t node_ops = {node_send, no_recv, no_filters, false,
+                                       NULL,      NULL,    NULL,       NULL};
 static const hal_can_t node_port = {&node_ops, NULL};
 
 static bool device_send(void *ctx, const hal_can_frame_t *frame)
@@ -83,8 +84,8 @@ static bool device_set_filters(void *ctx, const hal_can_filter_t *filters, unsig
     return true;
 }
 
-static const hal_can_ops_t device_ops = {device_send, device_recv, device_set_filters,
-                                         false,       NULL,        NULL};
+static const hal_can_ops_t device_ops = {
+    device_send, device_recv, device_set_filters, false, NULL, NULL, NULL, NULL};
 
 void h_setup_fmf_homed(void)
 {

@@ -146,7 +146,8 @@ static bool can_set_filters(void *ctx, const hal_can_filter_t *filters, unsigned
     return hal_can_set_filters(raw.loopback, filters, count);
 }
 
-static const hal_can_ops_t fuzz_can_ops = {can_send, can_recv, can_set_filters, false, NULL, NULL};
+static const hal_can_ops_t fuzz_can_ops = {can_send, can_recv, can_set_filters, false, NULL, NULL,
+                                           NULL,     NULL};
 
 static void queue_raw_frames(const uint8_t *p, size_t n)
 {
