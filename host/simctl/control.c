@@ -286,6 +286,16 @@ static bool finished(const control_client_t *c)
     return c->dead || ((c->closing || nothing_left) && wsg_outq_empty(&c->outq));
 }
 
+/* Done with c for now: closed when finished, else watched for what it waits for. */
+static void close_or_watch(control_client_t *c)
+{
+    if (finished(c)) {
+        close_client(c);
+    } else {
+        update_events(c);
+    }
+}
+
 static void on_client(void *ctx, int fd, short revents)
 {
     control_client_t *c = ctx;
@@ -300,11 +310,7 @@ static void on_client(void *ctx, int fd, short revents)
         receive(c);
         run_pending(c);
     }
-    if (finished(c)) {
-        close_client(c);
-    } else {
-        update_events(c);
-    }
+    close_or_watch(c);
 }
 
 /* The stepper gets its reply; every connection runs what it received while
@@ -323,11 +329,7 @@ bool simctl_answer_steps(simctl_t *ctl)
         }
         answer_step_if_done(c);
         run_pending(c);
-        if (finished(c)) {
-            close_client(c);
-        } else {
-            update_events(c);
-        }
+        close_or_watch(c);
     }
     return true;
 }

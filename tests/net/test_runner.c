@@ -173,6 +173,18 @@ static void run_story(feeding_t feeding, seen_t *seen, unsigned *skipped)
     }
 }
 
+/* The same deadlines after every poll, the same steps and the same replies. */
+static void assert_same_story(const seen_t *seen, const seen_t *expected)
+{
+    ck_assert_uint_eq(seen->poll_count, expected->poll_count);
+    ck_assert_uint_eq(seen->advances, expected->advances);
+    for (unsigned i = 0; i < expected->poll_count && i < 4096u; i++) {
+        ck_assert_msg(seen->polls[i] == expected->polls[i], "poll %u: %llu, expected %llu", i,
+                      (unsigned long long)seen->polls[i], (unsigned long long)expected->polls[i]);
+    }
+    ck_assert_str_eq(seen->replies, expected->replies);
+}
+
 START_TEST(a_feed_before_a_poll_steps_as_a_feed)
 {
     static seen_t fed, fed_before_poll;
@@ -182,14 +194,7 @@ START_TEST(a_feed_before_a_poll_steps_as_a_feed)
     runner_setup();
     run_story(FEED_BEFORE_POLL, &fed_before_poll, &skipped);
     ck_assert_uint_gt(fed.poll_count, 100u);
-    ck_assert_uint_eq(fed_before_poll.poll_count, fed.poll_count);
-    ck_assert_uint_eq(fed_before_poll.advances, fed.advances);
-    for (unsigned i = 0; i < fed.poll_count && i < 4096u; i++) {
-        ck_assert_msg(fed_before_poll.polls[i] == fed.polls[i], "poll %u: %llu, fed: %llu", i,
-                      (unsigned long long)fed_before_poll.polls[i],
-                      (unsigned long long)fed.polls[i]);
-    }
-    ck_assert_str_eq(fed_before_poll.replies, fed.replies);
+    assert_same_story(&fed_before_poll, &fed);
     ck_assert_msg(strstr(fed.replies, "FIN MOVE") != NULL, "%s", fed.replies);
 }
 END_TEST
@@ -239,14 +244,7 @@ START_TEST(polling_only_when_needed_steps_as_polling_always)
     runner_setup();
     run_story(POLL_IF_NEEDED, &when_needed, &skipped);
     ck_assert_uint_ge(skipped, 4u); /* the queries, at least */
-    ck_assert_uint_eq(when_needed.poll_count, always.poll_count);
-    ck_assert_uint_eq(when_needed.advances, always.advances);
-    for (unsigned i = 0; i < always.poll_count && i < 4096u; i++) {
-        ck_assert_msg(when_needed.polls[i] == always.polls[i], "poll %u: %llu, always: %llu", i,
-                      (unsigned long long)when_needed.polls[i],
-                      (unsigned long long)always.polls[i]);
-    }
-    ck_assert_str_eq(when_needed.replies, always.replies);
+    assert_same_story(&when_needed, &always);
 }
 END_TEST
 
