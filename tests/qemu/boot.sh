@@ -40,16 +40,24 @@ command -v qemu-system-arm >/dev/null || fail "qemu-system-arm is not installed 
 command -v python3 >/dev/null || fail "python3 is not installed"
 [ -f "$image" ] || fail "no image $image (make firmware)"
 
-free_port() { # a port nobody listens on now (UDP or TCP)
+# Ports nobody listens on now, one per socket type given (SOCK_STREAM or
+# SOCK_DGRAM). All are held open until each is picked: a socket closed
+# before the next is bound can get its port again, and QEMU refuses two
+# forwarding rules on one UDP port.
+free_ports() {
     python3 -c 'import socket,sys
-s = socket.socket(socket.AF_INET, getattr(socket, sys.argv[1]))
-s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])' "$1"
+held = []
+for kind in sys.argv[1:]:
+    s = socket.socket(socket.AF_INET, getattr(socket, kind))
+    s.bind(("127.0.0.1", 0)); held.append(s)
+print(" ".join(str(s.getsockname()[1]) for s in held))' "$@"
 }
 
-tcp_port=${GCL_PORT:-$(free_port SOCK_STREAM)}
-udp_port=${GCL_UDP_PORT:-$(free_port SOCK_DGRAM)}
-http_port=${HTTP_PORT:-$(free_port SOCK_STREAM)}
-bin_udp_port=${BIN_UDP_PORT:-$(free_port SOCK_DGRAM)}
+read -r picked_tcp picked_udp picked_http picked_bin_udp < <(free_ports SOCK_STREAM SOCK_DGRAM SOCK_STREAM SOCK_DGRAM)
+tcp_port=${GCL_PORT:-$picked_tcp}
+udp_port=${GCL_UDP_PORT:-$picked_udp}
+http_port=${HTTP_PORT:-$picked_http}
+bin_udp_port=${BIN_UDP_PORT:-$picked_bin_udp}
 board_ip=192.168.1.20
 workdir=$(mktemp -d "${TMPDIR:-/tmp}/wsgsim-qemu.XXXXXX")
 
