@@ -18,6 +18,9 @@
 
 #define GCL_PEERS_MAX 16
 #define BINARY_PEERS_MAX 8
+/* Datagrams read per wake-up: what a client sent together, while a flood
+ * still lets the other descriptors of the wake-up be served. */
+#define UDP_READS_PER_WAKE 64u
 
 typedef struct {
     wsg_peer_t peer; /* first: the core's node is the allocation */
@@ -244,10 +247,9 @@ static udp_server_t *owner_of(udp_server_t *s, struct msghdr *msg)
     return owner;
 }
 
-static void on_datagram(void *ctx, int fd, short revents)
+/* Reads and feeds one datagram; false when none was waiting. */
+static bool receive_datagram(udp_server_t *s, int fd)
 {
-    udp_server_t *s = ctx;
-    (void)revents;
     uint8_t *buf = s->set->datagram;
     struct sockaddr_storage ss;
     union {
@@ -264,9 +266,11 @@ static void on_datagram(void *ctx, int fd, short revents)
     memset(&ss, 0, sizeof(ss));
     ssize_t n = recvmsg(fd, &msg, MSG_DONTWAIT);
     socklen_t len = msg.msg_namelen;
-    if (n < 0 || len > WSG_PEER_ADDR_BYTES || from_ourselves(s, &ss) ||
-        (s = owner_of(s, &msg)) == NULL) {
-        return;
+    if (n < 0) {
+        return false;
+    }
+    if (len > WSG_PEER_ADDR_BYTES || from_ourselves(s, &ss) || (s = owner_of(s, &msg)) == NULL) {
+        return true;
     }
     wsg_peer_addr_t addr = {.len = (uint8_t)len};
     memcpy(addr.bytes, &ss, len);
@@ -276,11 +280,24 @@ static void on_datagram(void *ctx, int fd, short revents)
     set_active(s);
     s->set->deadline_moved = true;
     if (p == NULL) {
-        return;
+        return true;
     }
     wsg_peers_heard(&s->peers, &p->peer, (size_t)n);
     gripper_feed(s->gripper, &p->peer.conn, buf, (size_t)n, 1);
     gripper_touch(s->gripper); /* its tick asks the servers' moved deadlines again */
+    return true;
+}
+
+/* What is waiting is read in one go (up to UDP_READS_PER_WAKE): a control
+ * STEP that arrived after these datagrams, in the same wake-up, must not
+ * run before them (the pass's settle runs it before the next wait). */
+static void on_datagram(void *ctx, int fd, short revents)
+{
+    (void)revents;
+    unsigned reads = 0;
+    while (reads < UDP_READS_PER_WAKE && receive_datagram(ctx, fd)) {
+        reads++;
+    }
 }
 
 bool udp_server_start(udp_server_t *s, udp_servers_t *set, gripper_t *g,

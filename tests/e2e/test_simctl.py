@@ -4,6 +4,7 @@ control channel together, on build/wsgsim."""
 import json
 import os
 import re
+import signal
 import subprocess
 import sys
 import tempfile
@@ -147,6 +148,23 @@ class TestRunUntilDone(SimctlCase):
         self.assertEqual(replies, ["STEP=100.000", "SIMTIME=[100.000,0.000]", "STEP=102.500",
                                    'RUN_UNTIL_DONE=[102.500,"idle"]',
                                    "SIMTIME=[102.500,0.000]"])
+
+    def test_datagrams_sent_before_a_step_run_before_it(self):
+        """Two GCL datagrams and a STEP that arrive in one wake-up (the
+        process is stopped while they are sent): the second datagram, HOME,
+        starts before the step, which then completes it."""
+        sim, ctl = self.start("--start-paused")
+        udp = sim.udp()
+        os.kill(sim.proc.pid, signal.SIGSTOP)
+        try:
+            udp.send("GRIPSTATE?")
+            udp.send("HOME()")
+            ctl.send("STEP(3000)")
+        finally:
+            os.kill(sim.proc.pid, signal.SIGCONT)
+        self.assertEqual(ctl.read_line(timeout=60), "STEP=3000.000")
+        self.assertEqual([udp.read_line() for _ in range(3)],
+                         ["GRIPSTATE=0", "ACK HOME", "FIN HOME"])
 
     def test_it_stops_at_its_limit_and_goes_on(self):
         sim, ctl = self.start("--start-paused")
