@@ -458,6 +458,57 @@ START_TEST(acceptance_test_matches_the_filters)
 }
 END_TEST
 
+static bool drop_send(void *ctx, const hal_can_frame_t *f)
+{
+    (void)ctx;
+    (void)f;
+    return true;
+}
+
+/* A STATE the bus unpacked once for all its nodes does to a node what the
+ * frame does, whatever the node's type, slot, supply, faults and due time:
+ * the whole node stays the same as its twin's that took the frames. */
+START_TEST(unpacked_state_is_taken_as_the_frame)
+{
+    static const hal_can_ops_t drop_ops = {drop_send, rec_recv, rec_filters, false,
+                                           NULL,      NULL,     NULL,        NULL};
+    const hal_can_t drop_bus = {&drop_ops, NULL};
+    finger_node_params_t p;
+    wsg_finger_node_defaults(&p);
+    for (unsigned type = FBUS_TYPE_NONE; type <= FBUS_TYPE_DSA; type++) {
+        for (unsigned slot = 0; slot < FBUS_SLOTS; slot++) {
+            finger_node_t by_frame;
+            finger_node_t unpacked;
+            wsg_finger_node_init(&by_frame, (fbus_type_t)type, slot, &p, &drop_bus);
+            wsg_finger_node_init(&unpacked, (fbus_type_t)type, slot, &p, &drop_bus);
+            uint64_t t = 1000000u;
+            for (unsigned i = 0; i < 600u; i++) {
+                if (i % 150u == 70u || i % 150u == 110u) { /* unplugged, then back */
+                    hal_can_frame_t simctl;
+                    wsg_fbus_pack_simctl(&simctl, FBUS_NODE_ID(slot),
+                                         i % 150u == 70u ? FBUS_FAULT_UNPLUG : 0u);
+                    wsg_finger_node_receive(&by_frame, &simctl, t);
+                    wsg_finger_node_receive(&unpacked, &simctl, t);
+                }
+                fbus_state_t st = {12.0f, (float)(i % 13u), (uint8_t)((i / 40u) % 4u), 1,
+                                   (uint8_t)i};
+                hal_can_frame_t f;
+                fbus_state_t back;
+                wsg_fbus_pack_state(&f, &st);
+                ck_assert(wsg_fbus_unpack_state(&f, &back));
+                wsg_finger_node_receive(&by_frame, &f, t);
+                wsg_finger_node_receive_state(&unpacked, &back, t);
+                ck_assert_msg(memcmp(&by_frame, &unpacked, sizeof(by_frame)) == 0,
+                              "type %u slot %u STATE %u", type, slot, i);
+                t += i % 100u == 99u ? 1500000u : 10000u; /* now and then, the supply times out */
+                wsg_finger_node_step(&by_frame, t);
+                wsg_finger_node_step(&unpacked, t);
+            }
+        }
+    }
+}
+END_TEST
+
 START_TEST(parses_finger_lists)
 {
     fbus_type_t t[2];
@@ -491,6 +542,7 @@ Suite *node_suite(void)
     tcase_add_test(tc, injected_faults);
     tcase_add_test(tc, steps_before_the_due_time_change_nothing);
     tcase_add_test(tc, acceptance_test_matches_the_filters);
+    tcase_add_test(tc, unpacked_state_is_taken_as_the_frame);
     tcase_add_test(tc, parses_finger_lists);
     suite_add_tcase(s, tc);
     return s;
