@@ -465,6 +465,23 @@ static bool drop_send(void *ctx, const hal_can_frame_t *f)
     return true;
 }
 
+/* A copy of a node whose last STATE has its padding cleared: its fields are
+ * what counts (the node copies a STATE whole, padding and all). */
+static finger_node_t without_state_padding(const finger_node_t *n)
+{
+    finger_node_t copy;
+    memcpy(&copy, n, sizeof(copy));
+    fbus_state_t s;
+    memset(&s, 0, sizeof(s));
+    s.position_mm = n->state.position_mm;
+    s.force_n = n->state.force_n;
+    s.power_mask = n->state.power_mask;
+    s.grip_state = n->state.grip_state;
+    s.counter = n->state.counter;
+    memcpy(&copy.state, &s, sizeof(s));
+    return copy;
+}
+
 /* A STATE the bus unpacked once for all its nodes does to a node what the
  * frame does, whatever the node's type, slot, supply, faults and due time:
  * the whole node stays the same as its twin's that took the frames. */
@@ -498,8 +515,10 @@ START_TEST(unpacked_state_is_taken_as_the_frame)
                 ck_assert(wsg_fbus_unpack_state(&f, &back));
                 wsg_finger_node_receive(&by_frame, &f, t);
                 wsg_finger_node_receive_state(&unpacked, &back, t);
-                ck_assert_msg(memcmp(&by_frame, &unpacked, sizeof(by_frame)) == 0,
-                              "type %u slot %u STATE %u", type, slot, i);
+                finger_node_t a = without_state_padding(&by_frame);
+                finger_node_t b = without_state_padding(&unpacked);
+                ck_assert_msg(memcmp(&a, &b, sizeof(a)) == 0, "type %u slot %u STATE %u", type,
+                              slot, i);
                 t += i % 100u == 99u ? 1500000u : 10000u; /* now and then, the supply times out */
                 wsg_finger_node_step(&by_frame, t);
                 wsg_finger_node_step(&unpacked, t);
