@@ -431,7 +431,8 @@ END_TEST
 /* The loopback tests a node's filters in one expression: the same verdict
  * as the filters themselves on every standard identifier and a sample of
  * extended ones, with and without the RTR flag; the function-code check
- * before it lets every accepted frame through. */
+ * before it lets every accepted frame through, and every node accepts a
+ * frame that unpacks as a STATE. */
 START_TEST(acceptance_test_matches_the_filters)
 {
     static const uint8_t flags[] = {0, HAL_CAN_FLAG_RTR, HAL_CAN_FLAG_EXT,
@@ -448,6 +449,8 @@ START_TEST(acceptance_test_matches_the_filters)
                 ck_assert_msg(wsg_finger_node_accepts(&node, &f) == want,
                               "slot %u id 0x%x flags %u", slot, id, flags[k]);
                 ck_assert(!want || wsg_finger_node_may_accept(&f));
+                fbus_state_t st; /* the loopback hands a STATE that unpacks to every node */
+                ck_assert(!wsg_fbus_unpack_state(&f, &st) || want);
                 accepted += want ? 1u : 0u;
             }
         }
