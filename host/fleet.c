@@ -461,8 +461,11 @@ static void show_flags(const fleet_t *fleet, gripper_t *g)
 }
 
 /* A device's control step, then its observers when its flag register
- * changed (most steps of a motion leave it as it was); its next deadline. */
-static uint64_t tick(const fleet_t *fleet, gripper_t *g)
+ * changed (most steps of a motion leave it as it was); its next deadline.
+ * Inline: a lone run (fleet_run_lone()) takes one per simulated ms, and
+ * the call and its saved registers cost it as much as the step's own
+ * bookkeeping. */
+static inline uint64_t tick(const fleet_t *fleet, gripper_t *g)
 {
     uint64_t next = gripper_tick(g);
     if (g->ticked_flags != g->shown_flags) {
