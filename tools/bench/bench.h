@@ -38,6 +38,8 @@ double samples_max(const samples_t *s);
 
 double now_us(void);
 void die(const char *fmt, ...) __attribute__((format(printf, 1, 2), noreturn));
+/* An epoll set watching two descriptors for input; dies naming `who`. */
+int epoll_for_two(int fd_a, int fd_b, const char *who);
 
 /* proc.c */
 #define WSGSIM_EXTRA_ARGS_MAX 8
@@ -54,6 +56,9 @@ bool server_start_wsgsim(server_t *srv, const char *binary, const char *log_path
 bool server_start_cmd(server_t *srv, const char *name, const char *const *argv,
                       const char *log_path, double timeout_s);
 bool server_start_echo(server_t *srv);
+/* The zero-work responder (responder.c) on free loopback ports: GCL on
+ * tcp_port, the control channel on ctl_port. */
+bool server_start_responder(server_t *srv, double ms_per_command);
 void server_stop(server_t *srv);
 /* SIGTERM, then SIGKILL after `seconds`; true when it ended by itself. */
 bool server_stop_within(server_t *srv, double seconds);
@@ -74,6 +79,9 @@ void echo_server_run(int tcp_fd, int udp_fd) __attribute__((noreturn));
 /* `wsgbench --serve-echo`: the echo server on free loopback ports as a
  * program of its own (to run it under callgrind); logs its ready line. */
 void echo_server_main(void) __attribute__((noreturn));
+/* responder.c: serves until SIGTERM; never returns. */
+void responder_server_run(int gcl_listen_fd, int ctl_listen_fd, double ms_per_command)
+    __attribute__((noreturn));
 
 /* client.c */
 typedef struct {
@@ -115,6 +123,15 @@ void vtime_run(int cycles, vtime_result_t *r);
 /* The same cycles through a paused wsgsim and STEP(step_ms) on its control
  * channel (docs/simctl.md); step_ms 0: one RUN_UNTIL_DONE per command. */
 void vtime_ctl_run(const server_t *srv, int cycles, int step_ms, vtime_result_t *r);
+/* The same in parts: a session's cycles run in blocks, each adding to r. */
+typedef struct {
+    conn_t gcl;
+    conn_t ctl;
+    double sim_now_ms; /* where the server's clock stands (RUN_UNTIL_DONE only) */
+} vtime_session_t;
+void vtime_session_open(vtime_session_t *s, const server_t *srv);
+void vtime_session_run(vtime_session_t *s, int cycles, int step_ms, vtime_result_t *r);
+void vtime_session_close(vtime_session_t *s);
 
 /* scale.c: simulated ms per wall ms at each SCALE, over `seconds` each, on
  * a server with a control channel. */

@@ -27,6 +27,7 @@
 #define FLEET_DEVICES 1000
 #define CELL_DEVICES 10000 /* --address-per-device: 127.1.0.1 .. 127.1.39.16 */
 #define CTL_STEP_MS 100
+#define VTIME_BLOCKS 8 /* of RUN_UNTIL_DONE cycles, each for wsgsim and the responder */
 
 static const int load_clients[LOAD_STEPS] = {1, 4, 16, 64};
 
@@ -353,6 +354,43 @@ static bool has_run_until_done(const server_t *srv)
     return listed;
 }
 
+/* wsgsim's RUN_UNTIL_DONE cycles in blocks that alternate with the same
+ * client's blocks against the zero-work responder, in the order ABBA (so
+ * that a machine whose speed drifts favours neither), placed on the CPUs as
+ * the round trips are (--pin: a cross-CPU wake-up swamps the difference).
+ * A first block, not counted, warms wsgsim up and tells the responder how
+ * much simulated time a command takes there. */
+static void run_until_done_beside_floor(server_t *wsgsim, const config_t *cfg, results_t *res)
+{
+    vtime_result_t *w = &res->vtime_run_until;
+    vtime_result_t *f = &res->vtime_floor;
+    int block = cfg->cycles / VTIME_BLOCKS > 0 ? cfg->cycles / VTIME_BLOCKS : 1;
+    vtime_session_t at_wsgsim;
+    vtime_session_t at_floor;
+    server_t floor_srv;
+    vtime_result_t warm_up = {0};
+    vtime_session_open(&at_wsgsim, wsgsim);
+    vtime_session_run(&at_wsgsim, block, 0, &warm_up);
+    double ms_per_command =
+        warm_up.cycles_done > 0 ? warm_up.virtual_s * 1e3 / (4.0 * warm_up.cycles_done) : 0;
+    if (!server_start_responder(&floor_srv, ms_per_command)) {
+        die("cannot start the zero-work responder");
+    }
+    server_t *servers[2] = {wsgsim, &floor_srv};
+    pin_round_trips(servers, cfg->pin, res);
+    vtime_session_open(&at_floor, &floor_srv);
+    memset(w, 0, sizeof(*w));
+    memset(f, 0, sizeof(*f));
+    for (int b = 0; b < 2 * VTIME_BLOCKS; b++) {
+        bool wsgsim_turn = ((b + 1) / 2) % 2 == 0; /* W R R W W R R W ... */
+        vtime_session_run(wsgsim_turn ? &at_wsgsim : &at_floor, block, 0, wsgsim_turn ? w : f);
+    }
+    unpin(servers);
+    vtime_session_close(&at_wsgsim);
+    vtime_session_close(&at_floor);
+    server_stop(&floor_srv);
+}
+
 /* Through a paused wsgsim when it has the control channel. */
 static void run_vtime_ctl(const config_t *cfg, results_t *res)
 {
@@ -377,9 +415,9 @@ static void run_vtime_ctl(const config_t *cfg, results_t *res)
     if (has_run_until_done(&paused)) {
         fprintf(stderr,
                 "wsgbench: virtual time through the control channel, %d cycles, "
-                "RUN_UNTIL_DONE\n",
+                "RUN_UNTIL_DONE, beside a zero-work responder\n",
                 cfg->cycles);
-        vtime_ctl_run(&paused, cfg->cycles, 0, &res->vtime_run_until);
+        run_until_done_beside_floor(&paused, cfg, res);
     }
     server_stop(&paused);
 }

@@ -192,20 +192,41 @@ void echo_server_main(void)
     echo_server_run(tcp_fd, udp_fd);
 }
 
-bool server_start_echo(server_t *srv)
+/* Forks a baseline server on two sockets bound already: returns 0 in the
+ * child, which serves on them; the parent keeps neither. */
+static pid_t fork_baseline(server_t *srv, const char *name, int fd_a, int fd_b)
 {
-    memset(srv, 0, sizeof(*srv));
-    srv->name = "echo";
-    int tcp_fd = bound_socket(SOCK_STREAM, &srv->tcp_port);
-    int udp_fd = bound_socket(SOCK_DGRAM, &srv->udp_port);
+    srv->name = name;
     srv->pid = fork();
     if (srv->pid == 0) {
         follow_parent();
-        echo_server_run(tcp_fd, udp_fd);
+        return 0;
     }
     remember(srv->pid);
-    close(tcp_fd);
-    close(udp_fd);
+    close(fd_a);
+    close(fd_b);
+    return srv->pid;
+}
+
+bool server_start_echo(server_t *srv)
+{
+    memset(srv, 0, sizeof(*srv));
+    int tcp_fd = bound_socket(SOCK_STREAM, &srv->tcp_port);
+    int udp_fd = bound_socket(SOCK_DGRAM, &srv->udp_port);
+    if (fork_baseline(srv, "echo", tcp_fd, udp_fd) == 0) {
+        echo_server_run(tcp_fd, udp_fd);
+    }
+    return srv->pid > 0;
+}
+
+bool server_start_responder(server_t *srv, double ms_per_command)
+{
+    memset(srv, 0, sizeof(*srv));
+    int gcl_fd = bound_socket(SOCK_STREAM, &srv->tcp_port);
+    int ctl_fd = bound_socket(SOCK_STREAM, &srv->ctl_port);
+    if (fork_baseline(srv, "responder", gcl_fd, ctl_fd) == 0) {
+        responder_server_run(gcl_fd, ctl_fd, ms_per_command);
+    }
     return srv->pid > 0;
 }
 

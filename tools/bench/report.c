@@ -287,6 +287,19 @@ static void add_vtime_ctl(table_t *t, const char *name, const vtime_result_t *c,
         (double)c->cycles_failed);
 }
 
+/* The same client against a responder that simulates nothing: the most
+ * any server reaches on this machine, and wsgsim's share of it. */
+static void add_vtime_floor(table_t *t, const vtime_result_t *wsgsim, const vtime_result_t *floor)
+{
+    if (floor->cycles_done == 0 || floor->wall_s <= 0 || wsgsim->wall_s <= 0) {
+        return;
+    }
+    double ceiling = floor->virtual_s / floor->wall_s;
+    add(t, "  the same cycles, zero-work responder", "x", ceiling, -1.0);
+    add(t, "  wsgsim's share of that ceiling", "%",
+        100.0 * (wsgsim->virtual_s / wsgsim->wall_s) / ceiling, -1.0);
+}
+
 /* Issue 11: 10,000x in-process, and through wsgsim's paused clock. */
 static void add_vtime(table_t *t, const results_t *res)
 {
@@ -309,6 +322,7 @@ static void add_vtime(table_t *t, const results_t *res)
     }
     if (run_until) {
         add_vtime_ctl(t, "virtual/wall via wsgsim RUN_UNTIL_DONE", u, true);
+        add_vtime_floor(t, u, &res->vtime_floor);
     }
 }
 

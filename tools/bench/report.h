@@ -41,6 +41,7 @@ typedef struct {
     vtime_result_t vtime_ctl; /* through wsgsim's control channel; 0 cycles: not run */
     int vtime_ctl_step_ms;
     vtime_result_t vtime_run_until; /* the same with RUN_UNTIL_DONE; 0 cycles: not run */
+    vtime_result_t vtime_floor;     /* the same against the zero-work responder */
     instr_result_t instr;
     web_result_t web;
     streams_result_t streams;

@@ -107,25 +107,43 @@ static bool run_cycle(conn_t *gcl, conn_t *ctl, int step_ms, double *sim_ms, dou
     return true;
 }
 
-void vtime_ctl_run(const server_t *srv, int cycles, int step_ms, vtime_result_t *r)
+void vtime_session_open(vtime_session_t *s, const server_t *srv)
 {
-    conn_t gcl = {.fd = tcp_connect(srv->tcp_port)};
-    conn_t ctl = {.fd = tcp_connect(srv->ctl_port)};
+    *s = (vtime_session_t){.gcl = {.fd = tcp_connect(srv->tcp_port)},
+                           .ctl = {.fd = tcp_connect(srv->ctl_port)},
+                           .sim_now_ms = 0}; /* started paused at 0 */
+}
+
+void vtime_session_run(vtime_session_t *s, int cycles, int step_ms, vtime_result_t *r)
+{
     double sim_ms = 0;
-    double sim_now_ms = 0; /* started paused at 0 */
-    memset(r, 0, sizeof(*r));
+    int done = 0;
     double t0 = now_us();
     for (int i = 0; i < cycles; i++) {
-        if (run_cycle(&gcl, &ctl, step_ms, &sim_ms, &sim_now_ms)) {
-            r->cycles_done++;
+        if (run_cycle(&s->gcl, &s->ctl, step_ms, &sim_ms, &s->sim_now_ms)) {
+            done++;
         } else {
             r->cycles_failed++;
         }
     }
-    r->wall_s = (now_us() - t0) / 1e6;
-    r->virtual_s = sim_ms / 1e3;
-    r->steps = step_ms > 0 ? (long)(sim_ms / step_ms) : 4L * r->cycles_done;
-    conn_send(&gcl, "BYE()");
-    close(gcl.fd);
-    close(ctl.fd);
+    r->wall_s += (now_us() - t0) / 1e6;
+    r->cycles_done += done;
+    r->virtual_s += sim_ms / 1e3;
+    r->steps += step_ms > 0 ? (long)(sim_ms / step_ms) : 4L * done;
+}
+
+void vtime_session_close(vtime_session_t *s)
+{
+    conn_send(&s->gcl, "BYE()");
+    close(s->gcl.fd);
+    close(s->ctl.fd);
+}
+
+void vtime_ctl_run(const server_t *srv, int cycles, int step_ms, vtime_result_t *r)
+{
+    vtime_session_t s;
+    memset(r, 0, sizeof(*r));
+    vtime_session_open(&s, srv);
+    vtime_session_run(&s, cycles, step_ms, r);
+    vtime_session_close(&s);
 }
