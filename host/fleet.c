@@ -451,6 +451,7 @@ static void set_due(fleet_t *fleet, unsigned device, uint64_t due_us)
     }
 }
 
+/* The observers that follow flags are shown g's (g->ticked_flags). */
 static void show_flags(const fleet_t *fleet, gripper_t *g)
 {
     for (const fleet_observer_t *o = fleet->observers; o != NULL; o = o->next) {
