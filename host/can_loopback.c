@@ -138,13 +138,20 @@ static void deliver(can_loopback_t *bus, const hal_can_frame_t *frame, int from)
     if (!wsg_finger_node_may_accept(frame)) {
         return; /* a node's measurement or heartbeat, for the gripper alone */
     }
+    fbus_state_t state; /* every node takes a STATE that unpacks */
+    bool is_state = wsg_fbus_unpack_state(frame, &state);
     for (int i = 0; i < (int)FBUS_SLOTS; i++) {
         finger_node_t *n = &bus->nodes[i];
-        if (i != from && wsg_finger_node_accepts(n, frame)) {
+        if (i == from) {
+            continue;
+        }
+        if (is_state) {
+            wsg_finger_node_receive_state(n, &state, now);
+        } else if (wsg_finger_node_accepts(n, frame)) {
             wsg_finger_node_receive(n, frame, now);
-            if (n->due_us < bus->nodes_due_us) { /* a frame may power it, or wake it */
-                bus->nodes_due_us = n->due_us;
-            }
+        }
+        if (n->due_us < bus->nodes_due_us) { /* a frame may power it, or wake it */
+            bus->nodes_due_us = n->due_us;
         }
     }
 }

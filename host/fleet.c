@@ -451,14 +451,27 @@ static void set_due(fleet_t *fleet, unsigned device, uint64_t due_us)
     }
 }
 
-/* A device's control step, then its observers; its next deadline. */
-static uint64_t tick(const fleet_t *fleet, gripper_t *g)
+/* The observers that follow flags are shown g's (g->ticked_flags). */
+static void show_flags(const fleet_t *fleet, gripper_t *g)
+{
+    for (const fleet_observer_t *o = fleet->observers; o != NULL; o = o->next) {
+        if (o->flags_changed != NULL) {
+            o->flags_changed(o->ctx, g);
+        }
+    }
+}
+
+/* A device's control step, then its observers when its flag register
+ * changed (most steps of a motion leave it as it was); its next deadline.
+ * Inline: a lone run (fleet_run_lone()) takes one per simulated ms, and
+ * the call and its saved registers cost it as much as the step's own
+ * bookkeeping. */
+static inline uint64_t tick(const fleet_t *fleet, gripper_t *g)
 {
     uint64_t next = gripper_tick(g);
-    for (const fleet_observer_t *o = fleet->observers; o != NULL; o = o->next) {
-        if (o->device_ticked != NULL) {
-            o->device_ticked(o->ctx, g);
-        }
+    if (g->ticked_flags != g->shown_flags) {
+        g->shown_flags = g->ticked_flags;
+        show_flags(fleet, g);
     }
     return next;
 }
@@ -585,6 +598,13 @@ uint64_t fleet_next_us(const fleet_t *fleet)
 {
     return fleet->count > 0 ? earliest(fleet->servers_due_us, due_at(fleet, 0))
                             : fleet->servers_due_us;
+}
+
+void fleet_show_flags_again(fleet_t *fleet)
+{
+    for (unsigned i = 0; i < fleet->count; i++) {
+        fleet->devices[i].gripper.shown_flags = GRIPPER_FLAGS_UNSHOWN;
+    }
 }
 
 bool fleet_devices_due(const fleet_t *fleet, uint64_t now)

@@ -26,8 +26,12 @@ typedef struct fleet_observer {
     /* Replies held back for this session above the port (an injected
      * DELAY); NULL: none. A half-closed TCP connection waits for them. */
     bool (*replies_held)(void *ctx, const wsg_conn_t *conn);
-    /* After each control step of a device (touched or due); NULL: none. */
-    void (*device_ticked)(void *ctx, gripper_t *g);
+    /* After a control step of a device (touched or due) that left its flag
+     * register (g->ticked_flags) other than its step before did, and
+     * after its first step and the first after fleet_show_flags_again();
+     * NULL: none. A step that changes nothing there is not shown: what the
+     * observer saw then is what it sees. */
+    void (*flags_changed)(void *ctx, gripper_t *g);
     void *ctx;
     struct fleet_observer *next;
 } fleet_observer_t;
@@ -37,6 +41,9 @@ typedef struct fleet_observer {
 fleet_t *fleet_create(host_loop_t *loop, net_t *net);
 void fleet_destroy(fleet_t *fleet);
 void fleet_observe(fleet_t *fleet, fleet_observer_t *node);
+/* An observer forgot the flags it was shown (COVERAGE_RESET): each
+ * device's next control step shows them again, changed or not. */
+void fleet_show_flags_again(fleet_t *fleet);
 /* Creates opts->devices grippers and starts their servers; false (logged)
  * when a port or a finger bus cannot be had. */
 bool fleet_start(fleet_t *fleet, const host_options_t *opts);

@@ -115,6 +115,7 @@ bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, u
     }
     g->touched_list = touched;
     g->ticked_flags = 0u; /* its first tick is due at once (power-on) */
+    g->shown_flags = GRIPPER_FLAGS_UNSHOWN;
     g->script = NULL;
     g->startup_set = NULL;
     g->startup_cleared = false;
@@ -265,6 +266,7 @@ uint64_t gripper_tick(gripper_t *g)
     /* what the script does is input like a client's: due from the next instant */
     uint64_t wake = script_service(g->script);
     wsg_runner_input_done(&g->runner);
+    g->ticked_flags = wsg_device_flags(&g->device); /* as the script left them */
     next = g->runner.next_deadline_us;
     return wake < next ? wake : next;
 }

@@ -25,6 +25,9 @@ typedef struct {
     struct gripper *first;
 } gripper_touched_t;
 
+/* No flag register (which has 32 bits) was shown. */
+#define GRIPPER_FLAGS_UNSHOWN UINT64_MAX
+
 typedef struct gripper {
     wsg_device_t device;
     sim_world_t world;
@@ -39,7 +42,10 @@ typedef struct gripper {
     bool touched;              /* on the touched list (gripper_touch) */
     struct gripper *next_touched;
     gripper_touched_t *touched_list;
-    uint32_t ticked_flags; /* the flag register its last tick left (what observers saw) */
+    uint32_t ticked_flags; /* the flag register its last tick left: 0 before */
+    /* the flag register the fleet's observers saw last (host/fleet.c);
+     * GRIPPER_FLAGS_UNSHOWN: none since its start or an observer forgot */
+    uint64_t shown_flags;
     unsigned index;        /* its number in the fleet: 0 for the first */
     struct script *script; /* its script interpreter; NULL without scripting */
     char *startup_set;     /* the startup script the web page chose (heap), NULL: none chosen */

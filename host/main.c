@@ -91,7 +91,8 @@ static bool start_simulation(host_t *host, diagnostics_t *d, const host_options_
            simctl_start(sim, host->loop, &host->net, opts->sim_bind, opts->sim_port);
 }
 
-/* The flags each control step leaves, for the coverage report. */
+/* The flags a control step leaves, for the coverage report, which ORs them
+ * in: only a step that changed them has anything new to show. */
 static void sample_coverage(void *ctx, gripper_t *g)
 {
     const diagnostics_t *d = ctx;
@@ -238,7 +239,7 @@ static int serve(host_t *host, host_options_t *opts)
     diagnostics_t diagnostics = {.can_log = &host->can_log};
     fleet_observer_t observers = {.device_started = attach_observers,
                                   .replies_held = delay_holds_replies,
-                                  .device_ticked = sample_coverage,
+                                  .flags_changed = sample_coverage,
                                   .ctx = &diagnostics};
     fleet_observe(host->fleet, &observers);
     simctl_set_fleet(host->sim, host->fleet);

@@ -183,29 +183,40 @@ static void on_transfer(fbus_slot_t *s, wsg_finger_t *finger)
     finger->data_count = (uint16_t)values;
 }
 
-/* Segments go from the frames straight into the transfer: a run of BULK
- * frames of one node (nothing in it changes what is checked here). */
-static void on_bulk(fbus_slot_t *s, wsg_finger_t *finger, const hal_can_frame_t *f, unsigned n)
+/* How many frames from f on have f's identifier. */
+static unsigned run_length(const hal_can_frame_t *f, unsigned n)
+{
+    unsigned run = 1;
+    while (run < n && f[run].id == f->id) {
+        run++;
+    }
+    return run;
+}
+
+/* Segments go from the frames straight into the transfer: the run of
+ * frames from f on with f's identifier (nothing in it changes what is
+ * checked here), found as they are fed. Returns its length. */
+static unsigned on_bulk(fbus_slot_t *s, wsg_finger_t *finger, const hal_can_frame_t *f, unsigned n)
 {
     if (!s->config || s->desc.encoding != FBUS_ENC_BULK || s->node_state != FBUS_NODE_OPERATIONAL) {
-        return;
+        return run_length(f, n);
     }
-    while (n > 0u) {
+    unsigned taken = 0;
+    do {
         bool done = false;
-        unsigned fed = wsg_fbus_bulk_rx_feed_frames(&s->bulk, f, n, &done);
+        taken += wsg_fbus_bulk_rx_feed_frames(&s->bulk, &f[taken], n - taken, &done);
         if (done) {
             on_transfer(s, finger);
         }
-        f += fed;
-        n -= fed;
-    }
+    } while (taken < n && f[taken].id == f->id);
+    return taken;
 }
 
-/* The frames f[0..n) have one identifier: a run of BULK frames is taken
- * in one go, anything else is n = 1. The frame's function code says which
- * type it is: one unpack, not a try of each. */
-static void dispatch_frames(fbus_slot_t *s, wsg_finger_t *finger, const hal_can_frame_t *f,
-                            unsigned n)
+/* Takes f[0], with the frames after it that go in the same go (a run of
+ * BULK frames of one node): returns how many. The frame's function code
+ * says which type it is: one unpack, not a try of each. */
+static unsigned dispatch_frames(fbus_slot_t *s, wsg_finger_t *finger, const hal_can_frame_t *f,
+                                unsigned n)
 {
     fbus_heartbeat_t hb;
     fbus_descriptor_t d;
@@ -227,25 +238,11 @@ static void dispatch_frames(fbus_slot_t *s, wsg_finger_t *finger, const hal_can_
         }
         break;
     case FBUS_ID_BULK:
-        on_bulk(s, finger, f, n);
-        break;
+        return on_bulk(s, finger, f, n);
     default:
         break;
     }
-}
-
-/* How many frames from f on are BULK frames with f's identifier (1 for
- * any other frame). */
-static unsigned run_length(const hal_can_frame_t *f, unsigned n)
-{
-    if (fbus_func_of(f->id) != FBUS_ID_BULK) {
-        return 1;
-    }
-    unsigned run = 1;
-    while (run < n && f[run].id == f->id) {
-        run++;
-    }
-    return run;
+    return 1;
 }
 
 /* Takes the first frame of f[0..n), with those after it that are taken in
@@ -269,9 +266,7 @@ static unsigned take_frames(finger_bus_t *bus, wsg_fingers_t *fingers, const hal
     s->heard = true;
     s->comm_fault = false;
     s->last_rx_us = now_us;
-    unsigned run = run_length(f, n);
-    dispatch_frames(s, &fingers->slot[slot], f, run);
-    return run;
+    return dispatch_frames(s, &fingers->slot[slot], f, n);
 }
 
 /* Takes frames[0..count), the first poll's, and all that follow. The bus

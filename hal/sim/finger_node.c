@@ -201,6 +201,17 @@ static void handle_frame(finger_node_t *node, const hal_can_frame_t *frame, uint
     }
 }
 
+void wsg_finger_node_receive_state(finger_node_t *node, const fbus_state_t *s, uint64_t now_us)
+{
+    bool was_powered = node->powered;
+    if (present(node)) {
+        on_state(node, s, now_us);
+    }
+    if (!was_powered || !node->powered) { /* as in wsg_finger_node_receive() */
+        node->due_us = wsg_finger_node_next_due_us(node);
+    }
+}
+
 void wsg_finger_node_receive(finger_node_t *node, const hal_can_frame_t *frame, uint64_t now_us)
 {
     bool was_powered = node->powered;

@@ -88,6 +88,10 @@ static inline bool wsg_finger_node_may_accept(const hal_can_frame_t *frame)
 
 /* Handles one frame from the bus (STATE, COMMAND, SIMCTL for this node). */
 void wsg_finger_node_receive(finger_node_t *node, const hal_can_frame_t *frame, uint64_t now_us);
+/* wsg_finger_node_receive() of a STATE frame that wsg_fbus_unpack_state()
+ * made *s of: a bus unpacks its STATE (one every 10 ms) once for all its
+ * nodes. */
+void wsg_finger_node_receive_state(finger_node_t *node, const fbus_state_t *s, uint64_t now_us);
 /* The part of wsg_finger_node_step() after the stall bookkeeping, once the
  * cached due time has come. */
 void wsg_finger_node_step_due(finger_node_t *node, uint64_t now_us);

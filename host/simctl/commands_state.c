@@ -103,6 +103,7 @@ wsg_status_t sc_coverage_reset(simctl_ctx_t *ctx)
 {
     if (simctl_coverage(ctx->ctl) != NULL) {
         coverage_reset(simctl_coverage(ctx->ctl));
+        fleet_show_flags_again(simctl_fleet(ctx->ctl)); /* sampled at each device's next step */
     }
     return E_SUCCESS;
 }

@@ -174,8 +174,9 @@ bool wsg_fbus_bulk_rx_feed(fbus_bulk_rx_t *rx, const fbus_bulk_t *segment);
 bool wsg_fbus_is_bulk(const hal_can_frame_t *f);
 /* wsg_fbus_bulk_rx_feed() of each frame of f[0..n) that wsg_fbus_is_bulk()
  * accepts (the others are skipped), in order, without unpacking them (the
- * gripper receives 28 per DSA transfer), until one completes a transfer
- * (*done then true): returns how many frames it took. */
+ * gripper receives 28 per DSA transfer), while they carry f[0]'s identifier
+ * (one node's run of frames), until one completes a transfer (*done then
+ * true): returns how many frames it took, at least 1 when n > 0. */
 unsigned wsg_fbus_bulk_rx_feed_frames(fbus_bulk_rx_t *rx, const hal_can_frame_t *f, unsigned n,
                                       bool *done);
 

@@ -431,7 +431,8 @@ END_TEST
 /* The loopback tests a node's filters in one expression: the same verdict
  * as the filters themselves on every standard identifier and a sample of
  * extended ones, with and without the RTR flag; the function-code check
- * before it lets every accepted frame through. */
+ * before it lets every accepted frame through, and every node accepts a
+ * frame that unpacks as a STATE. */
 START_TEST(acceptance_test_matches_the_filters)
 {
     static const uint8_t flags[] = {0, HAL_CAN_FLAG_RTR, HAL_CAN_FLAG_EXT,
@@ -448,12 +449,84 @@ START_TEST(acceptance_test_matches_the_filters)
                 ck_assert_msg(wsg_finger_node_accepts(&node, &f) == want,
                               "slot %u id 0x%x flags %u", slot, id, flags[k]);
                 ck_assert(!want || wsg_finger_node_may_accept(&f));
+                fbus_state_t st; /* the loopback hands a STATE that unpacks to every node */
+                ck_assert(!wsg_fbus_unpack_state(&f, &st) || want);
                 accepted += want ? 1u : 0u;
             }
         }
         /* STATE, COMMAND, SIMCTL; RTR or not; bit 11 set or not (the filters
          * mask it off) */
         ck_assert_uint_eq(accepted, 3u * 2u * 2u);
+    }
+}
+END_TEST
+
+static bool drop_send(void *ctx, const hal_can_frame_t *f)
+{
+    (void)ctx;
+    (void)f;
+    return true;
+}
+
+/* A copy of a node whose last STATE has its padding cleared: its fields are
+ * what counts (the node copies a STATE whole, padding and all). */
+static finger_node_t without_state_padding(const finger_node_t *n)
+{
+    finger_node_t copy;
+    memcpy(&copy, n, sizeof(copy));
+    fbus_state_t s;
+    memset(&s, 0, sizeof(s));
+    s.position_mm = n->state.position_mm;
+    s.force_n = n->state.force_n;
+    s.power_mask = n->state.power_mask;
+    s.grip_state = n->state.grip_state;
+    s.counter = n->state.counter;
+    memcpy(&copy.state, &s, sizeof(s));
+    return copy;
+}
+
+/* A STATE the bus unpacked once for all its nodes does to a node what the
+ * frame does, whatever the node's type, slot, supply, faults and due time:
+ * the whole node stays the same as its twin's that took the frames. */
+START_TEST(unpacked_state_is_taken_as_the_frame)
+{
+    static const hal_can_ops_t drop_ops = {drop_send, rec_recv, rec_filters, false,
+                                           NULL,      NULL,     NULL,        NULL};
+    const hal_can_t drop_bus = {&drop_ops, NULL};
+    finger_node_params_t p;
+    wsg_finger_node_defaults(&p);
+    for (unsigned type = FBUS_TYPE_NONE; type <= FBUS_TYPE_DSA; type++) {
+        for (unsigned slot = 0; slot < FBUS_SLOTS; slot++) {
+            finger_node_t by_frame;
+            finger_node_t unpacked;
+            wsg_finger_node_init(&by_frame, (fbus_type_t)type, slot, &p, &drop_bus);
+            wsg_finger_node_init(&unpacked, (fbus_type_t)type, slot, &p, &drop_bus);
+            uint64_t t = 1000000u;
+            for (unsigned i = 0; i < 600u; i++) {
+                if (i % 150u == 70u || i % 150u == 110u) { /* unplugged, then back */
+                    hal_can_frame_t simctl;
+                    wsg_fbus_pack_simctl(&simctl, FBUS_NODE_ID(slot),
+                                         i % 150u == 70u ? FBUS_FAULT_UNPLUG : 0u);
+                    wsg_finger_node_receive(&by_frame, &simctl, t);
+                    wsg_finger_node_receive(&unpacked, &simctl, t);
+                }
+                fbus_state_t st = {12.0f, (float)(i % 13u), (uint8_t)((i / 40u) % 4u), 1,
+                                   (uint8_t)i};
+                hal_can_frame_t f;
+                fbus_state_t back;
+                wsg_fbus_pack_state(&f, &st);
+                ck_assert(wsg_fbus_unpack_state(&f, &back));
+                wsg_finger_node_receive(&by_frame, &f, t);
+                wsg_finger_node_receive_state(&unpacked, &back, t);
+                finger_node_t a = without_state_padding(&by_frame);
+                finger_node_t b = without_state_padding(&unpacked);
+                ck_assert_msg(memcmp(&a, &b, sizeof(a)) == 0, "type %u slot %u STATE %u", type,
+                              slot, i);
+                t += i % 100u == 99u ? 1500000u : 10000u; /* now and then, the supply times out */
+                wsg_finger_node_step(&by_frame, t);
+                wsg_finger_node_step(&unpacked, t);
+            }
+        }
     }
 }
 END_TEST
@@ -491,6 +564,7 @@ Suite *node_suite(void)
     tcase_add_test(tc, injected_faults);
     tcase_add_test(tc, steps_before_the_due_time_change_nothing);
     tcase_add_test(tc, acceptance_test_matches_the_filters);
+    tcase_add_test(tc, unpacked_state_is_taken_as_the_frame);
     tcase_add_test(tc, parses_finger_lists);
     suite_add_tcase(s, tc);
     return s;

@@ -234,6 +234,74 @@ START_TEST(bulk_fed_from_frames_as_when_unpacked)
 }
 END_TEST
 
+/* A transfer longer than 32 segments: segment 32 overflows the values
+ * and spoils it, however the frames are cut into runs. */
+START_TEST(bulk_fed_from_frames_stops_at_the_segment_bound)
+{
+    hal_can_frame_t frames[40];
+    for (unsigned s = 0; s < 40u; s++) {
+        fbus_bulk_t b = {(uint8_t)s, s == 39u, 9, {(uint16_t)s, 2, 3}};
+        wsg_fbus_pack_bulk(&frames[s], 1, &b);
+    }
+    for (unsigned run = 1; run <= 40u; run++) {
+        struct {
+            fbus_bulk_rx_t rx;
+            uint16_t after[8]; /* no value is written past the transfer's */
+        } guarded;
+        fbus_bulk_rx_t *by_frame = &guarded.rx;
+        fbus_bulk_rx_t unpacked;
+        memset(&guarded, 0, sizeof(guarded));
+        memset(&unpacked, 0, sizeof(unpacked));
+        bool unpacked_done = false;
+        for (unsigned n = 0; n < 40u; n++) {
+            fbus_bulk_t b;
+            ck_assert(wsg_fbus_unpack_bulk(&frames[n], &b));
+            unpacked_done = wsg_fbus_bulk_rx_feed(&unpacked, &b) || unpacked_done;
+        }
+        bool done = false;
+        for (unsigned n = 0; n < 40u;) {
+            unsigned len = run < 40u - n ? run : 40u - n;
+            n += wsg_fbus_bulk_rx_feed_frames(by_frame, &frames[n], len, &done);
+            ck_assert(!done);
+        }
+        ck_assert(!unpacked_done);
+        ck_assert_uint_eq(by_frame->next_segment, 0); /* spoilt at segment 32 */
+        ck_assert(memcmp(by_frame, &unpacked, sizeof(unpacked)) == 0);
+        static const uint16_t untouched[8];
+        ck_assert_mem_eq(guarded.after, untouched, sizeof(untouched));
+    }
+}
+END_TEST
+
+/* Two nodes' frames: a run ends at the first frame of the other node, in
+ * the middle of a transfer too. */
+START_TEST(bulk_fed_from_frames_stops_at_another_identifier)
+{
+    hal_can_frame_t frames[15];
+    for (unsigned n = 0; n < 15u; n++) {
+        bool first_node = n < 10u;
+        unsigned segment = first_node ? n : n - 10u;
+        fbus_bulk_t b = {(uint8_t)segment, false, 7, {(uint16_t)n, 1, 2}};
+        wsg_fbus_pack_bulk(&frames[n], first_node ? 1 : 2, &b);
+    }
+    fbus_bulk_rx_t by_frame;
+    fbus_bulk_rx_t unpacked;
+    memset(&by_frame, 0, sizeof(by_frame));
+    memset(&unpacked, 0, sizeof(unpacked));
+    for (unsigned n = 0; n < 10u; n++) {
+        fbus_bulk_t b;
+        ck_assert(wsg_fbus_unpack_bulk(&frames[n], &b));
+        ck_assert(!wsg_fbus_bulk_rx_feed(&unpacked, &b));
+    }
+    bool done = true;
+    ck_assert_uint_eq(wsg_fbus_bulk_rx_feed_frames(&by_frame, frames, 15, &done), 10);
+    ck_assert(!done);
+    ck_assert(memcmp(&by_frame, &unpacked, sizeof(by_frame)) == 0);
+    ck_assert_uint_eq(wsg_fbus_bulk_rx_feed_frames(&by_frame, &frames[10], 5, &done), 5);
+    ck_assert_uint_eq(by_frame.next_segment, 5); /* the other node's transfer */
+}
+END_TEST
+
 /* A transfer packed from its values in wire order is what wsg_fbus_pack_bulk()
  * makes of each segment: 28 full segments (a DSA), and 4 with the last
  * padded; the values span all 16 bits. */
@@ -296,6 +364,8 @@ Suite *proto_suite(void)
     tcase_add_test(tc, bulk_with_a_lost_segment_is_dropped);
     tcase_add_test(tc, bulk_interleaved_transfer_restarts);
     tcase_add_test(tc, bulk_fed_from_frames_as_when_unpacked);
+    tcase_add_test(tc, bulk_fed_from_frames_stops_at_the_segment_bound);
+    tcase_add_test(tc, bulk_fed_from_frames_stops_at_another_identifier);
     tcase_add_test(tc, bulk_transfer_packed_from_wire_order_as_by_segment);
     tcase_add_test(tc, filters_match_id_and_mask);
     suite_add_tcase(s, tc);

@@ -34,7 +34,7 @@ static void attach_observers(void *ctx, gripper_t *g)
     coverage_attach(t_coverage, &g->device, g->index);
 }
 
-/* ... and samples its flags after each of its control steps. */
+/* ... and samples its flags after each control step that changed them. */
 static void sample_coverage(void *ctx, gripper_t *g)
 {
     (void)ctx;
@@ -44,7 +44,7 @@ static void sample_coverage(void *ctx, gripper_t *g)
 static void setup_with(int argc, char **argv)
 {
     static fleet_observer_t observers = {
-        .device_started = attach_observers, .device_ticked = sample_coverage, .ctx = &opts};
+        .device_started = attach_observers, .flags_changed = sample_coverage, .ctx = &opts};
     ck_assert_int_eq(options_parse(argc, argv, &opts), OPTIONS_RUN);
     t_sim = simctl_create();
     ck_assert_ptr_nonnull(t_sim);

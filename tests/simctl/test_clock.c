@@ -316,13 +316,26 @@ START_TEST(run_until_done_stops_at_its_limit)
 }
 END_TEST
 
+/* COVERAGE?'s "flags":{...}, the flags the coverage raised and not. */
+static void coverage_flags(char *out, size_t cap)
+{
+    const char *reply = ctl("COVERAGE?");
+    const char *from = strstr(reply, "\"flags\":{");
+    ck_assert_msg(from != NULL, "COVERAGE? -> %s", reply);
+    const char *to = strchr(from, '}');
+    ck_assert_ptr_nonnull(to);
+    ck_assert_uint_lt((size_t)(to - from) + 1u, cap);
+    snprintf(out, cap, "%.*s", (int)(to - from) + 1, from);
+}
+
 /* Where a lone device's runs end: a grip cycle under RUN_UNTIL_DONE, a
  * slow MOVE that a scenario event (a power fault) ends mid-way, and one
  * slice of a long STEP. With `instant_by_instant` a DELAY is armed on a
  * second, idle session: the scheduler then takes every instant on its own
  * (a tick could hold a reply), as it did before lone runs; both ways must
- * end at the same instants and spend the same work per slice. */
-static size_t lone_run_ends(bool instant_by_instant, uint64_t ends[8])
+ * end at the same instants, spend the same work per slice and show the
+ * coverage the same flags (flags: its "flags" section after the runs). */
+static size_t lone_run_ends(bool instant_by_instant, uint64_t ends[8], char *flags, size_t cap)
 {
     static const char *const cycle[][2] = {
         {"HOME()", "HOME"}, {"MOVE(80)", "MOVE"}, {"GRIP(20)", "GRIP"}, {"RELEASE(10)", "RELEASE"}};
@@ -358,6 +371,7 @@ static size_t lone_run_ends(bool instant_by_instant, uint64_t ends[8])
     simctl_step_finish(simctl_scheduler(t_sim));
     free(simctl_step_reply(t_sim));
     h_close(&idle, WSG_CLOSE_ANNOUNCED);
+    coverage_flags(flags, cap);
     return n;
 }
 
@@ -365,10 +379,15 @@ START_TEST(a_lone_run_ends_where_instant_by_instant_passes_end)
 {
     uint64_t lone[8];
     uint64_t by_instant[8];
-    size_t n = lone_run_ends(false, lone);
+    char lone_flags[1024];
+    char by_instant_flags[1024];
+    size_t n = lone_run_ends(false, lone, lone_flags, sizeof(lone_flags));
     t_teardown();
     t_setup();
-    ck_assert_uint_eq(lone_run_ends(true, by_instant), n);
+    ck_assert_uint_eq(lone_run_ends(true, by_instant, by_instant_flags, sizeof(by_instant_flags)),
+                      n);
+    ck_assert_str_eq(lone_flags, by_instant_flags); /* the lone steps showed the coverage all */
+    ck_assert_ptr_nonnull(strstr(lone_flags, "\"SF_MOVING\""));
     for (size_t i = 0; i < n; i++) {
         ck_assert_msg(lone[i] == by_instant[i], "end %zu: %llu, instant by instant %llu", i,
                       (unsigned long long)lone[i], (unsigned long long)by_instant[i]);

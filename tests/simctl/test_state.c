@@ -9,6 +9,7 @@
 
 #include "fleet.h"
 #include "simctl/commands.h"
+#include "wsg/wsg_names.h"
 #include "wsg/wsg_types.h"
 
 /* The JSON after "NAME=" of a reply; the caller deletes it. */
@@ -117,6 +118,83 @@ START_TEST(coverage_reports_what_was_exercised)
 }
 END_TEST
 
+/* COVERAGE?'s "flags"."raised", as JSON text (static). */
+static const char *raised_flags(void)
+{
+    static char text[1024];
+    cJSON *c = reply_json("COVERAGE?");
+    const cJSON *flags = cJSON_GetObjectItemCaseSensitive(c, "flags");
+    char *raised = cJSON_PrintUnformatted(cJSON_GetObjectItemCaseSensitive(flags, "raised"));
+    ck_assert_ptr_nonnull(raised);
+    snprintf(text, sizeof(text), "%s", raised);
+    cJSON_free(raised);
+    cJSON_Delete(c);
+    return text;
+}
+
+/* The names of the flags in a register, as "raised" lists them (static). */
+static const char *flag_names(uint32_t flags)
+{
+    static char text[1024];
+    size_t used = (size_t)snprintf(text, sizeof(text), "[");
+    for (unsigned bit = 0; bit < WSG_SYSFLAG_COUNT; bit++) {
+        const char *name = wsg_sysflag_name(bit);
+        if (name != NULL && (flags & WSG_FLAG(bit)) != 0u) {
+            used += (size_t)snprintf(text + used, sizeof(text) - used, "%s\"%s\"",
+                                     text[used - 1] == '[' ? "" : ",", name);
+        }
+    }
+    snprintf(text + used, sizeof(text) - used, "]");
+    return text;
+}
+
+/* The coverage is shown a device's flags only by the control steps that
+ * change them; after COVERAGE_RESET the next step shows them all the same,
+ * as every step did before, though none changes. */
+START_TEST(coverage_after_a_reset_has_the_flags_of_the_next_step)
+{
+    t_step_ms(10);
+    uint32_t flags = t_device_flags(0);
+    ck_assert_uint_ne(flags, 0u); /* homed: SF_REFERENCED at least */
+    CTL_EQ("COVERAGE_RESET()", "ACK COVERAGE_RESET");
+    ck_assert_str_eq(raised_flags(), "[]"); /* no step yet */
+    t_step_ms(10);
+    ck_assert_uint_eq(t_device_flags(0), flags); /* no step changed them */
+    ck_assert_str_eq(raised_flags(), flag_names(flags));
+}
+END_TEST
+
+/* Each flag register a step left, millisecond by millisecond through a
+ * grip cycle with a failing command: the coverage raised exactly those
+ * flags, though it was shown only the steps that changed them. */
+START_TEST(coverage_raises_every_flag_a_step_left)
+{
+    static const char *const cycle[][2] = {{"MOVE(80)", "FIN MOVE"},
+                                           {"GRIP(20)", "FIN GRIP"},
+                                           {"MOVE(70)", "ERR MOVE"},
+                                           {"RELEASE(10)", "FIN RELEASE"},
+                                           {"MOVE(500)", NULL}};
+    CTL_EQ("PART(30)", "ACK PART");
+    CTL_EQ("COVERAGE_RESET()", "ACK COVERAGE_RESET");
+    uint32_t seen = 0u;
+    for (size_t i = 0; i < sizeof(cycle) / sizeof(cycle[0]); i++) {
+        (void)gcl(cycle[i][0]);
+        for (int ms = 0; ms < 5000 && cycle[i][1] != NULL; ms++) {
+            t_step_ms(1);
+            seen |= t_device_flags(0);
+            if (gcl_unread() > 0 && strncmp(gcl_next(), cycle[i][1], strlen(cycle[i][1])) == 0) {
+                break;
+            }
+        }
+    }
+    t_step_ms(1);
+    seen |= t_device_flags(0);
+    ck_assert(seen & WSG_FLAG(SF_MOVING));
+    ck_assert(seen & WSG_FLAG(SF_CMD_FAILURE));
+    ck_assert_str_eq(raised_flags(), flag_names(seen));
+}
+END_TEST
+
 START_TEST(bad_control_lines_get_clear_errors)
 {
     ck_assert_str_eq(ctl("WARP(9)"), "ERR WARP 14 unknown control command (HELP? lists them)");
@@ -163,6 +241,8 @@ Suite *state_suite(void)
     tcase_add_test(tc, sessions_lists_the_open_sessions);
     tcase_add_test(tc, reset_returns_to_power_on);
     tcase_add_test(tc, coverage_reports_what_was_exercised);
+    tcase_add_test(tc, coverage_after_a_reset_has_the_flags_of_the_next_step);
+    tcase_add_test(tc, coverage_raises_every_flag_a_step_left);
     tcase_add_test(tc, bad_control_lines_get_clear_errors);
     tcase_add_test(tc, help_lists_every_command);
     tcase_add_test(tc, scenarios_cannot_step_or_say_bye);

@@ -38,6 +38,8 @@ double samples_max(const samples_t *s);
 
 double now_us(void);
 void die(const char *fmt, ...) __attribute__((format(printf, 1, 2), noreturn));
+/* An epoll set watching two descriptors for input; dies naming `who`. */
+int epoll_for_two(int fd_a, int fd_b, const char *who);
 
 /* proc.c */
 #define WSGSIM_EXTRA_ARGS_MAX 8

@@ -177,13 +177,7 @@ void echo_server_run(int tcp_fd, int udp_fd)
     static echo_server_t srv; /* the process's one server, too large for a stack */
     srv.tcp_fd = tcp_fd;
     srv.udp_fd = udp_fd;
-    srv.epoll_fd = epoll_create1(EPOLL_CLOEXEC);
-    struct epoll_event tcp_ev = {.events = EPOLLIN, .data.fd = tcp_fd};
-    struct epoll_event udp_ev = {.events = EPOLLIN, .data.fd = udp_fd};
-    if (srv.epoll_fd < 0 || epoll_ctl(srv.epoll_fd, EPOLL_CTL_ADD, tcp_fd, &tcp_ev) != 0 ||
-        epoll_ctl(srv.epoll_fd, EPOLL_CTL_ADD, udp_fd, &udp_ev) != 0) {
-        die("echo: cannot set up epoll");
-    }
+    srv.epoll_fd = epoll_for_two(tcp_fd, udp_fd, "echo");
     struct epoll_event events[ECHO_EVENTS];
     for (;;) {
         int n = epoll_wait(srv.epoll_fd, events, ECHO_EVENTS, run_ticks(&srv));

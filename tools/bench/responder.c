@@ -146,13 +146,7 @@ void responder_server_run(int gcl_listen_fd, int ctl_listen_fd, double ms_per_co
                      .gcl.fd = -1,
                      .ctl.fd = -1,
                      .ms_per_command = ms_per_command};
-    r.epoll_fd = epoll_create1(EPOLL_CLOEXEC);
-    struct epoll_event gcl_ev = {.events = EPOLLIN, .data.fd = gcl_listen_fd};
-    struct epoll_event ctl_ev = {.events = EPOLLIN, .data.fd = ctl_listen_fd};
-    if (r.epoll_fd < 0 || epoll_ctl(r.epoll_fd, EPOLL_CTL_ADD, gcl_listen_fd, &gcl_ev) != 0 ||
-        epoll_ctl(r.epoll_fd, EPOLL_CTL_ADD, ctl_listen_fd, &ctl_ev) != 0) {
-        die("responder: cannot set up epoll");
-    }
+    r.epoll_fd = epoll_for_two(gcl_listen_fd, ctl_listen_fd, "responder");
     struct epoll_event events[8];
     for (;;) {
         int n = epoll_wait(r.epoll_fd, events, 8, -1);

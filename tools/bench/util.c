@@ -2,6 +2,7 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <sys/epoll.h>
 #include <time.h>
 
 #include "bench.h"
@@ -82,4 +83,16 @@ double samples_quantile(const samples_t *s, double q)
 double samples_max(const samples_t *s)
 {
     return s->n > 0 ? s->v[s->n - 1] : 0.0;
+}
+
+int epoll_for_two(int fd_a, int fd_b, const char *who)
+{
+    int epoll_fd = epoll_create1(EPOLL_CLOEXEC);
+    struct epoll_event ev_a = {.events = EPOLLIN, .data.fd = fd_a};
+    struct epoll_event ev_b = {.events = EPOLLIN, .data.fd = fd_b};
+    if (epoll_fd < 0 || epoll_ctl(epoll_fd, EPOLL_CTL_ADD, fd_a, &ev_a) != 0 ||
+        epoll_ctl(epoll_fd, EPOLL_CTL_ADD, fd_b, &ev_b) != 0) {
+        die("%s: cannot set up epoll", who);
+    }
+    return epoll_fd;
 }
