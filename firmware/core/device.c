@@ -86,7 +86,7 @@ static void step_finger_bus(wsg_dev_t *dev)
     }
     bool holding = dev->grip.state == GS_HOLDING && dev->motion.kind == WSG_MOTION_NONE;
     if (wsg_finger_bus_skip_step(&dev->fbus, &dev->fingers, dev->sensed.now_us, holding)) {
-        return; /* no bus, or a quiet step: no input to build */
+        return; /* a quiet step: no input to build */
     }
     dev->fingers_stepped = wsg_finger_bus_step(
         &dev->fbus, &dev->fingers,
