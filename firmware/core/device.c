@@ -81,10 +81,12 @@ void wsg_device_give_observers(wsg_device_t *device, const wsg_device_observers_
 static void step_finger_bus(wsg_dev_t *dev)
 {
     dev->fingers_stepped = false;
+    if (dev->fbus.can == NULL) {
+        return;
+    }
     bool holding = dev->grip.state == GS_HOLDING && dev->motion.kind == WSG_MOTION_NONE;
-    if (dev->fbus.can == NULL ||
-        wsg_finger_bus_skip_step(&dev->fbus, &dev->fingers, dev->sensed.now_us, holding)) {
-        return; /* no bus, or a quiet step: no input to build */
+    if (wsg_finger_bus_skip_step(&dev->fbus, &dev->fingers, dev->sensed.now_us, holding)) {
+        return; /* a quiet step: no input to build */
     }
     dev->fingers_stepped = wsg_finger_bus_step(
         &dev->fbus, &dev->fingers,

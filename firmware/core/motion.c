@@ -414,7 +414,7 @@ void wsg_grip_monitor_step(wsg_dev_t *dev)
 void wsg_motion_block_watch_step(wsg_dev_t *dev)
 {
     dev_motion_t *m = &dev->motion;
-    bool latched = wsg_flags_get(dev, SF_BLOCKED_MINUS) || wsg_flags_get(dev, SF_BLOCKED_PLUS);
+    bool latched = (dev->flags & (WSG_FLAG(SF_BLOCKED_MINUS) | WSG_FLAG(SF_BLOCKED_PLUS))) != 0u;
     if (!latched || m->kind != WSG_MOTION_NONE || dev->velocity.active ||
         dev->sensed.force_n >= CONTACT_FORCE_N) {
         m->block_clearing = false;

@@ -349,6 +349,11 @@ static bool free_run(sim_axis_t *axis, float dt_s, clear_span_t span)
         !(dt_s > 0.0f)) {
         return false; /* not profile_step()'s speed-up, or a speed that may shrink */
     }
+    /* braking already (or near the target): the test below fails at the
+     * end, where the speed is no lower and the target no farther */
+    if (!((target - x) * dir > v * v / (2.0f * a))) {
+        return false;
+    }
     unsigned cruise_steps = 0; /* stays 0 unless cruising */
     if (fabsf(v) == vmax && vmax > 0.0f) {
         /* cruising: a step's speed-up leaves v or passes the limit and is

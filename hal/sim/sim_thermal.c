@@ -12,11 +12,13 @@ void wsg_sim_thermal_init(sim_thermal_t *thermal, float ambient_c)
     thermal->last_dt_s = 0.0f;
     thermal->last_time_constant_s = 0.0f;
     thermal->last_share = 0.0f;
+    thermal->still = false;
 }
 
 void wsg_sim_thermal_set_ambient(sim_thermal_t *thermal, float ambient_c)
 {
     thermal->ambient_c = ambient_c;
+    thermal->still = false; /* the steady temperature moved */
 }
 
 void wsg_sim_thermal_override(sim_thermal_t *thermal, float board_c)

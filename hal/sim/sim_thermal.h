@@ -5,6 +5,9 @@
 #define SIM_THERMAL_H
 
 #include <math.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <string.h>
 
 typedef struct {
     float ambient_c;
@@ -17,6 +20,15 @@ typedef struct {
     float last_dt_s;
     float last_time_constant_s;
     float last_share;
+    /* the last step left the board as it was (the steady temperature, or a
+     * rise too small to change it): at the same force and dt, with the
+     * parameters unchanged (only init and set_ambient change them), the
+     * next step leaves it too; at the steady temperature (the gap was zero)
+     * whatever the dt: still_dt_mask, the bits of dt that count, is 0 then */
+    bool still;
+    uint32_t still_force_bits;
+    uint32_t still_dt_bits;
+    uint32_t still_dt_mask;
 } sim_thermal_t;
 
 #define SIM_THERMAL_NO_OVERRIDE (-1000.0f)
@@ -43,19 +55,49 @@ static inline float wsg_sim_thermal_settle_share(sim_thermal_t *thermal, float d
     return thermal->last_share;
 }
 
-/* Settles the board towards its steady temperature for dt_s >= 0 seconds
- * (finite, the time constant > 0: the share is then in [0, 1]). */
-static inline void wsg_sim_thermal_advance(sim_thermal_t *thermal, float force_n, float dt_s)
+static inline uint32_t wsg_sim_thermal_bits(float value)
+{
+    uint32_t bits;
+    memcpy(&bits, &value, sizeof(bits));
+    return bits;
+}
+
+/* The step itself: board + (steady - board) * share. *settled: the gap was
+ * zero, and the step did not depend on dt_s. */
+static inline float wsg_sim_thermal_stepped(sim_thermal_t *thermal, float force_n, float dt_s,
+                                            bool *settled)
 {
     float steady = thermal->ambient_c + thermal->idle_rise_c + thermal->rise_per_newton_c * force_n;
     float gap = steady - thermal->board_c;
-    if (gap == 0.0f) {
-        /* settled: gap * share is gap (a zero of gap's sign) for any share
-         * in [0, 1], so the same sum without the share (no expf) */
-        thermal->board_c += gap;
+    *settled = gap == 0.0f;
+    if (*settled) {
+        /* gap * share is gap (a zero of gap's sign) for any share in
+         * [0, 1], so the same sum without the share (no expf) */
+        return thermal->board_c + gap;
+    }
+    return thermal->board_c + gap * wsg_sim_thermal_settle_share(thermal, dt_s);
+}
+
+/* Settles the board towards its steady temperature for dt_s >= 0 seconds
+ * (finite, the time constant > 0: the share is then in [0, 1]). A step
+ * that repeats a step which left the board as it was is skipped: its
+ * inputs (board, force, dt where it counts, parameters) are the same, so is
+ * its result. */
+static inline void wsg_sim_thermal_advance(sim_thermal_t *thermal, float force_n, float dt_s)
+{
+    uint32_t force_bits = wsg_sim_thermal_bits(force_n);
+    uint32_t dt_bits = wsg_sim_thermal_bits(dt_s);
+    if (thermal->still && force_bits == thermal->still_force_bits &&
+        ((dt_bits ^ thermal->still_dt_bits) & thermal->still_dt_mask) == 0u) {
         return;
     }
-    thermal->board_c += gap * wsg_sim_thermal_settle_share(thermal, dt_s);
+    bool settled;
+    float board = wsg_sim_thermal_stepped(thermal, force_n, dt_s, &settled);
+    thermal->still = wsg_sim_thermal_bits(board) == wsg_sim_thermal_bits(thermal->board_c);
+    thermal->still_dt_mask = settled ? 0u : UINT32_MAX;
+    thermal->still_force_bits = force_bits;
+    thermal->still_dt_bits = dt_bits;
+    thermal->board_c = board;
 }
 
 static inline float wsg_sim_thermal_board_c(const sim_thermal_t *thermal)

@@ -22,7 +22,9 @@ void wsg_sim_world_advance_full(sim_world_t *world, uint64_t now_us)
         }
         return;
     }
-    float dt = (float)(now_us - world->last_us) * 1e-6f;
+    /* a gap below 2^63 converts to the same float signed or unsigned, and
+     * the signed conversion is one instruction */
+    float dt = (float)(int64_t)(now_us - world->last_us) * 1e-6f;
     world->last_us = now_us;
     wsg_sim_axis_advance(&world->axis, dt);
     wsg_sim_thermal_advance(&world->thermal, world->axis.force_n, dt);

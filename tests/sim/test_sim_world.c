@@ -602,6 +602,39 @@ START_TEST(thermal_signed_zero_matches_the_formula)
 }
 END_TEST
 
+/* A board that no longer moves skips its steps (white box: `still`) until
+ * the force, the step or the room changes: each of them moves it again. */
+START_TEST(thermal_still_board_moves_again_when_its_inputs_change)
+{
+    sim_thermal_t fast, ref;
+    wsg_sim_thermal_init(&fast, 25.0f);
+    wsg_sim_thermal_init(&ref, 25.0f);
+    unsigned still = 0;
+    float before_warm = 0.0f, before_cool = 0.0f;
+    for (unsigned k = 0; k < 8000u; k++) {
+        float force = k >= 2000u && k < 2100u ? 60.0f : 0.0f; /* heated a little */
+        float dt = k >= 5000u && k < 5500u ? 0.0009f : STEP_S;
+        if (k == 6000u) { /* the room warms: the steady temperature moves */
+            before_warm = ref.board_c;
+            wsg_sim_thermal_set_ambient(&fast, 40.0f);
+            ref.ambient_c = 40.0f;
+        }
+        if (k == 7000u) {
+            before_cool = ref.board_c;
+            wsg_sim_thermal_set_ambient(&fast, 10.0f);
+            ref.ambient_c = 10.0f;
+        }
+        wsg_sim_thermal_advance(&fast, force, dt);
+        thermal_reference(&ref, force, dt);
+        same_board(&fast, &ref, k);
+        still += fast.still;
+    }
+    ck_assert_uint_gt(still, 1000u);      /* the shortcut was taken */
+    ck_assert(before_cool > before_warm); /* the warm room heated the board */
+    ck_assert(ref.board_c < before_cool); /* and the cold one cooled it */
+}
+END_TEST
+
 /* --- the world: the axis and the board together, as the port drives them --- */
 
 /* wsg_sim_world_advance through the full models. */
@@ -676,6 +709,7 @@ Suite *sim_suite(void)
     tcase_add_test(thermal, thermal_steps_match_the_formula);
     tcase_add_test(thermal, thermal_settling_matches_the_formula);
     tcase_add_test(thermal, thermal_signed_zero_matches_the_formula);
+    tcase_add_test(thermal, thermal_still_board_moves_again_when_its_inputs_change);
     suite_add_tcase(s, thermal);
     TCase *world = tcase_create("world");
     tcase_set_timeout(world, 120);
