@@ -39,19 +39,19 @@ typedef struct gripper {
     host_options_t *own_opts;
     wsg_runner_t runner;       /* feed and step: the core's, as on the board */
     finger_bus_host_t fingers; /* its finger bus */
-    bool touched;              /* on the touched list (gripper_touch) */
     struct gripper *next_touched;
     gripper_touched_t *touched_list;
-    uint32_t ticked_flags; /* the flag register its last tick left: 0 before */
     /* the flag register the fleet's observers saw last (host/fleet.c);
      * GRIPPER_FLAGS_UNSHOWN: none since its start or an observer forgot */
     uint64_t shown_flags;
-    unsigned index;        /* its number in the fleet: 0 for the first */
-    struct script *script; /* its script interpreter; NULL without scripting */
-    char *startup_set;     /* the startup script the web page chose (heap), NULL: none chosen */
-    bool startup_cleared;  /* the web page chose to run none */
-
+    uint32_t ticked_flags;  /* the flag register its last tick left: 0 before */
+    unsigned index;         /* its number in the fleet: 0 for the first */
+    struct script *script;  /* its script interpreter; NULL without scripting */
+    char *startup_set;      /* the startup script the web page chose (heap), NULL: none chosen */
     uint64_t powered_on_us; /* simulated time of its last power-on (start or reset) */
+    /* the small fields last, together: a cell holds 10 000 grippers */
+    bool touched;         /* on the touched list (gripper_touch) */
+    bool startup_cleared; /* the web page chose to run none */
 } gripper_t;
 
 /* Power-on state from the options (model, configuration file, part) for

@@ -56,15 +56,15 @@ typedef struct {
 struct udp_server {
     udp_servers_t *set; /* the set it belongs to */
     int fd;
-    bool shares_fd;        /* the fd is a shared socket's: not closed here */
     struct in_addr source; /* a shared socket's replies leave from here (0: any) */
+    bool shares_fd;        /* the fd is a shared socket's: not closed here */
+    bool active;           /* on the list of servers with peers */
     udp_route_t route;     /* a shared socket's: whose datagram it is */
     void *route_ctx;
     gripper_t *gripper; /* the device its peers talk to */
     udp_protocol_t proto;
     wsg_peer_table_t peers;
     udp_server_t *prev_active, *next_active; /* servers with peers */
-    bool active;
 };
 
 /* GCL over UDP (16 peers, replies to the sender). */
