@@ -62,6 +62,11 @@ bool server_start_responder(server_t *srv, double ms_per_command);
 void server_stop(server_t *srv);
 /* SIGTERM, then SIGKILL after `seconds`; true when it ended by itself. */
 bool server_stop_within(server_t *srv, double seconds);
+/* Pins this process (the client) and the n servers for round trips by
+ * mode ("same", "cross" or "none", see proc.c), describing it in
+ * placement; unplace_round_trips() lets them run anywhere again. */
+void place_round_trips(server_t *const *srv, int n, const char *mode, char *placement, size_t cap);
+void unplace_round_trips(server_t *const *srv, int n);
 /* Kills every server still running (die() calls it). */
 void server_kill_all(void);
 /* CPU time (user+system) of a process in microseconds. */
@@ -206,7 +211,7 @@ typedef struct {
     double rtt_p50_us;     /* the slowest sampled device */
     double single_rtt_p50_us;
 } fleet_result_t;
-void fleet_run(const char *wsgsim, const char *out_dir, int devices, double idle_s,
+void fleet_run(const char *wsgsim, const char *out_dir, int devices, double idle_s, const char *pin,
                fleet_result_t *r);
 /* `--devices N --address-per-device` (a cell of N addresses, issue 19):
  * start until the ready line, peak RSS, idle wakeups, and whether the last

@@ -121,7 +121,23 @@ static long settled_rss(const server_t *srv, double idle_s, double *wakeups_per_
     return proc_rss_kib(srv->pid);
 }
 
-void fleet_run(const char *wsgsim, const char *out_dir, int devices, double idle_s,
+/* POS? p50 on each sampled device (its worst), with the client and the
+ * server placed as the round-trip rows are. */
+static double worst_rtt_p50(server_t *srv, const char *pin, int base, const int *sampled, int n)
+{
+    char placement[96];
+    server_t *servers[1] = {srv};
+    double worst = 0;
+    place_round_trips(servers, 1, pin, placement, sizeof(placement));
+    for (int i = 0; i < n; i++) {
+        double p50 = rtt_p50(base + sampled[i]);
+        worst = p50 > worst ? p50 : worst;
+    }
+    unplace_round_trips(servers, 1);
+    return worst;
+}
+
+void fleet_run(const char *wsgsim, const char *out_dir, int devices, double idle_s, const char *pin,
                fleet_result_t *r)
 {
     memset(r, 0, sizeof(*r));
@@ -138,7 +154,8 @@ void fleet_run(const char *wsgsim, const char *out_dir, int devices, double idle
         die("%s --devices 1 did not start", wsgsim);
     }
     long rss_one = settled_rss(&one, idle_s, &unused);
-    r->single_rtt_p50_us = rtt_p50(base);
+    const int first[1] = {0};
+    r->single_rtt_p50_us = worst_rtt_p50(&one, pin, base, first, 1);
     server_stop(&one);
     double t0 = now_us();
     if (!start_fleet(&fleet, wsgsim, out_dir, devices, base)) {
@@ -148,10 +165,7 @@ void fleet_run(const char *wsgsim, const char *out_dir, int devices, double idle
     long rss_fleet = settled_rss(&fleet, idle_s, &r->idle_wakeups_per_s);
     r->kib_per_device = (double)(rss_fleet - rss_one) / (devices - 1);
     const int sampled[3] = {0, devices / 2, devices - 1};
-    for (int i = 0; i < 3; i++) {
-        double p50 = rtt_p50(base + sampled[i]);
-        r->rtt_p50_us = p50 > r->rtt_p50_us ? p50 : r->rtt_p50_us;
-    }
+    r->rtt_p50_us = worst_rtt_p50(&fleet, pin, base, sampled, 3);
     server_stop(&fleet);
 }
 

@@ -8,7 +8,6 @@
  * scale, pace, rtt, load, autosend); the table then leaves out the others.
  * --firmware-sizes reads the Cortex-M image sizes `make bench` wrote. */
 #include <errno.h>
-#include <sched.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -169,62 +168,6 @@ static void run_idle(server_t *srv[2], const config_t *cfg, results_t *res)
     }
 }
 
-/* CPU placement for the round trips. Unpinned, a sequential round trip
- * costs one or two cross-CPU wakeups or none, depending on where the
- * scheduler happens to put each server (on a VM about 40 us each way), which
- * swamps the difference between the servers. "same": the client and both
- * servers on the first CPU; "cross": the client on the first, the servers
- * on the second; "none": as the scheduler likes. */
-static void set_cpu(pid_t pid, int cpu)
-{
-    cpu_set_t set;
-    CPU_ZERO(&set);
-    if (cpu < 0) {
-        for (int i = 0; i < CPU_SETSIZE; i++) {
-            CPU_SET(i, &set);
-        }
-    } else {
-        CPU_SET(cpu, &set);
-    }
-    sched_setaffinity(pid, sizeof(set), &set);
-}
-
-static int online_cpu(int nth)
-{
-    cpu_set_t set;
-    sched_getaffinity(0, sizeof(set), &set);
-    for (int i = 0, seen = 0; i < CPU_SETSIZE; i++) {
-        if (CPU_ISSET(i, &set) && seen++ == nth) {
-            return i;
-        }
-    }
-    return -1;
-}
-
-static void pin_round_trips(server_t *srv[2], const char *mode, results_t *res)
-{
-    int client = online_cpu(0);
-    int server = strcmp(mode, "cross") == 0 ? online_cpu(1) : client;
-    if (strcmp(mode, "none") == 0 || client < 0 || server < 0) {
-        snprintf(res->placement, sizeof(res->placement), "unpinned");
-        return;
-    }
-    set_cpu(0, client);
-    for (int k = 0; k < 2; k++) {
-        set_cpu(srv[k]->pid, server);
-    }
-    snprintf(res->placement, sizeof(res->placement), "client on CPU %d, servers on CPU %d", client,
-             server);
-}
-
-static void unpin(server_t *srv[2])
-{
-    set_cpu(0, -1);
-    for (int k = 0; k < 2; k++) {
-        set_cpu(srv[k]->pid, -1);
-    }
-}
-
 /* Round trips: alternating blocks so that both servers see the same noise. */
 
 static void check_reply(const conn_t *c, const char *line, const server_t *srv)
@@ -377,7 +320,7 @@ static void run_until_done_beside_floor(server_t *wsgsim, const config_t *cfg, r
         die("cannot start the zero-work responder");
     }
     server_t *servers[2] = {wsgsim, &floor_srv};
-    pin_round_trips(servers, cfg->pin, res);
+    place_round_trips(servers, 2, cfg->pin, res->placement, sizeof(res->placement));
     vtime_session_open(&at_floor, &floor_srv);
     memset(w, 0, sizeof(*w));
     memset(f, 0, sizeof(*f));
@@ -385,7 +328,7 @@ static void run_until_done_beside_floor(server_t *wsgsim, const config_t *cfg, r
         bool wsgsim_turn = ((b + 1) / 2) % 2 == 0; /* W R R W W R R W ... */
         vtime_session_run(wsgsim_turn ? &at_wsgsim : &at_floor, block, 0, wsgsim_turn ? w : f);
     }
-    unpin(servers);
+    unplace_round_trips(servers, 2);
     vtime_session_close(&at_wsgsim);
     vtime_session_close(&at_floor);
     server_stop(&floor_srv);
@@ -519,7 +462,7 @@ static void run_own_server_sections(const config_t *cfg, results_t *res)
     }
     if (wanted(cfg, "fleet")) {
         fprintf(stderr, "wsgbench: fleet of %d devices\n", FLEET_DEVICES);
-        fleet_run(cfg->wsgsim, cfg->out, FLEET_DEVICES, cfg->idle_s, &res->fleet);
+        fleet_run(cfg->wsgsim, cfg->out, FLEET_DEVICES, cfg->idle_s, cfg->pin, &res->fleet);
         fprintf(stderr, "wsgbench: a cell of %d addresses\n", CELL_DEVICES);
         fleet_cell_run(cfg->wsgsim, cfg->out, CELL_DEVICES, cfg->idle_s, &res->cell);
     }
@@ -549,11 +492,11 @@ static void run_shared_server_sections(const config_t *cfg, results_t *res)
         run_idle(srv, cfg, res);
     }
     if (wanted(cfg, "rtt")) {
-        pin_round_trips(srv, cfg->pin, res);
+        place_round_trips(srv, 2, cfg->pin, res->placement, sizeof(res->placement));
         fprintf(stderr, "wsgbench: round trips with %s\n", res->placement);
         run_rtt_tcp(srv, cfg, res);
         run_rtt_udp(srv, cfg, res);
-        unpin(srv);
+        unplace_round_trips(srv, 2);
     }
     if (wanted(cfg, "load")) {
         run_load(srv, cfg, res);

@@ -2,6 +2,7 @@
 /* Child processes under test and what /proc tells about them. */
 #include <arpa/inet.h>
 #include <fcntl.h>
+#include <sched.h>
 #include <netinet/in.h>
 #include <signal.h>
 #include <stdio.h>
@@ -322,4 +323,59 @@ long proc_ctx_switches(pid_t pid)
 long proc_wakeups(pid_t pid)
 {
     return status_field(pid, "voluntary_ctxt_switches");
+}
+
+/* CPU placement for the round trips. Unpinned, a sequential round trip
+ * costs one or two cross-CPU wakeups or none, depending on where the
+ * scheduler happens to put each server (on a VM about 40 us each way), which
+ * swamps the difference between the servers. "same": the client and the
+ * servers on the first CPU; "cross": the client on the first, the servers
+ * on the second; "none": as the scheduler likes. */
+static void set_cpu(pid_t pid, int cpu)
+{
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (cpu < 0) {
+        for (int i = 0; i < CPU_SETSIZE; i++) {
+            CPU_SET(i, &set);
+        }
+    } else {
+        CPU_SET(cpu, &set);
+    }
+    sched_setaffinity(pid, sizeof(set), &set);
+}
+
+static int online_cpu(int nth)
+{
+    cpu_set_t set;
+    sched_getaffinity(0, sizeof(set), &set);
+    for (int i = 0, seen = 0; i < CPU_SETSIZE; i++) {
+        if (CPU_ISSET(i, &set) && seen++ == nth) {
+            return i;
+        }
+    }
+    return -1;
+}
+
+void place_round_trips(server_t *const *srv, int n, const char *mode, char *placement, size_t cap)
+{
+    int client = online_cpu(0);
+    int server = strcmp(mode, "cross") == 0 ? online_cpu(1) : client;
+    if (strcmp(mode, "none") == 0 || client < 0 || server < 0) {
+        snprintf(placement, cap, "unpinned");
+        return;
+    }
+    set_cpu(0, client);
+    for (int k = 0; k < n; k++) {
+        set_cpu(srv[k]->pid, server);
+    }
+    snprintf(placement, cap, "client on CPU %d, servers on CPU %d", client, server);
+}
+
+void unplace_round_trips(server_t *const *srv, int n)
+{
+    set_cpu(0, -1);
+    for (int k = 0; k < n; k++) {
+        set_cpu(srv[k]->pid, -1);
+    }
 }
