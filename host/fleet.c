@@ -582,7 +582,10 @@ unsigned fleet_run_lone(fleet_t *fleet, fleet_lone_run_t *run)
         }
         *run->device_us = at;
         fleet->due_us[0] = tick(fleet, g);
-        if (servers_to_ask(fleet, at)) { /* as fleet_tick() does after the tick */
+        /* as fleet_tick() does after the tick (servers_to_ask()); their own
+         * deadline is after `at` (tested above), and only ask_servers()
+         * moves it */
+        if (fleet->tcp_set.deadline_lowered || fleet->udp_set.deadline_moved) {
             ask_servers(fleet);
         }
         steps++;
