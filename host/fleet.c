@@ -567,6 +567,24 @@ uint64_t fleet_tick(fleet_t *fleet, unsigned max_steps, unsigned *steps)
     return tick_many_devices(fleet, now, max_steps, steps);
 }
 
+/* A device's motion as a lone run last asked its stop about it. */
+typedef struct {
+    wsg_motion_kind_t kind;
+    uint64_t started_us;
+} motion_seen_t;
+
+/* Whether g's motion differs from *seen, which then takes it. */
+static bool motion_moved_on(const gripper_t *g, motion_seen_t *seen)
+{
+    uint64_t started_us = 0;
+    wsg_motion_kind_t kind = wsg_device_motion(&g->device, &started_us);
+    if (kind == seen->kind && started_us == seen->started_us) {
+        return false;
+    }
+    *seen = (motion_seen_t){kind, started_us};
+    return true;
+}
+
 unsigned fleet_run_lone(fleet_t *fleet, fleet_lone_run_t *run)
 {
     run->stopped = false;
@@ -575,6 +593,7 @@ unsigned fleet_run_lone(fleet_t *fleet, fleet_lone_run_t *run)
     }
     gripper_t *g = &fleet->devices[0].gripper;
     unsigned steps = 0;
+    motion_seen_t asked = {WSG_MOTION_NONE, UINT64_MAX}; /* none yet: ask after the first step */
     while (steps < run->max_steps && fleet->touched.first == NULL) {
         uint64_t at = fleet->due_us[0];
         if (at >= run->before || at <= *run->device_us || at >= fleet->servers_due_us) {
@@ -589,7 +608,7 @@ unsigned fleet_run_lone(fleet_t *fleet, fleet_lone_run_t *run)
             ask_servers(fleet);
         }
         steps++;
-        if (run->stop != NULL && run->stop(run->ctx)) {
+        if (run->stop != NULL && motion_moved_on(g, &asked) && run->stop(run->ctx)) {
             run->stopped = true;
             break;
         }
