@@ -22,12 +22,14 @@ typedef struct {
 /* Power-on: a device with this configuration's mechanics, the jaws mid-stroke. */
 void wsg_sim_world_init(sim_world_t *world, const wsg_config_t *config, uint64_t now_us);
 
-/* What wsg_sim_world_advance() does when the time moved or the axis may
- * need a step at rest. */
-void wsg_sim_world_advance_full(sim_world_t *world, uint64_t now_us);
+/* What wsg_sim_world_advance() does when the time moved (now_us after the
+ * world's last advance), and when it did not but the axis may need a step
+ * at rest. */
+void wsg_sim_world_advance_later(sim_world_t *world, uint64_t now_us);
+void wsg_sim_world_rest_step(sim_world_t *world);
 /* Integrates mechanics and temperature up to now_us. Inline: the port
- * advances the world before every input and twice at every tick, and a
- * second advance at one instant does nothing unless the axis rests with
+ * advances the world before every input and at every tick, and a second
+ * advance at one instant does nothing unless the axis rests with
  * something changed since its last step at rest. wsg_sim_world_current():
  * an advance to now_us would do nothing. */
 static inline bool wsg_sim_world_current(const sim_world_t *world, uint64_t now_us)
@@ -38,10 +40,11 @@ static inline bool wsg_sim_world_current(const sim_world_t *world, uint64_t now_
 
 static inline void wsg_sim_world_advance(sim_world_t *world, uint64_t now_us)
 {
-    if (wsg_sim_world_current(world, now_us)) {
-        return;
+    if (now_us > world->last_us) {
+        wsg_sim_world_advance_later(world, now_us);
+    } else if (wsg_sim_axis_at_rest(&world->axis) && !world->axis.rest_step_current) {
+        wsg_sim_world_rest_step(world);
     }
-    wsg_sim_world_advance_full(world, now_us);
 }
 
 /* The HAL handles of this world (axis and temperature; can is left NULL). */
