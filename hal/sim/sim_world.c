@@ -21,16 +21,6 @@ void wsg_sim_world_rest_step(sim_world_t *world)
     }
 }
 
-void wsg_sim_world_advance_later(sim_world_t *world, uint64_t now_us)
-{
-    /* a gap below 2^63 converts to the same float signed or unsigned, and
-     * the signed conversion is one instruction */
-    float dt = (float)(int64_t)(now_us - world->last_us) * 1e-6f;
-    world->last_us = now_us;
-    wsg_sim_axis_advance(&world->axis, dt);
-    wsg_sim_thermal_advance(&world->thermal, world->axis.force_n, dt);
-}
-
 static void axis_move(void *ctx, float target_mm, float speed_mm_s, float accel_mm_s2,
                       float force_limit_n)
 {
