@@ -27,8 +27,9 @@ struct web_event {
 };
 
 struct web_stream {
-    struct web_stream *prev, *next; /* in its slot's list */
-    web_app_t *app;                 /* the server's routes: its events, the state */
+    struct web_stream *prev, *next;             /* in its slot's list */
+    struct web_stream *queue_prev, *queue_next; /* in the queue to resume */
+    web_app_t *app;                             /* the server's routes: its events, the state */
     struct MHD_Connection *connection;
     gripper_t *gripper;
     unsigned slot;
@@ -36,6 +37,7 @@ struct web_stream {
     size_t sent;
     bool due;       /* a tick came since the last event was built */
     bool suspended; /* waiting for the next tick */
+    bool queued;    /* woken by a tick, waiting its turn to be resumed */
     bool ended;     /* shutting down: end of stream */
 };
 
@@ -208,9 +210,43 @@ static ssize_t read_events(void *cls, uint64_t pos, char *buf, size_t max)
     return (ssize_t)n;
 }
 
+static void enqueue(web_stream_t *s)
+{
+    web_events_t *events = &s->app->events;
+    s->queued = true;
+    s->queue_next = NULL;
+    s->queue_prev = events->to_resume_last;
+    if (s->queue_prev != NULL) {
+        s->queue_prev->queue_next = s;
+    } else {
+        events->to_resume_first = s;
+    }
+    events->to_resume_last = s;
+}
+
+static void dequeue(web_stream_t *s)
+{
+    web_events_t *events = &s->app->events;
+    if (!s->queued) {
+        return;
+    }
+    s->queued = false;
+    if (s->queue_prev != NULL) {
+        s->queue_prev->queue_next = s->queue_next;
+    } else {
+        events->to_resume_first = s->queue_next;
+    }
+    if (s->queue_next != NULL) {
+        s->queue_next->queue_prev = s->queue_prev;
+    } else {
+        events->to_resume_last = s->queue_prev;
+    }
+}
+
 static void free_stream(void *cls)
 {
     web_stream_t *s = cls;
+    dequeue(s);
     unlink_stream(s);
     release_event(s);
     free(s);
@@ -246,29 +282,36 @@ uint64_t web_events_next_tick_ns(const web_events_t *events)
     return events->next_tick_ns;
 }
 
+bool web_events_resuming(const web_events_t *events)
+{
+    return events->to_resume_first != NULL;
+}
+
 static void resume(web_stream_t *s)
 {
+    dequeue(s);
     if (s->suspended) {
         s->suspended = false;
         MHD_resume_connection(s->connection);
     }
 }
 
+/* A stream still sending (its socket was full) takes the tick's event
+ * when it asks for bytes; a waiting one is queued to be resumed. */
 static void wake_slot(web_events_t *events, unsigned slot)
 {
     for (web_stream_t *s = events->slot_first[slot]; s != NULL; s = s->next) {
         s->due = true;
-        resume(s);
+        if (s->suspended && !s->queued) {
+            enqueue(s);
+        }
     }
 }
 
-bool web_events_tick(web_events_t *events, uint64_t now_ns)
+/* Every slot due since the last tick wakes once: a late loop skips the
+ * ticks it missed. */
+static void fire_due_slots(web_events_t *events, uint64_t now_ns)
 {
-    if (events->next_tick_ns == 0 || now_ns < events->next_tick_ns) {
-        return false;
-    }
-    /* every slot due since the last tick wakes once: a late loop skips
-     * the ticks it missed */
     uint64_t now_fire = (now_ns - events->origin_ns) / SLOT_NS;
     uint64_t first = now_fire - events->next_fire >= EVENT_SLOTS ? now_fire - EVENT_SLOTS + 1u
                                                                  : events->next_fire;
@@ -277,7 +320,19 @@ bool web_events_tick(web_events_t *events, uint64_t now_ns)
         wake_slot(events, (unsigned)(f % EVENT_SLOTS));
     }
     schedule_after(events, now_fire);
-    return true;
+}
+
+bool web_events_tick(web_events_t *events, uint64_t now_ns)
+{
+    if (events->next_tick_ns != 0 && now_ns >= events->next_tick_ns) {
+        fire_due_slots(events, now_ns);
+    }
+    unsigned resumed = 0;
+    while (events->to_resume_first != NULL && resumed < WEB_EVENTS_RESUMED_PER_PASS) {
+        resume(events->to_resume_first);
+        resumed++;
+    }
+    return resumed > 0;
 }
 
 void web_events_end_all(web_events_t *events)
