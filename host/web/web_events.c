@@ -14,18 +14,6 @@
 /* MHD's buffer for a callback response: one event usually fits. */
 #define STREAM_BLOCK 16384u
 
-/* One event's text, built once and shared by every stream of its device
- * that sends it at its slot's tick. */
-struct web_event {
-    struct web_event *next;
-    const gripper_t *gripper;
-    uint64_t fire;  /* when it was built */
-    uint64_t tick;  /* its id */
-    unsigned users; /* streams sending it; freed with the last */
-    size_t len;
-    char *text;
-};
-
 struct web_stream {
     struct web_stream *prev, *next;             /* in its slot's list */
     struct web_stream *queue_prev, *queue_next; /* in the queue to resume */
@@ -96,18 +84,10 @@ static void unlink_stream(web_stream_t *s)
         s->next->prev = s->prev;
     }
     events->slot_count[s->slot]--;
-    events->count--;
-    schedule_after(events, events->fire);
-}
-
-static web_event_t *find_event(const web_events_t *events, const gripper_t *g, uint64_t tick)
-{
-    for (web_event_t *e = events->shared; e != NULL; e = e->next) {
-        if (e->gripper == g && e->fire == events->fire && e->tick == tick) {
-            return e;
-        }
+    if (--events->count == 0u) {
+        web_event_cache_drop_unused(&events->cache);
     }
-    return NULL;
+    schedule_after(events, events->fire);
 }
 
 /* An event's id: how many times the stream's slot has ticked, so that ids
@@ -119,65 +99,39 @@ static uint64_t tick_of(const web_stream_t *s)
     return events->fire >= s->slot ? (events->fire - s->slot) / EVENT_SLOTS + 1u : 0u;
 }
 
-/* "id: TICK\nevent: state\ndata: {...}\n\n" with the newest state. */
-static web_event_t *new_event(web_app_t *app, gripper_t *g, uint64_t tick)
+/* "id: TICK\nevent: state\ndata: {...}\n\n" with the newest state of
+ * the stream's device (a web_event_build_t). */
+static char *build_event(void *ctx, uint64_t id, size_t *len)
 {
-    web_events_t *events = &app->events;
-    web_event_t *e = calloc(1, sizeof(*e));
-    if (e == NULL) {
-        return NULL;
-    }
+    const web_stream_t *s = ctx;
     char head[64];
     int head_len =
-        snprintf(head, sizeof(head), "id: %llu\nevent: state\ndata: ", (unsigned long long)tick);
+        snprintf(head, sizeof(head), "id: %llu\nevent: state\ndata: ", (unsigned long long)id);
     web_json_t j;
     web_json_init(&j);
     web_json_raw(&j, head, (size_t)head_len);
-    web_state_write(app, &j, g);
+    web_state_write(s->app, &j, s->gripper);
     web_json_raw(&j, "\n\n", 2u);
-    e->text = web_json_take(&j, &e->len);
-    if (e->text == NULL) {
-        free(e);
-        return NULL;
-    }
-    e->gripper = g;
-    e->fire = events->fire;
-    e->tick = tick;
-    e->next = events->shared;
-    events->shared = e;
-    return e;
+    return web_json_take(&j, len);
 }
 
-/* The event of this tick for s's device: built by the first stream that
- * asks, shared by the others. */
+/* The event of this tick for s's device: built by the first stream of the
+ * tick that asks, shared by the others. */
 static bool take_event(web_stream_t *s)
 {
-    uint64_t tick = tick_of(s);
-    web_event_t *e = find_event(&s->app->events, s->gripper, tick);
-    if (e == NULL && (e = new_event(s->app, s->gripper, tick)) == NULL) {
-        return false;
-    }
-    e->users++;
-    s->event = e;
+    web_events_t *events = &s->app->events;
+    s->event =
+        web_event_cache_take(&events->cache, s->gripper, events->fire, tick_of(s), build_event, s);
     s->sent = 0;
-    return true;
+    return s->event != NULL;
 }
 
 static void release_event(web_stream_t *s)
 {
-    web_event_t *e = s->event;
-    s->event = NULL;
-    if (e == NULL || --e->users != 0u) {
-        return;
+    if (s->event != NULL) {
+        web_event_cache_release(&s->app->events.cache, s->event, s->app->events.fire);
+        s->event = NULL;
     }
-    for (web_event_t **p = &s->app->events.shared; *p != NULL; p = &(*p)->next) {
-        if (*p == e) {
-            *p = e->next;
-            break;
-        }
-    }
-    free(e->text);
-    free(e);
 }
 
 /* MHD asks for bytes when the socket can take some: the rest of the event
@@ -247,8 +201,8 @@ static void free_stream(void *cls)
 {
     web_stream_t *s = cls;
     dequeue(s);
+    release_event(s); /* first: the last stream's unlink empties the cache */
     unlink_stream(s);
-    release_event(s);
     free(s);
 }
 

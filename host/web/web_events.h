@@ -12,6 +12,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "web/web_event_cache.h"
+
 #define WEB_EVENTS_PERIOD_MS 40u /* 25 Hz */
 /* The period is cut into WEB_EVENTS_SLOTS slots of 1 ms and each stream is
  * woken in one of them, the emptiest when it opened (200 streams: 5 per
@@ -25,7 +27,6 @@
 #define WEB_EVENTS_RESUMED_PER_PASS 1u
 
 typedef struct web_stream web_stream_t;
-typedef struct web_event web_event_t;
 
 /* One web server's event streams (embedded in its routes' state; zeroed:
  * none). */
@@ -35,7 +36,7 @@ typedef struct web_events {
     unsigned count;
     web_stream_t *to_resume_first; /* woken by a tick, still suspended: */
     web_stream_t *to_resume_last;  /* resumed in order, a few per pass */
-    web_event_t *shared;           /* the events some stream is still sending */
+    web_event_cache_t cache;       /* the texts of the events being sent */
     uint64_t origin_ns;            /* when slot 0 of tick 0 was due */
     uint64_t fire;                 /* the last slot that fired, counted from the origin */
     uint64_t next_fire;            /* the next slot with streams ... */
