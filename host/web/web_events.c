@@ -14,21 +14,10 @@
 /* MHD's buffer for a callback response: one event usually fits. */
 #define STREAM_BLOCK 16384u
 
-/* One event's text, built once and shared by every stream of its device
- * that sends it at its slot's tick. */
-struct web_event {
-    struct web_event *next;
-    const gripper_t *gripper;
-    uint64_t fire;  /* when it was built */
-    uint64_t tick;  /* its id */
-    unsigned users; /* streams sending it; freed with the last */
-    size_t len;
-    char *text;
-};
-
 struct web_stream {
-    struct web_stream *prev, *next; /* in its slot's list */
-    web_app_t *app;                 /* the server's routes: its events, the state */
+    struct web_stream *prev, *next;             /* in its slot's list */
+    struct web_stream *queue_prev, *queue_next; /* in the queue to resume */
+    web_app_t *app;                             /* the server's routes: its events, the state */
     struct MHD_Connection *connection;
     gripper_t *gripper;
     unsigned slot;
@@ -36,6 +25,7 @@ struct web_stream {
     size_t sent;
     bool due;       /* a tick came since the last event was built */
     bool suspended; /* waiting for the next tick */
+    bool queued;    /* woken by a tick, waiting its turn to be resumed */
     bool ended;     /* shutting down: end of stream */
 };
 
@@ -94,18 +84,10 @@ static void unlink_stream(web_stream_t *s)
         s->next->prev = s->prev;
     }
     events->slot_count[s->slot]--;
-    events->count--;
-    schedule_after(events, events->fire);
-}
-
-static web_event_t *find_event(const web_events_t *events, const gripper_t *g, uint64_t tick)
-{
-    for (web_event_t *e = events->shared; e != NULL; e = e->next) {
-        if (e->gripper == g && e->fire == events->fire && e->tick == tick) {
-            return e;
-        }
+    if (--events->count == 0u) {
+        web_event_cache_drop_unused(&events->cache);
     }
-    return NULL;
+    schedule_after(events, events->fire);
 }
 
 /* An event's id: how many times the stream's slot has ticked, so that ids
@@ -117,65 +99,39 @@ static uint64_t tick_of(const web_stream_t *s)
     return events->fire >= s->slot ? (events->fire - s->slot) / EVENT_SLOTS + 1u : 0u;
 }
 
-/* "id: TICK\nevent: state\ndata: {...}\n\n" with the newest state. */
-static web_event_t *new_event(web_app_t *app, gripper_t *g, uint64_t tick)
+/* "id: TICK\nevent: state\ndata: {...}\n\n" with the newest state of
+ * the stream's device (a web_event_build_t). */
+static char *build_event(void *ctx, uint64_t id, size_t *len)
 {
-    web_events_t *events = &app->events;
-    web_event_t *e = calloc(1, sizeof(*e));
-    if (e == NULL) {
-        return NULL;
-    }
+    const web_stream_t *s = ctx;
     char head[64];
     int head_len =
-        snprintf(head, sizeof(head), "id: %llu\nevent: state\ndata: ", (unsigned long long)tick);
+        snprintf(head, sizeof(head), "id: %llu\nevent: state\ndata: ", (unsigned long long)id);
     web_json_t j;
     web_json_init(&j);
     web_json_raw(&j, head, (size_t)head_len);
-    web_state_write(app, &j, g);
+    web_state_write(s->app, &j, s->gripper);
     web_json_raw(&j, "\n\n", 2u);
-    e->text = web_json_take(&j, &e->len);
-    if (e->text == NULL) {
-        free(e);
-        return NULL;
-    }
-    e->gripper = g;
-    e->fire = events->fire;
-    e->tick = tick;
-    e->next = events->shared;
-    events->shared = e;
-    return e;
+    return web_json_take(&j, len);
 }
 
-/* The event of this tick for s's device: built by the first stream that
- * asks, shared by the others. */
+/* The event of this tick for s's device: built by the first stream of the
+ * tick that asks, shared by the others. */
 static bool take_event(web_stream_t *s)
 {
-    uint64_t tick = tick_of(s);
-    web_event_t *e = find_event(&s->app->events, s->gripper, tick);
-    if (e == NULL && (e = new_event(s->app, s->gripper, tick)) == NULL) {
-        return false;
-    }
-    e->users++;
-    s->event = e;
+    web_events_t *events = &s->app->events;
+    s->event =
+        web_event_cache_take(&events->cache, s->gripper, events->fire, tick_of(s), build_event, s);
     s->sent = 0;
-    return true;
+    return s->event != NULL;
 }
 
 static void release_event(web_stream_t *s)
 {
-    web_event_t *e = s->event;
-    s->event = NULL;
-    if (e == NULL || --e->users != 0u) {
-        return;
+    if (s->event != NULL) {
+        web_event_cache_release(&s->app->events.cache, s->event, s->app->events.fire);
+        s->event = NULL;
     }
-    for (web_event_t **p = &s->app->events.shared; *p != NULL; p = &(*p)->next) {
-        if (*p == e) {
-            *p = e->next;
-            break;
-        }
-    }
-    free(e->text);
-    free(e);
 }
 
 /* MHD asks for bytes when the socket can take some: the rest of the event
@@ -208,11 +164,45 @@ static ssize_t read_events(void *cls, uint64_t pos, char *buf, size_t max)
     return (ssize_t)n;
 }
 
+static void enqueue(web_stream_t *s)
+{
+    web_events_t *events = &s->app->events;
+    s->queued = true;
+    s->queue_next = NULL;
+    s->queue_prev = events->to_resume_last;
+    if (s->queue_prev != NULL) {
+        s->queue_prev->queue_next = s;
+    } else {
+        events->to_resume_first = s;
+    }
+    events->to_resume_last = s;
+}
+
+static void dequeue(web_stream_t *s)
+{
+    web_events_t *events = &s->app->events;
+    if (!s->queued) {
+        return;
+    }
+    s->queued = false;
+    if (s->queue_prev != NULL) {
+        s->queue_prev->queue_next = s->queue_next;
+    } else {
+        events->to_resume_first = s->queue_next;
+    }
+    if (s->queue_next != NULL) {
+        s->queue_next->queue_prev = s->queue_prev;
+    } else {
+        events->to_resume_last = s->queue_prev;
+    }
+}
+
 static void free_stream(void *cls)
 {
     web_stream_t *s = cls;
+    dequeue(s);
+    release_event(s); /* first: the last stream's unlink empties the cache */
     unlink_stream(s);
-    release_event(s);
     free(s);
 }
 
@@ -246,29 +236,36 @@ uint64_t web_events_next_tick_ns(const web_events_t *events)
     return events->next_tick_ns;
 }
 
+bool web_events_resuming(const web_events_t *events)
+{
+    return events->to_resume_first != NULL;
+}
+
 static void resume(web_stream_t *s)
 {
+    dequeue(s);
     if (s->suspended) {
         s->suspended = false;
         MHD_resume_connection(s->connection);
     }
 }
 
+/* A stream still sending (its socket was full) takes the tick's event
+ * when it asks for bytes; a waiting one is queued to be resumed. */
 static void wake_slot(web_events_t *events, unsigned slot)
 {
     for (web_stream_t *s = events->slot_first[slot]; s != NULL; s = s->next) {
         s->due = true;
-        resume(s);
+        if (s->suspended && !s->queued) {
+            enqueue(s);
+        }
     }
 }
 
-bool web_events_tick(web_events_t *events, uint64_t now_ns)
+/* Every slot due since the last tick wakes once: a late loop skips the
+ * ticks it missed. */
+static void fire_due_slots(web_events_t *events, uint64_t now_ns)
 {
-    if (events->next_tick_ns == 0 || now_ns < events->next_tick_ns) {
-        return false;
-    }
-    /* every slot due since the last tick wakes once: a late loop skips
-     * the ticks it missed */
     uint64_t now_fire = (now_ns - events->origin_ns) / SLOT_NS;
     uint64_t first = now_fire - events->next_fire >= EVENT_SLOTS ? now_fire - EVENT_SLOTS + 1u
                                                                  : events->next_fire;
@@ -277,7 +274,19 @@ bool web_events_tick(web_events_t *events, uint64_t now_ns)
         wake_slot(events, (unsigned)(f % EVENT_SLOTS));
     }
     schedule_after(events, now_fire);
-    return true;
+}
+
+bool web_events_tick(web_events_t *events, uint64_t now_ns)
+{
+    if (events->next_tick_ns != 0 && now_ns >= events->next_tick_ns) {
+        fire_due_slots(events, now_ns);
+    }
+    unsigned resumed = 0;
+    while (events->to_resume_first != NULL && resumed < WEB_EVENTS_RESUMED_PER_PASS) {
+        resume(events->to_resume_first);
+        resumed++;
+    }
+    return resumed > 0;
 }
 
 void web_events_end_all(web_events_t *events)

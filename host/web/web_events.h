@@ -12,17 +12,21 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "web/web_event_cache.h"
+
 #define WEB_EVENTS_PERIOD_MS 40u /* 25 Hz */
 /* The period is cut into WEB_EVENTS_SLOTS slots of 1 ms and each stream is
- * woken in one of them, the emptiest when it opened: 200 streams wake 5 at a
- * time, so a GCL request waits behind at most 5 events (~50 us), not 25
- * (~250 us with 8 slots, measured in `make bench`). A slot without streams
- * wakes nobody; one stream wakes the loop once per period, and up to 8
- * streams as often as with 8 slots. */
+ * woken in one of them, the emptiest when it opened (200 streams: 5 per
+ * slot). A slot without streams wakes nobody; one stream wakes the loop
+ * once per period, and up to 8 streams as often as with 8 slots. */
 #define WEB_EVENTS_SLOTS 40u
+/* The streams a tick wakes are resumed this many per loop pass: between
+ * two, the loop waits without sleeping and serves what has arrived, so a
+ * GCL request waits behind one event (~25 us), not behind a slot's 5 (~130
+ * us, measured in `make bench`). */
+#define WEB_EVENTS_RESUMED_PER_PASS 1u
 
 typedef struct web_stream web_stream_t;
-typedef struct web_event web_event_t;
 
 /* One web server's event streams (embedded in its routes' state; zeroed:
  * none). */
@@ -30,17 +34,23 @@ typedef struct web_events {
     web_stream_t *slot_first[WEB_EVENTS_SLOTS];
     unsigned slot_count[WEB_EVENTS_SLOTS];
     unsigned count;
-    web_event_t *shared;   /* the events some stream is still sending */
-    uint64_t origin_ns;    /* when slot 0 of tick 0 was due */
-    uint64_t fire;         /* the last slot that fired, counted from the origin */
-    uint64_t next_fire;    /* the next slot with streams ... */
-    uint64_t next_tick_ns; /* ... and when it is due; 0: no stream */
+    web_stream_t *to_resume_first; /* woken by a tick, still suspended: */
+    web_stream_t *to_resume_last;  /* resumed in order, a few per pass */
+    web_event_cache_t cache;       /* the texts of the events being sent */
+    uint64_t origin_ns;            /* when slot 0 of tick 0 was due */
+    uint64_t fire;                 /* the last slot that fired, counted from the origin */
+    uint64_t next_fire;            /* the next slot with streams ... */
+    uint64_t next_tick_ns;         /* ... and when it is due; 0: no stream */
 } web_events_t;
 
 /* When the next tick is due (monotonic ns), 0 without streams. */
 uint64_t web_events_next_tick_ns(const web_events_t *events);
-/* At or after the tick: marks every stream due and resumes the waiting
- * ones; true when it did (MHD must run). */
+/* True while streams woken by a tick wait to be resumed: the loop's next
+ * wait must not sleep. */
+bool web_events_resuming(const web_events_t *events);
+/* At or after the tick: marks every stream of the due slots due and queues
+ * the waiting ones; resumes the next WEB_EVENTS_RESUMED_PER_PASS of the
+ * queue. True when it resumed one (MHD must run). */
 bool web_events_tick(web_events_t *events, uint64_t now_ns);
 /* Ends every stream (shutdown): each is resumed and finishes. */
 void web_events_end_all(web_events_t *events);

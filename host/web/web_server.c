@@ -109,7 +109,9 @@ static void schedule(web_server_t *web)
     web->mhd_due_ns = MHD_get_timeout(web->daemon, &ms) == MHD_YES ? now + ms * NS_PER_MS : 0;
     uint64_t wake = earliest_nonzero(web->mhd_due_ns, web_events_next_tick_ns(&web->app.events));
     wake = earliest_nonzero(wake, web_intake_next_due_ns(web->intake));
-    if (wake != 0) {
+    if (web_events_resuming(&web->app.events)) {
+        loop_wake_at_wall(web->loop, LOOP_NOW); /* the next streams after one look around */
+    } else if (wake != 0) {
         loop_wake_at_wall(web->loop, wake);
     }
 }
@@ -138,7 +140,7 @@ void web_server_poll(web_server_t *web)
     uint64_t intake_due_ns = web_intake_next_due_ns(web->intake);
     if (web->daemon == NULL ||
         (web->mhd_due_ns == 0 && web_events_next_tick_ns(&web->app.events) == 0 &&
-         intake_due_ns == 0)) {
+         !web_events_resuming(&web->app.events) && intake_due_ns == 0)) {
         return;
     }
     uint64_t now = loop_monotonic_ns();

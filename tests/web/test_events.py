@@ -11,6 +11,8 @@ from webclient import EventStream
 # send buffer is 32 KiB (64 KiB as the kernel counts it), the reader's is
 # made small, and an event with the tactile map is about 2 KiB.
 STALL_EVENTS = 120
+# Streams on one device: two or three in each of the period's 40 slots.
+MANY_STREAMS = 90
 
 
 class Events(WebCase):
@@ -68,6 +70,22 @@ class Events(WebCase):
             ids.append(stalled.next_event()[0])
         gaps = [b - a for a, b in zip([last_id] + ids, ids)]
         self.assertGreater(max(gaps), 1, "the stalled reader lost the events it could not take")
+
+    def test_many_streams_all_flow_and_closing_some_stops_none(self):
+        # more streams than the period's slots: every tick queues several
+        # to be resumed one by one, and streams that close may be queued
+        streams = [self.stream() for _ in range(MANY_STREAMS)]
+        for s in streams:
+            s.next_event()
+        for s in streams[::3]:
+            s.close()
+        survivors = [s for i, s in enumerate(streams) if i % 3 != 0]
+        newest = self.stream().next_event()[0]  # the tick of a fresh stream
+        for s in survivors:
+            ids = [s.next_event()[0]]
+            while ids[-1] < newest + 2:
+                ids.append(s.next_event()[0])
+            self.assertEqual(ids, sorted(set(ids)), "ids increase")
 
 
 class FleetEvents(WebCase):
