@@ -593,7 +593,8 @@ unsigned fleet_run_lone(fleet_t *fleet, fleet_lone_run_t *run)
     }
     gripper_t *g = &fleet->devices[0].gripper;
     unsigned steps = 0;
-    motion_seen_t asked = {WSG_MOTION_NONE, UINT64_MAX}; /* none yet: ask after the first step */
+    /* none yet, so the first step asks: no motion starts at UINT64_MAX */
+    motion_seen_t asked = {WSG_MOTION_NONE, UINT64_MAX};
     while (steps < run->max_steps && fleet->touched.first == NULL) {
         uint64_t at = fleet->due_us[0];
         if (at >= run->before || at <= *run->device_us || at >= fleet->servers_due_us) {

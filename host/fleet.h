@@ -83,11 +83,11 @@ typedef struct {
  * timeouts, and no device is touched, *device_us moves to it, the device
  * steps (its observers hear it) and run->stop is asked (see there: not
  * again while the motion stays as it was when last asked, as the answer
- * would not change and a lone run takes a step per simulated ms while the
- * motion lasts). Returns how many
- * steps ran (run->stopped: the last one's stop() was true); none for a
- * fleet of other than one device. fleet_next_us() then tells the earliest
- * deadline, as fleet_tick() would have. */
+ * would not change, and a lone run takes a step per simulated ms while the
+ * motion lasts). Returns how many steps ran (run->stopped: the last one's
+ * stop() was true); none for a fleet of other than one device.
+ * fleet_next_us() then tells the earliest deadline, as fleet_tick() would
+ * have. */
 unsigned fleet_run_lone(fleet_t *fleet, fleet_lone_run_t *run);
 /* The earliest deadline of the fleet and of its connections' timeouts, as
  * the last fleet_tick() or fleet_run_lone() left them. */

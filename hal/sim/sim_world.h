@@ -27,7 +27,8 @@ void wsg_sim_world_init(sim_world_t *world, const wsg_config_t *config, uint64_t
 void wsg_sim_world_rest_step(sim_world_t *world);
 /* What it does when the time moved (now_us after the world's last
  * advance). Inline: a port's tick takes one per simulated ms, and the
- * call would cost it about as much as the step's own bookkeeping. */
+ * call, its saved register and frame would cost it about as much as the
+ * advance's own bookkeeping (the axis step stays a call). */
 static inline void wsg_sim_world_advance_later(sim_world_t *world, uint64_t now_us)
 {
     /* a gap below 2^63 converts to the same float signed or unsigned, and
