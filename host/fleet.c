@@ -567,6 +567,24 @@ uint64_t fleet_tick(fleet_t *fleet, unsigned max_steps, unsigned *steps)
     return tick_many_devices(fleet, now, max_steps, steps);
 }
 
+/* A device's motion as a lone run last asked its stop about it. */
+typedef struct {
+    wsg_motion_kind_t kind;
+    uint64_t started_us;
+} motion_seen_t;
+
+/* Whether g's motion differs from *seen, which then takes it. */
+static bool motion_moved_on(const gripper_t *g, motion_seen_t *seen)
+{
+    uint64_t started_us = 0;
+    wsg_motion_kind_t kind = wsg_device_motion(&g->device, &started_us);
+    if (kind == seen->kind && started_us == seen->started_us) {
+        return false;
+    }
+    *seen = (motion_seen_t){kind, started_us};
+    return true;
+}
+
 unsigned fleet_run_lone(fleet_t *fleet, fleet_lone_run_t *run)
 {
     run->stopped = false;
@@ -575,6 +593,8 @@ unsigned fleet_run_lone(fleet_t *fleet, fleet_lone_run_t *run)
     }
     gripper_t *g = &fleet->devices[0].gripper;
     unsigned steps = 0;
+    /* none yet, so the first step asks: no motion starts at UINT64_MAX */
+    motion_seen_t asked = {WSG_MOTION_NONE, UINT64_MAX};
     while (steps < run->max_steps && fleet->touched.first == NULL) {
         uint64_t at = fleet->due_us[0];
         if (at >= run->before || at <= *run->device_us || at >= fleet->servers_due_us) {
@@ -582,11 +602,14 @@ unsigned fleet_run_lone(fleet_t *fleet, fleet_lone_run_t *run)
         }
         *run->device_us = at;
         fleet->due_us[0] = tick(fleet, g);
-        if (servers_to_ask(fleet, at)) { /* as fleet_tick() does after the tick */
+        /* as fleet_tick() does after the tick (servers_to_ask()); their own
+         * deadline is after `at` (tested above), and only ask_servers()
+         * moves it */
+        if (fleet->tcp_set.deadline_lowered || fleet->udp_set.deadline_moved) {
             ask_servers(fleet);
         }
         steps++;
-        if (run->stop != NULL && run->stop(run->ctx)) {
+        if (run->stop != NULL && motion_moved_on(g, &asked) && run->stop(run->ctx)) {
             run->stopped = true;
             break;
         }

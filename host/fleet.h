@@ -66,10 +66,13 @@ uint64_t fleet_tick(fleet_t *fleet, unsigned max_steps, unsigned *steps);
 /* A run of a lone device's control steps, the common stretch of a pass
  * (one device moving, nothing else due): see fleet_run_lone(). */
 typedef struct {
-    uint64_t *device_us;     /* the device time the HAL clock reads, moved to each step */
-    uint64_t before;         /* steps only at deadlines before it */
-    unsigned max_steps;      /* at most this many */
-    bool (*stop)(void *ctx); /* asked after each step; true ends the run; NULL: never */
+    uint64_t *device_us; /* the device time the HAL clock reads, moved to each step */
+    uint64_t before;     /* steps only at deadlines before it */
+    unsigned max_steps;  /* at most this many */
+    /* true ends the run; NULL: never. It may depend only on the device's
+     * motion (wsg_device_motion(): its kind and start): it is asked after
+     * the first step and after each that changed that motion */
+    bool (*stop)(void *ctx);
     void *ctx;
     bool stopped; /* out: stop() ended the run */
 } fleet_lone_run_t;
@@ -78,10 +81,13 @@ typedef struct {
  * row, with none of a pass's bookkeeping: while the device's deadline
  * comes after *device_us, before run->before and before the servers'
  * timeouts, and no device is touched, *device_us moves to it, the device
- * steps (its observers hear it) and run->stop is asked. Returns how many
- * steps ran (run->stopped: the last one's stop() was true); none for a
- * fleet of other than one device. fleet_next_us() then tells the earliest
- * deadline, as fleet_tick() would have. */
+ * steps (its observers hear it) and run->stop is asked (see there: not
+ * again while the motion stays as it was when last asked, as the answer
+ * would not change, and a lone run takes a step per simulated ms while the
+ * motion lasts). Returns how many steps ran (run->stopped: the last one's
+ * stop() was true); none for a fleet of other than one device.
+ * fleet_next_us() then tells the earliest deadline, as fleet_tick() would
+ * have. */
 unsigned fleet_run_lone(fleet_t *fleet, fleet_lone_run_t *run);
 /* The earliest deadline of the fleet and of its connections' timeouts, as
  * the last fleet_tick() or fleet_run_lone() left them. */

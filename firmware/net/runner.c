@@ -71,6 +71,13 @@ uint64_t wsg_runner_poll(wsg_runner_t *r)
 {
     if (hal_clock_now_us() >= r->next_deadline_us) {
         (void)advance(r);
+    }
+    return wsg_runner_poll_advanced(r);
+}
+
+uint64_t wsg_runner_poll_advanced(wsg_runner_t *r)
+{
+    if (hal_clock_now_us() >= r->next_deadline_us) {
         wsg_device_step(r->dev);
     }
     r->next_deadline_us = wsg_device_next_deadline_us(r->dev);

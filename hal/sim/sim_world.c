@@ -14,20 +14,11 @@ void wsg_sim_world_init(sim_world_t *world, const wsg_config_t *config, uint64_t
     world->last_us = now_us;
 }
 
-void wsg_sim_world_advance_full(sim_world_t *world, uint64_t now_us)
+void wsg_sim_world_rest_step(sim_world_t *world)
 {
-    if (now_us <= world->last_us) {
-        if (wsg_sim_axis_at_rest(&world->axis)) { /* else a step of 0 s does nothing */
-            wsg_sim_axis_advance(&world->axis, 0.0f);
-        }
-        return;
+    if (wsg_sim_axis_at_rest(&world->axis)) { /* else a step of 0 s does nothing */
+        wsg_sim_axis_advance(&world->axis, 0.0f);
     }
-    /* a gap below 2^63 converts to the same float signed or unsigned, and
-     * the signed conversion is one instruction */
-    float dt = (float)(int64_t)(now_us - world->last_us) * 1e-6f;
-    world->last_us = now_us;
-    wsg_sim_axis_advance(&world->axis, dt);
-    wsg_sim_thermal_advance(&world->thermal, world->axis.force_n, dt);
 }
 
 static void axis_move(void *ctx, float target_mm, float speed_mm_s, float accel_mm_s2,

@@ -22,12 +22,26 @@ typedef struct {
 /* Power-on: a device with this configuration's mechanics, the jaws mid-stroke. */
 void wsg_sim_world_init(sim_world_t *world, const wsg_config_t *config, uint64_t now_us);
 
-/* What wsg_sim_world_advance() does when the time moved or the axis may
- * need a step at rest. */
-void wsg_sim_world_advance_full(sim_world_t *world, uint64_t now_us);
+/* What wsg_sim_world_advance() does when the time did not move but the
+ * axis may need a step at rest. */
+void wsg_sim_world_rest_step(sim_world_t *world);
+/* What it does when the time moved (now_us after the world's last
+ * advance). Inline: a port's tick takes one per simulated ms, and the
+ * call, its saved register and frame would cost it about as much as the
+ * advance's own bookkeeping (the axis step stays a call). */
+static inline void wsg_sim_world_advance_later(sim_world_t *world, uint64_t now_us)
+{
+    /* a gap below 2^63 converts to the same float signed or unsigned, and
+     * the signed conversion is one instruction */
+    float dt = (float)(int64_t)(now_us - world->last_us) * 1e-6f;
+    world->last_us = now_us;
+    wsg_sim_axis_advance(&world->axis, dt);
+    wsg_sim_thermal_advance(&world->thermal, world->axis.force_n, dt);
+}
+
 /* Integrates mechanics and temperature up to now_us. Inline: the port
- * advances the world before every input and twice at every tick, and a
- * second advance at one instant does nothing unless the axis rests with
+ * advances the world before every input and at every tick, and a second
+ * advance at one instant does nothing unless the axis rests with
  * something changed since its last step at rest. wsg_sim_world_current():
  * an advance to now_us would do nothing. */
 static inline bool wsg_sim_world_current(const sim_world_t *world, uint64_t now_us)
@@ -38,10 +52,11 @@ static inline bool wsg_sim_world_current(const sim_world_t *world, uint64_t now_
 
 static inline void wsg_sim_world_advance(sim_world_t *world, uint64_t now_us)
 {
-    if (wsg_sim_world_current(world, now_us)) {
-        return;
+    if (now_us > world->last_us) {
+        wsg_sim_world_advance_later(world, now_us);
+    } else if (wsg_sim_axis_at_rest(&world->axis) && !world->axis.rest_step_current) {
+        wsg_sim_world_rest_step(world);
     }
-    wsg_sim_world_advance_full(world, now_us);
 }
 
 /* The HAL handles of this world (axis and temperature; can is left NULL). */

@@ -49,6 +49,10 @@ void wsg_runner_input_done(wsg_runner_t *r);
  * first); returns the next deadline (UINT64_MAX: nothing will change by
  * itself). */
 uint64_t wsg_runner_poll(wsg_runner_t *r);
+/* The same for a port that brought the hardware up to the clock itself
+ * just before (a simulated world it advances at every poll, due or not):
+ * the advance hook is not called. */
+uint64_t wsg_runner_poll_advanced(wsg_runner_t *r);
 /* Runs a control step now (something outside the device changed). */
 uint64_t wsg_runner_step_now(wsg_runner_t *r);
 /* The step is due now: the next poll runs it (a power-on, a reset). */

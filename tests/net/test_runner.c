@@ -71,6 +71,33 @@ START_TEST(step_now_runs_at_once)
 }
 END_TEST
 
+/* A port that advances its world itself at every poll (the host's
+ * gripper_tick()) and polls with wsg_runner_poll_advanced(): the same steps
+ * at the same deadlines as wsg_runner_poll(), and no call of the hook. */
+START_TEST(a_poll_after_the_ports_own_advance_steps_as_a_poll)
+{
+    feed("HOME()\n");
+    advances = 0;
+    unsigned steps = 0;
+    uint64_t due = runner.next_deadline_us;
+    while (due != UINT64_MAX && steps < 20000) {
+        h_now_us = due - 1u; /* not due: no step, the deadline stays */
+        wsg_sim_world_advance(&h_world, h_now_us);
+        ck_assert_uint_eq(wsg_runner_poll_advanced(&runner), due);
+        h_now_us = due;
+        wsg_sim_world_advance(&h_world, h_now_us);
+        due = wsg_runner_poll_advanced(&runner);
+        ck_assert_uint_gt(due, h_now_us); /* it stepped: the next deadline is later */
+        steps++;
+    }
+    ck_assert_uint_eq(advances, 0);
+    ck_assert_uint_gt(steps, 100u);
+    ck_assert_uint_eq(due, UINT64_MAX);
+    ck_assert_str_eq(h_next_line(&h_main), "ACK HOME");
+    ck_assert_str_eq(h_next_line(&h_main), "FIN HOME");
+}
+END_TEST
+
 /* Steps at the runner's deadlines up to t (virtual time); returns how many. */
 static unsigned run_deadlines_until(uint64_t t)
 {
@@ -256,6 +283,7 @@ Suite *runner_suite(void)
     tcase_add_test(tc, input_is_stepped_from_the_next_instant_on);
     tcase_add_test(tc, steps_at_deadlines_until_idle);
     tcase_add_test(tc, step_now_runs_at_once);
+    tcase_add_test(tc, a_poll_after_the_ports_own_advance_steps_as_a_poll);
     tcase_add_test(tc, queries_faster_than_the_tick_do_not_postpone_steps);
     tcase_add_test(tc, a_feed_before_a_poll_steps_as_a_feed);
     tcase_add_test(tc, a_query_needs_no_poll_a_command_does);

@@ -395,6 +395,49 @@ START_TEST(a_lone_run_ends_where_instant_by_instant_passes_end)
 }
 END_TEST
 
+/* Where a run ends when a script, during it, replaces the motion with
+ * another of the same kind (MOVE after MOVE: only the start differs), the
+ * lone way (its stop asked when the motion changed) and instant by instant
+ * (a DELAY on an idle session: asked at every instant). Returns the end. */
+static uint64_t replaced_move_end(bool instant_by_instant)
+{
+    h_client_t idle;
+    h_open_on(&idle, &fleet_gripper(t_fleet, 0)->device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM);
+    if (instant_by_instant) {
+        char line[64];
+        snprintf(line, sizeof(line), "DELAY(60000,%u)", (unsigned)wsg_conn_id(&idle.conn));
+        CTL_EQ(line, "ACK DELAY");
+    }
+    GCL_EQ("HOME()", "ACK HOME");
+    run_until_done("RUN_UNTIL_DONE(10000)", "done");
+    h_discard(&t_gcl);
+    const char *path = t_temp_file("mc.move(20, 10)\n"
+                                   "sleep(500)\n"
+                                   "mc.stop()\n"
+                                   "mc.move(80, 10)\n"
+                                   "sleep(100000)\n");
+    char why[128] = "";
+    bool ran = gripper_run_script(fleet_gripper(t_fleet, 0), path, why, sizeof(why));
+    remove(path);
+    ck_assert_msg(ran, "script: %s", why);
+    uint64_t t0 = t_now_us() + 1000u;
+    CTL_EQ("STEP(1)", expected_time("STEP", t0)); /* the script's move starts */
+    uint64_t end = run_until_done("RUN_UNTIL_DONE(10000)", "done");
+    ck_assert_uint_gt(end, t0 + 400000u);  /* at the replacement, about 0.5 s on, */
+    ck_assert_uint_lt(end, t0 + 1000000u); /* not at the first move's end (6 s) */
+    h_close(&idle, WSG_CLOSE_ANNOUNCED);
+    return end;
+}
+
+START_TEST(a_lone_run_ends_where_a_script_replaces_the_motion_with_its_like)
+{
+    uint64_t lone = replaced_move_end(false);
+    t_teardown();
+    t_setup();
+    ck_assert_uint_eq(lone, replaced_move_end(true));
+}
+END_TEST
+
 /* A control connection that closes during its RUN_UNTIL_DONE never takes the
  * reply; a STEP after it still answers as a STEP. */
 START_TEST(a_step_after_an_unanswered_run_answers_as_a_step)
@@ -520,6 +563,7 @@ Suite *clock_suite(void)
     tcase_add_test(tc, run_until_done_is_checked_like_step);
     tcase_add_test(tc, a_step_after_an_unanswered_run_answers_as_a_step);
     tcase_add_test(tc, a_lone_run_ends_where_instant_by_instant_passes_end);
+    tcase_add_test(tc, a_lone_run_ends_where_a_script_replaces_the_motion_with_its_like);
     suite_add_tcase(s, tc);
     TCase *fleet = tcase_create("clock of a fleet");
     tcase_add_checked_fixture(fleet, t_setup_three_devices, t_teardown);
