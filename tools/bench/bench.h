@@ -67,6 +67,10 @@ bool server_stop_within(server_t *srv, double seconds);
  * placement; unplace_round_trips() lets them run anywhere again. */
 void place_round_trips(server_t *const *srv, int n, const char *mode, char *placement, size_t cap);
 void unplace_round_trips(server_t *const *srv, int n);
+/* A process that stands in for other machines' clients (the event streams'
+ * reader), placed for the round trips of `mode` on the CPU the servers are
+ * not on, so that it does not take their CPU; "none": anywhere. */
+void place_apart(pid_t pid, const char *mode);
 /* Kills every server still running (die() calls it). */
 void server_kill_all(void);
 /* CPU time (user+system) of a process in microseconds. */
@@ -185,7 +189,7 @@ typedef struct {
     double rtt_p99_us[2]; /* GCL POS? meanwhile: wsgsim, echo */
 } streams_result_t;
 void streams_run(const char *wsgsim, const char *out_dir, double seconds, int rtt_n,
-                 streams_result_t *r);
+                 const char *pin, streams_result_t *r);
 
 /* subscribers.c: `clients` AUTOSEND("POS",10) subscriptions made while the
  * clock is paused (so they share one phase), then the clock resumed. */

@@ -447,7 +447,8 @@ static void run_own_server_sections(const config_t *cfg, results_t *res)
         web_run(cfg->wsgsim, cfg->out, cfg->instr_seq_n / 10, cfg->instr_seq_n / 20, &res->web);
     }
     if (wanted(cfg, "streams")) {
-        streams_run(cfg->wsgsim, cfg->out, cfg->idle_s / 2.0, cfg->rtt_n / 4, &res->streams);
+        streams_run(cfg->wsgsim, cfg->out, cfg->idle_s / 2.0, cfg->rtt_n / 4, cfg->pin,
+                    &res->streams);
     }
     if (wanted(cfg, "vtime")) {
         fprintf(stderr, "wsgbench: virtual time, %d HOME/MOVE/GRIP/RELEASE cycles\n", cfg->cycles);

@@ -357,10 +357,17 @@ static int online_cpu(int nth)
     return -1;
 }
 
+/* The servers' CPU for the round trips of `mode`: the client's with
+ * "same", the next one with "cross". */
+static int servers_cpu(const char *mode)
+{
+    return strcmp(mode, "cross") == 0 ? online_cpu(1) : online_cpu(0);
+}
+
 void place_round_trips(server_t *const *srv, int n, const char *mode, char *placement, size_t cap)
 {
     int client = online_cpu(0);
-    int server = strcmp(mode, "cross") == 0 ? online_cpu(1) : client;
+    int server = servers_cpu(mode);
     if (strcmp(mode, "none") == 0 || client < 0 || server < 0) {
         snprintf(placement, cap, "unpinned");
         return;
@@ -370,6 +377,14 @@ void place_round_trips(server_t *const *srv, int n, const char *mode, char *plac
         set_cpu(srv[k]->pid, server);
     }
     snprintf(placement, cap, "client on CPU %d, servers on CPU %d", client, server);
+}
+
+void place_apart(pid_t pid, const char *mode)
+{
+    int other = servers_cpu(mode) == online_cpu(0) ? online_cpu(1) : online_cpu(0);
+    if (strcmp(mode, "none") != 0 && other >= 0) {
+        set_cpu(pid, other);
+    }
 }
 
 void unplace_round_trips(server_t *const *srv, int n)

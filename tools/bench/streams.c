@@ -122,7 +122,7 @@ static int compare_longs(const void *a, const void *b)
 }
 
 void streams_run(const char *wsgsim, const char *out_dir, double seconds, int rtt_n,
-                 streams_result_t *r)
+                 const char *pin, streams_result_t *r)
 {
     fprintf(stderr, "wsgbench: %d event streams from %d addresses (%.0f s)\n", STREAMS,
             STREAM_ADDRESSES, seconds);
@@ -151,6 +151,12 @@ void streams_run(const char *wsgsim, const char *out_dir, double seconds, int rt
     if (read(ready[0], &byte, 1) != 1) {
         die("streams: the streams did not all start");
     }
+    /* the reader stands in for browsers on other machines: it is kept off
+     * the CPU of the servers and their timed client (--pin) */
+    place_apart(child, pin);
+    server_t *servers[2] = {&srv[0], &srv[1]};
+    char placement[96];
+    place_round_trips(servers, 2, pin, placement, sizeof(placement));
     conn_t c[2] = {{.fd = tcp_connect(srv[0].tcp_port)}, {.fd = tcp_connect(srv[1].tcp_port)}};
     samples_t rtt[2];
     for (int k = 0; k < 2; k++) {
@@ -161,6 +167,7 @@ void streams_run(const char *wsgsim, const char *out_dir, double seconds, int rt
             rtt_block(&c[k], rtt_n / RTT_BLOCKS, &rtt[k]);
         }
     }
+    unplace_round_trips(servers, 2);
     long events[STREAMS];
     if (read(counts[0], events, sizeof(events)) != (ssize_t)sizeof(events)) {
         die("streams: the reader reported no counts");
