@@ -328,6 +328,19 @@ static void coverage_flags(char *out, size_t cap)
     snprintf(out, cap, "%.*s", (int)(to - from) + 1, from);
 }
 
+/* A GCL session on device 0 that sends nothing; instant_by_instant: a
+ * DELAY armed on it, so that the scheduler asks a run's stop at every
+ * instant instead of running the lone device's deadlines in a row. */
+static void open_idle_session(h_client_t *idle, bool instant_by_instant)
+{
+    h_open_on(idle, &fleet_gripper(t_fleet, 0)->device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM);
+    if (instant_by_instant) {
+        char line[64];
+        snprintf(line, sizeof(line), "DELAY(60000,%u)", (unsigned)wsg_conn_id(&idle->conn));
+        CTL_EQ(line, "ACK DELAY");
+    }
+}
+
 /* Where a lone device's runs end: a grip cycle under RUN_UNTIL_DONE, a
  * slow MOVE that a scenario event (a power fault) ends mid-way, and one
  * slice of a long STEP. With `instant_by_instant` a DELAY is armed on a
@@ -340,12 +353,7 @@ static size_t lone_run_ends(bool instant_by_instant, uint64_t ends[8], char *fla
     static const char *const cycle[][2] = {
         {"HOME()", "HOME"}, {"MOVE(80)", "MOVE"}, {"GRIP(20)", "GRIP"}, {"RELEASE(10)", "RELEASE"}};
     h_client_t idle;
-    h_open_on(&idle, &fleet_gripper(t_fleet, 0)->device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM);
-    if (instant_by_instant) {
-        char line[64];
-        snprintf(line, sizeof(line), "DELAY(60000,%u)", (unsigned)wsg_conn_id(&idle.conn));
-        CTL_EQ(line, "ACK DELAY");
-    }
+    open_idle_session(&idle, instant_by_instant);
     size_t n = 0;
     CTL_EQ("PART(30)", "ACK PART");
     for (size_t i = 0; i < sizeof(cycle) / sizeof(cycle[0]); i++) {
@@ -402,12 +410,7 @@ END_TEST
 static uint64_t replaced_move_end(bool instant_by_instant)
 {
     h_client_t idle;
-    h_open_on(&idle, &fleet_gripper(t_fleet, 0)->device, &wsg_gcl_driver, WSG_TRANSPORT_STREAM);
-    if (instant_by_instant) {
-        char line[64];
-        snprintf(line, sizeof(line), "DELAY(60000,%u)", (unsigned)wsg_conn_id(&idle.conn));
-        CTL_EQ(line, "ACK DELAY");
-    }
+    open_idle_session(&idle, instant_by_instant);
     GCL_EQ("HOME()", "ACK HOME");
     run_until_done("RUN_UNTIL_DONE(10000)", "done");
     h_discard(&t_gcl);
