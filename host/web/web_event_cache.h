@@ -3,8 +3,8 @@
  * slot tick, built by the first stream of that tick that asks and kept for
  * the others, also after the first has sent it (a stream usually copies a
  * whole event at once). An event is freed once no stream sends it and a
- * later tick has fired; the cache then holds at most one unused event per
- * device. */
+ * later tick has fired: the unused events the cache holds are all of the
+ * newest tick. */
 #ifndef HOST_WEB_EVENT_CACHE_H
 #define HOST_WEB_EVENT_CACHE_H
 

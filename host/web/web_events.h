@@ -22,8 +22,9 @@
 #define WEB_EVENTS_SLOTS 40u
 /* The streams a tick wakes are resumed this many per loop pass: between
  * two, the loop waits without sleeping and serves what has arrived, so a
- * GCL request waits behind one event (~25 us), not behind a slot's 5 (~130
- * us, measured in `make bench`). */
+ * GCL request waits behind one event, not behind a slot's 5 (with 200
+ * streams a pass took ~20 us at the median instead of ~80 us: timed inside
+ * wsgsim, docs/benchmark.md). */
 #define WEB_EVENTS_RESUMED_PER_PASS 1u
 
 typedef struct web_stream web_stream_t;

@@ -69,7 +69,9 @@ void place_round_trips(server_t *const *srv, int n, const char *mode, char *plac
 void unplace_round_trips(server_t *const *srv, int n);
 /* A process that stands in for other machines' clients (the event streams'
  * reader), placed for the round trips of `mode` on the CPU the servers are
- * not on, so that it does not take their CPU; "none": anywhere. */
+ * not on, so that it does not take their CPU; "none": anywhere. Call it
+ * before place_round_trips(), which narrows this process's own CPUs (the
+ * ones both read). */
 void place_apart(pid_t pid, const char *mode);
 /* Kills every server still running (die() calls it). */
 void server_kill_all(void);
