@@ -99,7 +99,11 @@ static int open_listening(net_t *net, int type, const struct sockaddr_storage *s
         errno = err;
         return -1;
     }
-    remember_own_socket(net, fd);
+    /* Only a datagram socket can send us a datagram: a TCP listener's port
+     * number is another port space, and a peer's UDP port may carry it. */
+    if (type == SOCK_DGRAM) {
+        remember_own_socket(net, fd);
+    }
     return fd;
 }
 

@@ -14,11 +14,15 @@ import resource
 import select
 import signal
 import socket
+import sys
 import threading
 import time
 import unittest
 
-from gclclient import GclError, GclTcp, GclUdp, Wsgsim
+from gclclient import GclError, GclTcp, GclUdp, Wsgsim, wait_for
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
+import wsgbinproto as wb  # noqa: E402
 
 CONTROL = re.compile(r"ready: .*, control ([^ ,]+):(\d+)")
 UDP_OVERHEAD = 28  # IPv4 + UDP headers, counted by the reply budget
@@ -111,22 +115,36 @@ class NetCase(unittest.TestCase):
 # ---- 1. reply loops ----
 
 class ReplyLoops(NetCase):
-    def assert_own_address_ignored(self, sim, source):
-        spoofed = self.udp(sim, bind=source)
-        spoofed.send(b"POS?\n")
-        self.answered(sim)  # processed after the spoofed datagram
-        self.assertEqual(datagrams_waiting(spoofed), [],
-                         "a datagram from the server's own address %s:%d was answered" % source)
+    def assert_own_reply_ignored(self, *args):
+        # binary UDP replies go to the sender's address at the reply port:
+        # with the reply port set to the binary port itself, the reply to a
+        # local client comes back to the server from its own socket
+        holder, port = free_udp_port()
+        holder.close()
+        sim = self.start(*args, "--binary-udp-port", str(port), "--binary-udp-reply-port", str(port))
+        client = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        self.addCleanup(client.close)
+        client.sendto(wb.encode_frame(0x06, b"loop"), ("127.0.0.1", port))
+        wait_for("the server's own reply to be ignored",
+                 lambda: "datagram from the server's own address ignored" in sim.drain_log(0))
+        self.answered(sim)
 
     def test_datagram_from_own_port_is_not_answered(self):
-        sim = self.start()
-        # the TCP port is one of the server's own ports too; a UDP socket can
-        # bind it, so this is how a test without privileges sends "from" it
-        self.assert_own_address_ignored(sim, ("127.0.0.1", sim.tcp_port))
+        self.assert_own_reply_ignored()
 
     def test_datagram_from_own_port_is_not_answered_on_wildcard_bind(self):
-        sim = self.start("--bind", "0.0.0.0")
-        self.assert_own_address_ignored(sim, ("127.0.0.1", sim.tcp_port))
+        self.assert_own_reply_ignored("--bind", "0.0.0.0")
+
+    def test_peer_on_the_tcp_ports_number_is_answered(self):
+        # UDP and TCP ports are two spaces: a peer whose UDP port has the
+        # number of the GCL TCP port is an ordinary peer. Before, it was taken
+        # for the server itself, so a client whose ephemeral port happened to
+        # get that number was never answered.
+        sim = self.start()
+        peer = self.udp(sim, bind=("127.0.0.1", sim.tcp_port))
+        peer.send(b"SN?\n")
+        replies = datagrams_waiting(peer, 30.0)
+        self.assertTrue(replies and replies[0].startswith(b"SN="), replies)
 
     def test_ping_pong_between_two_instances_dies_out(self):
         # A streams to a port where B starts afterwards: one AUTOSEND line

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* The server's own sockets (host/net.c): a socket net_listen() opened is
- * its net_t's own address, on loopback, and no other net_t's. */
+/* The server's own sockets (host/net.c): a datagram socket net_listen()
+ * opened is its net_t's own address, on loopback, and no other net_t's; a
+ * TCP listener's port number is not (a peer's UDP port may carry it). */
 #include <arpa/inet.h>
 #include <check.h>
 #include <netinet/in.h>
@@ -38,11 +39,26 @@ START_TEST(a_listening_socket_is_its_nets_own_address_only)
 }
 END_TEST
 
+/* Before, a UDP peer whose ephemeral port happened to have the number of
+ * the GCL TCP port was taken for the server itself and never answered. */
+START_TEST(a_tcp_listeners_port_number_is_not_an_own_address)
+{
+    net_t mine;
+    net_init(&mine);
+    int fd = net_listen(&mine, SOCK_STREAM, "127.0.0.1", 0);
+    ck_assert_int_ge(fd, 0);
+    struct sockaddr_storage same_number = loopback(net_local_port(fd));
+    ck_assert(!net_is_own_address(&mine, &same_number));
+    close(fd);
+}
+END_TEST
+
 Suite *net_suite(void)
 {
     Suite *s = suite_create("net");
     TCase *tc = tcase_create("own_sockets");
     tcase_add_test(tc, a_listening_socket_is_its_nets_own_address_only);
+    tcase_add_test(tc, a_tcp_listeners_port_number_is_not_an_own_address);
     suite_add_tcase(s, tc);
     return s;
 }
