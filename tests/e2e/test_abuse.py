@@ -379,7 +379,9 @@ class DatagramAbuse(AbuseCase):
                 reply = u.command("POS?", timeout=1.0)
             except GclError:
                 continue
-        self.assertEqual(reply, "POS=%.1f" % POSITION)
+        self.assertEqual(reply, "POS=%.1f" % POSITION,
+                         "no answer to %s; the server's log ends:\n%s"
+                         % (u.sock.getsockname(), self.sim.drain_log(0)[-3000:]))
         # a retry answered late arrives now: skip those replies
         u.send("GRIPSTATE?")
         line = u.read_line()
