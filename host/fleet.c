@@ -466,14 +466,18 @@ static void show_flags(const fleet_t *fleet, gripper_t *g)
  * Inline: a lone run (fleet_run_lone()) takes one per simulated ms, and
  * the call and its saved registers cost it as much as the step's own
  * bookkeeping. */
-static inline uint64_t tick(const fleet_t *fleet, gripper_t *g)
+static inline uint64_t shown(const fleet_t *fleet, gripper_t *g, uint64_t next)
 {
-    uint64_t next = gripper_tick(g);
     if (g->ticked_flags != g->shown_flags) {
         g->shown_flags = g->ticked_flags;
         show_flags(fleet, g);
     }
     return next;
+}
+
+static inline uint64_t tick(const fleet_t *fleet, gripper_t *g)
+{
+    return shown(fleet, g, gripper_tick(g));
 }
 
 /* The devices whose deadline has come, except the touched ones (the list
@@ -585,6 +589,41 @@ static bool motion_moved_on(const gripper_t *g, motion_seen_t *seen)
     return true;
 }
 
+/* Coasting (wsg_device_coast()): leaves out the lone device's steps from
+ * its next instant on while each instant is the envelope's, at most `max`,
+ * none at the run's last instant (the run ends on a step), and the world's
+ * readings stay within the envelope. Nothing else meets the device within
+ * a run: no input is read, and a left-out step changes no flag, motion or
+ * deadline the run looks at. Returns how many were left out; *advanced:
+ * the world is at the device's next instant already, whose step runs. */
+static unsigned coast_lone(fleet_t *fleet, gripper_t *g, fleet_lone_run_t *run,
+                           const wsg_coast_t *coast, unsigned max, bool *advanced)
+{
+    uint64_t limit = earliest(run->before, fleet->servers_due_us);
+    uint64_t at = fleet->due_us[0];
+    uint64_t last = 0;
+    unsigned left_out = 0;
+    while (left_out < max && at < coast->until_us) {
+        uint64_t next = wsg_coast_next_us(coast, at);
+        if (next >= limit) {
+            break;
+        }
+        if (!gripper_coasts_at(g, coast, at)) {
+            *advanced = true;
+            break;
+        }
+        left_out++;
+        last = at;
+        at = next;
+    }
+    if (left_out > 0u) {
+        gripper_coasted(g, coast, last);
+        *run->device_us = last;
+        fleet->due_us[0] = at;
+    }
+    return left_out;
+}
+
 unsigned fleet_run_lone(fleet_t *fleet, fleet_lone_run_t *run)
 {
     run->stopped = false;
@@ -595,13 +634,20 @@ unsigned fleet_run_lone(fleet_t *fleet, fleet_lone_run_t *run)
     unsigned steps = 0;
     /* none yet, so the first step asks: no motion starts at UINT64_MAX */
     motion_seen_t asked = {WSG_MOTION_NONE, UINT64_MAX};
+    wsg_coast_t coast;
+    bool may_coast = false;
     while (steps < run->max_steps && fleet->touched.first == NULL) {
+        bool advanced = false;
+        if (may_coast) {
+            steps += coast_lone(fleet, g, run, &coast, run->max_steps - steps - 1u, &advanced);
+        }
         uint64_t at = fleet->due_us[0];
         if (at >= run->before || at <= *run->device_us || at >= fleet->servers_due_us) {
             break;
         }
         *run->device_us = at;
-        fleet->due_us[0] = tick(fleet, g);
+        fleet->due_us[0] = advanced ? shown(fleet, g, gripper_tick_advanced(g)) : tick(fleet, g);
+        may_coast = gripper_may_coast(g, &coast);
         /* as fleet_tick() does after the tick (servers_to_ask()); their own
          * deadline is after `at` (tested above), and only ask_servers()
          * moves it */

@@ -268,6 +268,28 @@ uint64_t gripper_tick(gripper_t *g)
      * then leaves it alone: once is enough, and a direct call is cheaper
      * than the runner's hook (a lone run polls once per simulated ms) */
     wsg_sim_world_advance(&g->world, hal_clock_now_us());
+    return gripper_tick_advanced(g);
+}
+
+bool gripper_may_coast(const gripper_t *g, wsg_coast_t *coast)
+{
+    return g->script == NULL && wsg_device_coast(&g->device, coast);
+}
+
+bool gripper_coasts_at(gripper_t *g, const wsg_coast_t *coast, uint64_t at_us)
+{
+    wsg_sim_world_advance(&g->world, at_us);
+    return wsg_sim_world_coasts(&g->world, coast);
+}
+
+void gripper_coasted(gripper_t *g, const wsg_coast_t *coast, uint64_t last_us)
+{
+    wsg_device_coasted(&g->device, last_us);
+    g->runner.next_deadline_us = wsg_coast_next_us(coast, last_us); /* as the step would have */
+}
+
+uint64_t gripper_tick_advanced(gripper_t *g)
+{
     uint64_t next = wsg_runner_poll_advanced(&g->runner);
     g->ticked_flags = wsg_device_flags(&g->device);
     if (g->script == NULL) {

@@ -70,6 +70,19 @@ void gripper_start(gripper_t *g);
 /* Runs the control step if it is due; returns the next deadline. The fleet
  * calls it when the deadline has come or the gripper was touched. */
 uint64_t gripper_tick(gripper_t *g);
+/* gripper_tick() with the world at the clock already (gripper_coast()). */
+uint64_t gripper_tick_advanced(gripper_t *g);
+/* Right after a tick: whether later ticks may coast, and within what
+ * (wsg_device_coast(); never while a script runs: it is served each tick). */
+bool gripper_may_coast(const gripper_t *g, wsg_coast_t *coast);
+/* Coasting at at_us, an instant before coast->until_us that is not the
+ * last before anything else meets the device: the world advances to it;
+ * true when its readings are within the envelope, so that the step may be
+ * left out, else the caller ticks with gripper_tick_advanced() at at_us. */
+bool gripper_coasts_at(gripper_t *g, const wsg_coast_t *coast, uint64_t at_us);
+/* After the steps left out, the last at last_us: the device notes them
+ * (wsg_device_coasted()), the runner's next deadline is the step after. */
+void gripper_coasted(gripper_t *g, const wsg_coast_t *coast, uint64_t last_us);
 /* Input on one of its connections, at the present instant; touches g
  * unless its tick would have nothing to do (a query that changed nothing:
  * neither a step due nor a new deadline, no flag its observers have not

@@ -4,7 +4,6 @@
 #include "priv/wsg_dev.h"
 
 #define MOVING_SPEED_MM_S 0.01f
-#define LIMIT_WINDOW_MM 0.01f
 
 void wsg_flags_set(wsg_dev_t *dev, wsg_sysflag_t flag, bool on)
 {

@@ -237,7 +237,7 @@ static void position_step(wsg_dev_t *dev)
 /* Where the jaws may travel to before "no part" is declared (manual 2.2.6):
  * clamping travel from the contact point if the part was met before the
  * nominal width, otherwise from the nominal width. */
-static float grip_travel_limit(const dev_motion_t *m, int8_t direction)
+float wsg_motion_grip_travel_limit(const dev_motion_t *m, int8_t direction)
 {
     float from = m->grip_width_mm;
     if (m->contact_seen && (m->contact_mm - m->grip_width_mm) * (float)-direction > 0.0f) {
@@ -294,9 +294,10 @@ static void grip_step(wsg_dev_t *dev)
     if (axis->blocked != 0) {
         return;
     }
-    bool travel_used = m->grip_has_width &&
-                       (axis->position_mm - grip_travel_limit(m, direction)) * (float)direction >=
-                           -POSITION_TOLERANCE_MM;
+    bool travel_used =
+        m->grip_has_width &&
+        (axis->position_mm - wsg_motion_grip_travel_limit(m, direction)) * (float)direction >=
+            -POSITION_TOLERANCE_MM;
     if (travel_used || !axis->profile_active) {
         grip_no_part(dev);
     }

@@ -20,6 +20,7 @@
 #define HOMING_FORCE_FRACTION 0.25f  /* homing pushes with this share of max force */
 #define LOST_FORCE_FRACTION 0.5f     /* grip force below this share means part lost */
 #define SOFT_LIMIT_MARGIN_MM 0.1f    /* past a soft limit by this much: FAST STOP */
+#define LIMIT_WINDOW_MM 0.01f        /* this close to a soft limit: SF_SOFT_LIMIT_± */
 #define VELOCITY_OVERTRAVEL_MM 10.0f /* velocity mode aims this far past a stroke end */
 
 #endif

@@ -208,6 +208,8 @@ void wsg_motion_abort(wsg_dev_t *dev);
  * wsg_motion_abort). */
 void wsg_motion_fast_stop(wsg_dev_t *dev, const char *why);
 void wsg_motion_step(wsg_dev_t *dev);
+/* Where a running GRIP's travel ends in "no part" (manual 2.2.6). */
+float wsg_motion_grip_travel_limit(const dev_motion_t *m, int8_t direction);
 void wsg_motion_apply_force_request(wsg_dev_t *dev);
 void wsg_grip_set_state(wsg_dev_t *dev, wsg_grip_state_t state);
 void wsg_grip_monitor_step(wsg_dev_t *dev);

@@ -45,14 +45,7 @@ static void axis_set_position(void *ctx, float position_mm)
 
 static void axis_status(void *ctx, hal_axis_status_t *status)
 {
-    const sim_axis_t *axis = &((const sim_world_t *)ctx)->axis;
-    status->position_mm = wsg_sim_axis_position(axis);
-    status->velocity_mm_s = axis->v_mm_s;
-    status->force_n = axis->force_n;
-    status->blocked = axis->blocked;
-    status->profile_active = axis->active && axis->blocked == 0;
-    status->current_fault = axis->current_fault;
-    status->power_fault = axis->power_fault;
+    wsg_sim_world_axis_status(ctx, status);
 }
 
 static const hal_axis_ops_t axis_ops = {

@@ -12,6 +12,7 @@
 #include "sim_axis.h"
 #include "sim_thermal.h"
 #include "wsg/wsg_config.h"
+#include "wsg/wsg_device.h"
 
 typedef struct {
     sim_axis_t axis;
@@ -57,6 +58,29 @@ static inline void wsg_sim_world_advance(sim_world_t *world, uint64_t now_us)
     } else if (wsg_sim_axis_at_rest(&world->axis) && !world->axis.rest_step_current) {
         wsg_sim_world_rest_step(world);
     }
+}
+
+/* What the axis's HAL status reads. Inline: a port that coasts
+ * (wsg_device_coast()) reads it at each instant it leaves out. */
+static inline void wsg_sim_world_axis_status(const sim_world_t *world, hal_axis_status_t *status)
+{
+    const sim_axis_t *axis = &world->axis;
+    status->position_mm = wsg_sim_axis_position(axis);
+    status->velocity_mm_s = axis->v_mm_s;
+    status->force_n = axis->force_n;
+    status->blocked = axis->blocked;
+    status->profile_active = axis->active && axis->blocked == 0;
+    status->current_fault = axis->current_fault;
+    status->power_fault = axis->power_fault;
+}
+
+/* Whether the world's readings now are within a device's coasting
+ * envelope: the ones its HAL would give the device's sense. */
+static inline bool wsg_sim_world_coasts(const sim_world_t *world, const wsg_coast_t *coast)
+{
+    hal_axis_status_t status;
+    wsg_sim_world_axis_status(world, &status);
+    return wsg_coast_within(coast, &status, wsg_sim_thermal_board_c(&world->thermal));
 }
 
 /* The HAL handles of this world (axis and temperature; can is left NULL). */

@@ -48,6 +48,54 @@ void wsg_device_sense_if_moved_on(wsg_device_t *dev);
  * without an outside event (a command, a control-channel change). */
 uint64_t wsg_device_next_deadline_us(const wsg_device_t *dev);
 
+/* ---- coasting ------------------------------------------------------------- */
+
+/* While a motion runs clear of everything, most control steps change nothing
+ * but the readings they store. Asked right after a control step,
+ * wsg_device_coast() says how far that holds: a step at an instant before
+ * until_us whose readings are within the envelope (wsg_coast_within())
+ * would change nothing else, and would make the next step due
+ * (wsg_coast_next_us()). A port that reads the hardware more cheaply than a step (a
+ * simulated world) may leave such steps out. After the last one it left
+ * out it calls wsg_device_coasted(), then runs the step of the instant
+ * that follows before anything else (input, a query, the snapshot's
+ * readers) meets the device: only a step stores the readings. */
+typedef struct {
+    uint64_t until_us;
+    uint64_t due_us; /* the device's deadlines other than its tick (timers, the bus) */
+    uint32_t step_us;
+    float position_above_mm; /* the position strictly between these */
+    float position_below_mm;
+    float force_below_n;
+    float temperature_below_c;
+} wsg_coast_t;
+
+/* False when no step may be left out (*coast is then of no use). */
+bool wsg_device_coast(const wsg_device_t *dev, wsg_coast_t *coast);
+/* The port left out the steps up to last_us, the last of them. */
+void wsg_device_coasted(wsg_device_t *dev, uint64_t last_us);
+
+/* When the step after one left out at left_out_us is due: a tick later,
+ * or at the device's next other deadline if that comes first. */
+static inline uint64_t wsg_coast_next_us(const wsg_coast_t *c, uint64_t left_out_us)
+{
+    uint64_t tick = left_out_us + c->step_us;
+    return tick < c->due_us ? tick : c->due_us;
+}
+
+/* Whether readings taken at an instant before until_us are within the
+ * envelope: the profile running and not blocked, no fault, position, force
+ * and temperature inside their bounds. Inline: the port asks at each
+ * instant it may leave out. */
+static inline bool wsg_coast_within(const wsg_coast_t *c, const hal_axis_status_t *axis,
+                                    float temperature_c)
+{
+    return axis->profile_active && axis->blocked == 0 && !axis->power_fault &&
+           !axis->current_fault && axis->position_mm > c->position_above_mm &&
+           axis->position_mm < c->position_below_mm && axis->force_n < c->force_below_n &&
+           temperature_c < c->temperature_below_c;
+}
+
 /* ---- owners and completion events ---------------------------------------- */
 
 typedef enum { WSG_OP_HOME, WSG_OP_MOVE, WSG_OP_GRIP, WSG_OP_RELEASE, WSG_OP_COUNT } wsg_op_t;

@@ -104,6 +104,12 @@ void h_discard(h_client_t *c)
     c->read = c->count;
 }
 
+void h_clear(h_client_t *c)
+{
+    c->count = 0;
+    c->read = 0;
+}
+
 uint32_t h_gcl_lines_in(const h_client_t *c)
 {
     wsg_gcl_conn_info_t info;

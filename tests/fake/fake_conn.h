@@ -50,6 +50,8 @@ bool h_take_line(h_client_t *c, const char *text);
 /* Lines captured so far that start with prefix, and drops them all as read. */
 size_t h_count_prefix(h_client_t *c, const char *prefix);
 void h_discard(h_client_t *c);
+/* Forgets every line captured so far: room for H_LINES_MAX more. */
+void h_clear(h_client_t *c);
 
 /* Lines the GCL driver counted in on this client's connection. */
 uint32_t h_gcl_lines_in(const h_client_t *c);

@@ -6,6 +6,7 @@
 #include <time.h>
 
 #include "gripper.h"
+#include "options.h"
 #include "harness.h"
 
 #include "fleet.h"
@@ -441,6 +442,149 @@ START_TEST(a_lone_run_ends_where_a_script_replaces_the_motion_with_its_like)
 }
 END_TEST
 
+/* The device as exactly as it can be read: the time, the world's axis and
+ * board temperature (bit patterns) and STATE? up to its faults (the idle
+ * session's DELAY, there and in the sessions, is all the two ways differ
+ * in). Appended to out. */
+static void append_exact_state(char *out, size_t cap)
+{
+    const sim_world_t *world = &fleet_gripper(t_fleet, 0)->world;
+    const char *state = ctl("STATE?");
+    const char *faults = strstr(state, ",\"faults\":");
+    ck_assert_msg(faults != NULL, "STATE? -> %s", state);
+    size_t used = strlen(out);
+    int n = snprintf(out + used, cap - used, "%llu x=%a v=%a force=%a board=%a %.*s\n",
+                     (unsigned long long)t_now_us(), (double)world->axis.x_mm,
+                     (double)world->axis.v_mm_s, (double)world->axis.force_n,
+                     (double)world->thermal.board_c, (int)(faults - state), state);
+    ck_assert(n > 0 && (size_t)n < cap - used);
+}
+
+/* What the GCL session received and did not read yet (AUTOSEND's values
+ * among it), appended to out. */
+static void append_gcl_lines(char *out, size_t cap)
+{
+    while (gcl_unread() > 0) {
+        size_t used = strlen(out);
+        int n = snprintf(out + used, cap - used, "%s\n", gcl_next());
+        ck_assert(n > 0 && (size_t)n < cap - used);
+    }
+    h_clear(&t_gcl); /* room for the next lines */
+}
+
+/* A motion command run to its final reply under RUN_UNTIL_DONE, with the
+ * exact state after it, and after mid_ms of it first if mid_ms > 0 (where
+ * the lone way can coast: the device gives an envelope). */
+static void coast_motion(const char *command, const char *name, double mid_ms, char *out,
+                         size_t cap)
+{
+    char ack[32];
+    snprintf(ack, sizeof(ack), "ACK %s", name);
+    append_gcl_lines(out, cap); /* AUTOSEND's values so far */
+    GCL_EQ(command, ack);
+    if (mid_ms > 0.0) {
+        t_step_ms(mid_ms);
+        /* the lone way can coast here: an envelope within a few steps (the
+         * one before a finger bus poll has none); asked both ways, as the
+         * device is the same */
+        wsg_coast_t coast;
+        int more_ms = 0;
+        while (!wsg_device_coast(&fleet_gripper(t_fleet, 0)->device, &coast) && more_ms < 3) {
+            t_step_ms(1.0);
+            more_ms++;
+        }
+        ck_assert_msg(more_ms < 3, "%s: no envelope after %.1f ms", command, mid_ms + more_ms);
+        append_exact_state(out, cap);
+    }
+    run_until_done("RUN_UNTIL_DONE(20000)", "done");
+    append_exact_state(out, cap);
+}
+
+/* Off the millisecond grid the finger bus polls on. */
+static void step_half_ms(void)
+{
+    uint64_t then = t_now_us() + 500u;
+    CTL_EQ("STEP(0.5)", expected_time("STEP", then));
+}
+
+/* A course of motions for coasting: on a grid of half milliseconds, off
+ * the finger bus's 10 ms, with AUTOSEND's 13 ms timers, soft limits around
+ * a target, a move blocked by the part, grips on it and grips on none in
+ * both directions (the last one on into the soft limit's FAST STOP). */
+static void coast_course(bool instant_by_instant, char *out, size_t cap)
+{
+    wsg_device_t *dev = &fleet_gripper(t_fleet, 0)->device;
+    h_client_t idle;
+    open_idle_session(&idle, instant_by_instant);
+    out[0] = '\0';
+    GCL_EQ("AUTOSEND(\"POS\",13)", "ACK AUTOSEND");
+    CTL_EQ("PART(30)", "ACK PART");
+    step_half_ms();
+    coast_motion("HOME()", "HOME", 0.0, out, cap);
+    ck_assert_int_eq(wsg_op_set(dev, WSG_SET_SOFT_MINUS, 5.0f), E_SUCCESS);
+    ck_assert_int_eq(wsg_op_set(dev, WSG_SET_SOFT_PLUS, 104.0f), E_SUCCESS);
+    ck_assert_int_eq(wsg_op_set(dev, WSG_SET_SOFT_LIMITS, 1.0f), E_SUCCESS);
+    coast_motion("MOVE(6)", "MOVE", 123.5, out, cap); /* onto the part: ERR 29 */
+    coast_motion("MOVE(103.995)", "MOVE", 500.0, out, cap);
+    coast_motion("GRIP(20)", "GRIP", 250.0, out, cap);
+    coast_motion("RELEASE(10)", "RELEASE", 0.0, out, cap);
+    coast_motion("GRIP(20,26.45)", "GRIP", 0.0, out, cap); /* with a width, on the part */
+    CTL_EQ("PART_REMOVE()", "ACK PART_REMOVE");
+    append_gcl_lines(out, cap);
+    GCL_EQ("CLT=5", "CLT=5.0");
+    coast_motion("MOVE(100)", "MOVE", 0.0, out, cap);
+    step_half_ms();
+    coast_motion("GRIP(20,40)", "GRIP", 300.5, out, cap); /* on to 35 mm: no part */
+    coast_motion("MOVE(60)", "MOVE", 0.0, out, cap);
+    coast_motion("GRIP(20,80)", "GRIP", 77.0, out, cap); /* outwards, on to 85 mm */
+    coast_motion("MOVE(30)", "MOVE", 0.0, out, cap);
+    coast_motion("GRIP(20)", "GRIP", 100.5, out, cap); /* on into the soft limit: FAST STOP */
+    t_step_ms(100.0);                                  /* the jaws come to rest */
+    append_gcl_lines(out, cap);
+    GCL_EQ("FSACK()", "ACK FSACK");
+    h_close(&idle, WSG_CLOSE_ANNOUNCED);
+}
+
+/* Coasting leaves steps out only where they would change nothing but the
+ * readings: with these fingers on the bus, the lone way (coasting) and
+ * instant by instant (every step run) leave the device exactly alike. */
+static void assert_coasting_as_every_step(const char *fingers)
+{
+    static char coasted[1u << 18];
+    static char stepped[1u << 18];
+    static host_options_t opts; /* outlives the gripper */
+    char *argv[] = {"wsgsim", "--fingers", (char *)fingers, NULL};
+    for (int way = 0; way < 2; way++) {
+        if (way == 1) {
+            t_teardown();
+            t_setup();
+            options_release(&opts);
+        }
+        ck_assert_int_eq(options_parse(3, argv, &opts), OPTIONS_RUN);
+        t_reinit(&opts);
+        t_reopen();
+        coast_course(way == 1, way == 0 ? coasted : stepped, sizeof(coasted));
+    }
+    size_t same = 0; /* the first difference and what follows, as much as a message holds */
+    while (coasted[same] != '\0' && coasted[same] == stepped[same]) {
+        same++;
+    }
+    ck_assert_msg(coasted[same] == stepped[same], "coasted: %.300s\nstepped: %.300s",
+                  coasted + same, stepped + same);
+}
+
+START_TEST(coasting_leaves_the_device_as_every_step_does)
+{
+    assert_coasting_as_every_step("fmf,dsa"); /* the default: force from the fingers */
+}
+END_TEST
+
+START_TEST(coasting_without_fingers_leaves_the_device_as_every_step_does)
+{
+    assert_coasting_as_every_step("none,none"); /* force from the drive */
+}
+END_TEST
+
 /* A control connection that closes during its RUN_UNTIL_DONE never takes the
  * reply; a STEP after it still answers as a STEP. */
 START_TEST(a_step_after_an_unanswered_run_answers_as_a_step)
@@ -567,6 +711,8 @@ Suite *clock_suite(void)
     tcase_add_test(tc, a_step_after_an_unanswered_run_answers_as_a_step);
     tcase_add_test(tc, a_lone_run_ends_where_instant_by_instant_passes_end);
     tcase_add_test(tc, a_lone_run_ends_where_a_script_replaces_the_motion_with_its_like);
+    tcase_add_test(tc, coasting_leaves_the_device_as_every_step_does);
+    tcase_add_test(tc, coasting_without_fingers_leaves_the_device_as_every_step_does);
     suite_add_tcase(s, tc);
     TCase *fleet = tcase_create("clock of a fleet");
     tcase_add_checked_fixture(fleet, t_setup_three_devices, t_teardown);
