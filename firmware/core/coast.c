@@ -79,8 +79,7 @@ static bool bound_grip(const wsg_dev_t *dev, wsg_coast_t *c)
 static uint64_t other_deadlines(const wsg_dev_t *dev)
 {
     uint64_t due = wsg_timer_next_due(&dev->timers);
-    return dev->fbus.can != NULL ? earliest(due, wsg_finger_bus_next_deadline_us(&dev->fbus))
-                                 : due;
+    return dev->fbus.can != NULL ? earliest(due, wsg_finger_bus_next_deadline_us(&dev->fbus)) : due;
 }
 
 /* Until the next instant at which something other than the readings may
