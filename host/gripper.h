@@ -70,7 +70,7 @@ void gripper_start(gripper_t *g);
 /* Runs the control step if it is due; returns the next deadline. The fleet
  * calls it when the deadline has come or the gripper was touched. */
 uint64_t gripper_tick(gripper_t *g);
-/* gripper_tick() with the world at the clock already (gripper_coast()). */
+/* gripper_tick() with the world at the clock already (gripper_coasts_at()). */
 uint64_t gripper_tick_advanced(gripper_t *g);
 /* Right after a tick: whether later ticks may coast, and within what
  * (wsg_device_coast(); never while a script runs: it is served each tick). */

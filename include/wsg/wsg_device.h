@@ -54,10 +54,10 @@ uint64_t wsg_device_next_deadline_us(const wsg_device_t *dev);
  * but the readings they store. Asked right after a control step,
  * wsg_device_coast() says how far that holds: a step at an instant before
  * until_us whose readings are within the envelope (wsg_coast_within())
- * would change nothing else, and would make the next step due
- * (wsg_coast_next_us()). A port that reads the hardware more cheaply than a step (a
- * simulated world) may leave such steps out. After the last one it left
- * out it calls wsg_device_coasted(), then runs the step of the instant
+ * would change nothing else, and would make the next step due at
+ * wsg_coast_next_us(). A port that reads the hardware more cheaply than a
+ * step (a simulated world) may leave such steps out. After the last one it
+ * left out it calls wsg_device_coasted(), then runs the step of the instant
  * that follows before anything else (input, a query, the snapshot's
  * readers) meets the device: only a step stores the readings. */
 typedef struct {
