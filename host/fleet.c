@@ -634,7 +634,7 @@ unsigned fleet_run_lone(fleet_t *fleet, fleet_lone_run_t *run)
     unsigned steps = 0;
     /* none yet, so the first step asks: no motion starts at UINT64_MAX */
     motion_seen_t asked = {WSG_MOTION_NONE, UINT64_MAX};
-    wsg_coast_t coast;
+    wsg_coast_t coast = {0}; /* set before use (may_coast); zero for compilers that cannot tell */
     bool may_coast = false;
     while (steps < run->max_steps && fleet->touched.first == NULL) {
         bool advanced = false;
