@@ -589,6 +589,23 @@ static bool motion_moved_on(const gripper_t *g, motion_seen_t *seen)
     return true;
 }
 
+/* How many instants at, at + a tick, ... coast_lone() may leave out in a
+ * row, at most max: each before the envelope's end, with the step after it
+ * a tick later, before limit and no later than the device's other
+ * deadlines. */
+static unsigned ticks_to_leave_out(const wsg_coast_t *coast, uint64_t at, uint64_t limit,
+                                   unsigned max)
+{
+    uint64_t step = coast->step_us;
+    if (step == 0u) {
+        return 0u;
+    }
+    uint64_t bound = earliest(coast->until_us, limit > step ? limit - step : 0u);
+    bound = earliest(bound, coast->due_us >= step ? coast->due_us - step + 1u : 0u);
+    uint64_t ticks = bound > at ? (bound - at + step - 1u) / step : 0u;
+    return ticks < max ? (unsigned)ticks : max;
+}
+
 /* Coasting (wsg_device_coast()): leaves out the lone device's steps from
  * its next instant on while each instant is the envelope's, at most `max`,
  * none at the run's last instant (the run ends on a step), and the world's
@@ -604,6 +621,21 @@ static unsigned coast_lone(fleet_t *fleet, gripper_t *g, fleet_lone_run_t *run,
     uint64_t last = 0;
     unsigned left_out = 0;
     while (left_out < max && at < coast->until_us) {
+        /* cruising: the instants a tick apart in one loop */
+        unsigned ticks = ticks_to_leave_out(coast, at, limit, max - left_out);
+        bool outside = false;
+        unsigned made = ticks > 0u ? gripper_cruise(g, coast, at, ticks, &outside) : 0u;
+        if (made > 0u) {
+            unsigned within = outside ? made - 1u : made;
+            left_out += within;
+            at += (uint64_t)within * coast->step_us;
+            last = within > 0u ? at - coast->step_us : last;
+            if (outside) {
+                *advanced = true;
+                break;
+            }
+            continue;
+        }
         uint64_t next = wsg_coast_next_us(coast, at);
         if (next >= limit) {
             break;

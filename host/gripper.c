@@ -282,6 +282,16 @@ bool gripper_coasts_at(gripper_t *g, const wsg_coast_t *coast, uint64_t at_us)
     return wsg_sim_world_coasts(&g->world, coast);
 }
 
+unsigned gripper_cruise(gripper_t *g, const wsg_coast_t *coast, uint64_t at_us, unsigned max,
+                        bool *outside)
+{
+    *outside = false;
+    if (at_us != g->world.last_us + coast->step_us) {
+        return 0u;
+    }
+    return wsg_sim_world_cruise(&g->world, coast->step_us, max, coast, outside);
+}
+
 void gripper_coasted(gripper_t *g, const wsg_coast_t *coast, uint64_t last_us)
 {
     wsg_device_coasted(&g->device, last_us);

@@ -80,6 +80,13 @@ bool gripper_may_coast(const gripper_t *g, wsg_coast_t *coast);
  * true when its readings are within the envelope, so that the step may be
  * left out, else the caller ticks with gripper_tick_advanced() at at_us. */
 bool gripper_coasts_at(gripper_t *g, const wsg_coast_t *coast, uint64_t at_us);
+/* Coasting at at_us and the instants a tick after it, while only the
+ * jaws' position moves (wsg_sim_world_cruise()), at most max of them: 0
+ * unless at_us is a tick after the world's last advance. Returns how many
+ * the world advanced to; *outside: the last of them is outside the
+ * envelope, and its step runs next (gripper_tick_advanced()). */
+unsigned gripper_cruise(gripper_t *g, const wsg_coast_t *coast, uint64_t at_us, unsigned max,
+                        bool *outside);
 /* After the steps left out, the last at last_us: the device notes them
  * (wsg_device_coasted()), the runner's next deadline is the step after. */
 void gripper_coasted(gripper_t *g, const wsg_coast_t *coast, uint64_t last_us);

@@ -395,30 +395,67 @@ static bool free_run(sim_axis_t *axis, float dt_s, clear_span_t span)
     return true;
 }
 
-/* free_run() once more, cruising as it found at its last advance, which
- * had the same length: while the profile runs, the speed, target, limits
- * and surfaces are as they were (any change forgets the cruise), so each
- * sub-step adds the same v * dt, and the tests that passed at the start
- * hold still. The jaws start where the last advance ended, which it found
- * far from the target and inside the clear span, past where that one
- * started: only where this one ends needs checking, with free_run()'s own
- * comparisons. Changes nothing and returns false where that check fails. */
-static bool cruise_on(sim_axis_t *axis, float dt_s)
+/* One more of free_run()'s cruising advances from x_mm, as its last one
+ * found: while the profile runs, the speed, target, limits and surfaces
+ * are as they were (any change forgets the cruise), so each sub-step adds
+ * the same v * dt, and the tests that passed at the start hold still. The
+ * jaws start where the last advance ended, which it found far from the
+ * target and inside the clear span, past where that one started: only
+ * where this one ends needs checking, with free_run()'s own comparisons.
+ * False where that check fails. */
+static inline bool cruise_step(const sim_axis_t *axis, float x_mm, float *to_mm)
 {
-    if (!axis->cruise.current || !axis->active || dt_s != axis->cruise.dt_s) {
-        return false;
-    }
-    float x = axis->x_mm + axis->cruise.step_mm[0];
+    float x = x_mm + axis->cruise.step_mm[0];
     if (axis->cruise.steps == 2u) {
         x = x + axis->cruise.step_mm[1];
     }
     float ahead = (axis->target_mm - x) * axis->cruise.dir;
     bool far = ahead > axis->cruise.stopping_mm && ahead >= AT_TARGET_MM;
-    if (!far || !(x > axis->cruise.clear_low_mm) || !(x < axis->cruise.clear_high_mm)) {
+    *to_mm = x;
+    return far && x > axis->cruise.clear_low_mm && x < axis->cruise.clear_high_mm;
+}
+
+static inline bool cruising(const sim_axis_t *axis, float dt_s)
+{
+    return axis->cruise.current && axis->active && dt_s == axis->cruise.dt_s;
+}
+
+/* The advance as cruise_step() finds it; changes nothing and returns false
+ * where it does not cruise. */
+static bool cruise_on(sim_axis_t *axis, float dt_s)
+{
+    float x;
+    if (!cruising(axis, dt_s) || !cruise_step(axis, axis->x_mm, &x)) {
         return false;
     }
     axis->x_mm = x; /* the outputs are clear_outputs()' already */
     return true;
+}
+
+unsigned wsg_sim_axis_cruise_many(sim_axis_t *axis, float dt_s, unsigned max, float above_mm,
+                                  float below_mm, bool *outside)
+{
+    *outside = false;
+    if (!cruising(axis, dt_s)) {
+        return 0u;
+    }
+    float x = axis->x_mm;
+    unsigned made = 0;
+    while (made < max) {
+        float to;
+        if (!cruise_step(axis, x, &to)) {
+            break;
+        }
+        x = to;
+        made++;
+        float position = x + axis->offset_mm; /* wsg_sim_axis_position() */
+        if (!(position > above_mm && position < below_mm)) {
+            *outside = true;
+            break;
+        }
+    }
+    axis->x_mm = x;
+    return made;
 }
 
 void wsg_sim_axis_advance_stepwise(sim_axis_t *axis, float dt_s)

@@ -96,6 +96,15 @@ void wsg_sim_axis_place_obstacle(sim_axis_t *axis, float width_mm);
 void wsg_sim_axis_remove_obstacle(sim_axis_t *axis);
 /* Advances by dt seconds in steps of at most SIM_AXIS_MAX_STEP_S. */
 void wsg_sim_axis_advance(sim_axis_t *axis, float dt_s);
+/* wsg_sim_axis_advance(axis, dt_s) up to max times, while each advance is
+ * one of a cruise remembered (cruise.current, of length dt_s) and the
+ * reported position it leaves is strictly between above_mm and below_mm:
+ * the advances of a port that leaves out instants while only the position
+ * moves. An advance that would not cruise is not made; the first that
+ * leaves the position outside is made, and *outside set. Returns the
+ * advances made (0 unless cruising). */
+unsigned wsg_sim_axis_cruise_many(sim_axis_t *axis, float dt_s, unsigned max, float above_mm,
+                                  float below_mm, bool *outside);
 /* The same through every step of the model, without the shortcuts
  * wsg_sim_axis_advance takes where a step's outcome is known (at rest and
  * clear of every surface; speeding up or cruising far from the target and

@@ -78,6 +78,15 @@ static inline float wsg_sim_thermal_stepped(sim_thermal_t *thermal, float force_
     return thermal->board_c + gap * wsg_sim_thermal_settle_share(thermal, dt_s);
 }
 
+/* Whether a step at this force and dt repeats the last, which left the
+ * board as it was: it would leave it too (see wsg_sim_thermal_advance()). */
+static inline bool wsg_sim_thermal_still_at(const sim_thermal_t *thermal, float force_n, float dt_s)
+{
+    uint32_t dt_bits = wsg_sim_thermal_bits(dt_s);
+    return thermal->still && wsg_sim_thermal_bits(force_n) == thermal->still_force_bits &&
+           ((dt_bits ^ thermal->still_dt_bits) & thermal->still_dt_mask) == 0u;
+}
+
 /* Settles the board towards its steady temperature for dt_s >= 0 seconds
  * (finite, the time constant > 0: the share is then in [0, 1]). A step
  * that repeats a step which left the board as it was is skipped: its
@@ -85,18 +94,15 @@ static inline float wsg_sim_thermal_stepped(sim_thermal_t *thermal, float force_
  * its result. */
 static inline void wsg_sim_thermal_advance(sim_thermal_t *thermal, float force_n, float dt_s)
 {
-    uint32_t force_bits = wsg_sim_thermal_bits(force_n);
-    uint32_t dt_bits = wsg_sim_thermal_bits(dt_s);
-    if (thermal->still && force_bits == thermal->still_force_bits &&
-        ((dt_bits ^ thermal->still_dt_bits) & thermal->still_dt_mask) == 0u) {
+    if (wsg_sim_thermal_still_at(thermal, force_n, dt_s)) {
         return;
     }
     bool settled;
     float board = wsg_sim_thermal_stepped(thermal, force_n, dt_s, &settled);
     thermal->still = wsg_sim_thermal_bits(board) == wsg_sim_thermal_bits(thermal->board_c);
     thermal->still_dt_mask = settled ? 0u : UINT32_MAX;
-    thermal->still_force_bits = force_bits;
-    thermal->still_dt_bits = dt_bits;
+    thermal->still_force_bits = wsg_sim_thermal_bits(force_n);
+    thermal->still_dt_bits = wsg_sim_thermal_bits(dt_s);
     thermal->board_c = board;
 }
 

@@ -21,6 +21,21 @@ void wsg_sim_world_rest_step(sim_world_t *world)
     }
 }
 
+unsigned wsg_sim_world_cruise(sim_world_t *world, uint32_t step_us, unsigned max,
+                              const wsg_coast_t *coast, bool *outside)
+{
+    *outside = false;
+    float dt = wsg_sim_world_dt_s(step_us);
+    if (!wsg_sim_thermal_still_at(&world->thermal, world->axis.force_n, dt) ||
+        !wsg_sim_world_coasts(world, coast)) {
+        return 0u;
+    }
+    unsigned made = wsg_sim_axis_cruise_many(&world->axis, dt, max, coast->position_above_mm,
+                                             coast->position_below_mm, outside);
+    world->last_us += (uint64_t)made * step_us;
+    return made;
+}
+
 static void axis_move(void *ctx, float target_mm, float speed_mm_s, float accel_mm_s2,
                       float force_limit_n)
 {

@@ -30,11 +30,16 @@ void wsg_sim_world_rest_step(sim_world_t *world);
  * advance). Inline: a port's tick takes one per simulated ms, and the
  * call, its saved register and frame would cost it about as much as the
  * advance's own bookkeeping (the axis step stays a call). */
-static inline void wsg_sim_world_advance_later(sim_world_t *world, uint64_t now_us)
+static inline float wsg_sim_world_dt_s(uint64_t gap_us)
 {
     /* a gap below 2^63 converts to the same float signed or unsigned, and
      * the signed conversion is one instruction */
-    float dt = (float)(int64_t)(now_us - world->last_us) * 1e-6f;
+    return (float)(int64_t)gap_us * 1e-6f;
+}
+
+static inline void wsg_sim_world_advance_later(sim_world_t *world, uint64_t now_us)
+{
+    float dt = wsg_sim_world_dt_s(now_us - world->last_us);
     world->last_us = now_us;
     wsg_sim_axis_advance(&world->axis, dt);
     wsg_sim_thermal_advance(&world->thermal, world->axis.force_n, dt);
@@ -82,6 +87,17 @@ static inline bool wsg_sim_world_coasts(const sim_world_t *world, const wsg_coas
     wsg_sim_world_axis_status(world, &status);
     return wsg_coast_within(coast, &status, wsg_sim_thermal_board_c(&world->thermal));
 }
+
+/* Instants left out a tick apart while only the jaws' position moves: up
+ * to max advances of step_us from the world's last, each as
+ * wsg_sim_world_advance() makes it, while each is a cruise of the axis
+ * (wsg_sim_axis_cruise_many()) that leaves the board's temperature as it
+ * is and the readings within the envelope. Only the position changes in
+ * such an advance, so the rest of the readings are tested once, as they
+ * stand. Returns the advances made; *outside: the last of them left the
+ * position outside the envelope. */
+unsigned wsg_sim_world_cruise(sim_world_t *world, uint32_t step_us, unsigned max,
+                              const wsg_coast_t *coast, bool *outside);
 
 /* The HAL handles of this world (axis and temperature; can is left NULL). */
 void wsg_sim_world_hal(sim_world_t *world, wsg_hal_t *hal);

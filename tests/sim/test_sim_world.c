@@ -10,6 +10,7 @@
  * thermal formula itself), and compares every field after every advance. Floats are compared by
  * their bits: the shortcuts must give the same values, not close ones. */
 #include <check.h>
+#include <float.h>
 #include <math.h>
 #include <stdint.h>
 #include <string.h>
@@ -689,6 +690,86 @@ START_TEST(world_matches_the_full_model_while_gripping_and_heating)
 }
 END_TEST
 
+/* The fast world and the reference advanced alike so far: every field. */
+static void same_world(const sim_world_t *fast_world, const sim_world_t *ref_world, unsigned k)
+{
+    axis_twin_t twin = {.fast = fast_world->axis, .ref = ref_world->axis, .advances = k};
+    same_axis(&twin, "cruise");
+    same_board(&fast_world->thermal, &ref_world->thermal, k);
+    ck_assert_uint_eq(fast_world->last_us, ref_world->last_us);
+}
+
+/* A move of the course below, and the envelope it coasts in: a position
+ * bound in its path on some, the temperature outside on one. From move 18
+ * on the room is warmer, and the board heats at every step. */
+static void cruise_course_move(sim_world_t *fast, sim_world_t *ref, wsg_coast_t *coast,
+                               unsigned move)
+{
+    float target = move % 2u == 0u ? 100.0f : 5.0f;
+    float speed = 50.0f + 40.0f * (float)(move % 5u);
+    wsg_sim_axis_move(&fast->axis, target, speed, 3000.0f, 40.0f);
+    wsg_sim_axis_move(&ref->axis, target, speed, 3000.0f, 40.0f);
+    coast->position_below_mm = move % 4u == 0u ? 60.0f : FLT_MAX;
+    coast->position_above_mm = move % 4u == 1u ? 40.0f : -FLT_MAX;
+    coast->temperature_below_c = move == 6u ? 0.0f : FLT_MAX;
+    if (move == 18u) {
+        wsg_sim_thermal_set_ambient(&fast->thermal, 80.0f);
+        wsg_sim_thermal_set_ambient(&ref->thermal, 80.0f);
+    }
+}
+
+/* wsg_sim_world_cruise() leaves the world as advancing it a tick at a time
+ * through the full models and testing the envelope after each
+ * (wsg_sim_world_coasts()) does, bit for bit: it stops at max, after the
+ * first instant outside the envelope, and before an advance that would not
+ * cruise; with the temperature outside or the board heating it makes none. */
+START_TEST(world_cruise_matches_advancing_tick_by_tick)
+{
+    wsg_config_t config;
+    memset(&config, 0, sizeof(config));
+    config.stroke_mm = STROKE_MM;
+    config.accel_max_mm_s2 = 5000.0f;
+    sim_world_t fast, ref;
+    wsg_sim_world_init(&fast, &config, 1000u);
+    wsg_sim_world_init(&ref, &config, 1000u);
+    wsg_coast_t coast = {.step_us = 1000u, .force_below_n = FLT_MAX};
+    unsigned cruised = 0, outside_seen = 0, ended_by_max = 0, refused = 0;
+    lcg_state = 11u;
+    for (unsigned move = 0; move < 24u; move++) {
+        cruise_course_move(&fast, &ref, &coast, move);
+        bool refusing = move == 6u || move >= 18u;
+        for (unsigned k = 0; k < 3000u && !wsg_sim_axis_at_rest(&ref.axis); k++) {
+            unsigned max = 1u + lcg() % 40u;
+            bool outside;
+            unsigned made = wsg_sim_world_cruise(&fast, 1000u, max, &coast, &outside);
+            ck_assert_uint_le(made, max);
+            for (unsigned i = 0; i < made; i++) {
+                world_reference(&ref, ref.last_us + 1000u);
+                bool last = i + 1u == made;
+                ck_assert(wsg_sim_world_coasts(&ref, &coast) == !(last && outside));
+            }
+            same_world(&fast, &ref, k);
+            if (made < max && !outside) { /* the next advance would not cruise */
+                sim_world_t copy = fast;
+                ck_assert_uint_eq(wsg_sim_world_cruise(&copy, 1000u, 1u, &coast, &outside), 0u);
+            }
+            ck_assert(made == 0u || !refusing);
+            refused += refusing;
+            cruised += made;
+            outside_seen += outside;
+            ended_by_max += made == max;
+            wsg_sim_world_advance(&fast, fast.last_us + 1000u); /* and one as a step would */
+            world_reference(&ref, ref.last_us + 1000u);
+            same_world(&fast, &ref, k);
+        }
+    }
+    ck_assert_uint_gt(cruised, 10000u);
+    ck_assert_uint_ge(outside_seen, 8u); /* a move with a bound crosses it cruising */
+    ck_assert_uint_gt(ended_by_max, 300u);
+    ck_assert_uint_gt(refused, 3000u);
+}
+END_TEST
+
 Suite *sim_suite(void)
 {
     Suite *s = suite_create("sim");
@@ -714,6 +795,7 @@ Suite *sim_suite(void)
     TCase *world = tcase_create("world");
     tcase_set_timeout(world, 120);
     tcase_add_test(world, world_matches_the_full_model_while_gripping_and_heating);
+    tcase_add_test(world, world_cruise_matches_advancing_tick_by_tick);
     suite_add_tcase(s, world);
     return s;
 }
