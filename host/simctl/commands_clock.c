@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* PAUSE, RESUME, STEP, RUN_UNTIL_DONE, SCALE, SIMTIME: the one simulated clock. */
-#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "clock.h"
 #include "commands.h"
@@ -67,14 +68,53 @@ static bool operation_ended(void *ctx)
     return run->ended;
 }
 
-static char *run_reply(const char *why)
+/* The parts, one after the other, on the heap (a reply the caller frees). */
+static char *joined(const char *const *parts, size_t count)
 {
-    char *text = NULL;
-    if (asprintf(&text, "RUN_UNTIL_DONE=[%.3f,\"%s\"]", (double)hal_clock_now_us() / 1000.0, why) <
-        0) {
-        return NULL;
+    size_t total = 1u;
+    for (size_t i = 0; i < count; i++) {
+        total += strlen(parts[i]);
+    }
+    char *text = malloc(total);
+    if (text != NULL) {
+        char *p = text;
+        for (size_t i = 0; i < count; i++) {
+            size_t len = strlen(parts[i]);
+            memcpy(p, parts[i], len);
+            p += len;
+        }
+        *p = '\0';
     }
     return text;
+}
+
+/* The simulated time now in ms with three decimals, written backwards into
+ * out[0..size); returns where it starts. The clock counts whole µs, so no
+ * float formatting: a driver's test suite gets one of these per command,
+ * and printf's float path was most of what a reply cost. */
+static const char *ms_now(char *out, size_t size)
+{
+    uint64_t us = hal_clock_now_us();
+    char *p = out + size;
+    *--p = '\0';
+    for (int i = 0; i < 3; i++, us /= 10u) {
+        *--p = (char)('0' + us % 10u);
+    }
+    *--p = '.';
+    do {
+        *--p = (char)('0' + us % 10u);
+        us /= 10u;
+    } while (us > 0u);
+    return p;
+}
+
+#define MS_TEXT_MAX 26u /* 20 digits, the point, 3 decimals, the NUL */
+
+static char *run_reply(const char *why)
+{
+    char ms[MS_TEXT_MAX];
+    const char *parts[] = {"RUN_UNTIL_DONE=[", ms_now(ms, sizeof(ms)), ",\"", why, "\"]"};
+    return joined(parts, sizeof(parts) / sizeof(parts[0]));
 }
 
 wsg_status_t sc_run_until_done(simctl_ctx_t *ctx)
@@ -113,11 +153,9 @@ char *simctl_step_reply(simctl_t *ctl)
         run->active = false;
         return run_reply(run->ended ? "done" : "limit");
     }
-    char *text = NULL;
-    if (asprintf(&text, "STEP=%.3f", (double)hal_clock_now_us() / 1000.0) < 0) {
-        return NULL;
-    }
-    return text;
+    char ms[MS_TEXT_MAX];
+    const char *parts[] = {"STEP=", ms_now(ms, sizeof(ms))};
+    return joined(parts, sizeof(parts) / sizeof(parts[0]));
 }
 
 wsg_status_t sc_scale(simctl_ctx_t *ctx)

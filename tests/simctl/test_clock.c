@@ -28,8 +28,9 @@ START_TEST(step_advances_simulated_time_exactly)
     CTL_EQ("STEP(250)", expected_time("STEP", t0 + 250000u));
     ck_assert_uint_eq(t_now_us() - t0, 250000u);
     CTL_EQ("STEP(0.5)", expected_time("STEP", t0 + 250500u));
+    CTL_EQ("STEP(0.005)", expected_time("STEP", t0 + 250505u)); /* the decimals' zeros */
     char simtime[64];
-    snprintf(simtime, sizeof(simtime), "SIMTIME=[%.3f,0.000]", (double)(t0 + 250500u) / 1000.0);
+    snprintf(simtime, sizeof(simtime), "SIMTIME=[%.3f,0.000]", (double)(t0 + 250505u) / 1000.0);
     CTL_EQ("SIMTIME?", simtime);
 }
 END_TEST
@@ -298,6 +299,9 @@ START_TEST(run_until_done_is_idle_when_nothing_runs)
 {
     uint64_t t0 = t_now_us();
     ck_assert_uint_eq(run_until_done("RUN_UNTIL_DONE(1000)", "idle"), t0);
+    char idle[64];
+    snprintf(idle, sizeof(idle), "RUN_UNTIL_DONE=[%.3f,\"idle\"]", (double)t0 / 1000.0);
+    CTL_EQ("RUN_UNTIL_DONE(1000)", idle); /* the reply's exact text */
     GCL_EQ("POS?", "POS=55.0");
     ck_assert_uint_eq(run_until_done("RUN_UNTIL_DONE(1000)", "idle"), t0);
 }
