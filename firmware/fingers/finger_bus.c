@@ -102,6 +102,7 @@ static void repeat_tare(finger_bus_t *bus, unsigned slot, uint64_t now_us)
 static void forget_node(fbus_slot_t *s, wsg_finger_t *finger)
 {
     s->config = false;
+    s->unpublished = true;
     s->desc_request_us = 0;
     s->tare_pending = false;
     wsg_fbus_bulk_rx_reset(&s->bulk);
@@ -128,7 +129,10 @@ static void on_heartbeat(fbus_slot_t *s, wsg_finger_t *finger, const fbus_heartb
         forget_node(s, finger);
     }
     s->node_state = hb->state;
-    s->node_faults = hb->faults;
+    if (hb->faults != s->node_faults) {
+        s->node_faults = hb->faults;
+        s->unpublished = true;
+    }
     if (hb->state != FBUS_NODE_OPERATIONAL) {
         finger->data_count = 0;
     }
@@ -147,6 +151,7 @@ static void on_descriptor(fbus_slot_t *s, wsg_finger_t *finger, const fbus_descr
     }
     s->desc = *d;
     s->config = true;
+    s->unpublished = true;
 }
 
 static void on_measure(fbus_slot_t *s, wsg_finger_t *finger, const fbus_measure_t *m)
@@ -263,6 +268,9 @@ static unsigned take_frames(finger_bus_t *bus, wsg_fingers_t *fingers, const hal
     if (s->comm_fault) {
         slot_log(HAL_LOG_INFO, (unsigned)slot, "communication restored");
     }
+    if (!s->heard || s->comm_fault) {
+        s->unpublished = true;
+    }
     s->heard = true;
     s->comm_fault = false;
     s->last_rx_us = now_us;
@@ -293,6 +301,7 @@ static void supervise(finger_bus_t *bus, unsigned slot, wsg_finger_t *finger, ui
     }
     if (now_us - s->last_rx_us > FBUS_COMM_TIMEOUT_US) {
         s->comm_fault = true;
+        s->unpublished = true;
         s->tare_pending = false;
         finger->data_count = 0;
         wsg_fbus_bulk_rx_reset(&s->bulk);
@@ -314,10 +323,17 @@ static void supervise(finger_bus_t *bus, unsigned slot, wsg_finger_t *finger, ui
     }
 }
 
-/* The slot as FTYPE and FFLAGS show it (Appendix C). */
+/* The slot as FTYPE and FFLAGS show it (Appendix C), when what they
+ * follow changed (unpublished): the slot's power (set once, at init) and its heard,
+ * comm_fault, config, desc.type and node_faults, which set unpublished
+ * where they change; nothing else writes the finger's flags and type. */
 static void publish(finger_bus_t *bus, unsigned slot, wsg_finger_t *finger)
 {
-    const fbus_slot_t *s = &bus->slot[slot];
+    fbus_slot_t *s = &bus->slot[slot];
+    if (!s->unpublished) {
+        return;
+    }
+    s->unpublished = false;
     uint16_t flags = 0;
     if ((bus->power_mask & (1u << slot)) != 0u && s->heard) {
         flags |= (uint16_t)WSG_FLAG(FF_POWER_ON);

@@ -292,6 +292,19 @@ static bool feed_frame(fbus_bulk_rx_t *rx, const hal_can_frame_t *f)
     return segment_done(rx, (unsigned)first, (f->data[0] & 0x80u) != 0u);
 }
 
+/* A frame's identifier, DLC, flags and first two data bytes (a BULK
+ * frame's segment and transfer) as one number, for one comparison: where
+ * they lie in memory in that order, compilers load it in one go. */
+static uint64_t frame_head(const hal_can_frame_t *f)
+{
+    return (uint64_t)f->id | (uint64_t)f->dlc << 32 | (uint64_t)f->flags << 40 |
+           (uint64_t)f->data[0] << 48 | (uint64_t)f->data[1] << 56;
+}
+
+/* One segment more in frame_head()'s number (the segment never carries
+ * into the transfer: it stays below FBUS_BULK_MAX_VALUES / 3) */
+#define HEAD_SEGMENT_ONE ((uint64_t)1u << 48)
+
 /* The frames from f[0] on that go on the active transfer as its next
  * segments, but not as its last (all of a DSA's 28 but the first and the
  * last), with the identifier id: what feed_frame() would do with them, in
@@ -304,14 +317,17 @@ static unsigned feed_middle(fbus_bulk_rx_t *rx, uint32_t id, const hal_can_frame
     unsigned next = rx->next_segment;
     unsigned room = FBUS_BULK_MAX_VALUES / FBUS_BULK_VALUES_PER_FRAME - next;
     unsigned limit = n < room ? n : room;
-    uint8_t transfer = rx->transfer;
+    /* The next segment's head (frame_head()): its identifier, DLC 8, no
+     * flags, its number and the transfer. A frame that differs in any of
+     * them (another DLC or flag included) goes frame by frame, which
+     * decides as before. */
+    uint64_t expected =
+        frame_head(&(hal_can_frame_t){.id = id, .dlc = 8u, .data = {(uint8_t)next, rx->transfer}});
     uint16_t *values = &rx->values[next * FBUS_BULK_VALUES_PER_FRAME];
     unsigned k = 0;
-    for (; k < limit; k++, values += FBUS_BULK_VALUES_PER_FRAME) {
+    for (; k < limit; k++, values += FBUS_BULK_VALUES_PER_FRAME, expected += HEAD_SEGMENT_ONE) {
         const hal_can_frame_t *frame = &f[k];
-        bool bulk = frame->id == id && frame->dlc >= 8u &&
-                    (frame->flags & (HAL_CAN_FLAG_EXT | HAL_CAN_FLAG_RTR)) == 0u;
-        if (!bulk || frame->data[0] != next + k || frame->data[1] != transfer) {
+        if (frame_head(frame) != expected) {
             break; /* anything else: frame by frame */
         }
         values[0] = get_u16(&frame->data[2]);

@@ -23,6 +23,11 @@
 typedef struct {
     bool heard; /* a frame arrived since the slot was powered */
     bool comm_fault;
+    /* what the finger's FFLAGS and FTYPE follow changed since publish()
+     * last showed it (most full steps change none of it); false at power-on,
+     * when the finger's reset flags and type are what a slot not heard yet
+     * shows */
+    bool unpublished;
     uint64_t last_rx_us;
     uint8_t node_state; /* fbus_node_state_t from the last heartbeat */
     uint8_t node_faults;

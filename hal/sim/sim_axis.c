@@ -415,32 +415,89 @@ static inline bool cruise_step(const sim_axis_t *axis, float x_mm, float *to_mm)
     return far && x > axis->cruise.clear_low_mm && x < axis->cruise.clear_high_mm;
 }
 
-static inline bool cruising(const sim_axis_t *axis, float dt_s)
-{
-    return axis->cruise.current && axis->active && dt_s == axis->cruise.dt_s;
-}
-
 /* The advance as cruise_step() finds it; changes nothing and returns false
  * where it does not cruise. */
 static bool cruise_on(sim_axis_t *axis, float dt_s)
 {
     float x;
-    if (!cruising(axis, dt_s) || !cruise_step(axis, axis->x_mm, &x)) {
+    if (!wsg_sim_axis_cruising(axis, dt_s) || !cruise_step(axis, axis->x_mm, &x)) {
         return false;
     }
     axis->x_mm = x; /* the outputs are clear_outputs()' already */
     return true;
 }
 
+/* How far inside every bound of cruise_step() and of the envelope the jaws
+ * stay while plain_cruise() leaves the tests out: well beyond the few
+ * roundings (each within a float's relative 6e-8) that separate its bounds
+ * from the tests' own arithmetic, at any scale. */
+#define PLAIN_CRUISE_MM 1e-3f
+#define PLAIN_CRUISE_SHARE 1e-5f
+
+static float lowerf(float a, float b)
+{
+    return a < b ? a : b;
+}
+
+static float higherf(float a, float b)
+{
+    return a > b ? a : b;
+}
+
+/* The cruise's advances from *x_mm on while they end well inside (above,
+ * PLAIN_CRUISE_*) the span where cruise_step()'s tests and the position's
+ * test against above_mm and below_mm all pass: there the additions alone
+ * are the same advances (each adds what cruise_step() adds, in its order),
+ * and only the last few before a bound need testing. At most max; returns
+ * how many, *x_mm where they end. */
+static unsigned plain_cruise(const sim_axis_t *axis, float *x_mm, unsigned max, float above_mm,
+                             float below_mm)
+{
+    /* cruise_step()'s "far": (target - x) * dir above the stopping
+     * distance and not below AT_TARGET_MM */
+    float reach = higherf(axis->cruise.stopping_mm, AT_TARGET_MM);
+    float low = higherf(axis->cruise.clear_low_mm, above_mm - axis->offset_mm);
+    float high = lowerf(axis->cruise.clear_high_mm, below_mm - axis->offset_mm);
+    if (axis->cruise.dir > 0.0f) {
+        high = lowerf(high, axis->target_mm - reach);
+    } else {
+        low = higherf(low, axis->target_mm + reach);
+    }
+    /* every magnitude the tests' arithmetic rounds at, or more */
+    float scale =
+        higherf(absf(low), absf(high)) + absf(axis->offset_mm) + absf(axis->target_mm) + reach;
+    float margin = PLAIN_CRUISE_MM + PLAIN_CRUISE_SHARE * scale;
+    low += margin;
+    high -= margin;
+    float first = axis->cruise.step_mm[0];
+    float second = axis->cruise.step_mm[1];
+    bool two = axis->cruise.steps == 2u;
+    float x = *x_mm;
+    unsigned made = 0;
+    while (made < max) {
+        float to = x + first;
+        if (two) {
+            to = to + second;
+        }
+        if (!(to > low && to < high)) {
+            break;
+        }
+        x = to;
+        made++;
+    }
+    *x_mm = x;
+    return made;
+}
+
 unsigned wsg_sim_axis_cruise_many(sim_axis_t *axis, float dt_s, unsigned max, float above_mm,
                                   float below_mm, bool *outside)
 {
     *outside = false;
-    if (!cruising(axis, dt_s)) {
+    if (!wsg_sim_axis_cruising(axis, dt_s)) {
         return 0u;
     }
     float x = axis->x_mm;
-    unsigned made = 0;
+    unsigned made = plain_cruise(axis, &x, max, above_mm, below_mm);
     while (made < max) {
         float to;
         if (!cruise_step(axis, x, &to)) {

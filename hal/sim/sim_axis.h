@@ -130,6 +130,13 @@ void wsg_sim_axis_place_jaws(sim_axis_t *axis, float x_mm);
 /* Fault injection: the drive reports a supply or motor-current fault. */
 void wsg_sim_axis_set_power_fault(sim_axis_t *axis, bool on);
 void wsg_sim_axis_set_current_fault(sim_axis_t *axis, bool on);
+/* Whether an advance of dt_s may be one of the cruise remembered (whether
+ * it is, wsg_sim_axis_cruise_many() tests). Inline: a port asks at every
+ * instant it leaves out, most of them while the jaws speed up. */
+static inline bool wsg_sim_axis_cruising(const sim_axis_t *axis, float dt_s)
+{
+    return axis->cruise.current && axis->active && dt_s == axis->cruise.dt_s;
+}
 /* Inline: read at every step of the clock. */
 static inline float wsg_sim_axis_position(const sim_axis_t *axis)
 {

@@ -26,7 +26,9 @@ unsigned wsg_sim_world_cruise(sim_world_t *world, uint32_t step_us, unsigned max
 {
     *outside = false;
     float dt = wsg_sim_world_dt_s(step_us);
-    if (!wsg_sim_thermal_still_at(&world->thermal, world->axis.force_n, dt) ||
+    /* the axis first: no cruise while the jaws speed up, asked at each instant */
+    if (!wsg_sim_axis_cruising(&world->axis, dt) ||
+        !wsg_sim_thermal_still_at(&world->thermal, world->axis.force_n, dt) ||
         !wsg_sim_world_coasts(world, coast)) {
         return 0u;
     }

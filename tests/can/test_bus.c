@@ -255,6 +255,24 @@ START_TEST(init_fault_at_power_on_has_no_config)
 }
 END_TEST
 
+/* A finger that boots again (unplugged and plugged back, too briefly for a
+ * comm fault) is forgotten until it describes itself again: no
+ * configuration, no type in between. */
+START_TEST(rebooted_finger_has_no_config_until_described)
+{
+    t_start("fmf,dsa");
+    t_run_ms(300);
+    inject(1, FBUS_FAULT_UNPLUG);
+    t_run_ms(50);
+    ck_assert_str_eq(t_ask("FTYPE[1]?"), "FTYPE[1]=\"dsa\"");
+    inject(1, 0);
+    ck_assert_int_ge(t_until("FTYPE[1]?", "FTYPE[1]=\"none\"", 30), 0);
+    ck_assert_str_eq(t_ask("FFLAGS[1]?"), "FFLAGS[1]=[1,0,1,0,0,0,0,0,0,0,0,0,0,0,0,0]");
+    ck_assert_int_ge(t_until("FTYPE[1]?", "FTYPE[1]=\"dsa\"", 100), 0);
+    ck_assert_str_eq(t_ask("FFLAGS[1]?"), "FFLAGS[1]=" FLAGS_OK);
+}
+END_TEST
+
 START_TEST(clock_jumps_keep_loopback_fingers)
 {
     t_start("fmf,dsa");
@@ -542,6 +560,7 @@ Suite *bus_suite(void)
     tcase_add_test(tc, comm_fault_at_its_step_between_broadcasts);
     tcase_add_test(tc, power_and_init_faults);
     tcase_add_test(tc, init_fault_at_power_on_has_no_config);
+    tcase_add_test(tc, rebooted_finger_has_no_config_until_described);
     tcase_add_test(tc, clock_jumps_keep_loopback_fingers);
     tcase_add_test(tc, bus_frame_rates);
     tcase_add_test(tc, idle_bus_sleeps_and_wakes_intact);

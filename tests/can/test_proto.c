@@ -170,7 +170,7 @@ END_TEST
 
 #define STREAM_FRAMES 20000u
 
-/* Good, lost, foreign, reordered segments and malformed frames. */
+/* Good, lost, foreign, reordered segments and malformed or flagged frames. */
 static void bulk_stream(hal_can_frame_t *frames)
 {
     uint32_t rng = 12345u;
@@ -188,6 +188,11 @@ static void bulk_stream(hal_can_frame_t *frames)
         }
         if ((rng >> 16) % 61u == 0u) {
             f.dlc = 7; /* too short: not a BULK frame */
+        }
+        if ((rng >> 10) % 67u == 0u) {
+            /* EXT or RTR (not a BULK frame), or a flag no test looks at */
+            static const uint8_t flags[] = {HAL_CAN_FLAG_EXT, HAL_CAN_FLAG_RTR, 0x80u};
+            f.flags = flags[(rng >> 24) % 3u];
         }
         frames[n] = f;
     }
