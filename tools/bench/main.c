@@ -401,12 +401,35 @@ static void run_pace(const config_t *cfg, results_t *res)
     server_stop(&srv);
 }
 
+/* The processor's model as /proc/cpuinfo names it ("" where it does not):
+ * hosts that look alike can differ in how their figures swing
+ * (docs/benchmark.md). */
+static void cpu_model(char *out, size_t size)
+{
+    char line[256];
+    FILE *f = fopen("/proc/cpuinfo", "r");
+    out[0] = '\0';
+    while (f != NULL && fgets(line, sizeof(line), f) != NULL) {
+        const char *colon = strchr(line, ':');
+        if (strncmp(line, "model name", 10) == 0 && colon != NULL) {
+            const char *name = colon + 1 + strspn(colon + 1, " \t");
+            snprintf(out, size, "%.*s", (int)strcspn(name, "\n"), name);
+            break;
+        }
+    }
+    if (f != NULL) {
+        fclose(f);
+    }
+}
+
 static void describe_machine(results_t *res)
 {
     struct utsname u;
+    char model[128];
     uname(&u);
-    snprintf(res->machine, sizeof(res->machine), "%s %s %s, %ld CPUs", u.sysname, u.release,
-             u.machine, sysconf(_SC_NPROCESSORS_ONLN));
+    cpu_model(model, sizeof(model));
+    snprintf(res->machine, sizeof(res->machine), "%s %s %s, %ld CPUs%s%s", u.sysname, u.release,
+             u.machine, sysconf(_SC_NPROCESSORS_ONLN), model[0] != '\0' ? ", " : "", model);
 }
 
 /* The image sizes `make bench` wrote: "NAME FLASH FLASH_MAX RAM RAM_MAX". */
