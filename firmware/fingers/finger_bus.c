@@ -324,9 +324,10 @@ static void supervise(finger_bus_t *bus, unsigned slot, wsg_finger_t *finger, ui
 }
 
 /* The slot as FTYPE and FFLAGS show it (Appendix C), when what they
- * follow changed (unpublished): the slot's power (set once, at init) and its heard,
- * comm_fault, config, desc.type and node_faults, which set unpublished
- * where they change; nothing else writes the finger's flags and type. */
+ * follow changed (unpublished): the slot's heard, comm_fault, config,
+ * desc.type and node_faults, which set unpublished where they change, and
+ * its power (set once, at init). Nothing else writes the finger's flags
+ * and type. */
 static void publish(finger_bus_t *bus, unsigned slot, wsg_finger_t *finger)
 {
     fbus_slot_t *s = &bus->slot[slot];
