@@ -1,6 +1,5 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* PAUSE, RESUME, STEP, RUN_UNTIL_DONE, SCALE, SIMTIME: the one simulated clock. */
-#include <stdlib.h>
 #include <string.h>
 
 #include "clock.h"
@@ -10,6 +9,7 @@
 #include "hal_clock.h"
 #include "log.h"
 #include "scheduler.h"
+#include "wsg/wsg_textbuf.h"
 
 #define STEP_MAX_MS 3600000.0 /* one hour of simulated time per STEP */
 
@@ -68,26 +68,6 @@ static bool operation_ended(void *ctx)
     return run->ended;
 }
 
-/* The parts, one after the other, on the heap (a reply the caller frees). */
-static char *joined(const char *const *parts, size_t count)
-{
-    size_t total = 1u;
-    for (size_t i = 0; i < count; i++) {
-        total += strlen(parts[i]);
-    }
-    char *text = malloc(total);
-    if (text != NULL) {
-        char *p = text;
-        for (size_t i = 0; i < count; i++) {
-            size_t len = strlen(parts[i]);
-            memcpy(p, parts[i], len);
-            p += len;
-        }
-        *p = '\0';
-    }
-    return text;
-}
-
 /* The simulated time now in ms with three decimals, written backwards into
  * out[0..size); returns where it starts. The clock counts whole µs, so no
  * float formatting: a driver's test suite gets one of these per command,
@@ -108,13 +88,25 @@ static const char *ms_now(char *out, size_t size)
     return p;
 }
 
-#define MS_TEXT_MAX 26u /* 20 digits, the point, 3 decimals, the NUL */
+#define MS_TEXT_MAX 22u /* a µs count's 17 digits of ms, the point, 3 decimals, the NUL */
+#define REPLY_MAX 64u   /* the longest: RUN_UNTIL_DONE=[ms,"limit"] */
 
-static char *run_reply(const char *why)
+/* STEP=ms, or RUN_UNTIL_DONE=[ms,"why"] (why not NULL); on the heap (the
+ * caller frees it) */
+static char *clock_reply(const char *head, const char *why)
 {
     char ms[MS_TEXT_MAX];
-    const char *parts[] = {"RUN_UNTIL_DONE=[", ms_now(ms, sizeof(ms)), ",\"", why, "\"]"};
-    return joined(parts, sizeof(parts) / sizeof(parts[0]));
+    char storage[REPLY_MAX];
+    wsg_textbuf_t tb;
+    wsg_textbuf_init(&tb, storage, sizeof(storage));
+    wsg_textbuf_put_str(&tb, head);
+    wsg_textbuf_put_str(&tb, ms_now(ms, sizeof(ms)));
+    if (why != NULL) {
+        wsg_textbuf_put_str(&tb, ",");
+        wsg_textbuf_put_quoted(&tb, why);
+        wsg_textbuf_put_str(&tb, "]");
+    }
+    return strdup(storage);
 }
 
 wsg_status_t sc_run_until_done(simctl_ctx_t *ctx)
@@ -134,7 +126,8 @@ wsg_status_t sc_run_until_done(simctl_ctx_t *ctx)
     }
     const wsg_snapshot_t *snap = wsg_device_snapshot(&ctx->gripper->device);
     if (snap->motion == WSG_MOTION_NONE) {
-        ctx->reply = run_reply("idle"); /* nothing that could end: time stays */
+        ctx->reply =
+            clock_reply("RUN_UNTIL_DONE=[", "idle"); /* nothing that could end: time stays */
         return E_SUCCESS;
     }
     simctl_run_watch_t *run = simctl_run_watch(ctx->ctl);
@@ -151,11 +144,9 @@ char *simctl_step_reply(simctl_t *ctl)
     simctl_run_watch_t *run = simctl_run_watch(ctl);
     if (run->active) {
         run->active = false;
-        return run_reply(run->ended ? "done" : "limit");
+        return clock_reply("RUN_UNTIL_DONE=[", run->ended ? "done" : "limit");
     }
-    char ms[MS_TEXT_MAX];
-    const char *parts[] = {"STEP=", ms_now(ms, sizeof(ms))};
-    return joined(parts, sizeof(parts) / sizeof(parts[0]));
+    return clock_reply("STEP=", NULL);
 }
 
 wsg_status_t sc_scale(simctl_ctx_t *ctx)
