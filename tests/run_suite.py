@@ -14,9 +14,11 @@ than compute, so the files' waits overlap. Files run side by side must
 share nothing but the machine: each test starts its own servers on ports
 the kernel picks (port 0) and writes only in directories of its own.
 Without --jobs (or with one file) everything runs in this process, as
-`python3 -m unittest` would.
+`python3 -m unittest` would. --folder DIR adds another folder's files
+(matching the same pattern) to the same pool: they then always run in
+processes of their own, as two folders may hold modules of the same name.
 
-usage: run_suite.py [--jobs N] LABEL DIR [PATTERN]
+usage: run_suite.py [--jobs N] [--folder DIR]... LABEL DIR [PATTERN]
        e.g. run_suite.py --jobs 4 e2e tests/e2e 'test_host*.py'
 """
 import argparse
@@ -43,16 +45,17 @@ def run_tests(folder, pattern, stream):
     return result.testsRun, failed, len(result.skipped)
 
 
-def test_files(folder, pattern):
-    """The folder's test files matching pattern, the largest first: a rough
-    guess of the longest first, so that the last to start are short."""
-    names = [name for name in os.listdir(folder)
+def test_files(folders, pattern):
+    """(folder, name) of the folders' test files matching pattern, the
+    largest first: a rough guess of the longest first, so that the last to
+    start are short ones."""
+    files = [(folder, name) for folder in folders for name in os.listdir(folder)
              if fnmatch.fnmatch(name, pattern) and name.endswith(".py")]
-    return sorted(names, key=lambda name: (-os.path.getsize(os.path.join(folder, name)), name))
+    return sorted(files, key=lambda f: (-os.path.getsize(os.path.join(*f)), f))
 
 
 def run_file(folder, name):
-    """One test file in a process of its own: (name, output, counts, seconds)."""
+    """One test file in a process of its own: (folder, name, output, counts, seconds)."""
     started = time.monotonic()
     proc = subprocess.run([sys.executable, os.path.abspath(__file__), "--one-file", "-", folder,
                            name], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
@@ -65,22 +68,23 @@ def run_file(folder, name):
     else:  # the process died before its result: one failure
         counts = (1, 1, 0)
         output += "\n%s: no result, exit status %d\n" % (name, proc.returncode)
-    return name, output, counts, time.monotonic() - started
+    return folder, name, output, counts, time.monotonic() - started
 
 
-def run_files_side_by_side(label, folder, pattern, jobs):
+def run_files_side_by_side(label, folders, pattern, jobs):
     """Every file in its own process, jobs at a time; returns (ran, failed, skipped)."""
     totals = [0, 0, 0]
-    names = test_files(folder, pattern)
+    files = test_files(folders, pattern)
     out = sys.stdout
-    out.write("%s: %d files, %d at a time\n" % (label, len(names), jobs))
+    out.write("%s: %d files, %d at a time\n" % (label, len(files), jobs))
     out.flush()
     with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
-        futures = [pool.submit(run_file, folder, name) for name in names]
+        futures = [pool.submit(run_file, folder, name) for folder, name in files]
         for future in concurrent.futures.as_completed(futures):
-            name, output, counts, seconds = future.result()
+            folder, name, output, counts, seconds = future.result()
+            shown = os.path.relpath(os.path.join(folder, name))
             out.write("%s: %s ran %d tests, %d failed, %d skipped (%.0f s)\n%s"
-                      % (label, name, counts[0], counts[1], counts[2], seconds, output))
+                      % (label, shown, counts[0], counts[1], counts[2], seconds, output))
             out.flush()
             totals = [a + b for a, b in zip(totals, counts)]
     return tuple(totals)
@@ -99,8 +103,11 @@ def report(label, ran, failed, skipped):
 
 
 def main():
-    parser = argparse.ArgumentParser(usage="run_suite.py [--jobs N] LABEL DIR [PATTERN]")
+    parser = argparse.ArgumentParser(usage="run_suite.py [--jobs N] [--folder DIR]... LABEL DIR "
+                                     "[PATTERN]")
     parser.add_argument("--jobs", "-j", type=int, default=1, help="test files at a time")
+    parser.add_argument("--folder", action="append", default=[], dest="more_folders",
+                        metavar="DIR", help="another folder whose files run in the same pool")
     parser.add_argument("--one-file", action="store_true", help=argparse.SUPPRESS)
     parser.add_argument("label")
     parser.add_argument("folder")
@@ -112,8 +119,9 @@ def main():
         sys.stdout.flush()
         print("run_suite: ran %d, failed %d, skipped %d" % counts)
         return 0
-    if args.jobs > 1 and len(test_files(folder, args.pattern)) > 1:
-        counts = run_files_side_by_side(args.label, folder, args.pattern, args.jobs)
+    folders = [folder] + [os.path.abspath(f) for f in args.more_folders]
+    if args.more_folders or (args.jobs > 1 and len(test_files(folders, args.pattern)) > 1):
+        counts = run_files_side_by_side(args.label, folders, args.pattern, max(args.jobs, 1))
     else:
         counts = run_tests(folder, args.pattern, sys.stdout)
     return report(args.label, *counts)
