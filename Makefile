@@ -71,10 +71,15 @@ CHECK_TARGETS :=
 include mk/host.mk
 include $(filter-out mk/host.mk,$(sort $(wildcard mk/*.mk)))
 
-# One make per suite (mk/run_suites.py): a failing suite or build does not
-# stop the others; the last line is "check: N passed, N failed" (suites).
+# One build of what every suite needs, then one make per suite, CHECK_JOBS
+# at a time (default: one more than the processors), each suite's output
+# printed whole when it ends and kept in $(BUILD)/check/ (mk/run_suites.py,
+# docs/testing.md): a failing suite or build does not stop the others; the
+# last line is "check: N passed, N failed" (suites).
+CHECK_JOBS ?=
 check: deps-check
-	@MAKE="$(MAKE)" python3 mk/run_suites.py $(CHECK_TARGETS)
+	@MAKE="$(MAKE)" python3 mk/run_suites.py $(if $(CHECK_JOBS),--jobs $(CHECK_JOBS)) \
+		--log-dir $(BUILD)/check $(if $(filter 1,$(SAN)),--sanitizer-logs) $(CHECK_TARGETS)
 
 run: deps $(BUILD)/wsgsim
 	$(BUILD)/wsgsim $(ARGS)
