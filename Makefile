@@ -53,6 +53,12 @@ FAKE_CONN_OBJ = $(BUILD)/obj/tests/fake/fake_conn.o
 CK_TIMEOUT_MULTIPLIER ?= 10
 CHECK_ENV = CK_TIMEOUT_MULTIPLIER=$(CK_TIMEOUT_MULTIPLIER)
 
+# The Python suites whose tests start servers on ports of their own (e2e,
+# web, valgrind) run that many test files side by side (tests/run_suite.py
+# --jobs): their tests mostly wait, for replies and the device's own
+# timeouts, and the waits overlap.
+SUITE_JOBS ?= 4
+
 # Declared once, in debian/control (see mk/deps.sh).
 HOST_DEBS = $(shell mk/deps.sh --list build)
 CHECK_DEBS = $(shell mk/deps.sh --list check)

@@ -30,9 +30,8 @@ else
 valgrind-tests: $(BUILD)/wsgsim | valgrind-deps
 	@rm -rf $(VALGRIND_LOGS) && mkdir -p $(VALGRIND_LOGS)
 	WSGSIM=$(abspath $(BUILD)/wsgsim) WSGSIM_PREFIX="$(VALGRIND_CMD)" \
-		python3 tests/run_suite.py e2e tests/e2e '$(VALGRIND_TESTS)'
-	WSGSIM=$(abspath $(BUILD)/wsgsim) WSGSIM_PREFIX="$(VALGRIND_CMD)" \
-		python3 tests/run_suite.py web tests/web '$(VALGRIND_TESTS)'
+		python3 tests/run_suite.py --jobs $(SUITE_JOBS) --folder tests/web valgrind tests/e2e \
+		'$(VALGRIND_TESTS)'
 	@n=0; bad=0; \
 	for f in $(VALGRIND_LOGS)/vg.*.log; do \
 		[ -e "$$f" ] || continue; n=$$((n + 1)); \
