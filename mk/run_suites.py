@@ -63,6 +63,9 @@ LONGEST_FIRST = ("valgrind-tests", "e2e-tests", "docs-tests", "pkg-tests", "can-
                  "firmware-check", "browser-tests", "web-tests", "unit-tests")
 # Sanitizer options naming a log file (the process id is appended).
 SANITIZER_ENV = ("ASAN_OPTIONS", "UBSAN_OPTIONS")
+# sanitizer reports of a suite printed whole (a leak in the server is
+# reported by every process a suite starts)
+REPORTS_SHOWN = 3
 
 
 class Suite:
@@ -214,12 +217,16 @@ def print_suite(suite, index, total):
         for line in f:
             out.write(line)
             suite.scan(line)
-    for path in suite.sanitizer_reports:
+    for path in suite.sanitizer_reports[:REPORTS_SHOWN]:
         out.write(b"check: %s: a sanitizer report, %s:\n" % (suite.name.encode(), path.encode()))
         with open(path, "rb") as f:
             for line in f:
                 out.write(line)
                 suite.scan(line)
+    if len(suite.sanitizer_reports) > REPORTS_SHOWN:
+        out.write(b"check: %s: %d more sanitizer reports in %s\n"
+                  % (suite.name.encode(), len(suite.sanitizer_reports) - REPORTS_SHOWN,
+                     suite.sanitizer_dir.encode()))
     out.flush()
 
 
