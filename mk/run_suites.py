@@ -6,13 +6,14 @@ runners parse. Exits 1 if any suite failed.
 
 usage: MAKE=make mk/run_suites.py [--jobs N] [--log-dir DIR] [--sanitizer-logs] SUITE...
 
-1. One build: everything the suites need is built first, by one make
-   (-jN, -k), so that no suite builds while another runs and none races
-   another on the same objects. What a suite needs is read from make's own
-   database: the prerequisites of its target (so a suite's target must name
-   everything it needs as prerequisites, not build it in its recipe). When
-   this build fails, the suites run one at a time and each reports what it
-   lacks.
+1. One build: everything the suites need is built before they run, by
+   one make at a time (-jN, -k), so that no suite builds while another
+   runs and none races another on the same objects. What a suite needs is
+   read from make's own database: the prerequisites of its target (so a
+   suite's target must name everything it needs as prerequisites, not
+   build it in its recipe). What the longest suite needs is built first,
+   and that suite starts while the rest is built. When the build fails, the
+   suites run one at a time and each reports what it lacks.
 2. The suites, N at a time (--jobs), each as its own make invocation, so
    that a failing suite does not stop the others; the longest first (the
    times of the last run, kept in DIR/times, else a guess). A suite's
@@ -61,6 +62,10 @@ FAILURES_SHOWN = 16
 # longest, and start first (the others follow in the order given).
 LONGEST_FIRST = ("valgrind-tests", "e2e-tests", "docs-tests", "pkg-tests", "can-vcan-qemu-tests",
                  "firmware-check", "browser-tests", "web-tests", "unit-tests")
+# The build's longest single job, started first so that the rest of the
+# build runs beside it: the Debian packages (mk/deb.mk), one dpkg-buildpackage
+# that builds the whole tree again, one file after the other.
+BUILD_FIRST = ("deb",)
 # Sanitizer options naming a log file (the process id is appended).
 SANITIZER_ENV = ("ASAN_OPTIONS", "UBSAN_OPTIONS")
 # sanitizer reports of a suite printed whole (a leak in the server is
@@ -144,17 +149,15 @@ def prerequisites(make, names):
         for prerequisite in rest.replace("|", " ").split():
             if prerequisite not in found and prerequisite not in wanted:
                 found.append(prerequisite)
-    return found
+    return sorted(found, key=lambda target: target not in BUILD_FIRST)
 
 
-def build(make, names, jobs, log_dir):
-    """Builds what the suites need; True when it all built."""
-    targets = prerequisites(make, names)
+def build(make, targets, what, jobs, log):
+    """Builds targets (what the suites named by `what` need); True when it all built."""
     if not targets:
         return True
     out = sys.stdout.buffer
-    log = os.path.join(log_dir, "build.log")
-    out.write(b"check: building what the %d suites need (%d targets)\n" % (len(names), len(targets)))
+    out.write(b"check: building what %s (%d targets)\n" % (what.encode(), len(targets)))
     out.flush()
     started = time.monotonic()
     with open(log, "wb") as f:
@@ -166,8 +169,7 @@ def build(make, names, jobs, log_dir):
     else:
         with open(log, "rb") as f:
             out.write(f.read())
-        out.write(b"check: the build failed (make exit status %d, %.0f s); the suites run one "
-                  b"at a time, each building what it needs\n" % (status, seconds))
+        out.write(b"check: the build failed (make exit status %d, %.0f s)\n" % (status, seconds))
     out.flush()
     return status == 0
 
@@ -248,26 +250,52 @@ def longest_first(suites, times):
     return sorted(suites, key=expected, reverse=True)
 
 
+class Pool:
+    """The suites that run, each in a thread of its own."""
+
+    def __init__(self, make, total, sanitizer_logs):
+        self.make = make
+        self.total = total
+        self.sanitizer_logs = sanitizer_logs
+        self.running = []
+        self.done = queue.Queue()
+        self.finished = 0
+
+    def start(self, suite):
+        self.running.append(suite)
+        print("check: %s started (running: %s)" % (suite.name,
+                                                   ", ".join(s.name for s in self.running)))
+        sys.stdout.flush()
+        threading.Thread(target=run, args=(suite, self.make, self.sanitizer_logs, self.done),
+                         daemon=True).start()
+
+    def wait_for_one(self):
+        """Waits until a suite ends, and prints it."""
+        suite = self.done.get()
+        self.running.remove(suite)
+        self.finished += 1
+        print_suite(suite, self.finished, self.total)
+
+
 def run_all(suites, make, jobs, log_dir, sanitizer_logs):
-    """Runs the suites, jobs at a time, printing each as it ends."""
+    """Builds, then runs the suites, jobs at a time, printing each as it
+    ends. The longest suite starts as soon as what it needs is built, beside
+    the build of the rest."""
     times = last_times(log_dir)
     waiting = longest_first(suites, times)
-    running = []
-    done = queue.Queue()
-    finished = 0
-    while waiting or running:
-        while waiting and len(running) < jobs:
-            suite = waiting.pop(0)
-            running.append(suite)
-            print("check: %s started (running: %s)" % (suite.name,
-                                                       ", ".join(s.name for s in running)))
-            sys.stdout.flush()
-            threading.Thread(target=run, args=(suite, make, sanitizer_logs, done),
-                             daemon=True).start()
-        suite = done.get()
-        running.remove(suite)
-        finished += 1
-        print_suite(suite, finished, len(suites))
+    pool = Pool(make, len(suites), sanitizer_logs)
+    first = prerequisites(make, [waiting[0].name])
+    if build(make, first, waiting[0].name + " needs", jobs, os.path.join(log_dir, "build-first.log")):
+        pool.start(waiting.pop(0))
+    rest = [t for t in prerequisites(make, [s.name for s in suites]) if t not in first]
+    if not build(make, rest, "the other suites need", jobs, os.path.join(log_dir, "build.log")):
+        print("check: the suites run one at a time, each building what it lacks")
+        jobs = 1
+    while waiting or pool.running:
+        while waiting and len(pool.running) < jobs:
+            pool.start(waiting.pop(0))
+        pool.wait_for_one()
+    for suite in suites:
         times[suite.name] = round(suite.seconds, 1)
     with open(os.path.join(log_dir, "times"), "w") as f:
         json.dump(times, f, indent=0, sort_keys=True)
@@ -300,10 +328,7 @@ def main():
     os.makedirs(args.log_dir, exist_ok=True)
     suites = [Suite(name, args.log_dir) for name in args.suites]
     started = time.monotonic()
-    jobs = max(args.jobs, 1)
-    if not build(make, args.suites, jobs, args.log_dir):
-        jobs = 1
-    run_all(suites, make, jobs, args.log_dir, args.sanitizer_logs)
+    run_all(suites, make, max(args.jobs, 1), args.log_dir, args.sanitizer_logs)
     print_failures(suites)
     print("check: summary (suite, wall time, processor time, its tests), %.0f s in all"
           % (time.monotonic() - started))
