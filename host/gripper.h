@@ -44,9 +44,10 @@ typedef struct gripper {
     /* the flag register the fleet's observers saw last (host/fleet.c);
      * GRIPPER_FLAGS_UNSHOWN: none since its start or an observer forgot */
     uint64_t shown_flags;
-    uint32_t ticked_flags;  /* the flag register its last tick left: 0 before */
-    unsigned index;         /* its number in the fleet: 0 for the first */
-    struct script *script;  /* its script interpreter; NULL without scripting */
+    uint32_t ticked_flags;             /* the flag register its last tick left: 0 before */
+    unsigned index;                    /* its number in the fleet: 0 for the first */
+    struct script *script;             /* its script interpreter; NULL without scripting */
+    struct script_guard *script_guard; /* the limits every script shares (the fleet's) */
     char *startup_set;      /* the startup script the web page chose (heap), NULL: none chosen */
     uint64_t powered_on_us; /* simulated time of its last power-on (start or reset) */
     /* the small fields last, together: a cell holds 10 000 grippers */
@@ -60,11 +61,12 @@ typedef struct gripper {
  * both as configured). Its finger bus: SocketCAN for device 0 with --can,
  * else a loopback bus with its fingers ([device.N] fingers, or --fingers).
  * opts must outlive the gripper (it keeps a pointer, and copies them only
- * once its own differ). gripper_touch() puts it on `touched`. False (logged) when its finger bus
- * cannot be had; gripper_release() it all the same. Observers attach next,
- * then gripper_start() runs the startup script. */
+ * once its own differ). gripper_touch() puts it on `touched`. Its script
+ * runs under `guard` (the fleet's, which outlives it). False (logged) when
+ * its finger bus cannot be had; gripper_release() it all the same.
+ * Observers attach next, then gripper_start() runs the startup script. */
 bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, unsigned index,
-                  gripper_touched_t *touched);
+                  gripper_touched_t *touched, struct script_guard *guard);
 /* Runs the startup script (--script), as at power-on. */
 void gripper_start(gripper_t *g);
 /* Runs the control step if it is due; returns the next deadline. The fleet
@@ -114,7 +116,8 @@ void gripper_reset(gripper_t *g);
  * (finger_bus_host_inject); a loopback bus is brought up to now first and
  * the device steps to see it take effect. False: bad slot, no bus. */
 bool gripper_inject_finger_fault(gripper_t *g, unsigned slot, finger_fault_t fault, bool active);
-/* A script whose time slice ended runs on for one slice; true while it
+/* A script whose time slice ended runs on for one slice when it has its
+ * turn (the scripts share one slice budget per loop pass); true while it
  * still wants to run (the loop must not block). */
 bool gripper_continue_script(gripper_t *g);
 /* Runs a script file on the device (docs/scripting.md); false with *why. */
