@@ -42,8 +42,7 @@ struct fleet {
     /* The servers' timeouts as last asked: they move only when a device
      * is touched (input, a connection opened or closed) or come due. */
     uint64_t servers_due_us;
-    bool scripting;               /* a device may run a script: fleet_run_scripts() looks */
-    script_guard_t *script_guard; /* the limits its scripts share */
+    bool scripting; /* a device may run a script: fleet_run_scripts() looks */
     const host_options_t *opts;
     port_plan_t plan; /* where each device listens */
     /* --address-per-device: one socket per protocol for every device,
@@ -56,6 +55,8 @@ struct fleet {
     udp_servers_t udp_set;             /* every server's peers */
     gripper_touched_t touched;
     fleet_observer_t *observers;
+    /* the limits its scripts share */
+    script_guard_t *script_guard;
 };
 
 /* A fleet needs up to three listening sockets per device (GCL TCP and UDP,

@@ -41,13 +41,14 @@ typedef struct gripper {
     finger_bus_host_t fingers; /* its finger bus */
     struct gripper *next_touched;
     gripper_touched_t *touched_list;
+    /* the limits every script of the process shares (the fleet's) */
+    struct script_guard *script_guard;
     /* the flag register the fleet's observers saw last (host/fleet.c);
      * GRIPPER_FLAGS_UNSHOWN: none since its start or an observer forgot */
     uint64_t shown_flags;
-    uint32_t ticked_flags;             /* the flag register its last tick left: 0 before */
-    unsigned index;                    /* its number in the fleet: 0 for the first */
-    struct script *script;             /* its script interpreter; NULL without scripting */
-    struct script_guard *script_guard; /* the limits every script shares (the fleet's) */
+    uint32_t ticked_flags;  /* the flag register its last tick left: 0 before */
+    unsigned index;         /* its number in the fleet: 0 for the first */
+    struct script *script;  /* its script interpreter; NULL without scripting */
     char *startup_set;      /* the startup script the web page chose (heap), NULL: none chosen */
     uint64_t powered_on_us; /* simulated time of its last power-on (start or reset) */
     /* the small fields last, together: a cell holds 10 000 grippers */
@@ -61,10 +62,10 @@ typedef struct gripper {
  * both as configured). Its finger bus: SocketCAN for device 0 with --can,
  * else a loopback bus with its fingers ([device.N] fingers, or --fingers).
  * opts must outlive the gripper (it keeps a pointer, and copies them only
- * once its own differ). gripper_touch() puts it on `touched`. Its script
- * runs under `guard` (the fleet's, which outlives it). False (logged) when
- * its finger bus cannot be had; gripper_release() it all the same.
- * Observers attach next, then gripper_start() runs the startup script. */
+ * once its own differ). gripper_touch() puts it on `touched`. False (logged) when its finger bus
+ * cannot be had; gripper_release() it all the same. Observers attach next,
+ * then gripper_start() runs the startup script. Its scripts run under
+ * `guard` (the fleet's: it outlives the gripper). */
 bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, unsigned index,
                   gripper_touched_t *touched, struct script_guard *guard);
 /* Runs the startup script (--script), as at power-on. */
