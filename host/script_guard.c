@@ -16,12 +16,12 @@
 /* The watchdog's limit is measured, not fixed, so that it means the same
  * amount of work on a fast desktop, a slow board and under valgrind: the
  * CPU time the Lua VM takes for WATCHDOG_UNITS runs of a loop of
- * CALIBRATION_LOOPS additions (about 29 ms on the 2-core development
+ * CALIBRATION_LOOPS additions (about 20 ms on the 2-core development
  * machine, some 10^7 VM instructions), within the bounds below. */
 #define CALIBRATION_LOOPS 200000
 #define CALIBRATION_RUNS 3
-#define WATCHDOG_UNITS 50u
-#define WATCHDOG_MIN_NS 20000000u      /* 20 ms */
+#define WATCHDOG_UNITS 36u
+#define WATCHDOG_MIN_NS 15000000u      /* 15 ms */
 #define WATCHDOG_MAX_NS 10000000000ull /* 10 s */
 /* After the first expiry the timer repeats this often, so that an exit
  * that had to wait for host code is taken soon after. */
