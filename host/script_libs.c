@@ -17,6 +17,7 @@
 
 #define SCRIPT_FILE_MAX (256u * 1024u)
 #define SCRIPT_NAME_MAX 64u
+#define CONSOLE_PIECE 4096u /* bytes written between two chances for the watchdog */
 
 /* A store name: a plain file name of printable ASCII, no '/', not "." or
  * "..", at most SCRIPT_NAME_MAX bytes. */
@@ -175,12 +176,18 @@ static int store_searcher(lua_State *L)
     return 1;
 }
 
-/* Console output is host code: it logs (script_host_enter). */
+/* Console output is host code: it logs (script_host_enter); in pieces, so
+ * that the watchdog can end a script that prints megabytes of lines. */
 static void console_write(lua_State *L, const char *text, size_t len)
 {
-    script_host_enter(L);
-    script_console_write(script_of_state(L), text, len);
-    script_host_leave(L);
+    script_t *s = script_of_state(L);
+    for (size_t done = 0; done < len; done += CONSOLE_PIECE) {
+        script_host_enter(L);
+        script_console_write(s, text + done,
+                             len - done < CONSOLE_PIECE ? len - done : CONSOLE_PIECE);
+        script_host_leave(L);
+        script_guard_safe_point(s->guard);
+    }
 }
 
 static int l_print(lua_State *L)
