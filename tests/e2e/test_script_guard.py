@@ -171,8 +171,14 @@ class Freezes(Case):
         self.assertEqual(state["process"]["memory_bytes"], 0)
 
     def test_sigterm_ends_the_process_during_a_freeze(self):
-        self.start(files=FREEZES)
-        self.ctl.send('SCRIPT_RUN("finalizer.lua")')
+        code = "setmetatable({}, {__gc = function() while true do end end})\n" \
+               "print('freezing')\ncollectgarbage()\n"
+        self.start(files={"freeze": code})
+        self.ctl.send('SCRIPT_RUN("freeze.lua")')
+        for _ in range(6000):  # the line is logged as the freeze begins
+            if "script: freezing" in self.sim.drain_log(0.01):
+                break
+        self.assertIn("script: freezing", "".join(self.sim.log))
         self.assertEqual(self.sim.stop(), 0)
 
 
