@@ -78,8 +78,9 @@ script_t *script_of_state(lua_State *L);
 /* Argument arg as a float; beyond the float range an infinity. */
 float script_check_float(lua_State *L, int arg);
 /* Blocking calls (`name` for the error) yield with the wait set; k (may be
- * NULL) runs when the wait is over. Only the main script blocks: inside a
- * coroutine of its own they raise an error. */
+ * NULL) runs when the wait is over. Only the main script waits: inside a
+ * coroutine of its own they raise an error, except a mere yield
+ * (SCRIPT_WAIT_NONE, sleep(0)), which suspends the whole script once. */
 int script_block(lua_State *L, const char *name, script_wait_t wait, uint64_t wake_us,
                  lua_KContext ctx, lua_KFunction k);
 /* Host code inside a binding (a device call, the log, malloc): the

@@ -20,11 +20,12 @@ int script_block(lua_State *L, const char *name, script_wait_t wait, uint64_t wa
                  lua_KContext ctx, lua_KFunction k)
 {
     script_t *s = script_of_state(L);
-    if (L != s->co) {
+    if (L != s->co && wait != SCRIPT_WAIT_NONE) {
         /* its own coroutine would yield to the script, not to the device,
          * and leave the main script waiting (docs/scripting.md) */
         return luaL_error(L, "%s: only the main script can wait, not a coroutine of its own", name);
     }
+    s->relay = L != s->co; /* sleep(0) there: the whole script yields once */
     s->wait = wait;
     s->wake_us = wake_us;
     return lua_yieldk(L, 0, ctx, k);

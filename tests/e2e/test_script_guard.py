@@ -279,6 +279,8 @@ local read_ok, read_err = coroutine.resume(coroutine.create(function() local id 
 local sleep_ok, sleep_err = coroutine.resume(coroutine.create(function() sleep(10) end))
 print(read_ok, read_err)
 print(sleep_ok, sleep_err)
+local yielded = coroutine.wrap(function() sleep(0) return "after" end)()
+assert(yielded == "after", tostring(yielded))
 local n = 0
 for i = 1, 3e6 do n = n + i end  -- slices end here: the main script is not parked
 """
