@@ -41,7 +41,8 @@ typedef void (*stretch_fn)(script_t *s, void *ctx);
 static bool run_stretch(script_t *s, stretch_fn fn, void *ctx)
 {
     script_guard_t *g = s->guard;
-    if (sigsetjmp(*script_guard_exit(g), 1) != 0) {
+    if (sigsetjmp(*script_guard_exit(g), 0) != 0) {
+        script_guard_exited(g);
         return false;
     }
     script_guard_begin(g);

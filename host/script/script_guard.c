@@ -219,6 +219,17 @@ sigjmp_buf *script_guard_exit(script_guard_t *g)
     return &g->exit;
 }
 
+/* An exit from the signal handler left its signal blocked (the mask was
+ * not saved): the next stretch must get it again. */
+void script_guard_exited(script_guard_t *g)
+{
+    (void)g;
+    sigset_t watchdog;
+    sigemptyset(&watchdog);
+    sigaddset(&watchdog, SIGRTMIN);
+    sigprocmask(SIG_UNBLOCK, &watchdog, NULL);
+}
+
 void script_guard_begin(script_guard_t *g)
 {
     g->pending = 0;

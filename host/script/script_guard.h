@@ -42,10 +42,13 @@ bool script_guard_ready(script_guard_t *g, char *why, size_t cap);
 uint32_t script_guard_watchdog_ms(const script_guard_t *g);
 
 /* A stretch of script work: the caller does sigsetjmp(*script_guard_exit(g),
- * 1) in the frame that stays, then script_guard_begin(); a return of 1 from
- * sigsetjmp is the exit (the guard is idle again). script_guard_end() ends a
- * stretch that returned normally. Stretches do not nest. */
+ * 0) in the frame that stays (no signal mask saved: a system call less per
+ * stretch), then script_guard_begin(); a return of 1 from sigsetjmp is the
+ * exit, after which it calls script_guard_exited() (the guard is idle
+ * again). script_guard_end() ends a stretch that returned normally.
+ * Stretches do not nest. */
 sigjmp_buf *script_guard_exit(script_guard_t *g);
+void script_guard_exited(script_guard_t *g);
 void script_guard_begin(script_guard_t *g);
 void script_guard_end(script_guard_t *g);
 script_exit_t script_guard_exit_reason(const script_guard_t *g);
