@@ -257,6 +257,7 @@ static int finger_count(lua_State *L);
 static int finger_type(lua_State *L);
 static int finger_data(lua_State *L);
 static const lua_CFunction finger_queries[] = {finger_count, finger_type, finger_data};
+static const char *const finger_query_names[] = {"finger.count", "finger.type", "finger.data"};
 
 static int finger_query_again(lua_State *L, int status, lua_KContext which)
 {
@@ -271,8 +272,8 @@ static int finger_query(lua_State *L, lua_KContext which)
     script_t *s = script_of_state(L);
     uint64_t now = hal_clock_now_us();
     if (now < s->fingers_ready_us) {
-        return script_block(L, "finger", SCRIPT_WAIT_SLEEP, s->fingers_ready_us, which,
-                            finger_query_again);
+        return script_block(L, finger_query_names[which], SCRIPT_WAIT_SLEEP, s->fingers_ready_us,
+                            which, finger_query_again);
     }
     return finger_queries[which](L);
 }
