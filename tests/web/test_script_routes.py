@@ -232,8 +232,9 @@ class StoreBoundaries(unittest.TestCase):
         self.assertEqual(names, ["echo.lua"])  # a store file is NAME.lua, and not wsgsim's own
 
     def test_nul_characters_are_refused_not_cut(self):
-        reply = request(self.api + "/files/x%00.lua", "PUT", {"text": "print(1)\n"})
-        self.assertEqual((reply.status, reply.json()["error"]), (400, "E_INVALID_PARAMETER"))
+        for name in ("x%00.lua", "x.lua%00.txt"):  # cut at the NUL: "x", "x.lua"
+            reply = request(self.api + "/files/" + name, "PUT", {"text": "print(1)\n"})
+            self.assertEqual((reply.status, reply.json()["error"]), (400, "E_INVALID_PARAMETER"))
         reply = request(self.api + "/files/t.lua", "PUT", {"text": "abc\u0000def"})
         self.assertEqual((reply.status, reply.json()["error"]), (400, "E_CMD_FORMAT_ERROR"))
         reply = request(self.api + "/files/t.lua", "PUT", raw=b'{"text":"abc\x00def"}')
