@@ -6,9 +6,9 @@
  * here under a .lua name), without sockets (fuzz_mhd.h).
  *
  * The store is made afresh for every input: a script, a FIFO, the save
- * file and a file that is no script; beside the store, a Lua file no reply
- * may quote. Besides fuzz_mhd.h's rules, every input must leave the save
- * file as it was, and nothing may block (a FIFO opened for reading would:
+ * file and a file that is no script; beside the store, a Lua file whose
+ * text (a new one for every input) no reply may quote. Besides fuzz_mhd.h's rules, every input must
+ * leave the save file as it was, and nothing may block (a FIFO opened for reading would:
  * libFuzzer's -timeout reports it).
  *
  * Input layout: requests separated by 0xFF, each as fuzz_mhd.h describes
@@ -19,13 +19,13 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "fuzz_host.h"
 #include "fuzz_mhd.h"
 
 #define SEPARATOR 0xffu
-#define SECRET "sk-FUZZ-SECRET-4711"
 #define SAVED "[device]\n; the save file\n"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
@@ -33,6 +33,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 static char top[PATH_MAX];   /* the store's parent: the file outside */
 static char store[PATH_MAX]; /* the /user/ store */
 static char saved[PATH_MAX]; /* --save-file, in the store */
+/* The text of the file outside, new for every input: the fuzzer cannot
+ * learn it from one input (the check's comparison) and write it in the next. */
+static char secret[32];
 
 /* dir/name into out (PATH_MAX bytes). */
 static void join(char *out, const char *dir, const char *name)
@@ -92,9 +95,14 @@ static void make_store(void)
             (mkdir(store, 0700) != 0 && access(store, W_OK) != 0)) {
             abort();
         }
-        write_file(top, "secret.lua", "print('" SECRET "')\n'" SECRET "\n");
         atexit(remove_store);
     }
+    static uint64_t state;
+    state = state * 6364136223846793005u + 1442695040888963407u + (uint64_t)time(NULL);
+    snprintf(secret, sizeof(secret), "sk-%016llx", (unsigned long long)state);
+    char text[3 * sizeof(secret) + 16];
+    snprintf(text, sizeof(text), "print('%s')\n'%s\n", secret, secret);
+    write_file(top, "secret.lua", text);
     empty_store();
     write_file(store, "ok.lua", "print('ok')\n");
     write_file(store, "notes.txt", "not a script\n");
@@ -126,7 +134,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     web_app_t app; /* what the server keeps for its routes */
     fuzz_mhd_app_start(&app, opts);
-    fuzz_mhd_forbid(SECRET);
+    fuzz_mhd_forbid(secret);
     size_t first = 0;
     for (size_t i = 0; i <= size; i++) {
         if (i == size || data[i] == SEPARATOR) {
