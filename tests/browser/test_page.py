@@ -928,7 +928,7 @@ class PageTest(unittest.TestCase):
                       return r.width > 0 && r.right > width + 0.5 && !e.closest('.CodeMirror');
                     }).map((e) => e.tagName + '#' + e.id + '.' + e.className).slice(0, 5)]""")
         self.assertEqual(wide, [0, []], view)
-        cut = self.js("return [...document.querySelectorAll('#flags .name, #status-flags li')]"
+        cut = self.js("return [...document.querySelectorAll('#flags li, #status-flags li')]"
                       ".filter((e) => e.scrollWidth > e.clientWidth + 1).map((e) => e.textContent)")
         self.assertEqual(cut, [], view)
 
@@ -959,11 +959,13 @@ class PageTest(unittest.TestCase):
             self.assertEqual(overlap, [])
             # the chart's legend outside its drawing
             self.wait_for("the chart", lambda d: d.find_elements(By.CSS_SELECTOR, "#chart canvas"))
+            self.wait_for("the legend", lambda d: "width (mm)" in self.text("chart-legend"))
             legend = self.js("""
                 const legend = document.getElementById('chart-legend').getBoundingClientRect();
                 const chart = document.querySelector('#chart canvas').getBoundingClientRect();
-                return [legend.height > 0, legend.bottom <= chart.top + 0.5];""")
-            self.assertEqual(legend, [True, True])
+                return [legend.bottom <= chart.top + 0.5,
+                        document.querySelectorAll('#chart .dygraph-legend').length];""")
+            self.assertEqual(legend, [True, 0])  # above the drawing, none inside it
             for view in ("live", "motion", "settings", "scripting", "system"):
                 self.show_view(view)
                 if view == "settings":
