@@ -589,6 +589,11 @@ function widthAxisRange() {
 
 function drawChart() {
   live.chartDrawPending = false;
+  // one instant is no line: said, rather than an empty chart
+  const history = live.chartData.length >= 2;
+  $("chart-note").hidden = history || live.chartData.length === 0;
+  setText("chart-note", "The chart fills as the simulated clock runs" +
+    (live.paused ? " (it is paused: Step or Resume)." : "."));
   if (live.chartData.length === 0) {
     return; // no state yet
   }
