@@ -3,7 +3,7 @@
  * names carry their units; enumerations carry their number and name. */
 #include "fleet.h"
 #include "hal_clock.h"
-#include "simctl/clock.h"
+#include "clock.h"
 #include "sim/sim_world.h"
 #include "wsg/wsg_names.h"
 #include "web/web_internal.h"
