@@ -255,7 +255,8 @@ void fuzz_mhd_app_start(web_app_t *app, const host_options_t *opts)
     web_app_init(app, NULL);
     web_lines_enable(&app->lines, (unsigned)opts->devices); /* as the server does */
     fuzz_host_start(opts);
-    app->fleet = fuzz_host_fleet();                          /* as web_server_start() is given it */
+    app->fleet = fuzz_host_fleet(); /* as web_server_start() is given it */
+    app->sim = fuzz_host_sim();
     for (unsigned i = 0; i < fleet_count(app->fleet); i++) { /* as main does */
         web_lines_attach(&app->lines, &fleet_gripper(app->fleet, i)->device, i);
     }
