@@ -237,8 +237,9 @@ const char *gripper_startup_choice(const gripper_t *g)
 
 bool gripper_run_script(gripper_t *g, const char *file, char *why, size_t cap)
 {
-    if (g->script == NULL) {
-        g->script = script_create(&g->device, g->script_guard, g->index, 1, NULL);
+    if (g->script == NULL) { /* no script options: no store, named as the fleet's others */
+        g->script =
+            script_create(&g->device, g->script_guard, g->index, (unsigned)g->opts->devices, NULL);
         if (g->script == NULL) {
             snprintf(why, cap, "out of memory");
             return false;

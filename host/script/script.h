@@ -53,9 +53,16 @@ bool script_take_turn(script_t *s);
 void script_continue(script_t *s);
 
 /* The /user/ store's directory ("" when none), and whether a name is a
- * store file name (printable ASCII, no '/', no "..", at most 64 bytes). */
+ * store file name (NAME.lua: printable ASCII, no '/', no "..", at most 64
+ * bytes). */
 const char *script_store_dir(const script_t *s);
 bool script_store_name_ok(const char *name);
+
+/* Reads a whole script file (a regular file of at most 256 KiB) into a
+ * malloc'd, NUL-terminated buffer without ever blocking: it is opened
+ * O_NONBLOCK and anything but a regular file (a FIFO, a device, a
+ * directory) is refused. NULL with *why ("PATH: reason") when it cannot. */
+char *script_read_file(const char *path, size_t *len, char *why, size_t why_cap);
 
 /* What STATE? and the web interface show. */
 typedef struct {

@@ -115,8 +115,6 @@ void script_open_libs(lua_State *L);
  * (no '/') are in the store; anything else is a host path (only when
  * allow_host). false when the name is not allowed. */
 bool script_resolve(const script_t *s, const char *name, bool allow_host, char *out, size_t cap);
-/* Reads a whole file (at most 256 KiB) into a malloc'd buffer. */
-char *script_read_file(const char *path, size_t *len, char *why, size_t why_cap);
 
 /* script_bind.c: globals, mc, gripper, finger, grasping, socket */
 void script_open_device(lua_State *L);
