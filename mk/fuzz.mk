@@ -9,6 +9,8 @@
 #             a store on disk that holds a FIFO and the save file
 #   config    the --config file (INI, libinih) through options_parse()
 #   scenario  the --scenario file, loaded and run
+#   script    a user script (Lua) and the binary client that talks to it:
+#             the script bindings and the custom command channel
 #
 #   make fuzz [FUZZ_TIME=S]   every target for S seconds (default 300), one
 #                             after the other (a finding does not stop the
@@ -24,7 +26,7 @@ FUZZ_CC := clang
 FUZZ_DIR := build/fuzz
 FUZZ_TIME ?= 300
 FUZZ_JOBS ?= 1
-FUZZ_TARGETS ?= session control web store config scenario
+FUZZ_TARGETS ?= session control web store config scenario script
 # Every target's seeds and regression inputs (a directory per target; a
 # target may have no regressions yet).
 FUZZ_INPUTS := tests/fuzz/corpus tests/fuzz/regressions
@@ -43,7 +45,7 @@ FUZZ_HOST_SRC := $(filter-out host/main.c host/web/web_server.c,$(HOST_SRC)) \
 FUZZ_HOST_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(filter-out host/main.c \
 	host/web/web_server.c,$(HOST_SRC))) $(BUILD)/obj/gen/web_assets.o $(CORE_LIBS)
 FUZZ_HOST_LIBS = $(filter-out -lmicrohttpd,$(HOST_LIBS))
-$(foreach t,control config scenario web store,$(eval FUZZ_SRC_$(t) := $(FUZZ_HOST_SRC)) \
+$(foreach t,control config scenario web store script,$(eval FUZZ_SRC_$(t) := $(FUZZ_HOST_SRC)) \
 	$(eval FUZZ_OBJ_$(t) := $(FUZZ_HOST_OBJ)) $(eval FUZZ_AUX_$(t) := tests/fuzz/fuzz_host.c) \
 	$(eval FUZZ_LIBS_$(t) = $(HOST_LIBS)))
 # The web targets' stand-in for libmicrohttpd (tests/fuzz/fuzz_mhd.c).

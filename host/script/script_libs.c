@@ -19,6 +19,7 @@
 
 #define SCRIPT_FILE_MAX (256u * 1024u)
 #define SCRIPT_NAME_MAX 64u
+#define CONSOLE_PIECE 4096u /* bytes written between two chances for the watchdog */
 
 /* A store name: a Lua file's plain name, NAME.lua, of printable ASCII, no
  * '/', no "..", at most SCRIPT_NAME_MAX bytes. Only *.lua files are the
@@ -120,7 +121,9 @@ static int load_path(lua_State *L, const char *path)
 {
     char why[PATH_MAX + 64];
     size_t len = 0;
+    script_host_enter(L);
     char *code = script_read_file(path, &len, why, sizeof(why));
+    script_host_leave(L);
     if (code == NULL) {
         luaL_pushfail(L);
         lua_pushstring(L, why);
@@ -199,20 +202,33 @@ static int store_searcher(lua_State *L)
     return 1;
 }
 
-static int l_print(lua_State *L)
+/* Console output is host code: it logs (script_host_enter); in pieces, so
+ * that the watchdog can end a script that prints megabytes of lines. */
+static void console_write(lua_State *L, const char *text, size_t len)
 {
     script_t *s = script_of_state(L);
+    for (size_t done = 0; done < len; done += CONSOLE_PIECE) {
+        script_host_enter(L);
+        script_console_write(s, text + done,
+                             len - done < CONSOLE_PIECE ? len - done : CONSOLE_PIECE);
+        script_host_leave(L);
+        script_guard_safe_point(s->guard);
+    }
+}
+
+static int l_print(lua_State *L)
+{
     int n = lua_gettop(L);
     for (int i = 1; i <= n; i++) {
         size_t len = 0;
         const char *text = luaL_tolstring(L, i, &len);
         if (i > 1) {
-            script_console_write(s, "\t", 1);
+            console_write(L, "\t", 1);
         }
-        script_console_write(s, text, len);
+        console_write(L, text, len);
         lua_pop(L, 1);
     }
-    script_console_write(s, "\n", 1);
+    console_write(L, "\n", 1);
     return 0;
 }
 
@@ -226,20 +242,24 @@ static int l_printf(lua_State *L)
     lua_call(L, n, 1);
     size_t len = 0;
     const char *text = lua_tolstring(L, -1, &len);
-    script_console_write(script_of_state(L), text, len);
+    console_write(L, text, len);
     return 0;
 }
 
-/* load(): text chunks only (precompiled chunks could crash the host). */
+/* load(chunk [, chunkname [, mode [, env]]]): the library's load with
+ * mode "t" whatever is asked: text chunks only (precompiled chunks could
+ * crash the host). env is passed on only when given, nil included. */
 static int l_load(lua_State *L)
 {
+    int given = lua_gettop(L);
+    lua_settop(L, 4); /* the absent arguments as nil, so index 2 is chunkname */
     int top = lua_gettop(L);
     lua_pushvalue(L, lua_upvalueindex(1));
     lua_pushvalue(L, 1);
     lua_pushvalue(L, 2);
     lua_pushliteral(L, "t");
     int n = 3;
-    if (top >= 4) {
+    if (given >= 4) {
         lua_pushvalue(L, 4);
         n = 4;
     }
