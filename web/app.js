@@ -1557,39 +1557,51 @@ async function uploadFile() {
 }
 
 // The store has no rename: the file is written under the new name, then
-// the old one deleted.
+// the old one deleted. A device's startup script is not deleted (409): it
+// keeps its name, and the copy goes again.
 async function renameFile(name) {
+  const result = $("files-result");
+  if (scripting.startup === "/user/" + name) {
+    showResult(result, false, "rename " + name + ": it is the startup script: choose another " +
+      "or none first (Settings → System)");
+    return;
+  }
   const to = prompt("Rename " + name + " to:", name);
   if (!to || to === name || !mayReplace(to)) {
     return;
   }
   const response = await fetch(storePath(name));
   const text = await response.text();
-  const result = $("files-result");
   if (!response.ok) {
     showResult(result, false, "rename " + name + ": HTTP " + response.status);
     return;
   }
-  if (await writeFile(to, text, result)) {
-    await deleteFile(name, true);
-    if (scripting.openFile === name) {
-      scripting.openFile = to;
-      $("editor-file").textContent = "/user/" + to;
-    }
-    showResult(result, true, "renamed " + name + " to " + to);
+  if (!(await writeFile(to, text, result))) {
+    return;
   }
+  const kept = (error) => showResult(result, false, "rename " + name + ": " + error.describe());
+  if (!(await callApi(kept, "DELETE", storePath(name)))) {
+    // the old name must stay (a device's startup script): no copy is left
+    await callApi(() => {}, "DELETE", storePath(to));
+    await listFiles();
+    return;
+  }
+  if (scripting.openFile === name) {
+    scripting.openFile = to;
+    $("editor-file").textContent = "/user/" + to;
+  }
+  await listFiles();
+  showResult(result, true, "renamed " + name + " to " + to);
 }
 
-async function deleteFile(name, quiet) {
-  if (!quiet && !confirm("Delete /user/" + name + "?")) {
+async function deleteFile(name) {
+  if (!confirm("Delete /user/" + name + "?")) {
     return;
   }
   const result = $("files-result");
   const refused = (error) => showResult(result, false, "delete " + name + ": " + error.describe());
   if (await callApi(refused, "DELETE", storePath(name))) {
-    if (!quiet) {
-      showResult(result, true, "deleted " + name);
-    }
+    showResult(result, true, "deleted " + name);
     await listFiles();
   }
 }
@@ -1706,8 +1718,15 @@ function appendLines(pre, lines, keep) {
   }
 }
 
+// The store holds Lua files only: a name the field's pattern refuses is
+// explained in words where the results show, not only in the browser's tip.
+const STORE_NAME_RULE = "a script's name ends in .lua (NAME.lua: at most 64 characters, " +
+  "no spaces, '/', '\\' or '..')";
+
 function setUpScripting() {
   $("file-new").addEventListener("submit", newFile);
+  $("file-new").elements.name.addEventListener("invalid", () =>
+    showResult($("files-result"), false, "new file: " + STORE_NAME_RULE));
   $("file-upload").elements.file.addEventListener("change", uploadFile);
   $("script-save").addEventListener("click", saveOpenFile);
   $("script-run").addEventListener("click", runOpenFile);

@@ -156,6 +156,7 @@ typedef struct {
 struct config_file {
     char files[FILES_MAX][256];
     unsigned file_count;
+    const char *saved; /* the --save-file among files, NULL: none read */
     value_t values[KEY_COUNT];
     value_t settings[SETTINGS_TABLE_COUNT]; /* by the rows of settings_table */
     device_section_t *sections;             /* malloc'd, in the order of the file */
@@ -654,9 +655,11 @@ bool config_file_load(config_file_t *cf, const char *config_path, const char *sa
     if (config_path != NULL && !parse_file(cf, config_path, "--config")) {
         return false;
     }
-    if (save_path != NULL && !nothing_saved(save_path) &&
-        !parse_file(cf, save_path, "--save-file")) {
-        return false;
+    if (save_path != NULL && !nothing_saved(save_path)) {
+        if (!parse_file(cf, save_path, "--save-file")) {
+            return false;
+        }
+        cf->saved = cf->files[cf->file_count - 1u];
     }
     apply_host(cf, opts);
     return true;
@@ -806,6 +809,25 @@ const char *config_file_device_script(const config_file_t *cf, unsigned index, c
 {
     const device_section_t *d = find_section(cf, index);
     return d != NULL && d->values[SEC_SCRIPT].set ? d->values[SEC_SCRIPT].text : fallback;
+}
+
+bool config_file_startup_saved(const config_file_t *cf, unsigned index, const char *script)
+{
+    const device_section_t *d = find_section(cf, index);
+    const value_t *own = d != NULL ? &d->values[SEC_SCRIPT] : NULL;
+    const value_t *from = NULL;
+    if (cf == NULL || cf->saved == NULL || script == NULL) {
+        return false;
+    }
+    if (own != NULL && own->set && script == own->text) {
+        from = own;
+    } else if (cf->values[SCRIPT_STARTUP].set && script == cf->values[SCRIPT_STARTUP].text) {
+        from = &cf->values[SCRIPT_STARTUP];
+    }
+    const value_t *autostart = &cf->values[SCRIPT_AUTOSTART];
+    bool saved_off = autostart->set && autostart->file == cf->saved && autostart->number == 0.0;
+    /* NULL: the command line's own --script, which the files do not decide */
+    return from != NULL && (from->file == cf->saved || saved_off);
 }
 
 const char *config_file_device_fingers(const config_file_t *cf, unsigned index,

@@ -41,6 +41,12 @@ bool config_file_device_port(const config_file_t *cf, unsigned index, bool udp, 
 /* [device.N] script: device index's startup script (or fallback). */
 const char *config_file_device_script(const config_file_t *cf, unsigned index,
                                       const char *fallback);
+/* True when the saved settings (the --save-file, which the web page's Save
+ * writes) decide device index's startup script: script, the file in force
+ * for it (a text this file holds, compared by address, not by name), is
+ * the save file's, or the save file switched the autostart off. Such a
+ * file that is missing does not stop a start (docs/scripting.md). */
+bool config_file_startup_saved(const config_file_t *cf, unsigned index, const char *script);
 /* [device.N] fingers: device index's loopback fingers ("fmf,dsa", or fallback). */
 const char *config_file_device_fingers(const config_file_t *cf, unsigned index,
                                        const char *fallback);

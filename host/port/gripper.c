@@ -101,10 +101,9 @@ static void start_script(gripper_t *g)
     if (g->script == NULL || g->opts->script == NULL || !g->opts->script_autostart) {
         return;
     }
-    char why[256];
-    if (!script_run(g->script, g->opts->script, why, sizeof(why))) {
-        host_logf(HAL_LOG_ERROR, "script: %s", why);
-    }
+    /* a file gone since (or one the saved settings chose) fails as a
+     * script does: the device starts whatever its store holds */
+    script_run_startup(g->script, g->opts->script);
 }
 
 bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, unsigned index,

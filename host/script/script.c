@@ -378,6 +378,36 @@ bool script_run(script_t *s, const char *file, char *why, size_t why_cap)
     return true;
 }
 
+/* Why a startup file could not start, named as the user chose it
+ * ("/user/NAME"), not by its host path. */
+static void startup_refusal(const script_t *s, const char *file, const char *why, char *out,
+                            size_t cap)
+{
+    char path[PATH_MAX];
+    if (!script_resolve(s, file, true, path, sizeof(path))) {
+        bool no_store = strncmp(file, "/user/", 6) == 0 && s->store[0] == '\0';
+        snprintf(out, cap, "startup script %.200s: %s", file,
+                 no_store ? "there is no /user/ store (--script-dir)"
+                          : "not a store name (/user/NAME.lua)");
+        return;
+    }
+    size_t len = strlen(path);
+    bool named = strncmp(why, path, len) == 0 && strncmp(why + len, ": ", 2) == 0;
+    snprintf(out, cap, "startup script %.200s: %.200s", file, named ? why + len + 2 : why);
+}
+
+void script_run_startup(script_t *s, const char *file)
+{
+    char why[PATH_MAX + 64];
+    if (script_run(s, file, why, sizeof(why))) {
+        return;
+    }
+    char message[SCRIPT_LINE_MAX];
+    startup_refusal(s, file, why, message, sizeof(message));
+    snprintf(s->file, sizeof(s->file), "%s", file);
+    finish(s, true, message); /* as a run that failed at once */
+}
+
 bool script_stop(script_t *s)
 {
     if (!s->running) {

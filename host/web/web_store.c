@@ -18,6 +18,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "fleet.h"
 #include "script.h"
 #include "web/web_internal.h"
 
@@ -258,8 +259,38 @@ static enum MHD_Result put_file(const web_request_t *req, const char *dir, const
     return result;
 }
 
-static enum MHD_Result delete_file(const web_request_t *req, const char *path)
+/* The file at path is the startup script device g runs at its next
+ * power-on (a store name, or the host path --script gave). */
+static bool runs_at_power_on(const gripper_t *g, const char *path)
 {
+    const char *startup = g->opts->script;
+    char its[PATH_MAX];
+    if (startup == NULL || !g->opts->script_autostart) {
+        return false;
+    }
+    if (web_store_path(g, startup, its, sizeof(its)) != NULL) {
+        snprintf(its, sizeof(its), "%s", startup);
+    }
+    return same_file(path, its);
+}
+
+/* The startup script of a device (any of the fleet: they share the store)
+ * is not deleted: the user chooses another or none first, so what the
+ * device runs at power-on never changes behind the page's back. */
+static enum MHD_Result delete_file(const web_request_t *req, const char *path, const char *name)
+{
+    struct stat st;
+    if (lstat(path, &st) != 0) {
+        return web_reply_error(req, MHD_HTTP_NOT_FOUND, E_NOT_FOUND, "no such file");
+    }
+    for (unsigned i = 0; i < fleet_count(req->app->fleet); i++) {
+        if (runs_at_power_on(fleet_gripper(req->app->fleet, i), path)) {
+            return web_reply_error(req, MHD_HTTP_CONFLICT, E_NOT_AVAILABLE,
+                                   "%.100s is device %u's startup script: choose another "
+                                   "startup script or none first",
+                                   name, i);
+        }
+    }
     if (unlink(path) != 0) {
         return web_reply_error(req, MHD_HTTP_NOT_FOUND, E_NOT_FOUND, "no such file");
     }
@@ -289,7 +320,8 @@ static enum MHD_Result file_route(const web_request_t *req, const gripper_t *g, 
         return web_reply_error(req, MHD_HTTP_FORBIDDEN, E_ACCESS_DENIED,
                                "the store is read-only (no --script-dir)");
     }
-    return is_method(req, MHD_HTTP_METHOD_PUT) ? put_file(req, dir, path) : delete_file(req, path);
+    return is_method(req, MHD_HTTP_METHOD_PUT) ? put_file(req, dir, path)
+                                               : delete_file(req, path, name);
 }
 
 enum MHD_Result web_files_route(const web_request_t *req, gripper_t *g, const char *rest)

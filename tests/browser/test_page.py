@@ -574,6 +574,71 @@ class PageTest(unittest.TestCase):
                     "/api/devices/0/files/moved.lua"))
                 self.assert_no_console_errors()
 
+    def test_new_file_names_end_in_lua(self):
+        """The store holds NAME.lua files only: the new-file field says so
+        beside it, refuses another name in the browser with the rule in
+        words, and sends nothing; a Lua name is made."""
+        with tempfile.TemporaryDirectory(prefix="wsgsim-store-") as store:
+            with Wsgsim("--script-dir", store) as sim:
+                self.open_page(sim)
+                self.show_view("scripting")
+                self.wait_for("the empty list", lambda d: d.find_element(
+                    By.CSS_SELECTOR, "#file-new button").is_enabled())
+                self.assertIn("NAME.lua", self.text("file-new-rule"))
+                field = "#file-new input[name=name]"
+                for name in ("notes.txt", "two words.lua", "up..lua", "a/b.lua", "x" * 61 + ".lua"):
+                    self.fill(field, name)
+                    self.click("#file-new button")
+                    self.wait_for_text("files-result", "new file: a script's name ends in .lua "
+                                       "(NAME.lua: at most 64 characters, no spaces, '/', '\\' "
+                                       "or '..')")
+                    self.assertFalse(self.js("return document.querySelector(arguments[0])"
+                                             ".checkValidity()", field), name)
+                    self.js("document.getElementById('files-result').textContent = ''")
+                self.assertEqual(os.listdir(store), [])
+                self.fill(field, "grip_2.lua")
+                self.click("#file-new button")
+                self.wait_for_text("editor-file", "/user/grip_2.lua")
+                self.assertEqual(os.listdir(store), ["grip_2.lua"])
+                self.assert_no_console_errors()  # nothing was sent and refused
+
+    def test_the_startup_script_keeps_its_name(self):
+        """Delete and rename of a device's startup script are refused with
+        the reason (another device's too: the fleet shares the store); the
+        files and the choices stay, and a refused rename leaves no copy."""
+        with tempfile.TemporaryDirectory(prefix="wsgsim-store-") as store:
+            for name in ("hello.lua", "other.lua"):
+                with open(os.path.join(store, name), "w") as f:
+                    f.write("print('hello')\n")
+            with Wsgsim("--script-dir", store, "--devices", "2") as sim:
+                for device, name in ((0, "hello.lua"), (1, "other.lua")):
+                    self.assertEqual(request(sim.url("/api/devices/%d/script/startup" % device),
+                                             "PUT", {"file": "/user/" + name}).status, 200)
+                self.open_page(sim)
+                self.show_view("scripting")
+                self.wait_for("the files listed", lambda d: len(d.find_elements(
+                    By.CSS_SELECTOR, "#file-list tr")) == 2)
+                self.click("#file-list button[aria-label='Delete hello.lua']")
+                self.wait_for("the confirmation", expected.alert_is_present()).accept()
+                self.wait_for_text_start("files-result", "delete hello.lua: E_NOT_AVAILABLE")
+                self.assertTrue(self.text("files-result").endswith(
+                    ": hello.lua is device 0's startup script: choose another startup script "
+                    "or none first"), self.text("files-result"))
+                self.click("#file-list button[aria-label='Rename hello.lua']")
+                self.wait_for_text("files-result", "rename hello.lua: it is the startup script: "
+                                   "choose another or none first (Settings → System)")
+                self.click("#file-list button[aria-label='Rename other.lua']")
+                prompt = self.wait_for("the new name's prompt", expected.alert_is_present())
+                prompt.send_keys("moved.lua")
+                prompt.accept()
+                self.wait_for_text_start("files-result", "rename other.lua: E_NOT_AVAILABLE")
+                self.assertIn("device 1's startup script", self.text("files-result"))
+                self.wait_for("the list as it was", lambda d: d.execute_script(
+                    "return [...document.querySelectorAll('#file-list tr')]"
+                    ".map((row) => row.dataset.name).sort()") == ["hello.lua", "other.lua"])
+                self.assertEqual(sorted(os.listdir(store)), ["hello.lua", "other.lua"])
+                self.assert_no_console_errors(refused=2)
+
     def test_read_only_store_and_the_startup_script(self):
         with tempfile.TemporaryDirectory(prefix="wsgsim-startup-") as tmp:
             startup = os.path.join(tmp, "hello.lua")

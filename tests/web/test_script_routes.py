@@ -96,6 +96,22 @@ class ScriptRoutes(unittest.TestCase):
         self.assertEqual(request(self.api + "/files/x.lua", "PUT", {}).status, 400)
         self.assertEqual(request(self.api + "/files/a%2Fb.lua").status, 400)  # a/b.lua
 
+    def test_the_startup_script_is_not_deleted(self):
+        """The file a device runs at power-on stays until the page chooses
+        another or none: 409 naming it, the file kept."""
+        self.assertEqual(request(self.api + "/script/startup", "PUT",
+                                 {"file": "/user/echo.lua"}).status, 200)
+        reply = request(self.api + "/files/echo.lua", "DELETE", {})
+        self.assertEqual((reply.status, reply.json()["error"]), (409, "E_NOT_AVAILABLE"))
+        self.assertEqual(reply.json()["message"], "echo.lua is device 0's startup script: "
+                                                  "choose another startup script or none first")
+        self.assertTrue(os.path.exists(os.path.join(self.store, "echo.lua")))
+        self.assertEqual(request(self.api + "/files/echo.lua", "PUT", {"text": ECHO}).status,
+                         200)  # edited, it stays the startup script
+        self.assertEqual(request(self.api + "/script/startup", "PUT", {"file": None}).status, 200)
+        self.assertEqual(request(self.api + "/files/echo.lua", "DELETE", {}).status, 200)
+        self.assertFalse(os.path.exists(os.path.join(self.store, "echo.lua")))
+
     def test_a_body_over_the_limit_is_refused(self):
         reply = request(self.api + "/files/big.lua", "PUT", {"text": "-" * 5000})
         self.assertEqual(reply.status, 413)
@@ -364,6 +380,54 @@ class SavedStartupScript(unittest.TestCase):
         self.assertEqual(request(api + "/script/startup", "PUT", {"file": None}).status, 200)
         self.assertEqual(request(api + "/settings/save", "POST", {}).status, 200)
         self.assertIn("autostart = no", self.saved_text())
+
+    def test_a_saved_startup_script_gone_meanwhile(self):
+        """The saved choice's file deleted outside wsgsim: the device starts,
+        the script failed and said so; Save keeps the choice until the page
+        changes it, and none saved starts clean."""
+        sim, api = self.start()
+        self.assertEqual(request(api + "/script/startup", "PUT", {"file": "/user/echo.lua"}).status,
+                         200)
+        self.assertEqual(request(api + "/settings/save", "POST", {}).status, 200)
+        sim.stop()
+        os.remove(os.path.join(self.store, "echo.lua"))
+        sim, api = self.start()
+        state = request(api + "/script").json()
+        self.assertEqual((state["startup"], state["running"], state["failure"], state["error"]),
+                         ("/user/echo.lua", False, True,
+                          "startup script /user/echo.lua: No such file or directory"))
+        console = request(api + "/script/console").json()["lines"]
+        self.assertEqual(console, ["startup script /user/echo.lua: No such file or directory"])
+        self.assertIn("warning: script error: startup script /user/echo.lua", sim.drain_log())
+        self.assertEqual(request(api + "/settings/save", "POST", {}).status, 200)
+        self.assertIn("startup = /user/echo.lua", self.saved_text())  # kept
+        self.assertIn("autostart = yes", self.saved_text())
+        self.assertEqual(request(api + "/script/startup", "PUT", {"file": None}).status, 200)
+        self.assertEqual(request(api + "/settings/save", "POST", {}).status, 200)
+        self.assertIn("autostart = no", self.saved_text())
+        sim.stop()
+        sim, api = self.start()
+        state = request(api + "/script").json()
+        self.assertEqual((state["startup"], state["failure"]), (None, False))
+        self.assertNotIn("script error", sim.drain_log())
+
+
+class StartupScriptOfAFleet(unittest.TestCase):
+    def test_another_devices_startup_script_is_not_deleted(self):
+        store = tempfile.mkdtemp(prefix="wsgsim-store-")
+        self.addCleanup(shutil.rmtree, store)
+        with open(os.path.join(store, "echo.lua"), "w") as f:
+            f.write(ECHO)
+        sim = WebSim("--script-dir", store, "--start-paused", "--devices", "2")
+        sim.start()
+        self.addCleanup(sim.stop)
+        devices = sim.base + "/api/devices/"
+        self.assertEqual(request(devices + "1/script/startup", "PUT",
+                                 {"file": "/user/echo.lua"}).status, 200)
+        reply = request(devices + "0/files/echo.lua", "DELETE", {})
+        self.assertEqual(reply.status, 409)
+        self.assertIn("device 1's startup script", reply.json()["message"])
+        self.assertTrue(os.path.exists(os.path.join(store, "echo.lua")))
 
 
 class ScriptLoopbackRule(unittest.TestCase):
