@@ -50,7 +50,8 @@ class Packages(unittest.TestCase):
         entry_points = glob.glob(self.path("usr/lib/python3/dist-packages/wsgsim-*.dist-info",
                                            "entry_points.txt"))
         self.assertEqual(len(entry_points), 1)
-        self.assertIn("[pytest11]\nwsgsim = wsgsim.pytest_plugin", open(entry_points[0]).read())
+        self.assertIn("[pytest11]\nwsgsim.pytest_plugin = wsgsim.pytest_plugin",
+                      open(entry_points[0]).read())
 
     def test_man_pages_name_the_files_the_package_ships(self):
         """As shipped: the documents dh_compress compressed by their .gz names."""
@@ -97,12 +98,15 @@ class Packages(unittest.TestCase):
         env = dict(os.environ, PATH=self.path("usr/bin") + os.pathsep + os.environ["PATH"],
                    PYTHONPATH=self.path("usr/lib/python3/dist-packages"))
         env.pop("WSGSIM", None)  # found on PATH, as once installed
-        with tempfile.TemporaryDirectory() as tmp:
-            write_example(tmp)
-            result = run_pytest(tmp, env)  # no -p: the entry point loads the plugin
-        self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
-        self.assertRegex(result.stdout, r"\b6 passed\b")
-        self.assertIn("wsgsim GCL coverage", result.stdout)
+        # no -p: the entry point loads the plugin; with the documents' -p,
+        # the same plugin is not registered twice
+        for options in ((), ("-p", "wsgsim.pytest_plugin")):
+            with self.subTest(options=options), tempfile.TemporaryDirectory() as tmp:
+                write_example(tmp)
+                result = run_pytest(tmp, env, *options)
+                self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
+                self.assertRegex(result.stdout, r"\b6 passed\b")
+                self.assertIn("wsgsim GCL coverage", result.stdout)
 
 
 if __name__ == "__main__":
