@@ -30,8 +30,8 @@ FUZZ_INPUTS := tests/fuzz/corpus tests/fuzz/regressions
 # Per target: the project's sources the libFuzzer build compiles with it,
 # the objects the replay build links instead (the project's own build), the
 # harness's helpers both build, and the libraries.
-FUZZ_SRC_session := $(FIRMWARE_SRC) $(SIM_SRC) host/can_loopback.c
-FUZZ_OBJ_session := $(BUILD)/obj/host/can_loopback.o $(CORE_LIBS)
+FUZZ_SRC_session := $(FIRMWARE_SRC) $(SIM_SRC) host/can/can_loopback.c
+FUZZ_OBJ_session := $(BUILD)/obj/host/can/can_loopback.o $(CORE_LIBS)
 FUZZ_LIBS_session := -lm
 # The host's parsers run in the host as build/wsgsim has it, without main()
 # and the web server's socket side (host/web/web_server.c): the web target
@@ -50,8 +50,8 @@ FUZZ_LIBS_web = $(FUZZ_HOST_LIBS)
 FUZZ_PARALLEL = $(if $(filter-out 1,$(FUZZ_JOBS)),-jobs=$(FUZZ_JOBS) -workers=$(FUZZ_JOBS))
 FUZZ_PKG_CFLAGS = $(shell pkg-config --cflags $(HOST_PKGS) 2>/dev/null)
 FUZZ_FLAGS = -g -O1 -fno-omit-frame-pointer -fsanitize=fuzzer,address,undefined \
-	-fno-sanitize-recover=all $(CSTD) $(WARN) -D_GNU_SOURCE $(CORE_INC) -Ihost $(FUZZ_PKG_CFLAGS)
-FUZZ_REPLAY_CFLAGS = $(CFLAGS_BASE) -D_GNU_SOURCE $(CORE_INC) -Ihost $(FUZZ_PKG_CFLAGS)
+	-fno-sanitize-recover=all $(CSTD) $(WARN) -D_GNU_SOURCE $(CORE_INC) $(HOST_INC) $(FUZZ_PKG_CFLAGS)
+FUZZ_REPLAY_CFLAGS = $(CFLAGS_BASE) -D_GNU_SOURCE $(CORE_INC) $(HOST_INC) $(FUZZ_PKG_CFLAGS)
 FUZZ_HEADERS = $(wildcard include/wsg/*.h firmware/*/*.h hal/*.h hal/sim/*.h host/*.h host/*/*.h)
 
 .PHONY: fuzz fuzz-deps fuzz-build fuzz-regress

@@ -7,9 +7,14 @@
 # use the finger bus's wire format from libwsgfw.a.
 # The host sees the public headers only (PUBLIC_INC); its capacities come
 # from host/opts/wsgopts.h like every other Linux build of the libraries.
-HOST_SRC := $(sort $(wildcard host/*.c host/simctl/*.c host/web/*.c))
+# host/ is laid out in folders by layer, lowest first (each folder's
+# README.md); a module includes another folder's header by its name alone
+# (HOST_INC), simctl/ and web/ by their folder ("simctl/control.h").
+HOST_DIRS := os can diag config script port simctl web
+HOST_INC := -Ihost $(addprefix -Ihost/,$(filter-out simctl web,$(HOST_DIRS)))
+HOST_SRC := $(sort $(wildcard host/*.c $(HOST_DIRS:%=host/%/*.c)))
 HOST_PKGS := inih libcjson libsystemd libmicrohttpd lua5.4
-HOST_CFLAGS = $(CFLAGS_BASE) $(LTO) -D_GNU_SOURCE $(PUBLIC_INC) -Ihost $(shell pkg-config --cflags $(HOST_PKGS) 2>/dev/null)
+HOST_CFLAGS = $(CFLAGS_BASE) $(LTO) -D_GNU_SOURCE $(PUBLIC_INC) $(HOST_INC) $(shell pkg-config --cflags $(HOST_PKGS) 2>/dev/null)
 HOST_LIBS = $(shell pkg-config --libs $(HOST_PKGS) 2>/dev/null) -lm
 
 FW_LIB_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(FIRMWARE_SRC))

@@ -3,7 +3,7 @@
  * API over HTTP, served by libmicrohttpd from the host's event loop.
  *
  * The hand-off: MHD runs in its external-epoll mode (MHD_USE_EPOLL, no
- * thread of its own). Its epoll descriptor is one watch in host/loop.c;
+ * thread of its own). Its epoll descriptor is one watch in host/os/loop.c;
  * when it is readable the loop calls MHD_run(), which serves every ready
  * connection without blocking. MHD's own timeouts (MHD_get_timeout) and the
  * event streams' 25 Hz tick are wall-clock wake-ups (loop_wake_at_wall),

@@ -191,7 +191,7 @@ typedef enum {
 } wsg_setting_t;
 
 /* How a setting is held and checked: the one description wsg_op_set() works
- * from, and that a front end's table of names (host/settings_table.c)
+ * from, and that a front end's table of names (host/config/settings_table.c)
  * derives units, ranges and fields from. */
 typedef enum {
     WSG_SETTING_SWITCH,     /* on/off, any value: 0 is off */

@@ -23,7 +23,7 @@
 
 #include "fleet.h"
 #include "fuzz_host.h"
-#include "simctl/clock.h"
+#include "clock.h"
 #include "web/web_internal.h"
 #include "web/web_lines.h"
 #include "web/web_routes.h"

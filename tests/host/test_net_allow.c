@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* --udp-stream-allow's list (host/net_allow.c): parsing ADDR[/PREFIX]
+/* --udp-stream-allow's list (host/os/net_allow.c): parsing ADDR[/PREFIX]
  * lists and matching IPv4, IPv6 and IPv4-mapped peers. */
 #include <arpa/inet.h>
 #include <check.h>

@@ -12,7 +12,7 @@
 #include "loop.h"
 #include "net.h"
 #include "options.h"
-#include "simctl/clock.h"
+#include "clock.h"
 #include "simctl/commands.h"
 #include "simctl/control.h"
 
