@@ -467,7 +467,7 @@ START_TEST(record_writes_every_line_with_both_clocks)
     }
     fclose(f);
     remove(path);
-    ck_assert_str_eq(lines[0], "# wsgsim record 1\n");
+    ck_assert_str_eq(lines[0], "# wsgsim record 2\n");
     unsigned long long sim_s = 0;
     unsigned long sim_us = 0;
     unsigned long long wall_s = 0;
@@ -480,10 +480,10 @@ START_TEST(record_writes_every_line_with_both_clocks)
     ck_assert_uint_eq(sim_s * 1000000u + sim_us, t_now_us());
     ck_assert_uint_gt(wall_s, 1600000000u);
     ck_assert_str_eq(channel, "s1t");
-    ck_assert_int_eq(dir, '<');
+    ck_assert_int_eq(dir, '>'); /* from the client's side: it sent POS? */
     ck_assert_str_eq(text, "POS?");
-    ck_assert_ptr_nonnull(strstr(lines[3], " s1t > POS=110.0\n"));
-    ck_assert_ptr_nonnull(strstr(lines[4], " ctl1 < PAUSE()\n"));
+    ck_assert_ptr_nonnull(strstr(lines[3], " s1t < POS=110.0\n"));
+    ck_assert_ptr_nonnull(strstr(lines[4], " ctl1 > PAUSE()\n"));
 }
 END_TEST
 
