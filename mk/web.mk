@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-# The web interface (issue 13, docs/web.md): the page's files built into
+# The web interface (docs/web.md): the page's files built into
 # build/wsgsim, and its end-to-end tests.
 #   web-tests   tests/web/: the peer, Host and slow-client rules' Check tests, then the end-to-end
 #               tests against build/wsgsim (every route and error)

@@ -137,7 +137,7 @@ class TcpTransport(BinaryCase):
         self.assertEqual(self.gcl().command("TAG?"), 'TAG="lab"')
 
     def test_a_tag_cannot_forge_a_gcl_reply(self):
-        """Issue 18: 0x51 with a line break, a quote or a byte beyond ASCII
+        """0x51 with a line break, a quote or a byte beyond ASCII
         is refused (E_INVALID_PARAMETER), so TAG? stays one line."""
         self.start()
         binary = self.bin_tcp()

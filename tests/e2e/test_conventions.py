@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""The conventions of a well-kept Linux daemon (issue 14): help and version,
+"""The conventions of a well-kept Linux daemon: help and version,
 log levels and timestamps, SIGHUP reopening the log, record and CAN log
 files, the ready file and systemd's READY=1, --list-models --json, one
 error-prefix style, and listening on names and IPv6."""

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """wsgsim on its default ports, each run in a network namespace of its own
-(netns.py), so the ports are free or taken exactly as the test says
-(issue 17, point 3): where UDP goes when only --tcp-port is given, one error
+(netns.py), so the ports are free or taken exactly as the test says:
+where UDP goes when only --tcp-port is given, one error
 line for a taken port, and a clean debug log of the web server's start."""
 import os
 import tempfile

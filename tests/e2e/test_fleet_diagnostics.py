@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""--trace, --record and --coverage observe every device of a fleet (issue 19),
+"""--trace, --record and --coverage observe every device of a fleet,
 not only device 0: with more than one device each trace line and each record
 channel names its device ("d2.s1t"), and the coverage report has the fleet's
 total in the usual sections and one report per device under "devices"

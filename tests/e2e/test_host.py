@@ -193,7 +193,7 @@ class PausedDriverSequences(HostCase):
 
 
 class AutosendStreams(HostCase):
-    # the UDP subscriber only listens: listed, its stream needs no budget (issue 18)
+    # the UDP subscriber only listens: listed, its stream needs no budget
     server_args = ("--udp-stream-allow", "127.0.0.1")
 
     def test_autosend_lines_never_break_replies(self):

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""Streams obey the UDP budget (issue 18, point 1; docs/behaviour.md,
+"""Streams obey the UDP budget (docs/behaviour.md,
 "Network hardening"): what the device sends a UDP peer, automatic updates
 and AUTOSEND included, stays within 8 times what the peer sent, so one
 spoofed subscription aimed at a victim earns almost nothing; a client that
