@@ -91,6 +91,9 @@ class Packages(unittest.TestCase):
             self.assertIn(feature, description)
         depends = run(["dpkg-deb", "-f", deb("python3-wsgsim"), "Depends"]).stdout
         self.assertIn("wsgsim", depends)
+        # the README's first GCL session is `nc localhost 1000`
+        recommends = run(["dpkg-deb", "-f", deb("wsgsim"), "Recommends"]).stdout
+        self.assertIn("netcat-openbsd", recommends)
 
     def test_programs_run(self):
         for name in PROGRAMS:
