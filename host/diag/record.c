@@ -170,14 +170,15 @@ void record_control(record_t *r, const char *channel, char direction, const char
 }
 
 /* A reading as GCL writes it: fixed point, one to three decimals. */
-static int put_reading(char *out, size_t cap, const char *name, float value)
+static void format_reading(float value, char *out, size_t cap)
 {
-    char number[32];
-    int len = snprintf(number, sizeof(number), "%.3f", (double)value);
-    while (len > 2 && number[len - 1] == '0' && number[len - 2] != '.') {
-        number[--len] = '\0';
+    int len = snprintf(out, cap, "%.3f", (double)value);
+    if (len < 0 || (size_t)len >= cap) {
+        return; /* no physical reading is that long: the cut text stays */
     }
-    return snprintf(out, cap, "%s=%s ", name, number);
+    while (len > 2 && out[len - 1] == '0' && out[len - 2] != '.') {
+        out[--len] = '\0';
+    }
 }
 
 static bool moved(float now, float before, float step)
@@ -198,10 +199,12 @@ static bool worth_a_sample(const record_device_t *rd, const wsg_snapshot_t *s)
 /* "POS=.. SPEED=.. FORCE=.. GRIPSTATE=n", the names of the GCL queries. */
 static void describe_state(const wsg_snapshot_t *s, char *out, size_t cap)
 {
-    int at = put_reading(out, cap, "POS", s->position_mm);
-    at += put_reading(out + at, cap - (size_t)at, "SPEED", s->speed_mm_s);
-    at += put_reading(out + at, cap - (size_t)at, "FORCE", s->force_n);
-    snprintf(out + at, cap - (size_t)at, "GRIPSTATE=%d", (int)s->grip_state);
+    char position[24], speed[24], force[24];
+    format_reading(s->position_mm, position, sizeof(position));
+    format_reading(s->speed_mm_s, speed, sizeof(speed));
+    format_reading(s->force_n, force, sizeof(force));
+    snprintf(out, cap, "POS=%s SPEED=%s FORCE=%s GRIPSTATE=%d", position, speed, force,
+             (int)s->grip_state);
 }
 
 void record_sample(record_t *r, unsigned index, wsg_device_t *dev)
@@ -229,7 +232,7 @@ void record_sample(record_t *r, unsigned index, wsg_device_t *dev)
     rd->speed_mm_s = s->speed_mm_s;
     rd->force_n = s->force_n;
     rd->grip_state = s->grip_state;
-    char text[96];
+    char text[128]; /* the longest the readings can make */
     describe_state(s, text, sizeof(text));
     char channel[16] = "dev";
     if (r->name_devices) {

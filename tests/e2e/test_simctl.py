@@ -543,7 +543,7 @@ class TestRecordAndCoverage(SimctlCase):
         # from the client's side: '>' what it sent
         self.assertIn(["s1t", ">", "MOVE(5)"], [r[2:] for r in rows])
         self.assertIn(["ctl1", ">", "COVERAGE?"], [r[2:] for r in rows])
-        self.assertIn(["s1t", "<", "ERR MOVE 3"], [r[2:] for r in rows])
+        self.assertIn(["s1t", "<", "ERR MOVE 3 Device was not initialized"], [r[2:] for r in rows])
         self.assertTrue(all(re.match(r"^\d+\.\d{6}$", r[0]) and re.match(r"^\d+\.\d{6}$", r[1])
                             for r in rows))
 
