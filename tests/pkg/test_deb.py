@@ -61,13 +61,14 @@ class Packages(unittest.TestCase):
                 named[path] = name
         self.assertIn("/usr/share/doc/wsgsim/README.md.gz", named)
         self.assertIn("/usr/share/wsgsim/finger-bus.dbc", named)
-        # the example configuration by its installed path, also in OPTIONS
-        # (from --help): a reader of the page has no source tree
+        # the example configuration by its installed path, also where the
+        # page lists the options (from --help): its reader has no source tree
         self.assertIn("/usr/share/doc/wsgsim/examples/wsgsim.example.ini", named)
         with gzip.open(self.path("usr/share/man/man1/wsgsim.1.gz"), "rt") as f:
             page = f.read()
         self.assertNotIn("docs/wsgsim.example.ini", page)
-        options = page.split(".SH OPTIONS", 1)[1].split(".SH", 1)[0]
+        options = page.split(".SH DESCRIPTION", 1)[1].split(".SH", 1)[0]
+        self.assertIn("--config", options.replace("\\-", "-"))
         self.assertIn("/usr/share/doc/wsgsim/examples/wsgsim.example.ini", options)
         for path, page in sorted(named.items()):
             self.assertTrue(os.path.isfile(self.path(path.lstrip("/"))),
