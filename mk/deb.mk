@@ -28,9 +28,10 @@ deb-deps:
 	@mk/deps.sh $(CHECK_DEBS)
 
 $(DEB_FILES) &: $(DEB_INPUTS) | deb-deps
-	rm -rf $(DEB_DIR) && mkdir -p $(DEB_SRC)
-	tar -cf - --exclude=./build --exclude=./.git --exclude=__pycache__ . | tar -xf - -C $(DEB_SRC)
-	cd $(DEB_SRC) && env -i PATH=$(DEB_PATH) HOME="$$HOME" \
+	@echo "deb: the tree copied to $(DEB_SRC), built there with dpkg-buildpackage"
+	@rm -rf $(DEB_DIR) && mkdir -p $(DEB_SRC)
+	@tar -cf - --exclude=./build --exclude=./.git --exclude=__pycache__ . | tar -xf - -C $(DEB_SRC)
+	@cd $(DEB_SRC) && env -i PATH=$(DEB_PATH) HOME="$$HOME" \
 		DEB_BUILD_OPTIONS="$$DEB_BUILD_OPTIONS" \
 		/usr/bin/python3 $(abspath mk/progress.py) deb $(abspath $(DEB_DIR))/build.log \
 		'$(DEB_STAGES)' -- dpkg-buildpackage -us -uc -b
