@@ -26,15 +26,18 @@ typedef struct {
     unsigned count;
 } web_ops_t;
 
-/* web_static.c: a file of Debian's libjs-dygraphs, read at its first request
- * and kept until the server stops. */
+/* web_static.c: a file of a Debian package the page uses (libjs-dygraphs,
+ * libjs-codemirror), read at its first request and kept until the server
+ * stops. */
 typedef struct {
-    const char *name;
+    const char *name;    /* under /static/ */
+    const char *path;    /* where the package installs it */
+    const char *package; /* what to install when it cannot be read */
     const char *content_type;
     unsigned char *bytes; /* NULL: not read yet */
     size_t len;
 } web_system_file_t;
-#define WEB_SYSTEM_FILE_COUNT 2u
+#define WEB_SYSTEM_FILE_COUNT 6u
 
 /* What the routes of one web server keep between requests: its event
  * streams, the connection lines, the devices' web owners and the chart
@@ -42,6 +45,7 @@ typedef struct {
  * routes has one of its own. */
 typedef struct web_app {
     struct fleet *fleet; /* the devices it serves */
+    simctl_t *sim;       /* the simulated clock the state shows; NULL: none */
     web_events_t events;
     web_lines_t lines;
     web_ops_t ops;

@@ -407,6 +407,7 @@ bool web_server_start(web_server_t *web, host_loop_t *loop, net_t *net, const ho
     web->loop = loop;
     web->sim = sim;
     web->app.fleet = fleet;
+    web->app.sim = sim;
     if (opts->http_port == 0) {
         return true;
     }

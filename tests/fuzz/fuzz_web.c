@@ -265,7 +265,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     web_app_init(&app, NULL);
     web_lines_enable(&app.lines, (unsigned)opts->devices); /* as the server does */
     fuzz_host_start(opts);
-    app.fleet = fuzz_host_fleet();                          /* as web_server_start() is given it */
+    app.fleet = fuzz_host_fleet(); /* as web_server_start() is given it */
+    app.sim = fuzz_host_sim();
     for (unsigned i = 0; i < fleet_count(app.fleet); i++) { /* as main does */
         web_lines_attach(&app.lines, &fleet_gripper(app.fleet, i)->device, i);
     }

@@ -85,7 +85,8 @@ class Packages(unittest.TestCase):
 
     def test_fields(self):
         depends = run(["dpkg-deb", "-f", deb("wsgsim"), "Depends"]).stdout
-        for library in ("libcjson1", "libinih1", "libsystemd0", "python3", "libjs-dygraphs"):
+        for library in ("libcjson1", "libinih1", "libsystemd0", "python3", "libjs-dygraphs",
+                        "libjs-codemirror"):
             self.assertIn(library, depends)
         description = run(["dpkg-deb", "-f", deb("wsgsim"), "Description"]).stdout
         for feature in ("GCL", "binary protocol", "web page"):

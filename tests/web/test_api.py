@@ -235,6 +235,23 @@ class Page(WebCase):
         self.assertEqual((css.status, css.headers["Content-Type"]),
                          (200, "text/css; charset=utf-8"))
 
+    def test_script_editor_is_debians_codemirror(self):
+        files = {"codemirror.js": "/usr/share/javascript/codemirror/lib/codemirror.js",
+                 "codemirror.css": "/usr/share/javascript/codemirror/lib/codemirror.css",
+                 "codemirror-lua.js": "/usr/share/javascript/codemirror/mode/lua/lua.js",
+                 "codemirror-matchbrackets.js":
+                     "/usr/share/javascript/codemirror/addon/edit/matchbrackets.js"}
+        for name, path in files.items():
+            reply = self.get("/static/" + name)
+            self.assertEqual(reply.status, 200, name)
+            kind = "text/css" if name.endswith(".css") else "text/javascript"
+            self.assertTrue(reply.headers["Content-Type"].startswith(kind), name)
+            with open(path, encoding="utf-8") as f:
+                self.assertEqual(reply.body, f.read(), name)  # served from the system
+        page = self.get("/devices/0").body
+        for name in files:
+            self.assertIn('"/static/%s"' % name, page)
+
     def test_unknown_file_is_404(self):
         self.assert_error(self.get("/static/nothing.js"), 404, "E_NOT_FOUND")
         self.assert_error(self.get("/static/../index.html"), 404, "E_NOT_FOUND")

@@ -31,6 +31,19 @@ class System(WebCase):
             self.assertEqual('VERSION="%s"' % j["firmware_version"], gcl.command("VERSION?"))
             self.assertEqual("SN=%d" % j["serial"], gcl.command("SN?"))
             self.assertEqual((j["stroke_mm"], j["force_min_n"], j["force_max_n"]), (110, 5, 80))
+            # the ranges the page's fields show, as GCL's refusals draw them
+            self.assertEqual((j["speed_min_mm_s"], j["speed_max_mm_s"]), (5, 420))
+            self.assertEqual(gcl.command("MOVE(50, %g)" % (j["speed_max_mm_s"] + 1)),
+                             "ERR MOVE 28")
+            self.assertEqual((j["accel_min_mm_s2"] > 0, j["accel_max_mm_s2"] > 0), (True, True))
+            settings = "/api/devices/%d/settings" % device
+            reply = request(self.sim.base + settings, method="PUT",
+                            body={"accel_mm_s2": j["accel_max_mm_s2"] + 1})
+            self.assertEqual((reply.status, reply.json()["error"]), (422, "E_RANGE_ERROR"))
+            reply = request(self.sim.base + settings, method="PUT",
+                            body={"accel_mm_s2": j["accel_max_mm_s2"]})
+            self.assertEqual(reply.status, 200)
+            self.assertEqual(j["force_overdrive_n"], 0)  # the WSG 50 has no overdrive
             self.assertRegex(j["wsgsim_version"], r"^\d+\.\d+")
             self.assertFalse(j["script_store"])  # no --script-dir: …/files is 404
             self.assertEqual(self.get("/api/devices/%d/files" % device).status, 404)
