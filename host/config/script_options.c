@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "config_file.h"
+#include "script.h"
 
 /* "/user/NAME" is NAME in the store. */
 static bool startup_path(const host_options_t *opts, char *out, size_t cap)
@@ -30,6 +31,10 @@ static bool check_startup(const host_options_t *opts, const char *script)
     one.script = script;
     if (!startup_path(&one, path, sizeof(path))) {
         fprintf(stderr, "wsgsim: --script %s: /user/ names need --script-dir\n", script);
+        return false;
+    }
+    if (strncmp(script, "/user/", 6) == 0 && !script_store_name_ok(script + 6)) {
+        fprintf(stderr, "wsgsim: --script %s: not a store name (/user/NAME.lua)\n", script);
         return false;
     }
     errno = 0;

@@ -108,7 +108,7 @@ static void start_script(gripper_t *g)
 }
 
 bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, unsigned index,
-                  gripper_touched_t *touched)
+                  gripper_touched_t *touched, struct script_guard *guard)
 {
     g->index = index;
     g->opts = opts;
@@ -127,6 +127,7 @@ bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, u
     g->ticked_flags = 0u; /* its first tick is due at once (power-on) */
     g->shown_flags = GRIPPER_FLAGS_UNSHOWN;
     g->script = NULL;
+    g->script_guard = guard;
     g->step_hook = NULL; /* an observer may set it as the fleet starts the device */
     g->startup_set = NULL;
     g->startup_cleared = false;
@@ -150,8 +151,8 @@ bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, u
     if (script_options_enabled(g->opts)) {
         char store[4096];
         bool has_store = script_options_store(g->opts, store, sizeof(store));
-        g->script =
-            script_create(&g->device, index, (unsigned)opts->devices, has_store ? store : NULL);
+        g->script = script_create(&g->device, guard, index, (unsigned)opts->devices,
+                                  has_store ? store : NULL);
     }
     return bus_ok && opts_ok;
 }
@@ -237,8 +238,9 @@ const char *gripper_startup_choice(const gripper_t *g)
 
 bool gripper_run_script(gripper_t *g, const char *file, char *why, size_t cap)
 {
-    if (g->script == NULL) {
-        g->script = script_create(&g->device, g->index, 1, NULL);
+    if (g->script == NULL) { /* no script options: no store, named as the fleet's others */
+        g->script =
+            script_create(&g->device, g->script_guard, g->index, (unsigned)g->opts->devices, NULL);
         if (g->script == NULL) {
             snprintf(why, cap, "out of memory");
             return false;
@@ -255,6 +257,9 @@ bool gripper_continue_script(gripper_t *g)
 {
     if (g->script == NULL || !script_preempted(g->script)) {
         return false;
+    }
+    if (!script_take_turn(g->script)) {
+        return true; /* the pass's budget is spent: a later pass */
     }
     wsg_sim_world_advance(&g->world, hal_clock_now_us());
     script_continue(g->script);

@@ -50,6 +50,8 @@ typedef struct gripper {
     finger_bus_host_t fingers; /* its finger bus */
     struct gripper *next_touched;
     gripper_touched_t *touched_list;
+    /* the limits every script of the process shares (the fleet's) */
+    struct script_guard *script_guard;
     /* the flag register the fleet's observers saw last (host/fleet.c);
      * GRIPPER_FLAGS_UNSHOWN: none since its start or an observer forgot */
     uint64_t shown_flags;
@@ -72,9 +74,10 @@ typedef struct gripper {
  * opts must outlive the gripper (it keeps a pointer, and copies them only
  * once its own differ). gripper_touch() puts it on `touched`. False (logged) when its finger bus
  * cannot be had; gripper_release() it all the same. Observers attach next,
- * then gripper_start() runs the startup script. */
+ * then gripper_start() runs the startup script. Its scripts run under
+ * `guard` (the fleet's: it outlives the gripper). */
 bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, unsigned index,
-                  gripper_touched_t *touched);
+                  gripper_touched_t *touched, struct script_guard *guard);
 /* Runs the startup script (--script), as at power-on. */
 void gripper_start(gripper_t *g);
 /* Runs the control step if it is due; returns the next deadline. The fleet
@@ -124,7 +127,8 @@ void gripper_reset(gripper_t *g);
  * (finger_bus_host_inject); a loopback bus is brought up to now first and
  * the device steps to see it take effect. False: bad slot, no bus. */
 bool gripper_inject_finger_fault(gripper_t *g, unsigned slot, finger_fault_t fault, bool active);
-/* A script whose time slice ended runs on for one slice; true while it
+/* A script whose time slice ended runs on for one slice when it has its
+ * turn (the scripts share one slice budget per loop pass); true while it
  * still wants to run (the loop must not block). */
 bool gripper_continue_script(gripper_t *g);
 /* Runs a script file on the device (docs/scripting.md); false with *why. */

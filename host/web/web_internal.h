@@ -119,10 +119,20 @@ void web_ops_forget(web_ops_t *ops);
 enum MHD_Result web_sim_route(const web_request_t *req, gripper_t *g, const char *what);
 /* web_events.c: GET /api/devices/{id}/events */
 enum MHD_Result web_events_route(const web_request_t *req, gripper_t *g);
-/* web_script.c: /api/devices/{id}/script[/run|/stop|/console] and
- * /api/devices/{id}/files[/NAME] (rest: what follows "script" / "files") */
+/* web_script.c: /api/devices/{id}/script[/run|/stop|/console|/startup]
+ * (rest: what follows "script") */
 enum MHD_Result web_script_route(const web_request_t *req, gripper_t *g, const char *rest);
+/* web_store.c: /api/devices/{id}/files[/NAME] (rest: what follows "files") */
 enum MHD_Result web_files_route(const web_request_t *req, gripper_t *g, const char *rest);
+/* The host path of a store file the web names ("NAME.lua" or
+ * "/user/NAME.lua") into path: NULL, else why it is refused (no store, not a
+ * store name, one of wsgsim's own files). */
+const char *web_store_path(const gripper_t *g, const char *name, char *path, size_t cap);
+/* The same, and the file exists and is a regular file. */
+const char *web_store_check_file(const gripper_t *g, const char *name, char *path, size_t cap);
+/* "PATH: reason" (script_read_file's why) -> "reason": a reply names the
+ * store's file, never the host's path. */
+const char *web_store_reason(const char *why, const char *path);
 /* web_system.c: GET /api/devices/{id}/system[?since=N] */
 enum MHD_Result web_system_route(const web_request_t *req, gripper_t *g);
 /* web_static.c: GET /, /devices/{id}, /static/NAME; false: not a page path */

@@ -171,6 +171,24 @@ static void add_web(table_t *t, const results_t *res)
     target(r, "<= 60000", r->wsg <= 60000.0);
 }
 
+/* Scripts share one slice budget per loop pass; the watchdog ends work
+ * that cannot pause (docs/scripting.md, "Limits"). */
+static void add_scripts(table_t *t, const results_t *res)
+{
+    const scripts_result_t *s = &res->scripts;
+    if (s->busy == 0) {
+        return;
+    }
+    char name[2][48];
+    snprintf(name[0], sizeof(name[0]), "SN? p50 beside %d busy scripts (vs 1)", s->busy % 1000);
+    snprintf(name[1], sizeof(name[1]), "FASTSTOP() p50 beside %d busy scripts", s->busy % 1000);
+    row_t *r = add(t, name[0], "us", s->sn_p50_us[1], s->sn_p50_us[0]);
+    target(r, "<= 2x beside 1", ratio(r) <= 2.0);
+    add(t, name[1], "us", s->faststop_p50_us[1], s->faststop_p50_us[0]);
+    r = add(t, "FASTSTOP() during a script's freeze, slowest", "ms", s->freeze_faststop_ms, -1.0);
+    target(r, "<= 50 ms", r->wsg <= 50.0);
+}
+
 /* 200 event streams at their rate, GCL's p99 meanwhile. */
 static void add_streams(table_t *t, const results_t *res)
 {
@@ -367,6 +385,7 @@ static void build(const results_t *res, table_t *t)
     add_vtime(t, res);
     add_fleet(t, res);
     add_cell(t, res);
+    add_scripts(t, res);
     add_firmware(t, res);
     /* against the echo baseline */
     if (res->rtt_tcp[0].n > 0) {
