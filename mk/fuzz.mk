@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-# Fuzzing every parser of outside input (issues 6 and 18), one libFuzzer
+# Fuzzing every parser of outside input, one libFuzzer
 # target per parser, tests/fuzz/fuzz_NAME.c:
 #   session   bytes of TCP/UDP clients: GCL, the binary framer and driver,
 #             the finger bus (raw CAN frames)

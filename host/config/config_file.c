@@ -423,7 +423,8 @@ static int on_setting_key(parse_state_t *st, const char *section, const char *na
         return 1;
     }
     st->failed = true;
-    return fail_at(st->path, st->line, section, name, "unknown key (see docs/wsgsim.example.ini)");
+    return fail_at(st->path, st->line, section, name,
+                   "unknown key (every key: " WSGSIM_EXAMPLE_CONFIG ")");
 }
 
 /* The file's value of a device setting (set false: none). */

@@ -5,6 +5,13 @@
 #ifndef HOST_CONFIG_FILE_H
 #define HOST_CONFIG_FILE_H
 
+/* Where the installed example configuration lies, named by --help (and so
+ * the man page) and by an unknown key's error: the build sets this
+ * install's path (mk/install.mk); this default is `make install`'s. */
+#ifndef WSGSIM_EXAMPLE_CONFIG
+#define WSGSIM_EXAMPLE_CONFIG "/usr/local/share/doc/wsgsim/examples/wsgsim.example.ini"
+#endif
+
 #include <stdbool.h>
 #include <stddef.h>
 

@@ -127,6 +127,7 @@ bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, u
     g->shown_flags = GRIPPER_FLAGS_UNSHOWN;
     g->script = NULL;
     g->script_guard = guard;
+    g->step_hook = NULL; /* an observer may set it as the fleet starts the device */
     g->startup_set = NULL;
     g->startup_cleared = false;
     /* one SocketCAN bus per interface: device 0's */
@@ -306,6 +307,9 @@ uint64_t gripper_tick_advanced(gripper_t *g)
 {
     uint64_t next = wsg_runner_poll_advanced(&g->runner);
     g->ticked_flags = wsg_device_flags(&g->device);
+    if (g->step_hook != NULL) {
+        g->step_hook->stepped(g->step_hook->ctx, g->index, &g->device);
+    }
     if (g->script == NULL) {
         return next;
     }

@@ -25,6 +25,15 @@ typedef struct {
     struct gripper *first;
 } gripper_touched_t;
 
+/* What follows the device's control steps (the --record's samples of its
+ * state): called after each step that ran, with the gripper's index in the
+ * fleet. Steps left out while coasting are not seen; their readings stay
+ * within the envelope of the steps around them (wsg_device_coast()). */
+typedef struct {
+    void (*stepped)(void *ctx, unsigned index, wsg_device_t *dev);
+    void *ctx;
+} gripper_step_hook_t;
+
 /* No flag register (which has 32 bits) was shown. */
 #define GRIPPER_FLAGS_UNSHOWN UINT64_MAX
 
@@ -46,9 +55,10 @@ typedef struct gripper {
     /* the flag register the fleet's observers saw last (host/fleet.c);
      * GRIPPER_FLAGS_UNSHOWN: none since its start or an observer forgot */
     uint64_t shown_flags;
-    uint32_t ticked_flags;  /* the flag register its last tick left: 0 before */
-    unsigned index;         /* its number in the fleet: 0 for the first */
-    struct script *script;  /* its script interpreter; NULL without scripting */
+    uint32_t ticked_flags;                /* the flag register its last tick left: 0 before */
+    unsigned index;                       /* its number in the fleet: 0 for the first */
+    struct script *script;                /* its script interpreter; NULL without scripting */
+    const gripper_step_hook_t *step_hook; /* NULL: none (a plain run) */
     char *startup_set;      /* the startup script the web page chose (heap), NULL: none chosen */
     uint64_t powered_on_us; /* simulated time of its last power-on (start or reset) */
     /* the small fields last, together: a cell holds 10 000 grippers */

@@ -410,6 +410,16 @@ static bool sim_bind_open(const char *sim_bind)
            !IN6_IS_ADDR_LOOPBACK((const struct in6_addr *)addr);
 }
 
+/* The ready line's URL names an address a browser on this host can open:
+ * the loopback address for a wildcard bind, else the bound one. */
+static const char *url_host(const char *bind)
+{
+    if (strcmp(bind, "0.0.0.0") == 0) {
+        return "127.0.0.1";
+    }
+    return strcmp(bind, "::") == 0 ? "::1" : bind;
+}
+
 bool web_server_start(web_server_t *web, host_loop_t *loop, net_t *net, const host_options_t *opts,
                       simctl_t *sim, struct fleet *fleet)
 {
@@ -446,8 +456,8 @@ bool web_server_start(web_server_t *web, host_loop_t *loop, net_t *net, const ho
     web->port = net_local_port(web->listen_fd);
     web_lines_enable(&web->app.lines, (unsigned)opts->devices);
     char endpoint[96];
-    net_format_endpoint(bind, web->port, endpoint, sizeof(endpoint));
-    snprintf(web->describe, sizeof(web->describe), ", http %s", endpoint);
+    net_format_endpoint(url_host(bind), web->port, endpoint, sizeof(endpoint));
+    snprintf(web->describe, sizeof(web->describe), ", web page http://%s/", endpoint);
     return true;
 }
 

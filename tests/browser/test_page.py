@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """The device page (web/) in Debian's headless Chromium, driven by
 chromium-driver through python3-selenium, against build/wsgsim's HTTP
-server (issue 13). Run by `make browser-tests`; prints 'browser: N passed,
+server. Run by `make browser-tests`; prints 'browser: N passed,
 N failed'.
 
 - the page loads and runs with no console error (the browser's log; every

@@ -221,7 +221,7 @@ static void note_slot0_frames(void *ctx, const hal_can_frame_t *frame, uint64_t 
     }
 }
 
-/* Every device of a fleet has a bus of its own (issue 19): a fault sent on
+/* Every device of a fleet has a bus of its own: a fault sent on
  * another bus reaches neither this bus nor its gripper. */
 START_TEST(another_bus_is_independent)
 {
@@ -352,7 +352,7 @@ START_TEST(bus_frame_rates)
 }
 END_TEST
 
-/* An idle device on the in-process bus has nothing due (issue 11, point 7),
+/* An idle device on the in-process bus has nothing due,
  * and the fingers are as they were when it next steps. */
 START_TEST(idle_bus_sleeps_and_wakes_intact)
 {

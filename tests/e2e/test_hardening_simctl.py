@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""Hardening of the control channel, the input files and virtual time
-(issue 10 points 11-15, issue 9 section 5), end to end on build/wsgsim.
+"""Hardening of the control channel, the input files and virtual time, end
+to end on build/wsgsim.
 
 No assertion here depends on how fast the machine is: every check is on
 replies, exit statuses and simulated time."""

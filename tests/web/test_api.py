@@ -38,8 +38,9 @@ class WebCase(unittest.TestCase):
 
 
 class Devices(WebCase):
-    def test_ready_line_names_the_http_address(self):
-        self.assertIn(", http 127.0.0.1:%d" % self.sim.http_port, "".join(self.sim.log))
+    def test_ready_line_names_the_page_to_open(self):
+        self.assertIn(", web page http://127.0.0.1:%d/" % self.sim.http_port,
+                      "".join(self.sim.log))
 
     def test_a_request_from_the_page_itself_is_taken(self):
         own = request(self.sim.base + "/api/devices/0/settings", method="PUT",
@@ -169,7 +170,7 @@ class Startup(unittest.TestCase):
             self.assertIn("warning: http port 8080 cannot be had (Address already in use): "
                           "no web interface", err)
             self.assertNotIn("wsgsim: ", err, "a skipped default is no error line")
-            self.assertNotIn(", http ", err)
+            self.assertNotIn(", web page ", err)
 
 
 class Fleet(WebCase):

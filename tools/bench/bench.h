@@ -219,7 +219,7 @@ typedef struct {
 } fleet_result_t;
 void fleet_run(const char *wsgsim, const char *out_dir, int devices, double idle_s, const char *pin,
                fleet_result_t *r);
-/* `--devices N --address-per-device` (a cell of N addresses, issue 19):
+/* `--devices N --address-per-device` (a cell of N addresses):
  * start until the ready line, peak RSS, idle wakeups, and whether the last
  * device's address answers SN? with its serial. */
 typedef struct {

@@ -104,7 +104,7 @@ static double per_second(long count, double seconds)
     return seconds > 0 ? (double)count / seconds : 0.0;
 }
 
-/* Idle (issue 11): no wake-up at all; one stray per window is tolerated. */
+/* Idle: no wake-up at all; one stray per window is tolerated. */
 static void add_idle(table_t *t, const results_t *res)
 {
     if (res->idle_s <= 0) {
@@ -139,14 +139,14 @@ static void add_memory(table_t *t, const results_t *res)
     target(r, "<= 8192 KiB", r->wsg > 0 && r->wsg <= 8192.0);
 }
 
-/* Callgrind counts (issue 11): the server's instructions per request. */
+/* Callgrind counts: the server's instructions per request. */
 static void add_instr(table_t *t, const results_t *res)
 {
     const instr_result_t *in = &res->instr;
     if (in->sequential[0] <= 0) {
         return;
     }
-    /* The baseline itself: a minimal epoll echo costs 63-103 (issue 21). */
+    /* The baseline itself: a minimal epoll echo costs 63-103. */
     row_t *r = add(t, "echo baseline: instructions per request", "instr", in->sequential[1], -1.0);
     target(r, "<= 206", r->wsg <= 206.0);
     add(t, "instructions per sequential POS? (paused)", "instr", in->sequential[0],
@@ -158,7 +158,7 @@ static void add_instr(table_t *t, const results_t *res)
     target(r, "<= 800", r->wsg <= 800.0);
 }
 
-/* Issue 21: the web's JSON written straight into its buffer. */
+/* The web's JSON written straight into its buffer. */
 static void add_web(table_t *t, const results_t *res)
 {
     if (res->web.per_state <= 0) {
@@ -189,7 +189,7 @@ static void add_scripts(table_t *t, const results_t *res)
     target(r, "<= 50 ms", r->wsg <= 50.0);
 }
 
-/* Issue 21: 200 event streams at their rate, GCL's p99 meanwhile. */
+/* 200 event streams at their rate, GCL's p99 meanwhile. */
 static void add_streams(table_t *t, const results_t *res)
 {
     const streams_result_t *st = &res->streams;
@@ -252,7 +252,7 @@ static void add_fleet(table_t *t, const results_t *res)
     target(r, "<= 1.5x single", ratio(r) <= 1.5);
 }
 
-/* --address-per-device (issue 19, point 6): the start, the peak RSS and
+/* --address-per-device: the start, the peak RSS and
  * the idle wakeups of a cell of N addresses. */
 static void add_cell(table_t *t, const results_t *res)
 {
@@ -318,7 +318,7 @@ static void add_vtime_floor(table_t *t, const vtime_result_t *wsgsim, const vtim
         100.0 * (wsgsim->virtual_s / wsgsim->wall_s) / ceiling, -1.0);
 }
 
-/* Issue 11: 10,000x in-process, and through wsgsim's paused clock. */
+/* 10,000x in-process, and through wsgsim's paused clock. */
 static void add_vtime(table_t *t, const results_t *res)
 {
     const vtime_result_t *v = &res->vtime;
@@ -360,7 +360,7 @@ static void add_scale(table_t *t, const results_t *res)
     }
 }
 
-/* Issue 18: the simulated clock keeps wall pace whoever polls the device. */
+/* The simulated clock keeps wall pace whoever polls the device. */
 static void add_pace(table_t *t, const results_t *res)
 {
     const pace_result_t *p = &res->pace;
@@ -376,7 +376,7 @@ static void add_pace(table_t *t, const results_t *res)
 static void build(const results_t *res, table_t *t)
 {
     t->n = 0;
-    /* issue 11: work only for what is active */
+    /* work only for what is active */
     add_instr(t, res);
     add_web(t, res);
     add_streams(t, res);
@@ -387,7 +387,7 @@ static void build(const results_t *res, table_t *t)
     add_cell(t, res);
     add_scripts(t, res);
     add_firmware(t, res);
-    /* issue 6: against the echo baseline */
+    /* against the echo baseline */
     if (res->rtt_tcp[0].n > 0) {
         add_rtt(t, "TCP", res->rtt_tcp, true);
         add_rtt(t, "UDP", res->rtt_udp, false);
