@@ -17,13 +17,13 @@ VCAN_QEMU_ACCEL ?= auto
 CAN_PYTHON := /usr/bin/python3
 FINGERSIM_SRC := $(sort $(wildcard tools/fingersim/*.c))
 FINGERSIM_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(FINGERSIM_SRC)) \
-	$(BUILD)/obj/host/can_socketcan.o $(BUILD)/obj/host/can_socketcan_adapt.o
+	$(BUILD)/obj/host/can/can_socketcan.o $(BUILD)/obj/host/can/can_socketcan_adapt.o
 CAN_TEST_SRC := $(sort $(wildcard tests/can/*.c))
 # On the fake port (tests/fake), with the host's in-process loopback bus.
-CAN_TEST_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(CAN_TEST_SRC)) $(BUILD)/obj/host/can_loopback.o \
+CAN_TEST_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(CAN_TEST_SRC)) $(BUILD)/obj/host/can/can_loopback.o \
 	$(FAKE_CORE_OBJ)
 CAN_TEST_BIN := $(BUILD)/tests/can_tests
-CAN_TEST_CFLAGS = $(CFLAGS_BASE) $(CORE_INC) -Itests/can -Itests/fake -Ihost \
+CAN_TEST_CFLAGS = $(CFLAGS_BASE) $(CORE_INC) -Itests/can -Itests/fake $(HOST_INC) \
 	$(shell pkg-config --cflags check)
 CAN_TEST_LIBS = $(shell pkg-config --libs check) -lm
 
@@ -47,10 +47,10 @@ fingersim: $(BUILD)/fingersim
 
 $(BUILD)/obj/tools/fingersim/%.o: tools/fingersim/%.c
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -MMD -MP -c $< -o $@
+	$(call quiet,CC,$<)$(CC) $(HOST_CFLAGS) -MMD -MP -c $< -o $@
 
 $(BUILD)/fingersim: $(FINGERSIM_OBJ) $(CORE_LIBS)
-	$(CC) $(LDFLAGS_BASE) -o $@ $(FINGERSIM_OBJ) $(CORE_LIBS) -lm
+	$(call quiet,LD,$@)$(CC) $(LDFLAGS_BASE) -o $@ $(FINGERSIM_OBJ) $(CORE_LIBS) -lm
 
 $(BUILD)/obj/tests/can/%.o: tests/can/%.c
 	@mkdir -p $(dir $@)

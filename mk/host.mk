@@ -7,9 +7,14 @@
 # use the finger bus's wire format from libwsgfw.a.
 # The host sees the public headers only (PUBLIC_INC); its capacities come
 # from host/opts/wsgopts.h like every other Linux build of the libraries.
-HOST_SRC := $(sort $(wildcard host/*.c host/simctl/*.c host/web/*.c))
+# host/ is laid out in folders by layer, lowest first (each folder's
+# README.md); a module includes another folder's header by its name alone
+# (HOST_INC), simctl/ and web/ by their folder ("simctl/control.h").
+HOST_DIRS := os can diag config script port simctl web
+HOST_INC := -Ihost $(addprefix -Ihost/,$(filter-out simctl web,$(HOST_DIRS)))
+HOST_SRC := $(sort $(wildcard host/*.c $(HOST_DIRS:%=host/%/*.c)))
 HOST_PKGS := inih libcjson libsystemd libmicrohttpd lua5.4
-HOST_CFLAGS = $(CFLAGS_BASE) $(LTO) -D_GNU_SOURCE $(PUBLIC_INC) -Ihost $(shell pkg-config --cflags $(HOST_PKGS) 2>/dev/null)
+HOST_CFLAGS = $(CFLAGS_BASE) $(LTO) -D_GNU_SOURCE $(PUBLIC_INC) $(HOST_INC) $(shell pkg-config --cflags $(HOST_PKGS) 2>/dev/null)
 HOST_LIBS = $(shell pkg-config --libs $(HOST_PKGS) 2>/dev/null) -lm
 
 FW_LIB_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(FIRMWARE_SRC))
@@ -21,25 +26,25 @@ CORE_LIBS = $(BUILD)/libwsgsim.a $(BUILD)/libwsgfw.a
 
 $(BUILD)/obj/firmware/%.o: firmware/%.c
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_BASE) $(LTO) $(FIRMWARE_INC) -ffreestanding -MMD -MP -c $< -o $@
+	$(call quiet,CC,$<)$(CC) $(CFLAGS_BASE) $(LTO) $(FIRMWARE_INC) -ffreestanding -MMD -MP -c $< -o $@
 
 $(BUILD)/obj/hal/%.o: hal/%.c
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_BASE) $(LTO) $(PUBLIC_INC) -MMD -MP -c $< -o $@
+	$(call quiet,CC,$<)$(CC) $(CFLAGS_BASE) $(LTO) $(PUBLIC_INC) -MMD -MP -c $< -o $@
 
 $(BUILD)/obj/host/%.o: host/%.c | deps
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -MMD -MP -c $< -o $@
+	$(call quiet,CC,$<)$(CC) $(HOST_CFLAGS) -MMD -MP -c $< -o $@
 
 $(BUILD)/libwsgfw.a: $(FW_LIB_OBJ)
 	@rm -f $@
-	ar rcs $@ $^
+	$(call quiet,AR,$@)ar rcs $@ $^
 
 $(BUILD)/libwsgsim.a: $(SIM_LIB_OBJ)
 	@rm -f $@
-	ar rcs $@ $^
+	$(call quiet,AR,$@)ar rcs $@ $^
 
 $(BUILD)/wsgsim: $(HOST_OBJ) $(CORE_LIBS)
-	$(CC) $(LDFLAGS_BASE) $(LTO_LINK) -o $@ $(HOST_OBJ) $(CORE_LIBS) $(HOST_LIBS)
+	$(call quiet,LD,$@)$(CC) $(LDFLAGS_BASE) $(LTO_LINK) -o $@ $(HOST_OBJ) $(CORE_LIBS) $(HOST_LIBS)
 
 -include $(CORE_OBJ:.o=.d) $(HOST_OBJ:.o=.d)

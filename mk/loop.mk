@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-# Check tests of the host's event loop (host/loop.c), in their own binary
+# Check tests of the host's event loop (host/os/loop.c), in their own binary
 # build/tests/loop_tests linked with the host modules (all but main.o).
 #   make loop-tests          build and run them
 #   make loop-tests SAN=1    the same under ASan/UBSan

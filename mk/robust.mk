@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-# Robustness checks (issue 6), part of `make check`:
+# Robustness checks, part of `make check`:
 #   valgrind-tests   the end-to-end tests (tests/e2e, tests/web) with build/wsgsim under valgrind
 #                    memcheck; fails on any memory error or leak. Once: not in
 #                    the SAN=1 pass, whose e2e and web suites run the sanitized

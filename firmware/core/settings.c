@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 /* The device's settings (wsg_setting_t): where each is held in wsg_config_t,
  * its unit and how it is checked, in one table that wsg_op_set() works from
- * and the host's table of names derives from (host/settings_table.c). */
+ * and the host's table of names derives from (host/config/settings_table.c). */
 #include <stddef.h>
 
 #include "wsg/wsg_device.h"

@@ -3,7 +3,7 @@
  * API over HTTP, served by libmicrohttpd from the host's event loop.
  *
  * The hand-off: MHD runs in its external-epoll mode (MHD_USE_EPOLL, no
- * thread of its own). Its epoll descriptor is one watch in host/loop.c;
+ * thread of its own). Its epoll descriptor is one watch in host/os/loop.c;
  * when it is readable the loop calls MHD_run(), which serves every ready
  * connection without blocking. MHD's own timeouts (MHD_get_timeout) and the
  * event streams' 25 Hz tick are wall-clock wake-ups (loop_wake_at_wall),
@@ -38,7 +38,8 @@ bool web_server_start(web_server_t *web, host_loop_t *loop, net_t *net, const ho
 /* After every loop_wait(): runs what is due on the wall clock. Costs one
  * test when nothing is scheduled. */
 void web_server_poll(web_server_t *web);
-/* ", http ADDR:PORT" for the ready line, or "" when off. */
+/* ", web page http://ADDR:PORT/" for the ready line (a URL to open: the
+ * loopback address for a wildcard bind), or "" when off. */
 const char *web_server_describe(const web_server_t *web);
 /* The port served, or -1. */
 int web_server_port(const web_server_t *web);

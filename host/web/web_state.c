@@ -3,6 +3,7 @@
  * names carry their units; enumerations carry their number and name. */
 #include "fleet.h"
 #include "hal_clock.h"
+#include "clock.h"
 #include "sim/sim_world.h"
 #include "wsg/wsg_names.h"
 #include "web/web_internal.h"
@@ -89,19 +90,23 @@ static void write_fingers(web_json_t *j, const wsg_fingers_t *fingers)
     web_json_close_array(j);
 }
 
-/* A part or an obstacle: present, and its width when it is. */
-static void open_world_thing(web_json_t *j, const char *key, bool present, float width_mm)
+/* A part or an obstacle: present, and its width and side when it is (as
+ * the control channel's STATE? gives them): between the jaws, or around
+ * them (a ring: it blocks opening). */
+static void open_world_thing(web_json_t *j, const char *key, bool present, float width_mm,
+                             sim_part_side_t side)
 {
     web_json_open_object(j, key);
     web_json_bool(j, "present", present);
     if (present) {
         web_json_float(j, "width_mm", width_mm);
+        web_json_string(j, "side", side == SIM_PART_INSIDE ? "inside" : "outside");
     }
 }
 
 static void write_part(web_json_t *j, const sim_part_t *p)
 {
-    open_world_thing(j, "part", p->present, p->width_mm);
+    open_world_thing(j, "part", p->present, p->width_mm, p->side);
     if (p->present) {
         web_json_float(j, "stiffness_n_mm", p->stiffness_n_mm);
         web_json_float(j, "slip_force_n", p->slip_force_n);
@@ -141,6 +146,20 @@ static void write_axis(web_json_t *j, const wsg_snapshot_t *snap)
     web_json_string(j, "motion", motion_names[snap->motion]);
 }
 
+/* The simulated clock: paused (only a step moves it) and its scale. */
+static void write_clock(web_json_t *j, simctl_t *sim)
+{
+    if (sim == NULL) {
+        web_json_null(j, "clock");
+        return;
+    }
+    const simclock_t *clock = simctl_clock(sim);
+    web_json_open_object(j, "clock");
+    web_json_bool(j, "paused", simclock_paused(clock));
+    web_json_float(j, "scale", (float)simclock_scale(clock));
+    web_json_close_object(j);
+}
+
 void web_state_write(web_app_t *app, web_json_t *j, gripper_t *g)
 {
     /* the newest readings, as a GCL query senses before it answers: an idle
@@ -150,6 +169,7 @@ void web_state_write(web_app_t *app, web_json_t *j, gripper_t *g)
     web_json_open_object(j, NULL);
     web_json_uint(j, "id", g->index);
     web_json_ms(j, "time_ms", snap->now_us);
+    write_clock(j, app->sim);
     write_axis(j, snap);
     web_json_open_object(j, "grip_state");
     web_json_uint(j, "code", snap->grip_state);
@@ -157,8 +177,8 @@ void web_state_write(web_app_t *app, web_json_t *j, gripper_t *g)
     web_json_close_object(j);
     write_sysflags(j, snap->flags);
     write_part(j, &g->world.axis.part);
-    open_world_thing(j, "obstacle", g->world.axis.obstacle.present,
-                     g->world.axis.obstacle.width_mm);
+    const sim_obstacle_t *obstacle = &g->world.axis.obstacle;
+    open_world_thing(j, "obstacle", obstacle->present, obstacle->width_mm, obstacle->side);
     web_json_close_object(j);
     web_json_float(j, "ambient_c", g->world.thermal.ambient_c);
     write_fingers(j, snap->fingers);

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* The finger-bus unit tests on the fake port (tests/fake/fake_device.h):
- * the device core on the in-process loopback bus (host/can_loopback.c),
+ * the device core on the in-process loopback bus (host/can/can_loopback.c),
  * stepped only when due as a port steps it, and GCL shortcuts on h_main. */
 #ifndef CAN_HARNESS_H
 #define CAN_HARNESS_H

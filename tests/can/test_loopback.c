@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* The in-process loopback bus itself (host/can_loopback.c): what reaches
+/* The in-process loopback bus itself (host/can/can_loopback.c): what reaches
  * the gripper's controller, driven frame by frame on the fake clock. */
 #include <string.h>
 

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""Abuse: hostile and broken clients against build/wsgsim (issue 6).
+"""Abuse: hostile and broken clients against build/wsgsim.
 
 Every test first puts the device into a known state through a "keeper"
 connection (homed, jaws at 42 mm, VERBOSE=1, PWT=3.5 on the keeper), abuses
@@ -17,7 +17,7 @@ from gclclient import DEFAULT_TIMEOUT, GclError, GclTcp, Wsgsim, wait_for
 
 POSITION = 42.0
 MIB = 1024 * 1024
-LISTEN_BACKLOG = 128  # host/net.c
+LISTEN_BACKLOG = 128  # host/os/net.c
 TCP_INFO_TOTAL_RETRANS = 100  # offset of tcpi_total_retrans in struct tcp_info
 
 

@@ -211,6 +211,44 @@ class RosDialect(ScriptCase):
         self.assertEqual(speed, 0.0)
         self.assertFalse(state & 0x02)  # not moving
 
+    def speed_after_goals(self, gap_ms):
+        """Position goal 30 mm from 20 mm, then +40 mm/s gap_ms later: the
+        jaws' speed measured from positions 200 ms on, over 1 s."""
+        self.measure(0xB1, ros_goal(20.0, 100.0))
+        self.assertEqual(self.ctl.run_until_done()[1], "done")
+        self.measure(0xB1, ros_goal(30.0, 100.0))
+        if gap_ms:
+            self.ctl.step(gap_ms)
+        self.measure(0xB2, ros_goal(0.0, 40.0))
+        self.ctl.step(200)
+        before = self.width(self.client)
+        self.ctl.step(1000)
+        return self.width(self.client) - before
+
+    def test_a_speed_goal_as_a_position_goal_arrives_drives_the_jaws(self):
+        """wsg50-ros-pkg's node sends a speed goal once, on the tick after a
+        position goal, the move still running; its script calls mc.speed
+        without stopping: velocity mode takes the move over."""
+        self.start_ros("fmf,fmf")
+        self.assertAlmostEqual(self.speed_after_goals(0), 40.0, delta=0.1)
+
+    def test_a_speed_goal_during_the_move_drives_the_jaws(self):
+        self.start_ros("fmf,fmf")
+        self.assertAlmostEqual(self.speed_after_goals(100), 40.0, delta=0.1)
+
+    def test_a_gcl_move_taken_over_by_the_script_ends_aborted(self):
+        """Velocity mode ends whoever's MOVE runs, as a superseding MOVE does:
+        the GCL client hears ERR MOVE 19 and never FIN MOVE."""
+        self.start_ros("fmf,fmf")
+        gcl = self.sim.tcp()
+        self.addCleanup(gcl.close)
+        gcl.expect("MOVE(60)", "ACK MOVE")
+        self.ctl.step(100)
+        self.measure(0xB2, ros_goal(0.0, -40.0))
+        self.assertEqual(gcl.read_line(), "ERR MOVE 19")
+        self.ctl.step(500)
+        self.assertEqual(gcl.query_float("SPEED"), 40.0)
+
     def test_other_fingers_leave_every_request_unanswered(self):
         self.start_ros("fmf,dsa")
         self.client.send_request(0xB0, ros_goal())
@@ -418,6 +456,68 @@ error("gave up")
         self.assertEqual(result.returncode, 2)
         self.assertEqual(result.stderr.count("\n"), 1, result.stderr)
         self.assertTrue(result.stderr.startswith("wsgsim: --script /nonexistent/cmd_measure.lua"))
+
+
+class HostFiles(ScriptCase):
+    """What the control channel runs from the host: any path the line holds,
+    never blocking on what is not a regular file."""
+
+    def host_dir(self, name="wsgsim-host-"):
+        path = tempfile.mkdtemp(prefix=name)
+        self.addCleanup(shutil.rmtree, path)
+        return path
+
+    def test_script_run_takes_a_host_path_of_100_characters(self):
+        top = self.host_dir()
+        folder = os.path.join(top, "d" * max(1, 100 - len(top) - len("/echo.lua") - 1))
+        os.mkdir(folder)
+        path = os.path.join(folder, "echo.lua")
+        self.assertGreaterEqual(len(path), 100)
+        with open(path, "w") as f:
+            f.write(ECHO)
+        self.start()
+        self.assertEqual(self.ctl('SCRIPT_RUN("%s")' % path), "ACK SCRIPT_RUN")
+        state = self.script_state()
+        self.assertEqual((state["file"], state["running"], state["registered"]),
+                         (path, True, [0xB5]))
+        reply = self.ctl('SCRIPT_RUN("%s")' % (path + "x"))
+        self.assertTrue(reply.startswith("ERR SCRIPT_RUN 21 "), reply)
+
+    def test_a_fifo_blocks_nothing(self):
+        fifo = os.path.join(self.host_dir(), "pipe.lua")
+        os.mkfifo(fifo)
+        store = self.store(dofile_lua="local ok, err = pcall(dofile, 'pipe.lua')\nerror(err, 0)\n",
+                           require_lua="require 'pipe'\n")
+        os.mkfifo(os.path.join(store, "pipe.lua"))
+        self.start(store=store)
+        reply = self.ctl('SCRIPT_RUN("%s")' % fifo)
+        self.assertTrue(reply.startswith("ERR SCRIPT_RUN 21 "), reply)
+        self.assertIn("not a regular file", reply)
+        for name in ("dofile.lua", "require.lua"):
+            self.assertEqual(self.ctl('SCRIPT_RUN("%s")' % name), "ACK SCRIPT_RUN")
+            state = self.script_state()
+            self.assertTrue(state["failure"], name)
+            self.assertIn("not a regular file", state["error"])
+        self.assertEqual(self.ctl("SIMTIME?"), "SIMTIME=[0.000,0.000]")
+
+    def test_a_fleet_device_without_script_options_logs_as_its_index(self):
+        path = os.path.join(self.host_dir(), "hello.lua")
+        with open(path, "w") as f:
+            f.write("print('hello from a fleet')\n")
+        self.start("--devices", "2")
+        self.assertEqual(self.ctl("DEVICE=1"), "DEVICE=1")
+        self.assertEqual(self.ctl('SCRIPT_RUN("%s")' % path), "ACK SCRIPT_RUN")
+        self.assertIn("script[1]: hello from a fleet", self.sim.drain_log())
+
+    def test_a_startup_store_name_must_be_a_lua_file(self):
+        store = self.store(echo_lua=ECHO)
+        os.rename(os.path.join(store, "echo.lua"), os.path.join(store, "echo"))
+        binary = os.environ.get("WSGSIM", os.path.join(HERE, "..", "..", "build", "wsgsim"))
+        result = subprocess.run([binary, "--script-dir", store, "--script", "/user/echo"],
+                                capture_output=True, text=True, timeout=60)
+        self.assertEqual(result.returncode, 2)
+        self.assertEqual(result.stderr, "wsgsim: --script /user/echo: not a store name "
+                                        "(/user/NAME.lua)\n")
 
 
 if __name__ == "__main__":

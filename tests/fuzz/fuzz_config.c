@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* libFuzzer target: the input is a --config file (INI, read by libinih
- * through host/text_file.c and host/config_file.c), given to options_parse()
+ * through host/os/text_file.c and host/config/config_file.c), given to options_parse()
  * as `wsgsim --config FILE`. A file that is accepted starts the host (its
  * [device.N] sections make the fleet), and then must survive the web page's
- * Save (host/config_file_save.c, which rewrites it line by line) of device
+ * Save (host/config/config_file_save.c, which rewrites it line by line) of device
  * 0's settings, a tag and a motion setting changed as on the page: when the
  * save succeeds (it may refuse settings another model of the file cannot
  * take),

@@ -23,7 +23,7 @@
 #include "fuzz_host.h"
 #include "gripper.h"
 #include "fleet.h"
-#include "simctl/clock.h"
+#include "clock.h"
 #include "simctl/commands.h"
 #include "simctl/scheduler.h"
 #include "wsg/gcl_linebuf.h"

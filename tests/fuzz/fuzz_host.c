@@ -10,7 +10,7 @@
 #include "log.h"
 #include "loop.h"
 #include "net.h"
-#include "simctl/clock.h"
+#include "clock.h"
 #include "simctl/control.h"
 #include "simctl/faults.h"
 #include "simctl/scenario.h"

@@ -4,7 +4,7 @@
  * machine, AUTOSEND) on a virtual clock.
  *
  * The finger bus runs too: the host's loopback CAN bus with two simulated
- * finger nodes (host/can_loopback.c), plus raw frames from the input.
+ * finger nodes (host/can/can_loopback.c), plus raw frames from the input.
  *
  * Input layout: byte 0 picks the model (bits 0-3), whether the binary
  * protocol ignores checksums (bit 4: the device's own setting, so that

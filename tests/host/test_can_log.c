@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* The --can-log writer (host/can_log.c): candump -L lines of the frames it
+/* The --can-log writer (host/can/can_log.c): candump -L lines of the frames it
  * is fed, standard and extended IDs and remote frames; reopening appends
  * to the path; a closed log takes frames and writes nothing. */
 #include <check.h>

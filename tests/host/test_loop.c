@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* Check tests of the host's event loop (host/loop.c): dispatch while
+/* Check tests of the host's event loop (host/os/loop.c): dispatch while
  * callbacks unwatch and reuse descriptors, event masks, signals, wall-clock
  * wake-ups and deadlines, loops that share nothing. Every wait here ends on an event that has
  * already happened (a readable socket, a pending signal) or on a wake-up a few milliseconds away;

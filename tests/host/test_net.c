@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* The server's own sockets (host/net.c): a datagram socket net_listen()
+/* The server's own sockets (host/os/net.c): a datagram socket net_listen()
  * opened is its net_t's own address, on loopback, and no other net_t's; a
  * TCP listener's port number is not (a peer's UDP port may carry it). */
 #include <arpa/inet.h>

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* The ready file (host/notify.c): the ports its caller gives, in their
+/* The ready file (host/os/notify.c): the ports its caller gives, in their
  * order, those not served left out; in place only once notify_ready()
  * renamed it, and gone after notify_stopping(). */
 #include <check.h>

@@ -10,7 +10,7 @@
 #include "harness.h"
 
 #include "fleet.h"
-#include "simctl/clock.h"
+#include "clock.h"
 #include "simctl/commands.h"
 #include "simctl/scenario.h"
 #include "simctl/scheduler.h"
