@@ -87,6 +87,8 @@ class Suite:
         self.last_line = b""
         self.failure_lines = []
         self.sanitizer_reports = []
+        self.prerequisites = []
+        self.built = False  # its prerequisites are: its make must not remake them
 
     def scan(self, line):
         """Adds up the counts a line reports."""
@@ -135,20 +137,25 @@ def jobs_flag(jobs):
     return [] if "jobserver" in os.environ.get("MAKEFLAGS", "") else ["-j%d" % jobs]
 
 
-def prerequisites(make, names):
-    """The prerequisites of the named targets (order-only ones included), in
+def read_prerequisites(make, suites):
+    """Sets each suite's prerequisites (order-only ones included) from
     make's database (make -pq prints it without running any recipe)."""
     proc = subprocess.run(make_command(make, "-pq", ".check-reads-the-database"),
                           stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, close_fds=False)
-    wanted = set(names)
-    found = []
+    by_name = {suite.name: suite for suite in suites}
     for line in proc.stdout.decode(errors="replace").splitlines():
         target, colon, rest = line.partition(":")
-        if not colon or target not in wanted or rest.startswith(("=", ":")) or "=" in rest:
+        if not colon or target not in by_name or rest.startswith(("=", ":")) or "=" in rest:
             continue
-        for prerequisite in rest.replace("|", " ").split():
-            if prerequisite not in found and prerequisite not in wanted:
-                found.append(prerequisite)
+        by_name[target].prerequisites += [p for p in rest.replace("|", " ").split()
+                                          if p not in by_name]
+
+
+def to_build(suites, built=()):
+    """What the suites need that is not in built, the longest job first."""
+    found = []
+    for suite in suites:
+        found += [p for p in suite.prerequisites if p not in found and p not in built]
     return sorted(found, key=lambda target: target not in BUILD_FIRST)
 
 
@@ -190,7 +197,10 @@ def run(suite, make, sanitizer_logs, done):
     started = time.monotonic()
     try:
         with open(suite.log, "wb") as f:
-            proc = subprocess.Popen(make_command(make, suite.name), stdout=f,
+            # -o: what the build made is taken as it is, never made again by
+            # a suite (which would race the suites that use it)
+            old = ["-o" + p for p in suite.prerequisites] if suite.built else []
+            proc = subprocess.Popen(make_command(make, *old, suite.name), stdout=f,
                                     stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
                                     close_fds=False, env=suite_env(suite, sanitizer_logs))
             # wait4: the processor time of make and of every process it waited for
@@ -284,11 +294,16 @@ def run_all(suites, make, jobs, log_dir, sanitizer_logs):
     times = last_times(log_dir)
     waiting = longest_first(suites, times)
     pool = Pool(make, len(suites), sanitizer_logs)
-    first = prerequisites(make, [waiting[0].name])
+    read_prerequisites(make, suites)
+    first = to_build(waiting[:1])
     if build(make, first, waiting[0].name + " needs", jobs, os.path.join(log_dir, "build-first.log")):
+        waiting[0].built = True
         pool.start(waiting.pop(0))
-    rest = [t for t in prerequisites(make, [s.name for s in suites]) if t not in first]
-    if not build(make, rest, "the other suites need", jobs, os.path.join(log_dir, "build.log")):
+    if build(make, to_build(suites, first), "the other suites need", jobs,
+             os.path.join(log_dir, "build.log")):
+        for suite in waiting:
+            suite.built = True
+    else:
         print("check: the suites run one at a time, each building what it lacks")
         jobs = 1
     while waiting or pool.running:
