@@ -53,10 +53,10 @@ FAKE_CONN_OBJ = $(BUILD)/obj/tests/fake/fake_conn.o
 CK_TIMEOUT_MULTIPLIER ?= 10
 CHECK_ENV = CK_TIMEOUT_MULTIPLIER=$(CK_TIMEOUT_MULTIPLIER)
 
-# The Python suites whose tests start servers on ports of their own (e2e,
-# web, valgrind) run that many test files side by side (tests/run_suite.py
-# --jobs): their tests mostly wait, for replies and the device's own
-# timeouts, and the waits overlap.
+# The Python suites whose tests start servers on ports of their own and
+# write in directories of their own (e2e, web, valgrind, pkg) run that many
+# test files side by side (tests/run_suite.py --jobs): their tests mostly
+# wait, for replies and the device's own timeouts, and the waits overlap.
 SUITE_JOBS ?= 4
 
 # A quiet build, as the Linux kernel's: one short line per file

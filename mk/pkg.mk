@@ -20,4 +20,4 @@ endif
 pkg-tests: deps-check $(BUILD)/wsgsim $(BUILD)/fingersim man deb
 	WSGSIM=$(abspath $(BUILD)/wsgsim) FINGERSIM=$(abspath $(BUILD)/fingersim) \
 		MAN_DIR=$(abspath $(BUILD)/man) DEB_DIR=$(abspath $(DEB_DIR)) \
-		$(PKG_PYTHON) tests/run_suite.py pkg tests/pkg '$(PKG_TESTS)'
+		$(PKG_PYTHON) tests/run_suite.py --jobs $(SUITE_JOBS) pkg tests/pkg '$(PKG_TESTS)'
