@@ -297,7 +297,8 @@ def run_all(suites, make, jobs, log_dir, sanitizer_logs):
     pool = Pool(make, len(suites), sanitizer_logs)
     read_prerequisites(make, suites)
     first = to_build(waiting[:1])
-    if build(make, first, waiting[0].name + " needs", jobs, os.path.join(log_dir, "build-first.log")):
+    first_log = os.path.join(log_dir, "build-first.log")
+    if build(make, first, waiting[0].name + " needs", jobs, first_log):
         waiting[0].built = True
         pool.start(waiting.pop(0))
     if build(make, to_build(suites, first), "the other suites need", jobs,
