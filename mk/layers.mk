@@ -1,0 +1,22 @@
+# SPDX-License-Identifier: BSD-3-Clause
+# The shape of the sources, checked from the build (docs/architecture.md).
+#   layers-check   no object of a lower layer references a symbol defined in
+#                  a higher one, and no objects reference each other in a
+#                  cycle: host/ in the order of HOST_DIRS (mk/host.mk, lowest
+#                  first, main.o on top), firmware/ in FIRMWARE_LAYERS
+#   sizes          the production files over 600 lines and functions over
+#                  60 (firmware/, hal/, host/; mk/sizes.py)
+# The firmware's folders, lowest first; bin/ and gcl/ are peers, which may
+# not reference each other either.
+FIRMWARE_LAYERS := text fingers core net bin,gcl
+
+.PHONY: layers-check sizes
+CHECK_TARGETS += layers-check
+
+layers-check: $(HOST_OBJ) $(CORE_OBJ)
+	@python3 mk/layers.py $(BUILD)/obj/host "$(HOST_DIRS)" $(HOST_OBJ) \
+		--place $(BUILD)/obj/gen/web_assets.o=web
+	@python3 mk/layers.py $(BUILD)/obj/firmware "$(FIRMWARE_LAYERS)" $(FW_LIB_OBJ)
+
+sizes:
+	python3 mk/sizes.py
