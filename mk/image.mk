@@ -17,8 +17,10 @@ IMAGE_DEBS := mmdebstrap umoci skopeo
 WSGSIM_DEB := $(DEB_DIR)/wsgsim_$(DEB_VERSION)_$(DEB_ARCH).deb
 
 .PHONY: image image-tests image-deps
+## build the OCI image build/image/wsgsim-oci.tar from the .deb (as root)
 image: $(IMAGE)
 
+## install what the container image needs (mmdebstrap, umoci)
 image-deps:
 	@mk/deps.sh $(IMAGE_DEBS)
 
@@ -27,6 +29,7 @@ $(IMAGE): $(WSGSIM_DEB) mk/image.sh | image-deps
 		{ tail -30 $(IMAGE_LOG); echo "image: failed, see $(IMAGE_LOG)"; exit 1; }
 	@tail -1 $(IMAGE_LOG)
 
+## the image's configuration, and wsgsim run from its root filesystem
 image-tests: $(IMAGE) | image-deps
 	IMAGE=$(abspath $(IMAGE)) IMAGE_VERSION=$(DEB_VERSION) \
 		python3 tests/run_suite.py image tests/image

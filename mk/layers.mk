@@ -13,10 +13,12 @@ FIRMWARE_LAYERS := text fingers core net bin,gcl
 .PHONY: layers-check sizes
 CHECK_TARGETS += layers-check
 
+## fail when a lower layer references a higher one, or objects reference each other
 layers-check: $(HOST_OBJ) $(CORE_OBJ)
 	@python3 mk/layers.py $(BUILD)/obj/host "$(HOST_DIRS)" $(HOST_OBJ) \
 		--place $(BUILD)/obj/gen/web_assets.o=web
 	@python3 mk/layers.py $(BUILD)/obj/firmware "$(FIRMWARE_LAYERS)" $(FW_LIB_OBJ)
 
+## list production files over 600 lines and functions over 60
 sizes:
 	python3 mk/sizes.py

@@ -42,6 +42,7 @@ $(OPTS_TEST_BIN): $(OPTS_TEST_OBJ)
 # Check prints its summary lines; the binaries exit non-zero on any failure,
 # and both run either way.
 .PHONY: unit-tests
+## Check tests of the device core, its drivers and the simulated world
 unit-tests: $(UNIT_BIN) $(OPTS_TEST_BIN)
 	@status=0; $(CHECK_ENV) $(UNIT_BIN) || status=1; \
 	$(CHECK_ENV) $(OPTS_TEST_BIN) || status=1; exit $$status

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: BSD-3-Clause
 # The web interface (issue 13, docs/web.md): the page's files built into
 # build/wsgsim, and its end-to-end tests.
-#   web-tests   tests/web/: the peer, Host and slow-client rules' Check tests, then the end-to-end
+#   web-tests   tests/web/: the peer and slow-client rules' Check tests, then the end-to-end
 #               tests against build/wsgsim (every route and error)
 # The page is web/* (index.html, app.js, style.css), built in; the chart
 # library is Debian's libjs-dygraphs, which wsgsim reads at run time from
@@ -38,6 +38,7 @@ $(BUILD)/tests/web_%_test: tests/web/test_%.c $(BUILD)/obj/host/web/web_%.o $(CO
 	$(CC) $(HOST_CFLAGS) $(shell pkg-config --cflags check) $(LDFLAGS_BASE) -o $@ $^ \
 		$(shell pkg-config --libs check libcjson)
 
+## the web server's Check tests and its end-to-end tests (every route)
 web-tests: $(BUILD)/wsgsim $(WEB_UNIT_TESTS)
 	for t in $(WEB_UNIT_TESTS); do $(CHECK_ENV) $$t || exit 1; done
 	WSGSIM=$(abspath $(BUILD)/wsgsim) python3 tests/run_suite.py web tests/web
