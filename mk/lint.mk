@@ -11,7 +11,7 @@ CPPCHECK_JOBS ?= 2
 CPPCHECK := cppcheck -q --std=c11 --enable=warning,portability,performance \
 	--error-exitcode=1 --suppressions-list=mk/lint.supp -j$(CPPCHECK_JOBS) \
 	-D_GNU_SOURCE $(CORE_INC) $(HOST_INC) -Itests -Itests/fake
-MAKEFILES := Makefile $(sort $(wildcard mk/*.mk))
+HELP_SOURCES := Makefile $(sort $(wildcard mk/*.mk))
 
 .PHONY: lint help
 CHECK_TARGETS += lint
@@ -20,8 +20,8 @@ CHECK_TARGETS += lint
 lint:
 	@mk/deps.sh $(LINT_DEBS)
 	$(CPPCHECK) $(LINT_DIRS)
-	@python3 mk/help.py --check $(MAKEFILES)
+	@python3 mk/help.py --check $(HELP_SOURCES)
 
 ## list every target with its one line
 help:
-	@python3 mk/help.py $(MAKEFILES)
+	@python3 mk/help.py $(HELP_SOURCES)
