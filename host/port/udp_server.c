@@ -31,6 +31,8 @@ typedef struct {
     char addr_text[INET6_ADDRSTRLEN]; /* the address alone, for --udp-stream-allow */
 } udp_peer_t;
 
+#define ACTIVE_SERVER(node) LIST_ITEM(node, udp_server_t, active_link)
+
 static void set_active(udp_server_t *s)
 {
     udp_servers_t *set = s->set;
@@ -40,21 +42,9 @@ static void set_active(udp_server_t *s)
     }
     s->active = active;
     if (active) {
-        s->prev_active = NULL;
-        s->next_active = set->active_first;
-        if (set->active_first != NULL) {
-            set->active_first->prev_active = s;
-        }
-        set->active_first = s;
-        return;
-    }
-    if (s->prev_active != NULL) {
-        s->prev_active->next_active = s->next_active;
+        list_push_front(&set->active, &s->active_link);
     } else {
-        set->active_first = s->next_active;
-    }
-    if (s->next_active != NULL) {
-        s->next_active->prev_active = s->prev_active;
+        list_remove(&set->active, &s->active_link);
     }
 }
 
@@ -347,9 +337,8 @@ int udp_server_port(const udp_server_t *s)
 
 void udp_server_reap(udp_servers_t *set)
 {
-    udp_server_t *next;
-    for (udp_server_t *s = set->active_first; s != NULL; s = next) {
-        next = s->next_active;
+    LIST_EACH_SAFE (node, &set->active) {
+        udp_server_t *s = ACTIVE_SERVER(node);
         wsg_peers_reap(&s->peers);
         set_active(s);
     }
@@ -359,7 +348,8 @@ uint64_t udp_server_next_deadline_us(udp_servers_t *set)
 {
     set->deadline_moved = false;
     uint64_t due = UINT64_MAX;
-    for (udp_server_t *s = set->active_first; s != NULL; s = s->next_active) {
+    LIST_EACH (node, &set->active) {
+        udp_server_t *s = ACTIVE_SERVER(node);
         uint64_t server_due = wsg_peers_next_deadline_us(&s->peers);
         due = server_due < due ? server_due : due;
     }
@@ -368,7 +358,8 @@ uint64_t udp_server_next_deadline_us(udp_servers_t *set)
 
 bool udp_server_cut(udp_servers_t *set, const wsg_conn_t *conn)
 {
-    for (udp_server_t *s = set->active_first; s != NULL; s = s->next_active) {
+    LIST_EACH (node, &set->active) {
+        udp_server_t *s = ACTIVE_SERVER(node);
         wsg_peer_t *peer = wsg_peers_by_conn(&s->peers, conn);
         if (peer != NULL) {
             wsg_peers_forget(&s->peers, peer, WSG_PEER_CUT);
@@ -381,7 +372,8 @@ bool udp_server_cut(udp_servers_t *set, const wsg_conn_t *conn)
 
 const char *udp_server_peer_name(const udp_servers_t *set, const wsg_conn_t *conn)
 {
-    for (udp_server_t *s = set->active_first; s != NULL; s = s->next_active) {
+    LIST_EACH (node, &set->active) {
+        udp_server_t *s = ACTIVE_SERVER(node);
         wsg_peer_t *peer = wsg_peers_by_conn(&s->peers, conn);
         if (peer != NULL) {
             return ((const udp_peer_t *)peer)->name; /* the node is the allocation's first member */
