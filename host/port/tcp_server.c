@@ -345,7 +345,7 @@ static bool setup_client(tcp_client_t *c, int fd, const struct sockaddr_storage 
     if (c->outq.ring == NULL) {
         return false;
     }
-    /* --protocol auto: the first byte chooses from the gripper's drivers (host/gripper.c) */
+    /* --protocol auto: the first byte chooses from the gripper's drivers (host/port/gripper.c) */
     static const wsg_proto_driver_t *const drivers[] = {NULL, &wsg_gcl_driver, &wsg_bin_driver};
     gripper_t *g = c->server->gripper;
     wsg_conn_open(&c->conn, &g->device, drivers[g->opts->protocol], WSG_TRANSPORT_STREAM, &tcp_io,
