@@ -15,6 +15,7 @@ int main(void)
     srunner_add_suite(runner, session_suite());
     srunner_add_suite(runner, flags_suite());
     srunner_add_suite(runner, motion_suite());
+    srunner_add_suite(runner, velocity_suite());
     srunner_add_suite(runner, grip_suite());
     srunner_add_suite(runner, autosend_suite());
     srunner_add_suite(runner, faults_suite());

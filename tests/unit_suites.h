@@ -13,6 +13,7 @@ Suite *errors_suite(void);
 Suite *session_suite(void);
 Suite *flags_suite(void);
 Suite *motion_suite(void);
+Suite *velocity_suite(void);
 Suite *grip_suite(void);
 Suite *autosend_suite(void);
 Suite *faults_suite(void);

@@ -145,6 +145,10 @@ wsg_status_t wsg_op_velocity(wsg_device_t *device, float speed_mm_s)
     if (speed_mm_s != speed_mm_s) {
         return E_INVALID_PARAMETER; /* NaN */
     }
+    /* A move replaces velocity mode, and velocity mode a running MOVE:
+     * wsg50-ros-pkg's script sends its speed goal right after a position
+     * goal, without stopping first (docs/scripting.md). */
+    wsg_motion_supersede_move(dev);
     wsg_status_t status = wsg_motion_check_allowed(dev, true);
     if (status != E_SUCCESS) {
         return status;

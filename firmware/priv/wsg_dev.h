@@ -199,6 +199,9 @@ static inline bool wsg_flags_severe_fault(const wsg_dev_t *dev)
 void wsg_motion_drive(wsg_dev_t *dev, float target_mm, float speed_mm_s, float force_n);
 void wsg_motion_halt(wsg_dev_t *dev, bool fast);
 wsg_status_t wsg_motion_check_allowed(wsg_dev_t *dev, bool needs_reference);
+/* A running MOVE that a new MOVE or velocity mode takes over ends here as
+ * aborted (its owner hears E_CMD_ABORTED first); false when none runs, or
+ * the configuration keeps the strict rejection (move_retarget = no). */
 bool wsg_motion_supersede_move(wsg_dev_t *dev);
 void wsg_motion_begin(wsg_dev_t *dev, wsg_owner_t *owner, wsg_motion_kind_t kind);
 /* Ends the running motion now: its owner hears E_CMD_ABORTED before the

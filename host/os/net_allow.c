@@ -125,3 +125,13 @@ bool net_allow_match(const net_allow_t *list, const struct sockaddr_storage *pee
     }
     return false;
 }
+
+bool net_allow_loopback(const struct sockaddr_storage *peer)
+{
+    const unsigned char *addr = NULL;
+    int family = peer_address(peer, &addr);
+    if (family == AF_INET) {
+        return addr[0] == 127u;
+    }
+    return family == AF_INET6 && memcmp(addr, &in6addr_loopback, sizeof(in6addr_loopback)) == 0;
+}

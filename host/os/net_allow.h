@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* A list of address prefixes (ADDR[/PREFIX], IPv4 or IPv6) and whether a
- * peer's address falls in one: --udp-stream-allow. */
+ * peer's address falls in one: --udp-stream-allow; and whether a peer is
+ * this host itself (a loopback address), whose streams need no list. */
 #ifndef HOST_NET_ALLOW_H
 #define HOST_NET_ALLOW_H
 
@@ -27,5 +28,10 @@ bool net_allow_add(net_allow_t *list, const char *text);
 /* Whether the peer's address (IPv4, IPv6, or IPv4 mapped into IPv6 by a
  * dual-stack socket) is in the list. */
 bool net_allow_match(const net_allow_t *list, const struct sockaddr_storage *peer);
+/* Whether the peer's address is a loopback one: 127.0.0.0/8, ::1, or
+ * ::ffff:127.0.0.0/104 (an IPv4 loopback peer of a dual-stack socket).
+ * Linux drops a packet with such a source arriving from another host
+ * (martian source), and what is sent to it never leaves this host. */
+bool net_allow_loopback(const struct sockaddr_storage *peer);
 
 #endif

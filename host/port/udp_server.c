@@ -180,7 +180,11 @@ static udp_peer_t *new_peer(udp_server_t *s, const wsg_peer_addr_t *addr,
     set_reply_address(p, ss, len, s->proto.reply_port);
     net_format_peer(ss, p->name, sizeof(p->name));
     net_format_address(ss, p->addr_text, sizeof(p->addr_text));
-    p->peer.stream_free = net_allow_match(&s->gripper->opts->udp_stream_allow, ss);
+    /* A loopback peer is this host's own client: no other host can send
+     * from its address (Linux drops such a martian source), and its stream
+     * cannot reach anyone else, so it gets the real device's endless one. */
+    p->peer.stream_free =
+        net_allow_loopback(ss) || net_allow_match(&s->gripper->opts->udp_stream_allow, ss);
     wsg_conn_open(&p->peer.conn, &s->gripper->device, s->proto.driver, WSG_TRANSPORT_DATAGRAM,
                   &udp_io, p);
     host_log_peer(HAL_LOG_INFO, "%s %s: new peer", s->proto.label, p->name);

@@ -157,8 +157,11 @@ wsg_status_t wsg_op_release(wsg_device_t *dev, wsg_owner_t *owner, const wsg_rel
  * the position, with the force limit setting (a new limit applies at once),
  * pushing on whatever stops them (SF_BLOCKED_± while they push) or stopping
  * at a soft limit. It lasts until STOP, FAST STOP, any motion or a new
- * velocity. E_NOT_INITIALIZED, E_ACCESS_DENIED (FAST STOP),
- * E_ALREADY_RUNNING (an operation runs), E_INVALID_PARAMETER (NaN). */
+ * velocity. It takes over a running MOVE as a new MOVE does: the MOVE ends
+ * first, its owner hearing E_CMD_ABORTED (unless move_retarget is off).
+ * E_NOT_INITIALIZED, E_ACCESS_DENIED (FAST STOP), E_ALREADY_RUNNING (HOME,
+ * GRIP or RELEASE runs, or a MOVE that may not be taken over),
+ * E_INVALID_PARAMETER (NaN). */
 wsg_status_t wsg_op_velocity(wsg_device_t *dev, float speed_mm_s);
 /* True in velocity mode; *speed_mm_s (may be NULL) its commanded speed. */
 bool wsg_device_velocity_mode(const wsg_device_t *dev, float *speed_mm_s);

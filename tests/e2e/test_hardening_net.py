@@ -20,6 +20,7 @@ import time
 import unittest
 
 from gclclient import GclError, GclTcp, GclUdp, Wsgsim, wait_for
+from netns import in_netns
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
 import wsgbinproto as wb  # noqa: E402
@@ -28,6 +29,10 @@ CONTROL = re.compile(r"ready: .*, control ([^ ,]+):(\d+)")
 UDP_OVERHEAD = 28  # IPv4 + UDP headers, counted by the reply budget
 UDP_REPLY_MULTIPLE = 8  # docs/behaviour.md: replies <= 8x what a peer sent
 UDP_PEER_BURST = 1000  # docs/behaviour.md: datagrams per peer without refill
+# A peer on another host, as the device sees it: the peer timeout and the
+# stream budget apply to it (a loopback peer's streams are endless); its
+# tests run in a network namespace with this address on its loopback.
+OTHER_HOST = "192.0.2.7"
 
 
 class Control(GclTcp):
@@ -198,9 +203,10 @@ class Reflection(NetCase):
         ctl.step(ms)
         return [d for d in datagrams_waiting(s, 0.5) if d.startswith(b"@")]
 
+    @in_netns(OTHER_HOST)
     def test_autosend_ends_when_the_peer_is_silent_default_60_s(self):
         sim, ctl = self.start("--start-paused", control=True)
-        s = self.udp(sim)
+        s = self.udp(sim, bind=(OTHER_HOST, 0))
         s.send(b"\n" * 8000)  # blank lines: no reply, a full budget (issue 18) for the stream
         s.send(b'AUTOSEND("POS",1000)\n')
         self.assertEqual(datagrams_waiting(s, 5), [b"ACK AUTOSEND\n"])
@@ -210,9 +216,10 @@ class Reflection(NetCase):
         self.assertEqual(self.stream_after(ctl, s, 5000), [], "AUTOSEND outlived a silent peer")
         self.assertIn("silent", sim.drain_log())
 
+    @in_netns(OTHER_HOST)
     def test_a_listening_peer_keeps_its_stream(self):
         sim, ctl = self.start("--start-paused", "--udp-peer-timeout", "2", control=True)
-        s = self.udp(sim)
+        s = self.udp(sim, bind=(OTHER_HOST, 0))
         s.send(b'AUTOSEND("POS",500)\n')
         self.assertEqual(datagrams_waiting(s, 5), [b"ACK AUTOSEND\n"])
         for _ in range(5):  # a line every 1.5 s keeps it going (and pays for it: issue 18)

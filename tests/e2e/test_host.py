@@ -193,9 +193,7 @@ class PausedDriverSequences(HostCase):
 
 
 class AutosendStreams(HostCase):
-    # the UDP subscriber only listens: listed, its stream needs no budget (issue 18)
-    server_args = ("--udp-stream-allow", "127.0.0.1")
-
+    # the UDP subscriber only listens: on loopback, its stream needs no budget
     def test_autosend_lines_never_break_replies(self):
         c = self.tcp()
         self.home(c)

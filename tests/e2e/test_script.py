@@ -211,6 +211,44 @@ class RosDialect(ScriptCase):
         self.assertEqual(speed, 0.0)
         self.assertFalse(state & 0x02)  # not moving
 
+    def speed_after_goals(self, gap_ms):
+        """Position goal 30 mm from 20 mm, then +40 mm/s gap_ms later: the
+        jaws' speed measured from positions 200 ms on, over 1 s."""
+        self.measure(0xB1, ros_goal(20.0, 100.0))
+        self.assertEqual(self.ctl.run_until_done()[1], "done")
+        self.measure(0xB1, ros_goal(30.0, 100.0))
+        if gap_ms:
+            self.ctl.step(gap_ms)
+        self.measure(0xB2, ros_goal(0.0, 40.0))
+        self.ctl.step(200)
+        before = self.width(self.client)
+        self.ctl.step(1000)
+        return self.width(self.client) - before
+
+    def test_a_speed_goal_as_a_position_goal_arrives_drives_the_jaws(self):
+        """wsg50-ros-pkg's node sends a speed goal once, on the tick after a
+        position goal, the move still running; its script calls mc.speed
+        without stopping: velocity mode takes the move over."""
+        self.start_ros("fmf,fmf")
+        self.assertAlmostEqual(self.speed_after_goals(0), 40.0, delta=0.1)
+
+    def test_a_speed_goal_during_the_move_drives_the_jaws(self):
+        self.start_ros("fmf,fmf")
+        self.assertAlmostEqual(self.speed_after_goals(100), 40.0, delta=0.1)
+
+    def test_a_gcl_move_taken_over_by_the_script_ends_aborted(self):
+        """Velocity mode ends whoever's MOVE runs, as a superseding MOVE does:
+        the GCL client hears ERR MOVE 19 and never FIN MOVE."""
+        self.start_ros("fmf,fmf")
+        gcl = self.sim.tcp()
+        self.addCleanup(gcl.close)
+        gcl.expect("MOVE(60)", "ACK MOVE")
+        self.ctl.step(100)
+        self.measure(0xB2, ros_goal(0.0, -40.0))
+        self.assertEqual(gcl.read_line(), "ERR MOVE 19")
+        self.ctl.step(500)
+        self.assertEqual(gcl.query_float("SPEED"), 40.0)
+
     def test_other_fingers_leave_every_request_unanswered(self):
         self.start_ros("fmf,dsa")
         self.client.send_request(0xB0, ros_goal())

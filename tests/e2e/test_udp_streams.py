@@ -1,14 +1,21 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""Streams obey the UDP budget (issue 18, point 1; docs/behaviour.md,
-"Network hardening"): what the device sends a UDP peer, automatic updates
-and AUTOSEND included, stays within 8 times what the peer sent, so one
-spoofed subscription aimed at a victim earns almost nothing; a client that
-talks keeps its stream; --udp-stream-allow gives the listed addresses the
-real device's stream without talking (wsg50-ros-pkg's auto_update).
+"""Streams obey the UDP budget (docs/behaviour.md, "Network hardening"):
+what the device sends a UDP peer, automatic updates and AUTOSEND included,
+stays within 8 times what the peer sent, so one spoofed subscription aimed
+at a victim earns almost nothing; a client that talks keeps its stream;
+--udp-stream-allow gives the listed addresses the real device's stream
+without talking (wsg50-ros-pkg's auto_update).
 
-A spoofed sender is a socket bound to 127.0.0.9; the victim is a socket on
-127.0.0.9 at the port the device answers. Everything timed runs on the
-paused simulated clock (STEP), so nothing depends on machine speed.
+A client on the same host (a loopback source: 127.0.0.0/8, ::1, or IPv4
+loopback on a dual-stack socket) needs no list: no other host can send
+from its address, so its streams are the real device's.
+
+The budget needs a peer that is not on loopback: those tests run in a
+network namespace of their own (netns.py) whose loopback interface also
+carries VICTIM, an address of another host as the device sees it. A
+spoofed sender is a socket bound to VICTIM; the victim is a socket on
+VICTIM at the port the device answers. Everything timed runs on the paused
+simulated clock (STEP), so nothing depends on machine speed.
 """
 import os
 import select
@@ -20,13 +27,14 @@ import tempfile
 import unittest
 
 from gclclient import Wsgsim
+from netns import in_netns
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
 import wsgbinproto as wb  # noqa: E402
 
 UDP_OVERHEAD = 28  # IPv4 + UDP headers, counted on both sides by the budget
 BUDGET_MULTIPLE = 8
-VICTIM = "127.0.0.9"
+VICTIM = "192.0.2.9"  # a documentation address (RFC 5737): another host
 STREAM_IDS = (0x40, 0x41, 0x43, 0x44, 0x45)  # every value with automatic updates
 E_SUCCESS, E_CMD_PENDING = 0, 26
 
@@ -56,9 +64,9 @@ def wire_bytes(datagrams):
 
 
 class StreamCase(unittest.TestCase):
-    def start(self, *args):
+    def start(self, *args, client_host=VICTIM):
         self.bin_port = free_udp_port()
-        self.reply_port = free_udp_port(VICTIM)
+        self.reply_port = free_udp_port(client_host)
         self.sim = Wsgsim("--start-paused", "--sim-port", "0", "--binary-udp-port",
                           str(self.bin_port), "--binary-udp-reply-port", str(self.reply_port),
                           *args)
@@ -86,6 +94,18 @@ class StreamCase(unittest.TestCase):
         forger.sendto(datagram, ("127.0.0.1", self.bin_port))
         return len(datagram) + UDP_OVERHEAD, victim
 
+    def silent_subscriber(self, frame_ids, host=VICTIM):
+        """wsg50-ros-pkg's auto_update over UDP: subscriptions every 20 ms from
+        host, then nothing."""
+        ros = wb.BinUdp("127.0.0.1", self.bin_port, reply_port=self.reply_port, timeout=30.0,
+                        bind_host=host)
+        self.addCleanup(ros.close)
+        ros.send_sock.bind((host, 0))
+        for frame_id in frame_ids:
+            ros.send(subscribe(frame_id, 20))
+            self.assertEqual(ros.wait_for(frame_id).status, E_SUCCESS)
+        return ros
+
     def received_over(self, sock, seconds, step_ms=1000):
         got = []
         for _ in range(seconds * 1000 // step_ms):
@@ -94,7 +114,57 @@ class StreamCase(unittest.TestCase):
         return got + drain(sock, 0.5)
 
 
+class LoopbackPeers(StreamCase):
+    """A client on the device's own host listens as long as it likes, past
+    the peer timeout too, without --udp-stream-allow: a loopback source
+    cannot come from another host, and the stream never leaves this one."""
+
+    def silent_autosend(self, host, family=socket.AF_INET):
+        client = socket.socket(family, socket.SOCK_DGRAM)
+        self.addCleanup(client.close)
+        client.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 1 << 22)
+        client.bind((host, 0))
+        client.sendto(b'AUTOSEND("POS",10)\n', (host, self.sim.udp_port))
+        self.assertEqual(drain(client), [b"ACK AUTOSEND\n"])
+        return client
+
+    def assert_endless(self, sock, per_second):
+        got = self.received_over(sock, 65)  # past the 60 s peer timeout
+        self.assertGreaterEqual(len(got), per_second * 65 - 2)
+        self.assertGreaterEqual(len(self.received_over(sock, 1)), per_second - 1)
+        log = self.sim.drain_log()
+        self.assertNotIn("stream paused", log)
+        self.assertNotIn("forgotten", log)
+
+    def test_autosend_to_127_0_0_1_never_pauses(self):
+        self.start(client_host="127.0.0.1")
+        self.assert_endless(self.silent_autosend("127.0.0.1"), 100)  # every 10 ms
+
+    def test_binary_updates_to_loopback_never_pause(self):
+        """wsg50-ros-pkg's auto_update on the same host: 0x43 every 20 ms,
+        then nothing."""
+        self.start(client_host="127.0.0.1")
+        ros = self.silent_subscriber((0x43,), host="127.0.0.1")
+        self.assert_endless(ros.recv_sock, 50)
+
+    def test_the_whole_loopback_network_and_ipv6_loopback_are_local(self):
+        """127.0.0.0/8 is loopback, not 127.0.0.1 alone; on a dual-stack
+        socket (--bind ::) an IPv4 client is ::ffff:127.0.0.1 and an IPv6 one
+        ::1."""
+        self.start("--bind", "::", client_host="127.0.0.1")
+        clients = [self.silent_autosend("127.0.0.1"), self.silent_autosend("::1", socket.AF_INET6)]
+        other = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        self.addCleanup(other.close)
+        other.bind(("127.3.2.1", 0))
+        other.sendto(b'AUTOSEND("POS",10)\n', ("127.0.0.1", self.sim.udp_port))
+        self.assertEqual(drain(other), [b"ACK AUTOSEND\n"])
+        for sock in clients + [other]:
+            self.assertGreaterEqual(len(self.received_over(sock, 5)), 5 * 100 - 2)
+        self.assertNotIn("stream paused", self.sim.drain_log())
+
+
 class SpoofedStreams(StreamCase):
+    @in_netns(VICTIM)
     def test_a_forged_binary_subscription_earns_at_most_eight_times_its_size(self):
         self.start()
         sent, victim = self.forged_binary_subscription()
@@ -107,6 +177,7 @@ class SpoofedStreams(StreamCase):
         self.assertIn("stream paused", log)
         self.assertIn("--udp-stream-allow %s" % VICTIM, log)
 
+    @in_netns(VICTIM)
     def test_a_forged_autosend_earns_at_most_eight_times_its_size(self):
         self.start()
         victim = self.udp_socket(VICTIM)
@@ -117,6 +188,7 @@ class SpoofedStreams(StreamCase):
         self.assertIn(b"ACK AUTOSEND\n", got)
         self.assertLessEqual(wire_bytes(got), BUDGET_MULTIPLE * (len(datagram) + UDP_OVERHEAD))
 
+    @in_netns(VICTIM)
     def test_the_next_forged_datagram_earns_only_its_own_budget(self):
         self.start()
         sent, victim = self.forged_binary_subscription()
@@ -134,18 +206,7 @@ class ListedAddresses(StreamCase):
         return os.environ.get("WSGSIM", os.path.join(os.path.dirname(os.path.abspath(__file__)),
                                                      "..", "..", "build", "wsgsim"))
 
-    def silent_subscriber(self, frame_ids):
-        """wsg50-ros-pkg's auto_update over UDP: subscriptions every 20 ms from
-        127.0.0.9, then nothing."""
-        ros = wb.BinUdp("127.0.0.1", self.bin_port, reply_port=self.reply_port, timeout=30.0,
-                        bind_host=VICTIM)
-        self.addCleanup(ros.close)
-        ros.send_sock.bind((VICTIM, 0))
-        for frame_id in frame_ids:
-            ros.send(subscribe(frame_id, 20))
-            self.assertEqual(ros.wait_for(frame_id).status, E_SUCCESS)
-        return ros
-
+    @in_netns(VICTIM)
     def test_a_listed_silent_subscriber_keeps_its_stream(self):
         """wsg50-ros-pkg's auto_update over UDP: 0x43, 0x44, 0x45 every 20 ms,
         then nothing: with its address listed the stream goes on, past the
@@ -160,6 +221,7 @@ class ListedAddresses(StreamCase):
         self.assertGreaterEqual(len(late), 3 * 50 - 3)
         self.assertNotIn("stream paused", self.sim.drain_log())
 
+    @in_netns(VICTIM)
     def test_the_configuration_file_lists_addresses_too(self):
         with tempfile.NamedTemporaryFile("w", suffix=".ini", delete=False) as f:
             f.write("[network]\nudp_stream_allow = 10.1.0.0/16, %s\n" % VICTIM)
@@ -174,6 +236,7 @@ class ListedAddresses(StreamCase):
         self.assertEqual(bad.returncode, 2)
         self.assertIn("--udp-stream-allow", bad.stderr)
 
+    @in_netns(VICTIM)
     def test_an_unlisted_silent_subscriber_pauses_and_resumes_when_it_talks(self):
         self.start("--udp-stream-allow", "127.0.0.10")  # someone else
         ros = self.silent_subscriber((0x43, 0x44, 0x45))
@@ -184,6 +247,7 @@ class ListedAddresses(StreamCase):
 
 
 class TalkingClients(StreamCase):
+    @in_netns(VICTIM)
     def test_a_client_that_recommands_keeps_every_update(self):
         """Drake's driver while it re-commands: five streams every 20 ms, a
         force limit (0x32) and a pre-position (0x21) every 50 ms. (At rest,
@@ -212,6 +276,7 @@ class TalkingClients(StreamCase):
         self.assertGreaterEqual(updates, 5 * 100 - 5)  # 5 values at 50 Hz for 2 s
         self.assertNotIn("stream paused", self.sim.drain_log())
 
+    @in_netns(VICTIM)
     def test_a_stream_never_starves_the_final_reply_its_client_waits_for(self):
         """Drake's calibration: five streams every 20 ms, then a homing whose
         final reply it waits for without sending anything; the updates stop

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* --udp-stream-allow's list (host/os/net_allow.c): parsing ADDR[/PREFIX]
- * lists and matching IPv4, IPv6 and IPv4-mapped peers. */
+ * lists and matching IPv4, IPv6 and IPv4-mapped peers; which peers are
+ * loopback ones (streams without a list). */
 #include <arpa/inet.h>
 #include <check.h>
 #include <netinet/in.h>
@@ -105,6 +106,47 @@ START_TEST(the_list_is_bounded)
 }
 END_TEST
 
+static bool loopback(struct sockaddr_storage ss)
+{
+    return net_allow_loopback(&ss);
+}
+
+/* The whole of 127.0.0.0/8, ::1 and an IPv4 loopback peer of a dual-stack
+ * socket; nothing next to them, and not the deprecated IPv4-compatible
+ * form, which a dual-stack socket never reports. */
+START_TEST(loopback_peers_are_the_loopback_ranges_only)
+{
+    static const char *const v4_loopback[] = {"127.0.0.1", "127.0.0.9", "127.255.255.255",
+                                              "127.1.0.1"};
+    static const char *const v4_other[] = {"126.255.255.255", "128.0.0.1", "10.9.0.9", "0.0.0.0",
+                                           "255.255.255.255"};
+    for (size_t i = 0; i < sizeof(v4_loopback) / sizeof(v4_loopback[0]); i++) {
+        ck_assert_msg(loopback(v4(v4_loopback[i])), "%s", v4_loopback[i]);
+    }
+    for (size_t i = 0; i < sizeof(v4_other) / sizeof(v4_other[0]); i++) {
+        ck_assert_msg(!loopback(v4(v4_other[i])), "%s", v4_other[i]);
+    }
+    ck_assert(loopback(v6("::1")));
+    ck_assert(loopback(v6("::ffff:127.0.0.1")));
+    ck_assert(loopback(v6("::ffff:127.3.2.1")));
+    ck_assert(!loopback(v6("::ffff:10.9.0.9")));
+    ck_assert(!loopback(v6("::127.0.0.1")));
+    ck_assert(!loopback(v6("::")));
+    ck_assert(!loopback(v6("::2")));
+    ck_assert(!loopback(v6("fe80::1")));
+    ck_assert(!loopback(v6("1::1")));
+}
+END_TEST
+
+START_TEST(a_peer_of_another_family_is_no_loopback_one)
+{
+    struct sockaddr_storage ss;
+    memset(&ss, 0, sizeof(ss));
+    ss.ss_family = AF_UNIX;
+    ck_assert(!net_allow_loopback(&ss));
+}
+END_TEST
+
 Suite *net_allow_suite(void)
 {
     Suite *s = suite_create("net_allow");
@@ -115,6 +157,8 @@ Suite *net_allow_suite(void)
     tcase_add_test(tc, prefix_zero_allows_the_whole_family);
     tcase_add_test(tc, malformed_items_leave_the_list_unchanged);
     tcase_add_test(tc, the_list_is_bounded);
+    tcase_add_test(tc, loopback_peers_are_the_loopback_ranges_only);
+    tcase_add_test(tc, a_peer_of_another_family_is_no_loopback_one);
     suite_add_tcase(s, tc);
     return s;
 }
