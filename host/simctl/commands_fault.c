@@ -4,7 +4,6 @@
 #include <strings.h>
 
 #include "commands_internal.h"
-#include "control.h"
 #include "delay.h"
 #include "faults.h"
 #include "fleet.h"

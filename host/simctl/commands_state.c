@@ -11,7 +11,6 @@
 #include "faults.h"
 #include "fleet.h"
 #include "log.h"
-#include "control.h"
 #include "scheduler.h"
 #include "state_json.h"
 
