@@ -8,7 +8,7 @@
 #                  60 (firmware/, hal/, host/; mk/sizes.py)
 # The firmware's folders, lowest first; bin/ and gcl/ are peers, which may
 # not reference each other either.
-FIRMWARE_LAYERS := text fingers core net bin,gcl
+FIRMWARE_LAYERS := text fingers core conn bin,gcl
 
 .PHONY: layers-check sizes
 CHECK_TARGETS += layers-check

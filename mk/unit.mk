@@ -7,7 +7,7 @@
 #   make unit-tests         build and run them
 #   make unit-tests SAN=1   the same under ASan/UBSan (build/san)
 UNIT_SRC := tests/unit_main.c \
-	$(sort $(wildcard tests/core/*.c tests/gcl/*.c tests/net/*.c tests/text/*.c tests/sim/*.c))
+	$(sort $(wildcard tests/core/*.c tests/gcl/*.c tests/conn/*.c tests/text/*.c tests/sim/*.c))
 UNIT_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(UNIT_SRC)) $(FAKE_CORE_OBJ)
 UNIT_BIN := $(BUILD)/tests/unit_tests
 UNIT_CFLAGS = $(CFLAGS_BASE) $(CORE_INC) -Itests -Itests/fake $(shell pkg-config --cflags check)
