@@ -3,11 +3,11 @@
 # build/wsgsim, and its end-to-end tests.
 #   web-tests   tests/web/: the peer and slow-client rules' Check tests, then the end-to-end
 #               tests against build/wsgsim (every route and error)
-# The page is web/* (index.html, app.js, style.css), built in; the chart
+# The page is webui/* (index.html, app.js, style.css), built in; the chart
 # library is Debian's libjs-dygraphs, which wsgsim reads at run time from
 # /usr/share/javascript/dygraphs (host/web/web_static.c): never built in,
 # never fetched from the internet.
-WEB_PAGE_FILES := $(sort $(wildcard web/*))
+WEB_PAGE_FILES := $(sort $(wildcard webui/*))
 WEB_ASSETS_C := $(BUILD)/gen/web_assets.c
 
 .PHONY: web-tests
@@ -16,8 +16,8 @@ CHECK_TARGETS += web-tests
 WEB_ASSETS_LIST := $(BUILD)/gen/web_assets.list
 
 .PHONY: web-assets-list
-# The names of web/'s files, rewritten only when they change: a file removed
-# from web/ rebuilds the table as a file added or edited does.
+# The names of webui/'s files, rewritten only when they change: a file removed
+# from webui/ rebuilds the table as a file added or edited does.
 $(WEB_ASSETS_LIST): web-assets-list
 	@mkdir -p $(dir $@)
 	@echo '$(WEB_PAGE_FILES)' | cmp -s - $@ || echo '$(WEB_PAGE_FILES)' > $@
