@@ -15,7 +15,7 @@
 #include "sim/finger_node.h"
 #include "sim/sim_models.h"
 #include "text_file.h"
-#include "hostname.h"
+#include "http_host.h"
 
 #define TEXT_MAX WSG_CONFIG_STRING_MAX
 #define MAX_CLIENTS_LIMIT 128
@@ -37,7 +37,7 @@ typedef enum {
     K_ADDR,        /* an IPv4 or IPv6 address */
     K_LOOPBACK,    /* a loopback address only */
     K_PROTOCOL,    /* auto, gcl or binary */
-    K_HOSTS,       /* host names, comma-separated (hostname_list_valid) */
+    K_HOSTS,       /* host names, comma-separated (http_host_list_valid) */
     K_PATH,        /* a file or directory name: printable, not empty */
     K_ALLOW,       /* comma-separated ADDR[/PREFIX] (net_allow.h) */
     K_FINGERS,     /* A[,B]: the fingers of a loopback bus (wsg_finger_node_parse_pair) */
@@ -301,7 +301,7 @@ static const char *convert(kind_t kind, const char *text, value_t *v)
         return ok ? NULL : "expected auto, gcl or binary";
     }
     case K_HOSTS:
-        return strlen(text) < sizeof(v->text) && hostname_list_valid(text)
+        return strlen(text) < sizeof(v->text) && http_host_list_valid(text)
                    ? NULL
                    : "expected host names separated by commas (or *), at most 127 characters";
     case K_PATH:

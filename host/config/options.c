@@ -13,7 +13,7 @@
 #include "sim/finger_node.h"
 #include "sim/sim_models.h"
 #include "version.h"
-#include "hostname.h"
+#include "http_host.h"
 
 #define DEFAULT_PORT 1000
 #define DEFAULT_MAX_CLIENTS 8
@@ -343,7 +343,7 @@ static options_result_t apply_web_option(int opt, const char *arg, host_options_
                     HOST_HTTP_ALLOW_LISTS_MAX);
             return OPTIONS_EXIT_USAGE;
         }
-        if (!hostname_list_valid(arg)) {
+        if (!http_host_list_valid(arg)) {
             return usage_error("--http-allow-host", arg);
         }
         opts->http_allow_hosts[opts->http_allow_host_count++] = arg;

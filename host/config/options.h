@@ -66,7 +66,7 @@ typedef struct {
     bool http_port_given;  /* set explicitly: failing to bind it is fatal */
     const char *http_bind; /* --http-bind: NULL: as --bind */
     /* --http-allow-host (and [network] http_allow_host first): the names,
-     * comma-separated lists, besides addresses and localhost (hostname.h) */
+     * comma-separated lists, besides addresses and localhost (http_host.h) */
     const char *http_allow_hosts[HOST_HTTP_ALLOW_LISTS_MAX];
     int http_allow_host_count;
     int http_request_timeout_s; /* --http-request-timeout: a whole request within S */

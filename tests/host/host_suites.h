@@ -7,7 +7,7 @@
 #include <check.h>
 
 Suite *can_log_suite(void);
-Suite *hostname_suite(void);
+Suite *http_host_suite(void);
 Suite *net_suite(void);
 Suite *net_allow_suite(void);
 Suite *notify_suite(void);

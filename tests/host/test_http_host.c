@@ -1,15 +1,15 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* Check tests of the web server's Host rule (host/os/hostname.c, DNS
+/* Check tests of the web server's Host rule (host/os/http_host.c, DNS
  * rebinding): the literal addresses, localhost, the allowed names and the
  * malformed headers the end-to-end tests cannot all send. */
 #include <check.h>
 
 #include "host_suites.h"
-#include "hostname.h"
+#include "http_host.h"
 
 static bool allowed_alone(const char *host)
 {
-    return hostname_allowed(host, NULL, 0);
+    return http_host_allowed(host, NULL, 0);
 }
 
 START_TEST(literal_addresses_are_allowed_with_or_without_a_port)
@@ -65,49 +65,49 @@ END_TEST
 START_TEST(named_hosts_are_allowed_without_case_or_trailing_dot)
 {
     const char *lists[] = {"wsg.lab", "gripper-2.example, other.example.", "x_y"};
-    ck_assert(hostname_allowed("wsg.lab:8080", lists, 3));
-    ck_assert(hostname_allowed("WSG.Lab", lists, 3));
-    ck_assert(hostname_allowed("wsg.lab.:8080", lists, 3));
-    ck_assert(hostname_allowed("gripper-2.example:80", lists, 3));
-    ck_assert(hostname_allowed("other.example", lists, 3));
-    ck_assert(hostname_allowed("x_y:80", lists, 3));
-    ck_assert(!hostname_allowed("lab:8080", lists, 3));
-    ck_assert(!hostname_allowed("wsg.lab.example:8080", lists, 3));
-    ck_assert(!hostname_allowed("a.wsg.lab:8080", lists, 3));
-    ck_assert(!hostname_allowed("wsg.lab:8x", lists, 3));
+    ck_assert(http_host_allowed("wsg.lab:8080", lists, 3));
+    ck_assert(http_host_allowed("WSG.Lab", lists, 3));
+    ck_assert(http_host_allowed("wsg.lab.:8080", lists, 3));
+    ck_assert(http_host_allowed("gripper-2.example:80", lists, 3));
+    ck_assert(http_host_allowed("other.example", lists, 3));
+    ck_assert(http_host_allowed("x_y:80", lists, 3));
+    ck_assert(!http_host_allowed("lab:8080", lists, 3));
+    ck_assert(!http_host_allowed("wsg.lab.example:8080", lists, 3));
+    ck_assert(!http_host_allowed("a.wsg.lab:8080", lists, 3));
+    ck_assert(!http_host_allowed("wsg.lab:8x", lists, 3));
 }
 END_TEST
 
 START_TEST(a_star_allows_every_host)
 {
     const char *lists[] = {"wsg.lab,*"};
-    ck_assert(hostname_allowed("rebind.example:8080", lists, 1));
-    ck_assert(hostname_allowed("::1", lists, 1));
-    ck_assert(hostname_allowed("", lists, 1));
+    ck_assert(http_host_allowed("rebind.example:8080", lists, 1));
+    ck_assert(http_host_allowed("::1", lists, 1));
+    ck_assert(http_host_allowed("", lists, 1));
 }
 END_TEST
 
 START_TEST(lists_of_names_are_checked)
 {
-    ck_assert(hostname_list_valid("wsg.lab"));
-    ck_assert(hostname_list_valid("wsg.lab,gripper.local"));
-    ck_assert(hostname_list_valid("wsg.lab, gripper.local."));
-    ck_assert(hostname_list_valid("*"));
-    ck_assert(hostname_list_valid("10.0.0.5"));
-    ck_assert(!hostname_list_valid(""));
-    ck_assert(!hostname_list_valid("wsg.lab,"));
-    ck_assert(!hostname_list_valid(",wsg.lab"));
-    ck_assert(!hostname_list_valid("wsg lab"));
-    ck_assert(!hostname_list_valid("wsg.lab:8080"));
-    ck_assert(!hostname_list_valid("[::1]"));
-    ck_assert(!hostname_list_valid("*.lab"));
-    ck_assert(!hostname_list_valid("."));
+    ck_assert(http_host_list_valid("wsg.lab"));
+    ck_assert(http_host_list_valid("wsg.lab,gripper.local"));
+    ck_assert(http_host_list_valid("wsg.lab, gripper.local."));
+    ck_assert(http_host_list_valid("*"));
+    ck_assert(http_host_list_valid("10.0.0.5"));
+    ck_assert(!http_host_list_valid(""));
+    ck_assert(!http_host_list_valid("wsg.lab,"));
+    ck_assert(!http_host_list_valid(",wsg.lab"));
+    ck_assert(!http_host_list_valid("wsg lab"));
+    ck_assert(!http_host_list_valid("wsg.lab:8080"));
+    ck_assert(!http_host_list_valid("[::1]"));
+    ck_assert(!http_host_list_valid("*.lab"));
+    ck_assert(!http_host_list_valid("."));
 }
 END_TEST
 
-Suite *hostname_suite(void)
+Suite *http_host_suite(void)
 {
-    Suite *s = suite_create("hostname");
+    Suite *s = suite_create("http_host");
     TCase *tc = tcase_create("host");
     tcase_add_test(tc, literal_addresses_are_allowed_with_or_without_a_port);
     tcase_add_test(tc, localhost_and_its_subdomains_are_allowed);
