@@ -16,39 +16,18 @@
 #define FILE_LINE_MAX 4096        /* a comment line may be this long */
 #define FILE_BYTES_MAX (1u << 20) /* a device configuration is a few KiB */
 
-/* The keys besides the device settings of settings_table.h, which the file
- * reads from that table. */
+/* The device's own keys (key_id_t); the options' keys are option_table's,
+ * the device settings' settings_table's. */
 static const struct {
     const char *section;
     const char *name;
     config_value_kind_t kind;
 } keys[KEY_COUNT] = {
-    [DEV_MODEL] = {"device", "model", CV_MODEL},
     [DEV_SERIAL] = {"device", "serial", CV_SERIAL},
     [DEV_TAG] = {"device", "tag", CV_TEXT},
     [DEV_VERSION] = {"device", "firmware_version", CV_TEXT},
     [MOT_HOMING] = {"motion", "homing_direction", CV_DIRECTION},
     [MOT_MOVE_RETARGET] = {"motion", "move_retarget", CV_BOOL},
-    [NET_TCP_PORT] = {"network", "tcp_port", CV_PORT},
-    [NET_UDP_PORT] = {"network", "udp_port", CV_PORT},
-    [NET_BIND] = {"network", "bind", CV_ADDR},
-    [NET_MAX_CLIENTS] = {"network", "max_clients", CV_CLIENTS},
-    [NET_ADDRESS_PER_DEVICE] = {"network", "address_per_device", CV_BOOL},
-    [NET_IDLE_TIMEOUT] = {"network", "idle_timeout", CV_SECONDS_OFF},
-    [NET_UDP_PEER_TIMEOUT] = {"network", "udp_peer_timeout", CV_SECONDS},
-    [NET_SIM_PORT] = {"network", "sim_port", CV_PORT_OFF},
-    [NET_SIM_BIND] = {"network", "sim_bind", CV_LOOPBACK},
-    [NET_PROTOCOL] = {"network", "protocol", CV_PROTOCOL},
-    [NET_BINARY_UDP_PORT] = {"network", "binary_udp_port", CV_PORT},
-    [NET_BINARY_UDP_REPLY_PORT] = {"network", "binary_udp_reply_port", CV_PORT},
-    [NET_HTTP_PORT] = {"network", "http_port", CV_PORT},
-    [NET_HTTP_BIND] = {"network", "http_bind", CV_ADDR},
-    [NET_HTTP_ALLOW_HOST] = {"network", "http_allow_host", CV_HOSTS},
-    [NET_HTTP_REQUEST_TIMEOUT] = {"network", "http_request_timeout", CV_SECONDS},
-    [SCRIPT_STARTUP] = {"script", "startup", CV_PATH},
-    [SCRIPT_DIR] = {"script", "dir", CV_PATH},
-    [SCRIPT_AUTOSTART] = {"script", "autostart", CV_BOOL},
-    [NET_UDP_STREAM_ALLOW] = {"network", "udp_stream_allow", CV_ALLOW},
 };
 
 static const struct {
@@ -199,6 +178,25 @@ static int on_setting_key(parse_state_t *st, const char *section, const char *na
                                "unknown key (see docs/wsgsim.example.ini)");
 }
 
+/* An option's key (option_table.h), else a device setting's. */
+static int on_option_key(parse_state_t *st, const char *section, const char *name, const char *text)
+{
+    for (unsigned i = 0; i < OPTION_COUNT; i++) {
+        const option_row_t *row = &option_table[i];
+        if (strcasecmp(row->section, section) != 0 || strcasecmp(row->key, name) != 0) {
+            continue;
+        }
+        const char *why = read_value(row->kind, text, &st->cf->options[i]);
+        if (why != NULL) {
+            st->failed = true;
+            return config_file_fail_at(st->path, st->line, section, name, why);
+        }
+        mark_set(&st->cf->options[i], st);
+        return 1;
+    }
+    return on_setting_key(st, section, name, text);
+}
+
 static int on_key(void *user, const char *section, const char *name, const char *value)
 {
     parse_state_t *st = user;
@@ -219,7 +217,7 @@ static int on_key(void *user, const char *section, const char *name, const char 
         mark_set(&st->cf->values[i], st);
         return 1;
     }
-    return on_setting_key(st, section, name, text);
+    return on_option_key(st, section, name, text);
 }
 
 static bool is_comment(const char *text)
@@ -279,97 +277,24 @@ static char *read_line(char *str, int num, void *stream)
     return str;
 }
 
-static void apply_binary(const config_file_t *cf, host_options_t *opts)
+/* The options the files set, through the command line's own table, and
+ * the two device settings that reach the devices through the options. */
+static void apply_options(const config_file_t *cf, host_options_t *opts)
 {
-    const value_t *v = cf->values;
-    if (v[NET_PROTOCOL].set) {
-        opts->protocol = (host_protocol_t)v[NET_PROTOCOL].number;
-    }
-    if (v[NET_BINARY_UDP_PORT].set) {
-        opts->binary_udp_port = (int)v[NET_BINARY_UDP_PORT].number;
-        opts->binary_udp_port_given = true;
-    }
-    if (v[NET_BINARY_UDP_REPLY_PORT].set) {
-        opts->binary_udp_reply_port = (int)v[NET_BINARY_UDP_REPLY_PORT].number;
-    }
-    const value_t *crc = setting_value(cf, WSG_SET_BINARY_CRC_CHECK);
-    if (crc->set) { /* reaches the device through the options */
-        opts->binary_crc = crc->number != 0.0;
-    }
-    if (v[NET_HTTP_PORT].set) {
-        opts->http_port = (int)v[NET_HTTP_PORT].number;
-        opts->http_port_given = true;
-    }
-    if (v[NET_HTTP_BIND].set) {
-        opts->http_bind = v[NET_HTTP_BIND].text;
-    }
-    if (v[NET_HTTP_ALLOW_HOST].set) { /* the first list: the command line adds its own */
-        opts->http_allow_hosts[opts->http_allow_host_count++] = v[NET_HTTP_ALLOW_HOST].text;
-    }
-    if (v[NET_HTTP_REQUEST_TIMEOUT].set) {
-        opts->http_request_timeout_s = (int)v[NET_HTTP_REQUEST_TIMEOUT].number;
-    }
-}
-
-/* [script]: the startup script and the store (docs/scripting.md). */
-static void apply_script(const config_file_t *cf, host_options_t *opts)
-{
-    const value_t *v = cf->values;
-    if (v[SCRIPT_STARTUP].set) {
-        opts->script = v[SCRIPT_STARTUP].text;
-    }
-    if (v[SCRIPT_DIR].set) {
-        opts->script_dir = v[SCRIPT_DIR].text;
-    }
-    if (v[SCRIPT_AUTOSTART].set) {
-        opts->script_autostart = v[SCRIPT_AUTOSTART].number != 0.0;
-    }
-}
-
-static void apply_host(const config_file_t *cf, host_options_t *opts)
-{
-    const value_t *v = cf->values;
-    if (v[DEV_MODEL].set) {
-        opts->model = v[DEV_MODEL].text;
-    }
-    if (v[NET_TCP_PORT].set) {
-        opts->tcp_port = (int)v[NET_TCP_PORT].number;
-    }
-    if (v[NET_UDP_PORT].set) {
-        opts->udp_port = (int)v[NET_UDP_PORT].number;
-        opts->udp_port_given = true;
-    }
-    if (v[NET_BIND].set) {
-        opts->bind_addr = v[NET_BIND].text;
-    }
-    if (v[NET_MAX_CLIENTS].set) {
-        opts->max_clients = (int)v[NET_MAX_CLIENTS].number;
+    for (unsigned i = 0; i < OPTION_COUNT; i++) {
+        const value_t *v = &cf->options[i];
+        if (v->set) {
+            (void)option_set(opts, (option_id_t)i, v->number, v->text); /* checked on reading */
+        }
     }
     const value_t *faststop = setting_value(cf, WSG_SET_DISCONNECT_FASTSTOP);
-    if (faststop->set) { /* reaches the device through the options */
+    if (faststop->set) {
         opts->disconnect_faststop = faststop->number != 0.0;
     }
-    if (v[NET_ADDRESS_PER_DEVICE].set) {
-        opts->address_per_device = v[NET_ADDRESS_PER_DEVICE].number != 0.0;
+    const value_t *crc = setting_value(cf, WSG_SET_BINARY_CRC_CHECK);
+    if (crc->set) {
+        opts->binary_crc = crc->number != 0.0;
     }
-    if (v[NET_IDLE_TIMEOUT].set) {
-        opts->idle_timeout_s = (int)v[NET_IDLE_TIMEOUT].number;
-    }
-    if (v[NET_UDP_PEER_TIMEOUT].set) {
-        opts->udp_peer_timeout_s = (int)v[NET_UDP_PEER_TIMEOUT].number;
-    }
-    if (v[NET_SIM_PORT].set) {
-        opts->sim_port = (int)v[NET_SIM_PORT].number;
-    }
-    if (v[NET_SIM_BIND].set) {
-        opts->sim_bind = v[NET_SIM_BIND].text;
-    }
-    if (v[NET_UDP_STREAM_ALLOW].set) {
-        opts->udp_stream_allow.count = 0;
-        (void)net_allow_add(&opts->udp_stream_allow, v[NET_UDP_STREAM_ALLOW].text); /* checked */
-    }
-    apply_binary(cf, opts);
-    apply_script(cf, opts);
 }
 
 static void config_file_forget(config_file_t *cf)
@@ -426,6 +351,6 @@ bool config_file_load(config_file_t *cf, const char *config_path, const char *sa
         !parse_file(cf, save_path, "--save-file")) {
         return false;
     }
-    apply_host(cf, opts);
+    apply_options(cf, opts);
     return true;
 }

@@ -9,35 +9,17 @@
 
 #include "config_file.h"
 #include "config_value.h"
+#include "option_table.h"
 #include "settings_table.h"
 
+/* The file's keys that are the device's own, not options (option_table.h)
+ * nor device settings (settings_table.h). */
 typedef enum {
-    DEV_MODEL,
     DEV_SERIAL,
     DEV_TAG,
     DEV_VERSION,
     MOT_HOMING,
     MOT_MOVE_RETARGET,
-    NET_TCP_PORT,
-    NET_UDP_PORT,
-    NET_BIND,
-    NET_MAX_CLIENTS,
-    NET_ADDRESS_PER_DEVICE,
-    NET_IDLE_TIMEOUT,
-    NET_UDP_PEER_TIMEOUT,
-    NET_SIM_PORT,
-    NET_SIM_BIND,
-    NET_PROTOCOL,
-    NET_BINARY_UDP_PORT,
-    NET_BINARY_UDP_REPLY_PORT,
-    NET_HTTP_PORT,
-    NET_HTTP_BIND,
-    NET_HTTP_ALLOW_HOST,
-    NET_HTTP_REQUEST_TIMEOUT,
-    SCRIPT_STARTUP,
-    SCRIPT_DIR,
-    SCRIPT_AUTOSTART,
-    NET_UDP_STREAM_ALLOW,
     KEY_COUNT
 } key_id_t;
 
@@ -75,6 +57,7 @@ struct config_file {
     char files[FILES_MAX][256];
     unsigned file_count;
     value_t values[KEY_COUNT];
+    value_t options[OPTION_COUNT];          /* by the rows of option_table */
     value_t settings[SETTINGS_TABLE_COUNT]; /* by the rows of settings_table */
     device_section_t *sections;             /* malloc'd, in the order of the file */
     unsigned section_count;

@@ -11,7 +11,7 @@
 
 #include "http_host.h"
 #include "net_allow.h"
-#include "options.h"
+#include "host_options.h"
 #include "sim/finger_node.h"
 #include "sim/sim_models.h"
 #include "wsg/wsg_config.h"
