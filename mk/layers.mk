@@ -3,7 +3,8 @@
 #   layers-check   no object of a lower layer references a symbol defined in
 #                  a higher one, and no objects reference each other in a
 #                  cycle: host/ in the order of HOST_DIRS (mk/host.mk, lowest
-#                  first, main.o on top), firmware/ in FIRMWARE_LAYERS
+#                  first, main.o on top), firmware/ in FIRMWARE_LAYERS; and no
+#                  modules include each other in a circle (mk/include_cycles.py)
 #   sizes          the production files over 600 lines and functions over
 #                  60 (firmware/, hal/, host/; mk/sizes.py)
 # The firmware's folders, lowest first; bin/ and gcl/ are peers, which may
@@ -13,11 +14,13 @@ FIRMWARE_LAYERS := text fingers core conn bin,gcl
 .PHONY: layers-check sizes
 CHECK_TARGETS += layers-check
 
-## fail when a lower layer references a higher one, or objects reference each other
+## fail when a lower layer references a higher one, or objects or includes go round in a circle
 layers-check: $(HOST_OBJ) $(CORE_OBJ)
 	@python3 mk/layers.py $(BUILD)/obj/host "$(HOST_DIRS)" $(HOST_OBJ) \
 		--place $(BUILD)/obj/gen/web_assets.o=web
 	@python3 mk/layers.py $(BUILD)/obj/firmware "$(FIRMWARE_LAYERS)" $(FW_LIB_OBJ)
+	@python3 mk/include_cycles.py $(PUBLIC_INC) $(HOST_INC) $(wildcard host/*.[ch] host/*/*.[ch])
+	@python3 mk/include_cycles.py $(FIRMWARE_INC) $(wildcard firmware/*/*.[ch] hal/*.h hal/sim/*.[ch])
 
 ## list production files over 600 lines and functions over 60
 sizes:
