@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <strings.h>
 
+#include "hal_clock.h"
 #include "log.h"
 #include "sim/sim_world.h"
 #include "wsg/wsg_inject.h"
@@ -15,6 +16,16 @@
 #define STIFFNESS_DEFAULT 100.0
 #define PART_ARGUMENT_MAX 1e6
 #define STEP_MAX_MS 3600000.0 /* one hour of simulated time per STEP */
+
+void simctl_op_begin(gripper_t *g)
+{
+    wsg_sim_world_advance(&g->world, hal_clock_now_us());
+}
+
+void simctl_op_end(gripper_t *g)
+{
+    gripper_touch(g);
+}
 
 __attribute__((format(printf, 3, 4))) static bool refuse(simctl_op_t *op, wsg_status_t status,
                                                          const char *fmt, ...)

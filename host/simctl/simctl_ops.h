@@ -16,6 +16,13 @@
 #include "simctl_sim.h"
 #include "wsg/wsg_status.h"
 
+/* Around an operation from another front end than the control channel
+ * (whose every command does the same): before, g's world brought up to
+ * now, so the operation acts on the world as it is; after, g touched (its
+ * deadline may have moved). */
+void simctl_op_begin(gripper_t *g);
+void simctl_op_end(gripper_t *g);
+
 typedef struct {
     wsg_status_t status; /* E_SUCCESS, or why it was refused */
     char why[192];
