@@ -15,6 +15,7 @@ bool listener_start(listener_t *l, host_loop_t *loop, net_t *net, const char *na
                     const char *addr, int port, loop_callback_t on_accept, void *ctx)
 {
     *l = (listener_t){.loop = loop, .fd = net_listen(net, SOCK_STREAM, addr, port), .name = name};
+    l->port = l->fd >= 0 ? net_local_port(l->fd) : -1;
     return l->fd >= 0 && loop_watch(loop, l->fd, POLLIN, on_accept, ctx);
 }
 

@@ -465,7 +465,7 @@ void tcp_server_attach(tcp_server_t *s, gripper_t *g, tcp_server_t *front, int m
 
 int tcp_server_port(const tcp_server_t *s)
 {
-    return s->listener != NULL && s->listener->fd >= 0 ? net_local_port(s->listener->fd) : -1;
+    return s->listener != NULL && s->listener->fd >= 0 ? s->listener->port : -1;
 }
 
 /* Replies held back above the port (an injected DELAY of the control

@@ -305,6 +305,7 @@ bool udp_server_start(udp_server_t *s, udp_servers_t *set, gripper_t *g,
     wsg_peers_init(&s->peers, &rules, &peer_port, s, NULL, 0);
     s->fd = proto->optional ? net_listen_optional(set->net, SOCK_DGRAM, addr, port)
                             : net_listen(set->net, SOCK_DGRAM, addr, port);
+    s->port = s->fd >= 0 ? net_local_port(s->fd) : -1;
     return s->fd >= 0 && loop_watch(set->loop, s->fd, POLLIN, on_datagram, s);
 }
 
@@ -328,6 +329,7 @@ void udp_server_attach(udp_server_t *s, gripper_t *g, const udp_protocol_t *prot
     s->gripper = g;
     s->proto = *proto;
     s->fd = front->fd;
+    s->port = front->port;
     s->shares_fd = true;
     s->source = source;
     wsg_peer_rules_t rules = WSG_PEER_RULES_DEFAULT(proto->max_peers, peer_timeout_s);
@@ -336,7 +338,7 @@ void udp_server_attach(udp_server_t *s, gripper_t *g, const udp_protocol_t *prot
 
 int udp_server_port(const udp_server_t *s)
 {
-    return s->fd >= 0 ? net_local_port(s->fd) : -1;
+    return s->fd >= 0 ? s->port : -1;
 }
 
 void udp_server_reap(udp_servers_t *set)

@@ -57,6 +57,7 @@ typedef struct {
 struct udp_server {
     udp_servers_t *set; /* the set it belongs to */
     int fd;
+    int port;              /* the port it listens on, asked once at start */
     struct in_addr source; /* a shared socket's replies leave from here (0: any) */
     bool shares_fd;        /* the fd is a shared socket's: not closed here */
     bool active;           /* on the list of servers with peers */
