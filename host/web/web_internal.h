@@ -98,8 +98,11 @@ void web_device_sense(gripper_t *g);
 /* web_state.c: GET /api/devices/{id}/state, one JSON object written to j. */
 struct web_json;
 void web_state_write(web_app_t *app, struct web_json *j, gripper_t *g);
-/* web_settings.c */
-enum MHD_Result web_settings_route(const web_request_t *req, gripper_t *g, const char *rest);
+/* web_settings.c: GET and PUT /api/devices/{id}/settings, POST .../save
+ * (rest: "", the route table's) */
+enum MHD_Result web_settings_get(const web_request_t *req, gripper_t *g, const char *rest);
+enum MHD_Result web_settings_put(const web_request_t *req, gripper_t *g, const char *rest);
+enum MHD_Result web_settings_save(const web_request_t *req, gripper_t *g, const char *rest);
 /* web_ops.c: POST /api/devices/{id}/ops/{op} */
 enum MHD_Result web_ops_route(const web_request_t *req, gripper_t *g, const char *op);
 /* web_ops.c: the last long operation the web started on g, for the state

@@ -226,8 +226,9 @@ static bool apply(change_t *ch, gripper_t *g)
     return true;
 }
 
-static enum MHD_Result put_settings(const web_request_t *req, gripper_t *g)
+enum MHD_Result web_settings_put(const web_request_t *req, gripper_t *g, const char *rest)
 {
+    (void)rest;
     change_t ch = {.req = req, .result = MHD_NO};
     cJSON *body = web_body_object(req, &ch.result);
     if (body == NULL) {
@@ -245,8 +246,9 @@ static enum MHD_Result put_settings(const web_request_t *req, gripper_t *g)
 /* Writes the settings in force to the --save-file (else the --config file);
  * what a reset powers on with becomes them too, as the device keeps saved
  * settings. */
-static enum MHD_Result save_settings(const web_request_t *req, gripper_t *g)
+enum MHD_Result web_settings_save(const web_request_t *req, gripper_t *g, const char *rest)
 {
+    (void)rest;
     if (save_path(g) == NULL) {
         return web_reply_error(req, MHD_HTTP_CONFLICT, E_NOT_AVAILABLE,
                                "wsgsim was started without --config or --save-file: "
@@ -264,18 +266,8 @@ static enum MHD_Result save_settings(const web_request_t *req, gripper_t *g)
     return web_reply_json(req, MHD_HTTP_OK, j);
 }
 
-enum MHD_Result web_settings_route(const web_request_t *req, gripper_t *g, const char *rest)
+enum MHD_Result web_settings_get(const web_request_t *req, gripper_t *g, const char *rest)
 {
-    bool get = strcmp(req->method, MHD_HTTP_METHOD_GET) == 0;
-    bool put = strcmp(req->method, MHD_HTTP_METHOD_PUT) == 0;
-    bool post = strcmp(req->method, MHD_HTTP_METHOD_POST) == 0;
-    if (rest[0] == '\0') {
-        return get   ? web_reply_json(req, MHD_HTTP_OK, settings_json(req->app->fleet, g))
-               : put ? put_settings(req, g)
-                     : web_reply_wrong_method(req, "GET, PUT");
-    }
-    if (strcmp(rest, "/save") == 0) {
-        return post ? save_settings(req, g) : web_reply_wrong_method(req, MHD_HTTP_METHOD_POST);
-    }
-    return web_reply_error(req, MHD_HTTP_NOT_FOUND, E_NOT_FOUND, "no such path: %s", req->url);
+    (void)rest;
+    return web_reply_json(req, MHD_HTTP_OK, settings_json(req->app->fleet, g));
 }
