@@ -31,7 +31,7 @@ $(BUILD)/obj/gen/web_assets.o: $(WEB_ASSETS_C) host/web/web_assets.h
 	$(CC) $(CFLAGS_BASE) $(LTO) -Ihost -c $< -o $@
 
 # Check tests of single modules: tests/web/test_NAME.c against host/web/web_NAME.c.
-WEB_UNIT_TESTS := $(addprefix $(BUILD)/tests/web_,$(addsuffix _test,peer intake json event_cache))
+WEB_UNIT_TESTS := $(addprefix $(BUILD)/tests/web_,$(addsuffix _test,peer intake event_cache))
 
 $(BUILD)/tests/web_%_test: tests/web/test_%.c $(BUILD)/obj/host/web/web_%.o $(CORE_LIBS)
 	@mkdir -p $(dir $@)

@@ -7,7 +7,7 @@
 
 #include "loop.h"
 #include "web/web_internal.h"
-#include "web/web_json.h"
+#include "json_writer.h"
 #include "web/web_lines.h"
 
 #define NS_PER_MS 1000000ull
@@ -96,12 +96,12 @@ static char *build_event(void *ctx, uint64_t id, size_t *len)
     char head[64];
     int head_len =
         snprintf(head, sizeof(head), "id: %llu\nevent: state\ndata: ", (unsigned long long)id);
-    web_json_t j;
-    web_json_init(&j);
-    web_json_raw(&j, head, (size_t)head_len);
+    json_writer_t j;
+    json_writer_init(&j);
+    json_writer_raw(&j, head, (size_t)head_len);
     web_state_write(s->app, &j, s->gripper);
-    web_json_raw(&j, "\n\n", 2u);
-    return web_json_take(&j, len);
+    json_writer_raw(&j, "\n\n", 2u);
+    return json_writer_take(&j, len);
 }
 
 /* The event of this tick for s's device: built by the first stream of the

@@ -96,8 +96,8 @@ bool web_fields_known(const web_request_t *req, const cJSON *body, const char *c
 void web_device_sense(gripper_t *g);
 
 /* web_state.c: GET /api/devices/{id}/state, one JSON object written to j. */
-struct web_json;
-void web_state_write(web_app_t *app, struct web_json *j, gripper_t *g);
+struct json_writer;
+void web_state_write(web_app_t *app, struct json_writer *j, gripper_t *g);
 /* web_settings.c: GET and PUT /api/devices/{id}/settings, POST .../save
  * (rest: "", the route table's) */
 enum MHD_Result web_settings_get(const web_request_t *req, gripper_t *g, const char *rest);
@@ -107,9 +107,9 @@ enum MHD_Result web_settings_save(const web_request_t *req, gripper_t *g, const 
 enum MHD_Result web_ops_route(const web_request_t *req, gripper_t *g, const char *op);
 /* web_ops.c: the last long operation the web started on g, for the state
  * (null when none). */
-void web_ops_last_write(const web_ops_t *ops, struct web_json *j, const char *key,
+void web_ops_last_write(const web_ops_t *ops, struct json_writer *j, const char *key,
                         const gripper_t *g);
-/* A JSON reply whose text came from web_json_take(): takes ownership of it
+/* A JSON reply whose text came from json_writer_take(): takes ownership of it
  * (NULL: no reply, the connection is closed). */
 enum MHD_Result web_reply_json_text(const web_request_t *req, unsigned http_status, char *text);
 /* Detaches the web's owners from their devices (shutdown). */

@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "fleet.h"
-#include "web/web_json.h"
+#include "json_writer.h"
 #include "web/web_lines.h"
 
 #define API_DEVICES "/api/devices"
@@ -68,10 +68,10 @@ static enum MHD_Result get_state(const web_request_t *req, gripper_t *g, const c
 {
     (void)rest;
     web_lines_watch(&req->app->lines);
-    web_json_t j;
-    web_json_init(&j);
+    json_writer_t j;
+    json_writer_init(&j);
     web_state_write(req->app, &j, g);
-    return web_reply_json_text(req, MHD_HTTP_OK, web_json_take(&j, NULL));
+    return web_reply_json_text(req, MHD_HTTP_OK, json_writer_take(&j, NULL));
 }
 
 static enum MHD_Result get_events(const web_request_t *req, gripper_t *g, const char *rest)

@@ -5,46 +5,46 @@
  * text). Numbers are written as the device writes them (the core's
  * fixed-point formatter: at most three decimals, its resolution). A key is
  * NULL inside an array. Out of memory sets failed; the text is then
- * incomplete and web_json_take() returns NULL. Keys are the program's own
+ * incomplete and json_writer_take() returns NULL. Keys are the program's own
  * names and are written unescaped; string values are escaped. */
-#ifndef HOST_WEB_JSON_H
-#define HOST_WEB_JSON_H
+#ifndef HOST_JSON_WRITER_H
+#define HOST_JSON_WRITER_H
 
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
-typedef struct web_json {
+typedef struct json_writer {
     char *data;
     size_t len;
     size_t cap;
     bool failed;
     bool first; /* no value yet in the innermost object or array */
-} web_json_t;
+} json_writer_t;
 
 /* An empty writer; it allocates on the first write. */
-void web_json_init(web_json_t *j);
+void json_writer_init(json_writer_t *j);
 /* The text, NUL-terminated, for the caller to free(), and its length in
  * *len unless len is NULL; NULL if a write failed. The writer is empty
  * again. */
-char *web_json_take(web_json_t *j, size_t *len);
-void web_json_free(web_json_t *j);
+char *json_writer_take(json_writer_t *j, size_t *len);
+void json_writer_free(json_writer_t *j);
 
 /* Raw text, no separator: a prefix before the JSON (an event's header). */
-void web_json_raw(web_json_t *j, const char *text, size_t len);
+void json_writer_raw(json_writer_t *j, const char *text, size_t len);
 
-void web_json_open_object(web_json_t *j, const char *key);
-void web_json_close_object(web_json_t *j);
-void web_json_open_array(web_json_t *j, const char *key);
-void web_json_close_array(web_json_t *j);
+void json_writer_open_object(json_writer_t *j, const char *key);
+void json_writer_close_object(json_writer_t *j);
+void json_writer_open_array(json_writer_t *j, const char *key);
+void json_writer_close_array(json_writer_t *j);
 
-void web_json_float(web_json_t *j, const char *key, float value);
-void web_json_uint(web_json_t *j, const char *key, uint64_t value);
+void json_writer_float(json_writer_t *j, const char *key, float value);
+void json_writer_uint(json_writer_t *j, const char *key, uint64_t value);
 /* Microseconds as milliseconds, exactly: 1500 -> 1.5. */
-void web_json_ms(web_json_t *j, const char *key, uint64_t us);
-void web_json_bool(web_json_t *j, const char *key, bool value);
+void json_writer_ms(json_writer_t *j, const char *key, uint64_t us);
+void json_writer_bool(json_writer_t *j, const char *key, bool value);
 /* A string, escaped; NULL writes null. */
-void web_json_string(web_json_t *j, const char *key, const char *value);
-void web_json_null(web_json_t *j, const char *key);
+void json_writer_string(json_writer_t *j, const char *key, const char *value);
+void json_writer_null(json_writer_t *j, const char *key);
 
 #endif

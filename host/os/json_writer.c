@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-#include "web/web_json.h"
+#include "json_writer.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -8,18 +8,18 @@
 
 #define JSON_FIRST_CAP 4096u
 
-void web_json_init(web_json_t *j)
+void json_writer_init(json_writer_t *j)
 {
-    *j = (web_json_t){.first = true};
+    *j = (json_writer_t){.first = true};
 }
 
-void web_json_free(web_json_t *j)
+void json_writer_free(json_writer_t *j)
 {
     free(j->data);
-    web_json_init(j);
+    json_writer_init(j);
 }
 
-char *web_json_take(web_json_t *j, size_t *len)
+char *json_writer_take(json_writer_t *j, size_t *len)
 {
     char *text = j->failed ? NULL : j->data;
     if (text == NULL) {
@@ -30,12 +30,12 @@ char *web_json_take(web_json_t *j, size_t *len)
             *len = j->len;
         }
     }
-    web_json_init(j);
+    json_writer_init(j);
     return text;
 }
 
 /* Room for n more bytes and the NUL. */
-static bool reserve(web_json_t *j, size_t n)
+static bool reserve(json_writer_t *j, size_t n)
 {
     if (j->failed) {
         return false;
@@ -57,7 +57,7 @@ static bool reserve(web_json_t *j, size_t n)
     return true;
 }
 
-void web_json_raw(web_json_t *j, const char *text, size_t len)
+void json_writer_raw(json_writer_t *j, const char *text, size_t len)
 {
     if (reserve(j, len)) {
         memcpy(j->data + j->len, text, len);
@@ -65,7 +65,7 @@ void web_json_raw(web_json_t *j, const char *text, size_t len)
     }
 }
 
-static void put_char(web_json_t *j, char c)
+static void put_char(json_writer_t *j, char c)
 {
     if (reserve(j, 1u)) {
         j->data[j->len++] = c;
@@ -80,20 +80,20 @@ static bool plain(unsigned char c)
     return c >= 0x20u && c != '"' && c != '\\';
 }
 
-static void put_escaped(web_json_t *j, unsigned char c)
+static void put_escaped(json_writer_t *j, unsigned char c)
 {
     static const char hex[] = "0123456789abcdef";
     if (c == '"' || c == '\\') {
         char escaped[2] = {'\\', (char)c};
-        web_json_raw(j, escaped, sizeof(escaped));
+        json_writer_raw(j, escaped, sizeof(escaped));
     } else {
         char escaped[6] = {'\\', 'u', '0', '0', hex[c >> 4], hex[c & 0xfu]};
-        web_json_raw(j, escaped, sizeof(escaped));
+        json_writer_raw(j, escaped, sizeof(escaped));
     }
 }
 
 /* A quoted string, its plain runs copied whole. */
-static void put_string(web_json_t *j, const char *s)
+static void put_string(json_writer_t *j, const char *s)
 {
     const unsigned char *p = (const unsigned char *)s;
     put_char(j, '"');
@@ -102,7 +102,7 @@ static void put_string(web_json_t *j, const char *s)
         while (plain(*p)) {
             p++;
         }
-        web_json_raw(j, (const char *)run, (size_t)(p - run));
+        json_writer_raw(j, (const char *)run, (size_t)(p - run));
         if (*p != '\0') {
             put_escaped(j, *p++);
         }
@@ -111,7 +111,7 @@ static void put_string(web_json_t *j, const char *s)
 }
 
 /* The comma before every value but the first, and the key in an object. */
-static void begin_value(web_json_t *j, const char *key)
+static void begin_value(json_writer_t *j, const char *key)
 {
     if (!j->first) {
         put_char(j, ',');
@@ -129,37 +129,37 @@ static void begin_value(web_json_t *j, const char *key)
     }
 }
 
-void web_json_open_object(web_json_t *j, const char *key)
+void json_writer_open_object(json_writer_t *j, const char *key)
 {
     begin_value(j, key);
     put_char(j, '{');
     j->first = true;
 }
 
-void web_json_close_object(web_json_t *j)
+void json_writer_close_object(json_writer_t *j)
 {
     put_char(j, '}');
     j->first = false;
 }
 
-void web_json_open_array(web_json_t *j, const char *key)
+void json_writer_open_array(json_writer_t *j, const char *key)
 {
     begin_value(j, key);
     put_char(j, '[');
     j->first = true;
 }
 
-void web_json_close_array(web_json_t *j)
+void json_writer_close_array(json_writer_t *j)
 {
     put_char(j, ']');
     j->first = false;
 }
 
-void web_json_float(web_json_t *j, const char *key, float value)
+void json_writer_float(json_writer_t *j, const char *key, float value)
 {
     char text[WSG_TEXTBUF_FLOAT_MAX];
     begin_value(j, key);
-    web_json_raw(j, text, wsg_textbuf_format_float(text, value));
+    json_writer_raw(j, text, wsg_textbuf_format_float(text, value));
 }
 
 /* Digits of value, written backwards from end; returns the first. */
@@ -172,17 +172,17 @@ static char *digits_before(char *end, uint64_t value)
     return end;
 }
 
-void web_json_uint(web_json_t *j, const char *key, uint64_t value)
+void json_writer_uint(json_writer_t *j, const char *key, uint64_t value)
 {
     char text[20];
     char *first = digits_before(text + sizeof(text), value);
     begin_value(j, key);
-    web_json_raw(j, first, (size_t)(text + sizeof(text) - first));
+    json_writer_raw(j, first, (size_t)(text + sizeof(text) - first));
 }
 
-void web_json_ms(web_json_t *j, const char *key, uint64_t us)
+void json_writer_ms(json_writer_t *j, const char *key, uint64_t us)
 {
-    web_json_uint(j, key, us / 1000u);
+    json_writer_uint(j, key, us / 1000u);
     unsigned fraction = (unsigned)(us % 1000u);
     if (fraction == 0u) {
         return;
@@ -193,27 +193,27 @@ void web_json_ms(web_json_t *j, const char *key, uint64_t us)
     while (text[len - 1u] == '0') {
         len--; /* 1.5, not 1.500 */
     }
-    web_json_raw(j, text, len);
+    json_writer_raw(j, text, len);
 }
 
-void web_json_bool(web_json_t *j, const char *key, bool value)
+void json_writer_bool(json_writer_t *j, const char *key, bool value)
 {
     begin_value(j, key);
-    web_json_raw(j, value ? "true" : "false", value ? 4u : 5u);
+    json_writer_raw(j, value ? "true" : "false", value ? 4u : 5u);
 }
 
-void web_json_string(web_json_t *j, const char *key, const char *value)
+void json_writer_string(json_writer_t *j, const char *key, const char *value)
 {
     if (value == NULL) {
-        web_json_null(j, key);
+        json_writer_null(j, key);
         return;
     }
     begin_value(j, key);
     put_string(j, value);
 }
 
-void web_json_null(web_json_t *j, const char *key)
+void json_writer_null(json_writer_t *j, const char *key)
 {
     begin_value(j, key);
-    web_json_raw(j, "null", 4u);
+    json_writer_raw(j, "null", 4u);
 }
