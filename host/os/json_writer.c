@@ -1,6 +1,8 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 #include "json_writer.h"
 
+#include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -216,4 +218,25 @@ void json_writer_null(json_writer_t *j, const char *key)
 {
     begin_value(j, key);
     json_writer_raw(j, "null", 4u);
+}
+
+void json_writer_double(json_writer_t *j, const char *key, double value)
+{
+    char text[32];
+    if (!isfinite(value)) {
+        json_writer_null(j, key); /* as cJSON writes it */
+        return;
+    }
+    int len = snprintf(text, sizeof(text), "%1.15g", value);
+    if (strtod(text, NULL) != value) {
+        len = snprintf(text, sizeof(text), "%1.17g", value);
+    }
+    begin_value(j, key);
+    json_writer_raw(j, text, (size_t)len);
+}
+
+void json_writer_raw_value(json_writer_t *j, const char *key, const char *json)
+{
+    begin_value(j, key);
+    json_writer_raw(j, json, strlen(json));
 }

@@ -46,5 +46,11 @@ void json_writer_bool(json_writer_t *j, const char *key, bool value);
 /* A string, escaped; NULL writes null. */
 void json_writer_string(json_writer_t *j, const char *key, const char *value);
 void json_writer_null(json_writer_t *j, const char *key);
+/* A number as cJSON writes one: the shortest of 15 or 17 significant
+ * digits that reads back the same (for the few values that are no
+ * reading: a clock's scale). */
+void json_writer_double(json_writer_t *j, const char *key, double value);
+/* A value already written as JSON text (another writer's), under key. */
+void json_writer_raw_value(json_writer_t *j, const char *key, const char *json);
 
 #endif
