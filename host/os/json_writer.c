@@ -36,14 +36,11 @@ char *json_writer_take(json_writer_t *j, size_t *len)
     return text;
 }
 
-/* Room for n more bytes and the NUL. */
-static bool reserve(json_writer_t *j, size_t n)
+/* Room for n more bytes and the NUL: the buffer grows (the rare case). */
+static bool grow(json_writer_t *j, size_t n)
 {
     if (j->failed) {
         return false;
-    }
-    if (j->len + n + 1u <= j->cap) {
-        return true;
     }
     size_t cap = j->cap != 0u ? j->cap : JSON_FIRST_CAP;
     while (cap < j->len + n + 1u) {
@@ -59,6 +56,13 @@ static bool reserve(json_writer_t *j, size_t n)
     return true;
 }
 
+/* Room for n more bytes and the NUL. Inline: asked for every value, and
+ * almost always there already. */
+static inline bool reserve(json_writer_t *j, size_t n)
+{
+    return j->len + n + 1u <= j->cap || grow(j, n);
+}
+
 void json_writer_raw(json_writer_t *j, const char *text, size_t len)
 {
     if (reserve(j, len)) {
@@ -67,19 +71,34 @@ void json_writer_raw(json_writer_t *j, const char *text, size_t len)
     }
 }
 
-static void put_char(json_writer_t *j, char c)
+static inline void put_char(json_writer_t *j, char c)
 {
     if (reserve(j, 1u)) {
         j->data[j->len++] = c;
     }
 }
 
-/* A byte that stands in a JSON string as it is: not a quote, a backslash or
- * a control character. Other bytes are written as they are (as cJSON
- * writes them). */
-static bool plain(unsigned char c)
+/* The bytes that stand in a JSON string as they are: not a quote, a
+ * backslash or a control character. Other bytes are written as they are
+ * (as cJSON writes them). A table: asked for every byte of every text. */
+/* Sixteen bytes of the table: all 0, or all 1 but the one at `hole`
+ * (16: none). */
+#define ROW_OF(v) v, v, v, v, v, v, v, v, v, v, v, v, v, v, v, v
+#define ROW_BUT(h)                                                                                 \
+    0 != (h), 1 != (h), 2 != (h), 3 != (h), 4 != (h), 5 != (h), 6 != (h), 7 != (h), 8 != (h),      \
+        9 != (h), 10 != (h), 11 != (h), 12 != (h), 13 != (h), 14 != (h), 15 != (h)
+static const unsigned char plain_byte[256] = {
+    ROW_OF(0),   ROW_OF(0),   /* 0x00-0x1f: control characters */
+    ROW_BUT(2),               /* 0x20-0x2f: '"' */
+    ROW_BUT(16), ROW_BUT(16), /* 0x30-0x4f */
+    ROW_BUT(12),              /* 0x50-0x5f: the backslash */
+    ROW_BUT(16), ROW_BUT(16), ROW_BUT(16), ROW_BUT(16), ROW_BUT(16),
+    ROW_BUT(16), ROW_BUT(16), ROW_BUT(16), ROW_BUT(16), ROW_BUT(16), /* 0x60-0xff */
+};
+
+static inline bool plain(unsigned char c)
 {
-    return c >= 0x20u && c != '"' && c != '\\';
+    return plain_byte[c] != 0u;
 }
 
 static void put_escaped(json_writer_t *j, unsigned char c)
@@ -94,8 +113,8 @@ static void put_escaped(json_writer_t *j, unsigned char c)
     }
 }
 
-/* A quoted string, its plain runs copied whole. */
-static void put_string(json_writer_t *j, const char *s)
+/* A quoted string that has bytes to escape: its plain runs copied whole. */
+static void put_escaping(json_writer_t *j, const char *s)
 {
     const unsigned char *p = (const unsigned char *)s;
     put_char(j, '"');
@@ -112,22 +131,86 @@ static void put_string(json_writer_t *j, const char *s)
     put_char(j, '"');
 }
 
-/* The comma before every value but the first, and the key in an object. */
-static void begin_value(json_writer_t *j, const char *key)
+/* What the copying paths below take in one piece: a key, a name, a
+ * number. A longer text, or one with bytes to escape, takes the general
+ * path. */
+#define SHORT_TEXT_MAX 48u
+
+/* Copies a NUL-terminated text's plain bytes to out, at most max of them;
+ * returns how many (the text ends there when text[n] is NUL). */
+static inline size_t copy_plain(char *out, const char *text, size_t max)
 {
+    size_t n = 0;
+    while (n < max && plain((unsigned char)text[n])) {
+        out[n] = text[n];
+        n++;
+    }
+    return n;
+}
+
+/* A quoted string: most are the program's names and a device's texts,
+ * short and with nothing to escape, copied as they are checked. */
+static void put_string(json_writer_t *j, const char *s)
+{
+    if (!reserve(j, SHORT_TEXT_MAX + 2u)) {
+        return;
+    }
+    char *out = j->data + j->len;
+    size_t n = copy_plain(out + 1, s, SHORT_TEXT_MAX);
+    if (s[n] != '\0') {
+        put_escaping(j, s);
+        return;
+    }
+    out[0] = '"';
+    out[n + 1u] = '"';
+    j->len += n + 2u;
+}
+
+/* The comma before every value but the first, and the key in an object
+ * (the program's own names: nothing to escape), in one piece; room for a
+ * short value after it is kept too (the key's end taken from it). */
+static inline void begin_value(json_writer_t *j, const char *key)
+{
+    if (!reserve(j, SHORT_TEXT_MAX + 4u + SHORT_TEXT_MAX)) {
+        return;
+    }
+    char *out = j->data + j->len;
+    size_t at = 0;
     if (!j->first) {
-        put_char(j, ',');
+        out[at++] = ',';
     }
     j->first = false;
-    if (key != NULL) { /* the program's own names: nothing to escape */
-        size_t len = strlen(key);
-        if (reserve(j, len + 3u)) {
-            j->data[j->len] = '"';
-            memcpy(j->data + j->len + 1u, key, len);
-            j->data[j->len + 1u + len] = '"';
-            j->data[j->len + 2u + len] = ':';
-            j->len += len + 3u;
-        }
+    if (key == NULL) {
+        j->len += at;
+        return;
+    }
+    out[at++] = '"';
+    size_t n = 0;
+    while (n < SHORT_TEXT_MAX && key[n] != '\0') {
+        out[at + n] = key[n];
+        n++;
+    }
+    if (key[n] == '\0') {
+        at += n;
+        out[at++] = '"';
+        out[at++] = ':';
+        j->len += at;
+        return;
+    }
+    j->len += at + n; /* a long key: its rest as it is */
+    for (const char *rest = key + n; *rest != '\0'; rest++) {
+        put_char(j, *rest);
+    }
+    put_char(j, '"');
+    put_char(j, ':');
+}
+
+/* Short text after begin_value(), whose room it kept. */
+static inline void put_short(json_writer_t *j, const char *text, size_t len)
+{
+    if (j->len + len + 1u <= j->cap) {
+        memcpy(j->data + j->len, text, len);
+        j->len += len;
     }
 }
 
@@ -157,13 +240,6 @@ void json_writer_close_array(json_writer_t *j)
     j->first = false;
 }
 
-void json_writer_float(json_writer_t *j, const char *key, float value)
-{
-    char text[WSG_TEXTBUF_FLOAT_MAX];
-    begin_value(j, key);
-    json_writer_raw(j, text, wsg_textbuf_format_float(text, value));
-}
-
 /* Digits of value, written backwards from end; returns the first. */
 static char *digits_before(char *end, uint64_t value)
 {
@@ -174,12 +250,56 @@ static char *digits_before(char *end, uint64_t value)
     return end;
 }
 
+/* value's digits, then tail (".0" or ""), after begin_value(), whose room
+ * it kept. */
+static inline void put_digits(json_writer_t *j, bool negative, uint64_t value, const char *tail,
+                              size_t tail_len)
+{
+    char text[24];
+    char *end = text + sizeof(text);
+    char *first = digits_before(end, value);
+    size_t len = (size_t)(end - first);
+    if (j->len + len + tail_len + 2u > j->cap) {
+        return; /* a failed buffer */
+    }
+    char *out = j->data + j->len;
+    size_t at = 0;
+    if (negative) {
+        out[at++] = '-';
+    }
+    for (size_t i = 0; i < len; i++) {
+        out[at++] = first[i];
+    }
+    for (size_t i = 0; i < tail_len; i++) {
+        out[at++] = tail[i];
+    }
+    j->len += at;
+}
+
+/* A whole number takes a path of its own, as the core's formatter writes
+ * it ("94.0", "-3.0", never "-0.0"): a DSA finger's cells, most of a
+ * state's numbers, are whole. */
+void json_writer_float(json_writer_t *j, const char *key, float value)
+{
+    begin_value(j, key);
+    if (value == 0.0f) {
+        put_short(j, "0.0", 3u); /* a DSA finger's idle cells, most of them */
+        return;
+    }
+    if (value > -1e9f && value < 1e9f && value == (float)(int32_t)value) {
+        int32_t whole = (int32_t)value;
+        put_digits(j, whole < 0, whole < 0 ? (uint64_t)(-(int64_t)whole) : (uint64_t)whole, ".0",
+                   2u);
+        return;
+    }
+    char text[WSG_TEXTBUF_FLOAT_MAX];
+    put_short(j, text, wsg_textbuf_format_float(text, value));
+}
+
 void json_writer_uint(json_writer_t *j, const char *key, uint64_t value)
 {
-    char text[20];
-    char *first = digits_before(text + sizeof(text), value);
     begin_value(j, key);
-    json_writer_raw(j, first, (size_t)(text + sizeof(text) - first));
+    put_digits(j, false, value, "", 0u);
 }
 
 void json_writer_ms(json_writer_t *j, const char *key, uint64_t us)
@@ -201,7 +321,7 @@ void json_writer_ms(json_writer_t *j, const char *key, uint64_t us)
 void json_writer_bool(json_writer_t *j, const char *key, bool value)
 {
     begin_value(j, key);
-    json_writer_raw(j, value ? "true" : "false", value ? 4u : 5u);
+    put_short(j, value ? "true" : "false", value ? 4u : 5u);
 }
 
 void json_writer_string(json_writer_t *j, const char *key, const char *value)

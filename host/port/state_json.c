@@ -293,17 +293,34 @@ char *state_json_sessions(gripper_t *g)
 
 /* ---- the live view ---- */
 
-static void write_sysflags(json_writer_t *j, uint32_t flags)
+static void write_sysflag_names(json_writer_t *j, const char *key)
 {
-    json_writer_open_object(j, "sysflags");
-    json_writer_uint(j, "value", flags);
-    flag_names(j, flags, WSG_SYSFLAG_COUNT, sysflag_name, false);
-    json_writer_open_array(j, "names");
+    json_writer_open_array(j, key);
     for (unsigned bit = 0; bit < WSG_SYSFLAG_COUNT; bit++) {
         const char *name = wsg_sysflag_name(bit);
         json_writer_string(j, NULL, name != NULL ? name : "");
     }
     json_writer_close_array(j);
+}
+
+char *state_json_sysflag_names(void)
+{
+    json_writer_t j;
+    json_writer_init(&j);
+    write_sysflag_names(&j, NULL);
+    return json_writer_take(&j, NULL);
+}
+
+static void write_sysflags(json_writer_t *j, uint32_t flags, const char *names)
+{
+    json_writer_open_object(j, "sysflags");
+    json_writer_uint(j, "value", flags);
+    flag_names(j, flags, WSG_SYSFLAG_COUNT, sysflag_name, false);
+    if (names != NULL) {
+        json_writer_raw_value(j, "names", names);
+    } else {
+        write_sysflag_names(j, "names");
+    }
     json_writer_close_object(j);
 }
 
@@ -382,7 +399,7 @@ static void write_live_axis(json_writer_t *j, const wsg_snapshot_t *snap)
     json_writer_string(j, "motion", motion_names[snap->motion]);
 }
 
-void state_json_live(json_writer_t *j, gripper_t *g)
+void state_json_live(json_writer_t *j, gripper_t *g, const char *sysflag_names)
 {
     const wsg_snapshot_t *snap = wsg_device_snapshot(&g->device);
     write_live_axis(j, snap);
@@ -390,7 +407,7 @@ void state_json_live(json_writer_t *j, gripper_t *g)
     json_writer_uint(j, "code", snap->grip_state);
     json_writer_string(j, "name", wsg_grip_state_name(snap->grip_state));
     json_writer_close_object(j);
-    write_sysflags(j, snap->flags);
+    write_sysflags(j, snap->flags, sysflag_names);
     write_part(j, &g->world.axis.part);
     open_world_thing(j, "obstacle", g->world.axis.obstacle.present,
                      g->world.axis.obstacle.width_mm);

@@ -32,8 +32,13 @@ char *state_json(gripper_t *g, const state_json_sim_t *sim);
 char *state_json_sessions(gripper_t *g);
 /* The live view's fields of the device, inside an object the caller opened:
  * the axis and motion, the grip state, the system flags (with every flag's
- * name), the part, the obstacle, the ambient temperature and the fingers
- * with their data (docs/web.md). */
-void state_json_live(json_writer_t *j, gripper_t *g);
+ * name: sysflag_names, or NULL to write them here), the part, the
+ * obstacle, the ambient temperature and the fingers with their data
+ * (docs/web.md). */
+void state_json_live(json_writer_t *j, gripper_t *g, const char *sysflag_names);
+/* The names of every system flag as the live view gives them, a JSON
+ * array (malloc'd; NULL when out of memory): they never change, so a
+ * caller that sends many states renders them once. */
+char *state_json_sysflag_names(void);
 
 #endif

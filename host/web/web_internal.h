@@ -46,6 +46,7 @@ typedef struct web_app {
     web_lines_t lines;
     web_ops_t ops;
     web_system_file_t system_files[WEB_SYSTEM_FILE_COUNT];
+    char *sysflag_names; /* every state's "names", rendered once (NULL: each time) */
 } web_app_t;
 
 /* web_routes.c: serving fleet's devices, nothing kept yet, the lines off. */

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "fleet.h"
+#include "state_json.h"
 #include "json_writer.h"
 #include "web/web_lines.h"
 
@@ -219,6 +220,7 @@ void web_app_init(web_app_t *app, struct fleet *fleet)
 {
     memset(app, 0, sizeof(*app));
     app->fleet = fleet;
+    app->sysflag_names = state_json_sysflag_names();
     web_static_init(app->system_files);
 }
 
@@ -227,6 +229,8 @@ void web_app_release(web_app_t *app)
     web_ops_forget(&app->ops);
     web_lines_disable(&app->lines);
     web_static_release(app->system_files);
+    free(app->sysflag_names);
+    app->sysflag_names = NULL;
 }
 
 enum MHD_Result web_routes_dispatch(const web_request_t *req)

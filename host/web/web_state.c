@@ -38,7 +38,7 @@ void web_state_write(web_app_t *app, json_writer_t *j, gripper_t *g)
     json_writer_open_object(j, NULL);
     json_writer_uint(j, "id", g->index);
     json_writer_ms(j, "time_ms", wsg_device_snapshot(&g->device)->now_us);
-    state_json_live(j, g);
+    state_json_live(j, g, app->sysflag_names);
     web_ops_last_write(&app->ops, j, "web_op", g);
     write_connections(app, j, &g->device);
     json_writer_close_object(j);

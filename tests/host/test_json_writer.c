@@ -4,11 +4,13 @@
  * every text back, so what the writer produces is JSON. */
 #include <check.h>
 #include <cjson/cJSON.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "host_suites.h"
 #include "json_writer.h"
+#include "wsg/wsg_textbuf.h"
 
 /* The writer's text, checked to parse as JSON. */
 static char *finish(json_writer_t *j)
@@ -84,6 +86,50 @@ START_TEST(numbers_are_written_as_the_device_writes_them)
 }
 END_TEST
 
+/* Whole numbers take a path of their own: the text is the core's all the
+ * same, for every sign and size, -0 included (never "-0.0"). */
+START_TEST(whole_numbers_are_written_as_the_core_writes_them)
+{
+    static const float values[] = {0.0f,    -0.0f,         1.0f,         -1.0f,         94.0f,
+                                   1156.0f, -3.0f,         999999999.0f, -999999999.0f, 1e9f,
+                                   -1e9f,   2147483648.0f, 16777217.0f,  0.5f};
+    for (size_t i = 0; i < sizeof(values) / sizeof(values[0]); i++) {
+        char core[WSG_TEXTBUF_FLOAT_MAX + 1];
+        core[wsg_textbuf_format_float(core, values[i])] = '\0';
+        json_writer_t j;
+        json_writer_init(&j);
+        json_writer_float(&j, NULL, values[i]);
+        char *text = finish(&j);
+        ck_assert_str_eq(text, core);
+        free(text);
+    }
+}
+END_TEST
+
+/* Keys and strings are copied in one piece up to a length: longer ones are
+ * written whole all the same. */
+START_TEST(long_keys_and_strings_are_written_whole)
+{
+    char key[101];
+    char value[301];
+    memset(key, 'k', sizeof(key) - 1);
+    key[sizeof(key) - 1] = '\0';
+    memset(value, 'v', sizeof(value) - 1);
+    value[sizeof(value) - 1] = '\0';
+    json_writer_t j;
+    json_writer_init(&j);
+    json_writer_open_object(&j, NULL);
+    json_writer_string(&j, key, value);
+    json_writer_uint(&j, key, 7);
+    json_writer_close_object(&j);
+    char *text = finish(&j);
+    char expected[2 * sizeof(key) + sizeof(value) + 16];
+    snprintf(expected, sizeof(expected), "{\"%s\":\"%s\",\"%s\":7}", key, value, key);
+    ck_assert_str_eq(text, expected);
+    free(text);
+}
+END_TEST
+
 START_TEST(a_long_text_grows_the_buffer)
 {
     json_writer_t j;
@@ -124,6 +170,8 @@ Suite *json_writer_suite(void)
     tcase_add_test(tc, objects_and_arrays_have_commas_between_values_only);
     tcase_add_test(tc, strings_escape_quotes_backslashes_and_control_characters);
     tcase_add_test(tc, numbers_are_written_as_the_device_writes_them);
+    tcase_add_test(tc, whole_numbers_are_written_as_the_core_writes_them);
+    tcase_add_test(tc, long_keys_and_strings_are_written_whole);
     tcase_add_test(tc, a_long_text_grows_the_buffer);
     tcase_add_test(tc, a_raw_prefix_stands_before_the_json);
     suite_add_tcase(s, tc);
