@@ -54,6 +54,16 @@ FAKE_CONN_OBJ = $(BUILD)/obj/tests/fake/fake_conn.o
 CK_TIMEOUT_MULTIPLIER ?= 10
 CHECK_ENV = CK_TIMEOUT_MULTIPLIER=$(CK_TIMEOUT_MULTIPLIER)
 
+# A quiet build, as the Linux kernel's: one short line per file
+# ("  CC      host/main.c"); `make V=1` prints every command in full. A
+# recipe line starts with $(call quiet,WHAT,FILE) before its command.
+V ?= 0
+ifeq ($(V),1)
+  quiet =
+else
+  quiet = @printf '  %-7s %s\n' '$(1)' '$(2)';
+endif
+
 # Declared once, in debian/control (see mk/deps.sh).
 HOST_DEBS = $(shell mk/deps.sh --list build)
 CHECK_DEBS = $(shell mk/deps.sh --list check)

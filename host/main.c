@@ -22,15 +22,22 @@ typedef struct {
     bool counting; /* --coverage or a control channel (COVERAGE?) */
     trace_t *trace;
     record_t *record;
-    coverage_t *coverage; /* always (COVERAGE?); counting only when asked */
-    web_lines_t *lines;   /* the web page's, NULL when the server is off */
-    can_log_t *can_log;   /* --can-log: device 0's in-process bus */
+    gripper_step_hook_t record_steps; /* the record's samples of each device */
+    coverage_t *coverage;             /* always (COVERAGE?); counting only when asked */
+    web_lines_t *lines;               /* the web page's, NULL when the server is off */
+    can_log_t *can_log;               /* --can-log: device 0's in-process bus */
 } diagnostics_t;
 
 /* Every frame of device 0's in-process finger bus, to the --can-log file. */
 static void tap_can_log(void *ctx, const hal_can_frame_t *frame, uint64_t time_us)
 {
     can_log_frame(ctx, frame, time_us);
+}
+
+/* After a device's control step: the record samples its state. */
+static void sample_record(void *ctx, unsigned index, wsg_device_t *dev)
+{
+    record_sample(ctx, index, dev);
 }
 
 static bool start_diagnostics(diagnostics_t *d, web_server_t *web, const host_options_t *opts)
@@ -48,6 +55,7 @@ static bool start_diagnostics(diagnostics_t *d, web_server_t *web, const host_op
         (d->record = record_open(opts->record_path, devices)) == NULL) {
         return false;
     }
+    d->record_steps = (gripper_step_hook_t){.stepped = sample_record, .ctx = d->record};
     return opts->coverage_path == NULL || coverage_open(d->coverage, opts->coverage_path);
 }
 
@@ -71,6 +79,9 @@ static void attach_observers(void *ctx, gripper_t *g)
     }
     trace_attach(d->trace, &g->device, g->index);
     record_attach(d->record, &g->device, g->index);
+    if (d->record != NULL) {
+        g->step_hook = &d->record_steps;
+    }
     web_lines_attach(d->lines, &g->device, g->index);
     can_loopback_t *bus = finger_bus_host_loopback(&g->fingers);
     if (g->index == 0 && d->opts->can_log != NULL && bus != NULL) {

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: BSD-3-Clause
-# Speed (issues 6 and 11); it does not run in `make check`. Fuzzing: mk/fuzz.mk.
+# Speed; it does not run in `make check`. Fuzzing: mk/fuzz.mk.
 #   make bench                 benchmark build/wsgsim against a C echo server and
-#                              the issue 11 targets (table, build/bench/results.json,
+#                              its targets (table, build/bench/results.json,
 #                              PNG plot); fails only when something cannot be measured
 #   make bench BENCH_ARGS=--quick   a shorter run with smaller sample counts
 BENCH_DEBS := gnuplot-nox valgrind

@@ -23,7 +23,7 @@ BIN_TEST_LIBS = $(shell pkg-config --libs check) -lm
 # More specific than the firmware/%.o rule, so the codec sees only its own folder.
 $(BUILD)/obj/firmware/bin/wsg_bin_%.o: firmware/bin/wsg_bin_%.c
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_BASE) -Ifirmware/bin -ffreestanding -MMD -MP -c $< -o $@
+	$(call quiet,CC,$<)$(CC) $(CFLAGS_BASE) -Ifirmware/bin -ffreestanding -MMD -MP -c $< -o $@
 
 $(BUILD)/obj/tests/bin/%.o: tests/bin/%.c
 	@mkdir -p $(dir $@)

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-# The device page (webui/, issue 13) in a browser: tests/browser with Debian's
+# The device page (webui/) in a browser: tests/browser with Debian's
 # headless Chromium, chromium-driver and python3-selenium (<!nocheck> test
 # dependencies in debian/control, installed by deps-check).
 #   make browser-tests        the page against build/wsgsim's HTTP server;

@@ -47,10 +47,10 @@ fingersim: $(BUILD)/fingersim
 
 $(BUILD)/obj/tools/fingersim/%.o: tools/fingersim/%.c
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -MMD -MP -c $< -o $@
+	$(call quiet,CC,$<)$(CC) $(HOST_CFLAGS) -MMD -MP -c $< -o $@
 
 $(BUILD)/fingersim: $(FINGERSIM_OBJ) $(CORE_LIBS)
-	$(CC) $(LDFLAGS_BASE) -o $@ $(FINGERSIM_OBJ) $(CORE_LIBS) -lm
+	$(call quiet,LD,$@)$(CC) $(LDFLAGS_BASE) -o $@ $(FINGERSIM_OBJ) $(CORE_LIBS) -lm
 
 $(BUILD)/obj/tests/can/%.o: tests/can/%.c
 	@mkdir -p $(dir $@)

@@ -6,7 +6,9 @@
 # changed since the last package build. It runs with the system's PATH: a
 # package is built with Debian's toolchain and Python, not a user's; and in
 # an empty environment but DEB_BUILD_OPTIONS, without the calling make's
-# variables (SAN=1 ...): the package is built as Debian builds it.
+# variables (SAN=1 ...): the package is built as Debian builds it. It takes
+# minutes: mk/progress.py shows its stages (dpkg-buildpackage's and dh's
+# steps) as they come, and the whole output is in build/deb/build.log.
 DEB_PATH := /usr/sbin:/usr/bin:/sbin:/bin
 DEB_DIR := build/deb
 DEB_VERSION := $(shell dpkg-parsechangelog -l debian/changelog -S Version 2>/dev/null)
@@ -15,6 +17,7 @@ DEB_SRC := $(DEB_DIR)/wsgsim-$(DEB_VERSION)
 DEB_FILES := $(DEB_DIR)/wsgsim_$(DEB_VERSION)_$(DEB_ARCH).deb \
 	$(DEB_DIR)/python3-wsgsim_$(DEB_VERSION)_all.deb
 # Every file of the source tree but build/, .git and Python's caches.
+DEB_STAGES := ^(dpkg-buildpackage: info: |dpkg-deb: building |   dh_|   debian/rules )
 DEB_INPUTS := $(shell find . \( -path ./build -o -path ./.git -o -name __pycache__ \) -prune \
 	-o -type f -print 2>/dev/null)
 
@@ -27,10 +30,11 @@ deb-deps:
 	@mk/deps.sh $(CHECK_DEBS)
 
 $(DEB_FILES) &: $(DEB_INPUTS) | deb-deps
-	rm -rf $(DEB_DIR) && mkdir -p $(DEB_SRC)
-	tar -cf - --exclude=./build --exclude=./.git --exclude=__pycache__ . | tar -xf - -C $(DEB_SRC)
-	cd $(DEB_SRC) && env -i PATH=$(DEB_PATH) HOME="$$HOME" \
+	@echo "deb: the tree copied to $(DEB_SRC), built there with dpkg-buildpackage"
+	@rm -rf $(DEB_DIR) && mkdir -p $(DEB_SRC)
+	@tar -cf - --exclude=./build --exclude=./.git --exclude=__pycache__ . | tar -xf - -C $(DEB_SRC)
+	@cd $(DEB_SRC) && env -i PATH=$(DEB_PATH) HOME="$$HOME" \
 		DEB_BUILD_OPTIONS="$$DEB_BUILD_OPTIONS" \
-		dpkg-buildpackage -us -uc -b > ../build.log 2>&1 || \
-		{ tail -40 ../build.log; echo "deb: dpkg-buildpackage failed, see $(DEB_DIR)/build.log"; exit 1; }
+		/usr/bin/python3 $(abspath mk/progress.py) deb $(abspath $(DEB_DIR))/build.log \
+		'$(DEB_STAGES)' -- dpkg-buildpackage -us -uc -b
 	@ls $(DEB_FILES)

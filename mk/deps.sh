@@ -74,12 +74,43 @@ for pkg in "$@"; do
     fi
 done
 [ -z "$missing" ] && exit 0
+
+# Another apt or dpkg at work (unattended-upgrades, a second make) holds
+# their locks: wait for it, up to APT_LOCK_WAIT seconds (default 900),
+# rather than fail. apt-get waits for the dpkg lock itself
+# (DPkg::Lock::Timeout); `update` does not wait for the package lists'
+# lock, so it is tried again, once a second, while that lock is held.
+lock_wait=${APT_LOCK_WAIT:-900}
+update_lists() {
+    waited=0
+    while ! out=$(apt-get -o DPkg::Lock::Timeout="$lock_wait" update -qq 2>&1); do
+        case "$out" in
+        *"Could not get lock"*) ;;
+        *)
+            printf '%s\n' "$out" >&2
+            return 1
+            ;;
+        esac
+        if [ "$waited" -ge "$lock_wait" ]; then
+            printf '%s\n' "$out" >&2
+            return 1
+        fi
+        if [ "$waited" = 0 ]; then
+            echo "deps: another apt holds the package lists; waiting for it (at most ${lock_wait} s)" >&2
+        fi
+        sleep 1
+        waited=$((waited + 1))
+    done
+    [ -z "$out" ] || printf '%s\n' "$out" >&2
+}
+
 if [ "$(id -u)" = "0" ]; then
     echo "deps: installing$missing" >&2
     export DEBIAN_FRONTEND=noninteractive
-    apt-get update -qq >&2
+    update_lists
     # shellcheck disable=SC2086
-    apt-get install -y -qq --no-install-recommends $missing >&2
+    apt-get -o DPkg::Lock::Timeout="$lock_wait" install -y -qq --no-install-recommends \
+        $missing >&2
     exit 0
 fi
 echo "deps: missing Debian packages:$missing" >&2

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-# The documents' examples (issue 17, point 3): every fenced command block of
+# The documents' examples: every fenced command block of
 # README.md and docs/*.md, run as written from the files themselves, each
 # document in a network namespace of its own (tests/docs/docexamples.py has
 # the convention). Debian's python3, as the examples' pytest and canmatrix.

@@ -1,12 +1,16 @@
 # SPDX-License-Identifier: BSD-3-Clause
-# Fuzzing every parser of outside input (issues 6 and 18), one libFuzzer
+# Fuzzing every parser of outside input, one libFuzzer
 # target per parser, tests/fuzz/fuzz_NAME.c:
 #   session   bytes of TCP/UDP clients: GCL, the binary framer and driver,
 #             the finger bus (raw CAN frames)
 #   control   the simulation control channel: its lines and every command
 #   web       the web server's routes with their JSON bodies
+#   store     the /user/ store's routes (file names, bodies, Run, startup) on
+#             a store on disk that holds a FIFO and the save file
 #   config    the --config file (INI, libinih) through options_parse()
 #   scenario  the --scenario file, loaded and run
+#   script    a user script (Lua) and the binary client that talks to it:
+#             the script bindings and the custom command channel
 #
 #   make fuzz [FUZZ_TIME=S]   every target for S seconds (default 300), one
 #                             after the other (a finding does not stop the
@@ -22,7 +26,7 @@ FUZZ_CC := clang
 FUZZ_DIR := build/fuzz
 FUZZ_TIME ?= 300
 FUZZ_JOBS ?= 1
-FUZZ_TARGETS ?= session control web config scenario
+FUZZ_TARGETS ?= session control web store config scenario script
 # Every target's seeds and regression inputs (a directory per target; a
 # target may have no regressions yet).
 FUZZ_INPUTS := tests/fuzz/corpus tests/fuzz/regressions
@@ -41,10 +45,12 @@ FUZZ_HOST_SRC := $(filter-out host/main.c host/web/web_server.c,$(HOST_SRC)) \
 FUZZ_HOST_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(filter-out host/main.c \
 	host/web/web_server.c,$(HOST_SRC))) $(BUILD)/obj/gen/web_assets.o $(CORE_LIBS)
 FUZZ_HOST_LIBS = $(filter-out -lmicrohttpd,$(HOST_LIBS))
-$(foreach t,control config scenario web,$(eval FUZZ_SRC_$(t) := $(FUZZ_HOST_SRC)) \
+$(foreach t,control config scenario web store script,$(eval FUZZ_SRC_$(t) := $(FUZZ_HOST_SRC)) \
 	$(eval FUZZ_OBJ_$(t) := $(FUZZ_HOST_OBJ)) $(eval FUZZ_AUX_$(t) := tests/fuzz/fuzz_host.c) \
 	$(eval FUZZ_LIBS_$(t) = $(HOST_LIBS)))
-FUZZ_LIBS_web = $(FUZZ_HOST_LIBS)
+# The web targets' stand-in for libmicrohttpd (tests/fuzz/fuzz_mhd.c).
+$(foreach t,web store,$(eval FUZZ_AUX_$(t) += tests/fuzz/fuzz_mhd.c) \
+	$(eval FUZZ_LIBS_$(t) = $(FUZZ_HOST_LIBS)))
 
 # libFuzzer writes fuzz-N.log per job into the working directory: keep them in build/
 FUZZ_PARALLEL = $(if $(filter-out 1,$(FUZZ_JOBS)),-jobs=$(FUZZ_JOBS) -workers=$(FUZZ_JOBS))
@@ -63,12 +69,12 @@ fuzz-deps:
 
 define FUZZ_TARGET_RULES
 $(FUZZ_DIR)/fuzz_$(1): tests/fuzz/fuzz_$(1).c $(FUZZ_AUX_$(1)) $(FUZZ_SRC_$(1)) $(FUZZ_HEADERS) \
-		tests/fuzz/fuzz_host.h | fuzz-deps
+		$(wildcard tests/fuzz/*.h) | fuzz-deps
 	@mkdir -p $$(dir $$@)
 	$(FUZZ_CC) $$(FUZZ_FLAGS) -o $$@ $$< $(FUZZ_AUX_$(1)) $(FUZZ_SRC_$(1)) $(FUZZ_LIBS_$(1))
 
 $(BUILD)/tests/fuzz_replay_$(1): tests/fuzz/fuzz_$(1).c tests/fuzz/replay_main.c $(FUZZ_AUX_$(1)) \
-		$(FUZZ_OBJ_$(1)) $(FUZZ_HEADERS) tests/fuzz/fuzz_host.h
+		$(FUZZ_OBJ_$(1)) $(FUZZ_HEADERS) $(wildcard tests/fuzz/*.h)
 	@mkdir -p $$(dir $$@)
 	$$(CC) $$(FUZZ_REPLAY_CFLAGS) $$(LDFLAGS_BASE) -o $$@ tests/fuzz/fuzz_$(1).c \
 		tests/fuzz/replay_main.c $(FUZZ_AUX_$(1)) $(FUZZ_OBJ_$(1)) $(FUZZ_LIBS_$(1))

@@ -26,25 +26,25 @@ CORE_LIBS = $(BUILD)/libwsgsim.a $(BUILD)/libwsgfw.a
 
 $(BUILD)/obj/firmware/%.o: firmware/%.c
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_BASE) $(LTO) $(FIRMWARE_INC) -ffreestanding -MMD -MP -c $< -o $@
+	$(call quiet,CC,$<)$(CC) $(CFLAGS_BASE) $(LTO) $(FIRMWARE_INC) -ffreestanding -MMD -MP -c $< -o $@
 
 $(BUILD)/obj/hal/%.o: hal/%.c
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_BASE) $(LTO) $(PUBLIC_INC) -MMD -MP -c $< -o $@
+	$(call quiet,CC,$<)$(CC) $(CFLAGS_BASE) $(LTO) $(PUBLIC_INC) -MMD -MP -c $< -o $@
 
 $(BUILD)/obj/host/%.o: host/%.c | deps
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -MMD -MP -c $< -o $@
+	$(call quiet,CC,$<)$(CC) $(HOST_CFLAGS) -MMD -MP -c $< -o $@
 
 $(BUILD)/libwsgfw.a: $(FW_LIB_OBJ)
 	@rm -f $@
-	ar rcs $@ $^
+	$(call quiet,AR,$@)ar rcs $@ $^
 
 $(BUILD)/libwsgsim.a: $(SIM_LIB_OBJ)
 	@rm -f $@
-	ar rcs $@ $^
+	$(call quiet,AR,$@)ar rcs $@ $^
 
 $(BUILD)/wsgsim: $(HOST_OBJ) $(CORE_LIBS)
-	$(CC) $(LDFLAGS_BASE) $(LTO_LINK) -o $@ $(HOST_OBJ) $(CORE_LIBS) $(HOST_LIBS)
+	$(call quiet,LD,$@)$(CC) $(LDFLAGS_BASE) $(LTO_LINK) -o $@ $(HOST_OBJ) $(CORE_LIBS) $(HOST_LIBS)
 
 -include $(CORE_OBJ:.o=.d) $(HOST_OBJ:.o=.d)

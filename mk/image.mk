@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: BSD-3-Clause
-# An OCI container image of the Debian package (issue 17), as lewis and
-# Renode users run their simulators; not part of `make check` (it downloads
-# Debian's base packages, tens of MB, and takes minutes):
+# An OCI container image of the Debian package, as lewis and Renode users
+# run their simulators; not part of `make check` (it downloads Debian's
+# base packages, tens of MB, and takes minutes: mk/progress.py shows its
+# stages as they come, the whole output goes to build/image.log):
 #   make image         build/image/wsgsim-oci.tar from build/deb/wsgsim_*.deb
 #                      (mk/image.sh: mmdebstrap, umoci; as root)
 #   make image-tests   tests/image: the image's configuration (also as skopeo
@@ -14,6 +15,7 @@ IMAGE_DIR := build/image
 IMAGE := $(IMAGE_DIR)/wsgsim-oci.tar
 IMAGE_LOG := build/image.log
 IMAGE_DEBS := mmdebstrap umoci skopeo
+IMAGE_STAGES := ^(I: |image: )
 WSGSIM_DEB := $(DEB_DIR)/wsgsim_$(DEB_VERSION)_$(DEB_ARCH).deb
 
 .PHONY: image image-tests image-deps
@@ -25,9 +27,9 @@ image-deps:
 	@mk/deps.sh $(IMAGE_DEBS)
 
 $(IMAGE): $(WSGSIM_DEB) mk/image.sh | image-deps
-	mk/image.sh $(WSGSIM_DEB) $(IMAGE_DIR) $(DEB_VERSION) > $(IMAGE_LOG) 2>&1 || \
-		{ tail -30 $(IMAGE_LOG); echo "image: failed, see $(IMAGE_LOG)"; exit 1; }
-	@tail -1 $(IMAGE_LOG)
+	@mkdir -p $(dir $(IMAGE_LOG))
+	@/usr/bin/python3 mk/progress.py image $(IMAGE_LOG) '$(IMAGE_STAGES)' -- \
+		mk/image.sh $(WSGSIM_DEB) $(IMAGE_DIR) $(DEB_VERSION)
 
 ## the image's configuration, and wsgsim run from its root filesystem
 image-tests: $(IMAGE) | image-deps

@@ -19,6 +19,7 @@ suite=$(. /etc/os-release && echo "$VERSION_CODENAME")
 sources=/etc/apt/sources.list.d/debian.sources
 [ -f "$sources" ] || sources=/etc/apt/sources.list
 rm -rf "$out" && mkdir -p "$out"
+echo "image: the root filesystem: $deb and its dependencies from the $suite archive (mmdebstrap)"
 
 # --variant=apt: Debian's essential packages and apt (so that an image
 # built FROM this one can add packages), no documentation but the
@@ -26,7 +27,7 @@ rm -rf "$out" && mkdir -p "$out"
 # root read the .deb given by its path. The hook's "$1" (the new root) is
 # mmdebstrap's to expand.
 # shellcheck disable=SC2016
-mmdebstrap --quiet --variant=apt --include="$deb" \
+mmdebstrap --variant=apt --include="$deb" \
     --hook-dir=/usr/share/mmdebstrap/hooks/file-mirror-automount \
     --dpkgopt='path-exclude=/usr/share/man/*' \
     --dpkgopt='path-exclude=/usr/share/locale/*' \
@@ -40,6 +41,7 @@ mmdebstrap --quiet --variant=apt --include="$deb" \
 # One layer holding the whole root filesystem; wsgsim on the device's
 # ports (GCL 1000 TCP and UDP, binary UDP 1500, web 8080), Save into the
 # volume /var/lib/wsgsim. Arguments given to the container follow these.
+echo "image: the OCI image (umoci)"
 layout="$out/oci"
 umoci init --layout "$layout"
 umoci new --image "$layout:$version"

@@ -1,8 +1,9 @@
 # SPDX-License-Identifier: BSD-3-Clause
-# Installing wsgsim (issue 14):
+# Installing wsgsim:
 #   make programs                 every program and its man page
 #   make install [PREFIX=/usr/local] [DESTDIR=]   programs, man pages, units,
-#                                 example configuration, DBC and docs (not the
+#                                 example configuration, DBC and docs, and
+#                                 $(SYSCONFDIR)/wsgsim for the units' files (not the
 #                                 Python package: its .deb, or PYTHONPATH=python;
 #                                 install says so)
 #   make uninstall                removes exactly what install put there
@@ -37,6 +38,12 @@ MAN_PAGES := $(patsubst %,$(BUILD)/man/%.1,$(PROGRAM_NAMES))
 UNITS := wsgsim.service wsgsim@.service
 DOCS := README.md $(wildcard docs/*.md docs/*.png)
 MAN_DEBS := help2man
+
+# The programs name the installed example configuration (wsgsim's --help,
+# and so its man page, and a configuration file's unknown key): rebuilt
+# when the paths change.
+HOST_CFLAGS += -DWSGSIM_EXAMPLE_CONFIG='"$(DOCDIR)/examples/wsgsim.example.ini"'
+$(BUILD)/obj/host/config/options.o $(BUILD)/obj/host/config/config_file.o: $(BUILD)/man/paths
 
 .PHONY: programs man install uninstall docs-plot
 ## build every program and its man page
@@ -79,7 +86,7 @@ man-deps:
 ## install programs, man pages, units, docs (PREFIX=/usr/local DESTDIR=)
 install: $(PROGRAMS) man
 	$(INSTALL) -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(SYSTEMDUNITDIR) \
-		$(DESTDIR)$(DOCDIR)/examples $(DESTDIR)$(PRIVATE_DIR)
+		$(DESTDIR)$(DOCDIR)/examples $(DESTDIR)$(PRIVATE_DIR) $(DESTDIR)$(SYSCONFDIR)/wsgsim
 	$(INSTALL) -m 755 $(C_PROGRAMS) $(SCRIPT_PROGRAMS) $(DESTDIR)$(BINDIR)/
 	$(INSTALL) -m 755 $(BIN_CLIENT) $(DESTDIR)$(PRIVATE_DIR)/
 	$(INSTALL) -m 644 $(BIN_CLIENT_MODULE) $(DESTDIR)$(PRIVATE_DIR)/
@@ -108,7 +115,7 @@ uninstall:
 		$(addprefix $(DESTDIR)$(PRIVATE_DIR)/,finger-bus.dbc $(notdir $(BIN_CLIENT) \
 			$(BIN_CLIENT_MODULE)))
 	rm -rf $(DESTDIR)$(DOCDIR) $(DESTDIR)$(PRIVATE_DIR)/__pycache__
-	-rmdir $(DESTDIR)$(PRIVATE_DIR) 2>/dev/null
+	-rmdir $(DESTDIR)$(PRIVATE_DIR) $(DESTDIR)$(SYSCONFDIR)/wsgsim 2>/dev/null
 
 # A deterministic run on the paused clock, drawn by tools/wsgplot.
 ## regenerate docs/wsgplot-demo.png

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-# Packaging and conventions (issue 14), part of `make check`:
+# Packaging and conventions, part of `make check`:
 #   pkg-tests   tests/pkg with Debian's python3 (pytest, canmatrix): every
 #               program's -h/-V/errors and man page, make install into a
 #               DESTDIR and uninstall, systemd-analyze verify of the units,

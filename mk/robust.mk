@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-# Robustness checks (issue 6), part of `make check` (and of `make check SAN=1`):
+# Robustness checks, part of `make check` (and of `make check SAN=1`):
 #   valgrind-tests   the end-to-end tests (tests/e2e, tests/web) with build/wsgsim under valgrind
 #                    memcheck; fails on any memory error or leak. Under SAN=1 it
 #                    runs on the plain build (valgrind and ASan do not mix).

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-# The web interface (issue 13, docs/web.md): the page's files built into
+# The web interface (docs/web.md): the page's files built into
 # build/wsgsim, and its end-to-end tests.
 #   web-tests   tests/web/: the peer and slow-client rules' Check tests, then the end-to-end
 #               tests against build/wsgsim (every route and error)
@@ -24,11 +24,11 @@ $(WEB_ASSETS_LIST): web-assets-list
 
 $(WEB_ASSETS_C): mk/web_assets.py $(WEB_PAGE_FILES) $(WEB_ASSETS_LIST) | deps
 	@mkdir -p $(dir $@)
-	python3 mk/web_assets.py $@ $(WEB_PAGE_FILES)
+	$(call quiet,GEN,$@)python3 mk/web_assets.py $@ $(WEB_PAGE_FILES)
 
 $(BUILD)/obj/gen/web_assets.o: $(WEB_ASSETS_C) host/web/web_assets.h
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_BASE) $(LTO) -Ihost -c $< -o $@
+	$(call quiet,CC,$<)$(CC) $(CFLAGS_BASE) $(LTO) -Ihost -c $< -o $@
 
 # Check tests of single modules: tests/web/test_NAME.c against host/web/web_NAME.c.
 WEB_UNIT_TESTS := $(addprefix $(BUILD)/tests/web_,$(addsuffix _test,peer intake event_cache))

@@ -16,6 +16,15 @@ const FMF_BAR_FULL_SCALE_N = 80; // the WSG 50's grip force limit; the bar resca
 // /system's force_max_n; this until it came), so a near-constant force and
 // its sensor noise are not blown up to the chart's full height.
 const FORCE_AXIS_MIN_SPAN_N = 80;
+// The thickness of a part that lies around the jaws (a ring), as drawn.
+const RING_WALL_MM = 4;
+// How a set system flag shows, after Appendix B's own words: an error
+// condition ("Error", "Fault", "stopped due to an error condition") in the
+// alarm style, a warning or a blocked axis in amber, the rest as plain state.
+const FAULT_FLAGS = ["SF_FAST_STOP", "SF_TEMP_FAULT", "SF_POWER_FAULT", "SF_CURR_FAULT",
+  "SF_FINGER_FAULT", "SF_CMD_FAILURE", "SF_SCRIPT_FAILURE"];
+const WARNING_FLAGS = ["SF_TEMP_WARNING", "SF_BLOCKED_MINUS", "SF_BLOCKED_PLUS",
+  "SF_SOFT_LIMIT_MINUS", "SF_SOFT_LIMIT_PLUS", "SF_AXIS_STOPPED"];
 const CONSOLE_POLL_MS = 500; // the scripting view's console, while shown
 const SYSTEM_POLL_MS = 1000; // the system view's uptime and log, while shown
 const LOG_LINES_SHOWN = 100;
@@ -121,7 +130,29 @@ const live = {
   moveTouched: false,
   stroke: 0,
   forceSpanN: FORCE_AXIS_MIN_SPAN_N,
+  lastState: null, // the newest state (what a stale page still shows)
+  statusFlags: "", // the set flags the status area shows
+  paused: false, // the simulated clock is paused
+  simAllowed: true, // this client may use the simulation (sim_allowed)
+  step: null, // a STEP under way: {toMs, ms, result}
 };
+
+// A flag's name with a line break allowed after each "_" (<wbr>: the text
+// stays the name), so that a narrow column wraps it between its words.
+function setFlagName(element, name) {
+  const parts = name.split("_");
+  element.replaceChildren();
+  parts.forEach((part, i) => {
+    element.append(part + (i < parts.length - 1 ? "_" : ""));
+    if (i < parts.length - 1) {
+      element.appendChild(document.createElement("wbr"));
+    }
+  });
+}
+
+function flagKind(name) {
+  return FAULT_FLAGS.includes(name) ? "fault" : WARNING_FLAGS.includes(name) ? "warning" : "state";
+}
 
 function fixed(value, digits) {
   return typeof value === "number" ? value.toFixed(digits) : "–";
@@ -148,8 +179,7 @@ function renderReadouts(state) {
   setText("motion-text", state.motion || "–");
   setText("temperature", fixed(state.temperature_c, 1));
   setText("sim-time", fixed(state.time_ms / 1000, 3));
-  const part = state.part;
-  setText("part-text", part && part.present ? fixed(part.width_mm, 1) + " mm" : "none");
+  setText("part-text", partText(state.part));
   // the motion view's line
   setText("m-width", fixed(state.position_mm, 1));
   setText("m-force", fixed(state.force_n, 1));
@@ -157,17 +187,29 @@ function renderReadouts(state) {
   setText("m-motion", state.motion || "–");
 }
 
+// "40.0 mm between the jaws" or "around the jaws": an outside part (a
+// ring) blocks opening, so it says why a wider MOVE stops.
+function partText(part) {
+  if (!part || !part.present) {
+    return "none";
+  }
+  const where = part.side === "outside" ? "around the jaws (blocks opening)" : "between the jaws";
+  return fixed(part.width_mm, 1) + " mm, " + where;
+}
+
+// The stroke bounds the jaws' drawing and the widths (data-range="stroke"):
+// the target, a part width, the pull-back; never a speed or a force.
 function setJawSpan(stroke) {
   if (stroke === live.stroke || !(stroke > 0)) {
     return;
   }
   live.stroke = stroke;
   const width = stroke + 2 * (SVG_MARGIN_MM + JAW_WIDTH_MM);
-  $("jaws").setAttribute("viewBox", "0 0 " + width + " 50");
+  $("jaws").setAttribute("viewBox", "0 0 " + width + " 58");
   $("jaw-base").setAttribute("width", String(width - 10));
-  for (const input of document.querySelectorAll("#op-move input")) {
-    input.max = String(stroke);
-  }
+  $("op-move").elements.position_slider.max = String(stroke);
+  limits.stroke = [0, stroke];
+  showRanges();
 }
 
 // x of the inner face of a jaw at offset mm from the middle
@@ -180,6 +222,51 @@ function placeBox(element, widthMm) {
   element.setAttribute("width", String(Math.max(widthMm, 0)));
 }
 
+function placeSpan(element, fromX, toX) {
+  element.setAttribute("x", String(fromX));
+  element.setAttribute("width", String(Math.max(toX - fromX, 0)));
+}
+
+// Between the jaws a part is a block, squeezed to the jaws' width when held;
+// around them (outside) a ring whose walls stand outside the jaws and whose
+// band runs behind them, stretched to the jaws' width when held.
+function renderPart(part, positionMm, held) {
+  $("part").toggleAttribute("hidden", !part.present);
+  if (!part.present) {
+    return;
+  }
+  const outside = part.side === "outside";
+  $("part").classList.toggle("held", held);
+  $("part").classList.toggle("outside", outside);
+  for (const id of ["part-ring", "part-wall-minus", "part-wall-plus"]) {
+    $(id).toggleAttribute("hidden", !outside);
+  }
+  $("part-body").toggleAttribute("hidden", outside);
+  if (!outside) {
+    placeBox($("part-body"), Math.min(part.width_mm, positionMm));
+    return;
+  }
+  const inner = Math.max(part.width_mm, positionMm) / 2 + JAW_WIDTH_MM;
+  placeSpan($("part-wall-minus"), jawX(-inner) - RING_WALL_MM, jawX(-inner));
+  placeSpan($("part-wall-plus"), jawX(inner), jawX(inner) + RING_WALL_MM);
+  placeSpan($("part-ring"), jawX(-inner), jawX(inner));
+}
+
+// An obstacle is a line where it stops the jaws: at their inner faces
+// between them, at their outer faces around them.
+function renderObstacle(obstacle) {
+  for (const side of ["minus", "plus"]) {
+    const line = $("obstacle-" + side);
+    line.toggleAttribute("hidden", !obstacle.present);
+    if (obstacle.present) {
+      const reach = obstacle.width_mm / 2 + (obstacle.side === "outside" ? JAW_WIDTH_MM : 0);
+      const x = jawX((side === "minus" ? -1 : 1) * reach);
+      line.setAttribute("x1", String(x));
+      line.setAttribute("x2", String(x));
+    }
+  }
+}
+
 function renderJaws(state) {
   setJawSpan(state.stroke_mm);
   const half = Math.max(state.position_mm || 0, 0) / 2;
@@ -189,23 +276,9 @@ function renderJaws(state) {
   $("span-line").setAttribute("x2", String(jawX(half)));
   $("span-text").setAttribute("x", String(jawX(0)));
   $("span-text").textContent = fixed(state.position_mm, 1) + " mm";
-  const part = state.part || {};
-  $("part").toggleAttribute("hidden", !part.present);
-  if (part.present) {
-    // a held part is squeezed to the jaws' width
-    placeBox($("part"), Math.min(part.width_mm, state.position_mm));
-    $("part").classList.toggle("held", (state.grip_state || {}).code === 4);
-  }
-  const obstacle = state.obstacle || {};
-  for (const side of ["minus", "plus"]) {
-    const line = $("obstacle-" + side);
-    line.toggleAttribute("hidden", !obstacle.present);
-    if (obstacle.present) {
-      const x = jawX((side === "minus" ? -1 : 1) * obstacle.width_mm / 2);
-      line.setAttribute("x1", String(x));
-      line.setAttribute("x2", String(x));
-    }
-  }
+  const held = (state.grip_state || {}).code === 4;
+  renderPart(state.part || {}, Math.max(state.position_mm || 0, 0), held);
+  renderObstacle(state.obstacle || {});
 }
 
 function renderFlags(sysflags) {
@@ -219,25 +292,111 @@ function renderFlags(sysflags) {
       item.innerHTML = '<span class="mark" aria-hidden="true"></span><span class="name"></span>' +
         '<span class="sr-only"></span>';
       item.dataset.name = name || "bit " + bit;
-      item.querySelector(".name").textContent = item.dataset.name;
+      setFlagName(item.querySelector(".name"), item.dataset.name);
       item.title = "bit " + bit;
       item.classList.toggle("reserved", !name);
+      item.classList.add(flagKind(name));
       list.appendChild(item);
       live.flagItems.push(item);
     });
   }
-  // set or clear in words and a mark, not only by colour
+  // set or clear in words and a mark, not only by colour; a set fault's
+  // mark is the alarm's "!"
   live.flagItems.forEach((item, bit) => {
     const set = ((sysflags.value >>> bit) & 1) === 1;
     if (item.classList.contains("set") !== set || !item.dataset.shown) {
       item.dataset.shown = "1";
       item.classList.toggle("set", set);
-      item.querySelector(".mark").textContent = set ? "✔" : "○";
-      item.querySelector(".sr-only").textContent = set ? ": set" : ": clear";
+      const fault = item.classList.contains("fault");
+      item.querySelector(".mark").textContent = set ? (fault ? "!" : "✔") : "○";
+      item.querySelector(".sr-only").textContent = set ? (fault ? ": set, a fault" : ": set")
+        : ": clear";
     }
   });
+  renderStatusFlags(sysflags.set || [], (sysflags.value & 1) === 1);
   renderFastStop(sysflags.set || []);
   renderScriptFlags(sysflags.set || []);
+}
+
+// ------------------------------------------------------------ status area
+
+// The status area under the tabs, on every view as on the device's own web
+// interface: the grip state, width and force, the clock, and the set flags
+// (faults first, in the alarm style), with a hint while not homed.
+function renderStatus(state) {
+  const grip = state.grip_state || {};
+  setText("st-grip", grip.name ? grip.name + " (" + grip.code + ")" : "–");
+  setText("st-width", fixed(state.position_mm, 1));
+  setText("st-force", fixed(state.force_n, 1));
+  renderClock(state.clock, state.time_ms);
+}
+
+const KIND_ORDER = { fault: 0, warning: 1, state: 2 };
+
+function renderStatusFlags(setFlags, referenced) {
+  const key = setFlags.join(",") + (referenced ? "" : ",not homed");
+  if (key === live.statusFlags) {
+    return;
+  }
+  live.statusFlags = key;
+  const sorted = setFlags.slice().sort((a, b) => KIND_ORDER[flagKind(a)] - KIND_ORDER[flagKind(b)]);
+  const items = sorted.map((name) => {
+    const item = document.createElement("li");
+    const kind = flagKind(name);
+    item.className = "chip " + kind;
+    item.dataset.name = name;
+    item.innerHTML = '<span class="icon" aria-hidden="true"></span><span class="name"></span>';
+    item.querySelector(".icon").textContent = kind === "fault" ? "!" : kind === "warning" ? "▲" : "✔";
+    setFlagName(item.querySelector(".name"), name);
+    if (kind !== "state") {
+      item.querySelector(".name").append(" (" + kind + ")");
+    }
+    return item;
+  });
+  if (!referenced) {
+    const hint = document.createElement("li");
+    hint.className = "chip hint";
+    hint.dataset.name = "not homed";
+    hint.textContent = "not homed: HOME before moving";
+    items.push(hint);
+  }
+  if (items.length === 0) {
+    const none = document.createElement("li");
+    none.className = "chip none";
+    none.textContent = "no system flag set";
+    items.push(none);
+  }
+  $("status-flags").replaceChildren(...items);
+}
+
+// The simulated clock: running (and its scale) or paused at its time, with
+// Step and Resume at hand on every view (Pause while it runs).
+function renderClock(clock, timeMs) {
+  const paused = Boolean(clock && clock.paused);
+  live.paused = paused;
+  let text = "clock –";
+  if (clock) {
+    text = paused ? "clock paused at " + fixed(timeMs / 1000, 3) + " s"
+      : "clock running" + (clock.scale !== 1 ? " at ×" + clock.scale : "");
+  }
+  setText("clock-text", text);
+  $("st-clock").classList.toggle("paused", paused);
+  $("clock-pill").hidden = !paused;
+  $("clock-step").hidden = !paused;
+  $("clock-resume").hidden = !paused;
+  $("clock-pause").hidden = paused || !clock;
+  followStep(timeMs);
+}
+
+// A STEP answers at once (202) and runs on: its result says where the clock
+// stands once the state shows it there.
+function followStep(timeMs) {
+  const step = live.step;
+  if (step && timeMs >= step.toMs - 0.0005) {
+    live.step = null;
+    showResult(step.result, true, "clock: stepped " + step.ms + " ms: the clock stands at " +
+      fixed(timeMs / 1000, 3) + " s");
+  }
 }
 
 // --------------------------------------------------------- FAST STOP banner
@@ -306,9 +465,20 @@ function fingerView(slot) {
   return live.fingerViews[slot];
 }
 
+// A powered slot whose finger has not described itself yet (no
+// FF_CONFIG_AVAIL, no fault): the finger bus still starts it, on the
+// simulated clock (at t = 0 on a paused clock, until a step).
+function fingerStarting(finger) {
+  const set = (finger.flags || {}).set || [];
+  return finger.type === "none" && set.includes("FF_POWER_ON") &&
+    !set.includes("FF_CONFIG_AVAIL") && !set.some((name) => /FAULT/.test(name));
+}
+
 function renderFinger(finger) {
   const box = fingerView(finger.slot);
-  box.querySelector("h4").textContent = "Slot " + finger.slot + ": " + finger.type;
+  const starting = fingerStarting(finger);
+  box.querySelector("h4").textContent = "Slot " + finger.slot + ": " +
+    (starting ? "starting" : finger.type);
   const flags = finger.flags || {};
   const set = flags.set && flags.set.length ? flags.set.join(", ") : "no flags set";
   box.querySelector(".fflags").textContent =
@@ -320,13 +490,17 @@ function renderFinger(finger) {
   bar.hidden = !isForce;
   canvas.hidden = !isMap;
   let text = "no data";
-  if (isForce) {
+  if (starting) {
+    text = "powered, waiting for the finger to describe itself" +
+      (live.paused ? " (the clock is paused: Step or Resume runs the finger bus)" : "");
+  } else if (isForce) {
     text = "force " + finger.data.toFixed(2) + " N";
     const fullScale = Math.max(FMF_BAR_FULL_SCALE_N, Math.abs(finger.data));
     bar.firstChild.style.width = (100 * Math.abs(finger.data)) / fullScale + "%";
   } else if (isMap) {
-    text = (finger.rows || 14) + " × " + (finger.cols || 6) + " tactile map, peak " +
-      Math.max(...finger.data) + " of " + DSA_CELL_MAX;
+    const peak = Math.max(...finger.data);
+    text = (finger.rows || 14) + " × " + (finger.cols || 6) + " tactile map, " +
+      (peak > 0 ? "peak " + peak + " of " + DSA_CELL_MAX : "no contact (all cells 0)");
     drawTactileMap(canvas, finger);
   }
   box.querySelector(".fdata").textContent = text;
@@ -415,6 +589,11 @@ function widthAxisRange() {
 
 function drawChart() {
   live.chartDrawPending = false;
+  // one instant is no line: said, rather than an empty chart
+  const history = live.chartData.length >= 2;
+  $("chart-note").hidden = history || live.chartData.length === 0;
+  setText("chart-note", "The chart fills as the simulated clock runs" +
+    (live.paused ? " (it is paused: Step or Resume)." : "."));
   if (live.chartData.length === 0) {
     return; // no state yet
   }
@@ -432,6 +611,8 @@ function drawChart() {
       xlabel: "simulated time (s)",
       colors: ["#1f6fb2", "#c0392b"],
       legend: "always",
+      // the legend above the chart, never over its data
+      labelsDiv: $("chart-legend"),
       labelsSeparateLines: false,
       animatedZooms: false,
     });
@@ -443,6 +624,9 @@ function drawChart() {
 // ------------------------------------------------------------- the stream
 
 function renderState(state) {
+  live.lastState = state;
+  showOffline(false);
+  renderStatus(state);
   renderReadouts(state);
   renderJaws(state);
   followWidth(state.position_mm);
@@ -461,6 +645,38 @@ function setLink(up, text) {
   link.classList.toggle("down", !up);
 }
 
+function clockTime(date) {
+  const two = (n) => String(n).padStart(2, "0");
+  return two(date.getHours()) + ":" + two(date.getMinutes()) + ":" + two(date.getSeconds());
+}
+
+// The server gone: a banner says so and since when, and every value shown
+// turns grey (stale) until the stream brings a state again.
+function showOffline(offline) {
+  if (!offline) {
+    if (document.body.classList.contains("stale")) {
+      document.body.classList.remove("stale");
+      $("offline-banner").hidden = true;
+      $("banner-fsack").disabled = false;
+      simAvailable(live.simAllowed);
+    }
+    return;
+  }
+  if (document.body.classList.contains("stale")) {
+    return; // still gone: the banner keeps the first moment
+  }
+  document.body.classList.add("stale");
+  // nothing to send them to: the buttons that act wait for the server
+  for (const id of ["banner-fsack", "clock-step", "clock-resume", "clock-pause"]) {
+    $(id).disabled = true;
+  }
+  const shown = live.lastState ? "the values shown are from simulated time " +
+    fixed(live.lastState.time_ms / 1000, 3) + " s and no longer change" : "nothing was shown yet";
+  setText("offline-text", "since " + clockTime(new Date()) + ": " + shown +
+    ". The page reconnects by itself when wsgsim is back.");
+  $("offline-banner").hidden = false;
+}
+
 // EventSource retries on its own after a dropped stream, but not after an
 // HTTP error (e.g. the server restarting): one reconnect loop for both.
 function openStream(delayMs) {
@@ -473,6 +689,7 @@ function openStream(delayMs) {
   source.addEventListener("error", () => {
     source.close();
     setLink(false, "reconnecting");
+    showOffline(true);
     setTimeout(() => openStream(Math.min(delayMs * 2, RECONNECT_MAX_MS)), delayMs);
   });
 }
@@ -488,7 +705,10 @@ function renderWebOp(op) {
   const name = commandName(op.op);
   const element = $("op-done");
   if (!op.done) {
-    showResult(element, true, name + " running since " + fixed(op.started_ms / 1000, 3) + " s");
+    // on a paused clock nothing moves until a step: said, not left to guess
+    const waiting = live.paused ? " — the clock is paused: Step or Resume (above) runs it" : "";
+    showResult(element, true, name + " running since " + fixed(op.started_ms / 1000, 3) + " s" +
+      waiting);
     return;
   }
   const ended = " at " + fixed(op.ended_ms / 1000, 3) + " s";
@@ -500,9 +720,79 @@ function commandName(op) {
   return op.replace("_", "").toUpperCase();
 }
 
-async function runOp(name, args) {
+// ----------------------------------------------------------------- ranges
+
+// The model's ranges (GET …/system; the stroke also from the state): each
+// number field with data-range shows its range, and a refusal for a value
+// outside it says which value and what is allowed, in the page's words.
+const limits = { stroke: null, speed: null, force: null, accel: null };
+const RANGE_UNITS = { stroke: "mm", speed: "mm/s", force: "N", accel: "mm/s²" };
+
+function rangeText(kind) {
+  const range = limits[kind];
+  return range ? trimmed(range[0]) + "–" + trimmed(range[1]) + " " + RANGE_UNITS[kind] : "";
+}
+
+function trimmed(value) {
+  return String(Math.round(value * 1000) / 1000);
+}
+
+function setLimits(info) {
+  limits.speed = [info.speed_min_mm_s, info.speed_max_mm_s];
+  limits.forceNominal = [info.force_min_n, info.force_max_n];
+  limits.accel = [info.accel_min_mm_s2, info.accel_max_mm_s2];
+  limits.overdriveN = info.force_overdrive_n;
+  updateForceLimit();
+  if (!limits.stroke && info.stroke_mm > 0) {
+    limits.stroke = [0, info.stroke_mm];
+  }
+  showRanges();
+}
+
+// min and max on each field (the spinner's bounds: the forms do not
+// validate, the device does) and the range beside it.
+function showRanges() {
+  for (const input of document.querySelectorAll("input[data-range]")) {
+    const range = limits[input.dataset.range];
+    if (!range) {
+      continue;
+    }
+    input.min = String(range[0]);
+    input.max = String(range[1]);
+    let hint = input.parentElement.querySelector(".range");
+    if (!hint) {
+      hint = document.createElement("span");
+      hint.className = "range";
+      input.parentElement.appendChild(hint);
+    }
+    hint.textContent = "(" + rangeText(input.dataset.range) + ")";
+  }
+  if (settings.built) {
+    showSettingsRanges();
+  }
+}
+
+// The first value of a form outside its range: "speed 500 mm/s is outside
+// 5–420 mm/s"; "" when none is.
+function outOfRange(form) {
+  for (const input of form.querySelectorAll("input[data-range]")) {
+    const range = limits[input.dataset.range];
+    const value = Number(input.value);
+    if (range && input.value !== "" && (value < range[0] || value > range[1])) {
+      const label = input.parentElement.firstChild.textContent.trim();
+      return label + " " + input.value + " " + RANGE_UNITS[input.dataset.range] +
+        " is outside " + rangeText(input.dataset.range);
+    }
+  }
+  return "";
+}
+
+async function runOp(name, args, form) {
   const result = $("op-result");
-  const refused = (error) => showResult(result, false, commandName(name) + ": " + error.describe());
+  const refused = (error) => {
+    const why = error.statusName === "E_RANGE_ERROR" && form ? outOfRange(form) : "";
+    showResult(result, false, commandName(name) + ": " + error.describe() + (why ? " — " + why : ""));
+  };
   const reply = await callApi(refused, "POST", apiBase + "/ops/" + name, args || {});
   if (reply) {
     const started = reply.started ? " (started)" : "";
@@ -514,7 +804,7 @@ function bindOpForm(name) {
   const form = $("op-" + name);
   form.addEventListener("submit", (event) => {
     event.preventDefault();
-    runOp(name, formArguments(form));
+    runOp(name, formArguments(form), form);
   });
 }
 
@@ -535,7 +825,7 @@ function bindMoveSlider() {
   slider.addEventListener("input", () => (number.value = slider.value));
   number.addEventListener("input", () => (slider.value = number.value));
   // the slider moves the jaws when let go
-  slider.addEventListener("change", () => runOp("move", formArguments(form)));
+  slider.addEventListener("change", () => runOp("move", formArguments(form), form));
 }
 
 function setUpControl() {
@@ -548,7 +838,8 @@ function setUpControl() {
 
 // ----------------------------------------------------------- settings panel
 
-// The fields of GET /settings, grouped as on the device's own page. The
+// The fields of GET /settings, grouped as on the device's own page, with
+// their names in words and the range each number takes (RANGE_UNITS). The
 // protocol and the ports are fixed while wsgsim runs (docs/web.md): shown,
 // not edited.
 const FIXED_SETTINGS = ["protocol", "tcp_port", "udp_port", "binary_udp_port"];
@@ -562,23 +853,34 @@ const SETTINGS_GROUPS = [
     ["faststop_on_disconnect", "FAST STOP on TCP disconnect"],
   ]],
   ["Grasping defaults", [
-    ["pwt_mm", "part width tolerance (PWT), mm"],
-    ["clt_mm", "clamping travel (CLT), mm"],
-    ["pullback_mm", "pull-back distance, mm"],
-    ["force_n", "force, N"],
-    ["speed_mm_s", "speed, mm/s"],
+    ["pwt_mm", "part width tolerance (PWT)", "stroke"],
+    ["clt_mm", "clamping travel (CLT)", "stroke"],
+    ["pullback_mm", "pull-back distance", "stroke"],
+    ["force_n", "grip force", "force"],
+    ["speed_mm_s", "speed", "speed"],
   ]],
   ["Motion", [
-    ["accel_mm_s2", "acceleration, mm/s²"],
+    ["accel_mm_s2", "acceleration", "accel"],
     ["soft_limits", "soft limits"],
-    ["soft_limit_minus_mm", "soft limit minus, mm"],
-    ["soft_limit_plus_mm", "soft limit plus, mm"],
+    ["soft_limit_minus_mm", "soft limit minus", "stroke"],
+    ["soft_limit_plus_mm", "soft limit plus", "stroke"],
     ["overdrive", "overdrive"],
   ]],
   ["Identity", [["tag", "tag"]]],
 ];
 
-const settings = { loaded: {} };
+const settings = { loaded: {}, built: false };
+
+// [label, range kind] of a field ("grip force", "force").
+function settingInfo(name) {
+  for (const [, fields] of SETTINGS_GROUPS) {
+    const field = fields.find((f) => f[0] === name);
+    if (field) {
+      return { label: field[1], kind: field[2] };
+    }
+  }
+  return { label: name, kind: undefined };
+}
 
 function settingsInput(name, value) {
   const input = document.createElement("input");
@@ -596,13 +898,18 @@ function settingsInput(name, value) {
   return input;
 }
 
+function settingLabel(name) {
+  const info = settingInfo(name);
+  return info.label + (info.kind ? ", " + RANGE_UNITS[info.kind] : "");
+}
+
 function buildSettingsForm(values) {
   const container = $("settings-fields");
   container.replaceChildren();
   for (const [title, fields] of SETTINGS_GROUPS) {
     const group = document.createElement("fieldset");
     group.appendChild(document.createElement("legend")).textContent = title;
-    for (const [name, label] of fields) {
+    for (const [name] of fields) {
       if (!(name in values)) {
         continue; // a field this server does not have
       }
@@ -610,14 +917,42 @@ function buildSettingsForm(values) {
       row.className = "setting";
       const text = document.createElement("label");
       text.htmlFor = "setting-" + name;
-      text.textContent = label;
+      text.textContent = settingLabel(name);
+      const range = document.createElement("span");
+      range.className = "range";
+      range.id = "setting-range-" + name;
       const error = document.createElement("span");
       error.className = "field-error";
       error.id = "setting-error-" + name;
-      row.append(text, settingsInput(name, values[name]), error);
+      row.append(text, settingsInput(name, values[name]), range, error);
       group.appendChild(row);
     }
     container.appendChild(group);
+  }
+  settings.built = true;
+  showSettingsRanges();
+}
+
+// The largest grip force follows the overdrive setting (the model's
+// overdrive force while it is on).
+function updateForceLimit() {
+  if (!limits.forceNominal) {
+    return;
+  }
+  const overdrive = settings.loaded.overdrive && limits.overdriveN > 0;
+  limits.force = [limits.forceNominal[0], overdrive ? limits.overdriveN : limits.forceNominal[1]];
+}
+
+function showSettingsRanges() {
+  for (const name of Object.keys(settings.loaded)) {
+    const kind = settingInfo(name).kind;
+    const input = $("setting-" + name);
+    if (!kind || !input || !limits[kind]) {
+      continue;
+    }
+    input.min = String(limits[kind][0]);
+    input.max = String(limits[kind][1]);
+    setText("setting-range-" + name, rangeText(kind));
   }
 }
 
@@ -628,24 +963,30 @@ function settingsValue(input) {
   return input.type === "number" ? Number(input.value) : input.value;
 }
 
+function showSettingValue(name, value) {
+  const input = $("setting-" + name);
+  if (!input) {
+    return;
+  }
+  if (input.type === "checkbox") {
+    input.checked = Boolean(value);
+  } else {
+    input.value = value === null ? (input.readOnly ? "–" : "") : String(value);
+  }
+}
+
 function fillSettings(values) {
   settings.loaded = values;
   for (const name of Object.keys(values)) {
-    const input = $("setting-" + name);
-    if (!input) {
-      continue;
-    }
-    if (input.type === "checkbox") {
-      input.checked = Boolean(values[name]);
-    } else {
-      input.value = values[name] === null ? (input.readOnly ? "–" : "") : String(values[name]);
-    }
+    showSettingValue(name, values[name]);
   }
   const file = values.save_file;
   $("settings-file").textContent = file
     ? "to " + file
     : "started without --config or --save-file: nothing to save to";
   $("settings-save").disabled = !file;
+  updateForceLimit();
+  showRanges();
 }
 
 function changedSettings() {
@@ -671,15 +1012,46 @@ function clearFieldErrors() {
   }
 }
 
-// The server names the field first: "pwt_mm: out of range".
-function showSettingsError(error) {
-  const field = /^([a-z0-9_]+):/.exec(error.message || "");
-  const slot = field && $("setting-error-" + field[1]);
-  if (slot) {
-    slot.textContent = error.describe();
-    slot.parentElement.classList.add("invalid");
+// What the device said about one field, in the page's words: "grip force
+// 500 N is out of range: 5–80 N".
+function settingProblem(error, name, asked) {
+  const info = settingInfo(name);
+  const unit = info.kind ? " " + RANGE_UNITS[info.kind] : "";
+  const value = asked === undefined ? "" : " " + (typeof asked === "string" ? '"' + asked + '"'
+    : String(asked) + unit);
+  if (error.statusName === "E_RANGE_ERROR" && info.kind) {
+    const order = /^soft_limit/.test(name) ? ", the minus limit below the plus limit" : "";
+    return info.label + value + " is out of range: " + rangeText(info.kind) + order;
   }
-  showResult($("settings-result"), false, error.describe());
+  if (name === "tag") {
+    return "tag" + value + ": at most 47 characters of printable ASCII, without \"";
+  }
+  if (error.statusName === "E_ACCESS_DENIED") {
+    return info.label + " is fixed while wsgsim runs: set it in the configuration file or " +
+      "on the command line, and restart";
+  }
+  return info.label + value + ": refused (" + error.statusName + ")";
+}
+
+// The server names the field first ("force_n: …"). The field shows the
+// problem and goes back to the value in force: nothing was applied.
+function showSettingsError(error, changes) {
+  const field = /^([a-z0-9_]+):/.exec(error.message || "");
+  const name = field && field[1];
+  const slot = name && $("setting-error-" + name);
+  if (!slot) {
+    showResult($("settings-result"), false, "not applied: " + error.describe());
+    return;
+  }
+  const problem = settingProblem(error, name, changes[name]);
+  const kept = settings.loaded[name];
+  const unit = settingInfo(name).kind ? " " + RANGE_UNITS[settingInfo(name).kind] : "";
+  slot.textContent = problem + "; the device keeps " +
+    (typeof kept === "boolean" ? (kept ? "on" : "off") : String(kept) + unit);
+  slot.parentElement.classList.add("invalid");
+  showSettingValue(name, kept);
+  showResult($("settings-result"), false, "not applied: " + problem +
+    ". Nothing was changed (" + error.statusName + ").");
 }
 
 // PUTs what changed; true when the device took it (or nothing changed).
@@ -690,12 +1062,14 @@ async function applySettings() {
     showResult($("settings-result"), true, "nothing changed");
     return true;
   }
-  const values = await callApi(showSettingsError, "PUT", apiBase + "/settings", changes);
+  const refused = (error) => showSettingsError(error, changes);
+  const values = await callApi(refused, "PUT", apiBase + "/settings", changes);
   if (!values) {
     return false;
   }
   fillSettings(values);
-  showResult($("settings-result"), true, "applied: " + Object.keys(changes).join(", "));
+  const names = Object.keys(changes).map((name) => settingInfo(name).label);
+  showResult($("settings-result"), true, "applied: " + names.join(", "));
   return true;
 }
 
@@ -720,6 +1094,7 @@ async function setUpSettings() {
   const refused = (error) => showResult($("settings-result"), false, "settings: " + error.describe());
   const values = await callApi(refused, "GET", apiBase + "/settings");
   if (values) {
+    settings.loaded = values;
     buildSettingsForm(values);
     fillSettings(values);
   }
@@ -727,23 +1102,49 @@ async function setUpSettings() {
 
 // --------------------------------------------------------- simulation panel
 
-function simUnavailable() {
-  $("sim-controls").disabled = true;
-  $("sim-unavailable").hidden = false;
+// Without sim_allowed (GET /api/devices, at load) the server refuses the
+// simulation routes: the panel and the status area's clock buttons are
+// shown disabled with the reason, not left to fail at the first click.
+function simAvailable(allowed) {
+  live.simAllowed = allowed;
+  $("sim-controls").disabled = !allowed;
+  $("sim-unavailable").hidden = allowed;
+  for (const id of ["clock-step", "clock-resume", "clock-pause"]) {
+    $(id).disabled = !allowed;
+    $(id).title = allowed ? "" : "the simulation is served to wsgsim's own machine only";
+  }
 }
 
-async function runSim(route, args) {
-  const result = $("sim-result");
+// What a clock action did, in words: a STEP answers at once and runs on
+// (followStep() says where it ended).
+function clockDone(args, reply, result) {
+  if (args.action === "step") {
+    const from = live.lastState ? live.lastState.time_ms : 0;
+    live.step = { toMs: from + args.ms, ms: args.ms, result: result };
+    return "stepping " + args.ms + " ms from " + fixed(from / 1000, 3) + " s";
+  }
+  if (args.action === "pause") {
+    return "paused";
+  }
+  return args.action === "resume" ? "running" : reply.reply;
+}
+
+async function runSim(route, args, result) {
+  result = result || $("sim-result");
   const refused = (error) => {
     if (error.httpStatus === 403) {
-      simUnavailable();
+      simAvailable(false);
     }
     showResult(result, false, route + ": " + error.describe());
   };
   const reply = await callApi(refused, "POST", apiBase + "/sim/" + route, args || {});
   if (reply) {
-    // the control channel's reply line ("ACK PART"); a STEP runs on
-    showResult(result, true, route + ": " + (reply.reply || (reply.started ? "started" : reply.status)));
+    // the control channel's reply line ("ACK PART")
+    const said = route === "clock" ? clockDone(args, reply, result) : reply.reply || reply.status;
+    showResult(result, true, route + ": " + said);
+    if (live.lastState) {
+      followStep(live.lastState.time_ms); // a step the state already shows
+    }
   }
 }
 
@@ -755,13 +1156,17 @@ function bindSimForm(route) {
   });
 }
 
+function stepMs() {
+  return Number($("sim-clock").elements.ms.value) || 100;
+}
+
 function bindClock() {
   const form = $("sim-clock");
   const fields = form.elements;
   const argsFor = {
     pause: () => ({ action: "pause" }),
     resume: () => ({ action: "resume" }),
-    step: () => ({ action: "step", ms: Number(fields.ms.value) }),
+    step: () => ({ action: "step", ms: stepMs() }),
     scale: () => ({ action: "scale", scale: Number(fields.scale.value) }),
   };
   form.addEventListener("submit", (event) => {
@@ -771,6 +1176,14 @@ function bindClock() {
   for (const button of form.querySelectorAll("button[type=button]")) {
     button.addEventListener("click", () => runSim("clock", argsFor[button.dataset.action]()));
   }
+  // the status area's buttons, on every view, with their own result
+  for (const action of ["step", "resume", "pause"]) {
+    $("clock-" + action).addEventListener("click",
+      () => runSim("clock", argsFor[action](), $("clock-result")));
+  }
+  const label = () => ($("clock-step").textContent = "Step " + stepMs() + " ms");
+  fields.ms.addEventListener("input", label);
+  label();
 }
 
 function setUpSim() {
@@ -862,7 +1275,105 @@ const scripting = {
   savedText: "",
   consoleNext: 0,
   reading: null, // the console read under way (a promise)
+  running: null, // the file a Run started, until the state says how it ended
+  last: null, // the last GET …/script
 };
+
+// ------------------------------------------------------------ the editor
+
+// Debian's CodeMirror (libjs-codemirror, served from the system as the
+// chart library is): line numbers, Lua highlighting, matching brackets, the
+// line of a script's error marked. Without it the plain textarea serves.
+const editor = { cm: null, errorLine: null };
+
+function setUpEditor() {
+  if (typeof CodeMirror === "undefined") {
+    return; // the library could not be loaded: the textarea stays
+  }
+  editor.cm = CodeMirror.fromTextArea($("editor-text"), {
+    mode: "lua",
+    lineNumbers: true,
+    matchBrackets: true,
+    indentUnit: 4,
+    gutters: ["CodeMirror-linenumbers", "error-gutter"],
+    inputStyle: "contenteditable", // a screen reader reads it as text
+    screenReaderLabel: "the open file's text",
+    readOnly: "nocursor",
+  });
+  editor.cm.on("change", () => clearErrorLine());
+}
+
+function editorText() {
+  return editor.cm ? editor.cm.getValue() : $("editor-text").value;
+}
+
+function setEditorText(text) {
+  clearErrorLine();
+  if (editor.cm) {
+    editor.cm.setValue(text);
+    editor.cm.clearHistory();
+  } else {
+    $("editor-text").value = text;
+  }
+}
+
+// open: a file is in the editor; writable: it may be changed.
+function setEditorState(open, writable) {
+  $("editor-text").disabled = !open;
+  $("editor-text").readOnly = !writable;
+  if (editor.cm) {
+    editor.cm.setOption("readOnly", !open ? "nocursor" : !writable);
+    editor.cm.getWrapperElement().classList.toggle("disabled", !open);
+  }
+}
+
+function clearErrorLine() {
+  if (editor.cm && editor.errorLine !== null) {
+    editor.cm.removeLineClass(editor.errorLine, "background", "error-line");
+    editor.cm.clearGutter("error-gutter");
+  }
+  editor.errorLine = null;
+  $("script-error-line").hidden = true;
+}
+
+// "bad.lua:3: unexpected symbol near '='": {file: "bad.lua", line: 3}.
+function errorPlace(error) {
+  const match = /^(?:.*\/)?([^/:\s]+):(\d+):/.exec(error || "");
+  return match ? { file: match[1], line: Number(match[2]) } : null;
+}
+
+// Marks the line of the last script error when it is in the open file.
+function markErrorLine(script) {
+  clearErrorLine();
+  const place = errorPlace(script && script.error);
+  if (!place || scripting.openFile === null || script.file !== "/user/" + scripting.openFile ||
+      place.file !== scripting.openFile) {
+    return;
+  }
+  const button = $("script-error-line");
+  button.textContent = "Show line " + place.line;
+  button.hidden = false;
+  if (!editor.cm || place.line > editor.cm.lineCount()) {
+    return;
+  }
+  const line = place.line - 1;
+  editor.errorLine = line;
+  editor.cm.addLineClass(line, "background", "error-line");
+  const marker = document.createElement("span");
+  marker.className = "error-marker";
+  marker.textContent = "!";
+  marker.title = script.error;
+  editor.cm.setGutterMarker(line, "error-gutter", marker);
+}
+
+function showErrorLine() {
+  const place = errorPlace(scripting.last && scripting.last.error);
+  if (editor.cm && place) {
+    editor.cm.focus();
+    editor.cm.setCursor({ line: place.line - 1, ch: 0 });
+    editor.cm.scrollIntoView({ line: place.line - 1, ch: 0 }, 40);
+  }
+}
 
 function scriptResult(ok, text) {
   showResult($("script-result"), ok, text);
@@ -959,15 +1470,14 @@ async function applyStartup() {
 function updateEditorButtons() {
   const open = scripting.openFile !== null;
   const canWrite = scripting.writable && scripting.allowed;
-  $("editor-text").disabled = !open;
-  $("editor-text").readOnly = !canWrite;
+  setEditorState(open, canWrite);
   $("script-save").disabled = !open || !canWrite;
   $("script-run").disabled = !open || !scripting.allowed;
   $("script-stop").disabled = !scripting.allowed;
 }
 
 async function openFile(name) {
-  if (scripting.openFile !== null && $("editor-text").value !== scripting.savedText &&
+  if (scripting.openFile !== null && editorText() !== scripting.savedText &&
       !confirm(scripting.openFile + " has changes that are not saved: drop them?")) {
     return;
   }
@@ -985,9 +1495,10 @@ async function openFile(name) {
   }
   scripting.openFile = name;
   scripting.savedText = text;
-  $("editor-text").value = text;
+  setEditorText(text);
   $("editor-file").textContent = "/user/" + name;
   updateEditorButtons();
+  markErrorLine(scripting.last); // the last run's error, if it was in this file
   showResult($("files-result"), true, "opened " + name);
 }
 
@@ -1010,7 +1521,7 @@ async function writeFile(name, text, result) {
 }
 
 async function saveOpenFile() {
-  const text = $("editor-text").value;
+  const text = editorText();
   if (!(await writeFile(scripting.openFile, text, $("script-result")))) {
     return false;
   }
@@ -1046,54 +1557,69 @@ async function uploadFile() {
 }
 
 // The store has no rename: the file is written under the new name, then
-// the old one deleted.
+// the old one deleted. A device's startup script is not deleted (409): it
+// keeps its name, and the copy goes again.
 async function renameFile(name) {
+  const result = $("files-result");
+  if (scripting.startup === "/user/" + name) {
+    showResult(result, false, "rename " + name + ": it is the startup script: choose another " +
+      "or none first (Settings → System)");
+    return;
+  }
   const to = prompt("Rename " + name + " to:", name);
   if (!to || to === name || !mayReplace(to)) {
     return;
   }
   const response = await fetch(storePath(name));
   const text = await response.text();
-  const result = $("files-result");
   if (!response.ok) {
     showResult(result, false, "rename " + name + ": HTTP " + response.status);
     return;
   }
-  if (await writeFile(to, text, result)) {
-    await deleteFile(name, true);
-    if (scripting.openFile === name) {
-      scripting.openFile = to;
-      $("editor-file").textContent = "/user/" + to;
-    }
-    showResult(result, true, "renamed " + name + " to " + to);
+  if (!(await writeFile(to, text, result))) {
+    return;
   }
+  const kept = (error) => showResult(result, false, "rename " + name + ": " + error.describe());
+  if (!(await callApi(kept, "DELETE", storePath(name)))) {
+    // the old name must stay (a device's startup script): no copy is left
+    await callApi(() => {}, "DELETE", storePath(to));
+    await listFiles();
+    return;
+  }
+  if (scripting.openFile === name) {
+    scripting.openFile = to;
+    $("editor-file").textContent = "/user/" + to;
+  }
+  await listFiles();
+  showResult(result, true, "renamed " + name + " to " + to);
 }
 
-async function deleteFile(name, quiet) {
-  if (!quiet && !confirm("Delete /user/" + name + "?")) {
+async function deleteFile(name) {
+  if (!confirm("Delete /user/" + name + "?")) {
     return;
   }
   const result = $("files-result");
   const refused = (error) => showResult(result, false, "delete " + name + ": " + error.describe());
   if (await callApi(refused, "DELETE", storePath(name))) {
-    if (!quiet) {
-      showResult(result, true, "deleted " + name);
-    }
+    showResult(result, true, "deleted " + name);
     await listFiles();
   }
 }
 
 // Run saves the open file first (spec: "run the open file (saved first)").
 async function runOpenFile() {
-  if (scripting.writable && $("editor-text").value !== scripting.savedText) {
+  if (scripting.writable && editorText() !== scripting.savedText) {
     if (!(await saveOpenFile())) {
       return;
     }
   }
   const file = "/user/" + scripting.openFile;
   const refused = (error) => scriptResult(false, "run " + file + ": " + error.describe());
+  clearErrorLine();
   const reply = await callApi(refused, "POST", apiBase + "/script/run", { file: file });
   if (reply) {
+    // a script that does not compile ends at once: its reply says so
+    scripting.running = file;
     scriptResult(true, "run " + file + ": started");
     renderScript(reply);
     pollConsole();
@@ -1104,6 +1630,7 @@ async function stopScript() {
   const refused = (error) => scriptResult(false, "stop: " + error.describe());
   const reply = await callApi(refused, "POST", apiBase + "/script/stop");
   if (reply) {
+    scripting.running = null;
     scriptResult(true, "stop: stopped");
     renderScript(reply);
   }
@@ -1112,13 +1639,36 @@ async function stopScript() {
 function renderScript(script) {
   setText("script-file", script.running ? script.file : "no script runs" +
     (script.file ? " (last: " + script.file + ")" : ""));
-  setText("script-error", script.error ? "error: " + script.error : "");
+  setText("script-error-text", script.error ? "error: " + script.error : "");
+  if (!scripting.last || scripting.last.error !== script.error ||
+      scripting.last.file !== script.file) {
+    markErrorLine(script);
+  }
+  scripting.last = script;
+  runEnded(script);
   setText("startup-script", script.startup ? script.startup + " (runs at power-on)"
     : "none (or not started at power-on: --no-script-autostart)");
   scripting.startup = script.startup;
   const choice = $("startup-choice");
   if ([...choice.options].some((o) => o.value === (script.startup || ""))) {
     choice.value = script.startup || "";
+  }
+}
+
+// How the script a Run started ended, once GET …/script says it did: the
+// "started" line gives way to the error or to "finished".
+function runEnded(script) {
+  const file = scripting.running;
+  if (file === null || script.running || script.file !== file) {
+    return;
+  }
+  scripting.running = null;
+  const place = errorPlace(script.error);
+  if (script.failure) {
+    scriptResult(false, "run " + file + ": stopped with an error" +
+      (place ? " at line " + place.line : "") + " (SF_SCRIPT_FAILURE)");
+  } else {
+    scriptResult(true, "run " + file + ": finished");
   }
 }
 
@@ -1168,16 +1718,27 @@ function appendLines(pre, lines, keep) {
   }
 }
 
+// The store holds Lua files only: a name the field's pattern refuses is
+// explained in words where the results show, not only in the browser's tip.
+const STORE_NAME_RULE = "a script's name ends in .lua (NAME.lua: at most 64 characters, " +
+  "no spaces, '/', '\\' or '..')";
+
 function setUpScripting() {
   $("file-new").addEventListener("submit", newFile);
+  $("file-new").elements.name.addEventListener("invalid", () =>
+    showResult($("files-result"), false, "new file: " + STORE_NAME_RULE));
   $("file-upload").elements.file.addEventListener("change", uploadFile);
   $("script-save").addEventListener("click", saveOpenFile);
   $("script-run").addEventListener("click", runOpenFile);
   $("script-stop").addEventListener("click", stopScript);
+  $("script-error-line").addEventListener("click", showErrorLine);
   $("console-clear").addEventListener("click", () => ($("console").textContent = ""));
   pollWhileShown("scripting", CONSOLE_POLL_MS, pollConsole);
   const showScripting = views.onShow.scripting;
   views.onShow.scripting = () => {
+    if (editor.cm) {
+      editor.cm.refresh(); // laid out while hidden, it has no size
+    }
     listFiles();
     showScripting();
   };
@@ -1240,6 +1801,7 @@ async function loadSystemInfo() {
   const info = await callApi(() => {}, "GET", apiBase + "/system?since=" + Number.MAX_SAFE_INTEGER);
   if (info && info.force_max_n > 0) {
     live.forceSpanN = info.force_max_n;
+    setLimits(info);
     scheduleChart();
   }
   return info;
@@ -1252,6 +1814,7 @@ async function setUpDevices() {
   const reply = await callApi(refused, "GET", "/api/devices");
   const devices = reply ? reply.devices : [];
   if (reply) {
+    simAvailable(reply.sim_allowed);
     scriptingAllowed(reply.sim_allowed);
   }
   const self = devices.find((device) => device.id === deviceId);
@@ -1284,6 +1847,7 @@ async function loadScriptState() {
 }
 
 function main() {
+  setUpEditor();
   setUpControl();
   setUpSim();
   setUpSettings();

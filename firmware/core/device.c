@@ -85,6 +85,7 @@ static void step_finger_bus(wsg_dev_t *dev)
         return;
     }
     bool holding = dev->grip.state == GS_HOLDING && dev->motion.kind == WSG_MOTION_NONE;
+    wsg_finger_bus_follow_force(&dev->fbus, dev->sensed.axis.force_n);
     if (wsg_finger_bus_skip_step(&dev->fbus, &dev->fingers, dev->sensed.now_us, holding)) {
         return; /* a quiet step: no input to build */
     }

@@ -420,6 +420,13 @@ static void regulate(finger_bus_t *bus, const wsg_fingers_t *fingers, const fbus
     }
 }
 
+void wsg_finger_bus_wake_for_force(finger_bus_t *bus, float force_n)
+{
+    bus->woke_force_n = force_n;
+    bus->wake = true;
+    note_deadline(bus);
+}
+
 bool wsg_finger_bus_take_force_request(finger_bus_t *bus, float *limit_n)
 {
     if (!bus->force_request) {

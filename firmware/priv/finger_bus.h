@@ -19,6 +19,7 @@
 
 #define FBUS_FORCE_KI_PER_S 4.0f   /* integral gain of the grip-force loop */
 #define FBUS_FORCE_TRIM_SHARE 0.5f /* the loop may trim the motor force by this share */
+#define FBUS_FORCE_WAKE_N 0.01f    /* a jaw force change that wakes an on-demand bus */
 
 typedef struct {
     bool heard; /* a frame arrived since the slot was powered */
@@ -62,6 +63,7 @@ typedef struct {
     /* On an on-demand bus: the bus ticks until then, as something changed */
     bool wake;
     uint64_t awake_until_us;
+    float woke_force_n; /* the jaw force the bus last woke for */
     /* On an on-demand bus: until then a step that takes no frame is a poll */
     uint64_t quiet_until_us;
     /* wsg_finger_bus_next_deadline_us(), worked out where what it follows
@@ -130,6 +132,20 @@ void wsg_finger_bus_step_full(finger_bus_t *bus, wsg_fingers_t *fingers, const f
 static inline uint64_t wsg_finger_bus_next_deadline_us(const finger_bus_t *bus)
 {
     return bus->deadline_us;
+}
+/* The fingers' readings follow the jaw force the bus broadcasts, and a
+ * node's next reading may come only after the next broadcast (a DSA map
+ * every 50 ms): a force that moved since the bus last woke for it wakes the
+ * bus, which then ticks until the readings have followed. A bus left asleep
+ * would keep them at the old force (the map of a grip FAST STOP released).
+ * Inline: the device asks at every step. */
+void wsg_finger_bus_wake_for_force(finger_bus_t *bus, float force_n);
+static inline void wsg_finger_bus_follow_force(finger_bus_t *bus, float force_n)
+{
+    float moved = force_n - bus->woke_force_n;
+    if (moved >= FBUS_FORCE_WAKE_N || moved <= -FBUS_FORCE_WAKE_N) {
+        wsg_finger_bus_wake_for_force(bus, force_n);
+    }
 }
 /* The force limit the loop asks the supervisor to drive with, once. */
 bool wsg_finger_bus_take_force_request(finger_bus_t *bus, float *limit_n);

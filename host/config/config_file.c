@@ -175,7 +175,7 @@ static int on_setting_key(parse_state_t *st, const char *section, const char *na
     }
     st->failed = true;
     return config_file_fail_at(st->path, st->line, section, name,
-                               "unknown key (see docs/wsgsim.example.ini)");
+                               "unknown key (every key: " WSGSIM_EXAMPLE_CONFIG ")");
 }
 
 /* An option's key (option_table.h), else a device setting's. */
@@ -347,9 +347,11 @@ bool config_file_load(config_file_t *cf, const char *config_path, const char *sa
     if (config_path != NULL && !parse_file(cf, config_path, "--config")) {
         return false;
     }
-    if (save_path != NULL && !nothing_saved(save_path) &&
-        !parse_file(cf, save_path, "--save-file")) {
-        return false;
+    if (save_path != NULL && !nothing_saved(save_path)) {
+        if (!parse_file(cf, save_path, "--save-file")) {
+            return false;
+        }
+        cf->saved = cf->files[cf->file_count - 1u];
     }
     apply_options(cf, opts);
     return true;

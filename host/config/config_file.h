@@ -5,6 +5,13 @@
 #ifndef HOST_CONFIG_FILE_H
 #define HOST_CONFIG_FILE_H
 
+/* Where the installed example configuration lies, named by --help (and so
+ * the man page) and by an unknown key's error: the build sets this
+ * install's path (mk/install.mk); this default is `make install`'s. */
+#ifndef WSGSIM_EXAMPLE_CONFIG
+#define WSGSIM_EXAMPLE_CONFIG "/usr/local/share/doc/wsgsim/examples/wsgsim.example.ini"
+#endif
+
 #include <stdbool.h>
 #include <stddef.h>
 
@@ -41,6 +48,12 @@ bool config_file_device_port(const config_file_t *cf, unsigned index, bool udp, 
 /* [device.N] script: device index's startup script (or fallback). */
 const char *config_file_device_script(const config_file_t *cf, unsigned index,
                                       const char *fallback);
+/* True when the saved settings (the --save-file, which the web page's Save
+ * writes) decide device index's startup script: script, the file in force
+ * for it (a text this file holds, compared by address, not by name), is
+ * the save file's, or the save file switched the autostart off. Such a
+ * file that is missing does not stop a start (docs/scripting.md). */
+bool config_file_startup_saved(const config_file_t *cf, unsigned index, const char *script);
 /* [device.N] fingers: device index's loopback fingers ("fmf,dsa", or fallback). */
 const char *config_file_device_fingers(const config_file_t *cf, unsigned index,
                                        const char *fallback);

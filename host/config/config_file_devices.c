@@ -154,6 +154,26 @@ const char *config_file_device_script(const config_file_t *cf, unsigned index, c
     return d != NULL && d->values[SEC_SCRIPT].set ? d->values[SEC_SCRIPT].text : fallback;
 }
 
+bool config_file_startup_saved(const config_file_t *cf, unsigned index, const char *script)
+{
+    const device_section_t *d = find_section(cf, index);
+    const value_t *own = d != NULL ? &d->values[SEC_SCRIPT] : NULL;
+    const value_t *from = NULL;
+    if (cf == NULL || cf->saved == NULL || script == NULL) {
+        return false;
+    }
+    const value_t *startup = &cf->options[OPTION_SCRIPT];
+    if (own != NULL && own->set && script == own->text) {
+        from = own;
+    } else if (startup->set && script == startup->text) {
+        from = startup;
+    }
+    const value_t *autostart = &cf->options[OPTION_SCRIPT_AUTOSTART];
+    bool saved_off = autostart->set && autostart->file == cf->saved && autostart->number == 0.0;
+    /* NULL: the command line's own --script, which the files do not decide */
+    return from != NULL && (from->file == cf->saved || saved_off);
+}
+
 const char *config_file_device_fingers(const config_file_t *cf, unsigned index,
                                        const char *fallback)
 {

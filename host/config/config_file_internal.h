@@ -56,6 +56,7 @@ typedef struct {
 struct config_file {
     char files[FILES_MAX][256];
     unsigned file_count;
+    const char *saved; /* the --save-file among files, NULL: none read */
     value_t values[KEY_COUNT];
     value_t options[OPTION_COUNT];          /* by the rows of option_table */
     value_t settings[SETTINGS_TABLE_COUNT]; /* by the rows of settings_table */

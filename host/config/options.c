@@ -70,8 +70,8 @@ static void print_help(void)
            "                             fmf or dsa (default fmf,dsa)\n"
            "  --can-log FILE             write every frame of the in-process bus to FILE in\n"
            "                             candump -L format (simulated time stamps)\n"
-           "  --config FILE              device configuration (INI, see\n"
-           "                             docs/wsgsim.example.ini); options override it\n"
+           "  --config FILE              device configuration (INI); options override it;\n"
+           "                             every key: " WSGSIM_EXAMPLE_CONFIG "\n"
            "  --save-file FILE           where the web page's Save writes the settings\n"
            "                             (default: the --config file); read over the\n"
            "                             --config file at start when it exists\n"
@@ -80,7 +80,8 @@ static void print_help(void)
            "  --sim-bind ADDR            control channel address (default 127.0.0.1)\n"
            "  --scenario FILE            run timed control commands on the simulated clock\n"
            "  --start-paused             start with the simulated clock paused at 0\n"
-           "  --record FILE              record every line in and out with timestamps\n"
+           "  --record FILE              record every line in and out with timestamps, and\n"
+           "                             the device's state while it moves (tools/wsgplot)\n"
            "  --coverage FILE            write a protocol coverage report at exit\n"
            "  --strict                   report input the manual does not allow but the\n"
            "                             emulator tolerates (coverage report and trace)\n"
@@ -332,6 +333,8 @@ static void set_defaults(host_options_t *opts)
 }
 
 static options_result_t usage_error(const char *what, const char *value);
+static options_result_t int_option(const char *name, const char *arg, int min, int max, int *out);
+static options_result_t port_option(const char *name, const char *arg, const char *zero, int *out);
 
 /* The web interface's admission options (docs/web.md, "Who is served"). */
 static options_result_t apply_web_option(int opt, const char *arg, host_options_t *opts)
@@ -349,9 +352,8 @@ static options_result_t apply_web_option(int opt, const char *arg, host_options_
         opts->http_allow_hosts[opts->http_allow_host_count++] = arg;
         return OPTIONS_RUN;
     case OPT_HTTP_REQUEST_TIMEOUT:
-        return parse_int(arg, 1, TIMEOUT_LIMIT_S, &opts->http_request_timeout_s)
-                   ? OPTIONS_RUN
-                   : usage_error("--http-request-timeout", arg);
+        return int_option("--http-request-timeout", arg, 1, TIMEOUT_LIMIT_S,
+                          &opts->http_request_timeout_s);
     default:
         return OPTIONS_EXIT_USAGE;
     }
@@ -367,20 +369,16 @@ static options_result_t apply_binary_option(int opt, const char *arg, host_optio
                                                             : usage_error("--protocol", arg);
     case OPT_BINARY_UDP_PORT:
         opts->binary_udp_port_given = true;
-        return parse_int(arg, 0, 65535, &opts->binary_udp_port)
-                   ? OPTIONS_RUN
-                   : usage_error("--binary-udp-port", arg);
+        return port_option("--binary-udp-port", arg, "off", &opts->binary_udp_port);
     case OPT_BINARY_UDP_REPLY_PORT:
-        return parse_int(arg, 0, 65535, &opts->binary_udp_reply_port)
-                   ? OPTIONS_RUN
-                   : usage_error("--binary-udp-reply-port", arg);
+        return port_option("--binary-udp-reply-port", arg, "the sender's own port",
+                           &opts->binary_udp_reply_port);
     case OPT_BINARY_NO_CRC:
         opts->binary_crc = false;
         return OPTIONS_RUN;
     case OPT_HTTP_PORT:
         opts->http_port_given = true;
-        return parse_int(arg, 0, 65535, &opts->http_port) ? OPTIONS_RUN
-                                                          : usage_error("--http-port", arg);
+        return port_option("--http-port", arg, "off", &opts->http_port);
     case OPT_HTTP_BIND:
         opts->http_bind = arg;
         return OPTIONS_RUN;
@@ -395,6 +393,74 @@ static options_result_t usage_error(const char *what, const char *value)
     return OPTIONS_EXIT_USAGE;
 }
 
+/* An integer option within [min, max]; a bad value's error gives the range. */
+static options_result_t int_option(const char *name, const char *arg, int min, int max, int *out)
+{
+    if (parse_int(arg, min, max, out)) {
+        return OPTIONS_RUN;
+    }
+    fprintf(stderr, "wsgsim: invalid %s '%s': expected an integer from %d to %d\n", name, arg, min,
+            max);
+    return OPTIONS_EXIT_USAGE;
+}
+
+/* A port option; a bad value's error gives the range and what 0 means. */
+static options_result_t port_option(const char *name, const char *arg, const char *zero, int *out)
+{
+    if (parse_int(arg, 0, 65535, out)) {
+        return OPTIONS_RUN;
+    }
+    fprintf(stderr, "wsgsim: invalid %s '%s': expected a port from 0 to 65535 (0: %s)\n", name, arg,
+            zero);
+    return OPTIONS_EXIT_USAGE;
+}
+
+/* --model NAME: an unknown name's error lists the models, quoted as a
+ * shell needs them (they hold a space). */
+static options_result_t model_option(const char *arg, host_options_t *opts)
+{
+    opts->model = arg;
+    if (wsg_sim_model_find(arg) != NULL) {
+        return OPTIONS_RUN;
+    }
+    fprintf(stderr, "wsgsim: unknown --model '%s'; the models:", arg);
+    for (unsigned i = 0; i < wsg_sim_model_count(); i++) {
+        fprintf(stderr, "%s '%s'", i == 0 ? "" : ",", wsg_sim_model_at(i)->name);
+    }
+    fprintf(stderr, " (--list-models)\n");
+    return OPTIONS_EXIT_USAGE;
+}
+
+/* Why a --fingers list is refused: the item that is wrong. */
+static void fingers_error(const char *list, char *why, size_t cap)
+{
+    const char *comma = strchr(list, ',');
+    if (comma != NULL && strchr(comma + 1, ',') != NULL) {
+        snprintf(why, cap, "two fingers at most, one per slot: A,B");
+        return;
+    }
+    char first[32];
+    int first_len = comma != NULL ? (int)(comma - list) : (int)strlen(list);
+    snprintf(first, sizeof(first), "%.*s", first_len, list);
+    fbus_type_t types[FBUS_SLOTS];
+    const char *wrong = wsg_finger_node_parse_pair(first, types) ? comma + 1 : first;
+    snprintf(why, cap, "'%s' is no finger: each is none, generic, fmf or dsa", wrong);
+}
+
+/* --fingers A[,B]: a bad list's error names the item that is wrong. */
+static options_result_t fingers_option(const char *arg, host_options_t *opts)
+{
+    fbus_type_t types[FBUS_SLOTS];
+    opts->fingers = arg;
+    if (wsg_finger_node_parse_pair(arg, types)) {
+        return OPTIONS_RUN;
+    }
+    char why[96];
+    fingers_error(arg, why, sizeof(why));
+    fprintf(stderr, "wsgsim: invalid --fingers '%s': %s\n", arg, why);
+    return OPTIONS_EXIT_USAGE;
+}
+
 /* The simulation control options (docs/simctl.md). */
 static options_result_t apply_simctl_option(int opt, const char *arg, host_options_t *opts)
 {
@@ -403,8 +469,7 @@ static options_result_t apply_simctl_option(int opt, const char *arg, host_optio
     case OPT_SAVE_FILE:
         return OPTIONS_RUN; /* read before the other options (see options_parse) */
     case OPT_SIM_PORT:
-        return parse_int(arg, 0, 65535, &opts->sim_port) ? OPTIONS_RUN
-                                                         : usage_error("--sim-port", arg);
+        return port_option("--sim-port", arg, "a free port", &opts->sim_port);
     case OPT_SIM_BIND:
         opts->sim_bind = arg;
         return OPTIONS_RUN;
@@ -513,12 +578,10 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
 {
     switch (opt) {
     case OPT_TCP_PORT:
-        return parse_int(arg, 0, 65535, &opts->tcp_port) ? OPTIONS_RUN
-                                                         : usage_error("--tcp-port", arg);
+        return port_option("--tcp-port", arg, "a free port", &opts->tcp_port);
     case OPT_UDP_PORT:
         opts->udp_port_given = true;
-        return parse_int(arg, 0, 65535, &opts->udp_port) ? OPTIONS_RUN
-                                                         : usage_error("--udp-port", arg);
+        return port_option("--udp-port", arg, "a free port", &opts->udp_port);
     case OPT_NO_TCP:
         opts->tcp_enabled = false;
         return OPTIONS_RUN;
@@ -529,31 +592,23 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
         opts->bind_addr = arg;
         return OPTIONS_RUN;
     case OPT_MODEL:
-        opts->model = arg;
-        return wsg_sim_model_find(arg) != NULL ? OPTIONS_RUN : usage_error("--model", arg);
+        return model_option(arg, opts);
     case OPT_PART:
         return parse_part(arg, opts) ? OPTIONS_RUN : usage_error("--part", arg);
     case OPT_DEVICES:
-        return parse_int(arg, 1, HOST_DEVICES_MAX, &opts->devices) ? OPTIONS_RUN
-                                                                   : usage_error("--devices", arg);
+        return int_option("--devices", arg, 1, HOST_DEVICES_MAX, &opts->devices);
     case OPT_ADDRESS_PER_DEVICE:
         opts->address_per_device = true;
         return OPTIONS_RUN;
     case OPT_MAX_CLIENTS:
-        return parse_int(arg, 1, MAX_CLIENTS_LIMIT, &opts->max_clients)
-                   ? OPTIONS_RUN
-                   : usage_error("--max-clients", arg);
+        return int_option("--max-clients", arg, 1, MAX_CLIENTS_LIMIT, &opts->max_clients);
     case OPT_NO_DISCONNECT_FASTSTOP:
         opts->disconnect_faststop = false;
         return OPTIONS_RUN;
     case OPT_IDLE_TIMEOUT:
-        return parse_int(arg, 0, TIMEOUT_LIMIT_S, &opts->idle_timeout_s)
-                   ? OPTIONS_RUN
-                   : usage_error("--idle-timeout", arg);
+        return int_option("--idle-timeout", arg, 0, TIMEOUT_LIMIT_S, &opts->idle_timeout_s);
     case OPT_UDP_PEER_TIMEOUT:
-        return parse_int(arg, 1, TIMEOUT_LIMIT_S, &opts->udp_peer_timeout_s)
-                   ? OPTIONS_RUN
-                   : usage_error("--udp-peer-timeout", arg);
+        return int_option("--udp-peer-timeout", arg, 1, TIMEOUT_LIMIT_S, &opts->udp_peer_timeout_s);
     case OPT_UDP_STREAM_ALLOW:
         if (!opts->udp_stream_allow_given) {
             opts->udp_stream_allow.count = 0;
@@ -567,11 +622,8 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
     case OPT_CAN:
         opts->can_iface = arg;
         return OPTIONS_RUN;
-    case OPT_FINGERS: {
-        fbus_type_t types[FBUS_SLOTS];
-        opts->fingers = arg;
-        return wsg_finger_node_parse_pair(arg, types) ? OPTIONS_RUN : usage_error("--fingers", arg);
-    }
+    case OPT_FINGERS:
+        return fingers_option(arg, opts);
     case OPT_CONFIG:
     case OPT_SAVE_FILE:
     case OPT_SIM_PORT:

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "config_file.h"
+#include "script.h"
 
 /* "/user/NAME" is NAME in the store. */
 static bool startup_path(const host_options_t *opts, char *out, size_t cap)
@@ -32,6 +33,10 @@ static bool check_startup(const host_options_t *opts, const char *script)
         fprintf(stderr, "wsgsim: --script %s: /user/ names need --script-dir\n", script);
         return false;
     }
+    if (strncmp(script, "/user/", 6) == 0 && !script_store_name_ok(script + 6)) {
+        fprintf(stderr, "wsgsim: --script %s: not a store name (/user/NAME.lua)\n", script);
+        return false;
+    }
     errno = 0;
     if (stat(path, &st) != 0 || !S_ISREG(st.st_mode) || access(path, R_OK) != 0) {
         fprintf(stderr, "wsgsim: --script %s: %s\n", script,
@@ -41,6 +46,14 @@ static bool check_startup(const host_options_t *opts, const char *script)
     return true;
 }
 
+/* The files the user names (--script, a --config file) must be there; a
+ * startup script the saved settings chose starts the device anyway, which
+ * reports it failed: the device boots whatever its store holds. */
+static bool startup_ok(const host_options_t *opts, unsigned index, const char *script)
+{
+    return config_file_startup_saved(opts->config, index, script) || check_startup(opts, script);
+}
+
 bool script_options_check(const host_options_t *opts)
 {
     struct stat st;
@@ -48,13 +61,13 @@ bool script_options_check(const host_options_t *opts)
         fprintf(stderr, "wsgsim: --script-dir %s: not a directory\n", opts->script_dir);
         return false;
     }
-    if (opts->script != NULL && !check_startup(opts, opts->script)) {
+    if (opts->script != NULL && !startup_ok(opts, 0, opts->script)) {
         return false;
     }
     /* [device.N] script of the configuration file */
     for (unsigned i = 0; i < config_file_devices(opts->config); i++) {
         const char *script = config_file_device_script(opts->config, i, NULL);
-        if (script != NULL && !check_startup(opts, script)) {
+        if (script != NULL && !startup_ok(opts, i, script)) {
             return false;
         }
     }
@@ -66,8 +79,8 @@ bool script_options_store(const host_options_t *opts, char *out, size_t cap)
     if (opts->script_dir != NULL) {
         return (size_t)snprintf(out, cap, "%s", opts->script_dir) < cap;
     }
-    if (opts->script == NULL) {
-        return false;
+    if (opts->script == NULL || strncmp(opts->script, "/user/", 6) == 0) {
+        return false; /* /user/ is the store's name, no host directory */
     }
     const char *slash = strrchr(opts->script, '/');
     if (slash == NULL) {

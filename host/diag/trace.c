@@ -22,7 +22,7 @@ static size_t describe_frame(char direction, const uint8_t *f, size_t len, char 
     size_t have = len >= FRAME_HEADER + 2u ? len - FRAME_HEADER - 2u : 0;
     const uint8_t *p = f + FRAME_HEADER;
     int n = snprintf(out, cap, "0x%02X %s", f[3], name != NULL ? name : "(unknown)");
-    if (direction == '>' && have >= 2) {
+    if (direction == '<' && have >= 2) { /* a reply, to the client */
         unsigned status = (unsigned)p[0] | (unsigned)p[1] << 8;
         n += snprintf(out + n, cap - (size_t)n, " status %u (%s)", status,
                       wsg_status_description((wsg_status_t)status));
@@ -78,14 +78,16 @@ static void trace_line(const trace_device_t *td, const wsg_conn_t *c, char direc
                   line);
 }
 
+/* From the client's side, as the record, the documents' transcripts and
+ * the web page's connection lines: '>' what it sent, '<' what it got. */
 static void on_in(void *ctx, const wsg_conn_t *c, const char *line, size_t len)
 {
-    trace_line(ctx, c, '<', line, len);
+    trace_line(ctx, c, '>', line, len);
 }
 
 static void on_out(void *ctx, const wsg_conn_t *c, const char *line, size_t len)
 {
-    trace_line(ctx, c, '>', line, len);
+    trace_line(ctx, c, '<', line, len);
 }
 
 static void on_tolerated(void *ctx, const wsg_conn_t *c, const char *name, const char *what)

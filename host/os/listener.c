@@ -11,10 +11,18 @@
 
 #define RETRY_NS 100000000u /* 100 ms between accept() attempts while starved */
 
+/* The option that moves a listener's port, for its error: the control
+ * channel's, or a device's GCL port. */
+static const char *port_option(const char *name)
+{
+    return strcmp(name, "control") == 0 ? "--sim-port" : "--tcp-port";
+}
+
 bool listener_start(listener_t *l, host_loop_t *loop, net_t *net, const char *name,
                     const char *addr, int port, loop_callback_t on_accept, void *ctx)
 {
-    *l = (listener_t){.loop = loop, .fd = net_listen(net, SOCK_STREAM, addr, port), .name = name};
+    int fd = net_listen_for(net, SOCK_STREAM, addr, port, port_option(name));
+    *l = (listener_t){.loop = loop, .fd = fd, .name = name};
     l->port = l->fd >= 0 ? net_local_port(l->fd) : -1;
     return l->fd >= 0 && loop_watch(loop, l->fd, POLLIN, on_accept, ctx);
 }

@@ -16,8 +16,8 @@
 #include "hal_clock.h"
 
 #define LOG_LINE_MAX 1024
-#define LOG_PEER_BURST 100 /* lines */
-#define LOG_PEER_RATE 20.0 /* lines per second, once the burst is spent */
+#define LOG_LIMIT_BURST 100 /* lines */
+#define LOG_LIMIT_RATE 20.0 /* lines per second, once the burst is spent */
 #define LOG_RECENT_LINES 100
 #define LOG_RECENT_LINE_MAX 256 /* longer lines are kept cut */
 
@@ -37,12 +37,13 @@ typedef struct {
     unsigned long reported; /* of those, already reported */
 } sink_t;
 
-/* host_log_peer()'s token bucket. */
+/* A token bucket of rate-limited lines: host_log_peer()'s, host_log_script()'s. */
 typedef struct {
     double tokens;
     double refilled_s;
     unsigned long suppressed;
-} peer_limit_t;
+    const char *what; /* in the summary: "N <what> suppressed" */
+} log_limit_t;
 
 /* The last lines logged, numbered from 0, for the web page's system view
  * (host_log_recent); kept whether or not stderr took them. */
@@ -57,14 +58,16 @@ typedef struct {
  * process's stderr (or --log-file), which every module shares. */
 static struct {
     sink_t sink;
-    peer_limit_t peer_limit;
+    log_limit_t peer_limit;
+    log_limit_t script_limit;
     recent_t recent;
     hal_log_level_t min_level;
     bool wall_timestamps;
     const char *path; /* --log-file; NULL: stderr */
 } the_log = {
     .sink = {SINK_FILE, STDERR_FILENO, 0, 0},
-    .peer_limit = {LOG_PEER_BURST, -1.0, 0},
+    .peer_limit = {LOG_LIMIT_BURST, -1.0, 0, "messages about peers"},
+    .script_limit = {LOG_LIMIT_BURST, -1.0, 0, "lines from scripts"},
     .min_level = HAL_LOG_INFO,
 };
 
@@ -267,12 +270,42 @@ static const char *level_name(hal_log_level_t level)
     }
 }
 
+/* Control bytes in a message (a CR, an ESC that a terminal would obey)
+ * become \xHH; the line is cut where it is full. */
+static size_t escape_controls(char *text, size_t len, size_t cap)
+{
+    size_t first = 0;
+    while (first < len && (unsigned char)text[first] >= 0x20u && text[first] != 0x7f) {
+        first++;
+    }
+    if (first == len) {
+        return len;
+    }
+    char rest[LOG_LINE_MAX];
+    size_t rest_len = len - first;
+    memcpy(rest, text + first, rest_len);
+    size_t out = first;
+    for (size_t i = 0; i < rest_len && out + 4 < cap; i++) {
+        unsigned char c = (unsigned char)rest[i];
+        if (c < 0x20u || c == 0x7fu) {
+            out += (size_t)snprintf(text + out, cap - out, "\\x%02X", c);
+        } else {
+            text[out++] = (char)c;
+        }
+    }
+    return out;
+}
+
 static void vlog(hal_log_level_t level, const char *fmt, va_list args)
 {
     char line[LOG_LINE_MAX];
     size_t len = stamp(line, sizeof(line), level_name(level));
     int n = vsnprintf(line + len, sizeof(line) - len - 1, fmt, args);
-    len += n < 0 ? 0 : (size_t)n;
+    size_t message = n < 0 ? 0 : (size_t)n;
+    if (message > sizeof(line) - len - 2) {
+        message = sizeof(line) - len - 2;
+    }
+    len += escape_controls(line + len, message, sizeof(line) - len - 1);
     emit(line, len < sizeof(line) - 2 ? len : sizeof(line) - 2);
 }
 
@@ -299,39 +332,70 @@ static double monotonic_s(void)
     return (double)ts.tv_sec + (double)ts.tv_nsec / 1e9;
 }
 
-/* A token bucket on the wall clock: log volume is a real-world resource. */
-static bool peer_line_allowed(void)
+/* A token bucket on the wall clock: log volume is a real-world resource.
+ * The first line let through after some were suppressed is preceded by
+ * their count. */
+static bool line_allowed(log_limit_t *limit)
 {
     double now = monotonic_s();
-    if (the_log.peer_limit.refilled_s >= 0.0) {
-        the_log.peer_limit.tokens += (now - the_log.peer_limit.refilled_s) * LOG_PEER_RATE;
+    if (limit->refilled_s >= 0.0) {
+        limit->tokens += (now - limit->refilled_s) * LOG_LIMIT_RATE;
     }
-    if (the_log.peer_limit.tokens > LOG_PEER_BURST) {
-        the_log.peer_limit.tokens = LOG_PEER_BURST;
+    if (limit->tokens > LOG_LIMIT_BURST) {
+        limit->tokens = LOG_LIMIT_BURST;
     }
-    the_log.peer_limit.refilled_s = now;
-    if (the_log.peer_limit.tokens < 1.0) {
-        the_log.peer_limit.suppressed++;
+    limit->refilled_s = now;
+    if (limit->tokens < 1.0) {
+        limit->suppressed++;
         return false;
     }
-    the_log.peer_limit.tokens -= 1.0;
+    limit->tokens -= 1.0;
+    if (limit->suppressed > 0) {
+        host_logf(HAL_LOG_WARN, "%lu %s suppressed (rate limit)", limit->suppressed, limit->what);
+        limit->suppressed = 0;
+    }
     return true;
 }
 
 void host_log_peer(hal_log_level_t level, const char *fmt, ...)
 {
-    if (level < the_log.min_level || !peer_line_allowed()) {
+    if (level < the_log.min_level || !line_allowed(&the_log.peer_limit)) {
         return;
-    }
-    if (the_log.peer_limit.suppressed > 0) {
-        host_logf(HAL_LOG_WARN, "%lu messages about peers suppressed (rate limit)",
-                  the_log.peer_limit.suppressed);
-        the_log.peer_limit.suppressed = 0;
     }
     va_list args;
     va_start(args, fmt);
     vlog(level, fmt, args);
     va_end(args);
+}
+
+/* Printable ASCII stays, a backslash doubles, any other byte is \xHH:
+ * the log and the terminal behind it get no control of their own. */
+static size_t escape_printable(const char *text, size_t len, char *out, size_t cap)
+{
+    size_t n = 0;
+    for (size_t i = 0; i < len && n + 5 <= cap; i++) {
+        unsigned char c = (unsigned char)text[i];
+        if (c == '\\') {
+            out[n++] = '\\';
+            out[n++] = '\\';
+        } else if (c >= 0x20u && c < 0x7fu) {
+            out[n++] = (char)c;
+        } else {
+            n += (size_t)snprintf(out + n, cap - n, "\\x%02X", c);
+        }
+    }
+    out[n] = '\0';
+    return n;
+}
+
+void host_log_script(hal_log_level_t level, const char *who, const char *text, size_t len)
+{
+    if (level < the_log.min_level || !line_allowed(&the_log.script_limit)) {
+        return;
+    }
+    char escaped[LOG_LINE_MAX];
+    escape_printable(text, len, escaped, sizeof(escaped));
+    host_logf(level, "%s: %s", who, escaped);
 }
 
 void host_log_line(const char *fmt, ...)

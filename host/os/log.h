@@ -5,7 +5,9 @@
  * Logging never blocks the event loop: a line that stderr cannot take at
  * once (a pipe nobody reads, a stalled terminal) is dropped and counted, and
  * the count is logged once stderr takes lines again. Messages remote peers
- * can trigger at will go through host_log_peer(), which is rate-limited.
+ * can trigger at will go through host_log_peer(), a script's output through
+ * host_log_script(): both are rate-limited. A control byte in any message
+ * (a CR, an ESC) is logged as \xHH.
  *
  * The log is the process's, like its stderr: the firmware logs through
  * hal_log(), a link-time function without a context, so these functions
@@ -36,9 +38,15 @@ bool host_log_open_file(const char *path);
 void host_log_reopen(void);
 void host_logf(hal_log_level_t level, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 /* A message a remote peer caused (connections, refusals, peers): at most a
- * burst of LOG_PEER_BURST, then LOG_PEER_RATE per second; the rest is counted. */
+ * burst of 100, then 20 per second; the rest is counted, and the count
+ * logged before the next line let through. */
 void host_log_peer(hal_log_level_t level, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));
+/* A line a user script wrote (print, printf), logged as "who: text": any
+ * byte outside printable ASCII as \xHH (a backslash as \\), and
+ * rate-limited as host_log_peer() is, in a bucket of its own that every
+ * script shares ("N lines from scripts suppressed"). */
+void host_log_script(hal_log_level_t level, const char *who, const char *text, size_t len);
 /* The last lines logged (at most 100, each cut to 255 bytes), numbered
  * from 0 at start: up to cap pointers to those numbered since and later,
  * oldest first, valid until the next line is logged; *next is the number

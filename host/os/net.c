@@ -118,7 +118,30 @@ int net_listen_optional(net_t *net, int type, const char *addr, int port)
     return open_listening(net, type, &ss, len);
 }
 
+/* What to do about a port that cannot be had; option: the one that moves
+ * it (NULL: not known here). */
+static void listen_hint(int err, const char *option, char *out, size_t cap)
+{
+    out[0] = '\0';
+    if (err == EACCES) {
+        snprintf(out, cap, " (ports below 1024 need root or CAP_NET_BIND_SERVICE%s%s%s)",
+                 option != NULL ? "; or " : "", option != NULL ? option : "",
+                 option != NULL ? " 0 for a free port" : "");
+    } else if (err == EADDRINUSE) {
+        snprintf(out, cap,
+                 " (another program, perhaps another wsgsim, has it: choose another "
+                 "port%s%s%s)",
+                 option != NULL ? ", or " : "", option != NULL ? option : "",
+                 option != NULL ? " 0 for a free one" : "");
+    }
+}
+
 int net_listen(net_t *net, int type, const char *addr, int port)
+{
+    return net_listen_for(net, type, addr, port, NULL);
+}
+
+int net_listen_for(net_t *net, int type, const char *addr, int port, const char *option)
 {
     const char *proto = type == SOCK_STREAM ? "TCP" : "UDP";
     struct sockaddr_storage ss;
@@ -131,9 +154,11 @@ int net_listen(net_t *net, int type, const char *addr, int port)
     int fd = open_listening(net, type, &ss, len);
     if (fd < 0) {
         int err = errno;
+        char hint[160];
+        listen_hint(err, option, hint, sizeof(hint));
         fprintf(stderr, "wsgsim: cannot listen on %s %s:%d: %s%s\n", proto, addr, port,
-                strerror(err),
-                err == EACCES ? " (ports below 1024 need root or CAP_NET_BIND_SERVICE)" : "");
+                strerror(err), hint);
+        errno = err;
     }
     return fd;
 }

@@ -23,6 +23,9 @@ void net_init(net_t *net);
 /* Creates, binds (and for SOCK_STREAM listens on) a non-blocking socket.
  * On failure prints one clear error line and returns -1. */
 int net_listen(net_t *net, int type, const char *addr, int port);
+/* The same, the error naming `option` (e.g. "--tcp-port") as the way to
+ * another port. */
+int net_listen_for(net_t *net, int type, const char *addr, int port, const char *option);
 /* The same for a port the caller can do without: on failure prints
  * nothing and returns -1 with errno set (EADDRNOTAVAIL for an address that
  * does not resolve); the caller says what it does instead. */

@@ -18,7 +18,8 @@ static bool start_device(fleet_t *fleet, fleet_device_t *d, const host_options_t
     d->tcp.set = &fleet->tcp_set; /* a server that does not start stops all the same */
     d->udp.set = &fleet->udp_set;
     d->bin_udp.set = &fleet->udp_set;
-    bool bus_ok = gripper_init(&d->gripper, fleet->loop, opts, i, &fleet->touched);
+    bool bus_ok =
+        gripper_init(&d->gripper, fleet->loop, opts, i, &fleet->touched, fleet->script_guard);
     LIST_EACH (node, &fleet->observers) {
         const fleet_observer_t *o = LIST_ITEM(node, fleet_observer_t, link);
         o->device_started(o->ctx, &d->gripper);
@@ -49,8 +50,9 @@ bool fleet_start(fleet_t *fleet, const host_options_t *opts)
     fleet->heap = calloc(n, sizeof(*fleet->heap));
     fleet->slot = calloc(n, sizeof(*fleet->slot));
     fleet->ready = calloc(n, sizeof(*fleet->ready));
+    fleet->script_guard = script_guard_create(n);
     if (fleet->devices == NULL || fleet->due_us == NULL || fleet->heap == NULL ||
-        fleet->slot == NULL || fleet->ready == NULL) {
+        fleet->slot == NULL || fleet->ready == NULL || fleet->script_guard == NULL) {
         host_logf(HAL_LOG_ERROR, "--devices %u: out of memory", n);
         return false;
     }
@@ -148,10 +150,14 @@ void fleet_run_scripts(fleet_t *fleet)
     if (!fleet->scripting) {
         return;
     }
+    /* one slice budget for them all, the first in turn moving on */
     bool runnable = false;
-    for (unsigned i = 0; i < fleet->count; i++) {
+    unsigned first = script_guard_first(fleet->script_guard, fleet->count);
+    for (unsigned k = 0; k < fleet->count; k++) {
+        unsigned i = (first + k) % fleet->count;
         runnable = gripper_continue_script(&fleet->devices[i].gripper) || runnable;
     }
+    script_guard_pass_end(fleet->script_guard);
     if (runnable) {
         loop_wake_at_wall(fleet->loop, LOOP_NOW); /* poll, do not block */
     }
@@ -216,6 +222,8 @@ void fleet_stop(fleet_t *fleet)
     free(fleet->heap);
     free(fleet->slot);
     free(fleet->ready);
+    script_guard_destroy(fleet->script_guard); /* after the scripts closed */
+    fleet->script_guard = NULL;
     fleet->devices = NULL;
     fleet->due_us = NULL;
     fleet->heap = NULL;

@@ -10,6 +10,7 @@
 #include "fleet.h"
 #include "list.h"
 #include "port_layout.h"
+#include "script_guard.h"
 #include "tcp_server.h"
 #include "udp_server.h"
 
@@ -46,6 +47,8 @@ struct fleet {
     udp_servers_t udp_set;             /* every server's peers */
     gripper_touched_t touched;
     list_t observers; /* of fleet_observer_t, the last added first */
+    /* the limits its scripts share */
+    script_guard_t *script_guard;
 };
 
 static inline uint64_t fleet_earliest(uint64_t a, uint64_t b)

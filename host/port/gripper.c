@@ -101,14 +101,13 @@ static void start_script(gripper_t *g)
     if (g->script == NULL || g->opts->script == NULL || !g->opts->script_autostart) {
         return;
     }
-    char why[256];
-    if (!script_run(g->script, g->opts->script, why, sizeof(why))) {
-        host_logf(HAL_LOG_ERROR, "script: %s", why);
-    }
+    /* a file gone since (or one the saved settings chose) fails as a
+     * script does: the device starts whatever its store holds */
+    script_run_startup(g->script, g->opts->script);
 }
 
 bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, unsigned index,
-                  gripper_touched_t *touched)
+                  gripper_touched_t *touched, struct script_guard *guard)
 {
     g->index = index;
     g->opts = opts;
@@ -127,6 +126,8 @@ bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, u
     g->ticked_flags = 0u; /* its first tick is due at once (power-on) */
     g->shown_flags = GRIPPER_FLAGS_UNSHOWN;
     g->script = NULL;
+    g->script_guard = guard;
+    g->step_hook = NULL; /* an observer may set it as the fleet starts the device */
     g->startup_set = NULL;
     g->startup_cleared = false;
     /* one SocketCAN bus per interface: device 0's */
@@ -149,8 +150,8 @@ bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, u
     if (script_options_enabled(g->opts)) {
         char store[4096];
         bool has_store = script_options_store(g->opts, store, sizeof(store));
-        g->script =
-            script_create(&g->device, index, (unsigned)opts->devices, has_store ? store : NULL);
+        g->script = script_create(&g->device, guard, index, (unsigned)opts->devices,
+                                  has_store ? store : NULL);
     }
     return bus_ok && opts_ok;
 }
@@ -236,8 +237,9 @@ const char *gripper_startup_choice(const gripper_t *g)
 
 bool gripper_run_script(gripper_t *g, const char *file, char *why, size_t cap)
 {
-    if (g->script == NULL) {
-        g->script = script_create(&g->device, g->index, 1, NULL);
+    if (g->script == NULL) { /* no script options: no store, named as the fleet's others */
+        g->script =
+            script_create(&g->device, g->script_guard, g->index, (unsigned)g->opts->devices, NULL);
         if (g->script == NULL) {
             snprintf(why, cap, "out of memory");
             return false;
@@ -254,6 +256,9 @@ bool gripper_continue_script(gripper_t *g)
 {
     if (g->script == NULL || !script_preempted(g->script)) {
         return false;
+    }
+    if (!script_take_turn(g->script)) {
+        return true; /* the pass's budget is spent: a later pass */
     }
     wsg_sim_world_advance(&g->world, hal_clock_now_us());
     script_continue(g->script);
@@ -302,6 +307,9 @@ uint64_t gripper_tick_advanced(gripper_t *g)
 {
     uint64_t next = wsg_runner_poll_advanced(&g->runner);
     g->ticked_flags = wsg_device_flags(&g->device);
+    if (g->step_hook != NULL) {
+        g->step_hook->stepped(g->step_hook->ctx, g->index, &g->device);
+    }
     if (g->script == NULL) {
         return next;
     }

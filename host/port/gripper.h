@@ -26,6 +26,15 @@ typedef struct {
     list_t grippers; /* the last touched first */
 } gripper_touched_t;
 
+/* What follows the device's control steps (the --record's samples of its
+ * state): called after each step that ran, with the gripper's index in the
+ * fleet. Steps left out while coasting are not seen; their readings stay
+ * within the envelope of the steps around them (wsg_device_coast()). */
+typedef struct {
+    void (*stepped)(void *ctx, unsigned index, wsg_device_t *dev);
+    void *ctx;
+} gripper_step_hook_t;
+
 /* No flag register (which has 32 bits) was shown. */
 #define GRIPPER_FLAGS_UNSHOWN UINT64_MAX
 
@@ -42,12 +51,15 @@ typedef struct gripper {
     finger_bus_host_t fingers; /* its finger bus */
     list_node_t touched_link;  /* on touched_list while touched */
     gripper_touched_t *touched_list;
+    /* the limits every script of the process shares (the fleet's) */
+    struct script_guard *script_guard;
     /* the flag register the fleet's observers saw last (host/port/fleet.c);
      * GRIPPER_FLAGS_UNSHOWN: none since its start or an observer forgot */
     uint64_t shown_flags;
-    uint32_t ticked_flags;  /* the flag register its last tick left: 0 before */
-    unsigned index;         /* its number in the fleet: 0 for the first */
-    struct script *script;  /* its script interpreter; NULL without scripting */
+    uint32_t ticked_flags;                /* the flag register its last tick left: 0 before */
+    unsigned index;                       /* its number in the fleet: 0 for the first */
+    struct script *script;                /* its script interpreter; NULL without scripting */
+    const gripper_step_hook_t *step_hook; /* NULL: none (a plain run) */
     char *startup_set;      /* the startup script the web page chose (heap), NULL: none chosen */
     uint64_t powered_on_us; /* simulated time of its last power-on (start or reset) */
     /* the small fields last, together: a cell holds 10 000 grippers */
@@ -63,9 +75,10 @@ typedef struct gripper {
  * opts must outlive the gripper (it keeps a pointer, and copies them only
  * once its own differ). gripper_touch() puts it on `touched`. False (logged) when its finger bus
  * cannot be had; gripper_release() it all the same. Observers attach next,
- * then gripper_start() runs the startup script. */
+ * then gripper_start() runs the startup script. Its scripts run under
+ * `guard` (the fleet's: it outlives the gripper). */
 bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, unsigned index,
-                  gripper_touched_t *touched);
+                  gripper_touched_t *touched, struct script_guard *guard);
 /* Runs the startup script (--script), as at power-on. */
 void gripper_start(gripper_t *g);
 /* Runs the control step if it is due; returns the next deadline. The fleet
@@ -115,7 +128,8 @@ void gripper_reset(gripper_t *g);
  * (finger_bus_host_inject); a loopback bus is brought up to now first and
  * the device steps to see it take effect. False: bad slot, no bus. */
 bool gripper_inject_finger_fault(gripper_t *g, unsigned slot, finger_fault_t fault, bool active);
-/* A script whose time slice ended runs on for one slice; true while it
+/* A script whose time slice ended runs on for one slice when it has its
+ * turn (the scripts share one slice budget per loop pass); true while it
  * still wants to run (the loop must not block). */
 bool gripper_continue_script(gripper_t *g);
 /* Runs a script file on the device (docs/scripting.md); false with *why. */

@@ -367,19 +367,23 @@ static void write_fingers(json_writer_t *j, const wsg_fingers_t *fingers)
     json_writer_close_array(j);
 }
 
-/* A part or an obstacle: present, and its width when it is. */
-static void open_world_thing(json_writer_t *j, const char *key, bool present, float width_mm)
+/* A part or an obstacle: present, and its width and side when it is (as
+ * STATE? gives them): between the jaws, or around them (a ring: it blocks
+ * opening). */
+static void open_world_thing(json_writer_t *j, const char *key, bool present, float width_mm,
+                             sim_part_side_t side)
 {
     json_writer_open_object(j, key);
     json_writer_bool(j, "present", present);
     if (present) {
         json_writer_float(j, "width_mm", width_mm);
+        json_writer_string(j, "side", side_name(side));
     }
 }
 
 static void write_part(json_writer_t *j, const sim_part_t *p)
 {
-    open_world_thing(j, "part", p->present, p->width_mm);
+    open_world_thing(j, "part", p->present, p->width_mm, p->side);
     if (p->present) {
         json_writer_float(j, "stiffness_n_mm", p->stiffness_n_mm);
         json_writer_float(j, "slip_force_n", p->slip_force_n);
@@ -409,8 +413,8 @@ void state_json_live(json_writer_t *j, gripper_t *g, const char *sysflag_names)
     json_writer_close_object(j);
     write_sysflags(j, snap->flags, sysflag_names);
     write_part(j, &g->world.axis.part);
-    open_world_thing(j, "obstacle", g->world.axis.obstacle.present,
-                     g->world.axis.obstacle.width_mm);
+    const sim_obstacle_t *obstacle = &g->world.axis.obstacle;
+    open_world_thing(j, "obstacle", obstacle->present, obstacle->width_mm, obstacle->side);
     json_writer_close_object(j);
     json_writer_float(j, "ambient_c", g->world.thermal.ambient_c);
     write_fingers(j, snap->fingers);

@@ -55,18 +55,45 @@ static wsg_device_t *device(lua_State *L)
     return script_of_state(L)->dev;
 }
 
-/* The newest reading, as a GCL query would answer from. */
-static const wsg_snapshot_t *snapshot(lua_State *L)
-{
-    wsg_device_t *dev = device(L);
-    wsg_device_sense_if_moved_on(dev);
-    return wsg_device_snapshot(dev);
-}
-
 static int push_status(lua_State *L, wsg_status_t status)
 {
     lua_pushinteger(L, (lua_Integer)status);
     return 1;
+}
+
+/* The newest reading, as a GCL query would answer from. */
+static const wsg_snapshot_t *snapshot(lua_State *L)
+{
+    wsg_device_t *dev = device(L);
+    script_host_enter(L);
+    wsg_device_sense_if_moved_on(dev);
+    script_host_leave(L);
+    return wsg_device_snapshot(dev);
+}
+
+/* The device's operations run as host code (script_host_enter). */
+static int push_velocity(lua_State *L, float v)
+{
+    script_host_enter(L);
+    wsg_status_t status = wsg_op_velocity(device(L), v);
+    script_host_leave(L);
+    return push_status(L, status);
+}
+
+static int push_set(lua_State *L, wsg_setting_t which, float value)
+{
+    script_host_enter(L);
+    wsg_status_t status = wsg_op_set(device(L), which, value);
+    script_host_leave(L);
+    return push_status(L, status);
+}
+
+static int push_move(lua_State *L, const wsg_move_args_t *args)
+{
+    script_host_enter(L);
+    wsg_status_t status = wsg_op_move(device(L), NULL, args);
+    script_host_leave(L);
+    return push_status(L, status);
 }
 
 /* A Lua number as a float: beyond the float range it is an infinity
@@ -81,13 +108,13 @@ static int l_sleep(lua_State *L)
 {
     lua_Number ms = luaL_checknumber(L, 1);
     if (!(ms > 0)) {
-        return script_block(L, SCRIPT_WAIT_NONE, 0);
+        return script_block(L, "sleep", SCRIPT_WAIT_NONE, 0, 0, NULL);
     }
     uint64_t now = hal_clock_now_us();
     lua_Number us = ceil(ms * 1000.0);
     /* beyond the clock's range (sleep(math.huge)): for ever */
     uint64_t wake = us < (lua_Number)(UINT64_MAX - now) ? now + (uint64_t)us : UINT64_MAX;
-    return script_block(L, SCRIPT_WAIT_SLEEP, wake);
+    return script_block(L, "sleep", SCRIPT_WAIT_SLEEP, wake, 0, NULL);
 }
 
 static int l_position(lua_State *L)
@@ -105,7 +132,7 @@ static int l_speed(lua_State *L)
     }
     float v = script_check_float(L, 1);
     (void)snapshot(L);
-    return push_status(L, wsg_op_velocity(device(L), v));
+    return push_velocity(L, v);
 }
 
 static int l_aforce(lua_State *L)
@@ -130,7 +157,7 @@ static int l_force(lua_State *L)
         return push_status(L, E_INVALID_PARAMETER);
     }
     f = clampf(f, cfg->force_min_n, wsg_config_force_max(cfg));
-    return push_status(L, wsg_op_set(device(L), WSG_SET_FORCE_LIMIT, f));
+    return push_set(L, WSG_SET_FORCE_LIMIT, f);
 }
 
 static int l_blocked(lua_State *L)
@@ -153,7 +180,10 @@ static int l_busy(lua_State *L)
 static int l_stop(lua_State *L)
 {
     (void)snapshot(L);
-    return push_status(L, wsg_op_stop(device(L)));
+    script_host_enter(L);
+    wsg_status_t status = wsg_op_stop(device(L));
+    script_host_leave(L);
+    return push_status(L, status);
 }
 
 /* mc.move(width, speed[, flags]): binary 0x21's rules, returns at once. */
@@ -179,7 +209,7 @@ static int l_move(lua_State *L)
     }
     wsg_move_args_t args = {width, clampf(fabsf(speed), cfg->speed_min_mm_s, cfg->speed_max_mm_s),
                             false, (flags & 0x02) != 0};
-    return push_status(L, wsg_op_move(device(L), NULL, &args));
+    return push_move(L, &args);
 }
 
 /* mc.homing([dir]): 0 or nil (or a boolean) the configured direction, 1
@@ -195,7 +225,10 @@ static int l_homing(lua_State *L)
     }
     (void)snapshot(L);
     wsg_home_args_t args = {(wsg_home_dir_t)dir};
-    return push_status(L, wsg_op_home(device(L), NULL, &args));
+    script_host_enter(L);
+    wsg_status_t status = wsg_op_home(device(L), NULL, &args);
+    script_host_leave(L);
+    return push_status(L, status);
 }
 
 /* mc.acceleration([a]): get, or set like binary 0x30 (clamped). */
@@ -211,7 +244,7 @@ static int l_acceleration(lua_State *L)
         return push_status(L, E_INVALID_PARAMETER);
     }
     a = clampf(a, cfg->accel_min_mm_s2, cfg->accel_max_mm_s2);
-    return push_status(L, wsg_op_set(device(L), WSG_SET_ACCEL, a));
+    return push_set(L, WSG_SET_ACCEL, a);
 }
 
 static int l_state(lua_State *L)
@@ -224,6 +257,7 @@ static int finger_count(lua_State *L);
 static int finger_type(lua_State *L);
 static int finger_data(lua_State *L);
 static const lua_CFunction finger_queries[] = {finger_count, finger_type, finger_data};
+static const char *const finger_query_names[] = {"finger.count", "finger.type", "finger.data"};
 
 static int finger_query_again(lua_State *L, int status, lua_KContext which)
 {
@@ -238,7 +272,8 @@ static int finger_query(lua_State *L, lua_KContext which)
     script_t *s = script_of_state(L);
     uint64_t now = hal_clock_now_us();
     if (now < s->fingers_ready_us) {
-        return script_block_k(L, s->fingers_ready_us, which, finger_query_again);
+        return script_block(L, finger_query_names[which], SCRIPT_WAIT_SLEEP, s->fingers_ready_us,
+                            which, finger_query_again);
     }
     return finger_queries[which](L);
 }
@@ -364,7 +399,10 @@ static int l_grasp(lua_State *L)
     const wsg_config_t *cfg = snapshot(L)->config;
     float force = lua_isnumber(L, 3) ? script_check_float(L, 3) : cfg->default_force_n;
     wsg_grip_args_t args = {force, true, width, speed, cfg->default_pwt_mm, cfg->default_clt_mm};
-    return push_status(L, wsg_op_grip(device(L), NULL, &args));
+    script_host_enter(L);
+    wsg_status_t status = wsg_op_grip(device(L), NULL, &args);
+    script_host_leave(L);
+    return push_status(L, status);
 }
 
 static int l_grasping_move(lua_State *L)
@@ -373,7 +411,7 @@ static int l_grasping_move(lua_State *L)
     float speed = script_check_float(L, 2);
     (void)snapshot(L);
     wsg_move_args_t args = {width, speed, false, false};
-    return push_status(L, wsg_op_move(device(L), NULL, &args));
+    return push_move(L, &args);
 }
 
 static int l_grasping_state(lua_State *L)

@@ -4,6 +4,7 @@
  * queue (wsg_script.h); here they meet Lua. */
 #include <lauxlib.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -32,12 +33,23 @@ static int check_id(lua_State *L, int arg)
     return (int)id;
 }
 
+/* An error naming the ID in hex: lua_pushfstring knows no "%02X". */
+static int id_error(lua_State *L, const char *what, int id, const char *why)
+{
+    char hex[8];
+    snprintf(hex, sizeof(hex), "0x%02X", (unsigned)id);
+    return luaL_error(L, "%s: ID %s %s", what, hex, why);
+}
+
 static int l_register(lua_State *L)
 {
     script_t *s = script_of_state(L);
     int id = check_id(L, 1);
-    if (wsg_script_register(s->dev, id) != E_SUCCESS) {
-        return luaL_error(L, "cmd.register: ID 0x%02X is the firmware's own", id);
+    script_host_enter(L);
+    wsg_status_t status = wsg_script_register(s->dev, id);
+    script_host_leave(L);
+    if (status != E_SUCCESS) {
+        return id_error(L, "cmd.register", id, "is the firmware's own");
     }
     lua_pushboolean(L, 1);
     return 1;
@@ -45,7 +57,10 @@ static int l_register(lua_State *L)
 
 static int l_unregister(lua_State *L)
 {
-    wsg_script_unregister(script_of_state(L)->dev, check_id(L, 1));
+    int id = check_id(L, 1);
+    script_host_enter(L);
+    wsg_script_unregister(script_of_state(L)->dev, id);
+    script_host_leave(L);
     return 0;
 }
 
@@ -59,17 +74,29 @@ void script_push_request(lua_State *L, const wsg_script_request_t *req)
     }
 }
 
+/* The request the loop took for a waiting cmd.read() (script_service). */
+static int read_taken(lua_State *L, int status, lua_KContext ctx)
+{
+    (void)status;
+    (void)ctx;
+    script_t *s = script_of_state(L);
+    s->has_request = false;
+    s->reply_conn = s->request.conn_id;
+    script_push_request(L, &s->request);
+    return 2;
+}
+
 /* cmd.read(): the oldest queued request, or blocks until one comes. */
 static int l_read(lua_State *L)
 {
     script_t *s = script_of_state(L);
-    wsg_script_request_t req;
-    if (wsg_script_take(s->dev, &req)) {
-        s->reply_conn = req.conn_id;
-        script_push_request(L, &req);
-        return 2;
+    script_host_enter(L);
+    bool taken = wsg_script_take(s->dev, &s->request);
+    script_host_leave(L);
+    if (taken) {
+        return read_taken(L, LUA_OK, 0);
     }
-    return script_block(L, SCRIPT_WAIT_READ, UINT64_MAX);
+    return script_block(L, "cmd.read", SCRIPT_WAIT_READ, UINT64_MAX, 0, read_taken);
 }
 
 static int l_available(lua_State *L)
@@ -152,10 +179,12 @@ static int l_send(lua_State *L)
     script_t *s = script_of_state(L);
     int id = check_id(L, 1);
     if (!wsg_script_registered(s->dev, (uint8_t)id)) {
-        return luaL_error(L, "cmd.send: ID 0x%02X is not registered", id);
+        return id_error(L, "cmd.send", id, "is not registered");
     }
     if (s->frame == NULL) {
+        script_host_enter(L);
         s->frame = malloc(SCRIPT_REPLY_MAX + FRAME_OVERHEAD);
+        script_host_leave(L);
         if (s->frame == NULL) {
             return luaL_error(L, "cmd.send: not enough memory");
         }
@@ -166,9 +195,11 @@ static int l_send(lua_State *L)
     for (int i = 2; i <= n; i++) {
         flatten(L, &f, i, 0);
     }
+    script_host_enter(L);
     uint64_t host = wsg_script_reply_host(s->dev, s->reply_conn);
     wsg_status_t status = wsg_script_send(s->dev, host, (uint8_t)id, f.out, f.len, s->frame,
                                           SCRIPT_REPLY_MAX + FRAME_OVERHEAD);
+    script_host_leave(L);
     lua_pushboolean(L, status == E_SUCCESS);
     return 1;
 }

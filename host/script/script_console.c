@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* A script's console (spec §2.7): print/printf output and error lines, kept
  * as the last SCRIPT_CONSOLE_LINES lines and logged at info level, one log
- * line per completed output line. */
+ * line per completed output line. The console keeps every line as it was
+ * written; the log gets them escaped and rate-limited (host_log_script). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -38,7 +39,7 @@ static void output_line(script_t *s)
     keep_line(s, s->partial);
     char who[32];
     script_log_name(s, who, sizeof(who));
-    host_logf(HAL_LOG_INFO, "%s: %s", who, s->partial);
+    host_log_script(HAL_LOG_INFO, who, s->partial, s->partial_len);
     s->partial_len = 0;
 }
 

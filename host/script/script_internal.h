@@ -11,15 +11,11 @@
 #include <stdint.h>
 
 #include "script.h"
+#include "script_guard.h"
 #include "wsg/wsg_script.h"
 
 #define SCRIPT_MEMORY_CAP (16u * 1024u * 1024u) /* per interpreter (spec §2.6) */
 #define SCRIPT_HOOK_EVERY 1000                  /* VM instructions between two hook calls */
-#define SCRIPT_SLICE_NS 2000000u                /* a resume yields after 2 ms of wall time */
-/* A run that cannot yield (inside a C function's callback, a metamethod)
- * and has executed this many thousand instructions is ended with an error:
- * the loop must not freeze. About a second of work. */
-#define SCRIPT_UNYIELDABLE_KINSTR 100000u
 #define SCRIPT_CONSOLE_LINES 1000u
 /* The finger bus's start-up after power-on: a node boots in 20 ms, a lost
  * descriptor is asked for again after 100 ms. Finger calls wait for it. */
@@ -33,22 +29,37 @@ typedef enum {
     SCRIPT_WAIT_READ,  /* in cmd.read() */
 } script_wait_t;
 
+/* Which limit refused an allocation last (the message of a memory error). */
+typedef enum {
+    SCRIPT_REFUSED_NONE,
+    SCRIPT_REFUSED_CAP,    /* the interpreter's SCRIPT_MEMORY_CAP */
+    SCRIPT_REFUSED_BUDGET, /* the process's budget (script_guard.h) */
+} script_refused_t;
+
+struct script_block;
+
 struct script {
     wsg_device_t *dev;
+    script_guard_t *guard; /* the process's limits */
     unsigned index;
     bool in_fleet;
-    char store[PATH_MAX]; /* the /user/ store, "" when none */
-    lua_State *L;         /* NULL while no script runs */
-    lua_State *co;        /* the script's coroutine */
-    size_t memory;        /* bytes allocated by L */
+    char store[PATH_MAX];        /* the /user/ store, "" when none */
+    lua_State *L;                /* NULL while no script runs */
+    lua_State *co;               /* the script's coroutine */
+    struct script_block *blocks; /* every block L holds (script_heap.c) */
+    size_t memory;               /* their bytes, the lists' links included */
+    script_refused_t refused;
     bool running;
     bool failure;
     bool preempted;
+    /* the slice ended inside a coroutine of the script's own: whoever
+     * resumed it passes the yield on (script_coro.c) */
+    bool relay;
     script_wait_t wait;
     uint64_t wake_us;
-    uint64_t fingers_ready_us; /* finger calls before it wait (script_power_on) */
-    uint64_t slice_start_ns;
-    uint64_t slice_kinstr;
+    uint64_t fingers_ready_us;    /* finger calls before it wait (script_power_on) */
+    wsg_script_request_t request; /* for cmd.read(), taken when it resumes */
+    bool has_request;
     uint64_t reply_conn; /* where the request cmd.read() returned last came from */
     char file[PATH_MAX]; /* the script as given */
     char dir[PATH_MAX];  /* its directory: require() looks there first */
@@ -67,10 +78,29 @@ struct script {
 script_t *script_of_state(lua_State *L);
 /* Argument arg as a float; beyond the float range an infinity. */
 float script_check_float(lua_State *L, int arg);
-/* Blocking calls yield with the wait set. */
-int script_block(lua_State *L, script_wait_t wait, uint64_t wake_us);
-/* The same, for a binding that runs again (k) when the wait is over. */
-int script_block_k(lua_State *L, uint64_t wake_us, lua_KContext ctx, lua_KFunction k);
+/* Blocking calls (`name` for the error) yield with the wait set; k (may be
+ * NULL) runs when the wait is over. Only the main script waits: inside a
+ * coroutine of its own they raise an error, except a mere yield
+ * (SCRIPT_WAIT_NONE, sleep(0)), which suspends the whole script once. */
+int script_block(lua_State *L, const char *name, script_wait_t wait, uint64_t wake_us,
+                 lua_KContext ctx, lua_KFunction k);
+/* Host code inside a binding (a device call, the log, malloc): the
+ * watchdog does not end the script in the middle of it. No Lua call, which
+ * might raise an error, between the two. */
+void script_host_enter(lua_State *L);
+void script_host_leave(lua_State *L);
+
+/* script_heap.c: the interpreter's allocator (lua_Alloc, ud the script) */
+void *script_heap_alloc(void *ud, void *ptr, size_t osize, size_t nsize);
+/* Frees every block L holds without touching L (after a watchdog exit). */
+void script_heap_drop(script_t *s);
+
+/* script_coro.c: coroutine.resume and coroutine.wrap that pass a time
+ * slice's end on to the host (struct script's relay). */
+void script_open_coroutines(lua_State *L);
+/* script_bounded.c: string.rep, string.find and table.move with bounds
+ * that give a clear error instead of a long stretch without a pause. */
+void script_open_bounded(lua_State *L);
 
 /* script_console.c: console output, to the ring and the log */
 /* "script" or "script[i]" in a fleet: how the log names the script. */
@@ -86,8 +116,6 @@ void script_open_libs(lua_State *L);
  * (no '/') are in the store; anything else is a host path (only when
  * allow_host). false when the name is not allowed. */
 bool script_resolve(const script_t *s, const char *name, bool allow_host, char *out, size_t cap);
-/* Reads a whole file (at most 256 KiB) into a malloc'd buffer. */
-char *script_read_file(const char *path, size_t *len, char *why, size_t why_cap);
 
 /* script_bind.c: globals, mc, gripper, finger, grasping, socket */
 void script_open_device(lua_State *L);

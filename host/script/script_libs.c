@@ -4,6 +4,7 @@
  * require/dofile/loadfile from the script's directory and the store, and
  * the built-in "socket" module. */
 #include <errno.h>
+#include <fcntl.h>
 #include <lauxlib.h>
 #include <lualib.h>
 #include <math.h>
@@ -11,19 +12,24 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "hal_clock.h"
 #include "script_internal.h"
 
 #define SCRIPT_FILE_MAX (256u * 1024u)
 #define SCRIPT_NAME_MAX 64u
+#define CONSOLE_PIECE 4096u /* bytes written between two chances for the watchdog */
 
-/* A store name: a plain file name of printable ASCII, no '/', not "." or
- * "..", at most SCRIPT_NAME_MAX bytes. */
+/* A store name: a Lua file's plain name, NAME.lua, of printable ASCII, no
+ * '/', no "..", at most SCRIPT_NAME_MAX bytes. Only *.lua files are the
+ * store's: a configuration, save or log file kept beside the scripts is
+ * never a script, never served and never written through the store. */
 static bool valid_name(const char *name)
 {
     size_t len = strlen(name);
-    if (len == 0 || len > SCRIPT_NAME_MAX || strcmp(name, ".") == 0 || strstr(name, "..") != NULL) {
+    if (len <= 4 || len > SCRIPT_NAME_MAX || strcmp(name + len - 4, ".lua") != 0 ||
+        strstr(name, "..") != NULL) {
         return false;
     }
     for (size_t i = 0; i < len; i++) {
@@ -59,26 +65,47 @@ bool script_resolve(const script_t *s, const char *name, bool allow_host, char *
     return (size_t)snprintf(out, cap, "%s", name) < cap;
 }
 
+/* Opened without blocking (a FIFO's open would wait for a writer, and the
+ * event loop with it), then checked: a regular file or nothing. */
+static int open_regular(const char *path, struct stat *st, char *why, size_t why_cap)
+{
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+    if (fd < 0) {
+        snprintf(why, why_cap, "%s: %s", path, strerror(errno));
+        return -1;
+    }
+    if (fstat(fd, st) != 0 || !S_ISREG(st->st_mode)) {
+        snprintf(why, why_cap, "%s: not a regular file", path);
+        close(fd);
+        return -1;
+    }
+    if ((size_t)st->st_size > SCRIPT_FILE_MAX) {
+        snprintf(why, why_cap, "%s: larger than %u KiB", path, SCRIPT_FILE_MAX / 1024u);
+        close(fd);
+        return -1;
+    }
+    return fd;
+}
+
 char *script_read_file(const char *path, size_t *len, char *why, size_t why_cap)
 {
-    FILE *f = fopen(path, "rb");
     struct stat st;
-    if (f == NULL || fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
-        snprintf(why, why_cap, "%s: %s", path, f == NULL ? strerror(errno) : "not a file");
-        if (f != NULL) {
-            fclose(f);
+    int fd = open_regular(path, &st, why, why_cap);
+    if (fd < 0) {
+        return NULL;
+    }
+    size_t size = (size_t)st.st_size;
+    char *code = malloc(size + 1u);
+    size_t got = 0;
+    while (code != NULL && got < size) {
+        ssize_t n = read(fd, code + got, size - got);
+        if (n <= 0 && !(n < 0 && errno == EINTR)) {
+            break; /* shrunk meanwhile, or a read error */
         }
-        return NULL;
+        got += n > 0 ? (size_t)n : 0u;
     }
-    if ((size_t)st.st_size > SCRIPT_FILE_MAX) {
-        snprintf(why, why_cap, "%s: larger than %u KiB", path, SCRIPT_FILE_MAX / 1024u);
-        fclose(f);
-        return NULL;
-    }
-    char *code = malloc((size_t)st.st_size + 1u);
-    size_t got = code != NULL ? fread(code, 1, (size_t)st.st_size, f) : 0u;
-    fclose(f);
-    if (code == NULL || got != (size_t)st.st_size) {
+    close(fd);
+    if (code == NULL || got != size) {
         snprintf(why, why_cap, "%s: cannot read it", path);
         free(code);
         return NULL;
@@ -94,7 +121,9 @@ static int load_path(lua_State *L, const char *path)
 {
     char why[PATH_MAX + 64];
     size_t len = 0;
+    script_host_enter(L);
     char *code = script_read_file(path, &len, why, sizeof(why));
+    script_host_leave(L);
     if (code == NULL) {
         luaL_pushfail(L);
         lua_pushstring(L, why);
@@ -173,20 +202,33 @@ static int store_searcher(lua_State *L)
     return 1;
 }
 
-static int l_print(lua_State *L)
+/* Console output is host code: it logs (script_host_enter); in pieces, so
+ * that the watchdog can end a script that prints megabytes of lines. */
+static void console_write(lua_State *L, const char *text, size_t len)
 {
     script_t *s = script_of_state(L);
+    for (size_t done = 0; done < len; done += CONSOLE_PIECE) {
+        script_host_enter(L);
+        script_console_write(s, text + done,
+                             len - done < CONSOLE_PIECE ? len - done : CONSOLE_PIECE);
+        script_host_leave(L);
+        script_guard_safe_point(s->guard);
+    }
+}
+
+static int l_print(lua_State *L)
+{
     int n = lua_gettop(L);
     for (int i = 1; i <= n; i++) {
         size_t len = 0;
         const char *text = luaL_tolstring(L, i, &len);
         if (i > 1) {
-            script_console_write(s, "\t", 1);
+            console_write(L, "\t", 1);
         }
-        script_console_write(s, text, len);
+        console_write(L, text, len);
         lua_pop(L, 1);
     }
-    script_console_write(s, "\n", 1);
+    console_write(L, "\n", 1);
     return 0;
 }
 
@@ -200,20 +242,24 @@ static int l_printf(lua_State *L)
     lua_call(L, n, 1);
     size_t len = 0;
     const char *text = lua_tolstring(L, -1, &len);
-    script_console_write(script_of_state(L), text, len);
+    console_write(L, text, len);
     return 0;
 }
 
-/* load(): text chunks only (precompiled chunks could crash the host). */
+/* load(chunk [, chunkname [, mode [, env]]]): the library's load with
+ * mode "t" whatever is asked: text chunks only (precompiled chunks could
+ * crash the host). env is passed on only when given, nil included. */
 static int l_load(lua_State *L)
 {
+    int given = lua_gettop(L);
+    lua_settop(L, 4); /* the absent arguments as nil, so index 2 is chunkname */
     int top = lua_gettop(L);
     lua_pushvalue(L, lua_upvalueindex(1));
     lua_pushvalue(L, 1);
     lua_pushvalue(L, 2);
     lua_pushliteral(L, "t");
     int n = 3;
-    if (top >= 4) {
+    if (given >= 4) {
         lua_pushvalue(L, 4);
         n = 4;
     }

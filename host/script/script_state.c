@@ -16,20 +16,29 @@ script_t *script_of_state(lua_State *L)
     return s;
 }
 
-int script_block(lua_State *L, script_wait_t wait, uint64_t wake_us)
+int script_block(lua_State *L, const char *name, script_wait_t wait, uint64_t wake_us,
+                 lua_KContext ctx, lua_KFunction k)
 {
     script_t *s = script_of_state(L);
+    if (L != s->co && wait != SCRIPT_WAIT_NONE) {
+        /* its own coroutine would yield to the script, not to the device,
+         * and leave the main script waiting (docs/scripting.md) */
+        return luaL_error(L, "%s: only the main script can wait, not a coroutine of its own", name);
+    }
+    s->relay = L != s->co; /* sleep(0) there: the whole script yields once */
     s->wait = wait;
     s->wake_us = wake_us;
-    return lua_yield(L, 0);
+    return lua_yieldk(L, 0, ctx, k);
 }
 
-int script_block_k(lua_State *L, uint64_t wake_us, lua_KContext ctx, lua_KFunction k)
+void script_host_enter(lua_State *L)
 {
-    script_t *s = script_of_state(L);
-    s->wait = SCRIPT_WAIT_SLEEP;
-    s->wake_us = wake_us;
-    return lua_yieldk(L, 0, ctx, k);
+    script_guard_enter_host(script_of_state(L)->guard);
+}
+
+void script_host_leave(lua_State *L)
+{
+    script_guard_leave_host(script_of_state(L)->guard);
 }
 
 float script_check_float(lua_State *L, int arg)

@@ -96,12 +96,30 @@ static wsg_status_t check_shape(const simctl_entry_t *e, const gcl_command_t *cm
     return E_SUCCESS;
 }
 
+/* A command whose text is longer than GCL's strings (a host path for
+ * SCRIPT_RUN): the parser refused the argument, the shape is checked here
+ * and the handler reads the text from the line (sc_long_text). */
+static wsg_status_t long_text_call(const simctl_entry_t *e, const char *line, size_t len,
+                                   gcl_command_t *cmd, wsg_status_t status)
+{
+    if (status != E_INVALID_PARAMETER || e == NULL || e->handler != sc_script_run ||
+        !sc_quoted_call(line, len, NULL, GCL_LINE_MAX + 1)) {
+        return status;
+    }
+    cmd->form = GCL_FORM_CALL;
+    cmd->argc = 1;
+    cmd->args[0].kind = GCL_ARG_STRING;
+    cmd->args[0].text[0] = '\0';
+    return E_SUCCESS;
+}
+
 /* Parses and looks the command up; the entry, or NULL with why set. */
 static const simctl_entry_t *resolve(const char *line, size_t len, gcl_command_t *cmd,
                                      wsg_status_t *status, char *why, size_t cap)
 {
     *status = wsg_gcl_parse_line(line, len, cmd);
     const simctl_entry_t *e = cmd->name[0] != '\0' ? find(cmd->name) : NULL;
+    *status = long_text_call(e, line, len, cmd, *status);
     if (cmd->name[0] != '\0' && e == NULL) {
         *status = E_CMD_UNKNOWN;
         snprintf(why, cap, "unknown control command (HELP? lists them)");
@@ -122,13 +140,17 @@ static const simctl_entry_t *resolve(const char *line, size_t len, gcl_command_t
  * a command without them can meet, e.g. no part to remove, depends on the
  * state when it runs). */
 static bool check_arguments(simctl_t *ctl, const simctl_entry_t *e, const gcl_command_t *cmd,
-                            char *why, size_t cap)
+                            const char *line, size_t len, char *why, size_t cap)
 {
     if (cmd->form == GCL_FORM_QUERY || cmd->argc == 0) {
         return true;
     }
-    simctl_ctx_t ctx = {
-        .ctl = ctl, .cmd = cmd, .gripper = fleet_gripper(simctl_fleet(ctl), 0), .check_only = true};
+    simctl_ctx_t ctx = {.ctl = ctl,
+                        .cmd = cmd,
+                        .line = line,
+                        .line_len = len,
+                        .gripper = fleet_gripper(simctl_fleet(ctl), 0),
+                        .check_only = true};
     wsg_status_t status = e->handler(&ctx);
     free(ctx.reply);
     if (status != E_SUCCESS) {
@@ -147,7 +169,7 @@ bool simctl_check(simctl_t *ctl, const char *line, size_t len, bool for_scenario
         snprintf(why, cap, "%s cannot be used in a scenario", e->name);
         return false;
     }
-    return e != NULL && check_arguments(ctl, e, &cmd, why, cap);
+    return e != NULL && check_arguments(ctl, e, &cmd, line, len, why, cap);
 }
 
 static char *error_line(const char *name, wsg_status_t status, const char *why)
@@ -174,6 +196,8 @@ char *simctl_exec(simctl_t *ctl, const char *line, size_t len, unsigned *selecte
         selected != NULL && *selected < fleet_count(simctl_fleet(ctl)) ? *selected : 0u;
     simctl_ctx_t ctx = {.ctl = ctl,
                         .cmd = &cmd,
+                        .line = line,
+                        .line_len = len,
                         .gripper = fleet_gripper(simctl_fleet(ctl), index),
                         .selected = selected};
     const simctl_entry_t *e = resolve(line, len, &cmd, &status, ctx.why, sizeof(ctx.why));

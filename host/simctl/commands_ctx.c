@@ -2,10 +2,12 @@
 /* What the control command handlers do with their context: read the
  * arguments, set the reply or the failure. A leaf below the handlers and the
  * command table (commands.c), which names every handler. */
+#include <ctype.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "commands_internal.h"
 #include "gripper.h"
@@ -51,6 +53,55 @@ void sc_reply(simctl_ctx_t *ctx, const char *fmt, ...)
 bool sc_has_arg(const simctl_ctx_t *ctx, unsigned i)
 {
     return i < ctx->cmd->argc;
+}
+
+static size_t skip_spaces(const char *line, size_t at, size_t len)
+{
+    while (at < len && (line[at] == ' ' || line[at] == '\t')) {
+        at++;
+    }
+    return at;
+}
+
+bool sc_quoted_call(const char *line, size_t len, char *out, size_t cap)
+{
+    size_t at = skip_spaces(line, 0, len);
+    while (at < len && (isalnum((unsigned char)line[at]) || line[at] == '_')) {
+        at++;
+    }
+    at = skip_spaces(line, at, len);
+    if (at == 0 || at >= len || line[at] != '(') {
+        return false;
+    }
+    at = skip_spaces(line, at + 1, len);
+    const char *text = line + at + 1;
+    const char *end = at < len && line[at] == '"' ? memchr(text, '"', len - at - 1) : NULL;
+    if (end == NULL) {
+        return false;
+    }
+    at = skip_spaces(line, (size_t)(end - line) + 1, len);
+    if (at >= len || line[at] != ')' || skip_spaces(line, at + 1, len) != len ||
+        (size_t)(end - text) >= cap) {
+        return false;
+    }
+    if (out != NULL) {
+        memcpy(out, text, (size_t)(end - text));
+        out[end - text] = '\0';
+    }
+    return true;
+}
+
+bool sc_long_text(simctl_ctx_t *ctx, char *out, size_t cap)
+{
+    const char *text = NULL;
+    if (ctx->line != NULL && sc_quoted_call(ctx->line, ctx->line_len, out, cap)) {
+        return true;
+    }
+    if (!sc_text(ctx, 0, &text)) {
+        return false;
+    }
+    snprintf(out, cap, "%s", text);
+    return true;
 }
 
 bool sc_number(simctl_ctx_t *ctx, unsigned i, double *out)

@@ -16,6 +16,8 @@
 typedef struct {
     simctl_t *ctl;
     const gcl_command_t *cmd;
+    const char *line; /* the command as sent (a long text argument is read from it) */
+    size_t line_len;
     struct gripper *gripper; /* the device the command addresses */
     unsigned *selected;      /* the channel's DEVICE= selection; NULL: a scenario */
     char *reply;             /* malloc'd reply; NULL: "ACK NAME" */
@@ -55,6 +57,13 @@ void sc_reply_json(simctl_ctx_t *ctx, cJSON *json);
 bool sc_number(simctl_ctx_t *ctx, unsigned i, double *out);
 bool sc_text(simctl_ctx_t *ctx, unsigned i, const char **out);
 bool sc_has_arg(const simctl_ctx_t *ctx, unsigned i);
+/* NAME("text") with text of any length the line holds: the text into out
+ * (when not NULL); false when the line has another shape. */
+bool sc_quoted_call(const char *line, size_t len, char *out, size_t cap);
+/* The one argument of a command that takes a long text (SCRIPT_RUN's host
+ * path, not only GCL's 31 characters): the quoted text as sent, else the
+ * argument as sc_text() reads it. */
+bool sc_long_text(simctl_ctx_t *ctx, char *out, size_t cap);
 /* Argument i as an integer min..max (what names it in the reason): false with
  * ERR 24 when it is not a number, ERR 28 when it has a fraction or is out of
  * range. Never converts an out-of-range double. */

@@ -8,16 +8,17 @@
 #include "script.h"
 #include "script_json.h"
 
+/* SCRIPT_RUN("file"): a host path may be as long as the line allows. */
 wsg_status_t sc_script_run(simctl_ctx_t *ctx)
 {
-    const char *file = NULL;
-    if (!sc_text(ctx, 0, &file)) {
+    char file[GCL_LINE_MAX + 1];
+    if (!sc_long_text(ctx, file, sizeof(file))) {
         return ctx->failed;
     }
     if (sc_checking(ctx)) {
         return E_SUCCESS;
     }
-    char why[512];
+    char why[GCL_LINE_MAX + 128];
     fleet_note_scripting(simctl_fleet(ctx->ctl));
     if (!gripper_run_script(ctx->gripper, file, why, sizeof(why))) {
         return sc_fail(ctx, E_NOT_FOUND, "%s", why);

@@ -18,6 +18,7 @@ typedef struct {
 struct web_intake_conn {
     bool in_use;
     bool arriving; /* its request is still arriving */
+    bool url_nul;  /* its request's URL held %00 */
     int fd;
     client_key_t client;
     uint64_t since_ns; /* when it began to wait for this request */
@@ -136,6 +137,22 @@ void web_intake_waiting(web_intake_t *intake, web_intake_conn_t *conn, uint64_t 
         stop_arriving(intake, conn); /* a connection arrives once, from now */
         start_arriving(intake, conn, now);
     }
+}
+
+void web_intake_note_nul(web_intake_conn_t *conn)
+{
+    if (conn != NULL) {
+        conn->url_nul = true;
+    }
+}
+
+bool web_intake_take_nul(web_intake_conn_t *conn)
+{
+    bool nul = conn != NULL && conn->url_nul;
+    if (conn != NULL) {
+        conn->url_nul = false;
+    }
+    return nul;
 }
 
 void web_intake_close(web_intake_t *intake, web_intake_conn_t *conn)

@@ -44,6 +44,11 @@ web_intake_conn_t *web_intake_open(web_intake_t *intake, int fd, const struct so
 void web_intake_arrived(web_intake_t *intake, web_intake_conn_t *conn);
 /* Its reply is done: it waits for its next request from now. */
 void web_intake_waiting(web_intake_t *intake, web_intake_conn_t *conn, uint64_t now);
+/* Its request's URL or query held an encoded NUL (%00), which the URL a
+ * route sees would silently end at: noted while MHD decodes the request
+ * line, taken (and cleared) when the request is handled. */
+void web_intake_note_nul(web_intake_conn_t *conn);
+bool web_intake_take_nul(web_intake_conn_t *conn);
 /* It is closed; its record is free. */
 void web_intake_close(web_intake_t *intake, web_intake_conn_t *conn);
 /* Shuts down every connection whose request is late at now; the number. */

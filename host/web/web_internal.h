@@ -26,15 +26,18 @@ typedef struct {
     unsigned count;
 } web_ops_t;
 
-/* web_static.c: a file of Debian's libjs-dygraphs, read at its first request
- * and kept until the server stops. */
+/* web_static.c: a file of a Debian package the page uses (libjs-dygraphs,
+ * libjs-codemirror), read at its first request and kept until the server
+ * stops. */
 typedef struct {
-    const char *name;
+    const char *name;    /* under /static/ */
+    const char *path;    /* where the package installs it */
+    const char *package; /* what to install when it cannot be read */
     const char *content_type;
     unsigned char *bytes; /* NULL: not read yet */
     size_t len;
 } web_system_file_t;
-#define WEB_SYSTEM_FILE_COUNT 2u
+#define WEB_SYSTEM_FILE_COUNT 6u
 
 /* What the routes of one web server keep between requests: its event
  * streams, the connection lines, the devices' web owners and the chart
@@ -42,6 +45,7 @@ typedef struct {
  * routes has one of its own. */
 typedef struct web_app {
     struct fleet *fleet; /* the devices it serves */
+    simctl_t *sim;       /* the simulated clock the state shows; NULL: none */
     web_events_t events;
     web_lines_t lines;
     web_ops_t ops;
@@ -119,10 +123,20 @@ void web_ops_forget(web_ops_t *ops);
 enum MHD_Result web_sim_route(const web_request_t *req, gripper_t *g, const char *what);
 /* web_events.c: GET /api/devices/{id}/events */
 enum MHD_Result web_events_route(const web_request_t *req, gripper_t *g);
-/* web_script.c: /api/devices/{id}/script[/run|/stop|/console] and
- * /api/devices/{id}/files[/NAME] (rest: what follows "script" / "files") */
+/* web_script.c: /api/devices/{id}/script[/run|/stop|/console|/startup]
+ * (rest: what follows "script") */
 enum MHD_Result web_script_route(const web_request_t *req, gripper_t *g, const char *rest);
+/* web_store.c: /api/devices/{id}/files[/NAME] (rest: what follows "files") */
 enum MHD_Result web_files_route(const web_request_t *req, gripper_t *g, const char *rest);
+/* The host path of a store file the web names ("NAME.lua" or
+ * "/user/NAME.lua") into path: NULL, else why it is refused (no store, not a
+ * store name, one of wsgsim's own files). */
+const char *web_store_path(const gripper_t *g, const char *name, char *path, size_t cap);
+/* The same, and the file exists and is a regular file. */
+const char *web_store_check_file(const gripper_t *g, const char *name, char *path, size_t cap);
+/* "PATH: reason" (script_read_file's why) -> "reason": a reply names the
+ * store's file, never the host's path. */
+const char *web_store_reason(const char *why, const char *path);
 /* web_system.c: GET /api/devices/{id}/system[?since=N] */
 enum MHD_Result web_system_route(const web_request_t *req, gripper_t *g);
 /* web_static.c: GET /, /devices/{id}, /static/NAME; false: not a page path */

@@ -107,21 +107,48 @@ enum MHD_Result web_reply_redirect(const web_request_t *req, const char *locatio
     return result;
 }
 
+/* A NUL in the text, as a byte or as the escape \u0000: cJSON keeps strings
+ * NUL-terminated, so "abc\u0000def" would silently become "abc". Escapes
+ * stand only inside strings, and each is skipped whole (\\u0000 is a
+ * backslash and "u0000"). */
+static bool holds_nul(const char *text, size_t len)
+{
+    for (size_t i = 0; i < len; i++) {
+        if (text[i] == '\0') {
+            return true;
+        }
+        if (text[i] == '\\' && i + 1 < len) {
+            if (text[i + 1] == 'u' && len - i >= 6 && strncmp(text + i + 2, "0000", 4) == 0) {
+                return true;
+            }
+            i++;
+        }
+    }
+    return false;
+}
+
+/* Only white space may follow the object. */
+static bool ends_after(const char *end)
+{
+    return end != NULL && end[strspn(end, " \t\r\n")] == '\0';
+}
+
 cJSON *web_body_object(const web_request_t *req, enum MHD_Result *result)
 {
     if (req->body_len == 0) {
         return cJSON_CreateObject();
     }
-    if (strlen(req->body) != req->body_len) {
+    if (holds_nul(req->body, req->body_len)) {
         *result = web_reply_error(req, MHD_HTTP_BAD_REQUEST, E_CMD_FORMAT_ERROR,
-                                  "the body holds a NUL byte");
+                                  "the body holds a NUL character");
         return NULL;
     }
-    cJSON *body = cJSON_Parse(req->body);
-    if (!cJSON_IsObject(body)) {
+    const char *end = NULL;
+    cJSON *body = cJSON_ParseWithOpts(req->body, &end, false);
+    if (!cJSON_IsObject(body) || !ends_after(end)) {
         cJSON_Delete(body);
         *result = web_reply_error(req, MHD_HTTP_BAD_REQUEST, E_CMD_FORMAT_ERROR,
-                                  "the body must be a JSON object");
+                                  "the body must be one JSON object");
         return NULL;
     }
     return body;

@@ -44,6 +44,7 @@ typedef struct {
     size_t len;
     bool too_big;
     bool foreign_host; /* its Host header names no name of this server */
+    bool url_nul;      /* its URL or query held %00 */
     char body[WEB_BODY_MAX + 1u];
 } web_call_t;
 
@@ -240,6 +241,7 @@ static enum MHD_Result begin_request(const web_server_t *web, struct MHD_Connect
     }
     *req_cls = call;
     call->foreign_host = !host_allowed(web, connection);
+    call->url_nul = web_intake_take_nul(intake_of(connection));
     const char *length =
         MHD_lookup_connection_value(connection, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_LENGTH);
     call->too_big = length != NULL && strtoull(length, NULL, 10) > WEB_BODY_MAX;
@@ -310,7 +312,7 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *connection, cons
         return MHD_NO;
     }
     web_call_t *call = *req_cls;
-    if (first_call && !call->too_big && !call->foreign_host) {
+    if (first_call && !call->too_big && !call->foreign_host && !call->url_nul) {
         return MHD_YES;
     }
     if (*upload_data_size > 0) {
@@ -338,6 +340,10 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *connection, cons
             "address or localhost, or start wsgsim with --http-allow-host NAME",
             MHD_lookup_connection_value(connection, MHD_HEADER_KIND, MHD_HTTP_HEADER_HOST));
     }
+    if (call->url_nul) {
+        return web_reply_error(&req, MHD_HTTP_BAD_REQUEST, E_INVALID_PARAMETER,
+                               "the URL holds a NUL character (%%00)");
+    }
     if (call->too_big) {
         return web_reply_error(&req, MHD_HTTP_CONTENT_TOO_LARGE, E_OVERRUN,
                                "the request body is larger than %u bytes", WEB_BODY_MAX);
@@ -349,6 +355,19 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *connection, cons
         }
     }
     return web_routes_dispatch(&req);
+}
+
+/* MHD's own decoding of %HH escapes in the path and the query, noting a
+ * %00: the URL a route sees is a C string and would end there
+ * ("files/x%00.lua" would name "x"), so such a request is refused whole. */
+static size_t unescape(void *cls, struct MHD_Connection *connection, char *text)
+{
+    (void)cls;
+    size_t len = MHD_http_unescape(text);
+    if (strlen(text) != len) {
+        web_intake_note_nul(intake_of(connection));
+    }
+    return len;
 }
 
 static void log_mhd(void *cls, const char *fmt, va_list ap)
@@ -369,7 +388,7 @@ static bool open_daemon(web_server_t *web)
         MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)CONNECTION_TIMEOUT_S, MHD_OPTION_CONNECTION_LIMIT,
         (unsigned)CONNECTIONS_MAX, MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)CONNECTION_MEMORY,
         MHD_OPTION_NOTIFY_COMPLETED, request_completed, web, MHD_OPTION_NOTIFY_CONNECTION,
-        connection_changed, web, MHD_OPTION_END);
+        connection_changed, web, MHD_OPTION_UNESCAPE_CALLBACK, unescape, NULL, MHD_OPTION_END);
     if (web->daemon == NULL) {
         return false;
     }
@@ -391,12 +410,23 @@ static bool sim_bind_open(const char *sim_bind)
            !IN6_IS_ADDR_LOOPBACK((const struct in6_addr *)addr);
 }
 
+/* The ready line's URL names an address a browser on this host can open:
+ * the loopback address for a wildcard bind, else the bound one. */
+static const char *url_host(const char *bind)
+{
+    if (strcmp(bind, "0.0.0.0") == 0) {
+        return "127.0.0.1";
+    }
+    return strcmp(bind, "::") == 0 ? "::1" : bind;
+}
+
 bool web_server_start(web_server_t *web, host_loop_t *loop, net_t *net, const host_options_t *opts,
                       simctl_t *sim, struct fleet *fleet)
 {
     web->loop = loop;
     web->sim = sim;
     web->app.fleet = fleet;
+    web->app.sim = sim;
     if (opts->http_port == 0) {
         return true;
     }
@@ -426,8 +456,8 @@ bool web_server_start(web_server_t *web, host_loop_t *loop, net_t *net, const ho
     web->port = net_local_port(web->listen_fd);
     web_lines_enable(&web->app.lines, (unsigned)opts->devices);
     char endpoint[96];
-    net_format_endpoint(bind, web->port, endpoint, sizeof(endpoint));
-    snprintf(web->describe, sizeof(web->describe), ", http %s", endpoint);
+    net_format_endpoint(url_host(bind), web->port, endpoint, sizeof(endpoint));
+    snprintf(web->describe, sizeof(web->describe), ", web page http://%s/", endpoint);
     return true;
 }
 

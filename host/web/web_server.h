@@ -38,7 +38,8 @@ bool web_server_start(web_server_t *web, host_loop_t *loop, net_t *net, const ho
 /* After every loop_wait(): runs what is due on the wall clock. Costs one
  * test when nothing is scheduled. */
 void web_server_poll(web_server_t *web);
-/* ", http ADDR:PORT" for the ready line, or "" when off. */
+/* ", web page http://ADDR:PORT/" for the ready line (a URL to open: the
+ * loopback address for a wildcard bind), or "" when off. */
 const char *web_server_describe(const web_server_t *web);
 /* The port served, or -1. */
 int web_server_port(const web_server_t *web);

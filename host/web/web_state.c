@@ -3,6 +3,7 @@
  * the device's part written by the device-state serialiser
  * (host/port/state_json.c) and the web's own around it. Field names carry
  * their units; enumerations carry their number and name. */
+#include "clock.h"
 #include "fleet.h"
 #include "json_writer.h"
 #include "state_json.h"
@@ -30,6 +31,20 @@ static void write_connections(const web_app_t *app, json_writer_t *j, wsg_device
     json_writer_close_array(j);
 }
 
+/* The simulated clock: paused (only a step moves it) and its scale. */
+static void write_clock(json_writer_t *j, simctl_t *sim)
+{
+    if (sim == NULL) {
+        json_writer_null(j, "clock");
+        return;
+    }
+    const simclock_t *clock = simctl_clock(sim);
+    json_writer_open_object(j, "clock");
+    json_writer_bool(j, "paused", simclock_paused(clock));
+    json_writer_float(j, "scale", (float)simclock_scale(clock));
+    json_writer_close_object(j);
+}
+
 void web_state_write(web_app_t *app, json_writer_t *j, gripper_t *g)
 {
     /* the newest readings, as a GCL query senses before it answers: an idle
@@ -38,6 +53,7 @@ void web_state_write(web_app_t *app, json_writer_t *j, gripper_t *g)
     json_writer_open_object(j, NULL);
     json_writer_uint(j, "id", g->index);
     json_writer_ms(j, "time_ms", wsg_device_snapshot(&g->device)->now_us);
+    write_clock(j, app->sim);
     state_json_live(j, g, app->sysflag_names);
     web_ops_last_write(&app->ops, j, "web_op", g);
     write_connections(app, j, &g->device);

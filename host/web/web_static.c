@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* The page: / goes to device 0's, /devices/{id} is index.html (the page
  * reads its id from the path), /static/NAME any other built-in file or one
- * of Debian's libjs-dygraphs files. */
+ * of Debian's libjs-dygraphs and libjs-codemirror files. */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -16,18 +16,27 @@
 #define DEVICES_PREFIX "/devices/"
 #define STATIC_PREFIX "/static/"
 
-/* The chart library is not built in: it is served from where Debian's
- * libjs-dygraphs installs it (the wsgsim package depends on it), read on
- * the first request and kept until the server stops, so that the binary
- * carries none of its code. */
+/* The chart library and the script editor are not built in: they are
+ * served from where Debian's libjs-dygraphs and libjs-codemirror install
+ * them (the wsgsim package depends on both), read on the first request and
+ * kept until the server stops, so that the binary carries none of their
+ * code. */
 #define DYGRAPHS_DIR "/usr/share/javascript/dygraphs/"
-#define SYSTEM_FILE_MAX (8u << 20) /* dygraph.min.js is about 130 KiB */
+#define CODEMIRROR_DIR "/usr/share/javascript/codemirror/"
+#define SYSTEM_FILE_MAX (8u << 20) /* codemirror.js, the largest, is about 400 KiB */
+#define JS_TYPE "text/javascript; charset=utf-8"
+#define CSS_TYPE "text/css; charset=utf-8"
 
 typedef web_system_file_t system_file_t;
 
 static const system_file_t system_file_names[WEB_SYSTEM_FILE_COUNT] = {
-    {"dygraph.min.js", "text/javascript; charset=utf-8", NULL, 0},
-    {"dygraph.min.css", "text/css; charset=utf-8", NULL, 0},
+    {"dygraph.min.js", DYGRAPHS_DIR "dygraph.min.js", "libjs-dygraphs", JS_TYPE, NULL, 0},
+    {"dygraph.min.css", DYGRAPHS_DIR "dygraph.min.css", "libjs-dygraphs", CSS_TYPE, NULL, 0},
+    {"codemirror.js", CODEMIRROR_DIR "lib/codemirror.js", "libjs-codemirror", JS_TYPE, NULL, 0},
+    {"codemirror.css", CODEMIRROR_DIR "lib/codemirror.css", "libjs-codemirror", CSS_TYPE, NULL, 0},
+    {"codemirror-lua.js", CODEMIRROR_DIR "mode/lua/lua.js", "libjs-codemirror", JS_TYPE, NULL, 0},
+    {"codemirror-matchbrackets.js", CODEMIRROR_DIR "addon/edit/matchbrackets.js",
+     "libjs-codemirror", JS_TYPE, NULL, 0},
 };
 
 void web_static_init(web_system_file_t *files)
@@ -120,16 +129,14 @@ static bool read_whole(const char *path, system_file_t *f)
 
 static enum MHD_Result serve_system_file(const web_request_t *req, system_file_t *f)
 {
-    char path[sizeof(DYGRAPHS_DIR) + 64];
-    snprintf(path, sizeof(path), "%s%s", DYGRAPHS_DIR, f->name);
     if (!is_read(req)) {
         return web_reply_wrong_method(req, MHD_HTTP_METHOD_GET);
     }
-    if (f->bytes == NULL && !read_whole(path, f)) {
+    if (f->bytes == NULL && !read_whole(f->path, f)) {
         const char *why = strerror(errno);
-        host_logf(HAL_LOG_WARN, "http: cannot read %s: %s (install libjs-dygraphs)", path, why);
+        host_logf(HAL_LOG_WARN, "http: cannot read %s: %s (install %s)", f->path, why, f->package);
         return web_reply_error(req, MHD_HTTP_NOT_FOUND, E_NOT_AVAILABLE,
-                               "cannot read %s: %s (install libjs-dygraphs)", path, why);
+                               "cannot read %s: %s (install %s)", f->path, why, f->package);
     }
     web_asset_t asset = {f->name, f->content_type, f->bytes, f->len};
     return serve(req, &asset);

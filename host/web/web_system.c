@@ -53,6 +53,12 @@ static cJSON *system_json(gripper_t *g, uint64_t log_since)
     cJSON_AddNumberToObject(root, "stroke_mm", cfg->stroke_mm);
     cJSON_AddNumberToObject(root, "force_min_n", cfg->force_min_n);
     cJSON_AddNumberToObject(root, "force_max_n", cfg->force_max_n);
+    /* the model's ranges, which the page's fields show and its errors name */
+    cJSON_AddNumberToObject(root, "force_overdrive_n", cfg->force_overdrive_n);
+    cJSON_AddNumberToObject(root, "speed_min_mm_s", cfg->speed_min_mm_s);
+    cJSON_AddNumberToObject(root, "speed_max_mm_s", cfg->speed_max_mm_s);
+    cJSON_AddNumberToObject(root, "accel_min_mm_s2", cfg->accel_min_mm_s2);
+    cJSON_AddNumberToObject(root, "accel_max_mm_s2", cfg->accel_max_mm_s2);
     cJSON_AddNumberToObject(root, "time_ms", (double)now_us / 1000.0);
     uint64_t up_us = now_us > g->powered_on_us ? now_us - g->powered_on_us : 0u;
     cJSON_AddNumberToObject(root, "uptime_ms", (double)up_us / 1000.0);

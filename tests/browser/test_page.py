@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """The device page (webui/) in Debian's headless Chromium, driven by
 chromium-driver through python3-selenium, against build/wsgsim's HTTP
-server (issue 13). Run by `make browser-tests`; prints 'browser: N passed,
+server. Run by `make browser-tests`; prints 'browser: N passed,
 N failed'.
 
 - the page loads and runs with no console error (the browser's log; every
@@ -36,9 +36,29 @@ N failed'.
   force hardly changes (no autoscale to sensor noise);
 - the system view shows the identity GCL reads and the log's lines.
 
+- MOVE takes any speed the model allows, not only up to the stroke;
+- a paused clock shows on every view (header and status area) with Step and
+  Resume at hand, a step says where the clock stands, a HOME waiting for
+  the clock says so, and the fingers at t = 0 say they are starting;
+- the status area is on every view, faults in the alarm style (red, "!"),
+  warnings in amber, plain state (SF_REFERENCED) neither;
+- a part around the jaws is drawn around them and named so;
+- the tactile map empties when FAST STOP releases the grip;
+- a page opened from a non-loopback address shows the simulation panel
+  disabled from the start, without a refused request;
+- a refused setting names the field in words and its range, shows the
+  value in force again, and every number field shows its range;
+- the script editor (Debian's CodeMirror) numbers and highlights the lines,
+  marks the line of a script's error, and a failed run is not "started";
+- at 420 px nothing scrolls sideways or overlaps, flag names are whole,
+  the chart's legend lies outside its data; with the server gone a banner
+  says so and the values shown turn grey.
+
 It takes a screenshot of the page holding a part: $SCREENSHOT, by default
 build/browser/live-view.png (`make browser-screenshot` refreshes
-docs/img/live-view.png, the one README shows). Timeouts only stop a hang.
+docs/img/live-view.png, the one README shows), and one of each state and
+view beside it (fresh, homed, moving, holding, FAST STOP, paused clock,
+script error, 420 px wide, server gone; shot()). Timeouts only stop a hang.
 """
 import os
 import re
@@ -58,7 +78,7 @@ from selenium.webdriver.common.by import By  # noqa: E402
 from selenium.webdriver.common.keys import Keys  # noqa: E402
 from selenium.webdriver.support import expected_conditions as expected  # noqa: E402
 from selenium.webdriver.support.ui import Select, WebDriverWait  # noqa: E402
-from webclient import non_loopback_address  # noqa: E402
+from webclient import non_loopback_address, request  # noqa: E402
 
 import wsgsim  # noqa: E402
 
@@ -72,6 +92,8 @@ START_ATTEMPTS = 5  # starts on a free port that was taken meanwhile
 WINDOW = "1400,1400"  # the whole live view in the screenshot
 SCREENSHOT = os.environ.get("SCREENSHOT") or os.path.join(ROOT, "build", "browser",
                                                          "live-view.png")
+SHOTS = os.path.join(ROOT, "build", "browser")  # every state's and view's screenshot
+NARROW = (420, 1400)  # a phone's width
 
 
 def free_tcp_port():
@@ -192,6 +214,38 @@ class PageTest(unittest.TestCase):
     def click(self, selector):
         self.driver.find_element(By.CSS_SELECTOR, selector).click()
 
+    def shot(self, name):
+        """A screenshot of the page as it is, build/browser/NAME.png."""
+        os.makedirs(SHOTS, exist_ok=True)
+        path = os.path.join(SHOTS, name + ".png")
+        self.assertTrue(self.driver.save_screenshot(path), path)
+
+    def js(self, script, *args):
+        return self.driver.execute_script(script, *args)
+
+    def set_editor(self, text):
+        """The script editor's text, set as CodeMirror takes it."""
+        self.js("document.querySelector('.CodeMirror').CodeMirror.setValue(arguments[0])", text)
+
+    def editor_text(self):
+        return self.js("return document.querySelector('.CodeMirror').CodeMirror.getValue()")
+
+    def status_chips(self):
+        """The status area's chips: [(name, kind), ...]."""
+        return self.js("return [...document.querySelectorAll('#status-flags li')]"
+                       ".map((li) => [li.dataset.name || li.textContent, li.className])")
+
+    def wait_for_chip(self, name):
+        self.wait_for("%s in the status area" % name, lambda d: any(
+            chip == name for chip, _ in self.status_chips()))
+
+    def home_paused(self, client, control):
+        """FSACK and HOME to their FIN on a paused clock."""
+        control.step(100)  # the fingers start
+        client.expect("FSACK()", "ACK FSACK")
+        client.expect("HOME()", "ACK HOME")
+        control.step_until(client, "FIN HOME")
+
     def assert_no_console_errors(self, refused=0):
         """No error in the browser's log but the refused requests expected
         (the browser logs each 4xx reply; the page shows them itself)."""
@@ -306,7 +360,9 @@ class PageTest(unittest.TestCase):
             self.fill("#setting-pwt_mm", 500)
             self.fill("#setting-clt_mm", 5)
             self.click("#settings-apply")
-            self.wait_for_text_start("setting-error-pwt_mm", "E_RANGE_ERROR (28)")
+            self.wait_for_text_start("setting-error-pwt_mm",
+                                     "part width tolerance (PWT) 500 mm is out of range")
+            self.assertIn("(E_RANGE_ERROR)", self.text("settings-result"))
             self.assertEqual(self.text("setting-error-clt_mm"), "")
             self.assertEqual(client.query_float("POS"), start_mm)  # nothing moved,
             with sim.tcp() as fresh:  # nothing of the PUT applied
@@ -342,11 +398,15 @@ class PageTest(unittest.TestCase):
             self.driver.get("http://%s:%d/devices/0" % (non_loopback_address(), sim.http_port))
             self.wait_for("the event stream",
                           lambda d: d.find_element(By.ID, "link").text == "live")
-            self.click("#sim-part button[type=submit]")
-            self.wait_for_text_start("sim-result", "part: E_ACCESS_DENIED")
-            self.assertTrue(self.driver.find_element(By.ID, "sim-unavailable").is_displayed())
-            self.assertFalse(self.driver.find_element(
-                By.CSS_SELECTOR, "#sim-part button[type=submit]").is_enabled())
+            # said from the start (sim_allowed), not after a refused click
+            self.wait_for("the note", lambda d: d.find_element(
+                By.ID, "sim-unavailable").is_displayed())
+            for selector in ("#sim-part button[type=submit]", "#sim-clock button[type=submit]",
+                             "#sim-fault select", "#clock-pause"):
+                self.assertFalse(self.driver.find_element(By.CSS_SELECTOR, selector).is_enabled(),
+                                 selector)
+            self.click("#sim-part button[type=submit]")  # a disabled button sends nothing
+            self.assertEqual(self.text("sim-result"), "")
             self.assertEqual(control("PART?").split(",")[0], "PART=[0")
             # scripts are run and stored under the same rule: said, not tried
             self.show_view("scripting")
@@ -355,7 +415,7 @@ class PageTest(unittest.TestCase):
             self.wait_for("the note of no store", lambda d: d.find_element(
                 By.ID, "store-missing").is_displayed())
             self.assertFalse(self.driver.find_element(By.ID, "script-stop").is_enabled())
-            self.assert_no_console_errors(refused=1)
+            self.assert_no_console_errors()
 
     def test_live_view_reconnects_to_a_restarted_server(self):
         with Wsgsim() as first:
@@ -367,7 +427,7 @@ class PageTest(unittest.TestCase):
         with Wsgsim("--part", "25", http_port=port):
             self.wait_for("the event stream again",
                           lambda d: d.find_element(By.ID, "link").text == "live")
-            self.wait_for_text("part-text", "25.0 mm")
+            self.wait_for_text("part-text", "25.0 mm, between the jaws")
 
     def test_device_selector_opens_another_device(self):
         with Wsgsim("--devices", "2") as sim:
@@ -446,8 +506,7 @@ class PageTest(unittest.TestCase):
                 self.click("#file-new button")
                 self.wait_for_text("editor-file", "/user/loop.lua")
                 self.assertTrue(os.path.exists(os.path.join(store, "loop.lua")))
-                self.fill("#editor-text", "print('from the page')\n"
-                          "while true do sleep(50) end\n")
+                self.set_editor("print('from the page')\nwhile true do sleep(50) end\n")
                 self.click("#script-save")
                 self.wait_for_text_start("script-result", "saved loop.lua")
                 with open(os.path.join(store, "loop.lua")) as f:
@@ -468,8 +527,10 @@ class PageTest(unittest.TestCase):
                 self.wait_for_text_start("script-file", "no script runs")
                 with sim.tcp() as client:
                     client.expect("SYSFLAGS[19]?", "SYSFLAGS[19]=0")  # SF_SCRIPT_RUNNING
-                # Run saves the open file first
-                self.fill("#editor-text", "print('edited, then run')\n")
+                # Run saves the open file first; typed as a user types it
+                self.set_editor("")
+                self.driver.find_element(By.CSS_SELECTOR, ".CodeMirror-code").send_keys(
+                    "print('edited, then run')" + Keys.ENTER)
                 self.click("#script-run")
                 self.wait_for("the edited script's line", lambda d: "edited, then run" in
                               d.find_element(By.ID, "console").text)
@@ -513,6 +574,71 @@ class PageTest(unittest.TestCase):
                     "/api/devices/0/files/moved.lua"))
                 self.assert_no_console_errors()
 
+    def test_new_file_names_end_in_lua(self):
+        """The store holds NAME.lua files only: the new-file field says so
+        beside it, refuses another name in the browser with the rule in
+        words, and sends nothing; a Lua name is made."""
+        with tempfile.TemporaryDirectory(prefix="wsgsim-store-") as store:
+            with Wsgsim("--script-dir", store) as sim:
+                self.open_page(sim)
+                self.show_view("scripting")
+                self.wait_for("the empty list", lambda d: d.find_element(
+                    By.CSS_SELECTOR, "#file-new button").is_enabled())
+                self.assertIn("NAME.lua", self.text("file-new-rule"))
+                field = "#file-new input[name=name]"
+                for name in ("notes.txt", "two words.lua", "up..lua", "a/b.lua", "x" * 61 + ".lua"):
+                    self.fill(field, name)
+                    self.click("#file-new button")
+                    self.wait_for_text("files-result", "new file: a script's name ends in .lua "
+                                       "(NAME.lua: at most 64 characters, no spaces, '/', '\\' "
+                                       "or '..')")
+                    self.assertFalse(self.js("return document.querySelector(arguments[0])"
+                                             ".checkValidity()", field), name)
+                    self.js("document.getElementById('files-result').textContent = ''")
+                self.assertEqual(os.listdir(store), [])
+                self.fill(field, "grip_2.lua")
+                self.click("#file-new button")
+                self.wait_for_text("editor-file", "/user/grip_2.lua")
+                self.assertEqual(os.listdir(store), ["grip_2.lua"])
+                self.assert_no_console_errors()  # nothing was sent and refused
+
+    def test_the_startup_script_keeps_its_name(self):
+        """Delete and rename of a device's startup script are refused with
+        the reason (another device's too: the fleet shares the store); the
+        files and the choices stay, and a refused rename leaves no copy."""
+        with tempfile.TemporaryDirectory(prefix="wsgsim-store-") as store:
+            for name in ("hello.lua", "other.lua"):
+                with open(os.path.join(store, name), "w") as f:
+                    f.write("print('hello')\n")
+            with Wsgsim("--script-dir", store, "--devices", "2") as sim:
+                for device, name in ((0, "hello.lua"), (1, "other.lua")):
+                    self.assertEqual(request(sim.url("/api/devices/%d/script/startup" % device),
+                                             "PUT", {"file": "/user/" + name}).status, 200)
+                self.open_page(sim)
+                self.show_view("scripting")
+                self.wait_for("the files listed", lambda d: len(d.find_elements(
+                    By.CSS_SELECTOR, "#file-list tr")) == 2)
+                self.click("#file-list button[aria-label='Delete hello.lua']")
+                self.wait_for("the confirmation", expected.alert_is_present()).accept()
+                self.wait_for_text_start("files-result", "delete hello.lua: E_NOT_AVAILABLE")
+                self.assertTrue(self.text("files-result").endswith(
+                    ": hello.lua is device 0's startup script: choose another startup script "
+                    "or none first"), self.text("files-result"))
+                self.click("#file-list button[aria-label='Rename hello.lua']")
+                self.wait_for_text("files-result", "rename hello.lua: it is the startup script: "
+                                   "choose another or none first (Settings → System)")
+                self.click("#file-list button[aria-label='Rename other.lua']")
+                prompt = self.wait_for("the new name's prompt", expected.alert_is_present())
+                prompt.send_keys("moved.lua")
+                prompt.accept()
+                self.wait_for_text_start("files-result", "rename other.lua: E_NOT_AVAILABLE")
+                self.assertIn("device 1's startup script", self.text("files-result"))
+                self.wait_for("the list as it was", lambda d: d.execute_script(
+                    "return [...document.querySelectorAll('#file-list tr')]"
+                    ".map((row) => row.dataset.name).sort()") == ["hello.lua", "other.lua"])
+                self.assertEqual(sorted(os.listdir(store)), ["hello.lua", "other.lua"])
+                self.assert_no_console_errors(refused=2)
+
     def test_read_only_store_and_the_startup_script(self):
         with tempfile.TemporaryDirectory(prefix="wsgsim-startup-") as tmp:
             startup = os.path.join(tmp, "hello.lua")
@@ -531,15 +657,15 @@ class PageTest(unittest.TestCase):
                     By.CSS_SELECTOR, "#file-new button").is_enabled())
                 self.click("#file-list button[aria-label='Open hello.lua']")
                 self.wait_for_text("editor-file", "/user/hello.lua")
-                editor = self.driver.find_element(By.ID, "editor-text")
-                self.assertEqual(editor.get_attribute("value"), "print('started at power-on')\n")
-                self.assertEqual(editor.get_attribute("readonly"), "true")
+                self.assertEqual(self.editor_text(), "print('started at power-on')\n")
+                self.assertIs(self.js("return document.querySelector('.CodeMirror')"
+                                      ".CodeMirror.getOption('readOnly')"), True)
                 self.assertFalse(self.driver.find_element(By.ID, "script-save").is_enabled())
                 self.assertFalse(self.driver.find_element(
                     By.CSS_SELECTOR, "#file-list button[aria-label='Delete hello.lua']")
                     .is_enabled())
-                self.click("#script-run")  # runs without saving
-                self.wait_for_text_start("script-result", "run /user/hello.lua: started")
+                self.click("#script-run")  # runs without saving, prints and ends
+                self.wait_for_text("script-result", "run /user/hello.lua: finished")
                 self.assert_no_console_errors()
 
     def test_settings_choose_the_startup_script(self):
@@ -614,6 +740,314 @@ class PageTest(unittest.TestCase):
                 self.assertEqual(control("RESET()"), "ACK RESET")
                 self.wait_for_text_start("sys-uptime", "0:00:00 (0.000 s)")
             self.assert_no_console_errors()
+
+    # ------------------------------------------------- the page's states
+
+    def test_screenshots_of_the_device_states(self):
+        """Fresh, homed, moving (the clock paused mid-MOVE) and holding, each
+        as the live view and the motion view show it."""
+        with Wsgsim("--part", "40", paused=True) as sim, sim.tcp() as client, \
+                sim.control() as control:
+            self.open_page(sim)
+            self.wait_for_text("sim-time", "0.000")
+            self.shot("fresh")
+            self.home_paused(client, control)
+            self.wait_for_flag("SF_REFERENCED")
+            self.wait_for_text("motion-text", "none")
+            self.shot("homed")
+            client.expect("MOVE(80)", "ACK MOVE")
+            control.step(150)
+            self.wait_for_text("motion-text", "move")
+            self.wait_for_flag("SF_MOVING")
+            self.shot("moving")
+            self.show_view("motion")
+            self.shot("moving-motion-view")
+            control.step_until(client, "FIN MOVE", step_ms=20)
+            client.expect("GRIP(30)", "ACK GRIP")
+            control.step_until(client, "FIN GRIP", step_ms=20)
+            control.step(1000)
+            self.wait_for_text("m-grip-state", "HOLDING (4)")
+            self.shot("holding-motion-view")
+            self.show_view("live")
+            self.wait_for("the part held", lambda d: "held" in d.find_element(
+                By.ID, "part").get_attribute("class"))
+            self.shot("holding")
+            self.assert_no_console_errors()
+
+    def test_move_faster_than_the_stroke(self):
+        """The speed field is not capped by the stroke (110 mm): MOVE at
+        200 mm/s runs, as GCL's MOVE(40, 200) does; a speed beyond the
+        model's 420 mm/s is the device's refusal, in words."""
+        with Wsgsim(paused=True) as sim, sim.tcp() as client, sim.control() as control:
+            self.home_paused(client, control)
+            self.open_page(sim)
+            self.show_view("motion")
+            speed = self.driver.find_element(By.CSS_SELECTOR, "#op-move input[name=speed_mm_s]")
+            self.wait_for("the speed's range", lambda d: speed.get_attribute("max") == "420")
+            self.assertIn("(5–420 mm/s)", speed.find_element(By.XPATH, "..").text)
+            self.fill("#op-move input[name=position_mm]", 40)
+            self.fill("#op-move input[name=speed_mm_s]", 200)
+            self.click("#op-move button")
+            self.wait_for_text_start("op-result", "MOVE: E_SUCCESS")
+            control.step(300)  # past the ramp (0.2 s at 1000 mm/s²), at full speed
+            self.assertEqual(client.query_float("SPEED"), 200.0)
+            self.assertEqual(control.run_until_done()[1], "done")
+            self.fill("#op-move input[name=speed_mm_s]", 500)
+            self.click("#op-move button")
+            self.wait_for_text("op-result", "MOVE: E_RANGE_ERROR (28): the device refused: "
+                               "Range error — speed 500 mm/s is outside 5–420 mm/s")
+            self.assert_no_console_errors(refused=1)
+
+    def test_paused_clock_is_shown_on_every_view(self):
+        with Wsgsim(paused=True) as sim, sim.control() as control, sim.tcp() as client:
+            self.open_page(sim)
+            # at t = 0 the fingers have not started: said so, not "none … no data"
+            self.wait_for_text_start("fingers", "Slot 0: starting")
+            self.assertIn("the clock is paused", self.text("fingers"))
+            self.assertNotIn("no data", self.text("fingers"))
+            self.shot("paused-clock")
+            for view in VIEWS:
+                self.show_view(view)
+                self.assertTrue(self.driver.find_element(By.ID, "clock-pill").is_displayed())
+                self.assertEqual(self.driver.find_element(By.ID, "clock-text").text,
+                                 "clock paused at 0.000 s")
+                self.assertTrue(self.driver.find_element(By.ID, "clock-step").is_displayed())
+                self.assertTrue(self.driver.find_element(By.ID, "clock-resume").is_displayed())
+            self.show_view("motion")
+            client.expect("FSACK()", "ACK FSACK")
+            self.click("#op-home button")  # HOME waits for the clock: said so
+            self.wait_for_text_start("op-done", "HOME running since 0.000 s — the clock is paused")
+            self.shot("paused-clock-motion-view")
+            self.click("#clock-step")  # from the motion view
+            self.wait_for_text("clock-result", "clock: stepped 100 ms: the clock stands at "
+                               "0.100 s")
+            self.assertEqual(control.json("SIMTIME?")[0], 100)
+            self.wait_for_text("clock-text", "clock paused at 0.100 s")
+            self.show_view("live")
+            self.wait_for_text_start("fingers", "Slot 0: fmf")
+            self.click("#clock-resume")
+            self.wait_for_text_start("clock-text", "clock running")
+            self.assertFalse(self.driver.find_element(By.ID, "clock-pill").is_displayed())
+            self.assertTrue(self.driver.find_element(By.ID, "clock-pause").is_displayed())
+            self.assert_no_console_errors()
+
+    def test_status_area_on_every_view_faults_in_alarm_style(self):
+        with Wsgsim(paused=True) as sim, sim.control() as control, sim.tcp() as client:
+            self.home_paused(client, control)
+            self.open_page(sim)
+            self.wait_for_chip("SF_REFERENCED")
+            self.assertEqual(control('FAULT("POWER")'), "ACK FAULT")
+            self.wait_for_chip("SF_POWER_FAULT")
+            colour = "return getComputedStyle(arguments[0]).backgroundColor"
+            for view in VIEWS:
+                self.show_view(view)
+                chips = dict(self.status_chips())
+                self.assertEqual(chips["SF_FAST_STOP"], "chip fault")
+                self.assertEqual(chips["SF_POWER_FAULT"], "chip fault")
+                self.assertEqual(chips["SF_REFERENCED"], "chip state")
+                fault, plain = (self.driver.find_element(
+                    By.CSS_SELECTOR, "#status-flags li[data-name=%s]" % name)
+                    for name in ("SF_POWER_FAULT", "SF_REFERENCED"))
+                self.assertTrue(fault.is_displayed())
+                self.assertNotEqual(self.js(colour, fault), self.js(colour, plain))
+                self.assertEqual(fault.get_attribute("textContent"), "!SF_POWER_FAULT (fault)")
+            # faults first; the live view's grid tells them apart as well
+            self.assertEqual([name for name, _ in self.status_chips()][:2],
+                             ["SF_FAST_STOP", "SF_POWER_FAULT"])
+            grid = {name: self.driver.find_element(By.CSS_SELECTOR, "#flags li[data-name=%s]" %
+                                                   name)
+                    for name in ("SF_REFERENCED", "SF_FAST_STOP", "SF_POWER_FAULT")}
+            self.assertEqual(self.js(colour, grid["SF_FAST_STOP"]),
+                             self.js(colour, grid["SF_POWER_FAULT"]))
+            self.assertNotEqual(self.js(colour, grid["SF_FAST_STOP"]),
+                                self.js(colour, grid["SF_REFERENCED"]))
+            self.assertEqual(grid["SF_POWER_FAULT"].get_attribute("textContent"),
+                             "!SF_POWER_FAULT: set, a fault")
+            self.assertEqual(control('CLEAR("POWER")'), "ACK CLEAR")
+            client.expect("FSACK()", "ACK FSACK")
+            self.wait_for("the faults to go", lambda d: "SF_FAST_STOP" not in dict(
+                self.status_chips()))
+            self.assert_no_console_errors()
+
+    def test_part_around_the_jaws(self):
+        """A part wider than the jaws' opening lies around them (STATE?'s
+        side): drawn as a ring around the jaws, and a MOVE wider than it is
+        blocked with a visible reason."""
+        with Wsgsim(paused=True) as sim, sim.control() as control, sim.tcp() as client:
+            self.home_paused(client, control)
+            client.expect("MOVE(20)", "ACK MOVE")
+            control.step_until(client, "FIN MOVE", step_ms=50)
+            self.assertEqual(control("PART(50)"), "ACK PART")
+            self.assertIn('"side":"outside"', control("STATE?"))
+            self.open_page(sim)
+            self.wait_for_text("part-text", "50.0 mm, around the jaws (blocks opening)")
+            box = ("const r = document.getElementById(arguments[0]).getBoundingClientRect();"
+                   "return [r.left, r.right];")
+            jaw_left, jaw_right = self.js(box, "jaw-left"), self.js(box, "jaw-right")
+            wall_minus, wall_plus = self.js(box, "part-wall-minus"), self.js(box, "part-wall-plus")
+            self.assertLessEqual(wall_minus[1], jaw_left[0] + 0.5)  # outside the left jaw
+            self.assertGreaterEqual(wall_plus[0], jaw_right[1] - 0.5)  # outside the right jaw
+            self.assertFalse(self.driver.find_element(By.ID, "part-body").is_displayed())
+            client.expect("MOVE(80)", "ACK MOVE")  # opens onto the ring
+            control.step_until(client, "ERR MOVE 29", step_ms=50)
+            self.wait_for_chip("SF_BLOCKED_PLUS")
+            self.assertEqual(dict(self.status_chips())["SF_BLOCKED_PLUS"], "chip warning")
+            self.shot("part-around-the-jaws")
+            self.assert_no_console_errors()
+
+    def test_tactile_map_empties_after_fast_stop(self):
+        with Wsgsim("--part", "40", paused=True) as sim, sim.control() as control, \
+                sim.tcp() as client:
+            self.home_paused(client, control)
+            client.expect("GRIP(40)", "ACK GRIP")
+            control.step_until(client, "FIN GRIP", step_ms=20)
+            control.step(500)
+            self.open_page(sim)
+            dsa = "#fingers .finger:nth-child(2) .fdata"
+            self.wait_for("the squeezed map", lambda d: "peak" in d.find_element(
+                By.CSS_SELECTOR, dsa).text)
+            client.expect("FASTSTOP()", "ACK FASTSTOP")
+            control.step(200)
+            cells = client.command("FDATA[1]?").split("=", 1)[1].strip("[]").split(",")
+            self.assertEqual(max(int(cell) for cell in cells), 0)  # GCL reads it empty
+            self.wait_for("the empty map", lambda d: d.find_element(
+                By.CSS_SELECTOR, dsa).text == "14 × 6 tactile map, no contact (all cells 0)")
+            self.wait_for_text_start("faststop-cause", "the drive is off")
+            self.shot("fast-stop")
+            self.assert_no_console_errors()
+
+    def test_settings_errors_in_user_terms(self):
+        with Wsgsim() as sim:
+            self.open_page(sim)
+            self.show_view("settings")
+            self.wait_for_text("setting-range-force_n", "5–80 N")
+            ranges = self.js("return Object.fromEntries([...document.querySelectorAll("
+                             "'.setting input[type=number]')].map((input) => [input.name, "
+                             "input.parentElement.querySelector('.range').textContent]))")
+            self.assertEqual(ranges, {"pwt_mm": "0–110 mm", "clt_mm": "0–110 mm",
+                                      "pullback_mm": "0–110 mm", "force_n": "5–80 N",
+                                      "speed_mm_s": "5–420 mm/s", "accel_mm_s2":
+                                      "100–5000 mm/s²", "soft_limit_minus_mm": "0–110 mm",
+                                      "soft_limit_plus_mm": "0–110 mm"})
+            self.fill("#setting-force_n", 500)
+            self.click("#settings-apply")
+            self.wait_for_text("setting-error-force_n", "grip force 500 N is out of range: "
+                               "5–80 N; the device keeps 40 N")
+            self.assertEqual(self.text("settings-result"), "not applied: grip force 500 N is "
+                             "out of range: 5–80 N. Nothing was changed (E_RANGE_ERROR).")
+            self.assertNotIn("force_n", self.text("settings-result"))
+            field = self.driver.find_element(By.ID, "setting-force_n")
+            self.assertEqual(field.get_attribute("value"), "40")  # the value in force again
+            self.assertEqual(request(sim.url("/api/devices/0/settings")).json()["force_n"], 40)
+            self.shot("settings-error")
+            self.assert_no_console_errors(refused=1)
+
+    def test_script_editor_marks_the_error_line(self):
+        with tempfile.TemporaryDirectory(prefix="wsgsim-store-") as store:
+            with open(os.path.join(store, "bad.lua"), "w") as f:
+                f.write("-- a script with a mistake\nlocal x = 1\nx = = 2\nprint(x)\n")
+            with Wsgsim("--script-dir", store) as sim:
+                self.open_page(sim)
+                self.show_view("scripting")
+                self.wait_for("bad.lua listed", lambda d: d.find_elements(
+                    By.CSS_SELECTOR, "#file-list tr[data-name='bad.lua']"))
+                self.click("#file-list button[aria-label='Open bad.lua']")
+                self.wait_for_text("editor-file", "/user/bad.lua")
+                # numbered and highlighted lines (CodeMirror's Lua mode)
+                numbers = self.js("return [...document.querySelectorAll("
+                                  "'.CodeMirror-linenumber')].map((n) => n.textContent)"
+                                  ".filter((n) => n !== '')")
+                self.assertEqual(numbers[:4], ["1", "2", "3", "4"])
+                self.assertTrue(self.driver.find_elements(By.CSS_SELECTOR, ".cm-keyword"))
+                self.assertTrue(self.driver.find_elements(By.CSS_SELECTOR, ".cm-comment"))
+                self.click("#script-run")
+                self.wait_for_text_start("script-error-text", "error: bad.lua:3:")
+                self.wait_for("the line marked", lambda d: self.js(
+                    "return [...document.querySelectorAll('.CodeMirror-code > div')].findIndex("
+                    "(line) => line.querySelector('.error-line'))") == 2)
+                self.assertEqual(len(self.driver.find_elements(By.CSS_SELECTOR,
+                                                               ".error-marker")), 1)
+                # the green "started" gave way to the error
+                self.wait_for_text("script-result", "run /user/bad.lua: stopped with an error "
+                                   "at line 3 (SF_SCRIPT_FAILURE)")
+                self.assertIn("error", self.driver.find_element(
+                    By.ID, "script-result").get_attribute("class"))
+                self.assertEqual(self.driver.find_element(By.ID, "script-error-line").text,
+                                 "Show line 3")
+                self.shot("script-error")
+                self.set_editor("-- fixed\nlocal x = 1\nx = 2\nprint(x)\n")
+                self.assertFalse(self.driver.find_elements(By.CSS_SELECTOR, ".error-marker"))
+                self.click("#script-run")
+                self.wait_for_text("script-result", "run /user/bad.lua: finished")
+                self.assertEqual(self.text("script-error-text"), "")
+                self.assert_no_console_errors()
+
+    def assert_fits(self, view):
+        """Nothing wider than the window, no flag name cut, the jaws'
+        label clear of the jaws."""
+        wide = self.js("""
+            const width = document.documentElement.clientWidth;
+            return [document.documentElement.scrollWidth - width,
+                    [...document.querySelectorAll('body *')].filter((e) => {
+                      const r = e.getBoundingClientRect();
+                      return r.width > 0 && r.right > width + 0.5 && !e.closest('.CodeMirror');
+                    }).map((e) => e.tagName + '#' + e.id + '.' + e.className).slice(0, 5)]""")
+        self.assertEqual(wide, [0, []], view)
+        cut = self.js("return [...document.querySelectorAll('#flags li, #status-flags li')]"
+                      ".filter((e) => e.scrollWidth > e.clientWidth + 1).map((e) => e.textContent)")
+        self.assertEqual(cut, [], view)
+
+    def test_narrow_window_and_the_server_gone(self):
+        self.driver.set_window_size(*NARROW)
+        try:
+            self.narrow_window_and_the_server_gone()
+        finally:
+            self.driver.set_window_size(*(int(n) for n in WINDOW.split(",")))
+
+    def narrow_window_and_the_server_gone(self):
+        with tempfile.TemporaryDirectory(prefix="wsgsim-store-") as store, \
+                Wsgsim("--script-dir", store, paused=True) as sim, \
+                sim.control() as control, sim.tcp() as client:
+            self.home_paused(client, control)
+            client.expect("MOVE(8)", "ACK MOVE")  # the jaws closer than their label is wide
+            control.step_until(client, "FIN MOVE", step_ms=50)
+            self.open_page(sim)
+            self.wait_for_text("width", "8.0")
+            overlap = self.js("""
+                const box = (id) => document.getElementById(id).getBoundingClientRect();
+                const text = box('span-text');
+                return ['jaw-left', 'jaw-right', 'part'].filter((id) => {
+                  const r = box(id);
+                  return r.width > 0 && text.right > r.left && text.left < r.right &&
+                         text.bottom > r.top && text.top < r.bottom;
+                });""")
+            self.assertEqual(overlap, [])
+            # the chart's legend outside its drawing
+            self.wait_for("the chart", lambda d: d.find_elements(By.CSS_SELECTOR, "#chart canvas"))
+            self.wait_for("the legend", lambda d: "width (mm)" in self.text("chart-legend"))
+            legend = self.js("""
+                const legend = document.getElementById('chart-legend').getBoundingClientRect();
+                const chart = document.querySelector('#chart canvas').getBoundingClientRect();
+                return [legend.bottom <= chart.top + 0.5,
+                        document.querySelectorAll('#chart .dygraph-legend').length];""")
+            self.assertEqual(legend, [True, 0])  # above the drawing, none inside it
+            for view in ("live", "motion", "settings", "scripting", "system"):
+                self.show_view(view)
+                if view == "settings":
+                    self.wait_for("the settings", lambda d: d.find_elements(
+                        By.ID, "setting-pwt_mm"))
+                self.assert_fits(view)
+                self.shot("narrow-420-" + view)
+            self.show_view("live")
+            sim.stop()  # the server gone
+            self.wait_for("the offline banner", lambda d: d.find_element(
+                By.ID, "offline-banner").is_displayed())
+            self.assertIn("the values shown are from simulated time", self.text("offline-text"))
+            grey = self.js("return getComputedStyle(document.querySelector('#readouts dd'))"
+                           ".opacity")
+            self.assertLess(float(grey), 1.0)
+            self.assertIn("stale", self.js("return document.body.className"))
+            self.shot("server-gone")
 
 
 def main():

@@ -2,6 +2,7 @@
 /* The core on the loopback bus: FTYPE/FFLAGS/FDATA/TARE, force control,
  * comm-fault detection and recovery, fault injection. */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "can_harness.h"
@@ -126,6 +127,48 @@ START_TEST(force_control_regulates_on_the_fmf)
 }
 END_TEST
 
+/* The largest cell of the DSA map FDATA[1]? reads. */
+static unsigned dsa_peak(void)
+{
+    const char *reply = t_ask("FDATA[1]?");
+    const char *at = strstr(reply, "=[");
+    ck_assert_msg(at != NULL, "%s", reply);
+    unsigned peak = 0;
+    while (at != NULL && *at != '\0' && *at != ']') {
+        unsigned long cell = strtoul(at + (*at == '=' ? 2 : 1), NULL, 10);
+        peak = cell > peak ? (unsigned)cell : peak;
+        at = strchr(at + 1, ',');
+    }
+    return peak;
+}
+
+/* The fingers measure what the jaws press: when the force drops as the
+ * drive goes off, the DSA map empties too, whenever in the DSA's 50 ms
+ * transfer period it happens, with the FMF's force loop ending at the same
+ * time or without one; the bus then sleeps again. */
+START_TEST(fingers_follow_the_force_after_fast_stop)
+{
+    static const char *const finger_sets[] = {"fmf,dsa", "none,dsa"};
+    for (unsigned set = 0; set < 2u; set++) {
+        for (uint32_t phase_ms = 0; phase_ms < FBUS_BULK_PERIOD_US / 1000u; phase_ms += 5u) {
+            t_start(finger_sets[set]);
+            grip_part(40.0f, 500 + phase_ms);
+            ck_assert_uint_gt(dsa_peak(), 1000u);
+            ck_assert_str_eq(t_ask("FASTSTOP()"), "ACK FASTSTOP");
+            t_run_ms(200);
+            ck_assert_float_eq_tol(h_world.axis.force_n, 0.0f, 0.01f);
+            ck_assert_msg(dsa_peak() == 0u, "%s, FAST STOP %u ms into the period: DSA peak %u",
+                          finger_sets[set], (unsigned)phase_ms, dsa_peak());
+            if (set == 0u) {
+                ck_assert_float_eq_tol(t_ask_float("FDATA[0]?"), 0.6f, 0.1f); /* its offset */
+            }
+            t_run_ms(1000);
+            ck_assert_uint_eq(wsg_device_next_deadline_us(&h_dev), UINT64_MAX);
+        }
+    }
+}
+END_TEST
+
 START_TEST(tared_fmf_gives_the_true_force)
 {
     t_start("fmf,none");
@@ -178,7 +221,7 @@ static void note_slot0_frames(void *ctx, const hal_can_frame_t *frame, uint64_t 
     }
 }
 
-/* Every device of a fleet has a bus of its own (issue 19): a fault sent on
+/* Every device of a fleet has a bus of its own: a fault sent on
  * another bus reaches neither this bus nor its gripper. */
 START_TEST(another_bus_is_independent)
 {
@@ -309,7 +352,7 @@ START_TEST(bus_frame_rates)
 }
 END_TEST
 
-/* An idle device on the in-process bus has nothing due (issue 11, point 7),
+/* An idle device on the in-process bus has nothing due,
  * and the fingers are as they were when it next steps. */
 START_TEST(idle_bus_sleeps_and_wakes_intact)
 {
@@ -556,6 +599,7 @@ Suite *bus_suite(void)
     tcase_add_test(tc, two_dsa_fingers_fit_one_reply);
     tcase_add_test(tc, force_control_regulates_on_the_fmf);
     tcase_add_test(tc, tared_fmf_gives_the_true_force);
+    tcase_add_test(tc, fingers_follow_the_force_after_fast_stop);
     tcase_add_test(tc, comm_fault_within_timeout_and_recovery);
     tcase_add_test(tc, comm_fault_at_its_step_between_broadcasts);
     tcase_add_test(tc, power_and_init_faults);

@@ -173,7 +173,7 @@ START_TEST(replies_are_bounded_by_what_the_peer_sent)
 }
 END_TEST
 
-/* Issue 18, point 1: one spoofed datagram subscribing to a stream made the
+/* One spoofed datagram subscribing to a stream made the
  * device send to its victim for the whole peer timeout (600 datagrams/s
  * for 60 s). Updates now pay from the same budget as replies. */
 START_TEST(a_one_shot_subscription_earns_at_most_its_budget)

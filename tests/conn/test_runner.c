@@ -114,7 +114,7 @@ static unsigned run_deadlines_until(uint64_t t)
 /* A client polling POS? every 0.5 ms (faster than the 1 ms control tick)
  * while a MOVE runs: each query senses the device, and the next control
  * step used to count its tick from that sense, so no step ever came and
- * the MOVE never ended (issue 18, point 7). */
+ * the MOVE never ended. */
 START_TEST(queries_faster_than_the_tick_do_not_postpone_steps)
 {
     feed("HOME()\n");

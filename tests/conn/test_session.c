@@ -365,7 +365,7 @@ START_TEST(hooks_survive_reset)
 }
 END_TEST
 
-/* Observers are lists (issue 19): each node says who it is through its ctx,
+/* Observers are lists: each node says who it is through its ctx,
  * and every call is logged as "<who><what>" in the order it happened. */
 static char calls[64];
 
@@ -536,7 +536,7 @@ static const wsg_proto_driver_t probe_driver = {
     probe_done, probe_busy,   probe_close, NULL,
 };
 
-/* Issue 18, point 4: a port tells a connection stuck inside a message (it
+/* A port tells a connection stuck inside a message (it
  * may hold a slot forever) from one quiet between commands. */
 START_TEST(a_connection_tells_a_partial_message_from_a_quiet_one)
 {

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* With a WSG-FMF finger (the host's default fingers): the force it reports
- * after homing, and part detection right after homing (issue 9, point 2). */
+ * after homing, and part detection right after homing. */
 #include <check.h>
 #include <stdlib.h>
 #include <string.h>

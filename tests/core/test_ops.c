@@ -235,7 +235,7 @@ START_TEST(settings_are_checked_on_a_copy_as_the_device_checks_them)
 }
 END_TEST
 
-/* The tag is checked once, here, for every front end (issue 18): a byte
+/* The tag is checked once, here, for every front end: a byte
  * that could end or forge a GCL reply line is refused and the tag stays. */
 START_TEST(tag_refuses_what_could_forge_a_reply)
 {
@@ -254,7 +254,7 @@ START_TEST(tag_refuses_what_could_forge_a_reply)
 }
 END_TEST
 
-/* The settings the web page added (issue 13): the pull-back distance within
+/* The settings the web page added: the pull-back distance within
  * the stroke, the two command-interface switches. */
 START_TEST(page_settings_are_device_state)
 {

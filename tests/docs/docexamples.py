@@ -1,8 +1,8 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """The command examples of README.md and docs/*.md, read from the files and
-run the way a reader pastes them (issue 17, point 3).
+run the way a reader pastes them.
 
-The convention (README.md, "Examples in these documents"): every fenced
+The convention (docs/development.md, "Examples in these documents"): every fenced
 block names its kind in its info string, `KIND [ATTRIBUTE]...`:
 
   sh          shell commands, run in order, each must exit 0

@@ -18,6 +18,33 @@ class Documents(unittest.TestCase):
         self.assertGreaterEqual(len(runnable), 6, runnable)
 
 
+class QuickStart(unittest.TestCase):
+    """README.md opens with the first ten minutes of a newcomer: run it, open
+    the page, connect a client, run a driver's test. Every step but the
+    first (which is `make run` itself) is an example the suite runs, so the
+    quick start works when pasted (test_README_md runs them)."""
+
+    def test_the_readme_starts_with_the_four_steps(self):
+        with open(os.path.join(ROOT, "README.md"), encoding="utf-8") as f:
+            text = f.read()
+        sections = [line for line in text.splitlines() if line.startswith("## ")]
+        self.assertEqual(sections[:2], ["## The first ten minutes", "## The two commands"])
+        quick = text.split("## The first ten minutes", 1)[1].split("\n## ", 1)[0]
+        steps = ["**1. Run it.**", "**2. Open the page**", "**3. Connect a client.**",
+                 "**4. Run a driver's test.**"]
+        self.assertEqual([step for step in steps if step in quick], steps)
+        end = text[:text.index("## The two commands")].count("\n")  # its last line
+        blocks = [b for b in read_blocks("README.md") if b.line < end]
+        runs = [b.text for b in blocks if b.runs]
+        self.assertTrue(any("curl" in t and "8080" in t for t in runs), "the page, fetched")
+        self.assertTrue(any("nc localhost 1000" in t for t in runs), "a GCL client")
+        self.assertTrue(any("pytest" in t and "wsgsim.pytest_plugin" in t for t in runs),
+                        "a driver's test")
+        self.assertTrue(all(b.output is not None for b in blocks if b.runs),
+                        "each step shows what it prints")
+        self.assertIn("make run", [b.text.strip() for b in blocks if b.kind == "sh"])
+
+
 def add_document_test(document):
     def test(self):
         failures = run_document(document)

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""Abuse: hostile and broken clients against build/wsgsim (issue 6).
+"""Abuse: hostile and broken clients against build/wsgsim.
 
 Every test first puts the device into a known state through a "keeper"
 connection (homed, jaws at 42 mm, VERBOSE=1, PWT=3.5 on the keeper), abuses

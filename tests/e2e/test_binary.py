@@ -137,7 +137,7 @@ class TcpTransport(BinaryCase):
         self.assertEqual(self.gcl().command("TAG?"), 'TAG="lab"')
 
     def test_a_tag_cannot_forge_a_gcl_reply(self):
-        """Issue 18: 0x51 with a line break, a quote or a byte beyond ASCII
+        """0x51 with a line break, a quote or a byte beyond ASCII
         is refused (E_INVALID_PARAMETER), so TAG? stays one line."""
         self.start()
         binary = self.bin_tcp()
@@ -156,12 +156,13 @@ class Tools(BinaryCase):
         binary = self.bin_tcp()
         self.reply(binary, 0x21, move_payload(50.0, 100.0), status=3)  # not homed
         log = self.sim.drain_log()
-        self.assertIn("< 0x21 preposition [9] 00 00 00 48 42 00 00 c8 42", log)
-        self.assertIn("> 0x21 preposition status 3 (", log)
+        # from the client's side, as the record: '>' the request it sent
+        self.assertIn("> 0x21 preposition [9] 00 00 00 48 42 00 00 c8 42", log)
+        self.assertIn("< 0x21 preposition status 3 (", log)
         self.sim.stop()
         with open(record) as f:
             text = f.read()
-        self.assertIn("< \\xaa\\xaa\\xaa!\\x09\\x00", text)
+        self.assertIn("> \\xaa\\xaa\\xaa!\\x09\\x00", text)
 
     def test_coverage_lists_ids_and_statuses(self):
         report = os.path.join(self.tmp(), "coverage.json")

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""The conventions of a well-kept Linux daemon (issue 14): help and version,
+"""The conventions of a well-kept Linux daemon: help and version,
 log levels and timestamps, SIGHUP reopening the log, record and CAN log
 files, the ready file and systemd's READY=1, --list-models --json, one
 error-prefix style, and listening on names and IPv6."""
@@ -106,6 +106,30 @@ class ErrorStyle(Case):
                 self.assertTrue(lines, "no message")
                 for line in lines:
                     self.assertTrue(line.startswith("wsgsim: "), "%r: %r" % (args, line))
+
+    def test_errors_say_what_would_be_accepted(self):
+        """A refused value's error gives the way to a good one: the models,
+        the range, the item of a list that is wrong."""
+        expected = {
+            ("--model", "foo"): ["unknown --model 'foo'", "'WSG 50-110', 'WSG 50-210', "
+                                 "'WSG 32-068', 'WSG 25-064'", "--list-models"],
+            ("--tcp-port", "70000"): ["invalid --tcp-port '70000'", "from 0 to 65535",
+                                      "0: a free port"],
+            ("--http-port", "x"): ["from 0 to 65535", "0: off"],
+            ("--fingers", "fmf,xyz"): ["invalid --fingers 'fmf,xyz': 'xyz' is no finger",
+                                       "none, generic, fmf or dsa"],
+            ("--fingers", "abc,dsa"): ["'abc' is no finger"],
+            ("--fingers", "fmf,dsa,fmf"): ["two fingers at most"],
+            ("--devices", "0"): ["invalid --devices '0': expected an integer from 1 to 10000"],
+            ("--max-clients", "500"): ["from 1 to 128"],
+        }
+        for args, parts in expected.items():
+            with self.subTest(args=args):
+                result = run(*args)
+                self.assertEqual(result.returncode, 2, result.stderr)
+                self.assertEqual(len(result.stderr.splitlines()), 1, result.stderr)
+                for part in parts:
+                    self.assertIn(part, result.stderr)
 
     def test_prefix_is_the_name_not_the_path(self):
         result = subprocess.run([os.path.abspath(binary()), "--bogus"], capture_output=True,

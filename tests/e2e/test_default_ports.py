@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """wsgsim on its default ports, each run in a network namespace of its own
-(netns.py), so the ports are free or taken exactly as the test says
-(issue 17, point 3): where UDP goes when only --tcp-port is given, one error
+(netns.py), so the ports are free or taken exactly as the test says:
+where UDP goes when only --tcp-port is given, one error
 line for a taken port, and a clean debug log of the web server's start."""
 import os
 import tempfile
@@ -55,7 +55,9 @@ class TakenPorts(unittest.TestCase):
         self.assertEqual(result["rc"], 2, result["stderr"])
         errors = error_lines(result["stderr"])
         self.assertEqual(errors, ["wsgsim: cannot listen on TCP 0.0.0.0:1000: Address already "
-                                  "in use"], result["stderr"])
+                                  "in use (another program, perhaps another wsgsim, has it: "
+                                  "choose another port, or --tcp-port 0 for a free one)"],
+                         result["stderr"])
 
     def test_taken_optional_defaults_are_warnings(self):
         result = start_in_netns(WSGSIM, [], hold=[("tcp", 8080), ("udp", 1500)])
@@ -70,14 +72,16 @@ class TakenPorts(unittest.TestCase):
         result = start_in_netns(WSGSIM, ["--http-port", "8080"], hold=[("tcp", 8080)])
         self.assertEqual(result["rc"], 2, result["stderr"])
         self.assertEqual(error_lines(result["stderr"]),
-                         ["wsgsim: cannot listen on TCP 0.0.0.0:8080: Address already in use"])
+                         ["wsgsim: cannot listen on TCP 0.0.0.0:8080: Address already in use "
+                          "(another program, perhaps another wsgsim, has it: choose another "
+                          "port)"])
 
 
 class WebServerStart(unittest.TestCase):
     def test_debug_log_has_no_option_order_complaint(self):
         result = start_in_netns(WSGSIM, ["--log-level", "debug"])
         self.assertEqual(result["rc"], 0, result["stderr"])
-        self.assertIn("http 0.0.0.0:8080", result["stderr"], "the web server ran")
+        self.assertIn("web page http://127.0.0.1:8080/", result["stderr"], "the web server ran")
         self.assertNotIn("is not the first option", result["stderr"])
 
 

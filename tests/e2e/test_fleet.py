@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""--devices N: N independent grippers in one process (issue 11, point 3).
+"""--devices N: N independent grippers in one process.
 
 Device i listens on TCP and UDP port (base + i), or on free ports of its own
 when the base is 0; its serial number is the configured one plus i and its

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""A fleet like a cell of real grippers (issue 19, points 5 and 6):
+"""A fleet like a cell of real grippers:
 --address-per-device puts device i on the --bind address + i, every device
 at the same ports, with one socket per protocol for the whole fleet. The
 devices are told apart by the destination address (TCP: getsockname() of

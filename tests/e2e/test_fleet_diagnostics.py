@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""--trace, --record and --coverage observe every device of a fleet (issue 19),
+"""--trace, --record and --coverage observe every device of a fleet,
 not only device 0: with more than one device each trace line and each record
 channel names its device ("d2.s1t"), and the coverage report has the fleet's
 total in the usual sections and one report per device under "devices"
@@ -50,18 +50,21 @@ class FleetDiagnostics(unittest.TestCase):
 
     def test_device_2_is_traced_with_its_number(self):
         log, _, _ = self.run_fleet()
-        self.assertRegex(log, r"trace \[[0-9.]+\] d2\.s1t < SN\?")
-        self.assertRegex(log, r"trace \[[0-9.]+\] d2\.s1t > SN=12345680")
-        self.assertRegex(log, r"trace \[[0-9.]+\] d0\.s1t < TAG\?")
+        # from the client's side, as the record: '>' what it sent
+        self.assertRegex(log, r"trace \[[0-9.]+\] d2\.s1t > SN\?")
+        self.assertRegex(log, r"trace \[[0-9.]+\] d2\.s1t < SN=12345680")
+        self.assertRegex(log, r"trace \[[0-9.]+\] d0\.s1t > TAG\?")
         self.assertNotRegex(log, r"trace \[[0-9.]+\] s1t ")
 
     def test_device_2_is_recorded_with_its_number(self):
         _, rows, _ = self.run_fleet()
         lines = [row[2:] for row in rows]
-        self.assertIn(("d2.s1t", "<", "SN?"), lines)
-        self.assertIn(("d2.s1t", ">", "SN=12345680"), lines)
-        self.assertIn(("d2.s1t", ">", "ERR MOVE 3"), lines)
-        self.assertIn(("d0.s1t", "<", "TAG?"), lines)
+        self.assertIn(("d2.s1t", ">", "SN?"), lines)
+        self.assertIn(("d2.s1t", "<", "SN=12345680"), lines)
+        self.assertIn(("d2.s1t", "<", "ERR MOVE 3"), lines)
+        self.assertIn(("d0.s1t", ">", "TAG?"), lines)
+        # each device's state sampled under its own name (at its power-on)
+        self.assertEqual({row[2] for row in rows if row[3] == "="}, {"d0.dev", "d1.dev", "d2.dev"})
 
     def test_coverage_has_each_device_and_the_total(self):
         _, _, report = self.run_fleet()
@@ -84,8 +87,8 @@ class FleetDiagnostics(unittest.TestCase):
         self.assertEqual(self.tcp(sim.tcp_port).command("SN?"), "SN=12345678")
         self.assertEqual(sim.stop(), 0)
         log = "".join(sim.log)
-        self.assertRegex(log, r"trace \[[0-9.]+\] s1t < SN\?")
-        self.assertIn(("s1t", "<", "SN?"), [row[2:] for row in read_record(self.record)])
+        self.assertRegex(log, r"trace \[[0-9.]+\] s1t > SN\?")
+        self.assertIn(("s1t", ">", "SN?"), [row[2:] for row in read_record(self.record)])
         with open(self.coverage) as f:
             report = json.load(f)
         self.assertNotIn("devices", report)

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""Every device of a fleet is a whole device (issue 19): its own finger bus
+"""Every device of a fleet is a whole device: its own finger bus
 with its own fingers, from --fingers or its [device.N] fingers key.
 
 The clock is paused and stepped over the control channel, so the fingers'

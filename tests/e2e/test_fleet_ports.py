@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""The fleet's default ports never collide (issue 18, point 6): with the
+"""The fleet's default ports never collide: with the
 default binary ports (1500, replies to 1501) device i serves binary UDP on
 1500 + 2i and replies to 1501 + 2i, or, when the GCL UDP ports reach into
 that range, on the pairs just past them (host/port/port_layout.c; every N is

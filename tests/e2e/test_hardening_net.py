@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""Network hardening (issue 10, points 1-10): reply loops, reflection, port
+"""Network hardening: reply loops, reflection, port
 sharing, UDP peer eviction, shutdown under load, idle TCP connections,
 half-close, a blocked stderr and descriptor exhaustion.
 
@@ -207,7 +207,7 @@ class Reflection(NetCase):
     def test_autosend_ends_when_the_peer_is_silent_default_60_s(self):
         sim, ctl = self.start("--start-paused", control=True)
         s = self.udp(sim, bind=(OTHER_HOST, 0))
-        s.send(b"\n" * 8000)  # blank lines: no reply, a full budget (issue 18) for the stream
+        s.send(b"\n" * 8000)  # blank lines: no reply, a full budget for the stream
         s.send(b'AUTOSEND("POS",1000)\n')
         self.assertEqual(datagrams_waiting(s, 5), [b"ACK AUTOSEND\n"])
         self.assertGreaterEqual(len(self.stream_after(ctl, s, 59000)), 58)
@@ -222,7 +222,7 @@ class Reflection(NetCase):
         s = self.udp(sim, bind=(OTHER_HOST, 0))
         s.send(b'AUTOSEND("POS",500)\n')
         self.assertEqual(datagrams_waiting(s, 5), [b"ACK AUTOSEND\n"])
-        for _ in range(5):  # a line every 1.5 s keeps it going (and pays for it: issue 18)
+        for _ in range(5):  # a line every 1.5 s keeps it going (and pays for it)
             self.assertGreaterEqual(len(self.stream_after(ctl, s, 1500)), 2)
             s.send(b"POS?\n")
             self.assertTrue(datagrams_waiting(s, 5)[0].startswith(b"POS="))

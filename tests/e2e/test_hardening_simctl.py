@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""Hardening of the control channel, the input files and virtual time
-(issue 10 points 11-15, issue 9 section 5), end to end on build/wsgsim.
+"""Hardening of the control channel, the input files and virtual time, end
+to end on build/wsgsim.
 
 No assertion here depends on how fast the machine is: every check is on
 replies, exit statuses and simulated time."""
@@ -8,6 +8,7 @@ import json
 import os
 import re
 import select
+import socket
 import subprocess
 import tempfile
 import unittest
@@ -155,6 +156,67 @@ class TestSlicedTime(SimctlCase):
         self.assertEqual(len(pos), 1)
         # answered at the simulated instant the step had reached, before its end
         self.assertLess(float(pos[0][0]), 3600.0)
+
+
+def read_to_end(sock):
+    """Every byte the server sends until it closes the connection."""
+    sock.settimeout(60)
+    data = b""
+    while True:
+        chunk = sock.recv(4096)
+        if not chunk:
+            return data
+        data += chunk
+
+
+class TestCrossProtocol(SimctlCase):
+    """A web page can make a browser POST anything to the control port
+    (no-cors, text/plain): the request's lines must run nothing. As Redis
+    does for "POST" and "Host:", a line only HTTP sends closes the
+    connection before anything else it sent runs."""
+
+    BODY = b'PART(40)\nFAULT("POWER")\n'
+
+    def assert_untouched(self, ctl, gcl, flags):
+        self.assertEqual(ctl("PART?"), "PART=[0,0,0,0]")
+        self.assertEqual(ctl("FAULTS?"), "FAULTS=[]")
+        self.assertEqual(gcl.command("SYSFLAGS?"), flags)  # no power fault, no FAST STOP
+        self.assertEqual(ctl("SIMTIME?"), "SIMTIME=[0.000,0.000]")
+
+    def attack(self, sim, *pieces):
+        with socket.create_connection(("127.0.0.1", sim.sim_port), timeout=60) as sock:
+            for piece in pieces:
+                sock.sendall(piece)
+            sock.shutdown(socket.SHUT_WR)  # all sent: a server that reads on answers, then closes
+            return read_to_end(sock)
+
+    def test_a_browsers_post_closes_the_connection_and_runs_nothing(self):
+        sim, ctl = self.start("--start-paused")
+        gcl = sim.tcp()
+        self.addCleanup(gcl.close)
+        flags = gcl.command("SYSFLAGS?")
+        request = (b"POST /x HTTP/1.1\r\nHost: 127.0.0.1:%d\r\nOrigin: http://evil.example\r\n"
+                   b"Content-Type: text/plain\r\nContent-Length: %d\r\n\r\n"
+                   % (sim.sim_port, len(self.BODY)) + self.BODY)
+        self.assertEqual(self.attack(sim, request), b"")  # not one reply: closed at once
+        self.assert_untouched(ctl, gcl, flags)
+
+    def test_request_and_header_lines_anywhere_close_it(self):
+        sim, ctl = self.start("--start-paused")
+        gcl = sim.tcp()
+        self.addCleanup(gcl.close)
+        flags = gcl.command("SYSFLAGS?")
+        # a header line first (a request split by a proxy), a request line
+        # arriving in pieces, and one after a command: answered up to it
+        self.assertEqual(self.attack(sim, b"Host: 127.0.0.1\r\n" + self.BODY), b"")
+        self.assertEqual(self.attack(sim, b"GET /?a=", b"PART(40) HTTP/1.1\r\n\r\n" + self.BODY),
+                         b"")
+        long_target = b"PUT /" + b"a" * 400 + b" HTTP/1.1\r\n"  # longer than a command line
+        self.assertEqual(self.attack(sim, long_target + self.BODY), b"")
+        self.assertEqual(self.attack(sim, b"SIMTIME?\nPOST / HTTP/1.0\n" + self.BODY),
+                         b"SIMTIME=[0.000,0.000]\n")
+        self.assert_untouched(ctl, gcl, flags)
+        self.assertIn("an HTTP request", "".join(sim.log) + sim.drain_log())
 
 
 if __name__ == "__main__":

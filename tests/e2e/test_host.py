@@ -58,7 +58,7 @@ class DriverSequences(HostCase):
 
     def sim_times(self, text):
         """Simulated seconds of each line text wsgsim sent (its --record)."""
-        return [row[0] for row in read_record(self.record) if row[3:] == (">", text)]
+        return [row[0] for row in read_record(self.record) if row[3:] == ("<", text)]
 
     def test_connect_sequence_of_common_drivers(self):
         c = self.tcp()

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""The event loop's cost when nothing happens (issue 11, point 7): with the
+"""The event loop's cost when nothing happens: with the
 simulated clock paused nothing is due, so wsgsim must sleep until a client
 speaks, however many idle connections it holds. A loop that polled on a
 timer or woke for idle descriptors would show up here.

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""The servers' own timeouts on a running clock (issue 11, point 7).
+"""The servers' own timeouts on a running clock.
 
 An idle device (no finger bus, no motion, no subscription) has no deadline,
 so the loop sleeps without a timeout: --idle-timeout and the UDP peer

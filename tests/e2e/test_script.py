@@ -458,5 +458,67 @@ error("gave up")
         self.assertTrue(result.stderr.startswith("wsgsim: --script /nonexistent/cmd_measure.lua"))
 
 
+class HostFiles(ScriptCase):
+    """What the control channel runs from the host: any path the line holds,
+    never blocking on what is not a regular file."""
+
+    def host_dir(self, name="wsgsim-host-"):
+        path = tempfile.mkdtemp(prefix=name)
+        self.addCleanup(shutil.rmtree, path)
+        return path
+
+    def test_script_run_takes_a_host_path_of_100_characters(self):
+        top = self.host_dir()
+        folder = os.path.join(top, "d" * max(1, 100 - len(top) - len("/echo.lua") - 1))
+        os.mkdir(folder)
+        path = os.path.join(folder, "echo.lua")
+        self.assertGreaterEqual(len(path), 100)
+        with open(path, "w") as f:
+            f.write(ECHO)
+        self.start()
+        self.assertEqual(self.ctl('SCRIPT_RUN("%s")' % path), "ACK SCRIPT_RUN")
+        state = self.script_state()
+        self.assertEqual((state["file"], state["running"], state["registered"]),
+                         (path, True, [0xB5]))
+        reply = self.ctl('SCRIPT_RUN("%s")' % (path + "x"))
+        self.assertTrue(reply.startswith("ERR SCRIPT_RUN 21 "), reply)
+
+    def test_a_fifo_blocks_nothing(self):
+        fifo = os.path.join(self.host_dir(), "pipe.lua")
+        os.mkfifo(fifo)
+        store = self.store(dofile_lua="local ok, err = pcall(dofile, 'pipe.lua')\nerror(err, 0)\n",
+                           require_lua="require 'pipe'\n")
+        os.mkfifo(os.path.join(store, "pipe.lua"))
+        self.start(store=store)
+        reply = self.ctl('SCRIPT_RUN("%s")' % fifo)
+        self.assertTrue(reply.startswith("ERR SCRIPT_RUN 21 "), reply)
+        self.assertIn("not a regular file", reply)
+        for name in ("dofile.lua", "require.lua"):
+            self.assertEqual(self.ctl('SCRIPT_RUN("%s")' % name), "ACK SCRIPT_RUN")
+            state = self.script_state()
+            self.assertTrue(state["failure"], name)
+            self.assertIn("not a regular file", state["error"])
+        self.assertEqual(self.ctl("SIMTIME?"), "SIMTIME=[0.000,0.000]")
+
+    def test_a_fleet_device_without_script_options_logs_as_its_index(self):
+        path = os.path.join(self.host_dir(), "hello.lua")
+        with open(path, "w") as f:
+            f.write("print('hello from a fleet')\n")
+        self.start("--devices", "2")
+        self.assertEqual(self.ctl("DEVICE=1"), "DEVICE=1")
+        self.assertEqual(self.ctl('SCRIPT_RUN("%s")' % path), "ACK SCRIPT_RUN")
+        self.assertIn("script[1]: hello from a fleet", self.sim.drain_log())
+
+    def test_a_startup_store_name_must_be_a_lua_file(self):
+        store = self.store(echo_lua=ECHO)
+        os.rename(os.path.join(store, "echo.lua"), os.path.join(store, "echo"))
+        binary = os.environ.get("WSGSIM", os.path.join(HERE, "..", "..", "build", "wsgsim"))
+        result = subprocess.run([binary, "--script-dir", store, "--script", "/user/echo"],
+                                capture_output=True, text=True, timeout=60)
+        self.assertEqual(result.returncode, 2)
+        self.assertEqual(result.stderr, "wsgsim: --script /user/echo: not a store name "
+                                        "(/user/NAME.lua)\n")
+
+
 if __name__ == "__main__":
     unittest.main()

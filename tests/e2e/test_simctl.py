@@ -38,12 +38,13 @@ class SimctlCase(unittest.TestCase):
         ctl.step_until(gcl, "FIN HOME")
 
 
-def grip_cycle_transcript(extra_args=()):
+def grip_cycle_transcript(extra_args=(), recorded=True):
     """A whole grip cycle on the paused clock; returns every line the client
-    received (AUTOSEND included) and the record's sim-time columns."""
+    received (AUTOSEND included) and the record's sim-time columns (None
+    when not recorded)."""
     record = tempfile.mktemp(prefix="wsgsim_record_")
-    sim = Wsgsim("--sim-port", "0", "--start-paused", "--part", "40:120", "--record", record,
-                 *extra_args)
+    sim = Wsgsim("--sim-port", "0", "--start-paused", "--part", "40:120",
+                 *(("--record", record) if recorded else ()), *extra_args)
     sim.start()
     try:
         ctl = sim.control()
@@ -82,6 +83,8 @@ def grip_cycle_transcript(extra_args=()):
         gcl.close()
     finally:
         sim.stop()
+    if not recorded:
+        return lines, None
     with open(record) as f:
         columns = [" ".join(l.split(" ")[:1] + l.split(" ")[2:]) for l in f]
     os.remove(record)
@@ -111,6 +114,41 @@ class TestPausedClock(SimctlCase):
         self.assertEqual(ctl("SIMTIME?"), "SIMTIME=[10.000,0.000]")
         self.assertEqual(ctl("RESUME()"), "ACK RESUME")
         self.assertEqual(gcl.read_line(), "FIN HOME")
+
+
+class TestRecordSamples(SimctlCase):
+    """The record samples the device's own state while it moves or holds
+    (docs/simctl.md, "Record format"), so a session's record shows the
+    motion its commands caused; recording changes nothing a client sees."""
+
+    def test_a_homing_is_sampled_and_rest_is_not(self):
+        record = self.temp("")
+        sim, ctl = self.start("--start-paused", "--record", record)
+        gcl = sim.tcp()
+        self.home(ctl, gcl)
+        self.assertTrue(ctl("STEP(2000)").startswith("STEP="))  # rest
+        self.assertEqual(gcl.command("BYE()"), "ACK BYE")
+        sim.stop()
+        rows = read_record(record)
+        fin = [r[0] for r in rows if r[2:] == ("s1t", "<", "FIN HOME")][0]
+        samples = [(r[0], dict(w.split("=") for w in r[4].split()))
+                   for r in rows if r[2:4] == ("dev", "=")]
+        self.assertEqual(samples[0], (0.0, {"POS": "55.0", "SPEED": "0.0", "FORCE": "0.0",
+                                            "GRIPSTATE": "0"}))
+        moving = [s for s in samples if 0.0 < s[0] < fin]
+        self.assertGreaterEqual(len(moving), 50, "a homing of 1.175 s, every 10 ms")
+        self.assertTrue(all(b[0] - a[0] >= 0.0099 for a, b in zip(moving, moving[1:])),
+                        "at most 100 samples per simulated second")
+        positions = [float(s[1]["POS"]) for s in moving]
+        self.assertEqual(positions, sorted(positions), "the jaws opening, as they did")
+        last = samples[-1][1]
+        self.assertEqual((last["POS"], last["SPEED"], last["GRIPSTATE"]), ("110.0", "0.0", "0"))
+        self.assertLessEqual(samples[-1][0], fin, "nothing sampled while at rest")
+
+    def test_recording_changes_nothing_the_client_sees(self):
+        recorded, _ = grip_cycle_transcript()
+        plain, _ = grip_cycle_transcript(recorded=False)
+        self.assertEqual(recorded, plain)
 
 
 class TestRunUntilDone(SimctlCase):
@@ -199,7 +237,7 @@ class TestScale(SimctlCase):
         return 1000.0 * (distance / speed + speed / acceleration) + settle_ms
 
     def motion_ms(self, record):
-        rows = [r for r in read_record(record) if r[2] == "s1t" and r[3] == ">"]
+        rows = [r for r in read_record(record) if r[2] == "s1t" and r[3] == "<"]
         ack = [r[0] for r in rows if r[4] == "ACK MOVE"]
         fin = [r[0] for r in rows if r[4] == "FIN MOVE"]
         return [(f - a) * 1000.0 for a, f in zip(ack, fin)]
@@ -502,8 +540,10 @@ class TestRecordAndCoverage(SimctlCase):
         self.assertIn("strict: AUTOSEND: an unquoted string", "".join(sim.log))
         with open(record) as f:
             rows = [line.rstrip("\n").split(" ", 4) for line in f if not line.startswith("#")]
-        self.assertIn(["s1t", "<", "MOVE(5)"], [r[2:] for r in rows])
-        self.assertIn(["ctl1", "<", "COVERAGE?"], [r[2:] for r in rows])
+        # from the client's side: '>' what it sent
+        self.assertIn(["s1t", ">", "MOVE(5)"], [r[2:] for r in rows])
+        self.assertIn(["ctl1", ">", "COVERAGE?"], [r[2:] for r in rows])
+        self.assertIn(["s1t", "<", "ERR MOVE 3 Device was not initialized"], [r[2:] for r in rows])
         self.assertTrue(all(re.match(r"^\d+\.\d{6}$", r[0]) and re.match(r"^\d+\.\d{6}$", r[1])
                             for r in rows))
 

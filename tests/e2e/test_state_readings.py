@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """The control channel's STATE? (docs/simctl.md) prints what it measures as
 it measures it: no lag on a paused clock, readings at their resolution,
-booleans as booleans (issue 17, point 3)."""
+booleans as booleans."""
 import json
 import re
 import unittest

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""TCP slots and commands left unfinished (issue 18, point 4; docs/behaviour.md,
+"""TCP slots and commands left unfinished (docs/behaviour.md,
 "Network hardening"): with every --max-clients slot taken and a client
 waiting, a connection that has completed no line or frame for 30 simulated
 seconds, because it stopped inside one or never completed any, gives its

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* The fleet's port layout (host/port/port_layout.c), issue 18 point 6: with the
+/* The fleet's port layout (host/port/port_layout.c): with the
  * default binary ports no two listening ports of any device collide, nor a
  * binary reply port with a port a device listens on, for every allowed
  * number of devices. */

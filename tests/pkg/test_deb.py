@@ -50,7 +50,8 @@ class Packages(unittest.TestCase):
         entry_points = glob.glob(self.path("usr/lib/python3/dist-packages/wsgsim-*.dist-info",
                                            "entry_points.txt"))
         self.assertEqual(len(entry_points), 1)
-        self.assertIn("[pytest11]\nwsgsim = wsgsim.pytest_plugin", open(entry_points[0]).read())
+        self.assertIn("[pytest11]\nwsgsim.pytest_plugin = wsgsim.pytest_plugin",
+                      open(entry_points[0]).read())
 
     def test_man_pages_name_the_files_the_package_ships(self):
         """As shipped: the documents dh_compress compressed by their .gz names."""
@@ -60,6 +61,15 @@ class Packages(unittest.TestCase):
                 named[path] = name
         self.assertIn("/usr/share/doc/wsgsim/README.md.gz", named)
         self.assertIn("/usr/share/wsgsim/finger-bus.dbc", named)
+        # the example configuration by its installed path, also where the
+        # page lists the options (from --help): its reader has no source tree
+        self.assertIn("/usr/share/doc/wsgsim/examples/wsgsim.example.ini", named)
+        with gzip.open(self.path("usr/share/man/man1/wsgsim.1.gz"), "rt") as f:
+            page = f.read()
+        self.assertNotIn("docs/wsgsim.example.ini", page)
+        options = page.split(".SH DESCRIPTION", 1)[1].split(".SH", 1)[0]
+        self.assertIn("--config", options.replace("\\-", "-"))
+        self.assertIn("/usr/share/doc/wsgsim/examples/wsgsim.example.ini", options)
         for path, page in sorted(named.items()):
             self.assertTrue(os.path.isfile(self.path(path.lstrip("/"))),
                             "%s(1) names %s, which the package does not ship" % (page, path))
@@ -75,13 +85,17 @@ class Packages(unittest.TestCase):
 
     def test_fields(self):
         depends = run(["dpkg-deb", "-f", deb("wsgsim"), "Depends"]).stdout
-        for library in ("libcjson1", "libinih1", "libsystemd0", "python3", "libjs-dygraphs"):
+        for library in ("libcjson1", "libinih1", "libsystemd0", "python3", "libjs-dygraphs",
+                        "libjs-codemirror"):
             self.assertIn(library, depends)
         description = run(["dpkg-deb", "-f", deb("wsgsim"), "Description"]).stdout
         for feature in ("GCL", "binary protocol", "web page"):
             self.assertIn(feature, description)
         depends = run(["dpkg-deb", "-f", deb("python3-wsgsim"), "Depends"]).stdout
         self.assertIn("wsgsim", depends)
+        # the README's first GCL session is `nc localhost 1000`
+        recommends = run(["dpkg-deb", "-f", deb("wsgsim"), "Recommends"]).stdout
+        self.assertIn("netcat-openbsd", recommends)
 
     def test_programs_run(self):
         for name in PROGRAMS:
@@ -97,12 +111,15 @@ class Packages(unittest.TestCase):
         env = dict(os.environ, PATH=self.path("usr/bin") + os.pathsep + os.environ["PATH"],
                    PYTHONPATH=self.path("usr/lib/python3/dist-packages"))
         env.pop("WSGSIM", None)  # found on PATH, as once installed
-        with tempfile.TemporaryDirectory() as tmp:
-            write_example(tmp)
-            result = run_pytest(tmp, env)  # no -p: the entry point loads the plugin
-        self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
-        self.assertRegex(result.stdout, r"\b6 passed\b")
-        self.assertIn("wsgsim GCL coverage", result.stdout)
+        # no -p: the entry point loads the plugin; with the documents' -p,
+        # the same plugin is not registered twice
+        for options in ((), ("-p", "wsgsim.pytest_plugin")):
+            with self.subTest(options=options), tempfile.TemporaryDirectory() as tmp:
+                write_example(tmp)
+                result = run_pytest(tmp, env, *options)
+                self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
+                self.assertRegex(result.stdout, r"\b6 passed\b")
+                self.assertIn("wsgsim GCL coverage", result.stdout)
 
 
 if __name__ == "__main__":

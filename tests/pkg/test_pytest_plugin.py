@@ -1,11 +1,13 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """The pytest plugin from this tree: the documented walkthrough passes, and
-the fixture's options, paused clock and coverage summary work."""
+the fixture's options, paused clock and coverage summary work; with the
+package's entry point installed, `-p wsgsim.pytest_plugin` works too."""
 import json
 import os
 import re
 import tempfile
 import textwrap
+import tomllib
 import unittest
 
 from pkgenv import ROOT, WSGSIM
@@ -70,6 +72,33 @@ class PytestPlugin(unittest.TestCase):
         self.assertIn("GRIP(_,_,_)", merged["never_used"])
         self.assertRegex(result.stdout, r"4 devices; \d+ of \d+ command forms used")
         self.assertTrue(re.search(r"never used: .*GRIP\(_,_,_\)", result.stdout))
+
+    def test_entry_point_and_p_option_together(self):
+        """Installed (python3-wsgsim), the package's entry point loads the
+        plugin by itself; the documents' `-p wsgsim.pytest_plugin` must then
+        not register it a second time (pytest: "Plugin already registered").
+        The entry point as pyproject.toml declares it, in a dist-info
+        beside this tree's package, as pip or the .deb install it."""
+        with open(os.path.join(ROOT, "python", "pyproject.toml"), "rb") as f:
+            project = tomllib.load(f)["project"]
+        entry_points = project["entry-points"]["pytest11"]
+        with tempfile.TemporaryDirectory() as site, tempfile.TemporaryDirectory() as tmp:
+            info = os.path.join(site, "wsgsim-0.dist-info")
+            os.mkdir(info)
+            with open(os.path.join(info, "METADATA"), "w") as f:
+                f.write("Metadata-Version: 2.1\nName: wsgsim\nVersion: 0\n")
+            with open(os.path.join(info, "entry_points.txt"), "w") as f:
+                f.write("[pytest11]\n" + "".join("%s = %s\n" % item
+                                                   for item in entry_points.items()))
+            write_example(tmp)
+            env = dict(self.env(), PYTHONPATH=os.pathsep.join(
+                (site, os.path.join(ROOT, "python"))))
+            for options in ((), ("-p", "wsgsim.pytest_plugin")):
+                with self.subTest(options=options):
+                    result = run_pytest(tmp, env, *options)
+                    self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
+                    self.assertRegex(result.stdout, r"\b6 passed\b")
+                    self.assertEqual(result.stdout.count("wsgsim GCL coverage"), 1)
 
 
 if __name__ == "__main__":

@@ -6,12 +6,15 @@ paths: the configuration in a directory the user cannot write (/etc under
 ProtectSystem=strict), the StateDirectory= owned by the user. Every
 feature of the web interface works there: Save writes the state
 directory, a restart reads it back, the chart library is Debian's
-libjs-dygraphs read from its installed files."""
+libjs-dygraphs read from its installed files. And the README's service
+steps, pasted after the package was installed with dpkg into a root of
+its own, work."""
 import glob
 import os
 import pwd
 import shlex
 import shutil
+import socket
 import subprocess
 import sys
 import tempfile
@@ -22,6 +25,8 @@ import urllib.request
 from pkgenv import DEB_DIR, ROOT, TIMEOUT, GclError, run
 
 sys.path.insert(0, os.path.join(ROOT, "tests", "web"))
+sys.path.insert(0, os.path.join(ROOT, "tests", "docs"))
+from docexamples import commands, read_blocks  # noqa: E402
 from webclient import free_port, request  # noqa: E402
 
 USER, GROUP = "nobody", "nogroup"
@@ -54,11 +59,16 @@ class Service:
                      "/etc/": os.path.join(root, "etc") + "/",
                      "/var/lib/": os.path.join(root, "var/lib") + "/"}
         expand = lambda text: text.replace("%i", instance).replace("%S", "/var/lib")  # noqa
-        self.argv = [self.host_path(a) for a in shlex.split(expand(self.settings["ExecStart"]))
-                     if a != "$WSGSIM_OPTIONS"]  # /etc/default/wsgsim: none
+        self.argv = []
+        for arg in shlex.split(expand(self.settings["ExecStart"])):
+            if arg.startswith("$"):  # $NAME: the value split into words, as systemd does
+                self.argv += shlex.split(self.environment().get(arg[1:], ""))
+            else:
+                self.argv.append(self.host_path(arg))
         self.state_dir = self.host_path("/var/lib/" + expand(self.settings["StateDirectory"]))
-        self.run_dir = os.path.join(root, "run")
-        self.log_path = os.path.join(root, "log")
+        name = unit.replace("@", "@" + instance)  # several units may run in one root
+        self.run_dir = os.path.join(root, "run", name)
+        self.log_path = os.path.join(root, "log." + name)
         self.proc = None
 
     def host_path(self, path):
@@ -67,19 +77,38 @@ class Service:
                 return here + path[len(system):]
         return path
 
+    def environment(self):
+        """The variables of the unit's EnvironmentFile= (-FILE: optional)."""
+        path = self.settings.get("EnvironmentFile")
+        if path is None:
+            return {}
+        optional = path.startswith("-")
+        path = self.host_path(path.lstrip("-"))
+        if optional and not os.path.exists(path):
+            return {}
+        variables = {}
+        for line in open(path):
+            line = line.strip()
+            if line and not line.startswith("#"):
+                key, _, value = line.partition("=")
+                variables[key.strip()] = " ".join(shlex.split(value))
+        return variables
+
     def option(self, name):
         return self.argv[self.argv.index(name) + 1] if name in self.argv else None
 
-    def prepare(self, config_text=None):
+    def prepare(self, config_text=None, make_etc=True):
         """The directories as systemd leaves them: /etc root's and read-only
-        to the user, the state and runtime directories the user's."""
+        to the user, the state and runtime directories the user's.
+        make_etc=False: /etc/wsgsim is the package's (or missing)."""
         nobody = pwd.getpwnam(USER)
-        for d in (os.path.join(self.root, "etc", "wsgsim"), self.state_dir, self.run_dir):
+        for d in ((os.path.join(self.root, "etc", "wsgsim"),) if make_etc else ()) + \
+                (self.state_dir, self.run_dir):
             os.makedirs(d, exist_ok=True)
         for d in (self.state_dir, self.run_dir):
             os.chown(d, nobody.pw_uid, nobody.pw_gid)
         config = self.option("--config")
-        if config is not None:
+        if config is not None and config_text is not None:
             with open(config, "w") as f:
                 f.write(config_text)
 
@@ -250,6 +279,135 @@ class Units(unittest.TestCase):
         missing = request(base + "/static/dygraph.min.css")
         self.assertEqual((missing.status, missing.json()["error"]), (404, "E_NOT_AVAILABLE"))
         self.assertIn("install libjs-dygraphs", missing.json()["message"])
+
+
+def install_into(root, deb):
+    """dpkg -i into a root of its own: a dpkg database there, the
+    maintainer scripts run with DPKG_ROOT (the package's dependencies are
+    this machine's, not the root's)."""
+    for d in ("info", "updates", "triggers"):
+        os.makedirs(os.path.join(root, "var/lib/dpkg", d))
+    open(os.path.join(root, "var/lib/dpkg/status"), "w").close()
+    result = run(["dpkg", "--root=" + root, "--force-script-chrootless", "--force-depends",
+                  "-i", deb])
+    if result.returncode != 0:
+        raise AssertionError("dpkg -i %s failed:\n%s%s" % (deb, result.stdout, result.stderr))
+
+
+def gcl_lines(service, sent, count):
+    """The first count lines a running service's GCL port answers to sent."""
+    with open(os.path.join(service.run_dir, "ready")) as f:
+        ready = dict(line.strip().split("=", 1) for line in f if "=" in line)
+    with socket.create_connection(("127.0.0.1", int(ready["tcp_port"])), timeout=TIMEOUT) as s:
+        s.sendall(sent)
+        received = b""
+        while received.count(b"\n") < count:
+            data = s.recv(4096)
+            if not data:
+                break
+            received += data
+    return received.decode().splitlines()[:count]
+
+
+def readme_service_steps():
+    """The commands of README.md's block that sets up the services."""
+    for block in read_blocks("README.md"):
+        if "systemctl enable --now wsgsim@" in block.text:
+            return commands(block.text)
+    raise AssertionError("README.md has no block that enables wsgsim@NAME")
+
+
+class InstalledPackage(unittest.TestCase):
+    """The .deb installed into a root of its own with dpkg, the README's
+    service steps pasted there: each command as a reader runs it, its
+    system paths in that root (sudo left out; systemctl --root enables,
+    and the unit is started as Service runs it; sudoedit is the test
+    editing the file)."""
+
+    @classmethod
+    def setUpClass(cls):
+        if os.geteuid() != 0:
+            raise AssertionError("dpkg --root and setpriv need root: run these tests as root")
+        cls.tmp = tempfile.TemporaryDirectory()
+        os.chmod(cls.tmp.name, 0o755)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def setUp(self):
+        self.root = tempfile.mkdtemp(dir=self.tmp.name)
+        os.chmod(self.root, 0o755)
+        found = glob.glob(os.path.join(DEB_DIR, "wsgsim_*.deb"))
+        self.assertEqual(len(found), 1, "expected one wsgsim package in %s (make deb)" % DEB_DIR)
+        install_into(self.root, found[0])
+        self.services = {}
+        self.addCleanup(lambda: [service.stop() for service in self.services.values()])
+
+    def path(self, system_path):
+        return os.path.join(self.root, system_path.lstrip("/"))
+
+    def test_configuration_files_are_the_packages(self):
+        self.assertTrue(os.path.isdir(self.path("/etc/wsgsim")))
+        conffiles = run(["dpkg-query", "--admindir=" + self.path("/var/lib/dpkg"), "-W",
+                         "-f=${Conffiles}", "wsgsim"]).stdout
+        self.assertIn("/etc/default/wsgsim ", conffiles, "kept across upgrades: a conffile")
+        service = Service(self.root, self.root, "wsgsim.service", "")
+        self.assertEqual(service.environment(), {"WSGSIM_OPTIONS": ""})
+        self.assertTrue(os.path.isfile(self.path("/usr/share/doc/wsgsim/examples/"
+                                                 "wsgsim.example.ini")))
+
+    def test_options_in_etc_default_reach_the_service(self):
+        with open(self.path("/etc/default/wsgsim"), "a") as f:
+            f.write("WSGSIM_OPTIONS=\"--model 'WSG 50-210' --part 40\"\n")
+        service = self.start("wsgsim")
+        self.assertIn("virtual WSG 50-210 ready", service.log())
+
+    def start(self, unit_name):
+        """systemctl start UNIT as systemd would run it (Service)."""
+        template, _, instance = unit_name.partition("@")
+        unit = template + ("@.service" if "@" in unit_name else ".service")
+        service = Service(self.root, self.root, unit, instance)
+        service.prepare(make_etc=False)
+        service.start()
+        self.services[unit_name] = service
+        return service
+
+    def test_readme_service_steps_work_when_pasted(self):
+        steps = readme_service_steps()
+        done = []
+        for step in steps:
+            words = shlex.split(step, comments=True)
+            if words[0] == "sudo":
+                words = words[1:]
+            with self.subTest(step=step):
+                self.run_step(words)
+                done.append(words[0])
+        self.assertEqual(sorted(set(done)), ["cp", "journalctl", "sudoedit", "systemctl"])
+        self.assertEqual(sorted(self.services), ["wsgsim", "wsgsim@left"])
+        for name, service in self.services.items():
+            with self.subTest(serves=name):
+                self.assertEqual(gcl_lines(service, b"GRIPSTATE?\nBYE()\n", 2),
+                                 ["GRIPSTATE=0", "ACK BYE"])
+
+    def run_step(self, words):
+        if words[:3] == ["systemctl", "enable", "--now"]:
+            result = run(["systemctl", "--root=" + self.root, "enable", words[3]])
+            self.assertEqual(result.returncode, 0, result.stderr)
+            self.start(words[3])
+        elif words[0] == "cp":
+            shutil.copy(self.path(words[1]), self.path(words[2]))
+        elif words[0] == "sudoedit":  # the reader gives the instance ports of its own
+            with open(self.path(words[1])) as f:
+                text = f.read()
+            self.assertIn("\ntcp_port = 1000\n", text)
+            with open(self.path(words[1]), "w") as f:
+                f.write(text.replace("\ntcp_port = 1000\n", "\ntcp_port = 11000\n"))
+        elif words[:2] == ["journalctl", "-u"]:
+            self.assertIn(" ready: ", self.services[words[2]].log())
+        else:
+            raise AssertionError("README.md's service steps hold %s, which this test cannot "
+                                 "run: teach it" % shlex.join(words))
 
 
 if __name__ == "__main__":

@@ -1,5 +1,9 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""tools/wsgplot draws a PNG from a short recorded run."""
+"""tools/wsgplot draws a PNG from a short recorded run: the device's own
+state sampled into the record, or in an older record the values the
+clients received."""
+import importlib.machinery
+import importlib.util
 import os
 import shutil
 import struct
@@ -10,6 +14,26 @@ from demo_record import record_demo
 from pkgenv import PROGRAMS, WSGSIM, Wsgsim, run
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def wsgplot_module():
+    """tools/wsgplot as a module (a script without .py)."""
+    loader = importlib.machinery.SourceFileLoader("wsgplot", PROGRAMS["wsgplot"])
+    spec = importlib.util.spec_from_loader("wsgplot", loader)
+    module = importlib.util.module_from_spec(spec)
+    loader.exec_module(module)
+    return module
+
+
+def record_session(binary, record):
+    """A session that asks for no value at all: HOME, GRIP, RELEASE."""
+    with Wsgsim("--part", "40:100", "--record", record, binary=binary, paused=True) as sim:
+        with sim.tcp() as gcl, sim.control() as ctl:
+            for command, name in (("HOME()", "HOME"), ("GRIP(30)", "GRIP"),
+                                  ("RELEASE(10)", "RELEASE")):
+                gcl.expect(command, "ACK " + name)
+                ctl.step_until(gcl, "FIN " + name)
+            gcl.expect("BYE()", "ACK BYE")
 
 
 class Wsgplot(unittest.TestCase):
@@ -26,6 +50,40 @@ class Wsgplot(unittest.TestCase):
         self.assertEqual(struct.unpack(">II", data[16:24]), (800, 600))
         self.assertTrue(data.endswith(b"IEND\xaeB`\x82"), "a whole PNG")
         self.assertGreater(len(data), 20000, "four panels of curves, not an empty frame")
+
+    def test_a_session_that_asked_for_nothing_draws_its_motion(self):
+        """The README's example: a record of commands alone has the device's
+        state sampled in it, so every panel has its curve."""
+        with tempfile.TemporaryDirectory() as tmp:
+            record = os.path.join(tmp, "run.txt")
+            record_session(WSGSIM, record)
+            series, commands = wsgplot_module().read(record, None)
+        self.assertEqual([text for _, text in commands], ["HOME()", "GRIP(30)", "RELEASE(10)"])
+        for name, points in series.items():
+            self.assertGreater(len(points), 20, name)
+        widths = [v for _, v in series["POS"]]
+        self.assertEqual((widths[0], max(widths), round(min(widths))), (55.0, 110.0, 40))
+        self.assertIn(4.0, [v for _, v in series["GRIPSTATE"]], "HOLDING was seen")
+        self.assertGreater(max(v for _, v in series["FORCE"]), 25.0, "the grip's force")
+
+    def test_old_and_new_records_read_alike(self):
+        """Version 1 wrote the direction from wsgsim's side, version 2 from
+        the client's (docs/simctl.md): the same session reads the same."""
+        old = ("# wsgsim record 1\n0.000000 1.0 s1t < MOVE(20)\n0.000000 1.0 s1t > ACK MOVE\n"
+               "0.100000 1.1 s1t < POS?\n0.100000 1.1 s1t > POS=30.0\n")
+        new = ("# wsgsim record 2\n0.000000 1.0 s1t > MOVE(20)\n0.000000 1.0 s1t < ACK MOVE\n"
+               "0.100000 1.1 s1t > POS?\n0.100000 1.1 s1t < POS=30.0\n")
+        read = []
+        with tempfile.TemporaryDirectory() as tmp:
+            for text in (old, new):
+                record = os.path.join(tmp, "run.txt")
+                with open(record, "w") as f:
+                    f.write(text)
+                read.append(wsgplot_module().read(record, None))
+        self.assertEqual(read[0], read[1])
+        series, commands = read[1]
+        self.assertEqual(commands, [(0.0, "MOVE(20)")])
+        self.assertEqual(series["POS"], [(0.1, 30.0)])
 
     def test_a_fleet_record_names_the_device_in_the_session(self):
         """With --devices N a GCL channel is d<i>.s<id>t (docs/simctl.md): its
@@ -52,21 +110,6 @@ class Wsgplot(unittest.TestCase):
         self.assertIn("AUTOSEND", result.stderr)
 
 
-def record_polled_run(binary, record):
-    """The README's transcript, in short: POS, FORCE and GRIPSTATE asked
-    for, never SPEED, on the paused clock."""
-    with Wsgsim("--part", "40:100", "--record", record, binary=binary, paused=True) as sim:
-        with sim.tcp() as gcl, sim.control() as ctl:
-            gcl.expect("HOME()", "ACK HOME")
-            ctl.step_until(gcl, "FIN HOME")
-            gcl.expect("POS?", "POS=110.0")
-            gcl.expect("GRIP(30)", "ACK GRIP")
-            ctl.step_until(gcl, "FIN GRIP")
-            gcl.expect("GRIPSTATE?", "GRIPSTATE=4")
-            gcl.command("FORCE?")
-            gcl.expect("BYE()", "ACK BYE")
-
-
 def whole_png(test, path):
     with open(path, "rb") as f:
         data = f.read()
@@ -75,13 +118,16 @@ def whole_png(test, path):
 
 
 class WsgplotGaps(unittest.TestCase):
-    """Issue 17, point 3: a series with no samples is an empty panel with a
-    note, and no failure leaves a half-drawn PNG behind."""
+    """A series with no samples is an empty panel with a note, and no
+    failure leaves a half-drawn PNG behind."""
 
     def test_a_series_without_samples_is_an_empty_panel(self):
+        """A version 1 record has only what its client asked for."""
         with tempfile.TemporaryDirectory() as tmp:
             record, png = os.path.join(tmp, "run.txt"), os.path.join(tmp, "run.png")
-            record_polled_run(WSGSIM, record)
+            with open(record, "w") as f:
+                f.write("# wsgsim record 1\n0.000000 1.0 s1t < POS?\n0.000000 1.0 s1t > POS=55.0\n"
+                        "1.000000 2.0 s1t < POS?\n1.000000 2.0 s1t > POS=110.0\n")
             result = run([PROGRAMS["wsgplot"], record, "-o", png])
             self.assertEqual(result.returncode, 0, result.stderr)
             whole_png(self, png)

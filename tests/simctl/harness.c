@@ -82,8 +82,9 @@ void t_reinit(const host_options_t *with)
 {
     gripper_t *g = fleet_gripper(t_fleet, 0);
     gripper_touched_t *touched = g->touched_list;
+    struct script_guard *guard = g->script_guard;
     gripper_release(g);
-    ck_assert(gripper_init(g, loop, with, 0, touched));
+    ck_assert(gripper_init(g, loop, with, 0, touched, guard));
     attach_observers((void *)with, g);
     gripper_start(g);
 }

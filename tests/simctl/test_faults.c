@@ -259,7 +259,7 @@ START_TEST(finger_fault_reaches_the_finger)
 }
 END_TEST
 
-/* Issue 19: every device of a fleet has its own hardware faults. */
+/* Every device of a fleet has its own hardware faults. */
 
 static bool has_flag(unsigned device, int flag)
 {
@@ -315,7 +315,7 @@ START_TEST(a_reset_clears_the_faults_of_its_device_only)
 }
 END_TEST
 
-/* Every device has a finger bus of its own (issue 19): a finger fault goes
+/* Every device has a finger bus of its own: a finger fault goes
  * to the selected device's finger and to no other device's. */
 START_TEST(a_finger_fault_goes_to_the_devices_own_finger)
 {

@@ -194,12 +194,12 @@ START_TEST(bad_config_lines_name_file_and_line)
 {
     bool ok = true;
     ck_assert_str_eq(config_error("[motion]\ndefault_force = 20\ncolour = red\n", &ok),
-                     ":3: [motion] colour: unknown key (see docs/wsgsim.example.ini)\n");
+                     ":3: [motion] colour: unknown key (every key: " WSGSIM_EXAMPLE_CONFIG ")\n");
     ck_assert(!ok);
     ck_assert_str_eq(config_error("[motion]\n\ndefault_speed = fast\n", &ok),
                      ":3: [motion] default_speed: expected a number\n");
     ck_assert_str_eq(config_error("[gripper]\nspeed = 1\n", &ok),
-                     ":2: [gripper] speed: unknown key (see docs/wsgsim.example.ini)\n");
+                     ":2: [gripper] speed: unknown key (every key: " WSGSIM_EXAMPLE_CONFIG ")\n");
     ck_assert_str_eq(config_error("[motion]\ndefault_force = 500\n", &ok),
                      ":2: [motion] default_force: 500 is outside 5..80 for this model\n");
     ck_assert_str_eq(config_error("[network]\nsim_bind = 0.0.0.0\n", &ok),
@@ -312,7 +312,8 @@ START_TEST(save_file_is_read_over_the_config)
     saved = t_temp_file("[motion]\ncolour = red\n");
     a.saved = saved;
     snprintf(expect, sizeof(expect),
-             "wsgsim: %s:2: [motion] colour: unknown key (see docs/wsgsim.example.ini)\n", saved);
+             "wsgsim: %s:2: [motion] colour: unknown key (every key: " WSGSIM_EXAMPLE_CONFIG ")\n",
+             saved);
     ck_assert_str_eq(t_capture_stderr(load_layered, &a, &ok), expect);
     ck_assert(!ok);
     remove(saved);
@@ -372,7 +373,7 @@ START_TEST(config_lines_are_read_whole_or_refused)
     bool ok = true;
     /* line numbers after a long line stay right */
     ck_assert_str_eq(config_error(long_comment_then("colour = red\n"), &ok),
-                     ":3: [device] colour: unknown key (see docs/wsgsim.example.ini)\n");
+                     ":3: [device] colour: unknown key (every key: " WSGSIM_EXAMPLE_CONFIG ")\n");
     char key_line[400];
     snprintf(key_line, sizeof(key_line), "[device]\ntag = %0300d\n", 7);
     ck_assert_ptr_nonnull(strstr(config_error(key_line, &ok),
@@ -466,7 +467,7 @@ START_TEST(record_writes_every_line_with_both_clocks)
     }
     fclose(f);
     remove(path);
-    ck_assert_str_eq(lines[0], "# wsgsim record 1\n");
+    ck_assert_str_eq(lines[0], "# wsgsim record 2\n");
     unsigned long long sim_s = 0;
     unsigned long sim_us = 0;
     unsigned long long wall_s = 0;
@@ -479,10 +480,10 @@ START_TEST(record_writes_every_line_with_both_clocks)
     ck_assert_uint_eq(sim_s * 1000000u + sim_us, t_now_us());
     ck_assert_uint_gt(wall_s, 1600000000u);
     ck_assert_str_eq(channel, "s1t");
-    ck_assert_int_eq(dir, '<');
+    ck_assert_int_eq(dir, '>'); /* from the client's side: it sent POS? */
     ck_assert_str_eq(text, "POS?");
-    ck_assert_ptr_nonnull(strstr(lines[3], " s1t > POS=110.0\n"));
-    ck_assert_ptr_nonnull(strstr(lines[4], " ctl1 < PAUSE()\n"));
+    ck_assert_ptr_nonnull(strstr(lines[3], " s1t < POS=110.0\n"));
+    ck_assert_ptr_nonnull(strstr(lines[4], " ctl1 > PAUSE()\n"));
 }
 END_TEST
 

@@ -38,8 +38,9 @@ class WebCase(unittest.TestCase):
 
 
 class Devices(WebCase):
-    def test_ready_line_names_the_http_address(self):
-        self.assertIn(", http 127.0.0.1:%d" % self.sim.http_port, "".join(self.sim.log))
+    def test_ready_line_names_the_page_to_open(self):
+        self.assertIn(", web page http://127.0.0.1:%d/" % self.sim.http_port,
+                      "".join(self.sim.log))
 
     def test_a_request_from_the_page_itself_is_taken(self):
         own = request(self.sim.base + "/api/devices/0/settings", method="PUT",
@@ -169,7 +170,7 @@ class Startup(unittest.TestCase):
             self.assertIn("warning: http port 8080 cannot be had (Address already in use): "
                           "no web interface", err)
             self.assertNotIn("wsgsim: ", err, "a skipped default is no error line")
-            self.assertNotIn(", http ", err)
+            self.assertNotIn(", web page ", err)
 
 
 class Fleet(WebCase):
@@ -233,6 +234,23 @@ class Page(WebCase):
         css = self.get("/static/dygraph.min.css")
         self.assertEqual((css.status, css.headers["Content-Type"]),
                          (200, "text/css; charset=utf-8"))
+
+    def test_script_editor_is_debians_codemirror(self):
+        files = {"codemirror.js": "/usr/share/javascript/codemirror/lib/codemirror.js",
+                 "codemirror.css": "/usr/share/javascript/codemirror/lib/codemirror.css",
+                 "codemirror-lua.js": "/usr/share/javascript/codemirror/mode/lua/lua.js",
+                 "codemirror-matchbrackets.js":
+                     "/usr/share/javascript/codemirror/addon/edit/matchbrackets.js"}
+        for name, path in files.items():
+            reply = self.get("/static/" + name)
+            self.assertEqual(reply.status, 200, name)
+            kind = "text/css" if name.endswith(".css") else "text/javascript"
+            self.assertTrue(reply.headers["Content-Type"].startswith(kind), name)
+            with open(path, encoding="utf-8") as f:
+                self.assertEqual(reply.body, f.read(), name)  # served from the system
+        page = self.get("/devices/0").body
+        for name in files:
+            self.assertIn('"/static/%s"' % name, page)
 
     def test_unknown_file_is_404(self):
         self.assert_error(self.get("/static/nothing.js"), 404, "E_NOT_FOUND")

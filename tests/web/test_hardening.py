@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""Network hardening of the web interface (issue 18, docs/web.md "Who is
+"""Network hardening of the web interface (docs/web.md "Who is
 served"): the Host rule against DNS rebinding, and the limits on clients
 whose request trickles in (slowloris). Deadlines are wall-clock: the tests
 use a short one and wait only for outcomes, with generous guards against

@@ -154,7 +154,7 @@ class Settings(WebCase):
             gcl.expect("PWT?", "PWT=10.0")
 
     def test_a_tag_that_could_forge_a_reply_is_refused(self):
-        """The core's one rule (issue 18): CR, LF, '"' or a byte beyond ASCII
+        """The core's one rule: CR, LF, '"' or a byte beyond ASCII
         (invalid UTF-8 too) is 422 E_INVALID_PARAMETER naming the tag, and
         nothing changes; a GCL client's TAG? reads the old tag."""
         self.assertEqual(self.put({"tag": "cell-7"}).status, 200)

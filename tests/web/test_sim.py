@@ -20,14 +20,23 @@ class Simulation(WebCase):
         reply = self.sim_post("part", {"width_mm": 30, "stiffness_n_mm": 50, "slip_force_n": 4})
         self.assertEqual(reply.status, 200, reply)
         self.assertEqual(reply.json()["status"], "E_SUCCESS")
-        self.assertEqual(self.state()["part"], {"present": True, "width_mm": 30,
+        # the jaws stand wider than 30 mm: the part lies between them
+        self.assertGreater(self.state()["position_mm"], 30)
+        self.assertEqual(self.state()["part"], {"present": True, "width_mm": 30, "side": "inside",
                                                 "stiffness_n_mm": 50, "slip_force_n": 4})
         self.assertEqual(self.sim_post("part_remove").status, 200)
         self.assertEqual(self.state()["part"], {"present": False})
         j = self.sim_post("part_remove").json()
         self.assertEqual(j["error"], "E_NOT_AVAILABLE")
+        # wider than the jaws' opening: around them, as STATE? says
+        self.assertEqual(self.sim_post("part", {"width_mm": 100}).status, 200)
+        self.assertEqual(self.state()["part"]["side"], "outside")
+        with self.sim.control() as ctl:
+            self.assertIn('"side":"outside"', ctl("STATE?"))
+        self.assertEqual(self.sim_post("part_remove").status, 200)
         self.assertEqual(self.sim_post("obstacle", {"width_mm": 20}).status, 200)
-        self.assertEqual(self.state()["obstacle"], {"present": True, "width_mm": 20})
+        self.assertEqual(self.state()["obstacle"], {"present": True, "width_mm": 20,
+                                                    "side": "inside"})
         self.assertEqual(self.sim_post("obstacle_remove").status, 200)
         j = self.sim_post("part", {"width_mm": 30, "slip_force_n": 4}).json()
         self.assertEqual(j["error"], "E_NOT_ENOUGH_PARAMS")
@@ -65,6 +74,7 @@ class Simulation(WebCase):
         self.assertAlmostEqual(shown, temp, delta=0.1)
 
     def test_clock(self):
+        self.assertEqual(self.state()["clock"], {"paused": True, "scale": 1})
         t0 = self.state()["time_ms"]
         reply = self.sim_post("clock", {"action": "step", "ms": 250})
         self.assertIn(reply.status, (200, 202), reply)
@@ -74,6 +84,7 @@ class Simulation(WebCase):
         self.assertEqual(self.sim_post("clock", {"action": "scale", "scale": 2}).json()["reply"],
                          "SCALE=2")
         self.assertEqual(self.sim_post("clock", {"action": "resume"}).status, 200)
+        self.assertEqual(self.state()["clock"], {"paused": False, "scale": 2})
         j = self.sim_post("clock", {"action": "step", "ms": 10}).json()
         self.assertEqual(j["error"], "E_ACCESS_DENIED")  # the clock runs
         self.assertEqual(self.sim_post("clock", {"action": "pause"}).status, 200)

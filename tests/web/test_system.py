@@ -31,6 +31,19 @@ class System(WebCase):
             self.assertEqual('VERSION="%s"' % j["firmware_version"], gcl.command("VERSION?"))
             self.assertEqual("SN=%d" % j["serial"], gcl.command("SN?"))
             self.assertEqual((j["stroke_mm"], j["force_min_n"], j["force_max_n"]), (110, 5, 80))
+            # the ranges the page's fields show, as GCL's refusals draw them
+            self.assertEqual((j["speed_min_mm_s"], j["speed_max_mm_s"]), (5, 420))
+            self.assertEqual(gcl.command("MOVE(50, %g)" % (j["speed_max_mm_s"] + 1)),
+                             "ERR MOVE 28")
+            self.assertEqual((j["accel_min_mm_s2"] > 0, j["accel_max_mm_s2"] > 0), (True, True))
+            settings = "/api/devices/%d/settings" % device
+            reply = request(self.sim.base + settings, method="PUT",
+                            body={"accel_mm_s2": j["accel_max_mm_s2"] + 1})
+            self.assertEqual((reply.status, reply.json()["error"]), (422, "E_RANGE_ERROR"))
+            reply = request(self.sim.base + settings, method="PUT",
+                            body={"accel_mm_s2": j["accel_max_mm_s2"]})
+            self.assertEqual(reply.status, 200)
+            self.assertEqual(j["force_overdrive_n"], 0)  # the WSG 50 has no overdrive
             self.assertRegex(j["wsgsim_version"], r"^\d+\.\d+")
             self.assertFalse(j["script_store"])  # no --script-dir: …/files is 404
             self.assertEqual(self.get("/api/devices/%d/files" % device).status, 404)
@@ -74,40 +87,40 @@ class LogRing(WebCase):
     def setUp(self):
         self.store = tempfile.mkdtemp(prefix="wsgsim-store-")
         self.addCleanup(shutil.rmtree, self.store)
-        with open(os.path.join(self.store, "chatty.lua"), "w") as f:
-            f.write("for i = 1, 150 do print('line ' .. i) end\n")
-        self.sim = WebSim("--script-dir", self.store)
+        self.sim = WebSim("--script-dir", self.store, "--sim-port", "0")
         self.sim.start()
         self.addCleanup(self.sim.stop)
 
     def test_the_last_hundred_lines_are_kept(self):
         api = self.sim.base + "/api/devices/0"
-        self.assertEqual(request(api + "/script/run", "POST", {"file": "chatty.lua"}).status, 200)
-        # the script may yield at the end of a time slice: wait for its end
-        wait_for("the script's end", lambda: not request(api + "/script").json()["running"],
-                 MOTION_TIMEOUT)
-        system = request(api + "/system").json()
+        with self.sim.control() as ctl:  # LOG(text): one log line each, not rate-limited
+            for i in range(1, 151):
+                self.assertEqual(ctl('LOG("line %d")' % i), "ACK LOG")
+            system = request(api + "/system").json()
+            old = request(api + "/system?since=0").json()["log"]
         self.assertTrue(system["script_store"])
         log = system["log"]
         self.assertEqual(len(log["lines"]), LOG_KEPT)
-        self.assertTrue(log["lines"][-1].endswith("script: line 150"), log["lines"][-1])
-        self.assertTrue(log["lines"][0].endswith("script: line %d" % (150 - LOG_KEPT + 1)),
+        self.assertTrue(log["lines"][-1].endswith("control: line 150"), log["lines"][-1])
+        self.assertTrue(log["lines"][0].endswith("control: line %d" % (150 - LOG_KEPT + 1)),
                         log["lines"][0])
-        old = request(api + "/system?since=0").json()["log"]
         self.assertEqual(old["lines"], log["lines"])  # the lines before are gone
 
     def test_a_long_line_is_cut_between_characters(self):
         """A line cut to 255 bytes stays UTF-8 (the reply is JSON): with and
         without one byte more before them, one of the two lines of 2-byte
-        characters would be cut inside a character."""
+        characters would be cut inside a character. (A script's error line
+        is logged as it is; its print lines are escaped to ASCII.)"""
         api = self.sim.base + "/api/devices/0"
-        with open(os.path.join(self.store, "wide.lua"), "w", encoding="utf-8") as f:
-            f.write("print(string.rep('\u00e9', 200))\nprint('x' .. string.rep('\u00e9', 200))\n")
-        self.assertEqual(request(api + "/script/run", "POST", {"file": "wide.lua"}).status, 200)
-        wait_for("the script's end", lambda: not request(api + "/script").json()["running"],
-                 MOTION_TIMEOUT)
-        lines = request(api + "/system").json()["log"]["lines"][-2:]  # decoded strictly
-        for line, start in zip(lines, ("script: \u00e9", "script: x\u00e9")):
+        lines = []
+        for name, text in (("wide.lua", "\u00e9"), ("wider.lua", "x\u00e9")):
+            with open(os.path.join(self.store, name), "w", encoding="utf-8") as f:
+                f.write("error('%s' .. string.rep('\u00e9', 200), 0)\n" % text)
+            self.assertEqual(request(api + "/script/run", "POST", {"file": name}).status, 200)
+            wait_for("the script's end", lambda: not request(api + "/script").json()["running"],
+                     MOTION_TIMEOUT)
+            lines += request(api + "/system").json()["log"]["lines"][-1:]  # decoded strictly
+        for line, start in zip(lines, ("script error: \u00e9", "script error: x\u00e9")):
             self.assertIn(start, line)
             self.assertLessEqual(len(line.encode()), 255)
             self.assertGreaterEqual(len(line.encode()), 254)

@@ -222,7 +222,7 @@ typedef struct {
 } fleet_result_t;
 void fleet_run(const char *wsgsim, const char *out_dir, int devices, double idle_s, const char *pin,
                fleet_result_t *r);
-/* `--devices N --address-per-device` (a cell of N addresses, issue 19):
+/* `--devices N --address-per-device` (a cell of N addresses):
  * start until the ready line, peak RSS, idle wakeups, and whether the last
  * device's address answers SN? with its serial. */
 typedef struct {
@@ -234,6 +234,16 @@ typedef struct {
 } fleet_cell_result_t;
 void fleet_cell_run(const char *wsgsim, const char *out_dir, int devices, double idle_s,
                     fleet_cell_result_t *r);
+
+/* scripts.c: device 0 beside busy scripts on the fleet's other devices,
+ * and FASTSTOP() while its own script runs work that cannot pause. */
+typedef struct {
+    int busy;                  /* 0: not run */
+    double sn_p50_us[2];       /* SN? beside 1 and beside `busy` busy scripts */
+    double faststop_p50_us[2]; /* FASTSTOP() the same */
+    double freeze_faststop_ms; /* the slowest FASTSTOP() answer during a freeze */
+} scripts_result_t;
+void scripts_run(const char *wsgsim, const char *out_dir, int busy, scripts_result_t *r);
 
 /* pace.c: a 100 mm MOVE at 100 mm/s (1.1 s simulated) in wall time, on a
  * quiet device and while another client sends POS? back to back. */

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* Many devices in one process (`--devices N`, issue 11): start time, idle
+/* Many devices in one process (`--devices N`): start time, idle
  * wake-ups, memory per idle device and POS? round trips against a single
  * device. Device i serves TCP and UDP on base port + i. Until wsgsim has the
  * option, nothing is measured and the report says so. */

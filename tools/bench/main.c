@@ -5,7 +5,7 @@
  *        wsgbench --serve-echo      (the echo baseline alone, for callgrind)
  * --wsgsim-arg appends ARG to every wsgsim command line (e.g. --fingers=none).
  * --only runs one section (instr, web, streams, idle, subscribers, vtime, fleet,
- * scale, pace, rtt, load, autosend); the table then leaves out the others.
+ * scripts, scale, pace, rtt, load, autosend); the table then leaves out the others.
  * --firmware-sizes reads the Cortex-M image sizes `make bench` wrote. */
 #include <errno.h>
 #include <stdio.h>
@@ -25,6 +25,7 @@
 #define SUBSCRIBERS 128
 #define FLEET_DEVICES 1000
 #define CELL_DEVICES 10000 /* --address-per-device: 127.1.0.1 .. 127.1.39.16 */
+#define BUSY_SCRIPTS 32
 #define CTL_STEP_MS 100
 #define VTIME_BLOCKS 8 /* of RUN_UNTIL_DONE cycles, each for wsgsim and the responder */
 
@@ -91,7 +92,8 @@ static void parse_args(int argc, char **argv, config_t *cfg)
         } else {
             die("usage: wsgbench [--wsgsim PATH] [--wsgsim-arg ARG]... [--out DIR] [--quick] "
                 "[--rtt N] [--only "
-                "instr|web|streams|idle|subscribers|vtime|fleet|scale|pace|rtt|load|autosend] "
+                "instr|web|streams|idle|subscribers|vtime|fleet|scripts|scale|pace|rtt|load|"
+                "autosend] "
                 "[--pin same|cross|none] [--firmware-sizes FILE]");
         }
     }
@@ -489,6 +491,10 @@ static void run_own_server_sections(const config_t *cfg, results_t *res)
         fleet_run(cfg->wsgsim, cfg->out, FLEET_DEVICES, cfg->idle_s, cfg->pin, &res->fleet);
         fprintf(stderr, "wsgbench: a cell of %d addresses\n", CELL_DEVICES);
         fleet_cell_run(cfg->wsgsim, cfg->out, CELL_DEVICES, cfg->idle_s, &res->cell);
+    }
+    if (wanted(cfg, "scripts")) {
+        fprintf(stderr, "wsgbench: device 0 beside %d busy scripts\n", BUSY_SCRIPTS);
+        scripts_run(cfg->wsgsim, cfg->out, BUSY_SCRIPTS, &res->scripts);
     }
     if (wanted(cfg, "scale")) {
         run_scale(cfg, res);

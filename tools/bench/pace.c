@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* The simulated clock keeps wall pace under load (issue 18, point 7): the
+/* The simulated clock keeps wall pace under load: the
  * wall time of a 100 mm MOVE at 100 mm/s (1.1 s of simulated time) on a
  * quiet device and while another client sends POS? back to back. The e2e
  * and Check tests assert the rule in virtual time (a query never postpones

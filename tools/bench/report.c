@@ -104,7 +104,7 @@ static double per_second(long count, double seconds)
     return seconds > 0 ? (double)count / seconds : 0.0;
 }
 
-/* Idle (issue 11): no wake-up at all; one stray per window is tolerated. */
+/* Idle: no wake-up at all; one stray per window is tolerated. */
 static void add_idle(table_t *t, const results_t *res)
 {
     if (res->idle_s <= 0) {
@@ -139,14 +139,14 @@ static void add_memory(table_t *t, const results_t *res)
     target(r, "<= 8192 KiB", r->wsg > 0 && r->wsg <= 8192.0);
 }
 
-/* Callgrind counts (issue 11): the server's instructions per request. */
+/* Callgrind counts: the server's instructions per request. */
 static void add_instr(table_t *t, const results_t *res)
 {
     const instr_result_t *in = &res->instr;
     if (in->sequential[0] <= 0) {
         return;
     }
-    /* The baseline itself: a minimal epoll echo costs 63-103 (issue 21). */
+    /* The baseline itself: a minimal epoll echo costs 63-103. */
     row_t *r = add(t, "echo baseline: instructions per request", "instr", in->sequential[1], -1.0);
     target(r, "<= 206", r->wsg <= 206.0);
     add(t, "instructions per sequential POS? (paused)", "instr", in->sequential[0],
@@ -158,7 +158,7 @@ static void add_instr(table_t *t, const results_t *res)
     target(r, "<= 800", r->wsg <= 800.0);
 }
 
-/* Issue 21: the web's JSON written straight into its buffer. */
+/* The web's JSON written straight into its buffer. */
 static void add_web(table_t *t, const results_t *res)
 {
     if (res->web.per_state <= 0) {
@@ -171,7 +171,25 @@ static void add_web(table_t *t, const results_t *res)
     target(r, "<= 60000", r->wsg <= 60000.0);
 }
 
-/* Issue 21: 200 event streams at their rate, GCL's p99 meanwhile. */
+/* Scripts share one slice budget per loop pass; the watchdog ends work
+ * that cannot pause (docs/scripting.md, "Limits"). */
+static void add_scripts(table_t *t, const results_t *res)
+{
+    const scripts_result_t *s = &res->scripts;
+    if (s->busy == 0) {
+        return;
+    }
+    char name[2][48];
+    snprintf(name[0], sizeof(name[0]), "SN? p50 beside %d busy scripts (vs 1)", s->busy % 1000);
+    snprintf(name[1], sizeof(name[1]), "FASTSTOP() p50 beside %d busy scripts", s->busy % 1000);
+    row_t *r = add(t, name[0], "us", s->sn_p50_us[1], s->sn_p50_us[0]);
+    target(r, "<= 2x beside 1", ratio(r) <= 2.0);
+    add(t, name[1], "us", s->faststop_p50_us[1], s->faststop_p50_us[0]);
+    r = add(t, "FASTSTOP() during a script's freeze, slowest", "ms", s->freeze_faststop_ms, -1.0);
+    target(r, "<= 50 ms", r->wsg <= 50.0);
+}
+
+/* 200 event streams at their rate, GCL's p99 meanwhile. */
 static void add_streams(table_t *t, const results_t *res)
 {
     const streams_result_t *st = &res->streams;
@@ -234,7 +252,7 @@ static void add_fleet(table_t *t, const results_t *res)
     target(r, "<= 1.5x single", ratio(r) <= 1.5);
 }
 
-/* --address-per-device (issue 19, point 6): the start, the peak RSS and
+/* --address-per-device: the start, the peak RSS and
  * the idle wakeups of a cell of N addresses. */
 static void add_cell(table_t *t, const results_t *res)
 {
@@ -300,7 +318,7 @@ static void add_vtime_floor(table_t *t, const vtime_result_t *wsgsim, const vtim
         100.0 * (wsgsim->virtual_s / wsgsim->wall_s) / ceiling, -1.0);
 }
 
-/* Issue 11: 10,000x in-process, and through wsgsim's paused clock. */
+/* 10,000x in-process, and through wsgsim's paused clock. */
 static void add_vtime(table_t *t, const results_t *res)
 {
     const vtime_result_t *v = &res->vtime;
@@ -342,7 +360,7 @@ static void add_scale(table_t *t, const results_t *res)
     }
 }
 
-/* Issue 18: the simulated clock keeps wall pace whoever polls the device. */
+/* The simulated clock keeps wall pace whoever polls the device. */
 static void add_pace(table_t *t, const results_t *res)
 {
     const pace_result_t *p = &res->pace;
@@ -358,7 +376,7 @@ static void add_pace(table_t *t, const results_t *res)
 static void build(const results_t *res, table_t *t)
 {
     t->n = 0;
-    /* issue 11: work only for what is active */
+    /* work only for what is active */
     add_instr(t, res);
     add_web(t, res);
     add_streams(t, res);
@@ -367,8 +385,9 @@ static void build(const results_t *res, table_t *t)
     add_vtime(t, res);
     add_fleet(t, res);
     add_cell(t, res);
+    add_scripts(t, res);
     add_firmware(t, res);
-    /* issue 6: against the echo baseline */
+    /* against the echo baseline */
     if (res->rtt_tcp[0].n > 0) {
         add_rtt(t, "TCP", res->rtt_tcp, true);
         add_rtt(t, "UDP", res->rtt_udp, false);

@@ -48,6 +48,7 @@ typedef struct {
     subscribers_result_t subscribers;
     fleet_result_t fleet;
     fleet_cell_result_t cell;
+    scripts_result_t scripts;
     bool firmware_expected; /* a full run: the sizes belong in it */
     bool firmware_read;     /* --firmware-sizes given */
     int firmware_count;

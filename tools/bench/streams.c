@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* Event-stream clients (issue 21): STREAM_ADDRESSES client addresses
+/* Event-stream clients: STREAM_ADDRESSES client addresses
  * (127.0.0.20 and up) open STREAMS_PER_ADDRESS streams each on
  * /api/devices/0/events of a free-running wsgsim, and a child process
  * counts every stream's events for a window; meanwhile this process times

@@ -226,7 +226,7 @@ START_TEST(limits_overdrive_force_is_never_zero)
 }
 END_TEST
 
-/* 0x51 with a byte that could forge a GCL reply (issue 18): refused with
+/* 0x51 with a byte that could forge a GCL reply: refused with
  * E_INVALID_PARAMETER, and the tag GCL's TAG? reads stays. */
 START_TEST(set_tag_refuses_line_breaks_quotes_and_non_ascii)
 {
