@@ -7,12 +7,13 @@
 #                  modules include each other in a circle (mk/include_cycles.py)
 #   sizes          the production files over 600 lines and functions over
 #                  60 (firmware/, hal/, host/; mk/sizes.py)
+#   sizes-check    the same, failing when there is any
 # The firmware's folders, lowest first; bin/ and gcl/ are peers, which may
 # not reference each other either.
 FIRMWARE_LAYERS := text fingers core conn bin,gcl
 
-.PHONY: layers-check sizes
-CHECK_TARGETS += layers-check
+.PHONY: layers-check sizes sizes-check
+CHECK_TARGETS += layers-check sizes-check
 
 ## fail when a lower layer references a higher one, or objects or includes go round in a circle
 layers-check: $(HOST_OBJ) $(CORE_OBJ)
@@ -25,3 +26,7 @@ layers-check: $(HOST_OBJ) $(CORE_OBJ)
 ## list production files over 600 lines and functions over 60
 sizes:
 	python3 mk/sizes.py
+
+## fail when a production file is over 600 lines or a function over 60
+sizes-check:
+	@python3 mk/sizes.py --check
