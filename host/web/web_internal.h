@@ -123,10 +123,15 @@ void web_ops_forget(web_ops_t *ops);
 enum MHD_Result web_sim_route(const web_request_t *req, gripper_t *g, const char *what);
 /* web_events.c: GET /api/devices/{id}/events */
 enum MHD_Result web_events_route(const web_request_t *req, gripper_t *g);
-/* web_script.c: /api/devices/{id}/script[/run|/stop|/console|/startup]
- * (rest: what follows "script") */
-enum MHD_Result web_script_route(const web_request_t *req, gripper_t *g, const char *rest);
-/* web_store.c: /api/devices/{id}/files[/NAME] (rest: what follows "files") */
+/* web_script.c: GET /api/devices/{id}/script and .../script/console, POST
+ * .../script/run and .../script/stop, PUT .../script/startup (rest: "") */
+enum MHD_Result web_script_get(const web_request_t *req, gripper_t *g, const char *rest);
+enum MHD_Result web_script_console(const web_request_t *req, gripper_t *g, const char *rest);
+enum MHD_Result web_script_run(const web_request_t *req, gripper_t *g, const char *rest);
+enum MHD_Result web_script_stop(const web_request_t *req, gripper_t *g, const char *rest);
+enum MHD_Result web_script_startup(const web_request_t *req, gripper_t *g, const char *rest);
+/* web_store.c: /api/devices/{id}/files[/NAME] (rest: what follows "files";
+ * whether there is a store is asked first, then the path and method) */
 enum MHD_Result web_files_route(const web_request_t *req, gripper_t *g, const char *rest);
 /* The host path of a store file the web names ("NAME.lua" or
  * "/user/NAME.lua") into path: NULL, else why it is refused (no store, not a
