@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-# The device page (web/) in a browser: tests/browser with Debian's
+# The device page (webui/) in a browser: tests/browser with Debian's
 # headless Chromium, chromium-driver and python3-selenium (<!nocheck> test
 # dependencies in debian/control, installed by deps-check).
 #   make browser-tests        the page against build/wsgsim's HTTP server;
@@ -11,8 +11,10 @@ BROWSER_TESTS = WSGSIM=$(abspath $(BUILD)/wsgsim) $(BROWSER_PYTHON) tests/browse
 .PHONY: browser-tests browser-screenshot
 CHECK_TARGETS += browser-tests
 
+## the device page in headless Chromium against build/wsgsim
 browser-tests: deps-check $(BUILD)/wsgsim
 	SCREENSHOT=$(abspath $(BUILD)/browser/live-view.png) $(BROWSER_TESTS)
 
+## the same, refreshing docs/img/live-view.png
 browser-screenshot: deps-check $(BUILD)/wsgsim
 	SCREENSHOT=$(abspath docs/img/live-view.png) $(BROWSER_TESTS)

@@ -38,9 +38,11 @@ ifneq ($(SAN),1)
 CHECK_TARGETS += can-vcan-qemu-tests
 endif
 
+## install what the vcan test needs (can-utils, the guest kernels)
 can-deps:
 	@mk/deps.sh $(CAN_DEBS)
 
+## build build/fingersim, the simulated fingers on a SocketCAN bus
 fingersim: $(BUILD)/fingersim
 
 $(BUILD)/obj/tools/fingersim/%.o: tools/fingersim/%.c
@@ -58,6 +60,7 @@ $(CAN_TEST_BIN): $(CAN_TEST_OBJ) $(CORE_LIBS)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS_BASE) -o $@ $(CAN_TEST_OBJ) $(CORE_LIBS) $(CAN_TEST_LIBS)
 
+## the finger bus's Check tests: protocol, nodes, the bus on the core
 can-unit-tests: $(CAN_TEST_BIN)
 	$(CHECK_ENV) $(CAN_TEST_BIN)
 
@@ -67,6 +70,7 @@ can-unit-tests: $(CAN_TEST_BIN)
 # address space of a UML guest's processes, so with SAN=1 a guest runs the
 # plain build (native vcan runs the sanitized one). First the unit tests in
 # tests/can/test_*.py (the choice of backend, the capture's end marker).
+## wsgsim, fingersim and candump on a real vcan0 (VCAN_BACKEND=native|uml|qemu)
 can-vcan-tests: can-deps $(BUILD)/wsgsim $(BUILD)/fingersim
 ifeq ($(SAN),1)
 	$(MAKE) SAN=0 build/wsgsim build/fingersim
@@ -77,6 +81,7 @@ endif
 		--guest-wsgsim $(abspath build/wsgsim) --guest-fingersim $(abspath build/fingersim) \
 		--backend $(VCAN_BACKEND) --qemu-accel $(VCAN_QEMU_ACCEL)
 
+## the vcan test in the QEMU guest kernel
 can-vcan-qemu-tests:
 	$(MAKE) can-vcan-tests VCAN_BACKEND=qemu
 

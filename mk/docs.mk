@@ -7,5 +7,6 @@
 .PHONY: docs-tests
 CHECK_TARGETS += docs-tests
 
+## run every command example of README.md and docs/*.md
 docs-tests: deps-check $(BUILD)/wsgsim
 	WSGSIM=$(abspath $(BUILD)/wsgsim) /usr/bin/python3 tests/run_suite.py docs tests/docs

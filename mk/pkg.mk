@@ -13,6 +13,7 @@ PKG_TESTS ?= test_*.py
 .PHONY: pkg-tests
 CHECK_TARGETS += pkg-tests
 
+## programs, man pages, install, units and the .debs (PKG_TESTS=pattern)
 pkg-tests: deps-check $(BUILD)/wsgsim $(BUILD)/fingersim man deb
 	WSGSIM=$(abspath $(BUILD)/wsgsim) FINGERSIM=$(abspath $(BUILD)/fingersim) \
 		MAN_DIR=$(abspath $(BUILD)/man) DEB_DIR=$(abspath $(DEB_DIR)) \

@@ -15,13 +15,16 @@ VALGRIND_CMD := valgrind --leak-check=full --show-leak-kinds=all \
 .PHONY: valgrind-tests valgrind-deps abuse-tests
 CHECK_TARGETS += valgrind-tests
 
+## tests/e2e/test_abuse.py alone
 abuse-tests: $(BUILD)/wsgsim
 	WSGSIM=$(abspath $(BUILD)/wsgsim) python3 tests/run_suite.py e2e tests/e2e test_abuse.py
 
+## install valgrind
 valgrind-deps:
 	@mk/deps.sh $(VALGRIND_DEBS)
 
 ifeq ($(SAN),1)
+## the end-to-end and web tests with build/wsgsim under valgrind memcheck
 valgrind-tests:
 	$(MAKE) --no-print-directory SAN=0 valgrind-tests
 else
