@@ -3,6 +3,7 @@
 #   make run     start the virtual gripper on TCP/UDP 1000
 #   make check   build everything and run all tests: every suite runs, even
 #                after one failed, and a summary ends the output
+#   make help    every target, one line each
 # Each area keeps its rules in mk/*.mk.
 
 CC ?= gcc
@@ -73,12 +74,15 @@ endif
 HOST_DEBS = $(shell mk/deps.sh --list build)
 CHECK_DEBS = $(shell mk/deps.sh --list check)
 
-.PHONY: all run check deps deps-check clean format format-check lint
+.PHONY: all run check deps deps-check clean format format-check
+## build build/wsgsim (the default)
 all: $(BUILD)/wsgsim
 
+## install the packages a build needs (debian/control), or print the command
 deps:
 	@mk/deps.sh $(HOST_DEBS)
 
+## the same for every package `make check` needs, test tools included
 deps-check:
 	@mk/deps.sh $(CHECK_DEBS)
 
@@ -93,18 +97,23 @@ include $(filter-out mk/host.mk,$(sort $(wildcard mk/*.mk)))
 # docs/testing.md): a failing suite or build does not stop the others; the
 # last line is "check: N passed, N failed" (suites).
 CHECK_JOBS ?=
+## build everything and run every suite; a summary of the suites ends the output
 check: deps-check
 	@MAKE="$(MAKE)" python3 mk/run_suites.py $(if $(CHECK_JOBS),--jobs $(CHECK_JOBS)) \
 		--log-dir $(BUILD)/check $(if $(filter 1,$(SAN)),--sanitizer-logs) $(CHECK_TARGETS)
 
+## start build/wsgsim (ARGS="..." passes its options)
 run: deps $(BUILD)/wsgsim
 	$(BUILD)/wsgsim $(ARGS)
 
+## clang-format every C source in place
 format:
 	clang-format -i $$(git ls-files '*.c' '*.h')
 
+## fail when a C source is not as clang-format writes it
 format-check:
 	clang-format --dry-run --Werror $$(git ls-files '*.c' '*.h')
 
+## remove build/
 clean:
 	rm -rf build

@@ -48,6 +48,7 @@ $(BIN_TEST_BIN): $(BIN_TEST_OBJ) $(BUILD)/libwsgfw.a
 # Check prints its summary line, the Python tests 'N passed, N failed'; both
 # binaries exit non-zero on any failure, and the Python tests run either way.
 .PHONY: bin-tests
+## the binary protocol's codec and driver Check tests, the Python client's codec tests
 bin-tests: $(BIN_TEST_BIN) $(BIN_DRV_TEST_BIN)
 	@status=0; $(CHECK_ENV) $(BIN_TEST_BIN) || status=1; \
 	$(CHECK_ENV) $(BIN_DRV_TEST_BIN) || status=1; \

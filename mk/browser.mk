@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-# The device page (web/) in a browser: tests/browser with Debian's
+# The device page (webui/) in a browser: tests/browser with Debian's
 # headless Chromium, chromium-driver and python3-selenium (<!nocheck> test
 # dependencies in debian/control, installed by deps-check).
 #   make browser-tests        the page against build/wsgsim's HTTP server;
@@ -14,8 +14,10 @@ ifneq ($(SAN),1)
 CHECK_TARGETS += browser-tests
 endif
 
+## the device page in headless Chromium against build/wsgsim
 browser-tests: deps-check $(BUILD)/wsgsim
 	SCREENSHOT=$(abspath $(BUILD)/browser/live-view.png) $(BROWSER_TESTS)
 
+## the same, refreshing docs/img/live-view.png
 browser-screenshot: deps-check $(BUILD)/wsgsim
 	SCREENSHOT=$(abspath docs/img/live-view.png) $(BROWSER_TESTS)

@@ -40,9 +40,11 @@ else ifneq ($(wildcard /sys/class/net/vcan0),)
 CHECK_TARGETS += can-vcan-tests
 endif
 
+## install what the vcan test needs (can-utils, the guest kernels)
 can-deps:
 	@mk/deps.sh $(CAN_DEBS)
 
+## build build/fingersim, the simulated fingers on a SocketCAN bus
 fingersim: $(BUILD)/fingersim
 
 $(BUILD)/obj/tools/fingersim/%.o: tools/fingersim/%.c
@@ -60,6 +62,7 @@ $(CAN_TEST_BIN): $(CAN_TEST_OBJ) $(CORE_LIBS)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS_BASE) -o $@ $(CAN_TEST_OBJ) $(CORE_LIBS) $(CAN_TEST_LIBS)
 
+## the finger bus's Check tests: protocol, nodes, the bus on the core
 can-unit-tests: $(CAN_TEST_BIN)
 	$(CHECK_ENV) $(CAN_TEST_BIN)
 
@@ -69,6 +72,7 @@ can-unit-tests: $(CAN_TEST_BIN)
 # address space of a UML guest's processes, so with SAN=1 a guest runs the
 # plain build (native vcan runs the sanitized one). First the unit tests in
 # tests/can/test_*.py (the choice of backend, the capture's end marker).
+## wsgsim, fingersim and candump on a real vcan0 (VCAN_BACKEND=native|uml|qemu)
 can-vcan-tests: can-deps $(BUILD)/wsgsim $(BUILD)/fingersim
 ifeq ($(SAN),1)
 	$(MAKE) SAN=0 build/wsgsim build/fingersim
@@ -81,6 +85,7 @@ endif
 
 # The prerequisites of can-vcan-tests, named here too: make check builds
 # every suite's prerequisites before the suites start (mk/run_suites.py).
+## the vcan test in the QEMU guest kernel
 can-vcan-qemu-tests: can-deps $(BUILD)/wsgsim $(BUILD)/fingersim
 	$(MAKE) --no-print-directory can-vcan-tests VCAN_BACKEND=qemu
 

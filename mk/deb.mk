@@ -22,8 +22,10 @@ DEB_INPUTS := $(shell find . \( -path ./build -o -path ./.git -o -name __pycache
 	-o -type f -print 2>/dev/null)
 
 .PHONY: deb deb-deps
+## build the Debian packages in build/deb/ (wsgsim, python3-wsgsim)
 deb: $(DEB_FILES)
 
+## install what a package build needs
 deb-deps:
 	@mk/deps.sh $(CHECK_DEBS)
 

@@ -10,5 +10,6 @@ ifneq ($(SAN),1)
 CHECK_TARGETS += docs-tests
 endif
 
+## run every command example of README.md and docs/*.md
 docs-tests: deps-check $(BUILD)/wsgsim
 	WSGSIM=$(abspath $(BUILD)/wsgsim) /usr/bin/python3 tests/run_suite.py docs tests/docs

@@ -75,11 +75,14 @@ ifneq ($(SAN),1)
 CHECK_TARGETS += firmware-check
 endif
 
+## build the Cortex-M3 images build/firmware/wsgsim-{serial,lwip}.{elf,bin}
 firmware: $(FW_IMAGES) $(FW_BINS) $(FW_OUT)/core-symbols.ok
 
+## install the ARM cross toolchain
 fw-deps:
 	@mk/deps.sh $(FW_DEBS)
 
+## install QEMU for the ARM images
 fw-qemu-deps:
 	@mk/deps.sh $(FW_QEMU_DEBS)
 
@@ -119,16 +122,19 @@ $(FW_OUT)/core-symbols.ok: $(FW_CORE_OBJ) $(FW_BOARD)/check-core-symbols.sh
 	@NM=$(FW_NM) $(FW_BOARD)/check-core-symbols.sh $(FW_CORE_OBJ)
 	@touch $@
 
+## the images' flash and RAM against their budgets
 firmware-size: $(FW_IMAGES)
 	@SIZE=$(FW_SIZE) NM=$(FW_NM) $(FW_BOARD)/size-check.sh $(FW_OUT)/wsgsim-serial.elf \
 		$(FW_SERIAL_FLASH_MAX) $(FW_SERIAL_RAM_MAX)
 	@SIZE=$(FW_SIZE) NM=$(FW_NM) $(FW_BOARD)/size-check.sh $(FW_OUT)/wsgsim-lwip.elf \
 		$(FW_LWIP_FLASH_MAX) $(FW_LWIP_RAM_MAX)
 
+## budgets, core symbols, and GCL and binary conversations with both images in QEMU
 firmware-check: firmware firmware-size | fw-qemu-deps
 	tests/qemu/boot.sh --test serial $(FW_OUT)/wsgsim-serial.elf
 	tests/qemu/boot.sh --test lwip $(FW_OUT)/wsgsim-lwip.elf
 
+## boot an image in QEMU (FW_IMAGE=serial|lwip) and say how to connect
 run-qemu: $(FW_OUT)/wsgsim-$(FW_IMAGE).elf | fw-qemu-deps
 	tests/qemu/boot.sh $(FW_IMAGE) $<
 

@@ -63,6 +63,7 @@ FUZZ_HEADERS = $(wildcard include/wsg/*.h firmware/*/*.h hal/*.h hal/sim/*.h hos
 .PHONY: fuzz fuzz-deps fuzz-build fuzz-regress
 CHECK_TARGETS += fuzz-regress
 
+## install what fuzzing needs (clang)
 fuzz-deps:
 	@mk/deps.sh $(FUZZ_DEBS)
 
@@ -80,12 +81,14 @@ $(BUILD)/tests/fuzz_replay_$(1): tests/fuzz/fuzz_$(1).c tests/fuzz/replay_main.c
 endef
 $(foreach t,$(FUZZ_TARGETS),$(eval $(call FUZZ_TARGET_RULES,$(t))))
 
+## build every libFuzzer target in build/fuzz/
 fuzz-build: $(addprefix $(FUZZ_DIR)/fuzz_,$(FUZZ_TARGETS))
 
 # New corpus entries go to build/fuzz/corpus/NAME; the seeds and the
 # regression inputs are read only. A target without a dictionary runs without.
 # The host's own messages (a refused file names file:line on stderr) are
 # dropped (-close_fd_mask=2): libFuzzer and the sanitizers still report.
+## fuzz every parser of outside input (FUZZ_TIME=S, FUZZ_TARGETS=NAME...)
 fuzz: fuzz-build
 	@failed=; for t in $(FUZZ_TARGETS); do \
 		mkdir -p $(FUZZ_DIR)/corpus/$$t $(FUZZ_DIR)/artifacts || exit 1; \
@@ -98,6 +101,7 @@ fuzz: fuzz-build
 	done; \
 	[ -z "$$failed" ] || { echo "fuzz: findings in$$failed (build/fuzz/artifacts/)"; exit 1; }
 
+## replay every fuzz target's seeds and regression inputs
 fuzz-regress: $(addprefix $(BUILD)/tests/fuzz_replay_,$(FUZZ_TARGETS))
 	@for t in $(FUZZ_TARGETS); do \
 		echo "fuzz-regress: $$t"; \

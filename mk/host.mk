@@ -10,7 +10,9 @@
 # host/ is laid out in folders by layer, lowest first (each folder's
 # README.md); a module includes another folder's header by its name alone
 # (HOST_INC), simctl/ and web/ by their folder ("simctl/control.h").
-HOST_DIRS := os can diag config script port simctl web
+# HOST_DIRS is the one place the order is written: make layers-check
+# (mk/layers.mk) fails when a folder refers to one after it.
+HOST_DIRS := os can diag script config port simctl web
 HOST_INC := -Ihost $(addprefix -Ihost/,$(filter-out simctl web,$(HOST_DIRS)))
 HOST_SRC := $(sort $(wildcard host/*.c $(HOST_DIRS:%=host/%/*.c)))
 HOST_PKGS := inih libcjson libsystemd libmicrohttpd lua5.4

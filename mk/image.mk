@@ -19,8 +19,10 @@ IMAGE_STAGES := ^(I: |image: )
 WSGSIM_DEB := $(DEB_DIR)/wsgsim_$(DEB_VERSION)_$(DEB_ARCH).deb
 
 .PHONY: image image-tests image-deps
+## build the OCI image build/image/wsgsim-oci.tar from the .deb (as root)
 image: $(IMAGE)
 
+## install what the container image needs (mmdebstrap, umoci)
 image-deps:
 	@mk/deps.sh $(IMAGE_DEBS)
 
@@ -29,6 +31,7 @@ $(IMAGE): $(WSGSIM_DEB) mk/image.sh | image-deps
 	@/usr/bin/python3 mk/progress.py image $(IMAGE_LOG) '$(IMAGE_STAGES)' -- \
 		mk/image.sh $(WSGSIM_DEB) $(IMAGE_DIR) $(DEB_VERSION)
 
+## the image's configuration, and wsgsim run from its root filesystem
 image-tests: $(IMAGE) | image-deps
 	IMAGE=$(abspath $(IMAGE)) IMAGE_VERSION=$(DEB_VERSION) \
 		python3 tests/run_suite.py image tests/image

@@ -46,8 +46,10 @@ HOST_CFLAGS += -DWSGSIM_EXAMPLE_CONFIG='"$(DOCDIR)/examples/wsgsim.example.ini"'
 $(BUILD)/obj/host/config/options.o $(BUILD)/obj/host/config/config_file.o: $(BUILD)/man/paths
 
 .PHONY: programs man install uninstall docs-plot
+## build every program and its man page
 programs: $(PROGRAMS) man
 
+## build the man pages (help2man)
 man: $(MAN_PAGES)
 
 # help2man runs the program: the page says what this build does.
@@ -76,10 +78,12 @@ $(BUILD)/man/wsgplot.1: tools/wsgplot
 $(BUILD)/man/wsgbin.1: tools/wsgbin $(BIN_CLIENT_MODULE)
 
 .PHONY: man-deps
+## install help2man
 man-deps:
 	@mk/deps.sh $(MAN_DEBS)
 
 # The units name the installed paths, so they are written at install time.
+## install programs, man pages, units, docs (PREFIX=/usr/local DESTDIR=)
 install: $(PROGRAMS) man
 	$(INSTALL) -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(SYSTEMDUNITDIR) \
 		$(DESTDIR)$(DOCDIR)/examples $(DESTDIR)$(PRIVATE_DIR) $(DESTDIR)$(SYSCONFDIR)/wsgsim
@@ -103,6 +107,7 @@ install: $(PROGRAMS) man
 	@echo "install: (make deb; apt install ./build/deb/python3-wsgsim_*.deb), or from this"
 	@echo "install: tree PYTHONPATH=$(abspath python) and pytest -p wsgsim.pytest_plugin"
 
+## remove exactly what install put there
 uninstall:
 	rm -f $(addprefix $(DESTDIR)$(BINDIR)/,$(PROGRAM_NAMES)) \
 		$(patsubst %,$(DESTDIR)$(MANDIR)/man1/%.1,$(PROGRAM_NAMES)) \
@@ -113,6 +118,7 @@ uninstall:
 	-rmdir $(DESTDIR)$(PRIVATE_DIR) $(DESTDIR)$(SYSCONFDIR)/wsgsim 2>/dev/null
 
 # A deterministic run on the paused clock, drawn by tools/wsgplot.
+## regenerate docs/wsgplot-demo.png
 docs-plot: $(BUILD)/wsgsim
 	@mk/deps.sh gnuplot-nox
 	python3 tests/pkg/demo_record.py $(BUILD)/wsgsim $(BUILD)/demo-record.txt

@@ -19,6 +19,7 @@ $(LOOP_TEST_BIN): $(LOOP_TEST_OBJ) $(filter-out %/host/main.o,$(HOST_OBJ)) $(COR
 		$(CORE_LIBS) $(LOOP_TEST_LIBS)
 
 .PHONY: loop-tests
+## Check tests of host/os/ and other host modules without sockets
 loop-tests: $(LOOP_TEST_BIN)
 	$(CHECK_ENV) $(LOOP_TEST_BIN)
 

@@ -17,6 +17,7 @@ ifneq ($(SAN),1)
 CHECK_TARGETS += pkg-tests
 endif
 
+## programs, man pages, install, units and the .debs (PKG_TESTS=pattern)
 pkg-tests: deps-check $(BUILD)/wsgsim $(BUILD)/fingersim man deb
 	WSGSIM=$(abspath $(BUILD)/wsgsim) FINGERSIM=$(abspath $(BUILD)/fingersim) \
 		MAN_DIR=$(abspath $(BUILD)/man) DEB_DIR=$(abspath $(DEB_DIR)) \

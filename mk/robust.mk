@@ -20,13 +20,16 @@ ifneq ($(SAN),1)
 CHECK_TARGETS += valgrind-tests
 endif
 
+## tests/e2e/test_abuse.py alone
 abuse-tests: $(BUILD)/wsgsim
 	WSGSIM=$(abspath $(BUILD)/wsgsim) python3 tests/run_suite.py e2e tests/e2e test_abuse.py
 
+## install valgrind
 valgrind-deps:
 	@mk/deps.sh $(VALGRIND_DEBS)
 
 ifeq ($(SAN),1)
+## the end-to-end and web tests with build/wsgsim under valgrind memcheck
 valgrind-tests:
 	$(MAKE) --no-print-directory SAN=0 valgrind-tests
 else

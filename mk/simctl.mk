@@ -22,9 +22,11 @@ $(SIMCTL_TEST_BIN): $(SIMCTL_TEST_OBJ) $(filter-out %/host/main.o,$(HOST_OBJ)) $
 		$(CORE_LIBS) $(SIMCTL_TEST_LIBS)
 
 .PHONY: simctl-tests simctl-e2e
+## Check tests of every control command on the real host device
 simctl-tests: $(SIMCTL_TEST_BIN)
 	$(CHECK_ENV) $(SIMCTL_TEST_BIN)
 
+## the control channel's end-to-end tests alone
 simctl-e2e: $(BUILD)/wsgsim
 	WSGSIM=$(abspath $(BUILD)/wsgsim) python3 tests/run_suite.py --jobs $(SUITE_JOBS) e2e tests/e2e \
 		'test_simctl*.py'

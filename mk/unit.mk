@@ -7,7 +7,7 @@
 #   make unit-tests         build and run them
 #   make unit-tests SAN=1   the same under ASan/UBSan (build/san)
 UNIT_SRC := tests/unit_main.c \
-	$(sort $(wildcard tests/core/*.c tests/gcl/*.c tests/net/*.c tests/text/*.c tests/sim/*.c))
+	$(sort $(wildcard tests/core/*.c tests/gcl/*.c tests/conn/*.c tests/text/*.c tests/sim/*.c))
 UNIT_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(UNIT_SRC)) $(FAKE_CORE_OBJ)
 UNIT_BIN := $(BUILD)/tests/unit_tests
 UNIT_CFLAGS = $(CFLAGS_BASE) $(CORE_INC) -Itests -Itests/fake $(shell pkg-config --cflags check)
@@ -42,6 +42,7 @@ $(OPTS_TEST_BIN): $(OPTS_TEST_OBJ)
 # Check prints its summary lines; the binaries exit non-zero on any failure,
 # and both run either way.
 .PHONY: unit-tests
+## Check tests of the device core, its drivers and the simulated world
 unit-tests: $(UNIT_BIN) $(OPTS_TEST_BIN)
 	@status=0; $(CHECK_ENV) $(UNIT_BIN) || status=1; \
 	$(CHECK_ENV) $(OPTS_TEST_BIN) || status=1; exit $$status

@@ -4,7 +4,7 @@
 
 usage: web_assets.py OUT.c FILE...   each FILE is served as /static/BASENAME
 (index.html is the page of /devices/{id}). Generated into build/, never
-committed: the page's sources are web/* (the chart library, Debian's
+committed: the page's sources are webui/* (the chart library, Debian's
 libjs-dygraphs, is read from /usr/share/javascript/dygraphs at run time).
 """
 import os

@@ -278,10 +278,8 @@ static bool value_ok(const wsg_config_t *cfg, wsg_setting_check_t check, float v
 }
 
 /* Checked and set as the settings table (settings.c) describes. */
-wsg_status_t wsg_op_set(wsg_device_t *device, wsg_setting_t which, float value)
+wsg_status_t wsg_config_setting_set(wsg_config_t *cfg, wsg_setting_t which, float value)
 {
-    wsg_dev_t *dev = dev_of(device);
-    wsg_config_t *cfg = &dev->cfg;
     const wsg_setting_info_t *s = wsg_setting_info(which);
     if (s == NULL) {
         return E_INVALID_PARAMETER;
@@ -296,17 +294,23 @@ wsg_status_t wsg_op_set(wsg_device_t *device, wsg_setting_t which, float value)
         return E_RANGE_ERROR;
     }
     wsg_config_setting_put(cfg, which, value);
-    if (which == WSG_SET_FORCE_LIMIT && dev->velocity.active) {
+    return E_SUCCESS;
+}
+
+wsg_status_t wsg_op_set(wsg_device_t *device, wsg_setting_t which, float value)
+{
+    wsg_dev_t *dev = dev_of(device);
+    wsg_status_t status = wsg_config_setting_set(&dev->cfg, which, value);
+    if (status == E_SUCCESS && which == WSG_SET_FORCE_LIMIT && dev->velocity.active) {
         wsg_motion_velocity_drive(dev); /* the new limit applies at once */
     }
-    return E_SUCCESS;
+    return status;
 }
 
 /* Validated here, once, for GCL, the binary protocol and the web page
  * (docs/behaviour.md "Settings are validated in the core"). */
-wsg_status_t wsg_op_set_tag(wsg_device_t *device, const char *tag, size_t len)
+wsg_status_t wsg_config_set_tag(wsg_config_t *cfg, const char *tag, size_t len)
 {
-    wsg_config_t *cfg = &dev_of(device)->cfg;
     if (len >= sizeof(cfg->tag)) {
         return E_RANGE_ERROR;
     }
@@ -318,6 +322,11 @@ wsg_status_t wsg_op_set_tag(wsg_device_t *device, const char *tag, size_t len)
     memcpy(cfg->tag, tag, len);
     cfg->tag[len] = '\0';
     return E_SUCCESS;
+}
+
+wsg_status_t wsg_op_set_tag(wsg_device_t *device, const char *tag, size_t len)
+{
+    return wsg_config_set_tag(&dev_of(device)->cfg, tag, len);
 }
 
 void wsg_device_sense(wsg_device_t *device)

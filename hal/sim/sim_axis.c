@@ -5,7 +5,6 @@
 #include <string.h>
 
 #define AT_TARGET_MM 1e-4f
-#define STILL_MM_S 1e-3f
 
 static float absf(float v)
 {
@@ -15,134 +14,6 @@ static float absf(float v)
 static float signf(float v)
 {
     return v > 0.0f ? 1.0f : (v < 0.0f ? -1.0f : 0.0f);
-}
-
-/* Anything that changes the axis or its world voids what the last steps
- * found: the next advance steps again. */
-static void forget_steps(sim_axis_t *axis)
-{
-    axis->rest_step_current = false;
-    axis->cruise.current = false;
-    axis->hold_current = false;
-}
-
-void wsg_sim_axis_init(sim_axis_t *axis, float stroke_mm, float emergency_accel_mm_s2)
-{
-    memset(axis, 0, sizeof(*axis));
-    axis->stroke_mm = stroke_mm;
-    axis->emergency_accel_mm_s2 = emergency_accel_mm_s2;
-    axis->x_mm = stroke_mm / 2.0f; /* somewhere mid-stroke: unknown until homed */
-    axis->target_mm = axis->x_mm;
-    axis->amax_mm_s2 = emergency_accel_mm_s2;
-}
-
-void wsg_sim_axis_place_part(sim_axis_t *axis, float width_mm, float stiffness_n_mm)
-{
-    forget_steps(axis);
-    axis->part.present = true;
-    axis->part.squeezed_s = 0.0f;
-    axis->part.width_mm = width_mm;
-    axis->part.stiffness_n_mm = stiffness_n_mm;
-    axis->part.side = axis->x_mm >= width_mm ? SIM_PART_INSIDE : SIM_PART_OUTSIDE;
-}
-
-void wsg_sim_axis_remove_part(sim_axis_t *axis)
-{
-    forget_steps(axis);
-    axis->part.present = false;
-    axis->part.squeezed_s = 0.0f;
-}
-
-void wsg_sim_axis_set_part(sim_axis_t *axis, float width_mm, float stiffness_n_mm,
-                           float slip_force_n)
-{
-    forget_steps(axis);
-    if (!axis->part.present) {
-        wsg_sim_axis_place_part(axis, width_mm, stiffness_n_mm);
-    }
-    axis->part.width_mm = width_mm;
-    axis->part.stiffness_n_mm = stiffness_n_mm;
-    axis->part.slip_force_n = slip_force_n;
-}
-
-void wsg_sim_axis_slip_part(sim_axis_t *axis)
-{
-    forget_steps(axis);
-    if (axis->part.present) {
-        axis->part.slips++;
-        wsg_sim_axis_remove_part(axis);
-    }
-}
-
-void wsg_sim_axis_place_obstacle(sim_axis_t *axis, float width_mm)
-{
-    forget_steps(axis);
-    axis->obstacle.present = true;
-    axis->obstacle.width_mm = width_mm;
-    axis->obstacle.side = axis->x_mm >= width_mm ? SIM_PART_INSIDE : SIM_PART_OUTSIDE;
-}
-
-void wsg_sim_axis_remove_obstacle(sim_axis_t *axis)
-{
-    forget_steps(axis);
-    axis->obstacle.present = false;
-}
-
-void wsg_sim_axis_move(sim_axis_t *axis, float target_mm, float speed_mm_s, float accel_mm_s2,
-                       float force_limit_n)
-{
-    forget_steps(axis);
-    axis->target_mm = target_mm - axis->offset_mm;
-    axis->vmax_mm_s = speed_mm_s;
-    axis->amax_mm_s2 = accel_mm_s2;
-    axis->fmax_n = force_limit_n;
-    axis->active = true;
-}
-
-void wsg_sim_axis_stop(sim_axis_t *axis, bool fast)
-{
-    forget_steps(axis);
-    float accel = fast ? axis->emergency_accel_mm_s2 : axis->amax_mm_s2;
-    if (accel <= 0.0f) {
-        accel = axis->emergency_accel_mm_s2;
-    }
-    float v = axis->v_mm_s;
-    axis->amax_mm_s2 = accel;
-    axis->target_mm = axis->x_mm + v * absf(v) / (2.0f * accel);
-    axis->active = absf(v) > STILL_MM_S;
-}
-
-void wsg_sim_axis_disable(sim_axis_t *axis)
-{
-    forget_steps(axis);
-    axis->fmax_n = 0.0f;
-    wsg_sim_axis_stop(axis, true);
-}
-
-void wsg_sim_axis_set_position(sim_axis_t *axis, float position_mm)
-{
-    forget_steps(axis);
-    float shift = position_mm - wsg_sim_axis_position(axis);
-    axis->offset_mm += shift;
-}
-
-void wsg_sim_axis_place_jaws(sim_axis_t *axis, float x_mm)
-{
-    forget_steps(axis);
-    axis->x_mm = x_mm;
-    axis->target_mm = x_mm;
-}
-
-void wsg_sim_axis_set_power_fault(sim_axis_t *axis, bool on)
-{
-    forget_steps(axis);
-    axis->power_fault = on;
-}
-
-void wsg_sim_axis_set_current_fault(sim_axis_t *axis, bool on)
-{
-    forget_steps(axis);
-    axis->current_fault = on;
 }
 
 /* One step of the trapezoidal profile, ignoring contact. Comparisons use
@@ -517,7 +388,7 @@ unsigned wsg_sim_axis_cruise_many(sim_axis_t *axis, float dt_s, unsigned max, fl
 
 void wsg_sim_axis_advance_stepwise(sim_axis_t *axis, float dt_s)
 {
-    forget_steps(axis);
+    wsg_sim_axis_forget_steps(axis);
     /* At rest only contacts can change (a part placed or removed): one step
      * of 0 s. */
     bool at_rest = wsg_sim_axis_at_rest(axis);
@@ -620,7 +491,7 @@ void wsg_sim_axis_advance(sim_axis_t *axis, float dt_s)
     if (axis->hold_current && axis->active && dt_s == axis->hold_dt_s) {
         return; /* the same steps again, each leaving the axis as it was */
     }
-    forget_steps(axis);
+    wsg_sim_axis_forget_steps(axis);
     clear_span_t span = clear_span(axis);
     if (!free_run(axis, dt_s, span) && move_steps(axis, dt_s, span)) {
         axis->hold_current = true;

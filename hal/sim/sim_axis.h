@@ -83,6 +83,14 @@ typedef struct {
 #define SIM_AXIS_MAX_STEP_S 0.0005f
 
 void wsg_sim_axis_init(sim_axis_t *axis, float stroke_mm, float emergency_accel_mm_s2);
+/* Anything that changes the axis or its world voids what the last steps
+ * found: the next advance steps again (every setter below does it). */
+static inline void wsg_sim_axis_forget_steps(sim_axis_t *axis)
+{
+    axis->rest_step_current = false;
+    axis->cruise.current = false;
+    axis->hold_current = false;
+}
 /* Places a part; its side follows from where the jaws are now. */
 void wsg_sim_axis_place_part(sim_axis_t *axis, float width_mm, float stiffness_n_mm);
 void wsg_sim_axis_remove_part(sim_axis_t *axis);

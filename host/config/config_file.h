@@ -15,10 +15,10 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "options.h"
+#include "host_options.h"
 #include "wsg/wsg_config.h"
 
-/* config_file_t (declared in options.h, whose host_options_t points to the
+/* config_file_t (declared in host_options.h, whose host_options_t points to the
  * one options_parse() read): what the files read hold. Nothing read yet;
  * NULL: out of memory. */
 config_file_t *config_file_create(void);

@@ -7,7 +7,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "options.h"
+#include "host_options.h"
 
 /* A missing or unreadable startup file named by --script or a --config
  * file, or a store that is no directory, is a start error: one

@@ -23,6 +23,7 @@ bool listener_start(listener_t *l, host_loop_t *loop, net_t *net, const char *na
 {
     int fd = net_listen_for(net, SOCK_STREAM, addr, port, port_option(name));
     *l = (listener_t){.loop = loop, .fd = fd, .name = name};
+    l->port = l->fd >= 0 ? net_local_port(l->fd) : -1;
     return l->fd >= 0 && loop_watch(loop, l->fd, POLLIN, on_accept, ctx);
 }
 

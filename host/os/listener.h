@@ -16,6 +16,7 @@
 typedef struct {
     host_loop_t *loop; /* the loop it is watched on */
     int fd;
+    int port;         /* the port it listens on, asked once at start */
     const char *name; /* for the log: "tcp", "control" */
     bool starved;     /* out of descriptors: not polled until retry_ns */
     uint64_t retry_ns;

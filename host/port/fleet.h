@@ -10,6 +10,7 @@
 #include <stdint.h>
 
 #include "gripper.h"
+#include "list.h"
 #include "loop.h"
 #include "net.h"
 #include "options.h"
@@ -33,7 +34,7 @@ typedef struct fleet_observer {
      * observer saw then is what it sees. */
     void (*flags_changed)(void *ctx, gripper_t *g);
     void *ctx;
-    struct fleet_observer *next;
+    list_node_t link; /* on the fleet's list */
 } fleet_observer_t;
 
 /* An empty fleet (NULL: out of memory) whose sockets will be net's, watched

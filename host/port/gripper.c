@@ -375,17 +375,17 @@ void gripper_touch(gripper_t *g)
 {
     if (!g->touched) {
         g->touched = true;
-        g->next_touched = g->touched_list->first;
-        g->touched_list->first = g;
+        list_push_front(&g->touched_list->grippers, &g->touched_link);
     }
 }
 
 gripper_t *gripper_take_touched(gripper_touched_t *touched)
 {
-    gripper_t *g = touched->first;
-    if (g != NULL) {
-        touched->first = g->next_touched;
-        g->touched = false;
+    list_node_t *node = list_pop_front(&touched->grippers);
+    if (node == NULL) {
+        return NULL;
     }
+    gripper_t *g = LIST_ITEM(node, gripper_t, touched_link);
+    g->touched = false;
     return g;
 }

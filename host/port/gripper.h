@@ -2,7 +2,7 @@
 /* One virtual gripper of the host: the device core, its simulated world and
  * the configuration it powers on with, kept on the simulated clock. Every
  * entry point first brings the world up to now. An instance: the fleet
- * (host/fleet.c) holds one per device and hands it to that device's servers.
+ * (host/port/fleet.c) holds one per device and hands it to that device's servers.
  * Each gripper is a whole device: its own finger bus with its fingers. */
 #ifndef HOST_GRIPPER_H
 #define HOST_GRIPPER_H
@@ -12,6 +12,7 @@
 #include <stdint.h>
 
 #include "finger_bus_host.h"
+#include "list.h"
 #include "options.h"
 #include "sim/sim_world.h"
 #include "wsg/wsg_conn.h"
@@ -22,7 +23,7 @@ struct gripper;
 /* The grippers touched since they were last ticked: one list per fleet,
  * which hands it to its grippers (gripper_init). */
 typedef struct {
-    struct gripper *first;
+    list_t grippers; /* the last touched first */
 } gripper_touched_t;
 
 /* What follows the device's control steps (the --record's samples of its
@@ -48,11 +49,11 @@ typedef struct gripper {
     host_options_t *own_opts;
     wsg_runner_t runner;       /* feed and step: the core's, as on the board */
     finger_bus_host_t fingers; /* its finger bus */
-    struct gripper *next_touched;
+    list_node_t touched_link;  /* on touched_list while touched */
     gripper_touched_t *touched_list;
     /* the limits every script of the process shares (the fleet's) */
     struct script_guard *script_guard;
-    /* the flag register the fleet's observers saw last (host/fleet.c);
+    /* the flag register the fleet's observers saw last (host/port/fleet.c);
      * GRIPPER_FLAGS_UNSHOWN: none since its start or an observer forgot */
     uint64_t shown_flags;
     uint32_t ticked_flags;                /* the flag register its last tick left: 0 before */

@@ -2,75 +2,110 @@
 #include "state_json.h"
 
 #include <math.h>
-#include <stdlib.h>
 
 #include "gripper.h"
 #include "hal_clock.h"
-#include "script_json.h"
-#include "wsg/wsg_names.h"
 #include "sim/sim_world.h"
+#include "wsg/finger_proto.h"
 #include "wsg/wsg_gcl.h"
+#include "wsg/wsg_names.h"
 
-static double ms(uint64_t us)
-{
-    return (double)us / 1000.0;
-}
+static const char *const finger_flag_names[WSG_FINGER_FLAG_COUNT] = {
+    [FF_POWER_ON] = "FF_POWER_ON",     [FF_CONFIG_AVAIL] = "FF_CONFIG_AVAIL",
+    [FF_COMM_OPEN] = "FF_COMM_OPEN",   [FF_POWER_FAULT] = "FF_POWER_FAULT",
+    [FF_COMM_FAULT] = "FF_COMM_FAULT", [FF_INIT_FAULT] = "FF_INIT_FAULT",
+};
 
-/* A float reading at the resolution GCL prints (a thousandth, behaviour.md
- * "Numbers"): 0.591, not the float's 0.5910000205039978; never -0. */
-static void add_reading(cJSON *obj, const char *name, float value)
+/* ---- what both views write alike ---- */
+
+/* A reading of STATE? at the resolution GCL prints (a thousandth,
+ * behaviour.md "Numbers"): 0.591, not the float's 0.5910000205039978;
+ * 110, not 110.0; never -0. */
+static void reading(json_writer_t *j, const char *key, float value)
 {
     double rounded = isfinite(value) ? round((double)value * 1000.0) / 1000.0 : 0.0;
-    cJSON_AddNumberToObject(obj, name, rounded == 0.0 ? 0.0 : rounded);
+    json_writer_double(j, key, rounded == 0.0 ? 0.0 : rounded);
 }
 
-static cJSON *time_json(const state_json_sim_t *sim)
+/* The names of the flags set in flags: the system flags' (name_of: the
+ * manual's names, NULL for a reserved bit) or the fingers'. */
+static void flag_names(json_writer_t *j, uint32_t flags, unsigned count,
+                       const char *(*name_of)(unsigned bit), bool reserved_too)
 {
-    cJSON *t = cJSON_CreateObject();
-    cJSON_AddNumberToObject(t, "sim_ms", ms(hal_clock_now_us()));
-    cJSON_AddNumberToObject(t, "lag_ms", ms(sim->lag_us));
-    cJSON_AddNumberToObject(t, "max_lag_ms", ms(sim->max_lag_us));
-    cJSON_AddBoolToObject(t, "paused", sim->paused);
-    cJSON_AddNumberToObject(t, "scale", sim->scale);
-    return t;
-}
-
-static cJSON *device_json(const wsg_config_t *cfg)
-{
-    cJSON *d = cJSON_CreateObject();
-    cJSON_AddStringToObject(d, "model", cfg->devtype);
-    cJSON_AddNumberToObject(d, "serial", cfg->serial);
-    cJSON_AddStringToObject(d, "tag", cfg->tag);
-    cJSON_AddStringToObject(d, "firmware_version", cfg->version);
-    add_reading(d, "stroke_mm", cfg->stroke_mm);
-    add_reading(d, "default_force_n", cfg->default_force_n);
-    add_reading(d, "default_speed_mm_s", cfg->default_speed_mm_s);
-    add_reading(d, "default_accel_mm_s2", cfg->default_accel_mm_s2);
-    add_reading(d, "default_pullback_mm", cfg->default_pullback_mm);
-    add_reading(d, "default_pwt_mm", cfg->default_pwt_mm);
-    add_reading(d, "default_clt_mm", cfg->default_clt_mm);
-    cJSON_AddBoolToObject(d, "soft_limits", cfg->soft_limits_enabled);
-    add_reading(d, "soft_limit_minus_mm", cfg->soft_limit_minus_mm);
-    add_reading(d, "soft_limit_plus_mm", cfg->soft_limit_plus_mm);
-    cJSON_AddStringToObject(d, "homing_direction", cfg->home_positive ? "positive" : "negative");
-    cJSON_AddBoolToObject(d, "disconnect_faststop", cfg->disconnect_raises_faststop);
-    return d;
-}
-
-static cJSON *axis_json(const wsg_snapshot_t *snap)
-{
-    cJSON *j = cJSON_CreateObject();
-    add_reading(j, "position_mm", snap->position_mm);
-    add_reading(j, "speed_mm_s", snap->speed_mm_s);
-    add_reading(j, "force_n", snap->force_n);
-    cJSON_AddBoolToObject(j, "blocked", snap->blocked != 0);
-    if (snap->blocked != 0) { /* the side it is blocked on, as SF_BLOCKED_MINUS/PLUS */
-        cJSON_AddStringToObject(j, "blocked_side", snap->blocked < 0 ? "minus" : "plus");
-    } else {
-        cJSON_AddNullToObject(j, "blocked_side");
+    json_writer_open_array(j, "set");
+    for (unsigned bit = 0; bit < count; bit++) {
+        const char *name = name_of(bit);
+        if (((flags >> bit) & 1u) != 0u && (name != NULL || reserved_too)) {
+            json_writer_string(j, NULL, name != NULL ? name : "reserved");
+        }
     }
-    cJSON_AddBoolToObject(j, "referenced", snap->referenced);
-    return j;
+    json_writer_close_array(j);
+}
+
+static const char *sysflag_name(unsigned bit)
+{
+    return wsg_sysflag_name(bit);
+}
+
+static const char *finger_flag_name(unsigned bit)
+{
+    return finger_flag_names[bit];
+}
+
+static const char *side_name(sim_part_side_t side)
+{
+    return side == SIM_PART_INSIDE ? "inside" : "outside";
+}
+
+/* ---- STATE? ---- */
+
+static void write_time(json_writer_t *j, const state_json_sim_t *sim)
+{
+    json_writer_open_object(j, "time");
+    json_writer_ms(j, "sim_ms", hal_clock_now_us());
+    json_writer_ms(j, "lag_ms", sim->lag_us);
+    json_writer_ms(j, "max_lag_ms", sim->max_lag_us);
+    json_writer_bool(j, "paused", sim->paused);
+    json_writer_double(j, "scale", sim->scale);
+    json_writer_close_object(j);
+}
+
+static void write_device(json_writer_t *j, const wsg_config_t *cfg)
+{
+    json_writer_open_object(j, "device");
+    json_writer_string(j, "model", cfg->devtype);
+    json_writer_uint(j, "serial", cfg->serial);
+    json_writer_string(j, "tag", cfg->tag);
+    json_writer_string(j, "firmware_version", cfg->version);
+    reading(j, "stroke_mm", cfg->stroke_mm);
+    reading(j, "default_force_n", cfg->default_force_n);
+    reading(j, "default_speed_mm_s", cfg->default_speed_mm_s);
+    reading(j, "default_accel_mm_s2", cfg->default_accel_mm_s2);
+    reading(j, "default_pullback_mm", cfg->default_pullback_mm);
+    reading(j, "default_pwt_mm", cfg->default_pwt_mm);
+    reading(j, "default_clt_mm", cfg->default_clt_mm);
+    json_writer_bool(j, "soft_limits", cfg->soft_limits_enabled);
+    reading(j, "soft_limit_minus_mm", cfg->soft_limit_minus_mm);
+    reading(j, "soft_limit_plus_mm", cfg->soft_limit_plus_mm);
+    json_writer_string(j, "homing_direction", cfg->home_positive ? "positive" : "negative");
+    json_writer_bool(j, "disconnect_faststop", cfg->disconnect_raises_faststop);
+    json_writer_close_object(j);
+}
+
+static void write_axis(json_writer_t *j, const wsg_snapshot_t *snap)
+{
+    json_writer_open_object(j, "axis");
+    reading(j, "position_mm", snap->position_mm);
+    reading(j, "speed_mm_s", snap->speed_mm_s);
+    reading(j, "force_n", snap->force_n);
+    json_writer_bool(j, "blocked", snap->blocked != 0);
+    /* the side it is blocked on, as SF_BLOCKED_MINUS/PLUS */
+    json_writer_string(j, "blocked_side",
+                       snap->blocked == 0  ? NULL
+                       : snap->blocked < 0 ? "minus"
+                                           : "plus");
+    json_writer_bool(j, "referenced", snap->referenced);
+    json_writer_close_object(j);
 }
 
 /* The id of the connection whose owner runs the motion; 0 when it closed. */
@@ -84,107 +119,106 @@ static uint64_t owner_id(wsg_device_t *dev, const wsg_owner_t *owner)
     return 0u;
 }
 
-static cJSON *motion_json(wsg_device_t *dev, const wsg_snapshot_t *snap)
+static void write_motion(json_writer_t *j, wsg_device_t *dev, const wsg_snapshot_t *snap)
 {
-    cJSON *j = cJSON_CreateObject();
-    if (snap->motion == WSG_MOTION_NONE) {
-        cJSON_AddNullToObject(j, "command");
-        return j;
-    }
     static const char *const names[] = {"", "HOME", "MOVE", "GRIP", "RELEASE"};
-    cJSON_AddStringToObject(j, "command", names[snap->motion]);
-    add_reading(j, "target_mm", snap->motion_target_mm);
-    add_reading(j, "speed_mm_s", snap->motion_speed_mm_s);
-    add_reading(j, "force_n", snap->motion_force_n);
-    cJSON_AddNumberToObject(j, "session", owner_id(dev, snap->motion_owner));
-    return j;
-}
-
-static cJSON *grip_json(const wsg_snapshot_t *snap)
-{
-    cJSON *j = cJSON_CreateObject();
-    cJSON_AddNumberToObject(j, "state", snap->grip_state);
-    cJSON_AddStringToObject(j, "state_name", wsg_grip_state_name(snap->grip_state));
-    add_reading(j, "force_n", snap->grip_force_n);
-    add_reading(j, "hold_mm", snap->grip_hold_mm);
-    cJSON *stats = cJSON_AddObjectToObject(j, "stats");
-    cJSON_AddNumberToObject(stats, "grips", snap->grip_stats[0]);
-    cJSON_AddNumberToObject(stats, "no_part", snap->grip_stats[1]);
-    cJSON_AddNumberToObject(stats, "part_lost", snap->grip_stats[2]);
-    return j;
-}
-
-static cJSON *flags_json(uint32_t flags)
-{
-    cJSON *j = cJSON_CreateObject();
-    cJSON_AddNumberToObject(j, "value", flags);
-    cJSON *set = cJSON_AddArrayToObject(j, "set");
-    for (unsigned bit = 0; bit < WSG_SYSFLAG_COUNT; bit++) {
-        const char *name = wsg_sysflag_name(bit);
-        if (((flags >> bit) & 1u) != 0u) {
-            cJSON_AddItemToArray(set, cJSON_CreateString(name != NULL ? name : "reserved"));
-        }
+    json_writer_open_object(j, "motion");
+    if (snap->motion == WSG_MOTION_NONE) {
+        json_writer_null(j, "command");
+    } else {
+        json_writer_string(j, "command", names[snap->motion]);
+        reading(j, "target_mm", snap->motion_target_mm);
+        reading(j, "speed_mm_s", snap->motion_speed_mm_s);
+        reading(j, "force_n", snap->motion_force_n);
+        json_writer_uint(j, "session", owner_id(dev, snap->motion_owner));
     }
-    return j;
+    json_writer_close_object(j);
 }
 
-static cJSON *world_json(const sim_world_t *w, const wsg_snapshot_t *snap)
+static void write_grip(json_writer_t *j, const wsg_snapshot_t *snap)
+{
+    json_writer_open_object(j, "grip");
+    json_writer_uint(j, "state", snap->grip_state);
+    json_writer_string(j, "state_name", wsg_grip_state_name(snap->grip_state));
+    reading(j, "force_n", snap->grip_force_n);
+    reading(j, "hold_mm", snap->grip_hold_mm);
+    json_writer_open_object(j, "stats");
+    json_writer_uint(j, "grips", snap->grip_stats[0]);
+    json_writer_uint(j, "no_part", snap->grip_stats[1]);
+    json_writer_uint(j, "part_lost", snap->grip_stats[2]);
+    json_writer_close_object(j);
+    json_writer_close_object(j);
+}
+
+static void write_flags(json_writer_t *j, uint32_t flags)
+{
+    json_writer_open_object(j, "flags");
+    json_writer_uint(j, "value", flags);
+    flag_names(j, flags, WSG_SYSFLAG_COUNT, sysflag_name, true);
+    json_writer_close_object(j);
+}
+
+static void write_world(json_writer_t *j, const sim_world_t *w, const wsg_snapshot_t *snap)
 {
     const sim_part_t *p = &w->axis.part;
     const sim_obstacle_t *o = &w->axis.obstacle;
-    cJSON *j = cJSON_CreateObject();
-    add_reading(j, "board_temp_c", snap->temperature_c);
-    add_reading(j, "ambient_c", w->thermal.ambient_c);
-    cJSON *part =
-        p->present ? cJSON_AddObjectToObject(j, "part") : cJSON_AddNullToObject(j, "part");
+    json_writer_open_object(j, "world");
+    reading(j, "board_temp_c", snap->temperature_c);
+    reading(j, "ambient_c", w->thermal.ambient_c);
     if (p->present) {
-        add_reading(part, "width_mm", p->width_mm);
-        add_reading(part, "stiffness_n_mm", p->stiffness_n_mm);
-        add_reading(part, "slip_force_n", p->slip_force_n);
-        cJSON_AddStringToObject(part, "side", p->side == SIM_PART_INSIDE ? "inside" : "outside");
+        json_writer_open_object(j, "part");
+        reading(j, "width_mm", p->width_mm);
+        reading(j, "stiffness_n_mm", p->stiffness_n_mm);
+        reading(j, "slip_force_n", p->slip_force_n);
+        json_writer_string(j, "side", side_name(p->side));
+        json_writer_close_object(j);
+    } else {
+        json_writer_null(j, "part");
     }
-    cJSON_AddNumberToObject(j, "part_slips", p->slips);
-    cJSON *obst =
-        o->present ? cJSON_AddObjectToObject(j, "obstacle") : cJSON_AddNullToObject(j, "obstacle");
+    json_writer_uint(j, "part_slips", p->slips);
     if (o->present) {
-        add_reading(obst, "width_mm", o->width_mm);
-        cJSON_AddStringToObject(obst, "side", o->side == SIM_PART_INSIDE ? "inside" : "outside");
+        json_writer_open_object(j, "obstacle");
+        reading(j, "width_mm", o->width_mm);
+        json_writer_string(j, "side", side_name(o->side));
+        json_writer_close_object(j);
+    } else {
+        json_writer_null(j, "obstacle");
     }
-    return j;
+    json_writer_close_object(j);
 }
 
-static cJSON *fingers_json(const wsg_snapshot_t *snap)
+static void write_finger_types(json_writer_t *j, const wsg_snapshot_t *snap)
 {
-    cJSON *list = cJSON_CreateArray();
+    json_writer_open_array(j, "fingers");
     for (unsigned i = 0; i < WSG_FINGER_COUNT; i++) {
         const wsg_finger_t *f = &snap->fingers->slot[i];
-        cJSON *j = cJSON_CreateObject();
-        cJSON_AddStringToObject(j, "type", wsg_finger_type_name(f->type));
-        cJSON_AddNumberToObject(j, "flags", f->flags);
-        cJSON_AddItemToArray(list, j);
+        json_writer_open_object(j, NULL);
+        json_writer_string(j, "type", wsg_finger_type_name(f->type));
+        json_writer_uint(j, "flags", f->flags);
+        json_writer_close_object(j);
     }
-    return list;
+    json_writer_close_array(j);
 }
 
-static cJSON *autosend_json(const wsg_gcl_conn_info_t *info)
+static void write_autosend(json_writer_t *j, const wsg_gcl_conn_info_t *info)
 {
-    cJSON *list = cJSON_CreateArray();
+    json_writer_open_array(j, "autosend");
     for (unsigned v = 0; v < AS_COUNT; v++) {
         const wsg_gcl_autosend_info_t *sub = &info->autosend[v];
         if (sub->interval_ms == 0u) {
             continue;
         }
-        cJSON *j = cJSON_CreateObject();
-        cJSON_AddStringToObject(j, "value", wsg_gcl_autosend_name((wsg_autosend_value_t)v));
-        cJSON_AddNumberToObject(j, "interval_ms", sub->interval_ms);
+        json_writer_open_object(j, NULL);
+        json_writer_string(j, "value", wsg_gcl_autosend_name((wsg_autosend_value_t)v));
+        json_writer_uint(j, "interval_ms", sub->interval_ms);
         if (sub->use_delta) {
-            add_reading(j, "delta", sub->delta);
+            reading(j, "delta", sub->delta);
         }
-        cJSON_AddBoolToObject(j, "on_change", sub->on_change);
-        cJSON_AddNumberToObject(j, "missed", sub->missed);
-        cJSON_AddItemToArray(list, j);
+        json_writer_bool(j, "on_change", sub->on_change);
+        json_writer_uint(j, "missed", sub->missed);
+        json_writer_close_object(j);
     }
-    return list;
+    json_writer_close_array(j);
 }
 
 static const char *transport_name(const wsg_conn_t *c)
@@ -192,59 +226,196 @@ static const char *transport_name(const wsg_conn_t *c)
     return wsg_conn_transport(c) == WSG_TRANSPORT_STREAM ? "tcp" : "udp";
 }
 
-static cJSON *session_json(const wsg_conn_t *c)
+/* One session: its id and transport, and with full the rest of STATE?'s. */
+static void write_session(json_writer_t *j, const wsg_conn_t *c, bool full)
 {
-    wsg_gcl_conn_info_t info = {0};
-    wsg_gcl_conn_info(c, &info);
-    cJSON *j = cJSON_CreateObject();
-    cJSON_AddNumberToObject(j, "id", wsg_conn_id(c));
-    cJSON_AddStringToObject(j, "transport", transport_name(c));
-    cJSON_AddBoolToObject(j, "verbose", info.verbose);
-    add_reading(j, "pwt_mm", info.pwt_mm);
-    add_reading(j, "clt_mm", info.clt_mm);
-    cJSON_AddBoolToObject(j, "bye", wsg_conn_wants_close(c));
-    cJSON_AddNumberToObject(j, "lines_in", info.lines_in);
-    cJSON_AddNumberToObject(j, "lines_out", info.lines_out);
-    cJSON_AddItemToObject(j, "autosend", autosend_json(&info));
-    return j;
-}
-
-static cJSON *sessions_json(wsg_device_t *dev, bool full)
-{
-    cJSON *list = cJSON_CreateArray();
-    for (wsg_conn_t *c = wsg_device_conn_first(dev); c != NULL; c = wsg_conn_next(c)) {
-        cJSON *j = full ? session_json(c) : cJSON_CreateObject();
-        if (!full) {
-            cJSON_AddNumberToObject(j, "id", wsg_conn_id(c));
-            cJSON_AddStringToObject(j, "transport", transport_name(c));
-        }
-        cJSON_AddItemToArray(list, j);
+    json_writer_open_object(j, NULL);
+    json_writer_uint(j, "id", wsg_conn_id(c));
+    json_writer_string(j, "transport", transport_name(c));
+    if (full) {
+        wsg_gcl_conn_info_t info = {0};
+        wsg_gcl_conn_info(c, &info);
+        json_writer_bool(j, "verbose", info.verbose);
+        reading(j, "pwt_mm", info.pwt_mm);
+        reading(j, "clt_mm", info.clt_mm);
+        json_writer_bool(j, "bye", wsg_conn_wants_close(c));
+        json_writer_uint(j, "lines_in", info.lines_in);
+        json_writer_uint(j, "lines_out", info.lines_out);
+        write_autosend(j, &info);
     }
-    return list;
+    json_writer_close_object(j);
 }
 
-cJSON *state_json_session_list(gripper_t *g)
+static void write_sessions(json_writer_t *j, const char *key, wsg_device_t *dev, bool full)
 {
-    return sessions_json(&g->device, false);
+    json_writer_open_array(j, key);
+    for (wsg_conn_t *c = wsg_device_conn_first(dev); c != NULL; c = wsg_conn_next(c)) {
+        write_session(j, c, full);
+    }
+    json_writer_close_array(j);
 }
 
-char *state_json(gripper_t *g, bool pretty, const state_json_sim_t *sim)
+/* A value given as JSON text, under key. */
+static void write_text(json_writer_t *j, const char *key, const char *json)
+{
+    json_writer_raw_value(j, key, json != NULL ? json : "null");
+}
+
+char *state_json(gripper_t *g, const state_json_sim_t *sim)
 {
     wsg_device_t *dev = &g->device;
     const wsg_snapshot_t *snap = wsg_device_snapshot(dev);
-    cJSON *root = cJSON_CreateObject();
-    cJSON_AddItemToObject(root, "time", time_json(sim));
-    cJSON_AddItemToObject(root, "device", device_json(snap->config));
-    cJSON_AddItemToObject(root, "axis", axis_json(snap));
-    cJSON_AddItemToObject(root, "motion", motion_json(dev, snap));
-    cJSON_AddItemToObject(root, "grip", grip_json(snap));
-    cJSON_AddItemToObject(root, "flags", flags_json(snap->flags));
-    cJSON_AddItemToObject(root, "world", world_json(&g->world, snap));
-    cJSON_AddItemToObject(root, "fingers", fingers_json(snap));
-    cJSON_AddItemToObject(root, "faults", sim->faults);
-    cJSON_AddItemToObject(root, "sessions", sessions_json(dev, true));
-    cJSON_AddItemToObject(root, "script", script_json(g));
-    char *text = pretty ? cJSON_Print(root) : cJSON_PrintUnformatted(root);
-    cJSON_Delete(root);
-    return text;
+    json_writer_t j;
+    json_writer_init(&j);
+    json_writer_open_object(&j, NULL);
+    write_time(&j, sim);
+    write_device(&j, snap->config);
+    write_axis(&j, snap);
+    write_motion(&j, dev, snap);
+    write_grip(&j, snap);
+    write_flags(&j, snap->flags);
+    write_world(&j, &g->world, snap);
+    write_finger_types(&j, snap);
+    write_text(&j, "faults", sim->faults);
+    write_sessions(&j, "sessions", dev, true);
+    write_text(&j, "script", sim->script);
+    json_writer_close_object(&j);
+    return json_writer_take(&j, NULL);
+}
+
+char *state_json_sessions(gripper_t *g)
+{
+    json_writer_t j;
+    json_writer_init(&j);
+    write_sessions(&j, NULL, &g->device, false);
+    return json_writer_take(&j, NULL);
+}
+
+/* ---- the live view ---- */
+
+static void write_sysflag_names(json_writer_t *j, const char *key)
+{
+    json_writer_open_array(j, key);
+    for (unsigned bit = 0; bit < WSG_SYSFLAG_COUNT; bit++) {
+        const char *name = wsg_sysflag_name(bit);
+        json_writer_string(j, NULL, name != NULL ? name : "");
+    }
+    json_writer_close_array(j);
+}
+
+char *state_json_sysflag_names(void)
+{
+    json_writer_t j;
+    json_writer_init(&j);
+    write_sysflag_names(&j, NULL);
+    return json_writer_take(&j, NULL);
+}
+
+static void write_sysflags(json_writer_t *j, uint32_t flags, const char *names)
+{
+    json_writer_open_object(j, "sysflags");
+    json_writer_uint(j, "value", flags);
+    flag_names(j, flags, WSG_SYSFLAG_COUNT, sysflag_name, false);
+    if (names != NULL) {
+        json_writer_raw_value(j, "names", names);
+    } else {
+        write_sysflag_names(j, "names");
+    }
+    json_writer_close_object(j);
+}
+
+static void write_finger_flags(json_writer_t *j, uint16_t flags)
+{
+    json_writer_open_object(j, "flags");
+    json_writer_uint(j, "value", flags);
+    flag_names(j, flags, WSG_FINGER_FLAG_COUNT, finger_flag_name, true);
+    json_writer_close_object(j);
+}
+
+/* FMF: its force (N); DSA: the cells, row by row; else null. */
+static void write_finger_data(json_writer_t *j, const wsg_finger_t *f)
+{
+    if (!wsg_finger_has_data(f) || f->data_count == 0) {
+        json_writer_null(j, "data");
+        return;
+    }
+    if (f->type != FINGER_DSA) {
+        json_writer_float(j, "data", f->data[0]);
+        return;
+    }
+    json_writer_open_array(j, "data");
+    for (unsigned i = 0; i < f->data_count; i++) {
+        json_writer_float(j, NULL, f->data[i]);
+    }
+    json_writer_close_array(j);
+    json_writer_uint(j, "rows", FBUS_DSA_ROWS);
+    json_writer_uint(j, "cols", FBUS_DSA_COLS);
+}
+
+static void write_fingers(json_writer_t *j, const wsg_fingers_t *fingers)
+{
+    json_writer_open_array(j, "fingers");
+    for (unsigned i = 0; i < WSG_FINGER_COUNT; i++) {
+        const wsg_finger_t *f = &fingers->slot[i];
+        json_writer_open_object(j, NULL);
+        json_writer_uint(j, "slot", i);
+        json_writer_string(j, "type", wsg_finger_type_name(f->type));
+        write_finger_flags(j, f->flags);
+        write_finger_data(j, f);
+        json_writer_close_object(j);
+    }
+    json_writer_close_array(j);
+}
+
+/* A part or an obstacle: present, and its width and side when it is (as
+ * STATE? gives them): between the jaws, or around them (a ring: it blocks
+ * opening). */
+static void open_world_thing(json_writer_t *j, const char *key, bool present, float width_mm,
+                             sim_part_side_t side)
+{
+    json_writer_open_object(j, key);
+    json_writer_bool(j, "present", present);
+    if (present) {
+        json_writer_float(j, "width_mm", width_mm);
+        json_writer_string(j, "side", side_name(side));
+    }
+}
+
+static void write_part(json_writer_t *j, const sim_part_t *p)
+{
+    open_world_thing(j, "part", p->present, p->width_mm, p->side);
+    if (p->present) {
+        json_writer_float(j, "stiffness_n_mm", p->stiffness_n_mm);
+        json_writer_float(j, "slip_force_n", p->slip_force_n);
+    }
+    json_writer_close_object(j);
+}
+
+static void write_live_axis(json_writer_t *j, const wsg_snapshot_t *snap)
+{
+    static const char *const motion_names[] = {"none", "home", "move", "grip", "release"};
+    json_writer_float(j, "position_mm", snap->position_mm);
+    json_writer_float(j, "speed_mm_s", snap->speed_mm_s);
+    json_writer_float(j, "force_n", snap->force_n);
+    json_writer_float(j, "temperature_c", snap->temperature_c);
+    json_writer_float(j, "stroke_mm", snap->config->stroke_mm);
+    json_writer_bool(j, "referenced", snap->referenced);
+    json_writer_string(j, "motion", motion_names[snap->motion]);
+}
+
+void state_json_live(json_writer_t *j, gripper_t *g, const char *sysflag_names)
+{
+    const wsg_snapshot_t *snap = wsg_device_snapshot(&g->device);
+    write_live_axis(j, snap);
+    json_writer_open_object(j, "grip_state");
+    json_writer_uint(j, "code", snap->grip_state);
+    json_writer_string(j, "name", wsg_grip_state_name(snap->grip_state));
+    json_writer_close_object(j);
+    write_sysflags(j, snap->flags, sysflag_names);
+    write_part(j, &g->world.axis.part);
+    const sim_obstacle_t *obstacle = &g->world.axis.obstacle;
+    open_world_thing(j, "obstacle", obstacle->present, obstacle->width_mm, obstacle->side);
+    json_writer_close_object(j);
+    json_writer_float(j, "ambient_c", g->world.thermal.ambient_c);
+    write_fingers(j, snap->fingers);
 }

@@ -38,7 +38,7 @@
 
 struct tcp_client {
     tcp_server_t *server;
-    tcp_client_t *prev, *next; /* every server's open connections, oldest first */
+    list_node_t link; /* on its set's open connections */
     int fd;
     wsg_conn_t conn;
     wsg_outq_t outq;
@@ -46,7 +46,7 @@ struct tcp_client {
     bool eof;     /* the client shut its side: answer, flush, then close */
     bool expired; /* closed by the server for silence: not a lost link */
     bool marked;  /* on its set's list for the next reap */
-    tcp_client_t *next_marked;
+    list_node_t mark_link;
     uint64_t connected_us;
     uint64_t heard_us;     /* last input, or connected_us */
     uint64_t completed_us; /* when its last whole command arrived, or connected_us */
@@ -55,17 +55,11 @@ struct tcp_client {
     char peer[64];
 };
 
+#define CLIENT(node) LIST_ITEM(node, tcp_client_t, link)
+
 static void link_client(tcp_client_t *c)
 {
-    tcp_servers_t *tcp = c->server->set;
-    c->prev = tcp->last;
-    c->next = NULL;
-    if (tcp->last != NULL) {
-        tcp->last->next = c;
-    } else {
-        tcp->first = c;
-    }
-    tcp->last = c;
+    list_push_back(&c->server->set->clients, &c->link);
     c->server->open++;
 }
 
@@ -76,20 +70,14 @@ static void mark(tcp_client_t *c)
     if (!c->marked) {
         tcp_servers_t *tcp = c->server->set;
         c->marked = true;
-        c->next_marked = NULL;
-        *(tcp->marked_tail != NULL ? tcp->marked_tail : &tcp->marked_first) = c;
-        tcp->marked_tail = &c->next_marked;
+        list_push_back(&tcp->marked, &c->mark_link);
         tcp->marked_count++;
     }
 }
 
 static tcp_client_t *take_first_marked(tcp_servers_t *tcp)
 {
-    tcp_client_t *c = tcp->marked_first;
-    tcp->marked_first = c->next_marked;
-    if (tcp->marked_first == NULL) {
-        tcp->marked_tail = NULL;
-    }
+    tcp_client_t *c = LIST_ITEM(list_pop_front(&tcp->marked), tcp_client_t, mark_link);
     c->marked = false;
     tcp->marked_count--;
     return c;
@@ -97,20 +85,12 @@ static tcp_client_t *take_first_marked(tcp_servers_t *tcp)
 
 static void unmark(tcp_client_t *c)
 {
-    if (!c->marked) {
-        return;
+    if (c->marked) {
+        tcp_servers_t *tcp = c->server->set;
+        list_remove(&tcp->marked, &c->mark_link);
+        c->marked = false;
+        tcp->marked_count--;
     }
-    tcp_servers_t *tcp = c->server->set;
-    tcp_client_t **link = &tcp->marked_first;
-    while (*link != c) { /* the head, when the reap takes it */
-        link = &(*link)->next_marked;
-    }
-    *link = c->next_marked;
-    if (c->next_marked == NULL) {
-        tcp->marked_tail = link;
-    }
-    c->marked = false;
-    tcp->marked_count--;
 }
 
 /* Failed or overflowed: the next reap closes it. */
@@ -122,17 +102,7 @@ static void mark_dead(tcp_client_t *c)
 
 static void unlink_client(tcp_client_t *c)
 {
-    tcp_servers_t *tcp = c->server->set;
-    if (c->prev != NULL) {
-        c->prev->next = c->next;
-    } else {
-        tcp->first = c->next;
-    }
-    if (c->next != NULL) {
-        c->next->prev = c->prev;
-    } else {
-        tcp->last = c->prev;
-    }
+    list_remove(&c->server->set->clients, &c->link);
     c->server->open--;
 }
 
@@ -318,8 +288,8 @@ static tcp_client_t *stalled_connection(const tcp_server_t *s)
 {
     uint64_t now = hal_clock_now_us();
     tcp_client_t *found = NULL;
-    const tcp_servers_t *tcp = s->set;
-    for (tcp_client_t *c = tcp->first; c != NULL; c = c->next) {
+    LIST_EACH (node, &s->set->clients) {
+        tcp_client_t *c = CLIENT(node);
         if (c->server == s && stalled(c, now) &&
             (found == NULL || c->completed_us < found->completed_us)) {
             found = c;
@@ -375,7 +345,7 @@ static bool setup_client(tcp_client_t *c, int fd, const struct sockaddr_storage 
     if (c->outq.ring == NULL) {
         return false;
     }
-    /* --protocol auto: the first byte chooses from the gripper's drivers (host/gripper.c) */
+    /* --protocol auto: the first byte chooses from the gripper's drivers (host/port/gripper.c) */
     static const wsg_proto_driver_t *const drivers[] = {NULL, &wsg_gcl_driver, &wsg_bin_driver};
     gripper_t *g = c->server->gripper;
     wsg_conn_open(&c->conn, &g->device, drivers[g->opts->protocol], WSG_TRANSPORT_STREAM, &tcp_io,
@@ -401,8 +371,7 @@ static void wait_for_descriptors(tcp_server_t *s)
     tcp_servers_t *tcp = s->set;
     if (s->listener->starved && !s->waits_for_fds) {
         s->waits_for_fds = true;
-        s->next_waiting = tcp->waiting;
-        tcp->waiting = s;
+        list_push_front(&tcp->waiting, &s->waiting_link);
     }
 }
 
@@ -496,7 +465,7 @@ void tcp_server_attach(tcp_server_t *s, gripper_t *g, tcp_server_t *front, int m
 
 int tcp_server_port(const tcp_server_t *s)
 {
-    return s->listener != NULL && s->listener->fd >= 0 ? net_local_port(s->listener->fd) : -1;
+    return s->listener != NULL && s->listener->fd >= 0 ? s->listener->port : -1;
 }
 
 /* Replies held back above the port (an injected DELAY of the control
@@ -529,15 +498,12 @@ static bool finished(tcp_client_t *c, uint64_t now)
 
 static void resume_listeners(tcp_servers_t *tcp)
 {
-    tcp_server_t **link = &tcp->waiting;
-    while (*link != NULL) {
-        tcp_server_t *s = *link;
+    LIST_EACH_SAFE (node, &tcp->waiting) {
+        tcp_server_t *s = LIST_ITEM(node, tcp_server_t, waiting_link);
         listener_resume_when_due(s->listener);
-        if (s->listener->starved && s->listener->fd >= 0) {
-            link = &s->next_waiting;
-        } else {
+        if (!s->listener->starved || s->listener->fd < 0) {
             s->waits_for_fds = false;
-            *link = s->next_waiting;
+            list_remove(&tcp->waiting, node);
         }
     }
 }
@@ -550,12 +516,12 @@ static void resume_listeners(tcp_servers_t *tcp)
 void tcp_server_reap_due(tcp_servers_t *tcp, uint64_t now)
 {
     if (now >= tcp->idle_due_us) {
-        for (tcp_client_t *c = tcp->first; c != NULL; c = c->next) {
-            mark(c);
+        LIST_EACH (node, &tcp->clients) {
+            mark(CLIENT(node));
         }
     }
     /* those marked now, once each; one marked again goes to the end */
-    for (unsigned n = tcp->marked_count; n > 0 && tcp->marked_first != NULL; n--) {
+    for (unsigned n = tcp->marked_count; n > 0 && !list_empty(&tcp->marked); n--) {
         tcp_client_t *c = take_first_marked(tcp);
         if (finished(c, now)) {
             close_client(c);
@@ -575,7 +541,8 @@ uint64_t tcp_server_next_deadline_us(tcp_servers_t *tcp)
         return tcp->idle_due_us;
     }
     uint64_t due = UINT64_MAX;
-    for (tcp_client_t *c = tcp->first; c != NULL; c = c->next) {
+    LIST_EACH (node, &tcp->clients) {
+        const tcp_client_t *c = CLIENT(node);
         uint64_t timeout = c->server->idle_timeout_us;
         if (timeout != 0 && c->heard_us + timeout < due) {
             due = c->heard_us + timeout;
@@ -587,7 +554,8 @@ uint64_t tcp_server_next_deadline_us(tcp_servers_t *tcp)
 
 bool tcp_server_cut(tcp_servers_t *tcp, const wsg_conn_t *conn)
 {
-    for (tcp_client_t *c = tcp->first; c != NULL; c = c->next) {
+    LIST_EACH (node, &tcp->clients) {
+        tcp_client_t *c = CLIENT(node);
         if (&c->conn == conn) {
             struct linger abort_close = {.l_onoff = 1, .l_linger = 0};
             setsockopt(c->fd, SOL_SOCKET, SO_LINGER, &abort_close, sizeof(abort_close));
@@ -601,7 +569,8 @@ bool tcp_server_cut(tcp_servers_t *tcp, const wsg_conn_t *conn)
 
 const char *tcp_server_peer_name(const tcp_servers_t *tcp, const wsg_conn_t *conn)
 {
-    for (const tcp_client_t *c = tcp->first; c != NULL; c = c->next) {
+    LIST_EACH (node, &tcp->clients) {
+        const tcp_client_t *c = CLIENT(node);
         if (&c->conn == conn) {
             return c->peer;
         }
@@ -611,10 +580,8 @@ const char *tcp_server_peer_name(const tcp_servers_t *tcp, const wsg_conn_t *con
 
 void tcp_server_close_all(tcp_server_t *s)
 {
-    tcp_servers_t *tcp = s->set;
-    tcp_client_t *next;
-    for (tcp_client_t *c = tcp->first; c != NULL; c = next) {
-        next = c->next;
+    LIST_EACH_SAFE (node, &s->set->clients) {
+        tcp_client_t *c = CLIENT(node);
         if (c->server == s) {
             close_client(c);
         }

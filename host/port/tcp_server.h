@@ -14,6 +14,7 @@
 
 #include "gripper.h"
 #include "hal_clock.h"
+#include "list.h"
 #include "listener.h"
 #include "wsg/wsg_conn.h"
 
@@ -21,13 +22,13 @@ typedef struct tcp_client tcp_client_t;
 typedef struct tcp_server_s tcp_server_t;
 
 /* What a set of servers (the fleet's) keeps across them: the open
- * connections (the reap visits these only) and the servers whose listener
- * waits for descriptors. Zeroed: empty. */
+ * connections, oldest first (the reap visits these only), and the servers
+ * whose listener waits for descriptors. Zeroed: empty. */
 typedef struct {
     host_loop_t *loop; /* every socket of the set is watched here */
     net_t *net;        /* and is one of its own */
-    tcp_client_t *first, *last;
-    tcp_server_t *waiting;
+    list_t clients;    /* of tcp_client_t */
+    list_t waiting;    /* of tcp_server_t */
     /* Replies an upper layer holds back for this session (NULL: none): a
      * half-closed connection waits for them before it closes. */
     bool (*replies_held)(void *ctx, const wsg_conn_t *conn);
@@ -40,9 +41,8 @@ typedef struct {
      * tcp_server_next_deadline_us(): until then the owner's copy stands. */
     bool deadline_lowered;
     /* The connections something happened to since the last reap, in that
-     * order: the reap looks at these only. marked_tail: the link the next
-     * one goes into (NULL: marked_first). */
-    tcp_client_t *marked_first, **marked_tail;
+     * order: the reap looks at these only. */
+    list_t marked;
     unsigned marked_count;
 } tcp_servers_t;
 
@@ -61,7 +61,7 @@ struct tcp_server_s {
     uint64_t idle_timeout_us; /* 0: off */
     unsigned open;            /* connections open */
     bool waits_for_fds;       /* its listener is paused (out of descriptors) */
-    struct tcp_server_s *next_waiting;
+    list_node_t waiting_link; /* on its set's waiting list, then */
 };
 
 bool tcp_server_start(tcp_server_t *s, tcp_servers_t *set, gripper_t *g, const char *addr, int port,
@@ -89,7 +89,7 @@ void tcp_server_reap_due(tcp_servers_t *tcp, uint64_t now);
 static inline void tcp_server_reap(tcp_servers_t *tcp)
 {
     uint64_t now = hal_clock_now_us();
-    if (tcp->marked_count != 0 || tcp->waiting != NULL || now >= tcp->idle_due_us) {
+    if (tcp->marked_count != 0 || !list_empty(&tcp->waiting) || now >= tcp->idle_due_us) {
         tcp_server_reap_due(tcp, now);
     }
 }

@@ -31,6 +31,8 @@ typedef struct {
     char addr_text[INET6_ADDRSTRLEN]; /* the address alone, for --udp-stream-allow */
 } udp_peer_t;
 
+#define ACTIVE_SERVER(node) LIST_ITEM(node, udp_server_t, active_link)
+
 static void set_active(udp_server_t *s)
 {
     udp_servers_t *set = s->set;
@@ -40,21 +42,9 @@ static void set_active(udp_server_t *s)
     }
     s->active = active;
     if (active) {
-        s->prev_active = NULL;
-        s->next_active = set->active_first;
-        if (set->active_first != NULL) {
-            set->active_first->prev_active = s;
-        }
-        set->active_first = s;
-        return;
-    }
-    if (s->prev_active != NULL) {
-        s->prev_active->next_active = s->next_active;
+        list_push_front(&set->active, &s->active_link);
     } else {
-        set->active_first = s->next_active;
-    }
-    if (s->next_active != NULL) {
-        s->next_active->prev_active = s->prev_active;
+        list_remove(&set->active, &s->active_link);
     }
 }
 
@@ -315,6 +305,7 @@ bool udp_server_start(udp_server_t *s, udp_servers_t *set, gripper_t *g,
     wsg_peers_init(&s->peers, &rules, &peer_port, s, NULL, 0);
     s->fd = proto->optional ? net_listen_optional(set->net, SOCK_DGRAM, addr, port)
                             : net_listen(set->net, SOCK_DGRAM, addr, port);
+    s->port = s->fd >= 0 ? net_local_port(s->fd) : -1;
     return s->fd >= 0 && loop_watch(set->loop, s->fd, POLLIN, on_datagram, s);
 }
 
@@ -338,6 +329,7 @@ void udp_server_attach(udp_server_t *s, gripper_t *g, const udp_protocol_t *prot
     s->gripper = g;
     s->proto = *proto;
     s->fd = front->fd;
+    s->port = front->port;
     s->shares_fd = true;
     s->source = source;
     wsg_peer_rules_t rules = WSG_PEER_RULES_DEFAULT(proto->max_peers, peer_timeout_s);
@@ -346,14 +338,13 @@ void udp_server_attach(udp_server_t *s, gripper_t *g, const udp_protocol_t *prot
 
 int udp_server_port(const udp_server_t *s)
 {
-    return s->fd >= 0 ? net_local_port(s->fd) : -1;
+    return s->fd >= 0 ? s->port : -1;
 }
 
 void udp_server_reap(udp_servers_t *set)
 {
-    udp_server_t *next;
-    for (udp_server_t *s = set->active_first; s != NULL; s = next) {
-        next = s->next_active;
+    LIST_EACH_SAFE (node, &set->active) {
+        udp_server_t *s = ACTIVE_SERVER(node);
         wsg_peers_reap(&s->peers);
         set_active(s);
     }
@@ -363,7 +354,8 @@ uint64_t udp_server_next_deadline_us(udp_servers_t *set)
 {
     set->deadline_moved = false;
     uint64_t due = UINT64_MAX;
-    for (udp_server_t *s = set->active_first; s != NULL; s = s->next_active) {
+    LIST_EACH (node, &set->active) {
+        udp_server_t *s = ACTIVE_SERVER(node);
         uint64_t server_due = wsg_peers_next_deadline_us(&s->peers);
         due = server_due < due ? server_due : due;
     }
@@ -372,7 +364,8 @@ uint64_t udp_server_next_deadline_us(udp_servers_t *set)
 
 bool udp_server_cut(udp_servers_t *set, const wsg_conn_t *conn)
 {
-    for (udp_server_t *s = set->active_first; s != NULL; s = s->next_active) {
+    LIST_EACH (node, &set->active) {
+        udp_server_t *s = ACTIVE_SERVER(node);
         wsg_peer_t *peer = wsg_peers_by_conn(&s->peers, conn);
         if (peer != NULL) {
             wsg_peers_forget(&s->peers, peer, WSG_PEER_CUT);
@@ -385,7 +378,8 @@ bool udp_server_cut(udp_servers_t *set, const wsg_conn_t *conn)
 
 const char *udp_server_peer_name(const udp_servers_t *set, const wsg_conn_t *conn)
 {
-    for (udp_server_t *s = set->active_first; s != NULL; s = s->next_active) {
+    LIST_EACH (node, &set->active) {
+        udp_server_t *s = ACTIVE_SERVER(node);
         wsg_peer_t *peer = wsg_peers_by_conn(&s->peers, conn);
         if (peer != NULL) {
             return ((const udp_peer_t *)peer)->name; /* the node is the allocation's first member */

@@ -18,6 +18,7 @@
 #include <sys/socket.h>
 
 #include "gripper.h"
+#include "list.h"
 #include "loop.h"
 #include "net.h"
 #include "wsg/wsg_conn.h"
@@ -33,7 +34,7 @@ typedef struct udp_server udp_server_t;
 typedef struct {
     host_loop_t *loop; /* every socket of the set is watched here */
     net_t *net;        /* whose own addresses are never answered */
-    udp_server_t *active_first;
+    list_t active;     /* of udp_server_t */
     /* A datagram came (a peer's silence deadline may be new) since the owner
      * last asked udp_server_next_deadline_us(). */
     bool deadline_moved;
@@ -56,6 +57,7 @@ typedef struct {
 struct udp_server {
     udp_servers_t *set; /* the set it belongs to */
     int fd;
+    int port;              /* the port it listens on, asked once at start */
     struct in_addr source; /* a shared socket's replies leave from here (0: any) */
     bool shares_fd;        /* the fd is a shared socket's: not closed here */
     bool active;           /* on the list of servers with peers */
@@ -64,7 +66,7 @@ struct udp_server {
     gripper_t *gripper; /* the device its peers talk to */
     udp_protocol_t proto;
     wsg_peer_table_t peers;
-    udp_server_t *prev_active, *next_active; /* servers with peers */
+    list_node_t active_link; /* on its set's servers with peers */
 };
 
 /* GCL over UDP (16 peers, replies to the sender). */

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* What the script modules share (host/script*.c): the per-device state and
- * the binding tables. Nothing outside them includes this. */
+/* What the script modules share (the .c files of host/script/): the
+ * per-device state and the binding tables. Nothing outside them includes
+ * this. */
 #ifndef HOST_SCRIPT_INTERNAL_H
 #define HOST_SCRIPT_INTERNAL_H
 

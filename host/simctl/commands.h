@@ -7,7 +7,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "control.h"
+#include "simctl_sim.h"
 
 typedef struct {
     bool close;    /* the line asked to end the channel (BYE) */

@@ -9,51 +9,40 @@
 #include "hal_clock.h"
 #include "log.h"
 #include "scheduler.h"
+#include "simctl_ops.h"
 #include "wsg/wsg_textbuf.h"
 
 #define STEP_MAX_MS 3600000.0 /* one hour of simulated time per STEP */
 
+/* A refused operation's ERR line. */
+static wsg_status_t refused(simctl_ctx_t *ctx, const simctl_op_t *op)
+{
+    return sc_fail(ctx, op->status, "%s", op->why);
+}
+
 wsg_status_t sc_pause(simctl_ctx_t *ctx)
 {
-    simclock_t *clock = simctl_clock(ctx->ctl);
-    if (!simclock_paused(clock)) {
-        /* everything due up to now runs before time stops */
-        simctl_tick(simctl_scheduler(ctx->ctl));
-        simclock_pause(clock);
-        host_logf(HAL_LOG_INFO, "clock paused");
-    }
-    return E_SUCCESS;
+    simctl_op_t op;
+    return simctl_op_pause(ctx->ctl, &op) ? E_SUCCESS : refused(ctx, &op);
 }
 
 wsg_status_t sc_resume(simctl_ctx_t *ctx)
 {
-    simclock_t *clock = simctl_clock(ctx->ctl);
-    if (simclock_paused(clock)) {
-        simclock_resume(clock);
-        host_logf(HAL_LOG_INFO, "clock resumed at %.3fx", simclock_scale(clock));
-    }
-    return E_SUCCESS;
+    simctl_op_t op;
+    return simctl_op_resume(ctx->ctl, &op) ? E_SUCCESS : refused(ctx, &op);
 }
 
 wsg_status_t sc_step(simctl_ctx_t *ctx)
 {
     double ms = 0.0;
+    simctl_op_t op;
     if (!sc_number(ctx, 0, &ms)) {
         return E_INVALID_PARAMETER;
     }
-    if (!(ms > 0.0 && ms <= STEP_MAX_MS)) {
-        return sc_fail(ctx, E_RANGE_ERROR, "ms must be above 0 and at most %.0f", STEP_MAX_MS);
+    if (!simctl_op_step(ctx->ctl, ms, sc_checking(ctx), &op)) {
+        return refused(ctx, &op);
     }
-    if (sc_checking(ctx)) {
-        return E_SUCCESS;
-    }
-    if (!simclock_paused(simctl_clock(ctx->ctl))) {
-        return sc_fail(ctx, E_ACCESS_DENIED, "the clock is running; PAUSE() first");
-    }
-    simctl_run_watch(ctx->ctl)->active = false; /* the reply is STEP's, even if the last
-                                                 * run's never went out */
-    simctl_step_begin(simctl_scheduler(ctx->ctl), (uint64_t)(ms * 1000.0 + 0.5));
-    ctx->deferred = true;
+    ctx->deferred = !sc_checking(ctx);
     return E_SUCCESS;
 }
 
@@ -153,20 +142,16 @@ wsg_status_t sc_scale(simctl_ctx_t *ctx)
 {
     if (ctx->cmd->form == GCL_FORM_SET) {
         double scale = 0.0;
+        simctl_op_t op;
         if (!sc_number(ctx, 0, &scale)) {
             return E_INVALID_PARAMETER;
         }
-        if (!(scale >= SIMCLOCK_SCALE_MIN && scale <= SIMCLOCK_SCALE_MAX)) {
-            return sc_fail(ctx, E_RANGE_ERROR, "the scale must be %g to %g", SIMCLOCK_SCALE_MIN,
-                           SIMCLOCK_SCALE_MAX);
+        if (!simctl_op_scale(ctx->ctl, scale, sc_checking(ctx), &op)) {
+            return refused(ctx, &op);
         }
         if (sc_checking(ctx)) {
             return E_SUCCESS;
         }
-        simctl_tick(simctl_scheduler(ctx->ctl)); /* the old rate applies up to now */
-        (void)simclock_set_scale(simctl_clock(ctx->ctl), scale); /* in range: checked above */
-        simctl_reset_max_lag(simctl_scheduler(ctx->ctl));
-        host_logf(HAL_LOG_INFO, "clock scale %.3fx", scale);
     }
     sc_reply(ctx, "%g", simclock_scale(simctl_clock(ctx->ctl)));
     return E_SUCCESS;

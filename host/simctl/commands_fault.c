@@ -1,134 +1,58 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* FAULT, CLEAR, FAULTS, DELAY, FAILNEXT, CUT: injected faults. */
 #include <stdlib.h>
-#include <strings.h>
 
 #include "commands_internal.h"
-#include "control.h"
 #include "delay.h"
 #include "faults.h"
 #include "fleet.h"
 #include "gripper.h"
 #include "log.h"
+#include "simctl_ops.h"
 #include "wsg/wsg_inject.h"
 
 #define DELAY_MAX_MS 600000.0
 
-/* FAULT(name[,finger]) / CLEAR(name[,finger]): which hardware fault. The
- * finger is an integer 0 or 1, given for the finger faults only. */
-static bool read_fault(simctl_ctx_t *ctx, simctl_fault_t *fault)
+/* A refused operation's ERR line. */
+static wsg_status_t refused(simctl_ctx_t *ctx, const simctl_op_t *op)
 {
-    const char *name = NULL;
-    int64_t finger = -1;
-    if (!sc_text(ctx, 0, &name) ||
-        (sc_has_arg(ctx, 1) && !sc_integer(ctx, 1, "the finger", 0, 1, &finger))) {
-        return false;
-    }
-    if (sc_has_arg(ctx, 1) && simctl_fault_by_name(name, -1, fault)) {
-        sc_fail(ctx, E_NO_PARAM_EXPECTED, "%s takes no finger", name);
-        return false;
-    }
-    if (!simctl_fault_by_name(name, (int)finger, fault)) {
-        sc_fail(ctx, E_INVALID_PARAMETER,
-                "unknown fault %s (TEMP_WARNING, TEMP_FAULT, POWER, CURRENT, "
-                "FINGER_POWER|FINGER_INIT|FINGER_UNPLUG with finger 0 or 1)",
-                name);
-        return false;
-    }
-    return true;
+    return sc_fail(ctx, op->status, "%s", op->why);
 }
 
-/* A hardware fault the addressed device can take: a finger fault needs its
- * finger bus. */
-static bool read_device_fault(simctl_ctx_t *ctx, simctl_fault_t *fault)
+/* FAULT(name[,finger]) / CLEAR(name[,finger]): a name, and a number for
+ * the finger (a protocol fault's finger is refused unread). */
+static bool read_fault(simctl_ctx_t *ctx, bool clearing, simctl_fault_args_t *args)
 {
-    if (!read_fault(ctx, fault)) {
+    if (!sc_text(ctx, 0, &args->name)) {
         return false;
     }
-    if (!simctl_fault_possible(ctx->gripper, *fault)) {
-        sc_fail(ctx, E_FEATURE_NOT_SUPPORTED, "device %u has no finger bus (device 0 has)",
-                ctx->gripper->index);
-        return false;
-    }
-    return true;
+    args->finger_given = sc_has_arg(ctx, 1);
+    bool unread = clearing && simctl_op_protocol_fault(args->name);
+    return !args->finger_given || unread || sc_number(ctx, 1, &args->finger);
 }
 
 wsg_status_t sc_fault(simctl_ctx_t *ctx)
 {
-    simctl_fault_t fault;
-    if (!read_device_fault(ctx, &fault)) {
+    simctl_fault_args_t args = {0};
+    simctl_op_t op;
+    if (!read_fault(ctx, false, &args)) {
         return ctx->failed;
     }
-    if (sc_checking(ctx)) {
-        return E_SUCCESS;
-    }
-    if (!simctl_fault_raise(simctl_faults(ctx->ctl), ctx->gripper, fault)) {
-        return sc_fail(ctx, E_INSUFFICIENT_RESOURCES, "out of memory");
-    }
-    sc_world_changed(ctx);
-    return E_SUCCESS;
-}
-
-static void clear_failnext(simctl_ctx_t *ctx)
-{
-    wsg_device_t *dev = &ctx->gripper->device;
-    const wsg_snapshot_t *snap = wsg_device_snapshot(dev);
-    if (snap->injected_armed) {
-        host_logf(HAL_LOG_INFO, "fault cleared: FAILNEXT %s", snap->injected_name);
-        wsg_device_clear_injected_failure(dev);
-    }
-}
-
-static void clear_delays(simctl_ctx_t *ctx)
-{
-    if (simctl_delay_clear_all(simctl_delays(ctx->ctl), &ctx->gripper->device, true) > 0) {
-        host_logf(HAL_LOG_INFO, "fault cleared: DELAY (held lines delivered)");
-    }
-}
-
-/* DELAY and FAILNEXT: the protocol faults, cleared by name alone. */
-static bool is_protocol_fault(const char *name)
-{
-    return strcasecmp(name, "DELAY") == 0 || strcasecmp(name, "FAILNEXT") == 0;
-}
-
-static wsg_status_t clear_protocol(simctl_ctx_t *ctx, const char *name)
-{
-    if (sc_has_arg(ctx, 1)) {
-        return sc_fail(ctx, E_NO_PARAM_EXPECTED, "%s takes no finger", name);
-    }
-    if (sc_checking(ctx)) {
-        return E_SUCCESS;
-    }
-    if (strcasecmp(name, "DELAY") == 0) {
-        clear_delays(ctx);
-    } else {
-        clear_failnext(ctx);
-    }
-    return E_SUCCESS;
+    return simctl_op_fault(ctx->ctl, ctx->gripper, &args, sc_checking(ctx), &op)
+               ? E_SUCCESS
+               : refused(ctx, &op);
 }
 
 wsg_status_t sc_clear(simctl_ctx_t *ctx)
 {
-    const char *name = NULL;
-    simctl_fault_t fault;
-    if (!sc_has_arg(ctx, 0)) {
-        simctl_fault_clear_all(simctl_faults(ctx->ctl), ctx->gripper);
-        clear_delays(ctx);
-        clear_failnext(ctx);
-    } else if (!sc_text(ctx, 0, &name)) {
+    simctl_fault_args_t args = {0};
+    simctl_op_t op;
+    if (sc_has_arg(ctx, 0) && !read_fault(ctx, true, &args)) {
         return ctx->failed;
-    } else if (is_protocol_fault(name)) {
-        return clear_protocol(ctx, name);
-    } else if (!read_device_fault(ctx, &fault)) {
-        return ctx->failed;
-    } else if (sc_checking(ctx)) {
-        return E_SUCCESS;
-    } else {
-        simctl_fault_clear(simctl_faults(ctx->ctl), ctx->gripper, fault);
     }
-    sc_world_changed(ctx);
-    return E_SUCCESS;
+    return simctl_op_clear(ctx->ctl, ctx->gripper, &args, sc_checking(ctx), &op)
+               ? E_SUCCESS
+               : refused(ctx, &op);
 }
 
 /* Injected-fault times in ms, to the µs (as STATE? prints times). */

@@ -8,7 +8,7 @@
 
 #include <cJSON.h>
 
-#include "control.h"
+#include "simctl_sim.h"
 #include "wsg/gcl_parse.h"
 #include "wsg/wsg_conn.h"
 #include "wsg/wsg_gcl.h"

@@ -11,25 +11,33 @@
 #include "faults.h"
 #include "fleet.h"
 #include "log.h"
-#include "control.h"
 #include "scheduler.h"
+#include "script_json.h"
 #include "state_json.h"
 
 wsg_status_t sc_state(simctl_ctx_t *ctx)
 {
+    cJSON *faults = sc_faults_json(ctx->ctl, ctx->gripper);
+    cJSON *script = script_json(ctx->gripper);
+    char *faults_text = cJSON_PrintUnformatted(faults);
+    char *script_text = cJSON_PrintUnformatted(script);
     state_json_sim_t sim = {.lag_us = simctl_lag_us(simctl_scheduler(ctx->ctl)),
                             .max_lag_us = simctl_max_lag_us(simctl_scheduler(ctx->ctl)),
                             .paused = simclock_paused(simctl_clock(ctx->ctl)),
                             .scale = simclock_scale(simctl_clock(ctx->ctl)),
-                            .faults = sc_faults_json(ctx->ctl, ctx->gripper)};
-    sc_reply_owned(ctx, state_json(ctx->gripper, false, &sim));
+                            .faults = faults_text,
+                            .script = script_text};
+    sc_reply_owned(ctx, state_json(ctx->gripper, &sim));
+    cJSON_free(faults_text);
+    cJSON_free(script_text);
+    cJSON_Delete(faults);
+    cJSON_Delete(script);
     return E_SUCCESS;
 }
 
 wsg_status_t sc_sessions(simctl_ctx_t *ctx)
 {
-    cJSON *list = state_json_session_list(ctx->gripper);
-    sc_reply_json(ctx, list);
+    sc_reply_owned(ctx, state_json_sessions(ctx->gripper));
     return E_SUCCESS;
 }
 

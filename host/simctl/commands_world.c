@@ -1,47 +1,33 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* PART, PART_REMOVE, PART_SLIP, OBSTACLE, OBSTACLE_REMOVE, AMBIENT: the
- * simulated world around the jaws. */
+ * simulated world around the jaws, read from the line and done by the
+ * simulation's typed operations (simctl_ops.h). */
 #include "commands_internal.h"
 #include "gripper.h"
-#include "log.h"
 #include "sim/sim_world.h"
-#include "wsg/wsg_config.h"
+#include "simctl_ops.h"
 
-#define AMBIENT_MIN_C (-40.0)
-#define AMBIENT_MAX_C 150.0
-#define STIFFNESS_DEFAULT 100.0
-
-static double stroke_mm(const simctl_ctx_t *ctx)
+/* A refused operation's ERR line. */
+static wsg_status_t refused(simctl_ctx_t *ctx, const simctl_op_t *op)
 {
-    return (double)wsg_device_snapshot(&ctx->gripper->device)->config->stroke_mm;
+    return sc_fail(ctx, op->status, "%s", op->why);
 }
 
-/* A width strictly inside the stroke. */
-static bool read_width(simctl_ctx_t *ctx, unsigned i, double *width)
+/* Argument i, when given, into *value (*given), and what is known so far
+ * checked: each argument is refused before the next one is read. */
+static bool read_part_argument(simctl_ctx_t *ctx, unsigned i, simctl_part_args_t *args, bool *given,
+                               double *value)
 {
-    if (!sc_number(ctx, i, width)) {
-        return false;
-    }
-    if (!(*width > 0.0 && *width < stroke_mm(ctx))) {
-        sc_fail(ctx, E_RANGE_ERROR, "width must be above 0 and below the %.0f mm stroke",
-                stroke_mm(ctx));
-        return false;
-    }
-    return true;
-}
-
-/* Optional argument i >= 0, or fallback. */
-static bool read_optional(simctl_ctx_t *ctx, unsigned i, double fallback, double *out)
-{
-    *out = fallback;
+    simctl_op_t op;
     if (!sc_has_arg(ctx, i)) {
         return true;
     }
-    if (!sc_number(ctx, i, out)) {
+    if (!sc_number(ctx, i, value)) {
         return false;
     }
-    if (!(*out >= 0.0 && *out <= 1e6)) {
-        sc_fail(ctx, E_RANGE_ERROR, "argument %u must be 0 to 1000000", i + 1);
+    *given = true;
+    if (!simctl_op_part(ctx->gripper, args, true, &op)) {
+        refused(ctx, &op);
         return false;
     }
     return true;
@@ -60,46 +46,28 @@ wsg_status_t sc_part(simctl_ctx_t *ctx)
     if (ctx->cmd->form == GCL_FORM_QUERY) {
         return reply_part(ctx);
     }
-    const sim_part_t *now = &ctx->gripper->world.axis.part;
-    double width = 0.0;
-    double stiffness = 0.0;
-    double slip = 0.0;
-    if (!read_width(ctx, 0, &width) ||
-        !read_optional(ctx, 1, now->present ? now->stiffness_n_mm : STIFFNESS_DEFAULT,
-                       &stiffness) ||
-        !read_optional(ctx, 2, now->present ? now->slip_force_n : 0.0, &slip)) {
+    simctl_part_args_t args = {0};
+    simctl_op_t op;
+    bool width_given = false;
+    if (!read_part_argument(ctx, 0, &args, &width_given, &args.width_mm) ||
+        !read_part_argument(ctx, 1, &args, &args.stiffness_given, &args.stiffness_n_mm) ||
+        !read_part_argument(ctx, 2, &args, &args.slip_given, &args.slip_force_n)) {
         return ctx->failed;
     }
-    if (sc_checking(ctx)) {
-        return E_SUCCESS;
-    }
-    wsg_sim_axis_set_part(&ctx->gripper->world.axis, (float)width, (float)stiffness, (float)slip);
-    host_logf(HAL_LOG_INFO, "world: part %.2f mm, %.1f N/mm, slips below %.1f N", width, stiffness,
-              slip);
-    sc_world_changed(ctx);
-    return E_SUCCESS;
+    return simctl_op_part(ctx->gripper, &args, sc_checking(ctx), &op) ? E_SUCCESS
+                                                                      : refused(ctx, &op);
 }
 
 wsg_status_t sc_part_remove(simctl_ctx_t *ctx)
 {
-    if (!ctx->gripper->world.axis.part.present) {
-        return sc_fail(ctx, E_NOT_AVAILABLE, "there is no part");
-    }
-    wsg_sim_axis_remove_part(&ctx->gripper->world.axis);
-    host_logf(HAL_LOG_INFO, "world: part removed");
-    sc_world_changed(ctx);
-    return E_SUCCESS;
+    simctl_op_t op;
+    return simctl_op_part_remove(ctx->gripper, &op) ? E_SUCCESS : refused(ctx, &op);
 }
 
 wsg_status_t sc_part_slip(simctl_ctx_t *ctx)
 {
-    if (!ctx->gripper->world.axis.part.present) {
-        return sc_fail(ctx, E_NOT_AVAILABLE, "there is no part");
-    }
-    wsg_sim_axis_slip_part(&ctx->gripper->world.axis);
-    host_logf(HAL_LOG_INFO, "world: part slipped out of the jaws");
-    sc_world_changed(ctx);
-    return E_SUCCESS;
+    simctl_op_t op;
+    return simctl_op_part_slip(ctx->gripper, &op) ? E_SUCCESS : refused(ctx, &op);
 }
 
 wsg_status_t sc_obstacle(simctl_ctx_t *ctx)
@@ -110,46 +78,35 @@ wsg_status_t sc_obstacle(simctl_ctx_t *ctx)
         return E_SUCCESS;
     }
     double width = 0.0;
-    if (!read_width(ctx, 0, &width)) {
+    simctl_op_t op;
+    if (!sc_number(ctx, 0, &width)) {
         return ctx->failed;
     }
-    if (sc_checking(ctx)) {
-        return E_SUCCESS;
-    }
-    wsg_sim_axis_place_obstacle(&ctx->gripper->world.axis, (float)width);
-    host_logf(HAL_LOG_INFO, "world: obstacle at %.2f mm", width);
-    sc_world_changed(ctx);
-    return E_SUCCESS;
+    return simctl_op_obstacle(ctx->gripper, width, sc_checking(ctx), &op) ? E_SUCCESS
+                                                                          : refused(ctx, &op);
 }
 
 wsg_status_t sc_obstacle_remove(simctl_ctx_t *ctx)
 {
-    if (!ctx->gripper->world.axis.obstacle.present) {
-        return sc_fail(ctx, E_NOT_AVAILABLE, "there is no obstacle");
-    }
-    wsg_sim_axis_remove_obstacle(&ctx->gripper->world.axis);
-    host_logf(HAL_LOG_INFO, "world: obstacle removed");
-    sc_world_changed(ctx);
-    return E_SUCCESS;
+    simctl_op_t op;
+    return simctl_op_obstacle_remove(ctx->gripper, &op) ? E_SUCCESS : refused(ctx, &op);
 }
 
 wsg_status_t sc_ambient(simctl_ctx_t *ctx)
 {
-    sim_thermal_t *thermal = &ctx->gripper->world.thermal;
+    const sim_thermal_t *thermal = &ctx->gripper->world.thermal;
     if (ctx->cmd->form == GCL_FORM_SET) {
         double celsius = 0.0;
+        simctl_op_t op;
         if (!sc_number(ctx, 0, &celsius)) {
             return E_INVALID_PARAMETER;
         }
-        if (!(celsius >= AMBIENT_MIN_C && celsius <= AMBIENT_MAX_C)) {
-            return sc_fail(ctx, E_RANGE_ERROR, "ambient must be %g to %g C", AMBIENT_MIN_C,
-                           AMBIENT_MAX_C);
+        if (!simctl_op_ambient(ctx->gripper, celsius, sc_checking(ctx), &op)) {
+            return refused(ctx, &op);
         }
         if (sc_checking(ctx)) {
             return E_SUCCESS;
         }
-        wsg_sim_thermal_set_ambient(thermal, (float)celsius);
-        host_logf(HAL_LOG_INFO, "world: ambient %.1f C", celsius);
     }
     sc_reply(ctx, "%g", (double)thermal->ambient_c);
     return E_SUCCESS;

@@ -57,6 +57,22 @@ struct simctl {
     char out_line[OUTQ_RECORD_MAX]; /* one queued record on its way to send() */
 };
 
+/* The scenario's lines run as the channel's do, each recorded (--record)
+ * as a scenario's. */
+static bool scenario_check(void *ctx, const char *line, size_t len, char *why, size_t cap)
+{
+    return simctl_check(ctx, line, len, true, why, cap);
+}
+
+static char *scenario_run(void *ctx, const char *line, size_t len)
+{
+    simctl_t *ctl = ctx;
+    record_control(ctl->sim.record, "scn", '<', line, len);
+    char *reply = simctl_exec(ctl, line, len, NULL, NULL);
+    record_control(ctl->sim.record, "scn", '>', reply, strlen(reply));
+    return reply;
+}
+
 static uint64_t scenario_due_next_us(void *ctx)
 {
     return scenario_next_us(ctx);
@@ -75,7 +91,7 @@ simctl_t *simctl_create(void)
     }
     simctl_sim_t *sim = &ctl->sim;
     simclock_init(&sim->clock);
-    scenario_init(&sim->scenario, ctl);
+    scenario_init(&sim->scenario, (scenario_commands_t){scenario_check, scenario_run, ctl});
     simctl_scheduler_init(&sim->sched, &sim->clock);
     ctl->scenario_due = (simctl_due_hook_t){scenario_due_next_us, scenario_due_run, &sim->scenario};
     simctl_scheduler_set_due_hook(&sim->sched, &ctl->scenario_due);

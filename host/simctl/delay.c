@@ -17,7 +17,7 @@
 #define DELAYS_MAX 144u  /* armed at once, as many as connections the host serves */
 
 struct simctl_delay {
-    struct simctl_delay *next; /* the instance's list of armed delays */
+    list_node_t link; /* on the instance's list of armed delays */
     bool holding;
     const wsg_device_t *device; /* whose connection (ids are per device) */
     uint64_t conn_id;
@@ -33,6 +33,8 @@ struct simctl_delay {
 };
 
 typedef struct simctl_delay delay_t;
+
+#define DELAY(node) LIST_ITEM(node, delay_t, link)
 
 /* Room for need more bytes; false past HELD_MAX_BYTES (or out of memory). */
 static bool make_room(delay_t *d, size_t need)
@@ -132,24 +134,14 @@ static delay_t *delay_of(const wsg_conn_t *c)
 
 static void link_delay(simctl_delays_t *ds, delay_t *d)
 {
-    delay_t **at = &ds->armed;
-    while (*at != NULL) {
-        at = &(*at)->next;
-    }
-    *at = d;
+    list_push_back(&ds->armed, &d->link);
     ds->count++;
 }
 
 static void unlink_delay(simctl_delays_t *ds, delay_t *d)
 {
-    delay_t **at = &ds->armed;
-    while (*at != NULL && *at != d) {
-        at = &(*at)->next;
-    }
-    if (*at != NULL) {
-        *at = d->next;
-        ds->count--;
-    }
+    list_remove(&ds->armed, &d->link);
+    ds->count--;
 }
 
 void simctl_delay_arm(simctl_delays_t *ds, wsg_conn_t *c, uint32_t delay_us)
@@ -210,9 +202,8 @@ static void release(delay_t *d, bool send)
 unsigned simctl_delay_release_due(simctl_delays_t *ds, uint64_t now_us)
 {
     unsigned released = 0;
-    delay_t *next = NULL;
-    for (delay_t *d = ds->armed; d != NULL; d = next) {
-        next = d->next;
+    LIST_EACH_SAFE (node, &ds->armed) {
+        delay_t *d = DELAY(node);
         if (owner(d) == NULL) {
             release(d, false); /* closed while armed */
         } else if (d->holding && now_us >= d->release_us) {
@@ -226,7 +217,8 @@ unsigned simctl_delay_release_due(simctl_delays_t *ds, uint64_t now_us)
 uint64_t simctl_delay_next_us(const simctl_delays_t *ds)
 {
     uint64_t next = UINT64_MAX;
-    for (const delay_t *d = ds->armed; d != NULL; d = d->next) {
+    LIST_EACH (node, &ds->armed) {
+        const delay_t *d = DELAY(node);
         if (d->holding && d->release_us < next) {
             next = d->release_us;
         }
@@ -237,9 +229,8 @@ uint64_t simctl_delay_next_us(const simctl_delays_t *ds)
 unsigned simctl_delay_clear_all(simctl_delays_t *ds, const wsg_device_t *device, bool send)
 {
     unsigned cleared = 0;
-    delay_t *next = NULL;
-    for (delay_t *d = ds->armed; d != NULL; d = next) {
-        next = d->next;
+    LIST_EACH_SAFE (node, &ds->armed) {
+        delay_t *d = DELAY(node);
         if (d->device == device) {
             cleared += owner(d) != NULL ? 1u : 0u;
             release(d, send);

@@ -8,13 +8,14 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "list.h"
 #include "wsg/wsg_conn.h"
 
-/* The armed delays of a control channel: an intrusive list of them, one
- * allocated per delayed connection; embedded in its owner, all zero when
- * none is armed. */
+/* The armed delays of a control channel, in the order they were armed:
+ * one allocated per delayed connection; embedded in its owner, all zero
+ * when none is armed. */
 typedef struct {
-    struct simctl_delay *armed;
+    list_t armed; /* of struct simctl_delay */
     unsigned count;
 } simctl_delays_t;
 

@@ -7,16 +7,14 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "commands.h"
 #include "log.h"
-#include "control.h"
 #include "text_file.h"
 
 #define LINE_MAX_LEN 4096
 
-void scenario_init(scenario_t *sc, struct simctl *ctl)
+void scenario_init(scenario_t *sc, scenario_commands_t commands)
 {
-    *sc = (scenario_t){.ctl = ctl};
+    *sc = (scenario_t){.commands = commands};
 }
 
 static bool fail(const scenario_t *sc, int line, const char *why, const char *detail)
@@ -95,7 +93,7 @@ static bool parse_line(scenario_t *sc, char *text, int line, uint64_t *previous_
         return fail(sc, line, "times must not go backwards", token);
     }
     char why[256];
-    if (!simctl_check(sc->ctl, command, strlen(command), true, why, sizeof(why))) {
+    if (!sc->commands.check(sc->commands.ctx, command, strlen(command), why, sizeof(why))) {
         return fail(sc, line, why, command);
     }
     *previous_us = at_us;
@@ -122,10 +120,7 @@ bool scenario_load(scenario_t *sc, const char *path, uint64_t start_us)
 
 static void run_event(scenario_t *sc, const scenario_event_t *e)
 {
-    size_t len = strlen(e->command);
-    record_control(simctl_record(sc->ctl), "scn", '<', e->command, len);
-    char *reply = simctl_exec(sc->ctl, e->command, len, NULL, NULL);
-    record_control(simctl_record(sc->ctl), "scn", '>', reply, strlen(reply));
+    char *reply = sc->commands.run(sc->commands.ctx, e->command, strlen(e->command));
     bool failed = strncmp(reply, "ERR", 3) == 0;
     host_logf(failed ? HAL_LOG_WARN : HAL_LOG_INFO, "scenario %s:%d: %s -> %s", sc->path, e->line,
               e->command, reply);
@@ -157,5 +152,5 @@ void scenario_unload(scenario_t *sc)
         free(sc->events[i].command);
     }
     free(sc->events);
-    *sc = (scenario_t){.ctl = sc->ctl};
+    *sc = (scenario_t){.commands = sc->commands};
 }

@@ -1,15 +1,25 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* --scenario FILE: control commands at given simulated times, so a test run
  * replays the same physical story every time. Format in docs/simctl.md.
- * An instance, embedded by the control side (host/simctl/control.c), whose
- * commands it runs. */
+ * An instance, embedded by the control side (host/simctl/control.c), which
+ * hands it the commands to check and run its lines with. */
 #ifndef SIM_SCENARIO_H
 #define SIM_SCENARIO_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
-struct simctl;
+/* How a scenario checks and runs its lines: the control side's command
+ * table, handed over by its owner, so the scenario names neither. */
+typedef struct {
+    /* True when line is a command a scenario may run, with valid
+     * arguments (checked without acting); else why not. */
+    bool (*check)(void *ctx, const char *line, size_t len, char *why, size_t cap);
+    /* Runs line; its reply line (malloc'd, no '\n'). */
+    char *(*run)(void *ctx, const char *line, size_t len);
+    void *ctx;
+} scenario_commands_t;
 
 typedef struct scenario_event {
     uint64_t at_us;
@@ -18,7 +28,7 @@ typedef struct scenario_event {
 } scenario_event_t;
 
 typedef struct {
-    struct simctl *ctl; /* runs and checks the commands */
+    scenario_commands_t commands;
     char path[256];
     scenario_event_t *events;
     unsigned count;
@@ -26,8 +36,8 @@ typedef struct {
     unsigned cap;
 } scenario_t;
 
-/* Empty, running its commands on ctl. */
-void scenario_init(scenario_t *sc, struct simctl *ctl);
+/* Empty, checking and running its lines with commands. */
+void scenario_init(scenario_t *sc, scenario_commands_t commands);
 /* Reads and checks the whole file (times relative to start_us); prints
  * "wsgsim: FILE:LINE: ..." and returns false on the first bad line. */
 bool scenario_load(scenario_t *sc, const char *path, uint64_t start_us);

@@ -74,7 +74,7 @@ static void spend(unsigned *budget, unsigned work)
  * delay, so while none is armed there is none, without a call. */
 static uint64_t delays_next_us(const simctl_sched_t *s)
 {
-    return s->delays.armed != NULL ? simctl_delay_next_us(&s->delays) : UINT64_MAX;
+    return !list_empty(&s->delays.armed) ? simctl_delay_next_us(&s->delays) : UINT64_MAX;
 }
 
 /* The devices and the delayed replies, each only when something of theirs
@@ -171,7 +171,7 @@ typedef struct {
  * ran. */
 static unsigned run_fleet_deadlines(simctl_sched_t *s, slice_t *slice)
 {
-    if (s->delays.armed != NULL) {
+    if (!list_empty(&s->delays.armed)) {
         return 0u;
     }
     uint64_t hook_next = hook_next_us(s);

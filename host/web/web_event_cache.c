@@ -4,10 +4,11 @@
 #include <stdbool.h>
 #include <stdlib.h>
 
-static void unlink_and_free(web_event_t **link)
+#define EVENT(node) LIST_ITEM(node, web_event_t, link)
+
+static void unlink_and_free(web_event_cache_t *cache, web_event_t *e)
 {
-    web_event_t *e = *link;
-    *link = e->next;
+    list_remove(&cache->events, &e->link);
     free(e->text);
     free(e);
 }
@@ -16,13 +17,10 @@ static void unlink_and_free(web_event_t **link)
  * ticks other than fire_now. */
 static void drop(web_event_cache_t *cache, bool only_stale, uint64_t fire_now)
 {
-    web_event_t **link = &cache->first;
-    while (*link != NULL) {
-        web_event_t *e = *link;
+    LIST_EACH_SAFE (node, &cache->events) {
+        web_event_t *e = EVENT(node);
         if (e->users == 0u && (!only_stale || e->fire != fire_now)) {
-            unlink_and_free(link);
-        } else {
-            link = &e->next;
+            unlink_and_free(cache, e);
         }
     }
 }
@@ -30,7 +28,8 @@ static void drop(web_event_cache_t *cache, bool only_stale, uint64_t fire_now)
 static web_event_t *find(const web_event_cache_t *cache, const void *device, uint64_t fire,
                          uint64_t id)
 {
-    for (web_event_t *e = cache->first; e != NULL; e = e->next) {
+    LIST_EACH (node, &cache->events) {
+        web_event_t *e = EVENT(node);
         if (e->device == device && e->fire == fire && e->id == id) {
             return e;
         }
@@ -54,8 +53,7 @@ static web_event_t *build_event(web_event_cache_t *cache, const void *device, ui
     e->device = device;
     e->fire = fire;
     e->id = id;
-    e->next = cache->first;
-    cache->first = e;
+    list_push_front(&cache->events, &e->link);
     return e;
 }
 
@@ -75,12 +73,7 @@ void web_event_cache_release(web_event_cache_t *cache, web_event_t *event, uint6
     if (--event->users != 0u || event->fire == fire_now) {
         return; /* still sent, or another stream of its tick may ask */
     }
-    for (web_event_t **link = &cache->first; *link != NULL; link = &(*link)->next) {
-        if (*link == event) {
-            unlink_and_free(link);
-            return;
-        }
-    }
+    unlink_and_free(cache, event);
 }
 
 void web_event_cache_drop_unused(web_event_cache_t *cache)

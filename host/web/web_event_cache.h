@@ -11,8 +11,10 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "list.h"
+
 typedef struct web_event {
-    struct web_event *next;
+    list_node_t link; /* on its cache's list, newest first */
     const void *device;
     uint64_t fire;  /* the tick it was built at */
     uint64_t id;    /* its id in the stream */
@@ -23,7 +25,7 @@ typedef struct web_event {
 
 /* Zeroed: empty. */
 typedef struct web_event_cache {
-    web_event_t *first;
+    list_t events; /* of web_event_t */
 } web_event_cache_t;
 
 /* An event's text for ctx's device, malloc'd, its length in *len; NULL when

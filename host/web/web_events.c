@@ -7,7 +7,7 @@
 
 #include "loop.h"
 #include "web/web_internal.h"
-#include "web/web_json.h"
+#include "json_writer.h"
 #include "web/web_lines.h"
 
 #define NS_PER_MS 1000000ull
@@ -15,9 +15,9 @@
 #define STREAM_BLOCK 16384u
 
 struct web_stream {
-    struct web_stream *prev, *next;             /* in its slot's list */
-    struct web_stream *queue_prev, *queue_next; /* in the queue to resume */
-    web_app_t *app;                             /* the server's routes: its events, the state */
+    list_node_t link;       /* on its slot's list */
+    list_node_t queue_link; /* in the queue to resume, while queued */
+    web_app_t *app;         /* the server's routes: its events, the state */
     struct MHD_Connection *connection;
     gripper_t *gripper;
     unsigned slot;
@@ -29,6 +29,7 @@ struct web_stream {
     bool ended;     /* shutting down: end of stream */
 };
 
+#define STREAM(node) LIST_ITEM(node, web_stream_t, link)
 #define EVENT_SLOTS WEB_EVENTS_SLOTS
 #define SLOT_NS (WEB_EVENTS_PERIOD_MS * NS_PER_MS / EVENT_SLOTS)
 
@@ -62,12 +63,7 @@ static void link_stream(web_stream_t *s)
         events->fire = 0;
     }
     s->slot = emptiest_slot(events);
-    s->prev = NULL;
-    s->next = events->slot_first[s->slot];
-    if (s->next != NULL) {
-        s->next->prev = s;
-    }
-    events->slot_first[s->slot] = s;
+    list_push_front(&events->slots[s->slot], &s->link);
     events->slot_count[s->slot]++;
     schedule_after(events, events->fire);
 }
@@ -75,14 +71,7 @@ static void link_stream(web_stream_t *s)
 static void unlink_stream(web_stream_t *s)
 {
     web_events_t *events = &s->app->events;
-    if (s->prev != NULL) {
-        s->prev->next = s->next;
-    } else {
-        events->slot_first[s->slot] = s->next;
-    }
-    if (s->next != NULL) {
-        s->next->prev = s->prev;
-    }
+    list_remove(&events->slots[s->slot], &s->link);
     events->slot_count[s->slot]--;
     if (--events->count == 0u) {
         web_event_cache_drop_unused(&events->cache);
@@ -107,12 +96,12 @@ static char *build_event(void *ctx, uint64_t id, size_t *len)
     char head[64];
     int head_len =
         snprintf(head, sizeof(head), "id: %llu\nevent: state\ndata: ", (unsigned long long)id);
-    web_json_t j;
-    web_json_init(&j);
-    web_json_raw(&j, head, (size_t)head_len);
+    json_writer_t j;
+    json_writer_init(&j);
+    json_writer_raw(&j, head, (size_t)head_len);
     web_state_write(s->app, &j, s->gripper);
-    web_json_raw(&j, "\n\n", 2u);
-    return web_json_take(&j, len);
+    json_writer_raw(&j, "\n\n", 2u);
+    return json_writer_take(&j, len);
 }
 
 /* The event of this tick for s's device: built by the first stream of the
@@ -168,14 +157,7 @@ static void enqueue(web_stream_t *s)
 {
     web_events_t *events = &s->app->events;
     s->queued = true;
-    s->queue_next = NULL;
-    s->queue_prev = events->to_resume_last;
-    if (s->queue_prev != NULL) {
-        s->queue_prev->queue_next = s;
-    } else {
-        events->to_resume_first = s;
-    }
-    events->to_resume_last = s;
+    list_push_back(&events->to_resume, &s->queue_link);
 }
 
 static void dequeue(web_stream_t *s)
@@ -185,16 +167,7 @@ static void dequeue(web_stream_t *s)
         return;
     }
     s->queued = false;
-    if (s->queue_prev != NULL) {
-        s->queue_prev->queue_next = s->queue_next;
-    } else {
-        events->to_resume_first = s->queue_next;
-    }
-    if (s->queue_next != NULL) {
-        s->queue_next->queue_prev = s->queue_prev;
-    } else {
-        events->to_resume_last = s->queue_prev;
-    }
+    list_remove(&events->to_resume, &s->queue_link);
 }
 
 static void free_stream(void *cls)
@@ -238,7 +211,7 @@ uint64_t web_events_next_tick_ns(const web_events_t *events)
 
 bool web_events_resuming(const web_events_t *events)
 {
-    return events->to_resume_first != NULL;
+    return !list_empty(&events->to_resume);
 }
 
 static void resume(web_stream_t *s)
@@ -254,7 +227,8 @@ static void resume(web_stream_t *s)
  * when it asks for bytes; a waiting one is queued to be resumed. */
 static void wake_slot(web_events_t *events, unsigned slot)
 {
-    for (web_stream_t *s = events->slot_first[slot]; s != NULL; s = s->next) {
+    LIST_EACH (node, &events->slots[slot]) {
+        web_stream_t *s = STREAM(node);
         s->due = true;
         if (s->suspended && !s->queued) {
             enqueue(s);
@@ -282,8 +256,8 @@ bool web_events_tick(web_events_t *events, uint64_t now_ns)
         fire_due_slots(events, now_ns);
     }
     unsigned resumed = 0;
-    while (events->to_resume_first != NULL && resumed < WEB_EVENTS_RESUMED_PER_PASS) {
-        resume(events->to_resume_first);
+    while (!list_empty(&events->to_resume) && resumed < WEB_EVENTS_RESUMED_PER_PASS) {
+        resume(LIST_ITEM(events->to_resume.first, web_stream_t, queue_link));
         resumed++;
     }
     return resumed > 0;
@@ -292,7 +266,8 @@ bool web_events_tick(web_events_t *events, uint64_t now_ns)
 void web_events_end_all(web_events_t *events)
 {
     for (unsigned slot = 0; slot < EVENT_SLOTS; slot++) {
-        for (web_stream_t *s = events->slot_first[slot]; s != NULL; s = s->next) {
+        LIST_EACH (node, &events->slots[slot]) {
+            web_stream_t *s = STREAM(node);
             s->ended = true;
             resume(s);
         }

@@ -12,6 +12,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "list.h"
 #include "web/web_event_cache.h"
 
 #define WEB_EVENTS_PERIOD_MS 40u /* 25 Hz */
@@ -32,16 +33,15 @@ typedef struct web_stream web_stream_t;
 /* One web server's event streams (embedded in its routes' state; zeroed:
  * none). */
 typedef struct web_events {
-    web_stream_t *slot_first[WEB_EVENTS_SLOTS];
+    list_t slots[WEB_EVENTS_SLOTS]; /* of web_stream_t, newest first */
     unsigned slot_count[WEB_EVENTS_SLOTS];
     unsigned count;
-    web_stream_t *to_resume_first; /* woken by a tick, still suspended: */
-    web_stream_t *to_resume_last;  /* resumed in order, a few per pass */
-    web_event_cache_t cache;       /* the texts of the events being sent */
-    uint64_t origin_ns;            /* when slot 0 of tick 0 was due */
-    uint64_t fire;                 /* the last slot that fired, counted from the origin */
-    uint64_t next_fire;            /* the next slot with streams ... */
-    uint64_t next_tick_ns;         /* ... and when it is due; 0: no stream */
+    list_t to_resume; /* woken by a tick, still suspended: resumed in order, a few per pass */
+    web_event_cache_t cache; /* the texts of the events being sent */
+    uint64_t origin_ns;      /* when slot 0 of tick 0 was due */
+    uint64_t fire;           /* the last slot that fired, counted from the origin */
+    uint64_t next_fire;      /* the next slot with streams ... */
+    uint64_t next_tick_ns;   /* ... and when it is due; 0: no stream */
 } web_events_t;
 
 /* When the next tick is due (monotonic ns), 0 without streams. */

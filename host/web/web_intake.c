@@ -6,6 +6,8 @@
 #include <string.h>
 #include <sys/socket.h>
 
+#include "list.h"
+
 /* The part of an address that is one client: an IPv4 address (as an
  * IPv4-mapped IPv6 one, so that both socket families compare alike) or an
  * IPv6 /64, what one host or site is usually given. */
@@ -20,19 +22,21 @@ struct web_intake_conn {
     int fd;
     client_key_t client;
     uint64_t since_ns; /* when it began to wait for this request */
-    /* in the arriving list while arriving (oldest first: the deadline is
-     * the same for all, so the head is due first), else next is the free
-     * list's link */
-    struct web_intake_conn *prev, *next;
+    /* on the arriving list while arriving (oldest first: the deadline is
+     * the same for all, so the head is due first), on the free list while
+     * free */
+    list_node_t link;
 };
+
+#define CONN(node) LIST_ITEM(node, web_intake_conn_t, link)
 
 /* Every rule looks only at the connections whose request is arriving,
  * never at the whole pool: a request costs the same with 10 or 250 event
  * streams open. */
 struct web_intake {
     web_intake_conn_t conns[WEB_INTAKE_CONNECTIONS_MAX];
-    web_intake_conn_t *free;
-    web_intake_conn_t *oldest, *newest; /* the arriving list */
+    list_t free;
+    list_t arriving;
     uint64_t deadline_ns;
 };
 
@@ -73,14 +77,7 @@ static void start_arriving(web_intake_t *intake, web_intake_conn_t *c, uint64_t 
 {
     c->arriving = true;
     c->since_ns = now;
-    c->prev = intake->newest;
-    c->next = NULL;
-    if (intake->newest != NULL) {
-        intake->newest->next = c;
-    } else {
-        intake->oldest = c;
-    }
-    intake->newest = c;
+    list_push_back(&intake->arriving, &c->link);
 }
 
 static void stop_arriving(web_intake_t *intake, web_intake_conn_t *c)
@@ -89,26 +86,15 @@ static void stop_arriving(web_intake_t *intake, web_intake_conn_t *c)
         return;
     }
     c->arriving = false;
-    if (c->prev != NULL) {
-        c->prev->next = c->next;
-    } else {
-        intake->oldest = c->next;
-    }
-    if (c->next != NULL) {
-        c->next->prev = c->prev;
-    } else {
-        intake->newest = c->prev;
-    }
-    c->prev = c->next = NULL;
+    list_remove(&intake->arriving, &c->link);
 }
 
 void web_intake_reset(web_intake_t *intake, uint64_t deadline_ns)
 {
     memset(intake, 0, sizeof(*intake));
     intake->deadline_ns = deadline_ns;
-    for (unsigned i = WEB_INTAKE_CONNECTIONS_MAX; i-- > 0;) {
-        intake->conns[i].next = intake->free;
-        intake->free = &intake->conns[i];
+    for (unsigned i = 0; i < WEB_INTAKE_CONNECTIONS_MAX; i++) {
+        list_push_back(&intake->free, &intake->conns[i].link);
     }
 }
 
@@ -116,7 +102,8 @@ bool web_intake_admits(const web_intake_t *intake, const struct sockaddr *addr)
 {
     client_key_t key = client_key(addr);
     unsigned arriving = 0;
-    for (const web_intake_conn_t *c = intake->oldest; c != NULL; c = c->next) {
+    LIST_EACH (node, &intake->arriving) {
+        const web_intake_conn_t *c = CONN(node);
         if (memcmp(&c->client, &key, sizeof(key)) == 0) {
             arriving++;
         }
@@ -127,11 +114,11 @@ bool web_intake_admits(const web_intake_t *intake, const struct sockaddr *addr)
 web_intake_conn_t *web_intake_open(web_intake_t *intake, int fd, const struct sockaddr *addr,
                                    uint64_t now)
 {
-    web_intake_conn_t *c = intake->free;
-    if (c == NULL) {
+    list_node_t *node = list_pop_front(&intake->free);
+    if (node == NULL) {
         return NULL;
     }
-    intake->free = c->next;
+    web_intake_conn_t *c = CONN(node);
     *c = (web_intake_conn_t){.in_use = true, .fd = fd, .client = client_key(addr)};
     start_arriving(intake, c, now);
     return c;
@@ -173,16 +160,18 @@ void web_intake_close(web_intake_t *intake, web_intake_conn_t *conn)
     if (conn != NULL && conn->in_use) {
         stop_arriving(intake, conn);
         conn->in_use = false;
-        conn->next = intake->free;
-        intake->free = conn;
+        list_push_front(&intake->free, &conn->link);
     }
 }
 
 unsigned web_intake_cut_late(web_intake_t *intake, uint64_t now)
 {
     unsigned cut = 0;
-    web_intake_conn_t *c;
-    while ((c = intake->oldest) != NULL && now >= c->since_ns + intake->deadline_ns) {
+    while (!list_empty(&intake->arriving)) {
+        web_intake_conn_t *c = CONN(intake->arriving.first);
+        if (now < c->since_ns + intake->deadline_ns) {
+            break;
+        }
         /* MHD reads the end of the stream and closes it in its next run;
          * until then it is neither arriving nor cut again */
         shutdown(c->fd, SHUT_RDWR);
@@ -194,5 +183,6 @@ unsigned web_intake_cut_late(web_intake_t *intake, uint64_t now)
 
 uint64_t web_intake_next_due_ns(const web_intake_t *intake)
 {
-    return intake->oldest != NULL ? intake->oldest->since_ns + intake->deadline_ns : 0u;
+    const list_node_t *oldest = intake->arriving.first;
+    return oldest != NULL ? CONN(oldest)->since_ns + intake->deadline_ns : 0u;
 }

@@ -50,6 +50,7 @@ typedef struct web_app {
     web_lines_t lines;
     web_ops_t ops;
     web_system_file_t system_files[WEB_SYSTEM_FILE_COUNT];
+    char *sysflag_names; /* every state's "names", rendered once (NULL: each time) */
 } web_app_t;
 
 /* web_routes.c: serving fleet's devices, nothing kept yet, the lines off. */
@@ -100,17 +101,20 @@ bool web_fields_known(const web_request_t *req, const cJSON *body, const char *c
 void web_device_sense(gripper_t *g);
 
 /* web_state.c: GET /api/devices/{id}/state, one JSON object written to j. */
-struct web_json;
-void web_state_write(web_app_t *app, struct web_json *j, gripper_t *g);
-/* web_settings.c */
-enum MHD_Result web_settings_route(const web_request_t *req, gripper_t *g, const char *rest);
+struct json_writer;
+void web_state_write(web_app_t *app, struct json_writer *j, gripper_t *g);
+/* web_settings.c: GET and PUT /api/devices/{id}/settings, POST .../save
+ * (rest: "", the route table's) */
+enum MHD_Result web_settings_get(const web_request_t *req, gripper_t *g, const char *rest);
+enum MHD_Result web_settings_put(const web_request_t *req, gripper_t *g, const char *rest);
+enum MHD_Result web_settings_save(const web_request_t *req, gripper_t *g, const char *rest);
 /* web_ops.c: POST /api/devices/{id}/ops/{op} */
 enum MHD_Result web_ops_route(const web_request_t *req, gripper_t *g, const char *op);
 /* web_ops.c: the last long operation the web started on g, for the state
  * (null when none). */
-void web_ops_last_write(const web_ops_t *ops, struct web_json *j, const char *key,
+void web_ops_last_write(const web_ops_t *ops, struct json_writer *j, const char *key,
                         const gripper_t *g);
-/* A JSON reply whose text came from web_json_take(): takes ownership of it
+/* A JSON reply whose text came from json_writer_take(): takes ownership of it
  * (NULL: no reply, the connection is closed). */
 enum MHD_Result web_reply_json_text(const web_request_t *req, unsigned http_status, char *text);
 /* Detaches the web's owners from their devices (shutdown). */
@@ -119,10 +123,15 @@ void web_ops_forget(web_ops_t *ops);
 enum MHD_Result web_sim_route(const web_request_t *req, gripper_t *g, const char *what);
 /* web_events.c: GET /api/devices/{id}/events */
 enum MHD_Result web_events_route(const web_request_t *req, gripper_t *g);
-/* web_script.c: /api/devices/{id}/script[/run|/stop|/console|/startup]
- * (rest: what follows "script") */
-enum MHD_Result web_script_route(const web_request_t *req, gripper_t *g, const char *rest);
-/* web_store.c: /api/devices/{id}/files[/NAME] (rest: what follows "files") */
+/* web_script.c: GET /api/devices/{id}/script and .../script/console, POST
+ * .../script/run and .../script/stop, PUT .../script/startup (rest: "") */
+enum MHD_Result web_script_get(const web_request_t *req, gripper_t *g, const char *rest);
+enum MHD_Result web_script_console(const web_request_t *req, gripper_t *g, const char *rest);
+enum MHD_Result web_script_run(const web_request_t *req, gripper_t *g, const char *rest);
+enum MHD_Result web_script_stop(const web_request_t *req, gripper_t *g, const char *rest);
+enum MHD_Result web_script_startup(const web_request_t *req, gripper_t *g, const char *rest);
+/* web_store.c: /api/devices/{id}/files[/NAME] (rest: what follows "files";
+ * whether there is a store is asked first, then the path and method) */
 enum MHD_Result web_files_route(const web_request_t *req, gripper_t *g, const char *rest);
 /* The host path of a store file the web names ("NAME.lua" or
  * "/user/NAME.lua") into path: NULL, else why it is refused (no store, not a

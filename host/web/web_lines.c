@@ -130,11 +130,12 @@ static const ring_t *find(const web_lines_t *lines, const wsg_conn_t *c)
     return r->id == wsg_conn_id(c) && r->device == wsg_conn_device(c) ? r : NULL;
 }
 
-void web_lines_write(const web_lines_t *lines, web_json_t *j, const char *key, const wsg_conn_t *c)
+void web_lines_write(const web_lines_t *lines, json_writer_t *j, const char *key,
+                     const wsg_conn_t *c)
 {
     const ring_t *r = find(lines, c);
     char text[LINE_CHARS + 3u];
-    web_json_open_array(j, key);
+    json_writer_open_array(j, key);
     for (unsigned i = 0; r != NULL && i < r->count; i++) {
         const line_t *line = &r->lines[(r->head + WEB_LINES_KEPT - r->count + i) % WEB_LINES_KEPT];
         if (r->binary) {
@@ -142,9 +143,9 @@ void web_lines_write(const web_lines_t *lines, web_json_t *j, const char *key, c
         } else {
             format_text(text, line);
         }
-        web_json_string(j, NULL, text);
+        json_writer_string(j, NULL, text);
     }
-    web_json_close_array(j);
+    json_writer_close_array(j);
 }
 
 const char *web_lines_protocol(const web_lines_t *lines, const wsg_conn_t *c)

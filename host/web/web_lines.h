@@ -13,7 +13,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "web/web_json.h"
+#include "json_writer.h"
 #include "wsg/wsg_conn.h"
 
 #define WEB_LINES_KEPT 8
@@ -42,7 +42,8 @@ void web_lines_attach(web_lines_t *lines, wsg_device_t *dev, unsigned index);
  * (O(devices), once). */
 void web_lines_watch(web_lines_t *lines);
 /* The connection's last lines, oldest first, as an array (empty when none). */
-void web_lines_write(const web_lines_t *lines, web_json_t *j, const char *key, const wsg_conn_t *c);
+void web_lines_write(const web_lines_t *lines, json_writer_t *j, const char *key,
+                     const wsg_conn_t *c);
 /* "gcl", "binary" or "undetected" (no byte yet on an auto-detecting port). */
 const char *web_lines_protocol(const web_lines_t *lines, const wsg_conn_t *c);
 

@@ -12,7 +12,7 @@
 #include "hal_clock.h"
 #include "wsg/wsg_names.h"
 #include "web/web_internal.h"
-#include "web/web_json.h"
+#include "json_writer.h"
 
 struct web_owner {
     wsg_owner_t owner; /* first: done() finds its record from it */
@@ -51,26 +51,26 @@ static web_owner_t *owner_of(web_ops_t *ops, fleet_t *fleet, gripper_t *g)
     return &ops->owners[g->index];
 }
 
-void web_ops_last_write(const web_ops_t *ops, web_json_t *j, const char *key, const gripper_t *g)
+void web_ops_last_write(const web_ops_t *ops, json_writer_t *j, const char *key, const gripper_t *g)
 {
     const web_owner_t *w = ops->owners != NULL ? &ops->owners[g->index] : NULL;
     /* a power cycle (the control channel's RESET) ends a motion silently:
      * the device has forgotten it, and so does the page */
     bool forgotten = w != NULL && !w->done && !wsg_device_owns_motion(&g->device, &w->owner);
     if (w == NULL || !w->any || forgotten) {
-        web_json_null(j, key);
+        json_writer_null(j, key);
         return;
     }
-    web_json_open_object(j, key);
-    web_json_string(j, "op", op_names[w->op]);
-    web_json_ms(j, "started_ms", w->started_us);
-    web_json_bool(j, "done", w->done);
+    json_writer_open_object(j, key);
+    json_writer_string(j, "op", op_names[w->op]);
+    json_writer_ms(j, "started_ms", w->started_us);
+    json_writer_bool(j, "done", w->done);
     if (w->done) {
-        web_json_string(j, "status", wsg_status_name(w->status));
-        web_json_uint(j, "code", w->status);
-        web_json_ms(j, "ended_ms", w->ended_us);
+        json_writer_string(j, "status", wsg_status_name(w->status));
+        json_writer_uint(j, "code", w->status);
+        json_writer_ms(j, "ended_ms", w->ended_us);
     }
-    web_json_close_object(j);
+    json_writer_close_object(j);
 }
 
 /* A request's arguments, read from its body. */

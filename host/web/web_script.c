@@ -16,11 +16,6 @@
 
 #define CONSOLE_PAGE 1000u
 
-static bool is_method(const web_request_t *req, const char *method)
-{
-    return strcmp(req->method, method) == 0;
-}
-
 static enum MHD_Result forbidden(const web_request_t *req)
 {
     return web_reply_error(req, MHD_HTTP_FORBIDDEN, E_ACCESS_DENIED,
@@ -155,35 +150,33 @@ static enum MHD_Result set_startup(const web_request_t *req, gripper_t *g)
     return get_script(req, g);
 }
 
-static const char *script_method(const char *rest)
+enum MHD_Result web_script_get(const web_request_t *req, gripper_t *g, const char *rest)
 {
-    if (rest[0] == '\0' || strcmp(rest, "/console") == 0) {
-        return MHD_HTTP_METHOD_GET;
-    }
-    return strcmp(rest, "/startup") == 0 ? MHD_HTTP_METHOD_PUT : MHD_HTTP_METHOD_POST;
+    (void)rest;
+    return get_script(req, g);
 }
 
-enum MHD_Result web_script_route(const web_request_t *req, gripper_t *g, const char *rest)
+enum MHD_Result web_script_console(const web_request_t *req, gripper_t *g, const char *rest)
 {
-    const char *method = script_method(rest);
-    if (strcmp(rest, "") != 0 && strcmp(rest, "/console") != 0 && strcmp(rest, "/run") != 0 &&
-        strcmp(rest, "/stop") != 0 && strcmp(rest, "/startup") != 0) {
-        return web_reply_error(req, MHD_HTTP_NOT_FOUND, E_NOT_FOUND, "no such path: %s", req->url);
-    }
-    if (!is_method(req, method)) {
-        return web_reply_wrong_method(req, method);
-    }
-    if (rest[0] == '\0') {
-        return get_script(req, g);
-    }
-    if (strcmp(rest, "/console") == 0) {
-        return get_console(req, g);
-    }
-    if (!req->sim_allowed) {
-        return forbidden(req);
-    }
-    if (strcmp(rest, "/startup") == 0) {
-        return set_startup(req, g);
-    }
-    return strcmp(rest, "/run") == 0 ? run_script(req, g) : stop_script(req, g);
+    (void)rest;
+    return get_console(req, g);
+}
+
+/* Running, stopping and choosing scripts: loopback peers only. */
+enum MHD_Result web_script_run(const web_request_t *req, gripper_t *g, const char *rest)
+{
+    (void)rest;
+    return req->sim_allowed ? run_script(req, g) : forbidden(req);
+}
+
+enum MHD_Result web_script_stop(const web_request_t *req, gripper_t *g, const char *rest)
+{
+    (void)rest;
+    return req->sim_allowed ? stop_script(req, g) : forbidden(req);
+}
+
+enum MHD_Result web_script_startup(const web_request_t *req, gripper_t *g, const char *rest)
+{
+    (void)rest;
+    return req->sim_allowed ? set_startup(req, g) : forbidden(req);
 }

@@ -16,7 +16,7 @@
 #include "loop.h"
 #include "net.h"
 #include "web/web_events.h"
-#include "web/web_host.h"
+#include "http_host.h"
 #include "web/web_intake.h"
 #include "web/web_internal.h"
 #include "web/web_lines.h"
@@ -218,14 +218,14 @@ static void request_completed(void *cls, struct MHD_Connection *connection, void
     web_intake_waiting(web->intake, intake_of(connection), loop_monotonic_ns()); /* keep-alive */
 }
 
-/* The Host header names this server (web_host.h). A request without one is
+/* The Host header names this server (http_host.h). A request without one is
  * not a browser's (browsers always send it), and browsers are the one kind
  * of client a rebound name can fool: it is served. */
 static bool host_allowed(const web_server_t *web, struct MHD_Connection *connection)
 {
     const char *host =
         MHD_lookup_connection_value(connection, MHD_HEADER_KIND, MHD_HTTP_HEADER_HOST);
-    return host == NULL || web_host_allowed(host, web->allow_hosts, web->allow_host_count);
+    return host == NULL || http_host_allowed(host, web->allow_hosts, web->allow_host_count);
 }
 
 /* The first call of a request: its upload buffer; a foreign Host (403) or a

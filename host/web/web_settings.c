@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* GET/PUT /api/devices/{id}/settings and POST .../settings/save: the
- * device's settings page. A PUT is applied through the device's own
- * setters (wsg_op_set, wsg_op_set_tag: the one validation, in the core),
- * all or nothing: when one field is refused, those already applied are set
- * back, in reverse order, and nothing has changed. */
+ * device's settings page. A PUT is checked whole by the device's own rules
+ * (wsg_config_setting_set, wsg_config_set_tag: the one validation, in the
+ * core) on a copy of the settings in force, then applied through the
+ * device's setters (wsg_op_set, wsg_op_set_tag), or refused whole with
+ * nothing changed. */
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
@@ -178,48 +179,56 @@ static void order(const change_t *ch, const wsg_config_t *cfg, unsigned *seq)
     }
 }
 
-static void undo(wsg_device_t *dev, const unsigned *seq, unsigned applied, const float *before)
+/* The change applied to cfg in the order of seq, each field checked as the
+ * device checks it; E_SUCCESS, or the first refusal and its field. */
+static wsg_status_t apply_to(const change_t *ch, wsg_config_t *cfg, const unsigned *seq,
+                             const char **refused)
 {
-    while (applied-- > 0) {
-        wsg_op_set(dev, settings[seq[applied]], before[seq[applied]]);
+    wsg_status_t status = E_SUCCESS;
+    *refused = "tag";
+    if (ch->tag != NULL) {
+        status = wsg_config_set_tag(cfg, ch->tag, strlen(ch->tag));
     }
+    for (unsigned k = 0; status == E_SUCCESS && k < SETTING_COUNT; k++) {
+        unsigned i = seq[k];
+        *refused = name_of(i);
+        status = ch->given[i] ? wsg_config_setting_set(cfg, settings[i], ch->value[i]) : E_SUCCESS;
+    }
+    return status;
 }
 
-/* All or nothing; on a refusal the reply names the field. */
+/* All or nothing: the whole change is checked on a copy of the settings in
+ * force first, and only a change that passes whole is applied to the
+ * device (as the copy took it, so it cannot be refused then); a refusal
+ * names the field and changes nothing. */
 static bool apply(change_t *ch, gripper_t *g)
 {
     wsg_device_t *dev = &g->device;
-    const wsg_config_t *cfg = wsg_device_snapshot(dev)->config;
-    float before[SETTING_COUNT];
+    wsg_config_t trial = *wsg_device_snapshot(dev)->config;
     unsigned seq[SETTING_COUNT];
-    char old_tag[WSG_CONFIG_STRING_MAX];
-    snprintf(old_tag, sizeof(old_tag), "%s", cfg->tag);
-    for (unsigned i = 0; i < SETTING_COUNT; i++) {
-        before[i] = wsg_config_setting_get(cfg, settings[i]);
+    const char *refused = NULL;
+    order(ch, &trial, seq);
+    wsg_status_t status = apply_to(ch, &trial, seq, &refused);
+    if (status != E_SUCCESS) {
+        ch->result = web_reply_error(ch->req, MHD_HTTP_UNPROCESSABLE_CONTENT, status,
+                                     "%s: %s (nothing was changed)", refused,
+                                     wsg_status_description(status));
+        return false;
     }
-    order(ch, cfg, seq);
-    wsg_status_t status =
-        ch->tag != NULL ? wsg_op_set_tag(dev, ch->tag, strlen(ch->tag)) : E_SUCCESS;
-    const char *refused = "tag";
-    unsigned applied = 0;
-    for (; status == E_SUCCESS && applied < SETTING_COUNT; applied++) {
-        unsigned i = seq[applied];
-        status = ch->given[i] ? wsg_op_set(dev, settings[i], ch->value[i]) : E_SUCCESS;
-        refused = name_of(i);
+    if (ch->tag != NULL) {
+        (void)wsg_op_set_tag(dev, ch->tag, strlen(ch->tag)); /* passed on the copy */
     }
-    if (status == E_SUCCESS) {
-        return true;
+    for (unsigned k = 0; k < SETTING_COUNT; k++) {
+        if (ch->given[seq[k]]) {
+            (void)wsg_op_set(dev, settings[seq[k]], ch->value[seq[k]]); /* passed on the copy */
+        }
     }
-    undo(dev, seq, applied - (applied > 0 ? 1u : 0u), before);
-    wsg_op_set_tag(dev, old_tag, strlen(old_tag));
-    ch->result =
-        web_reply_error(ch->req, MHD_HTTP_UNPROCESSABLE_CONTENT, status,
-                        "%s: %s (nothing was changed)", refused, wsg_status_description(status));
-    return false;
+    return true;
 }
 
-static enum MHD_Result put_settings(const web_request_t *req, gripper_t *g)
+enum MHD_Result web_settings_put(const web_request_t *req, gripper_t *g, const char *rest)
 {
+    (void)rest;
     change_t ch = {.req = req, .result = MHD_NO};
     cJSON *body = web_body_object(req, &ch.result);
     if (body == NULL) {
@@ -237,8 +246,9 @@ static enum MHD_Result put_settings(const web_request_t *req, gripper_t *g)
 /* Writes the settings in force to the --save-file (else the --config file);
  * what a reset powers on with becomes them too, as the device keeps saved
  * settings. */
-static enum MHD_Result save_settings(const web_request_t *req, gripper_t *g)
+enum MHD_Result web_settings_save(const web_request_t *req, gripper_t *g, const char *rest)
 {
+    (void)rest;
     if (save_path(g) == NULL) {
         return web_reply_error(req, MHD_HTTP_CONFLICT, E_NOT_AVAILABLE,
                                "wsgsim was started without --config or --save-file: "
@@ -256,18 +266,8 @@ static enum MHD_Result save_settings(const web_request_t *req, gripper_t *g)
     return web_reply_json(req, MHD_HTTP_OK, j);
 }
 
-enum MHD_Result web_settings_route(const web_request_t *req, gripper_t *g, const char *rest)
+enum MHD_Result web_settings_get(const web_request_t *req, gripper_t *g, const char *rest)
 {
-    bool get = strcmp(req->method, MHD_HTTP_METHOD_GET) == 0;
-    bool put = strcmp(req->method, MHD_HTTP_METHOD_PUT) == 0;
-    bool post = strcmp(req->method, MHD_HTTP_METHOD_POST) == 0;
-    if (rest[0] == '\0') {
-        return get   ? web_reply_json(req, MHD_HTTP_OK, settings_json(req->app->fleet, g))
-               : put ? put_settings(req, g)
-                     : web_reply_wrong_method(req, "GET, PUT");
-    }
-    if (strcmp(rest, "/save") == 0) {
-        return post ? save_settings(req, g) : web_reply_wrong_method(req, MHD_HTTP_METHOD_POST);
-    }
-    return web_reply_error(req, MHD_HTTP_NOT_FOUND, E_NOT_FOUND, "no such path: %s", req->url);
+    (void)rest;
+    return web_reply_json(req, MHD_HTTP_OK, settings_json(req->app->fleet, g));
 }

@@ -71,9 +71,6 @@ static cJSON *system_json(gripper_t *g, uint64_t log_since)
 
 enum MHD_Result web_system_route(const web_request_t *req, gripper_t *g)
 {
-    if (strcmp(req->method, MHD_HTTP_METHOD_GET) != 0) {
-        return web_reply_wrong_method(req, MHD_HTTP_METHOD_GET);
-    }
     enum MHD_Result result = MHD_NO;
     uint64_t since = 0;
     if (!since_argument(req, &since, &result)) {

@@ -231,6 +231,12 @@ wsg_status_t wsg_op_set(wsg_device_t *dev, wsg_setting_t which, float value);
  * wsg_config_text_char_ok() refuses (CR, LF, NUL, '"', beyond ASCII); the
  * tag keeps its value on an error. */
 wsg_status_t wsg_op_set_tag(wsg_device_t *dev, const char *tag, size_t len);
+/* The same checks on a configuration that no device runs (a copy of the
+ * one in force, say): the value stored when the checks pass, cfg left as
+ * it was when not. A front end checks a set of settings as a whole this
+ * way, in the order it would apply them, before it applies any. */
+wsg_status_t wsg_config_setting_set(wsg_config_t *cfg, wsg_setting_t which, float value);
+wsg_status_t wsg_config_set_tag(wsg_config_t *cfg, const char *tag, size_t len);
 
 /* ---- the snapshot ---------------------------------------------------------- */
 

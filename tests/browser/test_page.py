@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: BSD-3-Clause
-"""The device page (web/) in Debian's headless Chromium, driven by
+"""The device page (webui/) in Debian's headless Chromium, driven by
 chromium-driver through python3-selenium, against build/wsgsim's HTTP
 server. Run by `make browser-tests`; prints 'browser: N passed,
 N failed'.

@@ -211,6 +211,30 @@ START_TEST(settings_are_device_state)
 }
 END_TEST
 
+/* A set of settings checked on a copy of the configuration, as a front end
+ * checks one whole before applying any: the same rules as wsg_op_set(), in
+ * order (a value allowed by one set before it), and the device untouched. */
+START_TEST(settings_are_checked_on_a_copy_as_the_device_checks_them)
+{
+    const wsg_config_t *in_force = wsg_device_snapshot(&h_dev)->config;
+    wsg_config_t trial = *in_force;
+    float accel = in_force->default_accel_mm_s2;
+    ck_assert_int_eq(wsg_config_setting_set(&trial, WSG_SET_ACCEL, 1.0f), E_RANGE_ERROR);
+    ck_assert_int_eq(wsg_config_setting_set(&trial, WSG_SET_ACCEL, 1000.0f), E_SUCCESS);
+    ck_assert_float_eq(trial.default_accel_mm_s2, 1000.0f);
+    ck_assert_int_eq(wsg_config_setting_set(&trial, WSG_SET_SOFT_MINUS, 60.0f), E_SUCCESS);
+    ck_assert_int_eq(wsg_config_setting_set(&trial, WSG_SET_SOFT_PLUS, 50.0f), E_RANGE_ERROR);
+    ck_assert_float_eq(trial.soft_limit_plus_mm, in_force->soft_limit_plus_mm); /* kept */
+    ck_assert_int_eq(wsg_config_setting_set(&trial, WSG_SET_OVERDRIVE, 1.0f),
+                     wsg_op_set(&h_dev, WSG_SET_OVERDRIVE, 1.0f));
+    ck_assert_int_eq(wsg_config_set_tag(&trial, "cell\n7", 6), E_INVALID_PARAMETER);
+    ck_assert_int_eq(wsg_config_set_tag(&trial, "cell 7", 6), E_SUCCESS);
+    ck_assert_str_eq(trial.tag, "cell 7");
+    ck_assert_float_eq(in_force->default_accel_mm_s2, accel); /* the device's own: untouched */
+    ck_assert_str_ne(in_force->tag, "cell 7");
+}
+END_TEST
+
 /* The tag is checked once, here, for every front end: a byte
  * that could end or forge a GCL reply line is refused and the tag stays. */
 START_TEST(tag_refuses_what_could_forge_a_reply)
@@ -397,6 +421,7 @@ Suite *ops_suite(void)
     tcase_add_checked_fixture(policy, probe_setup, h_teardown);
     tcase_add_test(policy, max_force_honours_overdrive_once);
     tcase_add_test(policy, settings_are_device_state);
+    tcase_add_test(policy, settings_are_checked_on_a_copy_as_the_device_checks_them);
     tcase_add_test(policy, tag_refuses_what_could_forge_a_reply);
     tcase_add_test(policy, page_settings_are_device_state);
     tcase_add_test(policy, every_setting_reads_back_from_its_field);

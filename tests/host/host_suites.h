@@ -7,6 +7,8 @@
 #include <check.h>
 
 Suite *can_log_suite(void);
+Suite *http_host_suite(void);
+Suite *json_writer_suite(void);
 Suite *net_suite(void);
 Suite *net_allow_suite(void);
 Suite *notify_suite(void);

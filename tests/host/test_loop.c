@@ -466,6 +466,8 @@ int main(void)
 {
     SRunner *runner = srunner_create(loop_suite());
     srunner_add_suite(runner, can_log_suite());
+    srunner_add_suite(runner, http_host_suite());
+    srunner_add_suite(runner, json_writer_suite());
     srunner_add_suite(runner, net_suite());
     srunner_add_suite(runner, net_allow_suite());
     srunner_add_suite(runner, notify_suite());

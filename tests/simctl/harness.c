@@ -60,7 +60,6 @@ static void setup_with(int argc, char **argv)
     net_init(&net);
     t_fleet = fleet_create(loop, &net);
     ck_assert_ptr_nonnull(t_fleet);
-    observers.next = NULL;
     fleet_observe(t_fleet, &observers);
     simctl_set_fleet(t_sim, t_fleet);
     ck_assert(fleet_start(t_fleet, &opts));

@@ -39,7 +39,7 @@ static web_event_t *take(const char *device, uint64_t fire, uint64_t id)
 static unsigned cached(void)
 {
     unsigned n = 0;
-    for (const web_event_t *e = cache.first; e != NULL; e = e->next) {
+    LIST_EACH (node, &cache.events) {
         n++;
     }
     return n;
@@ -55,7 +55,7 @@ static void setup(void)
 static void teardown(void)
 {
     web_event_cache_drop_unused(&cache);
-    ck_assert_ptr_null(cache.first);
+    ck_assert(list_empty(&cache.events));
 }
 
 START_TEST(the_streams_of_a_tick_share_one_build_sent_one_after_the_other)
@@ -92,7 +92,7 @@ START_TEST(an_unused_event_goes_when_a_later_tick_builds)
     ck_assert_uint_eq(cached(), 1);
     web_event_t *later = take(device_a, 6, 1);
     ck_assert_uint_eq(cached(), 1);
-    ck_assert_ptr_eq(cache.first, later);
+    ck_assert_ptr_eq(LIST_ITEM(cache.events.first, web_event_t, link), later);
     web_event_cache_release(&cache, later, 6);
 }
 END_TEST
@@ -108,7 +108,7 @@ START_TEST(an_event_being_sent_stays_past_its_tick_until_its_last_user)
     ck_assert_uint_eq(cached(), 2);
     web_event_cache_release(&cache, also, 6); /* its last user, its tick past */
     ck_assert_uint_eq(cached(), 1);
-    ck_assert_ptr_eq(cache.first, later);
+    ck_assert_ptr_eq(LIST_ITEM(cache.events.first, web_event_t, link), later);
     web_event_cache_release(&cache, later, 6);
 }
 END_TEST
@@ -130,7 +130,7 @@ START_TEST(dropping_the_unused_keeps_what_is_being_sent)
     web_event_cache_release(&cache, take(device_b, 5, 1), 5);
     web_event_cache_drop_unused(&cache);
     ck_assert_uint_eq(cached(), 1);
-    ck_assert_ptr_eq(cache.first, held);
+    ck_assert_ptr_eq(LIST_ITEM(cache.events.first, web_event_t, link), held);
     web_event_cache_release(&cache, held, 5);
 }
 END_TEST

@@ -143,6 +143,9 @@ typedef struct {
 void vtime_session_open(vtime_session_t *s, const server_t *srv);
 void vtime_session_run(vtime_session_t *s, int cycles, int step_ms, vtime_result_t *r);
 void vtime_session_close(vtime_session_t *s);
+/* A paused server's device as its users see it: the fingers up (a
+ * simulated second), homed, and the --part held (GRIP(20)). */
+void vtime_hold_part(const server_t *srv);
 
 /* scale.c: simulated ms per wall ms at each SCALE, over `seconds` each, on
  * a server with a control channel. */

@@ -3,7 +3,7 @@
  * wall time of a 100 mm MOVE at 100 mm/s (1.1 s of simulated time) on a
  * quiet device and while another client sends POS? back to back. The e2e
  * and Check tests assert the rule in virtual time (a query never postpones
- * a control step: tests/net/test_runner.c); the wall time is measured here. */
+ * a control step: tests/conn/test_runner.c); the wall time is measured here. */
 #include <poll.h>
 #include <stdio.h>
 #include <string.h>

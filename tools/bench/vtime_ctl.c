@@ -52,6 +52,8 @@ static double run_command(conn_t *gcl, conn_t *ctl, const char *cmd, const char 
 }
 
 #define RUN_LIMIT_MS 30000
+/* The fingers' start-up (power, then their configuration) is over by then. */
+#define FINGERS_UP_MS 1000
 
 /* RUN_UNTIL_DONE=[ms,"why"]: the simulated ms reached; -1 unless "done". */
 static double run_until_done(conn_t *ctl)
@@ -137,6 +139,41 @@ void vtime_session_close(vtime_session_t *s)
     conn_send(&s->gcl, "BYE()");
     close(s->gcl.fd);
     close(s->ctl.fd);
+}
+
+/* Waits long for one reply: the server may run under callgrind. */
+#define SLOW_REPLY_MS 120000
+
+static void command_done(conn_t *gcl, conn_t *ctl, const char *cmd, const char *fin)
+{
+    char line[256];
+    if (!conn_send(gcl, cmd) || !conn_read_line(gcl, line, sizeof(line), SLOW_REPLY_MS) ||
+        strncmp(line, "ACK ", 4) != 0) {
+        die("hold the part: %s answered '%s'", cmd, line);
+    }
+    if (!conn_send(ctl, "RUN_UNTIL_DONE(" STR(RUN_LIMIT_MS) ")") ||
+        !conn_read_line(ctl, line, sizeof(line), SLOW_REPLY_MS) ||
+        strstr(line, "\"done\"") == NULL) {
+        die("hold the part: RUN_UNTIL_DONE after %s answered '%s'", cmd, line);
+    }
+    if (!conn_read_line(gcl, line, sizeof(line), SLOW_REPLY_MS) || strcmp(line, fin) != 0) {
+        die("hold the part: %s ended with '%s'", cmd, line);
+    }
+}
+
+void vtime_hold_part(const server_t *srv)
+{
+    vtime_session_t s;
+    char reply[256];
+    vtime_session_open(&s, srv);
+    if (!conn_send(&s.ctl, "STEP(" STR(FINGERS_UP_MS) ")") ||
+        !conn_read_line(&s.ctl, reply, sizeof(reply), SLOW_REPLY_MS) ||
+        strncmp(reply, "STEP=", 5) != 0) {
+        die("hold the part: STEP answered '%s'", reply);
+    }
+    command_done(&s.gcl, &s.ctl, "HOME()", "FIN HOME");
+    command_done(&s.gcl, &s.ctl, "GRIP(20)", "FIN GRIP");
+    vtime_session_close(&s);
 }
 
 void vtime_ctl_run(const server_t *srv, int cycles, int step_ms, vtime_result_t *r)

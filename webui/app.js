@@ -1116,10 +1116,10 @@ function simAvailable(allowed) {
 }
 
 // What a clock action did, in words: a STEP answers at once and runs on
-// (followStep() says where it ended).
-function clockDone(args, reply, result) {
+// (followStep() says where it ended). from: the time the state showed when
+// the step was asked for (an event may show its end before its reply).
+function clockDone(args, reply, result, from) {
   if (args.action === "step") {
-    const from = live.lastState ? live.lastState.time_ms : 0;
     live.step = { toMs: from + args.ms, ms: args.ms, result: result };
     return "stepping " + args.ms + " ms from " + fixed(from / 1000, 3) + " s";
   }
@@ -1137,10 +1137,12 @@ async function runSim(route, args, result) {
     }
     showResult(result, false, route + ": " + error.describe());
   };
+  const from = live.lastState ? live.lastState.time_ms : 0;
   const reply = await callApi(refused, "POST", apiBase + "/sim/" + route, args || {});
   if (reply) {
     // the control channel's reply line ("ACK PART")
-    const said = route === "clock" ? clockDone(args, reply, result) : reply.reply || reply.status;
+    const said = route === "clock" ? clockDone(args, reply, result, from)
+      : reply.reply || reply.status;
     showResult(result, true, route + ": " + said);
     if (live.lastState) {
       followStep(live.lastState.time_ms); // a step the state already shows

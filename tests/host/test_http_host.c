@@ -1,15 +1,15 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* Check tests of the web server's Host rule (host/web/web_host.c, DNS
+/* Check tests of the web server's Host rule (host/os/http_host.c, DNS
  * rebinding): the literal addresses, localhost, the allowed names and the
  * malformed headers the end-to-end tests cannot all send. */
 #include <check.h>
-#include <stdlib.h>
 
-#include "web/web_host.h"
+#include "host_suites.h"
+#include "http_host.h"
 
 static bool allowed_alone(const char *host)
 {
-    return web_host_allowed(host, NULL, 0);
+    return http_host_allowed(host, NULL, 0);
 }
 
 START_TEST(literal_addresses_are_allowed_with_or_without_a_port)
@@ -65,49 +65,49 @@ END_TEST
 START_TEST(named_hosts_are_allowed_without_case_or_trailing_dot)
 {
     const char *lists[] = {"wsg.lab", "gripper-2.example, other.example.", "x_y"};
-    ck_assert(web_host_allowed("wsg.lab:8080", lists, 3));
-    ck_assert(web_host_allowed("WSG.Lab", lists, 3));
-    ck_assert(web_host_allowed("wsg.lab.:8080", lists, 3));
-    ck_assert(web_host_allowed("gripper-2.example:80", lists, 3));
-    ck_assert(web_host_allowed("other.example", lists, 3));
-    ck_assert(web_host_allowed("x_y:80", lists, 3));
-    ck_assert(!web_host_allowed("lab:8080", lists, 3));
-    ck_assert(!web_host_allowed("wsg.lab.example:8080", lists, 3));
-    ck_assert(!web_host_allowed("a.wsg.lab:8080", lists, 3));
-    ck_assert(!web_host_allowed("wsg.lab:8x", lists, 3));
+    ck_assert(http_host_allowed("wsg.lab:8080", lists, 3));
+    ck_assert(http_host_allowed("WSG.Lab", lists, 3));
+    ck_assert(http_host_allowed("wsg.lab.:8080", lists, 3));
+    ck_assert(http_host_allowed("gripper-2.example:80", lists, 3));
+    ck_assert(http_host_allowed("other.example", lists, 3));
+    ck_assert(http_host_allowed("x_y:80", lists, 3));
+    ck_assert(!http_host_allowed("lab:8080", lists, 3));
+    ck_assert(!http_host_allowed("wsg.lab.example:8080", lists, 3));
+    ck_assert(!http_host_allowed("a.wsg.lab:8080", lists, 3));
+    ck_assert(!http_host_allowed("wsg.lab:8x", lists, 3));
 }
 END_TEST
 
 START_TEST(a_star_allows_every_host)
 {
     const char *lists[] = {"wsg.lab,*"};
-    ck_assert(web_host_allowed("rebind.example:8080", lists, 1));
-    ck_assert(web_host_allowed("::1", lists, 1));
-    ck_assert(web_host_allowed("", lists, 1));
+    ck_assert(http_host_allowed("rebind.example:8080", lists, 1));
+    ck_assert(http_host_allowed("::1", lists, 1));
+    ck_assert(http_host_allowed("", lists, 1));
 }
 END_TEST
 
 START_TEST(lists_of_names_are_checked)
 {
-    ck_assert(web_host_names_valid("wsg.lab"));
-    ck_assert(web_host_names_valid("wsg.lab,gripper.local"));
-    ck_assert(web_host_names_valid("wsg.lab, gripper.local."));
-    ck_assert(web_host_names_valid("*"));
-    ck_assert(web_host_names_valid("10.0.0.5"));
-    ck_assert(!web_host_names_valid(""));
-    ck_assert(!web_host_names_valid("wsg.lab,"));
-    ck_assert(!web_host_names_valid(",wsg.lab"));
-    ck_assert(!web_host_names_valid("wsg lab"));
-    ck_assert(!web_host_names_valid("wsg.lab:8080"));
-    ck_assert(!web_host_names_valid("[::1]"));
-    ck_assert(!web_host_names_valid("*.lab"));
-    ck_assert(!web_host_names_valid("."));
+    ck_assert(http_host_list_valid("wsg.lab"));
+    ck_assert(http_host_list_valid("wsg.lab,gripper.local"));
+    ck_assert(http_host_list_valid("wsg.lab, gripper.local."));
+    ck_assert(http_host_list_valid("*"));
+    ck_assert(http_host_list_valid("10.0.0.5"));
+    ck_assert(!http_host_list_valid(""));
+    ck_assert(!http_host_list_valid("wsg.lab,"));
+    ck_assert(!http_host_list_valid(",wsg.lab"));
+    ck_assert(!http_host_list_valid("wsg lab"));
+    ck_assert(!http_host_list_valid("wsg.lab:8080"));
+    ck_assert(!http_host_list_valid("[::1]"));
+    ck_assert(!http_host_list_valid("*.lab"));
+    ck_assert(!http_host_list_valid("."));
 }
 END_TEST
 
-int main(void)
+Suite *http_host_suite(void)
 {
-    Suite *s = suite_create("web_host");
+    Suite *s = suite_create("http_host");
     TCase *tc = tcase_create("host");
     tcase_add_test(tc, literal_addresses_are_allowed_with_or_without_a_port);
     tcase_add_test(tc, localhost_and_its_subdomains_are_allowed);
@@ -117,9 +117,5 @@ int main(void)
     tcase_add_test(tc, a_star_allows_every_host);
     tcase_add_test(tc, lists_of_names_are_checked);
     suite_add_tcase(s, tc);
-    SRunner *runner = srunner_create(s);
-    srunner_run_all(runner, CK_NORMAL);
-    int failed = srunner_ntests_failed(runner);
-    srunner_free(runner);
-    return failed == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+    return s;
 }

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-#include "web/web_host.h"
+#include "http_host.h"
 
 #include <arpa/inet.h>
 #include <ctype.h>
@@ -41,7 +41,7 @@ static bool name_char(char c)
     return isalnum((unsigned char)c) || c == '-' || c == '.' || c == '_';
 }
 
-bool web_host_names_valid(const char *text)
+bool http_host_list_valid(const char *text)
 {
     const char *cursor = text;
     const char *item = NULL;
@@ -118,7 +118,7 @@ static bool listed(const char *name, size_t len, const char *const *allowed, siz
     return false;
 }
 
-bool web_host_allowed(const char *host, const char *const *allowed, size_t count)
+bool http_host_allowed(const char *host, const char *const *allowed, size_t count)
 {
     if (host[0] == '[') {
         return ipv6_literal(host) || listed(NULL, 0, allowed, count);
