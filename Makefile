@@ -54,6 +54,12 @@ FAKE_CONN_OBJ = $(BUILD)/obj/tests/fake/fake_conn.o
 CK_TIMEOUT_MULTIPLIER ?= 10
 CHECK_ENV = CK_TIMEOUT_MULTIPLIER=$(CK_TIMEOUT_MULTIPLIER)
 
+# The Python suites whose tests start servers on ports of their own and
+# write in directories of their own (e2e, web, valgrind, pkg) run that many
+# test files side by side (tests/run_suite.py --jobs): their tests mostly
+# wait, for replies and the device's own timeouts, and the waits overlap.
+SUITE_JOBS ?= 4
+
 # A quiet build, as the Linux kernel's: one short line per file
 # ("  CC      host/main.c"); `make V=1` prints every command in full. A
 # recipe line starts with $(call quiet,WHAT,FILE) before its command.
@@ -85,11 +91,16 @@ CHECK_TARGETS :=
 include mk/host.mk
 include $(filter-out mk/host.mk,$(sort $(wildcard mk/*.mk)))
 
-# One make per suite (mk/run_suites.py): a failing suite or build does not
-# stop the others; the last line is "check: N passed, N failed" (suites).
+# One build of what every suite needs, then one make per suite, CHECK_JOBS
+# at a time (default: one more than the processors), each suite's output
+# printed whole when it ends and kept in $(BUILD)/check/ (mk/run_suites.py,
+# docs/testing.md): a failing suite or build does not stop the others; the
+# last line is "check: N passed, N failed" (suites).
+CHECK_JOBS ?=
 ## build everything and run every suite; a summary of the suites ends the output
 check: deps-check
-	@MAKE="$(MAKE)" python3 mk/run_suites.py $(CHECK_TARGETS)
+	@MAKE="$(MAKE)" python3 mk/run_suites.py $(if $(CHECK_JOBS),--jobs $(CHECK_JOBS)) \
+		--log-dir $(BUILD)/check $(if $(filter 1,$(SAN)),--sanitizer-logs) $(CHECK_TARGETS)
 
 ## start build/wsgsim (ARGS="..." passes its options)
 run: deps $(BUILD)/wsgsim

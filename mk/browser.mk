@@ -9,7 +9,10 @@ BROWSER_PYTHON := /usr/bin/python3
 BROWSER_TESTS = WSGSIM=$(abspath $(BUILD)/wsgsim) $(BROWSER_PYTHON) tests/browser/test_page.py
 
 .PHONY: browser-tests browser-screenshot
+# Not in the SAN=1 pass, which runs the suites of C code (docs/testing.md).
+ifneq ($(SAN),1)
 CHECK_TARGETS += browser-tests
+endif
 
 ## the device page in headless Chromium against build/wsgsim
 browser-tests: deps-check $(BUILD)/wsgsim

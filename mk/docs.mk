@@ -5,7 +5,10 @@
 # the convention). Debian's python3, as the examples' pytest and canmatrix.
 #   make docs-tests
 .PHONY: docs-tests
+# Not in the SAN=1 pass, which runs the suites of C code (docs/testing.md).
+ifneq ($(SAN),1)
 CHECK_TARGETS += docs-tests
+endif
 
 ## run every command example of README.md and docs/*.md
 docs-tests: deps-check $(BUILD)/wsgsim

@@ -5,4 +5,4 @@ CHECK_TARGETS += e2e-tests
 
 ## the end-to-end tests: build/wsgsim over TCP and UDP on loopback
 e2e-tests: $(BUILD)/wsgsim
-	WSGSIM=$(abspath $(BUILD)/wsgsim) python3 tests/run_suite.py e2e tests/e2e
+	WSGSIM=$(abspath $(BUILD)/wsgsim) python3 tests/run_suite.py --jobs $(SUITE_JOBS) e2e tests/e2e

@@ -41,9 +41,10 @@ MAN_DEBS := help2man
 
 # The programs name the installed example configuration (wsgsim's --help,
 # and so its man page, and a configuration file's unknown key): rebuilt
-# when the paths change.
+# when the paths change. The name is host/config's (config_file.h), so every
+# object of host/config/ is, whichever of its files prints it.
 HOST_CFLAGS += -DWSGSIM_EXAMPLE_CONFIG='"$(DOCDIR)/examples/wsgsim.example.ini"'
-$(BUILD)/obj/host/config/options.o $(BUILD)/obj/host/config/config_file.o: $(BUILD)/man/paths
+$(filter $(BUILD)/obj/host/config/%,$(HOST_OBJ)): $(BUILD)/man/paths
 
 .PHONY: programs man install uninstall docs-plot
 ## build every program and its man page

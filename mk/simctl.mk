@@ -28,7 +28,8 @@ simctl-tests: $(SIMCTL_TEST_BIN)
 
 ## the control channel's end-to-end tests alone
 simctl-e2e: $(BUILD)/wsgsim
-	WSGSIM=$(abspath $(BUILD)/wsgsim) python3 tests/run_suite.py e2e tests/e2e 'test_simctl*.py'
+	WSGSIM=$(abspath $(BUILD)/wsgsim) python3 tests/run_suite.py --jobs $(SUITE_JOBS) e2e tests/e2e \
+		'test_simctl*.py'
 
 CHECK_TARGETS += simctl-tests
 

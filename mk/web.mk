@@ -41,4 +41,4 @@ $(BUILD)/tests/web_%_test: tests/web/test_%.c $(BUILD)/obj/host/web/web_%.o $(CO
 ## the web server's Check tests and its end-to-end tests (every route)
 web-tests: $(BUILD)/wsgsim $(WEB_UNIT_TESTS)
 	for t in $(WEB_UNIT_TESTS); do $(CHECK_ENV) $$t || exit 1; done
-	WSGSIM=$(abspath $(BUILD)/wsgsim) python3 tests/run_suite.py web tests/web
+	WSGSIM=$(abspath $(BUILD)/wsgsim) python3 tests/run_suite.py --jobs $(SUITE_JOBS) web tests/web

@@ -38,6 +38,8 @@ WAIT_S = 30.0
 STALL_LIMIT_MS = 250  # FBUS_STALL_US: a loop held up longer than this was stalled
 ATTEMPTS = 3
 
+GRIPPER_STATE = 0x080  # the frame id (docs/finger-bus.dbc)
+GS_HOLDING = 4
 FLAGS_OK = "[1,1,1,0,0,0,0,0,0,0,0,0,0,0,0,0]"
 COMM_FAULT = "[1,1,0,0,0,0,0,0,0,1,0,0,0,0,0,0]"
 POWER_FAULT = "[1,1,1,0,0,0,0,0,1,0,0,0,0,0,0,0]"
@@ -152,12 +154,32 @@ def basics(c, gcl, checks):
     c["fmf_values"].append(tared)
 
 
+def wait_motor_force(c, target, tolerance, timeout=WAIT_S):
+    """Waits until the captured GRIPPER_STATE frames of the held part show
+    the motor force within tolerance of target: the force loop brings it
+    there over some 0.5 s of wall time after the FIN, however fast the
+    scenario got this far. Returns the seconds waited (None: it never did)."""
+    start = time.monotonic()
+    while time.monotonic() - start < timeout:
+        frames = [f for f in read_capture(c["capture"]) if f[1] == GRIPPER_STATE][-10:]
+        holding = [v["MotorForce"] for _, _, _, v in decode_all(c["dbc"], frames)
+                   if v["GripState"] == GS_HOLDING]
+        if holding and abs(holding[-1] - target) < tolerance:
+            return time.monotonic() - start
+        time.sleep(0.05)
+    return None
+
+
 def grip(c, gcl, checks):
     checks.check("HOME", gcl.long_command("HOME()", "HOME") == "FIN HOME")
     checks.check("GRIP(30) holds the part", gcl.long_command("GRIP(30)", "GRIP") == "FIN GRIP")
     # force control settles on the FMF's measurements as they come over the bus
     force = wait_value(gcl, "FORCE?", lambda v: abs(v - 30.0) < 0.3)
     checks.check("FORCE? is the FMF measurement, regulated to 30 N", abs(force - 30.0) < 0.3, force)
+    # and the motor force follows (checked on the capture, in check_capture)
+    settled = wait_motor_force(c, 30.0, 0.5)
+    if settled is not None:
+        checks.measured["motor_force_settled_s"] = round(settled, 3)
     for _ in range(3):
         c["fmf_values"].append(float(read_value(gcl, "FDATA[0]?") or "nan"))
         time.sleep(0.03)
@@ -288,7 +310,8 @@ def check_capture(c, checks, args):
     # until the fingersim is killed: its successor is untared, and the force
     # loop then settles on the untared reading (0.6 N less) while holding
     motor = [v["MotorForce"] for ts, i, _, v in decoded
-             if i == 0x080 and v["GripState"] == 4 and ts < c.get("killed_at", float("inf"))]
+             if i == GRIPPER_STATE and v["GripState"] == GS_HOLDING
+             and ts < c.get("killed_at", float("inf"))]
     checks.check("GRIPPER_STATE MotorForce about 30 N while holding (tared FMF)",
                  bool(motor) and abs(motor[-1] - 30.0) < 0.5, motor[-1:] if motor else None)
     tared = [int(v["Tared"]) for _, i, _, v in decoded if i == 0x181]
@@ -364,7 +387,8 @@ def stalls(sim, workdir):
 
 
 def run(args, checks, workdir):
-    c = {"fmf_values": [], "dsa_vectors": [], "capture": os.path.join(workdir, "candump.log")}
+    c = {"fmf_values": [], "dsa_vectors": [], "capture": os.path.join(workdir, "candump.log"),
+         "dbc": args.dbc}
     capture = open(c["capture"], "w")
     # line-buffered, so that the capture shows when candump is listening; a
     # large receive buffer, so that a descheduled candump loses no frames,

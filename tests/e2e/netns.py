@@ -8,6 +8,7 @@ its own, created with `unshare -rn` (util-linux; root inside, nobody outside).
 hold: (transport, port) pairs taken on 127.0.0.1 and 0.0.0.0 before wsgsim
 starts. Returns {"rc": exit status or None, "stderr": text, "ready": the
 --ready-file's keys or {}}: wsgsim is stopped with SIGTERM once ready.
+$WSGSIM_PREFIX runs it under a tool, as wsgsim.Wsgsim does (valgrind-tests).
 
 A whole test can run in such a namespace, where the loopback interface also
 carries addresses that are not loopback ones (another host's, as the device
@@ -83,7 +84,8 @@ def inside(binary, args, hold):
     held = hold_ports(hold)
     with tempfile.TemporaryDirectory() as tmp:
         ready_path = os.path.join(tmp, "ready")
-        proc = subprocess.Popen([binary] + args + ["--ready-file", ready_path],
+        prefix = os.environ.get("WSGSIM_PREFIX", "").split()
+        proc = subprocess.Popen(prefix + [binary] + args + ["--ready-file", ready_path],
                                 stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
                                 stderr=subprocess.PIPE)
         ready = {}

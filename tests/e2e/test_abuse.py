@@ -77,16 +77,17 @@ def connect_in_bursts(port, i, burst=LISTEN_BACKLOG // 4):
 
 class AbuseCase(unittest.TestCase):
     server_args = ()
-    paused = False  # True: the clock starts paused, self.ctl steps it
+    paused = False  # True: the clock stays paused, self.ctl steps it
 
     def setUp(self):
-        args = self.server_args + (("--sim-port", "0", "--start-paused") if self.paused else ())
-        self.sim = Wsgsim(*args)
+        # The clock starts paused, so that the setup's motions are stepped
+        # rather than waited for in real time; then, unless the case keeps it
+        # paused, it runs: the abuse meets a device whose clock runs.
+        self.sim = Wsgsim(*self.server_args, "--sim-port", "0", "--start-paused")
         self.sim.start()
-        self.clients = []
-        if self.paused:
-            self.ctl = self.sim.control()
-            self.clients.append(self.ctl)
+        self.clock_paused = True
+        self.ctl = self.sim.control()
+        self.clients = [self.ctl]
         self.keeper = self.tcp()
         k = self.keeper
         k.expect("FSACK()", "ACK FSACK")
@@ -95,6 +96,9 @@ class AbuseCase(unittest.TestCase):
         k.expect("VERBOSE=1", "VERBOSE=1")
         k.expect("PWT=3.5", "PWT=3.5")
         self.gripstats = k.command("GRIPSTATS[0]?")
+        if not self.paused:
+            self.assertEqual(self.ctl("RESUME()"), "ACK RESUME")
+            self.clock_paused = False
 
     def tearDown(self):
         for client in self.clients:
@@ -110,7 +114,7 @@ class AbuseCase(unittest.TestCase):
     def motion(self, client, command):
         """Runs a motion command to its FIN, stepping a paused clock."""
         name = command.split("(")[0]
-        if self.paused:
+        if self.clock_paused:
             client.expect(command, "ACK " + name)
             self.ctl.step_until(client, "FIN " + name)
         else:

@@ -49,6 +49,11 @@ def subscribe(frame_id, period_ms, flags=1):
     return wb.encode_frame(frame_id, struct.pack("<BH", flags, period_ms))
 
 
+# A reply is waited for this long at most: a bound against hangs, not a
+# speed (the server may run under valgrind on a busy machine).
+REPLY_TIMEOUT_S = 30.0
+
+
 def drain(sock, wait=0.5):
     """Every datagram queued on sock, after waiting up to `wait` for the first."""
     got = []
@@ -107,10 +112,18 @@ class StreamCase(unittest.TestCase):
         return ros
 
     def received_over(self, sock, seconds, step_ms=1000):
+        """What sock receives while the clock runs for `seconds`, a step at a
+        time. While the stream flows each step waits for its first datagram;
+        once a step brought none (a stream held to its budget stays quiet
+        for the rest of a 70 s run), the next ones do not wait: what arrives
+        late is still read, by a later step or by the last drain."""
         got = []
+        wait = 0.2
         for _ in range(seconds * 1000 // step_ms):
             self.step(step_ms)
-            got += drain(sock, 0.2)
+            arrived = drain(sock, wait)
+            wait = 0.2 if arrived else 0
+            got += arrived
         return got + drain(sock, 0.5)
 
 
@@ -125,7 +138,7 @@ class LoopbackPeers(StreamCase):
         client.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 1 << 22)
         client.bind((host, 0))
         client.sendto(b'AUTOSEND("POS",10)\n', (host, self.sim.udp_port))
-        self.assertEqual(drain(client), [b"ACK AUTOSEND\n"])
+        self.assertEqual(drain(client, REPLY_TIMEOUT_S), [b"ACK AUTOSEND\n"])
         return client
 
     def assert_endless(self, sock, per_second):
@@ -157,7 +170,7 @@ class LoopbackPeers(StreamCase):
         self.addCleanup(other.close)
         other.bind(("127.3.2.1", 0))
         other.sendto(b'AUTOSEND("POS",10)\n', ("127.0.0.1", self.sim.udp_port))
-        self.assertEqual(drain(other), [b"ACK AUTOSEND\n"])
+        self.assertEqual(drain(other, REPLY_TIMEOUT_S), [b"ACK AUTOSEND\n"])
         for sock in clients + [other]:
             self.assertGreaterEqual(len(self.received_over(sock, 5)), 5 * 100 - 2)
         self.assertNotIn("stream paused", self.sim.drain_log())

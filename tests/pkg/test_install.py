@@ -13,13 +13,15 @@ from pkgenv import PROGRAMS, ROOT, TIMEOUT, gcl_exchange, man_named_files, run
 UNITS = ("wsgsim.service", "wsgsim@.service")
 
 
-def make(*args):
-    """make in the source tree, as the calling make was run (SAN=1 ...) but
-    without its job server, whose descriptors are not passed on."""
+def make(build, *args):
+    """make in the source tree with the build directory build, as the
+    calling make was run (SAN=1 ...) but without its job server, whose
+    descriptors are not passed on."""
     env = dict(os.environ)
     env["MAKEFLAGS"] = re.sub(r"--jobserver-\S+|-j\d*", "", env.get("MAKEFLAGS", ""))
     env.pop("MFLAGS", None)
-    result = subprocess.run(["make", "-s", "--no-print-directory", "-C", ROOT] + list(args),
+    result = subprocess.run(["make", "-s", "--no-print-directory", "-j%d" % (os.cpu_count() or 1),
+                             "-C", ROOT, "BUILD=" + build] + list(args),
                             capture_output=True, text=True, timeout=TIMEOUT * 5, env=env)
     if result.returncode != 0:
         raise AssertionError("make %s failed:\n%s%s" % (" ".join(args), result.stdout,
@@ -33,13 +35,28 @@ def files_under(root):
 
 
 class Install(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        # A build directory of this class's own: the programs name the
+        # installed paths (compiled in), so an install under another prefix
+        # builds them again, which must not touch build/, whose programs the
+        # suites running beside this one use.
+        cls.build = tempfile.mkdtemp(prefix="install-", dir=os.path.join(ROOT, "build"))
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.build, ignore_errors=True)
+
+    def make(self, *args):
+        return make(self.build, *args)
+
     def setUp(self):
         tmp = tempfile.TemporaryDirectory()
         self.addCleanup(tmp.cleanup)
         self.tmp = tmp.name
 
     def test_destdir_tree_runs_and_uninstalls(self):
-        make("install", "DESTDIR=" + self.tmp, "PREFIX=/usr")
+        self.make("install", "DESTDIR=" + self.tmp, "PREFIX=/usr")
         files = files_under(self.tmp)
         self.assertEqual(os.readlink(os.path.join(self.tmp, "usr/bin/wsgbin")),
                          "../share/wsgsim/wsgbin", "relative, so the tree runs where it lies")
@@ -68,16 +85,16 @@ class Install(unittest.TestCase):
                 self.assertIn(path.lstrip("/"), files, "%s(1) names %s" % (name, path))
         unit = open(os.path.join(self.tmp, "usr/lib/systemd/system/wsgsim@.service")).read()
         self.assertIn("ExecStart=/usr/bin/wsgsim --config /etc/wsgsim/%i.ini", unit)
-        make("uninstall", "DESTDIR=" + self.tmp, "PREFIX=/usr")
+        self.make("uninstall", "DESTDIR=" + self.tmp, "PREFIX=/usr")
         self.assertEqual(files_under(self.tmp), [], "uninstall left files behind")
 
     def test_install_says_how_to_get_the_python_package(self):
-        result = make("install", "DESTDIR=" + self.tmp, "PREFIX=/usr")
+        result = self.make("install", "DESTDIR=" + self.tmp, "PREFIX=/usr")
         self.assertIn("python3-wsgsim", result.stdout)
         self.assertIn("PYTHONPATH=" + os.path.join(ROOT, "python"), result.stdout)
 
     def test_default_prefix_is_usr_local(self):
-        make("install", "DESTDIR=" + self.tmp)
+        self.make("install", "DESTDIR=" + self.tmp)
         unit = open(os.path.join(self.tmp, "usr/local/lib/systemd/system/wsgsim.service")).read()
         self.assertIn("ExecStart=/usr/local/bin/wsgsim --save-file %S/wsgsim/saved.ini "
                       "$WSGSIM_OPTIONS", unit)
@@ -94,7 +111,7 @@ class Install(unittest.TestCase):
         self.assertIsNotNone(analyze, "systemd-analyze is missing: install the systemd package "
                              "(make check's dependencies, debian/control, include it)")
         prefix = os.path.join(self.tmp, "usr")
-        make("install", "PREFIX=" + prefix, "SYSCONFDIR=" + os.path.join(self.tmp, "etc"))
+        self.make("install", "PREFIX=" + prefix, "SYSCONFDIR=" + os.path.join(self.tmp, "etc"))
         unitdir = os.path.join(prefix, "lib", "systemd", "system")
         # the template is verified through an instance, as systemd would load it
         units = [os.path.join(unitdir, "wsgsim.service"),

@@ -13,9 +13,17 @@
 # BIN_UDP_PORT and HTTP_PORT (the lwIP image's status page) default to free
 # ones. The board sends binary UDP replies to the sender's address at port
 # 1501, which QEMU delivers to 127.0.0.1:1501: the binary UDP test needs that
-# port free on this host. QEMU_TIMEOUT bounds the whole run in --test mode (seconds).
+# port. So --test runs in a network namespace of its own (unshare -rn,
+# util-linux), where that port and the forwarded ones are this run's alone
+# whatever else runs on the machine (other suites, a wsgsim someone
+# started); where no namespace can be made, on this host's loopback.
+# QEMU_TIMEOUT bounds the whole run in --test mode (seconds).
 # Both bounds only stop a hung run: QEMU on a busy machine boots slowly.
 set -euo pipefail
+
+if [ "${1:-}" = "--test" ] && [ -z "${WSGSIM_QEMU_NETNS:-}" ] && unshare -rn true 2>/dev/null; then
+    exec env WSGSIM_QEMU_NETNS=1 unshare -rn "$0" "$@"
+fi
 
 here=$(cd "$(dirname "$0")" && pwd)
 test_mode=0
@@ -52,6 +60,19 @@ for kind in sys.argv[1:]:
     s.bind(("127.0.0.1", 0)); held.append(s)
 print(" ".join(str(s.getsockname()[1]) for s in held))' "$@"
 }
+
+# A new network namespace's loopback is down until brought up.
+loopback_up() {
+    python3 -c 'import fcntl, socket, struct
+s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+request = struct.pack("16sH14x", b"lo", 0)
+flags = struct.unpack("16sH14x", fcntl.ioctl(s, 0x8913, request))[1]  # SIOCGIFFLAGS
+fcntl.ioctl(s, 0x8914, struct.pack("16sH14x", b"lo", flags | 1))  # SIOCSIFFLAGS, IFF_UP'
+}
+if [ -n "${WSGSIM_QEMU_NETNS:-}" ]; then
+    loopback_up
+    echo "qemu-$kind: in a network namespace of its own"
+fi
 
 read -r picked_tcp picked_udp picked_http picked_bin_udp < <(free_ports SOCK_STREAM SOCK_DGRAM SOCK_STREAM SOCK_DGRAM)
 tcp_port=${GCL_PORT:-$picked_tcp}

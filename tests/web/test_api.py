@@ -2,15 +2,13 @@
 """The web interface's routes and errors (docs/web.md): the device list,
 the state, the built-in page, and every kind of bad request, after which
 nothing has changed."""
-import os
 import socket
-import subprocess
-import tempfile
 import time
 import unittest
 
 from webclient import (GclError, GclTcp, Wsgsim, WebSim, request, request_no_redirect,
                        wait_for)
+from netns import start_in_netns  # noqa: E402 (tests/e2e, on the path once webclient is in)
 
 
 class WebCase(unittest.TestCase):
@@ -151,26 +149,19 @@ class Startup(unittest.TestCase):
         self.assertIn("cannot listen on TCP 127.0.0.1:%d" % port, "".join(sim.log))
 
     def test_the_default_port_taken_is_skipped_with_a_warning(self):
-        self.hold_port(8080)
-        with tempfile.TemporaryDirectory(prefix="wsgsim-web-") as tmp:
-            ready = os.path.join(tmp, "ready")
-            prefix = os.environ.get("WSGSIM_PREFIX", "").split()
-            proc = subprocess.Popen(prefix + [Wsgsim().binary, "--bind", "127.0.0.1",
-                                              "--tcp-port", "0", "--udp-port", "0",
-                                              "--binary-udp-port", "0", "--ready-file", ready],
-                                    stderr=subprocess.PIPE, stdin=subprocess.DEVNULL, text=True)
-            try:
-                wait_for("the ready file", lambda: os.path.exists(ready), timeout=60)
-                with open(ready) as f:
-                    self.assertNotIn("http_port", f.read())
-            finally:
-                proc.terminate()
-                _, err = proc.communicate(timeout=60)
-            self.assertEqual(proc.returncode, 0)
-            self.assertIn("warning: http port 8080 cannot be had (Address already in use): "
-                          "no web interface", err)
-            self.assertNotIn("wsgsim: ", err, "a skipped default is no error line")
-            self.assertNotIn(", web page ", err)
+        # in a network namespace of its own, where 8080 is held by this test
+        # and by no other program on the machine
+        result = start_in_netns(Wsgsim().binary, ["--bind", "127.0.0.1", "--tcp-port", "0",
+                                                  "--udp-port", "0", "--binary-udp-port", "0"],
+                                hold=[("tcp", 8080)])
+        err = result["stderr"]
+        self.assertEqual(result["rc"], 0, err)
+        self.assertTrue(result["ready"], "wsgsim did not start: " + err)
+        self.assertNotIn("http_port", result["ready"])
+        self.assertIn("warning: http port 8080 cannot be had (Address already in use): "
+                      "no web interface", err)
+        self.assertNotIn("wsgsim: ", err, "a skipped default is no error line")
+        self.assertNotIn(", web page ", err)
 
 
 class Fleet(WebCase):
