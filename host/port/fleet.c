@@ -715,7 +715,15 @@ void fleet_show_flags_again(fleet_t *fleet)
 
 bool fleet_devices_due(const fleet_t *fleet, uint64_t now)
 {
+    if (fleet->count == 1u) { /* ticked whenever due, unless its script holds the time */
+        return script_guard_holding(fleet->script_guard) && fleet->due_us[0] <= now;
+    }
     return fleet->count > 1u && due_at(fleet, 0) <= now;
+}
+
+void fleet_hold_time_for_scripts(fleet_t *fleet, bool hold)
+{
+    script_guard_set_hold_time(fleet->script_guard, hold);
 }
 
 bool fleet_touched_any(const fleet_t *fleet)
@@ -804,6 +812,8 @@ void fleet_run_scripts(fleet_t *fleet)
         unsigned i = (first + k) % fleet->count;
         runnable = gripper_continue_script(&fleet->devices[i].gripper) || runnable;
     }
+    /* a wake-up that holds the device time runs in the next pass */
+    runnable = runnable || script_guard_holding(fleet->script_guard);
     script_guard_pass_end(fleet->script_guard);
     if (runnable) {
         loop_wake_at_wall(fleet->loop, LOOP_NOW); /* poll, do not block */

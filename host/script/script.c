@@ -426,12 +426,35 @@ void script_forget(script_t *s)
     s->failure = false;
 }
 
+/* A wake-up that came once the loop pass's budget was spent (script_guard.h):
+ * held with the device time (the device stays due now), or left to the
+ * preempted scripts' rotation, its request taken for cmd.read(). */
+static uint64_t wake_later(script_t *s, uint64_t now)
+{
+    bool hold = script_guard_holds_time(s->guard);
+    script_guard_note_late(s->guard, hold);
+    if (hold) {
+        return now;
+    }
+    if (s->wait == SCRIPT_WAIT_READ) {
+        s->has_request = wsg_script_take(s->dev, &s->request);
+    }
+    s->wait = SCRIPT_WAIT_NONE;
+    s->preempted = true;
+    return UINT64_MAX;
+}
+
 uint64_t script_service(script_t *s)
 {
     if (!s->running) {
         return UINT64_MAX;
     }
     uint64_t now = hal_clock_now_us();
+    bool woken = (s->wait == SCRIPT_WAIT_SLEEP && now >= s->wake_us) ||
+                 (s->wait == SCRIPT_WAIT_READ && wsg_script_pending(s->dev) > 0);
+    if (woken && script_guard_pass_spent(s->guard)) {
+        return wake_later(s, now);
+    }
     if (s->wait == SCRIPT_WAIT_SLEEP && now >= s->wake_us) {
         resume(s);
     } else if (s->wait == SCRIPT_WAIT_READ && wsg_script_take(s->dev, &s->request)) {

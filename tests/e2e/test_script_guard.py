@@ -249,6 +249,81 @@ class SharedSlice(Case):
         self.assertEqual(process["most_continued_in_a_pass"], 1)
 
 
+# A wake-up's work that cannot pause and stays below the watchdog: six
+# times the watchdog's calibration chunk (docs/scripting.md, "Limits": the
+# limit is 26 of them), in a table.sort comparator, where the script cannot
+# yield. Some 4 ms here: each such wake-up spends a pass's budget.
+HEAVY_WAKE = """
+local function work()
+  table.sort({2, 1}, function(a, b)
+    for _ = 1, 6 do
+      local x = 0 for i = 1, 200000 do x = x + i end
+      for i = 1, 5000 do local t = {i} x = x + #t end
+    end
+    return a < b
+  end)
+end
+"""
+
+
+class WakeUps(Case):
+    """A script that sleeps a millisecond and then works without a pause,
+    below the watchdog's limit, at every wake-up. A loop pass that runs
+    many simulated instants (a catch-up, a STEP) once ran every wake-up in
+    it, holding the loop for seconds; a wake-up that comes once the pass's
+    budget is spent now waits for a later pass, so a pass runs a few of
+    them, never all."""
+
+    def assert_few_per_pass(self, before, after):
+        resumes = after["resumes"] - before["resumes"]
+        passes = after["process"]["passes"] - before["process"]["passes"]
+        self.assertGreater(resumes, 0)
+        self.assertLessEqual(resumes, 10 * passes, "%d wake-ups in %d passes" % (resumes, passes))
+        self.assertGreater(after["process"]["late_wakeups"], before["process"]["late_wakeups"])
+
+    def test_a_step_runs_each_wake_up_at_its_instant_over_many_passes(self):
+        code = HEAVY_WAKE + """
+require("socket")
+local last = socket.gettime()
+for i = 1, 60 do
+  sleep(1)
+  local now = socket.gettime()
+  assert(math.abs(now - last - 0.001) < 1e-9, "woke at " .. now .. " after " .. last)
+  last = now
+  work()
+end
+print("every wake-up at its instant")
+"""
+        self.start("--start-paused", files={"steps": code})
+        self.ctl('SCRIPT_RUN("steps.lua")')
+        gcl = self.sim.tcp()
+        self.addCleanup(gcl.close)
+        before = self.script()
+        self.ctl.step(100)
+        after = self.script()
+        self.assertFalse(after["running"])
+        self.assertFalse(after["failure"], after["error"])
+        self.assertEqual(after["resumes"] - before["resumes"], 60)
+        self.assert_few_per_pass(before, after)
+        self.assertIn("script: every wake-up at its instant", self.sim.drain_log())
+        self.assertEqual(gcl.command("FASTSTOP()"), "ACK FASTSTOP")
+
+    def test_on_a_running_clock_the_loop_is_not_held(self):
+        code = HEAVY_WAKE + "cmd.register(0xB0)\nwhile true do sleep(1) work() end\n"
+        self.start("--devices", "2", files={"wakes": code})
+        self.ctl("DEVICE=1")
+        self.ctl('SCRIPT_RUN("wakes.lua")')
+        gcl = self.sim.tcp()  # device 0
+        self.addCleanup(gcl.close)
+        before = self.script(1)
+        for _ in range(50):
+            self.assertEqual(gcl.command("SN?"), "SN=12345678")
+        self.assertEqual(gcl.command("FASTSTOP()"), "ACK FASTSTOP")
+        after = self.script(1)
+        self.assertTrue(after["running"], after["error"])
+        self.assert_few_per_pass(before, after)
+
+
 class Memory(Case):
     def test_sixteen_hogs_stay_within_the_process_budget(self):
         # each takes a MiB more every simulated millisecond, all in step
