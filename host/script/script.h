@@ -41,8 +41,9 @@ void script_run_startup(script_t *s, const char *file);
 void script_power_on(script_t *s, uint64_t now_us);
 /* The user stops it: SF_SCRIPT_RUNNING cleared, SF_SCRIPT_FAILURE kept. */
 bool script_stop(script_t *s);
-/* A power cycle: the device's flags and queue are gone; the interpreter
- * closes without touching the device. */
+/* A power cycle: the device's flags and queue are gone; the interpreter is
+ * dropped, nothing of it runs again (no finalizer). script_destroy() drops
+ * it the same way. */
 void script_forget(script_t *s);
 
 /* Resumes the script if it waits for something that has come (its sleep

@@ -182,6 +182,37 @@ class Freezes(Case):
         self.assertEqual(self.sim.stop(), 0)
 
 
+class PowerLoss(Case):
+    """A power cycle (RESET) and the process's exit drop the interpreters:
+    nothing of a script runs again, as on a device that loses its power.
+    Its finalizers ran there, each up to the watchdog's limit, one device
+    after another: a fleet whose scripts loop in __gc took seconds to exit."""
+
+    GC_LOOP = "setmetatable({}, {__gc = function() while true do end end})\n" \
+              "while true do sleep(10) end\n"
+
+    def test_a_power_cycle_runs_no_finalizer(self):
+        self.start("--start-paused", files={"gc": self.GC_LOOP})
+        self.ctl('SCRIPT_RUN("gc.lua")')
+        self.assertEqual(self.ctl("RESET()"), "ACK RESET")
+        state = self.script()
+        self.assertFalse(state["running"])
+        self.assertIsNone(state["error"])
+        self.assertEqual(state["process"]["watchdog_stops"], 0)
+        self.assertEqual(state["process"]["memory_bytes"], 0)
+
+    def test_the_exit_runs_no_finalizer(self):
+        devices = 8
+        self.start("--start-paused", "--devices", str(devices), files={"gc": self.GC_LOOP})
+        for i in range(devices):
+            self.ctl("DEVICE=%d" % i)
+            self.assertEqual(self.ctl('SCRIPT_RUN("gc.lua")'), "ACK SCRIPT_RUN")
+        self.assertEqual(self.sim.stop(), 0)
+        log = "".join(self.sim.log)
+        self.assertIn("shutting down", log)
+        self.assertNotIn("finalizers ran more than", log)
+
+
 class Startup(Case):
     def test_a_startup_script_that_freezes_lets_the_device_become_ready(self):
         for name, code in FREEZES.items():
