@@ -16,6 +16,9 @@
 #define SCRIPT_MEMORY_CAP (16u * 1024u * 1024u) /* per interpreter (spec §2.6) */
 #define SCRIPT_HOOK_EVERY 1000                  /* VM instructions between two hook calls */
 #define SCRIPT_CONSOLE_LINES 1000u
+/* The bytes of a console's lines, at most: 1000 lines of 64, a fleet's
+ * consoles a quarter of the scripts' memory budget (script_guard.c) */
+#define SCRIPT_CONSOLE_BYTES (64u * 1024u)
 /* The finger bus's start-up after power-on: a node boots in 20 ms, a lost
  * descriptor is asked for again after 100 ms. Finger calls wait for it. */
 #define SCRIPT_FINGER_STARTUP_US 100000u
@@ -64,7 +67,9 @@ struct script {
     char dir[PATH_MAX];  /* its directory: require() looks there first */
     char error[SCRIPT_LINE_MAX];
     char *lines[SCRIPT_CONSOLE_LINES]; /* console ring, line n at n % LINES */
+    uint64_t line_first;               /* the oldest line kept */
     uint64_t line_next;
+    size_t console_bytes; /* what the kept lines hold, their NULs included */
     char partial[SCRIPT_LINE_MAX];
     size_t partial_len;
     uint8_t *frame; /* cmd.send's frame buffer, SCRIPT_REPLY_MAX + 8 bytes */

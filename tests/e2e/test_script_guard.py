@@ -377,6 +377,22 @@ class Memory(Case):
         self.assertEqual(process["memory_bytes"], 0)
 
 
+class Console(Case):
+    def test_the_console_keeps_its_newest_lines_within_64_kib(self):
+        code = "for i = 1, 1000 do print(string.format('%04d', i) .. ('x'):rep(500)) end\n"
+        self.start(files={"long": code}, web=True)
+        api = self.sim.base + "/api/devices/0"
+        self.assertEqual(request(api + "/script/run", "POST", {"file": "long.lua"}).status, 200)
+        self.assertFalse(self.wait_ended()["failure"])
+        console = request(api + "/script/console?since=0").json()
+        self.assertEqual(console["next"], 1001)  # "running long.lua", then 1000 lines
+        lines = console["lines"]
+        self.assertLessEqual(sum(len(line) + 1 for line in lines), 64 * 1024)
+        self.assertGreater(len(lines), 100)
+        numbers = [int(line[:4]) for line in lines]
+        self.assertEqual(numbers, list(range(1001 - len(lines), 1001)))  # the newest, in order
+
+
 class Coroutines(Case):
     def test_waiting_inside_a_coroutine_of_its_own_raises(self):
         code = """
