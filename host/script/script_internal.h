@@ -85,7 +85,9 @@ float script_check_float(lua_State *L, int arg);
 /* Blocking calls (`name` for the error) yield with the wait set; k (may be
  * NULL) runs when the wait is over. Only the main script waits: inside a
  * coroutine of its own they raise an error, except a mere yield
- * (SCRIPT_WAIT_NONE, sleep(0)), which suspends the whole script once. */
+ * (SCRIPT_WAIT_NONE, sleep(0)), which suspends the whole script once.
+ * Where Lua cannot yield (a function called back from C) every one of them
+ * raises an error, the wait left as it was. */
 int script_block(lua_State *L, const char *name, script_wait_t wait, uint64_t wake_us,
                  lua_KContext ctx, lua_KFunction k);
 /* Host code inside a binding (a device call, the log, malloc): the

@@ -416,6 +416,31 @@ for i = 1, 3e6 do n = n + i end  -- slices end here: the main script is not park
                       "not a coroutine of its own", log)
         self.assertIn("script: co.lua:4: sleep: only the main script can wait", log)
 
+    def test_a_wait_where_lua_cannot_yield_raises_and_leaves_no_wait(self):
+        # a pcall caught Lua's "attempt to yield across a C-call boundary"
+        # after the wait was set: the script then stayed parked in it
+        code = """
+cmd.register(0xB0)
+local function inside_sort(wait)
+  return pcall(table.sort, {2, 1}, function(a, b) wait() return a < b end)
+end
+print(select(2, inside_sort(function() sleep(0) end)))
+print(select(2, inside_sort(function() cmd.read() end)))
+print(select(2, inside_sort(function() sleep(1e9) end)))
+local n = 0
+for i = 1, 3e6 do n = n + i end  -- slices end here: the script runs on
+print("after")
+"""
+        self.start("--start-paused", files={"nowait": code})
+        self.ctl('SCRIPT_RUN("nowait.lua")')
+        state = self.wait_ended()
+        self.assertFalse(state["failure"], state["error"])
+        log = self.sim.drain_log()
+        for line, name in ((6, "sleep"), (7, "cmd.read"), (8, "sleep")):  # no wait left
+            self.assertIn("script: nowait.lua:%d: %s: cannot wait inside a function called back "
+                          "from C" % (line, name), log)
+        self.assertIn("script: after", log)
+
     def test_a_slice_ending_inside_a_generator_does_not_end_it(self):
         code = """
 local gen = coroutine.wrap(function()
