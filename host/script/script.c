@@ -361,6 +361,7 @@ bool script_run(script_t *s, const char *file, char *why, size_t why_cap)
     if (code == NULL) {
         return false;
     }
+    s->start_pending = false; /* a startup script not started yet never is */
     if (s->running) {
         (void)script_stop(s);
     }
@@ -401,18 +402,32 @@ static void startup_refusal(const script_t *s, const char *file, const char *why
 
 void script_run_startup(script_t *s, const char *file)
 {
+    snprintf(s->pending, sizeof(s->pending), "%s", file);
+    s->start_pending = true;
+    wsg_script_set_flags(s->dev, true, false); /* it runs from power-on */
+}
+
+/* The startup script's start, in the loop's rotation (script_continue). */
+static void start_pending(script_t *s)
+{
+    s->start_pending = false;
     char why[PATH_MAX + 64];
-    if (script_run(s, file, why, sizeof(why))) {
+    if (script_run(s, s->pending, why, sizeof(why))) {
         return;
     }
     char message[SCRIPT_LINE_MAX];
-    startup_refusal(s, file, why, message, sizeof(message));
-    snprintf(s->file, sizeof(s->file), "%s", file);
+    startup_refusal(s, s->pending, why, message, sizeof(message));
+    snprintf(s->file, sizeof(s->file), "%s", s->pending);
     finish(s, true, message); /* as a run that failed at once */
 }
 
 bool script_stop(script_t *s)
 {
+    if (s->start_pending) { /* stopped before it started: it never does */
+        s->start_pending = false;
+        wsg_script_set_flags(s->dev, false, s->failure);
+        return true;
+    }
     if (!s->running) {
         return false;
     }
@@ -427,6 +442,7 @@ void script_forget(script_t *s)
     close_quietly(s);
     s->running = false;
     s->failure = false;
+    s->start_pending = false;
 }
 
 /* A wake-up that came once the loop pass's budget was spent (script_guard.h):
@@ -469,7 +485,7 @@ uint64_t script_service(script_t *s)
 
 bool script_preempted(const script_t *s)
 {
-    return s->running && s->preempted;
+    return s->start_pending || (s->running && s->preempted);
 }
 
 bool script_take_turn(script_t *s)
@@ -479,15 +495,17 @@ bool script_take_turn(script_t *s)
 
 void script_continue(script_t *s)
 {
-    if (script_preempted(s)) {
+    if (s->start_pending) {
+        start_pending(s);
+    } else if (script_preempted(s)) {
         resume(s);
     }
 }
 
 void script_info(const script_t *s, script_info_t *info)
 {
-    info->file = s->file;
-    info->running = s->running;
+    info->file = s->start_pending ? s->pending : s->file;
+    info->running = s->running || s->start_pending;
     info->failure = s->failure;
     info->error = s->error;
     info->memory = s->memory;

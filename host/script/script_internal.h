@@ -64,7 +64,10 @@ struct script {
     bool has_request;
     uint64_t reply_conn; /* where the request cmd.read() returned last came from */
     char file[PATH_MAX]; /* the script as given */
-    char dir[PATH_MAX];  /* its directory: require() looks there first */
+    /* the startup script, started in the loop's rotation (script_continue) */
+    char pending[PATH_MAX];
+    bool start_pending;
+    char dir[PATH_MAX]; /* its directory: require() looks there first */
     char error[SCRIPT_LINE_MAX];
     char *lines[SCRIPT_CONSOLE_LINES]; /* console ring, line n at n % LINES */
     uint64_t line_first;               /* the oldest line kept */

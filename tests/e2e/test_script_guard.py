@@ -227,6 +227,29 @@ class Startup(Case):
                 self.assertEqual(sim.returncode, 0)
 
 
+    def test_a_fleets_startup_scripts_start_after_it_is_ready(self):
+        # each freeze ended by the watchdog before the next device's start:
+        # the power-on of N devices took N times the limit (minutes for
+        # thousands), now the loop starts them in turn while it serves
+        devices = 8
+        folder = store(self, freeze=FREEZES["backtracking"])
+        config = os.path.join(folder, "fleet.ini")
+        with open(config, "w") as f:
+            f.write("[script]\ndir = %s\n" % folder)
+            for i in range(devices):
+                f.write("[device.%d]\nscript = /user/freeze.lua\n" % i)
+        self.sim = Wsgsim("--sim-port", "0", "--devices", str(devices), "--config", config)
+        self.sim.start()
+        self.addCleanup(self.sim.stop)
+        self.ctl = self.sim.control()
+        self.addCleanup(self.ctl.close)
+        for i in range(devices):
+            self.assert_stopped_by_watchdog(self.wait_ended(i))
+        log = self.sim.drain_log()
+        errors = [log.index("script[%d] error: %s" % (i, WATCHDOG)) for i in range(devices)]
+        self.assertLess(log.index(" ready: "), min(errors))
+
+
 class Bounded(Case):
     """The calls that need no watchdog: they end at once with a result or a
     clear error (asserted inside the script), and the script ends well."""
@@ -245,7 +268,10 @@ class Bounded(Case):
                 path = os.path.join(store(self, **{name: code}), name + ".lua")
                 with Wsgsim("--sim-port", "0", "--script", path) as sim:
                     with sim.control() as ctl:
-                        state = ctl.json("SCRIPT?")
+                        for _ in range(3000):  # it runs in the loop's passes
+                            state = ctl.json("SCRIPT?")
+                            if not state["running"]:
+                                break
                 self.assertFalse(state["running"] or state["failure"], state)
 
 
