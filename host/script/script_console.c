@@ -97,6 +97,7 @@ size_t script_console(const script_t *s, uint64_t since, const char **lines, siz
                       uint64_t *next)
 {
     uint64_t n = since > s->line_first ? since : s->line_first;
+    n = n < s->line_next ? n : s->line_next; /* a number not given yet: none after it */
     size_t count = 0;
     for (; n < s->line_next && count < cap; n++) {
         const char *line = s->lines[n % SCRIPT_CONSOLE_LINES];
