@@ -3,11 +3,14 @@
 freeze it with work that never pauses (a __gc finalizer, pattern
 backtracking, string.rep, table.move, a plain find, pcall inside a
 table.sort comparator), run from the control channel, as the startup
-script or from the web; slow a fleet's other devices down (one slice
-budget per loop pass, in rotation); take more memory than the process's
-budget; park itself by waiting inside a coroutine of its own. Nothing here
-measures wall time: the freezes end by the watchdog, and the tests wait
-for what the device answers after them."""
+script (a fleet's too) or from the web; hold the loop with short work at
+every wake-up of a catch-up or a STEP; slow a fleet's other devices down
+(one slice budget per loop pass, in rotation); take more memory than the
+process's budget, or fill it with console lines; delay a power cycle or
+the exit with its finalizers; park itself by waiting inside a coroutine
+of its own or where Lua cannot yield. Nothing here measures wall time:
+the freezes end by the watchdog, and the tests wait for what the device
+answers after them or count loop passes."""
 import os
 import shutil
 import struct
