@@ -122,6 +122,11 @@ bool wsg_conn_wants_close(const wsg_conn_t *conn)
     return conn_of_const(conn)->said_goodbye;
 }
 
+bool wsg_conn_refused_http(const wsg_conn_t *conn)
+{
+    return conn_of_const(conn)->refused_http;
+}
+
 bool wsg_conn_close_announced(const wsg_conn_t *conn)
 {
     const conn_t *c = conn_of_const(conn);

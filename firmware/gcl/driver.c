@@ -18,12 +18,28 @@ static void gcl_open(wsg_conn_t *c)
     wsg_gcl_linebuf_reset(&g->input);
 }
 
+/* A web page can make a browser POST to the device's port: the lines of
+ * the body would run as commands. A stream that sends an HTTP line ends at
+ * once, unanswered, as after BYE (no FAST STOP), and nothing after it runs
+ * (the input loop stops at the goodbye). A datagram is no browser's. */
+static bool refuse_http(gcl_conn_t *g, const gcl_linebuf_t *lb)
+{
+    if (g->conn->transport != WSG_TRANSPORT_STREAM || !wsg_gcl_line_is_http(lb->text)) {
+        return false;
+    }
+    g->conn->said_goodbye = true;
+    g->conn->refused_http = true;
+    return true;
+}
+
 static void handle_completed_line(gcl_conn_t *g)
 {
     const gcl_linebuf_t *lb = &g->input;
     g->lines_in++;
     wsg_conn_note_input(g->conn, lb->text, lb->len);
-    wsg_dispatch_line(g, lb->text, lb->len, wsg_gcl_linebuf_status(lb));
+    if (!refuse_http(g, lb)) {
+        wsg_dispatch_line(g, lb->text, lb->len, wsg_gcl_linebuf_status(lb));
+    }
 }
 
 /* A poller repeats one query line: when the input starts with it again,

@@ -286,3 +286,28 @@ bool wsg_gcl_text_equals(const char *text, const char *upper)
     }
     return *text == '\0' && *upper == '\0';
 }
+
+/* "Host: ...": an HTTP header's name (a token) and its colon. */
+static bool header_line(const char *line)
+{
+    size_t name = strspn(line, "!#$%&'*+-.^_`|~0123456789"
+                               "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz");
+    return name > 0 && line[name] == ':';
+}
+
+/* "POST /path HTTP/1.1": a method in capitals, a space and a request target
+ * (a path, "*", or an absolute URL). Checked on the line's first bytes: a
+ * long URL makes the line too long for a command, not less of a request. */
+static bool request_line(const char *line)
+{
+    size_t method = strspn(line, "ABCDEFGHIJKLMNOPQRSTUVWXYZ");
+    const char *target = line + method + 1;
+    return method > 0 && line[method] == ' ' &&
+           (target[0] == '/' || target[0] == '*' || strncmp(target, "http://", 7) == 0 ||
+            strncmp(target, "https://", 8) == 0);
+}
+
+bool wsg_gcl_line_is_http(const char *line)
+{
+    return request_line(line) || header_line(line);
+}

@@ -18,6 +18,7 @@ typedef struct wsg_conn_impl {
     bool open;
     bool said_goodbye;    /* the protocol's goodbye was answered: close after flushing */
     bool close_announced; /* the protocol announced its close: dropping it is no fault */
+    bool refused_http;    /* closed unanswered: it sent an HTTP line (wsg_gcl_line_is_http) */
     uint32_t messages_in; /* whole messages taken in (wsg_conn_count_input) */
     struct wsg_conn_impl *next, *prev;                 /* the device's open connections */
     WSG_ALIGNED unsigned char proto[CONN_PROTO_BYTES]; /* the driver's state */

@@ -197,11 +197,30 @@ static int on_option_key(parse_state_t *st, const char *section, const char *nam
     return on_setting_key(st, section, name, text);
 }
 
+/* The value as the file holds it, surrounding double quotes optional. A
+ * quoted value is read whole: libinih ends a value at " ;" (its inline
+ * comment), so a tag "a ;b", which the device takes and the Save writes,
+ * came back as "a and stopped the next start. Its closing quote is the
+ * next one on the line (a text value holds none). */
+static void value_text(const parse_state_t *st, const char *value, char *out, size_t cap)
+{
+    const char *open = strchr(st->file.line, '"');
+    const char *close = open != NULL ? strchr(open + 1, '"') : NULL;
+    const char *after = close != NULL ? close + 1 + strspn(close + 1, " \t") : NULL;
+    size_t len = strlen(value);
+    bool cut = len >= 1 && value[0] == '"' && (len == 1 || value[len - 1] != '"');
+    if (cut && after != NULL && (*after == '\0' || *after == ';')) { /* a comment may follow */
+        snprintf(out, cap, "%.*s", (int)(close - open - 1), open + 1);
+    } else {
+        unquote(value, out, cap);
+    }
+}
+
 static int on_key(void *user, const char *section, const char *name, const char *value)
 {
     parse_state_t *st = user;
     char text[128];
-    unquote(value, text, sizeof(text));
+    value_text(st, value, text, sizeof(text));
     if (strncasecmp(section, DEVICE_SECTION, strlen(DEVICE_SECTION)) == 0) {
         return on_device_key(st, section, name, text);
     }

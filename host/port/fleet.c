@@ -95,6 +95,11 @@ void fleet_show_flags_again(fleet_t *fleet)
     }
 }
 
+void fleet_hold_time_for_scripts(fleet_t *fleet, bool hold)
+{
+    script_guard_set_hold_time(fleet->script_guard, hold);
+}
+
 static void format_endpoints(const fleet_t *fleet, unsigned i, char *tcp, char *udp, size_t cap)
 {
     const fleet_device_t *d = &fleet->devices[i];
@@ -157,6 +162,8 @@ void fleet_run_scripts(fleet_t *fleet)
         unsigned i = (first + k) % fleet->count;
         runnable = gripper_continue_script(&fleet->devices[i].gripper) || runnable;
     }
+    /* a wake-up that holds the device time runs in the next pass */
+    runnable = runnable || script_guard_holding(fleet->script_guard);
     script_guard_pass_end(fleet->script_guard);
     if (runnable) {
         loop_wake_at_wall(fleet->loop, LOOP_NOW); /* poll, do not block */

@@ -94,8 +94,14 @@ unsigned fleet_run_lone(fleet_t *fleet, fleet_lone_run_t *run);
  * the last fleet_tick() or fleet_run_lone() left them. */
 uint64_t fleet_next_us(const fleet_t *fleet);
 /* Devices whose deadline has come wait for the next fleet_tick() (its
- * budget ran out). */
+ * budget ran out, or a script's wake-up waits for the next loop pass with
+ * the device time: fleet_hold_time_for_scripts()). */
 bool fleet_devices_due(const fleet_t *fleet, uint64_t now);
+/* Whether a script's wake-up that the loop pass's budget cannot take holds
+ * the device time until a later pass (true on a paused clock, so that a
+ * STEP runs every wake-up at its instant) or runs late (a running clock).
+ * docs/scripting.md, "Limits". */
+void fleet_hold_time_for_scripts(fleet_t *fleet, bool hold);
 /* Some device was touched since the last fleet_tick() (the scheduler's
  * pass asks first). */
 bool fleet_touched_any(const fleet_t *fleet);

@@ -136,6 +136,9 @@ uint64_t fleet_next_us(const fleet_t *fleet)
 
 bool fleet_devices_due(const fleet_t *fleet, uint64_t now)
 {
+    if (fleet->count == 1u) { /* ticked whenever due, unless its script holds the time */
+        return script_guard_holding(fleet->script_guard) && fleet->due_us[0] <= now;
+    }
     return fleet->count > 1u && due_at(fleet, 0) <= now;
 }
 

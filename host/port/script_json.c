@@ -25,6 +25,7 @@ static void add_process(cJSON *j, const script_guard_info_t *p)
     cJSON_AddNumberToObject(o, "pass_slice_us", (double)p->slice_us);
     cJSON_AddNumberToObject(o, "passes", (double)p->passes);
     cJSON_AddNumberToObject(o, "most_continued_in_a_pass", (double)p->most_continued_in_pass);
+    cJSON_AddNumberToObject(o, "late_wakeups", (double)p->late_wakeups);
 }
 
 cJSON *script_json(gripper_t *g)

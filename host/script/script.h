@@ -31,18 +31,23 @@ void script_destroy(script_t *s);
  * the main chunk until it first blocks. false with *why when the file cannot
  * be read; a file that does not compile starts and fails at once. */
 bool script_run(script_t *s, const char *file, char *why, size_t why_cap);
-/* Runs the startup script at power-on. A file that cannot be read (gone,
+/* The startup script at power-on: SF_SCRIPT_RUNNING at once, the script
+ * itself started by the loop in the preempted scripts' rotation
+ * (script_take_turn, script_continue), so that no power-on, of one device
+ * or of a fleet, waits for scripts. A file that cannot be read then (gone,
  * unreadable, not a store name) fails as a script that fails at once:
  * SF_SCRIPT_FAILURE set, "startup script FILE: reason" as the error, on
- * the console and in the log (warn). The device starts all the same. */
+ * the console and in the log (warn). The device starts all the same. A
+ * script_run() or script_stop() before it started cancels it. */
 void script_run_startup(script_t *s, const char *file);
 /* The device powered on at now_us: the finger bindings wait until the
  * finger bus has described the fingers (SCRIPT_FINGER_STARTUP_US later). */
 void script_power_on(script_t *s, uint64_t now_us);
 /* The user stops it: SF_SCRIPT_RUNNING cleared, SF_SCRIPT_FAILURE kept. */
 bool script_stop(script_t *s);
-/* A power cycle: the device's flags and queue are gone; the interpreter
- * closes without touching the device. */
+/* A power cycle: the device's flags and queue are gone; the interpreter is
+ * dropped, nothing of it runs again (no finalizer). script_destroy() drops
+ * it the same way. */
 void script_forget(script_t *s);
 
 /* Resumes the script if it waits for something that has come (its sleep

@@ -53,10 +53,12 @@ struct script_guard {
     unsigned first;     /* the device the next pass looks at first */
     unsigned continued; /* preempted scripts continued in this pass */
     unsigned last_turn; /* the device continued last */
+    bool hold_time;     /* a late wake-up holds the device time (a paused clock) */
+    bool holding;       /* one does in this pass */
     /* memory */
     size_t memory, memory_peak, memory_budget;
     /* figures */
-    uint64_t passes, exits;
+    uint64_t passes, exits, late;
     unsigned most_continued;
 };
 
@@ -330,6 +332,33 @@ void script_guard_pass_end(script_guard_t *g)
     }
     g->continued = 0;
     g->pass_used_ns = 0;
+    g->holding = false;
+}
+
+bool script_guard_pass_spent(const script_guard_t *g)
+{
+    return g->pass_used_ns >= PASS_SLICE_NS;
+}
+
+void script_guard_set_hold_time(script_guard_t *g, bool hold)
+{
+    g->hold_time = hold;
+}
+
+bool script_guard_holds_time(const script_guard_t *g)
+{
+    return g->hold_time;
+}
+
+void script_guard_note_late(script_guard_t *g, bool held)
+{
+    g->late++;
+    g->holding = g->holding || held;
+}
+
+bool script_guard_holding(const script_guard_t *g)
+{
+    return g->holding;
 }
 
 bool script_guard_reserve(script_guard_t *g, size_t more)
@@ -365,5 +394,6 @@ void script_guard_info(const script_guard_t *g, script_guard_info_t *info)
         .passes = g->passes,
         .most_continued_in_pass = g->most_continued,
         .watchdog_exits = g->exits,
+        .late_wakeups = g->late,
     };
 }

@@ -78,6 +78,21 @@ unsigned script_guard_first(const script_guard_t *g, unsigned devices);
 bool script_guard_take_turn(script_guard_t *g, unsigned index);
 void script_guard_pass_end(script_guard_t *g);
 
+/* A wake-up (a sleep that ended, a request for a waiting cmd.read()) that
+ * comes once the pass's budget is spent waits for a later pass, so that a
+ * pass that runs many simulated instants (a catch-up, a STEP) never runs
+ * more than its budget of scripts: on a paused clock the device time waits
+ * with it (set_hold_time true: a STEP still runs every wake-up at its
+ * instant), on a running clock it does not (the script goes on late, in
+ * turn with the preempted ones). */
+bool script_guard_pass_spent(const script_guard_t *g);
+void script_guard_set_hold_time(script_guard_t *g, bool hold);
+bool script_guard_holds_time(const script_guard_t *g);
+/* A wake-up waited (held: with the device time); holding() until the
+ * pass's end: some device's time waits for a later pass. */
+void script_guard_note_late(script_guard_t *g, bool held);
+bool script_guard_holding(const script_guard_t *g);
+
 /* Memory: whether `more` bytes fit in the process's budget; then they are
  * counted (script_guard_release gives them back). */
 bool script_guard_reserve(script_guard_t *g, size_t more);
@@ -93,6 +108,7 @@ typedef struct {
     uint32_t slice_us;               /* the budget of one pass */
     uint64_t passes;                 /* loop passes that looked for scripts */
     unsigned most_continued_in_pass; /* preempted scripts one pass continued, at most */
+    uint64_t late_wakeups;           /* wake-ups that waited for a later pass */
     uint64_t watchdog_exits;         /* stretches the watchdog ended */
 } script_guard_info_t;
 void script_guard_info(const script_guard_t *g, script_guard_info_t *info);

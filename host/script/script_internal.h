@@ -17,6 +17,9 @@
 #define SCRIPT_MEMORY_CAP (16u * 1024u * 1024u) /* per interpreter (spec §2.6) */
 #define SCRIPT_HOOK_EVERY 1000                  /* VM instructions between two hook calls */
 #define SCRIPT_CONSOLE_LINES 1000u
+/* The bytes of a console's lines, at most: 1000 lines of 64, a fleet's
+ * consoles a quarter of the scripts' memory budget (script_guard.c) */
+#define SCRIPT_CONSOLE_BYTES (64u * 1024u)
 /* The finger bus's start-up after power-on: a node boots in 20 ms, a lost
  * descriptor is asked for again after 100 ms. Finger calls wait for it. */
 #define SCRIPT_FINGER_STARTUP_US 100000u
@@ -62,10 +65,15 @@ struct script {
     bool has_request;
     uint64_t reply_conn; /* where the request cmd.read() returned last came from */
     char file[PATH_MAX]; /* the script as given */
-    char dir[PATH_MAX];  /* its directory: require() looks there first */
+    /* the startup script, started in the loop's rotation (script_continue) */
+    char pending[PATH_MAX];
+    bool start_pending;
+    char dir[PATH_MAX]; /* its directory: require() looks there first */
     char error[SCRIPT_LINE_MAX];
     char *lines[SCRIPT_CONSOLE_LINES]; /* console ring, line n at n % LINES */
+    uint64_t line_first;               /* the oldest line kept */
     uint64_t line_next;
+    size_t console_bytes; /* what the kept lines hold, their NULs included */
     char partial[SCRIPT_LINE_MAX];
     size_t partial_len;
     uint8_t *frame; /* cmd.send's frame buffer, SCRIPT_REPLY_MAX + 8 bytes */
@@ -81,7 +89,9 @@ float script_check_float(lua_State *L, int arg);
 /* Blocking calls (`name` for the error) yield with the wait set; k (may be
  * NULL) runs when the wait is over. Only the main script waits: inside a
  * coroutine of its own they raise an error, except a mere yield
- * (SCRIPT_WAIT_NONE, sleep(0)), which suspends the whole script once. */
+ * (SCRIPT_WAIT_NONE, sleep(0)), which suspends the whole script once.
+ * Where Lua cannot yield (a function called back from C) every one of them
+ * raises an error, the wait left as it was. */
 int script_block(lua_State *L, const char *name, script_wait_t wait, uint64_t wake_us,
                  lua_KContext ctx, lua_KFunction k);
 /* Host code inside a binding (a device call, the log, malloc): the

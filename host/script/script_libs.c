@@ -313,7 +313,10 @@ static void open_standard(lua_State *L)
     }
 }
 
-/* package: the preload searcher and the store searcher; no C modules. */
+/* package: the preload searcher and the store searcher; no C modules, and
+ * no searchpath: it fopen()s any host path it is given (a FIFO's open
+ * waits for a writer, the whole process with it, where no watchdog on CPU
+ * time can end it) and tells whether host files exist and can be read. */
 static void restrict_package(lua_State *L)
 {
     lua_getglobal(L, LUA_LOADLIBNAME);
@@ -323,6 +326,8 @@ static void restrict_package(lua_State *L)
     lua_setfield(L, -2, "path");
     lua_pushnil(L);
     lua_setfield(L, -2, "loadlib");
+    lua_pushnil(L);
+    lua_setfield(L, -2, "searchpath");
     lua_getfield(L, -1, "preload");
     lua_pushcfunction(L, open_socket);
     lua_setfield(L, -2, "socket");

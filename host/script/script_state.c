@@ -20,6 +20,14 @@ int script_block(lua_State *L, const char *name, script_wait_t wait, uint64_t wa
                  lua_KContext ctx, lua_KFunction k)
 {
     script_t *s = script_of_state(L);
+    if (!lua_isyieldable(L)) {
+        /* before the wait is set: Lua's own error here (yield across a C-call
+         * boundary), caught by a pcall, left the script parked in that wait */
+        return luaL_error(L,
+                          "%s: cannot wait inside a function called back from C (a table.sort "
+                          "comparator, a __gc finalizer, a gsub replacement)",
+                          name);
+    }
     if (L != s->co && wait != SCRIPT_WAIT_NONE) {
         /* its own coroutine would yield to the script, not to the device,
          * and leave the main script waiting (docs/scripting.md) */

@@ -215,26 +215,6 @@ static void record_and_send(control_client_t *c, const char *reply)
     send_reply(c, reply);
 }
 
-/* "Host: ...": an HTTP header's name (a token) and its colon. */
-static bool header_line(const char *line)
-{
-    size_t name = strspn(line, "!#$%&'*+-.^_`|~0123456789"
-                               "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz");
-    return name > 0 && line[name] == ':';
-}
-
-/* "POST /path HTTP/1.1": a method in capitals, a space and a request target
- * (a path, "*", or an absolute URL). Checked on the line's first bytes: a
- * long URL makes the line too long for a command, not less of a request. */
-static bool request_line(const char *line)
-{
-    size_t method = strspn(line, "ABCDEFGHIJKLMNOPQRSTUVWXYZ");
-    const char *target = line + method + 1;
-    return method > 0 && line[method] == ' ' &&
-           (target[0] == '/' || target[0] == '*' || strncmp(target, "http://", 7) == 0 ||
-            strncmp(target, "https://", 8) == 0);
-}
-
 /* A browser can be made to send a cross-site POST to any port, and the
  * lines of its body would run here as commands. As Redis does when a
  * command reads "POST" or "Host:", a line that only an HTTP client sends
@@ -243,7 +223,7 @@ static bool request_line(const char *line)
 static bool refuse_http(control_client_t *c)
 {
     const char *line = c->input.text;
-    if (!request_line(line) && !header_line(line)) {
+    if (!wsg_gcl_line_is_http(line)) {
         return false;
     }
     host_log_peer(HAL_LOG_WARN,

@@ -191,7 +191,8 @@ static unsigned run_fleet_deadlines(simctl_sched_t *s, slice_t *slice)
         s->fleet_due_us = fleet_next_us(s->fleet);
         s->delay_due_us = UINT64_MAX;
         spend(&slice->budget, 2u * instants); /* a step and an instant each */
-        slice->all_due_ran = true;            /* a lone device is never left due */
+        /* a lone device is left due only when its script holds the time */
+        slice->all_due_ran = !fleet_devices_due(s->fleet, device_now(s));
         slice->next = earliest(s->fleet_due_us, hook_next);
     }
     return instants;
@@ -252,6 +253,7 @@ static bool nothing_due(const simctl_sched_t *s, uint64_t target, uint64_t hook_
 
 uint64_t simctl_tick(simctl_sched_t *s)
 {
+    fleet_hold_time_for_scripts(s->fleet, simclock_paused(s->clock));
     uint64_t target = simclock_now_us(s->clock); /* read once per pass */
     uint64_t lag = lag_behind(s, target);        /* how late the loop woke */
     if (lag > s->max_lag_us) {
@@ -273,6 +275,7 @@ uint64_t simctl_settle(simctl_sched_t *s)
         return simctl_tick(s);
     }
     if (fleet_touched_any(s->fleet)) { /* run_due() at the present, the hook not due */
+        fleet_hold_time_for_scripts(s->fleet, simclock_paused(s->clock));
         unsigned budget = SLICE_WORK;
         run_fleet_and_delays(s, now, &budget);
         bool left = fleet_devices_due(s->fleet, now);

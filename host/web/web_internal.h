@@ -95,6 +95,9 @@ bool web_field_string(const web_request_t *req, const cJSON *body, const char *n
 /* False after a 400 when the body has a field not in names (NULL-ended). */
 bool web_fields_known(const web_request_t *req, const cJSON *body, const char *const *names,
                       enum MHD_Result *result);
+/* ?since=N (the log's, the script console's): a line number, 0 without
+ * it; false after a 400 for anything else (a sign, text, beyond 64 bits). */
+bool web_since_argument(const web_request_t *req, uint64_t *since, enum MHD_Result *result);
 
 /* Brings device g's world up to now and senses it (what a GCL command does
  * first), so an operation or a read acts on the newest state. */

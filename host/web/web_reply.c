@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* Replies and request bodies: what every route uses. */
+#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -235,4 +236,20 @@ void web_device_sense(gripper_t *g)
 {
     wsg_sim_world_advance(&g->world, hal_clock_now_us());
     wsg_device_sense(&g->device);
+}
+
+bool web_since_argument(const web_request_t *req, uint64_t *since, enum MHD_Result *result)
+{
+    const char *text = MHD_lookup_connection_value(req->connection, MHD_GET_ARGUMENT_KIND, "since");
+    char *end = NULL;
+    errno = 0;
+    *since = text != NULL ? strtoull(text, &end, 10) : 0u;
+    /* strtoull takes "-1" (as the largest number) and saturates */
+    if (text != NULL &&
+        (end == text || *end != '\0' || strspn(text, "0123456789") == 0 || errno == ERANGE)) {
+        *result = web_reply_error(req, MHD_HTTP_BAD_REQUEST, E_INVALID_PARAMETER,
+                                  "since: expected a line number");
+        return false;
+    }
+    return true;
 }

@@ -90,13 +90,10 @@ static enum MHD_Result stop_script(const web_request_t *req, gripper_t *g)
 /* ?since=N: the console lines numbered N and later, and the next number. */
 static enum MHD_Result get_console(const web_request_t *req, gripper_t *g)
 {
-    const char *since_text =
-        MHD_lookup_connection_value(req->connection, MHD_GET_ARGUMENT_KIND, "since");
-    char *end = NULL;
-    unsigned long long since = since_text != NULL ? strtoull(since_text, &end, 10) : 0u;
-    if (since_text != NULL && (end == since_text || *end != '\0')) {
-        return web_reply_error(req, MHD_HTTP_BAD_REQUEST, E_INVALID_PARAMETER,
-                               "since: expected a line number");
+    uint64_t since = 0;
+    enum MHD_Result refused = MHD_NO;
+    if (!web_since_argument(req, &since, &refused)) {
+        return refused;
     }
     cJSON *j = cJSON_CreateObject();
     cJSON *lines = cJSON_AddArrayToObject(j, "lines");

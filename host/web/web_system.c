@@ -13,20 +13,6 @@
 
 #define LOG_PAGE 100u /* every line the log keeps */
 
-/* ?since=N as the script console takes it: false after a 400. */
-static bool since_argument(const web_request_t *req, uint64_t *since, enum MHD_Result *result)
-{
-    const char *text = MHD_lookup_connection_value(req->connection, MHD_GET_ARGUMENT_KIND, "since");
-    char *end = NULL;
-    *since = text != NULL ? strtoull(text, &end, 10) : 0u;
-    if (text != NULL && (end == text || *end != '\0' || text[0] == '-')) {
-        *result = web_reply_error(req, MHD_HTTP_BAD_REQUEST, E_INVALID_PARAMETER,
-                                  "since: expected a line number");
-        return false;
-    }
-    return true;
-}
-
 static void add_log(cJSON *root, uint64_t since)
 {
     const char *page[LOG_PAGE];
@@ -73,7 +59,7 @@ enum MHD_Result web_system_route(const web_request_t *req, gripper_t *g)
 {
     enum MHD_Result result = MHD_NO;
     uint64_t since = 0;
-    if (!since_argument(req, &since, &result)) {
+    if (!web_since_argument(req, &since, &result)) {
         return result;
     }
     return web_reply_json(req, MHD_HTTP_OK, system_json(g, since));

@@ -51,4 +51,13 @@ wsg_status_t wsg_gcl_parse_line(const char *line, size_t len, gcl_command_t *cmd
 /* Case-insensitive comparison of a word or string argument. */
 bool wsg_gcl_text_equals(const char *text, const char *upper);
 
+/* The line (NUL-terminated) is one only an HTTP client sends: a request
+ * line ("POST /path HTTP/1.1": a method in capitals, a space, then '/', '*'
+ * or an absolute URL) or a header ("Host: ..."). No command looks like one
+ * (a name is followed by '(', '?', '=' or '['). A web page can make a
+ * browser send a cross-site POST to any port, the lines of its body
+ * commands: a connection that sends such a line is closed before any of it
+ * runs, as Redis does (docs/behaviour.md). */
+bool wsg_gcl_line_is_http(const char *line);
+
 #endif

@@ -84,6 +84,10 @@ void wsg_conn_input(wsg_conn_t *c, const uint8_t *bytes, size_t len);
 void wsg_conn_end_datagram(wsg_conn_t *c);
 /* True once the protocol said goodbye: the port closes after flushing. */
 bool wsg_conn_wants_close(const wsg_conn_t *c);
+/* True when the goodbye is the device's own: the stream sent a line only an
+ * HTTP client sends (a web page's cross-protocol request), which closes it
+ * unanswered, nothing it sent run (wsg_gcl_line_is_http()). */
+bool wsg_conn_refused_http(const wsg_conn_t *c);
 /* True once the protocol announced the connection's end: GCL's BYE (which
  * also wants the close) or the binary 0x07 (after which the client closes).
  * Closing it then is WSG_CLOSE_ANNOUNCED: no fault, no FAST STOP. */

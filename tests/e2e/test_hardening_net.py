@@ -531,5 +531,46 @@ def wait_for_log(sim, text, bound=30.0):
     return False
 
 
+class CrossProtocol(NetCase):
+    """A web page can make a browser POST anything to the GCL port (1000 is
+    on no browser's list of refused ports): the body's lines would run as
+    commands (MOVE, GRIP, FASTSTOP), and the browser's close without BYE
+    would raise FAST STOP. A line only HTTP sends closes the connection at
+    once, unanswered and announced, before anything after it runs."""
+
+    BODY = b"MOVE(0)\nFASTSTOP()\n"
+
+    def attack(self, sim, *pieces):
+        with socket.create_connection(("127.0.0.1", sim.tcp_port), timeout=60) as sock:
+            for piece in pieces:
+                sock.sendall(piece)
+            sock.shutdown(socket.SHUT_WR)
+            sock.settimeout(60)
+            data = b""
+            while True:
+                chunk = sock.recv(4096)
+                if not chunk:
+                    return data
+                data += chunk
+
+    def test_a_browsers_post_to_the_gcl_port_runs_nothing(self):
+        sim = self.start()
+        gcl = self.tcp(sim)
+        flags, position = gcl.command("SYSFLAGS?"), gcl.command("POS?")
+        request = (b"POST / HTTP/1.1\r\nHost: 127.0.0.1:%d\r\nOrigin: http://evil.example\r\n"
+                   b"Content-Type: text/plain\r\nContent-Length: %d\r\n\r\n"
+                   % (sim.tcp_port, len(self.BODY)) + self.BODY)
+        self.assertEqual(self.attack(sim, request), b"")  # not one reply: closed at once
+        self.assertEqual(self.attack(sim, b"Host: x\r\n" + self.BODY), b"")
+        self.assertEqual(self.attack(sim, b"SN?\nGET /", b"?a HTTP/1.1\r\n\r\n" + self.BODY),
+                         b"SN=12345678\n")
+        # no FAST STOP: neither the body's nor the one a close without BYE raises
+        self.assertEqual(gcl.command("SYSFLAGS?"), flags)
+        self.assertEqual(gcl.command("POS?"), position)
+        log = sim.drain_log()
+        self.assertEqual(log.count("an HTTP request (a web page's cross-protocol request?); "
+                                   "closed without running it"), 3, log)
+
+
 if __name__ == "__main__":
     unittest.main()

@@ -500,6 +500,29 @@ class HostFiles(ScriptCase):
             self.assertIn("not a regular file", state["error"])
         self.assertEqual(self.ctl("SIMTIME?"), "SIMTIME=[0.000,0.000]")
 
+    def test_no_library_function_opens_a_host_file(self):
+        # package.searchpath fopen()ed any path: a FIFO's open waited for a
+        # writer and held the whole process, which no watchdog on CPU time
+        # ends; it also told which host files exist and can be read
+        fifo = os.path.join(self.host_dir(), "pipe.lua")
+        os.mkfifo(fifo)
+        code = "print(package.searchpath == nil and 'no searchpath' or 'searchpath')\n" \
+               "print(pcall(package.searchpath, 'x', %r))\n" % fifo
+        self.start(store=self.store(probe_lua=code))
+        self.addCleanup(self.release_reader, fifo)  # before the stop
+        self.assertEqual(self.ctl('SCRIPT_RUN("probe.lua")'), "ACK SCRIPT_RUN")
+        self.assertFalse(self.script_state()["running"])
+        log = self.sim.drain_log()
+        self.assertIn("script: no searchpath", log)
+        self.assertIn("script: false\\x09", log)  # the call raised, nothing opened
+
+    def release_reader(self, fifo):
+        """A server blocked opening the FIFO for reading goes on once a writer opens it."""
+        try:
+            os.close(os.open(fifo, os.O_WRONLY | os.O_NONBLOCK))
+        except OSError:
+            pass  # no reader: nothing blocked
+
     def test_a_fleet_device_without_script_options_logs_as_its_index(self):
         path = os.path.join(self.host_dir(), "hello.lua")
         with open(path, "w") as f:

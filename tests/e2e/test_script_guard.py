@@ -3,11 +3,14 @@
 freeze it with work that never pauses (a __gc finalizer, pattern
 backtracking, string.rep, table.move, a plain find, pcall inside a
 table.sort comparator), run from the control channel, as the startup
-script or from the web; slow a fleet's other devices down (one slice
-budget per loop pass, in rotation); take more memory than the process's
-budget; park itself by waiting inside a coroutine of its own. Nothing here
-measures wall time: the freezes end by the watchdog, and the tests wait
-for what the device answers after them."""
+script (a fleet's too) or from the web; hold the loop with short work at
+every wake-up of a catch-up or a STEP; slow a fleet's other devices down
+(one slice budget per loop pass, in rotation); take more memory than the
+process's budget, or fill it with console lines; delay a power cycle or
+the exit with its finalizers; park itself by waiting inside a coroutine
+of its own or where Lua cannot yield. Nothing here measures wall time:
+the freezes end by the watchdog, and the tests wait for what the device
+answers after them or count loop passes."""
 import os
 import shutil
 import struct
@@ -182,6 +185,37 @@ class Freezes(Case):
         self.assertEqual(self.sim.stop(), 0)
 
 
+class PowerLoss(Case):
+    """A power cycle (RESET) and the process's exit drop the interpreters:
+    nothing of a script runs again, as on a device that loses its power.
+    Its finalizers ran there, each up to the watchdog's limit, one device
+    after another: a fleet whose scripts loop in __gc took seconds to exit."""
+
+    GC_LOOP = "setmetatable({}, {__gc = function() while true do end end})\n" \
+              "while true do sleep(10) end\n"
+
+    def test_a_power_cycle_runs_no_finalizer(self):
+        self.start("--start-paused", files={"gc": self.GC_LOOP})
+        self.ctl('SCRIPT_RUN("gc.lua")')
+        self.assertEqual(self.ctl("RESET()"), "ACK RESET")
+        state = self.script()
+        self.assertFalse(state["running"])
+        self.assertIsNone(state["error"])
+        self.assertEqual(state["process"]["watchdog_stops"], 0)
+        self.assertEqual(state["process"]["memory_bytes"], 0)
+
+    def test_the_exit_runs_no_finalizer(self):
+        devices = 8
+        self.start("--start-paused", "--devices", str(devices), files={"gc": self.GC_LOOP})
+        for i in range(devices):
+            self.ctl("DEVICE=%d" % i)
+            self.assertEqual(self.ctl('SCRIPT_RUN("gc.lua")'), "ACK SCRIPT_RUN")
+        self.assertEqual(self.sim.stop(), 0)
+        log = "".join(self.sim.log)
+        self.assertIn("shutting down", log)
+        self.assertNotIn("finalizers ran more than", log)
+
+
 class Startup(Case):
     def test_a_startup_script_that_freezes_lets_the_device_become_ready(self):
         for name, code in FREEZES.items():
@@ -194,6 +228,29 @@ class Startup(Case):
                     self.assertTrue(gcl.command("POS?").startswith("POS="))
                     gcl.close()
                 self.assertEqual(sim.returncode, 0)
+
+
+    def test_a_fleets_startup_scripts_start_after_it_is_ready(self):
+        # each freeze ended by the watchdog before the next device's start:
+        # the power-on of N devices took N times the limit (minutes for
+        # thousands), now the loop starts them in turn while it serves
+        devices = 8
+        folder = store(self, freeze=FREEZES["backtracking"])
+        config = os.path.join(folder, "fleet.ini")
+        with open(config, "w") as f:
+            f.write("[script]\ndir = %s\n" % folder)
+            for i in range(devices):
+                f.write("[device.%d]\nscript = /user/freeze.lua\n" % i)
+        self.sim = Wsgsim("--sim-port", "0", "--devices", str(devices), "--config", config)
+        self.sim.start()
+        self.addCleanup(self.sim.stop)
+        self.ctl = self.sim.control()
+        self.addCleanup(self.ctl.close)
+        for i in range(devices):
+            self.assert_stopped_by_watchdog(self.wait_ended(i))
+        log = self.sim.drain_log()
+        errors = [log.index("script[%d] error: %s" % (i, WATCHDOG)) for i in range(devices)]
+        self.assertLess(log.index(" ready: "), min(errors))
 
 
 class Bounded(Case):
@@ -214,7 +271,10 @@ class Bounded(Case):
                 path = os.path.join(store(self, **{name: code}), name + ".lua")
                 with Wsgsim("--sim-port", "0", "--script", path) as sim:
                     with sim.control() as ctl:
-                        state = ctl.json("SCRIPT?")
+                        for _ in range(3000):  # it runs in the loop's passes
+                            state = ctl.json("SCRIPT?")
+                            if not state["running"]:
+                                break
                 self.assertFalse(state["running"] or state["failure"], state)
 
 
@@ -249,6 +309,81 @@ class SharedSlice(Case):
         self.assertEqual(process["most_continued_in_a_pass"], 1)
 
 
+# A wake-up's work that cannot pause and stays below the watchdog: six
+# times the watchdog's calibration chunk (docs/scripting.md, "Limits": the
+# limit is 26 of them), in a table.sort comparator, where the script cannot
+# yield. Some 4 ms here: each such wake-up spends a pass's budget.
+HEAVY_WAKE = """
+local function work()
+  table.sort({2, 1}, function(a, b)
+    for _ = 1, 6 do
+      local x = 0 for i = 1, 200000 do x = x + i end
+      for i = 1, 5000 do local t = {i} x = x + #t end
+    end
+    return a < b
+  end)
+end
+"""
+
+
+class WakeUps(Case):
+    """A script that sleeps a millisecond and then works without a pause,
+    below the watchdog's limit, at every wake-up. A loop pass that runs
+    many simulated instants (a catch-up, a STEP) once ran every wake-up in
+    it, holding the loop for seconds; a wake-up that comes once the pass's
+    budget is spent now waits for a later pass, so a pass runs a few of
+    them, never all."""
+
+    def assert_few_per_pass(self, before, after):
+        resumes = after["resumes"] - before["resumes"]
+        passes = after["process"]["passes"] - before["process"]["passes"]
+        self.assertGreater(resumes, 0)
+        self.assertLessEqual(resumes, 10 * passes, "%d wake-ups in %d passes" % (resumes, passes))
+        self.assertGreater(after["process"]["late_wakeups"], before["process"]["late_wakeups"])
+
+    def test_a_step_runs_each_wake_up_at_its_instant_over_many_passes(self):
+        code = HEAVY_WAKE + """
+require("socket")
+local last = socket.gettime()
+for i = 1, 60 do
+  sleep(1)
+  local now = socket.gettime()
+  assert(math.abs(now - last - 0.001) < 1e-9, "woke at " .. now .. " after " .. last)
+  last = now
+  work()
+end
+print("every wake-up at its instant")
+"""
+        self.start("--start-paused", files={"steps": code})
+        self.ctl('SCRIPT_RUN("steps.lua")')
+        gcl = self.sim.tcp()
+        self.addCleanup(gcl.close)
+        before = self.script()
+        self.ctl.step(100)
+        after = self.script()
+        self.assertFalse(after["running"])
+        self.assertFalse(after["failure"], after["error"])
+        self.assertEqual(after["resumes"] - before["resumes"], 60)
+        self.assert_few_per_pass(before, after)
+        self.assertIn("script: every wake-up at its instant", self.sim.drain_log())
+        self.assertEqual(gcl.command("FASTSTOP()"), "ACK FASTSTOP")
+
+    def test_on_a_running_clock_the_loop_is_not_held(self):
+        code = HEAVY_WAKE + "cmd.register(0xB0)\nwhile true do sleep(1) work() end\n"
+        self.start("--devices", "2", files={"wakes": code})
+        self.ctl("DEVICE=1")
+        self.ctl('SCRIPT_RUN("wakes.lua")')
+        gcl = self.sim.tcp()  # device 0
+        self.addCleanup(gcl.close)
+        before = self.script(1)
+        for _ in range(50):
+            self.assertEqual(gcl.command("SN?"), "SN=12345678")
+        self.assertEqual(gcl.command("FASTSTOP()"), "ACK FASTSTOP")
+        after = self.script(1)
+        self.assertTrue(after["running"], after["error"])
+        self.assert_few_per_pass(before, after)
+
+
 class Memory(Case):
     def test_sixteen_hogs_stay_within_the_process_budget(self):
         # each takes a MiB more every simulated millisecond, all in step
@@ -269,6 +404,22 @@ class Memory(Case):
         process = self.script(0)["process"]
         self.assertLessEqual(process["memory_peak_bytes"], budget)
         self.assertEqual(process["memory_bytes"], 0)
+
+
+class Console(Case):
+    def test_the_console_keeps_its_newest_lines_within_64_kib(self):
+        code = "for i = 1, 1000 do print(string.format('%04d', i) .. ('x'):rep(500)) end\n"
+        self.start(files={"long": code}, web=True)
+        api = self.sim.base + "/api/devices/0"
+        self.assertEqual(request(api + "/script/run", "POST", {"file": "long.lua"}).status, 200)
+        self.assertFalse(self.wait_ended()["failure"])
+        console = request(api + "/script/console?since=0").json()
+        self.assertEqual(console["next"], 1001)  # "running long.lua", then 1000 lines
+        lines = console["lines"]
+        self.assertLessEqual(sum(len(line) + 1 for line in lines), 64 * 1024)
+        self.assertGreater(len(lines), 100)
+        numbers = [int(line[:4]) for line in lines]
+        self.assertEqual(numbers, list(range(1001 - len(lines), 1001)))  # the newest, in order
 
 
 class Coroutines(Case):
@@ -293,6 +444,31 @@ for i = 1, 3e6 do n = n + i end  -- slices end here: the main script is not park
         self.assertIn("script: co.lua:3: cmd.read: only the main script can wait, "
                       "not a coroutine of its own", log)
         self.assertIn("script: co.lua:4: sleep: only the main script can wait", log)
+
+    def test_a_wait_where_lua_cannot_yield_raises_and_leaves_no_wait(self):
+        # a pcall caught Lua's "attempt to yield across a C-call boundary"
+        # after the wait was set: the script then stayed parked in it
+        code = """
+cmd.register(0xB0)
+local function inside_sort(wait)
+  return pcall(table.sort, {2, 1}, function(a, b) wait() return a < b end)
+end
+print(select(2, inside_sort(function() sleep(0) end)))
+print(select(2, inside_sort(function() cmd.read() end)))
+print(select(2, inside_sort(function() sleep(1e9) end)))
+local n = 0
+for i = 1, 3e6 do n = n + i end  -- slices end here: the script runs on
+print("after")
+"""
+        self.start("--start-paused", files={"nowait": code})
+        self.ctl('SCRIPT_RUN("nowait.lua")')
+        state = self.wait_ended()
+        self.assertFalse(state["failure"], state["error"])
+        log = self.sim.drain_log()
+        for line, name in ((6, "sleep"), (7, "cmd.read"), (8, "sleep")):  # no wait left
+            self.assertIn("script: nowait.lua:%d: %s: cannot wait inside a function called back "
+                          "from C" % (line, name), log)
+        self.assertIn("script: after", log)
 
     def test_a_slice_ending_inside_a_generator_does_not_end_it(self):
         code = """

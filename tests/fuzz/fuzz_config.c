@@ -32,8 +32,9 @@ static const host_options_t *parse(const char *path)
 
 /* What the page changes before its Save: a setting of each kind the save
  * writes (a tag, a motion setting every model takes), so that the file
- * must carry them over the values it had. */
-#define SAVED_TAG "fuzz-saved"
+ * must carry them over the values it had. The tag holds " ;", libinih's
+ * inline comment, as any client may set it (binary 0x51). */
+#define SAVED_TAG "fuzz ;saved"
 #define SAVED_CLT_MM 1.5f
 
 /* Starts the host from opts, saves device 0's settings to path (changed as

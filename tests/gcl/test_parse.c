@@ -239,6 +239,26 @@ START_TEST(text_equals_ignores_case)
 }
 END_TEST
 
+/* Lines only HTTP sends, and commands that must not look like them. */
+START_TEST(http_lines_are_told_from_commands)
+{
+    ck_assert(wsg_gcl_line_is_http("POST / HTTP/1.1"));
+    ck_assert(wsg_gcl_line_is_http("GET /x?MOVE(0) HTTP/1.0"));
+    ck_assert(wsg_gcl_line_is_http("OPTIONS * HTTP/1.1"));
+    ck_assert(wsg_gcl_line_is_http("CONNECT http://host:1000/ HTTP/1.1"));
+    ck_assert(wsg_gcl_line_is_http("Host: 127.0.0.1:1000"));
+    ck_assert(wsg_gcl_line_is_http("content-type:text/plain"));
+    ck_assert(!wsg_gcl_line_is_http("MOVE(50)"));
+    ck_assert(!wsg_gcl_line_is_http("POS?"));
+    ck_assert(!wsg_gcl_line_is_http("AUTOSEND(\"POS\",10)"));
+    ck_assert(!wsg_gcl_line_is_http("PWT=5"));
+    ck_assert(!wsg_gcl_line_is_http("SYSFLAGS[12]?"));
+    ck_assert(!wsg_gcl_line_is_http("post / HTTP/1.1")); /* methods are capitals */
+    ck_assert(!wsg_gcl_line_is_http("POST"));
+    ck_assert(!wsg_gcl_line_is_http(""));
+}
+END_TEST
+
 /* --- argument lists --- */
 
 START_TEST(empty_arguments)
@@ -348,6 +368,7 @@ Suite *parse_suite(void)
     tcase_add_test(tokens, words);
     tcase_add_test(tokens, too_long_word);
     tcase_add_test(tokens, text_equals_ignores_case);
+    tcase_add_test(tokens, http_lines_are_told_from_commands);
     suite_add_tcase(s, tokens);
 
     TCase *errors = tcase_create("errors");

@@ -2,11 +2,15 @@
 """Operations and settings through the web interface, as a GCL client sees
 them: the page is a third front end of the device, not a GCL client."""
 import os
+import sys
 import tempfile
 import unittest
 
 from test_api import WebCase
 from webclient import GclError, WebSim, request
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
+import wsgbinproto as wb  # noqa: E402
 
 
 def paused_case_args():
@@ -273,6 +277,25 @@ class Save(unittest.TestCase):
                           s["binary_crc_check"]), (4.25, 7, "cell 7", False, False))
         with again.tcp() as gcl:
             gcl.expect("PWT?", "PWT=4.25")
+
+    def test_a_tag_with_a_semicolon_is_read_back_as_saved(self):
+        # any client may set the tag (binary 0x51 over the network): libinih
+        # took " ;" in the saved value for a comment, and the next start
+        # stopped on the file the Save had written
+        sim = self.start()
+        client = wb.BinTcp("127.0.0.1", sim.tcp_port)
+        self.addCleanup(client.close)
+        for tag in ("a ;b", "x ; y ;z", ";"):
+            with self.subTest(tag):
+                client.send_request(0x51, tag.encode())
+                self.assertEqual(client.wait_for(0x51).status, 0)
+                base = sim.base + "/api/devices/0/settings"
+                self.assertEqual(request(base + "/save", "POST", body={}).status, 200)
+                again = WebSim("--config", self.path, "--no-disconnect-faststop")
+                again.start()
+                tag_read = request(again.base + "/api/devices/0/settings").json()["tag"]
+                again.stop()
+                self.assertEqual(tag_read, tag)
 
     def test_a_reset_powers_on_with_the_saved_settings(self):
         sim = WebSim("--config", self.path, "--sim-port", "0")

@@ -42,6 +42,17 @@ class ScriptRoutes(unittest.TestCase):
         self.assertFalse(request(self.api + "/script").json()["running"])
         self.assertEqual(request(self.api + "/script/stop", "POST", {}).status, 409)
 
+    def test_console_since_takes_line_numbers_only(self):
+        self.assertEqual(request(self.api + "/script/run", "POST", {"file": "echo.lua"}).status, 200)
+        for since in ("-1", "18446744073709551616", "x", "1.5", ""):
+            reply = request(self.api + "/script/console?since=" + since)
+            self.assertEqual((reply.status, reply.json()["error"]), (400, "E_INVALID_PARAMETER"),
+                             since)
+        # a number not given yet: nothing, and the next line's number
+        for since in ("1000", "18446744073709551615"):
+            reply = request(self.api + "/script/console?since=" + since).json()
+            self.assertEqual((reply["lines"], reply["next"]), ([], 2), since)
+
     def test_run_errors(self):
         reply = request(self.api + "/script/run", "POST", {"file": "missing.lua"})
         self.assertEqual((reply.status, reply.json()["error"]), (404, "E_NOT_FOUND"))
