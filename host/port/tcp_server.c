@@ -205,14 +205,12 @@ static const char *close_note(const tcp_client_t *c, wsg_close_reason_t reason)
 static void close_client(tcp_client_t *c)
 {
     wsg_close_reason_t reason = close_reason(c);
-    if (wsg_conn_refused_http(&c->conn)) {
-        host_log_peer(HAL_LOG_WARN,
-                      "tcp %s: an HTTP request (a web page's cross-protocol request?); closed "
-                      "without running it",
-                      c->peer);
-    } else {
-        host_log_peer(HAL_LOG_INFO, "tcp %s: closed%s", c->peer, close_note(c, reason));
-    }
+    bool http = wsg_conn_refused_http(&c->conn);
+    host_log_peer(http ? HAL_LOG_WARN : HAL_LOG_INFO, "tcp %s: %s%s", c->peer,
+                  http ? "an HTTP request (a web page's cross-protocol request?); closed "
+                         "without running it"
+                       : "closed",
+                  http ? "" : close_note(c, reason));
     if (c->dropped_autosend > 0) {
         host_log_peer(HAL_LOG_INFO, "tcp %s: %lu AUTOSEND lines dropped (client not reading)",
                       c->peer, c->dropped_autosend);
