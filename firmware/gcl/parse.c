@@ -287,11 +287,22 @@ bool wsg_gcl_text_equals(const char *text, const char *upper)
     return *text == '\0' && *upper == '\0';
 }
 
+/* The length of text's first run of bytes from set (strspn(), which the
+ * microcontroller port's C library subset lacks). */
+static size_t span_of(const char *text, const char *set)
+{
+    size_t n = 0;
+    while (text[n] != '\0' && strchr(set, text[n]) != NULL) {
+        n++;
+    }
+    return n;
+}
+
 /* "Host: ...": an HTTP header's name (a token) and its colon. */
 static bool header_line(const char *line)
 {
-    size_t name = strspn(line, "!#$%&'*+-.^_`|~0123456789"
-                               "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz");
+    size_t name = span_of(line, "!#$%&'*+-.^_`|~0123456789"
+                                "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz");
     return name > 0 && line[name] == ':';
 }
 
@@ -300,7 +311,7 @@ static bool header_line(const char *line)
  * long URL makes the line too long for a command, not less of a request. */
 static bool request_line(const char *line)
 {
-    size_t method = strspn(line, "ABCDEFGHIJKLMNOPQRSTUVWXYZ");
+    size_t method = span_of(line, "ABCDEFGHIJKLMNOPQRSTUVWXYZ");
     const char *target = line + method + 1;
     return method > 0 && line[method] == ' ' &&
            (target[0] == '/' || target[0] == '*' || strncmp(target, "http://", 7) == 0 ||
