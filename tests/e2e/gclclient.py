@@ -18,9 +18,26 @@ from wsgsim import (DEFAULT_TIMEOUT, MOTION_TIMEOUT, START_TIMEOUT, STOP_TIMEOUT
                     Control, GclError, GclTcp, GclUdp, read_record, wait_for, wait_for_reply)
 
 
+# A server run under a tool ($WSGSIM_PREFIX: valgrind in valgrind-tests)
+# works some 20 to 50 times slower, beside other suites on a busy machine
+# (a STEP that runs a script's work takes 20 s of processor time under
+# valgrind): the bound of a reply, a guard against hangs only, grows by this.
+TOOL_TIMEOUT_MULTIPLIER = 10 if os.environ.get("WSGSIM_PREFIX", "").strip() else 1
+
+
 class Wsgsim(wsgsim.Wsgsim):
-    """wsgsim.Wsgsim with this tree's build/wsgsim as the default program."""
+    """wsgsim.Wsgsim with this tree's build/wsgsim as the default program,
+    and its clients' reply bounds grown under a tool."""
 
     def __init__(self, *args, binary=None, **keywords):
         binary = binary or os.environ.get("WSGSIM", os.path.join(ROOT, "build", "wsgsim"))
         super().__init__(*args, binary=binary, **keywords)
+
+    def tcp(self, timeout=None):
+        return super().tcp(timeout or DEFAULT_TIMEOUT * TOOL_TIMEOUT_MULTIPLIER)
+
+    def udp(self, timeout=None):
+        return super().udp(timeout or DEFAULT_TIMEOUT * TOOL_TIMEOUT_MULTIPLIER)
+
+    def control(self, timeout=None):
+        return super().control(timeout or DEFAULT_TIMEOUT * TOOL_TIMEOUT_MULTIPLIER)
