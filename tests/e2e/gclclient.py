@@ -41,3 +41,14 @@ class Wsgsim(wsgsim.Wsgsim):
 
     def control(self, timeout=None):
         return super().control(timeout or DEFAULT_TIMEOUT * TOOL_TIMEOUT_MULTIPLIER)
+
+
+def read_to_end(sock):
+    """Every byte the server sends until it closes the connection."""
+    sock.settimeout(60)
+    data = b""
+    while True:
+        chunk = sock.recv(4096)
+        if not chunk:
+            return data
+        data += chunk

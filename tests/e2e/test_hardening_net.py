@@ -19,7 +19,7 @@ import threading
 import time
 import unittest
 
-from gclclient import GclError, GclTcp, GclUdp, Wsgsim, wait_for
+from gclclient import GclError, GclTcp, GclUdp, Wsgsim, read_to_end, wait_for
 from netns import in_netns
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
@@ -545,13 +545,7 @@ class CrossProtocol(NetCase):
             for piece in pieces:
                 sock.sendall(piece)
             sock.shutdown(socket.SHUT_WR)
-            sock.settimeout(60)
-            data = b""
-            while True:
-                chunk = sock.recv(4096)
-                if not chunk:
-                    return data
-                data += chunk
+            return read_to_end(sock)
 
     def test_a_browsers_post_to_the_gcl_port_runs_nothing(self):
         sim = self.start()

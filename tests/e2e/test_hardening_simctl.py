@@ -13,7 +13,7 @@ import subprocess
 import tempfile
 import unittest
 
-from gclclient import GclError, Wsgsim, ROOT
+from gclclient import GclError, Wsgsim, ROOT, read_to_end
 from test_simctl import Control, SimctlCase
 
 STARTUP_TIMEOUT = 120  # generous: the suite also runs under valgrind
@@ -156,17 +156,6 @@ class TestSlicedTime(SimctlCase):
         self.assertEqual(len(pos), 1)
         # answered at the simulated instant the step had reached, before its end
         self.assertLess(float(pos[0][0]), 3600.0)
-
-
-def read_to_end(sock):
-    """Every byte the server sends until it closes the connection."""
-    sock.settimeout(60)
-    data = b""
-    while True:
-        chunk = sock.recv(4096)
-        if not chunk:
-            return data
-        data += chunk
 
 
 class TestCrossProtocol(SimctlCase):
