@@ -354,8 +354,8 @@ static bool tick_needed(const gripper_t *g, const wsg_conn_t *c)
            wsg_device_flags(&g->device) != g->ticked_flags || io == NULL || io->held != NULL;
 }
 
-void gripper_feed(gripper_t *g, wsg_conn_t *c, const uint8_t *bytes, size_t len,
-                  int end_of_datagram)
+size_t gripper_feed(gripper_t *g, wsg_conn_t *c, const uint8_t *bytes, size_t len,
+                    int end_of_datagram)
 {
     /* the touch ticks g at this instant, before the clock moves on; input
      * that left nothing for that tick to do (a query) needs none */
@@ -363,6 +363,7 @@ void gripper_feed(gripper_t *g, wsg_conn_t *c, const uint8_t *bytes, size_t len,
         tick_needed(g, c)) {
         gripper_touch(g);
     }
+    return g->runner.taken;
 }
 
 void gripper_input_done(gripper_t *g)

@@ -108,8 +108,11 @@ void gripper_coasted(gripper_t *g, const wsg_coast_t *coast, uint64_t last_us);
  * unless its tick would have nothing to do (a query that changed nothing:
  * neither a step due nor a new deadline, no flag its observers have not
  * seen, no script, no DELAY on c's output). */
-void gripper_feed(gripper_t *g, wsg_conn_t *c, const uint8_t *bytes, size_t len,
-                  int end_of_datagram);
+/* Returns the bytes c took: fewer than len only under a timing profile,
+ * while a request of c waits for the device's command processor; the
+ * caller keeps the rest (held_input.h). */
+size_t gripper_feed(gripper_t *g, wsg_conn_t *c, const uint8_t *bytes, size_t len,
+                    int end_of_datagram);
 /* After input reached the device (a line, a web request): what it started
  * is due from the next simulated instant on, and the fleet ticks it. */
 void gripper_input_done(gripper_t *g);

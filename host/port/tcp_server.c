@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "hal_clock.h"
+#include "held_input.h"
 #include "listener.h"
 #include "log.h"
 #include "loop.h"
@@ -18,6 +19,7 @@
 #include "wsg/wsg_bin.h"
 #include "wsg/wsg_gcl.h"
 #include "wsg/wsg_outq.h"
+#include "wsg/wsg_timing.h"
 
 /* Replies wait here for a slow client; the queue's policy (wsg_outq.h)
  * drops updates from half full on and disconnects a client whose reply
@@ -42,10 +44,11 @@ struct tcp_client {
     int fd;
     wsg_conn_t conn;
     wsg_outq_t outq;
-    bool dead;    /* failed or overflowed: close at the next reap */
-    bool eof;     /* the client shut its side: answer, flush, then close */
-    bool expired; /* closed by the server for silence: not a lost link */
-    bool marked;  /* on its set's list for the next reap */
+    held_input_t held; /* bytes after a request waiting for the device's processor */
+    bool dead;         /* failed or overflowed: close at the next reap */
+    bool eof;          /* the client shut its side: answer, flush, then close */
+    bool expired;      /* closed by the server for silence: not a lost link */
+    bool marked;       /* on its set's list for the next reap */
     list_node_t mark_link;
     uint64_t connected_us;
     uint64_t heard_us;     /* last input, or connected_us */
@@ -109,7 +112,8 @@ static void unlink_client(tcp_client_t *c)
 static void update_events(tcp_client_t *c)
 {
     loop_set_events(c->server->set->loop, c->fd,
-                    (short)((c->eof ? 0 : POLLIN) | (wsg_outq_empty(&c->outq) ? 0 : POLLOUT)));
+                    (short)((c->eof || !held_input_empty(&c->held) ? 0 : POLLIN) |
+                            (wsg_outq_empty(&c->outq) ? 0 : POLLOUT)));
 }
 
 /* Sends one line with one send(); returns bytes sent, or -1 on a fatal error. */
@@ -160,7 +164,31 @@ static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t k
     enqueue(c, line, len, kind);
 }
 
-static const wsg_conn_io_t tcp_io = {.write = write_line};
+static void note_completed(tcp_client_t *c);
+
+/* The device served the request it held (a timing profile): what came
+ * after it goes in now, and the socket is read again once all has. */
+static void resume_input(void *ctx)
+{
+    tcp_client_t *c = ctx;
+    held_input_feed(&c->held, &c->conn);
+    note_completed(c);
+    update_events(c);
+    if (wsg_conn_wants_close(&c->conn)) {
+        mark(c); /* BYE: closes once its reply is out */
+    }
+}
+
+static const wsg_conn_io_t tcp_io = {.write = write_line, .resume = resume_input};
+
+/* What the device did not take waits, and the socket is not read meanwhile. */
+static void keep_input(tcp_client_t *c, const uint8_t *bytes, size_t len)
+{
+    if (!held_input_keep(&c->held, bytes, len, false)) {
+        mark_dead(c);
+    }
+    update_events(c);
+}
 
 static void flush(tcp_client_t *c)
 {
@@ -221,6 +249,7 @@ static void close_client(tcp_client_t *c)
     wsg_conn_close(&c->conn, reason);
     gripper_touch(c->server->gripper); /* e.g. FAST STOP on a lost link */
     free(c->outq.ring);
+    held_input_free(&c->held);
     unlink_client(c);
     listener_fd_freed(c->server->listener);
     free(c);
@@ -267,7 +296,12 @@ static void on_client(void *ctx, int fd, short revents)
     ssize_t n = recv(c->fd, buf, sizeof(buf), MSG_DONTWAIT);
     if (n > 0) {
         c->heard_us = hal_clock_now_us();
-        gripper_feed(c->server->gripper, &c->conn, buf, (size_t)n, 0);
+        size_t taken = held_input_empty(&c->held)
+                           ? gripper_feed(c->server->gripper, &c->conn, buf, (size_t)n, 0)
+                           : 0;
+        if (taken < (size_t)n) {
+            keep_input(c, buf + taken, (size_t)n - taken);
+        }
         note_completed(c);
         if (wsg_conn_wants_close(&c->conn)) {
             mark(c); /* BYE: closes once its reply is out */
@@ -497,7 +531,8 @@ static bool finished(tcp_client_t *c, uint64_t now)
 {
     bool flushed = wsg_outq_empty(&c->outq);
     bool said_bye = wsg_conn_wants_close(&c->conn);
-    bool input_done = c->eof && flushed && !replies_held(c);
+    bool input_done = c->eof && flushed && !replies_held(c) && held_input_empty(&c->held) &&
+                      !wsg_conn_request_waits(&c->conn);
     return c->dead || (said_bye && flushed) || input_done || idle_too_long(c, now);
 }
 

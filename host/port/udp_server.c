@@ -9,6 +9,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include "held_input.h"
 #include "log.h"
 #include "loop.h"
 #include "net.h"
@@ -29,6 +30,7 @@ typedef struct {
     socklen_t reply_len;
     char name[64];
     char addr_text[INET6_ADDRSTRLEN]; /* the address alone, for --udp-stream-allow */
+    held_input_t held; /* datagrams after a request waiting for the device's processor */
 } udp_peer_t;
 
 #define ACTIVE_SERVER(node) LIST_ITEM(node, udp_server_t, active_link)
@@ -112,7 +114,15 @@ static void write_message(void *ctx, const char *bytes, size_t len, wsg_msg_kind
     send_datagram(s, bytes, len, &p->reply_to, p->reply_len);
 }
 
-static const wsg_conn_io_t udp_io = {.write = write_message};
+/* The device served the request the peer held (a timing profile): its
+ * datagrams that came meanwhile go in now, in order. */
+static void resume_input(void *ctx)
+{
+    udp_peer_t *p = ctx;
+    held_input_feed(&p->held, &p->peer.conn);
+}
+
+static const wsg_conn_io_t udp_io = {.write = write_message, .resume = resume_input};
 
 static void log_forgetting(void *ctx, wsg_peer_t *peer, wsg_peer_forget_t why)
 {
@@ -142,6 +152,7 @@ static void release_peer(void *ctx, wsg_peer_t *peer)
 {
     udp_server_t *s = ctx;
     gripper_touch(s->gripper);
+    held_input_free(&((udp_peer_t *)peer->port_ctx)->held);
     free(peer->port_ctx);
 }
 
@@ -277,7 +288,12 @@ static bool receive_datagram(udp_server_t *s, int fd)
         return true;
     }
     wsg_peers_heard(&s->peers, &p->peer, (size_t)n);
-    gripper_feed(s->gripper, &p->peer.conn, buf, (size_t)n, 1);
+    size_t taken =
+        held_input_empty(&p->held) ? gripper_feed(s->gripper, &p->peer.conn, buf, (size_t)n, 1) : 0;
+    if (taken < (size_t)n && !held_input_keep(&p->held, buf + taken, (size_t)n - taken, true)) {
+        host_log_peer(HAL_LOG_WARN, "%s %s: too much input waiting; datagram dropped",
+                      s->proto.label, p->name);
+    }
     gripper_touch(s->gripper); /* its tick asks the servers' moved deadlines again */
     return true;
 }
