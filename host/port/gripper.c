@@ -10,6 +10,7 @@
 #include "config_file.h"
 #include "hal_clock.h"
 #include "log.h"
+#include "run_seed.h"
 #include "script.h"
 #include "script_options.h"
 #include "sim/sim_models.h"
@@ -129,6 +130,7 @@ bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, u
     g->script_guard = guard;
     g->step_hook = NULL; /* an observer may set it as the fleet starts the device */
     g->startup_set = NULL;
+    g->timing_set = NULL;
     g->startup_cleared = false;
     /* one SocketCAN bus per interface: device 0's */
     bool bus_ok = finger_bus_host_start(&g->fingers, loop, index == 0 ? opts->can_iface : NULL,
@@ -139,6 +141,8 @@ bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, u
     config_file_apply_device(opts->config, index, &g->config);
     g->config.disconnect_raises_faststop = opts->disconnect_faststop;
     g->config.bin_crc_unchecked = !opts->binary_crc;
+    g->config.timing = opts->timing_figures;
+    g->config.timing.seed = run_seed_stream(opts->seed, RUN_SEED_TIMING, (uint64_t)index);
     power_on_world(g);
     wsg_hal_t hal;
     wsg_sim_world_hal(&g->world, &hal);
@@ -189,6 +193,8 @@ void gripper_release(gripper_t *g)
     g->opts = NULL;
     free(g->startup_set);
     g->startup_set = NULL;
+    free(g->timing_set);
+    g->timing_set = NULL;
 }
 
 bool gripper_set_startup(gripper_t *g, const char *file, char *why, size_t cap)
@@ -389,4 +395,22 @@ gripper_t *gripper_take_touched(gripper_touched_t *touched)
     gripper_t *g = LIST_ITEM(node, gripper_t, touched_link);
     g->touched = false;
     return g;
+}
+
+bool gripper_set_timing(gripper_t *g, const char *spec, const wsg_timing_t *timing)
+{
+    char *copy = strdup(spec);
+    if (copy == NULL) {
+        return false;
+    }
+    free(g->timing_set);
+    g->timing_set = copy;
+    g->config.timing = *timing; /* a reset keeps it */
+    wsg_device_set_timing(&g->device, timing);
+    return true;
+}
+
+const char *gripper_timing_name(const gripper_t *g)
+{
+    return g->timing_set != NULL ? g->timing_set : g->opts->timing;
 }
