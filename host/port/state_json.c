@@ -257,8 +257,8 @@ static void write_session(json_writer_t *j, const wsg_conn_t *c, bool full)
         json_writer_uint(j, "lines_in", info.lines_in);
         json_writer_uint(j, "lines_out", info.lines_out);
         write_autosend(j, &info);
-        write_waits(j, c);
     }
+    write_waits(j, c);
     json_writer_close_object(j);
 }
 
