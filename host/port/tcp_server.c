@@ -38,27 +38,7 @@
 #define KEEPALIVE_PROBES 6
 /* Out of descriptors: accept() is retried this often (wall clock). */
 
-struct tcp_client {
-    tcp_server_t *server;
-    list_node_t link; /* on its set's open connections */
-    int fd;
-    wsg_conn_t conn;
-    wsg_outq_t outq;
-    held_input_t held; /* bytes after a request waiting for the device's processor */
-    bool dead;         /* failed or overflowed: close at the next reap */
-    bool eof;          /* the client shut its side: answer, flush, then close */
-    bool expired;      /* closed by the server for silence: not a lost link */
-    bool marked;       /* on its set's list for the next reap */
-    list_node_t mark_link;
-    uint64_t connected_us;
-    uint64_t heard_us;     /* last input, or connected_us */
-    uint64_t completed_us; /* when its last whole command arrived, or connected_us */
-    uint32_t messages_in;  /* whole commands so far (wsg_conn_messages_in) */
-    unsigned long dropped_autosend;
-    char peer[64];
-};
-
-#define CLIENT(node) LIST_ITEM(node, tcp_client_t, link)
+#include "tcp_client.h"
 
 static void link_client(tcp_client_t *c)
 {
@@ -313,33 +293,9 @@ static void on_client(void *ctx, int fd, short revents)
     }
 }
 
-/* Stuck: no whole command for the grace, and either inside one now (a
- * line without its end, a frame cut short) or none completed at all. */
-static bool stalled(const tcp_client_t *c, uint64_t now)
-{
-    bool unfinished = c->messages_in == 0 || wsg_conn_partial_input(&c->conn);
-    return unfinished && now - c->completed_us >= STALLED_GRACE_US;
-}
-
-/* The stalled connection that completed a command longest ago; its slot
- * goes to a waiting client. */
-static tcp_client_t *stalled_connection(const tcp_server_t *s)
-{
-    uint64_t now = hal_clock_now_us();
-    tcp_client_t *found = NULL;
-    LIST_EACH (node, &s->set->clients) {
-        tcp_client_t *c = CLIENT(node);
-        if (c->server == s && stalled(c, now) &&
-            (found == NULL || c->completed_us < found->completed_us)) {
-            found = c;
-        }
-    }
-    return found;
-}
-
 static void reclaim_stalled_slot(const tcp_server_t *s)
 {
-    tcp_client_t *c = stalled_connection(s);
+    tcp_client_t *c = tcp_stalled_connection(s, STALLED_GRACE_US);
     if (c != NULL) {
         host_log_peer(
             HAL_LOG_INFO, "tcp %s: no whole command for %u s (%s); slot given to a waiting client",

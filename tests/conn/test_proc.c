@@ -18,8 +18,8 @@
 
 static void set_pace(uint32_t spread_us, uint64_t seed)
 {
-    wsg_timing_t t = {.enabled = true, .stream_frame_us = FRAME_US, .update_floor_us = 5000u,
-                      .seed = seed};
+    wsg_timing_t t = {
+        .enabled = true, .stream_frame_us = FRAME_US, .update_floor_us = 5000u, .seed = seed};
     for (unsigned k = 0; k < WSG_REQ_KIND_COUNT; k++) {
         t.service[k] = (wsg_service_time_t){SERVICE_US, spread_us};
     }

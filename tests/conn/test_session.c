@@ -534,7 +534,7 @@ static void probe_close(wsg_conn_t *c, wsg_close_reason_t why)
 }
 static const wsg_proto_driver_t probe_driver = {
     "probe",    probe_detect, probe_open,  probe_input, probe_end_datagram,
-    probe_done, probe_busy,   probe_close, NULL,         NULL,
+    probe_done, probe_busy,   probe_close, NULL,        NULL,
 };
 
 /* A port tells a connection stuck inside a message (it

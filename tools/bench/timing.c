@@ -42,8 +42,8 @@ static void one_request(conn_t *gcl, conn_t *ctl, bool timed)
 }
 
 /* The run under one profile: wall s and wsgsim's CPU µs per request. */
-static void run_profile(const char *wsgsim, const char *out, const char *profile,
-                        double *wall_s, double *cpu_us)
+static void run_profile(const char *wsgsim, const char *out, const char *profile, double *wall_s,
+                        double *cpu_us)
 {
     const char *argv[48];
     int n = wsgsim_argv(argv, 40, wsgsim, true);
