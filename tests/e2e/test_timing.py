@@ -60,6 +60,8 @@ class Pace(unittest.TestCase):
         self.assertNotEqual(first, poll_transcript(2, 1000))
         round_trips = [float(line.split()[0]) for line in first]
         self.assertTrue(10.0 <= statistics.median(round_trips) <= 16.0, round_trips[:10])
+        # each exactly its service time: RUN_UNTIL_DONE stops when it is served
+        self.assertTrue(all(10.0 <= ms <= 16.0 for ms in round_trips), max(round_trips))
         self.assertTrue(all(line.endswith("POS=55.0") for line in first), first[:3])
 
     def test_ideal_answers_at_once(self):
