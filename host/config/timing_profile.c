@@ -1,12 +1,14 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 #include "timing_profile.h"
 
+#include <fcntl.h>
 #include <ini.h>
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #ifndef WSGSIM_TIMING_DIR
@@ -40,6 +42,7 @@ static const figure_t figures[] = {
 
 #define FIGURE_COUNT (sizeof(figures) / sizeof(figures[0]))
 #define FIGURE_MAX_MS 10000.0 /* 10 s: more is no device's pace */
+#define PROFILE_MAX_BYTES (64 * 1024)
 
 typedef struct {
     wsg_timing_t timing;
@@ -116,13 +119,34 @@ void timing_profile_dir(char *dir, size_t cap)
     }
 }
 
+/* A regular file of at most PROFILE_MAX_BYTES, opened without blocking: a
+ * FIFO or a device named as a profile must not hang the start or the
+ * control channel. */
+static FILE *open_profile(const char *path)
+{
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    struct stat st;
+    if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || st.st_size > PROFILE_MAX_BYTES) {
+        if (fd >= 0) {
+            close(fd);
+        }
+        return NULL;
+    }
+    FILE *f = fdopen(fd, "r");
+    if (f == NULL) {
+        close(fd);
+    }
+    return f;
+}
+
 static bool read_file(const char *path, const char *spec, reading_t *r)
 {
-    FILE *f = fopen(path, "r");
+    FILE *f = open_profile(path);
     if (f == NULL) {
         snprintf(r->why, TIMING_WHY_MAX,
                  is_name(spec) ? "no timing profile '%.64s' (shipped: ideal, wsg50; or an INI path)"
-                               : "cannot read timing profile '%.160s'",
+                               : "cannot read timing profile '%.160s' (a regular file of at "
+                                 "most 64 KiB)",
                  spec);
         return false;
     }

@@ -121,7 +121,8 @@ class Pace(unittest.TestCase):
     def test_bad_profiles_change_nothing(self):
         with Wsgsim(timing="wsg50", paused=True) as sim:
             with sim.control() as ctl:
-                for bad in ("TIMING=nope", 'TIMING("/nonexistent/x.ini")', "TIMING=12"):
+                for bad in ("TIMING=nope", 'TIMING("/nonexistent/x.ini")', "TIMING=12",
+                            'TIMING("/dev/zero")'):
                     self.assertTrue(ctl(bad).startswith("ERR TIMING"), bad)
                 self.assertEqual(ctl("TIMING?"), 'TIMING="wsg50"')
 
