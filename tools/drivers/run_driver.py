@@ -6,13 +6,18 @@ a private network namespace (`unshare -rn`, loopback only), on the device's
 own ports and addresses, so nothing else on the machine is touched.
 
     tools/drivers/run_driver.py MODE [--seconds N] [--drivers DIR]
-                                [--wsgsim PATH] [-- WSGSIM_OPTION...]
+                                [--wsgsim PATH] [--with COMMAND]
+                                [-- WSGSIM_OPTION...]
 
 MODE (`--list` prints them) is one driver in one of its modes; `all` runs
 each in turn. The options after `--` go to wsgsim (`--timing wsg50`, a
 `--config` file, `--record FILE`, ...); a mode adds what it needs itself
 (a Lua script, a part). The drivers are built by tools/drivers/build.sh
-(`make drivers`) into DIR. docs/testing-your-driver.md, "Real drivers
+(`make drivers`) into DIR. `--with COMMAND` starts a shell command in the
+namespace once wsgsim is ready (a recording proxy on the device's ports in
+front of a wsgsim moved to others, say); the driver starts once TCP port
+1000 accepts again, and COMMAND gets SIGTERM at the end.
+docs/testing-your-driver.md, "Real drivers
 against wsgsim", says what each mode does and what the real gripper gives.
 """
 import argparse
@@ -22,6 +27,7 @@ import importlib.util
 import json
 import os
 import re
+import shutil
 import signal
 import socket
 import statistics
@@ -113,7 +119,8 @@ def ros_env(work):
     config = os.path.join(work, "rosconsole.config")
     with open(config, "w") as f:
         # the node's per-stream rates are DEBUG messages of its auto_update thread
-        f.write("log4j.logger.ros=INFO\nlog4j.logger.ros.wsg_50_driver=DEBUG\n")
+        f.write("log4j.logger.ros=DEBUG\nlog4j.logger.ros.roscpp=INFO\n"
+                "log4j.logger.ros.roscpp_internal=INFO\n")
     return dict(os.environ, ROS_MASTER_URI="http://127.0.0.1:11311", ROS_IP="127.0.0.1",
                 ROS_HOME=work, ROS_LOG_DIR=work, ROSCONSOLE_CONFIG_FILE=config,
                 PATH="/usr/bin:/bin", PYTHONPATH="")
@@ -131,7 +138,9 @@ def ros_node(params, seconds, drivers, work):
         wait_port(11311)
         node_log = os.path.join(work, "node.log")
         with open(node_log, "w") as out:
-            node = subprocess.Popen([os.path.join(drivers, ROS_NODE), "__name:=wsg_50_driver"]
+            # line-buffered: its log is read after it is killed
+            node = subprocess.Popen(["stdbuf", "-oL", os.path.join(drivers, ROS_NODE),
+                                     "__name:=wsg_50_driver"]
                                     + ["_%s:=%s" % kv for kv in params.items()],
                                     env=env, stdout=out, stderr=out)
         counter = subprocess.run([DEBIAN_PYTHON, os.path.join(HERE, "ros_rate.py"),
@@ -389,18 +398,34 @@ class Context:
         self.seconds, self.drivers, self.work = args.seconds, args.drivers, work
 
 
+@contextlib.contextmanager
+def between(command):
+    """The --with command, running while the driver does."""
+    if not command:
+        yield
+        return
+    proc = subprocess.Popen(command, shell=True, stdin=subprocess.DEVNULL)
+    try:
+        wait_port(1000)
+        yield
+    finally:
+        stop(proc)
+
+
 def run_inside(args):
     """In the namespace: wsgsim with the options, the mode, its result."""
     function, extra = MODES[args.mode]
     loopback_up([DRAKE_GRIPPER_ADDRESS])
     with tempfile.TemporaryDirectory(prefix="wsgsim-driver-") as work:
         options = args.wsgsim_args + [e.format(drivers=args.drivers) for e in extra]
-        with wsgsim(args.wsgsim, options, work) as log:
+        with wsgsim(args.wsgsim, options, work) as log, between(args.with_command):
             try:
                 result = function(Context(args, work))
             except Exception as err:  # a driver that breaks is a result here
                 result = {"error": "%s: %s" % (type(err).__name__, err)}
             wsgsim_log = open(log, errors="replace").read()
+        if args.logs:
+            shutil.copytree(work, os.path.join(args.logs, args.mode), dirs_exist_ok=True)
     result.update({"mode": args.mode, "wsgsim_options": options, "seconds": args.seconds})
     if "warn" in wsgsim_log or "error" in wsgsim_log:
         result["wsgsim_log_tail"] = wsgsim_log[-800:]
@@ -410,13 +435,49 @@ def run_inside(args):
 def run_in_namespace(args, mode):
     command = ["unshare", "-rn", sys.executable, os.path.abspath(__file__), mode,
                "--seconds", str(args.seconds), "--drivers", args.drivers,
-               "--wsgsim", args.wsgsim, "--"] + args.wsgsim_args
+               "--wsgsim", args.wsgsim] + (["--with", args.with_command] if args.with_command
+                                           else []) + (["--logs", os.path.abspath(args.logs)]
+                                                       if args.logs else []) \
+        + ["--"] + args.wsgsim_args
     run = subprocess.run(command, capture_output=True, text=True,
                          env=dict(os.environ, **{INSIDE: "1"}),
                          timeout=args.seconds * 3 + 4 * STARTUP_TIMEOUT)
     if run.returncode != 0 or not run.stdout.strip():
         return {"mode": mode, "error": "the run failed: " + run.stderr[-2000:]}
     return json.loads(run.stdout)
+
+
+def headline(result):
+    """One line of a run's main figures, for a table."""
+    if "error" in result:
+        return "broke: " + result["error"].splitlines()[-1][:120]
+    if "status_topic" in result:
+        topic = result["status_topic"]
+        if not topic.get("count"):
+            return "no status published (%s); node errors %d" % (topic.get("error", ""),
+                                                                 result["errors"])
+        line = "status %.1f Hz (interval p50 %.1f ms, max %.1f ms)" % (
+            topic["rate_hz"], topic["interval_ms"]["p50"], topic["interval_ms"]["max"])
+        streams = result.get("node_stream_rates_hz")
+        if streams:
+            line += "; node's stream rates " + ", ".join(
+                "%s %s Hz" % (name, "/".join(map(str, rates))) for name, rates in streams.items())
+        return line + ("; node errors %d" % result["errors"] if result["errors"] else "")
+    if "round_trip_ms" in result:
+        trip = result["round_trip_ms"]
+        return "round trip p50 %.3f ms, p95 %.3f ms (%d); %.1f Hz" % (
+            trip["p50"], trip["p95"], trip["n"], result["rate_hz"])
+    if "stop_status" in result:
+        return "STOP %s in %.1f ms, frames %s, stopped at %.2f mm: %s" % (
+            result["stop_status"], result["stop_round_trip_ms"],
+            " ".join(f.replace(" ", ":") for f in result["frames_from_move_to_stop"]),
+            result["width_600ms_later_mm"], result["stopped"])
+    if "steps" in result:
+        homes = [s for s in result["steps"] if s["step"].startswith("home")]
+        return "homes %s s (bound 4 s), every step within its bound: %s; updates %s Hz" % (
+            " / ".join("%.2f" % h["s"] for h in homes), result["all_within_bounds"],
+            "/".join("%g" % v for v in result["update_rates_hz"].values()))
+    return "demo %s in %.2f s" % ("passed" if result["passed"] else "FAILED", result["wall_s"])
 
 
 def parse_args(argv):
@@ -427,7 +488,12 @@ def parse_args(argv):
     parser.add_argument("--drivers", default=os.environ.get("WSGSIM_DRIVERS_DIR", ""),
                         help="where tools/drivers/build.sh built them ($WSGSIM_DRIVERS_DIR)")
     parser.add_argument("--wsgsim", default=os.environ.get("WSGSIM", "build/wsgsim"))
+    parser.add_argument("--with", dest="with_command", default="",
+                        help="a shell command run beside the driver (a proxy)")
+    parser.add_argument("--logs", default="", help="keep each mode's logs in DIR/MODE")
     parser.add_argument("--list", action="store_true", help="list the modes")
+    parser.add_argument("--table", action="store_true",
+                        help="one line per mode instead of JSON")
     split = argv.index("--") if "--" in argv else len(argv)
     args = parser.parse_args(argv[:split])
     args.wsgsim_args = argv[split + 1:]
@@ -453,7 +519,11 @@ def main(argv):
         return 0
     modes = list(MODES) if args.mode == "all" else [args.mode]
     results = [run_in_namespace(args, mode) for mode in modes]
-    print(json.dumps(results if args.mode == "all" else results[0], indent=1))
+    if args.table:
+        for result in results:
+            print("%-18s %s" % (result["mode"], headline(result)))
+    else:
+        print(json.dumps(results if args.mode == "all" else results[0], indent=1))
     return 1 if any("error" in r for r in results) else 0
 
 
