@@ -163,7 +163,10 @@ def ros_node(params, seconds, drivers, work):
 def node_log_summary(path):
     text = open(path, errors="replace").read()
     rates = re.findall(r"Rates for opening: (\d+)Hz, speed: (\d+)Hz, force: (\d+)Hz", text)
+    # "Message receive failed": the driver's own reader (msg.c) gave up on a
+    # frame; the node then publishes without that reading or skips the tick
     summary = {"errors": len(re.findall(r"\[ERROR\]", text)),
+               "receive_failures": text.count("Message receive failed"),
                "first_errors": re.findall(r"\[ERROR\][^\n]*", text)[:5]}
     if rates:
         # the node's own 5 s windows; the first one includes the start
@@ -454,15 +457,18 @@ def headline(result):
     if "status_topic" in result:
         topic = result["status_topic"]
         if not topic.get("count"):
-            return "no status published (%s); node errors %d" % (topic.get("error", ""),
-                                                                 result["errors"])
+            return "no status published (%s); node errors %d, receive failures %d" % (
+                topic.get("error", ""), result["errors"], result["receive_failures"])
         line = "status %.1f Hz (interval p50 %.1f ms, max %.1f ms)" % (
             topic["rate_hz"], topic["interval_ms"]["p50"], topic["interval_ms"]["max"])
         streams = result.get("node_stream_rates_hz")
         if streams:
             line += "; node's stream rates " + ", ".join(
                 "%s %s Hz" % (name, "/".join(map(str, rates))) for name, rates in streams.items())
-        return line + ("; node errors %d" % result["errors"] if result["errors"] else "")
+        if result["errors"] or result["receive_failures"]:
+            line += "; node errors %d, receive failures %d" % (result["errors"],
+                                                               result["receive_failures"])
+        return line
     if "round_trip_ms" in result:
         trip = result["round_trip_ms"]
         return "round trip p50 %.3f ms, p95 %.3f ms (%d); %.1f Hz" % (
