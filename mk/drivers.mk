@@ -9,6 +9,8 @@
 #                                  one driver mode (DRIVER=all: each) against
 #                                  build/wsgsim in a private network
 #                                  namespace; its rates as JSON
+#   make drivers-bench             every mode under each of DRIVERS_BENCH_SETS
+#                                  (wsgsim option sets), one table line each
 # The sources: a git URL (default), a checkout, a bare git directory or a
 # plain folder each.
 DRIVERS_DIR ?= $(or $(XDG_CACHE_HOME),$(HOME)/.cache)/wsgsim-drivers
@@ -18,6 +20,9 @@ DRIVERS_DRAKE_SCHUNK ?= https://github.com/RobotLocomotion/drake-schunk-driver
 DRIVER ?= all
 DRIVER_SECONDS ?= 10
 DRIVER_WSGSIM_ARGS ?=
+# the device's pace and the wire: the rows of docs/benchmark.md, "Public
+# drivers against wsgsim"; sets separated by commas
+DRIVERS_BENCH_SETS ?= --timing ideal,--timing wsg50,--timing ideal --net rough,--timing wsg50 --net rough
 # Debian bookworm's ROS 1 (Noetic-era) packages that build and run
 # wsg50-ros-pkg's node: catkin and message generation, roscpp and the
 # messages it includes, the master, and rospy for the rate counter; util-linux
@@ -27,7 +32,7 @@ DRIVERS_DEBS := catkin clang git libroscpp-dev libsensor-msgs-dev libstd-msgs-de
 	ros-message-generation ros-message-runtime ros-sensor-msgs ros-std-msgs \
 	ros-std-srvs util-linux
 
-.PHONY: drivers drivers-deps drivers-run
+.PHONY: drivers drivers-deps drivers-run drivers-bench
 
 ## install the ROS 1 packages the public drivers need (DRIVERS_DEBS)
 drivers-deps:
@@ -42,3 +47,13 @@ drivers: drivers-deps
 drivers-run: $(BUILD)/wsgsim
 	tools/drivers/run_driver.py $(DRIVER) --seconds $(DRIVER_SECONDS) \
 		--drivers $(DRIVERS_DIR) --wsgsim $(BUILD)/wsgsim -- $(DRIVER_WSGSIM_ARGS)
+
+# A driver that breaks under a set is a result (its line says how), not a
+# failure of the target.
+## every driver mode under each wsgsim option set (DRIVERS_BENCH_SETS), as a table
+drivers-bench: $(BUILD)/wsgsim
+	@IFS=,; for set in $(DRIVERS_BENCH_SETS); do \
+		echo "== wsgsim $$set"; \
+		IFS=' '; tools/drivers/run_driver.py all --table --seconds $(DRIVER_SECONDS) \
+			--drivers $(DRIVERS_DIR) --wsgsim $(BUILD)/wsgsim -- $$set || true; \
+	done
