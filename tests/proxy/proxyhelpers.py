@@ -107,6 +107,8 @@ class Proxy:
 
     def stop(self):
         """SIGTERM, as a user's Ctrl-C: the record is complete after it."""
+        if self.proc.stderr.closed:
+            return self.proc.returncode
         if self.proc.poll() is None:
             self.proc.send_signal(signal.SIGTERM)
         status = self.proc.wait(REPLY_TIMEOUT)
