@@ -53,6 +53,16 @@ void proxy_record(proxy_t *p, splitter_t *split, const char *channel, char direc
     }
 }
 
+void proxy_log(const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fputs("wsgproxy: ", stderr);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fputc('\n', stderr);
+}
+
 void proxy_note(proxy_t *p, const char *fmt, ...)
 {
     if (p->record == NULL) {
@@ -285,10 +295,15 @@ static bool resolve_gripper(proxy_t *p)
     return true;
 }
 
-/* The ports, for a caller that asked for free ones: written whole (a
+/* The ready line on stderr, and the ports in the ready file for a caller
+ * that asked for free ones, written whole (a
  * temporary file renamed), so a reader never sees half of it. */
-static bool write_ready_file(const proxy_t *p)
+static bool announce_ready(const proxy_t *p)
 {
+    proxy_log("ready: tcp %s:%d, udp %s:%d, binary udp %s:%d; the gripper at %s", p->opt.listen,
+              net_local_port(p->tcp_listener), p->opt.listen,
+              p->udp_gcl >= 0 ? net_local_port(p->udp_gcl) : 0, p->opt.listen,
+              p->udp_bin >= 0 ? net_local_port(p->udp_bin) : 0, p->opt.gripper);
     if (p->opt.ready_file == NULL) {
         return true;
     }
@@ -340,7 +355,7 @@ static bool start(proxy_t *p)
     p->tcp_listener = -1;
     return resolve_gripper(p) && split_init(&p->datagram) && (p->loop = loop_create()) != NULL &&
            loop_take_signals(p->loop) && proxy_tcp_start(p) && proxy_udp_start(p) &&
-           open_record(p) && write_ready_file(p);
+           open_record(p) && announce_ready(p);
 }
 
 static void run(proxy_t *p)
@@ -356,7 +371,7 @@ static void run(proxy_t *p)
 
 int main(int argc, char **argv)
 {
-    host_log_init();
+    host_log_init(); /* the event loop's own messages */
     int status = parse_options(argc, argv, &proxy.opt);
     if (status != 0) {
         return status < 0 ? 0 : status;

@@ -69,6 +69,8 @@ uint64_t proxy_now_us(const proxy_t *p);
  * `at_us`; flush: and what is left. */
 void proxy_record(proxy_t *p, splitter_t *split, const char *channel, char direction,
                   const unsigned char *data, size_t len, uint64_t at_us, bool flush);
+/* A line on stderr, "wsgproxy: " before it. */
+void proxy_log(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 /* A line of the record starting with '#': what happened to a channel. */
 void proxy_note(proxy_t *p, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 /* Sets an IPv4 or IPv6 address's port. */

@@ -13,7 +13,6 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "log.h"
 #include "proxy.h"
 
 #define PENDING_CAP 65536u
@@ -126,7 +125,7 @@ static void on_connected(tcp_session_t *s)
     if (getsockopt(s->up.to, SOL_SOCKET, SO_ERROR, &err, &len) != 0 || err != 0) {
         char why[128];
         snprintf(why, sizeof(why), "cannot connect to the gripper: %s", strerror(err));
-        host_logf(HAL_LOG_ERROR, "%s %s", s->channel, why);
+        proxy_log("%s %s", s->channel, why);
         session_close(s, why);
         return;
     }
@@ -176,7 +175,7 @@ static tcp_session_t *session_open(proxy_t *p, int driver)
     tcp_session_t *s = calloc(1, sizeof(*s));
     int gripper = socket(p->gripper.ss_family, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
     if (s == NULL || gripper < 0 || !split_init(&s->up.split) || !split_init(&s->down.split)) {
-        host_logf(HAL_LOG_ERROR, "a driver connection refused: out of memory or descriptors");
+        proxy_log("a driver connection refused: out of memory or descriptors");
         if (s != NULL) {
             split_free(&s->up.split);
             split_free(&s->down.split);
@@ -207,7 +206,7 @@ static void start_session(proxy_t *p, int driver)
     if (connect(s->up.to, (struct sockaddr *)&to, p->gripper_len) != 0 && errno != EINPROGRESS) {
         char why[128];
         snprintf(why, sizeof(why), "cannot connect to the gripper: %s", strerror(errno));
-        host_logf(HAL_LOG_ERROR, "%s %s", s->channel, why);
+        proxy_log("%s %s", s->channel, why);
         free(s->up.split.buf);
         free(s->down.split.buf);
         close(s->up.to);
@@ -232,7 +231,7 @@ static void on_accept(void *ctx, int fd, short revents)
         if (driver < 0) {
             if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR &&
                 errno != ECONNABORTED) {
-                host_logf(HAL_LOG_ERROR, "accept: %s", strerror(errno));
+                proxy_log("accept: %s", strerror(errno));
             }
             return;
         }

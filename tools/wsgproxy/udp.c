@@ -14,7 +14,6 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "log.h"
 #include "proxy.h"
 
 #define DATAGRAM_MAX 65536u
@@ -125,7 +124,7 @@ static udp_peer_t *peer_new(proxy_t *p, udp_kind_t kind, const struct sockaddr_s
     int port = kind == UDP_BINARY ? p->opt.gripper_bin_port : p->opt.gripper_udp_port;
     struct sockaddr_storage to = proxy_gripper_at(p, port);
     if (up < 0 || connect(up, (struct sockaddr *)&to, p->gripper_len) != 0) {
-        host_logf(HAL_LOG_ERROR, "no socket towards the gripper: %s", strerror(errno));
+        proxy_log("no socket towards the gripper: %s", strerror(errno));
         if (up >= 0) {
             close(up);
         }
