@@ -119,8 +119,8 @@ static const char usage[] =
     "                                 replies to (default 1501; 0: the port the\n"
     "                                 request came from)\n"
     "  --ready-file FILE              once serving, write pid and ports to FILE\n"
-    "  --help                         this help\n"
-    "  --version                      the version\n"
+    "  -h, --help                     this help\n"
+    "  -V, --version                  the version\n"
     "\n"
     "On the driver's machine the ports 1500 and 1501 are the driver's: run the\n"
     "proxy on another address or machine for binary UDP (docs/calibration.md).\n"
@@ -238,7 +238,8 @@ static int parse_options(int argc, char **argv, proxy_options_t *o)
     default_options(o);
     int opt;
     opterr = 0;
-    while ((opt = getopt_long(argc, argv, "", long_options, NULL)) != -1) {
+    while ((opt = getopt_long(argc, argv, "hV", long_options, NULL)) != -1) {
+        opt = opt == 'h' ? OPT_HELP : opt == 'V' ? OPT_VERSION : opt;
         switch (opt) {
         case OPT_GRIPPER:
             o->gripper = optarg;
