@@ -112,6 +112,55 @@ class ProbeReproducesTheGripper(unittest.TestCase):
         self.assertIn("soft_limits = no", text)
 
 
+class ProbeOneProtocolAndUnknownLimits(unittest.TestCase):
+    def setUp(self):
+        self.folder = tempfile.TemporaryDirectory(prefix="wsgprobe-")
+        self.addCleanup(self.folder.cleanup)
+        self.sim = Wsgsim("--config", write_temp(self.folder.name, "hidden.ini", HIDDEN_32))
+        self.sim.start()
+        self.addCleanup(self.sim.stop)
+        fingers_up(self.sim.tcp_port, b'FTYPE=["dsa","generic"]\n')
+        self.out = os.path.join(self.folder.name, "probed.ini")
+
+    def probe(self, *args, wsgsim=WSGSIM):
+        return subprocess.run([WSGPROBE, "--wsgsim", wsgsim, "--host", "127.0.0.1", "--port",
+                               str(self.sim.tcp_port), "-o", self.out] + list(args),
+                              capture_output=True, text=True, timeout=REPLY_TIMEOUT * 4)
+
+    def test_binary_only_reproduces_the_binary_queries(self):
+        result = self.probe("--protocol", "binary")
+        self.assertEqual(0, result.returncode, result.stderr)
+        twin = Wsgsim("--config", self.out)
+        twin.start()
+        self.addCleanup(twin.stop)
+        fingers_up(twin.tcp_port, b'FTYPE=["dsa","generic"]\n')
+        self.assertEqual(answers(self.sim.tcp_port)[1], answers(twin.tcp_port)[1])
+
+    def test_gcl_only_reproduces_the_gcl_queries(self):
+        result = self.probe("--protocol", "gcl")
+        self.assertEqual(0, result.returncode, result.stderr)
+        twin = Wsgsim("--config", self.out)
+        twin.start()
+        self.addCleanup(twin.stop)
+        fingers_up(twin.tcp_port, b'FTYPE=["dsa","generic"]\n')
+        self.assertEqual(answers(self.sim.tcp_port)[0], answers(twin.tcp_port)[0])
+
+    def test_limits_no_model_has(self):
+        # a wsgsim whose WSG 32-068 has another stroke than the gripper's
+        fake = write_temp(self.folder.name, "wsgsim",
+                          "#!/bin/sh\necho '[{\"name\":\"WSG 32-068\",\"stroke_mm\":70,"
+                          "\"speed_min_mm_s\":5,\"speed_max_mm_s\":400,\"accel_min_mm_s2\":100,"
+                          "\"accel_max_mm_s2\":5000,\"force_min_n\":5,\"force_max_n\":50}]'\n")
+        os.chmod(fake, 0o755)
+        result = self.probe(wsgsim=fake)
+        self.assertEqual(3, result.returncode, result.stderr)
+        self.assertIn("stroke_mm 68 (the device) != 70", result.stderr)
+        with open(self.out) as f:
+            text = f.read()
+        self.assertIn("; NOT reproduced: stroke_mm 68 (the device) != 70", text)
+        self.assertIn("model = WSG 32-068", text)
+
+
 class FakeDevice:
     """A TCP server that answers every connection with `reply` (bytes, or
     None: never a byte) and keeps it open, or closes after the reply."""
