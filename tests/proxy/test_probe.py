@@ -99,15 +99,18 @@ class ProbeReproducesTheGripper(unittest.TestCase):
         self.assertNotEqual(gcl_default, gcl_twin)
         for frame_id in (0x50, 0x53, 0x31, 0x33, 0x70):
             self.assertNotEqual(bin_default[frame_id], bin_twin[frame_id], "0x%02X" % frame_id)
-        return text
+        return text, bin_twin
 
     def test_a_wsg_32_with_soft_limits_and_a_dsa_finger(self):
-        text = self.probe_and_compare(HIDDEN_32, b'["dsa","generic"]', through_proxy=False)
+        text, binary = self.probe_and_compare(HIDDEN_32, b'["dsa","generic"]',
+                                              through_proxy=False)
         self.assertIn("model = WSG 32-068", text)
         self.assertIn("hardware_revision = 3", text)
+        self.assertEqual(3, binary[0x50][9])  # 0x50: type, then the hardware revision
 
     def test_a_wsg_25_without_soft_limits_probed_through_the_proxy(self):
-        text = self.probe_and_compare(HIDDEN_25, b'["none","fmf"]', through_proxy=True)
+        text, binary = self.probe_and_compare(HIDDEN_25, b'["none","fmf"]', through_proxy=True)
+        self.assertEqual(0, binary[0x50][9])
         self.assertIn("model = WSG 25-064", text)
         self.assertIn("soft_limits = no", text)
 
