@@ -382,6 +382,7 @@ int main(int argc, char **argv)
     }
     run(&proxy);
     proxy_udp_stop(&proxy);
+    split_free(&proxy.datagram);
     if (proxy.record != NULL && fclose(proxy.record) != 0) {
         fprintf(stderr, "wsgproxy: --record %s: %s\n", proxy.opt.record_path, strerror(errno));
         return 1;
