@@ -30,11 +30,20 @@ typedef struct {
     uint64_t at_us;
 } unit_target_t;
 
+/* A line is in stdio's buffer: written out within PROXY_FLUSH_NS. */
+static void mark_dirty(proxy_t *p)
+{
+    if (!p->record_dirty) {
+        p->record_dirty = true;
+        p->flush_ns = loop_monotonic_ns() + PROXY_FLUSH_NS;
+    }
+}
+
 static void put_unit(void *ctx, const unsigned char *unit, size_t len)
 {
     const unit_target_t *t = ctx;
     record_file_put(t->p->record, t->at_us, t->channel, t->direction, (const char *)unit, len);
-    t->p->record_dirty = true;
+    mark_dirty(t->p);
 }
 
 void proxy_record(proxy_t *p, splitter_t *split, const char *channel, char direction,
@@ -76,7 +85,7 @@ void proxy_note(proxy_t *p, const char *fmt, ...)
     vfprintf(p->record, fmt, ap);
     va_end(ap);
     fputc('\n', p->record);
-    p->record_dirty = true;
+    mark_dirty(p);
 }
 
 void proxy_set_port(struct sockaddr_storage *ss, int port)
@@ -362,8 +371,8 @@ static bool start(proxy_t *p)
 static void run(proxy_t *p)
 {
     while (!loop_stop_requested(p->loop)) {
-        loop_wait(p->loop, LOOP_NO_TIMEOUT);
-        if (p->record_dirty) {
+        loop_wait(p->loop, p->record_dirty ? p->flush_ns : LOOP_NO_TIMEOUT);
+        if (p->record_dirty && loop_monotonic_ns() >= p->flush_ns) {
             fflush(p->record);
             p->record_dirty = false;
         }

@@ -18,6 +18,10 @@
 #include "split.h"
 
 #define PROXY_UDP_PEERS 64 /* the least recently heard is forgotten beyond */
+/* The record is written out this long after its first unwritten line (and
+ * whenever stdio's buffer fills, and at exit): a write per wake-up would
+ * put the file system on the way of the next request. */
+#define PROXY_FLUSH_NS 200000000ull
 
 typedef struct {
     const char *listen;  /* the proxy's address for the driver */
@@ -51,7 +55,8 @@ typedef struct proxy {
     host_loop_t *loop;
     net_t net;
     FILE *record;
-    bool record_dirty;
+    bool record_dirty; /* lines not yet written out */
+    uint64_t flush_ns; /* and when they will be (CLOCK_MONOTONIC) */
     uint64_t start_ns;
     uint64_t next_id; /* sessions and UDP peers share the numbering */
     struct sockaddr_storage gripper;
