@@ -402,12 +402,16 @@ class Context:
 
 
 @contextlib.contextmanager
-def between(command):
-    """The --with command, running while the driver does."""
+def between(command, work):
+    """The --with command, running while the driver does (its output in
+    with.log: an inherited pipe would hold the answer's reader open)."""
     if not command:
         yield
         return
-    proc = subprocess.Popen(command, shell=True, stdin=subprocess.DEVNULL)
+    with open(os.path.join(work, "with.log"), "w") as out:
+        # exec: SIGTERM reaches the command, not a shell
+        proc = subprocess.Popen("exec " + command, shell=True, stdin=subprocess.DEVNULL,
+                                stdout=out, stderr=out)
     try:
         wait_port(1000)
         yield
@@ -421,7 +425,7 @@ def run_inside(args):
     loopback_up([DRAKE_GRIPPER_ADDRESS])
     with tempfile.TemporaryDirectory(prefix="wsgsim-driver-") as work:
         options = args.wsgsim_args + [e.format(drivers=args.drivers) for e in extra]
-        with wsgsim(args.wsgsim, options, work) as log, between(args.with_command):
+        with wsgsim(args.wsgsim, options, work) as log, between(args.with_command, work):
             try:
                 result = function(Context(args, work))
             except Exception as err:  # a driver that breaks is a result here
@@ -442,9 +446,12 @@ def run_in_namespace(args, mode):
                                            else []) + (["--logs", os.path.abspath(args.logs)]
                                                        if args.logs else []) \
         + ["--"] + args.wsgsim_args
-    run = subprocess.run(command, capture_output=True, text=True,
-                         env=dict(os.environ, **{INSIDE: "1"}),
-                         timeout=args.seconds * 3 + 4 * STARTUP_TIMEOUT)
+    try:
+        run = subprocess.run(command, capture_output=True, text=True,
+                             env=dict(os.environ, **{INSIDE: "1"}),
+                             timeout=args.seconds * 3 + 4 * STARTUP_TIMEOUT)
+    except subprocess.TimeoutExpired:
+        return {"mode": mode, "error": "the run did not end (a process left running?)"}
     if run.returncode != 0 or not run.stdout.strip():
         return {"mode": mode, "error": "the run failed: " + run.stderr[-2000:]}
     return json.loads(run.stdout)
@@ -453,7 +460,7 @@ def run_in_namespace(args, mode):
 def headline(result):
     """One line of a run's main figures, for a table."""
     if "error" in result:
-        return "broke: " + result["error"].splitlines()[-1][:120]
+        return "broke: " + result["error"].strip().splitlines()[-1][:160]
     if "status_topic" in result:
         topic = result["status_topic"]
         if not topic.get("count"):
