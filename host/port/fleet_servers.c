@@ -161,8 +161,9 @@ int fleet_bin_udp_port(const fleet_t *fleet, unsigned i)
 /* The wires' writes due now go first: they are the servers' timeouts too. */
 void fleet_ask_servers(fleet_t *fleet)
 {
-    if (wire_next_us(&fleet->wires) <= hal_clock_now_us()) {
-        wire_run_due(&fleet->wires, hal_clock_now_us());
+    uint64_t now = hal_clock_now_us();
+    if (wire_next_us(&fleet->wires) <= now) {
+        wire_run_due(&fleet->wires, now);
     }
     uint64_t sockets = fleet_earliest(tcp_server_next_deadline_us(&fleet->tcp_set),
                                       udp_server_next_deadline_us(&fleet->udp_set));

@@ -124,8 +124,7 @@ static ssize_t send_line(tcp_client_t *c, const char *line, size_t len)
     return sent;
 }
 
-/* False when an update was dropped. */
-static bool enqueue(tcp_client_t *c, const char *line, size_t len, wsg_msg_kind_t kind)
+static void enqueue(tcp_client_t *c, const char *line, size_t len, wsg_msg_kind_t kind)
 {
     switch (wsg_outq_offer(&c->outq, line, len, kind)) {
     case WSG_OUTQ_QUEUED:
@@ -133,32 +132,12 @@ static bool enqueue(tcp_client_t *c, const char *line, size_t len, wsg_msg_kind_
         break;
     case WSG_OUTQ_DROPPED:
         c->dropped_autosend++;
-        return false;
+        break;
     case WSG_OUTQ_OVERFLOW:
         host_logf(HAL_LOG_WARN, "tcp %s: not reading its replies; disconnected", c->peer);
         mark_dead(c);
         break;
     }
-    return true;
-}
-
-/* One write of the connection; false when an update was dropped. */
-static bool write_bytes(tcp_client_t *c, const char *line, size_t len, wsg_msg_kind_t kind)
-{
-    if (wsg_outq_empty(&c->outq)) {
-        ssize_t sent = send_line(c, line, len);
-        if (sent < 0) {
-            mark_dead(c);
-            return true;
-        }
-        if ((size_t)sent == len) {
-            return true;
-        }
-        line += sent;
-        len -= (size_t)sent;
-        kind = WSG_MSG_REPLY; /* a started line must be finished */
-    }
-    return enqueue(c, line, len, kind);
 }
 
 static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t kind)
@@ -171,7 +150,20 @@ static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t k
         wire_send(c->wire, line, len, kind); /* later, in parts, joined (wire.c) */
         return;
     }
-    (void)write_bytes(c, line, len, kind);
+    if (wsg_outq_empty(&c->outq)) {
+        ssize_t sent = send_line(c, line, len);
+        if (sent < 0) {
+            mark_dead(c);
+            return;
+        }
+        if ((size_t)sent == len) {
+            return;
+        }
+        line += sent;
+        len -= (size_t)sent;
+        kind = WSG_MSG_REPLY; /* a started line must be finished */
+    }
+    enqueue(c, line, len, kind);
 }
 
 /* The wire's writes: the reap looks again (a BYE's reply, a half-closed
@@ -179,8 +171,15 @@ static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t k
 static bool wire_write(void *ctx, const char *bytes, size_t len, wsg_msg_kind_t kind)
 {
     tcp_client_t *c = ctx;
+    wire_t *wire = c->wire;
+    unsigned long dropped = c->dropped_autosend;
+    /* write_line() without the wire: the one write path, kept whole so the
+     * compiler inlines it there (the default costs a branch, no call) */
+    c->wire = NULL;
+    write_line(c, bytes, len, kind);
+    c->wire = wire;
     mark(c);
-    return c->dead || write_bytes(c, bytes, len, kind);
+    return c->dropped_autosend == dropped;
 }
 
 /* The wire's reset came: the socket is reset (RST), the session ends
