@@ -193,7 +193,14 @@ static void wire_reset(void *ctx)
     mark_dead(c);
 }
 
-static const wire_port_t tcp_wire_port = {.deliver = wire_write, .reset = wire_reset};
+static void wire_touch(void *ctx)
+{
+    tcp_client_t *c = ctx;
+    gripper_touch(c->server->gripper);
+}
+
+static const wire_port_t tcp_wire_port = {
+    .deliver = wire_write, .reset = wire_reset, .touch = wire_touch};
 
 /* The session's number in the run, for its wire's random choices. */
 static uint64_t wire_stream(const tcp_client_t *c)

@@ -133,7 +133,14 @@ static void wire_no_reset(void *ctx)
     (void)ctx; /* a datagram socket has no connection to reset */
 }
 
-static const wire_port_t udp_wire_port = {.deliver = wire_write, .reset = wire_no_reset};
+static void wire_touch(void *ctx)
+{
+    const udp_peer_t *p = ctx;
+    gripper_touch(p->server->gripper);
+}
+
+static const wire_port_t udp_wire_port = {
+    .deliver = wire_write, .reset = wire_no_reset, .touch = wire_touch};
 
 static uint64_t wire_stream(const udp_peer_t *p)
 {

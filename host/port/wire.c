@@ -71,6 +71,7 @@ static void note_due(wire_t *w, uint64_t due)
         if (set->deadline_lowered != NULL) {
             *set->deadline_lowered = true;
         }
+        w->port->touch(w->ctx);
     }
 }
 
@@ -256,11 +257,11 @@ static uint64_t latency(wire_t *w, uint64_t now)
 static void send_stream(wire_t *w, const char *bytes, size_t len, wsg_msg_kind_t kind, uint64_t now)
 {
     uint64_t due = latency(w, now);
-    due = due > w->last_due_us ? due : w->last_due_us;
     uint64_t window = w->spec.coalesce_us;
-    if (window > 0u && due % window != 0u) {
+    if (window > 0u) { /* what comes within a window leaves at its end */
         due += window - due % window;
     }
+    due = due > w->last_due_us ? due : w->last_due_us;
     size_t most = w->spec.split < len ? w->spec.split : len;
     size_t parts = w->spec.split > 1u && most >= 2u ? wire_rng_range(&w->rng, 2u, most) : 1u;
     w->stats.split += parts > 1u ? 1u : 0u;

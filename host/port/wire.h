@@ -33,10 +33,13 @@ typedef struct {
 
 /* What a wire hands its port. deliver: bytes to write now (one write, or
  * one datagram); false when the port dropped them (an update over its
- * queue's room). reset: the connection is reset now (TCP). */
+ * queue's room). reset: the connection is reset now (TCP). touch: the wire
+ * must act earlier than its set knew (the port touches its device, whose
+ * tick asks the servers' deadlines again: a query alone touches nothing). */
 typedef struct {
     bool (*deliver)(void *ctx, const char *bytes, size_t len, wsg_msg_kind_t kind);
     void (*reset)(void *ctx);
+    void (*touch)(void *ctx);
 } wire_port_t;
 
 /* What a wire did so far (NET? shows it; tests count it). */
