@@ -11,6 +11,8 @@
 #   scenario  the --scenario file, loaded and run
 #   script    a user script (Lua) and the binary client that talks to it:
 #             the script bindings and the custom command channel
+#   net       wire conditions (--net, [net] conditions, NET): the text,
+#             written back, and the TCP wire that applies it
 #
 #   make fuzz [FUZZ_TIME=S]   every target for S seconds (default 300), one
 #                             after the other (a finding does not stop the
@@ -26,7 +28,7 @@ FUZZ_CC := clang
 FUZZ_DIR := build/fuzz
 FUZZ_TIME ?= 300
 FUZZ_JOBS ?= 1
-FUZZ_TARGETS ?= session control web store config scenario script
+FUZZ_TARGETS ?= session control web store config scenario script net
 # Every target's seeds and regression inputs (a directory per target; a
 # target may have no regressions yet).
 FUZZ_INPUTS := tests/fuzz/corpus tests/fuzz/regressions
@@ -37,6 +39,9 @@ FUZZ_INPUTS := tests/fuzz/corpus tests/fuzz/regressions
 FUZZ_SRC_session := $(FIRMWARE_SRC) $(SIM_SRC) host/can/can_loopback.c
 FUZZ_OBJ_session := $(BUILD)/obj/host/can/can_loopback.o $(CORE_LIBS)
 FUZZ_LIBS_session := -lm
+FUZZ_SRC_net := host/os/wire_spec.c host/os/clock.c host/port/wire.c
+FUZZ_OBJ_net := $(FUZZ_SRC_net:%.c=$(BUILD)/obj/%.o)
+FUZZ_LIBS_net := -lm
 # The host's parsers run in the host as build/wsgsim has it, without main()
 # and the web server's socket side (host/web/web_server.c): the web target
 # stands in for libmicrohttpd itself, the others link it.
