@@ -79,13 +79,17 @@ wsg_status_t sc_net(simctl_ctx_t *ctx)
     char why[160];
     char shown[WIRE_SPEC_TEXT_MAX];
     if (ctx->cmd->form == GCL_FORM_QUERY) {
-        return net_query(ctx);
+        return sc_checking(ctx) ? E_SUCCESS : net_query(ctx);
     }
     if (!sc_text(ctx, 0, &text)) {
         return ctx->failed;
     }
-    fleet_t *fleet = simctl_fleet(ctx->ctl);
-    wire_spec_t spec = *fleet_net(fleet);
+    /* a scenario's lines are checked before the devices start */
+    fleet_t *fleet = sc_checking(ctx) ? NULL : simctl_fleet(ctx->ctl);
+    wire_spec_t spec = {0};
+    if (fleet != NULL) {
+        spec = *fleet_net(fleet);
+    }
     if (!wire_spec_parse(&spec, text, why, sizeof(why))) { /* checked before the session */
         return sc_fail(ctx, E_INVALID_PARAMETER, "%s", why);
     }
