@@ -141,11 +141,12 @@ static void deliver_one(wire_t *w, held_t *h)
     }
 }
 
-/* The parts due at now that fit one write, joined; how many it took. */
-static unsigned join_due(wire_t *w, uint64_t now, char *out, size_t *len, wsg_msg_kind_t *kind)
+/* The parts due at now that fit one write, joined (the rest of a dropped
+ * update left out); how many it took, *last: the last one's message. */
+static unsigned join_due(wire_t *w, uint64_t now, char *out, size_t *len, wsg_msg_kind_t *kind,
+                         uint32_t *last)
 {
-    unsigned parts = 0;
-    uint32_t messages = 0, last = 0;
+    unsigned parts = 0, messages = 0;
     *len = 0;
     *kind = WSG_MSG_UPDATE;
     while (!list_empty(&w->held)) {
@@ -153,12 +154,14 @@ static unsigned join_due(wire_t *w, uint64_t now, char *out, size_t *len, wsg_ms
         if (h->due_us > now || *len + h->len > JOINED_MAX_BYTES) {
             break;
         }
-        memcpy(out + *len, h->bytes, h->len);
-        *len += h->len;
-        *kind = h->first && h->kind == WSG_MSG_UPDATE ? *kind : WSG_MSG_REPLY;
-        messages += parts == 0 || h->message != last ? 1u : 0u;
-        last = h->message;
-        parts++;
+        if (h->first || h->message != w->skipping) {
+            memcpy(out + *len, h->bytes, h->len);
+            *len += h->len;
+            *kind = h->first && h->kind == WSG_MSG_UPDATE ? *kind : WSG_MSG_REPLY;
+            messages += parts == 0 || h->message != *last ? 1u : 0u;
+            *last = h->message;
+            parts++;
+        }
         w->held_bytes -= h->len;
         list_remove(&w->held, &h->link);
         free(h);
@@ -175,6 +178,7 @@ static void release_due(wire_t *w, uint64_t now)
         static char joined[JOINED_MAX_BYTES]; /* the loop's one thread */
         size_t len = 0;
         wsg_msg_kind_t kind;
+        uint32_t last = 0;
         while (!list_empty(&w->held) && HELD(w->held.first)->due_us <= now) {
             held_t *big = HELD(w->held.first);
             if (big->len > JOINED_MAX_BYTES) { /* too long to join: on its own */
@@ -182,9 +186,9 @@ static void release_due(wire_t *w, uint64_t now)
                 w->held_bytes -= big->len;
                 deliver_one(w, big);
                 free(big);
-            } else if (join_due(w, now, joined, &len, &kind) > 0u) {
-                w->stats.writes++;
-                (void)w->port->deliver(w->ctx, joined, len, kind);
+            } else if (join_due(w, now, joined, &len, &kind, &last) > 0u) {
+                w->stats.writes++; /* updates only, dropped: their other parts go too */
+                w->skipping = w->port->deliver(w->ctx, joined, len, kind) ? 0u : last;
             }
         }
         return;
