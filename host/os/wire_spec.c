@@ -97,7 +97,11 @@ static bool read_whole(const char *text, uint64_t max, uint64_t *out)
 static bool read_gap(wire_spec_t *spec, const char *value)
 {
     char lo[ITEM_MAX];
-    snprintf(lo, sizeof(lo), "%s", value);
+    size_t n = strlen(value);
+    if (n >= sizeof(lo)) {
+        return false;
+    }
+    memcpy(lo, value, n + 1u);
     char *dash = strchr(lo, '-');
     const char *hi = dash != NULL ? dash + 1 : lo;
     if (dash != NULL) {
@@ -194,13 +198,14 @@ static bool apply_items(wire_spec_t *spec, const char *text, bool first_may_be_p
 static bool apply_one(wire_spec_t *spec, const char *item, bool first, char *why, size_t cap)
 {
     char copy[ITEM_MAX];
-    if (item[0] == '\0') {
+    size_t len = strlen(item);
+    if (len == 0) {
         return fail(why, cap, "an empty item%s", "");
     }
-    if (strlen(item) >= sizeof(copy)) {
+    if (len >= sizeof(copy)) {
         return fail(why, cap, "item too long: %.40s...", item);
     }
-    snprintf(copy, sizeof(copy), "%s", item);
+    memcpy(copy, item, len + 1u);
     char *eq = strchr(copy, '=');
     if (eq == NULL) {
         int p = preset_index(copy);
@@ -227,8 +232,10 @@ static bool apply_items(wire_spec_t *spec, const char *text, bool first_may_be_p
     bool first = first_may_be_preset;
     while (*at != '\0') {
         size_t len = strcspn(at, ",");
-        char item[ITEM_MAX + 1];
-        snprintf(item, sizeof(item), "%.*s", (int)(len < ITEM_MAX ? len : ITEM_MAX), at);
+        char item[ITEM_MAX + 1]; /* one longer than an item may be: apply_one() says so */
+        size_t kept = len < ITEM_MAX ? len : ITEM_MAX;
+        memcpy(item, at, kept);
+        item[kept] = '\0';
         if (!apply_one(spec, item, first, why, cap)) {
             return false;
         }
