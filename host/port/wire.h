@@ -57,7 +57,8 @@ typedef struct {
 void wire_set_init(wire_set_t *set, bool *deadline_lowered);
 /* A session's wire under spec (NULL: none needed, or out of memory).
  * stream: the session's number in the run (device and session id), for
- * its random choices; datagram: UDP. now: when it opens (its reset). */
+ * its random choices; datagram: UDP. A TCP wire's reset comes within
+ * spec->reset_us of now (the device time it opens at). */
 wire_t *wire_open(wire_set_t *set, const wire_spec_t *spec, uint64_t stream, bool datagram,
                   const wire_port_t *port, void *ctx);
 /* Closes a wire: what it holds is dropped (the session is gone). */
