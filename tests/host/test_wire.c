@@ -123,9 +123,9 @@ START_TEST(jitter_never_lets_a_later_message_overtake)
 {
     wire_t *w = open_with("latency=1,jitter=50,split=3,gap=0-9,seed=12", false);
     char expected[1024] = "";
-    for (int i = 0; i < 40; i++) {
+    for (unsigned i = 0; i < 40u; i++) {
         char line[16];
-        snprintf(line, sizeof(line), "L%02d\n", i);
+        snprintf(line, sizeof(line), "L%02u\n", i);
         send_text(w, line);
         strcat(expected, line);
         run_to(clock_.device_us + 1000u);
@@ -145,9 +145,9 @@ START_TEST(datagrams_are_lost_doubled_and_reordered_by_the_seed)
     for (int round = 0; round < 2; round++) {
         setup();
         wire_t *w = open_with("loss=0.2,dup=0.2,reorder=0.3,seed=99", true);
-        for (int i = 0; i < 200; i++) {
-            char d[8];
-            snprintf(d, sizeof(d), "%03d\n", i);
+        for (unsigned i = 0; i < 200u; i++) {
+            char d[16];
+            snprintf(d, sizeof(d), "%03u\n", i);
             send_text(w, d);
         }
         run_to(10000);
