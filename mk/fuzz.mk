@@ -13,6 +13,8 @@
 #             the script bindings and the custom command channel
 #   net       wire conditions (--net, [net] conditions, NET): the text,
 #             written back, and the TCP wire that applies it
+#   proxy     the recording proxy's splitter: driver and gripper bytes cut
+#             into GCL lines and binary frames (tools/wsgproxy)
 #
 #   make fuzz [FUZZ_TIME=S]   every target for S seconds (default 300), one
 #                             after the other (a finding does not stop the
@@ -28,7 +30,7 @@ FUZZ_CC := clang
 FUZZ_DIR := build/fuzz
 FUZZ_TIME ?= 300
 FUZZ_JOBS ?= 1
-FUZZ_TARGETS ?= session control web store config scenario script net
+FUZZ_TARGETS ?= session control web store config scenario script net proxy
 # Every target's seeds and regression inputs (a directory per target; a
 # target may have no regressions yet).
 FUZZ_INPUTS := tests/fuzz/corpus tests/fuzz/regressions
@@ -42,6 +44,8 @@ FUZZ_LIBS_session := -lm
 FUZZ_SRC_net := host/os/wire_spec.c host/os/clock.c host/port/wire.c
 FUZZ_OBJ_net := $(FUZZ_SRC_net:%.c=$(BUILD)/obj/%.o)
 FUZZ_LIBS_net := -lm
+FUZZ_SRC_proxy := tools/wsgproxy/split.c
+FUZZ_OBJ_proxy := $(BUILD)/obj/tools/wsgproxy/split.o
 # The host's parsers run in the host as build/wsgsim has it, without main()
 # and the web server's socket side (host/web/web_server.c): the web target
 # stands in for libmicrohttpd itself, the others link it.
