@@ -36,6 +36,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import traceback
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, ".."))
@@ -429,7 +430,9 @@ def run_inside(args):
             try:
                 result = function(Context(args, work))
             except Exception as err:  # a driver that breaks is a result here
-                result = {"error": "%s: %s" % (type(err).__name__, err)}
+                result = {"error": "%s: %s" % (type(err).__name__, err),
+                          "during": [frame.line for frame in traceback.extract_tb(
+                              err.__traceback__) if frame.name.startswith("mode_")]}
             wsgsim_log = open(log, errors="replace").read()
         if args.logs:
             shutil.copytree(work, os.path.join(args.logs, args.mode), dirs_exist_ok=True)
