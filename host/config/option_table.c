@@ -160,6 +160,20 @@ static bool set_script_autostart(host_options_t *opts, double number, const char
     return true;
 }
 
+static bool set_physics(host_options_t *opts, double number, const char *text)
+{
+    (void)text;
+    opts->physics = (host_physics_t)number;
+    return true;
+}
+
+static bool set_scene(host_options_t *opts, double number, const char *text)
+{
+    (void)number;
+    opts->scene = text;
+    return true;
+}
+
 const option_row_t option_table[OPTION_COUNT] = {
     [OPTION_MODEL] = {"--model", "device", "model", CV_MODEL, set_model},
     [OPTION_TCP_PORT] = {"--tcp-port", "network", "tcp_port", CV_PORT, set_tcp_port},
@@ -191,4 +205,6 @@ const option_row_t option_table[OPTION_COUNT] = {
     [OPTION_SCRIPT_DIR] = {"--script-dir", "script", "dir", CV_PATH, set_script_dir},
     [OPTION_SCRIPT_AUTOSTART] = {"--no-script-autostart", "script", "autostart", CV_BOOL,
                                  set_script_autostart},
+    [OPTION_PHYSICS] = {"--physics", "physics", "engine", CV_PHYSICS, set_physics},
+    [OPTION_SCENE] = {"--scene", "physics", "scene", CV_PATH, set_scene},
 };

@@ -14,7 +14,7 @@
 #define JOINT_LEFT "wsg_left"
 #define JOINT_RIGHT "wsg_right"
 #define MOTOR "wsg_motor"
-#define BASE "wsg_base"
+#define HAND "wsg_hand"
 static const char *const pad_geoms[PLANT_FINGERS] = {"wsg_pad_left", "wsg_pad_right"};
 static const char *const pad_sensors[PLANT_FINGERS] = {"wsg_touch_left", "wsg_touch_right"};
 
@@ -98,7 +98,7 @@ static bool find_parts(mujoco_plant_t *p, char *why, size_t cap)
     int left = id_of(m, mjOBJ_JOINT, JOINT_LEFT, why, cap);
     int right = id_of(m, mjOBJ_JOINT, JOINT_RIGHT, why, cap);
     p->motor = id_of(m, mjOBJ_ACTUATOR, MOTOR, why, cap);
-    int base = id_of(m, mjOBJ_BODY, BASE, why, cap);
+    int base = id_of(m, mjOBJ_BODY, HAND, why, cap);
     if (left < 0 || right < 0 || p->motor < 0 || base < 0) {
         return false;
     }

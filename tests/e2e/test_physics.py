@@ -1,0 +1,143 @@
+# SPDX-License-Identifier: BSD-3-Clause
+"""The gripper in a physics scene (--physics mujoco, docs/physics.md): a
+GCL client grips the default scene's 40 mm box on the paused clock; the
+control channel pulls it out, lifts it and changes it."""
+import json
+import os
+import tempfile
+import unittest
+
+from gclclient import Wsgsim, read_record
+
+HOLDING, PART_LOST = 4, 3
+
+
+class PhysicsCase(unittest.TestCase):
+    def start(self, *args):
+        sim = Wsgsim("--sim-port", "0", "--start-paused", "--physics", "mujoco", *args)
+        sim.start()
+        self.addCleanup(sim.stop)
+        ctl = sim.control()
+        self.addCleanup(ctl.close)
+        gcl = sim.tcp()
+        return ctl, gcl
+
+    def query(self, gcl, line):
+        gcl.send(line)
+        while True:
+            reply = gcl.read_line()
+            if not reply.startswith("FIN"):
+                return reply
+
+    def number(self, gcl, line):
+        return float(self.query(gcl, line).split("=", 1)[1])
+
+    def grip(self, ctl, gcl, force):
+        self.assertEqual(self.query(gcl, "HOME()"), "ACK HOME")
+        ctl.step_until(gcl, "FIN HOME")
+        # with the part's width: HOLDING is monitored (PART LOST)
+        self.assertEqual(self.query(gcl, "GRIP(%g,40)" % force), "ACK GRIP")
+        ctl.step_until(gcl, "FIN GRIP")
+        ctl("STEP(500)")
+
+    def body(self, ctl, name):
+        reply = ctl("BODY(%s)" % name)
+        self.assertTrue(reply.startswith("BODY="), reply)
+        return json.loads(reply[len("BODY="):])
+
+    def test_grip_holds_the_box_with_the_commanded_force(self):
+        ctl, gcl = self.start()
+        self.grip(ctl, gcl, 40)
+        self.assertEqual(self.number(gcl, "GRIPSTATE?"), HOLDING)
+        force = self.number(gcl, "FORCE?")
+        self.assertLess(abs(force - 40.0) / 40.0, 0.05, force)
+        width = self.number(gcl, "POS?")
+        # a 40 mm box, squeezed a little by 40 N
+        self.assertTrue(39.0 < width < 40.05, width)
+
+    def test_box_pulled_out_is_part_lost_within_100_ms(self):
+        ctl, gcl = self.start()
+        self.grip(ctl, gcl, 20)
+        self.assertEqual(ctl("PULL(box,0,100,0)"), "ACK PULL")
+        lost_after_ms = None
+        for ms in range(10, 210, 10):
+            ctl("STEP(10)")
+            if self.number(gcl, "GRIPSTATE?") == PART_LOST:
+                lost_after_ms = ms
+                break
+        self.assertIsNotNone(lost_after_ms)
+        self.assertLessEqual(lost_after_ms, 100)
+
+    def hang(self, force):
+        """Grips a 2 kg box (friction 0.5) with force, lifts the hand 60 mm."""
+        ctl, gcl = self.start()
+        self.assertEqual(ctl("MASS(box,2)"), "ACK MASS")
+        self.assertEqual(ctl("FRICTION(box,0.5)"), "ACK FRICTION")
+        self.grip(ctl, gcl, force)
+        self.assertEqual(ctl("LIFT(60,100)"), "ACK LIFT")
+        ctl("STEP(1500)")
+        return self.number(gcl, "GRIPSTATE?"), self.body(ctl, "box")["pos_mm"][2]
+
+    def test_hanging_box_held_too_weakly_slips_and_is_lost(self):
+        # two pads' friction 2 * 0.5 * 10 N = 10 N < m * g = 19.6 N
+        state, height = self.hang(10)
+        self.assertEqual(state, PART_LOST)
+        self.assertLess(height, 25.0)  # back on the table
+
+    def test_hanging_box_held_firmly_stays(self):
+        # 2 * 0.5 * 40 N = 40 N > 19.6 N
+        state, height = self.hang(40)
+        self.assertEqual(state, HOLDING)
+        self.assertGreater(height, 70.0)  # lifted with the hand
+
+    def test_bad_names_and_values_change_nothing(self):
+        ctl, gcl = self.start()
+        before = self.body(ctl, "box")
+        self.assertTrue(ctl("BODY(nope)").startswith("ERR BODY 21"))
+        self.assertTrue(ctl("MASS(box,-1)").startswith("ERR MASS 28"))
+        self.assertTrue(ctl("FRICTION(box,nan)").startswith("ERR FRICTION"))
+        self.assertTrue(ctl("PLACE(world,0,0,0)").startswith("ERR PLACE"))
+        self.assertTrue(ctl("LIFT(5000)").startswith("ERR LIFT 28"))
+        self.assertEqual(self.body(ctl, "box"), before)
+        self.assertIn("box", json.loads(ctl("BODIES?")[len("BODIES="):]))
+
+    def test_without_a_scene_the_commands_say_so(self):
+        sim = Wsgsim("--sim-port", "0")
+        sim.start()
+        self.addCleanup(sim.stop)
+        ctl = sim.control()
+        self.addCleanup(ctl.close)
+        self.assertTrue(ctl("CONTACTS?").startswith("ERR CONTACTS 1 no physics scene"))
+
+    def test_bad_scene_is_refused_at_start(self):
+        fd, path = tempfile.mkstemp(suffix=".xml")
+        with os.fdopen(fd, "w") as f:
+            f.write("<mujoco><worldbody><body name='x'></worldbody></mujoco>")
+        self.addCleanup(os.remove, path)
+        sim = Wsgsim("--physics", "mujoco", "--scene", path)
+        with self.assertRaises(Exception):
+            sim.start()
+        sim.stop()
+
+    def run_recorded(self):
+        record = tempfile.mktemp(prefix="wsgsim_physics_record_")
+        self.addCleanup(lambda: os.path.exists(record) and os.remove(record))
+        ctl, gcl = self.start("--record", record)
+        self.grip(ctl, gcl, 30)
+        ctl("PULL(box,0,100,0)")
+        ctl("STEP(200)")
+        self.query(gcl, "BYE()")
+        ctl("BYE()")
+        return record
+
+    def test_paused_clock_runs_are_byte_identical(self):
+        first = self.run_recorded()
+        second = self.run_recorded()
+        # every row but its wall-clock time
+        rows = [[(r[0],) + tuple(r[2:]) for r in read_record(path)] for path in (first, second)]
+        self.assertGreater(len(rows[0]), 100)
+        self.assertEqual(rows[0], rows[1])
+
+
+if __name__ == "__main__":
+    unittest.main()
