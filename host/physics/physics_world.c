@@ -260,6 +260,20 @@ static const hal_axis_ops_t physics_axis_ops = {
     .status = axis_status,
 };
 
+static void read_pad(void *ctx, unsigned slot, float *force_n, float *cells_n)
+{
+    const physics_world_t *w = ctx;
+    const plant_pad_t *pad = &w->sample.pad[slot < PLANT_FINGERS ? slot : 0u];
+    *force_n = pad->force_n;
+    memcpy(cells_n, pad->cells_n, sizeof(pad->cells_n));
+}
+
+const finger_contact_t *physics_world_finger_contact(physics_world_t *w)
+{
+    w->contact = (finger_contact_t){read_pad, w};
+    return &w->contact;
+}
+
 void physics_world_hal_axis(physics_world_t *w, hal_axis_t *axis)
 {
     axis->ops = &physics_axis_ops;

@@ -15,6 +15,7 @@
 
 #include "hal_axis.h"
 #include "plant.h"
+#include "sim/finger_node.h"
 
 /* The plant's exchange with the drive: the device's control step while it
  * moves. */
@@ -45,6 +46,7 @@ typedef struct {
     bool base_moving;
     double base_target_z_m;
     double base_speed_m_s;
+    finger_contact_t contact; /* the pads' readings, for the fingers */
 } physics_world_t;
 
 /* Takes the plant (destroyed with the world); power-on as the built-in
@@ -73,6 +75,8 @@ static inline void physics_world_touch(physics_world_t *w)
  * movable base or a value is out of range. */
 bool physics_world_lift(physics_world_t *w, double dz_mm, double speed_mm_s);
 void physics_world_axis_status(const physics_world_t *w, hal_axis_status_t *status);
+/* The fingers' contact (finger_node.h): the pads of the last exchange. */
+const finger_contact_t *physics_world_finger_contact(physics_world_t *w);
 /* The HAL axis of this world. */
 void physics_world_hal_axis(physics_world_t *w, hal_axis_t *axis);
 

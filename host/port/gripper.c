@@ -7,6 +7,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "can_loopback.h"
 #include "config_file.h"
 #include "hal_clock.h"
 #include "log.h"
@@ -179,6 +180,10 @@ bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, u
     wsg_sim_world_hal(&g->world, &hal);
     if (g->physics != NULL) {
         physics_world_hal_axis(g->physics, &hal.axis);
+        can_loopback_t *loopback = finger_bus_host_loopback(&g->fingers);
+        if (loopback != NULL) {
+            can_loopback_set_contact(loopback, physics_world_finger_contact(g->physics));
+        }
     }
     const hal_can_t *bus = finger_bus_host_can(&g->fingers);
     hal.can = bus != NULL ? *bus : (hal_can_t){NULL, NULL};

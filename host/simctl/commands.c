@@ -31,6 +31,7 @@ static const simctl_entry_t table[] = {
     {"OBSTACLE", CALL | QUERY, 1, 1, sc_obstacle, "OBSTACLE(width) | OBSTACLE?", true},
     {"OBSTACLE_REMOVE", CALL, 0, 0, sc_obstacle_remove, "OBSTACLE_REMOVE()", true},
     {"AMBIENT", SET | QUERY, 0, 0, sc_ambient, "AMBIENT=celsius | AMBIENT?", true},
+    {"PHYSICS", QUERY, 0, 0, sc_physics, "PHYSICS?", true},
     {"BODIES", QUERY, 0, 0, sc_bodies, "BODIES?", true},
     {"BODY", CALL, 1, 1, sc_body, "BODY(name)", true},
     {"CONTACTS", QUERY, 0, 0, sc_contacts, "CONTACTS?", true},

@@ -94,6 +94,7 @@ wsg_status_t sc_obstacle_remove(simctl_ctx_t *ctx);
 wsg_status_t sc_ambient(simctl_ctx_t *ctx);
 
 /* simctl/commands_physics.c */
+wsg_status_t sc_physics(simctl_ctx_t *ctx);
 wsg_status_t sc_bodies(simctl_ctx_t *ctx);
 wsg_status_t sc_body(simctl_ctx_t *ctx);
 wsg_status_t sc_contacts(simctl_ctx_t *ctx);

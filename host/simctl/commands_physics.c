@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* BODIES, BODY, CONTACTS, PLACE, LIFT, PULL, MASS, FRICTION: the physics
+/* PHYSICS, BODIES, BODY, CONTACTS, PLACE, LIFT, PULL, MASS, FRICTION: the physics
  * scene (--physics mujoco, docs/physics.md) read and steered. Lengths in
  * mm, forces in N, masses in kg, in the scene's world frame. A refused
  * command changes nothing. */
@@ -23,6 +23,24 @@ static physics_world_t *scene_of(simctl_ctx_t *ctx)
     }
     physics_world_advance(w, hal_clock_now_us());
     return w;
+}
+
+/* PHYSICS?: the engine, its step, and the exchanges it stepped (a scene
+ * at rest skips them). */
+wsg_status_t sc_physics(simctl_ctx_t *ctx)
+{
+    physics_world_t *w = scene_of(ctx);
+    if (w == NULL) {
+        return ctx->failed;
+    }
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "engine", w->plant.ops->name);
+    cJSON_AddNumberToObject(o, "timestep_us", w->plant.ops->timestep_us(w->plant.ctx));
+    cJSON_AddNumberToObject(o, "exchange_us", PHYSICS_EXCHANGE_US);
+    cJSON_AddNumberToObject(o, "exchanges", (double)w->exchanges);
+    cJSON_AddBoolToObject(o, "quiet", w->sample.quiet);
+    sc_reply_json(ctx, o);
+    return E_SUCCESS;
 }
 
 /* Argument i names a body of the scene. */

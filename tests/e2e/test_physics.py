@@ -55,6 +55,38 @@ class PhysicsCase(unittest.TestCase):
         # a 40 mm box, squeezed a little by 40 N
         self.assertTrue(39.0 < width < 40.05, width)
 
+    def fdata(self, gcl, slot):
+        return json.loads(self.query(gcl, "FDATA[%d]?" % slot).split("=", 1)[1])
+
+    def test_finger_sensors_follow_the_contact(self):
+        ctl, gcl = self.start()
+        ctl("STEP(300)")  # the fingers booted and measure
+        self.assertLess(self.fdata(gcl, 0), 1.0)  # FMF in the air: its offset only
+        self.assertEqual(set(self.fdata(gcl, 1)), {0})  # DSA: nothing touches
+        self.grip(ctl, gcl, 40)
+        self.assertGreater(self.fdata(gcl, 0), 38.0)
+        cells = self.fdata(gcl, 1)
+        rows = [cells[r * 6:(r + 1) * 6] for r in range(14)]
+        # row 0 at the tip: the box (40 mm high on the table) is under the
+        # pad's lower rows, the rows above its top edge are free
+        self.assertTrue(all(v > 0 for row in rows[:11] for v in row), rows)
+        self.assertTrue(all(v == 0 for row in rows[12:] for v in row), rows)
+
+    def physics(self, ctl):
+        return json.loads(ctl("PHYSICS?")[len("PHYSICS="):])
+
+    def test_a_scene_at_rest_does_not_step_the_engine(self):
+        ctl, gcl = self.start()
+        ctl("STEP(500)")  # the box settles on the table
+        before = self.physics(ctl)["exchanges"]
+        ctl("STEP(2000)")
+        self.assertLess(self.physics(ctl)["exchanges"] - before, 20)
+        self.grip(ctl, gcl, 40)  # moving: one exchange per ms
+        moving = self.physics(ctl)["exchanges"]
+        self.assertGreater(moving - before, 500)
+        ctl("STEP(2000)")  # held, at rest
+        self.assertLess(self.physics(ctl)["exchanges"] - moving, 200)
+
     def test_box_pulled_out_is_part_lost_within_100_ms(self):
         ctl, gcl = self.start()
         self.grip(ctl, gcl, 20)
