@@ -5,7 +5,7 @@
  *        wsgbench --serve-echo      (the echo baseline alone, for callgrind)
  * --wsgsim-arg appends ARG to every wsgsim command line (e.g. --fingers=none).
  * --only runs one section (instr, web, streams, idle, subscribers, vtime, fleet,
- * scripts, scale, pace, rtt, load, autosend); the table then leaves out the others.
+ * scripts, scale, pace, physics, rtt, load, autosend); the table then leaves out the others.
  * --firmware-sizes reads the Cortex-M image sizes `make bench` wrote. */
 #include <errno.h>
 #include <stdio.h>
@@ -92,7 +92,8 @@ static void parse_args(int argc, char **argv, config_t *cfg)
         } else {
             die("usage: wsgbench [--wsgsim PATH] [--wsgsim-arg ARG]... [--out DIR] [--quick] "
                 "[--rtt N] [--only "
-                "instr|web|streams|idle|subscribers|vtime|fleet|scripts|scale|pace|rtt|load|"
+                "instr|web|streams|idle|subscribers|vtime|fleet|scripts|scale|pace|physics|rtt|"
+                "load|"
                 "autosend] "
                 "[--pin same|cross|none] [--firmware-sizes FILE]");
         }
@@ -501,6 +502,10 @@ static void run_own_server_sections(const config_t *cfg, results_t *res)
     }
     if (wanted(cfg, "pace")) {
         run_pace(cfg, res);
+    }
+    if (wanted(cfg, "physics")) {
+        fprintf(stderr, "wsgbench: the default physics scene, paused and running\n");
+        physics_run(cfg->wsgsim, cfg->out, &res->physics);
     }
 }
 
