@@ -17,7 +17,7 @@ HOST_INC := -Ihost $(addprefix -Ihost/,$(filter-out simctl web,$(HOST_DIRS)))
 HOST_SRC := $(sort $(wildcard host/*.c $(HOST_DIRS:%=host/%/*.c)))
 HOST_PKGS := inih libcjson libsystemd libmicrohttpd lua5.4
 HOST_CFLAGS = $(CFLAGS_BASE) $(LTO) -D_GNU_SOURCE $(PUBLIC_INC) $(HOST_INC) $(shell pkg-config --cflags $(HOST_PKGS) 2>/dev/null)
-HOST_LIBS = $(shell pkg-config --libs $(HOST_PKGS) 2>/dev/null) -lmujoco -lm
+HOST_LIBS = $(shell pkg-config --libs $(HOST_PKGS) 2>/dev/null) -lm
 
 FW_LIB_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(FIRMWARE_SRC))
 SIM_LIB_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(SIM_SRC))
