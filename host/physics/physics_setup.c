@@ -20,21 +20,18 @@ static bool has_model(const char *dir)
     return len > 0 && (size_t)len < sizeof(path) && access(path, R_OK) == 0;
 }
 
-/* The build tree's physics/ (the program in build/), else the installed
- * folder. */
+/* The build tree's physics/ (the program in build/, a test's in a folder
+ * of build/), else the installed folder. */
 static void model_dir(char *out, size_t cap)
 {
+    static const char *const up[] = {"..", "../.."};
     char exe[PATH_MAX];
     ssize_t len = readlink("/proc/self/exe", exe, sizeof(exe) - 1u);
-    if (len > 0) {
-        exe[len] = '\0';
-        char *slash = strrchr(exe, '/');
-        if (slash != NULL) {
-            *slash = '\0';
-            int n = snprintf(out, cap, "%s/../physics", exe);
-            if (n > 0 && (size_t)n < cap && has_model(out)) {
-                return;
-            }
+    char *slash = len > 0 ? memrchr(exe, '/', (size_t)len) : NULL;
+    for (unsigned i = 0; slash != NULL && i < sizeof(up) / sizeof(up[0]); i++) {
+        int n = snprintf(out, cap, "%.*s/%s/physics", (int)(slash - exe), exe, up[i]);
+        if (n > 0 && (size_t)n < cap && has_model(out)) {
+            return;
         }
     }
     snprintf(out, cap, "%s", WSGSIM_PHYSICS_DIR);
