@@ -151,6 +151,30 @@ class PhysicsCase(unittest.TestCase):
             sim.start()
         sim.stop()
 
+    def scenario(self, text):
+        fd, path = tempfile.mkstemp(suffix=".txt")
+        with os.fdopen(fd, "w") as f:
+            f.write(text)
+        self.addCleanup(os.remove, path)
+        return path
+
+    def test_scenario_steers_the_scene(self):
+        path = self.scenario("0 MASS(box, 0.5)\n100 FRICTION(box, 0.3)\n+100 LIFT(10, 100)\n")
+        ctl, gcl = self.start("--scenario", path)
+        ctl("STEP(400)")
+        box = self.body(ctl, "box")
+        self.assertAlmostEqual(box["mass_kg"], 0.5)
+        self.assertAlmostEqual(box["friction"], 0.3)
+        self.assertAlmostEqual(self.body(ctl, "wsg_hand")["pos_mm"][2], 85.0, places=3)
+
+    def test_scenario_naming_no_body_stops_the_start(self):
+        path = self.scenario("0 MASS(nope, 1)\n")
+        sim = Wsgsim("--physics", "mujoco", "--scenario", path)
+        with self.assertRaises(Exception):
+            sim.start()
+        sim.stop()
+        self.assertIn('no body "nope"', "".join(sim.log))
+
     def run_recorded(self):
         record = tempfile.mktemp(prefix="wsgsim_physics_record_")
         self.addCleanup(lambda: os.path.exists(record) and os.remove(record))
