@@ -4,6 +4,7 @@ GCL client grips the default scene's 40 mm box on the paused clock; the
 control channel pulls it out, lifts it and changes it."""
 import json
 import os
+import struct
 import tempfile
 import unittest
 
@@ -17,6 +18,7 @@ class PhysicsCase(unittest.TestCase):
         sim = Wsgsim("--sim-port", "0", "--start-paused", "--physics", "mujoco", *args)
         sim.start()
         self.addCleanup(sim.stop)
+        self.sim = sim
         ctl = sim.control()
         self.addCleanup(ctl.close)
         gcl = sim.tcp()
@@ -86,6 +88,32 @@ class PhysicsCase(unittest.TestCase):
         self.assertGreater(moving - before, 500)
         ctl("STEP(2000)")  # held, at rest
         self.assertLess(self.physics(ctl)["exchanges"] - moving, 200)
+
+    def test_binary_client_grips_the_box(self):
+        ctl, _ = self.start()
+        client = self.sim.binary_protocol()
+        self.addCleanup(client.close)
+        proto = __import__("wsgsim.binary", fromlist=["protocol"]).protocol()
+
+        def run(*words):
+            frame_id, payload = proto.request_for(list(words))
+            client.send_request(frame_id, payload)
+            reply = client.wait_for(frame_id)
+            if reply.status == proto.E_CMD_PENDING:
+                ctl("RUN_UNTIL_DONE(10000)")
+                reply = client.wait_for(frame_id)
+            self.assertEqual(reply.status, 0, (words, reply.status))
+            return reply
+
+        run("set-force", "40")
+        run("homing", "0")
+        run("grasp", "40", "50")
+        ctl("STEP(500)")
+        force = struct.unpack("<f", run("get-force").values[:4])[0]
+        self.assertLess(abs(force - 40.0) / 40.0, 0.05, force)
+        width = struct.unpack("<f", run("get-width").values[:4])[0]
+        self.assertTrue(39.0 < width < 40.05, width)
+        self.assertEqual(run("get-grasp-state").values[0], HOLDING)
 
     def test_box_pulled_out_is_part_lost_within_100_ms(self):
         ctl, gcl = self.start()
