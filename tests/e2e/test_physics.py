@@ -158,6 +158,8 @@ class PhysicsCase(unittest.TestCase):
         self.assertTrue(ctl("FRICTION(box,nan)").startswith("ERR FRICTION"))
         self.assertTrue(ctl("PLACE(world,0,0,0)").startswith("ERR PLACE"))
         self.assertTrue(ctl("LIFT(5000)").startswith("ERR LIFT 28"))
+        self.assertTrue(ctl("PULL(box,20000,0,0)").startswith("ERR PULL 28"))
+        self.assertTrue(ctl("PLACE(box,0,0,1e6)").startswith("ERR PLACE 28"))
         self.assertEqual(self.body(ctl, "box"), before)
         self.assertIn("box", json.loads(ctl("BODIES?")[len("BODIES="):]))
 
