@@ -180,6 +180,23 @@ class PhysicsCase(unittest.TestCase):
         self.addCleanup(ctl.close)
         self.assertTrue(ctl("CONTACTS?").startswith("ERR CONTACTS 1 no physics scene"))
 
+    def test_the_configuration_file_chooses_the_scene(self):
+        config = self.scenario("[physics]\nengine = mujoco\nscene = %s\n" % os.path.join(
+            os.path.dirname(os.path.abspath(__file__)), "..", "..", "physics",
+            "default-scene.xml"))
+        sim = Wsgsim("--sim-port", "0", "--config", config)
+        sim.start()
+        self.addCleanup(sim.stop)
+        ctl = sim.control()
+        self.addCleanup(ctl.close)
+        self.assertEqual(json.loads(ctl("PHYSICS?")[len("PHYSICS="):])["engine"], "mujoco")
+        bad = self.scenario("[physics]\nengine = bullet\n")
+        sim = Wsgsim("--config", bad)
+        with self.assertRaises(Exception):
+            sim.start()
+        sim.stop()
+        self.assertIn("expected builtin or mujoco", "".join(sim.log))
+
     def test_bad_scene_is_refused_at_start(self):
         fd, path = tempfile.mkstemp(suffix=".xml")
         with os.fdopen(fd, "w") as f:
