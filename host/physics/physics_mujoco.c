@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "hal_log.h"
 #include "log.h"
@@ -18,6 +19,21 @@
 #define HAND "wsg_hand"
 static const char *const pad_geoms[PLANT_FINGERS] = {"wsg_pad_left", "wsg_pad_right"};
 static const char *const pad_sensors[PLANT_FINGERS] = {"wsg_touch_left", "wsg_touch_right"};
+
+/* A scene file larger than this is refused before the engine reads it. */
+#define SCENE_BYTES_MAX (64u << 20)
+
+/* The engine reads what it is given to the end: a FIFO or a device would
+ * hold the start forever, so only a regular file of a sane size goes. */
+static bool regular_file(const char *path, char *why, size_t cap)
+{
+    struct stat st;
+    if (stat(path, &st) != 0 || !S_ISREG(st.st_mode) || st.st_size > (off_t)SCENE_BYTES_MAX) {
+        snprintf(why, cap, "%s: not a regular file of at most %u MiB", path, SCENE_BYTES_MAX >> 20);
+        return false;
+    }
+    return true;
+}
 
 /* The in-memory file that includes the gripper and the scene. */
 #define TOP_FILE "wsgsim-scene.xml"
@@ -569,6 +585,9 @@ bool physics_mujoco_open(plant_t *plant, const char *model_dir, const char *scen
         snprintf(scene, sizeof(scene), "%s/%s", model_dir, PHYSICS_DEFAULT_SCENE_FILE);
     } else if (realpath(scene_file, scene) == NULL) {
         snprintf(why, cap, "%s: no such file", scene_file);
+        return false;
+    }
+    if (!regular_file(gripper, why, cap) || !regular_file(scene, why, cap)) {
         return false;
     }
     mujoco_plant_t *p = calloc(1, sizeof(*p));

@@ -197,6 +197,14 @@ class PhysicsCase(unittest.TestCase):
         sim.stop()
         self.assertIn("expected builtin or mujoco", "".join(sim.log))
 
+    def test_a_scene_that_is_no_regular_file_is_refused_at_start(self):
+        for path in ("/dev/zero", os.path.dirname(os.path.abspath(__file__))):
+            sim = Wsgsim("--physics", "mujoco", "--scene", path)
+            with self.assertRaises(Exception):
+                sim.start()
+            sim.stop()
+            self.assertIn("not a regular file", "".join(sim.log))
+
     def test_bad_scene_is_refused_at_start(self):
         fd, path = tempfile.mkstemp(suffix=".xml")
         with os.fdopen(fd, "w") as f:
