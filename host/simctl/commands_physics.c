@@ -111,6 +111,7 @@ static cJSON *contact_json(const plant_t *p, const plant_contact_t *c)
         cJSON_AddStringToObject(o, k == 0u ? "a" : "b", known ? body.name : "");
     }
     cJSON_AddItemToObject(o, "pos_mm", vector_mm(c->pos_m));
+    cJSON_AddItemToObject(o, "normal", cJSON_CreateDoubleArray(c->normal, 3));
     cJSON_AddNumberToObject(o, "normal_n", c->normal_n);
     cJSON_AddNumberToObject(o, "tangent_n", c->tangent_n);
     return o;
