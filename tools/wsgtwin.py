@@ -177,6 +177,7 @@ class Link:
                                                                    e.strerror or e))
         self.sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
         self.buffer = b""
+        self.closed = False
         self.early = []  # lines read while waiting for another
 
     def send(self, line):
@@ -186,7 +187,7 @@ class Link:
             raise TwinError("%s: connection lost (%s)" % (self.what, e.strerror or e))
 
     def _read_line(self, timeout):
-        while b"\n" not in self.buffer:
+        while b"\n" not in self.buffer and not self.closed:
             ready, _, _ = select.select([self.sock], [], [], max(timeout, 0.0))
             if not ready:
                 return None
@@ -195,10 +196,18 @@ class Link:
             except OSError as e:
                 raise TwinError("%s: connection lost (%s)" % (self.what, e.strerror or e))
             if not chunk:
-                raise TwinError("%s closed the connection" % self.what)
+                self.closed = True  # after BYE(): what came before is still read
             self.buffer += chunk
+        if b"\n" not in self.buffer:
+            return None
         raw, self.buffer = self.buffer.split(b"\n", 1)
         return raw.decode("ascii", "replace").rstrip("\r")
+
+    def wait_line(self, timeout):
+        """The next line not asked for, waiting at most timeout; None."""
+        if self.early:
+            return self.early.pop(0)
+        return self._read_line(timeout)
 
     def pending(self):
         """Every line that has arrived and was not asked for, without waiting."""
@@ -215,6 +224,8 @@ class Link:
         deadline = time.monotonic() + self.timeout
         while True:
             line = self._read_line(deadline - time.monotonic())
+            if line is None and self.closed:
+                raise TwinError("%s closed the connection" % self.what)
             if line is None:
                 raise TwinError("%s did not answer within %g s" % (self.what, self.timeout))
             if accept(line):
