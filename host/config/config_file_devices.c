@@ -220,12 +220,12 @@ static void set_text(const config_file_t *cf, char *dst, key_id_t id)
     }
 }
 
-/* A time of [mechanics], in ms in the file, in us in the configuration. */
+/* A time of [mechanics], in ms in the file, in us in the configuration;
+ * its range (from 0.001 ms) keeps it from 0, the built-in time. */
 static void set_time_us(const value_t *v, uint32_t *us)
 {
     if (v->set) {
-        double rounded = v->number * 1000.0 + 0.5;
-        *us = rounded < 1.0 ? 1u : (uint32_t)rounded; /* 0 would mean the built-in time */
+        *us = (uint32_t)(v->number * 1000.0 + 0.5);
     }
 }
 

@@ -201,7 +201,7 @@ START_TEST(config_sets_the_mechanics)
                                    "homing_speed = 40\nstop_deceleration = 3000\n"
                                    "fast_stop_deceleration = 7000\nforce_rise = 600\n"
                                    "settle_time = 15\nblock_detect_time = 30\n"
-                                   "home_block_detect_time = 80\npart_lost_time = 0.0001\n");
+                                   "home_block_detect_time = 80\npart_lost_time = 0.001\n");
     ck_assert(config_file_load(config_of(&opts), path, NULL, &opts));
     ck_assert(config_file_check(opts.config, opts.model));
     t_reinit(&opts);
@@ -214,7 +214,7 @@ START_TEST(config_sets_the_mechanics)
     ck_assert_uint_eq(m->settle_us, 15000u);
     ck_assert_uint_eq(m->block_detect_us, 30000u);
     ck_assert_uint_eq(m->home_block_detect_us, 80000u);
-    ck_assert_uint_eq(m->part_lost_us, 1u); /* never 0: that is the built-in time */
+    ck_assert_uint_eq(m->part_lost_us, 1u);
     ck_assert_float_eq(g->world.axis.drive.force_rise_n_s, 600.0f);
     ck_assert_float_eq(g->world.axis.drive.stop_decel_mm_s2, 3000.0f);
     ck_assert_float_eq(g->world.axis.emergency_accel_mm_s2, 7000.0f);
