@@ -177,10 +177,12 @@ class Link:
                                                                    e.strerror or e))
         self.sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
         self.buffer = b""
+        self.sent = 0  # lines sent
         self.closed = False
         self.early = []  # lines read while waiting for another
 
     def send(self, line):
+        self.sent += 1
         try:
             self.sock.sendall(line.encode("ascii") + b"\n")
         except OSError as e:
@@ -310,6 +312,37 @@ def read_ini(path):
     except OSError as e:
         raise TwinError("cannot read %s: %s" % (path, e.strerror))
     return sections
+
+
+# --- what the user did during a calibration --------------------------------
+
+EVENTS_HEADER = "# wsgcalib events 1"
+
+
+def write_events(path, events):
+    """The moments the part was placed or removed, as the control channel's
+    commands, each after the number of requests sent before it."""
+    write_whole(path, EVENTS_HEADER + "\n" +
+                "".join("%d %s\n" % (after, line) for after, line in events))
+
+
+def read_events(path):
+    """[(requests sent before, control line)] of an events file."""
+    try:
+        with open(path) as f:
+            lines = f.read().splitlines()
+    except OSError as e:
+        raise TwinError("cannot read %s: %s" % (path, e.strerror))
+    if not lines or lines[0] != EVENTS_HEADER:
+        raise TwinError("%s is not a wsgcalib events file" % path)
+    events = []
+    for number, line in enumerate(lines[1:], 2):
+        after, _, command = line.partition(" ")
+        if not after.isdigit() or request_name(command) not in ("PART", "PART_REMOVE"):
+            raise TwinError("%s:%d: not an event (N PART(...) or N PART_REMOVE())"
+                            % (path, number))
+        events.append((int(after), command))
+    return events
 
 
 # --- a wsgsim of our own -----------------------------------------------------

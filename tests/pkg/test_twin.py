@@ -39,7 +39,7 @@ def calibrate(tmp, config_text, record_name="rec.txt"):
     config = write(os.path.join(tmp, "hidden.ini"), config_text)
     with Wsgsim("--config", config, "--record", record, binary=WSGSIM, paused=True) as sim:
         result = run(CALIB + ["127.0.0.1:%d" % sim.tcp_port, "--control",
-                      "127.0.0.1:%d" % sim.sim_port])
+                              "127.0.0.1:%d" % sim.sim_port, "--events", record + ".events"])
     if result.returncode != 0:
         raise AssertionError("wsgcalib failed: %s" % result.stderr)
     return record
@@ -108,6 +108,17 @@ class Twin(unittest.TestCase):
         self.assertEqual(good.returncode, 0, good.stdout + good.stderr)
         self.assertIn(" 0 text mismatches", good.stdout)
         self.assertIn("passed", good.stdout)
+        # a proxy's recording: no control lines; the events file says when
+        # the part was placed and taken out
+        with open(self.record) as f:
+            lines = [line for line in f if " ctl" not in line]
+        proxied = write(os.path.join(self.tmp, "proxied.txt"), "".join(lines))
+        without = run(CHECK + [proxied, "--wsgsim", WSGSIM, "--config", self.config])
+        self.assertEqual(without.returncode, 1, without.stdout + without.stderr)
+        events = run(CHECK + [proxied, "--wsgsim", WSGSIM, "--config", self.config,
+                              "--events", self.record + ".events"])
+        self.assertEqual(events.returncode, 0, events.stdout + events.stderr)
+        self.assertIn(" 0 text mismatches", events.stdout)
         plain = run(CHECK + [self.record, "--wsgsim", WSGSIM])
         self.assertEqual(plain.returncode, 1, plain.stdout + plain.stderr)
         self.assertIn("mismatch: ", plain.stdout)
