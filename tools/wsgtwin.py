@@ -16,6 +16,7 @@ import tempfile
 import time
 
 VERSION = "0.1.0"
+SERVICE_STEPS_MAX = 60000  # one simulated minute for one reply: no device is that slow
 
 
 class TwinError(Exception):
@@ -177,6 +178,7 @@ class Link:
                                                                    e.strerror or e))
         self.sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
         self.buffer = b""
+        self.clock = None  # a paced SimClock: replies come only as it runs
         self.sent = 0  # lines sent
         self.closed = False
         self.early = []  # lines read while waiting for another
@@ -223,6 +225,8 @@ class Link:
 
     def expect(self, accept):
         """The first line accept() takes; others are kept for pending()."""
+        if self.clock is not None and self.clock.paced:
+            return self._expect_stepping(accept)
         deadline = time.monotonic() + self.timeout
         while True:
             line = self._read_line(deadline - time.monotonic())
@@ -233,6 +237,25 @@ class Link:
             if accept(line):
                 return line
             self.early.append(line)
+
+    def _expect_stepping(self, accept):
+        """expect() on a paused clock under a timing profile: the reply
+        comes once the device has served the request, so the clock is
+        stepped a millisecond at a time until it has. A STEP answers once
+        every line it produced was sent, so each is read right after."""
+        for _ in range(SERVICE_STEPS_MAX):
+            while True:
+                line = self._read_line(0.0)
+                if line is None:
+                    break
+                if accept(line):
+                    return line
+                self.early.append(line)
+            if self.closed:
+                raise TwinError("%s closed the connection" % self.what)
+            self.clock.wait(0.001)
+        raise TwinError("%s did not answer within %d simulated ms" % (self.what,
+                                                                      SERVICE_STEPS_MAX))
 
     def request(self, line):
         """Sends a request, returns its reply (a value, ACK or ERR)."""
@@ -255,7 +278,9 @@ class WallClock:
 
 
 class SimClock:
-    """wsgsim's paused clock, moved by STEP on its control channel."""
+    """wsgsim's paused clock, moved by STEP on its control channel. paced:
+    the device runs a timing profile (TIMING?), so that its replies come
+    only as the clock runs."""
     simulated = True
 
     def __init__(self, control):
@@ -263,6 +288,8 @@ class SimClock:
         reply = control.request("PAUSE()")
         if reply.startswith("ERR"):
             raise TwinError("the control channel refused PAUSE(): %s" % reply)
+        timing = control.request("TIMING?")  # ERR from a wsgsim without profiles
+        self.paced = timing.startswith("TIMING=") and timing != 'TIMING="ideal"'
 
     def wait(self, seconds):
         if seconds > 0:
