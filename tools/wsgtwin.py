@@ -179,12 +179,15 @@ class Link:
         self.sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
         self.buffer = b""
         self.clock = None  # a paced SimClock: replies come only as it runs
+        self.record = None  # a ClientRecord of what passes
         self.sent = 0  # lines sent
         self.closed = False
         self.early = []  # lines read while waiting for another
 
     def send(self, line):
         self.sent += 1
+        if self.record is not None:
+            self.record.line(">", line)
         try:
             self.sock.sendall(line.encode("ascii") + b"\n")
         except OSError as e:
@@ -205,7 +208,10 @@ class Link:
         if b"\n" not in self.buffer:
             return None
         raw, self.buffer = self.buffer.split(b"\n", 1)
-        return raw.decode("ascii", "replace").rstrip("\r")
+        line = raw.decode("ascii", "replace").rstrip("\r")
+        if self.record is not None:
+            self.record.line("<", line)
+        return line
 
     def wait_line(self, timeout):
         """The next line not asked for, waiting at most timeout; None."""
@@ -272,9 +278,15 @@ class WallClock:
     """A real gripper's time: waiting is sleeping."""
     simulated = False
 
+    def __init__(self):
+        self.start = time.monotonic()
+
     def wait(self, seconds):
         if seconds > 0:
             time.sleep(seconds)
+
+    def now(self, direction):
+        return time.monotonic() - self.start
 
 
 class SimClock:
@@ -290,12 +302,50 @@ class SimClock:
             raise TwinError("the control channel refused PAUSE(): %s" % reply)
         timing = control.request("TIMING?")  # ERR from a wsgsim without profiles
         self.paced = timing.startswith("TIMING=") and timing != 'TIMING="ideal"'
+        self.now_s = self.stepped_from = 0.0  # where the clock stands, and the last step began
+        self.sent_at = -1.0  # the last request sent
 
     def wait(self, seconds):
         if seconds > 0:
             reply = self.control.request("STEP(%.3f)" % (seconds * 1000.0))
             if not reply.startswith("STEP="):
                 raise TwinError("the control channel refused STEP: %s" % reply)
+            self.stepped_from, self.now_s = self.now_s, float(reply[5:]) / 1000.0
+
+    def now(self, direction):
+        """When a line was sent (now) or came (during the last step: its
+        middle, as the step hides the instant; without a step since the
+        last request, now)."""
+        if direction == ">":
+            self.sent_at = self.now_s
+            return self.now_s
+        if self.stepped_from >= self.sent_at and self.now_s > self.stepped_from:
+            return 0.5 * (self.stepped_from + self.now_s)
+        return self.now_s
+
+
+class ClientRecord:
+    """The client's own view in wsgsim's record format (docs/simctl.md,
+    "Record format"), one session: each line at the clock's time, the
+    simulated one against a paused wsgsim."""
+
+    def __init__(self, path, clock):
+        self.clock = clock
+        try:
+            self.out = open(path, "w")
+        except OSError as e:
+            raise TwinError("cannot write %s: %s" % (path, e.strerror))
+        self.out.write("# wsgsim record 2\n# sim_s wall_s channel dir text (written by "
+                       "wsgcalib: the client's view)\n")
+
+    def line(self, direction, text):
+        escaped = "".join(c if 0x20 <= ord(c) < 0x7f and c != "\\" else
+                          ("\\\\" if c == "\\" else "\\x%02x" % (ord(c) & 0xff)) for c in text)
+        self.out.write("%.6f %.6f s1t %s %s\n" % (self.clock.now(direction), time.time(),
+                                                 direction, escaped))
+
+    def close(self):
+        self.out.close()
 
 
 def host_port(text, default_port):

@@ -39,7 +39,8 @@ def calibrate(tmp, config_text, record_name="rec.txt"):
     config = write(os.path.join(tmp, "hidden.ini"), config_text)
     with Wsgsim("--config", config, "--record", record, binary=WSGSIM, paused=True) as sim:
         result = run(CALIB + ["127.0.0.1:%d" % sim.tcp_port, "--control",
-                              "127.0.0.1:%d" % sim.sim_port, "--events", record + ".events"])
+                              "127.0.0.1:%d" % sim.sim_port, "--events", record + ".events",
+                              "--record", record + ".client"])
     if result.returncode != 0:
         raise AssertionError("wsgcalib failed: %s" % result.stderr)
     return record
@@ -83,7 +84,24 @@ class Twin(unittest.TestCase):
 
     def test_fit_recovers_the_hidden_mechanics(self):
         self.assertEqual(self.fit.returncode, 0, self.fit.stderr)
-        with open(self.config) as f:
+        self.assert_recovered(self.config)
+        self.assertIn("estimate ± standard error", self.fit.stdout)
+        with open(self.timing) as f:
+            timing = fitted(f.read())
+        # wsgsim's own pace under its default (ideal) timing: no service time
+        for key in ("query_ms", "motion_ms", "setting_ms"):
+            self.assertLess(timing[key], 1.0, key)
+
+    def test_fit_of_the_clients_own_record(self):
+        """wsgcalib --record: the client's view, on the simulated clock."""
+        config = os.path.join(self.tmp, "client-fit.ini")
+        result = run(FIT + [self.record + ".client", "--config", self.probed, "--out-config",
+                            config])
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assert_recovered(config)
+
+    def assert_recovered(self, config):
+        with open(config) as f:
             got = fitted(f.read())
         self.assertEqual(got["model"], "WSG 50-110")
         # acceleration, top and homing speed within 5 %, force rise within 10 %
@@ -95,12 +113,6 @@ class Twin(unittest.TestCase):
                                delta=0.10 * HIDDEN["force_rise"])
         self.assertAlmostEqual(got["fast_stop_deceleration"], HIDDEN["fast_stop_deceleration"],
                                delta=0.05 * HIDDEN["fast_stop_deceleration"])
-        self.assertIn("estimate ± standard error", self.fit.stdout)
-        with open(self.timing) as f:
-            timing = fitted(f.read())
-        # wsgsim's own pace under its default (ideal) timing: no service time
-        for key in ("query_ms", "motion_ms", "setting_ms"):
-            self.assertLess(timing[key], 1.0, key)
 
     def test_check_passes_with_the_fit_and_not_without(self):
         self.assertEqual(self.fit.returncode, 0, self.fit.stderr)
