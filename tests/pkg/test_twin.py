@@ -5,8 +5,10 @@ same on every run, and fast), fitted, and checked. And each tool's answer
 to bad input: one clear error, a non-zero exit, no file written."""
 import os
 import shutil
+import socket
 import sys
 import tempfile
+import threading
 import unittest
 
 from pkgenv import ROOT, WSGSIM, Wsgsim, run
@@ -197,6 +199,32 @@ class BadInput(unittest.TestCase):
         result = run(CALIB + ["127.0.0.1:%d" % port])  # the server is gone: refused
         self.assertEqual(result.returncode, 1)
         self.assertIn("cannot connect to the gripper", result.stderr)
+
+    def test_calib_with_a_gripper_that_does_not_answer(self):
+        with socket.socket() as silent:
+            silent.bind(("127.0.0.1", 0))
+            silent.listen(1)
+            result = run(CALIB + ["127.0.0.1:%d" % silent.getsockname()[1], "--timeout", "0.5"])
+        self.assertEqual(result.returncode, 1)
+        self.assertEqual(result.stderr, "wsgcalib: the gripper did not answer within 0.5 s\n")
+
+    def test_calib_with_a_device_of_unknown_limits(self):
+        with socket.socket() as odd:
+            odd.bind(("127.0.0.1", 0))
+            odd.listen(1)
+
+            def answer():
+                conn, _ = odd.accept()
+                with conn:
+                    conn.recv(100)  # DEVTYPE?
+                    conn.sendall(b'DEVTYPE="WSG 99-999"\n')
+                    conn.recv(100)  # until the tool closes
+            server = threading.Thread(target=answer)
+            server.start()
+            result = run(CALIB + ["127.0.0.1:%d" % odd.getsockname()[1]])
+            server.join()
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("not a model this sequence knows the limits of", result.stderr)
 
     def test_calib_refuses_a_part_outside_the_stroke(self):
         with Wsgsim(binary=WSGSIM, paused=True) as sim:
