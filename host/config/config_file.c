@@ -27,6 +27,7 @@ static const struct {
     [DEV_SERIAL] = {"device", "serial", CV_SERIAL, 0, 0},
     [DEV_TAG] = {"device", "tag", CV_TEXT, 0, 0},
     [DEV_VERSION] = {"device", "firmware_version", CV_TEXT, 0, 0},
+    [DEV_HW_REVISION] = {"device", "hardware_revision", CV_BYTE, 0, 0},
     [MOT_HOMING] = {"motion", "homing_direction", CV_DIRECTION, 0, 0},
     [MOT_MOVE_RETARGET] = {"motion", "move_retarget", CV_BOOL, 0, 0},
     /* [mechanics] (wsg_mechanics_t): mm/s, a share, mm/s^2, N/s, ms */
