@@ -6,12 +6,14 @@ to bad input: one clear error, a non-zero exit, no file written."""
 import os
 import shutil
 import socket
+import subprocess
 import sys
 import tempfile
 import threading
+import time
 import unittest
 
-from pkgenv import ROOT, WSGSIM, Wsgsim, run
+from pkgenv import PROGRAMS, ROOT, WSGSIM, Wsgsim, run
 
 TOOLS = os.path.join(ROOT, "tools")
 # run by this suite's python3, Debian's, which has numpy and scipy as the
@@ -178,6 +180,36 @@ class BadInput(unittest.TestCase):
                 gcl.command("DEVTYPE?")
                 gcl.command("POS?")
         self.fit_refuses(os.path.join(self.tmp, "short.txt"), "lacks")
+
+    def test_calibration_through_the_proxy_of_a_paused_wsgsim(self):
+        """The sequence passes through the recording proxy whole; the
+        proxy's record of a paused wsgsim holds wall times, which the fit
+        refuses rather than fit a motion no gripper makes."""
+        record, ready = os.path.join(self.tmp, "proxy.txt"), os.path.join(self.tmp, "proxy.ready")
+        with Wsgsim(binary=WSGSIM, paused=True) as sim:
+            proxy = subprocess.Popen([PROGRAMS["wsgproxy"], "--gripper", "127.0.0.1",
+                                      "--gripper-tcp-port", str(sim.tcp_port), "--listen",
+                                      "127.0.0.1", "--tcp-port", "0", "--udp-port", "off",
+                                      "--binary-udp-port", "off", "--record", record,
+                                      "--ready-file", ready], stderr=subprocess.DEVNULL)
+            try:
+                for _ in range(6000):  # a bound against hangs only
+                    if os.path.exists(ready) or proxy.poll() is not None:
+                        break
+                    time.sleep(0.01)
+                with open(ready) as f:
+                    port = int(dict(line.strip().split("=", 1) for line in f)["tcp_port"])
+                result = run(CALIB + ["127.0.0.1:%d" % port, "--control",
+                                      "127.0.0.1:%d" % sim.sim_port])
+            finally:
+                proxy.terminate()
+                proxy.wait(60)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        with open(record) as f:
+            text = f.read()
+        self.assertIn(" s1t > DEVTYPE?\n", text)
+        self.assertIn(" s1t < ACK BYE\n", text)
+        self.fit_refuses(record, "faster than a WSG 50-110 can move")
 
     def test_not_a_record(self):
         self.fit_refuses(write(os.path.join(self.tmp, "no.txt"), "hello\n"), "not a wsgsim record")
