@@ -174,6 +174,15 @@ static bool set_scene(host_options_t *opts, double number, const char *text)
     return true;
 }
 
+/* Applied over what the file set: "--net loss=0.1" adds to its conditions,
+ * a preset first replaces them. The text was checked (CV_NET). */
+static bool set_net(host_options_t *opts, double number, const char *text)
+{
+    char why[160];
+    (void)number;
+    return wire_spec_parse(&opts->net, text, why, sizeof(why));
+}
+
 const option_row_t option_table[OPTION_COUNT] = {
     [OPTION_MODEL] = {"--model", "device", "model", CV_MODEL, set_model},
     [OPTION_TCP_PORT] = {"--tcp-port", "network", "tcp_port", CV_PORT, set_tcp_port},
@@ -207,4 +216,5 @@ const option_row_t option_table[OPTION_COUNT] = {
                                  set_script_autostart},
     [OPTION_PHYSICS] = {"--physics", "physics", "engine", CV_PHYSICS, set_physics},
     [OPTION_SCENE] = {"--scene", "physics", "scene", CV_PATH, set_scene},
+    [OPTION_NET] = {"--net", "net", "conditions", CV_NET, set_net},
 };

@@ -35,6 +35,7 @@ typedef enum {
     OPTION_SCRIPT_AUTOSTART,
     OPTION_PHYSICS,
     OPTION_SCENE,
+    OPTION_NET,
     OPTION_COUNT
 } option_id_t;
 
