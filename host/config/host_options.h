@@ -89,8 +89,8 @@ typedef struct {
     const char *script_dir; /* --script-dir: the /user/ store; NULL: none */
     bool script_autostart;  /* false: --no-script-autostart */
     /* the physics scene (docs/physics.md) */
-    host_physics_t physics; /* --physics: the world behind the HAL */
-    const char *scene;      /* --scene: the user's MuJoCo scene; NULL: the default scene */
+    host_physics_t physics;   /* --physics: the world behind the HAL */
+    const char *scene;        /* --scene: the user's MuJoCo scene; NULL: the default scene */
     const char *plant_socket; /* --physics socket:PATH: PATH */
     /* --list-models [--json]: printed once every option is read */
     bool list_models;

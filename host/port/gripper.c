@@ -87,12 +87,12 @@ static bool open_physics(gripper_t *g)
     char why[1024];
     float stroke = g->config.stroke_mm;
     float emergency_accel = 2.0f * g->config.accel_max_mm_s2;
-    g->physics = g->opts->physics == HOST_PHYSICS_SOCKET
-                     ? plant_socket_world_open(g->opts->plant_socket, PLANT_SOCKET_TIMEOUT_MS,
-                                               stroke, emergency_accel, hal_clock_now_us(), why,
-                                               sizeof(why))
-                     : physics_setup_open(g->opts->scene, stroke, emergency_accel,
-                                          hal_clock_now_us(), why, sizeof(why));
+    g->physics =
+        g->opts->physics == HOST_PHYSICS_SOCKET
+            ? plant_socket_world_open(g->opts->plant_socket, PLANT_SOCKET_TIMEOUT_MS, stroke,
+                                      emergency_accel, hal_clock_now_us(), why, sizeof(why))
+            : physics_setup_open(g->opts->scene, stroke, emergency_accel, hal_clock_now_us(), why,
+                                 sizeof(why));
     if (g->physics == NULL) {
         host_logf(HAL_LOG_ERROR, "device %u: physics scene: %s", g->index, why);
         return false;
