@@ -12,6 +12,7 @@ refused as unsupported.
 
   reference_plant.py PATH [--box-width MM] [--box-stiffness N_PER_MM]
       [--die-after N] [--garbage-after N] [--stall-after N] [--slow-ms MS]
+      [--ready-file FILE]
 
 listens at the Unix socket PATH and serves one device at a time (a
 device that resets after a fault connects again). The --*-after options
@@ -199,10 +200,16 @@ def main():
     for name in ("die", "garbage", "stall"):
         parser.add_argument("--%s-after" % name, type=int, default=0)
     parser.add_argument("--slow-ms", type=float, default=0.0)
+    parser.add_argument("--ready-file", help="written once the plant listens")
     args = parser.parse_args()
+    if os.path.exists(args.path):  # a plant before this one left it
+        os.remove(args.path)
     server = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
     server.bind(args.path)
     server.listen(4)
+    if args.ready_file:
+        with open(args.ready_file, "w") as ready:
+            ready.write("%d\n" % os.getpid())
     while True:
         conn, _ = server.accept()
         with conn:
