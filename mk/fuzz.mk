@@ -11,6 +11,7 @@
 #   scenario  the --scenario file, loaded and run
 #   script    a user script (Lua) and the binary client that talks to it:
 #             the script bindings and the custom command channel
+#   plant     a plant process's replies (--physics socket:PATH)
 #
 #   make fuzz [FUZZ_TIME=S]   every target for S seconds (default 300), one
 #                             after the other (a finding does not stop the
@@ -26,7 +27,7 @@ FUZZ_CC := clang
 FUZZ_DIR := build/fuzz
 FUZZ_TIME ?= 300
 FUZZ_JOBS ?= 1
-FUZZ_TARGETS ?= session control web store config scenario script
+FUZZ_TARGETS ?= session control web store config scenario script plant
 # Every target's seeds and regression inputs (a directory per target; a
 # target may have no regressions yet).
 FUZZ_INPUTS := tests/fuzz/corpus tests/fuzz/regressions
@@ -37,6 +38,9 @@ FUZZ_INPUTS := tests/fuzz/corpus tests/fuzz/regressions
 FUZZ_SRC_session := $(FIRMWARE_SRC) $(SIM_SRC) host/can/can_loopback.c
 FUZZ_OBJ_session := $(BUILD)/obj/host/can/can_loopback.o $(CORE_LIBS)
 FUZZ_LIBS_session := -lm
+FUZZ_SRC_plant := host/physics/plant_wire.c
+FUZZ_OBJ_plant := $(BUILD)/obj/host/physics/plant_wire.o
+FUZZ_LIBS_plant := -lm
 # The host's parsers run in the host as build/wsgsim has it, without main()
 # and the web server's socket side (host/web/web_server.c): the web target
 # stands in for libmicrohttpd itself, the others link it.

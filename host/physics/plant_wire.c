@@ -5,6 +5,9 @@
 #include <string.h>
 
 static const uint8_t magic[4] = {'W', 'S', 'G', 'P'};
+/* No reading or pose of a gripper's scene comes near this (mm, N, m, kg):
+ * a number beyond it is garbage, and would overflow when converted. */
+#define NUMBER_MAX 1e9
 
 void plant_wire_put_u32(uint8_t *at, uint32_t v)
 {
@@ -166,7 +169,7 @@ static bool get_floats(const uint8_t *in, float *out, size_t n, bool signed_ok)
 {
     for (size_t i = 0; i < n; i++) {
         out[i] = get_f32(in + 4u * i);
-        if (!isfinite(out[i]) || (!signed_ok && out[i] < 0.0f)) {
+        if (!(fabsf(out[i]) <= (float)NUMBER_MAX) || (!signed_ok && out[i] < 0.0f)) {
             return false;
         }
     }
@@ -191,7 +194,7 @@ const char *plant_wire_sample(const uint8_t *in, size_t len, plant_sample_t *out
         ok = ok && get_floats(pad, &out->pad[f].force_n, 1u, false) &&
              get_floats(pad + 4, out->pad[f].cells_n, PLANT_PAD_CELLS, false);
     }
-    return ok ? NULL : "a reading is not a finite number (or a negative force)";
+    return ok ? NULL : "a reading out of range (or a negative force)";
 }
 
 const char *plant_wire_bodies(const uint8_t *in, size_t len, unsigned *count)
@@ -208,7 +211,7 @@ static bool get_doubles(const uint8_t *in, double *out, size_t n)
 {
     for (size_t i = 0; i < n; i++) {
         out[i] = get_f64(in + 8u * i);
-        if (!isfinite(out[i])) {
+        if (!(fabs(out[i]) <= NUMBER_MAX)) {
             return false;
         }
     }
@@ -234,7 +237,7 @@ const char *plant_wire_body(const uint8_t *in, size_t len, plant_body_t *out)
     uint32_t flags = get_u32(at + 96);
     out->free = (flags & 1u) != 0u;
     out->mocap = (flags & 2u) != 0u;
-    return ok ? NULL : "a body's number is not finite";
+    return ok ? NULL : "a body's number out of range";
 }
 
 const char *plant_wire_contacts(const uint8_t *in, size_t len, plant_contact_t *out, unsigned cap,
@@ -255,7 +258,7 @@ const char *plant_wire_contacts(const uint8_t *in, size_t len, plant_contact_t *
         c->body[1] = get_u32(at + 4);
         if (!get_doubles(at + 8, c->pos_m, 3u) || !get_doubles(at + 32, c->normal, 3u) ||
             !get_doubles(at + 56, &c->normal_n, 1u) || !get_doubles(at + 64, &c->tangent_n, 1u)) {
-            return "a contact's number is not finite";
+            return "a contact's number out of range";
         }
     }
     *total = all;
