@@ -12,7 +12,7 @@ refused as unsupported.
 
   reference_plant.py PATH [--box-width MM] [--box-stiffness N_PER_MM]
       [--die-after N] [--garbage-after N] [--stall-after N] [--slow-ms MS]
-      [--ready-file FILE]
+      [--timestep-us US] [--ready-file FILE]
 
 listens at the Unix socket PATH and serves one device at a time (a
 device that resets after a fault connects again). The --*-after options
@@ -80,6 +80,7 @@ class Jaw:
         net = 0.0
         for _ in range(dt_us // TIMESTEP_US):
             net = self.substep(enabled, target, target_v, limit, TIMESTEP_US * 1e-6)
+        # (a HELLO may claim another timestep, to be refused: the jaw keeps its own)
         self.time_us += dt_us
         quiet = abs(self.v) < QUIET_MM_S and abs(net) < QUIET_N
         pad = struct.pack("<f", self.contact) + struct.pack("<%df" % CELLS,
@@ -156,7 +157,8 @@ class Session:
             stroke, width = struct.unpack("<ff", payload)
             self.jaw = Jaw(stroke, self.args.box_width, self.args.box_stiffness)
             self.jaw.reset(width)
-            reply(self.conn, HELLO, struct.pack("<II32s", TIMESTEP_US, FEATURES, b"reference"))
+            reply(self.conn, HELLO,
+                  struct.pack("<II32s", self.args.timestep_us, FEATURES, b"reference"))
         elif kind == RESET:
             self.jaw.reset(struct.unpack("<f", payload)[0])
             reply(self.conn, RESET)
@@ -200,6 +202,8 @@ def main():
     for name in ("die", "garbage", "stall"):
         parser.add_argument("--%s-after" % name, type=int, default=0)
     parser.add_argument("--slow-ms", type=float, default=0.0)
+    parser.add_argument("--timestep-us", type=int, default=TIMESTEP_US,
+                        help="the timestep HELLO claims")
     parser.add_argument("--ready-file", help="written once the plant listens")
     args = parser.parse_args()
     if os.path.exists(args.path):  # a plant before this one left it

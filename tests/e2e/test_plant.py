@@ -167,6 +167,33 @@ class PlantCase(unittest.TestCase):
         self.command("GRIP(40,40)", "FIN GRIP")
         self.assertEqual(self.query("GRIPSTATE?"), "GRIPSTATE=%d" % HOLDING)
 
+    def test_the_configuration_names_the_plant(self):
+        path = self.plant()
+        fd, config = tempfile.mkstemp(suffix=".ini")
+        with os.fdopen(fd, "w") as f:
+            f.write("[physics]\nengine = socket:%s\n" % path)
+        self.addCleanup(os.remove, config)
+        sim = Wsgsim("--sim-port", "0", "--config", config)
+        sim.start()
+        self.addCleanup(sim.stop)
+        with sim.control() as ctl:
+            self.assertEqual(ctl("BODIES?"), 'BODIES=["world","wsg_left","wsg_right","box"]')
+
+    def test_a_socket_without_a_path_is_refused(self):
+        for args in (("--physics", "socket:"), ("--physics", "socket")):
+            sim = Wsgsim(*args)
+            with self.assertRaises(Exception):
+                sim.start()
+            sim.stop()
+            self.assertIn("--physics", "".join(sim.log))
+
+    def test_a_plant_whose_timestep_does_not_fit_is_refused(self):
+        sim = Wsgsim("--physics", "socket:" + self.plant("--timestep-us", "300"))
+        with self.assertRaises(Exception):
+            sim.start()
+        sim.stop()
+        self.assertIn("HELLO: its timestep does not divide", "".join(sim.log))
+
     def test_without_a_plant_the_device_does_not_start(self):
         folder = tempfile.mkdtemp(prefix="wsgsim_plant_")
         self.addCleanup(os.rmdir, folder)
