@@ -2,8 +2,8 @@
 // The live view's drawing of the physics scene (--physics mujoco or
 // socket:PATH; docs/web.md): the jaws, the bodies and the contacts from
 // their poses (GET .../scene), seen from the side (x across, z up, mm),
-// redrawn as the event stream brings states. Without a scene the route
-// answers 409 and the drawing stays hidden.
+// redrawn as the event stream brings states. Without a scene (the engine
+// null) the drawing stays hidden and is not asked for again.
 "use strict";
 
 const SCENE_NS = "http://www.w3.org/2000/svg";
@@ -55,13 +55,16 @@ function sceneDrawBody(svg, body) {
   } else {
     sceneElement("circle", { cx: x, cy: y, r: 2.5 }, g);
   }
-  const label = sceneElement("text", { x: x + 4, y: y - 3 }, g);
-  label.textContent = body.name;
+  // a finger's name under its bar, the others' beside their dot
+  const at = kind === "finger" ? { x: x, y: y + SCENE_FINGER_MM + 5, "text-anchor": "middle" }
+    : { x: x + 4, y: y - 3 };
+  sceneElement("text", at, g).textContent = body.name;
 }
 
 function sceneDrawContact(svg, contact) {
   const x = contact.pos_mm[0], y = -contact.pos_mm[2];
-  const g = sceneElement("g", { class: "scene-contact" }, svg);
+  const g = sceneElement("g", { class: "scene-contact", "data-a": contact.a, "data-b": contact.b },
+    svg);
   sceneElement("circle", { cx: x, cy: y, r: 1.5 }, g);
   const length = Math.min(contact.normal_n * SCENE_MM_PER_N, SCENE_FORCE_LINE_MAX_MM);
   sceneElement("line", { x1: x, y1: y, x2: x + contact.normal[0] * length,
@@ -88,10 +91,11 @@ async function sceneFetch() {
   scene.last = Date.now();
   try {
     const reply = await fetch(apiBase + "/scene");
-    if (reply.status === 409) {
-      scene.absent = true; // no scene in this run
-    } else if (reply.ok) {
-      sceneRender(await reply.json());
+    const data = reply.ok ? await reply.json() : null;
+    if (data && data.engine === null) {
+      scene.absent = true; // no scene in this run: none comes later
+    } else if (data) {
+      sceneRender(data);
     }
   } catch (error) {
     // the stream's own banner says the server is gone; the next state retries

@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* GET /api/devices/{id}/scene: the physics scene as the plant last
  * stepped it (docs/web.md): the jaws, the bodies' poses and the contacts,
- * for the live view's drawing. Without a scene 409. A read changes
- * nothing: the scene is not stepped for it. */
+ * for the live view's drawing; without a scene {"engine": null}. A read
+ * changes nothing: the scene is not stepped for it. */
 #include <string.h>
 
 #include "physics_world.h"
@@ -75,12 +75,12 @@ enum MHD_Result web_scene_route(const web_request_t *req, gripper_t *g, const ch
 {
     (void)rest;
     physics_world_t *w = g->physics;
-    if (w == NULL) {
-        return web_reply_error(req, MHD_HTTP_CONFLICT, E_NOT_AVAILABLE,
-                               "no physics scene (start with --physics mujoco or socket:PATH)");
+    cJSON *root = cJSON_CreateObject();
+    if (w == NULL) { /* not an error: the page asks every device */
+        cJSON_AddNullToObject(root, "engine");
+        return web_reply_json(req, MHD_HTTP_OK, root);
     }
     plant_t *p = &w->plant;
-    cJSON *root = cJSON_CreateObject();
     cJSON_AddStringToObject(root, "engine", p->ops->name);
     cJSON *jaws = cJSON_AddObjectToObject(root, "jaws");
     cJSON_AddNumberToObject(jaws, "width_mm", w->sample.width_mm);
