@@ -1190,7 +1190,8 @@ function bindClock() {
 }
 
 function setUpSim() {
-  ["part", "obstacle", "ambient", "fault"].forEach(bindSimForm);
+  ["part", "obstacle", "ambient", "fault", "place", "pull", "mass", "friction", "lift"]
+    .forEach(bindSimForm);
   for (const route of ["part_remove", "obstacle_remove", "clear"]) {
     $("sim-" + route).addEventListener("click", () => runSim(route));
   }

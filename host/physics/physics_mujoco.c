@@ -425,16 +425,28 @@ static unsigned mujoco_contacts(void *ctx, plant_contact_t *out, unsigned cap)
     return n;
 }
 
-static bool finite3(const double *v)
+/* What a scene change may set: beyond these the engine's integration
+ * breaks down (it resets the scene itself) rather than model anything. */
+#define POSITION_MAX_M 10.0
+#define SPEED_MAX_M_S 10.0
+#define FORCE_MAX_N 10000.0
+
+/* Three finite numbers, none beyond limit. */
+static bool within3(const double *v, double limit)
 {
-    return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
+    for (int k = 0; k < 3; k++) {
+        if (!(fabs(v[k]) <= limit)) {
+            return false;
+        }
+    }
+    return true;
 }
 
 /* A free body placed or set moving; the mocap base moved or set moving. */
 static plant_err_t set_motion(mujoco_plant_t *p, int b, plant_set_t what, const double *value)
 {
     const mjModel *m = p->m;
-    if (!finite3(value)) {
+    if (!within3(value, what == PLANT_SET_POSITION ? POSITION_MAX_M : SPEED_MAX_M_S)) {
         return PLANT_ERR_VALUE;
     }
     if (is_free(m, b)) {
@@ -505,7 +517,7 @@ static plant_err_t mujoco_set(void *ctx, unsigned index, plant_set_t what, const
         if (!is_free(p->m, b)) {
             return PLANT_ERR_FIXED;
         }
-        if (!finite3(value)) {
+        if (!within3(value, FORCE_MAX_N)) {
             return PLANT_ERR_VALUE;
         }
         memcpy(&p->d->xfrc_applied[6 * b], value, 3 * sizeof(double));

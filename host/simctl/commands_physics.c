@@ -3,13 +3,13 @@
  * scene (--physics mujoco, docs/physics.md) read and steered. Lengths in
  * mm, forces in N, masses in kg, in the scene's world frame. A refused
  * command changes nothing. */
-#include <math.h>
 #include <stdio.h>
 
 #include "commands_internal.h"
 #include "gripper.h"
 #include "hal_clock.h"
 #include "physics_world.h"
+#include "simctl_scene.h"
 
 #define CONTACTS_MAX 64u
 
@@ -132,88 +132,57 @@ wsg_status_t sc_contacts(simctl_ctx_t *ctx)
     return E_SUCCESS;
 }
 
-/* NAME(body, a[, b, c]): the body and `count` numbers, scaled. */
-static bool body_numbers(simctl_ctx_t *ctx, physics_world_t *w, unsigned *index, unsigned count,
-                         double scale, double *values)
+/* A scene operation's ERR line. */
+static wsg_status_t run_scene(simctl_ctx_t *ctx, const simctl_scene_args_t *args)
 {
-    if (!body_arg(ctx, w, 0, index)) {
-        return false;
-    }
-    for (unsigned i = 0; i < count; i++) {
-        if (!sc_has_arg(ctx, i + 1u)) {
-            sc_fail(ctx, E_NOT_ENOUGH_PARAMS, "%u numbers expected after the body", count);
-            return false;
-        }
-        if (!sc_number(ctx, i + 1u, &values[i])) {
-            return false;
-        }
-        values[i] *= scale;
-    }
-    return true;
+    simctl_op_t op;
+    return simctl_op_scene(ctx->gripper, args, sc_checking(ctx), &op)
+               ? E_SUCCESS
+               : sc_fail(ctx, op.status, "%s", op.why);
 }
 
-/* Changes the body as the command says; ERR (nothing changed) when the
- * engine refuses. */
-static wsg_status_t set_body(simctl_ctx_t *ctx, plant_set_t what, unsigned count, double scale)
+/* NAME(body, count numbers). */
+static wsg_status_t set_body(simctl_ctx_t *ctx, simctl_scene_what_t what, unsigned count)
 {
-    physics_world_t *w = scene_of(ctx);
-    unsigned index = 0;
-    double values[3] = {0.0, 0.0, 0.0};
-    if (w == NULL || !body_numbers(ctx, w, &index, count, scale, values)) {
+    simctl_scene_args_t args = {.what = what};
+    if (!sc_text(ctx, 0, &args.body)) {
         return ctx->failed;
     }
-    if (sc_checking(ctx)) {
-        return E_SUCCESS;
+    for (unsigned i = 0; i < count; i++) {
+        if (!sc_number(ctx, i + 1u, &args.value[i])) {
+            return ctx->failed;
+        }
     }
-    plant_err_t err = w->plant.ops->set(w->plant.ctx, index, what, values);
-    if (err != PLANT_OK) {
-        return sc_fail(ctx, err == PLANT_ERR_VALUE ? E_RANGE_ERROR : E_ACCESS_DENIED, "%s",
-                       plant_strerror(err));
-    }
-    physics_world_touch(w);
-    sc_world_changed(ctx);
-    return E_SUCCESS;
+    return run_scene(ctx, &args);
 }
 
 wsg_status_t sc_place(simctl_ctx_t *ctx)
 {
-    return set_body(ctx, PLANT_SET_POSITION, 3u, 1e-3);
+    return set_body(ctx, SIMCTL_SCENE_PLACE, 3u);
 }
 
 wsg_status_t sc_pull(simctl_ctx_t *ctx)
 {
-    return set_body(ctx, PLANT_SET_FORCE, 3u, 1.0);
+    return set_body(ctx, SIMCTL_SCENE_PULL, 3u);
 }
 
 wsg_status_t sc_mass(simctl_ctx_t *ctx)
 {
-    return set_body(ctx, PLANT_SET_MASS, 1u, 1.0);
+    return set_body(ctx, SIMCTL_SCENE_MASS, 1u);
 }
 
 wsg_status_t sc_friction(simctl_ctx_t *ctx)
 {
-    return set_body(ctx, PLANT_SET_FRICTION, 1u, 1.0);
+    return set_body(ctx, SIMCTL_SCENE_FRICTION, 1u);
 }
 
-/* LIFT(dz[, speed]): the gripper's base up by dz mm (down when negative). */
+/* LIFT(dz[, speed]): the gripper's hand up by dz mm (down when negative). */
 wsg_status_t sc_lift(simctl_ctx_t *ctx)
 {
-    physics_world_t *w = scene_of(ctx);
-    double dz = 0.0, speed = 50.0;
-    if (w == NULL || !sc_number(ctx, 0, &dz) ||
-        (sc_has_arg(ctx, 1) && !sc_number(ctx, 1, &speed))) {
+    simctl_scene_args_t args = {.what = SIMCTL_SCENE_LIFT, .value = {0.0, 50.0, 0.0}};
+    if (!sc_number(ctx, 0, &args.value[0]) ||
+        (sc_has_arg(ctx, 1) && !sc_number(ctx, 1, &args.value[1]))) {
         return ctx->failed;
     }
-    if (!isfinite(dz) || fabs(dz) > 1000.0 || !(speed > 0.0 && speed <= 1000.0)) {
-        return sc_fail(ctx, E_RANGE_ERROR,
-                       "LIFT(dz, speed): |dz| <= 1000 mm, 0 < speed <= 1000 mm/s");
-    }
-    if (sc_checking(ctx)) {
-        return E_SUCCESS;
-    }
-    if (!physics_world_lift(w, dz, speed)) {
-        return sc_fail(ctx, E_ACCESS_DENIED, "the scene's gripper base cannot be moved");
-    }
-    sc_world_changed(ctx);
-    return E_SUCCESS;
+    return run_scene(ctx, &args);
 }

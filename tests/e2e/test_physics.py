@@ -4,6 +4,7 @@ GCL client grips the default scene's 40 mm box on the paused clock; the
 control channel pulls it out, lifts it and changes it."""
 import json
 import os
+import struct
 import tempfile
 import unittest
 
@@ -17,6 +18,7 @@ class PhysicsCase(unittest.TestCase):
         sim = Wsgsim("--sim-port", "0", "--start-paused", "--physics", "mujoco", *args)
         sim.start()
         self.addCleanup(sim.stop)
+        self.sim = sim
         ctl = sim.control()
         self.addCleanup(ctl.close)
         gcl = sim.tcp()
@@ -87,6 +89,32 @@ class PhysicsCase(unittest.TestCase):
         ctl("STEP(2000)")  # held, at rest
         self.assertLess(self.physics(ctl)["exchanges"] - moving, 200)
 
+    def test_binary_client_grips_the_box(self):
+        ctl, _ = self.start()
+        client = self.sim.binary_protocol()
+        self.addCleanup(client.close)
+        proto = __import__("wsgsim.binary", fromlist=["protocol"]).protocol()
+
+        def run(*words):
+            frame_id, payload = proto.request_for(list(words))
+            client.send_request(frame_id, payload)
+            reply = client.wait_for(frame_id)
+            if reply.status == proto.E_CMD_PENDING:
+                ctl("RUN_UNTIL_DONE(10000)")
+                reply = client.wait_for(frame_id)
+            self.assertEqual(reply.status, 0, (words, reply.status))
+            return reply
+
+        run("set-force", "40")
+        run("homing", "0")
+        run("grasp", "40", "50")
+        ctl("STEP(500)")
+        force = struct.unpack("<f", run("get-force").values[:4])[0]
+        self.assertLess(abs(force - 40.0) / 40.0, 0.05, force)
+        width = struct.unpack("<f", run("get-width").values[:4])[0]
+        self.assertTrue(39.0 < width < 40.05, width)
+        self.assertEqual(run("get-grasp-state").values[0], HOLDING)
+
     def test_box_pulled_out_is_part_lost_within_100_ms(self):
         ctl, gcl = self.start()
         self.grip(ctl, gcl, 20)
@@ -130,6 +158,8 @@ class PhysicsCase(unittest.TestCase):
         self.assertTrue(ctl("FRICTION(box,nan)").startswith("ERR FRICTION"))
         self.assertTrue(ctl("PLACE(world,0,0,0)").startswith("ERR PLACE"))
         self.assertTrue(ctl("LIFT(5000)").startswith("ERR LIFT 28"))
+        self.assertTrue(ctl("PULL(box,20000,0,0)").startswith("ERR PULL 28"))
+        self.assertTrue(ctl("PLACE(box,0,0,1e6)").startswith("ERR PLACE 28"))
         self.assertEqual(self.body(ctl, "box"), before)
         self.assertIn("box", json.loads(ctl("BODIES?")[len("BODIES="):]))
 
@@ -150,6 +180,30 @@ class PhysicsCase(unittest.TestCase):
         with self.assertRaises(Exception):
             sim.start()
         sim.stop()
+
+    def scenario(self, text):
+        fd, path = tempfile.mkstemp(suffix=".txt")
+        with os.fdopen(fd, "w") as f:
+            f.write(text)
+        self.addCleanup(os.remove, path)
+        return path
+
+    def test_scenario_steers_the_scene(self):
+        path = self.scenario("0 MASS(box, 0.5)\n100 FRICTION(box, 0.3)\n+100 LIFT(10, 100)\n")
+        ctl, gcl = self.start("--scenario", path)
+        ctl("STEP(400)")
+        box = self.body(ctl, "box")
+        self.assertAlmostEqual(box["mass_kg"], 0.5)
+        self.assertAlmostEqual(box["friction"], 0.3)
+        self.assertAlmostEqual(self.body(ctl, "wsg_hand")["pos_mm"][2], 85.0, places=3)
+
+    def test_scenario_naming_no_body_stops_the_start(self):
+        path = self.scenario("0 MASS(nope, 1)\n")
+        sim = Wsgsim("--physics", "mujoco", "--scenario", path)
+        with self.assertRaises(Exception):
+            sim.start()
+        sim.stop()
+        self.assertIn('no body "nope"', "".join(sim.log))
 
     def run_recorded(self):
         record = tempfile.mktemp(prefix="wsgsim_physics_record_")
