@@ -137,7 +137,9 @@ static bool connect_plant(socket_plant_t *sp)
 {
     struct sockaddr_un addr = {.sun_family = AF_UNIX};
     memcpy(addr.sun_path, sp->path, sizeof(sp->path));
-    sp->fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    /* non-blocking: a plant whose queue of connections is full refuses at
+     * once (EAGAIN) instead of holding the loop */
+    sp->fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
     if (sp->fd < 0 || connect(sp->fd, (struct sockaddr *)&addr, sizeof(addr)) != 0) {
         lose(sp, "connect", strerror(errno));
         return false;
