@@ -1857,6 +1857,7 @@ function main() {
   setUpSettings();
   setUpDevices();
   system.info = loadSystemInfo();
+  system.info.then((info) => ($("sim-scene").hidden = !info || !info.physics));
   setUpScripting();
   pollWhileShown("system", SYSTEM_POLL_MS, pollSystem);
   $("banner-fsack").addEventListener("click", bannerFsack);

@@ -32,6 +32,7 @@ static const char *const pad_sensors[PLANT_FINGERS] = {"wsg_touch_left", "wsg_to
 #define MUJOCO_LIBRARY "libmujoco.so.2.2.2"
 #define MUJOCO_FUNCTIONS(X)                                                                        \
     X(mj_contactForce)                                                                             \
+    X(mj_copyModel)                                                                                \
     X(mj_defaultVFS)                                                                               \
     X(mj_deleteData)                                                                               \
     X(mj_deleteModel)                                                                              \
@@ -89,6 +90,7 @@ static bool load_api(char *why, size_t cap)
 
 typedef struct {
     mjModel *m;
+    mjModel *loaded; /* m as loaded (its stroke set): a reset restores it */
     mjData *d;
     int qpos_left, qpos_right; /* the fingers' joints: half the opening each */
     int dof_left, dof_right;
@@ -209,6 +211,7 @@ static void set_stroke(mujoco_plant_t *p, float stroke_mm)
 static void mujoco_reset(void *ctx, float width_mm)
 {
     mujoco_plant_t *p = ctx;
+    api.mj_copyModel(p->m, p->loaded); /* masses and frictions as loaded */
     api.mj_resetData(p->m, p->d);
     p->d->qpos[p->qpos_left] = width_mm * 0.5e-3;
     p->d->qpos[p->qpos_right] = width_mm * 0.5e-3;
@@ -536,6 +539,7 @@ static void mujoco_destroy(void *ctx)
     mujoco_plant_t *p = ctx;
     api.mj_deleteData(p->d);
     api.mj_deleteModel(p->m);
+    api.mj_deleteModel(p->loaded);
     free(p);
 }
 
@@ -579,6 +583,12 @@ bool physics_mujoco_open(plant_t *plant, const char *model_dir, const char *scen
         return false;
     }
     set_stroke(p, stroke_mm);
+    p->loaded = api.mj_copyModel(NULL, p->m);
+    if (p->loaded == NULL) {
+        mujoco_destroy(p);
+        snprintf(why, cap, "out of memory");
+        return false;
+    }
     mujoco_reset(p, width_mm);
     plant->ops = &mujoco_ops;
     plant->ctx = p;

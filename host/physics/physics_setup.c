@@ -21,10 +21,10 @@ static bool has_model(const char *dir)
 }
 
 /* The build tree's physics/ (the program in build/, a test's in a folder
- * of build/), else the installed folder. */
+ * of build/ or of build/san/), else the installed folder. */
 static void model_dir(char *out, size_t cap)
 {
-    static const char *const up[] = {"..", "../.."};
+    static const char *const up[] = {"..", "../..", "../../.."};
     char exe[PATH_MAX];
     ssize_t len = readlink("/proc/self/exe", exe, sizeof(exe) - 1u);
     char *slash = len > 0 ? memrchr(exe, '/', (size_t)len) : NULL;

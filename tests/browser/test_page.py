@@ -62,6 +62,7 @@ docs/img/live-view.png, the one README shows), and one of each state and
 view beside it (fresh, homed, moving, holding, FAST STOP, paused clock,
 script error, 420 px wide, server gone; shot()). Timeouts only stop a hang.
 """
+import json
 import os
 import re
 import socket
@@ -387,12 +388,28 @@ class PageTest(unittest.TestCase):
             self.assertTrue(control("PART?").startswith("PART=[1,30"), control("PART?"))
             self.wait_for("the part drawn", lambda d: d.find_element(
                 By.ID, "part").get_attribute("hidden") is None)
+            self.assertFalse(self.driver.find_element(By.ID, "sim-scene").is_displayed())
             before_ms = control.json("SIMTIME?")[0]
             self.fill("#sim-clock input[name=ms]", 250)
             self.click("#sim-clock button[data-action=step]")
             wsgsim.wait_for("the STEP from the page", lambda: control.json(
                 "SIMTIME?")[0] == before_ms + 250, WAIT_TIMEOUT_S)
             self.assert_no_console_errors()
+
+    def test_scene_forms_steer_a_physics_scene(self):
+        with Wsgsim("--physics", "mujoco", paused=True) as sim, sim.control() as control:
+            self.open_page(sim)
+            self.wait_for("the scene's forms", lambda d: d.find_element(
+                By.ID, "sim-scene").is_displayed())
+            self.fill("#sim-mass input[name=kg]", 0.75)
+            self.click("#sim-mass button[type=submit]")
+            self.wait_for_text("sim-result", "mass: ACK MASS")
+            self.assertAlmostEqual(json.loads(control("BODY(box)").partition("=")[2])["mass_kg"], 0.75)
+            self.fill("#sim-mass input[name=body]", "nope")
+            self.click("#sim-mass button[type=submit]")
+            self.wait_for_text("sim-result", 'mass: E_NOT_FOUND (21): no body "nope" in the scene '
+                               "(BODIES? lists them)")
+            self.assert_no_console_errors(refused=1)
 
     def test_simulation_panel_disabled_for_a_remote_page(self):
         with Wsgsim("--http-bind", "0.0.0.0", control=True) as sim, sim.control() as control:

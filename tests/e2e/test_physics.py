@@ -163,6 +163,15 @@ class PhysicsCase(unittest.TestCase):
         self.assertEqual(self.body(ctl, "box"), before)
         self.assertIn("box", json.loads(ctl("BODIES?")[len("BODIES="):]))
 
+    def test_reset_puts_the_scene_back_as_loaded(self):
+        ctl, gcl = self.start()
+        before = self.body(ctl, "box")
+        self.assertEqual(ctl("MASS(box,2)"), "ACK MASS")
+        self.assertEqual(ctl("FRICTION(box,0.1)"), "ACK FRICTION")
+        self.assertEqual(ctl("PLACE(box,30,0,20.1)"), "ACK PLACE")
+        self.assertEqual(ctl("RESET()"), "ACK RESET")
+        self.assertEqual(self.body(ctl, "box"), before)
+
     def test_without_a_scene_the_commands_say_so(self):
         sim = Wsgsim("--sim-port", "0")
         sim.start()
