@@ -11,7 +11,7 @@ import sys
 import tempfile
 import unittest
 
-from gclclient import Wsgsim, wait_for
+from gclclient import Wsgsim, read_record, wait_for
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PLANT = os.path.join(HERE, "reference_plant.py")
@@ -36,8 +36,8 @@ class PlantCase(unittest.TestCase):
         os.remove(ready)
         return path
 
-    def start(self, engine):
-        sim = Wsgsim("--sim-port", "0", "--start-paused", "--physics", engine)
+    def start(self, engine, *args):
+        sim = Wsgsim("--sim-port", "0", "--start-paused", "--physics", engine, *args)
         sim.start()
         self.addCleanup(sim.stop)
         self.sim = sim
@@ -108,6 +108,25 @@ class PlantCase(unittest.TestCase):
         self.sim.stop()
         slow = self.grip_cycle("socket:" + self.plant("--slow-ms", "0.5"))
         self.assertEqual(slow, fast)
+
+    def recorded_grip(self, plant):
+        record = tempfile.mktemp(prefix="wsgsim_plant_record_")
+        self.addCleanup(lambda: os.path.exists(record) and os.remove(record))
+        self.start("socket:" + plant, "--record", record)
+        self.command("HOME()", "FIN HOME")
+        self.command("GRIP(30,40)", "FIN GRIP")
+        self.step(300)
+        self.query("BYE()")
+        self.ctl("BYE()")
+        self.sim.stop()
+        # every row but its wall-clock time
+        return [(r[0],) + tuple(r[2:]) for r in read_record(record)]
+
+    def test_paused_clock_runs_with_a_plant_are_identical(self):
+        plant = self.plant()
+        first = self.recorded_grip(plant)
+        self.assertGreater(len(first), 100)
+        self.assertEqual(self.recorded_grip(plant), first)
 
     def test_scene_queries_and_changes_go_to_the_plant(self):
         self.start("socket:" + self.plant())
