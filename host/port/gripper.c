@@ -57,23 +57,32 @@ static void power_on_world(gripper_t *g)
 static __attribute__((noinline)) void advance_world_now(gripper_t *g, uint64_t now_us)
 {
     wsg_sim_world_advance(&g->world, now_us);
-    if (g->physics != NULL) {
-        physics_world_advance(g->physics, now_us);
-    }
-}
-
-/* Whether an advance to now_us would do nothing (both worlds). */
-static bool world_current(const gripper_t *g, uint64_t now_us)
-{
-    return wsg_sim_world_current(&g->world, now_us) &&
-           (g->physics == NULL || physics_world_current(g->physics, now_us));
 }
 
 static void advance_world(void *ctx, uint64_t now_us)
 {
     gripper_t *g = ctx;
-    if (!world_current(g, now_us)) {
+    if (!wsg_sim_world_current(&g->world, now_us)) {
         advance_world_now(g, now_us);
+    }
+}
+
+/* The same hook with a physics scene: its own, so that the built-in
+ * world's (every request's) tests nothing more. The scene is brought up
+ * to every input here; a tick needs nothing else for it. */
+static void advance_worlds(void *ctx, uint64_t now_us)
+{
+    gripper_t *g = ctx;
+    advance_world(g, now_us);
+    physics_world_advance(g->physics, now_us);
+}
+
+/* Both worlds up to now_us (a script's turn, a run). */
+static void advance_all(gripper_t *g, uint64_t now_us)
+{
+    wsg_sim_world_advance(&g->world, now_us);
+    if (g->physics != NULL) {
+        physics_world_advance(g->physics, now_us);
     }
 }
 
@@ -195,7 +204,7 @@ bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, u
     hal.can = bus != NULL ? *bus : (hal_can_t){NULL, NULL};
     wsg_device_init(&g->device, &g->config, &hal);
     wsg_conn_set_drivers(&g->device, host_drivers, sizeof(host_drivers) / sizeof(host_drivers[0]));
-    wsg_runner_init(&g->runner, &g->device, advance_world, g);
+    wsg_runner_init(&g->runner, &g->device, g->physics != NULL ? advance_worlds : advance_world, g);
     if (script_options_enabled(g->opts)) {
         char store[4096];
         bool has_store = script_options_store(g->opts, store, sizeof(store));
@@ -296,7 +305,7 @@ bool gripper_run_script(gripper_t *g, const char *file, char *why, size_t cap)
             return false;
         }
     }
-    advance_world_now(g, hal_clock_now_us());
+    advance_all(g, hal_clock_now_us());
     bool ok = script_run(g->script, file, why, cap);
     wsg_runner_input_done(&g->runner);
     gripper_touch(g);
@@ -311,7 +320,7 @@ bool gripper_continue_script(gripper_t *g)
     if (!script_take_turn(g->script)) {
         return true; /* the pass's budget is spent: a later pass */
     }
-    advance_world_now(g, hal_clock_now_us());
+    advance_all(g, hal_clock_now_us());
     script_continue(g->script);
     wsg_runner_input_done(&g->runner);
     gripper_touch(g);
@@ -323,11 +332,7 @@ uint64_t gripper_tick(gripper_t *g)
     /* the world first, due or not (a touch may come from it); the poll
      * then leaves it alone: once is enough, and a direct call is cheaper
      * than the runner's hook (a lone run polls once per simulated ms) */
-    uint64_t now_us = hal_clock_now_us();
-    wsg_sim_world_advance(&g->world, now_us);
-    if (g->physics != NULL) {
-        physics_world_advance(g->physics, now_us);
-    }
+    advance_all(g, hal_clock_now_us());
     return gripper_tick_advanced(g);
 }
 
@@ -411,7 +416,7 @@ static bool tick_needed(const gripper_t *g, const wsg_conn_t *c)
     const wsg_conn_io_t *io = NULL;
     void *io_ctx = NULL;
     wsg_conn_get_io(c, &io, &io_ctx);
-    return g->script != NULL || !world_current(g, hal_clock_now_us()) ||
+    return g->script != NULL || !wsg_sim_world_current(&g->world, hal_clock_now_us()) ||
            wsg_device_flags(&g->device) != g->ticked_flags || io == NULL || io->held != NULL;
 }
 

@@ -68,7 +68,10 @@ class Install(unittest.TestCase):
                          "usr/share/doc/wsgsim/examples/wsgsim.example.ini",
                          "usr/share/doc/wsgsim/README.md", "usr/share/doc/wsgsim/simctl.md",
                          "usr/share/doc/wsgsim/testing-your-driver.md",
-                         "usr/share/wsgsim/finger-bus.dbc", "usr/share/wsgsim/wsgbinproto.py"):
+                         "usr/share/wsgsim/finger-bus.dbc", "usr/share/wsgsim/wsgbinproto.py",
+                         "usr/share/wsgsim/physics/wsg-gripper.xml",
+                         "usr/share/wsgsim/physics/default-scene.xml",
+                         "usr/share/doc/wsgsim/physics.md"):
             self.assertIn(expected, files)
         bindir = os.path.join(self.tmp, "usr", "bin")
         for name in PROGRAMS:
