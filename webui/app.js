@@ -636,6 +636,7 @@ function renderState(state) {
   renderWebOp(state.web_op);
   addChartPoint(state);
   scheduleChart();
+  document.dispatchEvent(new CustomEvent("wsgsim-state", { detail: state })); // scene.js
 }
 
 function setLink(up, text) {

@@ -136,7 +136,7 @@ static const char *convert_number(config_value_kind_t kind, const char *text, co
         host_physics_t physics = HOST_PHYSICS_BUILTIN;
         bool ok = options_parse_physics(text, &physics);
         v->number = (double)physics;
-        return ok ? NULL : "expected builtin or mujoco";
+        return ok ? NULL : "expected builtin, mujoco or socket:PATH";
     }
     default:
         return "unsupported";

@@ -162,8 +162,9 @@ static bool set_script_autostart(host_options_t *opts, double number, const char
 
 static bool set_physics(host_options_t *opts, double number, const char *text)
 {
-    (void)text;
     opts->physics = (host_physics_t)number;
+    opts->plant_socket =
+        opts->physics == HOST_PHYSICS_SOCKET ? text + strlen(HOST_PHYSICS_SOCKET_PREFIX) : NULL;
     return true;
 }
 

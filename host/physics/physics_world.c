@@ -196,7 +196,7 @@ void physics_world_axis_status(const physics_world_t *w, hal_axis_status_t *stat
     status->blocked = w->blocked;
     status->profile_active = w->active && w->blocked == 0;
     status->current_fault = false;
-    status->power_fault = false;
+    status->power_fault = w->sample.fault; /* the plant is lost: the drive has no axis */
 }
 
 static void axis_move(void *ctx, float target_mm, float speed_mm_s, float accel_mm_s2,

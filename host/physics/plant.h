@@ -53,6 +53,8 @@ typedef struct {
     float jaw_force_n;   /* contact force on the jaws (not the end stops'): the pads' mean */
     plant_pad_t pad[PLANT_FINGERS]; /* 0: left, 1: right */
     bool quiet;                     /* nothing in the scene moved in this step */
+    bool fault; /* the engine is lost (a plant process that died, answered garbage or
+                 * not in time): the readings are its last, the jaws stand */
 } plant_sample_t;
 
 /* A body of the scene. */

@@ -12,6 +12,7 @@
 #include "hal_clock.h"
 #include "log.h"
 #include "physics_setup.h"
+#include "plant_socket.h"
 #include "script.h"
 #include "script_options.h"
 #include "sim/sim_models.h"
@@ -89,13 +90,18 @@ static void advance_all(gripper_t *g, uint64_t now_us)
 static bool open_physics(gripper_t *g)
 {
     g->physics = NULL;
-    if (g->opts->physics != HOST_PHYSICS_MUJOCO) {
+    if (g->opts->physics == HOST_PHYSICS_BUILTIN) {
         return true;
     }
     char why[1024];
+    float stroke = g->config.stroke_mm;
+    float emergency_accel = 2.0f * g->config.accel_max_mm_s2;
     g->physics =
-        physics_setup_open(g->opts->scene, g->config.stroke_mm, 2.0f * g->config.accel_max_mm_s2,
-                           hal_clock_now_us(), why, sizeof(why));
+        g->opts->physics == HOST_PHYSICS_SOCKET
+            ? plant_socket_world_open(g->opts->plant_socket, PLANT_SOCKET_TIMEOUT_MS, stroke,
+                                      emergency_accel, hal_clock_now_us(), why, sizeof(why))
+            : physics_setup_open(g->opts->scene, stroke, emergency_accel, hal_clock_now_us(), why,
+                                 sizeof(why));
     if (g->physics == NULL) {
         host_logf(HAL_LOG_ERROR, "device %u: physics scene: %s", g->index, why);
         return false;

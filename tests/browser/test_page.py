@@ -34,7 +34,9 @@ N failed'.
   check over every view);
 - the force axis spans at least the model's nominal force range when the
   force hardly changes (no autoscale to sensor noise);
-- the system view shows the identity GCL reads and the log's lines.
+- the system view shows the identity GCL reads and the log's lines;
+- a physics scene is drawn from the plant's poses: the fingers close on
+  the box and the grip's contacts appear; without a scene nothing is.
 
 - MOVE takes any speed the model allows, not only up to the stroke;
 - a paused clock shows on every view (header and status area) with Step and
@@ -910,6 +912,39 @@ class PageTest(unittest.TestCase):
             self.wait_for_chip("SF_BLOCKED_PLUS")
             self.assertEqual(dict(self.status_chips())["SF_BLOCKED_PLUS"], "chip warning")
             self.shot("part-around-the-jaws")
+            self.assert_no_console_errors()
+
+    def finger_contacts(self):
+        return self.js("return [...document.querySelectorAll('#scene .scene-contact')]"
+                       ".filter((c) => /finger/.test(c.dataset.a + c.dataset.b)).length")
+
+    def test_physics_scene_is_drawn_from_the_plant(self):
+        """With --physics mujoco the live view draws the scene from the
+        bodies' poses: the fingers close on the box, the grip's contacts
+        appear. Without a scene nothing is drawn (and nothing refused)."""
+        with Wsgsim("--physics", "mujoco", paused=True) as sim, sim.control() as control, \
+                sim.tcp() as client:
+            self.open_page(sim)
+            finger_x = ("const r = document.querySelector('#scene [data-name=wsg_finger_left] rect')"
+                        ".getBoundingClientRect(); return r.left;")
+            self.wait_for("the scene drawn", lambda d: self.js(
+                "return !document.getElementById('scene-view').hidden && "
+                "document.querySelector('#scene [data-name=box]') !== null"))
+            self.assertEqual(self.finger_contacts(), 0)
+            open_x = self.js(finger_x)
+            self.home_paused(client, control)
+            client.expect("GRIP(40,40)", "ACK GRIP")
+            control.step_until(client, "FIN GRIP", step_ms=50)
+            self.wait_for("the grip's contacts drawn", lambda d: self.finger_contacts() >= 2)
+            self.assertGreater(self.js(finger_x), open_x)  # the left finger moved in
+            self.assertIn("mujoco: jaws 39.", self.text("scene-text"))
+            self.shot("physics-scene")
+            self.assert_no_console_errors()
+        with Wsgsim(paused=True) as sim:
+            self.open_page(sim)
+            self.wait_for("the page to learn there is no scene",
+                          lambda d: self.js("return scene.absent"))
+            self.assertFalse(self.driver.find_element(By.ID, "scene-view").is_displayed())
             self.assert_no_console_errors()
 
     def test_tactile_map_empties_after_fast_stop(self):

@@ -15,6 +15,7 @@ Suite *notify_suite(void);
 Suite *port_layout_suite(void);
 Suite *physics_world_suite(void);
 Suite *wire_suite(void);
+Suite *plant_wire_suite(void);
 
 /* The file at path, up to 511 bytes (read_file.c). */
 const char *t_read_all(const char *path);
