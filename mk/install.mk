@@ -33,8 +33,11 @@ SCRIPT_PROGRAMS := tools/wsgctl tools/wsgplot
 PROBE := tools/wsgprobe
 BIN_CLIENT := tools/wsgbin
 BIN_CLIENT_MODULE := tools/wsgbinproto.py
+# The calibration tools share their module the same way.
+TWIN_PROGRAMS := tools/wsgcalib tools/wsgfit tools/wsgcheck
+TWIN_MODULE := tools/wsgtwin.py
 PRIVATE_DIR = $(DATADIR)/wsgsim
-PROGRAMS := $(C_PROGRAMS) $(SCRIPT_PROGRAMS) $(BIN_CLIENT) $(PROBE)
+PROGRAMS := $(C_PROGRAMS) $(SCRIPT_PROGRAMS) $(BIN_CLIENT) $(PROBE) $(TWIN_PROGRAMS)
 PROGRAM_NAMES := $(notdir $(PROGRAMS))
 MAN_PAGES := $(patsubst %,$(BUILD)/man/%.1,$(PROGRAM_NAMES))
 UNITS := wsgsim.service wsgsim@.service
@@ -46,6 +49,8 @@ MAN_DEBS := help2man
 # when the paths change. The name is host/config's (config_file.h), so every
 # object of host/config/ is, whichever of its files prints it.
 HOST_CFLAGS += -DWSGSIM_EXAMPLE_CONFIG='"$(DOCDIR)/examples/wsgsim.example.ini"'
+# The physics scene's gripper model and default scene (docs/physics.md).
+HOST_CFLAGS += -DWSGSIM_PHYSICS_DIR='"$(PRIVATE_DIR)/physics"'
 $(filter $(BUILD)/obj/host/config/%,$(HOST_OBJ)): $(BUILD)/man/paths
 
 .PHONY: programs man install uninstall docs-plot
@@ -81,6 +86,9 @@ $(BUILD)/man/wsgplot.1: tools/wsgplot
 $(BUILD)/man/wsgbin.1: tools/wsgbin $(BIN_CLIENT_MODULE)
 $(BUILD)/man/wsgprobe.1: $(PROBE) $(BIN_CLIENT_MODULE)
 $(BUILD)/man/wsgproxy.1: $(BUILD)/wsgproxy
+$(BUILD)/man/wsgcalib.1: tools/wsgcalib $(TWIN_MODULE)
+$(BUILD)/man/wsgfit.1: tools/wsgfit $(TWIN_MODULE)
+$(BUILD)/man/wsgcheck.1: tools/wsgcheck $(TWIN_MODULE)
 
 .PHONY: man-deps
 ## install help2man
@@ -100,6 +108,12 @@ install: $(PROGRAMS) man
 	$(INSTALL) -m 644 $(BIN_CLIENT_MODULE) $(DESTDIR)$(PRIVATE_DIR)/
 	ln -sf $$(realpath -m --relative-to=$(BINDIR) $(PRIVATE_DIR)/$(notdir $(BIN_CLIENT))) \
 		$(DESTDIR)$(BINDIR)/$(notdir $(BIN_CLIENT))
+	$(INSTALL) -m 755 $(TWIN_PROGRAMS) $(DESTDIR)$(PRIVATE_DIR)/
+	$(INSTALL) -m 644 $(TWIN_MODULE) $(DESTDIR)$(PRIVATE_DIR)/
+	for program in $(notdir $(TWIN_PROGRAMS)); do \
+		ln -sf $$(realpath -m --relative-to=$(BINDIR) $(PRIVATE_DIR)/$$program) \
+			$(DESTDIR)$(BINDIR)/$$program || exit 1; \
+	done
 	$(INSTALL) -m 644 $(MAN_PAGES) $(DESTDIR)$(MANDIR)/man1/
 	for unit in $(UNITS); do \
 		sed -e 's|@BINDIR@|$(BINDIR)|g' -e 's|@SYSCONFDIR@|$(SYSCONFDIR)|g' \
@@ -110,6 +124,8 @@ install: $(PROGRAMS) man
 	$(INSTALL) -m 644 $(DOCS) $(DESTDIR)$(DOCDIR)/
 	$(INSTALL) -m 644 docs/wsgsim.example.ini $(DESTDIR)$(DOCDIR)/examples/
 	$(INSTALL) -m 644 docs/finger-bus.dbc $(DESTDIR)$(PRIVATE_DIR)/
+	$(INSTALL) -d $(DESTDIR)$(PRIVATE_DIR)/physics
+	$(INSTALL) -m 644 physics/*.xml $(DESTDIR)$(PRIVATE_DIR)/physics/
 	@echo "install: the Python package (python/: the wsgsim module and its pytest plugin)"
 	@echo "install: is not installed by make install. Use the python3-wsgsim package"
 	@echo "install: (make deb; apt install ./build/deb/python3-wsgsim_*.deb), or from this"
@@ -121,8 +137,8 @@ uninstall:
 		$(patsubst %,$(DESTDIR)$(MANDIR)/man1/%.1,$(PROGRAM_NAMES)) \
 		$(addprefix $(DESTDIR)$(SYSTEMDUNITDIR)/,$(UNITS)) \
 		$(addprefix $(DESTDIR)$(PRIVATE_DIR)/,finger-bus.dbc $(notdir $(BIN_CLIENT) \
-			$(BIN_CLIENT_MODULE) $(PROBE)))
-	rm -rf $(DESTDIR)$(DOCDIR) $(DESTDIR)$(PRIVATE_DIR)/__pycache__
+			$(BIN_CLIENT_MODULE) $(PROBE) $(TWIN_PROGRAMS) $(TWIN_MODULE)))
+	rm -rf $(DESTDIR)$(DOCDIR) $(DESTDIR)$(PRIVATE_DIR)/__pycache__ $(DESTDIR)$(PRIVATE_DIR)/physics
 	-rmdir $(DESTDIR)$(PRIVATE_DIR) $(DESTDIR)$(SYSCONFDIR)/wsgsim 2>/dev/null
 
 # A deterministic run on the paused clock, drawn by tools/wsgplot.
