@@ -95,6 +95,7 @@ void wsg_conn_input_choosing_driver(wsg_conn_t *conn, const uint8_t *bytes, size
         return; /* no driver speaks it: nothing can answer */
     }
     c->drv->open(conn);
+    wsg_conn_show_read(c, len);
     c->drv->input(conn, bytes, len);
 }
 
@@ -105,6 +106,9 @@ void wsg_conn_input(wsg_conn_t *conn, const uint8_t *bytes, size_t len)
     if (drv == NULL) {
         wsg_conn_input_choosing_driver(conn, bytes, len);
     } else if (c->open && len != 0) {
+        if (c->dev->observers.conn != NULL) {
+            wsg_conn_show_read(c, len);
+        }
         drv->input(conn, bytes, len);
     }
 }
@@ -142,6 +146,7 @@ void wsg_conn_close(wsg_conn_t *conn, wsg_close_reason_t why)
     bool raise_fast_stop = why == WSG_CLOSE_DROPPED && !c->said_goodbye && !c->close_announced &&
                            c->transport == WSG_TRANSPORT_STREAM &&
                            c->dev->cfg.disconnect_raises_faststop;
+    wsg_conn_show_close(c, why, raise_fast_stop);
     wsg_device_detach(dev_public(c->dev), &c->owner);
     if (c->drv != NULL) {
         c->drv->close(conn, why); /* ends its timers */
@@ -254,6 +259,24 @@ void wsg_conn_show_input(conn_t *c, const char *bytes, size_t len)
     for (const wsg_conn_observer_t *o = c->dev->observers.conn; o != NULL; o = o->next) {
         if (o->message_in != NULL) {
             o->message_in(o->ctx, conn_public(c), bytes, len);
+        }
+    }
+}
+
+void wsg_conn_show_read(conn_t *c, size_t len)
+{
+    for (const wsg_conn_observer_t *o = c->dev->observers.conn; o != NULL; o = o->next) {
+        if (o->read != NULL) {
+            o->read(o->ctx, conn_public(c), len);
+        }
+    }
+}
+
+void wsg_conn_show_close(conn_t *c, wsg_close_reason_t why, bool fast_stop)
+{
+    for (const wsg_conn_observer_t *o = c->dev->observers.conn; o != NULL; o = o->next) {
+        if (o->closed != NULL) {
+            o->closed(o->ctx, conn_public(c), why, fast_stop);
         }
     }
 }

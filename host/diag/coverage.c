@@ -8,12 +8,19 @@
 #include <string.h>
 
 #include "coverage_internal.h"
+#include "log.h"
 
 void coverage_reset(coverage_t *c)
 {
     for (unsigned i = 0; i < c->count; i++) {
         memset(&c->devices[i].counts, 0, sizeof(c->devices[i].counts));
     }
+    driver_report_reset(c->driver);
+}
+
+driver_report_t *coverage_driver(coverage_t *c)
+{
+    return c != NULL ? c->driver : NULL;
 }
 
 static int form_slot(unsigned form, unsigned argc)
@@ -144,6 +151,11 @@ bool coverage_write(coverage_t *c)
                 strerror(errno));
     }
     free(text);
+    char *summary = driver_report_text(c->driver);
+    if (summary != NULL) {
+        host_logf(HAL_LOG_INFO, "%s", summary);
+    }
+    free(summary);
     return ok;
 }
 
@@ -151,15 +163,29 @@ bool coverage_write(coverage_t *c)
 
 static void on_message_in(void *ctx, const wsg_conn_t *c, const char *line, size_t len)
 {
-    (void)line;
-    (void)len;
-    count_line_in(&((cov_device_t *)ctx)->counts, c);
+    cov_device_t *cd = ctx;
+    count_line_in(&cd->counts, c);
+    driver_report_message_in(cd->owner->driver, cd->index, c, line, len);
 }
 
 static void on_message_out(void *ctx, const wsg_conn_t *c, const char *line, size_t len)
 {
-    (void)c;
-    bin_coverage_frame_out(&((cov_device_t *)ctx)->counts.bin, (const unsigned char *)line, len);
+    cov_device_t *cd = ctx;
+    bin_coverage_frame_out(&cd->counts.bin, (const unsigned char *)line, len);
+    driver_report_message_out(cd->owner->driver, cd->index, c, line, len);
+}
+
+static void on_read(void *ctx, const wsg_conn_t *c, size_t len)
+{
+    cov_device_t *cd = ctx;
+    (void)len;
+    driver_report_read(cd->owner->driver, cd->index, c);
+}
+
+static void on_closed(void *ctx, const wsg_conn_t *c, wsg_close_reason_t why, bool fast_stop)
+{
+    cov_device_t *cd = ctx;
+    driver_report_closed(cd->owner->driver, cd->index, c, why, fast_stop);
 }
 
 static void on_grip_state(void *ctx, wsg_grip_state_t from, wsg_grip_state_t to)
@@ -170,14 +196,16 @@ static void on_grip_state(void *ctx, wsg_grip_state_t from, wsg_grip_state_t to)
 static void on_command_done(void *ctx, const wsg_conn_t *c, const char *name, int index,
                             unsigned form, unsigned argc, wsg_status_t status)
 {
-    (void)c;
-    count_command(&((cov_device_t *)ctx)->counts, name, index, form, argc, status);
+    cov_device_t *cd = ctx;
+    count_command(&cd->counts, name, index, form, argc, status);
+    driver_report_gcl_command(cd->owner->driver, cd->index, c, index, form, status);
 }
 
 static void on_error_sent(void *ctx, const wsg_conn_t *c, int index, wsg_status_t status)
 {
-    (void)c;
-    count_error(&((cov_device_t *)ctx)->counts, index, status);
+    cov_device_t *cd = ctx;
+    count_error(&cd->counts, index, status);
+    driver_report_gcl_error(cd->owner->driver, cd->index, c, status);
 }
 
 static void on_tolerated(void *ctx, const wsg_conn_t *c, const char *name, const char *what)
@@ -188,9 +216,15 @@ static void on_tolerated(void *ctx, const wsg_conn_t *c, const char *name, const
 coverage_t *coverage_create(bool strict, unsigned devices)
 {
     coverage_t *c = calloc(1, sizeof(*c) + devices * sizeof(c->devices[0]));
-    if (c != NULL) {
-        c->strict = strict;
-        c->count = devices;
+    if (c == NULL) {
+        return NULL;
+    }
+    c->strict = strict;
+    c->count = devices;
+    c->driver = driver_report_create(devices);
+    if (c->driver == NULL) {
+        free(c);
+        return NULL;
     }
     return c;
 }
@@ -203,8 +237,14 @@ void coverage_attach(coverage_t *c, wsg_device_t *dev, unsigned index)
     cov_device_t *cd = &c->devices[index];
     c->attached += cd->device == NULL ? 1u : 0u;
     cd->device = dev;
-    cd->messages = (wsg_conn_observer_t){
-        .message_in = on_message_in, .message_out = on_message_out, .ctx = cd};
+    cd->owner = c;
+    cd->index = index;
+    cd->messages = (wsg_conn_observer_t){.message_in = on_message_in,
+                                         .message_out = on_message_out,
+                                         .read = on_read,
+                                         .closed = on_closed,
+                                         .ctx = cd};
+    driver_report_attach(c->driver, dev, index);
     cd->grip = (wsg_device_observer_t){.grip_state_changed = on_grip_state, .ctx = cd};
     cd->gcl = (wsg_gcl_observer_t){.command_done = on_command_done,
                                    .error_sent = on_error_sent,
@@ -226,6 +266,9 @@ void coverage_destroy(coverage_t *c)
 {
     if (c != NULL && c->report_file != NULL) {
         fclose(c->report_file);
+    }
+    if (c != NULL) {
+        driver_report_destroy(c->driver);
     }
     free(c);
 }

@@ -318,6 +318,7 @@ cJSON *coverage_build_report(const coverage_t *c)
     cJSON *root = cJSON_CreateObject();
     if (c->count == 1) {
         add_report(root, &c->devices[0].counts, c->strict);
+        cJSON_AddItemToObject(root, "driver", driver_report_json(c->driver));
         return root;
     }
     counts_t *total = calloc(1, sizeof(*total));
@@ -335,6 +336,7 @@ cJSON *coverage_build_report(const coverage_t *c)
         add_report(root, total, c->strict);
     }
     cJSON_AddItemToObject(root, "devices", devices);
+    cJSON_AddItemToObject(root, "driver", driver_report_json(c->driver));
     free(total);
     return root;
 }

@@ -572,6 +572,17 @@ bool tcp_server_cut(tcp_servers_t *tcp, const wsg_conn_t *conn)
     return false;
 }
 
+unsigned long tcp_server_updates_dropped(const tcp_servers_t *tcp, const wsg_conn_t *conn)
+{
+    LIST_EACH (node, &tcp->clients) {
+        const tcp_client_t *c = CLIENT(node);
+        if (&c->conn == conn) {
+            return c->dropped_autosend;
+        }
+    }
+    return 0;
+}
+
 const char *tcp_server_peer_name(const tcp_servers_t *tcp, const wsg_conn_t *conn)
 {
     LIST_EACH (node, &tcp->clients) {

@@ -1,0 +1,66 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/* The report on the driver under test: what each session (a TCP
+ * connection, a UDP peer of a protocol) did that a real gripper would
+ * answer differently from wsgsim's instant, lossless service: its request
+ * rate and peak, requests pipelined behind an unanswered one, queries
+ * polled during a motion, refusals by reason, streams it subscribed and
+ * did not read, closes without goodbye, unfinished messages at close,
+ * reconnects and the FAST STOPs it caused (docs/testing-your-driver.md).
+ *
+ * Counted server-side from the coverage's observers (coverage.c forwards
+ * them: no observer of its own, so the request path pays no second list
+ * walk); live sessions are kept by id, ended ones as totals plus the last
+ * DRIVER_ENDED_KEPT of them, so the report covers the whole run in bounded
+ * memory. */
+#ifndef HOST_DRIVER_REPORT_H
+#define HOST_DRIVER_REPORT_H
+
+#include <cjson/cJSON.h>
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "wsg/wsg_conn.h"
+
+#define DRIVER_ENDED_KEPT 32u
+
+typedef struct driver_report driver_report_t;
+
+/* What only the port knows of a session: its peer ("ADDR:PORT") and the
+ * updates it dropped because the client did not read them. */
+typedef struct {
+    const char *(*peer_name)(void *ctx, const wsg_conn_t *c);
+    unsigned long (*updates_dropped)(void *ctx, const wsg_conn_t *c);
+    void *ctx;
+} driver_port_t;
+
+/* NULL when out of memory. */
+driver_report_t *driver_report_create(unsigned devices);
+void driver_report_destroy(driver_report_t *r);
+/* port may be NULL (no peers, no drops known); the caller keeps it. */
+void driver_report_set_port(driver_report_t *r, const driver_port_t *port);
+void driver_report_attach(driver_report_t *r, wsg_device_t *dev, unsigned index);
+/* Forgets every ended session and zeroes the live ones' counts. */
+void driver_report_reset(driver_report_t *r);
+/* The process stops: sessions closed from now on were still open at exit,
+ * not dropped by their client. */
+void driver_report_stopping(driver_report_t *r);
+
+/* The events, from coverage.c's observers of device `index`. */
+void driver_report_read(driver_report_t *r, unsigned index, const wsg_conn_t *c);
+void driver_report_message_in(driver_report_t *r, unsigned index, const wsg_conn_t *c,
+                              const char *bytes, size_t len);
+void driver_report_message_out(driver_report_t *r, unsigned index, const wsg_conn_t *c,
+                               const char *bytes, size_t len);
+void driver_report_gcl_command(driver_report_t *r, unsigned index, const wsg_conn_t *c, int command,
+                               unsigned form, wsg_status_t status);
+void driver_report_gcl_error(driver_report_t *r, unsigned index, const wsg_conn_t *c,
+                             wsg_status_t status);
+void driver_report_closed(driver_report_t *r, unsigned index, const wsg_conn_t *c,
+                          wsg_close_reason_t why, bool fast_stop);
+
+/* The "driver" section of the coverage report (and DRIVER?). */
+cJSON *driver_report_json(const driver_report_t *r);
+/* The short human summary, one behaviour per line (malloc'd; free() it). */
+char *driver_report_text(const driver_report_t *r);
+
+#endif
