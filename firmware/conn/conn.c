@@ -95,7 +95,7 @@ void wsg_conn_input_choosing_driver(wsg_conn_t *conn, const uint8_t *bytes, size
         return; /* no driver speaks it: nothing can answer */
     }
     c->drv->open(conn);
-    wsg_conn_show_read(c, len);
+    wsg_conn_show_read(c, bytes, len);
     c->drv->input(conn, bytes, len);
 }
 
@@ -107,7 +107,7 @@ void wsg_conn_input(wsg_conn_t *conn, const uint8_t *bytes, size_t len)
         wsg_conn_input_choosing_driver(conn, bytes, len);
     } else if (c->open && len != 0) {
         if (c->dev->observers.conn != NULL) {
-            wsg_conn_show_read(c, len);
+            wsg_conn_show_read(c, bytes, len);
         }
         drv->input(conn, bytes, len);
     }
@@ -263,11 +263,11 @@ void wsg_conn_show_input(conn_t *c, const char *bytes, size_t len)
     }
 }
 
-void wsg_conn_show_read(conn_t *c, size_t len)
+void wsg_conn_show_read(conn_t *c, const uint8_t *bytes, size_t len)
 {
     for (const wsg_conn_observer_t *o = c->dev->observers.conn; o != NULL; o = o->next) {
         if (o->read != NULL) {
-            o->read(o->ctx, conn_public(c), len);
+            o->read(o->ctx, conn_public(c), bytes, len);
         }
     }
 }

@@ -137,6 +137,21 @@ bool coverage_open(coverage_t *c, const char *path)
     return true;
 }
 
+/* The driver report's summary, a log line per line of it. */
+static void log_driver_summary(const driver_report_t *driver)
+{
+    char *summary = driver_report_text(driver);
+    for (char *line = summary; line != NULL && *line != '\0';) {
+        char *end = strchr(line, '\n');
+        if (end != NULL) {
+            *end = '\0';
+        }
+        host_logf(HAL_LOG_INFO, "%s", line);
+        line = end != NULL ? end + 1 : NULL;
+    }
+    free(summary);
+}
+
 bool coverage_write(coverage_t *c)
 {
     char *text = coverage_report_json(c, true);
@@ -151,11 +166,7 @@ bool coverage_write(coverage_t *c)
                 strerror(errno));
     }
     free(text);
-    char *summary = driver_report_text(c->driver);
-    if (summary != NULL) {
-        host_logf(HAL_LOG_INFO, "%s", summary);
-    }
-    free(summary);
+    log_driver_summary(c->driver);
     return ok;
 }
 
@@ -175,11 +186,10 @@ static void on_message_out(void *ctx, const wsg_conn_t *c, const char *line, siz
     driver_report_message_out(cd->owner->driver, cd->index, c, line, len);
 }
 
-static void on_read(void *ctx, const wsg_conn_t *c, size_t len)
+static void on_read(void *ctx, const wsg_conn_t *c, const uint8_t *bytes, size_t len)
 {
     cov_device_t *cd = ctx;
-    (void)len;
-    driver_report_read(cd->owner->driver, cd->index, c);
+    driver_report_read(cd->owner->driver, cd->index, c, bytes, len);
 }
 
 static void on_closed(void *ctx, const wsg_conn_t *c, wsg_close_reason_t why, bool fast_stop)
@@ -258,7 +268,9 @@ void coverage_attach(coverage_t *c, wsg_device_t *dev, unsigned index)
 void coverage_sample_flags(coverage_t *c, unsigned index)
 {
     if (c != NULL && index < c->count && c->devices[index].device != NULL) {
-        c->devices[index].counts.flags_seen |= wsg_device_flags(c->devices[index].device);
+        uint32_t flags = wsg_device_flags(c->devices[index].device);
+        c->devices[index].counts.flags_seen |= flags;
+        driver_report_flags(c->driver, index, flags);
     }
 }
 

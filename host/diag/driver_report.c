@@ -12,10 +12,8 @@
 
 /* The binary protocol's frame: preamble, ID, length, then the payload (a
  * reply's starts with its status). */
-#define BIN_PREAMBLE 0xAAu
 #define BIN_ID_AT 3u
 #define BIN_PAYLOAD_AT 6u
-#define BIN_REPLY_MIN 10u /* header, status, CRC */
 #define BIN_FAST_STOP 0x23u
 #define BIN_STATE_FIRST 0x40u /* 0x40-0x46: the values a client may poll or subscribe to */
 #define BIN_STATE_LAST 0x46u
@@ -62,7 +60,6 @@ void driver_report_reset(driver_report_t *r)
         driver_session_t *s = LIST_ITEM(node, driver_session_t, link);
         memset(&s->counts, 0, sizeof(s->counts));
         s->in_second = 0;
-        s->in_read = 0;
     }
     r->ended_count = 0;
     r->kept_next = 0;
@@ -148,78 +145,78 @@ static driver_session_t *session_of(driver_report_t *r, unsigned index, const ws
     return d->last;
 }
 
-void driver_report_read(driver_report_t *r, unsigned index, const wsg_conn_t *c)
+/* The whole requests of a session's last read (n) join its counts: its
+ * rate, its peak second, and those that arrived behind the first before
+ * the first was answered (pipelined). */
+static void count_read(driver_session_t *s, uint32_t n)
 {
-    driver_session_t *s = session_of(r, index, c);
-    if (s != NULL) {
-        s->in_read = 0;
+    driver_counts_t *k = &s->counts;
+    if (n == 0) {
+        return;
     }
+    uint64_t second = s->read_us / US_PER_SECOND;
+    bool first = k->requests == 0;
+    s->first_request_us = first ? s->read_us : s->first_request_us;
+    s->last_request_us = s->read_us;
+    k->requests += n;
+    s->in_second = !first && second == s->second ? s->in_second + n : n;
+    s->second = second;
+    k->peak_per_second = s->in_second > k->peak_per_second ? s->in_second : k->peak_per_second;
+    k->pipelined += n - 1u;
+    k->most_in_flight = n > k->most_in_flight ? n : k->most_in_flight;
 }
 
-static bool moving(const driver_report_t *r, unsigned index)
-{
-    uint64_t started_us = 0;
-    return wsg_device_motion(r->device[index].dev, &started_us) != WSG_MOTION_NONE;
-}
-
-/* A binary request: a state query either subscribes (auto-update) or
- * polls; 0x23 is FAST STOP. */
-static void note_bin_request(driver_report_t *r, unsigned index, driver_session_t *s,
-                             const unsigned char *frame, size_t len)
-{
-    unsigned id = frame[BIN_ID_AT];
-    if (id == BIN_FAST_STOP) {
-        s->counts.fast_stop_commands++;
-    } else if (id >= BIN_STATE_FIRST && id <= BIN_STATE_LAST) {
-        if (len > BIN_PAYLOAD_AT && (frame[BIN_PAYLOAD_AT] & BIN_AUTO_UPDATE) != 0u) {
-            s->counts.subscriptions++;
-        } else if (moving(r, index)) {
-            s->counts.polls_in_motion++;
-        }
-    }
-}
-
-void driver_report_message_in(driver_report_t *r, unsigned index, const wsg_conn_t *c,
-                              const char *bytes, size_t len)
+/* Counted per read, not per message: the messages a read carried are the
+ * connection's own count (wsg_conn_messages_in) when the next read comes. */
+void driver_report_read(driver_report_t *r, unsigned index, const wsg_conn_t *c,
+                        const uint8_t *bytes, size_t len)
 {
     driver_session_t *s = session_of(r, index, c);
     if (s == NULL) {
         return;
     }
-    driver_counts_t *n = &s->counts;
-    uint64_t now = hal_clock_now_us();
-    uint64_t second = now / US_PER_SECOND;
-    const unsigned char *frame = (const unsigned char *)bytes;
-    bool binary = len >= BIN_PAYLOAD_AT && frame[0] == BIN_PREAMBLE;
-    if (s->protocol == NULL) {
-        s->protocol = binary ? "binary" : "GCL";
-        s->first_request_us = now;
-        s->second = second;
+    uint32_t messages = wsg_conn_messages_in(c);
+    count_read(s, messages - s->seen);
+    s->seen = messages;
+    s->read_us = hal_clock_now_us();
+    if (s->protocol == NULL && len > 0) {
+        s->protocol = bytes[0] == DRIVER_BIN_PREAMBLE ? "binary" : "GCL";
     }
-    s->last_request_us = now;
-    n->requests++;
-    s->in_second = second == s->second ? s->in_second + 1u : 1u;
-    s->second = second;
-    n->peak_per_second = s->in_second > n->peak_per_second ? s->in_second : n->peak_per_second;
-    /* the second of a read arrived before the first's reply went out */
-    n->pipelined += ++s->in_read > 1u ? 1u : 0u;
-    n->most_in_flight = s->in_read > n->most_in_flight ? s->in_read : n->most_in_flight;
-    if (binary) {
-        note_bin_request(r, index, s, frame, len);
+}
+
+void driver_report_flags(driver_report_t *r, unsigned index, uint32_t flags)
+{
+    if (r != NULL && index < r->devices) {
+        r->device[index].moving = (flags & WSG_FLAG(SF_MOVING)) != 0u;
+    }
+}
+
+/* A binary request: a state query either subscribes (auto-update) or
+ * polls; 0x23 is FAST STOP. */
+void driver_report_bin_request(driver_report_t *r, unsigned index, const wsg_conn_t *c,
+                               const unsigned char *frame, size_t len)
+{
+    unsigned id = frame[BIN_ID_AT];
+    bool state = id >= BIN_STATE_FIRST && id <= BIN_STATE_LAST;
+    bool subscribes = state && len > BIN_PAYLOAD_AT && (frame[BIN_PAYLOAD_AT] & BIN_AUTO_UPDATE);
+    bool polls = state && !subscribes && r->device[index].moving;
+    driver_session_t *s =
+        id == BIN_FAST_STOP || subscribes || polls ? session_of(r, index, c) : NULL;
+    if (s != NULL) {
+        s->counts.fast_stop_commands += id == BIN_FAST_STOP ? 1u : 0u;
+        s->counts.subscriptions += subscribes ? 1u : 0u;
+        s->counts.polls_in_motion += polls ? 1u : 0u;
     }
 }
 
 /* A binary reply with an error status (a pending or successful one is
  * none); GCL's ERR lines come from its own observer. */
-void driver_report_message_out(driver_report_t *r, unsigned index, const wsg_conn_t *c,
-                               const char *bytes, size_t len)
+void driver_report_bin_reply(driver_report_t *r, unsigned index, const wsg_conn_t *c,
+                             const unsigned char *frame, size_t len)
 {
-    const unsigned char *frame = (const unsigned char *)bytes;
-    if (len < BIN_REPLY_MIN || frame[0] != BIN_PREAMBLE) {
-        return;
-    }
     unsigned status = (unsigned)frame[BIN_PAYLOAD_AT] | (unsigned)frame[BIN_PAYLOAD_AT + 1] << 8;
-    if (status == E_SUCCESS || status == E_CMD_PENDING || status >= WSG_STATUS_COUNT) {
+    if (len < DRIVER_BIN_REPLY_MIN || status == E_SUCCESS || status == E_CMD_PENDING ||
+        status >= WSG_STATUS_COUNT) {
         return;
     }
     driver_session_t *s = session_of(r, index, c);
@@ -232,17 +229,17 @@ void driver_report_gcl_command(driver_report_t *r, unsigned index, const wsg_con
                                unsigned form, wsg_status_t status)
 {
     const driver_device_t *d = &r->device[index];
-    bool query = form == WSG_GCL_FORM_QUERY || form == WSG_GCL_FORM_INDEXED;
+    bool polls = (form == WSG_GCL_FORM_QUERY || form == WSG_GCL_FORM_INDEXED) && d->moving;
     bool faststop = command == d->faststop_command;
     bool subscribed = command == d->autosend_command && status == E_SUCCESS;
-    if (!(faststop || subscribed || (query && moving(r, index)))) {
-        return;
+    if (!(polls || faststop || subscribed)) {
+        return; /* the common case: nothing to count */
     }
     driver_session_t *s = session_of(r, index, c);
     if (s != NULL) {
         s->counts.fast_stop_commands += faststop ? 1u : 0u;
         s->counts.subscriptions += subscribed ? 1u : 0u;
-        s->counts.polls_in_motion += query ? 1u : 0u; /* FASTSTOP, AUTOSEND: calls */
+        s->counts.polls_in_motion += polls ? 1u : 0u;
     }
 }
 
@@ -304,6 +301,7 @@ void driver_report_closed(driver_report_t *r, unsigned index, const wsg_conn_t *
         return;
     }
     driver_counts_t *n = &s->counts;
+    count_read(s, wsg_conn_messages_in(c) - s->seen); /* the last read's */
     s->open = false;
     s->closed_us = hal_clock_now_us();
     s->open_at_exit = r->stopping;
@@ -378,11 +376,16 @@ void driver_counts_add(driver_counts_t *total, const driver_counts_t *part)
     total->reconnects += part->reconnects;
 }
 
-unsigned long driver_live_dropped(const driver_report_t *r, const driver_session_t *s)
+driver_counts_t driver_live_counts(const driver_report_t *r, const driver_session_t *s)
 {
-    if (r->port == NULL || !s->open || r->device[s->device].dev == NULL) {
-        return s->counts.updates_dropped;
+    driver_session_t now = *s;
+    const wsg_device_t *dev = r->device[s->device].dev;
+    const wsg_conn_t *c =
+        s->open && dev != NULL ? wsg_device_conn_by_id((wsg_device_t *)dev, s->id) : NULL;
+    if (c != NULL) {
+        count_read(&now, wsg_conn_messages_in(c) - s->seen); /* the last read's */
+        now.counts.updates_dropped =
+            r->port != NULL ? r->port->updates_dropped(r->port->ctx, c) : 0u;
     }
-    const wsg_conn_t *c = wsg_device_conn_by_id(r->device[s->device].dev, s->id);
-    return c != NULL ? r->port->updates_dropped(r->port->ctx, c) : 0u;
+    return now.counts;
 }

@@ -45,12 +45,40 @@ void driver_report_reset(driver_report_t *r);
  * not dropped by their client. */
 void driver_report_stopping(driver_report_t *r);
 
-/* The events, from coverage.c's observers of device `index`. */
-void driver_report_read(driver_report_t *r, unsigned index, const wsg_conn_t *c);
-void driver_report_message_in(driver_report_t *r, unsigned index, const wsg_conn_t *c,
-                              const char *bytes, size_t len);
-void driver_report_message_out(driver_report_t *r, unsigned index, const wsg_conn_t *c,
-                               const char *bytes, size_t len);
+/* The events, from coverage.c's observers of device `index`: a read
+ * (requests are counted per read, from the connection's own count); the
+ * sampled flags (SF_MOVING: a query now polls during a motion). */
+void driver_report_read(driver_report_t *r, unsigned index, const wsg_conn_t *c,
+                        const uint8_t *bytes, size_t len);
+void driver_report_flags(driver_report_t *r, unsigned index, uint32_t flags);
+/* A binary frame in or out (driver_report_message_in/_out tell them from
+ * GCL lines inline: a GCL request pays two compares). */
+void driver_report_bin_request(driver_report_t *r, unsigned index, const wsg_conn_t *c,
+                               const unsigned char *frame, size_t len);
+void driver_report_bin_reply(driver_report_t *r, unsigned index, const wsg_conn_t *c,
+                             const unsigned char *frame, size_t len);
+
+#define DRIVER_BIN_PREAMBLE 0xAAu
+#define DRIVER_BIN_REQUEST_MIN 8u /* preamble, ID, length, CRC */
+#define DRIVER_BIN_REPLY_MIN 10u  /* and the status */
+
+static inline void driver_report_message_in(driver_report_t *r, unsigned index, const wsg_conn_t *c,
+                                            const char *bytes, size_t len)
+{
+    const unsigned char *frame = (const unsigned char *)bytes;
+    if (len >= DRIVER_BIN_REQUEST_MIN && frame[0] == DRIVER_BIN_PREAMBLE) {
+        driver_report_bin_request(r, index, c, frame, len);
+    }
+}
+
+static inline void driver_report_message_out(driver_report_t *r, unsigned index,
+                                             const wsg_conn_t *c, const char *bytes, size_t len)
+{
+    const unsigned char *frame = (const unsigned char *)bytes;
+    if (len >= DRIVER_BIN_REPLY_MIN && frame[0] == DRIVER_BIN_PREAMBLE) {
+        driver_report_bin_reply(r, index, c, frame, len);
+    }
+}
 void driver_report_gcl_command(driver_report_t *r, unsigned index, const wsg_conn_t *c, int command,
                                unsigned form, wsg_status_t status);
 void driver_report_gcl_error(driver_report_t *r, unsigned index, const wsg_conn_t *c,

@@ -55,7 +55,8 @@ typedef struct driver_session {
     uint64_t opened_us, first_request_us, last_request_us, closed_us;
     uint64_t second;    /* the simulated second in_second counts */
     uint32_t in_second; /* requests in it so far */
-    uint32_t in_read;   /* whole requests of the current read so far */
+    uint32_t seen;      /* the connection's messages when its last read came */
+    uint64_t read_us;   /* when its last read came */
     bool open;
     bool open_at_exit;
     const char *close_reason; /* "announced", "dropped", "expired", "open at exit" */
@@ -65,6 +66,7 @@ typedef struct driver_session {
 typedef struct {
     wsg_device_t *dev;      /* NULL: not attached */
     driver_session_t *last; /* the session of the last event (most come in runs) */
+    bool moving;            /* SF_MOVING, as the last sampled flags show it */
     int faststop_command;   /* GCL command table indices */
     int autosend_command;
 } driver_device_t;
@@ -90,7 +92,8 @@ unsigned long driver_counts_errors(const driver_counts_t *c);
 unsigned long driver_counts_of(const driver_counts_t *c, driver_behaviour_t b);
 /* Adds part's counts to total (peaks: the highest). */
 void driver_counts_add(driver_counts_t *total, const driver_counts_t *part);
-/* A live session's updates dropped so far, from the port. */
-unsigned long driver_live_dropped(const driver_report_t *r, const driver_session_t *s);
+/* A live session's counts as of now: its last read's requests and the
+ * port's count of its dropped updates included. */
+driver_counts_t driver_live_counts(const driver_report_t *r, const driver_session_t *s);
 
 #endif

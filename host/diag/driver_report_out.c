@@ -75,21 +75,13 @@ static const char *refusal_reason(unsigned code)
     }
 }
 
-/* A live session's counts as of now (its drops are the port's). */
-static driver_counts_t live_counts(const driver_report_t *r, const driver_session_t *s)
-{
-    driver_counts_t c = s->counts;
-    c.updates_dropped = driver_live_dropped(r, s);
-    return c;
-}
-
 /* Every session's counts, and how many sessions showed each behaviour. */
 static driver_counts_t all_counts(const driver_report_t *r, unsigned long with[DRV_BEHAVIOURS])
 {
     driver_counts_t total = r->ended;
     memcpy(with, r->ended_sessions_with, sizeof(r->ended_sessions_with));
     LIST_EACH (node, &r->live) {
-        driver_counts_t c = live_counts(r, LIST_ITEM(node, driver_session_t, link));
+        driver_counts_t c = driver_live_counts(r, LIST_ITEM(node, driver_session_t, link));
         driver_counts_add(&total, &c);
         for (unsigned b = 0; b < DRV_BEHAVIOURS; b++) {
             with[b] += driver_counts_of(&c, (driver_behaviour_t)b) > 0 ? 1u : 0u;
@@ -154,7 +146,7 @@ static cJSON *session_json(const driver_report_t *r, const driver_session_t *s)
     /* the mean rate over the span of its requests (none within one instant) */
     cJSON_AddNumberToObject(o, "requests_per_second",
                             span > 0 ? (double)(s->counts.requests - 1u) * 1e6 / (double)span : 0);
-    driver_counts_t c = s->open ? live_counts(r, s) : s->counts;
+    driver_counts_t c = s->open ? driver_live_counts(r, s) : s->counts;
     add_counts_json(o, &c);
     return o;
 }

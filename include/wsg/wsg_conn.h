@@ -142,7 +142,7 @@ typedef struct wsg_conn_observer {
      * in, so whole messages seen before the next read arrived together;
      * and the connection closes (why; fast_stop: its close raised FAST
      * STOP), before it is detached, so its state can still be read. */
-    void (*read)(void *ctx, const wsg_conn_t *c, size_t len);
+    void (*read)(void *ctx, const wsg_conn_t *c, const uint8_t *bytes, size_t len);
     void (*closed)(void *ctx, const wsg_conn_t *c, wsg_close_reason_t why, bool fast_stop);
 } wsg_conn_observer_t;
 
