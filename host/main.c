@@ -62,7 +62,8 @@ static bool start_diagnostics(diagnostics_t *d, web_server_t *web, fleet_t *flee
     d->lines = web_server_lines(web);
     d->coverage = coverage_create(opts->strict, devices);
     d->trace = opts->trace ? trace_create(opts->strict, devices) : NULL;
-    if (d->coverage == NULL || (opts->trace && d->trace == NULL)) {
+    if (d->coverage == NULL || (opts->trace && d->trace == NULL) ||
+        (opts->coverage_path != NULL && !coverage_count_driver(d->coverage))) {
         return false;
     }
     d->driver_port = (driver_port_t){

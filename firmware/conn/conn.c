@@ -106,8 +106,8 @@ void wsg_conn_input(wsg_conn_t *conn, const uint8_t *bytes, size_t len)
     if (drv == NULL) {
         wsg_conn_input_choosing_driver(conn, bytes, len);
     } else if (c->open && len != 0) {
-        if (c->dev->observers.conn != NULL) {
-            wsg_conn_show_read(c, bytes, len);
+        if (c->dev->observers.conn_readers != 0) {
+            wsg_conn_show_read(c, bytes, len); /* apart: a read pays one test */
         }
         drv->input(conn, bytes, len);
     }
@@ -228,6 +228,7 @@ void wsg_conn_add_observer(wsg_device_t *device, wsg_conn_observer_t *node)
     if (*at == NULL) {
         node->next = NULL;
         *at = node;
+        dev_of(device)->observers.conn_readers += node->read != NULL ? 1u : 0u;
     }
 }
 
@@ -240,6 +241,7 @@ void wsg_conn_remove_observer(wsg_device_t *device, wsg_conn_observer_t *node)
     if (*at != NULL) {
         *at = node->next;
         node->next = NULL;
+        dev_of(device)->observers.conn_readers -= node->read != NULL ? 1u : 0u;
     }
 }
 

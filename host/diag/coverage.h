@@ -26,8 +26,12 @@ void coverage_reset(coverage_t *c);
  * ticked). Nothing for NULL or a device not attached. */
 void coverage_sample_flags(coverage_t *c, unsigned index);
 
-/* The report on the driver under test, counted with the coverage
- * (driver_report.h): its "driver" section, DRIVER?, the summary at exit. */
+/* The report on the driver under test (driver_report.h), counted with the
+ * coverage from the devices attached after this call (--coverage): the
+ * "driver" section, DRIVER?, the summary at exit. Without it the request
+ * path pays nothing for it. False when out of memory. */
+bool coverage_count_driver(coverage_t *c);
+/* NULL when the driver report is not counted. */
 driver_report_t *coverage_driver(coverage_t *c);
 
 /* The report as JSON text (malloc'd; free() it). pretty: indented. */

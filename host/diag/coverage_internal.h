@@ -56,6 +56,7 @@ typedef struct {
     const wsg_device_t *device; /* NULL: not attached */
     struct coverage *owner;
     unsigned index;
+    const driver_watch_t *watch; /* the driver report's of this device */
     counts_t counts;
     wsg_conn_observer_t messages;
     wsg_device_observer_t grip;

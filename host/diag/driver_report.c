@@ -42,15 +42,18 @@ void driver_report_destroy(driver_report_t *r)
 
 void driver_report_set_port(driver_report_t *r, const driver_port_t *port)
 {
-    r->port = port;
+    if (r != NULL) {
+        r->port = port;
+    }
 }
 
 void driver_report_attach(driver_report_t *r, wsg_device_t *dev, unsigned index)
 {
     if (r != NULL && index < r->devices) {
-        r->device[index] = (driver_device_t){.dev = dev,
-                                             .faststop_command = wsg_gcl_command_index("FASTSTOP"),
-                                             .autosend_command = wsg_gcl_command_index("AUTOSEND")};
+        r->device[index] =
+            (driver_device_t){.dev = dev,
+                              .watch = {.faststop_command = wsg_gcl_command_index("FASTSTOP"),
+                                        .autosend_command = wsg_gcl_command_index("AUTOSEND")}};
     }
 }
 
@@ -130,19 +133,23 @@ static driver_session_t *open_session(driver_report_t *r, unsigned index, const 
 }
 
 /* The session of c (opened at its first event); NULL when out of memory. */
-static driver_session_t *session_of(driver_report_t *r, unsigned index, const wsg_conn_t *c)
+static driver_session_t *find_session(driver_report_t *r, unsigned index, const wsg_conn_t *c)
 {
     driver_device_t *d = &r->device[index];
     uint64_t id = wsg_conn_id(c);
-    if (d->last != NULL && d->last->id == id) {
-        return d->last;
-    }
     driver_session_t *s = r->buckets[bucket_of(index, id)];
     while (s != NULL && (s->id != id || s->device != index)) {
         s = s->next_in_bucket;
     }
     d->last = s != NULL ? s : open_session(r, index, c);
     return d->last;
+}
+
+/* Most events come in runs from one session: that one is at hand. */
+static inline driver_session_t *session_of(driver_report_t *r, unsigned index, const wsg_conn_t *c)
+{
+    driver_session_t *last = r->device[index].last;
+    return last != NULL && last->id == wsg_conn_id(c) ? last : find_session(r, index, c);
 }
 
 /* The whole requests of a session's last read (n) join its counts: its
@@ -154,13 +161,16 @@ static void count_read(driver_session_t *s, uint32_t n)
     if (n == 0) {
         return;
     }
-    uint64_t second = s->read_us / US_PER_SECOND;
     bool first = k->requests == 0;
     s->first_request_us = first ? s->read_us : s->first_request_us;
     s->last_request_us = s->read_us;
     k->requests += n;
-    s->in_second = !first && second == s->second ? s->in_second + n : n;
-    s->second = second;
+    if (first || s->read_us >= s->second_ends_us) {
+        s->in_second = n;
+        s->second_ends_us = (s->read_us / US_PER_SECOND + 1u) * US_PER_SECOND;
+    } else {
+        s->in_second += n;
+    }
     k->peak_per_second = s->in_second > k->peak_per_second ? s->in_second : k->peak_per_second;
     k->pipelined += n - 1u;
     k->most_in_flight = n > k->most_in_flight ? n : k->most_in_flight;
@@ -184,10 +194,15 @@ void driver_report_read(driver_report_t *r, unsigned index, const wsg_conn_t *c,
     }
 }
 
+const driver_watch_t *driver_report_watch(const driver_report_t *r, unsigned index)
+{
+    return r != NULL && index < r->devices ? &r->device[index].watch : NULL;
+}
+
 void driver_report_flags(driver_report_t *r, unsigned index, uint32_t flags)
 {
     if (r != NULL && index < r->devices) {
-        r->device[index].moving = (flags & WSG_FLAG(SF_MOVING)) != 0u;
+        r->device[index].watch.moving = (flags & WSG_FLAG(SF_MOVING)) != 0u;
     }
 }
 
@@ -199,7 +214,7 @@ void driver_report_bin_request(driver_report_t *r, unsigned index, const wsg_con
     unsigned id = frame[BIN_ID_AT];
     bool state = id >= BIN_STATE_FIRST && id <= BIN_STATE_LAST;
     bool subscribes = state && len > BIN_PAYLOAD_AT && (frame[BIN_PAYLOAD_AT] & BIN_AUTO_UPDATE);
-    bool polls = state && !subscribes && r->device[index].moving;
+    bool polls = state && !subscribes && r->device[index].watch.moving;
     driver_session_t *s =
         id == BIN_FAST_STOP || subscribes || polls ? session_of(r, index, c) : NULL;
     if (s != NULL) {
@@ -228,10 +243,10 @@ void driver_report_bin_reply(driver_report_t *r, unsigned index, const wsg_conn_
 void driver_report_gcl_command(driver_report_t *r, unsigned index, const wsg_conn_t *c, int command,
                                unsigned form, wsg_status_t status)
 {
-    const driver_device_t *d = &r->device[index];
-    bool polls = (form == WSG_GCL_FORM_QUERY || form == WSG_GCL_FORM_INDEXED) && d->moving;
-    bool faststop = command == d->faststop_command;
-    bool subscribed = command == d->autosend_command && status == E_SUCCESS;
+    const driver_watch_t *w = &r->device[index].watch;
+    bool polls = (form == WSG_GCL_FORM_QUERY || form == WSG_GCL_FORM_INDEXED) && w->moving;
+    bool faststop = command == w->faststop_command;
+    bool subscribed = command == w->autosend_command && status == E_SUCCESS;
     if (!(polls || faststop || subscribed)) {
         return; /* the common case: nothing to count */
     }

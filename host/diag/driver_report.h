@@ -25,6 +25,15 @@
 
 typedef struct driver_report driver_report_t;
 
+/* What a device's GCL command observer looks at before it calls in: only
+ * a query during a motion, FASTSTOP and AUTOSEND are counted per command,
+ * so the common request pays a few compares (driver_report_watch()). */
+typedef struct {
+    bool moving;          /* SF_MOVING, as the last sampled flags show it */
+    int faststop_command; /* GCL command table indices */
+    int autosend_command;
+} driver_watch_t;
+
 /* What only the port knows of a session: its peer ("ADDR:PORT") and the
  * updates it dropped because the client did not read them. */
 typedef struct {
@@ -36,7 +45,8 @@ typedef struct {
 /* NULL when out of memory. */
 driver_report_t *driver_report_create(unsigned devices);
 void driver_report_destroy(driver_report_t *r);
-/* port may be NULL (no peers, no drops known); the caller keeps it. */
+/* port may be NULL (no peers, no drops known); the caller keeps it. r may
+ * be NULL (the report is not counted): nothing. */
 void driver_report_set_port(driver_report_t *r, const driver_port_t *port);
 void driver_report_attach(driver_report_t *r, wsg_device_t *dev, unsigned index);
 /* Forgets every ended session and zeroes the live ones' counts. */
@@ -79,8 +89,16 @@ static inline void driver_report_message_out(driver_report_t *r, unsigned index,
         driver_report_bin_reply(r, index, c, frame, len);
     }
 }
+/* The device's watch (NULL before attach); it stays where it is. */
+const driver_watch_t *driver_report_watch(const driver_report_t *r, unsigned index);
+/* Only for a command driver_report_watches(). */
 void driver_report_gcl_command(driver_report_t *r, unsigned index, const wsg_conn_t *c, int command,
                                unsigned form, wsg_status_t status);
+
+static inline bool driver_report_watches(const driver_watch_t *w, int command)
+{
+    return w->moving || command == w->faststop_command || command == w->autosend_command;
+}
 void driver_report_gcl_error(driver_report_t *r, unsigned index, const wsg_conn_t *c,
                              wsg_status_t status);
 void driver_report_closed(driver_report_t *r, unsigned index, const wsg_conn_t *c,

@@ -53,10 +53,10 @@ typedef struct driver_session {
     const char *protocol; /* "GCL", "binary", or NULL before the first message */
     char peer[DRIVER_PEER_MAX];
     uint64_t opened_us, first_request_us, last_request_us, closed_us;
-    uint64_t second;    /* the simulated second in_second counts */
-    uint32_t in_second; /* requests in it so far */
-    uint32_t seen;      /* the connection's messages when its last read came */
-    uint64_t read_us;   /* when its last read came */
+    uint64_t second_ends_us; /* the end of the simulated second in_second counts */
+    uint32_t in_second;      /* requests in it so far */
+    uint32_t seen;           /* the connection's messages when its last read came */
+    uint64_t read_us;        /* when its last read came */
     bool open;
     bool open_at_exit;
     const char *close_reason; /* "announced", "dropped", "expired", "open at exit" */
@@ -66,9 +66,7 @@ typedef struct driver_session {
 typedef struct {
     wsg_device_t *dev;      /* NULL: not attached */
     driver_session_t *last; /* the session of the last event (most come in runs) */
-    bool moving;            /* SF_MOVING, as the last sampled flags show it */
-    int faststop_command;   /* GCL command table indices */
-    int autosend_command;
+    driver_watch_t watch;
 } driver_device_t;
 
 struct driver_report {

@@ -113,7 +113,7 @@ wsg_status_t sc_driver(simctl_ctx_t *ctx)
 {
     driver_report_t *driver = coverage_driver(simctl_coverage(ctx->ctl));
     if (driver == NULL) {
-        return sc_fail(ctx, E_NOT_AVAILABLE, "no coverage is counted");
+        return sc_fail(ctx, E_NOT_AVAILABLE, "the driver report is counted with --coverage FILE");
     }
     sc_reply_json(ctx, driver_report_json(driver));
     return E_SUCCESS;
