@@ -16,8 +16,14 @@ simulated time, never on how fast the machine is.
 
 Every device writes a protocol coverage report; at the end of the session
 the plugin prints which GCL command forms the tests used and never used, and
+the driver report: what the driver did that a real gripper answers
+differently (pipelined requests, polling during motion, refusals, streams
+not read, closes without BYE, ...), with the tests that did it.
 --wsgsim-coverage FILE writes the merged report as JSON. --wsgsim-binary
 PATH (or $WSGSIM) picks the program; the default is wsgsim on PATH.
+--wsgsim-arg ARG (repeatable) adds ARG to every device's options, before
+the test's own: `--wsgsim-arg=--timing=wsg50` runs a whole suite at a real
+device's pace.
 """
 import json
 import os
@@ -33,6 +39,9 @@ def pytest_addoption(parser):
                     help="the wsgsim program (default: $WSGSIM, else wsgsim on PATH)")
     group.addoption("--wsgsim-coverage", metavar="FILE",
                     help="write the merged GCL coverage report of every device to FILE")
+    group.addoption("--wsgsim-arg", metavar="ARG", action="append", default=[],
+                    help="add ARG to every device's wsgsim options (repeatable), e.g. "
+                         "--wsgsim-arg=--timing=wsg50")
 
 
 def pytest_configure(config):
@@ -49,19 +58,30 @@ class CoverageTotals:
         self.used = {}
         self.all_forms = set()
         self.devices = 0
+        self.driver = {}  # behaviour -> {"count", "sessions", "real_gripper", "tests"}
 
-    def add(self, path):
+    def add(self, path, test="?"):
         try:
             with open(path) as f:
                 report = json.load(f)
         except (OSError, ValueError):
             return
         self.devices += 1
+        self.add_driver(report.get("driver", {}), test)
         commands = report.get("commands", {})
         for entry in commands.get("used", []):
             self.used[entry["form"]] = self.used.get(entry["form"], 0) + entry["count"]
             self.all_forms.add(entry["form"])
         self.all_forms.update(commands.get("never_used", []))
+
+    def add_driver(self, driver, test):
+        for entry in driver.get("behaviours", []):
+            total = self.driver.setdefault(entry["behaviour"], {
+                "count": 0, "sessions": 0, "real_gripper": entry["real_gripper"], "tests": []})
+            total["count"] += entry["count"]
+            total["sessions"] += entry["sessions"]
+            if entry["count"] > 0:
+                total["tests"].append(test)
 
     def never_used(self):
         return sorted(self.all_forms - set(self.used))
@@ -69,7 +89,8 @@ class CoverageTotals:
     def as_json(self):
         return {"devices": self.devices,
                 "used": [{"form": f, "count": n} for f, n in sorted(self.used.items())],
-                "never_used": self.never_used()}
+                "never_used": self.never_used(),
+                "driver": [dict(behaviour=name, **entry) for name, entry in self.driver.items()]}
 
 
 def device_options(request):
@@ -91,6 +112,7 @@ def wsgsim(request, tmp_path):
     """A started Wsgsim (wsgsim.server.Wsgsim), stopped after the test; the
     test fails if the device did not shut down cleanly."""
     args, keywords = device_options(request)
+    args = list(request.config.getoption("wsgsim_arg")) + args  # the test's own win
     coverage = tmp_path / "wsgsim-coverage.json"
     binary = keywords.pop("binary", None) or request.config.getoption("wsgsim_binary")
     sim = Wsgsim(*args, binary=binary, coverage=coverage, **keywords)
@@ -99,7 +121,7 @@ def wsgsim(request, tmp_path):
         yield sim
     finally:
         code = sim.stop()
-        request.config._wsgsim_coverage.add(coverage)
+        request.config._wsgsim_coverage.add(coverage, request.node.nodeid)
     assert code == 0, "wsgsim exited with status %s:\n%s" % (code, "".join(sim.log))
 
 
@@ -118,5 +140,19 @@ def pytest_terminal_summary(terminalreporter, config):
     terminalreporter.write_line("used: " + ", ".join("%s x%d" % (f, n) for f, n in
                                                      sorted(totals.used.items())))
     terminalreporter.write_line("never used: " + ", ".join(totals.never_used()))
+    write_driver_summary(terminalreporter, totals)
     if path:
         terminalreporter.write_line("merged report: " + os.path.abspath(path))
+
+
+def write_driver_summary(terminalreporter, totals):
+    """Each behaviour of the driver report: its count, the sessions and
+    tests that showed it, what a real gripper does with it."""
+    terminalreporter.write_sep("-", "wsgsim driver report")
+    for name, entry in totals.driver.items():
+        line = "%s: %d in %d sessions" % (name, entry["count"], entry["sessions"])
+        if entry["count"] > 0:
+            tests = entry["tests"]
+            line += " (%s%s); a real gripper: %s" % (
+                ", ".join(tests[:3]), ", ..." if len(tests) > 3 else "", entry["real_gripper"])
+        terminalreporter.write_line(line)

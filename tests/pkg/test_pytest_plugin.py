@@ -43,6 +43,22 @@ def test_marker_options(wsgsim):
 '''
 
 
+DRIVER_TESTS = '''
+def test_pipelines(wsgsim):
+    assert "--part=40" in wsgsim.args  # --wsgsim-arg reaches every device
+    with wsgsim.tcp() as gcl:
+        gcl.send_raw(b"POS?\\nPOS?\\n")  # two requests in one write
+        assert [gcl.read_line(), gcl.read_line()] == ["POS=55.0", "POS=55.0"]
+        gcl.expect("BYE()", "ACK BYE")
+
+
+def test_polite(wsgsim):
+    with wsgsim.tcp() as gcl:
+        gcl.expect("POS?", "POS=55.0")
+        gcl.expect("BYE()", "ACK BYE")
+'''
+
+
 class PytestPlugin(unittest.TestCase):
     def env(self):
         return dict(os.environ, WSGSIM=WSGSIM, PYTHONPATH=os.path.join(ROOT, "python"))
@@ -72,6 +88,23 @@ class PytestPlugin(unittest.TestCase):
         self.assertIn("GRIP(_,_,_)", merged["never_used"])
         self.assertRegex(result.stdout, r"4 devices; \d+ of \d+ command forms used")
         self.assertTrue(re.search(r"never used: .*GRIP\(_,_,_\)", result.stdout))
+
+    def test_driver_report_names_the_tests(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            with open(os.path.join(tmp, "test_driver.py"), "w") as f:
+                f.write(textwrap.dedent(DRIVER_TESTS))
+            report = os.path.join(tmp, "coverage.json")
+            result = run_pytest(tmp, self.env(), "-p", "wsgsim.pytest_plugin",
+                                "--wsgsim-arg=--part=40", "--wsgsim-coverage", report)
+            self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
+            merged = json.load(open(report))
+        self.assertIn("wsgsim driver report", result.stdout)
+        self.assertIn("pipelined: 1 in 1 sessions (test_driver.py::test_pipelines); "
+                      "a real gripper: ", result.stdout)
+        self.assertIn("closed_without_goodbye: 0 in 0 sessions\n", result.stdout)
+        driver = {entry["behaviour"]: entry for entry in merged["driver"]}
+        self.assertEqual(driver["pipelined"]["tests"], ["test_driver.py::test_pipelines"])
+        self.assertEqual(driver["refused"]["count"], 0)
 
     def test_entry_point_and_p_option_together(self):
         """Installed (python3-wsgsim), the package's entry point loads the
