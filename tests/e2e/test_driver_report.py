@@ -213,6 +213,38 @@ class GclClient(DriverReportCase):
         self.assertIn("sessions closed without BYE or 0x07: 0 in 0 sessions", log)
 
 
+class WithoutCoverage(unittest.TestCase):
+    def test_nothing_is_counted(self):
+        sim = Wsgsim("--sim-port", "0")
+        sim.start()
+        self.addCleanup(sim.stop)
+        ctl = sim.control()
+        self.addCleanup(ctl.close)
+        self.assertEqual(ctl("DRIVER?"),
+                         "ERR DRIVER 1 the driver report is counted with --coverage FILE")
+        self.assertNotIn("driver", ctl.json("COVERAGE?"))
+
+
+class UdpPeer(DriverReportCase):
+    def test_a_peer_is_a_session_that_needs_no_goodbye(self):
+        self.start()
+        udp = self.sim.udp()
+        self.addCleanup(udp.close)
+        self.assertEqual(udp.command("POS?"), "POS=55.0")
+        self.assertEqual(udp.command("MOVE(20)"), "ERR MOVE 3")  # not homed
+        report = self.driver()
+        [peer] = report["session_list"]
+        self.assertEqual((peer["transport"], peer["protocol"], peer["open"]),
+                         ("udp", "GCL", True))
+        self.assertEqual(peer["requests"], 2)
+        self.assertEqual(errors(peer), {"E_NOT_INITIALIZED": 1})
+        driver, _ = self.stop_and_read()
+        [peer] = driver["session_list"]
+        self.assertEqual(peer["closed"], "open at exit")
+        self.assertEqual(peer["closed_without_goodbye"], 0)
+        self.assertEqual([e["why"] for e in peer["errors"]], ["not homed"])
+
+
 class UnreadStream(DriverReportCase):
     VALUES = ("POS", "SPEED", "FORCE", "GRIPSTATE", "SYSFLAGS", "TEMP")
 
