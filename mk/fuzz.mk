@@ -34,9 +34,12 @@ FUZZ_INPUTS := tests/fuzz/corpus tests/fuzz/regressions
 # Per target: the project's sources the libFuzzer build compiles with it,
 # the objects the replay build links instead (the project's own build), the
 # harness's helpers both build, and the libraries.
-FUZZ_SRC_session := $(FIRMWARE_SRC) $(SIM_SRC) host/can/can_loopback.c
-FUZZ_OBJ_session := $(BUILD)/obj/host/can/can_loopback.o $(CORE_LIBS)
-FUZZ_LIBS_session := -lm
+# (and the report on the driver under test, which watches its sessions)
+FUZZ_DRIVER_REPORT := host/diag/driver_report.c host/diag/driver_report_out.c
+FUZZ_SRC_session := $(FIRMWARE_SRC) $(SIM_SRC) host/can/can_loopback.c $(FUZZ_DRIVER_REPORT)
+FUZZ_OBJ_session := $(BUILD)/obj/host/can/can_loopback.o \
+	$(patsubst %.c,$(BUILD)/obj/%.o,$(FUZZ_DRIVER_REPORT)) $(CORE_LIBS)
+FUZZ_LIBS_session := -lcjson -lm
 # The host's parsers run in the host as build/wsgsim has it, without main()
 # and the web server's socket side (host/web/web_server.c): the web target
 # stands in for libmicrohttpd itself, the others link it.
