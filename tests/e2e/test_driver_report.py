@@ -246,17 +246,25 @@ class UdpPeer(DriverReportCase):
 
 
 class UnreadStream(DriverReportCase):
+    """One client subscribes and never reads; another subscribes to the
+    same values at the same instant and reads all: what the first received
+    plus what the report says it dropped is what the second received."""
     VALUES = ("POS", "SPEED", "FORCE", "GRIPSTATE", "SYSFLAGS", "TEMP")
+    STATE_IDS = (0x40, 0x41, 0x43, 0x44, 0x45)  # the binary values with automatic updates
 
-    def subscribe(self, sock):
-        for value in self.VALUES:
-            sock.sendall(b'AUTOSEND("%s",10)\n' % value.encode())
+    def test_gcl_updates_not_read_are_counted_exactly(self):
+        def subscribe(sock):
+            for value in self.VALUES:
+                sock.sendall(b'AUTOSEND("%s",10)\n' % value.encode())
+        self.check_unread(subscribe, len(self.VALUES), lambda data: data.count(b"\n"))
 
-    def test_updates_not_read_are_counted_exactly(self):
-        """One client subscribes and never reads; another subscribes to the
-        same values at the same instant and reads all: what the first
-        received plus what the report says it dropped is what the second
-        received."""
+    def test_binary_updates_not_read_are_counted_exactly(self):
+        def subscribe(sock):
+            sock.sendall(b"".join(wb.encode_frame(i, struct.pack("<BH", 1, 10))
+                                  for i in self.STATE_IDS))
+        self.check_unread(subscribe, len(self.STATE_IDS), lambda data: len(wb.deframe(data)))
+
+    def check_unread(self, subscribe, streams, messages):
         self.start()
         deaf = socket.socket()
         deaf.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)  # fills sooner
@@ -265,22 +273,21 @@ class UnreadStream(DriverReportCase):
         self.addCleanup(deaf.close)
         self.addCleanup(reader.close)
         deaf_port = deaf.getsockname()[1]
-        self.subscribe(deaf)
-        self.subscribe(reader)
+        subscribe(deaf)
+        subscribe(reader)
         wait_for("both subscribed",
-                 lambda: self.driver()["total"]["subscriptions"] == 2 * len(self.VALUES))
+                 lambda: self.driver()["total"]["subscriptions"] == 2 * streams)
         received = b""
         dropped = 0
         steps = 0
         while dropped == 0 or steps < 20:  # until it drops, and a while on
-            self.ctl.step(5000)  # the step's lines are sent before its reply
+            self.ctl.step(5000)  # the step's updates are sent before its reply
             steps += 1
             self.assertLess(steps, 1000, "the unread stream never filled the socket")
             received += self.drain(reader)
             dropped = self.session(self.driver(), deaf_port)["unread_stream_updates"]
-        deaf_lines = self.drain(deaf, until_closed=True).count(b"\n")
-        expected = received.count(b"\n")
-        self.assertEqual(deaf_lines + dropped, expected)
+        deaf_messages = messages(self.drain(deaf, until_closed=True))
+        self.assertEqual(deaf_messages + dropped, messages(received))
         reader_port = reader.getsockname()[1]
         self.assertEqual(self.session(self.driver(), reader_port)["unread_stream_updates"], 0)
         count = behaviour(self.driver(), "unread_stream_updates")
