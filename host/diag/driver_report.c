@@ -308,6 +308,21 @@ static const char *reason_name(wsg_close_reason_t why)
     }
 }
 
+/* The session ends: its last read's requests and its dropped updates are
+ * counted, and it joins the ended ones. */
+static void end_session(driver_report_t *r, driver_session_t *s, const wsg_conn_t *c,
+                        const char *reason)
+{
+    count_read(s, wsg_conn_messages_in(c) - s->seen); /* the last read's */
+    s->open = false;
+    s->closed_us = hal_clock_now_us();
+    s->close_reason = reason;
+    s->counts.updates_dropped = r->port != NULL ? r->port->updates_dropped(r->port->ctx, c) : 0u;
+    unlink_session(r, s);
+    keep_ended(r, s);
+    free(s);
+}
+
 void driver_report_closed(driver_report_t *r, unsigned index, const wsg_conn_t *c,
                           wsg_close_reason_t why, bool fast_stop)
 {
@@ -316,11 +331,6 @@ void driver_report_closed(driver_report_t *r, unsigned index, const wsg_conn_t *
         return;
     }
     driver_counts_t *n = &s->counts;
-    count_read(s, wsg_conn_messages_in(c) - s->seen); /* the last read's */
-    s->open = false;
-    s->closed_us = hal_clock_now_us();
-    s->open_at_exit = r->stopping;
-    s->close_reason = r->stopping ? "open at exit" : reason_name(why);
     if (!r->stopping) {
         /* a stream the client let go without saying so (a UDP peer has no link to lose) */
         n->closed_without_goodbye =
@@ -328,10 +338,21 @@ void driver_report_closed(driver_report_t *r, unsigned index, const wsg_conn_t *
         n->fast_stop_on_close = fast_stop ? 1u : 0u;
         n->partial_at_close = wsg_conn_partial_input(c) ? 1u : 0u;
     }
-    n->updates_dropped = r->port != NULL ? r->port->updates_dropped(r->port->ctx, c) : 0u;
-    unlink_session(r, s);
-    keep_ended(r, s);
-    free(s);
+    end_session(r, s, c, r->stopping ? "open at exit" : reason_name(why));
+}
+
+void driver_report_power_cycle(driver_report_t *r, unsigned index)
+{
+    if (r == NULL || index >= r->devices || r->device[index].dev == NULL) {
+        return;
+    }
+    LIST_EACH_SAFE (node, &r->live) {
+        driver_session_t *s = LIST_ITEM(node, driver_session_t, link);
+        const wsg_conn_t *c = wsg_device_conn_by_id(r->device[index].dev, s->id);
+        if (s->device == index && c != NULL) {
+            end_session(r, s, c, "reset");
+        }
+    }
 }
 
 unsigned long driver_counts_errors(const driver_counts_t *c)

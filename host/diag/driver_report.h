@@ -54,6 +54,9 @@ void driver_report_reset(driver_report_t *r);
 /* The process stops: sessions closed from now on were still open at exit,
  * not dropped by their client. */
 void driver_report_stopping(driver_report_t *r);
+/* Device index is power-cycled (the control channel's RESET): its sessions
+ * end as "reset", before their connections drop unobserved. NULL: nothing. */
+void driver_report_power_cycle(driver_report_t *r, unsigned index);
 
 /* The events, from coverage.c's observers of device `index`: a read
  * (requests are counted per read, from the connection's own count); the

@@ -58,8 +58,7 @@ typedef struct driver_session {
     uint32_t seen;           /* the connection's messages when its last read came */
     uint64_t read_us;        /* when its last read came */
     bool open;
-    bool open_at_exit;
-    const char *close_reason; /* "announced", "dropped", "expired", "open at exit" */
+    const char *close_reason; /* "announced", "dropped", "expired", "reset", "open at exit" */
     driver_counts_t counts;
 } driver_session_t;
 

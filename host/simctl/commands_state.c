@@ -47,6 +47,7 @@ wsg_status_t sc_reset(simctl_ctx_t *ctx)
 {
     gripper_t *g = ctx->gripper;
     wsg_device_observers_t observers;
+    driver_report_power_cycle(coverage_driver(simctl_coverage(ctx->ctl)), g->index);
     wsg_device_take_observers(&g->device, &observers); /* whoever observes */
     simctl_delay_clear_all(simctl_delays(ctx->ctl), &g->device, false);
     fleet_close_connections(simctl_fleet(ctx->ctl), g->index);

@@ -213,6 +213,29 @@ class GclClient(DriverReportCase):
         self.assertIn("sessions closed without BYE or 0x07: 0 in 0 sessions", log)
 
 
+class PowerCycle(DriverReportCase):
+    def test_a_reset_ends_the_devices_sessions(self):
+        """RESET() drops the connections unobserved (not the clients' doing):
+        their sessions end as "reset", without a close counted against them."""
+        self.start()
+        gcl = self.sim.tcp()
+        self.addCleanup(gcl.close)
+        port = gcl.sock.getsockname()[1]
+        gcl.send_raw(b"POS?\nPOS?\n")
+        self.assertEqual([gcl.read_line(), gcl.read_line()], ["POS=55.0"] * 2)
+        self.assertEqual(self.ctl("RESET()"), "ACK RESET")
+        ended = self.session(self.driver(), port)
+        self.assertEqual((ended["open"], ended["closed"]), (False, "reset"))
+        self.assertEqual((ended["requests"], ended["pipelined"]), (2, 1))
+        self.assertEqual((ended["closed_without_goodbye"], ended["fast_stop_on_close"]), (0, 0))
+        again = self.sim.tcp()
+        self.addCleanup(again.close)
+        self.assertEqual(again.command("POS?"), "POS=55.0")
+        report = self.driver()
+        self.assertEqual((report["open_sessions"], report["ended_sessions"]), (1, 1))
+        self.assertEqual(self.session(report, again.sock.getsockname()[1])["requests"], 1)
+
+
 class WithoutCoverage(unittest.TestCase):
     def test_nothing_is_counted(self):
         sim = Wsgsim("--sim-port", "0")
