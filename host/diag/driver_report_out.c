@@ -44,6 +44,12 @@ static const behaviour_text_t behaviours[DRV_BEHAVIOURS] = {
                        "acknowledged"},
 };
 
+/* What the device's pace makes of a session's peak rate: one request at a
+ * time, a GCL query in about 13 ms (docs/behaviour.md). */
+#define REAL_REQUESTS_PER_SECOND 75u
+static const char real_pace[] = "the device serves one request at a time, a GCL query in about "
+                                "13 ms: some 75 a second, more wait";
+
 /* What an error code says of the refusal. */
 static const char *refusal_reason(unsigned code)
 {
@@ -195,6 +201,10 @@ cJSON *driver_report_json(const driver_report_t *r)
                                                                : DRIVER_ENDED_KEPT);
     cJSON *all = cJSON_AddObjectToObject(root, "total");
     add_counts_json(all, &total);
+    cJSON *pace = cJSON_AddObjectToObject(root, "pace");
+    cJSON_AddNumberToObject(pace, "peak_requests_per_second", total.peak_per_second);
+    cJSON_AddNumberToObject(pace, "real_gripper_requests_per_second", REAL_REQUESTS_PER_SECOND);
+    cJSON_AddStringToObject(pace, "real_gripper", real_pace);
     cJSON_AddItemToObject(root, "behaviours", behaviours_json(&total, with));
     cJSON_AddItemToObject(root, "session_list", sessions_json(r));
     return root;
@@ -254,6 +264,9 @@ char *driver_report_text(const driver_report_t *r)
          "most in flight %u, %u subscriptions\n",
          r->ended_count + r->live_count, r->live_count, total.requests, total.peak_per_second,
          total.most_in_flight, total.subscriptions);
+    if (total.peak_per_second > REAL_REQUESTS_PER_SECOND) {
+        addf(&t, "  peak above a real gripper's pace: %s\n", real_pace);
+    }
     for (unsigned b = 0; b < DRV_BEHAVIOURS; b++) {
         unsigned long count = driver_counts_of(&total, (driver_behaviour_t)b);
         addf(&t, "  %s: %lu in %lu sessions%s%s\n", behaviours[b].label, count, with[b],

@@ -33,6 +33,9 @@ def validate(test, driver):
     """The "driver" section's shape (docs/testing-your-driver.md)."""
     for key in ("sessions", "open_sessions", "ended_sessions", "ended_sessions_listed"):
         test.assertIsInstance(driver[key], int, key)
+    test.assertEqual(driver["pace"]["peak_requests_per_second"],
+                     driver["total"]["peak_requests_per_second"])
+    test.assertEqual(driver["pace"]["real_gripper_requests_per_second"], 75)
     test.assertEqual(driver["sessions"], driver["open_sessions"] + driver["ended_sessions"])
     test.assertEqual([b["behaviour"] for b in driver["behaviours"]], BEHAVIOURS)
     for b in driver["behaviours"]:
@@ -266,6 +269,28 @@ class UdpPeer(DriverReportCase):
         self.assertEqual(peer["closed"], "open at exit")
         self.assertEqual(peer["closed_without_goodbye"], 0)
         self.assertEqual([e["why"] for e in peer["errors"]], ["not homed"])
+
+
+class Pace(DriverReportCase):
+    def peak_of(self, requests):
+        """The exit log of a run whose client sends requests queries in one
+        simulated second (the clock stands still)."""
+        self.start()
+        gcl = self.sim.tcp()
+        gcl.send_raw(b"POS?\n" * requests)
+        self.assertEqual([gcl.read_line() for _ in range(requests)], ["POS=55.0"] * requests)
+        self.assertEqual(gcl.command("BYE()"), "ACK BYE")
+        gcl.close()
+        driver, log = self.stop_and_read()
+        self.assertEqual(driver["pace"]["peak_requests_per_second"], requests + 1)
+        return log
+
+    def test_a_peak_above_the_devices_pace_is_said(self):
+        self.assertIn("peak above a real gripper's pace: the device serves one request at a "
+                      "time", self.peak_of(75))
+
+    def test_a_peak_at_the_devices_pace_is_not(self):
+        self.assertNotIn("peak above", self.peak_of(74))
 
 
 class UnreadStream(DriverReportCase):
