@@ -21,9 +21,11 @@ differently (pipelined requests, polling during motion, refusals, streams
 not read, closes without BYE, ...), with the tests that did it.
 --wsgsim-coverage FILE writes the merged report as JSON. --wsgsim-binary
 PATH (or $WSGSIM) picks the program; the default is wsgsim on PATH.
---wsgsim-arg ARG (repeatable) adds ARG to every device's options, before
-the test's own: `--wsgsim-arg=--timing=wsg50` runs a whole suite at a real
-device's pace.
+--wsgsim-timing PROFILE runs every device with a running clock at that
+pace (wsgsim --timing, docs/timing.md): `--wsgsim-timing wsg50` runs a
+whole suite at a real WSG 50's. A paused device keeps the ideal pace: its
+requests would wait for the test's STEPs, and a driver blocked on its first
+reply cannot step (a test gives it timing= itself, as any device can).
 """
 import json
 import os
@@ -39,9 +41,9 @@ def pytest_addoption(parser):
                     help="the wsgsim program (default: $WSGSIM, else wsgsim on PATH)")
     group.addoption("--wsgsim-coverage", metavar="FILE",
                     help="write the merged GCL coverage report of every device to FILE")
-    group.addoption("--wsgsim-arg", metavar="ARG", action="append", default=[],
-                    help="add ARG to every device's wsgsim options (repeatable), e.g. "
-                         "--wsgsim-arg=--timing=wsg50")
+    group.addoption("--wsgsim-timing", metavar="PROFILE",
+                    help="the pace of every device with a running clock, e.g. wsg50 "
+                         "(wsgsim --timing)")
 
 
 def pytest_configure(config):
@@ -107,12 +109,20 @@ def device_options(request):
     return [], {}
 
 
+def suite_options(timing, keywords):
+    """The options the session's command line gives a device, before its
+    test's own (which win): --wsgsim-timing for a device whose clock runs."""
+    if timing is None or keywords.get("paused"):
+        return []  # a paused device's requests would wait for STEPs nobody sends
+    return ["--timing", str(timing)]
+
+
 @pytest.fixture
 def wsgsim(request, tmp_path):
     """A started Wsgsim (wsgsim.server.Wsgsim), stopped after the test; the
     test fails if the device did not shut down cleanly."""
     args, keywords = device_options(request)
-    args = list(request.config.getoption("wsgsim_arg")) + args  # the test's own win
+    args = suite_options(request.config.getoption("wsgsim_timing"), keywords) + args
     coverage = tmp_path / "wsgsim-coverage.json"
     binary = keywords.pop("binary", None) or request.config.getoption("wsgsim_binary")
     sim = Wsgsim(*args, binary=binary, coverage=coverage, **keywords)

@@ -44,14 +44,19 @@ def test_marker_options(wsgsim):
 
 
 DRIVER_TESTS = '''
+import pytest
+
+
+@pytest.mark.wsgsim(paused=True)
 def test_pipelines(wsgsim):
-    assert "--part=40" in wsgsim.args  # --wsgsim-arg reaches every device
+    assert "--timing" not in wsgsim.args  # --wsgsim-timing: a paused device keeps its pace
     with wsgsim.tcp() as gcl:
         gcl.send_raw(b"POS?\\nPOS?\\n")  # two requests in one write
         assert [gcl.read_line(), gcl.read_line()] == ["POS=55.0", "POS=55.0"]
         gcl.expect("BYE()", "ACK BYE")
 
 
+@pytest.mark.wsgsim(paused=True)
 def test_polite(wsgsim):
     with wsgsim.tcp() as gcl:
         gcl.expect("POS?", "POS=55.0")
@@ -95,7 +100,7 @@ class PytestPlugin(unittest.TestCase):
                 f.write(textwrap.dedent(DRIVER_TESTS))
             report = os.path.join(tmp, "coverage.json")
             result = run_pytest(tmp, self.env(), "-p", "wsgsim.pytest_plugin",
-                                "--wsgsim-arg=--part=40", "--wsgsim-coverage", report)
+                                "--wsgsim-timing", "wsg50", "--wsgsim-coverage", report)
             self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
             merged = json.load(open(report))
         self.assertIn("wsgsim driver report", result.stdout)
@@ -105,6 +110,14 @@ class PytestPlugin(unittest.TestCase):
         driver = {entry["behaviour"]: entry for entry in merged["driver"]}
         self.assertEqual(driver["pipelined"]["tests"], ["test_driver.py::test_pipelines"])
         self.assertEqual(driver["refused"]["count"], 0)
+
+    def test_suite_timing_is_for_running_clocks(self):
+        """--wsgsim-timing: the options a device gets before its test's own."""
+        from wsgsim.pytest_plugin import suite_options
+        self.assertEqual(suite_options("wsg50", {}), ["--timing", "wsg50"])
+        self.assertEqual(suite_options("my.ini", {"control": True}), ["--timing", "my.ini"])
+        self.assertEqual(suite_options("wsg50", {"paused": True}), [])
+        self.assertEqual(suite_options(None, {}), [])
 
     def test_entry_point_and_p_option_together(self):
         """Installed (python3-wsgsim), the package's entry point loads the
