@@ -12,7 +12,6 @@ import socket
 import struct
 import sys
 import tempfile
-import time
 import unittest
 
 from gclclient import Wsgsim, wait_for
@@ -214,6 +213,111 @@ class GclClient(DriverReportCase):
         self.assertEqual(ended["closed_without_goodbye"], 0)
         self.assertEqual(ended["fast_stop_on_close"], 0)
         self.assertIn("sessions closed without BYE or 0x07: 0 in 0 sessions", log)
+
+
+class OneClientAllFour(DriverReportCase):
+    """The client of the issue: it pipelines, polls during a motion,
+    subscribes without reading and closes without BYE; the report lists
+    each behaviour with its exact count (the unread updates: what a client
+    subscribed at the same instant that reads them all got, less what this
+    one got)."""
+    VALUES = ("POS", "SPEED", "FORCE", "GRIPSTATE", "SYSFLAGS", "TEMP")
+
+    def test_each_of_the_four_with_its_count(self):
+        self.start()
+        client = socket.socket()
+        client.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)  # fills sooner
+        client.connect((self.sim.host, self.sim.tcp_port))
+        self.addCleanup(client.close)
+        port = client.getsockname()[1]
+        reference = socket.create_connection((self.sim.host, self.sim.tcp_port))
+        self.addCleanup(reference.close)
+        lines = LineReader(client)
+        client.sendall(b"POS?\nPOS?\nPOS?\n")  # pipelined: three in one write
+        self.assertEqual([lines.next() for _ in range(3)], ["POS=55.0"] * 3)
+        client.sendall(b"HOME()\n")
+        self.assertEqual(lines.next(), "ACK HOME")
+        self.ctl.step(200)  # the jaws move
+        for query in (b"POS?\n", b"GRIPSTATE?\n"):  # polled during the motion
+            client.sendall(query)
+            self.assertTrue(lines.next().startswith(query[:-2].decode() + "="))
+        subscribe = b"".join(b'AUTOSEND("%s",10)\n' % v.encode() for v in self.VALUES)
+        client.sendall(subscribe)  # pipelined too (six in one write), and never read again
+        polite = LineReader(reference)  # one at a time, at the same instant
+        updates = 0
+        for value in self.VALUES:
+            reference.sendall(b'AUTOSEND("%s",10)\n' % value.encode())
+            line = polite.next()
+            while line.startswith("@"):  # the first values come at once
+                updates += 1
+                line = polite.next()
+            self.assertEqual(line, "ACK AUTOSEND")
+        wait_for("both subscribed",
+                 lambda: self.driver()["total"]["subscriptions"] == 2 * len(self.VALUES))
+        dropped, steps = 0, 0
+        while dropped == 0 or steps < 10:
+            self.ctl.step(5000)
+            steps += 1
+            self.assertLess(steps, 1000, "the unread stream never filled the socket")
+            updates += sum(1 for line in polite.available() if line.startswith("@"))
+            dropped = self.session(self.driver(), port)["unread_stream_updates"]
+        got = lines.rest_after_close()  # closes without BYE, reads what was sent
+        self.assertEqual(sum(1 for line in got if line.startswith("@")) + dropped, updates)
+        ended = self.ended(port)
+        self.assertEqual((ended["pipelined"], ended["most_in_flight"]), (2 + 5, 6))
+        self.assertEqual(ended["polled_during_motion"], 2)
+        self.assertEqual(ended["subscriptions"], len(self.VALUES))
+        self.assertEqual(ended["unread_stream_updates"], dropped)
+        self.assertEqual((ended["closed_without_goodbye"], ended["fast_stop_on_close"]), (1, 1))
+        driver, log = self.stop_and_read()
+        self.assertEqual(self.session(driver, port)["unread_stream_updates"], dropped)
+        for line in ("requests sent before the previous reply: 7 in 1 sessions",
+                     "queries polled during a motion: 2 in 1 sessions",
+                     "stream updates dropped, not read: %d in 1 sessions" % dropped,
+                     "sessions closed without BYE or 0x07: 1 in 1 sessions"):
+            self.assertIn(line, log)
+
+
+class LineReader:
+    """Lines from a socket, read only when asked for (the client under test
+    leaves the rest in its socket)."""
+
+    def __init__(self, sock):
+        self.sock, self.buffer = sock, b""
+        sock.settimeout(60)
+
+    def next(self):
+        while b"\n" not in self.buffer:
+            chunk = self.sock.recv(4096)
+            if not chunk:
+                raise ConnectionError("closed by the server")
+            self.buffer += chunk
+        line, _, self.buffer = self.buffer.partition(b"\n")
+        return line.decode()
+
+    def available(self):
+        """The whole lines the socket holds now."""
+        self.sock.setblocking(False)
+        try:
+            while True:
+                chunk = self.sock.recv(1 << 16)
+                if not chunk:
+                    break
+                self.buffer += chunk
+        except BlockingIOError:
+            pass
+        self.sock.settimeout(60)
+        *lines, self.buffer = self.buffer.split(b"\n")
+        return [line.decode() for line in lines]
+
+    def rest_after_close(self):
+        """Shuts its side (no BYE): every line the server still sends."""
+        self.sock.shutdown(socket.SHUT_WR)
+        while True:
+            chunk = self.sock.recv(1 << 16)
+            if not chunk:
+                return self.buffer.decode().splitlines()
+            self.buffer += chunk
 
 
 class PowerCycle(DriverReportCase):
