@@ -34,12 +34,9 @@ FUZZ_INPUTS := tests/fuzz/corpus tests/fuzz/regressions
 # Per target: the project's sources the libFuzzer build compiles with it,
 # the objects the replay build links instead (the project's own build), the
 # harness's helpers both build, and the libraries.
-# (and the report on the driver under test, which watches its sessions)
-FUZZ_DRIVER_REPORT := host/diag/driver_report.c host/diag/driver_report_out.c
-FUZZ_SRC_session := $(FIRMWARE_SRC) $(SIM_SRC) host/can/can_loopback.c $(FUZZ_DRIVER_REPORT)
-FUZZ_OBJ_session := $(BUILD)/obj/host/can/can_loopback.o \
-	$(patsubst %.c,$(BUILD)/obj/%.o,$(FUZZ_DRIVER_REPORT)) $(CORE_LIBS)
-FUZZ_LIBS_session := -lcjson -lm
+FUZZ_SRC_session := $(FIRMWARE_SRC) $(SIM_SRC) host/can/can_loopback.c
+FUZZ_OBJ_session := $(BUILD)/obj/host/can/can_loopback.o $(CORE_LIBS)
+FUZZ_LIBS_session := -lm
 # The host's parsers run in the host as build/wsgsim has it, without main()
 # and the web server's socket side (host/web/web_server.c): the web target
 # stands in for libmicrohttpd itself, the others link it.
@@ -51,6 +48,12 @@ FUZZ_HOST_LIBS = $(filter-out -lmicrohttpd,$(HOST_LIBS))
 $(foreach t,control config scenario web store script,$(eval FUZZ_SRC_$(t) := $(FUZZ_HOST_SRC)) \
 	$(eval FUZZ_OBJ_$(t) := $(FUZZ_HOST_OBJ)) $(eval FUZZ_AUX_$(t) := tests/fuzz/fuzz_host.c) \
 	$(eval FUZZ_LIBS_$(t) = $(HOST_LIBS)))
+# The session target's sessions are watched by the report on the driver
+# under test (host/diag), as wsgsim's are with --coverage.
+FUZZ_DRIVER_REPORT := host/diag/driver_report.c host/diag/driver_report_out.c
+FUZZ_SRC_session += $(FUZZ_DRIVER_REPORT)
+FUZZ_OBJ_session += $(patsubst %.c,$(BUILD)/obj/%.o,$(FUZZ_DRIVER_REPORT))
+FUZZ_LIBS_session += -lcjson
 # The web targets' stand-in for libmicrohttpd (tests/fuzz/fuzz_mhd.c).
 $(foreach t,web store,$(eval FUZZ_AUX_$(t) += tests/fuzz/fuzz_mhd.c) \
 	$(eval FUZZ_LIBS_$(t) = $(FUZZ_HOST_LIBS)))

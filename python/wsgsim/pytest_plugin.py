@@ -14,18 +14,20 @@ paused=True starts the simulated clock paused at 0 with the control channel
 open: wsgsim.control().step(100) advances it by 100 ms, so a test asserts on
 simulated time, never on how fast the machine is.
 
+The driver report: at the end of the session the plugin also prints what
+the driver did that a real gripper answers differently (pipelined
+requests, polling during motion, refusals, streams not read, closes
+without BYE, ...), with the tests that did it. --wsgsim-timing PROFILE
+runs every device with a running clock at that pace (wsgsim --timing,
+docs/timing.md): `--wsgsim-timing wsg50` runs a whole suite at a real WSG
+50's. A paused device keeps the ideal pace: its requests would wait for
+the test's STEPs, and a driver blocked on its first reply cannot step (a
+test gives it timing= itself, as any device can).
+
 Every device writes a protocol coverage report; at the end of the session
 the plugin prints which GCL command forms the tests used and never used, and
-the driver report: what the driver did that a real gripper answers
-differently (pipelined requests, polling during motion, refusals, streams
-not read, closes without BYE, ...), with the tests that did it.
 --wsgsim-coverage FILE writes the merged report as JSON. --wsgsim-binary
 PATH (or $WSGSIM) picks the program; the default is wsgsim on PATH.
---wsgsim-timing PROFILE runs every device with a running clock at that
-pace (wsgsim --timing, docs/timing.md): `--wsgsim-timing wsg50` runs a
-whole suite at a real WSG 50's. A paused device keeps the ideal pace: its
-requests would wait for the test's STEPs, and a driver blocked on its first
-reply cannot step (a test gives it timing= itself, as any device can).
 """
 import json
 import os
@@ -39,11 +41,11 @@ def pytest_addoption(parser):
     group = parser.getgroup("wsgsim", "virtual WSG gripper (wsgsim)")
     group.addoption("--wsgsim-binary", metavar="PATH",
                     help="the wsgsim program (default: $WSGSIM, else wsgsim on PATH)")
-    group.addoption("--wsgsim-coverage", metavar="FILE",
-                    help="write the merged GCL coverage report of every device to FILE")
     group.addoption("--wsgsim-timing", metavar="PROFILE",
                     help="the pace of every device with a running clock, e.g. wsg50 "
                          "(wsgsim --timing)")
+    group.addoption("--wsgsim-coverage", metavar="FILE",
+                    help="write the merged GCL coverage report of every device to FILE")
 
 
 def pytest_configure(config):
