@@ -52,7 +52,8 @@ $(foreach t,control config scenario web store script,$(eval FUZZ_SRC_$(t) := $(F
 # under test (host/diag), as wsgsim's are with --coverage.
 FUZZ_DRIVER_REPORT := host/diag/driver_report.c host/diag/driver_report_out.c
 FUZZ_SRC_session += $(FUZZ_DRIVER_REPORT)
-FUZZ_OBJ_session += $(patsubst %.c,$(BUILD)/obj/%.o,$(FUZZ_DRIVER_REPORT))
+# (the core's libraries again after its objects: the linker reads a library once)
+FUZZ_OBJ_session += $(patsubst %.c,$(BUILD)/obj/%.o,$(FUZZ_DRIVER_REPORT)) $(CORE_LIBS)
 FUZZ_LIBS_session += -lcjson
 # The web targets' stand-in for libmicrohttpd (tests/fuzz/fuzz_mhd.c).
 $(foreach t,web store,$(eval FUZZ_AUX_$(t) += tests/fuzz/fuzz_mhd.c) \
