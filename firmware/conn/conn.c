@@ -95,20 +95,19 @@ void wsg_conn_input_choosing_driver(wsg_conn_t *conn, const uint8_t *bytes, size
         return; /* no driver speaks it: nothing can answer */
     }
     c->drv->open(conn);
-    wsg_conn_show_read(c, bytes, len);
     c->drv->input(conn, bytes, len);
 }
 
 void wsg_conn_input(wsg_conn_t *conn, const uint8_t *bytes, size_t len)
 {
     conn_t *c = conn_of(conn);
+    if (c->dev->observers.conn_readers != 0) {
+        wsg_conn_show_read(c, bytes, len); /* apart: a read pays one test */
+    }
     const wsg_proto_driver_t *drv = c->drv;
     if (drv == NULL) {
         wsg_conn_input_choosing_driver(conn, bytes, len);
     } else if (c->open && len != 0) {
-        if (c->dev->observers.conn_readers != 0) {
-            wsg_conn_show_read(c, bytes, len); /* apart: a read pays one test */
-        }
         drv->input(conn, bytes, len);
     }
 }
@@ -267,6 +266,9 @@ void wsg_conn_show_input(conn_t *c, const char *bytes, size_t len)
 
 void wsg_conn_show_read(conn_t *c, const uint8_t *bytes, size_t len)
 {
+    if (!c->open || len == 0) {
+        return; /* nothing arrives at a closed connection */
+    }
     for (const wsg_conn_observer_t *o = c->dev->observers.conn; o != NULL; o = o->next) {
         if (o->read != NULL) {
             o->read(o->ctx, conn_public(c), bytes, len);
