@@ -11,6 +11,8 @@
 #   scenario  the --scenario file, loaded and run
 #   script    a user script (Lua) and the binary client that talks to it:
 #             the script bindings and the custom command channel
+#   proxy     the recording proxy's splitter: driver and gripper bytes cut
+#             into GCL lines and binary frames (tools/wsgproxy)
 #
 #   make fuzz [FUZZ_TIME=S]   every target for S seconds (default 300), one
 #                             after the other (a finding does not stop the
@@ -26,7 +28,7 @@ FUZZ_CC := clang
 FUZZ_DIR := build/fuzz
 FUZZ_TIME ?= 300
 FUZZ_JOBS ?= 1
-FUZZ_TARGETS ?= session control web store config scenario script
+FUZZ_TARGETS ?= session control web store config scenario script proxy
 # Every target's seeds and regression inputs (a directory per target; a
 # target may have no regressions yet).
 FUZZ_INPUTS := tests/fuzz/corpus tests/fuzz/regressions
@@ -37,6 +39,8 @@ FUZZ_INPUTS := tests/fuzz/corpus tests/fuzz/regressions
 FUZZ_SRC_session := $(FIRMWARE_SRC) $(SIM_SRC) host/can/can_loopback.c
 FUZZ_OBJ_session := $(BUILD)/obj/host/can/can_loopback.o $(CORE_LIBS)
 FUZZ_LIBS_session := -lm
+FUZZ_SRC_proxy := tools/wsgproxy/split.c
+FUZZ_OBJ_proxy := $(BUILD)/obj/tools/wsgproxy/split.o
 # The host's parsers run in the host as build/wsgsim has it, without main()
 # and the web server's socket side (host/web/web_server.c): the web target
 # stands in for libmicrohttpd itself, the others link it.

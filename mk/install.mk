@@ -27,12 +27,14 @@ INSTALL ?= install
 # Each program once; the C ones are built, the Python ones are scripts.
 # The binary protocol client needs its module beside it: both go to
 # $(PRIVATE_DIR), and $(BINDIR)/wsgbin is a relative link to it.
-C_PROGRAMS := $(BUILD)/wsgsim $(BUILD)/fingersim
+C_PROGRAMS := $(BUILD)/wsgsim $(BUILD)/fingersim $(BUILD)/wsgproxy
 SCRIPT_PROGRAMS := tools/wsgctl tools/wsgplot
+# The probe reads the binary protocol with the client's module: beside it too.
+PROBE := tools/wsgprobe
 BIN_CLIENT := tools/wsgbin
 BIN_CLIENT_MODULE := tools/wsgbinproto.py
 PRIVATE_DIR = $(DATADIR)/wsgsim
-PROGRAMS := $(C_PROGRAMS) $(SCRIPT_PROGRAMS) $(BIN_CLIENT)
+PROGRAMS := $(C_PROGRAMS) $(SCRIPT_PROGRAMS) $(BIN_CLIENT) $(PROBE)
 PROGRAM_NAMES := $(notdir $(PROGRAMS))
 MAN_PAGES := $(patsubst %,$(BUILD)/man/%.1,$(PROGRAM_NAMES))
 UNITS := wsgsim.service wsgsim@.service
@@ -77,6 +79,8 @@ $(BUILD)/man/fingersim.1: $(BUILD)/fingersim
 $(BUILD)/man/wsgctl.1: tools/wsgctl
 $(BUILD)/man/wsgplot.1: tools/wsgplot
 $(BUILD)/man/wsgbin.1: tools/wsgbin $(BIN_CLIENT_MODULE)
+$(BUILD)/man/wsgprobe.1: $(PROBE) $(BIN_CLIENT_MODULE)
+$(BUILD)/man/wsgproxy.1: $(BUILD)/wsgproxy
 
 .PHONY: man-deps
 ## install help2man
@@ -89,6 +93,9 @@ install: $(PROGRAMS) man
 	$(INSTALL) -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(SYSTEMDUNITDIR) \
 		$(DESTDIR)$(DOCDIR)/examples $(DESTDIR)$(PRIVATE_DIR) $(DESTDIR)$(SYSCONFDIR)/wsgsim
 	$(INSTALL) -m 755 $(C_PROGRAMS) $(SCRIPT_PROGRAMS) $(DESTDIR)$(BINDIR)/
+	$(INSTALL) -m 755 $(PROBE) $(DESTDIR)$(PRIVATE_DIR)/
+	ln -sf $$(realpath -m --relative-to=$(BINDIR) $(PRIVATE_DIR)/$(notdir $(PROBE))) \
+		$(DESTDIR)$(BINDIR)/$(notdir $(PROBE))
 	$(INSTALL) -m 755 $(BIN_CLIENT) $(DESTDIR)$(PRIVATE_DIR)/
 	$(INSTALL) -m 644 $(BIN_CLIENT_MODULE) $(DESTDIR)$(PRIVATE_DIR)/
 	ln -sf $$(realpath -m --relative-to=$(BINDIR) $(PRIVATE_DIR)/$(notdir $(BIN_CLIENT))) \
@@ -114,7 +121,7 @@ uninstall:
 		$(patsubst %,$(DESTDIR)$(MANDIR)/man1/%.1,$(PROGRAM_NAMES)) \
 		$(addprefix $(DESTDIR)$(SYSTEMDUNITDIR)/,$(UNITS)) \
 		$(addprefix $(DESTDIR)$(PRIVATE_DIR)/,finger-bus.dbc $(notdir $(BIN_CLIENT) \
-			$(BIN_CLIENT_MODULE)))
+			$(BIN_CLIENT_MODULE) $(PROBE)))
 	rm -rf $(DESTDIR)$(DOCDIR) $(DESTDIR)$(PRIVATE_DIR)/__pycache__
 	-rmdir $(DESTDIR)$(PRIVATE_DIR) $(DESTDIR)$(SYSCONFDIR)/wsgsim 2>/dev/null
 

@@ -26,6 +26,7 @@ static const struct {
     [DEV_SERIAL] = {"device", "serial", CV_SERIAL},
     [DEV_TAG] = {"device", "tag", CV_TEXT},
     [DEV_VERSION] = {"device", "firmware_version", CV_TEXT},
+    [DEV_HW_REVISION] = {"device", "hardware_revision", CV_BYTE},
     [MOT_HOMING] = {"motion", "homing_direction", CV_DIRECTION},
     [MOT_MOVE_RETARGET] = {"motion", "move_retarget", CV_BOOL},
 };

@@ -231,6 +231,9 @@ void config_file_apply(const config_file_t *cf, wsg_config_t *cfg)
     if (v[DEV_SERIAL].set) {
         cfg->serial = (uint32_t)v[DEV_SERIAL].number;
     }
+    if (v[DEV_HW_REVISION].set) {
+        cfg->hw_revision = (uint8_t)v[DEV_HW_REVISION].number;
+    }
     for (unsigned i = 0; i < SETTINGS_TABLE_COUNT; i++) {
         /* the [network] ones reach the device through the options */
         const settings_row_t *row = &settings_table[i];

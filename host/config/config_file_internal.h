@@ -18,6 +18,7 @@ typedef enum {
     DEV_SERIAL,
     DEV_TAG,
     DEV_VERSION,
+    DEV_HW_REVISION,
     MOT_HOMING,
     MOT_MOVE_RETARGET,
     KEY_COUNT

@@ -94,6 +94,9 @@ static const char *convert_number(config_value_kind_t kind, const char *text, co
         return config_value_int_range(text, 0, 4294967295.0, &v->number)
                    ? NULL
                    : "expected an integer 0-4294967295";
+    case CV_BYTE:
+        return config_value_int_range(text, 0, 255, &v->number) ? NULL
+                                                                : "expected an integer 0-255";
     case CV_NUMBER:
         return parse_number(text, &v->number) ? NULL : "expected a number";
     case CV_BOOL:

@@ -14,6 +14,7 @@ typedef enum {
     CV_TEXT,        /* printable, no '"', shorter than WSG_CONFIG_STRING_MAX */
     CV_MODEL,       /* a model wsg_sim_model_find() knows */
     CV_SERIAL,      /* 0..4294967295 */
+    CV_BYTE,        /* 0..255 */
     CV_NUMBER,      /* a finite number; ranges are checked against the model */
     CV_BOOL,        /* yes/no, true/false, on/off, 1/0 */
     CV_DIRECTION,   /* positive/negative */

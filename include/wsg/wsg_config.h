@@ -19,6 +19,7 @@ typedef struct {
     char version[WSG_CONFIG_STRING_MAX]; /* firmware version string, e.g. "4.0.0" */
     char tag[WSG_CONFIG_STRING_MAX];     /* descriptor string (device tag) */
     uint32_t serial;
+    uint8_t hw_revision; /* the binary system information's hardware revision */
 
     /* mechanics of the model */
     float stroke_mm;

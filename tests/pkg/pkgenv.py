@@ -27,7 +27,9 @@ DBC = os.path.join(ROOT, "docs", "finger-bus.dbc")
 PROGRAMS = {"wsgsim": WSGSIM, "fingersim": FINGERSIM,
             "wsgctl": os.path.join(ROOT, "tools", "wsgctl"),
             "wsgplot": os.path.join(ROOT, "tools", "wsgplot"),
-            "wsgbin": os.path.join(ROOT, "tools", "wsgbin")}
+            "wsgbin": os.path.join(ROOT, "tools", "wsgbin"),
+            "wsgprobe": os.path.join(ROOT, "tools", "wsgprobe"),
+            "wsgproxy": env_path("WSGPROXY", "build/wsgproxy")}
 
 
 def run(argv, **kw):

@@ -79,7 +79,7 @@ class Packages(unittest.TestCase):
             self.assertIn(".BR %s (1)" % program, see_also)
 
     def test_scripts_use_debians_python(self):
-        for name in ("wsgctl", "wsgplot", "wsgbin"):
+        for name in ("wsgctl", "wsgplot", "wsgbin", "wsgprobe"):
             with open(self.path("usr/bin", name)) as f:  # wsgbin: a link into /usr/share/wsgsim
                 self.assertEqual(f.readline(), "#!/usr/bin/python3\n", name)
 

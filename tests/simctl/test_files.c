@@ -154,6 +154,7 @@ START_TEST(config_sets_the_device_like_its_web_interface)
     const char *path = t_temp_file("; web interface settings\n"
                                    "[device]\nmodel = WSG 32-068\nserial = 4711\n"
                                    "tag = \"cell 3\"\nfirmware_version = 4.1.2\n"
+                                   "hardware_revision = 7\n"
                                    "[motion]\ndefault_force = 20\ndefault_speed = 50\n"
                                    "default_acceleration = 800\ndefault_pullback = 5\n"
                                    "part_width_tolerance = 3\nclamping_travel = 4\n"
@@ -176,6 +177,7 @@ START_TEST(config_sets_the_device_like_its_web_interface)
     ck_assert_uint_eq(cfg->serial, 4711);
     ck_assert_str_eq(cfg->tag, "cell 3");
     ck_assert_str_eq(cfg->version, "4.1.2");
+    ck_assert_uint_eq(cfg->hw_revision, 7);
     ck_assert_float_eq(cfg->default_force_n, 20.0f);
     ck_assert_float_eq(cfg->default_clt_mm, 4.0f);
     ck_assert(cfg->soft_limits_enabled);

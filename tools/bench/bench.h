@@ -254,4 +254,15 @@ typedef struct {
 } pace_result_t;
 void pace_run(const server_t *srv, pace_result_t *r);
 
+/* proxy.c: POS? round trips directly and through the recording proxy, and
+ * pipelined polling through it. */
+typedef struct {
+    samples_t direct, proxied; /* µs; proxied.n 0: not run */
+    long pipelined, answered;  /* POS? written back to back, and answered */
+    long expected_in_record;   /* every POS? that went through the proxy */
+    long recorded_sent, recorded_answered;
+} proxy_result_t;
+void proxy_run(const char *wsgsim, const char *wsgproxy, const char *out_dir, int rtt_n,
+               const char *pin, proxy_result_t *r);
+
 #endif
