@@ -11,6 +11,8 @@
 #   scenario  the --scenario file, loaded and run
 #   script    a user script (Lua) and the binary client that talks to it:
 #             the script bindings and the custom command channel
+#   net       wire conditions (--net, [net] conditions, NET): the text,
+#             written back, and the TCP wire that applies it
 #   proxy     the recording proxy's splitter: driver and gripper bytes cut
 #             into GCL lines and binary frames (tools/wsgproxy)
 #
@@ -28,7 +30,7 @@ FUZZ_CC := clang
 FUZZ_DIR := build/fuzz
 FUZZ_TIME ?= 300
 FUZZ_JOBS ?= 1
-FUZZ_TARGETS ?= session control web store config scenario script proxy
+FUZZ_TARGETS ?= session control web store config scenario script net proxy
 # Every target's seeds and regression inputs (a directory per target; a
 # target may have no regressions yet).
 FUZZ_INPUTS := tests/fuzz/corpus tests/fuzz/regressions
@@ -39,6 +41,9 @@ FUZZ_INPUTS := tests/fuzz/corpus tests/fuzz/regressions
 FUZZ_SRC_session := $(FIRMWARE_SRC) $(SIM_SRC) host/can/can_loopback.c
 FUZZ_OBJ_session := $(BUILD)/obj/host/can/can_loopback.o $(CORE_LIBS)
 FUZZ_LIBS_session := -lm
+FUZZ_SRC_net := host/os/wire_spec.c host/os/clock.c host/port/wire.c
+FUZZ_OBJ_net := $(FUZZ_SRC_net:%.c=$(BUILD)/obj/%.o)
+FUZZ_LIBS_net := -lm
 FUZZ_SRC_proxy := tools/wsgproxy/split.c
 FUZZ_OBJ_proxy := $(BUILD)/obj/tools/wsgproxy/split.o
 # The host's parsers run in the host as build/wsgsim has it, without main()

@@ -11,6 +11,7 @@
 
 #include "http_host.h"
 #include "net_allow.h"
+#include "wire_spec.h"
 #include "host_options.h"
 #include "sim/finger_node.h"
 #include "sim/sim_models.h"
@@ -165,6 +166,14 @@ static const char *convert_text(config_value_kind_t kind, const char *text, conf
         return strlen(text) < sizeof(v->text) && net_allow_add(&list, text)
                    ? NULL
                    : "expected up to 8 comma-separated addresses, each ADDR or ADDR/PREFIX";
+    }
+    case CV_NET: {
+        static char why[160]; /* the configuration is read by one thread */
+        wire_spec_t spec = {0};
+        if (strlen(text) >= sizeof(v->text)) {
+            return "expected wire conditions of at most 127 characters";
+        }
+        return wire_spec_parse(&spec, text, why, sizeof(why)) ? NULL : why;
     }
     case CV_LOOPBACK:
         return is_loopback(text) ? NULL

@@ -30,6 +30,7 @@ typedef enum {
     CV_PATH,        /* a file or directory name: printable, not empty */
     CV_ALLOW,       /* comma-separated ADDR[/PREFIX] (net_allow.h) */
     CV_FINGERS,     /* A[,B]: the fingers of a loopback bus (wsg_finger_node_parse_pair) */
+    CV_NET,         /* wire conditions: a preset and KEY=VALUE items (wire_spec.h) */
 } config_value_kind_t;
 
 typedef struct {

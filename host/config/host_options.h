@@ -10,6 +10,7 @@
 
 #include "hal_log.h"
 #include "net_allow.h"
+#include "wire_spec.h"
 
 /* --protocol: what a TCP connection speaks (docs/binary-protocol.md) */
 typedef enum { HOST_PROTOCOL_AUTO, HOST_PROTOCOL_GCL, HOST_PROTOCOL_BINARY } host_protocol_t;
@@ -42,6 +43,9 @@ typedef struct {
     net_allow_t udp_stream_allow; /* --udp-stream-allow: streams to them need no budget */
     bool udp_stream_allow_given;  /* the first --udp-stream-allow replaces the file's list */
     bool disconnect_faststop;
+    /* --net and [net] conditions: the wire conditions of every session
+     * (docs/network.md); off unless given */
+    wire_spec_t net;
     bool trace;
     const char *can_iface; /* --can: finger bus on SocketCAN; NULL: loopback bus */
     const char *fingers;   /* --fingers: the loopback bus' fingers, "fmf,dsa" */

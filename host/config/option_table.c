@@ -160,6 +160,15 @@ static bool set_script_autostart(host_options_t *opts, double number, const char
     return true;
 }
 
+/* Applied over what the file set: "--net loss=0.1" adds to its conditions,
+ * a preset first replaces them. The text was checked (CV_NET). */
+static bool set_net(host_options_t *opts, double number, const char *text)
+{
+    char why[160];
+    (void)number;
+    return wire_spec_parse(&opts->net, text, why, sizeof(why));
+}
+
 const option_row_t option_table[OPTION_COUNT] = {
     [OPTION_MODEL] = {"--model", "device", "model", CV_MODEL, set_model},
     [OPTION_TCP_PORT] = {"--tcp-port", "network", "tcp_port", CV_PORT, set_tcp_port},
@@ -191,4 +200,5 @@ const option_row_t option_table[OPTION_COUNT] = {
     [OPTION_SCRIPT_DIR] = {"--script-dir", "script", "dir", CV_PATH, set_script_dir},
     [OPTION_SCRIPT_AUTOSTART] = {"--no-script-autostart", "script", "autostart", CV_BOOL,
                                  set_script_autostart},
+    [OPTION_NET] = {"--net", "net", "conditions", CV_NET, set_net},
 };

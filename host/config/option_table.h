@@ -33,6 +33,7 @@ typedef enum {
     OPTION_SCRIPT,
     OPTION_SCRIPT_DIR,
     OPTION_SCRIPT_AUTOSTART,
+    OPTION_NET,
     OPTION_COUNT
 } option_id_t;
 

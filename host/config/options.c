@@ -133,6 +133,7 @@ static const struct option long_options[] = {
     {"script", required_argument, NULL, OPT_TABLE + OPTION_SCRIPT},
     {"script-dir", required_argument, NULL, OPT_TABLE + OPTION_SCRIPT_DIR},
     {"no-script-autostart", no_argument, NULL, OPT_TABLE + OPTION_SCRIPT_AUTOSTART},
+    {"net", required_argument, NULL, OPT_TABLE + OPTION_NET},
     {"version", no_argument, NULL, OPT_VERSION},
     {"help", no_argument, NULL, OPT_HELP},
     {NULL, 0, NULL, 0},
@@ -252,6 +253,18 @@ static options_result_t allow_host_option(const char *arg, const host_options_t 
     return http_host_list_valid(arg) ? OPTIONS_RUN : usage_error("--http-allow-host", arg);
 }
 
+/* --net: wire conditions over the file's; a bad one says what is wrong. */
+static options_result_t net_option(const char *arg, const host_options_t *opts)
+{
+    char why[160];
+    wire_spec_t trial = opts->net;
+    if (!wire_spec_parse(&trial, arg, why, sizeof(why))) {
+        fprintf(stderr, "wsgsim: invalid --net '%s': %s\n", arg, why);
+        return OPTIONS_EXIT_USAGE;
+    }
+    return OPTIONS_RUN;
+}
+
 /* How the command line reads an option of option_table.h: its number (a
  * port, seconds, a choice, a switch) with the command line's own errors,
  * or nothing for a text (the argument itself). */
@@ -286,6 +299,8 @@ static options_result_t read_table_option(option_id_t id, const char *arg,
     case OPTION_ADDRESS_PER_DEVICE:
         *number = 1.0; /* --address-per-device */
         return OPTIONS_RUN;
+    case OPTION_NET:
+        return net_option(arg, opts);
     default: /* a text, or --no-script-autostart (0) */
         *number = 0.0;
         return OPTIONS_RUN;

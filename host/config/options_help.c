@@ -43,7 +43,13 @@ static void print_serving(void)
            "                             repeatable) keep AUTOSEND and automatic updates\n"
            "                             while silent, as loopback peers always do; other\n"
            "                             peers' streams are paid by what they send\n"
-           "                             (default: none)\n",
+           "                             (default: none)\n"
+           "  --net SPEC                 wire conditions for every session: a preset (off,\n"
+           "                             rough, split, lossy, slow) and/or KEY=VALUE items:\n"
+           "                             split=N, gap=MS[-MS], coalesce=MS, latency=MS,\n"
+           "                             jitter=MS, reset=MS, loss=P, dup=P, reorder=P,\n"
+           "                             seed=N (e.g. --net rough,reset=5000; default off;\n"
+           "                             docs/network.md)\n",
            DEFAULT_PORT, DEFAULT_PORT, HOST_DEVICES_MAX, wsg_sim_model_default()->name,
            (double)DEFAULT_PART_STIFFNESS, DEFAULT_MAX_CLIENTS, MAX_CLIENTS_LIMIT,
            DEFAULT_UDP_PEER_TIMEOUT_S);

@@ -37,6 +37,7 @@ static const simctl_entry_t table[] = {
     {"DELAY", CALL, 1, 2, sc_delay, "DELAY(ms[,session])", true},
     {"FAILNEXT", CALL, 2, 2, sc_failnext, "FAILNEXT(command,code)", true},
     {"CUT", CALL, 0, 1, sc_cut, "CUT([session])", true},
+    {"NET", CALL | QUERY, 1, 2, sc_net, "NET(conditions[,session]) | NET?", true},
     {"STATE", QUERY, 0, 0, sc_state, "STATE?", true},
     {"SESSIONS", QUERY, 0, 0, sc_sessions, "SESSIONS?", true},
     {"RESET", CALL, 0, 0, sc_reset, "RESET()", true},

@@ -104,6 +104,9 @@ wsg_status_t sc_delay(simctl_ctx_t *ctx);
 wsg_status_t sc_failnext(simctl_ctx_t *ctx);
 wsg_status_t sc_cut(simctl_ctx_t *ctx);
 
+/* simctl/commands_net.c */
+wsg_status_t sc_net(simctl_ctx_t *ctx);
+
 /* simctl/commands_state.c */
 wsg_status_t sc_state(simctl_ctx_t *ctx);
 wsg_status_t sc_sessions(simctl_ctx_t *ctx);

@@ -28,6 +28,12 @@ Every device writes a protocol coverage report; at the end of the session
 the plugin prints which GCL command forms the tests used and never used, and
 --wsgsim-coverage FILE writes the merged report as JSON. --wsgsim-binary
 PATH (or $WSGSIM) picks the program; the default is wsgsim on PATH.
+--wsgsim-net SPEC puts every device with a running clock on that wire
+(docs/network.md): run the suite again with --wsgsim-net rough and a
+driver that reads one reply per recv(), or waits for a lost datagram
+forever, fails. A paused device keeps the ideal wire (its wire's delays
+wait for the test's STEPs, and a driver blocked on its first reply cannot
+step): it takes net= from its marker or parameter, as any device can.
 """
 import json
 import os
@@ -46,11 +52,13 @@ def pytest_addoption(parser):
                          "(wsgsim --timing)")
     group.addoption("--wsgsim-coverage", metavar="FILE",
                     help="write the merged GCL coverage report of every device to FILE")
+    group.addoption("--wsgsim-net", metavar="SPEC",
+                    help="wire conditions of every device, e.g. rough (wsgsim --net)")
 
 
 def pytest_configure(config):
     config.addinivalue_line(
-        "markers", "wsgsim(*options, paused=False, control=False): options of the device "
+        "markers", "wsgsim(*options, paused=False, control=False, net=None): options of the device "
         "the wsgsim fixture starts")
     config._wsgsim_coverage = CoverageTotals()
 
@@ -127,6 +135,8 @@ def wsgsim(request, tmp_path):
     args = suite_options(request.config.getoption("wsgsim_timing"), keywords) + args
     coverage = tmp_path / "wsgsim-coverage.json"
     binary = keywords.pop("binary", None) or request.config.getoption("wsgsim_binary")
+    if not keywords.get("paused"):  # a paused wire holds replies until the test steps
+        keywords.setdefault("net", request.config.getoption("wsgsim_net"))
     sim = Wsgsim(*args, binary=binary, coverage=coverage, **keywords)
     sim.start()
     try:

@@ -49,14 +49,16 @@ class Wsgsim:
     paused=True starts the simulated clock paused at 0 and opens the control
     channel (sim.control().step(ms) advances it); control=True opens the
     control channel alone; coverage=PATH writes the protocol coverage report
-    there at exit. The ports are read from the --ready-file wsgsim writes
+    there at exit; net="rough" (or any --net conditions, docs/network.md)
+    puts every session on that wire: its replies split, joined, delayed,
+    its datagrams lost, doubled or reordered. The ports are read from the --ready-file wsgsim writes
     once it serves, so any log level works. $WSGSIM_PREFIX runs the server
     under a tool, e.g. "valgrind --error-exitcode=99".
     """
 
-    def __init__(self, *args, binary=None, paused=False, control=False, coverage=None):
+    def __init__(self, *args, binary=None, paused=False, control=False, coverage=None, net=None):
         self.binary = binary
-        extra = []
+        extra = ["--net", net] if net else []
         if paused:
             extra += ["--start-paused"]
         if paused or control:

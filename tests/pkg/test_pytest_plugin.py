@@ -94,6 +94,16 @@ class PytestPlugin(unittest.TestCase):
         self.assertRegex(result.stdout, r"4 devices; \d+ of \d+ command forms used")
         self.assertTrue(re.search(r"never used: .*GRIP\(_,_,_\)", result.stdout))
 
+    def test_walkthrough_passes_under_rough_wire_conditions(self):
+        """The document's driver reads lines from a buffer: every device of
+        the run on a rough wire (replies split and joined) changes nothing."""
+        with tempfile.TemporaryDirectory() as tmp:
+            write_example(tmp)
+            result = run_pytest(tmp, self.env(), "-p", "wsgsim.pytest_plugin",
+                                "--wsgsim-net", "rough,seed=3")
+        self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
+        self.assertRegex(result.stdout, r"\b6 passed\b")
+
     def test_entry_point_and_p_option_together(self):
         """Installed (python3-wsgsim), the package's entry point loads the
         plugin by itself; the documents' `-p wsgsim.pytest_plugin` must then
