@@ -33,8 +33,11 @@ SCRIPT_PROGRAMS := tools/wsgctl tools/wsgplot
 PROBE := tools/wsgprobe
 BIN_CLIENT := tools/wsgbin
 BIN_CLIENT_MODULE := tools/wsgbinproto.py
+# The calibration tools share their module the same way.
+TWIN_PROGRAMS := tools/wsgcalib tools/wsgfit tools/wsgcheck
+TWIN_MODULE := tools/wsgtwin.py
 PRIVATE_DIR = $(DATADIR)/wsgsim
-PROGRAMS := $(C_PROGRAMS) $(SCRIPT_PROGRAMS) $(BIN_CLIENT) $(PROBE)
+PROGRAMS := $(C_PROGRAMS) $(SCRIPT_PROGRAMS) $(BIN_CLIENT) $(PROBE) $(TWIN_PROGRAMS)
 PROGRAM_NAMES := $(notdir $(PROGRAMS))
 MAN_PAGES := $(patsubst %,$(BUILD)/man/%.1,$(PROGRAM_NAMES))
 UNITS := wsgsim.service wsgsim@.service
@@ -81,6 +84,9 @@ $(BUILD)/man/wsgplot.1: tools/wsgplot
 $(BUILD)/man/wsgbin.1: tools/wsgbin $(BIN_CLIENT_MODULE)
 $(BUILD)/man/wsgprobe.1: $(PROBE) $(BIN_CLIENT_MODULE)
 $(BUILD)/man/wsgproxy.1: $(BUILD)/wsgproxy
+$(BUILD)/man/wsgcalib.1: tools/wsgcalib $(TWIN_MODULE)
+$(BUILD)/man/wsgfit.1: tools/wsgfit $(TWIN_MODULE)
+$(BUILD)/man/wsgcheck.1: tools/wsgcheck $(TWIN_MODULE)
 
 .PHONY: man-deps
 ## install help2man
@@ -100,6 +106,12 @@ install: $(PROGRAMS) man
 	$(INSTALL) -m 644 $(BIN_CLIENT_MODULE) $(DESTDIR)$(PRIVATE_DIR)/
 	ln -sf $$(realpath -m --relative-to=$(BINDIR) $(PRIVATE_DIR)/$(notdir $(BIN_CLIENT))) \
 		$(DESTDIR)$(BINDIR)/$(notdir $(BIN_CLIENT))
+	$(INSTALL) -m 755 $(TWIN_PROGRAMS) $(DESTDIR)$(PRIVATE_DIR)/
+	$(INSTALL) -m 644 $(TWIN_MODULE) $(DESTDIR)$(PRIVATE_DIR)/
+	for program in $(notdir $(TWIN_PROGRAMS)); do \
+		ln -sf $$(realpath -m --relative-to=$(BINDIR) $(PRIVATE_DIR)/$$program) \
+			$(DESTDIR)$(BINDIR)/$$program || exit 1; \
+	done
 	$(INSTALL) -m 644 $(MAN_PAGES) $(DESTDIR)$(MANDIR)/man1/
 	for unit in $(UNITS); do \
 		sed -e 's|@BINDIR@|$(BINDIR)|g' -e 's|@SYSCONFDIR@|$(SYSCONFDIR)|g' \
@@ -121,7 +133,7 @@ uninstall:
 		$(patsubst %,$(DESTDIR)$(MANDIR)/man1/%.1,$(PROGRAM_NAMES)) \
 		$(addprefix $(DESTDIR)$(SYSTEMDUNITDIR)/,$(UNITS)) \
 		$(addprefix $(DESTDIR)$(PRIVATE_DIR)/,finger-bus.dbc $(notdir $(BIN_CLIENT) \
-			$(BIN_CLIENT_MODULE) $(PROBE)))
+			$(BIN_CLIENT_MODULE) $(PROBE) $(TWIN_PROGRAMS) $(TWIN_MODULE)))
 	rm -rf $(DESTDIR)$(DOCDIR) $(DESTDIR)$(PRIVATE_DIR)/__pycache__
 	-rmdir $(DESTDIR)$(PRIVATE_DIR) $(DESTDIR)$(SYSCONFDIR)/wsgsim 2>/dev/null
 

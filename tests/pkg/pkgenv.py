@@ -29,7 +29,10 @@ PROGRAMS = {"wsgsim": WSGSIM, "fingersim": FINGERSIM,
             "wsgplot": os.path.join(ROOT, "tools", "wsgplot"),
             "wsgbin": os.path.join(ROOT, "tools", "wsgbin"),
             "wsgprobe": os.path.join(ROOT, "tools", "wsgprobe"),
-            "wsgproxy": env_path("WSGPROXY", "build/wsgproxy")}
+            "wsgproxy": env_path("WSGPROXY", "build/wsgproxy"),
+            "wsgcalib": os.path.join(ROOT, "tools", "wsgcalib"),
+            "wsgfit": os.path.join(ROOT, "tools", "wsgfit"),
+            "wsgcheck": os.path.join(ROOT, "tools", "wsgcheck")}
 
 
 def run(argv, **kw):

@@ -75,11 +75,13 @@ class Packages(unittest.TestCase):
                             "%s(1) names %s, which the package does not ship" % (page, path))
         with gzip.open(self.path("usr/share/man/man1/wsgsim.1.gz"), "rt") as f:
             see_also = f.read().split("SEE ALSO", 1)[1]
-        for program in ("wsgctl", "wsgbin", "fingersim", "wsgplot"):
+        for program in ("wsgctl", "wsgbin", "fingersim", "wsgplot", "wsgcalib", "wsgfit",
+                        "wsgcheck"):
             self.assertIn(".BR %s (1)" % program, see_also)
 
     def test_scripts_use_debians_python(self):
-        for name in ("wsgctl", "wsgplot", "wsgbin", "wsgprobe"):
+        for name in ("wsgctl", "wsgplot", "wsgbin", "wsgprobe", "wsgcalib", "wsgfit",
+                     "wsgcheck"):
             with open(self.path("usr/bin", name)) as f:  # wsgbin: a link into /usr/share/wsgsim
                 self.assertEqual(f.readline(), "#!/usr/bin/python3\n", name)
 
