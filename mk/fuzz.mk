@@ -15,6 +15,7 @@
 #             written back, and the TCP wire that applies it
 #   proxy     the recording proxy's splitter: driver and gripper bytes cut
 #             into GCL lines and binary frames (tools/wsgproxy)
+#   plant     a plant process's replies (--physics socket:PATH)
 #
 #   make fuzz [FUZZ_TIME=S]   every target for S seconds (default 300), one
 #                             after the other (a finding does not stop the
@@ -30,7 +31,7 @@ FUZZ_CC := clang
 FUZZ_DIR := build/fuzz
 FUZZ_TIME ?= 300
 FUZZ_JOBS ?= 1
-FUZZ_TARGETS ?= session control web store config scenario script net proxy
+FUZZ_TARGETS ?= session control web store config scenario script net proxy plant
 # Every target's seeds and regression inputs (a directory per target; a
 # target may have no regressions yet).
 FUZZ_INPUTS := tests/fuzz/corpus tests/fuzz/regressions
@@ -46,6 +47,9 @@ FUZZ_OBJ_net := $(FUZZ_SRC_net:%.c=$(BUILD)/obj/%.o)
 FUZZ_LIBS_net := -lm
 FUZZ_SRC_proxy := tools/wsgproxy/split.c
 FUZZ_OBJ_proxy := $(BUILD)/obj/tools/wsgproxy/split.o
+FUZZ_SRC_plant := host/physics/plant_wire.c
+FUZZ_OBJ_plant := $(BUILD)/obj/host/physics/plant_wire.o
+FUZZ_LIBS_plant := -lm
 # The host's parsers run in the host as build/wsgsim has it, without main()
 # and the web server's socket side (host/web/web_server.c): the web target
 # stands in for libmicrohttpd itself, the others link it.

@@ -49,6 +49,8 @@ MAN_DEBS := help2man
 # when the paths change. The name is host/config's (config_file.h), so every
 # object of host/config/ is, whichever of its files prints it.
 HOST_CFLAGS += -DWSGSIM_EXAMPLE_CONFIG='"$(DOCDIR)/examples/wsgsim.example.ini"'
+# The physics scene's gripper model and default scene (docs/physics.md).
+HOST_CFLAGS += -DWSGSIM_PHYSICS_DIR='"$(PRIVATE_DIR)/physics"'
 $(filter $(BUILD)/obj/host/config/%,$(HOST_OBJ)): $(BUILD)/man/paths
 
 .PHONY: programs man install uninstall docs-plot
@@ -122,6 +124,8 @@ install: $(PROGRAMS) man
 	$(INSTALL) -m 644 $(DOCS) $(DESTDIR)$(DOCDIR)/
 	$(INSTALL) -m 644 docs/wsgsim.example.ini $(DESTDIR)$(DOCDIR)/examples/
 	$(INSTALL) -m 644 docs/finger-bus.dbc $(DESTDIR)$(PRIVATE_DIR)/
+	$(INSTALL) -d $(DESTDIR)$(PRIVATE_DIR)/physics
+	$(INSTALL) -m 644 physics/*.xml $(DESTDIR)$(PRIVATE_DIR)/physics/
 	@echo "install: the Python package (python/: the wsgsim module and its pytest plugin)"
 	@echo "install: is not installed by make install. Use the python3-wsgsim package"
 	@echo "install: (make deb; apt install ./build/deb/python3-wsgsim_*.deb), or from this"
@@ -134,7 +138,7 @@ uninstall:
 		$(addprefix $(DESTDIR)$(SYSTEMDUNITDIR)/,$(UNITS)) \
 		$(addprefix $(DESTDIR)$(PRIVATE_DIR)/,finger-bus.dbc $(notdir $(BIN_CLIENT) \
 			$(BIN_CLIENT_MODULE) $(PROBE) $(TWIN_PROGRAMS) $(TWIN_MODULE)))
-	rm -rf $(DESTDIR)$(DOCDIR) $(DESTDIR)$(PRIVATE_DIR)/__pycache__
+	rm -rf $(DESTDIR)$(DOCDIR) $(DESTDIR)$(PRIVATE_DIR)/__pycache__ $(DESTDIR)$(PRIVATE_DIR)/physics
 	-rmdir $(DESTDIR)$(PRIVATE_DIR) $(DESTDIR)$(SYSCONFDIR)/wsgsim 2>/dev/null
 
 # A deterministic run on the paused clock, drawn by tools/wsgplot.

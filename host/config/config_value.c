@@ -132,6 +132,12 @@ static const char *convert_number(config_value_kind_t kind, const char *text, co
         v->number = (double)protocol;
         return ok ? NULL : "expected auto, gcl or binary";
     }
+    case CV_PHYSICS: {
+        host_physics_t physics = HOST_PHYSICS_BUILTIN;
+        bool ok = options_parse_physics(text, &physics);
+        v->number = (double)physics;
+        return ok ? NULL : "expected builtin, mujoco or socket:PATH";
+    }
     default:
         return "unsupported";
     }

@@ -26,6 +26,7 @@ typedef enum {
     CV_ADDR,        /* an IPv4 or IPv6 address */
     CV_LOOPBACK,    /* a loopback address only */
     CV_PROTOCOL,    /* auto, gcl or binary */
+    CV_PHYSICS,     /* builtin, mujoco or socket:PATH */
     CV_HOSTS,       /* host names, comma-separated (http_host_list_valid) */
     CV_PATH,        /* a file or directory name: printable, not empty */
     CV_ALLOW,       /* comma-separated ADDR[/PREFIX] (net_allow.h) */

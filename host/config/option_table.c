@@ -160,6 +160,21 @@ static bool set_script_autostart(host_options_t *opts, double number, const char
     return true;
 }
 
+static bool set_physics(host_options_t *opts, double number, const char *text)
+{
+    opts->physics = (host_physics_t)number;
+    opts->plant_socket =
+        opts->physics == HOST_PHYSICS_SOCKET ? text + strlen(HOST_PHYSICS_SOCKET_PREFIX) : NULL;
+    return true;
+}
+
+static bool set_scene(host_options_t *opts, double number, const char *text)
+{
+    (void)number;
+    opts->scene = text;
+    return true;
+}
+
 /* Applied over what the file set: "--net loss=0.1" adds to its conditions,
  * a preset first replaces them. The text was checked (CV_NET). */
 static bool set_net(host_options_t *opts, double number, const char *text)
@@ -200,5 +215,7 @@ const option_row_t option_table[OPTION_COUNT] = {
     [OPTION_SCRIPT_DIR] = {"--script-dir", "script", "dir", CV_PATH, set_script_dir},
     [OPTION_SCRIPT_AUTOSTART] = {"--no-script-autostart", "script", "autostart", CV_BOOL,
                                  set_script_autostart},
+    [OPTION_PHYSICS] = {"--physics", "physics", "engine", CV_PHYSICS, set_physics},
+    [OPTION_SCENE] = {"--scene", "physics", "scene", CV_PATH, set_scene},
     [OPTION_NET] = {"--net", "net", "conditions", CV_NET, set_net},
 };

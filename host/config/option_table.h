@@ -33,6 +33,8 @@ typedef enum {
     OPTION_SCRIPT,
     OPTION_SCRIPT_DIR,
     OPTION_SCRIPT_AUTOSTART,
+    OPTION_PHYSICS,
+    OPTION_SCENE,
     OPTION_NET,
     OPTION_COUNT
 } option_id_t;

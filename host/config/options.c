@@ -133,6 +133,8 @@ static const struct option long_options[] = {
     {"script", required_argument, NULL, OPT_TABLE + OPTION_SCRIPT},
     {"script-dir", required_argument, NULL, OPT_TABLE + OPTION_SCRIPT_DIR},
     {"no-script-autostart", no_argument, NULL, OPT_TABLE + OPTION_SCRIPT_AUTOSTART},
+    {"physics", required_argument, NULL, OPT_TABLE + OPTION_PHYSICS},
+    {"scene", required_argument, NULL, OPT_TABLE + OPTION_SCENE},
     {"net", required_argument, NULL, OPT_TABLE + OPTION_NET},
     {"version", no_argument, NULL, OPT_VERSION},
     {"help", no_argument, NULL, OPT_HELP},
@@ -292,6 +294,11 @@ static options_result_t read_table_option(option_id_t id, const char *arg,
     case OPTION_PROTOCOL:
         *number = options_parse_protocol(arg, &protocol) ? (double)protocol : -1.0;
         return *number >= 0.0 ? OPTIONS_RUN : usage_error("--protocol", arg);
+    case OPTION_PHYSICS: {
+        host_physics_t physics = HOST_PHYSICS_BUILTIN;
+        *number = options_parse_physics(arg, &physics) ? (double)physics : -1.0;
+        return *number >= 0.0 ? OPTIONS_RUN : usage_error("--physics", arg);
+    }
     case OPTION_MODEL:
         return model_option(arg);
     case OPTION_HTTP_ALLOW_HOST:

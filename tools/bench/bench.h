@@ -265,4 +265,16 @@ typedef struct {
 void proxy_run(const char *wsgsim, const char *wsgproxy, const char *out_dir, int rtt_n,
                const char *pin, proxy_result_t *r);
 
+/* physics.c: the default physics scene (--physics mujoco): a paused-clock
+ * grip cycle (home, grip, hold 1 s, release) in wall time, and the running
+ * clock's rate and wsgsim's share of one core during grip cycles. */
+#define PHYSICS_PAUSED_CYCLES 5
+typedef struct {
+    bool measured;
+    double paused_cycle_s;
+    double running_rate;
+    double running_cpu_pct;
+} physics_result_t;
+void physics_run(const char *wsgsim, const char *out_dir, physics_result_t *r);
+
 #endif

@@ -344,6 +344,22 @@ static void add_vtime(table_t *t, const results_t *res)
     }
 }
 
+/* The default physics scene: 1x with the clock running on one core, and a
+ * paused-clock grip cycle well under a second. */
+static void add_physics(table_t *t, const results_t *res)
+{
+    const physics_result_t *p = &res->physics;
+    if (!p->measured) {
+        return;
+    }
+    row_t *r = add(t, "physics: simulated/wall, clock running", "x", p->running_rate, -1.0);
+    target(r, ">= 0.95x", p->running_rate >= 0.95);
+    r = add(t, "  wsgsim's share of one core there", "%", p->running_cpu_pct, -1.0);
+    target(r, "< 100 %", p->running_cpu_pct < 100.0);
+    r = add(t, "physics: paused grip cycle, hold 1 s", "s", p->paused_cycle_s, -1.0);
+    target(r, "<= 0.5 s", p->paused_cycle_s <= 0.5);
+}
+
 /* A scaled clock within 5 % of its rate (the e2e tests no longer time it). */
 static void add_scale(table_t *t, const results_t *res)
 {
@@ -423,6 +439,7 @@ static void build(const results_t *res, table_t *t)
     }
     add_memory(t, res);
     add_scale(t, res);
+    add_physics(t, res);
     add_pace(t, res);
     add_proxy(t, res);
 }
