@@ -239,7 +239,8 @@ class PlantCase(unittest.TestCase):
         path = self.plant()
         fd, config = tempfile.mkstemp(suffix=".ini")
         with os.fdopen(fd, "w") as f:
-            f.write("[physics]\nengine = socket:%s\n" % path)
+            f.write("[physics]\nengine = socket:%s\nplant_timeout_ms = %s\n"
+                    % (path, HEALTHY_DEADLINE_MS))
         self.addCleanup(os.remove, config)
         sim = Wsgsim("--sim-port", "0", "--config", config)
         sim.start()
