@@ -79,6 +79,13 @@ FUZZ_HOST_LIBS = $(filter-out -lmicrohttpd,$(HOST_LIBS))
 $(foreach t,control config scenario web store script,$(eval FUZZ_SRC_$(t) := $(FUZZ_HOST_SRC)) \
 	$(eval FUZZ_OBJ_$(t) := $(FUZZ_HOST_OBJ)) $(eval FUZZ_AUX_$(t) := tests/fuzz/fuzz_host.c) \
 	$(eval FUZZ_LIBS_$(t) = $(HOST_LIBS)))
+# The session target's sessions are watched by the report on the driver
+# under test (host/diag), as wsgsim's are with --coverage.
+FUZZ_DRIVER_REPORT := host/diag/driver_report.c host/diag/driver_report_out.c
+FUZZ_SRC_session += $(FUZZ_DRIVER_REPORT)
+# (the core's libraries again after its objects: the linker reads a library once)
+FUZZ_OBJ_session += $(patsubst %.c,$(BUILD)/obj/%.o,$(FUZZ_DRIVER_REPORT)) $(CORE_LIBS)
+FUZZ_LIBS_session += -lcjson
 # The web targets' stand-in for libmicrohttpd (tests/fuzz/fuzz_mhd.c).
 $(foreach t,web store,$(eval FUZZ_AUX_$(t) += tests/fuzz/fuzz_mhd.c) \
 	$(eval FUZZ_LIBS_$(t) = $(FUZZ_HOST_LIBS)))

@@ -87,7 +87,8 @@ static void print_simulation(void)
            "  --start-paused             start with the simulated clock paused at 0\n"
            "  --record FILE              record every line in and out with timestamps, and\n"
            "                             the device's state while it moves (tools/wsgplot)\n"
-           "  --coverage FILE            write a protocol coverage report at exit\n"
+           "  --coverage FILE            write a protocol coverage report at exit, with the\n"
+           "                             report on the driver under test (also logged)\n"
            "  --strict                   report input the manual does not allow but the\n"
            "                             emulator tolerates (coverage report and trace)\n");
 }
