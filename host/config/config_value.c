@@ -126,6 +126,10 @@ static const char *convert_number(config_value_kind_t kind, const char *text, co
         return strcasecmp(text, "off") == 0 || config_value_int_range(text, 0, 86400, &v->number)
                    ? NULL
                    : "expected seconds 0-86400 or off";
+    case CV_MILLISECONDS:
+        return config_value_int_range(text, 1, HOST_MILLISECONDS_MAX, &v->number)
+                   ? NULL
+                   : "expected milliseconds 1-3600000";
     case CV_PROTOCOL: {
         host_protocol_t protocol = HOST_PROTOCOL_AUTO;
         bool ok = options_parse_protocol(text, &protocol);

@@ -19,6 +19,10 @@ typedef enum { HOST_PROTOCOL_AUTO, HOST_PROTOCOL_GCL, HOST_PROTOCOL_BINARY } hos
 typedef enum { HOST_PHYSICS_BUILTIN, HOST_PHYSICS_MUJOCO, HOST_PHYSICS_SOCKET } host_physics_t;
 /* --physics socket:PATH: the plant process's Unix-domain socket */
 #define HOST_PHYSICS_SOCKET_PREFIX "socket:"
+/* --plant-timeout: the default wait for a plant's reply (docs/physics.md
+ * "Errors and timeouts") and the longest one may set (an hour) */
+#define HOST_PLANT_TIMEOUT_MS_DEFAULT 500u
+#define HOST_MILLISECONDS_MAX 3600000
 
 /* --http-allow-host: at most this many lists of names (each repeat one). */
 #define HOST_HTTP_ALLOW_LISTS_MAX 16
@@ -93,9 +97,10 @@ typedef struct {
     const char *script_dir; /* --script-dir: the /user/ store; NULL: none */
     bool script_autostart;  /* false: --no-script-autostart */
     /* the physics scene (docs/physics.md) */
-    host_physics_t physics;   /* --physics: the world behind the HAL */
-    const char *scene;        /* --scene: the user's MuJoCo scene; NULL: the default scene */
-    const char *plant_socket; /* --physics socket:PATH: PATH */
+    host_physics_t physics;    /* --physics: the world behind the HAL */
+    const char *scene;         /* --scene: the user's MuJoCo scene; NULL: the default scene */
+    const char *plant_socket;  /* --physics socket:PATH: PATH */
+    unsigned plant_timeout_ms; /* --plant-timeout: how long the device waits for a reply */
     /* --list-models [--json]: printed once every option is read */
     bool list_models;
     bool list_models_json;

@@ -184,6 +184,13 @@ static bool set_net(host_options_t *opts, double number, const char *text)
     return wire_spec_parse(&opts->net, text, why, sizeof(why));
 }
 
+static bool set_plant_timeout(host_options_t *opts, double number, const char *text)
+{
+    (void)text;
+    opts->plant_timeout_ms = (unsigned)number;
+    return true;
+}
+
 const option_row_t option_table[OPTION_COUNT] = {
     [OPTION_MODEL] = {"--model", "device", "model", CV_MODEL, set_model},
     [OPTION_TCP_PORT] = {"--tcp-port", "network", "tcp_port", CV_PORT, set_tcp_port},
@@ -217,5 +224,7 @@ const option_row_t option_table[OPTION_COUNT] = {
                                  set_script_autostart},
     [OPTION_PHYSICS] = {"--physics", "physics", "engine", CV_PHYSICS, set_physics},
     [OPTION_SCENE] = {"--scene", "physics", "scene", CV_PATH, set_scene},
+    [OPTION_PLANT_TIMEOUT] = {"--plant-timeout", "physics", "plant_timeout_ms", CV_MILLISECONDS,
+                              set_plant_timeout},
     [OPTION_NET] = {"--net", "net", "conditions", CV_NET, set_net},
 };

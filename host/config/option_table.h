@@ -35,6 +35,7 @@ typedef enum {
     OPTION_SCRIPT_AUTOSTART,
     OPTION_PHYSICS,
     OPTION_SCENE,
+    OPTION_PLANT_TIMEOUT,
     OPTION_NET,
     OPTION_COUNT
 } option_id_t;

@@ -135,6 +135,7 @@ static const struct option long_options[] = {
     {"no-script-autostart", no_argument, NULL, OPT_TABLE + OPTION_SCRIPT_AUTOSTART},
     {"physics", required_argument, NULL, OPT_TABLE + OPTION_PHYSICS},
     {"scene", required_argument, NULL, OPT_TABLE + OPTION_SCENE},
+    {"plant-timeout", required_argument, NULL, OPT_TABLE + OPTION_PLANT_TIMEOUT},
     {"net", required_argument, NULL, OPT_TABLE + OPTION_NET},
     {"version", no_argument, NULL, OPT_VERSION},
     {"help", no_argument, NULL, OPT_HELP},
@@ -157,6 +158,7 @@ static void set_defaults(host_options_t *opts)
     opts->disconnect_faststop = true;
     opts->udp_peer_timeout_s = DEFAULT_UDP_PEER_TIMEOUT_S;
     opts->sim_port = -1;
+    opts->plant_timeout_ms = HOST_PLANT_TIMEOUT_MS_DEFAULT;
     opts->fingers = "fmf,dsa";
     opts->binary_udp_port = DEFAULT_BINARY_UDP_PORT;
     opts->binary_udp_reply_port = DEFAULT_BINARY_UDP_REPLY_PORT;
@@ -291,6 +293,8 @@ static options_result_t read_table_option(option_id_t id, const char *arg,
     case OPTION_UDP_PEER_TIMEOUT:
     case OPTION_HTTP_REQUEST_TIMEOUT:
         return int_option(option_table[id].cli, arg, 1, TIMEOUT_LIMIT_S, number);
+    case OPTION_PLANT_TIMEOUT:
+        return int_option(option_table[id].cli, arg, 1, HOST_MILLISECONDS_MAX, number);
     case OPTION_PROTOCOL:
         *number = options_parse_protocol(arg, &protocol) ? (double)protocol : -1.0;
         return *number >= 0.0 ? OPTIONS_RUN : usage_error("--protocol", arg);

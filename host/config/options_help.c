@@ -38,6 +38,9 @@ static void print_serving(void)
            "                             listening at the Unix socket PATH\n"
            "  --scene FILE.xml           with --physics mujoco: the scene (MJCF) the\n"
            "                             gripper works in (default: a box on a table)\n"
+           "  --plant-timeout MS         with --physics socket:PATH: a plant that does not\n"
+           "                             answer within MS wall-clock ms (1 to 3600000,\n"
+           "                             default 500) is lost: a power fault\n"
            "  --max-clients N            simultaneous TCP clients (default %d, at most %d)\n"
            "  --no-disconnect-faststop   a connection closed without BYE() does not raise\n"
            "                             FAST STOP\n"
@@ -84,7 +87,8 @@ static void print_simulation(void)
            "  --start-paused             start with the simulated clock paused at 0\n"
            "  --record FILE              record every line in and out with timestamps, and\n"
            "                             the device's state while it moves (tools/wsgplot)\n"
-           "  --coverage FILE            write a protocol coverage report at exit\n"
+           "  --coverage FILE            write a protocol coverage report at exit, with the\n"
+           "                             report on the driver under test (also logged)\n"
            "  --strict                   report input the manual does not allow but the\n"
            "                             emulator tolerates (coverage report and trace)\n");
 }

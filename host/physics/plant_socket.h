@@ -15,9 +15,6 @@
 #include "physics_world.h"
 #include "plant.h"
 
-/* How long the device waits for one reply of the plant (default). */
-#define PLANT_SOCKET_TIMEOUT_MS 500u
-
 /* Connects to the plant listening at path and shakes hands (the jaws at
  * width_mm); false with *why. */
 bool plant_socket_open(plant_t *plant, const char *path, unsigned timeout_ms, float stroke_mm,

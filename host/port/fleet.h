@@ -124,6 +124,9 @@ const wire_spec_t *fleet_net(const fleet_t *fleet);
 const wire_t *fleet_session_wire(const fleet_t *fleet, const wsg_conn_t *conn);
 /* The peer ("ADDR:PORT") that carries this session, or NULL. */
 const char *fleet_peer_name(const fleet_t *fleet, const wsg_conn_t *conn);
+/* The updates dropped for this session because its client did not read
+ * them (a TCP queue half full, a UDP peer's budget spent), 0 if none. */
+unsigned long fleet_updates_dropped(const fleet_t *fleet, const wsg_conn_t *conn);
 /* Logs one line per device after the first: "device i: tcp ADDR:P, udp
  * ADDR:P[, binary udp P], serial S, tag T". */
 void fleet_announce_devices(const fleet_t *fleet);

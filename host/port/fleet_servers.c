@@ -210,6 +210,12 @@ bool fleet_cut(fleet_t *fleet, const wsg_conn_t *conn)
     return tcp_server_cut(&fleet->tcp_set, conn) || udp_server_cut(&fleet->udp_set, conn);
 }
 
+unsigned long fleet_updates_dropped(const fleet_t *fleet, const wsg_conn_t *conn)
+{
+    return tcp_server_updates_dropped(&fleet->tcp_set, conn) +
+           udp_server_updates_dropped(&fleet->udp_set, conn);
+}
+
 const char *fleet_peer_name(const fleet_t *fleet, const wsg_conn_t *conn)
 {
     const char *name = tcp_server_peer_name(&fleet->tcp_set, conn);

@@ -98,7 +98,7 @@ static bool open_physics(gripper_t *g)
     float emergency_accel = 2.0f * g->config.accel_max_mm_s2;
     g->physics =
         g->opts->physics == HOST_PHYSICS_SOCKET
-            ? plant_socket_world_open(g->opts->plant_socket, PLANT_SOCKET_TIMEOUT_MS, stroke,
+            ? plant_socket_world_open(g->opts->plant_socket, g->opts->plant_timeout_ms, stroke,
                                       emergency_accel, hal_clock_now_us(), why, sizeof(why))
             : physics_setup_open(g->opts->scene, stroke, emergency_accel, hal_clock_now_us(), why,
                                  sizeof(why));

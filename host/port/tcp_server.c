@@ -665,6 +665,17 @@ const char *tcp_server_peer_name(const tcp_servers_t *tcp, const wsg_conn_t *con
     return NULL;
 }
 
+unsigned long tcp_server_updates_dropped(const tcp_servers_t *tcp, const wsg_conn_t *conn)
+{
+    LIST_EACH (node, &tcp->clients) {
+        const tcp_client_t *c = CLIENT(node);
+        if (&c->conn == conn) {
+            return c->dropped_autosend;
+        }
+    }
+    return 0;
+}
+
 void tcp_server_close_all(tcp_server_t *s)
 {
     LIST_EACH_SAFE (node, &s->set->clients) {

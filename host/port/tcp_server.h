@@ -109,5 +109,9 @@ const wire_t *tcp_server_wire(const tcp_servers_t *tcp, const wsg_conn_t *conn);
 /* The peer ("ADDR:PORT") of the connection that carries this session, or
  * NULL if none does (the web page's connection list). */
 const char *tcp_server_peer_name(const tcp_servers_t *tcp, const wsg_conn_t *conn);
+/* The updates (AUTOSEND lines, auto-update frames) dropped so far because
+ * the client did not read them (its queue was half full); 0 when not one
+ * of this set's connections. */
+unsigned long tcp_server_updates_dropped(const tcp_servers_t *tcp, const wsg_conn_t *conn);
 
 #endif

@@ -464,6 +464,18 @@ const char *udp_server_peer_name(const udp_servers_t *set, const wsg_conn_t *con
     return NULL;
 }
 
+unsigned long udp_server_updates_dropped(const udp_servers_t *set, const wsg_conn_t *conn)
+{
+    LIST_EACH (node, &set->active) {
+        udp_server_t *s = ACTIVE_SERVER(node);
+        const wsg_peer_t *peer = wsg_peers_by_conn(&s->peers, conn);
+        if (peer != NULL) {
+            return peer->updates_dropped;
+        }
+    }
+    return 0;
+}
+
 void udp_server_close_all(udp_server_t *s)
 {
     wsg_peers_forget_all(&s->peers, WSG_PEER_STOPPED);

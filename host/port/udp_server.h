@@ -108,5 +108,7 @@ const wire_t *udp_server_wire(const udp_servers_t *set, const wsg_conn_t *conn);
 /* The address ("ADDR:PORT") of the peer that owns this session, or NULL if
  * none does (the web page's connection list). */
 const char *udp_server_peer_name(const udp_servers_t *set, const wsg_conn_t *conn);
+/* The updates dropped over the peer's budget; 0 when not one of its peers. */
+unsigned long udp_server_updates_dropped(const udp_servers_t *set, const wsg_conn_t *conn);
 
 #endif

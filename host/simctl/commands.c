@@ -52,6 +52,7 @@ static const simctl_entry_t table[] = {
     {"RESET", CALL, 0, 0, sc_reset, "RESET()", true},
     {"COVERAGE", QUERY, 0, 0, sc_coverage, "COVERAGE?", true},
     {"COVERAGE_RESET", CALL, 0, 0, sc_coverage_reset, "COVERAGE_RESET()", true},
+    {"DRIVER", QUERY, 0, 0, sc_driver, "DRIVER?", true},
     {"LOG", CALL, 1, 1, sc_log, "LOG(text)", true},
     {"HELP", QUERY, 0, 0, help, "HELP?", true},
     {"DEVICE", SET | QUERY, 0, 0, sc_device, "DEVICE=index | DEVICE?", false},

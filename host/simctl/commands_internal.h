@@ -124,6 +124,7 @@ wsg_status_t sc_sessions(simctl_ctx_t *ctx);
 wsg_status_t sc_reset(simctl_ctx_t *ctx);
 wsg_status_t sc_coverage(simctl_ctx_t *ctx);
 wsg_status_t sc_coverage_reset(simctl_ctx_t *ctx);
+wsg_status_t sc_driver(simctl_ctx_t *ctx);
 wsg_status_t sc_log(simctl_ctx_t *ctx);
 wsg_status_t sc_device(simctl_ctx_t *ctx);
 wsg_status_t sc_devices(simctl_ctx_t *ctx);

@@ -47,6 +47,14 @@ def may_repeat(line):
     return line.rstrip().endswith("?") or "=" in line
 
 
+def ascii_line(data):
+    """A received line as text; GCL is ASCII, anything else is an error."""
+    try:
+        return data.decode("ascii")
+    except UnicodeDecodeError:
+        raise GclError("a line that is not ASCII: %r" % data) from None
+
+
 class _GclLines:
     """What both transports do on top of read_line() and send()."""
 
@@ -83,7 +91,10 @@ class _GclLines:
         prefix = name + "="
         if not reply.startswith(prefix):
             raise GclError("%s?: unexpected %r" % (name, reply))
-        return float(reply[len(prefix):])
+        try:
+            return float(reply[len(prefix):])
+        except ValueError:
+            raise GclError("%s?: %r is not a number" % (name, reply)) from None
 
 
 class GclTcp(_GclLines):
@@ -122,7 +133,7 @@ class GclTcp(_GclLines):
                 raise GclError("connection closed (have %r)" % self.buffer)
             self.buffer += data
         line, self.buffer = self.buffer.split(b"\n", 1)
-        return line.decode("ascii")
+        return ascii_line(line)
 
     def lines_before_reply(self, query="GRIPSTATE?"):
         """Sends query and returns every line that arrived before its reply.
@@ -199,7 +210,7 @@ class GclUdp(_GclLines):
         data = self.sock.recv(65536)
         if not data.endswith(b"\n") or data.count(b"\n") != 1:
             raise GclError("datagram is not exactly one line: %r" % data)
-        return data[:-1].decode("ascii")
+        return ascii_line(data[:-1])
 
     def command(self, line, timeout=None):
         """Sends a line; returns the first answer to it that is not an

@@ -12,12 +12,13 @@ refused as unsupported.
 
   reference_plant.py PATH [--box-width MM] [--box-stiffness N_PER_MM]
       [--die-after N] [--garbage-after N] [--stall-after N] [--slow-ms MS]
-      [--timestep-us US] [--ready-file FILE]
+      [--slow-steps N] [--timestep-us US] [--ready-file FILE]
 
 listens at the Unix socket PATH and serves one device at a time (a
 device that resets after a fault connects again). The --*-after options
 misbehave at the N-th step (for tests): exit, answer garbage, or never
-answer; --slow-ms sleeps before every step's answer.
+answer; --slow-ms sleeps before every step's answer (with --slow-steps N,
+before the first N steps' only).
 """
 import argparse
 import math
@@ -148,7 +149,7 @@ class Session:
         if self.steps == a.garbage_after:
             self.conn.sendall(b"garbage, not a reply\n" * 40)
             return True
-        if a.slow_ms:
+        if a.slow_ms and (not a.slow_steps or self.steps <= a.slow_steps):
             time.sleep(a.slow_ms / 1e3)
         return False
 
@@ -202,6 +203,7 @@ def main():
     for name in ("die", "garbage", "stall"):
         parser.add_argument("--%s-after" % name, type=int, default=0)
     parser.add_argument("--slow-ms", type=float, default=0.0)
+    parser.add_argument("--slow-steps", type=int, default=0)
     parser.add_argument("--timestep-us", type=int, default=TIMESTEP_US,
                         help="the timestep HELLO claims")
     parser.add_argument("--ready-file", help="written once the plant listens")

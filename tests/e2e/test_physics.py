@@ -195,7 +195,7 @@ class PhysicsCase(unittest.TestCase):
         with self.assertRaises(Exception):
             sim.start()
         sim.stop()
-        self.assertIn("expected builtin or mujoco", "".join(sim.log))
+        self.assertIn("expected builtin, mujoco or socket:PATH", "".join(sim.log))
 
     def test_a_scene_that_is_no_regular_file_is_refused_at_start(self):
         for path in ("/dev/zero", os.path.dirname(os.path.abspath(__file__))):
