@@ -24,6 +24,7 @@ typedef struct {
     record_t *record;
     gripper_step_hook_t record_steps; /* the record's samples of each device */
     coverage_t *coverage;             /* always (COVERAGE?); counting only when asked */
+    driver_port_t driver_port;        /* what the driver report asks the fleet */
     web_lines_t *lines;               /* the web page's, NULL when the server is off */
     can_log_t *can_log;               /* --can-log: device 0's in-process bus */
 } diagnostics_t;
@@ -40,7 +41,20 @@ static void sample_record(void *ctx, unsigned index, wsg_device_t *dev)
     record_sample(ctx, index, dev);
 }
 
-static bool start_diagnostics(diagnostics_t *d, web_server_t *web, const host_options_t *opts)
+/* The driver report's questions to the ports: a session's peer and the
+ * updates its client left unread. */
+static const char *session_peer(void *ctx, const wsg_conn_t *c)
+{
+    return fleet_peer_name(ctx, c);
+}
+
+static unsigned long session_updates_dropped(void *ctx, const wsg_conn_t *c)
+{
+    return fleet_updates_dropped(ctx, c);
+}
+
+static bool start_diagnostics(diagnostics_t *d, web_server_t *web, fleet_t *fleet,
+                              const host_options_t *opts)
 {
     unsigned devices = (unsigned)opts->devices;
     d->opts = opts;
@@ -48,9 +62,13 @@ static bool start_diagnostics(diagnostics_t *d, web_server_t *web, const host_op
     d->lines = web_server_lines(web);
     d->coverage = coverage_create(opts->strict, devices);
     d->trace = opts->trace ? trace_create(opts->strict, devices) : NULL;
-    if (d->coverage == NULL || (opts->trace && d->trace == NULL)) {
+    if (d->coverage == NULL || (opts->trace && d->trace == NULL) ||
+        (opts->coverage_path != NULL && !coverage_count_driver(d->coverage))) {
         return false;
     }
+    d->driver_port = (driver_port_t){
+        .peer_name = session_peer, .updates_dropped = session_updates_dropped, .ctx = fleet};
+    driver_report_set_port(coverage_driver(d->coverage), &d->driver_port);
     if (opts->record_path != NULL &&
         (d->record = record_open(opts->record_path, devices)) == NULL) {
         return false;
@@ -216,7 +234,7 @@ static bool start_all(host_t *host, diagnostics_t *d, host_options_t *opts)
         return false;
     }
     return web_server_start(host->web, host->loop, &host->net, opts, host->sim, host->fleet) &&
-           start_diagnostics(d, host->web, opts) && fleet_start(host->fleet, opts) &&
+           start_diagnostics(d, host->web, host->fleet, opts) && fleet_start(host->fleet, opts) &&
            start_simulation(host, d, opts) && announce(host, opts);
 }
 
@@ -228,6 +246,7 @@ static bool stop_all(host_t *host, diagnostics_t *d, const host_options_t *opts,
                      bool write_coverage)
 {
     web_server_stop(host->web);
+    driver_report_stopping(coverage_driver(d->coverage)); /* the sessions left are open at exit */
     fleet_stop(host->fleet);
     can_log_close(&host->can_log);
     simctl_stop(host->sim);

@@ -37,7 +37,7 @@ $(BENCH_FW_SIZES): firmware
 # gnuplot is optional for the benchmark itself: without it there is no PNG.
 # valgrind (callgrind) is not: the instruction counts need it.
 ## benchmark build/wsgsim: table, build/bench/results.json, plot (BENCH_ARGS=--quick)
-bench: $(BUILD)/wsgsim $(BENCH_BIN) $(BENCH_FW_SIZES)
+bench: $(BUILD)/wsgsim $(BUILD)/wsgproxy $(BENCH_BIN) $(BENCH_FW_SIZES)
 	@mk/deps.sh $(BENCH_DEBS) || echo "bench: gnuplot-nox or valgrind missing"
-	$(BENCH_BIN) --wsgsim $(BUILD)/wsgsim --out build/bench --firmware-sizes $(BENCH_FW_SIZES) \
+	$(BENCH_BIN) --wsgsim $(BUILD)/wsgsim --wsgproxy $(BUILD)/wsgproxy --out build/bench --firmware-sizes $(BENCH_FW_SIZES) \
 		$(BENCH_ARGS)

@@ -11,12 +11,33 @@
 #   scenario  the --scenario file, loaded and run
 #   script    a user script (Lua) and the binary client that talks to it:
 #             the script bindings and the custom command channel
+#   net       wire conditions (--net, [net] conditions, NET): the text,
+#             written back, and the TCP wire that applies it
+#   proxy     the recording proxy's splitter: driver and gripper bytes cut
+#             into GCL lines and binary frames (tools/wsgproxy)
+#   plant     a plant process's replies (--physics socket:PATH)
+#
+# The Python tools' parsers have targets too (tests/fuzz/py_targets.py), run
+# by a small mutational fuzzer without coverage (tests/fuzz/pyfuzz.py: no
+# atheris in Debian); seeds in tests/fuzz/corpus/py_NAME, regression inputs
+# in tests/fuzz/regressions/py_NAME:
+#   py record    wsgsim.record.read_record (records of version 1 and 2)
+#   py plot      wsgplot's reader of a record
+#   py twin      wsgfit and wsgcheck's reader (tools/wsgtwin.py)
+#   py probe     wsgprobe's reading of a device's GCL and binary replies
+#   py binproto  the binary deframer and reply decoder (wsgbin)
+#   py gcl       the wsgsim package's GCL client
+# Each input must give a result or the tool's own error; any other
+# exception, a warning or more than 2,000,000 traced lines of work is a
+# finding (build/fuzz/artifacts/py_NAME-SHA1); the mutations follow
+# PYFUZZ_SEED (default 1, printed) and reproduce with it.
 #
 #   make fuzz [FUZZ_TIME=S]   every target for S seconds (default 300), one
 #                             after the other (a finding does not stop the
 #                             others), built with clang, ASan and UBSan;
 #                             crashes land in build/fuzz/artifacts/NAME-*
-#   make fuzz FUZZ_TARGETS=web   only the named targets
+#   make fuzz FUZZ_TARGETS=web   only the named targets (PY_FUZZ_TARGETS=plot
+#                             the Python ones; PY_FUZZ_TARGETS= none of them)
 #   make fuzz-regress         (in `make check`) the seeds (tests/fuzz/corpus/NAME)
 #                             and regression inputs (tests/fuzz/regressions/NAME)
 #                             of every target, replayed without libFuzzer by
@@ -26,7 +47,9 @@ FUZZ_CC := clang
 FUZZ_DIR := build/fuzz
 FUZZ_TIME ?= 300
 FUZZ_JOBS ?= 1
-FUZZ_TARGETS ?= session control web store config scenario script
+FUZZ_TARGETS ?= session control web store config scenario script net proxy plant
+PY_FUZZ_TARGETS ?= record plot twin probe binproto gcl
+PYFUZZ_SEED ?= 1
 # Every target's seeds and regression inputs (a directory per target; a
 # target may have no regressions yet).
 FUZZ_INPUTS := tests/fuzz/corpus tests/fuzz/regressions
@@ -37,6 +60,14 @@ FUZZ_INPUTS := tests/fuzz/corpus tests/fuzz/regressions
 FUZZ_SRC_session := $(FIRMWARE_SRC) $(SIM_SRC) host/can/can_loopback.c
 FUZZ_OBJ_session := $(BUILD)/obj/host/can/can_loopback.o $(CORE_LIBS)
 FUZZ_LIBS_session := -lm
+FUZZ_SRC_net := host/os/wire_spec.c host/os/clock.c host/port/wire.c
+FUZZ_OBJ_net := $(FUZZ_SRC_net:%.c=$(BUILD)/obj/%.o)
+FUZZ_LIBS_net := -lm
+FUZZ_SRC_proxy := tools/wsgproxy/split.c
+FUZZ_OBJ_proxy := $(BUILD)/obj/tools/wsgproxy/split.o
+FUZZ_SRC_plant := host/physics/plant_wire.c
+FUZZ_OBJ_plant := $(BUILD)/obj/host/physics/plant_wire.o
+FUZZ_LIBS_plant := -lm
 # The host's parsers run in the host as build/wsgsim has it, without main()
 # and the web server's socket side (host/web/web_server.c): the web target
 # stands in for libmicrohttpd itself, the others link it.
@@ -48,6 +79,13 @@ FUZZ_HOST_LIBS = $(filter-out -lmicrohttpd,$(HOST_LIBS))
 $(foreach t,control config scenario web store script,$(eval FUZZ_SRC_$(t) := $(FUZZ_HOST_SRC)) \
 	$(eval FUZZ_OBJ_$(t) := $(FUZZ_HOST_OBJ)) $(eval FUZZ_AUX_$(t) := tests/fuzz/fuzz_host.c) \
 	$(eval FUZZ_LIBS_$(t) = $(HOST_LIBS)))
+# The session target's sessions are watched by the report on the driver
+# under test (host/diag), as wsgsim's are with --coverage.
+FUZZ_DRIVER_REPORT := host/diag/driver_report.c host/diag/driver_report_out.c
+FUZZ_SRC_session += $(FUZZ_DRIVER_REPORT)
+# (the core's libraries again after its objects: the linker reads a library once)
+FUZZ_OBJ_session += $(patsubst %.c,$(BUILD)/obj/%.o,$(FUZZ_DRIVER_REPORT)) $(CORE_LIBS)
+FUZZ_LIBS_session += -lcjson
 # The web targets' stand-in for libmicrohttpd (tests/fuzz/fuzz_mhd.c).
 $(foreach t,web store,$(eval FUZZ_AUX_$(t) += tests/fuzz/fuzz_mhd.c) \
 	$(eval FUZZ_LIBS_$(t) = $(FUZZ_HOST_LIBS)))
@@ -99,6 +137,10 @@ fuzz: fuzz-build
 			-artifact_prefix=artifacts/$$t- corpus/$$t \
 			$$(ls -d $(FUZZ_INPUTS:%=$(CURDIR)/%/$$t) 2>/dev/null)) || failed="$$failed $$t"; \
 	done; \
+	for t in $(PY_FUZZ_TARGETS); do \
+		python3 tests/fuzz/pyfuzz.py run --time $(FUZZ_TIME) --seed $(PYFUZZ_SEED) $$t \
+			|| failed="$$failed py_$$t"; \
+	done; \
 	[ -z "$$failed" ] || { echo "fuzz: findings in$$failed (build/fuzz/artifacts/)"; exit 1; }
 
 ## replay every fuzz target's seeds and regression inputs
@@ -107,3 +149,5 @@ fuzz-regress: $(addprefix $(BUILD)/tests/fuzz_replay_,$(FUZZ_TARGETS))
 		echo "fuzz-regress: $$t"; \
 		$(BUILD)/tests/fuzz_replay_$$t $$(ls -d $(FUZZ_INPUTS:%=%/$$t) 2>/dev/null) || exit 1; \
 	done
+	@echo "fuzz-regress: the Python targets"
+	@python3 tests/fuzz/pyfuzz.py replay $(PY_FUZZ_TARGETS)

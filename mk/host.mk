@@ -12,7 +12,7 @@
 # (HOST_INC), simctl/ and web/ by their folder ("simctl/control.h").
 # HOST_DIRS is the one place the order is written: make layers-check
 # (mk/layers.mk) fails when a folder refers to one after it.
-HOST_DIRS := os can diag script config port simctl web
+HOST_DIRS := os can diag script config physics port simctl web
 HOST_INC := -Ihost $(addprefix -Ihost/,$(filter-out simctl web,$(HOST_DIRS)))
 HOST_SRC := $(sort $(wildcard host/*.c $(HOST_DIRS:%=host/%/*.c)))
 HOST_PKGS := inih libcjson libsystemd libmicrohttpd lua5.4

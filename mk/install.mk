@@ -27,12 +27,17 @@ INSTALL ?= install
 # Each program once; the C ones are built, the Python ones are scripts.
 # The binary protocol client needs its module beside it: both go to
 # $(PRIVATE_DIR), and $(BINDIR)/wsgbin is a relative link to it.
-C_PROGRAMS := $(BUILD)/wsgsim $(BUILD)/fingersim
+C_PROGRAMS := $(BUILD)/wsgsim $(BUILD)/fingersim $(BUILD)/wsgproxy
 SCRIPT_PROGRAMS := tools/wsgctl tools/wsgplot
+# The probe reads the binary protocol with the client's module: beside it too.
+PROBE := tools/wsgprobe
 BIN_CLIENT := tools/wsgbin
 BIN_CLIENT_MODULE := tools/wsgbinproto.py
+# The calibration tools share their module the same way.
+TWIN_PROGRAMS := tools/wsgcalib tools/wsgfit tools/wsgcheck
+TWIN_MODULE := tools/wsgtwin.py
 PRIVATE_DIR = $(DATADIR)/wsgsim
-PROGRAMS := $(C_PROGRAMS) $(SCRIPT_PROGRAMS) $(BIN_CLIENT)
+PROGRAMS := $(C_PROGRAMS) $(SCRIPT_PROGRAMS) $(BIN_CLIENT) $(PROBE) $(TWIN_PROGRAMS)
 PROGRAM_NAMES := $(notdir $(PROGRAMS))
 MAN_PAGES := $(patsubst %,$(BUILD)/man/%.1,$(PROGRAM_NAMES))
 UNITS := wsgsim.service wsgsim@.service
@@ -49,6 +54,8 @@ HOST_CFLAGS += -DWSGSIM_EXAMPLE_CONFIG='"$(DOCDIR)/examples/wsgsim.example.ini"'
 TIMING_PROFILES := $(sort $(wildcard profiles/timing/*.ini))
 TIMING_DIR = $(PRIVATE_DIR)/timing
 HOST_CFLAGS += -DWSGSIM_TIMING_DIR='"$(TIMING_DIR)"'
+# The physics scene's gripper model and default scene (docs/physics.md).
+HOST_CFLAGS += -DWSGSIM_PHYSICS_DIR='"$(PRIVATE_DIR)/physics"'
 $(filter $(BUILD)/obj/host/config/%,$(HOST_OBJ)): $(BUILD)/man/paths
 
 .PHONY: programs man install uninstall docs-plot
@@ -82,6 +89,11 @@ $(BUILD)/man/fingersim.1: $(BUILD)/fingersim
 $(BUILD)/man/wsgctl.1: tools/wsgctl
 $(BUILD)/man/wsgplot.1: tools/wsgplot
 $(BUILD)/man/wsgbin.1: tools/wsgbin $(BIN_CLIENT_MODULE)
+$(BUILD)/man/wsgprobe.1: $(PROBE) $(BIN_CLIENT_MODULE)
+$(BUILD)/man/wsgproxy.1: $(BUILD)/wsgproxy
+$(BUILD)/man/wsgcalib.1: tools/wsgcalib $(TWIN_MODULE)
+$(BUILD)/man/wsgfit.1: tools/wsgfit $(TWIN_MODULE)
+$(BUILD)/man/wsgcheck.1: tools/wsgcheck $(TWIN_MODULE)
 
 .PHONY: man-deps
 ## install help2man
@@ -95,10 +107,19 @@ install: $(PROGRAMS) man
 		$(DESTDIR)$(DOCDIR)/examples $(DESTDIR)$(PRIVATE_DIR) $(DESTDIR)$(SYSCONFDIR)/wsgsim \
 		$(DESTDIR)$(TIMING_DIR)
 	$(INSTALL) -m 755 $(C_PROGRAMS) $(SCRIPT_PROGRAMS) $(DESTDIR)$(BINDIR)/
+	$(INSTALL) -m 755 $(PROBE) $(DESTDIR)$(PRIVATE_DIR)/
+	ln -sf $$(realpath -m --relative-to=$(BINDIR) $(PRIVATE_DIR)/$(notdir $(PROBE))) \
+		$(DESTDIR)$(BINDIR)/$(notdir $(PROBE))
 	$(INSTALL) -m 755 $(BIN_CLIENT) $(DESTDIR)$(PRIVATE_DIR)/
 	$(INSTALL) -m 644 $(BIN_CLIENT_MODULE) $(DESTDIR)$(PRIVATE_DIR)/
 	ln -sf $$(realpath -m --relative-to=$(BINDIR) $(PRIVATE_DIR)/$(notdir $(BIN_CLIENT))) \
 		$(DESTDIR)$(BINDIR)/$(notdir $(BIN_CLIENT))
+	$(INSTALL) -m 755 $(TWIN_PROGRAMS) $(DESTDIR)$(PRIVATE_DIR)/
+	$(INSTALL) -m 644 $(TWIN_MODULE) $(DESTDIR)$(PRIVATE_DIR)/
+	for program in $(notdir $(TWIN_PROGRAMS)); do \
+		ln -sf $$(realpath -m --relative-to=$(BINDIR) $(PRIVATE_DIR)/$$program) \
+			$(DESTDIR)$(BINDIR)/$$program || exit 1; \
+	done
 	$(INSTALL) -m 644 $(MAN_PAGES) $(DESTDIR)$(MANDIR)/man1/
 	for unit in $(UNITS); do \
 		sed -e 's|@BINDIR@|$(BINDIR)|g' -e 's|@SYSCONFDIR@|$(SYSCONFDIR)|g' \
@@ -110,6 +131,8 @@ install: $(PROGRAMS) man
 	$(INSTALL) -m 644 docs/wsgsim.example.ini $(DESTDIR)$(DOCDIR)/examples/
 	$(INSTALL) -m 644 docs/finger-bus.dbc $(DESTDIR)$(PRIVATE_DIR)/
 	$(INSTALL) -m 644 $(TIMING_PROFILES) $(DESTDIR)$(TIMING_DIR)/
+	$(INSTALL) -d $(DESTDIR)$(PRIVATE_DIR)/physics
+	$(INSTALL) -m 644 physics/*.xml $(DESTDIR)$(PRIVATE_DIR)/physics/
 	@echo "install: the Python package (python/: the wsgsim module and its pytest plugin)"
 	@echo "install: is not installed by make install. Use the python3-wsgsim package"
 	@echo "install: (make deb; apt install ./build/deb/python3-wsgsim_*.deb), or from this"
@@ -121,8 +144,8 @@ uninstall:
 		$(patsubst %,$(DESTDIR)$(MANDIR)/man1/%.1,$(PROGRAM_NAMES)) \
 		$(addprefix $(DESTDIR)$(SYSTEMDUNITDIR)/,$(UNITS)) \
 		$(addprefix $(DESTDIR)$(PRIVATE_DIR)/,finger-bus.dbc $(notdir $(BIN_CLIENT) \
-			$(BIN_CLIENT_MODULE)))
-	rm -rf $(DESTDIR)$(DOCDIR) $(DESTDIR)$(PRIVATE_DIR)/__pycache__ $(DESTDIR)$(TIMING_DIR)
+			$(BIN_CLIENT_MODULE) $(PROBE) $(TWIN_PROGRAMS) $(TWIN_MODULE)))
+	rm -rf $(DESTDIR)$(DOCDIR) $(DESTDIR)$(PRIVATE_DIR)/__pycache__ $(DESTDIR)$(PRIVATE_DIR)/physics $(DESTDIR)$(TIMING_DIR)
 	-rmdir $(DESTDIR)$(PRIVATE_DIR) $(DESTDIR)$(SYSCONFDIR)/wsgsim 2>/dev/null
 
 # A deterministic run on the paused clock, drawn by tools/wsgplot.

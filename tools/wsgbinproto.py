@@ -495,12 +495,33 @@ class BinTcp(_Client):
         self.sock.close()
 
 
+# UDP: a request a lost datagram may have cost is sent again after this
+# long without its reply (a bound per try; the overall bound is the timeout).
+RETRY_AFTER = 0.25
+# The requests that may be sent again: readings, settings and STOP (twice
+# is the same state); a motion, FAST STOP, an acknowledgement, TARE or a
+# counter reset never is (it could act twice).
+REPEATABLE = ({0x06, 0x22, 0x30, 0x31, 0x32, 0x33, 0x34, 0x35, 0x40, 0x41, 0x43, 0x44, 0x45,
+               0x46, 0x50, 0x51, 0x52, 0x53}
+              | {base + k for base in (0x60, 0x70) for k in (0, 1, 3)})
+
+
 class BinUdp(_Client):
     """Requests to host:port; replies arrive at reply_port on a socket of their
-    own, as Drake receives them (0: on the sending socket, from its port)."""
+    own, as Drake receives them (0: on the sending socket, from its port).
 
-    def __init__(self, host, port, reply_port=1501, crc=True, timeout=30.0, bind_host=""):
+    Datagrams may be lost, doubled or reordered: a request of REPEATABLE
+    without its reply after retry_after seconds is sent again, up to the
+    timeout (self.repeated counts them); any other request waits for its
+    reply up to the timeout and raises TimeoutError (ask the state then).
+    Frames of other IDs go to on_other, as over TCP."""
+
+    def __init__(self, host, port, reply_port=1501, crc=True, timeout=30.0, bind_host="",
+                 retry_after=RETRY_AFTER):
         super().__init__(crc, timeout)
+        self.retry_after = retry_after
+        self.repeated = 0
+        self.last_request = None
         self.address = (host, port)
         self.send_sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         if reply_port:
@@ -514,6 +535,27 @@ class BinUdp(_Client):
 
     def send(self, data):
         self.send_sock.sendto(data, self.address)
+
+    def wait_for(self, frame_id, timeout=None, on_other=None):
+        """As over TCP; a repeatable request is sent again while its reply
+        is missing (see the class)."""
+        deadline = time.monotonic() + (self.timeout if timeout is None else timeout)
+        if self.last_request is None or self.last_request[0] != frame_id or \
+                frame_id not in REPEATABLE:
+            return super().wait_for(frame_id, timeout, on_other)
+        while True:
+            left = deadline - time.monotonic()
+            try:
+                return super().wait_for(frame_id, min(left, self.retry_after), on_other)
+            except TimeoutError:
+                if time.monotonic() >= deadline:
+                    raise
+                self.repeated += 1
+                super().send_request(*self.last_request)
+
+    def send_request(self, frame_id, payload=b""):
+        self.last_request = (frame_id, payload)
+        super().send_request(frame_id, payload)
 
     def _receive(self, timeout):
         ready, _, _ = select.select([self.recv_sock], [], [], timeout)

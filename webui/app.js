@@ -636,6 +636,7 @@ function renderState(state) {
   renderWebOp(state.web_op);
   addChartPoint(state);
   scheduleChart();
+  document.dispatchEvent(new CustomEvent("wsgsim-state", { detail: state })); // scene.js
 }
 
 function setLink(up, text) {
@@ -1189,7 +1190,8 @@ function bindClock() {
 }
 
 function setUpSim() {
-  ["part", "obstacle", "ambient", "fault"].forEach(bindSimForm);
+  ["part", "obstacle", "ambient", "fault", "place", "pull", "mass", "friction", "lift"]
+    .forEach(bindSimForm);
   for (const route of ["part_remove", "obstacle_remove", "clear"]) {
     $("sim-" + route).addEventListener("click", () => runSim(route));
   }
@@ -1856,6 +1858,7 @@ function main() {
   setUpSettings();
   setUpDevices();
   system.info = loadSystemInfo();
+  system.info.then((info) => ($("sim-scene").hidden = !info || !info.physics));
   setUpScripting();
   pollWhileShown("system", SYSTEM_POLL_MS, pollSystem);
   $("banner-fsack").addEventListener("click", bannerFsack);

@@ -69,7 +69,7 @@ wsg_status_t wsg_bin_system_info(bin_req_t *req)
     const wsg_config_t *cfg = wsg_device_snapshot(req->dev)->config;
     uint8_t v[8];
     v[0] = device_type(cfg->devtype);
-    v[1] = 1; /* hardware revision */
+    v[1] = cfg->hw_revision;
     wsg_bin_put_u16(v + 2, firmware_nibbles(cfg->version));
     wsg_bin_put_u32(v + 4, cfg->serial);
     return wsg_bin_reply_values(req, v, sizeof(v));

@@ -102,6 +102,9 @@ size_t wsg_conn_input_choosing_driver(wsg_conn_t *conn, const uint8_t *bytes, si
 size_t wsg_conn_input(wsg_conn_t *conn, const uint8_t *bytes, size_t len)
 {
     conn_t *c = conn_of(conn);
+    if (c->dev->observers.conn_readers != 0) {
+        wsg_conn_show_read(c, bytes, len); /* apart: a read pays one test */
+    }
     const wsg_proto_driver_t *drv = c->drv;
     if (drv == NULL) {
         return wsg_conn_input_choosing_driver(conn, bytes, len);
@@ -145,6 +148,7 @@ void wsg_conn_close(wsg_conn_t *conn, wsg_close_reason_t why)
     bool raise_fast_stop = why == WSG_CLOSE_DROPPED && !c->said_goodbye && !c->close_announced &&
                            c->transport == WSG_TRANSPORT_STREAM &&
                            c->dev->cfg.disconnect_raises_faststop;
+    wsg_conn_show_close(c, why, raise_fast_stop);
     wsg_device_detach(dev_public(c->dev), &c->owner);
     wsg_proc_conn_close(c);
     if (c->drv != NULL) {
@@ -227,6 +231,7 @@ void wsg_conn_add_observer(wsg_device_t *device, wsg_conn_observer_t *node)
     if (*at == NULL) {
         node->next = NULL;
         *at = node;
+        dev_of(device)->observers.conn_readers += node->read != NULL ? 1u : 0u;
     }
 }
 
@@ -239,6 +244,7 @@ void wsg_conn_remove_observer(wsg_device_t *device, wsg_conn_observer_t *node)
     if (*at != NULL) {
         *at = node->next;
         node->next = NULL;
+        dev_of(device)->observers.conn_readers -= node->read != NULL ? 1u : 0u;
     }
 }
 
@@ -258,6 +264,27 @@ void wsg_conn_show_input(conn_t *c, const char *bytes, size_t len)
     for (const wsg_conn_observer_t *o = c->dev->observers.conn; o != NULL; o = o->next) {
         if (o->message_in != NULL) {
             o->message_in(o->ctx, conn_public(c), bytes, len);
+        }
+    }
+}
+
+void wsg_conn_show_read(conn_t *c, const uint8_t *bytes, size_t len)
+{
+    if (!c->open || len == 0) {
+        return; /* nothing arrives at a closed connection */
+    }
+    for (const wsg_conn_observer_t *o = c->dev->observers.conn; o != NULL; o = o->next) {
+        if (o->read != NULL) {
+            o->read(o->ctx, conn_public(c), bytes, len);
+        }
+    }
+}
+
+void wsg_conn_show_close(conn_t *c, wsg_close_reason_t why, bool fast_stop)
+{
+    for (const wsg_conn_observer_t *o = c->dev->observers.conn; o != NULL; o = o->next) {
+        if (o->closed != NULL) {
+            o->closed(o->ctx, conn_public(c), why, fast_stop);
         }
     }
 }

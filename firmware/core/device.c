@@ -70,7 +70,7 @@ void wsg_device_take_observers(wsg_device_t *device, wsg_device_observers_t *tak
 {
     wsg_dev_t *dev = dev_of(device);
     *taken = dev->observers;
-    dev->observers = (wsg_device_observers_t){NULL, NULL, NULL};
+    dev->observers = (wsg_device_observers_t){NULL, NULL, NULL, 0};
 }
 
 void wsg_device_give_observers(wsg_device_t *device, const wsg_device_observers_t *taken)

@@ -32,6 +32,13 @@ void wsg_grip_set_state(wsg_dev_t *dev, wsg_grip_state_t state)
     }
 }
 
+/* A time of the mechanics (wsg_mechanics_t): the configured one, or the
+ * built-in one where the configuration leaves it 0. */
+static uint64_t tuned_us(uint32_t configured_us, uint32_t built_in_us)
+{
+    return configured_us != 0u ? configured_us : built_in_us;
+}
+
 /* True once `condition` has held without a break for `duration_us`. */
 static bool held_for(wsg_dev_t *dev, bool condition, uint64_t duration_us)
 {
@@ -202,7 +209,8 @@ static void home_step(wsg_dev_t *dev)
         }
         return;
     }
-    if (held_for(dev, dev->sensed.axis.blocked == (positive ? 1 : -1), HOME_BLOCK_DETECT_US)) {
+    if (held_for(dev, dev->sensed.axis.blocked == (positive ? 1 : -1),
+                 tuned_us(cfg->mechanics.home_block_detect_us, HOME_BLOCK_DETECT_US))) {
         dev->axis_commanded = true;
         dev->hal.axis.ops->set_position(dev->hal.axis.ctx, positive ? cfg->stroke_mm : 0.0f);
         wsg_motion_halt(dev, false);
@@ -220,14 +228,15 @@ static void position_step(wsg_dev_t *dev)
 {
     const hal_axis_status_t *axis = &dev->sensed.axis;
     if (axis->blocked != 0) {
-        if (held_for(dev, true, BLOCKED_DEBOUNCE_US)) {
+        if (held_for(dev, true,
+                     tuned_us(dev->cfg.mechanics.block_detect_us, BLOCKED_DEBOUNCE_US))) {
             fail_blocked(dev, axis->blocked);
         }
         return;
     }
     bool in_position = !axis->profile_active &&
                        absf(axis->position_mm - dev->motion.target_mm) <= POSITION_TOLERANCE_MM;
-    if (held_for(dev, in_position, SETTLE_US)) {
+    if (held_for(dev, in_position, tuned_us(dev->cfg.mechanics.settle_us, SETTLE_US))) {
         wsg_flags_set(dev, SF_TARGET_POS_REACHED, true);
         wsg_grip_set_state(dev, GS_IDLE);
         finish(dev, E_SUCCESS);
@@ -284,7 +293,8 @@ static void grip_step(wsg_dev_t *dev)
             return;
         }
     }
-    if (held_for(dev, axis->blocked == direction, SETTLE_US)) {
+    if (held_for(dev, axis->blocked == direction,
+                 tuned_us(dev->cfg.mechanics.settle_us, SETTLE_US))) {
         dev->grip.hold_mm = axis->position_mm;
         dev->grip.monitored = m->grip_has_width; /* manual 2.2.3: cases 3 and 4 only */
         wsg_grip_set_state(dev, GS_HOLDING);
@@ -402,7 +412,8 @@ void wsg_grip_monitor_step(wsg_dev_t *dev)
         grip->weak = true;
         grip->weak_since_us = dev->sensed.now_us;
     }
-    if (dev->sensed.now_us - grip->weak_since_us >= PART_LOST_DEBOUNCE_US) {
+    if (dev->sensed.now_us - grip->weak_since_us >=
+        tuned_us(dev->cfg.mechanics.part_lost_us, PART_LOST_DEBOUNCE_US)) {
         wsg_motion_halt(dev, false);
         grip->stats[2]++;
         wsg_grip_set_state(dev, GS_PART_LOST);

@@ -81,6 +81,9 @@ static inline bool wsg_conn_timed(const conn_t *c)
 /* The observers' view of a message in or out (wsg_conn_observer_t). */
 void wsg_conn_show_input(conn_t *c, const char *bytes, size_t len);
 void wsg_conn_show_output(conn_t *c, const char *bytes, size_t len);
+/* A read arrived (before its messages); the connection closes. */
+void wsg_conn_show_read(conn_t *c, const uint8_t *bytes, size_t len);
+void wsg_conn_show_close(conn_t *c, wsg_close_reason_t why, bool fast_stop);
 
 /* One whole message out: observers, then the port's write. Inline: every
  * reply goes through here, and mostly nobody observes. */

@@ -24,6 +24,7 @@ void wsg_finger_node_init(finger_node_t *node, fbus_type_t type, unsigned slot,
     memset(node, 0, sizeof(*node));
     node->type = type;
     node->node = FBUS_NODE_ID(slot);
+    node->slot = (uint8_t)slot;
     node->params = *params;
     node->bus = bus;
     node->rng = params->seed != 0u ? params->seed : 0x9E3779B9u ^ (uint32_t)(slot + 1u);
@@ -225,9 +226,27 @@ void wsg_finger_node_receive(finger_node_t *node, const hal_can_frame_t *frame, 
     }
 }
 
+void wsg_finger_node_set_contact(finger_node_t *node, const finger_contact_t *contact)
+{
+    node->contact = contact;
+    node->cells_valid = false;
+}
+
+/* The force on the finger: its own contact's, else the broadcast one. */
+static float contact_force(const finger_node_t *node, float *cells_n)
+{
+    if (node->contact != NULL) {
+        float force = 0.0f;
+        node->contact->read(node->contact->ctx, node->slot, &force, cells_n);
+        return force;
+    }
+    return node->have_state ? node->state.force_n : 0.0f;
+}
+
 static float fmf_reading(finger_node_t *node)
 {
-    float contact = node->have_state ? node->state.force_n : 0.0f;
+    float cells[FBUS_DSA_ROWS * FBUS_DSA_COLS];
+    float contact = contact_force(node, cells);
     float raw = contact + node->params.offset_n + noise(node, node->params.noise_n);
     node->average_n += FMF_AVERAGE_ALPHA * (raw - node->average_n);
     return raw - node->tare_n;
@@ -286,8 +305,30 @@ void wsg_finger_node_dsa_pattern(float force_n, uint16_t *cells)
 /* The pattern follows the contact force alone: worked out again only when
  * the force the gripper broadcast changed since the last transfer, and
  * kept as it goes on the wire. */
+/* A cell's value for the force on it (N): a pad's cells read 0-4095 over
+ * 0-1.4 N each. */
+#define DSA_CELL_PER_N 3000.0f
+
+static void contact_cells(finger_node_t *node)
+{
+    float cells_n[FBUS_DSA_ROWS * FBUS_DSA_COLS];
+    (void)contact_force(node, cells_n);
+    uint16_t cells[DSA_VALUES] = {0};
+    for (unsigned i = 0; i < FBUS_DSA_ROWS * FBUS_DSA_COLS; i++) {
+        float value = cells_n[i] * DSA_CELL_PER_N + 0.5f;
+        cells[i] = value > (float)FBUS_DSA_CELL_MAX ? (uint16_t)FBUS_DSA_CELL_MAX
+                                                    : (value > 1.0f ? (uint16_t)value : 0u);
+    }
+    wsg_fbus_bulk_wire(node->cells_wire, cells, DSA_VALUES);
+    node->cells_valid = false; /* the scene's contact changes on its own */
+}
+
 static void update_dsa_cells(finger_node_t *node)
 {
+    if (node->contact != NULL) {
+        contact_cells(node);
+        return;
+    }
     float force_n = node->have_state ? node->state.force_n : 0.0f;
     if (node->cells_valid && force_n == node->cells_force_n) {
         return;

@@ -19,6 +19,15 @@ typedef struct {
     uint32_t seed;  /* noise generator seed (0: a fixed default) */
 } finger_node_params_t;
 
+/* A finger's contact as a physics scene computes it (docs/physics.md): the
+ * normal force on the finger's pad (N) and that force over its cells (N
+ * per cell, FBUS_DSA_ROWS x FBUS_DSA_COLS, row-major), for the finger in
+ * slot. Without one, a finger measures the force the gripper broadcasts. */
+typedef struct {
+    void (*read)(void *ctx, unsigned slot, float *force_n, float *cells_n);
+    void *ctx;
+} finger_contact_t;
+
 /* The BULK segments of a DSA transfer. */
 #define FINGER_NODE_DSA_SEGMENTS                                                                   \
     ((FBUS_DSA_ROWS * FBUS_DSA_COLS + FBUS_BULK_VALUES_PER_FRAME - 1u) / FBUS_BULK_VALUES_PER_FRAME)
@@ -27,6 +36,7 @@ typedef struct {
     /* Wider fields first, so that a fleet's thousands of nodes hold no
      * padding. */
     const hal_can_t *bus;
+    const finger_contact_t *contact; /* NULL: the broadcast force */
     /* power, lifecycle and schedule */
     uint64_t powered_at_us;
     uint64_t last_state_us;
@@ -49,6 +59,7 @@ typedef struct {
     /* the cells as they go on the wire (wsg_fbus_bulk_wire) */
     uint8_t cells_wire[FINGER_NODE_DSA_SEGMENTS * FBUS_BULK_VALUES_PER_FRAME * 2u];
     uint8_t node;
+    uint8_t slot;
     bool powered;
     bool operational;
     uint8_t sim_faults; /* FBUS_FAULT_*: injected through SIMCTL */
@@ -134,6 +145,9 @@ static inline void wsg_finger_node_step(finger_node_t *node, uint64_t now_us)
 
 /* When wsg_finger_node_step() must run next (UINT64_MAX: only a frame wakes it). */
 uint64_t wsg_finger_node_next_due_us(const finger_node_t *node);
+
+/* The finger's contact from now on (NULL: the broadcast force). */
+void wsg_finger_node_set_contact(finger_node_t *node, const finger_contact_t *contact);
 
 /* The DSA pressure pattern for a contact force (exposed for tests). */
 void wsg_finger_node_dsa_pattern(float force_n, uint16_t *cells);

@@ -107,6 +107,19 @@ static void check_slip(sim_axis_t *axis, float part_force_n, float dt)
     }
 }
 
+/* A drive whose force rises at a finite rate (sim_drive_t) reaches the
+ * contact's force from the last step's by at most that rate; until it has,
+ * the servo is not saturated, so nothing counts as blocked yet. */
+static float rise_limited(sim_axis_t *axis, float force_n, float dt)
+{
+    float reachable = axis->force_n + axis->drive.force_rise_n_s * dt;
+    if (force_n <= reachable) {
+        return force_n;
+    }
+    axis->blocked = 0;
+    return reachable;
+}
+
 /* The contacts in a fixed order, the part last (its force is what may
  * slip). Closed, the fingers press on each other ("the gripper grips
  * itself"); fully open, the drive leans on its internal end stop, not on the
@@ -133,6 +146,9 @@ static void touch(sim_axis_t *axis, float dt)
             part_force = apply_contact(axis, axis->part.width_mm, side, axis->part.stiffness_n_mm);
         }
         force += part_force;
+    }
+    if (axis->drive.force_rise_n_s > 0.0f) {
+        force = rise_limited(axis, force, dt);
     }
     axis->force_n = force;
     check_slip(axis, part_force, dt);

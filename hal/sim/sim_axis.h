@@ -33,9 +33,20 @@ typedef struct {
 /* A part held with too little force slips out after this long. */
 #define SIM_PART_SLIP_DELAY_S 0.1f
 
+/* How the drive follows its commands where a real gripper's differs from
+ * the ideal servo (a calibration fits them: wsg_mechanics_t). Each 0
+ * leaves the servo ideal in that respect. */
+typedef struct {
+    float speed_limit_mm_s; /* the top speed it reaches whatever the command */
+    float accel_scale;      /* the share of the commanded acceleration it reaches */
+    float stop_decel_mm_s2; /* a (soft) stop's deceleration; 0: the motion's */
+    float force_rise_n_s;   /* the contact force's rise; 0: at once */
+} sim_drive_t;
+
 typedef struct {
     float stroke_mm;
     float emergency_accel_mm_s2;
+    sim_drive_t drive;
     /* state, in physical jaw opening */
     float x_mm;
     float v_mm_s;

@@ -81,6 +81,13 @@ void wsg_sim_axis_move(sim_axis_t *axis, float target_mm, float speed_mm_s, floa
                        float force_limit_n)
 {
     wsg_sim_axis_forget_steps(axis);
+    const sim_drive_t *drive = &axis->drive;
+    if (drive->speed_limit_mm_s > 0.0f && speed_mm_s > drive->speed_limit_mm_s) {
+        speed_mm_s = drive->speed_limit_mm_s;
+    }
+    if (drive->accel_scale > 0.0f) {
+        accel_mm_s2 *= drive->accel_scale;
+    }
     axis->target_mm = target_mm - axis->offset_mm;
     axis->vmax_mm_s = speed_mm_s;
     axis->amax_mm_s2 = accel_mm_s2;
@@ -91,7 +98,9 @@ void wsg_sim_axis_move(sim_axis_t *axis, float target_mm, float speed_mm_s, floa
 void wsg_sim_axis_stop(sim_axis_t *axis, bool fast)
 {
     wsg_sim_axis_forget_steps(axis);
-    float accel = fast ? axis->emergency_accel_mm_s2 : axis->amax_mm_s2;
+    float soft =
+        axis->drive.stop_decel_mm_s2 > 0.0f ? axis->drive.stop_decel_mm_s2 : axis->amax_mm_s2;
+    float accel = fast ? axis->emergency_accel_mm_s2 : soft;
     if (accel <= 0.0f) {
         accel = axis->emergency_accel_mm_s2;
     }

@@ -73,6 +73,7 @@ void wsg_sim_model_config(const sim_model_t *model, wsg_config_t *cfg)
     copy_string(cfg->version, "4.0.0");
     copy_string(cfg->tag, "wsgsim");
     cfg->serial = 12345678u;
+    cfg->hw_revision = 1u;
     cfg->stroke_mm = model->stroke_mm;
     cfg->speed_min_mm_s = model->speed_min_mm_s;
     cfg->speed_max_mm_s = model->speed_max_mm_s;

@@ -8,8 +8,17 @@
 
 void wsg_sim_world_init(sim_world_t *world, const wsg_config_t *config, uint64_t now_us)
 {
-    wsg_sim_axis_init(&world->axis, config->stroke_mm,
-                      EMERGENCY_ACCEL_FACTOR * config->accel_max_mm_s2);
+    const wsg_mechanics_t *mech = &config->mechanics;
+    float emergency = mech->fast_stop_decel_mm_s2 > 0.0f
+                          ? mech->fast_stop_decel_mm_s2
+                          : EMERGENCY_ACCEL_FACTOR * config->accel_max_mm_s2;
+    wsg_sim_axis_init(&world->axis, config->stroke_mm, emergency);
+    world->axis.drive = (sim_drive_t){
+        .speed_limit_mm_s = mech->speed_limit_mm_s,
+        .accel_scale = mech->accel_scale,
+        .stop_decel_mm_s2 = mech->stop_decel_mm_s2,
+        .force_rise_n_s = mech->force_rise_n_s,
+    };
     wsg_sim_thermal_init(&world->thermal, AMBIENT_C);
     world->last_us = now_us;
 }

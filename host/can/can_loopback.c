@@ -421,3 +421,10 @@ uint32_t can_loopback_frames(const can_loopback_t *bus)
 {
     return bus->frames;
 }
+
+void can_loopback_set_contact(can_loopback_t *bus, const finger_contact_t *contact)
+{
+    for (unsigned i = 0; i < FBUS_SLOTS; i++) {
+        wsg_finger_node_set_contact(&bus->nodes[i], contact);
+    }
+}

@@ -26,6 +26,9 @@ const hal_can_t *can_loopback_bus(can_loopback_t *bus);
 typedef void (*can_loopback_tap_t)(void *ctx, const hal_can_frame_t *frame, uint64_t time_us);
 void can_loopback_set_tap(can_loopback_t *bus, can_loopback_tap_t tap, void *ctx);
 /* Frames carried so far (every delivery attempt counts once). */
+/* Where the fingers' contact comes from (finger_node.h; NULL: the force
+ * the gripper broadcasts); contact must outlive the bus or be replaced. */
+void can_loopback_set_contact(can_loopback_t *bus, const finger_contact_t *contact);
 uint32_t can_loopback_frames(const can_loopback_t *bus);
 
 #endif

@@ -22,13 +22,36 @@ static const struct {
     const char *section;
     const char *name;
     config_value_kind_t kind;
+    double min, max; /* a CV_NUMBER's range; the other kinds check their own */
 } keys[KEY_COUNT] = {
-    [DEV_SERIAL] = {"device", "serial", CV_SERIAL},
-    [DEV_TAG] = {"device", "tag", CV_TEXT},
-    [DEV_VERSION] = {"device", "firmware_version", CV_TEXT},
-    [MOT_HOMING] = {"motion", "homing_direction", CV_DIRECTION},
-    [MOT_MOVE_RETARGET] = {"motion", "move_retarget", CV_BOOL},
+    [DEV_SERIAL] = {"device", "serial", CV_SERIAL, 0, 0},
+    [DEV_TAG] = {"device", "tag", CV_TEXT, 0, 0},
+    [DEV_VERSION] = {"device", "firmware_version", CV_TEXT, 0, 0},
+    [DEV_HW_REVISION] = {"device", "hardware_revision", CV_BYTE, 0, 0},
+    [MOT_HOMING] = {"motion", "homing_direction", CV_DIRECTION, 0, 0},
+    [MOT_MOVE_RETARGET] = {"motion", "move_retarget", CV_BOOL, 0, 0},
+    /* [mechanics] (wsg_mechanics_t): mm/s, a share, mm/s^2, N/s, ms */
+    [MECH_SPEED_LIMIT] = {"mechanics", "speed_limit", CV_NUMBER, 1, 1000},
+    [MECH_ACCEL_SCALE] = {"mechanics", "acceleration_scale", CV_NUMBER, 0.1, 10},
+    [MECH_HOMING_SPEED] = {"mechanics", "homing_speed", CV_NUMBER, 1, 1000},
+    [MECH_STOP_DECEL] = {"mechanics", "stop_deceleration", CV_NUMBER, 0, 100000},
+    [MECH_FAST_STOP_DECEL] = {"mechanics", "fast_stop_deceleration", CV_NUMBER, 10, 100000},
+    [MECH_FORCE_RISE] = {"mechanics", "force_rise", CV_NUMBER, 0, 1000000},
+    [MECH_SETTLE] = {"mechanics", "settle_time", CV_NUMBER, 0.001, 10000},
+    [MECH_BLOCK_DETECT] = {"mechanics", "block_detect_time", CV_NUMBER, 0.001, 10000},
+    [MECH_HOME_BLOCK_DETECT] = {"mechanics", "home_block_detect_time", CV_NUMBER, 0.001, 10000},
+    [MECH_PART_LOST] = {"mechanics", "part_lost_time", CV_NUMBER, 0.001, 10000},
 };
+
+/* A [mechanics] number outside its range: why, in why; NULL when fine. */
+static const char *out_of_range(unsigned key, const value_t *v, char *why, size_t cap)
+{
+    if (keys[key].kind != CV_NUMBER || (v->number >= keys[key].min && v->number <= keys[key].max)) {
+        return NULL;
+    }
+    snprintf(why, cap, "%s is outside %g..%g", v->text, keys[key].min, keys[key].max);
+    return why;
+}
 
 static const struct {
     const char *name;
@@ -228,7 +251,11 @@ static int on_key(void *user, const char *section, const char *name, const char 
         if (strcasecmp(keys[i].section, section) != 0 || strcasecmp(keys[i].name, name) != 0) {
             continue;
         }
+        char range[96];
         const char *why = read_value(keys[i].kind, text, &st->cf->values[i]);
+        if (why == NULL) {
+            why = out_of_range(i, &st->cf->values[i], range, sizeof(range));
+        }
         if (why != NULL) {
             st->failed = true;
             return config_file_fail_at(st->path, st->line, section, name, why);

@@ -220,6 +220,38 @@ static void set_text(const config_file_t *cf, char *dst, key_id_t id)
     }
 }
 
+/* A time of [mechanics], in ms in the file, in us in the configuration;
+ * its range (from 0.001 ms) keeps it from 0, the built-in time. */
+static void set_time_us(const value_t *v, uint32_t *us)
+{
+    if (v->set) {
+        *us = (uint32_t)(v->number * 1000.0 + 0.5);
+    }
+}
+
+static void set_number(const value_t *v, float *to)
+{
+    if (v->set) {
+        *to = (float)v->number;
+    }
+}
+
+/* [mechanics]: the gripper's own figures beyond the datasheet. */
+static void apply_mechanics(const value_t *v, wsg_config_t *cfg)
+{
+    wsg_mechanics_t *m = &cfg->mechanics;
+    set_number(&v[MECH_SPEED_LIMIT], &m->speed_limit_mm_s);
+    set_number(&v[MECH_ACCEL_SCALE], &m->accel_scale);
+    set_number(&v[MECH_HOMING_SPEED], &cfg->homing_speed_mm_s);
+    set_number(&v[MECH_STOP_DECEL], &m->stop_decel_mm_s2);
+    set_number(&v[MECH_FAST_STOP_DECEL], &m->fast_stop_decel_mm_s2);
+    set_number(&v[MECH_FORCE_RISE], &m->force_rise_n_s);
+    set_time_us(&v[MECH_SETTLE], &m->settle_us);
+    set_time_us(&v[MECH_BLOCK_DETECT], &m->block_detect_us);
+    set_time_us(&v[MECH_HOME_BLOCK_DETECT], &m->home_block_detect_us);
+    set_time_us(&v[MECH_PART_LOST], &m->part_lost_us);
+}
+
 void config_file_apply(const config_file_t *cf, wsg_config_t *cfg)
 {
     if (cf == NULL) {
@@ -230,6 +262,9 @@ void config_file_apply(const config_file_t *cf, wsg_config_t *cfg)
     set_text(cf, cfg->version, DEV_VERSION);
     if (v[DEV_SERIAL].set) {
         cfg->serial = (uint32_t)v[DEV_SERIAL].number;
+    }
+    if (v[DEV_HW_REVISION].set) {
+        cfg->hw_revision = (uint8_t)v[DEV_HW_REVISION].number;
     }
     for (unsigned i = 0; i < SETTINGS_TABLE_COUNT; i++) {
         /* the [network] ones reach the device through the options */
@@ -244,5 +279,6 @@ void config_file_apply(const config_file_t *cf, wsg_config_t *cfg)
     if (v[MOT_MOVE_RETARGET].set) {
         cfg->move_retarget = v[MOT_MOVE_RETARGET].number != 0.0;
     }
+    apply_mechanics(v, cfg);
     /* disconnect_faststop reaches the device through the options */
 }

@@ -11,6 +11,7 @@
 
 #include "http_host.h"
 #include "net_allow.h"
+#include "wire_spec.h"
 #include "host_options.h"
 #include "sim/finger_node.h"
 #include "sim/sim_models.h"
@@ -94,6 +95,9 @@ static const char *convert_number(config_value_kind_t kind, const char *text, co
         return config_value_int_range(text, 0, 4294967295.0, &v->number)
                    ? NULL
                    : "expected an integer 0-4294967295";
+    case CV_BYTE:
+        return config_value_int_range(text, 0, 255, &v->number) ? NULL
+                                                                : "expected an integer 0-255";
     case CV_NUMBER:
         return parse_number(text, &v->number) ? NULL : "expected a number";
     case CV_BOOL:
@@ -122,11 +126,21 @@ static const char *convert_number(config_value_kind_t kind, const char *text, co
         return strcasecmp(text, "off") == 0 || config_value_int_range(text, 0, 86400, &v->number)
                    ? NULL
                    : "expected seconds 0-86400 or off";
+    case CV_MILLISECONDS:
+        return config_value_int_range(text, 1, HOST_MILLISECONDS_MAX, &v->number)
+                   ? NULL
+                   : "expected milliseconds 1-3600000";
     case CV_PROTOCOL: {
         host_protocol_t protocol = HOST_PROTOCOL_AUTO;
         bool ok = options_parse_protocol(text, &protocol);
         v->number = (double)protocol;
         return ok ? NULL : "expected auto, gcl or binary";
+    }
+    case CV_PHYSICS: {
+        host_physics_t physics = HOST_PHYSICS_BUILTIN;
+        bool ok = options_parse_physics(text, &physics);
+        v->number = (double)physics;
+        return ok ? NULL : "expected builtin, mujoco or socket:PATH";
     }
     default:
         return "unsupported";
@@ -162,6 +176,14 @@ static const char *convert_text(config_value_kind_t kind, const char *text, conf
         return strlen(text) < sizeof(v->text) && net_allow_add(&list, text)
                    ? NULL
                    : "expected up to 8 comma-separated addresses, each ADDR or ADDR/PREFIX";
+    }
+    case CV_NET: {
+        static char why[160]; /* the configuration is read by one thread */
+        wire_spec_t spec = {0};
+        if (strlen(text) >= sizeof(v->text)) {
+            return "expected wire conditions of at most 127 characters";
+        }
+        return wire_spec_parse(&spec, text, why, sizeof(why)) ? NULL : why;
     }
     case CV_LOOPBACK:
         return is_loopback(text) ? NULL

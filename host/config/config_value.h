@@ -11,24 +11,28 @@
 #define CONFIG_VALUE_TEXT_MAX 128
 
 typedef enum {
-    CV_TEXT,        /* printable, no '"', shorter than WSG_CONFIG_STRING_MAX */
-    CV_MODEL,       /* a model wsg_sim_model_find() knows */
-    CV_SERIAL,      /* 0..4294967295 */
-    CV_NUMBER,      /* a finite number; ranges are checked against the model */
-    CV_BOOL,        /* yes/no, true/false, on/off, 1/0 */
-    CV_DIRECTION,   /* positive/negative */
-    CV_PORT,        /* 0..65535 */
-    CV_PORT_OFF,    /* 0..65535 or "off" (-1) */
-    CV_CLIENTS,     /* 1..128 */
-    CV_SECONDS,     /* 1..86400 */
-    CV_SECONDS_OFF, /* 0..86400 or "off" (0) */
-    CV_ADDR,        /* an IPv4 or IPv6 address */
-    CV_LOOPBACK,    /* a loopback address only */
-    CV_PROTOCOL,    /* auto, gcl or binary */
-    CV_HOSTS,       /* host names, comma-separated (http_host_list_valid) */
-    CV_PATH,        /* a file or directory name: printable, not empty */
-    CV_ALLOW,       /* comma-separated ADDR[/PREFIX] (net_allow.h) */
-    CV_FINGERS,     /* A[,B]: the fingers of a loopback bus (wsg_finger_node_parse_pair) */
+    CV_TEXT,         /* printable, no '"', shorter than WSG_CONFIG_STRING_MAX */
+    CV_MODEL,        /* a model wsg_sim_model_find() knows */
+    CV_SERIAL,       /* 0..4294967295 */
+    CV_BYTE,         /* 0..255 */
+    CV_NUMBER,       /* a finite number; ranges are checked against the model */
+    CV_BOOL,         /* yes/no, true/false, on/off, 1/0 */
+    CV_DIRECTION,    /* positive/negative */
+    CV_PORT,         /* 0..65535 */
+    CV_PORT_OFF,     /* 0..65535 or "off" (-1) */
+    CV_CLIENTS,      /* 1..128 */
+    CV_SECONDS,      /* 1..86400 */
+    CV_SECONDS_OFF,  /* 0..86400 or "off" (0) */
+    CV_MILLISECONDS, /* 1..3600000 (an hour) */
+    CV_ADDR,         /* an IPv4 or IPv6 address */
+    CV_LOOPBACK,     /* a loopback address only */
+    CV_PROTOCOL,     /* auto, gcl or binary */
+    CV_PHYSICS,      /* builtin, mujoco or socket:PATH */
+    CV_HOSTS,        /* host names, comma-separated (http_host_list_valid) */
+    CV_PATH,         /* a file or directory name: printable, not empty */
+    CV_ALLOW,        /* comma-separated ADDR[/PREFIX] (net_allow.h) */
+    CV_FINGERS,      /* A[,B]: the fingers of a loopback bus (wsg_finger_node_parse_pair) */
+    CV_NET,          /* wire conditions: a preset and KEY=VALUE items (wire_spec.h) */
 } config_value_kind_t;
 
 typedef struct {

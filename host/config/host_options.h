@@ -11,9 +11,19 @@
 #include "hal_log.h"
 #include "wsg/wsg_config.h"
 #include "net_allow.h"
+#include "wire_spec.h"
 
 /* --protocol: what a TCP connection speaks (docs/binary-protocol.md) */
 typedef enum { HOST_PROTOCOL_AUTO, HOST_PROTOCOL_GCL, HOST_PROTOCOL_BINARY } host_protocol_t;
+
+/* --physics: the world behind the device's HAL (docs/physics.md) */
+typedef enum { HOST_PHYSICS_BUILTIN, HOST_PHYSICS_MUJOCO, HOST_PHYSICS_SOCKET } host_physics_t;
+/* --physics socket:PATH: the plant process's Unix-domain socket */
+#define HOST_PHYSICS_SOCKET_PREFIX "socket:"
+/* --plant-timeout: the default wait for a plant's reply (docs/physics.md
+ * "Errors and timeouts") and the longest one may set (an hour) */
+#define HOST_PLANT_TIMEOUT_MS_DEFAULT 500u
+#define HOST_MILLISECONDS_MAX 3600000
 
 /* --http-allow-host: at most this many lists of names (each repeat one). */
 #define HOST_HTTP_ALLOW_LISTS_MAX 16
@@ -43,6 +53,9 @@ typedef struct {
     net_allow_t udp_stream_allow; /* --udp-stream-allow: streams to them need no budget */
     bool udp_stream_allow_given;  /* the first --udp-stream-allow replaces the file's list */
     bool disconnect_faststop;
+    /* --net and [net] conditions: the wire conditions of every session
+     * (docs/network.md); off unless given */
+    wire_spec_t net;
     bool trace;
     const char *can_iface; /* --can: finger bus on SocketCAN; NULL: loopback bus */
     const char *fingers;   /* --fingers: the loopback bus' fingers, "fmf,dsa" */
@@ -88,10 +101,31 @@ typedef struct {
     const char *script;     /* --script: the startup script, a host path or /user/NAME */
     const char *script_dir; /* --script-dir: the /user/ store; NULL: none */
     bool script_autostart;  /* false: --no-script-autostart */
+    /* the physics scene (docs/physics.md) */
+    host_physics_t physics;    /* --physics: the world behind the HAL */
+    const char *scene;         /* --scene: the user's MuJoCo scene; NULL: the default scene */
+    const char *plant_socket;  /* --physics socket:PATH: PATH */
+    unsigned plant_timeout_ms; /* --plant-timeout: how long the device waits for a reply */
     /* --list-models [--json]: printed once every option is read */
     bool list_models;
     bool list_models_json;
 } host_options_t;
+
+/* "builtin", "mujoco" or "socket:PATH" (the option and the configuration
+ * key). */
+static inline bool options_parse_physics(const char *text, host_physics_t *out)
+{
+    size_t prefix = strlen(HOST_PHYSICS_SOCKET_PREFIX);
+    if (strncmp(text, HOST_PHYSICS_SOCKET_PREFIX, prefix) == 0 && text[prefix] != '\0') {
+        *out = HOST_PHYSICS_SOCKET;
+        return true;
+    }
+    if (strcmp(text, "builtin") == 0 || strcmp(text, "mujoco") == 0) {
+        *out = text[0] == 'b' ? HOST_PHYSICS_BUILTIN : HOST_PHYSICS_MUJOCO;
+        return true;
+    }
+    return false;
+}
 
 /* "auto", "gcl" or "binary" (the option and the configuration key). */
 static inline bool options_parse_protocol(const char *text, host_protocol_t *out)

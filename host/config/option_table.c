@@ -174,6 +174,37 @@ static bool set_seed(host_options_t *opts, double number, const char *text)
     return true;
 }
 
+static bool set_physics(host_options_t *opts, double number, const char *text)
+{
+    opts->physics = (host_physics_t)number;
+    opts->plant_socket =
+        opts->physics == HOST_PHYSICS_SOCKET ? text + strlen(HOST_PHYSICS_SOCKET_PREFIX) : NULL;
+    return true;
+}
+
+static bool set_scene(host_options_t *opts, double number, const char *text)
+{
+    (void)number;
+    opts->scene = text;
+    return true;
+}
+
+/* Applied over what the file set: "--net loss=0.1" adds to its conditions,
+ * a preset first replaces them. The text was checked (CV_NET). */
+static bool set_net(host_options_t *opts, double number, const char *text)
+{
+    char why[160];
+    (void)number;
+    return wire_spec_parse(&opts->net, text, why, sizeof(why));
+}
+
+static bool set_plant_timeout(host_options_t *opts, double number, const char *text)
+{
+    (void)text;
+    opts->plant_timeout_ms = (unsigned)number;
+    return true;
+}
+
 const option_row_t option_table[OPTION_COUNT] = {
     [OPTION_MODEL] = {"--model", "device", "model", CV_MODEL, set_model},
     [OPTION_TCP_PORT] = {"--tcp-port", "network", "tcp_port", CV_PORT, set_tcp_port},
@@ -207,4 +238,9 @@ const option_row_t option_table[OPTION_COUNT] = {
                                  set_script_autostart},
     [OPTION_TIMING] = {"--timing", "timing", "profile", CV_PATH, set_timing},
     [OPTION_SEED] = {"--seed", "timing", "seed", CV_SERIAL, set_seed},
+    [OPTION_PHYSICS] = {"--physics", "physics", "engine", CV_PHYSICS, set_physics},
+    [OPTION_SCENE] = {"--scene", "physics", "scene", CV_PATH, set_scene},
+    [OPTION_PLANT_TIMEOUT] = {"--plant-timeout", "physics", "plant_timeout_ms", CV_MILLISECONDS,
+                              set_plant_timeout},
+    [OPTION_NET] = {"--net", "net", "conditions", CV_NET, set_net},
 };

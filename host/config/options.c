@@ -136,6 +136,10 @@ static const struct option long_options[] = {
     {"timing", required_argument, NULL, OPT_TABLE + OPTION_TIMING},
     {"seed", required_argument, NULL, OPT_TABLE + OPTION_SEED},
     {"no-script-autostart", no_argument, NULL, OPT_TABLE + OPTION_SCRIPT_AUTOSTART},
+    {"physics", required_argument, NULL, OPT_TABLE + OPTION_PHYSICS},
+    {"scene", required_argument, NULL, OPT_TABLE + OPTION_SCENE},
+    {"plant-timeout", required_argument, NULL, OPT_TABLE + OPTION_PLANT_TIMEOUT},
+    {"net", required_argument, NULL, OPT_TABLE + OPTION_NET},
     {"version", no_argument, NULL, OPT_VERSION},
     {"help", no_argument, NULL, OPT_HELP},
     {NULL, 0, NULL, 0},
@@ -157,6 +161,7 @@ static void set_defaults(host_options_t *opts)
     opts->disconnect_faststop = true;
     opts->udp_peer_timeout_s = DEFAULT_UDP_PEER_TIMEOUT_S;
     opts->sim_port = -1;
+    opts->plant_timeout_ms = HOST_PLANT_TIMEOUT_MS_DEFAULT;
     opts->fingers = "fmf,dsa";
     opts->binary_udp_port = DEFAULT_BINARY_UDP_PORT;
     opts->binary_udp_reply_port = DEFAULT_BINARY_UDP_REPLY_PORT;
@@ -270,6 +275,18 @@ static options_result_t seed_option(const char *arg, double *number)
     return OPTIONS_EXIT_USAGE;
 }
 
+/* --net: wire conditions over the file's; a bad one says what is wrong. */
+static options_result_t net_option(const char *arg, const host_options_t *opts)
+{
+    char why[160];
+    wire_spec_t trial = opts->net;
+    if (!wire_spec_parse(&trial, arg, why, sizeof(why))) {
+        fprintf(stderr, "wsgsim: invalid --net '%s': %s\n", arg, why);
+        return OPTIONS_EXIT_USAGE;
+    }
+    return OPTIONS_RUN;
+}
+
 /* How the command line reads an option of option_table.h: its number (a
  * port, seconds, a choice, a switch) with the command line's own errors,
  * or nothing for a text (the argument itself). */
@@ -294,9 +311,16 @@ static options_result_t read_table_option(option_id_t id, const char *arg,
     case OPTION_UDP_PEER_TIMEOUT:
     case OPTION_HTTP_REQUEST_TIMEOUT:
         return int_option(option_table[id].cli, arg, 1, TIMEOUT_LIMIT_S, number);
+    case OPTION_PLANT_TIMEOUT:
+        return int_option(option_table[id].cli, arg, 1, HOST_MILLISECONDS_MAX, number);
     case OPTION_PROTOCOL:
         *number = options_parse_protocol(arg, &protocol) ? (double)protocol : -1.0;
         return *number >= 0.0 ? OPTIONS_RUN : usage_error("--protocol", arg);
+    case OPTION_PHYSICS: {
+        host_physics_t physics = HOST_PHYSICS_BUILTIN;
+        *number = options_parse_physics(arg, &physics) ? (double)physics : -1.0;
+        return *number >= 0.0 ? OPTIONS_RUN : usage_error("--physics", arg);
+    }
     case OPTION_MODEL:
         return model_option(arg);
     case OPTION_HTTP_ALLOW_HOST:
@@ -306,6 +330,8 @@ static options_result_t read_table_option(option_id_t id, const char *arg,
     case OPTION_ADDRESS_PER_DEVICE:
         *number = 1.0; /* --address-per-device */
         return OPTIONS_RUN;
+    case OPTION_NET:
+        return net_option(arg, opts);
     default: /* a text, or --no-script-autostart (0) */
         *number = 0.0;
         return OPTIONS_RUN;

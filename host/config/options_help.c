@@ -32,6 +32,15 @@ static void print_serving(void)
            "  --json                     with --list-models: print the list as JSON\n"
            "  --part W[:K]               a part of width W mm (stiffness K N/mm, default %.0f)\n"
            "                             between the jaws at start\n"
+           "  --physics ENGINE           the world behind the device: builtin (default) or\n"
+           "                             mujoco, a physics scene (docs/physics.md), or\n"
+           "                             socket:PATH, a plant process (another engine)\n"
+           "                             listening at the Unix socket PATH\n"
+           "  --scene FILE.xml           with --physics mujoco: the scene (MJCF) the\n"
+           "                             gripper works in (default: a box on a table)\n"
+           "  --plant-timeout MS         with --physics socket:PATH: a plant that does not\n"
+           "                             answer within MS wall-clock ms (1 to 3600000,\n"
+           "                             default 500) is lost: a power fault\n"
            "  --max-clients N            simultaneous TCP clients (default %d, at most %d)\n"
            "  --no-disconnect-faststop   a connection closed without BYE() does not raise\n"
            "                             FAST STOP\n"
@@ -43,7 +52,13 @@ static void print_serving(void)
            "                             repeatable) keep AUTOSEND and automatic updates\n"
            "                             while silent, as loopback peers always do; other\n"
            "                             peers' streams are paid by what they send\n"
-           "                             (default: none)\n",
+           "                             (default: none)\n"
+           "  --net SPEC                 wire conditions for every session: a preset (off,\n"
+           "                             rough, split, lossy, slow) and/or KEY=VALUE items:\n"
+           "                             split=N, gap=MS[-MS], coalesce=MS, latency=MS,\n"
+           "                             jitter=MS, reset=MS, loss=P, dup=P, reorder=P,\n"
+           "                             seed=N (e.g. --net rough,reset=5000; default off;\n"
+           "                             docs/network.md)\n",
            DEFAULT_PORT, DEFAULT_PORT, HOST_DEVICES_MAX, wsg_sim_model_default()->name,
            (double)DEFAULT_PART_STIFFNESS, DEFAULT_MAX_CLIENTS, MAX_CLIENTS_LIMIT,
            DEFAULT_UDP_PEER_TIMEOUT_S);
@@ -77,7 +92,8 @@ static void print_simulation(void)
            "                             jitter); 0-4294967295, default 1\n"
            "  --record FILE              record every line in and out with timestamps, and\n"
            "                             the device's state while it moves (tools/wsgplot)\n"
-           "  --coverage FILE            write a protocol coverage report at exit\n"
+           "  --coverage FILE            write a protocol coverage report at exit, with the\n"
+           "                             report on the driver under test (also logged)\n"
            "  --strict                   report input the manual does not allow but the\n"
            "                             emulator tolerates (coverage report and trace)\n");
 }

@@ -8,12 +8,21 @@
 #include <string.h>
 
 #include "coverage_internal.h"
+#include "log.h"
 
 void coverage_reset(coverage_t *c)
 {
     for (unsigned i = 0; i < c->count; i++) {
         memset(&c->devices[i].counts, 0, sizeof(c->devices[i].counts));
     }
+    if (c->driver != NULL) {
+        driver_report_reset(c->driver);
+    }
+}
+
+driver_report_t *coverage_driver(coverage_t *c)
+{
+    return c != NULL ? c->driver : NULL;
 }
 
 static int form_slot(unsigned form, unsigned argc)
@@ -47,8 +56,11 @@ static void note_unknown(counts_t *cov, const char *name)
     }
 }
 
-static void count_command(counts_t *cov, const char *name, int index, unsigned form, unsigned argc,
-                          wsg_status_t status)
+/* Every GCL request passes here: inlined into both command observers (the
+ * plain one and the driver report's), as it was into the one before. */
+static inline __attribute__((always_inline)) void count_command(counts_t *cov, const char *name,
+                                                                int index, unsigned form,
+                                                                unsigned argc, wsg_status_t status)
 {
     if (name[0] == '\0') {
         return; /* a line without a command name */
@@ -130,6 +142,21 @@ bool coverage_open(coverage_t *c, const char *path)
     return true;
 }
 
+/* The driver report's summary, a log line per line of it. */
+static void log_driver_summary(const driver_report_t *driver)
+{
+    char *summary = driver_report_text(driver);
+    for (char *line = summary; line != NULL && *line != '\0';) {
+        char *end = strchr(line, '\n');
+        if (end != NULL) {
+            *end = '\0';
+        }
+        host_logf(HAL_LOG_INFO, "%s", line);
+        line = end != NULL ? end + 1 : NULL;
+    }
+    free(summary);
+}
+
 bool coverage_write(coverage_t *c)
 {
     char *text = coverage_report_json(c, true);
@@ -144,6 +171,9 @@ bool coverage_write(coverage_t *c)
                 strerror(errno));
     }
     free(text);
+    if (c->driver != NULL) {
+        log_driver_summary(c->driver);
+    }
     return ok;
 }
 
@@ -160,6 +190,33 @@ static void on_message_out(void *ctx, const wsg_conn_t *c, const char *line, siz
 {
     (void)c;
     bin_coverage_frame_out(&((cov_device_t *)ctx)->counts.bin, (const unsigned char *)line, len);
+}
+
+/* With the driver report, the same observers tell it too (one list walk). */
+static void on_message_in_driver(void *ctx, const wsg_conn_t *c, const char *line, size_t len)
+{
+    cov_device_t *cd = ctx;
+    on_message_in(ctx, c, line, len);
+    driver_report_message_in(cd->owner->driver, cd->index, c, line, len);
+}
+
+static void on_message_out_driver(void *ctx, const wsg_conn_t *c, const char *line, size_t len)
+{
+    cov_device_t *cd = ctx;
+    on_message_out(ctx, c, line, len);
+    driver_report_message_out(cd->owner->driver, cd->index, c, line, len);
+}
+
+static void on_read(void *ctx, const wsg_conn_t *c, const uint8_t *bytes, size_t len)
+{
+    cov_device_t *cd = ctx;
+    driver_report_read(cd->owner->driver, cd->index, c, bytes, len);
+}
+
+static void on_closed(void *ctx, const wsg_conn_t *c, wsg_close_reason_t why, bool fast_stop)
+{
+    cov_device_t *cd = ctx;
+    driver_report_closed(cd->owner->driver, cd->index, c, why, fast_stop);
 }
 
 static void on_grip_state(void *ctx, wsg_grip_state_t from, wsg_grip_state_t to)
@@ -180,6 +237,23 @@ static void on_error_sent(void *ctx, const wsg_conn_t *c, int index, wsg_status_
     count_error(&((cov_device_t *)ctx)->counts, index, status);
 }
 
+static void on_command_done_driver(void *ctx, const wsg_conn_t *c, const char *name, int index,
+                                   unsigned form, unsigned argc, wsg_status_t status)
+{
+    cov_device_t *cd = ctx;
+    on_command_done(ctx, c, name, index, form, argc, status);
+    if (driver_report_watches(cd->watch, index)) {
+        driver_report_gcl_command(cd->owner->driver, cd->index, c, index, form, status);
+    }
+}
+
+static void on_error_sent_driver(void *ctx, const wsg_conn_t *c, int index, wsg_status_t status)
+{
+    cov_device_t *cd = ctx;
+    on_error_sent(ctx, c, index, status);
+    driver_report_gcl_error(cd->owner->driver, cd->index, c, status);
+}
+
 static void on_tolerated(void *ctx, const wsg_conn_t *c, const char *name, const char *what)
 {
     count_tolerated(&((cov_device_t *)ctx)->counts, c != NULL ? wsg_conn_id(c) : 0u, name, what);
@@ -195,6 +269,28 @@ coverage_t *coverage_create(bool strict, unsigned devices)
     return c;
 }
 
+bool coverage_count_driver(coverage_t *c)
+{
+    if (c->driver == NULL) {
+        c->driver = driver_report_create(c->count);
+    }
+    return c->driver != NULL;
+}
+
+/* The driver report's observers in place of the plain ones: a run without
+ * it pays nothing for it per request. */
+static void attach_driver(coverage_t *c, cov_device_t *cd, wsg_device_t *dev, unsigned index)
+{
+    driver_report_attach(c->driver, dev, index);
+    cd->watch = driver_report_watch(c->driver, index);
+    cd->messages.message_in = on_message_in_driver;
+    cd->messages.message_out = on_message_out_driver;
+    cd->messages.read = on_read;
+    cd->messages.closed = on_closed;
+    cd->gcl.command_done = on_command_done_driver;
+    cd->gcl.error_sent = on_error_sent_driver;
+}
+
 void coverage_attach(coverage_t *c, wsg_device_t *dev, unsigned index)
 {
     if (c == NULL || index >= c->count) {
@@ -203,13 +299,18 @@ void coverage_attach(coverage_t *c, wsg_device_t *dev, unsigned index)
     cov_device_t *cd = &c->devices[index];
     c->attached += cd->device == NULL ? 1u : 0u;
     cd->device = dev;
+    cd->owner = c;
+    cd->index = index;
     cd->messages = (wsg_conn_observer_t){
         .message_in = on_message_in, .message_out = on_message_out, .ctx = cd};
-    cd->grip = (wsg_device_observer_t){.grip_state_changed = on_grip_state, .ctx = cd};
     cd->gcl = (wsg_gcl_observer_t){.command_done = on_command_done,
                                    .error_sent = on_error_sent,
                                    .tolerated = on_tolerated,
                                    .ctx = cd};
+    if (c->driver != NULL) {
+        attach_driver(c, cd, dev, index);
+    }
+    cd->grip = (wsg_device_observer_t){.grip_state_changed = on_grip_state, .ctx = cd};
     wsg_conn_add_observer(dev, &cd->messages);
     wsg_device_add_observer(dev, &cd->grip);
     wsg_gcl_add_observer(dev, &cd->gcl);
@@ -218,7 +319,11 @@ void coverage_attach(coverage_t *c, wsg_device_t *dev, unsigned index)
 void coverage_sample_flags(coverage_t *c, unsigned index)
 {
     if (c != NULL && index < c->count && c->devices[index].device != NULL) {
-        c->devices[index].counts.flags_seen |= wsg_device_flags(c->devices[index].device);
+        uint32_t flags = wsg_device_flags(c->devices[index].device);
+        c->devices[index].counts.flags_seen |= flags;
+        if (c->driver != NULL) {
+            driver_report_flags(c->driver, index, flags);
+        }
     }
 }
 
@@ -226,6 +331,9 @@ void coverage_destroy(coverage_t *c)
 {
     if (c != NULL && c->report_file != NULL) {
         fclose(c->report_file);
+    }
+    if (c != NULL) {
+        driver_report_destroy(c->driver);
     }
     free(c);
 }

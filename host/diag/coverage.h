@@ -9,6 +9,7 @@
 
 #include <stdbool.h>
 
+#include "driver_report.h"
 #include "wsg/wsg_device.h"
 
 typedef struct coverage coverage_t;
@@ -25,13 +26,21 @@ void coverage_reset(coverage_t *c);
  * ticked). Nothing for NULL or a device not attached. */
 void coverage_sample_flags(coverage_t *c, unsigned index);
 
+/* The report on the driver under test (driver_report.h), counted with the
+ * coverage from the devices attached after this call (--coverage): the
+ * "driver" section, DRIVER?, the summary at exit. Without it the request
+ * path pays nothing for it. False when out of memory. */
+bool coverage_count_driver(coverage_t *c);
+/* NULL when the driver report is not counted. */
+driver_report_t *coverage_driver(coverage_t *c);
+
 /* The report as JSON text (malloc'd; free() it). pretty: indented. */
 char *coverage_report_json(const coverage_t *c, bool pretty);
 /* Opens (truncates) the report file at start; false with a message on
  * stderr when it cannot be written. */
 bool coverage_open(coverage_t *c, const char *path);
-/* Writes the indented report to the opened file and closes it; false with a
- * message on stderr. */
+/* Writes the indented report to the opened file and closes it, and the
+ * driver report's summary to the log; false with a message on stderr. */
 bool coverage_write(coverage_t *c);
 /* After the devices it observes are gone (or never used again). */
 void coverage_destroy(coverage_t *c);

@@ -10,6 +10,7 @@
 
 #include "bin_coverage.h"
 #include "coverage.h"
+#include "driver_report.h"
 #include "wsg/wsg_gcl.h"
 #include "wsg/wsg_names.h"
 
@@ -53,6 +54,9 @@ typedef struct {
 /* What the report attaches to one device: its counts and observers. */
 typedef struct {
     const wsg_device_t *device; /* NULL: not attached */
+    struct coverage *owner;
+    unsigned index;
+    const driver_watch_t *watch; /* the driver report's of this device */
     counts_t counts;
     wsg_conn_observer_t messages;
     wsg_device_observer_t grip;
@@ -67,6 +71,7 @@ struct coverage {
      * error before the run rather than after it. */
     FILE *report_file;
     const char *report_path;
+    driver_report_t *driver; /* the report on the driver under test ("driver") */
     cov_device_t devices[];
 };
 

@@ -310,6 +310,13 @@ static void add_counts(counts_t *total, const counts_t *part)
     bin_coverage_add(&total->bin, &part->bin);
 }
 
+static void add_driver(cJSON *root, const coverage_t *c)
+{
+    if (c->driver != NULL) {
+        cJSON_AddItemToObject(root, "driver", driver_report_json(c->driver));
+    }
+}
+
 /* One device: its report as it always was. A fleet: the total in the same
  * sections, and "devices", each device's own report with its "device"
  * number (docs/simctl.md). */
@@ -318,6 +325,7 @@ cJSON *coverage_build_report(const coverage_t *c)
     cJSON *root = cJSON_CreateObject();
     if (c->count == 1) {
         add_report(root, &c->devices[0].counts, c->strict);
+        add_driver(root, c);
         return root;
     }
     counts_t *total = calloc(1, sizeof(*total));
@@ -335,6 +343,7 @@ cJSON *coverage_build_report(const coverage_t *c)
         add_report(root, total, c->strict);
     }
     cJSON_AddItemToObject(root, "devices", devices);
+    add_driver(root, c);
     free(total);
     return root;
 }

@@ -5,12 +5,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "hal_clock.h"
+#include "record_file.h"
 
-/* 2: directions from the client's side, and the device's state sampled. */
-#define RECORD_VERSION 2
 /* The device's state is sampled at most this often (100 Hz of simulated
  * time), at control steps that run anyway: an idle device makes none. */
 #define SAMPLE_PERIOD_US 10000u
@@ -43,27 +41,10 @@ struct record {
     record_device_t devices[];
 };
 
-/* mode "w" truncates, "a" appends; a file that starts empty gets the header. */
-static FILE *open_record(const char *path, const char *mode)
-{
-    FILE *f = fopen(path, mode);
-    if (f == NULL) {
-        return NULL;
-    }
-    setvbuf(f, NULL, _IOLBF, 0);
-    if (fseek(f, 0, SEEK_END) == 0 && ftell(f) == 0) {
-        fprintf(f,
-                "# wsgsim record %d\n# sim_s wall_s channel dir text (dir: > from a client, "
-                "< to it, = the device's state)\n",
-                RECORD_VERSION);
-    }
-    return f;
-}
-
 record_t *record_open(const char *path, unsigned devices)
 {
     record_t *r = calloc(1, sizeof(*r) + devices * sizeof(r->devices[0]));
-    FILE *f = r != NULL ? open_record(path, "w") : NULL;
+    FILE *f = r != NULL ? record_file_open(path, "w", _IOLBF) : NULL;
     if (f == NULL) {
         fprintf(stderr, "wsgsim: cannot write --record file %s: %s\n", path, strerror(errno));
         free(r);
@@ -81,7 +62,7 @@ bool record_reopen(record_t *r)
     if (r == NULL) {
         return true;
     }
-    FILE *f = open_record(r->path, "a");
+    FILE *f = record_file_open(r->path, "a", _IOLBF);
     if (f == NULL) {
         return false;
     }
@@ -90,34 +71,10 @@ bool record_reopen(record_t *r)
     return true;
 }
 
-/* Printable ASCII as is; backslash and anything else escaped. */
-static void put_text(FILE *out, const char *line, size_t len)
-{
-    for (size_t i = 0; i < len; i++) {
-        unsigned char c = (unsigned char)line[i];
-        if (c == '\\') {
-            fputs("\\\\", out);
-        } else if (c >= 0x20u && c < 0x7fu) {
-            fputc(c, out);
-        } else {
-            fprintf(out, "\\x%02x", c);
-        }
-    }
-}
-
+/* The record's lines carry the simulated time of the device's clock. */
 static void put_record(FILE *out, const char *channel, char direction, const char *line, size_t len)
 {
-    while (len > 0 && (line[len - 1] == '\n' || line[len - 1] == '\r')) {
-        len--;
-    }
-    struct timespec wall;
-    clock_gettime(CLOCK_REALTIME, &wall);
-    uint64_t sim = hal_clock_now_us();
-    fprintf(out, "%llu.%06llu %lld.%06ld %s %c ", (unsigned long long)(sim / 1000000u),
-            (unsigned long long)(sim % 1000000u), (long long)wall.tv_sec, wall.tv_nsec / 1000L,
-            channel, direction);
-    put_text(out, line, len);
-    fputc('\n', out);
+    record_file_put(out, hal_clock_now_us(), channel, direction, line, len);
 }
 
 static void record_gcl(const record_device_t *rd, const wsg_conn_t *c, char direction,

@@ -57,6 +57,7 @@ bool fleet_start(fleet_t *fleet, const host_options_t *opts)
         return false;
     }
     fleet->opts = opts;
+    fleet->wires.all = opts->net;
     fleet->servers_due_us = 0; /* asked at the first pass */
     fleet->plan = (port_plan_t){opts->tcp_port,        opts->udp_port,
                                 opts->binary_udp_port, opts->binary_udp_reply_port,
@@ -193,6 +194,10 @@ fleet_t *fleet_create(host_loop_t *loop, net_t *net)
         fleet->udp_set.net = net;
         fleet->tcp_set.replies_held = observers_hold_replies;
         fleet->tcp_set.held_ctx = fleet;
+        /* a wire's new instant is a lowered deadline of the servers */
+        wire_set_init(&fleet->wires, &fleet->tcp_set.deadline_lowered);
+        fleet->tcp_set.wires = &fleet->wires;
+        fleet->udp_set.wires = &fleet->wires;
     }
     return fleet;
 }

@@ -14,6 +14,7 @@
 #include "loop.h"
 #include "net.h"
 #include "options.h"
+#include "wire.h"
 #include "wsg/wsg_conn.h"
 
 typedef struct fleet fleet_t;
@@ -113,8 +114,19 @@ void fleet_reap(fleet_t *fleet);
 /* Pulls the cable of the TCP connection or forgets the UDP peer that
  * carries this session; false if none does. */
 bool fleet_cut(fleet_t *fleet, const wsg_conn_t *conn);
+/* Wire conditions (docs/network.md): spec for the session conn (NULL:
+ * every session of every device, and those opened later); what an old
+ * wire held leaves first. False when no connection or peer carries conn. */
+bool fleet_set_net(fleet_t *fleet, const wsg_conn_t *conn, const wire_spec_t *spec);
+/* The conditions a new session gets. */
+const wire_spec_t *fleet_net(const fleet_t *fleet);
+/* The wire of the session conn (NULL: none: it has no conditions). */
+const wire_t *fleet_session_wire(const fleet_t *fleet, const wsg_conn_t *conn);
 /* The peer ("ADDR:PORT") that carries this session, or NULL. */
 const char *fleet_peer_name(const fleet_t *fleet, const wsg_conn_t *conn);
+/* The updates dropped for this session because its client did not read
+ * them (a TCP queue half full, a UDP peer's budget spent), 0 if none. */
+unsigned long fleet_updates_dropped(const fleet_t *fleet, const wsg_conn_t *conn);
 /* Logs one line per device after the first: "device i: tcp ADDR:P, udp
  * ADDR:P[, binary udp P], serial S, tag T". */
 void fleet_announce_devices(const fleet_t *fleet);

@@ -13,6 +13,7 @@
 #include "script_guard.h"
 #include "tcp_server.h"
 #include "udp_server.h"
+#include "wire.h"
 
 typedef struct {
     gripper_t gripper;
@@ -45,6 +46,7 @@ struct fleet {
     udp_server_t udp_front, bin_front; /* bin_front.fd -1: no binary UDP */
     tcp_servers_t tcp_set;             /* every server's connections */
     udp_servers_t udp_set;             /* every server's peers */
+    wire_set_t wires;                  /* the wire conditions of their sessions */
     gripper_touched_t touched;
     list_t observers; /* of fleet_observer_t, the last added first */
     /* the limits its scripts share */

@@ -7,6 +7,7 @@
 
 #include "config_file.h"
 #include "fleet_internal.h"
+#include "hal_clock.h"
 #include "log.h"
 
 /* Descriptors besides the listeners: the loop, signals, control channel,
@@ -157,10 +158,38 @@ int fleet_bin_udp_port(const fleet_t *fleet, unsigned i)
     return udp_server_port(&fleet->devices[i].bin_udp);
 }
 
+/* The wires' writes due now go first: they are the servers' timeouts too. */
 void fleet_ask_servers(fleet_t *fleet)
 {
-    fleet->servers_due_us = fleet_earliest(tcp_server_next_deadline_us(&fleet->tcp_set),
-                                           udp_server_next_deadline_us(&fleet->udp_set));
+    uint64_t now = hal_clock_now_us();
+    if (wire_next_us(&fleet->wires) <= now) {
+        wire_run_due(&fleet->wires, now);
+    }
+    uint64_t sockets = fleet_earliest(tcp_server_next_deadline_us(&fleet->tcp_set),
+                                      udp_server_next_deadline_us(&fleet->udp_set));
+    fleet->servers_due_us = fleet_earliest(sockets, wire_next_us(&fleet->wires));
+}
+
+bool fleet_set_net(fleet_t *fleet, const wsg_conn_t *conn, const wire_spec_t *spec)
+{
+    if (conn == NULL) {
+        fleet->wires.all = *spec; /* and every session opened from now on */
+    }
+    unsigned set = tcp_server_set_wire(&fleet->tcp_set, conn, spec) +
+                   udp_server_set_wire(&fleet->udp_set, conn, spec);
+    fleet_ask_servers(fleet);
+    return conn == NULL || set > 0u;
+}
+
+const wire_spec_t *fleet_net(const fleet_t *fleet)
+{
+    return &fleet->wires.all;
+}
+
+const wire_t *fleet_session_wire(const fleet_t *fleet, const wsg_conn_t *conn)
+{
+    const wire_t *w = tcp_server_wire(&fleet->tcp_set, conn);
+    return w != NULL ? w : udp_server_wire(&fleet->udp_set, conn);
 }
 
 void fleet_close_connections(fleet_t *fleet, unsigned i)
@@ -179,6 +208,12 @@ void fleet_reap(fleet_t *fleet)
 bool fleet_cut(fleet_t *fleet, const wsg_conn_t *conn)
 {
     return tcp_server_cut(&fleet->tcp_set, conn) || udp_server_cut(&fleet->udp_set, conn);
+}
+
+unsigned long fleet_updates_dropped(const fleet_t *fleet, const wsg_conn_t *conn)
+{
+    return tcp_server_updates_dropped(&fleet->tcp_set, conn) +
+           udp_server_updates_dropped(&fleet->udp_set, conn);
 }
 
 const char *fleet_peer_name(const fleet_t *fleet, const wsg_conn_t *conn)

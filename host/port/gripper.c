@@ -7,10 +7,13 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "can_loopback.h"
 #include "config_file.h"
 #include "hal_clock.h"
 #include "log.h"
 #include "run_seed.h"
+#include "physics_setup.h"
+#include "plant_socket.h"
 #include "script.h"
 #include "script_options.h"
 #include "sim/sim_models.h"
@@ -41,7 +44,9 @@ static void power_on_world(gripper_t *g)
 {
     g->powered_on_us = hal_clock_now_us();
     wsg_sim_world_init(&g->world, &g->config, g->powered_on_us);
-    if (g->opts->part_given) {
+    if (g->physics != NULL) {
+        physics_world_power_on(g->physics, g->powered_on_us);
+    } else if (g->opts->part_given) {
         place_start_part(g);
     }
     wsg_runner_due_now(&g->runner);
@@ -61,6 +66,51 @@ static void advance_world(void *ctx, uint64_t now_us)
     if (!wsg_sim_world_current(&g->world, now_us)) {
         advance_world_now(g, now_us);
     }
+}
+
+/* The same hook with a physics scene: its own, so that the built-in
+ * world's (every request's) tests nothing more. The scene is brought up
+ * to every input here; a tick needs nothing else for it. */
+static void advance_worlds(void *ctx, uint64_t now_us)
+{
+    gripper_t *g = ctx;
+    advance_world(g, now_us);
+    physics_world_advance(g->physics, now_us);
+}
+
+/* Both worlds up to now_us (a script's turn, a run). */
+static void advance_all(gripper_t *g, uint64_t now_us)
+{
+    wsg_sim_world_advance(&g->world, now_us);
+    if (g->physics != NULL) {
+        physics_world_advance(g->physics, now_us);
+    }
+}
+
+/* --physics: the scene's world, its axis the device's (NULL when built-in). */
+static bool open_physics(gripper_t *g)
+{
+    g->physics = NULL;
+    if (g->opts->physics == HOST_PHYSICS_BUILTIN) {
+        return true;
+    }
+    char why[1024];
+    float stroke = g->config.stroke_mm;
+    float emergency_accel = 2.0f * g->config.accel_max_mm_s2;
+    g->physics =
+        g->opts->physics == HOST_PHYSICS_SOCKET
+            ? plant_socket_world_open(g->opts->plant_socket, g->opts->plant_timeout_ms, stroke,
+                                      emergency_accel, hal_clock_now_us(), why, sizeof(why))
+            : physics_setup_open(g->opts->scene, stroke, emergency_accel, hal_clock_now_us(), why,
+                                 sizeof(why));
+    if (g->physics == NULL) {
+        host_logf(HAL_LOG_ERROR, "device %u: physics scene: %s", g->index, why);
+        return false;
+    }
+    if (g->opts->part_given) {
+        host_logf(HAL_LOG_WARN, "--part is ignored in a physics scene (the scene holds the parts)");
+    }
+    return true;
 }
 
 /* Device index of a fleet: serial + index, tag "<tag>-<index>" (cut to fit). */
@@ -143,21 +193,29 @@ bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, u
     g->config.bin_crc_unchecked = !opts->binary_crc;
     g->config.timing = opts->timing_figures;
     g->config.timing.seed = run_seed_stream(opts->seed, RUN_SEED_TIMING, (uint64_t)index);
+    bool physics_ok = open_physics(g);
     power_on_world(g);
     wsg_hal_t hal;
     wsg_sim_world_hal(&g->world, &hal);
+    if (g->physics != NULL) {
+        physics_world_hal_axis(g->physics, &hal.axis);
+        can_loopback_t *loopback = finger_bus_host_loopback(&g->fingers);
+        if (loopback != NULL) {
+            can_loopback_set_contact(loopback, physics_world_finger_contact(g->physics));
+        }
+    }
     const hal_can_t *bus = finger_bus_host_can(&g->fingers);
     hal.can = bus != NULL ? *bus : (hal_can_t){NULL, NULL};
     wsg_device_init(&g->device, &g->config, &hal);
     wsg_conn_set_drivers(&g->device, host_drivers, sizeof(host_drivers) / sizeof(host_drivers[0]));
-    wsg_runner_init(&g->runner, &g->device, advance_world, g);
+    wsg_runner_init(&g->runner, &g->device, g->physics != NULL ? advance_worlds : advance_world, g);
     if (script_options_enabled(g->opts)) {
         char store[4096];
         bool has_store = script_options_store(g->opts, store, sizeof(store));
         g->script = script_create(&g->device, guard, index, (unsigned)opts->devices,
                                   has_store ? store : NULL);
     }
-    return bus_ok && opts_ok;
+    return bus_ok && opts_ok && physics_ok;
 }
 
 void gripper_start(gripper_t *g)
@@ -188,6 +246,8 @@ void gripper_release(gripper_t *g)
     script_destroy(g->script);
     g->script = NULL;
     finger_bus_host_stop(&g->fingers);
+    physics_setup_close(g->physics);
+    g->physics = NULL;
     free(g->own_opts);
     g->own_opts = NULL;
     g->opts = NULL;
@@ -251,7 +311,7 @@ bool gripper_run_script(gripper_t *g, const char *file, char *why, size_t cap)
             return false;
         }
     }
-    wsg_sim_world_advance(&g->world, hal_clock_now_us());
+    advance_all(g, hal_clock_now_us());
     bool ok = script_run(g->script, file, why, cap);
     wsg_runner_input_done(&g->runner);
     gripper_touch(g);
@@ -266,7 +326,7 @@ bool gripper_continue_script(gripper_t *g)
     if (!script_take_turn(g->script)) {
         return true; /* the pass's budget is spent: a later pass */
     }
-    wsg_sim_world_advance(&g->world, hal_clock_now_us());
+    advance_all(g, hal_clock_now_us());
     script_continue(g->script);
     wsg_runner_input_done(&g->runner);
     gripper_touch(g);
@@ -278,7 +338,7 @@ uint64_t gripper_tick(gripper_t *g)
     /* the world first, due or not (a touch may come from it); the poll
      * then leaves it alone: once is enough, and a direct call is cheaper
      * than the runner's hook (a lone run polls once per simulated ms) */
-    wsg_sim_world_advance(&g->world, hal_clock_now_us());
+    advance_all(g, hal_clock_now_us());
     return gripper_tick_advanced(g);
 }
 
@@ -290,6 +350,12 @@ bool gripper_may_coast(const gripper_t *g, wsg_coast_t *coast)
 bool gripper_coasts_at(gripper_t *g, const wsg_coast_t *coast, uint64_t at_us)
 {
     wsg_sim_world_advance(&g->world, at_us);
+    if (g->physics != NULL) {
+        physics_world_advance(g->physics, at_us);
+        hal_axis_status_t status;
+        physics_world_axis_status(g->physics, &status);
+        return wsg_coast_within(coast, &status, wsg_sim_thermal_board_c(&g->world.thermal));
+    }
     return wsg_sim_world_coasts(&g->world, coast);
 }
 
@@ -297,7 +363,7 @@ unsigned gripper_cruise(gripper_t *g, const wsg_coast_t *coast, uint64_t at_us, 
                         bool *outside)
 {
     *outside = false;
-    if (at_us != g->world.last_us + coast->step_us) {
+    if (g->physics != NULL || at_us != g->world.last_us + coast->step_us) {
         return 0u;
     }
     return wsg_sim_world_cruise(&g->world, coast->step_us, max, coast, outside);

@@ -14,6 +14,7 @@
 #include "finger_bus_host.h"
 #include "list.h"
 #include "options.h"
+#include "physics_world.h"
 #include "sim/sim_world.h"
 #include "wsg/wsg_conn.h"
 #include "wsg/wsg_device.h"
@@ -43,6 +44,9 @@ typedef struct gripper {
     wsg_device_t device;
     sim_world_t world;
     wsg_config_t config; /* what a reset powers on with */
+    /* --physics mujoco: the axis and the fingers' readings come from this
+     * physics scene (docs/physics.md); NULL: the built-in world's */
+    physics_world_t *physics;
     /* its options: the fleet's, or its own copy (own_opts) once they differ
      * (a [device.N] model, script or fingers; a startup script chosen on the
      * web page), so a fleet of alike devices keeps one copy */

@@ -30,6 +30,7 @@ struct tcp_client {
     uint64_t completed_us; /* when its last whole command arrived, or connected_us */
     uint32_t messages_in;  /* whole commands so far (wsg_conn_messages_in) */
     unsigned long dropped_autosend;
+    wire_t *wire; /* its wire conditions; NULL: none (the default) */
     char peer[64];
 };
 

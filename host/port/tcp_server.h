@@ -16,6 +16,7 @@
 #include "hal_clock.h"
 #include "list.h"
 #include "listener.h"
+#include "wire.h"
 #include "wsg/wsg_conn.h"
 
 typedef struct tcp_client tcp_client_t;
@@ -27,6 +28,7 @@ typedef struct tcp_server_s tcp_server_t;
 typedef struct {
     host_loop_t *loop; /* every socket of the set is watched here */
     net_t *net;        /* and is one of its own */
+    wire_set_t *wires; /* the wire conditions (a new connection's: wires->all) */
     list_t clients;    /* of tcp_client_t */
     list_t waiting;    /* of tcp_server_t */
     /* Replies an upper layer holds back for this session (NULL: none): a
@@ -99,8 +101,17 @@ uint64_t tcp_server_next_deadline_us(tcp_servers_t *tcp);
 /* Pulls the cable of the connection that carries this session: the session
  * ends without BYE and the socket is reset. False if none carries it. */
 bool tcp_server_cut(tcp_servers_t *tcp, const wsg_conn_t *conn);
+/* Gives the connection of conn (NULL: every connection) the wire
+ * conditions spec; what its old wire held leaves first. How many. */
+unsigned tcp_server_set_wire(tcp_servers_t *tcp, const wsg_conn_t *conn, const wire_spec_t *spec);
+/* The wire of the connection that carries conn (NULL: none, or no wire). */
+const wire_t *tcp_server_wire(const tcp_servers_t *tcp, const wsg_conn_t *conn);
 /* The peer ("ADDR:PORT") of the connection that carries this session, or
  * NULL if none does (the web page's connection list). */
 const char *tcp_server_peer_name(const tcp_servers_t *tcp, const wsg_conn_t *conn);
+/* The updates (AUTOSEND lines, auto-update frames) dropped so far because
+ * the client did not read them (its queue was half full); 0 when not one
+ * of this set's connections. */
+unsigned long tcp_server_updates_dropped(const tcp_servers_t *tcp, const wsg_conn_t *conn);
 
 #endif

@@ -14,6 +14,7 @@
 #include "loop.h"
 #include "net.h"
 #include "net_allow.h"
+#include "wire.h"
 #include "wsg/wsg_bin.h"
 #include "wsg/wsg_gcl.h"
 
@@ -28,6 +29,7 @@ typedef struct {
     udp_server_t *server;
     struct sockaddr_storage reply_to;
     socklen_t reply_len;
+    wire_t *wire; /* its wire conditions; NULL: none (the default) */
     char name[64];
     char addr_text[INET6_ADDRSTRLEN]; /* the address alone, for --udp-stream-allow */
     held_input_t held; /* datagrams after a request waiting for the device's processor */
@@ -111,6 +113,10 @@ static void write_message(void *ctx, const char *bytes, size_t len, wsg_msg_kind
         log_first_drop(s, p, kind);
         return;
     }
+    if (p->wire != NULL) {
+        wire_send(p->wire, bytes, len, kind); /* later, lost, doubled (wire.c) */
+        return;
+    }
     send_datagram(s, bytes, len, &p->reply_to, p->reply_len);
 }
 
@@ -123,6 +129,39 @@ static void resume_input(void *ctx)
 }
 
 static const wsg_conn_io_t udp_io = {.write = write_message, .resume = resume_input};
+
+static bool wire_write(void *ctx, const char *bytes, size_t len, wsg_msg_kind_t kind)
+{
+    const udp_peer_t *p = ctx;
+    (void)kind;
+    send_datagram(p->server, bytes, len, &p->reply_to, p->reply_len);
+    return true;
+}
+
+static void wire_no_reset(void *ctx)
+{
+    (void)ctx; /* a datagram socket has no connection to reset */
+}
+
+static void wire_touch(void *ctx)
+{
+    const udp_peer_t *p = ctx;
+    gripper_touch(p->server->gripper);
+}
+
+static const wire_port_t udp_wire_port = {
+    .deliver = wire_write, .reset = wire_no_reset, .touch = wire_touch};
+
+static uint64_t wire_stream(const udp_peer_t *p)
+{
+    return ((uint64_t)p->server->gripper->index << 32) | (wsg_conn_id(&p->peer.conn) & 0xffffffffu);
+}
+
+static void set_wire(udp_peer_t *p, const wire_spec_t *spec)
+{
+    wire_flush_close(p->wire);
+    p->wire = wire_open(p->server->set->wires, spec, wire_stream(p), true, &udp_wire_port, p);
+}
 
 static void log_forgetting(void *ctx, wsg_peer_t *peer, wsg_peer_forget_t why)
 {
@@ -151,9 +190,11 @@ static void log_forgetting(void *ctx, wsg_peer_t *peer, wsg_peer_forget_t why)
 static void release_peer(void *ctx, wsg_peer_t *peer)
 {
     udp_server_t *s = ctx;
+    udp_peer_t *p = peer->port_ctx;
     gripper_touch(s->gripper);
-    held_input_free(&((udp_peer_t *)peer->port_ctx)->held);
-    free(peer->port_ctx);
+    held_input_free(&p->held);
+    wire_close(p->wire);
+    free(p);
 }
 
 static const wsg_peer_port_t peer_port = {.forgetting = log_forgetting, .release = release_peer};
@@ -198,6 +239,7 @@ static udp_peer_t *new_peer(udp_server_t *s, const wsg_peer_addr_t *addr,
         net_allow_loopback(ss) || net_allow_match(&s->gripper->opts->udp_stream_allow, ss);
     wsg_conn_open(&p->peer.conn, &s->gripper->device, s->proto.driver, WSG_TRANSPORT_DATAGRAM,
                   &udp_io, p);
+    set_wire(p, &s->set->wires->all);
     host_log_peer(HAL_LOG_INFO, "%s %s: new peer", s->proto.label, p->name);
     return p;
 }
@@ -252,6 +294,18 @@ static udp_server_t *owner_of(udp_server_t *s, struct msghdr *msg)
     return owner;
 }
 
+/* Feeds a datagram; under a timing profile, one that comes while the
+ * peer's request waits for the device's processor waits too. */
+static void feed_datagram(udp_server_t *s, udp_peer_t *p, const uint8_t *buf, size_t n)
+{
+    size_t taken =
+        held_input_empty(&p->held) ? gripper_feed(s->gripper, &p->peer.conn, buf, n, 1) : 0;
+    if (taken < n && !held_input_keep(&p->held, buf + taken, n - taken, true)) {
+        host_log_peer(HAL_LOG_WARN, "%s %s: too much input waiting; datagram dropped",
+                      s->proto.label, p->name);
+    }
+}
+
 /* Reads and feeds one datagram; false when none was waiting. */
 static bool receive_datagram(udp_server_t *s, int fd)
 {
@@ -287,12 +341,11 @@ static bool receive_datagram(udp_server_t *s, int fd)
     if (p == NULL) {
         return true;
     }
-    wsg_peers_heard(&s->peers, &p->peer, (size_t)n);
-    size_t taken =
-        held_input_empty(&p->held) ? gripper_feed(s->gripper, &p->peer.conn, buf, (size_t)n, 1) : 0;
-    if (taken < (size_t)n && !held_input_keep(&p->held, buf + taken, (size_t)n - taken, true)) {
-        host_log_peer(HAL_LOG_WARN, "%s %s: too much input waiting; datagram dropped",
-                      s->proto.label, p->name);
+    /* a wire may lose the request or hand it over twice */
+    unsigned copies = p->wire != NULL ? wire_receive_copies(p->wire) : 1u;
+    for (unsigned i = 0; i < copies; i++) {
+        wsg_peers_heard(&s->peers, &p->peer, (size_t)n);
+        feed_datagram(s, p, buf, (size_t)n);
     }
     gripper_touch(s->gripper); /* its tick asks the servers' moved deadlines again */
     return true;
@@ -392,6 +445,36 @@ bool udp_server_cut(udp_servers_t *set, const wsg_conn_t *conn)
     return false;
 }
 
+/* Every known peer of the set (conn NULL), or conn's, gets spec. */
+unsigned udp_server_set_wire(udp_servers_t *set, const wsg_conn_t *conn, const wire_spec_t *spec)
+{
+    unsigned done = 0;
+    LIST_EACH (node, &set->active) {
+        udp_server_t *s = ACTIVE_SERVER(node);
+        for (wsg_conn_t *c = s->gripper != NULL ? wsg_device_conn_first(&s->gripper->device) : NULL;
+             c != NULL; c = wsg_conn_next(c)) {
+            wsg_peer_t *peer = wsg_peers_by_conn(&s->peers, c);
+            if (peer != NULL && (conn == NULL || c == conn)) {
+                set_wire(peer->port_ctx, spec);
+                done++;
+            }
+        }
+    }
+    return done;
+}
+
+const wire_t *udp_server_wire(const udp_servers_t *set, const wsg_conn_t *conn)
+{
+    LIST_EACH (node, &set->active) {
+        udp_server_t *s = ACTIVE_SERVER(node);
+        const wsg_peer_t *peer = wsg_peers_by_conn(&s->peers, conn);
+        if (peer != NULL) {
+            return ((const udp_peer_t *)peer)->wire;
+        }
+    }
+    return NULL;
+}
+
 const char *udp_server_peer_name(const udp_servers_t *set, const wsg_conn_t *conn)
 {
     LIST_EACH (node, &set->active) {
@@ -402,6 +485,18 @@ const char *udp_server_peer_name(const udp_servers_t *set, const wsg_conn_t *con
         }
     }
     return NULL;
+}
+
+unsigned long udp_server_updates_dropped(const udp_servers_t *set, const wsg_conn_t *conn)
+{
+    LIST_EACH (node, &set->active) {
+        udp_server_t *s = ACTIVE_SERVER(node);
+        const wsg_peer_t *peer = wsg_peers_by_conn(&s->peers, conn);
+        if (peer != NULL) {
+            return peer->updates_dropped;
+        }
+    }
+    return 0;
 }
 
 void udp_server_close_all(udp_server_t *s)

@@ -21,6 +21,7 @@
 #include "list.h"
 #include "loop.h"
 #include "net.h"
+#include "wire.h"
 #include "wsg/wsg_conn.h"
 #include "wsg/wsg_peers.h"
 
@@ -34,6 +35,7 @@ typedef struct udp_server udp_server_t;
 typedef struct {
     host_loop_t *loop; /* every socket of the set is watched here */
     net_t *net;        /* whose own addresses are never answered */
+    wire_set_t *wires; /* the wire conditions (a new peer's: wires->all) */
     list_t active;     /* of udp_server_t */
     /* A datagram came (a peer's silence deadline may be new) since the owner
      * last asked udp_server_next_deadline_us(). */
@@ -98,8 +100,15 @@ uint64_t udp_server_next_deadline_us(udp_servers_t *set);
 /* Forgets the peer that owns this session, as if it vanished without BYE.
  * False if no peer owns it. */
 bool udp_server_cut(udp_servers_t *set, const wsg_conn_t *conn);
+/* Gives the peer of conn (NULL: every known peer) the wire conditions
+ * spec; what its old wire held leaves first. How many. */
+unsigned udp_server_set_wire(udp_servers_t *set, const wsg_conn_t *conn, const wire_spec_t *spec);
+/* The wire of the peer that owns conn (NULL: none, or no wire). */
+const wire_t *udp_server_wire(const udp_servers_t *set, const wsg_conn_t *conn);
 /* The address ("ADDR:PORT") of the peer that owns this session, or NULL if
  * none does (the web page's connection list). */
 const char *udp_server_peer_name(const udp_servers_t *set, const wsg_conn_t *conn);
+/* The updates dropped over the peer's budget; 0 when not one of its peers. */
+unsigned long udp_server_updates_dropped(const udp_servers_t *set, const wsg_conn_t *conn);
 
 #endif

@@ -94,6 +94,17 @@ wsg_status_t sc_obstacle(simctl_ctx_t *ctx);
 wsg_status_t sc_obstacle_remove(simctl_ctx_t *ctx);
 wsg_status_t sc_ambient(simctl_ctx_t *ctx);
 
+/* simctl/commands_physics.c */
+wsg_status_t sc_physics(simctl_ctx_t *ctx);
+wsg_status_t sc_bodies(simctl_ctx_t *ctx);
+wsg_status_t sc_body(simctl_ctx_t *ctx);
+wsg_status_t sc_contacts(simctl_ctx_t *ctx);
+wsg_status_t sc_place(simctl_ctx_t *ctx);
+wsg_status_t sc_lift(simctl_ctx_t *ctx);
+wsg_status_t sc_pull(simctl_ctx_t *ctx);
+wsg_status_t sc_mass(simctl_ctx_t *ctx);
+wsg_status_t sc_friction(simctl_ctx_t *ctx);
+
 /* simctl/commands_fault.c */
 wsg_status_t sc_fault(simctl_ctx_t *ctx);
 wsg_status_t sc_clear(simctl_ctx_t *ctx);
@@ -105,12 +116,16 @@ wsg_status_t sc_delay(simctl_ctx_t *ctx);
 wsg_status_t sc_failnext(simctl_ctx_t *ctx);
 wsg_status_t sc_cut(simctl_ctx_t *ctx);
 
+/* simctl/commands_net.c */
+wsg_status_t sc_net(simctl_ctx_t *ctx);
+
 /* simctl/commands_state.c */
 wsg_status_t sc_state(simctl_ctx_t *ctx);
 wsg_status_t sc_sessions(simctl_ctx_t *ctx);
 wsg_status_t sc_reset(simctl_ctx_t *ctx);
 wsg_status_t sc_coverage(simctl_ctx_t *ctx);
 wsg_status_t sc_coverage_reset(simctl_ctx_t *ctx);
+wsg_status_t sc_driver(simctl_ctx_t *ctx);
 wsg_status_t sc_log(simctl_ctx_t *ctx);
 wsg_status_t sc_device(simctl_ctx_t *ctx);
 wsg_status_t sc_devices(simctl_ctx_t *ctx);

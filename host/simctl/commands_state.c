@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* STATE, SESSIONS, RESET, DEVICE, DEVICES, COVERAGE, COVERAGE_RESET, LOG, BYE
+/* STATE, SESSIONS, RESET, DEVICE, DEVICES, COVERAGE, COVERAGE_RESET, DRIVER, LOG, BYE
  * (HELP is the command table's, commands.c). */
 #include <cjson/cJSON.h>
 #include <stdlib.h>
@@ -47,6 +47,7 @@ wsg_status_t sc_reset(simctl_ctx_t *ctx)
 {
     gripper_t *g = ctx->gripper;
     wsg_device_observers_t observers;
+    driver_report_power_cycle(coverage_driver(simctl_coverage(ctx->ctl)), g->index);
     wsg_device_take_observers(&g->device, &observers); /* whoever observes */
     simctl_delay_clear_all(simctl_delays(ctx->ctl), &g->device, false);
     fleet_close_connections(simctl_fleet(ctx->ctl), g->index);
@@ -104,6 +105,18 @@ wsg_status_t sc_coverage(simctl_ctx_t *ctx)
         return sc_fail(ctx, E_NOT_AVAILABLE, "no coverage is counted");
     }
     sc_reply_owned(ctx, coverage_report_json(coverage, false));
+    return E_SUCCESS;
+}
+
+/* The report on the driver under test: every live session and the last
+ * ended ones, counted with the coverage (docs/testing-your-driver.md). */
+wsg_status_t sc_driver(simctl_ctx_t *ctx)
+{
+    driver_report_t *driver = coverage_driver(simctl_coverage(ctx->ctl));
+    if (driver == NULL) {
+        return sc_fail(ctx, E_NOT_AVAILABLE, "the driver report is counted with --coverage FILE");
+    }
+    sc_reply_json(ctx, driver_report_json(driver));
     return E_SUCCESS;
 }
 

@@ -20,6 +20,9 @@
 void simctl_op_begin(gripper_t *g)
 {
     wsg_sim_world_advance(&g->world, hal_clock_now_us());
+    if (g->physics != NULL) {
+        physics_world_advance(g->physics, hal_clock_now_us());
+    }
 }
 
 void simctl_op_end(gripper_t *g)

@@ -125,6 +125,9 @@ void web_ops_forget(web_ops_t *ops);
 /* web_sim.c: POST /api/devices/{id}/sim/{what} */
 enum MHD_Result web_sim_route(const web_request_t *req, gripper_t *g, const char *what);
 /* web_events.c: GET /api/devices/{id}/events */
+/* GET /api/devices/{id}/scene: the physics scene's bodies and contacts
+ * (web_scene.c). */
+enum MHD_Result web_scene_route(const web_request_t *req, gripper_t *g, const char *rest);
 enum MHD_Result web_events_route(const web_request_t *req, gripper_t *g);
 /* web_script.c: GET /api/devices/{id}/script and .../script/console, POST
  * .../script/run and .../script/stop, PUT .../script/startup (rest: "") */

@@ -95,6 +95,7 @@ static const web_route_t routes[] = {
     {"GET", DEVICE "state", MATCH_EXACT, get_state, false},
     {"GET", DEVICE "events", MATCH_EXACT, get_events, false},
     {"GET", DEVICE "system", MATCH_EXACT, get_system, false},
+    {"GET", DEVICE "scene", MATCH_EXACT, web_scene_route, false},
     {"GET", DEVICE "settings", MATCH_EXACT, web_settings_get, false},
     {"PUT", DEVICE "settings", MATCH_EXACT, web_settings_put, false},
     {"POST", DEVICE "settings/save", MATCH_EXACT, web_settings_save, false},

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "simctl/simctl_ops.h"
+#include "simctl/simctl_scene.h"
 #include "web/web_internal.h"
 
 #define NAME_MAX_CHARS 32
@@ -189,14 +190,79 @@ static bool route_clock(sim_call_t *call)
                     "action: pause, resume, step or scale");
 }
 
+/* The physics scene (docs/physics.md): a body and its numbers, names[0]
+ * the body's field ("body") unless NULL, the numbers' fields after it. */
+static bool route_scene(sim_call_t *call, simctl_scene_what_t what, const char *const *names,
+                        unsigned required)
+{
+    simctl_scene_args_t args = {.what = what, .value = {0.0, 50.0, 0.0}};
+    bool given = false;
+    if (!known(call, names)) {
+        return false;
+    }
+    unsigned first = what == SIMCTL_SCENE_LIFT ? 0u : 1u;
+    if (first == 1u &&
+        !web_field_string(call->req, call->body, "body", &args.body, &given, &call->result)) {
+        return false;
+    }
+    if (first == 1u && !given) {
+        return bad_body(call, MHD_HTTP_BAD_REQUEST, E_NOT_ENOUGH_PARAMS, "body: missing");
+    }
+    for (unsigned i = 0; names[first + i] != NULL; i++) {
+        if (!number(call, names[first + i], i < required, &args.value[i], NULL)) {
+            return false;
+        }
+    }
+    return begin(call) && simctl_op_scene(call->g, &args, false, &call->op);
+}
+
+static bool route_place(sim_call_t *call)
+{
+    static const char *const names[] = {"body", "x_mm", "y_mm", "z_mm", NULL};
+    return route_scene(call, SIMCTL_SCENE_PLACE, names, 3u);
+}
+
+static bool route_pull(sim_call_t *call)
+{
+    static const char *const names[] = {"body", "fx_n", "fy_n", "fz_n", NULL};
+    return route_scene(call, SIMCTL_SCENE_PULL, names, 3u);
+}
+
+static bool route_mass(sim_call_t *call)
+{
+    static const char *const names[] = {"body", "kg", NULL};
+    return route_scene(call, SIMCTL_SCENE_MASS, names, 1u);
+}
+
+static bool route_friction(sim_call_t *call)
+{
+    static const char *const names[] = {"body", "mu", NULL};
+    return route_scene(call, SIMCTL_SCENE_FRICTION, names, 1u);
+}
+
+static bool route_lift(sim_call_t *call)
+{
+    static const char *const names[] = {"dz_mm", "speed_mm_s", NULL};
+    return route_scene(call, SIMCTL_SCENE_LIFT, names, 1u);
+}
+
 static const struct {
     const char *what;
     sim_route_t route;
 } sim_routes[] = {
-    {"part", route_part},         {"part_remove", route_part_remove},
-    {"obstacle", route_obstacle}, {"obstacle_remove", route_obstacle_remove},
-    {"ambient", route_ambient},   {"fault", route_fault},
-    {"clear", route_clear},       {"clock", route_clock},
+    {"place", route_place},
+    {"pull", route_pull},
+    {"mass", route_mass},
+    {"friction", route_friction},
+    {"lift", route_lift},
+    {"part", route_part},
+    {"part_remove", route_part_remove},
+    {"obstacle", route_obstacle},
+    {"obstacle_remove", route_obstacle_remove},
+    {"ambient", route_ambient},
+    {"fault", route_fault},
+    {"clear", route_clear},
+    {"clock", route_clock},
 };
 
 static sim_route_t find(const char *what)

@@ -53,6 +53,12 @@ static cJSON *system_json(gripper_t *g, uint64_t log_since)
     /* whether …/files has a /user/ store to list (else 404) */
     cJSON_AddBoolToObject(root, "script_store",
                           g->script != NULL && script_store_dir(g->script)[0] != '\0');
+    /* the physics scene's engine (docs/physics.md), null in the built-in world */
+    if (g->physics != NULL) {
+        cJSON_AddStringToObject(root, "physics", g->physics->plant.ops->name);
+    } else {
+        cJSON_AddNullToObject(root, "physics");
+    }
     add_log(root, log_since);
     return root;
 }

@@ -42,6 +42,23 @@ typedef struct {
     uint32_t update_floor_us; /* shortest binary automatic update period */
     uint64_t seed;
 } wsg_timing_t;
+/* A gripper's mechanics beyond its datasheet (the configuration file's
+ * [mechanics]): how long the firmware waits before it believes a
+ * condition, and how the drive follows its commands. A calibration fits
+ * them to a user's own gripper. Every field's 0 means the built-in value
+ * (firmware/priv/motion_tuning.h, hal/sim), so a configuration that never
+ * sets them behaves as the device always did. */
+typedef struct {
+    uint32_t settle_us;            /* in position (or pressing) before FIN */
+    uint32_t block_detect_us;      /* a MOVE blocked before ERR 29 */
+    uint32_t home_block_detect_us; /* homing: at the end stop before the origin */
+    uint32_t part_lost_us;         /* a weak grip before PART LOST */
+    float speed_limit_mm_s;        /* the drive's top speed (below the model's maximum) */
+    float accel_scale;             /* the share of the commanded acceleration reached */
+    float stop_decel_mm_s2;        /* STOP's deceleration (0: the motion's acceleration) */
+    float fast_stop_decel_mm_s2;   /* FAST STOP's deceleration */
+    float force_rise_n_s;          /* the grip force's rise on contact (0: at once) */
+} wsg_mechanics_t;
 
 typedef struct {
     /* identity */
@@ -49,6 +66,7 @@ typedef struct {
     char version[WSG_CONFIG_STRING_MAX]; /* firmware version string, e.g. "4.0.0" */
     char tag[WSG_CONFIG_STRING_MAX];     /* descriptor string (device tag) */
     uint32_t serial;
+    uint8_t hw_revision; /* the binary system information's hardware revision */
 
     /* mechanics of the model */
     float stroke_mm;
@@ -69,6 +87,7 @@ typedef struct {
     float soft_limit_minus_mm, soft_limit_plus_mm;
     bool home_positive; /* default homing direction */
     float homing_speed_mm_s;
+    wsg_mechanics_t mechanics;
 
     /* behaviour */
     bool disconnect_raises_faststop;

@@ -152,6 +152,13 @@ typedef struct wsg_conn_observer {
     void (*message_out)(void *ctx, const wsg_conn_t *c, const char *bytes, size_t len);
     void *ctx;
     struct wsg_conn_observer *next; /* the core's */
+    /* Optional, after next so that older initialisers stay valid: bytes
+     * arrived (one read, one datagram) before any message in them is taken
+     * in, so whole messages seen before the next read arrived together;
+     * and the connection closes (why; fast_stop: its close raised FAST
+     * STOP), before it is detached, so its state can still be read. */
+    void (*read)(void *ctx, const wsg_conn_t *c, const uint8_t *bytes, size_t len);
+    void (*closed)(void *ctx, const wsg_conn_t *c, wsg_close_reason_t why, bool fast_stop);
 } wsg_conn_observer_t;
 
 void wsg_conn_add_observer(wsg_device_t *dev, wsg_conn_observer_t *node);

@@ -324,6 +324,7 @@ typedef struct {
     struct wsg_device_observer *device;
     struct wsg_conn_observer *conn;
     struct wsg_gcl_observer *gcl;
+    unsigned conn_readers; /* connection observers with a read() hook */
 } wsg_device_observers_t;
 
 void wsg_device_take_observers(wsg_device_t *dev, wsg_device_observers_t *taken);

@@ -15,15 +15,15 @@ see docs/testing-your-driver.md.
 """
 from .binary import BinaryProtocolUnavailable, binary_client, protocol
 from .control import Control
-from .gcl import (DEFAULT_TIMEOUT, MOTION_TIMEOUT, GclError, GclTcp, GclUdp, wait_for,
+from .gcl import (DEFAULT_TIMEOUT, MOTION_TIMEOUT, GclError, GclTcp, GclTimeout, GclUdp, wait_for,
                   wait_for_reply)
-from .record import read_record
+from .record import RecordError, read_record
 from .server import START_TIMEOUT, STOP_TIMEOUT, Wsgsim, find_binary
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "BinaryProtocolUnavailable", "Control", "DEFAULT_TIMEOUT", "GclError", "GclTcp", "GclUdp",
-    "MOTION_TIMEOUT", "START_TIMEOUT", "STOP_TIMEOUT", "Wsgsim", "binary_client", "find_binary",
-    "protocol", "read_record", "wait_for", "wait_for_reply",
+    "BinaryProtocolUnavailable", "Control", "DEFAULT_TIMEOUT", "GclError", "GclTcp", "GclTimeout",
+    "GclUdp", "MOTION_TIMEOUT", "START_TIMEOUT", "STOP_TIMEOUT", "Wsgsim", "binary_client",
+    "find_binary", "protocol", "read_record", "RecordError", "wait_for", "wait_for_reply",
 ]

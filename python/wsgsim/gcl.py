@@ -11,10 +11,48 @@ import time
 
 DEFAULT_TIMEOUT = 30.0  # a reply line
 MOTION_TIMEOUT = 60.0  # the FIN of a motion command
+# UDP: a query without an answer after this long is sent again (a lost
+# datagram); a bound per try, not an assertion on speed: a late answer to
+# the first try is taken as well, and copies are skipped.
+RETRY_AFTER = 0.25
 
 
 class GclError(AssertionError):
     """A reply that was not the one expected, a timeout or a closed link."""
+
+
+class GclTimeout(GclError):
+    """No reply within the time allowed."""
+
+
+def command_name(line):
+    """The command a GCL line names: "POS" of "POS?", "MOVE(10,50)", "SPEED=5"."""
+    for i, c in enumerate(line):
+        if c in "?(= ":
+            return line[:i].upper()
+    return line.strip().upper()
+
+
+def answers(reply, name):
+    """True when reply is an answer to the command name (GCL replies name
+    their command: NAME=value, ACK NAME, FIN NAME, ERR NAME code)."""
+    return (reply.startswith(name + "=") or reply == "ACK " + name or reply == "FIN " + name
+            or reply.startswith("ERR " + name + " ") or reply.startswith("ACK " + name + " "))
+
+
+def may_repeat(line):
+    """A command that may be sent again when its answer is lost: a query or
+    a setting (the same value twice is the same state); a motion or any
+    other call is never repeated (it could run twice)."""
+    return line.rstrip().endswith("?") or "=" in line
+
+
+def ascii_line(data):
+    """A received line as text; GCL is ASCII, anything else is an error."""
+    try:
+        return data.decode("ascii")
+    except UnicodeDecodeError:
+        raise GclError("a line that is not ASCII: %r" % data) from None
 
 
 class _GclLines:
@@ -53,7 +91,10 @@ class _GclLines:
         prefix = name + "="
         if not reply.startswith(prefix):
             raise GclError("%s?: unexpected %r" % (name, reply))
-        return float(reply[len(prefix):])
+        try:
+            return float(reply[len(prefix):])
+        except ValueError:
+            raise GclError("%s?: %r is not a number" % (name, reply)) from None
 
 
 class GclTcp(_GclLines):
@@ -80,16 +121,19 @@ class GclTcp(_GclLines):
         while b"\n" not in self.buffer:
             left = deadline - time.monotonic()
             if left <= 0:
-                raise GclError("timed out waiting for a line (have %r)" % self.buffer)
+                raise GclTimeout("timed out waiting for a line (have %r)" % self.buffer)
             ready, _, _ = select.select([self.sock], [], [], left)
             if not ready:
                 continue
-            data = self.sock.recv(65536)
+            try:
+                data = self.sock.recv(65536)
+            except ConnectionResetError:
+                raise GclError("connection reset (have %r)" % self.buffer) from None
             if not data:
                 raise GclError("connection closed (have %r)" % self.buffer)
             self.buffer += data
         line, self.buffer = self.buffer.split(b"\n", 1)
-        return line.decode("ascii")
+        return ascii_line(line)
 
     def lines_before_reply(self, query="GRIPSTATE?"):
         """Sends query and returns every line that arrived before its reply.
@@ -134,13 +178,24 @@ class GclTcp(_GclLines):
 
 
 class GclUdp(_GclLines):
-    """A UDP peer: one datagram per command, replies as datagrams."""
+    """A UDP peer: one datagram per command, replies as datagrams.
 
-    def __init__(self, host, port, timeout=DEFAULT_TIMEOUT):
+    Datagrams may be lost, doubled or reordered on a real network (and
+    under wsgsim's --net): command() takes the first datagram that answers
+    the command it sent (by the name GCL replies carry) and skips others (a
+    late copy of an earlier answer, kept in self.skipped); a query or a
+    setting without an answer after retry_after seconds is sent again, up
+    to the timeout; a motion or other call is not (a lost ACK is a
+    GclTimeout: the caller asks the device's state, as a driver must)."""
+
+    def __init__(self, host, port, timeout=DEFAULT_TIMEOUT, retry_after=RETRY_AFTER):
         family, kind, proto, _, address = socket.getaddrinfo(host, port, type=socket.SOCK_DGRAM)[0]
         self.sock = socket.socket(family, kind, proto)
         self.sock.connect(address)
         self.timeout = timeout
+        self.retry_after = retry_after
+        self.skipped = []  # datagrams that answered nothing asked, oldest first
+        self.repeated = 0  # queries and settings sent again
 
     def close(self):
         self.sock.close()
@@ -151,11 +206,33 @@ class GclUdp(_GclLines):
     def read_line(self, timeout=None):
         ready, _, _ = select.select([self.sock], [], [], timeout or self.timeout)
         if not ready:
-            raise GclError("timed out waiting for a datagram")
+            raise GclTimeout("timed out waiting for a datagram")
         data = self.sock.recv(65536)
         if not data.endswith(b"\n") or data.count(b"\n") != 1:
             raise GclError("datagram is not exactly one line: %r" % data)
-        return data[:-1].decode("ascii")
+        return ascii_line(data[:-1])
+
+    def command(self, line, timeout=None):
+        """Sends a line; returns the first answer to it that is not an
+        AUTOSEND value (see the class)."""
+        deadline = time.monotonic() + (timeout or self.timeout)
+        name, repeat = command_name(line), may_repeat(line)
+        self.send(line)
+        while True:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                raise GclTimeout("%s: no answer" % line)
+            try:
+                reply = self.read_line(min(left, self.retry_after) if repeat else left)
+            except GclTimeout:
+                if repeat and time.monotonic() < deadline:
+                    self.repeated += 1
+                    self.send(line)
+                continue
+            if answers(reply, name) or not name.replace("_", "").isalnum():
+                return reply  # a line that names no command: its one answer
+            if not reply.startswith("@"):
+                self.skipped.append(reply)
 
 
 def wait_for(what, condition, timeout=DEFAULT_TIMEOUT, interval=0.01):

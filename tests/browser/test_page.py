@@ -34,7 +34,9 @@ N failed'.
   check over every view);
 - the force axis spans at least the model's nominal force range when the
   force hardly changes (no autoscale to sensor noise);
-- the system view shows the identity GCL reads and the log's lines.
+- the system view shows the identity GCL reads and the log's lines;
+- a physics scene is drawn from the plant's poses: the fingers close on
+  the box and the grip's contacts appear; without a scene nothing is.
 
 - MOVE takes any speed the model allows, not only up to the stroke;
 - a paused clock shows on every view (header and status area) with Step and
@@ -60,6 +62,7 @@ docs/img/live-view.png, the one README shows), and one of each state and
 view beside it (fresh, homed, moving, holding, FAST STOP, paused clock,
 script error, 420 px wide, server gone; shot()). Timeouts only stop a hang.
 """
+import json
 import os
 import re
 import socket
@@ -385,12 +388,28 @@ class PageTest(unittest.TestCase):
             self.assertTrue(control("PART?").startswith("PART=[1,30"), control("PART?"))
             self.wait_for("the part drawn", lambda d: d.find_element(
                 By.ID, "part").get_attribute("hidden") is None)
+            self.assertFalse(self.driver.find_element(By.ID, "sim-scene").is_displayed())
             before_ms = control.json("SIMTIME?")[0]
             self.fill("#sim-clock input[name=ms]", 250)
             self.click("#sim-clock button[data-action=step]")
             wsgsim.wait_for("the STEP from the page", lambda: control.json(
                 "SIMTIME?")[0] == before_ms + 250, WAIT_TIMEOUT_S)
             self.assert_no_console_errors()
+
+    def test_scene_forms_steer_a_physics_scene(self):
+        with Wsgsim("--physics", "mujoco", paused=True) as sim, sim.control() as control:
+            self.open_page(sim)
+            self.wait_for("the scene's forms", lambda d: d.find_element(
+                By.ID, "sim-scene").is_displayed())
+            self.fill("#sim-mass input[name=kg]", 0.75)
+            self.click("#sim-mass button[type=submit]")
+            self.wait_for_text("sim-result", "mass: ACK MASS")
+            self.assertAlmostEqual(json.loads(control("BODY(box)").partition("=")[2])["mass_kg"], 0.75)
+            self.fill("#sim-mass input[name=body]", "nope")
+            self.click("#sim-mass button[type=submit]")
+            self.wait_for_text("sim-result", 'mass: E_NOT_FOUND (21): no body "nope" in the scene '
+                               "(BODIES? lists them)")
+            self.assert_no_console_errors(refused=1)
 
     def test_simulation_panel_disabled_for_a_remote_page(self):
         with Wsgsim("--http-bind", "0.0.0.0", control=True) as sim, sim.control() as control:
@@ -893,6 +912,39 @@ class PageTest(unittest.TestCase):
             self.wait_for_chip("SF_BLOCKED_PLUS")
             self.assertEqual(dict(self.status_chips())["SF_BLOCKED_PLUS"], "chip warning")
             self.shot("part-around-the-jaws")
+            self.assert_no_console_errors()
+
+    def finger_contacts(self):
+        return self.js("return [...document.querySelectorAll('#scene .scene-contact')]"
+                       ".filter((c) => /finger/.test(c.dataset.a + c.dataset.b)).length")
+
+    def test_physics_scene_is_drawn_from_the_plant(self):
+        """With --physics mujoco the live view draws the scene from the
+        bodies' poses: the fingers close on the box, the grip's contacts
+        appear. Without a scene nothing is drawn (and nothing refused)."""
+        with Wsgsim("--physics", "mujoco", paused=True) as sim, sim.control() as control, \
+                sim.tcp() as client:
+            self.open_page(sim)
+            finger_x = ("const r = document.querySelector('#scene [data-name=wsg_finger_left] rect')"
+                        ".getBoundingClientRect(); return r.left;")
+            self.wait_for("the scene drawn", lambda d: self.js(
+                "return !document.getElementById('scene-view').hidden && "
+                "document.querySelector('#scene [data-name=box]') !== null"))
+            self.assertEqual(self.finger_contacts(), 0)
+            open_x = self.js(finger_x)
+            self.home_paused(client, control)
+            client.expect("GRIP(40,40)", "ACK GRIP")
+            control.step_until(client, "FIN GRIP", step_ms=50)
+            self.wait_for("the grip's contacts drawn", lambda d: self.finger_contacts() >= 2)
+            self.assertGreater(self.js(finger_x), open_x)  # the left finger moved in
+            self.assertIn("mujoco: jaws 39.", self.text("scene-text"))
+            self.shot("physics-scene")
+            self.assert_no_console_errors()
+        with Wsgsim(paused=True) as sim:
+            self.open_page(sim)
+            self.wait_for("the page to learn there is no scene",
+                          lambda d: self.js("return scene.absent"))
+            self.assertFalse(self.driver.find_element(By.ID, "scene-view").is_displayed())
             self.assert_no_console_errors()
 
     def test_tactile_map_empties_after_fast_stop(self):

@@ -417,8 +417,8 @@ static void log_tolerated(void *ctx, const wsg_conn_t *c, const char *name, cons
 }
 
 static char name_a = 'A', name_b = 'B';
-static wsg_conn_observer_t conn_a = {log_in, log_out, &name_a, NULL};
-static wsg_conn_observer_t conn_b = {log_in, log_out, &name_b, NULL};
+static wsg_conn_observer_t conn_a = {.message_in = log_in, .message_out = log_out, .ctx = &name_a};
+static wsg_conn_observer_t conn_b = {.message_in = log_in, .message_out = log_out, .ctx = &name_b};
 
 START_TEST(two_message_observers_hear_every_message_in_the_order_added)
 {
@@ -449,6 +449,58 @@ START_TEST(a_removed_message_observer_hears_nothing_more)
     calls[0] = '\0';
     ASK_EQ("SN?", "SN=12345678");
     ck_assert_str_eq(calls, "");
+}
+END_TEST
+
+static size_t read_len;
+static bool closed_fast_stop;
+static wsg_close_reason_t closed_why;
+
+static void log_read(void *ctx, const wsg_conn_t *c, const uint8_t *bytes, size_t len)
+{
+    (void)c, (void)bytes;
+    read_len = len;
+    log_call(ctx, 'r');
+}
+
+static void log_closed(void *ctx, const wsg_conn_t *c, wsg_close_reason_t why, bool fast_stop)
+{
+    ck_assert(wsg_conn_partial_input(c)); /* still readable: before the driver lets go */
+    closed_why = why;
+    closed_fast_stop = fast_stop;
+    log_call(ctx, 'c');
+}
+
+static wsg_conn_observer_t conn_reader = {.message_in = log_in,
+                                          .message_out = log_out,
+                                          .ctx = &name_a,
+                                          .read = log_read,
+                                          .closed = log_closed};
+
+/* A read is shown before the messages it carries, once, however many it
+ * carries; the close before the connection is detached, with its reason
+ * and whether it raised FAST STOP. An observer without read() is not
+ * called for reads. */
+START_TEST(a_read_comes_before_its_messages_and_a_close_is_shown)
+{
+    calls[0] = '\0';
+    wsg_conn_add_observer(&h_dev, &conn_b); /* no read() */
+    wsg_conn_add_observer(&h_dev, &conn_reader);
+    h_send_bytes(&h_main, "SN?\nSN?\n", 8);
+    ck_assert_str_eq(calls, "ArB<A<B>A>B<A<B>A>");
+    ck_assert_uint_eq(read_len, 8);
+    calls[0] = '\0';
+    h_send_bytes(&h_main, "SN", 2); /* half a line: a read, no message */
+    ck_assert_str_eq(calls, "Ar");
+    h_close(&h_main, WSG_CLOSE_DROPPED);
+    ck_assert_str_eq(calls, "ArAc");
+    ck_assert_int_eq(closed_why, WSG_CLOSE_DROPPED);
+    ck_assert(closed_fast_stop == ((wsg_device_flags(&h_dev) & WSG_FLAG(SF_FAST_STOP)) != 0u));
+    wsg_conn_remove_observer(&h_dev, &conn_reader);
+    h_open(&h_main, WSG_TRANSPORT_STREAM);
+    calls[0] = '\0';
+    h_send_bytes(&h_main, "SN?\n", 4);
+    ck_assert_str_eq(calls, "B<B>"); /* removed: no read() left to call */
 }
 END_TEST
 
@@ -645,6 +697,7 @@ Suite *session_suite(void)
     tcase_add_test(hook, hooks_survive_reset);
     tcase_add_test(hook, two_message_observers_hear_every_message_in_the_order_added);
     tcase_add_test(hook, a_removed_message_observer_hears_nothing_more);
+    tcase_add_test(hook, a_read_comes_before_its_messages_and_a_close_is_shown);
     tcase_add_test(hook, two_gcl_and_device_observers_are_both_called_in_order);
     tcase_add_test(hook, observers_taken_away_hear_nothing_until_given_back);
     suite_add_tcase(s, hook);

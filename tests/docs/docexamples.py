@@ -53,7 +53,7 @@ FILE_MARK = re.compile(r"^<!-- file: (\S+) -->$")
 # A line that looks like a command a reader could paste: it must be in a
 # runnable block (or one marked norun).
 COMMAND = re.compile(r"^ {0,4}(\$ )?(sudo |make( |$)|build/\S|tools/\S|curl |wsgsim |wsgctl |wsgbin |"
-                     r"wsgplot |fingersim |nc |printf |python3 |pytest |candump |cansend |"
+                     r"wsgplot |wsgcalib |wsgfit |wsgcheck |fingersim |nc |printf |python3 |pytest |candump |cansend |"
                      r"systemctl |journalctl |> [A-Z])")
 
 # A usage synopsis (`wsgsim [--tcp-port N] ...`) is no command to paste.

@@ -24,10 +24,17 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 static char saved[2][SAVED_MAX];
 
+/* The [physics] scene is read by MuJoCo, not by wsgsim (and a scene that
+ * does not load stops the start on purpose): the file's keys are parsed,
+ * the host starts in the built-in world. */
 static const host_options_t *parse(const char *path)
 {
     char *argv[] = {"wsgsim", "--no-udp", "--config", (char *)path, NULL};
-    return fuzz_host_options(4, argv);
+    host_options_t *opts = fuzz_host_options(4, argv);
+    if (opts != NULL) {
+        opts->physics = HOST_PHYSICS_BUILTIN;
+    }
+    return opts;
 }
 
 /* What the page changes before its Save: a setting of each kind the save

@@ -6,13 +6,13 @@
  * host/simctl/commands*.c runs against the real host: fleet, finger bus,
  * faults, delays, on the paused simulated clock.
  *
- * Input layout: byte 0 picks the number of devices (bits 0-1: 1..4) and the
- * fingers (bit 2: none). The rest is a list of segments separated by 0xFF
- * (a byte no control line may hold); a segment's first byte says where its
- * bytes go: bit 0 clear, the control channel, assembled into lines as the
- * channel does; bit 0 set, one of two device sessions on device 0 (bit 1:
- * the TCP-like stream or the UDP-like datagram), so that session commands
- * (SESSIONS?, DELAY, FAILNEXT, CUT) have sessions to act on.
+ * Input layout: byte 0 picks the number of devices (bits 0-1: 1..4), the
+ * fingers (bit 2: none) and the world (bit 3: the default physics scene,
+ * --physics mujoco, so that the scene's commands act on one). The rest is a list of segments
+ * separated by 0xFF (a byte no control line may hold); a segment's first byte says where its bytes
+ * go: bit 0 clear, the control channel, assembled into lines as the channel does; bit 0 set, one of
+ * two device sessions on device 0 (bit 1: the TCP-like stream or the UDP-like datagram), so that
+ * session commands (SESSIONS?, DELAY, FAILNEXT, CUT) have sessions to act on.
  *
  * Checked: every line gets one reply, a single line; a STEP that the line
  * deferred ends; device output is whole bounded lines. A RESUME lets wall
@@ -121,10 +121,12 @@ static void run_segment(const uint8_t *seg, size_t len)
 static void start(uint8_t config)
 {
     char devices[2] = {(char)('1' + (config & 3u)), '\0'};
-    char *argv[] = {"wsgsim", "--no-udp",  "--devices",
-                    devices,  "--fingers", (config & 4u) != 0 ? "none,none" : "fmf,dsa",
+    char *argv[] = {"wsgsim",    "--no-udp",
+                    "--devices", devices,
+                    "--fingers", (config & 4u) != 0 ? "none,none" : "fmf,dsa",
+                    "--physics", (config & 8u) != 0 ? "mujoco" : "builtin",
                     NULL};
-    const host_options_t *opts = fuzz_host_options(6, argv);
+    const host_options_t *opts = fuzz_host_options(8, argv);
     if (opts == NULL) {
         abort();
     }

@@ -22,13 +22,19 @@
  * and the payload bytes follow. Sessions choose their protocol by their first
  * byte (0xAA: the binary protocol, else GCL). Every line the core writes is
  * checked: one whole, printable, '\n'-terminated line no longer than
- * WSG_REPLY_MAX; every binary frame: one whole frame with a valid CRC. */
+ * WSG_REPLY_MAX; every binary frame: one whole frame with a valid CRC.
+ *
+ * The report on the driver under test (host/diag/driver_report.c) watches
+ * every session; at the end of the input every session closes, the report
+ * is written as JSON and as text, and its request count must be the number
+ * of whole messages the sessions took in. */
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "bin/wsg_bin_frame.h"
 #include "can_loopback.h"
+#include "driver_report.h"
 #include "hal_can.h"
 #include "hal_clock.h"
 #include "hal_log.h"
@@ -52,6 +58,8 @@ static sim_world_t world;
 static uint64_t now_us;
 static can_loopback_t *loopback; /* the fingers of this input, freed by the next */
 static wsg_conn_t sessions[FUZZ_SESSIONS];
+static driver_report_t *report; /* this input's, freed at its end */
+static unsigned long messages_seen;
 static const char *const finger_pairs[4] = {"fmf,dsa", "dsa,generic", "none,fmf", "generic,none"};
 static struct {
     hal_can_frame_t frames[RAW_FRAMES_MAX];
@@ -170,6 +178,90 @@ static wsg_transport_t transport_of(unsigned slot)
     return slot < 2 ? WSG_TRANSPORT_STREAM : WSG_TRANSPORT_DATAGRAM;
 }
 
+/* ---- the driver report's observers, as the coverage forwards them ---- */
+
+static void report_read(void *ctx, const wsg_conn_t *c, const uint8_t *bytes, size_t len)
+{
+    driver_report_read(ctx, 0, c, bytes, len);
+}
+
+static void report_in(void *ctx, const wsg_conn_t *c, const char *bytes, size_t len)
+{
+    messages_seen++;
+    driver_report_message_in(ctx, 0, c, bytes, len);
+}
+
+static void report_out(void *ctx, const wsg_conn_t *c, const char *bytes, size_t len)
+{
+    driver_report_message_out(ctx, 0, c, bytes, len);
+}
+
+static void report_closed(void *ctx, const wsg_conn_t *c, wsg_close_reason_t why, bool fast_stop)
+{
+    driver_report_closed(ctx, 0, c, why, fast_stop);
+}
+
+static void report_command(void *ctx, const wsg_conn_t *c, const char *name, int index,
+                           unsigned form, unsigned argc, wsg_status_t status)
+{
+    (void)name, (void)argc;
+    if (driver_report_watches(driver_report_watch(ctx, 0), index)) {
+        driver_report_gcl_command(ctx, 0, c, index, form, status);
+    }
+}
+
+static void report_error(void *ctx, const wsg_conn_t *c, int index, wsg_status_t status)
+{
+    (void)index;
+    driver_report_gcl_error(ctx, 0, c, status);
+}
+
+static wsg_conn_observer_t report_conn = {.message_in = report_in,
+                                          .message_out = report_out,
+                                          .read = report_read,
+                                          .closed = report_closed};
+static wsg_gcl_observer_t report_gcl = {.command_done = report_command, .error_sent = report_error};
+
+static void watch_sessions(void)
+{
+    report = driver_report_create(1);
+    if (report == NULL) {
+        abort();
+    }
+    messages_seen = 0;
+    driver_report_attach(report, &device, 0);
+    report_conn.ctx = report;
+    report_gcl.ctx = report;
+    wsg_conn_add_observer(&device, &report_conn);
+    wsg_gcl_add_observer(&device, &report_gcl);
+}
+
+/* Every session closes; the report is written both ways, and it counted
+ * every whole message as a request. */
+static void close_the_report(void)
+{
+    for (unsigned i = 0; i < FUZZ_SESSIONS; i++) {
+        wsg_conn_close(&sessions[i], WSG_CLOSE_DROPPED);
+    }
+    cJSON *json = driver_report_json(report);
+    const cJSON *requests = cJSON_GetObjectItem(cJSON_GetObjectItem(json, "total"), "requests");
+    if (requests == NULL || requests->valuedouble != (double)messages_seen) {
+        abort();
+    }
+    char *text = cJSON_PrintUnformatted(json);
+    char *summary = driver_report_text(report);
+    if (text == NULL || summary == NULL) {
+        abort();
+    }
+    free(text);
+    free(summary);
+    cJSON_Delete(json);
+    wsg_conn_remove_observer(&device, &report_conn);
+    wsg_gcl_remove_observer(&device, &report_gcl);
+    driver_report_destroy(report);
+    report = NULL;
+}
+
 static void open_slot(unsigned slot)
 {
     wsg_conn_open(&sessions[slot], &device, NULL, transport_of(slot), &fuzz_io, NULL);
@@ -226,6 +318,7 @@ static void run_segment(const uint8_t *seg, size_t len)
         close_reopen(slot, 0);
     }
     run_for((uint64_t)run_ms[seg[0] >> 4] * 1000u + (op == 3 ? 3000000u : 0u));
+    driver_report_flags(report, 0, wsg_device_flags(&device)); /* as the port samples them */
 }
 
 static void power_on(uint8_t config_byte)
@@ -256,6 +349,7 @@ static void power_on(uint8_t config_byte)
     wsg_device_init(&device, &cfg, &hal);
     static const wsg_proto_driver_t *const drivers[] = {&wsg_bin_driver, &wsg_gcl_driver};
     wsg_conn_set_drivers(&device, drivers, sizeof(drivers) / sizeof(drivers[0]));
+    watch_sessions();
     for (unsigned i = 0; i < FUZZ_SESSIONS; i++) {
         open_slot(i);
     }
@@ -275,5 +369,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
     }
     run_for(100000u); /* let pending AUTOSEND and final replies go out */
+    close_the_report();
     return 0;
 }

@@ -13,6 +13,9 @@ Suite *net_suite(void);
 Suite *net_allow_suite(void);
 Suite *notify_suite(void);
 Suite *port_layout_suite(void);
+Suite *physics_world_suite(void);
+Suite *wire_suite(void);
+Suite *plant_wire_suite(void);
 
 /* The file at path, up to 511 bytes (read_file.c). */
 const char *t_read_all(const char *path);

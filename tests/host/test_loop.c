@@ -472,6 +472,9 @@ int main(void)
     srunner_add_suite(runner, net_allow_suite());
     srunner_add_suite(runner, notify_suite());
     srunner_add_suite(runner, port_layout_suite());
+    srunner_add_suite(runner, physics_world_suite());
+    srunner_add_suite(runner, wire_suite());
+    srunner_add_suite(runner, plant_wire_suite());
     srunner_run_all(runner, CK_ENV);
     int failed = srunner_ntests_failed(runner);
     srunner_free(runner);

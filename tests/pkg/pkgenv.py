@@ -27,7 +27,12 @@ DBC = os.path.join(ROOT, "docs", "finger-bus.dbc")
 PROGRAMS = {"wsgsim": WSGSIM, "fingersim": FINGERSIM,
             "wsgctl": os.path.join(ROOT, "tools", "wsgctl"),
             "wsgplot": os.path.join(ROOT, "tools", "wsgplot"),
-            "wsgbin": os.path.join(ROOT, "tools", "wsgbin")}
+            "wsgbin": os.path.join(ROOT, "tools", "wsgbin"),
+            "wsgprobe": os.path.join(ROOT, "tools", "wsgprobe"),
+            "wsgproxy": env_path("WSGPROXY", "build/wsgproxy"),
+            "wsgcalib": os.path.join(ROOT, "tools", "wsgcalib"),
+            "wsgfit": os.path.join(ROOT, "tools", "wsgfit"),
+            "wsgcheck": os.path.join(ROOT, "tools", "wsgcheck")}
 
 
 def run(argv, **kw):

@@ -48,6 +48,8 @@ class Packages(unittest.TestCase):
             self.assertTrue(os.path.exists(self.path("usr/share/doc/wsgsim", doc)), doc)
         self.assertTrue(os.path.exists(self.path("usr/share/wsgsim/finger-bus.dbc")))
         self.assertTrue(os.path.exists(self.path("usr/share/wsgsim/timing/wsg50.ini")))
+        for model in ("wsg-gripper.xml", "default-scene.xml"):  # --physics mujoco
+            self.assertTrue(os.path.exists(self.path("usr/share/wsgsim/physics", model)), model)
         entry_points = glob.glob(self.path("usr/lib/python3/dist-packages/wsgsim-*.dist-info",
                                            "entry_points.txt"))
         self.assertEqual(len(entry_points), 1)
@@ -76,11 +78,13 @@ class Packages(unittest.TestCase):
                             "%s(1) names %s, which the package does not ship" % (page, path))
         with gzip.open(self.path("usr/share/man/man1/wsgsim.1.gz"), "rt") as f:
             see_also = f.read().split("SEE ALSO", 1)[1]
-        for program in ("wsgctl", "wsgbin", "fingersim", "wsgplot"):
+        for program in ("wsgctl", "wsgbin", "fingersim", "wsgplot", "wsgcalib", "wsgfit",
+                        "wsgcheck"):
             self.assertIn(".BR %s (1)" % program, see_also)
 
     def test_scripts_use_debians_python(self):
-        for name in ("wsgctl", "wsgplot", "wsgbin"):
+        for name in ("wsgctl", "wsgplot", "wsgbin", "wsgprobe", "wsgcalib", "wsgfit",
+                     "wsgcheck"):
             with open(self.path("usr/bin", name)) as f:  # wsgbin: a link into /usr/share/wsgsim
                 self.assertEqual(f.readline(), "#!/usr/bin/python3\n", name)
 

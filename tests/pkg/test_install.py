@@ -58,8 +58,9 @@ class Install(unittest.TestCase):
     def test_destdir_tree_runs_and_uninstalls(self):
         self.make("install", "DESTDIR=" + self.tmp, "PREFIX=/usr")
         files = files_under(self.tmp)
-        self.assertEqual(os.readlink(os.path.join(self.tmp, "usr/bin/wsgbin")),
-                         "../share/wsgsim/wsgbin", "relative, so the tree runs where it lies")
+        for name in ("wsgbin", "wsgcalib", "wsgfit", "wsgcheck"):
+            self.assertEqual(os.readlink(os.path.join(self.tmp, "usr/bin", name)),
+                             "../share/wsgsim/" + name, "relative, so the tree runs where it lies")
         for name in PROGRAMS:
             self.assertIn("usr/bin/" + name, files)
             self.assertIn("usr/share/man/man1/%s.1" % name, files)
@@ -69,7 +70,11 @@ class Install(unittest.TestCase):
                          "usr/share/doc/wsgsim/README.md", "usr/share/doc/wsgsim/simctl.md",
                          "usr/share/doc/wsgsim/testing-your-driver.md",
                          "usr/share/wsgsim/finger-bus.dbc", "usr/share/wsgsim/wsgbinproto.py",
-                         "usr/share/wsgsim/timing/wsg50.ini"):
+                         "usr/share/wsgsim/timing/wsg50.ini",
+                         "usr/share/wsgsim/physics/wsg-gripper.xml",
+                         "usr/share/wsgsim/physics/default-scene.xml",
+                         "usr/share/doc/wsgsim/physics.md",
+                         "usr/share/wsgsim/wsgtwin.py", "usr/share/doc/wsgsim/calibration.md"):
             self.assertIn(expected, files)
         bindir = os.path.join(self.tmp, "usr", "bin")
         for name in PROGRAMS:

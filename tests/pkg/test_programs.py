@@ -16,6 +16,12 @@ BAD_USES = {
     "wsgctl": [["--bogus"], ["--port"], ["--port", "x"], ["--timeout", "x", "--port", "1"]],
     "wsgplot": [["--bogus"], [], ["record.txt"], ["/nonexistent.txt", "-o", "x.png"]],
     "wsgbin": [["--bogus"], [], ["nosuchcommand"], ["--port", "x", "ack"]],
+    "wsgprobe": [["--bogus"], [], ["--port", "x", "-o", "x.ini"], ["-o", "x.ini", "extra"]],
+    "wsgproxy": [["--bogus"], [], ["--gripper"], ["--gripper", "h", "--tcp-port", "x"],
+                 ["--gripper", "h", "extra"]],
+    "wsgcalib": [["--bogus"], [], ["host", "--repeat", "0"], ["host", "--poll-ms", "x"]],
+    "wsgfit": [["--bogus"], []],
+    "wsgcheck": [["--bogus"], [], ["rec.txt", "--time-tolerance", "x"]],
 }
 
 
@@ -91,7 +97,7 @@ class Versions(unittest.TestCase):
             self.assertRegex(f.readline(), r"^wsgsim \(%s(-\d+)?\) " % re.escape(version))
         with open(os.path.join(ROOT, "python", "wsgsim", "__init__.py")) as f:
             self.assertIn('__version__ = "%s"' % version, f.read())
-        for script in ("wsgctl", "wsgplot", "wsgbin"):
+        for script in ("wsgctl", "wsgplot", "wsgbin", "wsgprobe", "wsgtwin.py"):
             with open(os.path.join(ROOT, "tools", script)) as f:
                 self.assertIn('VERSION = "%s"' % version, f.read(), script)
 

@@ -43,6 +43,27 @@ def test_marker_options(wsgsim):
 '''
 
 
+DRIVER_TESTS = '''
+import pytest
+
+
+@pytest.mark.wsgsim(paused=True)
+def test_pipelines(wsgsim):
+    assert "--timing" not in wsgsim.args  # --wsgsim-timing: a paused device keeps its pace
+    with wsgsim.tcp() as gcl:
+        gcl.send_raw(b"POS?\\nPOS?\\n")  # two requests in one write
+        assert [gcl.read_line(), gcl.read_line()] == ["POS=55.0", "POS=55.0"]
+        gcl.expect("BYE()", "ACK BYE")
+
+
+@pytest.mark.wsgsim(paused=True)
+def test_polite(wsgsim):
+    with wsgsim.tcp() as gcl:
+        gcl.expect("POS?", "POS=55.0")
+        gcl.expect("BYE()", "ACK BYE")
+'''
+
+
 class PytestPlugin(unittest.TestCase):
     def env(self):
         return dict(os.environ, WSGSIM=WSGSIM, PYTHONPATH=os.path.join(ROOT, "python"))
@@ -73,6 +94,16 @@ class PytestPlugin(unittest.TestCase):
         self.assertRegex(result.stdout, r"4 devices; \d+ of \d+ command forms used")
         self.assertTrue(re.search(r"never used: .*GRIP\(_,_,_\)", result.stdout))
 
+    def test_walkthrough_passes_under_rough_wire_conditions(self):
+        """The document's driver reads lines from a buffer: every device of
+        the run on a rough wire (replies split and joined) changes nothing."""
+        with tempfile.TemporaryDirectory() as tmp:
+            write_example(tmp)
+            result = run_pytest(tmp, self.env(), "-p", "wsgsim.pytest_plugin",
+                                "--wsgsim-net", "rough,seed=3")
+        self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
+        self.assertRegex(result.stdout, r"\b6 passed\b")
+
     def test_entry_point_and_p_option_together(self):
         """Installed (python3-wsgsim), the package's entry point loads the
         plugin by itself; the documents' `-p wsgsim.pytest_plugin` must then
@@ -100,6 +131,31 @@ class PytestPlugin(unittest.TestCase):
                     self.assertRegex(result.stdout, r"\b6 passed\b")
                     self.assertEqual(result.stdout.count("wsgsim GCL coverage"), 1)
 
+
+    def test_driver_report_names_the_tests(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            with open(os.path.join(tmp, "test_driver.py"), "w") as f:
+                f.write(textwrap.dedent(DRIVER_TESTS))
+            report = os.path.join(tmp, "coverage.json")
+            result = run_pytest(tmp, self.env(), "-p", "wsgsim.pytest_plugin",
+                                "--wsgsim-timing", "wsg50", "--wsgsim-coverage", report)
+            self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
+            merged = json.load(open(report))
+        self.assertIn("wsgsim driver report", result.stdout)
+        self.assertIn("pipelined: 1 in 1 sessions (test_driver.py::test_pipelines); "
+                      "a real gripper: ", result.stdout)
+        self.assertIn("closed_without_goodbye: 0 in 0 sessions\n", result.stdout)
+        driver = {entry["behaviour"]: entry for entry in merged["driver"]}
+        self.assertEqual(driver["pipelined"]["tests"], ["test_driver.py::test_pipelines"])
+        self.assertEqual(driver["refused"]["count"], 0)
+
+    def test_suite_timing_is_for_running_clocks(self):
+        """--wsgsim-timing: the options a device gets before its test's own."""
+        from wsgsim.pytest_plugin import suite_options
+        self.assertEqual(suite_options("wsg50", {}), ["--timing", "wsg50"])
+        self.assertEqual(suite_options("my.ini", {"control": True}), ["--timing", "my.ini"])
+        self.assertEqual(suite_options("wsg50", {"paused": True}), [])
+        self.assertEqual(suite_options(None, {}), [])
 
 if __name__ == "__main__":
     unittest.main()

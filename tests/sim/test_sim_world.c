@@ -123,6 +123,37 @@ static void twin_steps(axis_twin_t *twin, unsigned steps, float dt_s)
     }
 }
 
+/* A drive of a real gripper's (sim_drive_t): its top speed, a share of the
+ * commanded acceleration and a finite force rise; the shortcuts still
+ * match the full model step for step. */
+START_TEST(a_real_drive_matches_the_full_model)
+{
+    axis_twin_t twin;
+    twin_init(&twin);
+    sim_drive_t drive = {.speed_limit_mm_s = 380.0f, .accel_scale = 0.8f, .force_rise_n_s = 600.0f};
+    twin.fast.drive = drive;
+    twin.ref.drive = drive;
+    BOTH(&twin, wsg_sim_axis_move, 100.0f, 420.0f, 5000.0f, 80.0f);
+    ck_assert_float_eq(twin.ref.vmax_mm_s, 380.0f);
+    ck_assert_float_eq(twin.ref.amax_mm_s2, 4000.0f);
+    twin_run(&twin, 2000);
+    ck_assert_uint_gt(twin.at_limit, 0u);
+    BOTH(&twin, wsg_sim_axis_place_part, 40.0f, 0.0f);
+    BOTH(&twin, wsg_sim_axis_move, 0.0f, 100.0f, 5000.0f, 60.0f);
+    unsigned rising = 0;
+    for (unsigned ms = 0; ms < 2000 && twin.ref.blocked == 0; ms++) {
+        twin_advance(&twin, STEP_S);
+        rising += twin.ref.force_n > 0.0f && twin.ref.force_n < 60.0f;
+    }
+    /* 60 N at 600 N/s: 100 ms of rise, nothing blocked before the limit */
+    ck_assert_uint_ge(rising, 99u);
+    ck_assert_uint_le(rising, 101u);
+    ck_assert_float_eq(twin.ref.force_n, 60.0f);
+    ck_assert_int_eq(twin.ref.blocked, -1);
+    twin_steps(&twin, 50, STEP_S);
+}
+END_TEST
+
 START_TEST(moves_match_the_full_model)
 {
     static const struct {
@@ -781,6 +812,7 @@ Suite *sim_suite(void)
     TCase *axis = tcase_create("axis");
     tcase_set_timeout(axis, 120);
     tcase_add_test(axis, moves_match_the_full_model);
+    tcase_add_test(axis, a_real_drive_matches_the_full_model);
     tcase_add_test(axis, odd_time_steps_match_the_full_model);
     tcase_add_test(axis, retargets_and_stops_match_the_full_model);
     tcase_add_test(axis, grips_and_slips_match_the_full_model);

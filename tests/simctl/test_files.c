@@ -154,6 +154,7 @@ START_TEST(config_sets_the_device_like_its_web_interface)
     const char *path = t_temp_file("; web interface settings\n"
                                    "[device]\nmodel = WSG 32-068\nserial = 4711\n"
                                    "tag = \"cell 3\"\nfirmware_version = 4.1.2\n"
+                                   "hardware_revision = 7\n"
                                    "[motion]\ndefault_force = 20\ndefault_speed = 50\n"
                                    "default_acceleration = 800\ndefault_pullback = 5\n"
                                    "part_width_tolerance = 3\nclamping_travel = 4\n"
@@ -176,6 +177,7 @@ START_TEST(config_sets_the_device_like_its_web_interface)
     ck_assert_uint_eq(cfg->serial, 4711);
     ck_assert_str_eq(cfg->tag, "cell 3");
     ck_assert_str_eq(cfg->version, "4.1.2");
+    ck_assert_uint_eq(cfg->hw_revision, 7);
     ck_assert_float_eq(cfg->default_force_n, 20.0f);
     ck_assert_float_eq(cfg->default_clt_mm, 4.0f);
     ck_assert(cfg->soft_limits_enabled);
@@ -186,6 +188,38 @@ START_TEST(config_sets_the_device_like_its_web_interface)
     GCL_EQ("TAG?", "TAG=\"cell 3\"");
     GCL_EQ("SN?", "SN=4711");
     GCL_EQ("CLT?", "CLT=4.0");
+    remove(path);
+}
+END_TEST
+
+/* [mechanics]: the gripper's own figures reach the device and its world;
+ * times in ms in the file, us in the configuration. */
+START_TEST(config_sets_the_mechanics)
+{
+    static char *argv[] = {"wsgsim", NULL};
+    host_options_t opts;
+    options_parse(1, argv, &opts);
+    const char *path = t_temp_file("[mechanics]\nspeed_limit = 380\nacceleration_scale = 0.8\n"
+                                   "homing_speed = 40\nstop_deceleration = 3000\n"
+                                   "fast_stop_deceleration = 7000\nforce_rise = 600\n"
+                                   "settle_time = 15\nblock_detect_time = 30\n"
+                                   "home_block_detect_time = 80\npart_lost_time = 0.001\n");
+    ck_assert(config_file_load(config_of(&opts), path, NULL, &opts));
+    ck_assert(config_file_check(opts.config, opts.model));
+    t_reinit(&opts);
+    gripper_t *g = fleet_gripper(t_fleet, 0);
+    const wsg_config_t *cfg = wsg_device_snapshot(&g->device)->config;
+    const wsg_mechanics_t *m = &cfg->mechanics;
+    ck_assert_float_eq(m->speed_limit_mm_s, 380.0f);
+    ck_assert_float_eq(m->accel_scale, 0.8f);
+    ck_assert_float_eq(cfg->homing_speed_mm_s, 40.0f);
+    ck_assert_uint_eq(m->settle_us, 15000u);
+    ck_assert_uint_eq(m->block_detect_us, 30000u);
+    ck_assert_uint_eq(m->home_block_detect_us, 80000u);
+    ck_assert_uint_eq(m->part_lost_us, 1u);
+    ck_assert_float_eq(g->world.axis.drive.force_rise_n_s, 600.0f);
+    ck_assert_float_eq(g->world.axis.drive.stop_decel_mm_s2, 3000.0f);
+    ck_assert_float_eq(g->world.axis.emergency_accel_mm_s2, 7000.0f);
     remove(path);
 }
 END_TEST
@@ -210,6 +244,10 @@ START_TEST(bad_config_lines_name_file_and_line)
                      "soft_limit_plus\n");
     ck_assert_str_eq(config_error("[device]\nmodel = WSG 99\n", &ok),
                      ":2: [device] model: unknown model (see wsgsim --list-models)\n");
+    ck_assert_str_eq(config_error("[mechanics]\nacceleration_scale = 0\n", &ok),
+                     ":2: [mechanics] acceleration_scale: 0 is outside 0.1..10\n");
+    ck_assert_str_eq(config_error("[mechanics]\nsettle_time = soon\n", &ok),
+                     ":2: [mechanics] settle_time: expected a number\n");
     ck_assert_str_eq(config_error("[device\n", &ok),
                      ":1: not a section header or key = value line\n");
     ck_assert(!ok);
@@ -611,6 +649,7 @@ Suite *files_suite(void)
     tcase_add_test(tc, bad_config_lines_name_file_and_line);
     tcase_add_test(tc, config_save_ends_every_line_with_a_newline_alone);
     tcase_add_test(tc, an_indented_config_line_continues_nothing);
+    tcase_add_test(tc, config_sets_the_mechanics);
     tcase_add_test(tc, a_control_character_in_a_config_line_is_refused);
     tcase_add_test(tc, config_save_replaces_colon_keys_too);
     tcase_add_test(tc, config_save_puts_the_tag_where_it_counts);

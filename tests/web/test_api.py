@@ -253,6 +253,51 @@ class Page(WebCase):
         self.assertEqual(reply.headers["Allow"], "GET")
 
 
+class Scene(WebCase):
+    """The simulation panel's physics scene routes (docs/physics.md), the
+    control channel's PLACE, PULL, MASS, FRICTION and LIFT."""
+    ARGS = ("--physics", "mujoco", "--sim-port", "0", "--start-paused")
+
+    def body(self, name):
+        ctl = self.sim.control()
+        self.addCleanup(ctl.close)
+        reply = ctl("BODY(%s)" % name)
+        return __import__("json").loads(reply[len("BODY="):])
+
+    def test_scene_routes_act_as_the_commands(self):
+        for route, args, said in [("mass", {"body": "box", "kg": 0.5}, "ACK MASS"),
+                                  ("friction", {"body": "box", "mu": 0.3}, "ACK FRICTION"),
+                                  ("place", {"body": "box", "x_mm": 0, "y_mm": 5, "z_mm": 20.1},
+                                   "ACK PLACE"),
+                                  ("pull", {"body": "box", "fx_n": 0, "fy_n": 0, "fz_n": 0},
+                                   "ACK PULL"),
+                                  ("lift", {"dz_mm": 10}, "ACK LIFT")]:
+            reply = self.call("POST", "/api/devices/0/sim/" + route, args)
+            self.assertEqual(reply.status, 200, reply)
+            self.assertEqual(reply.json()["reply"], said)
+        box = self.body("box")
+        self.assertAlmostEqual(box["mass_kg"], 0.5)
+        self.assertAlmostEqual(box["friction"], 0.3)
+        self.assertAlmostEqual(box["pos_mm"][1], 5.0, places=3)
+
+    def test_bad_scene_requests_change_nothing(self):
+        before = self.body("box")
+        self.assert_error(self.call("POST", "/api/devices/0/sim/mass", {"body": "nope", "kg": 1}),
+                          422, "E_NOT_FOUND")
+        self.assert_error(self.call("POST", "/api/devices/0/sim/mass", {"body": "box", "kg": -1}),
+                          422, "E_RANGE_ERROR")
+        self.assert_error(self.call("POST", "/api/devices/0/sim/mass", {"kg": 1}), 400,
+                          "E_NOT_ENOUGH_PARAMS")
+        self.assert_error(self.call("POST", "/api/devices/0/sim/pull", {"body": "box", "fx_n": 1}),
+                          400, "E_NOT_ENOUGH_PARAMS")
+        self.assert_error(self.call("POST", "/api/devices/0/sim/lift", {"dz_mm": 1e6}), 422,
+                          "E_RANGE_ERROR")
+        self.assert_error(self.call("POST", "/api/devices/0/sim/friction",
+                                    {"body": "box", "mu": 1, "x": 2}), 400,
+                          "E_INVALID_PARAMETER")
+        self.assertEqual(self.body("box"), before)
+
+
 class BadRequests(WebCase):
     # the GCL clients here leave without BYE; the clock stands still, so that
     # only a request could change the device

@@ -261,5 +261,27 @@ typedef struct {
     double wsg50_cpu_us, ideal_cpu_us; /* wsgsim's CPU time per request */
 } timing_result_t;
 void timing_run(const char *wsgsim, const char *out, timing_result_t *r);
+/* proxy.c: POS? round trips directly and through the recording proxy, and
+ * pipelined polling through it. */
+typedef struct {
+    samples_t direct, proxied; /* µs; proxied.n 0: not run */
+    long pipelined, answered;  /* POS? written back to back, and answered */
+    long expected_in_record;   /* every POS? that went through the proxy */
+    long recorded_sent, recorded_answered;
+} proxy_result_t;
+void proxy_run(const char *wsgsim, const char *wsgproxy, const char *out_dir, int rtt_n,
+               const char *pin, proxy_result_t *r);
+
+/* physics.c: the default physics scene (--physics mujoco): a paused-clock
+ * grip cycle (home, grip, hold 1 s, release) in wall time, and the running
+ * clock's rate and wsgsim's share of one core during grip cycles. */
+#define PHYSICS_PAUSED_CYCLES 5
+typedef struct {
+    bool measured;
+    double paused_cycle_s;
+    double running_rate;
+    double running_cpu_pct;
+} physics_result_t;
+void physics_run(const char *wsgsim, const char *out_dir, physics_result_t *r);
 
 #endif

@@ -1,11 +1,13 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* wsgbench: see bench.h and docs/benchmark.md.
- * usage: wsgbench [--wsgsim PATH] [--wsgsim-arg ARG]... [--out DIR] [--quick] [--rtt N]
+ * usage: wsgbench [--wsgsim PATH] [--wsgproxy PATH] [--wsgsim-arg ARG]... [--out DIR] [--quick]
+ * [--rtt N]
  *                 [--only SECTION] [--pin same|cross|none] [--firmware-sizes FILE]
  *        wsgbench --serve-echo      (the echo baseline alone, for callgrind)
  * --wsgsim-arg appends ARG to every wsgsim command line (e.g. --fingers=none).
  * --only runs one section (instr, web, streams, idle, subscribers, vtime, fleet,
- * scripts, scale, pace, timing, rtt, load, autosend); the table then leaves out the others.
+ * scripts, scale, pace, timing, proxy, physics, rtt, load, autosend); the table then leaves
+ * out the others. --wsgproxy names the recording proxy (default build/wsgproxy).
  * --firmware-sizes reads the Cortex-M image sizes `make bench` wrote. */
 #include <errno.h>
 #include <stdio.h>
@@ -33,6 +35,7 @@ static const int load_clients[LOAD_STEPS] = {1, 4, 16, 64};
 
 typedef struct {
     const char *wsgsim;
+    const char *wsgproxy;
     const char *out;
     int rtt_n;
     double idle_s;
@@ -62,6 +65,7 @@ static void quick(config_t *cfg)
 static void parse_args(int argc, char **argv, config_t *cfg)
 {
     *cfg = (config_t){.wsgsim = "build/wsgsim",
+                      .wsgproxy = "build/wsgproxy",
                       .out = "build/bench",
                       .rtt_n = 20000,
                       .idle_s = 10.0,
@@ -75,6 +79,8 @@ static void parse_args(int argc, char **argv, config_t *cfg)
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--wsgsim") == 0 && i + 1 < argc) {
             cfg->wsgsim = argv[++i];
+        } else if (strcmp(argv[i], "--wsgproxy") == 0 && i + 1 < argc) {
+            cfg->wsgproxy = argv[++i];
         } else if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) {
             cfg->out = argv[++i];
         } else if (strcmp(argv[i], "--rtt") == 0 && i + 1 < argc) {
@@ -90,10 +96,11 @@ static void parse_args(int argc, char **argv, config_t *cfg)
         } else if (strcmp(argv[i], "--firmware-sizes") == 0 && i + 1 < argc) {
             cfg->firmware_sizes = argv[++i];
         } else {
-            die("usage: wsgbench [--wsgsim PATH] [--wsgsim-arg ARG]... [--out DIR] [--quick] "
+            die("usage: wsgbench [--wsgsim PATH] [--wsgproxy PATH] [--wsgsim-arg ARG]... [--out "
+                "DIR] [--quick] "
                 "[--rtt N] [--only "
-                "instr|web|streams|idle|subscribers|vtime|fleet|scripts|scale|pace|timing|rtt|load|"
-                "autosend] "
+                "instr|web|streams|idle|subscribers|vtime|fleet|scripts|scale|pace|timing|"
+                "proxy|physics|rtt|load|autosend] "
                 "[--pin same|cross|none] [--firmware-sizes FILE]");
         }
     }
@@ -505,6 +512,14 @@ static void run_own_server_sections(const config_t *cfg, results_t *res)
     }
     if (wanted(cfg, "pace")) {
         run_pace(cfg, res);
+    }
+    if (wanted(cfg, "proxy")) {
+        fprintf(stderr, "wsgbench: the recording proxy, %d POS? each way\n", cfg->rtt_n / 2);
+        proxy_run(cfg->wsgsim, cfg->wsgproxy, cfg->out, cfg->rtt_n / 2, cfg->pin, &res->proxy);
+    }
+    if (wanted(cfg, "physics")) {
+        fprintf(stderr, "wsgbench: the default physics scene, paused and running\n");
+        physics_run(cfg->wsgsim, cfg->out, &res->physics);
     }
 }
 

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define ROWS_MAX 72
+#define ROWS_MAX 80
 #define TARGET_NONE (-1)
 
 typedef struct {
@@ -344,6 +344,22 @@ static void add_vtime(table_t *t, const results_t *res)
     }
 }
 
+/* The default physics scene: 1x with the clock running on one core, and a
+ * paused-clock grip cycle well under a second. */
+static void add_physics(table_t *t, const results_t *res)
+{
+    const physics_result_t *p = &res->physics;
+    if (!p->measured) {
+        return;
+    }
+    row_t *r = add(t, "physics: simulated/wall, clock running", "x", p->running_rate, -1.0);
+    target(r, ">= 0.95x", p->running_rate >= 0.95);
+    r = add(t, "  wsgsim's share of one core there", "%", p->running_cpu_pct, -1.0);
+    target(r, "< 100 %", p->running_cpu_pct < 100.0);
+    r = add(t, "physics: paused grip cycle, hold 1 s", "s", p->paused_cycle_s, -1.0);
+    target(r, "<= 0.5 s", p->paused_cycle_s <= 0.5);
+}
+
 /* A scaled clock within 5 % of its rate (the e2e tests no longer time it). */
 static void add_scale(table_t *t, const results_t *res)
 {
@@ -386,6 +402,26 @@ static void add_timing(table_t *t, const results_t *res)
     r = add(t, "wsgsim CPU per request, wsg50", "us", p->wsg50_cpu_us, -1.0);
     target(r, "<= 1.25x ideal", p->wsg50_cpu_us <= 1.25 * p->ideal_cpu_us);
     add(t, "  the same under ideal", "us", p->ideal_cpu_us, -1.0);
+/* What the recording proxy adds to a round trip, and that it loses nothing. */
+static void add_proxy(table_t *t, const results_t *res)
+{
+    const proxy_result_t *p = &res->proxy;
+    if (p->proxied.n == 0) {
+        return;
+    }
+    double p50 = samples_quantile(&p->proxied, 0.50) - samples_quantile(&p->direct, 0.50);
+    double p99 = samples_quantile(&p->proxied, 0.99) - samples_quantile(&p->direct, 0.99);
+    add(t, "wsgproxy: TCP POS? p50 added", "us", p50, -1.0);
+    row_t *r = add(t, "wsgproxy: TCP POS? p99 added", "us", p99, -1.0);
+    target(r, "<= 200 us", p99 <= 200.0);
+    /* the tails themselves: on a busy machine both are the scheduler's */
+    add(t, "  p99 directly to wsgsim", "us", samples_quantile(&p->direct, 0.99), -1.0);
+    add(t, "  p99 through the proxy", "us", samples_quantile(&p->proxied, 0.99), -1.0);
+    r = add(t, "  pipelined POS? unanswered", "count", (double)(p->pipelined - p->answered), -1.0);
+    target(r, "0", p->answered == p->pipelined);
+    long missing = 2 * p->expected_in_record - p->recorded_sent - p->recorded_answered;
+    r = add(t, "  record lines missing", "count", (double)missing, -1.0);
+    target(r, "0", missing == 0);
 }
 
 static void build(const results_t *res, table_t *t)
@@ -416,8 +452,10 @@ static void build(const results_t *res, table_t *t)
     }
     add_memory(t, res);
     add_scale(t, res);
+    add_physics(t, res);
     add_pace(t, res);
     add_timing(t, res);
+    add_proxy(t, res);
 }
 
 static const char *met_text(int met)

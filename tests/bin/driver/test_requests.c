@@ -181,6 +181,7 @@ START_TEST(system_info_tag_limits)
     const bc_frame_t *f = bc_expect(&bc_main, 0x50, E_SUCCESS);
     ck_assert_uint_eq(f->values_len, 8);
     ck_assert_uint_eq(f->values[0], 1); /* WSG 50 */
+    ck_assert_uint_eq(f->values[1], cfg()->hw_revision);
     ck_assert_uint_eq(wsg_bin_get_u16(f->values + 2), 0x4000);
     ck_assert_uint_eq(wsg_bin_get_u32(f->values + 4), cfg()->serial);
     bc_send(&bc_main, 0x51, "cell-3\0\0", 8);
