@@ -49,6 +49,11 @@ MAN_DEBS := help2man
 # when the paths change. The name is host/config's (config_file.h), so every
 # object of host/config/ is, whichever of its files prints it.
 HOST_CFLAGS += -DWSGSIM_EXAMPLE_CONFIG='"$(DOCDIR)/examples/wsgsim.example.ini"'
+# The shipped timing profiles (docs/timing.md): a run from the build tree
+# finds profiles/timing beside build/, an installed one this folder.
+TIMING_PROFILES := $(sort $(wildcard profiles/timing/*.ini))
+TIMING_DIR = $(PRIVATE_DIR)/timing
+HOST_CFLAGS += -DWSGSIM_TIMING_DIR='"$(TIMING_DIR)"'
 # The physics scene's gripper model and default scene (docs/physics.md).
 HOST_CFLAGS += -DWSGSIM_PHYSICS_DIR='"$(PRIVATE_DIR)/physics"'
 $(filter $(BUILD)/obj/host/config/%,$(HOST_OBJ)): $(BUILD)/man/paths
@@ -99,7 +104,8 @@ man-deps:
 ## install programs, man pages, units, docs (PREFIX=/usr/local DESTDIR=)
 install: $(PROGRAMS) man
 	$(INSTALL) -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(SYSTEMDUNITDIR) \
-		$(DESTDIR)$(DOCDIR)/examples $(DESTDIR)$(PRIVATE_DIR) $(DESTDIR)$(SYSCONFDIR)/wsgsim
+		$(DESTDIR)$(DOCDIR)/examples $(DESTDIR)$(PRIVATE_DIR) $(DESTDIR)$(SYSCONFDIR)/wsgsim \
+		$(DESTDIR)$(TIMING_DIR)
 	$(INSTALL) -m 755 $(C_PROGRAMS) $(SCRIPT_PROGRAMS) $(DESTDIR)$(BINDIR)/
 	$(INSTALL) -m 755 $(PROBE) $(DESTDIR)$(PRIVATE_DIR)/
 	ln -sf $$(realpath -m --relative-to=$(BINDIR) $(PRIVATE_DIR)/$(notdir $(PROBE))) \
@@ -124,6 +130,7 @@ install: $(PROGRAMS) man
 	$(INSTALL) -m 644 $(DOCS) $(DESTDIR)$(DOCDIR)/
 	$(INSTALL) -m 644 docs/wsgsim.example.ini $(DESTDIR)$(DOCDIR)/examples/
 	$(INSTALL) -m 644 docs/finger-bus.dbc $(DESTDIR)$(PRIVATE_DIR)/
+	$(INSTALL) -m 644 $(TIMING_PROFILES) $(DESTDIR)$(TIMING_DIR)/
 	$(INSTALL) -d $(DESTDIR)$(PRIVATE_DIR)/physics
 	$(INSTALL) -m 644 physics/*.xml $(DESTDIR)$(PRIVATE_DIR)/physics/
 	@echo "install: the Python package (python/: the wsgsim module and its pytest plugin)"
@@ -138,7 +145,7 @@ uninstall:
 		$(addprefix $(DESTDIR)$(SYSTEMDUNITDIR)/,$(UNITS)) \
 		$(addprefix $(DESTDIR)$(PRIVATE_DIR)/,finger-bus.dbc $(notdir $(BIN_CLIENT) \
 			$(BIN_CLIENT_MODULE) $(PROBE) $(TWIN_PROGRAMS) $(TWIN_MODULE)))
-	rm -rf $(DESTDIR)$(DOCDIR) $(DESTDIR)$(PRIVATE_DIR)/__pycache__ $(DESTDIR)$(PRIVATE_DIR)/physics
+	rm -rf $(DESTDIR)$(DOCDIR) $(DESTDIR)$(PRIVATE_DIR)/__pycache__ $(DESTDIR)$(PRIVATE_DIR)/physics $(DESTDIR)$(TIMING_DIR)
 	-rmdir $(DESTDIR)$(PRIVATE_DIR) $(DESTDIR)$(SYSCONFDIR)/wsgsim 2>/dev/null
 
 # A deterministic run on the paused clock, drawn by tools/wsgplot.

@@ -24,6 +24,7 @@ int main(void)
     srunner_add_suite(runner, peers_suite());
     srunner_add_suite(runner, outq_suite());
     srunner_add_suite(runner, runner_suite());
+    srunner_add_suite(runner, proc_suite());
     srunner_add_suite(runner, sim_suite());
     srunner_run_all(runner, CK_ENV);
     int failed = srunner_ntests_failed(runner);

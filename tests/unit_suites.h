@@ -22,6 +22,7 @@ Suite *ops_suite(void);
 Suite *peers_suite(void);
 Suite *outq_suite(void);
 Suite *runner_suite(void);
+Suite *proc_suite(void);
 Suite *sim_suite(void);
 
 #endif

@@ -1778,6 +1778,7 @@ function renderSystem(info) {
   setText("sys-serial", String(info.serial));
   setText("sys-firmware", info.firmware_version);
   setText("sys-wsgsim", info.wsgsim_version);
+  setText("sys-timing", info.timing);
   setText("sys-uptime", formatUptime(info.uptime_ms));
   if (info.force_max_n > 0) {
     live.forceSpanN = info.force_max_n;

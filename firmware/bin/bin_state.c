@@ -83,9 +83,24 @@ static void reschedule(bin_conn_t *b)
     }
 }
 
+/* Under a timing profile the frames due share the command processor: they
+ * wait for their slot when it is busy. */
+static bool frames_wait(bin_conn_t *b, wsg_timer_t *timer, uint64_t now_us)
+{
+    unsigned due = 0;
+    for (unsigned v = 0; v < BIN_SUB_COUNT; v++) {
+        due += b->subs[v].on && b->subs[v].next_due_us <= now_us ? 1u : 0u;
+    }
+    conn_t *c = b->conn;
+    return wsg_pace_stream_waits(c->dev, timer, &c->stream_slot, due, c->id, now_us);
+}
+
 void wsg_bin_updates_fire(wsg_timer_t *timer, uint64_t now_us)
 {
     bin_conn_t *b = (bin_conn_t *)(void *)((char *)timer - offsetof(bin_conn_t, timer));
+    if (wsg_conn_timed(b->conn) && frames_wait(b, timer, now_us)) {
+        return;
+    }
     const wsg_snapshot_t *snap = wsg_device_snapshot(bin_device(b));
     for (unsigned v = 0; v < BIN_SUB_COUNT; v++) {
         bin_sub_t *sub = &b->subs[v];
@@ -134,7 +149,9 @@ static wsg_status_t query(bin_req_t *req, bin_sub_value_t v)
     uint32_t period_us = (uint32_t)wsg_bin_get_u16(req->payload + 1) * 1000u;
     sub->on = (flags & 0x01u) != 0;
     sub->on_change = (flags & 0x02u) != 0;
-    sub->period_us = period_us < BIN_MIN_PERIOD_US ? BIN_MIN_PERIOD_US : period_us;
+    const wsg_timing_t *timing = &b->conn->dev->cfg.timing;
+    uint32_t floor_us = timing->enabled ? timing->update_floor_us : BIN_MIN_PERIOD_US;
+    sub->period_us = period_us < floor_us ? floor_us : period_us;
     sub->next_due_us = snap->now_us + sub->period_us;
     send_value(b, v, snap, WSG_MSG_REPLY);
     reschedule(b);

@@ -74,15 +74,45 @@ static void bin_open(wsg_conn_t *c)
     b->timer.fire = wsg_bin_updates_fire;
 }
 
-static void bin_input(wsg_conn_t *c, const uint8_t *bytes, size_t len)
+/* The kind of a request for the command processor's service time
+ * (docs/timing.md). */
+static wsg_request_kind_t request_kind(const bin_conn_t *b, uint8_t id)
+{
+    if (wsg_script_registered(bin_device(b), id)) {
+        return WSG_REQ_SCRIPT;
+    }
+    if (id >= 0x20u && id <= 0x26u) {
+        return WSG_REQ_MOTION;
+    }
+    return id >= 0x40u && id <= 0x5Fu ? WSG_REQ_QUERY : WSG_REQ_SETTING;
+}
+
+static size_t bin_input(wsg_conn_t *c, const uint8_t *bytes, size_t len)
 {
     bin_conn_t *b = bin_of(c);
     wsg_bin_frame_t frame;
+    size_t given = len;
+    if (b->conn->request_waits) {
+        return 0; /* the rest waits in the port, as in a busy device's receive buffer */
+    }
     /* the device setting may change while the connection is open */
     wsg_bin_framer_set_crc_check(&b->framer, !b->conn->dev->cfg.bin_crc_unchecked);
     while (b->conn->open && wsg_bin_framer_feed(&b->framer, &bytes, &len, &frame)) {
+        if (wsg_conn_timed(b->conn)) {
+            /* held until served: the framer keeps its payload until the next feed */
+            b->held = frame;
+            wsg_proc_submit(b->conn, request_kind(b, frame.id));
+            break;
+        }
         handle_frame(b, &frame);
     }
+    return given - len;
+}
+
+static void bin_serve(wsg_conn_t *c)
+{
+    bin_conn_t *b = bin_of(c);
+    handle_frame(b, &b->held);
 }
 
 /* Each datagram is framed on its own. */
@@ -135,4 +165,5 @@ const wsg_proto_driver_t wsg_bin_driver = {
     .busy = bin_busy,
     .close = bin_close,
     .partial = bin_partial,
+    .serve = bin_serve,
 };

@@ -55,6 +55,7 @@ void wsg_conn_open(wsg_conn_t *conn, wsg_device_t *device, const wsg_proto_drive
     c->id = wsg_device_next_conn_id(device);
     c->owner.done = owner_done;
     c->open = true;
+    wsg_proc_conn_open(c);
     link_conn(c->dev, c);
     c->drv = drv;
     if (drv != NULL) {
@@ -84,21 +85,21 @@ static const wsg_proto_driver_t *detect(const wsg_dev_t *dev, uint8_t first_byte
     return NULL;
 }
 
-void wsg_conn_input_choosing_driver(wsg_conn_t *conn, const uint8_t *bytes, size_t len)
+size_t wsg_conn_input_choosing_driver(wsg_conn_t *conn, const uint8_t *bytes, size_t len)
 {
     conn_t *c = conn_of(conn);
     if (!c->open || len == 0) {
-        return;
+        return len;
     }
     c->drv = detect(c->dev, bytes[0]);
     if (c->drv == NULL) {
-        return; /* no driver speaks it: nothing can answer */
+        return len; /* no driver speaks it: nothing can answer */
     }
     c->drv->open(conn);
-    c->drv->input(conn, bytes, len);
+    return wsg_conn_took(c, c->drv->input(conn, bytes, len), len);
 }
 
-void wsg_conn_input(wsg_conn_t *conn, const uint8_t *bytes, size_t len)
+size_t wsg_conn_input(wsg_conn_t *conn, const uint8_t *bytes, size_t len)
 {
     conn_t *c = conn_of(conn);
     if (c->dev->observers.conn_readers != 0) {
@@ -106,10 +107,12 @@ void wsg_conn_input(wsg_conn_t *conn, const uint8_t *bytes, size_t len)
     }
     const wsg_proto_driver_t *drv = c->drv;
     if (drv == NULL) {
-        wsg_conn_input_choosing_driver(conn, bytes, len);
-    } else if (c->open && len != 0) {
-        drv->input(conn, bytes, len);
+        return wsg_conn_input_choosing_driver(conn, bytes, len);
     }
+    if (!c->open || len == 0) {
+        return len;
+    }
+    return wsg_conn_took(c, drv->input(conn, bytes, len), len);
 }
 
 void wsg_conn_end_datagram(wsg_conn_t *conn)
@@ -147,6 +150,7 @@ void wsg_conn_close(wsg_conn_t *conn, wsg_close_reason_t why)
                            c->dev->cfg.disconnect_raises_faststop;
     wsg_conn_show_close(c, why, raise_fast_stop);
     wsg_device_detach(dev_public(c->dev), &c->owner);
+    wsg_proc_conn_close(c);
     if (c->drv != NULL) {
         c->drv->close(conn, why); /* ends its timers */
     }

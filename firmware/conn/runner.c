@@ -40,8 +40,8 @@ static uint64_t feed_input(wsg_runner_t *r, wsg_conn_t *c, const uint8_t *bytes,
                            bool end_of_datagram)
 {
     uint64_t now = advance(r);
-    wsg_conn_input(c, bytes, len);
-    if (end_of_datagram) {
+    r->taken = wsg_conn_input(c, bytes, len);
+    if (end_of_datagram && r->taken == len) { /* a datagram held back ends later */
         wsg_conn_end_datagram(c);
     }
     return now;

@@ -14,6 +14,8 @@ static void power_on(wsg_dev_t *dev, const wsg_config_t *cfg)
     memset(&dev->script, 0, sizeof(dev->script)); /* a power cycle ends the script */
     memset(&dev->injected_failure, 0, sizeof(dev->injected_failure));
     dev->cfg = *cfg;
+    dev->pace.rng = cfg->timing.seed; /* a power-on draws the same jitter again */
+    dev->pace.free_at_us = 0;
     dev->grip.state = GS_IDLE;
     dev->grip.direction = -1;
     dev->referenced = false;

@@ -190,9 +190,24 @@ void wsg_autosend_reschedule(gcl_conn_t *g)
     }
 }
 
+/* Under a timing profile the values due share the command processor:
+ * they wait for their slot when it is busy. */
+static bool values_wait(gcl_conn_t *g, wsg_timer_t *timer, uint64_t now_us)
+{
+    unsigned due = 0;
+    for (unsigned v = 0; v < AS_COUNT; v++) {
+        due += g->autosend[v].interval_ms != 0u && g->autosend[v].next_due_us <= now_us ? 1u : 0u;
+    }
+    conn_t *c = g->conn;
+    return wsg_pace_stream_waits(c->dev, timer, &c->stream_slot, due, c->id, now_us);
+}
+
 void wsg_autosend_fire(wsg_timer_t *timer, uint64_t now_us)
 {
     gcl_conn_t *g = (gcl_conn_t *)(void *)((char *)timer - offsetof(gcl_conn_t, autosend_timer));
+    if (wsg_conn_timed(g->conn) && values_wait(g, timer, now_us)) {
+        return;
+    }
     const wsg_snapshot_t *snap = wsg_device_snapshot(gcl_device(g));
     for (unsigned v = 0; v < AS_COUNT && g->conn->open; v++) {
         gcl_autosend_sub_t *sub = &g->autosend[v];

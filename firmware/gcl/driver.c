@@ -46,8 +46,8 @@ static void handle_completed_line(gcl_conn_t *g)
  * it needs neither a byte-by-byte assembly nor a parse. */
 static size_t take_repeated_query(gcl_conn_t *g, const uint8_t *bytes, size_t len)
 {
-    if (g->query_line_len == 0) {
-        return 0; /* no query line yet */
+    if (g->query_line_len == 0 || wsg_conn_timed(g->conn)) {
+        return 0; /* no query line yet, or every line waits for the processor */
     }
     size_t taken =
         wsg_gcl_linebuf_take_line(&g->input, bytes, len, g->query_line, g->query_line_len);
@@ -59,9 +59,19 @@ static size_t take_repeated_query(gcl_conn_t *g, const uint8_t *bytes, size_t le
     return taken;
 }
 
-static void gcl_input(wsg_conn_t *c, const uint8_t *bytes, size_t len)
+/* A whole line under a timing profile: held for the command processor,
+ * which runs it when its service time has passed (gcl_serve). */
+static void hold_line(gcl_conn_t *g)
+{
+    wsg_proc_submit(g->conn, wsg_gcl_request_kind(g->input.text, g->input.len));
+}
+
+static size_t gcl_input(wsg_conn_t *c, const uint8_t *bytes, size_t len)
 {
     gcl_conn_t *g = gcl_of(c);
+    if (g->conn->request_waits) {
+        return 0; /* the rest waits in the port, as in a busy device's receive buffer */
+    }
     size_t i = 0;
     g->in_input = true;
     while (i < len && !g->conn->said_goodbye) {
@@ -73,17 +83,33 @@ static void gcl_input(wsg_conn_t *c, const uint8_t *bytes, size_t len)
         bool line_done = false;
         i += wsg_gcl_linebuf_feed_bytes(&g->input, bytes + i, len - i, &line_done);
         if (line_done) {
+            if (wsg_conn_timed(g->conn)) {
+                hold_line(g);
+                break;
+            }
             handle_completed_line(g);
         }
     }
     g->in_input = false;
-    g->quiet_since_sense = false; /* the port, the world and other connections run next */
+    g->quiet_since_sense = false;           /* the port, the world and other connections run next */
+    return g->conn->said_goodbye ? len : i; /* after a goodbye nothing more runs */
+}
+
+static void gcl_serve(wsg_conn_t *c)
+{
+    gcl_conn_t *g = gcl_of(c);
+    g->quiet_since_sense = false;
+    handle_completed_line(g);
 }
 
 static void gcl_end_datagram(wsg_conn_t *c)
 {
     gcl_conn_t *g = gcl_of(c);
-    if (!g->conn->said_goodbye && wsg_gcl_linebuf_flush(&g->input)) {
+    if (!g->conn->said_goodbye && !g->conn->request_waits && wsg_gcl_linebuf_flush(&g->input)) {
+        if (wsg_conn_timed(g->conn)) {
+            hold_line(g);
+            return;
+        }
         handle_completed_line(g);
     }
 }
@@ -142,6 +168,7 @@ const wsg_proto_driver_t wsg_gcl_driver = {
     .busy = gcl_busy,
     .close = gcl_close,
     .partial = gcl_partial,
+    .serve = gcl_serve,
 };
 
 void wsg_gcl_add_observer(wsg_device_t *dev, wsg_gcl_observer_t *node)

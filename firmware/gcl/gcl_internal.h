@@ -98,6 +98,8 @@ typedef struct cmd_entry {
 } cmd_entry_t;
 
 /* dispatch.c */
+/* request_kind.c: the line's kind for the command processor */
+wsg_request_kind_t wsg_gcl_request_kind(const char *text, size_t len);
 void wsg_dispatch_line(gcl_conn_t *g, const char *line, size_t len, gcl_line_status_t line_status);
 /* The connection's last plain query line (NAME?, as it came) again. */
 void wsg_dispatch_repeated_query(gcl_conn_t *g);

@@ -5,7 +5,7 @@
 
 #include "priv/wsg_dev.h"
 
-#define CONN_PROTO_BYTES (WSG_CONN_STORAGE_BYTES - 96)
+#define CONN_PROTO_BYTES (WSG_CONN_STORAGE_BYTES - 160)
 
 typedef struct wsg_conn_impl {
     wsg_dev_t *dev;
@@ -20,7 +20,14 @@ typedef struct wsg_conn_impl {
     bool close_announced; /* the protocol announced its close: dropping it is no fault */
     bool refused_http;    /* closed unanswered: it sent an HTTP line (wsg_gcl_line_is_http) */
     uint32_t messages_in; /* whole messages taken in (wsg_conn_count_input) */
-    struct wsg_conn_impl *next, *prev;                 /* the device's open connections */
+    /* the command processor (a timing profile, firmware/conn/proc.c) */
+    bool request_waits;                /* the driver holds a whole request for it */
+    bool next_held;                    /* bytes after that request stayed with the port */
+    bool stream_slot;                  /* its stream frames' slot is reserved (pace.c) */
+    wsg_timer_t serve_timer;           /* due when the processor has served the request */
+    uint32_t waited_own;               /* requests that waited behind this connection's own */
+    uint32_t waited_others;            /* requests that waited behind other connections' work */
+    struct wsg_conn_impl *next, *prev; /* the device's open connections */
     WSG_ALIGNED unsigned char proto[CONN_PROTO_BYTES]; /* the driver's state */
 } conn_t;
 
@@ -44,7 +51,32 @@ static inline wsg_conn_t *conn_public(conn_t *c)
 
 /* wsg_conn_input() of a connection that has no driver yet: its first byte
  * chooses one. Apart, so that the input of every other stays short. */
-void wsg_conn_input_choosing_driver(wsg_conn_t *conn, const uint8_t *bytes, size_t len);
+size_t wsg_conn_input_choosing_driver(wsg_conn_t *conn, const uint8_t *bytes, size_t len);
+
+/* What a driver's input took of len bytes: fewer only while a request
+ * waits for the processor, and then the rest is a next request held back
+ * behind it (counted when it is submitted). */
+static inline size_t wsg_conn_took(conn_t *c, size_t taken, size_t len)
+{
+    if (taken < len) {
+        c->next_held = true;
+    }
+    return taken;
+}
+
+/* The command processor (proc.c): the driver holds a whole request and
+ * takes no more bytes; the processor serves it at the end of its slot
+ * through the driver's serve(). */
+void wsg_proc_submit(conn_t *c, wsg_request_kind_t kind);
+void wsg_proc_conn_open(conn_t *c);
+void wsg_proc_conn_close(conn_t *c);
+
+/* Whether the device runs a timing profile: the one branch the request
+ * path takes under "ideal". */
+static inline bool wsg_conn_timed(const conn_t *c)
+{
+    return c->dev->cfg.timing.enabled;
+}
 
 /* The observers' view of a message in or out (wsg_conn_observer_t). */
 void wsg_conn_show_input(conn_t *c, const char *bytes, size_t len);

@@ -20,6 +20,10 @@ typedef struct wsg_timer {
 
 typedef struct {
     wsg_timer_t *head;
+    /* the due timers wsg_timer_run_due() has taken off and not fired yet:
+     * one may cancel or reschedule another (a served request starting a
+     * stream) */
+    wsg_timer_t *firing;
 } wsg_timer_queue_t;
 
 void wsg_timer_queue_init(wsg_timer_queue_t *q);

@@ -90,6 +90,16 @@ typedef struct {
     wsg_status_t status;
 } dev_injected_failure_t;
 
+/* The command processor's state (a timing profile, docs/timing.md): when
+ * it has served all it was given, whose work ends then, and the seeded
+ * generator of its jitter. */
+typedef struct {
+    uint64_t rng;
+    uint64_t free_at_us;
+    uint64_t last_owner; /* the connection id of the work ending at free_at_us */
+    uint32_t waiting;    /* requests held for it, all connections */
+} dev_pace_t;
+
 struct wsg_conn_impl;
 
 typedef struct wsg_dev {
@@ -114,6 +124,7 @@ typedef struct wsg_dev {
     uint32_t latched_flags; /* flags the core sets and clears itself */
     uint32_t flags;         /* latched_flags plus those derived from the readings */
     dev_injected_failure_t injected_failure;
+    dev_pace_t pace;
     wsg_timer_queue_t timers;    /* AUTOSEND subscriptions and other real deadlines */
     struct wsg_conn_impl *conns; /* open connections (intrusive list, oldest first) */
     struct wsg_conn_impl *conns_tail;
@@ -194,6 +205,18 @@ static inline bool wsg_flags_severe_fault(const wsg_dev_t *dev)
     return s->axis.current_fault || s->axis.power_fault ||
            s->temperature_c >= dev->cfg.temp_fault_c;
 }
+
+/* pace.c: the command processor's slots. Reserves cost_us from when the
+ * work before it ends (or now); returns the slot's end. *waited: it had to
+ * wait; *behind_other: behind another owner's work. */
+uint64_t wsg_pace_reserve(wsg_dev_t *dev, uint64_t now_us, uint32_t cost_us, uint64_t owner,
+                          bool *behind_other);
+/* A stream's timer fired under a timing profile, with `frames` frames due.
+ * True: the processor is busy; the frames' slot is reserved and the timer
+ * set for its start (*slot_reserved), send nothing now. False: send them
+ * now (their cost is charged). */
+bool wsg_pace_stream_waits(wsg_dev_t *dev, wsg_timer_t *timer, bool *slot_reserved, unsigned frames,
+                           uint64_t owner, uint64_t now_us);
 
 /* motion.c: the supervisor, the only writer of the axis */
 void wsg_motion_drive(wsg_dev_t *dev, float target_mm, float speed_mm_s, float force_n);

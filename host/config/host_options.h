@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "hal_log.h"
+#include "wsg/wsg_config.h"
 #include "net_allow.h"
 #include "wire_spec.h"
 
@@ -71,6 +72,10 @@ typedef struct {
     const char *coverage_path; /* --coverage: report written at exit */
     bool strict;               /* --strict: report tolerated input */
     bool start_paused;         /* --start-paused: simulated clock paused at 0 */
+    /* the device's pace (docs/timing.md) */
+    const char *timing;          /* --timing: "ideal", a shipped name or an INI path */
+    uint32_t seed;               /* --seed: every random choice of the run (run_seed.h) */
+    wsg_timing_t timing_figures; /* what --timing names, read once the options are */
     /* the binary protocol (docs/binary-protocol.md) */
     host_protocol_t protocol;
     int binary_udp_port;        /* 0: off */

@@ -160,6 +160,20 @@ static bool set_script_autostart(host_options_t *opts, double number, const char
     return true;
 }
 
+static bool set_timing(host_options_t *opts, double number, const char *text)
+{
+    (void)number;
+    opts->timing = text;
+    return true;
+}
+
+static bool set_seed(host_options_t *opts, double number, const char *text)
+{
+    (void)text;
+    opts->seed = (uint32_t)number;
+    return true;
+}
+
 static bool set_physics(host_options_t *opts, double number, const char *text)
 {
     opts->physics = (host_physics_t)number;
@@ -222,6 +236,8 @@ const option_row_t option_table[OPTION_COUNT] = {
     [OPTION_SCRIPT_DIR] = {"--script-dir", "script", "dir", CV_PATH, set_script_dir},
     [OPTION_SCRIPT_AUTOSTART] = {"--no-script-autostart", "script", "autostart", CV_BOOL,
                                  set_script_autostart},
+    [OPTION_TIMING] = {"--timing", "timing", "profile", CV_PATH, set_timing},
+    [OPTION_SEED] = {"--seed", "timing", "seed", CV_SERIAL, set_seed},
     [OPTION_PHYSICS] = {"--physics", "physics", "engine", CV_PHYSICS, set_physics},
     [OPTION_SCENE] = {"--scene", "physics", "scene", CV_PATH, set_scene},
     [OPTION_PLANT_TIMEOUT] = {"--plant-timeout", "physics", "plant_timeout_ms", CV_MILLISECONDS,

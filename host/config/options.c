@@ -11,6 +11,7 @@
 #include "options_internal.h"
 #include "log.h"
 #include "script_options.h"
+#include "timing_profile.h"
 #include "sim/finger_node.h"
 #include "sim/sim_models.h"
 #include "version.h"
@@ -132,6 +133,8 @@ static const struct option long_options[] = {
     {"ready-file", required_argument, NULL, OPT_READY_FILE},
     {"script", required_argument, NULL, OPT_TABLE + OPTION_SCRIPT},
     {"script-dir", required_argument, NULL, OPT_TABLE + OPTION_SCRIPT_DIR},
+    {"timing", required_argument, NULL, OPT_TABLE + OPTION_TIMING},
+    {"seed", required_argument, NULL, OPT_TABLE + OPTION_SEED},
     {"no-script-autostart", no_argument, NULL, OPT_TABLE + OPTION_SCRIPT_AUTOSTART},
     {"physics", required_argument, NULL, OPT_TABLE + OPTION_PHYSICS},
     {"scene", required_argument, NULL, OPT_TABLE + OPTION_SCENE},
@@ -166,6 +169,8 @@ static void set_defaults(host_options_t *opts)
     opts->http_port = DEFAULT_HTTP_PORT;
     opts->http_request_timeout_s = DEFAULT_HTTP_REQUEST_TIMEOUT_S;
     opts->script_autostart = true;
+    opts->timing = TIMING_PROFILE_IDEAL;
+    opts->seed = DEFAULT_SEED;
 }
 
 static options_result_t usage_error(const char *what, const char *value)
@@ -257,6 +262,19 @@ static options_result_t allow_host_option(const char *arg, const host_options_t 
     return http_host_list_valid(arg) ? OPTIONS_RUN : usage_error("--http-allow-host", arg);
 }
 
+/* --seed N: 0 to 4294967295. */
+static options_result_t seed_option(const char *arg, double *number)
+{
+    char *end = NULL;
+    unsigned long long seed = strtoull(arg, &end, 10);
+    if (arg[0] >= '0' && arg[0] <= '9' && *end == '\0' && seed <= 4294967295ull) {
+        *number = (double)seed;
+        return OPTIONS_RUN;
+    }
+    fprintf(stderr, "wsgsim: invalid --seed '%s': expected an integer from 0 to 4294967295\n", arg);
+    return OPTIONS_EXIT_USAGE;
+}
+
 /* --net: wire conditions over the file's; a bad one says what is wrong. */
 static options_result_t net_option(const char *arg, const host_options_t *opts)
 {
@@ -307,6 +325,8 @@ static options_result_t read_table_option(option_id_t id, const char *arg,
         return model_option(arg);
     case OPTION_HTTP_ALLOW_HOST:
         return allow_host_option(arg, opts);
+    case OPTION_SEED:
+        return seed_option(arg, number);
     case OPTION_ADDRESS_PER_DEVICE:
         *number = 1.0; /* --address-per-device */
         return OPTIONS_RUN;
@@ -491,7 +511,18 @@ static options_result_t apply_option(int opt, const char *arg, host_options_t *o
     }
 }
 
-static options_result_t check_combinations(const host_options_t *opts)
+/* The profile --timing (or [timing] profile) names, read once. */
+static options_result_t read_timing(host_options_t *opts)
+{
+    char why[TIMING_WHY_MAX];
+    if (!timing_profile_load(opts->timing, &opts->timing_figures, why)) {
+        fprintf(stderr, "wsgsim: --timing: %s\n", why);
+        return OPTIONS_EXIT_USAGE;
+    }
+    return OPTIONS_RUN;
+}
+
+static options_result_t check_combinations(host_options_t *opts)
 {
     if (opts->list_models) {
         options_list_models(opts->list_models_json);
@@ -519,7 +550,7 @@ static options_result_t check_combinations(const host_options_t *opts)
     if (!script_options_check(opts)) {
         return OPTIONS_EXIT_USAGE;
     }
-    return OPTIONS_RUN;
+    return read_timing(opts);
 }
 
 void options_release(host_options_t *opts)

@@ -17,6 +17,8 @@
 #define DEFAULT_BINARY_UDP_REPLY_PORT 1501
 #define DEFAULT_HTTP_PORT 8080
 #define DEFAULT_HTTP_REQUEST_TIMEOUT_S 10
+/* --seed: a fixed default, so that every run is the same (docs/timing.md) */
+#define DEFAULT_SEED 1u
 #define TIMEOUT_LIMIT_S 86400
 
 /* --help, on stdout. */

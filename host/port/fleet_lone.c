@@ -4,21 +4,25 @@
  * device coasts (docs/architecture.md, "Time"). */
 #include "fleet_internal.h"
 
-/* A device's motion as a lone run last asked its stop about it. */
+/* A device's motion, and the requests waiting for its processor (a timing
+ * profile), as a lone run last asked its stop about them. */
 typedef struct {
     wsg_motion_kind_t kind;
     uint64_t started_us;
+    uint32_t waiting;
 } motion_seen_t;
 
-/* Whether g's motion differs from *seen, which then takes it. */
+/* Whether g's motion or waiting requests differ from *seen, which then
+ * takes them. */
 static bool motion_moved_on(const gripper_t *g, motion_seen_t *seen)
 {
     uint64_t started_us = 0;
     wsg_motion_kind_t kind = wsg_device_motion(&g->device, &started_us);
-    if (kind == seen->kind && started_us == seen->started_us) {
+    uint32_t waiting = wsg_device_requests_waiting(&g->device);
+    if (kind == seen->kind && started_us == seen->started_us && waiting == seen->waiting) {
         return false;
     }
-    *seen = (motion_seen_t){kind, started_us};
+    *seen = (motion_seen_t){kind, started_us, waiting};
     return true;
 }
 
@@ -98,7 +102,7 @@ unsigned fleet_run_lone(fleet_t *fleet, fleet_lone_run_t *run)
     gripper_t *g = &fleet->devices[0].gripper;
     unsigned steps = 0;
     /* none yet, so the first step asks: no motion starts at UINT64_MAX */
-    motion_seen_t asked = {WSG_MOTION_NONE, UINT64_MAX};
+    motion_seen_t asked = {WSG_MOTION_NONE, UINT64_MAX, 0u};
     wsg_coast_t coast = {0}; /* set before use (may_coast); zero for compilers that cannot tell */
     bool may_coast = false;
     while (steps < run->max_steps && list_empty(&fleet->touched.grippers)) {

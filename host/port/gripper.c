@@ -11,6 +11,7 @@
 #include "config_file.h"
 #include "hal_clock.h"
 #include "log.h"
+#include "run_seed.h"
 #include "physics_setup.h"
 #include "plant_socket.h"
 #include "script.h"
@@ -179,6 +180,7 @@ bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, u
     g->script_guard = guard;
     g->step_hook = NULL; /* an observer may set it as the fleet starts the device */
     g->startup_set = NULL;
+    g->timing_set = NULL;
     g->startup_cleared = false;
     /* one SocketCAN bus per interface: device 0's */
     bool bus_ok = finger_bus_host_start(&g->fingers, loop, index == 0 ? opts->can_iface : NULL,
@@ -189,6 +191,8 @@ bool gripper_init(gripper_t *g, host_loop_t *loop, const host_options_t *opts, u
     config_file_apply_device(opts->config, index, &g->config);
     g->config.disconnect_raises_faststop = opts->disconnect_faststop;
     g->config.bin_crc_unchecked = !opts->binary_crc;
+    g->config.timing = opts->timing_figures;
+    g->config.timing.seed = run_seed_stream(opts->seed, RUN_SEED_TIMING, (uint64_t)index);
     bool physics_ok = open_physics(g);
     power_on_world(g);
     wsg_hal_t hal;
@@ -249,6 +253,8 @@ void gripper_release(gripper_t *g)
     g->opts = NULL;
     free(g->startup_set);
     g->startup_set = NULL;
+    free(g->timing_set);
+    g->timing_set = NULL;
 }
 
 bool gripper_set_startup(gripper_t *g, const char *file, char *why, size_t cap)
@@ -420,8 +426,8 @@ static bool tick_needed(const gripper_t *g, const wsg_conn_t *c)
            wsg_device_flags(&g->device) != g->ticked_flags || io == NULL || io->held != NULL;
 }
 
-void gripper_feed(gripper_t *g, wsg_conn_t *c, const uint8_t *bytes, size_t len,
-                  int end_of_datagram)
+size_t gripper_feed(gripper_t *g, wsg_conn_t *c, const uint8_t *bytes, size_t len,
+                    int end_of_datagram)
 {
     /* the touch ticks g at this instant, before the clock moves on; input
      * that left nothing for that tick to do (a query) needs none */
@@ -429,6 +435,7 @@ void gripper_feed(gripper_t *g, wsg_conn_t *c, const uint8_t *bytes, size_t len,
         tick_needed(g, c)) {
         gripper_touch(g);
     }
+    return g->runner.taken;
 }
 
 void gripper_input_done(gripper_t *g)
@@ -454,4 +461,22 @@ gripper_t *gripper_take_touched(gripper_touched_t *touched)
     gripper_t *g = LIST_ITEM(node, gripper_t, touched_link);
     g->touched = false;
     return g;
+}
+
+bool gripper_set_timing(gripper_t *g, const char *spec, const wsg_timing_t *timing)
+{
+    char *copy = strdup(spec);
+    if (copy == NULL) {
+        return false;
+    }
+    free(g->timing_set);
+    g->timing_set = copy;
+    g->config.timing = *timing; /* a reset keeps it */
+    wsg_device_set_timing(&g->device, timing);
+    return true;
+}
+
+const char *gripper_timing_name(const gripper_t *g)
+{
+    return g->timing_set != NULL ? g->timing_set : g->opts->timing;
 }

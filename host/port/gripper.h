@@ -19,6 +19,7 @@
 #include "wsg/wsg_conn.h"
 #include "wsg/wsg_device.h"
 #include "wsg/wsg_runner.h"
+#include "wsg/wsg_timing.h"
 
 struct gripper;
 /* The grippers touched since they were last ticked: one list per fleet,
@@ -65,6 +66,7 @@ typedef struct gripper {
     struct script *script;                /* its script interpreter; NULL without scripting */
     const gripper_step_hook_t *step_hook; /* NULL: none (a plain run) */
     char *startup_set;      /* the startup script the web page chose (heap), NULL: none chosen */
+    char *timing_set;       /* the timing profile TIMING= chose (heap), NULL: the options' */
     uint64_t powered_on_us; /* simulated time of its last power-on (start or reset) */
     /* the small fields last, together: a cell holds 10 000 grippers */
     bool touched;         /* on the touched list (gripper_touch) */
@@ -112,8 +114,11 @@ void gripper_coasted(gripper_t *g, const wsg_coast_t *coast, uint64_t last_us);
  * unless its tick would have nothing to do (a query that changed nothing:
  * neither a step due nor a new deadline, no flag its observers have not
  * seen, no script, no DELAY on c's output). */
-void gripper_feed(gripper_t *g, wsg_conn_t *c, const uint8_t *bytes, size_t len,
-                  int end_of_datagram);
+/* Returns the bytes c took: fewer than len only under a timing profile,
+ * while a request of c waits for the device's command processor; the
+ * caller keeps the rest (held_input.h). */
+size_t gripper_feed(gripper_t *g, wsg_conn_t *c, const uint8_t *bytes, size_t len,
+                    int end_of_datagram);
 /* After input reached the device (a line, a web request): what it started
  * is due from the next simulated instant on, and the fleet ticks it. */
 void gripper_input_done(gripper_t *g);
@@ -147,5 +152,11 @@ bool gripper_set_startup(gripper_t *g, const char *file, char *why, size_t cap);
 const char *gripper_startup_choice(const gripper_t *g);
 /* Frees what gripper_init allocated (finger bus, script interpreter). */
 void gripper_release(gripper_t *g);
+
+/* The device's pace now (TIMING=): the profile's name or path and its
+ * figures (their seed the device's own); false out of memory. */
+bool gripper_set_timing(gripper_t *g, const char *spec, const wsg_timing_t *timing);
+/* The name or path of the profile in force ("ideal" by default). */
+const char *gripper_timing_name(const gripper_t *g);
 
 #endif

@@ -9,6 +9,7 @@
 #include "wsg/finger_proto.h"
 #include "wsg/wsg_gcl.h"
 #include "wsg/wsg_names.h"
+#include "wsg/wsg_timing.h"
 
 static const char *const finger_flag_names[WSG_FINGER_FLAG_COUNT] = {
     [FF_POWER_ON] = "FF_POWER_ON",     [FF_CONFIG_AVAIL] = "FF_CONFIG_AVAIL",
@@ -227,6 +228,20 @@ static const char *transport_name(const wsg_conn_t *c)
 }
 
 /* One session: its id and transport, and with full the rest of STATE?'s. */
+/* Under a timing profile: whether the session holds a request for the
+ * device's processor, and how many of its requests waited (wsg_timing.h). */
+static void write_waits(json_writer_t *j, const wsg_conn_t *c)
+{
+    if (!wsg_device_timing(wsg_conn_device(c))->enabled) {
+        return; /* "ideal": nothing waits */
+    }
+    wsg_conn_waits_t waits;
+    wsg_conn_waits(c, &waits);
+    json_writer_bool(j, "request_waits", wsg_conn_request_waits(c));
+    json_writer_uint(j, "waited_behind_own", waits.behind_own);
+    json_writer_uint(j, "waited_behind_others", waits.behind_others);
+}
+
 static void write_session(json_writer_t *j, const wsg_conn_t *c, bool full)
 {
     json_writer_open_object(j, NULL);
@@ -243,6 +258,7 @@ static void write_session(json_writer_t *j, const wsg_conn_t *c, bool full)
         json_writer_uint(j, "lines_out", info.lines_out);
         write_autosend(j, &info);
     }
+    write_waits(j, c);
     json_writer_close_object(j);
 }
 

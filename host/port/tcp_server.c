@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "hal_clock.h"
+#include "held_input.h"
 #include "listener.h"
 #include "log.h"
 #include "loop.h"
@@ -19,6 +20,7 @@
 #include "wsg/wsg_bin.h"
 #include "wsg/wsg_gcl.h"
 #include "wsg/wsg_outq.h"
+#include "wsg/wsg_timing.h"
 
 /* Replies wait here for a slow client; the queue's policy (wsg_outq.h)
  * drops updates from half full on and disconnects a client whose reply
@@ -37,27 +39,7 @@
 #define KEEPALIVE_PROBES 6
 /* Out of descriptors: accept() is retried this often (wall clock). */
 
-struct tcp_client {
-    tcp_server_t *server;
-    list_node_t link; /* on its set's open connections */
-    int fd;
-    wsg_conn_t conn;
-    wsg_outq_t outq;
-    bool dead;    /* failed or overflowed: close at the next reap */
-    bool eof;     /* the client shut its side: answer, flush, then close */
-    bool expired; /* closed by the server for silence: not a lost link */
-    bool marked;  /* on its set's list for the next reap */
-    list_node_t mark_link;
-    uint64_t connected_us;
-    uint64_t heard_us;     /* last input, or connected_us */
-    uint64_t completed_us; /* when its last whole command arrived, or connected_us */
-    uint32_t messages_in;  /* whole commands so far (wsg_conn_messages_in) */
-    unsigned long dropped_autosend;
-    wire_t *wire; /* its wire conditions; NULL: none (the default) */
-    char peer[64];
-};
-
-#define CLIENT(node) LIST_ITEM(node, tcp_client_t, link)
+#include "tcp_client.h"
 
 static void link_client(tcp_client_t *c)
 {
@@ -111,7 +93,8 @@ static void unlink_client(tcp_client_t *c)
 static void update_events(tcp_client_t *c)
 {
     loop_set_events(c->server->set->loop, c->fd,
-                    (short)((c->eof ? 0 : POLLIN) | (wsg_outq_empty(&c->outq) ? 0 : POLLOUT)));
+                    (short)((c->eof || !held_input_empty(&c->held) ? 0 : POLLIN) |
+                            (wsg_outq_empty(&c->outq) ? 0 : POLLOUT)));
 }
 
 /* Sends one line with one send(); returns bytes sent, or -1 on a fatal error. */
@@ -166,6 +149,31 @@ static void write_line(void *ctx, const char *line, size_t len, wsg_msg_kind_t k
     enqueue(c, line, len, kind);
 }
 
+static void note_completed(tcp_client_t *c);
+
+/* The device served the request it held (a timing profile): what came
+ * after it goes in now, and the socket is read again once all has. */
+static void resume_input(void *ctx)
+{
+    tcp_client_t *c = ctx;
+    held_input_feed(&c->held, &c->conn);
+    note_completed(c);
+    update_events(c);
+    if (wsg_conn_wants_close(&c->conn)) {
+        mark(c); /* BYE: closes once its reply is out */
+    }
+}
+
+static const wsg_conn_io_t tcp_io = {.write = write_line, .resume = resume_input};
+
+/* What the device did not take waits, and the socket is not read meanwhile. */
+static void keep_input(tcp_client_t *c, const uint8_t *bytes, size_t len)
+{
+    if (!held_input_keep(&c->held, bytes, len, false)) {
+        mark_dead(c);
+    }
+    update_events(c);
+}
 /* The wire's writes: the reap looks again (a BYE's reply, a half-closed
  * connection's last line may just have left). */
 static bool wire_write(void *ctx, const char *bytes, size_t len, wsg_msg_kind_t kind)
@@ -208,7 +216,6 @@ static uint64_t wire_stream(const tcp_client_t *c)
     return ((uint64_t)c->server->gripper->index << 32) | (wsg_conn_id(&c->conn) & 0xffffffffu);
 }
 
-static const wsg_conn_io_t tcp_io = {.write = write_line};
 
 static void flush(tcp_client_t *c)
 {
@@ -270,6 +277,7 @@ static void close_client(tcp_client_t *c)
     wsg_conn_close(&c->conn, reason);
     gripper_touch(c->server->gripper); /* e.g. FAST STOP on a lost link */
     free(c->outq.ring);
+    held_input_free(&c->held);
     unlink_client(c);
     listener_fd_freed(c->server->listener);
     free(c);
@@ -316,7 +324,12 @@ static void on_client(void *ctx, int fd, short revents)
     ssize_t n = recv(c->fd, buf, sizeof(buf), MSG_DONTWAIT);
     if (n > 0) {
         c->heard_us = hal_clock_now_us();
-        gripper_feed(c->server->gripper, &c->conn, buf, (size_t)n, 0);
+        size_t taken = held_input_empty(&c->held)
+                           ? gripper_feed(c->server->gripper, &c->conn, buf, (size_t)n, 0)
+                           : 0;
+        if (taken < (size_t)n) {
+            keep_input(c, buf + taken, (size_t)n - taken);
+        }
         note_completed(c);
         if (wsg_conn_wants_close(&c->conn)) {
             mark(c); /* BYE: closes once its reply is out */
@@ -328,33 +341,9 @@ static void on_client(void *ctx, int fd, short revents)
     }
 }
 
-/* Stuck: no whole command for the grace, and either inside one now (a
- * line without its end, a frame cut short) or none completed at all. */
-static bool stalled(const tcp_client_t *c, uint64_t now)
-{
-    bool unfinished = c->messages_in == 0 || wsg_conn_partial_input(&c->conn);
-    return unfinished && now - c->completed_us >= STALLED_GRACE_US;
-}
-
-/* The stalled connection that completed a command longest ago; its slot
- * goes to a waiting client. */
-static tcp_client_t *stalled_connection(const tcp_server_t *s)
-{
-    uint64_t now = hal_clock_now_us();
-    tcp_client_t *found = NULL;
-    LIST_EACH (node, &s->set->clients) {
-        tcp_client_t *c = CLIENT(node);
-        if (c->server == s && stalled(c, now) &&
-            (found == NULL || c->completed_us < found->completed_us)) {
-            found = c;
-        }
-    }
-    return found;
-}
-
 static void reclaim_stalled_slot(const tcp_server_t *s)
 {
-    tcp_client_t *c = stalled_connection(s);
+    tcp_client_t *c = tcp_stalled_connection(s, STALLED_GRACE_US);
     if (c != NULL) {
         host_log_peer(
             HAL_LOG_INFO, "tcp %s: no whole command for %u s (%s); slot given to a waiting client",
@@ -548,7 +537,8 @@ static bool finished(tcp_client_t *c, uint64_t now)
 {
     bool flushed = wsg_outq_empty(&c->outq) && !wire_holding(c->wire);
     bool said_bye = wsg_conn_wants_close(&c->conn);
-    bool input_done = c->eof && flushed && !replies_held(c);
+    bool input_done = c->eof && flushed && !replies_held(c) && held_input_empty(&c->held) &&
+                      !wsg_conn_request_waits(&c->conn);
     return c->dead || (said_bye && flushed) || input_done || idle_too_long(c, now);
 }
 

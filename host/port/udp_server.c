@@ -9,6 +9,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include "held_input.h"
 #include "log.h"
 #include "loop.h"
 #include "net.h"
@@ -31,6 +32,7 @@ typedef struct {
     wire_t *wire; /* its wire conditions; NULL: none (the default) */
     char name[64];
     char addr_text[INET6_ADDRSTRLEN]; /* the address alone, for --udp-stream-allow */
+    held_input_t held; /* datagrams after a request waiting for the device's processor */
 } udp_peer_t;
 
 #define ACTIVE_SERVER(node) LIST_ITEM(node, udp_server_t, active_link)
@@ -118,7 +120,15 @@ static void write_message(void *ctx, const char *bytes, size_t len, wsg_msg_kind
     send_datagram(s, bytes, len, &p->reply_to, p->reply_len);
 }
 
-static const wsg_conn_io_t udp_io = {.write = write_message};
+/* The device served the request the peer held (a timing profile): its
+ * datagrams that came meanwhile go in now, in order. */
+static void resume_input(void *ctx)
+{
+    udp_peer_t *p = ctx;
+    held_input_feed(&p->held, &p->peer.conn);
+}
+
+static const wsg_conn_io_t udp_io = {.write = write_message, .resume = resume_input};
 
 static bool wire_write(void *ctx, const char *bytes, size_t len, wsg_msg_kind_t kind)
 {
@@ -182,6 +192,7 @@ static void release_peer(void *ctx, wsg_peer_t *peer)
     udp_server_t *s = ctx;
     udp_peer_t *p = peer->port_ctx;
     gripper_touch(s->gripper);
+    held_input_free(&p->held);
     wire_close(p->wire);
     free(p);
 }
@@ -283,6 +294,18 @@ static udp_server_t *owner_of(udp_server_t *s, struct msghdr *msg)
     return owner;
 }
 
+/* Feeds a datagram; under a timing profile, one that comes while the
+ * peer's request waits for the device's processor waits too. */
+static void feed_datagram(udp_server_t *s, udp_peer_t *p, const uint8_t *buf, size_t n)
+{
+    size_t taken =
+        held_input_empty(&p->held) ? gripper_feed(s->gripper, &p->peer.conn, buf, n, 1) : 0;
+    if (taken < n && !held_input_keep(&p->held, buf + taken, n - taken, true)) {
+        host_log_peer(HAL_LOG_WARN, "%s %s: too much input waiting; datagram dropped",
+                      s->proto.label, p->name);
+    }
+}
+
 /* Reads and feeds one datagram; false when none was waiting. */
 static bool receive_datagram(udp_server_t *s, int fd)
 {
@@ -322,7 +345,7 @@ static bool receive_datagram(udp_server_t *s, int fd)
     unsigned copies = p->wire != NULL ? wire_receive_copies(p->wire) : 1u;
     for (unsigned i = 0; i < copies; i++) {
         wsg_peers_heard(&s->peers, &p->peer, (size_t)n);
-        gripper_feed(s->gripper, &p->peer.conn, buf, (size_t)n, 1);
+        feed_datagram(s, p, buf, (size_t)n);
     }
     gripper_touch(s->gripper); /* its tick asks the servers' moved deadlines again */
     return true;

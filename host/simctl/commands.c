@@ -25,6 +25,8 @@ static const simctl_entry_t table[] = {
     {"RUN_UNTIL_DONE", CALL, 1, 1, sc_run_until_done, "RUN_UNTIL_DONE(max_ms)", false},
     {"SCALE", SET | QUERY, 0, 0, sc_scale, "SCALE=factor | SCALE?", true},
     {"SIMTIME", QUERY, 0, 0, sc_simtime, "SIMTIME?", true},
+    {"TIMING", CALL | SET | QUERY, 0, 1, sc_timing, "TIMING=profile | TIMING(\"path\") | TIMING?",
+     true},
     {"PART", CALL | QUERY, 1, 3, sc_part, "PART(width[,stiffness[,slip_force]]) | PART?", true},
     {"PART_REMOVE", CALL, 0, 0, sc_part_remove, "PART_REMOVE()", true},
     {"PART_SLIP", CALL, 0, 0, sc_part_slip, "PART_SLIP()", true},
@@ -113,7 +115,8 @@ static wsg_status_t check_shape(const simctl_entry_t *e, const gcl_command_t *cm
 static wsg_status_t long_text_call(const simctl_entry_t *e, const char *line, size_t len,
                                    gcl_command_t *cmd, wsg_status_t status)
 {
-    if (status != E_INVALID_PARAMETER || e == NULL || e->handler != sc_script_run ||
+    if (status != E_INVALID_PARAMETER || e == NULL ||
+        (e->handler != sc_script_run && e->handler != sc_timing) ||
         !sc_quoted_call(line, len, NULL, GCL_LINE_MAX + 1)) {
         return status;
     }

@@ -11,6 +11,7 @@
 #include "scheduler.h"
 #include "simctl_ops.h"
 #include "wsg/wsg_textbuf.h"
+#include "wsg/wsg_timing.h"
 
 #define STEP_MAX_MS 3600000.0 /* one hour of simulated time per STEP */
 
@@ -53,7 +54,11 @@ static bool operation_ended(void *ctx)
     simctl_run_watch_t *run = ctx;
     uint64_t started_us = 0;
     wsg_motion_kind_t motion = wsg_device_motion(run->device, &started_us);
-    run->ended = motion != run->motion || started_us != run->started_us;
+    if (run->queue) {
+        run->ended = wsg_device_requests_waiting(run->device) == 0u && motion == WSG_MOTION_NONE;
+    } else {
+        run->ended = motion != run->motion || started_us != run->started_us;
+    }
     return run->ended;
 }
 
@@ -114,14 +119,15 @@ wsg_status_t sc_run_until_done(simctl_ctx_t *ctx)
         return sc_fail(ctx, E_ACCESS_DENIED, "the clock is running; PAUSE() first");
     }
     const wsg_snapshot_t *snap = wsg_device_snapshot(&ctx->gripper->device);
-    if (snap->motion == WSG_MOTION_NONE) {
+    bool queue = wsg_device_requests_waiting(&ctx->gripper->device) > 0u;
+    if (snap->motion == WSG_MOTION_NONE && !queue) {
         ctx->reply =
             clock_reply("RUN_UNTIL_DONE=[", "idle"); /* nothing that could end: time stays */
         return E_SUCCESS;
     }
     simctl_run_watch_t *run = simctl_run_watch(ctx->ctl);
-    *run = (simctl_run_watch_t){true, false, &ctx->gripper->device, snap->motion,
-                                snap->motion_started_us};
+    *run = (simctl_run_watch_t){
+        true, false, &ctx->gripper->device, snap->motion, snap->motion_started_us, queue};
     simctl_step_until_begin(simctl_scheduler(ctx->ctl), (uint64_t)(ms * 1000.0 + 0.5),
                             operation_ended, run);
     ctx->deferred = true;

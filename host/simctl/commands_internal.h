@@ -84,6 +84,7 @@ wsg_status_t sc_step(simctl_ctx_t *ctx);
 wsg_status_t sc_run_until_done(simctl_ctx_t *ctx);
 wsg_status_t sc_scale(simctl_ctx_t *ctx);
 wsg_status_t sc_simtime(simctl_ctx_t *ctx);
+wsg_status_t sc_timing(simctl_ctx_t *ctx);
 
 /* simctl/commands_world.c */
 wsg_status_t sc_part(simctl_ctx_t *ctx);

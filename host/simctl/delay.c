@@ -121,7 +121,17 @@ static bool delayed_held(void *ctx)
     return d->holding;
 }
 
-static const wsg_conn_io_t delayed_io = {.write = delayed_write, .held = delayed_held};
+/* The port's resume (a timing profile) passes through the delay. */
+static void delayed_resume(void *ctx)
+{
+    const delay_t *d = ctx;
+    if (d->io->resume != NULL) {
+        d->io->resume(d->io_ctx);
+    }
+}
+
+static const wsg_conn_io_t delayed_io = {
+    .write = delayed_write, .held = delayed_held, .resume = delayed_resume};
 
 /* The delay that stands in for the connection's I/O, if it is delayed. */
 static delay_t *delay_of(const wsg_conn_t *c)

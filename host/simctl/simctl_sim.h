@@ -31,6 +31,9 @@ typedef struct {
     wsg_device_t *device;
     wsg_motion_kind_t motion;
     uint64_t started_us;
+    /* requests waited for the device's processor (a timing profile) when
+     * it started: it runs until none waits and no motion runs */
+    bool queue;
 } simctl_run_watch_t;
 
 /* What the commands, STATE? and the loop act on: the first member of

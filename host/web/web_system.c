@@ -45,6 +45,8 @@ static cJSON *system_json(gripper_t *g, uint64_t log_since)
     cJSON_AddNumberToObject(root, "speed_max_mm_s", cfg->speed_max_mm_s);
     cJSON_AddNumberToObject(root, "accel_min_mm_s2", cfg->accel_min_mm_s2);
     cJSON_AddNumberToObject(root, "accel_max_mm_s2", cfg->accel_max_mm_s2);
+    /* the device's pace (docs/timing.md): the profile's name or path */
+    cJSON_AddStringToObject(root, "timing", gripper_timing_name(g));
     cJSON_AddNumberToObject(root, "time_ms", (double)now_us / 1000.0);
     uint64_t up_us = now_us > g->powered_on_us ? now_us - g->powered_on_us : 0u;
     cJSON_AddNumberToObject(root, "uptime_ms", (double)up_us / 1000.0);

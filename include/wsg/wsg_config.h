@@ -13,6 +13,35 @@
 
 #define WSG_CONFIG_STRING_MAX 48
 
+/* The kinds of request a timing profile gives service times of. */
+typedef enum {
+    WSG_REQ_QUERY,   /* a GCL query (NAME?), a binary read (0x40-0x4F, 0x50-0x5F) */
+    WSG_REQ_MOTION,  /* a command that starts or ends a motion (MOVE, GRIP, STOP, 0x20-0x26) */
+    WSG_REQ_SETTING, /* every other command (settings, system commands) */
+    WSG_REQ_SCRIPT,  /* a binary command a user script registered (custom command) */
+    WSG_REQ_KIND_COUNT
+} wsg_request_kind_t;
+
+/* A service time: uniform on [mean - spread, mean + spread] (µs). */
+typedef struct {
+    uint32_t mean_us;
+    uint32_t spread_us;
+} wsg_service_time_t;
+
+/* The device's pace (docs/timing.md). Not enabled: the "ideal" profile,
+ * every request answered the instant it arrives. Enabled: one command
+ * processor serves the requests of all connections one at a time in
+ * arrival order, each for a service time of its kind, and each stream
+ * frame (AUTOSEND, binary automatic updates) occupies it for
+ * stream_frame_us. Jitter comes from the device's own generator, seeded
+ * from `seed`. */
+typedef struct {
+    bool enabled;
+    wsg_service_time_t service[WSG_REQ_KIND_COUNT];
+    uint32_t stream_frame_us;
+    uint32_t update_floor_us; /* shortest binary automatic update period */
+    uint64_t seed;
+} wsg_timing_t;
 /* A gripper's mechanics beyond its datasheet (the configuration file's
  * [mechanics]): how long the firmware waits before it believes a
  * condition, and how the drive follows its commands. A calibration fits
@@ -65,6 +94,8 @@ typedef struct {
     bool bin_crc_unchecked; /* binary protocol: checksums read and ignored (default: checked) */
     bool move_retarget;     /* a MOVE during a MOVE retargets it; false: ERR MOVE 4 */
     float temp_warning_c, temp_fault_c;
+
+    wsg_timing_t timing; /* the device's pace (zero: ideal) */
 } wsg_config_t;
 
 /* The device's policy, stated once (firmware/core/policy.c): every

@@ -45,6 +45,12 @@ typedef struct {
      * replies back (the control channel's DELAY); they still count as
      * queued, so a half-closed connection waits for them. */
     bool (*held)(void *ctx);
+    /* Optional, needed under a timing profile (wsg_timing.h): the
+     * processor has served the request the connection held. The port feeds
+     * it the bytes it kept back (wsg_conn_input() took fewer than it was
+     * given) and looks at wsg_conn_wants_close(): the request may have
+     * been BYE. Called from inside the device's step. */
+    void (*resume)(void *ctx);
 } wsg_conn_io_t;
 
 typedef struct wsg_conn {
@@ -57,7 +63,9 @@ typedef struct wsg_proto_driver {
      * this protocol? NULL: any byte (a catch-all, last in a table). */
     bool (*detect)(uint8_t first_byte);
     void (*open)(wsg_conn_t *c);
-    void (*input)(wsg_conn_t *c, const uint8_t *bytes, size_t len);
+    /* returns the bytes taken: all of them, but under a timing profile it
+     * stops after a whole request, which it holds until serve() */
+    size_t (*input)(wsg_conn_t *c, const uint8_t *bytes, size_t len);
     void (*end_datagram)(wsg_conn_t *c);
     /* a long operation this connection started has ended (its owner's event) */
     void (*done)(wsg_conn_t *c, wsg_op_t op, wsg_status_t status);
@@ -67,6 +75,9 @@ typedef struct wsg_proto_driver {
     /* true while the driver holds part of a message: a line without its
      * end, a frame cut short (NULL: never) */
     bool (*partial)(const wsg_conn_t *c);
+    /* runs the request input() held for the command processor (NULL: the
+     * driver never holds one) */
+    void (*serve)(wsg_conn_t *c);
 } wsg_proto_driver_t;
 
 /* The protocol drivers a connection opened without one may choose from, in
@@ -79,7 +90,11 @@ void wsg_conn_set_drivers(wsg_device_t *dev, const wsg_proto_driver_t *const *dr
  * device's table (wsg_conn_set_drivers); bytes no driver claims are dropped. */
 void wsg_conn_open(wsg_conn_t *c, wsg_device_t *dev, const wsg_proto_driver_t *drv,
                    wsg_transport_t transport, const wsg_conn_io_t *io, void *io_ctx);
-void wsg_conn_input(wsg_conn_t *c, const uint8_t *bytes, size_t len);
+/* Returns the bytes it took: all of them under the "ideal" timing; under a
+ * timing profile it stops after a whole request while that request waits
+ * for the command processor, and the port keeps the rest (and stops
+ * reading the socket) until the io's resume() hook. */
+size_t wsg_conn_input(wsg_conn_t *c, const uint8_t *bytes, size_t len);
 /* A datagram ends any message it left open (UDP clients may omit the '\n'). */
 void wsg_conn_end_datagram(wsg_conn_t *c);
 /* True once the protocol said goodbye: the port closes after flushing. */

@@ -42,7 +42,7 @@
 #define WSG_DEVICE_STORAGE_BYTES (3072 + WSG_SCRIPT_QUEUE_DEPTH * (WSG_SCRIPT_REQUEST_MAX + 16))
 #endif
 #ifndef WSG_CONN_STORAGE_BYTES
-#define WSG_CONN_STORAGE_BYTES 768
+#define WSG_CONN_STORAGE_BYTES 832
 #endif
 
 /* Bytes of a datagram peer's address as the port stores it (a sockaddr_in6

@@ -20,6 +20,10 @@ typedef struct {
     void (*advance)(void *ctx, uint64_t now_us);
     void *advance_ctx;
     uint64_t next_deadline_us; /* when the next step is due */
+    /* bytes the last feed took: fewer than given only under a timing
+     * profile, when a request waits for the command processor; the port
+     * keeps the rest (wsg_conn_input()) */
+    size_t taken;
 } wsg_runner_t;
 
 /* The first step is due at once (power-on). */

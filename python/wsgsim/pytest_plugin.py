@@ -10,6 +10,9 @@ Options for the device, from the closest of:
   * a parameter (indirect parametrization), a list of options or a dict of
     Wsgsim keywords:
         @pytest.mark.parametrize("wsgsim", [["--model", "WSG 25"]], indirect=True)
+timing="wsg50" runs the device at the real gripper's pace (its requests
+served one at a time, about 13 ms each: docs/timing.md), seed=N seeds its
+jitter: @pytest.mark.wsgsim(timing="wsg50", paused=True).
 paused=True starts the simulated clock paused at 0 with the control channel
 open: wsgsim.control().step(100) advances it by 100 ms, so a test asserts on
 simulated time, never on how fast the machine is.
@@ -58,7 +61,8 @@ def pytest_addoption(parser):
 
 def pytest_configure(config):
     config.addinivalue_line(
-        "markers", "wsgsim(*options, paused=False, control=False, net=None): options of the device "
+        "markers", "wsgsim(*options, paused=False, control=False, net=None, timing=None, "
+        "seed=None): options of the device "
         "the wsgsim fixture starts")
     config._wsgsim_coverage = CoverageTotals()
 

@@ -51,14 +51,22 @@ class Wsgsim:
     control channel alone; coverage=PATH writes the protocol coverage report
     there at exit; net="rough" (or any --net conditions, docs/network.md)
     puts every session on that wire: its replies split, joined, delayed,
-    its datagrams lost, doubled or reordered. The ports are read from the --ready-file wsgsim writes
+    its datagrams lost, doubled or reordered. timing="wsg50" (or an INI path) gives the
+    device the real device's pace (--timing, docs/timing.md), seed=N seeds
+    every random choice of the run (--seed). The ports are read from the
+    --ready-file wsgsim writes
     once it serves, so any log level works. $WSGSIM_PREFIX runs the server
     under a tool, e.g. "valgrind --error-exitcode=99".
     """
 
-    def __init__(self, *args, binary=None, paused=False, control=False, coverage=None, net=None):
+    def __init__(self, *args, binary=None, paused=False, control=False, coverage=None, net=None,
+                 timing=None, seed=None):
         self.binary = binary
         extra = ["--net", net] if net else []
+        if timing is not None:
+            extra += ["--timing", str(timing)]
+        if seed is not None:
+            extra += ["--seed", str(seed)]
         if paused:
             extra += ["--start-paused"]
         if paused or control:

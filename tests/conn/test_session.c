@@ -557,11 +557,12 @@ static void probe_open(wsg_conn_t *c)
 {
     (void)c;
 }
-static void probe_input(wsg_conn_t *c, const uint8_t *bytes, size_t len)
+static size_t probe_input(wsg_conn_t *c, const uint8_t *bytes, size_t len)
 {
     (void)c;
     (void)bytes;
     probe_bytes += len;
+    return len;
 }
 static void probe_end_datagram(wsg_conn_t *c)
 {
@@ -585,7 +586,7 @@ static void probe_close(wsg_conn_t *c, wsg_close_reason_t why)
 }
 static const wsg_proto_driver_t probe_driver = {
     "probe",    probe_detect, probe_open,  probe_input, probe_end_datagram,
-    probe_done, probe_busy,   probe_close, NULL,
+    probe_done, probe_busy,   probe_close, NULL,        NULL,
 };
 
 /* A port tells a connection stuck inside a message (it

@@ -29,6 +29,10 @@ typedef struct {
     size_t count;  /* lines captured */
     size_t read;   /* lines consumed by the expect helpers */
     bool bad_line; /* a write that was not exactly one '\n'-terminated line, or overflow */
+    /* what the connection did not take while a request of it waited for
+     * the processor (a timing profile), fed again at its resume() */
+    uint8_t held[1024];
+    size_t held_len;
 } h_client_t;
 
 /* Opens c on device with drv (NULL: detected from the first byte). */

@@ -47,6 +47,7 @@ class Packages(unittest.TestCase):
         for doc in ("copyright", "examples/wsgsim.example.ini", "testing-your-driver.md.gz"):
             self.assertTrue(os.path.exists(self.path("usr/share/doc/wsgsim", doc)), doc)
         self.assertTrue(os.path.exists(self.path("usr/share/wsgsim/finger-bus.dbc")))
+        self.assertTrue(os.path.exists(self.path("usr/share/wsgsim/timing/wsg50.ini")))
         for model in ("wsg-gripper.xml", "default-scene.xml"):  # --physics mujoco
             self.assertTrue(os.path.exists(self.path("usr/share/wsgsim/physics", model)), model)
         entry_points = glob.glob(self.path("usr/lib/python3/dist-packages/wsgsim-*.dist-info",

@@ -70,6 +70,7 @@ class Install(unittest.TestCase):
                          "usr/share/doc/wsgsim/README.md", "usr/share/doc/wsgsim/simctl.md",
                          "usr/share/doc/wsgsim/testing-your-driver.md",
                          "usr/share/wsgsim/finger-bus.dbc", "usr/share/wsgsim/wsgbinproto.py",
+                         "usr/share/wsgsim/timing/wsg50.ini",
                          "usr/share/wsgsim/physics/wsg-gripper.xml",
                          "usr/share/wsgsim/physics/default-scene.xml",
                          "usr/share/doc/wsgsim/physics.md",

@@ -48,6 +48,16 @@ class System(WebCase):
             self.assertFalse(j["script_store"])  # no --script-dir: …/files is 404
             self.assertEqual(self.get("/api/devices/%d/files" % device).status, 404)
 
+    def test_timing_profile_shown(self):
+        """The System view names the timing profile the control channel set."""
+        with self.sim.control() as ctl:
+            self.assertEqual(self.system()["timing"], "ideal")
+            self.assertEqual(ctl("TIMING=wsg50"), 'TIMING="wsg50"')
+            self.assertEqual(self.system()["timing"], "wsg50")
+            self.assertTrue(ctl("TIMING=nope").startswith("ERR TIMING"))
+            self.assertEqual(self.system()["timing"], "wsg50")
+            self.assertEqual(ctl("TIMING=ideal"), 'TIMING="ideal"')
+
     def test_uptime_restarts_at_a_power_cycle(self):
         with self.sim.control() as ctl:
             first = self.system()

@@ -254,6 +254,13 @@ typedef struct {
 } pace_result_t;
 void pace_run(const server_t *srv, pace_result_t *r);
 
+/* timing.c: 1,000 POS? on the paused clock under --timing wsg50 and ideal. */
+typedef struct {
+    int requests; /* 0: not run */
+    double wsg50_wall_s, ideal_wall_s;
+    double wsg50_cpu_us, ideal_cpu_us; /* wsgsim's CPU time per request */
+} timing_result_t;
+void timing_run(const char *wsgsim, const char *out, timing_result_t *r);
 /* proxy.c: POS? round trips directly and through the recording proxy, and
  * pipelined polling through it. */
 typedef struct {

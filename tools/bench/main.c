@@ -6,8 +6,8 @@
  *        wsgbench --serve-echo      (the echo baseline alone, for callgrind)
  * --wsgsim-arg appends ARG to every wsgsim command line (e.g. --fingers=none).
  * --only runs one section (instr, web, streams, idle, subscribers, vtime, fleet,
- * scripts, scale, pace, proxy, physics, rtt, load, autosend); the table then leaves out
- * the others. --wsgproxy names the recording proxy (default build/wsgproxy).
+ * scripts, scale, pace, timing, proxy, physics, rtt, load, autosend); the table then leaves
+ * out the others. --wsgproxy names the recording proxy (default build/wsgproxy).
  * --firmware-sizes reads the Cortex-M image sizes `make bench` wrote. */
 #include <errno.h>
 #include <stdio.h>
@@ -99,8 +99,8 @@ static void parse_args(int argc, char **argv, config_t *cfg)
             die("usage: wsgbench [--wsgsim PATH] [--wsgproxy PATH] [--wsgsim-arg ARG]... [--out "
                 "DIR] [--quick] "
                 "[--rtt N] [--only "
-                "instr|web|streams|idle|subscribers|vtime|fleet|scripts|scale|pace|proxy|"
-                "physics|rtt|load|autosend] "
+                "instr|web|streams|idle|subscribers|vtime|fleet|scripts|scale|pace|timing|"
+                "proxy|physics|rtt|load|autosend] "
                 "[--pin same|cross|none] [--firmware-sizes FILE]");
         }
     }
@@ -505,6 +505,10 @@ static void run_own_server_sections(const config_t *cfg, results_t *res)
     }
     if (wanted(cfg, "scale")) {
         run_scale(cfg, res);
+    }
+    if (wanted(cfg, "timing")) {
+        fprintf(stderr, "wsgbench: 1,000 paused-clock requests under wsg50 and ideal\n");
+        timing_run(cfg->wsgsim, cfg->out, &res->timing);
     }
     if (wanted(cfg, "pace")) {
         run_pace(cfg, res);

@@ -389,6 +389,19 @@ static void add_pace(table_t *t, const results_t *res)
     add(t, "  POS? answered meanwhile", "count", (double)p->polls, -1.0);
 }
 
+/* A timing profile's waiting is simulated time, not work. */
+static void add_timing(table_t *t, const results_t *res)
+{
+    const timing_result_t *p = &res->timing;
+    if (p->requests == 0) {
+        return;
+    }
+    row_t *r = add(t, "1,000 paused POS?, --timing wsg50", "s", p->wsg50_wall_s, -1.0);
+    target(r, "< 1 s", p->wsg50_wall_s < 1.0);
+    add(t, "  the same under ideal", "s", p->ideal_wall_s, -1.0);
+    r = add(t, "wsgsim CPU per request, wsg50", "us", p->wsg50_cpu_us, -1.0);
+    target(r, "<= 1.25x ideal", p->wsg50_cpu_us <= 1.25 * p->ideal_cpu_us);
+    add(t, "  the same under ideal", "us", p->ideal_cpu_us, -1.0);
 /* What the recording proxy adds to a round trip, and that it loses nothing. */
 static void add_proxy(table_t *t, const results_t *res)
 {
@@ -441,6 +454,7 @@ static void build(const results_t *res, table_t *t)
     add_scale(t, res);
     add_physics(t, res);
     add_pace(t, res);
+    add_timing(t, res);
     add_proxy(t, res);
 }
 
