@@ -33,8 +33,8 @@ typedef struct {
 typedef struct {
     conn_t *conn;
     wsg_bin_framer_t framer;
-    bool announced;     /* 0x07 answered: E_ACCESS_DENIED until the close */
-    uint8_t pending_id; /* the long command whose final frame is due */
+    bool announced;       /* 0x07 answered: E_ACCESS_DENIED until the close */
+    uint8_t pending_id;   /* the long command whose final frame is due */
     wsg_bin_frame_t held; /* the request waiting for the command processor */
     bin_sub_t subs[BIN_SUB_COUNT];
     wsg_timer_t timer; /* due at the earliest subscription */

@@ -105,6 +105,12 @@ size_t wsg_conn_input(wsg_conn_t *conn, const uint8_t *bytes, size_t len)
     if (c->dev->observers.conn_readers != 0) {
         wsg_conn_show_read(c, bytes, len); /* apart: a read pays one test */
     }
+    return wsg_conn_input_kept(conn, bytes, len);
+}
+
+size_t wsg_conn_input_kept(wsg_conn_t *conn, const uint8_t *bytes, size_t len)
+{
+    conn_t *c = conn_of(conn);
     const wsg_proto_driver_t *drv = c->drv;
     if (drv == NULL) {
         return wsg_conn_input_choosing_driver(conn, bytes, len);

@@ -89,7 +89,7 @@ static void print_simulation(void)
            "                             every request answered at once), wsg50 (the real\n"
            "                             device's, from public figures) or an INI file\n"
            "  --seed N                   seeds every random choice of the run (timing\n"
-           "                             jitter); 0-4294967295, default 1\n"
+           "                             jitter, wire conditions); 0-4294967295, default 1\n"
            "  --record FILE              record every line in and out with timestamps, and\n"
            "                             the device's state while it moves (tools/wsgplot)\n"
            "  --coverage FILE            write a protocol coverage report at exit, with the\n"

@@ -9,6 +9,7 @@
 #include "driver_report_internal.h"
 #include "hal_clock.h"
 #include "wsg/wsg_gcl.h"
+#include "wsg/wsg_timing.h"
 
 /* The binary protocol's frame: preamble, ID, length, then the payload (a
  * reply's starts with its status). */
@@ -308,8 +309,17 @@ static const char *reason_name(wsg_close_reason_t why)
     }
 }
 
-/* The session ends: its last read's requests and its dropped updates are
- * counted, and it joins the ended ones. */
+/* What the command processor made the session's requests wait for. */
+static void take_waits(driver_counts_t *k, const wsg_conn_t *c)
+{
+    wsg_conn_waits_t waits;
+    wsg_conn_waits(c, &waits);
+    k->queued_behind_own = waits.behind_own;
+    k->queued_behind_others = waits.behind_others;
+}
+
+/* The session ends: its last read's requests, its waits and its dropped
+ * updates are counted, and it joins the ended ones. */
 static void end_session(driver_report_t *r, driver_session_t *s, const wsg_conn_t *c,
                         const char *reason)
 {
@@ -318,6 +328,7 @@ static void end_session(driver_report_t *r, driver_session_t *s, const wsg_conn_
     s->closed_us = hal_clock_now_us();
     s->close_reason = reason;
     s->counts.updates_dropped = r->port != NULL ? r->port->updates_dropped(r->port->ctx, c) : 0u;
+    take_waits(&s->counts, c);
     unlink_session(r, s);
     keep_ended(r, s);
     free(s);
@@ -369,6 +380,10 @@ unsigned long driver_counts_of(const driver_counts_t *c, driver_behaviour_t b)
     switch (b) {
     case DRV_PIPELINED:
         return c->pipelined;
+    case DRV_QUEUED_OWN:
+        return c->queued_behind_own;
+    case DRV_QUEUED_OTHERS:
+        return c->queued_behind_others;
     case DRV_POLLED_MOTION:
         return c->polls_in_motion;
     case DRV_REFUSED:
@@ -399,6 +414,8 @@ void driver_counts_add(driver_counts_t *total, const driver_counts_t *part)
     total->peak_per_second = most(total->peak_per_second, part->peak_per_second);
     total->most_in_flight = most(total->most_in_flight, part->most_in_flight);
     total->pipelined += part->pipelined;
+    total->queued_behind_own += part->queued_behind_own;
+    total->queued_behind_others += part->queued_behind_others;
     total->polls_in_motion += part->polls_in_motion;
     for (unsigned code = 0; code < WSG_STATUS_COUNT; code++) {
         total->errors[code] += part->errors[code];
@@ -422,6 +439,7 @@ driver_counts_t driver_live_counts(const driver_report_t *r, const driver_sessio
         count_read(&now, wsg_conn_messages_in(c) - s->seen); /* the last read's */
         now.counts.updates_dropped =
             r->port != NULL ? r->port->updates_dropped(r->port->ctx, c) : 0u;
+        take_waits(&now.counts, c);
     }
     return now.counts;
 }

@@ -16,6 +16,8 @@
 /* The behaviours the report lists, in its order. */
 typedef enum {
     DRV_PIPELINED,        /* requests that arrived before the previous reply went out */
+    DRV_QUEUED_OWN,       /* requests that waited behind the session's own (a timing profile) */
+    DRV_QUEUED_OTHERS,    /* and behind another session's request or stream */
     DRV_POLLED_MOTION,    /* queries of a value while a motion ran */
     DRV_REFUSED,          /* error replies (ERR, an error status) */
     DRV_UNREAD_STREAM,    /* updates dropped: subscribed and not read */
@@ -33,6 +35,8 @@ typedef struct {
     uint32_t peak_per_second; /* the most requests in one second of simulated time */
     uint32_t most_in_flight;  /* the most whole requests that arrived together */
     uint32_t pipelined;
+    uint32_t queued_behind_own; /* wsg_conn_waits(): 0 under the "ideal" timing */
+    uint32_t queued_behind_others;
     uint32_t polls_in_motion;
     uint32_t errors[WSG_STATUS_COUNT];
     uint32_t subscriptions;

@@ -20,6 +20,16 @@ static const behaviour_text_t behaviours[DRV_BEHAVIOURS] = {
     [DRV_PIPELINED] = {"pipelined", "requests sent before the previous reply",
                        "the device's command processor takes them in order, one at a time (a GCL "
                        "query about 13 ms): each waits for those before it"},
+    [DRV_QUEUED_OWN] =
+        {"queued_behind_own", "requests queued behind the client's own",
+         "the command processor serves one request at a time, each for its "
+         "service time (a GCL query about 13 ms, give or take 3): a request sent before the "
+         "reply to the one before waits for it, and so does its reply"},
+    [DRV_QUEUED_OTHERS] = {"queued_behind_others",
+                           "requests queued behind other clients' (or their streams)",
+                           "the device has one command processor for all its connections and "
+                           "interfaces: another client's requests and auto-update streams take "
+                           "their turns first, each about 13 ms"},
     [DRV_POLLED_MOTION] = {"polled_during_motion", "queries polled during a motion",
                            "each query occupies the command processor for its service time and "
                            "delays the STOP or FIN behind it; AUTOSEND or an auto-update stream "
@@ -119,6 +129,8 @@ static void add_counts_json(cJSON *o, const driver_counts_t *c)
     cJSON_AddNumberToObject(o, "peak_requests_per_second", c->peak_per_second);
     cJSON_AddNumberToObject(o, "most_in_flight", c->most_in_flight);
     cJSON_AddNumberToObject(o, "pipelined", c->pipelined);
+    cJSON_AddNumberToObject(o, "queued_behind_own", c->queued_behind_own);
+    cJSON_AddNumberToObject(o, "queued_behind_others", c->queued_behind_others);
     cJSON_AddNumberToObject(o, "polled_during_motion", c->polls_in_motion);
     cJSON_AddNumberToObject(o, "error_replies", (double)driver_counts_errors(c));
     cJSON_AddItemToObject(o, "errors", errors_json(c));

@@ -29,9 +29,11 @@ static const struct {
 
 void wire_spec_off(wire_spec_t *spec)
 {
-    uint64_t seed = spec->seed; /* the seed stays: it is the run's */
+    uint64_t seed = spec->seed; /* a named seed stays: it is the run's */
+    bool seed_set = spec->seed_set;
     memset(spec, 0, sizeof(*spec));
     spec->seed = seed;
+    spec->seed_set = seed_set;
 }
 
 bool wire_spec_active(const wire_spec_t *spec)
@@ -172,7 +174,11 @@ static bool apply_item(wire_spec_t *spec, const char *key, const char *value)
         return read_probability(value, &spec->reorder);
     }
     if (strcasecmp(key, "seed") == 0) {
-        return read_whole(value, UINT64_MAX, &spec->seed);
+        if (!read_whole(value, UINT64_MAX, &spec->seed)) {
+            return false;
+        }
+        spec->seed_set = true;
+        return true;
     }
     return false;
 }

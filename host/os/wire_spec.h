@@ -36,6 +36,7 @@ typedef struct {
     double dup;     /* both ways */
     double reorder; /* what the device sends: held back behind the next */
     uint64_t seed;  /* of every random choice (with the session's stream) */
+    bool seed_set;  /* seed= named it: it wins over the run's --seed */
 } wire_spec_t;
 
 /* No condition: the wire is ideal. */
@@ -45,7 +46,8 @@ bool wire_spec_active(const wire_spec_t *spec);
 /* Applies text to spec: comma-separated items, a preset name (off, rough,
  * split, lossy, slow; only as the first item: it sets every figure first)
  * and KEY=VALUE items (split=N, gap=MS[-MS], coalesce=MS, latency=MS,
- * jitter=MS, reset=MS, loss=P, dup=P, reorder=P, seed=N). On error spec is
+ * jitter=MS, reset=MS, loss=P, dup=P, reorder=P, seed=N: without it the
+ * wires draw from the run's --seed, host/port/wire.c). On error spec is
  * unchanged and why (cap bytes) says what is wrong; false. */
 bool wire_spec_parse(wire_spec_t *spec, const char *text, char *why, size_t cap);
 /* The spec as text wire_spec_parse() reads back to the same figures:

@@ -1,7 +1,6 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 #include "physics_mujoco.h"
 
-#include <dlfcn.h>
 #include <math.h>
 #include <mujoco/mujoco.h>
 #include <stdio.h>
@@ -11,6 +10,7 @@
 
 #include "hal_log.h"
 #include "log.h"
+#include "physics_mujoco_api.h"
 
 /* The gripper model's names (physics/wsg-gripper.xml). */
 #define JOINT_LEFT "wsg_left"
@@ -41,68 +41,6 @@ static bool regular_file(const char *path, char *why, size_t cap)
  * moves: 10 um/s. A part squeezed between the pads creeps at about 2e-6
  * (the soft contacts' drift), which no reading shows within a second. */
 #define QUIET_SPEED 1e-5
-
-/* The engine is loaded when a scene is: a run without one maps none of it
- * (its library and the C++ runtime it needs would double the resident
- * memory of every plain run). The headers are the version's own. */
-#define MUJOCO_LIBRARY "libmujoco.so.2.2.2"
-#define MUJOCO_FUNCTIONS(X)                                                                        \
-    X(mj_contactForce)                                                                             \
-    X(mj_copyModel)                                                                                \
-    X(mj_defaultVFS)                                                                               \
-    X(mj_deleteData)                                                                               \
-    X(mj_deleteModel)                                                                              \
-    X(mj_deleteVFS)                                                                                \
-    X(mj_forward)                                                                                  \
-    X(mj_id2name)                                                                                  \
-    X(mj_loadXML)                                                                                  \
-    X(mj_makeData)                                                                                 \
-    X(mj_makeEmptyFileVFS)                                                                         \
-    X(mj_name2id)                                                                                  \
-    X(mj_resetData)                                                                                \
-    X(mj_step)
-
-#define MUJOCO_FIELD(name) __typeof__(name) *name;
-static struct {
-    MUJOCO_FUNCTIONS(MUJOCO_FIELD)
-    __typeof__(mju_user_warning) *mju_user_warning;
-    __typeof__(mju_user_error) *mju_user_error;
-    void *library;
-} api;
-
-static bool symbol(const char *name, void **out, char *why, size_t cap)
-{
-    *out = dlsym(api.library, name);
-    if (*out == NULL) {
-        snprintf(why, cap, "%s has no %s", MUJOCO_LIBRARY, name);
-    }
-    return *out != NULL;
-}
-
-/* Loads the engine once; false with *why when it cannot be had. */
-static bool load_api(char *why, size_t cap)
-{
-    if (api.library != NULL) {
-        return true;
-    }
-    void *library = dlopen(MUJOCO_LIBRARY, RTLD_NOW | RTLD_LOCAL);
-    if (library == NULL) {
-        snprintf(why, cap, "cannot load MuJoCo (%s; Debian: libmujoco2.2.2): %s", MUJOCO_LIBRARY,
-                 dlerror());
-        return false;
-    }
-    api.library = library;
-    bool ok = true;
-#define MUJOCO_LOAD(name) ok = ok && symbol(#name, (void **)&api.name, why, cap);
-    MUJOCO_FUNCTIONS(MUJOCO_LOAD)
-    ok = ok && symbol("mju_user_warning", (void **)&api.mju_user_warning, why, cap) &&
-         symbol("mju_user_error", (void **)&api.mju_user_error, why, cap);
-    if (!ok) {
-        dlclose(library);
-        api.library = NULL;
-    }
-    return ok;
-}
 
 typedef struct {
     mjModel *m;
@@ -152,16 +90,16 @@ static bool load_model(mujoco_plant_t *p, const char *gripper, const char *scene
         snprintf(why, cap, "out of memory");
         return false;
     }
-    api.mj_defaultVFS(vfs);
-    if (api.mj_makeEmptyFileVFS(vfs, TOP_FILE, len) != 0) {
+    physics_mj.mj_defaultVFS(vfs);
+    if (physics_mj.mj_makeEmptyFileVFS(vfs, TOP_FILE, len) != 0) {
         free(vfs);
         snprintf(why, cap, "out of memory");
         return false;
     }
     memcpy(vfs->filedata[vfs->nfile - 1], top, (size_t)len);
     char err[1000] = "";
-    p->m = api.mj_loadXML(TOP_FILE, vfs, err, sizeof(err));
-    api.mj_deleteVFS(vfs);
+    p->m = physics_mj.mj_loadXML(TOP_FILE, vfs, err, sizeof(err));
+    physics_mj.mj_deleteVFS(vfs);
     free(vfs);
     if (p->m == NULL) {
         snprintf(why, cap, "%s", err);
@@ -172,7 +110,7 @@ static bool load_model(mujoco_plant_t *p, const char *gripper, const char *scene
 
 static int id_of(const mjModel *m, int type, const char *name, char *why, size_t cap)
 {
-    int id = api.mj_name2id(m, type, name);
+    int id = physics_mj.mj_name2id(m, type, name);
     if (id < 0) {
         snprintf(why, cap, "the gripper model has no \"%s\"", name);
     }
@@ -227,13 +165,13 @@ static void set_stroke(mujoco_plant_t *p, float stroke_mm)
 static void mujoco_reset(void *ctx, float width_mm)
 {
     mujoco_plant_t *p = ctx;
-    api.mj_copyModel(p->m, p->loaded); /* masses and frictions as loaded */
-    api.mj_resetData(p->m, p->d);
+    physics_mj.mj_copyModel(p->m, p->loaded); /* masses and frictions as loaded */
+    physics_mj.mj_resetData(p->m, p->d);
     p->d->qpos[p->qpos_left] = width_mm * 0.5e-3;
     p->d->qpos[p->qpos_right] = width_mm * 0.5e-3;
     memset(p->mocap_vel, 0, sizeof(p->mocap_vel));
     p->time_us = 0u;
-    api.mj_forward(p->m, p->d);
+    physics_mj.mj_forward(p->m, p->d);
 }
 
 static uint32_t mujoco_timestep_us(void *ctx)
@@ -364,7 +302,7 @@ static void mujoco_step(void *ctx, const plant_drive_t *drive, uint32_t dt_us, p
     bool quiet = true;
     for (uint32_t t = 0; t < dt_us; t += p->timestep_us) {
         move_base(p);
-        api.mj_step(p->m, p->d);
+        physics_mj.mj_step(p->m, p->d);
         quiet = quiet && all_quiet(p);
     }
     p->time_us += dt_us;
@@ -408,7 +346,7 @@ static bool mujoco_body(void *ctx, unsigned index, plant_body_t *out)
         return false;
     }
     int b = (int)index;
-    const char *name = api.mj_id2name(m, mjOBJ_BODY, b);
+    const char *name = physics_mj.mj_id2name(m, mjOBJ_BODY, b);
     snprintf(out->name, sizeof(out->name), "%s", name != NULL ? name : "");
     memcpy(out->pos_m, &p->d->xpos[3 * b], sizeof(out->pos_m));
     memcpy(out->quat, &p->d->xquat[4 * b], sizeof(out->quat));
@@ -433,7 +371,7 @@ static unsigned mujoco_contacts(void *ctx, plant_contact_t *out, unsigned cap)
     for (unsigned i = 0; i < n && i < cap; i++) {
         const mjContact *con = &p->d->contact[i];
         mjtNum f[6];
-        api.mj_contactForce(p->m, p->d, (int)i, f);
+        physics_mj.mj_contactForce(p->m, p->d, (int)i, f);
         out[i].body[0] = (unsigned)p->m->geom_bodyid[con->geom1];
         out[i].body[1] = (unsigned)p->m->geom_bodyid[con->geom2];
         memcpy(out[i].pos_m, con->pos, sizeof(out[i].pos_m));
@@ -485,7 +423,7 @@ static plant_err_t set_motion(mujoco_plant_t *p, int b, plant_set_t what, const 
     } else {
         return PLANT_ERR_FIXED;
     }
-    api.mj_forward(p->m, p->d);
+    physics_mj.mj_forward(p->m, p->d);
     return PLANT_OK;
 }
 
@@ -553,9 +491,9 @@ static plant_err_t mujoco_set(void *ctx, unsigned index, plant_set_t what, const
 static void mujoco_destroy(void *ctx)
 {
     mujoco_plant_t *p = ctx;
-    api.mj_deleteData(p->d);
-    api.mj_deleteModel(p->m);
-    api.mj_deleteModel(p->loaded);
+    physics_mj.mj_deleteData(p->d);
+    physics_mj.mj_deleteModel(p->m);
+    physics_mj.mj_deleteModel(p->loaded);
     free(p);
 }
 
@@ -574,11 +512,11 @@ static const plant_ops_t mujoco_ops = {
 bool physics_mujoco_open(plant_t *plant, const char *model_dir, const char *scene_file,
                          float stroke_mm, float width_mm, char *why, size_t cap)
 {
-    if (!load_api(why, cap)) {
+    if (!physics_mujoco_load(why, cap)) {
         return false;
     }
-    *api.mju_user_warning = log_warning;
-    *api.mju_user_error = fatal_error;
+    *physics_mj.mju_user_warning = log_warning;
+    *physics_mj.mju_user_error = fatal_error;
     char gripper[4096], scene[4096];
     snprintf(gripper, sizeof(gripper), "%s/%s", model_dir, PHYSICS_GRIPPER_FILE);
     if (scene_file == NULL) {
@@ -596,13 +534,13 @@ bool physics_mujoco_open(plant_t *plant, const char *model_dir, const char *scen
         return false;
     }
     if (!load_model(p, gripper, scene, why, cap) || !find_parts(p, why, cap) ||
-        (p->d = api.mj_makeData(p->m)) == NULL) {
-        api.mj_deleteModel(p->m);
+        (p->d = physics_mj.mj_makeData(p->m)) == NULL) {
+        physics_mj.mj_deleteModel(p->m);
         free(p);
         return false;
     }
     set_stroke(p, stroke_mm);
-    p->loaded = api.mj_copyModel(NULL, p->m);
+    p->loaded = physics_mj.mj_copyModel(NULL, p->m);
     if (p->loaded == NULL) {
         mujoco_destroy(p);
         snprintf(why, cap, "out of memory");

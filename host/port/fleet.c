@@ -58,6 +58,7 @@ bool fleet_start(fleet_t *fleet, const host_options_t *opts)
     }
     fleet->opts = opts;
     fleet->wires.all = opts->net;
+    fleet->wires.run_seed = opts->seed;
     fleet->servers_due_us = 0; /* asked at the first pass */
     fleet->plan = (port_plan_t){opts->tcp_port,        opts->udp_port,
                                 opts->binary_udp_port, opts->binary_udp_reply_port,

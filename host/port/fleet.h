@@ -120,6 +120,8 @@ bool fleet_cut(fleet_t *fleet, const wsg_conn_t *conn);
 bool fleet_set_net(fleet_t *fleet, const wsg_conn_t *conn, const wire_spec_t *spec);
 /* The conditions a new session gets. */
 const wire_spec_t *fleet_net(const fleet_t *fleet);
+/* The seed the run's conditions draw from: their seed=, or --seed. */
+uint64_t fleet_net_seed(const fleet_t *fleet);
 /* The wire of the session conn (NULL: none: it has no conditions). */
 const wire_t *fleet_session_wire(const fleet_t *fleet, const wsg_conn_t *conn);
 /* The peer ("ADDR:PORT") that carries this session, or NULL. */

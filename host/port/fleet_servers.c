@@ -186,6 +186,11 @@ const wire_spec_t *fleet_net(const fleet_t *fleet)
     return &fleet->wires.all;
 }
 
+uint64_t fleet_net_seed(const fleet_t *fleet)
+{
+    return wire_set_seed(&fleet->wires, &fleet->wires.all);
+}
+
 const wire_t *fleet_session_wire(const fleet_t *fleet, const wsg_conn_t *conn)
 {
     const wire_t *w = tcp_server_wire(&fleet->tcp_set, conn);

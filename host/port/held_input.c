@@ -63,7 +63,7 @@ void held_input_feed(held_input_t *h, wsg_conn_t *c)
     while (h->len > 0 && wsg_conn_is_open(c) && !wsg_conn_request_waits(c)) {
         bool datagram = h->ends != NULL && h->count > 0;
         size_t len = datagram ? h->ends[0] : h->len;
-        size_t taken = wsg_conn_input(c, h->bytes, len);
+        size_t taken = wsg_conn_input_kept(c, h->bytes, len); /* no new read */
         bool whole = taken == len;
         if (datagram && whole) {
             wsg_conn_end_datagram(c);

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* A TCP server's connection: tcp_server.c's and its helpers' own (the
- * stalled-slot rule, tcp_stall.c); nothing else includes it. */
+ * stalled-slot rule, tcp_stall.c; accepting, tcp_accept.c); nothing else includes it. */
 #ifndef HOST_TCP_CLIENT_H
 #define HOST_TCP_CLIENT_H
 
@@ -39,5 +39,11 @@ struct tcp_client {
 /* The stalled connection of s that completed a command longest ago (none
  * for grace_us, and stuck inside one or none completed), or NULL. */
 tcp_client_t *tcp_stalled_connection(const tcp_server_t *s, uint64_t grace_us);
+
+/* A new connection c on fd from peer ss (tcp_accept.c): its socket's
+ * options, its session, its wire; false when it cannot be had. */
+bool tcp_client_setup(tcp_client_t *c, int fd, const struct sockaddr_storage *ss);
+/* Closes c now and frees it (logged, its session closed). */
+void tcp_client_close(tcp_client_t *c);
 
 #endif

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "hal_clock.h"
+#include "run_seed.h"
 
 /* What a wire may hold: past it the messages leave at once, in order (a
  * client that stopped reading meets its port's own limit instead). */
@@ -83,6 +84,11 @@ static void unlink_wire(wire_t *w)
     }
 }
 
+uint64_t wire_set_seed(const wire_set_t *set, const wire_spec_t *spec)
+{
+    return spec->seed_set ? spec->seed : set->run_seed;
+}
+
 wire_t *wire_open(wire_set_t *set, const wire_spec_t *spec, uint64_t stream, bool datagram,
                   const wire_port_t *port, void *ctx)
 {
@@ -99,7 +105,11 @@ wire_t *wire_open(wire_set_t *set, const wire_spec_t *spec, uint64_t stream, boo
     w->port = port;
     w->ctx = ctx;
     w->reset_at_us = UINT64_MAX;
-    wire_rng_seed(&w->rng, spec->seed, stream);
+    if (spec->seed_set) {
+        wire_rng_seed(&w->rng, spec->seed, stream);
+    } else { /* the run's stream for wires, so --seed seeds every choice */
+        w->rng.state = run_seed_stream(set->run_seed, RUN_SEED_WIRE, stream);
+    }
     if (!datagram && spec->reset_us > 0u) {
         w->reset_at_us = hal_clock_now_us() + wire_rng_range(&w->rng, 1u, spec->reset_us);
         note_due(w, w->reset_at_us);

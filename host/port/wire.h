@@ -26,6 +26,7 @@ typedef struct wire wire_t;
  * wire_set_init(). */
 typedef struct {
     wire_spec_t all;        /* every session's, unless NET gave it its own */
+    uint32_t run_seed;      /* --seed: a spec without seed= draws from it */
     list_t holding;         /* of wire_t with messages held */
     uint64_t due_us;        /* the earliest held message's instant, or UINT64_MAX */
     bool *deadline_lowered; /* set when due_us moves earlier (the owner asks again) */
@@ -55,6 +56,8 @@ typedef struct {
 } wire_stats_t;
 
 void wire_set_init(wire_set_t *set, bool *deadline_lowered);
+/* The seed the wires of spec draw from: its seed= item, or the run's. */
+uint64_t wire_set_seed(const wire_set_t *set, const wire_spec_t *spec);
 /* A session's wire under spec (NULL: none needed, or out of memory).
  * stream: the session's number in the run (device and session id), for
  * its random choices; datagram: UDP. A TCP wire's reset comes within

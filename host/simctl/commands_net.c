@@ -53,7 +53,7 @@ static wsg_status_t net_query(simctl_ctx_t *ctx)
     wire_spec_format(all, text, sizeof(text));
     cJSON *j = cJSON_CreateObject();
     cJSON_AddStringToObject(j, "all", text);
-    cJSON_AddNumberToObject(j, "seed", (double)all->seed);
+    cJSON_AddNumberToObject(j, "seed", (double)fleet_net_seed(simctl_fleet(ctx->ctl)));
     cJSON_AddItemToObject(j, "sessions", sessions_json(ctx));
     sc_reply_json(ctx, j);
     return E_SUCCESS;

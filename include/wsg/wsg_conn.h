@@ -95,6 +95,10 @@ void wsg_conn_open(wsg_conn_t *c, wsg_device_t *dev, const wsg_proto_driver_t *d
  * for the command processor, and the port keeps the rest (and stops
  * reading the socket) until the io's resume() hook. */
 size_t wsg_conn_input(wsg_conn_t *c, const uint8_t *bytes, size_t len);
+/* wsg_conn_input() for bytes the port kept back and feeds again after the
+ * io's resume() hook: the same, but no new read for the connection
+ * observers (they saw these bytes in the read that brought them). */
+size_t wsg_conn_input_kept(wsg_conn_t *c, const uint8_t *bytes, size_t len);
 /* A datagram ends any message it left open (UDP clients may omit the '\n'). */
 void wsg_conn_end_datagram(wsg_conn_t *c);
 /* True once the protocol said goodbye: the port closes after flushing. */

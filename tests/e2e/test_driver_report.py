@@ -20,9 +20,10 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import wsgbinproto as wb  # noqa: E402
 
 E_SUCCESS, E_ALREADY_RUNNING, E_ACCESS_DENIED, E_CMD_PENDING = 0, 4, 16, 26
-BEHAVIOURS = ["pipelined", "polled_during_motion", "refused", "unread_stream_updates",
+BEHAVIOURS = ["pipelined", "queued_behind_own", "queued_behind_others", "polled_during_motion", "refused", "unread_stream_updates",
               "closed_without_goodbye", "partial_at_close", "reconnects", "fast_stops_caused"]
 COUNTS = ["requests", "peak_requests_per_second", "most_in_flight", "pipelined",
+          "queued_behind_own", "queued_behind_others",
           "polled_during_motion", "error_replies", "subscriptions", "unread_stream_updates",
           "fast_stop_commands", "fast_stop_on_close", "closed_without_goodbye",
           "partial_at_close", "reconnects"]
@@ -180,7 +181,8 @@ class GclClient(DriverReportCase):
 
         live = self.driver()
         counts = {b["behaviour"]: (b["count"], b["sessions"]) for b in live["behaviours"]}
-        self.assertEqual(counts, {"pipelined": (2, 1), "polled_during_motion": (3, 1),
+        self.assertEqual(counts, {"pipelined": (2, 1), "queued_behind_own": (0, 0),
+                                  "queued_behind_others": (0, 0), "polled_during_motion": (3, 1),
                                   "refused": (3, 2), "unread_stream_updates": (0, 0),
                                   "closed_without_goodbye": (1, 1), "partial_at_close": (1, 1),
                                   "reconnects": (1, 1), "fast_stops_caused": (1, 1)})
@@ -199,6 +201,32 @@ class GclClient(DriverReportCase):
                      "FAST STOPs caused (closes, FASTSTOP commands): 1 in 1 sessions"):
             self.assertIn(line, log)
         self.assertIn("driver report: 2 sessions (0 open), 14 requests", log)
+
+    def test_a_pipelining_client_under_a_timing_profile(self):
+        """Under --timing wsg50 the port holds a pipelined request's
+        followers and feeds them in as the processor frees: they are still
+        the one read the client made, and each waited behind its own."""
+        self.start("--timing", "wsg50")
+        gcl = self.sim.tcp()
+        port = gcl.sock.getsockname()[1]
+        gcl.send_raw(b"POS?\nPOS?\nPOS?\nPOS?\n")  # four in one write
+        self.ctl.step(200)  # each about 13 ms of the processor
+        self.assertEqual([gcl.read_line() for _ in range(4)], ["POS=55.0"] * 4)
+        live = self.session(self.driver(), port)
+        self.assertEqual((live["requests"], live["pipelined"], live["most_in_flight"]), (4, 3, 4))
+        self.assertEqual((live["queued_behind_own"], live["queued_behind_others"]), (3, 0))
+        gcl.send_raw(b"POS?\nPOS?\n")  # two more in one write
+        self.ctl.step(200)
+        self.assertEqual([gcl.read_line() for _ in range(2)], ["POS=55.0"] * 2)
+        gcl.send("BYE()")
+        self.ctl.step(100)
+        self.assertEqual(gcl.read_line(), "ACK BYE")
+        ended = self.ended(port)
+        self.assertEqual((ended["requests"], ended["pipelined"], ended["most_in_flight"]),
+                         (7, 4, 4))
+        self.assertEqual((ended["queued_behind_own"], ended["queued_behind_others"]), (4, 0))
+        driver, log = self.stop_and_read()
+        self.assertIn("requests queued behind the client's own: 4 in 1 sessions", log)
 
     def test_a_session_open_at_exit_is_no_drop(self):
         self.start()

@@ -202,10 +202,13 @@ class TcpReset(WireBase):
 
 
 class UdpConditions(WireBase):
-    def udp_round(self, seed, count=120):
-        """count queries over UDP under loss, duplication and reordering;
+    def udp_round(self, seed=None, count=120, run_seed=None):
+        """count queries over UDP under loss, duplication and reordering
+        (their seed= item seed, None: none; the run's --seed run_seed);
         (answers in arrival order, the wire's counts)."""
-        sim = self.start(paused=True, net="loss=0.2,dup=0.2,reorder=0.2,seed=%d" % seed)
+        net = "loss=0.2,dup=0.2,reorder=0.2" + ("" if seed is None else ",seed=%d" % seed)
+        args = () if run_seed is None else ("--seed", str(run_seed))
+        sim = self.start(*args, paused=True, net=net)
         ctl = self.control(sim)
         sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         self.addCleanup(sock.close)
@@ -235,6 +238,21 @@ class UdpConditions(WireBase):
         self.assertEqual(again[1:], (answers, stats))
         other = self.udp_round(seed=8)
         self.assertNotEqual(other[2], stats)
+
+    def test_the_runs_seed_seeds_the_wire_unless_the_conditions_name_one(self):
+        first = self.udp_round(run_seed=5)
+        self.assertEqual(self.udp_round(run_seed=5), first)
+        self.assertNotEqual(self.udp_round(run_seed=6)[1:], first[1:])
+        named = self.udp_round(seed=7, run_seed=5)
+        self.assertEqual(self.udp_round(seed=7, run_seed=6), named)
+        self.assertNotEqual(named[1:], first[1:])
+
+    def test_net_query_shows_the_seed_the_wires_draw_from(self):
+        sim = self.start("--seed", "42", net="loss=0.1", control=True)
+        ctl = self.control(sim)
+        self.assertEqual(ctl.json("NET?")["seed"], 42)
+        ctl('NET("seed=9")')
+        self.assertEqual(ctl.json("NET?")["seed"], 9)
 
 
 class ClientsUnderRough(WireBase):
