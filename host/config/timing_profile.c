@@ -1,6 +1,8 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 #include "timing_profile.h"
 
+#include "data_dir.h"
+
 #include <fcntl.h>
 #include <ini.h>
 #include <limits.h>
@@ -103,20 +105,7 @@ static bool is_name(const char *spec)
 
 void timing_profile_dir(char *dir, size_t cap)
 {
-    char exe[PATH_MAX];
-    ssize_t n = readlink("/proc/self/exe", exe, sizeof(exe) - 1);
-    char *slash = NULL;
-    if (n > 0) {
-        exe[n] = '\0';
-        slash = strrchr(exe, '/');
-    }
-    if (slash != NULL) {
-        *slash = '\0';
-        snprintf(dir, cap, "%s/../profiles/timing", exe); /* the build tree: build/wsgsim */
-    }
-    if (slash == NULL || access(dir, R_OK) != 0) {
-        snprintf(dir, cap, "%s", WSGSIM_TIMING_DIR);
-    }
+    data_dir_find("profiles/timing", "wsg50.ini", WSGSIM_TIMING_DIR, dir, cap);
 }
 
 /* A regular file of at most PROFILE_MAX_BYTES, opened without blocking: a

@@ -7,34 +7,17 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "data_dir.h"
 #include "physics_mujoco.h"
 
 #ifndef WSGSIM_PHYSICS_DIR
 #define WSGSIM_PHYSICS_DIR "/usr/share/wsgsim/physics"
 #endif
 
-static bool has_model(const char *dir)
-{
-    char path[PATH_MAX];
-    int len = snprintf(path, sizeof(path), "%s/%s", dir, PHYSICS_GRIPPER_FILE);
-    return len > 0 && (size_t)len < sizeof(path) && access(path, R_OK) == 0;
-}
-
-/* The build tree's physics/ (the program in build/, a test's in a folder
- * of build/ or of build/san/), else the installed folder. */
+/* The build tree's physics/, else the installed folder. */
 static void model_dir(char *out, size_t cap)
 {
-    static const char *const up[] = {"..", "../..", "../../.."};
-    char exe[PATH_MAX];
-    ssize_t len = readlink("/proc/self/exe", exe, sizeof(exe) - 1u);
-    char *slash = len > 0 ? memrchr(exe, '/', (size_t)len) : NULL;
-    for (unsigned i = 0; slash != NULL && i < sizeof(up) / sizeof(up[0]); i++) {
-        int n = snprintf(out, cap, "%.*s/%s/physics", (int)(slash - exe), exe, up[i]);
-        if (n > 0 && (size_t)n < cap && has_model(out)) {
-            return;
-        }
-    }
-    snprintf(out, cap, "%s", WSGSIM_PHYSICS_DIR);
+    data_dir_find("physics", PHYSICS_GRIPPER_FILE, WSGSIM_PHYSICS_DIR, out, cap);
 }
 
 physics_world_t *physics_setup_open(const char *scene_file, float stroke_mm,
