@@ -169,8 +169,10 @@ class PacedTwin(unittest.TestCase):
         cls.probed = write(os.path.join(cls.tmp, "probed.ini"), PROBED)
         cls.config = os.path.join(cls.tmp, "fit.ini")
         cls.timing = os.path.join(cls.tmp, "timing.ini")
-        cls.fit = run(FIT + [cls.record, "--config", cls.probed, "--out-config", cls.config,
-                             "--out-timing", cls.timing])
+        # the client's own record (wsgcalib --record, on the simulated
+        # clock) holds when each request left; wsgsim's records it as served
+        cls.fit = run(FIT + [cls.record + ".client", "--config", cls.probed, "--out-config",
+                             cls.config, "--out-timing", cls.timing])
 
     @classmethod
     def tearDownClass(cls):
@@ -186,8 +188,9 @@ class PacedTwin(unittest.TestCase):
 
     def test_check_with_the_fitted_files(self):
         self.assertEqual(self.fit.returncode, 0, self.fit.stderr)
-        result = run(CHECK + [self.record, "--wsgsim", WSGSIM, "--config", self.config,
-                              "--timing", self.timing, "--seed", "11"])
+        result = run(CHECK + [self.record + ".client", "--wsgsim", WSGSIM, "--config",
+                              self.config, "--timing", self.timing, "--seed", "11",
+                              "--events", self.record + ".events"])
         self.assertIn(" 0 text mismatches", result.stdout, result.stdout + result.stderr)
         self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
 
