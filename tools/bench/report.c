@@ -402,6 +402,8 @@ static void add_timing(table_t *t, const results_t *res)
     r = add(t, "wsgsim CPU per request, wsg50", "us", p->wsg50_cpu_us, -1.0);
     target(r, "<= 1.25x ideal", p->wsg50_cpu_us <= 1.25 * p->ideal_cpu_us);
     add(t, "  the same under ideal", "us", p->ideal_cpu_us, -1.0);
+}
+
 /* What the recording proxy adds to a round trip, and that it loses nothing. */
 static void add_proxy(table_t *t, const results_t *res)
 {

@@ -53,11 +53,9 @@ typedef struct {
     bool firmware_read;     /* --firmware-sizes given */
     int firmware_count;
     firmware_size_t firmware[FIRMWARE_IMAGES_MAX];
-    scale_result_t scale;   /* the scaled clock's rate; rate 0: not run */
-    pace_result_t pace;     /* a MOVE's wall time under a POS? flood */
-    timing_result_t timing; /* requests under a timing profile */
     scale_result_t scale;     /* the scaled clock's rate; rate 0: not run */
     pace_result_t pace;       /* a MOVE's wall time under a POS? flood */
+    timing_result_t timing;   /* requests under a timing profile */
     proxy_result_t proxy;     /* what the recording proxy adds */
     physics_result_t physics; /* the default physics scene */
 } results_t;
