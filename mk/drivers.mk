@@ -52,7 +52,7 @@ drivers-run: $(BUILD)/wsgsim
 # failure of the target.
 ## every driver mode under each wsgsim option set (DRIVERS_BENCH_SETS), as a table
 drivers-bench: $(BUILD)/wsgsim
-	@IFS=,; for set in $(DRIVERS_BENCH_SETS); do \
+	@sets='$(DRIVERS_BENCH_SETS)'; IFS=,; for set in $$sets; do \
 		echo "== wsgsim $$set"; \
 		IFS=' '; tools/drivers/run_driver.py all --table --seconds $(DRIVER_SECONDS) \
 			--drivers $(DRIVERS_DIR) --wsgsim $(BUILD)/wsgsim -- $$set || true; \

@@ -11,7 +11,7 @@ Options for the device, from the closest of:
     Wsgsim keywords:
         @pytest.mark.parametrize("wsgsim", [["--model", "WSG 25"]], indirect=True)
 timing="wsg50" runs the device at the real gripper's pace (its requests
-served one at a time, about 13 ms each: docs/timing.md), seed=N seeds its
+served one at a time, about 15 ms each: docs/timing.md), seed=N seeds its
 jitter: @pytest.mark.wsgsim(timing="wsg50", paused=True).
 paused=True starts the simulated clock paused at 0 with the control channel
 open: wsgsim.control().step(100) advances it by 100 ms, so a test asserts on

@@ -28,6 +28,17 @@ HIDDEN = {"speed_limit": 380.0, "acceleration_scale": 0.8, "homing_speed": 40.0,
           "block_detect_time": 30.0, "home_block_detect_time": 80.0}
 PROBED = "[device]\nmodel = WSG 50-110\n[motion]\ndefault_acceleration = 5000\n"
 HIDDEN_INI = PROBED + "[mechanics]\n" + "".join("%s = %g\n" % kv for kv in HIDDEN.items())
+# another hidden gripper: other mechanics, and a pace of its own (a [timing]
+# file wsgsim gets with --timing, its jitter seeded with --seed)
+PACED = {"speed_limit": 320.0, "acceleration_scale": 0.7, "homing_speed": 55.0,
+         "force_rise": 450.0, "fast_stop_deceleration": 6000.0, "settle_time": 20.0,
+         "block_detect_time": 25.0, "home_block_detect_time": 70.0}
+PACED_INI = PROBED + "[mechanics]\n" + "".join("%s = %g\n" % kv for kv in PACED.items())
+PACED_TIMING = {"query_ms": 11.3, "motion_ms": 17.6, "setting_ms": 8.4}
+PACED_TIMING_INI = ("[timing]\n" + "".join("%s = %g\n" % kv for kv in PACED_TIMING.items())
+                    + "query_spread_ms = 2\nmotion_spread_ms = 2\nsetting_spread_ms = 2\n"
+                    "script_ms = 40\nscript_spread_ms = 7\nstream_frame_ms = 2.4\n"
+                    "update_floor_ms = 5\n")
 
 
 def write(path, text):
@@ -36,12 +47,13 @@ def write(path, text):
     return path
 
 
-def calibrate(tmp, config_text, record_name="rec.txt"):
-    """wsgcalib, unattended, against a wsgsim configured by config_text;
-    the record's path."""
+def calibrate(tmp, config_text, record_name="rec.txt", options=()):
+    """wsgcalib, unattended, against a wsgsim configured by config_text (and
+    given options); the record's path."""
     record = os.path.join(tmp, record_name)
     config = write(os.path.join(tmp, "hidden.ini"), config_text)
-    with Wsgsim("--config", config, "--record", record, binary=WSGSIM, paused=True) as sim:
+    with Wsgsim("--config", config, "--record", record, *options, binary=WSGSIM,
+                paused=True) as sim:
         result = run(CALIB + ["127.0.0.1:%d" % sim.tcp_port, "--control",
                               "127.0.0.1:%d" % sim.sim_port, "--events", record + ".events",
                               "--record", record + ".client"])
@@ -61,6 +73,19 @@ def fitted(text):
             except ValueError:
                 values[key] = value
     return values
+
+
+def assert_mechanics(test, config, hidden):
+    """The fitted configuration holds the hidden mechanics: acceleration,
+    top and homing speed within 5 %, force rise within 10 %."""
+    with open(config) as f:
+        got = fitted(f.read())
+    test.assertEqual(got["model"], "WSG 50-110")
+    for key, within in (("acceleration_scale", 0.05), ("speed_limit", 0.05),
+                        ("homing_speed", 0.05), ("force_rise", 0.10),
+                        ("fast_stop_deceleration", 0.05)):
+        test.assertAlmostEqual(got[key], hidden[key], delta=within * hidden[key], msg=key)
+    return got
 
 
 class Twin(unittest.TestCase):
@@ -104,19 +129,8 @@ class Twin(unittest.TestCase):
         self.assertEqual(result.returncode, 0, result.stderr)
         self.assert_recovered(config)
 
-    def assert_recovered(self, config):
-        with open(config) as f:
-            got = fitted(f.read())
-        self.assertEqual(got["model"], "WSG 50-110")
-        # acceleration, top and homing speed within 5 %, force rise within 10 %
-        self.assertAlmostEqual(got["acceleration_scale"], HIDDEN["acceleration_scale"],
-                               delta=0.05 * HIDDEN["acceleration_scale"])
-        for key in ("speed_limit", "homing_speed"):
-            self.assertAlmostEqual(got[key], HIDDEN[key], delta=0.05 * HIDDEN[key], msg=key)
-        self.assertAlmostEqual(got["force_rise"], HIDDEN["force_rise"],
-                               delta=0.10 * HIDDEN["force_rise"])
-        self.assertAlmostEqual(got["fast_stop_deceleration"], HIDDEN["fast_stop_deceleration"],
-                               delta=0.05 * HIDDEN["fast_stop_deceleration"])
+    def assert_recovered(self, config, hidden=HIDDEN):
+        assert_mechanics(self, config, hidden)
 
     def test_check_passes_with_the_fit_and_not_without(self):
         self.assertEqual(self.fit.returncode, 0, self.fit.stderr)
@@ -139,6 +153,46 @@ class Twin(unittest.TestCase):
         self.assertEqual(plain.returncode, 1, plain.stdout + plain.stderr)
         self.assertIn("mismatch: ", plain.stdout)
         self.assertIn("did not pass", plain.stdout)
+
+
+class PacedTwin(unittest.TestCase):
+    """The hidden gripper with a pace of its own: the fit recovers each
+    command kind's latency within 1 ms, and wsgsim with the fitted files
+    answers the recorded sequence without a text mismatch."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp(prefix="wsgtwin-paced-")
+        hidden_timing = write(os.path.join(cls.tmp, "hidden-timing.ini"), PACED_TIMING_INI)
+        cls.record = calibrate(cls.tmp, PACED_INI,
+                               options=("--timing", hidden_timing, "--seed", "11"))
+        cls.probed = write(os.path.join(cls.tmp, "probed.ini"), PROBED)
+        cls.config = os.path.join(cls.tmp, "fit.ini")
+        cls.timing = os.path.join(cls.tmp, "timing.ini")
+        # the client's own record (wsgcalib --record, on the simulated
+        # clock) holds when each request left; wsgsim's records it as served
+        cls.fit = run(FIT + [cls.record + ".client", "--config", cls.probed, "--out-config",
+                             cls.config, "--out-timing", cls.timing])
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.tmp)
+
+    def test_fit_recovers_the_hidden_latency_and_mechanics(self):
+        self.assertEqual(self.fit.returncode, 0, self.fit.stderr)
+        with open(self.timing) as f:
+            timing = fitted(f.read())
+        for key, truth in PACED_TIMING.items():
+            self.assertAlmostEqual(timing[key], truth, delta=1.0, msg=key)
+        assert_mechanics(self, self.config, PACED)
+
+    def test_check_with_the_fitted_files(self):
+        self.assertEqual(self.fit.returncode, 0, self.fit.stderr)
+        result = run(CHECK + [self.record + ".client", "--wsgsim", WSGSIM, "--config",
+                              self.config, "--timing", self.timing, "--seed", "11",
+                              "--events", self.record + ".events"])
+        self.assertIn(" 0 text mismatches", result.stdout, result.stdout + result.stderr)
+        self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
 
 
 class BadInput(unittest.TestCase):

@@ -6,8 +6,10 @@ probe's file answers every probed query byte for byte as the gripper did,
 probed directly and through the recording proxy. A device that does not
 answer, answers garbage or cuts its reply short, and a bad argument, each
 give one line on stderr, exit status 2 and no file (an old one untouched)."""
+import math
 import os
 import socket
+import struct
 import subprocess
 import tempfile
 import threading
@@ -200,6 +202,54 @@ class FakeDevice:
             c.close()
 
 
+class ScriptedDevice:
+    """A TCP server that answers each GCL query line with gcl[query] and
+    each binary request frame with binary[ID] (a whole frame)."""
+
+    def __init__(self, gcl, binary):
+        self.gcl, self.binary = gcl, binary
+        self.server = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+        self.server.bind(("127.0.0.1", 0))
+        self.server.listen(4)
+        self.port = self.server.getsockname()[1]
+        self.clients = []
+        threading.Thread(target=self.serve, daemon=True).start()
+
+    def serve(self):
+        while True:
+            try:
+                client, _ = self.server.accept()
+            except OSError:
+                return
+            self.clients.append(client)
+            threading.Thread(target=self.answer, args=(client,), daemon=True).start()
+
+    def answer(self, client):
+        buffer, deframer, binary = b"", wb.Deframer(), None
+        try:
+            while True:
+                data = client.recv(4096)
+                if not data:
+                    return
+                if binary is None:  # the protocol: the connection's first byte
+                    binary = data[:1] == b"\xaa"
+                if binary:
+                    for frame in deframer.feed(data):
+                        client.sendall(self.binary.get(frame.id, b""))
+                    continue
+                buffer += data
+                while b"\n" in buffer:
+                    line, buffer = buffer.split(b"\n", 1)
+                    client.sendall(self.gcl.get(line, b""))
+        except OSError:
+            pass
+
+    def close(self):
+        self.server.close()
+        for c in self.clients:
+            c.close()
+
+
 class ProbeRefusesBadDevices(unittest.TestCase):
     def setUp(self):
         self.folder = tempfile.TemporaryDirectory(prefix="wsgprobe-")
@@ -236,6 +286,42 @@ class ProbeRefusesBadDevices(unittest.TestCase):
         self.assert_refused(self.probe_fake(b"\x01\x02\x03\x04\x05\x06\x07\x08\x09\n", False,
                                             "--protocol", "binary"),
                             "no binary frame")
+
+    def gripper_answers(self):
+        """A real gripper's answers: {query line: reply line}, {ID: frame}."""
+        sim = Wsgsim()
+        sim.start()
+        try:
+            lines, frames = answers(sim.tcp_port)
+        finally:
+            sim.stop()
+        return ({q: line + b"\n" for q, line in zip(GCL_QUERIES, lines)},
+                {i: frames[i] for i in BIN_QUERIES})
+
+    def probe_scripted(self, gcl, binary, protocol):
+        device = ScriptedDevice(gcl, binary)
+        self.addCleanup(device.close)
+        return run_probe("--host", "127.0.0.1", "--port", str(device.port), "-o", self.out,
+                         "--protocol", protocol)
+
+    def test_a_number_that_is_nan_or_inf(self):
+        gcl, binary = self.gripper_answers()
+        as_it_is = self.probe_scripted(gcl, binary, "both")
+        self.assertEqual(0, as_it_is.returncode, as_it_is.stderr)
+        with open(self.out, "w") as f:
+            f.write("; the user's own file\n")
+        for query, reply in ((b"PWT?", b"PWT=nan\n"), (b"CLT?", b"CLT=inf\n"),
+                             (b"CLT?", b"CLT=-inf\n")):
+            with self.subTest(reply=reply):
+                self.assert_refused(self.probe_scripted({**gcl, query: reply}, binary,
+                                                        "gcl"), "is not a number")
+        limits = wb.deframe(binary[0x53])[0].values
+        for frame_id, values in ((0x53, limits[:8] + struct.pack("<f", math.nan) + limits[12:]),
+                                 (0x31, struct.pack("<f", math.inf)),
+                                 (0x33, struct.pack("<f", -math.inf))):
+            with self.subTest(frame=frame_id):
+                bad = {**binary, frame_id: wb.encode_reply(frame_id, 0, values)}
+                self.assert_refused(self.probe_scripted(gcl, bad, "binary"), "not a number")
 
     def test_nobody_listening(self):
         with socket.socket() as s:  # a port of no listener once closed

@@ -37,6 +37,7 @@ import sys
 import tempfile
 import time
 import traceback
+import xmlrpc.client
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, ".."))
@@ -47,6 +48,9 @@ DEBIAN_PYTHON = "/usr/bin/python3"  # rospy is Debian's
 ROS_NODE = "ros/devel/lib/wsg_50_driver/wsg_50_ip"
 DRAKE_GRIPPER_ADDRESS = "192.168.1.20"  # drake-schunk-driver's defaults.h
 STARTUP_TIMEOUT = 30  # against hangs only
+# ros-grip: the node's grasp of the default scene's 40 mm box, and where
+# wsgsim's control channel answers in the namespace
+GRIP_FORCE_N, GRIP_WIDTH_MM, GRIP_SPEED_MM_S, GRIP_CONTROL_PORT = 40.0, 40.0, 50.0, 1100
 SIOCGIFFLAGS, SIOCSIFFLAGS, SIOCSIFADDR, IFF_UP = 0x8913, 0x8914, 0x8916, 0x1
 
 
@@ -159,6 +163,94 @@ def ros_node(params, seconds, drivers, work):
         log.close()
     result.update(node_log_summary(node_log))
     return result
+
+
+def ros_service_call(service, request, timeout=STARTUP_TIMEOUT):
+    """Calls a ROS 1 service of the node over TCPROS, without generated
+    message classes: request is the serialized request; the response's
+    serialized body, or an error. md5sum "*" is what roscpp accepts from a
+    client that does not know the type's (rosservice's own way)."""
+    master = xmlrpc.client.ServerProxy("http://127.0.0.1:11311")
+    deadline = time.monotonic() + timeout
+    while True:  # the node advertises its services after its homing
+        code, _, uri = master.lookupService("/run_driver", service)
+        if code == 1:
+            break
+        if time.monotonic() > deadline:
+            raise RuntimeError("no service %s within %g s" % (service, timeout))
+        time.sleep(0.1)
+    host, port = uri[len("rosrpc://"):].rstrip("/").split(":")
+    fields = [b"callerid=/run_driver", b"service=" + service.encode(), b"md5sum=*",
+              b"persistent=0"]
+    header = b"".join(struct.pack("<I", len(f)) + f for f in fields)
+    with socket.create_connection((host, int(port)), timeout) as sock:
+        sock.sendall(struct.pack("<I", len(header)) + header)
+        reply_header = read_exactly(sock, struct.unpack("<I", read_exactly(sock, 4))[0])
+        if b"error=" in reply_header:
+            raise RuntimeError("%s refused the call: %r" % (service, reply_header))
+        sock.sendall(struct.pack("<I", len(request)) + request)
+        ok = read_exactly(sock, 1)[0]
+        body = read_exactly(sock, struct.unpack("<I", read_exactly(sock, 4))[0])
+    if not ok:
+        raise RuntimeError("%s failed: %r" % (service, body))
+    return body
+
+
+def read_exactly(sock, count):
+    data = b""
+    while len(data) < count:
+        more = sock.recv(count - len(data))
+        if not more:
+            raise RuntimeError("the node closed the service connection")
+        data += more
+    return data
+
+
+def control(port, line):
+    """One request on wsgsim's control channel; its reply line."""
+    with socket.create_connection(("127.0.0.1", port), STARTUP_TIMEOUT) as sock:
+        sock.sendall(line.encode() + b"\n")
+        reply = b""
+        while not reply.endswith(b"\n"):
+            more = sock.recv(65536)
+            if not more:
+                break
+            reply += more
+    return reply.decode().strip()
+
+
+def mode_ros_grip(ctx):
+    """wsg50-ros-pkg's grasp service on the box between the jaws (--physics mujoco)."""
+    env = ros_env(ctx.work)
+    os.environ.update({k: env[k] for k in ("ROS_MASTER_URI", "ROS_IP")})
+    log = open(os.path.join(ctx.work, "ros.log"), "w")
+    master = subprocess.Popen([DEBIAN_PYTHON, "/usr/bin/rosmaster", "--core", "-p", "11311"],
+                              env=env, stdout=log, stderr=log)
+    node = None
+    try:
+        wait_port(11311)
+        with open(os.path.join(ctx.work, "node.log"), "w") as out:
+            node = subprocess.Popen([os.path.join(ctx.drivers, ROS_NODE), "__name:=wsg_50_driver",
+                                     "_ip:=127.0.0.1", "_port:=1000", "_protocol:=tcp",
+                                     "_com_mode:=polling", "_rate:=10.0"],
+                                    env=env, stdout=out, stderr=out)
+        ros_service_call("/wsg_50_driver/set_force", struct.pack("<f", GRIP_FORCE_N))
+        start = time.monotonic()
+        error = ros_service_call("/wsg_50_driver/grasp", struct.pack("<ff", GRIP_WIDTH_MM,
+                                                                       GRIP_SPEED_MM_S))
+        grasp_s = time.monotonic() - start
+        time.sleep(ctx.seconds)  # the grip settles; the node keeps polling
+        state = json.loads(control(GRIP_CONTROL_PORT, "STATE?").split("=", 1)[1])
+    finally:
+        if node:
+            stop(node, signal.SIGINT, 3)
+        stop(master)
+        log.close()
+    return {"grip": {"commanded_force_n": GRIP_FORCE_N, "grasp_width_mm": GRIP_WIDTH_MM,
+                     "grasp_service_error": error[0], "grasp_service_s": round(grasp_s, 3),
+                     "state": state["grip"]["state_name"],
+                     "force_limit_n": state["grip"]["force_n"],
+                     "force_n": state["axis"]["force_n"], "width_mm": state["axis"]["position_mm"]}}
 
 
 def node_log_summary(path):
@@ -386,6 +478,8 @@ MODES = {
     "ros-auto-tcp": (mode_ros_auto_tcp, []),
     "ros-auto-udp": (mode_ros_auto_udp, []),
     "gcl-pos": (mode_gcl_pos, []),
+    # not in `all`: it needs --physics mujoco (docs/physics.md)
+    "ros-grip": (mode_ros_grip, ["--sim-port", str(GRIP_CONTROL_PORT)]),
     "umi-stop": (mode_umi_stop, []),
     "umi-script": (mode_umi_script, ["--script", "{drivers}/src/umi/umi/real_world/"
                                      "cmd_measure.lua"]),
@@ -488,6 +582,11 @@ def headline(result):
             result["stop_status"], result["stop_round_trip_ms"],
             " ".join(f.replace(" ", ":") for f in result["frames_from_move_to_stop"]),
             result["width_600ms_later_mm"], result["stopped"])
+    if "grip" in result:
+        grip = result["grip"]
+        return "grasp %d in %.2f s: %s, %.2f N of %g N, width %.2f mm" % (
+            grip["grasp_service_error"], grip["grasp_service_s"], grip["state"],
+            grip["force_n"], grip["commanded_force_n"], grip["width_mm"])
     if "steps" in result:
         homes = [s for s in result["steps"] if s["step"].startswith("home")]
         return "homes %s s (bound 4 s), every step within its bound: %s; updates %s Hz" % (
@@ -533,7 +632,7 @@ def main(argv):
         result = run_inside(args)
         os.write(answer_fd, (json.dumps(result) + "\n").encode())
         return 0
-    modes = list(MODES) if args.mode == "all" else [args.mode]
+    modes = [m for m in MODES if m != "ros-grip"] if args.mode == "all" else [args.mode]
     results = [run_in_namespace(args, mode) for mode in modes]
     if args.table:
         for result in results:
