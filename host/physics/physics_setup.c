@@ -30,14 +30,7 @@ physics_world_t *physics_setup_open(const char *scene_file, float stroke_mm,
     if (!physics_mujoco_open(&plant, dir, scene_file, stroke_mm, stroke_mm / 2.0f, why, cap)) {
         return NULL;
     }
-    physics_world_t *w = malloc(sizeof(*w));
-    if (w == NULL) {
-        plant.ops->destroy(plant.ctx);
-        snprintf(why, cap, "out of memory");
-        return NULL;
-    }
-    physics_world_init(w, plant, stroke_mm, emergency_accel_mm_s2, now_us);
-    return w;
+    return physics_world_new(plant, stroke_mm, emergency_accel_mm_s2, now_us, why, cap);
 }
 
 void physics_setup_close(physics_world_t *w)

@@ -2,6 +2,8 @@
 #include "physics_world.h"
 
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #define EXCHANGE_S (PHYSICS_EXCHANGE_US * 1e-6f)
@@ -178,6 +180,19 @@ void physics_world_init(physics_world_t *w, plant_t plant, float stroke_mm,
     w->stroke_mm = stroke_mm;
     w->emergency_accel_mm_s2 = emergency_accel_mm_s2;
     physics_world_power_on(w, now_us);
+}
+
+physics_world_t *physics_world_new(plant_t plant, float stroke_mm, float emergency_accel_mm_s2,
+                                   uint64_t now_us, char *why, size_t cap)
+{
+    physics_world_t *w = malloc(sizeof(*w));
+    if (w == NULL) {
+        plant.ops->destroy(plant.ctx);
+        snprintf(why, cap, "out of memory");
+        return NULL;
+    }
+    physics_world_init(w, plant, stroke_mm, emergency_accel_mm_s2, now_us);
+    return w;
 }
 
 void physics_world_release(physics_world_t *w)

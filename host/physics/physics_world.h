@@ -53,6 +53,10 @@ typedef struct {
  * world: jaws mid-stroke, the drive off. */
 void physics_world_init(physics_world_t *w, plant_t plant, float stroke_mm,
                         float emergency_accel_mm_s2, uint64_t now_us);
+/* The same in a world of its own on the heap (NULL: out of memory, the
+ * plant destroyed and why says so); physics_setup_close() frees it. */
+physics_world_t *physics_world_new(plant_t plant, float stroke_mm, float emergency_accel_mm_s2,
+                                   uint64_t now_us, char *why, size_t cap);
 /* Power-on again (a reset): the scene as loaded. */
 void physics_world_power_on(physics_world_t *w, uint64_t now_us);
 void physics_world_release(physics_world_t *w);

@@ -328,12 +328,5 @@ physics_world_t *plant_socket_world_open(const char *path, unsigned timeout_ms, 
     if (!plant_socket_open(&plant, path, timeout_ms, stroke_mm, stroke_mm / 2.0f, why, cap)) {
         return NULL;
     }
-    physics_world_t *w = malloc(sizeof(*w));
-    if (w == NULL) {
-        plant.ops->destroy(plant.ctx);
-        snprintf(why, cap, "out of memory");
-        return NULL;
-    }
-    physics_world_init(w, plant, stroke_mm, emergency_accel_mm_s2, now_us);
-    return w;
+    return physics_world_new(plant, stroke_mm, emergency_accel_mm_s2, now_us, why, cap);
 }
