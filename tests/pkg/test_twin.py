@@ -248,6 +248,19 @@ class ProfiledRecord(unittest.TestCase):
         self.assertIn("wsgcheck: %d requests, 0 text mismatches" % requests, result.stdout)
         self.assertIn("wsgcheck: passed", result.stdout)
 
+    def test_a_reply_that_never_comes_ends_the_check(self):
+        """A request after BYE() (the session is closed: nothing answers it)
+        is awaited a counted simulated minute, then one clear error."""
+        never = write(os.path.join(self.tmp, "never.txt"),
+                      "# wsgsim record 2\n0.000000 0 s1t > POS?\n0.000000 0 s1t < POS=55.0\n"
+                      "0.001000 0 s1t > BYE()\n0.001000 0 s1t < ACK BYE\n"
+                      "0.002000 0 s1t > POS?\n0.002000 0 s1t < POS=55.0\n")
+        result = run(CHECK + [never, "--wsgsim", WSGSIM, "--timing", self.timing],
+                     timeout=CHECK_HANG_GUARD_S)
+        self.assertEqual(result.returncode, 2, result.stdout + result.stderr)
+        self.assertEqual(result.stderr, "wsgcheck: wsgsim did not answer session s1t within "
+                         "60000 simulated ms after the recording's end\n")
+
 
 class BadInput(unittest.TestCase):
     @classmethod
