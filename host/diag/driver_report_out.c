@@ -19,17 +19,17 @@ typedef struct {
 static const behaviour_text_t behaviours[DRV_BEHAVIOURS] = {
     [DRV_PIPELINED] = {"pipelined", "requests sent before the previous reply",
                        "the device's command processor takes them in order, one at a time (a GCL "
-                       "query about 13 ms): each waits for those before it"},
+                       "query about 15 ms): each waits for those before it"},
     [DRV_QUEUED_OWN] =
         {"queued_behind_own", "requests queued behind the client's own",
          "the command processor serves one request at a time, each for its "
-         "service time (a GCL query about 13 ms, give or take 3): a request sent before the "
+         "service time (a GCL query about 15 ms, give or take 3): a request sent before the "
          "reply to the one before waits for it, and so does its reply"},
     [DRV_QUEUED_OTHERS] = {"queued_behind_others",
                            "requests queued behind other clients' (or their streams)",
                            "the device has one command processor for all its connections and "
                            "interfaces: another client's requests and auto-update streams take "
-                           "their turns first, each about 13 ms"},
+                           "their turns first, each about 15 ms"},
     [DRV_POLLED_MOTION] = {"polled_during_motion", "queries polled during a motion",
                            "each query occupies the command processor for its service time and "
                            "delays the STOP or FIN behind it; AUTOSEND or an auto-update stream "
@@ -55,10 +55,10 @@ static const behaviour_text_t behaviours[DRV_BEHAVIOURS] = {
 };
 
 /* What the device's pace makes of a session's peak rate: one request at a
- * time, a GCL query in about 13 ms (docs/behaviour.md). */
-#define REAL_REQUESTS_PER_SECOND 75u
+ * time, a GCL query in about 15 ms (docs/behaviour.md). */
+#define REAL_REQUESTS_PER_SECOND 66u
 static const char real_pace[] = "the device serves one request at a time, a GCL query in about "
-                                "13 ms: some 75 a second, more wait";
+                                "15 ms: some 66 a second, more wait";
 
 /* What an error code says of the refusal. */
 static const char *refusal_reason(unsigned code)

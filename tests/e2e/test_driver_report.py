@@ -35,7 +35,7 @@ def validate(test, driver):
         test.assertIsInstance(driver[key], int, key)
     test.assertEqual(driver["pace"]["peak_requests_per_second"],
                      driver["total"]["peak_requests_per_second"])
-    test.assertEqual(driver["pace"]["real_gripper_requests_per_second"], 75)
+    test.assertEqual(driver["pace"]["real_gripper_requests_per_second"], 66)
     test.assertEqual(driver["sessions"], driver["open_sessions"] + driver["ended_sessions"])
     test.assertEqual([b["behaviour"] for b in driver["behaviours"]], BEHAVIOURS)
     for b in driver["behaviours"]:
@@ -419,10 +419,10 @@ class Pace(DriverReportCase):
 
     def test_a_peak_above_the_devices_pace_is_said(self):
         self.assertIn("peak above a real gripper's pace: the device serves one request at a "
-                      "time", self.peak_of(75))
+                      "time", self.peak_of(66))
 
     def test_a_peak_at_the_devices_pace_is_not(self):
-        self.assertNotIn("peak above", self.peak_of(74))
+        self.assertNotIn("peak above", self.peak_of(65))
 
 
 class UnreadStream(DriverReportCase):
