@@ -36,9 +36,11 @@ PROGRAMS = {"wsgsim": WSGSIM, "fingersim": FINGERSIM,
 
 
 def run(argv, **kw):
-    """argv's result, text, nothing on stdin."""
+    """argv's result, text, nothing on stdin; timeout= another bound
+    against hangs."""
     kw.setdefault("stdin", subprocess.DEVNULL)
-    return subprocess.run(argv, capture_output=True, text=True, timeout=TIMEOUT, **kw)
+    kw.setdefault("timeout", TIMEOUT)
+    return subprocess.run(argv, capture_output=True, text=True, **kw)
 
 
 def gcl_exchange(binary):

@@ -195,6 +195,73 @@ class PacedTwin(unittest.TestCase):
         self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
 
 
+# a small pace of wsgsim's own, for a record wsgsim writes under a profile
+SMALL_TIMING_INI = ("[timing]\nquery_ms = 3\nquery_spread_ms = 0.5\nmotion_ms = 4\n"
+                    "motion_spread_ms = 0.5\nsetting_ms = 2\nsetting_spread_ms = 0.5\n"
+                    "script_ms = 40\nscript_spread_ms = 4\nstream_frame_ms = 2\n"
+                    "update_floor_ms = 5\n")
+POLLS = 300  # each request of the record was once a 2 s wall-clock wait of the replay
+CHECK_HANG_GUARD_S = 300  # against a hang only, never a measure of speed
+
+
+class ProfiledRecord(unittest.TestCase):
+    """wsgsim's own --record of a short sequence under a timing profile
+    (each request in it at the instant it was served, its reply with it),
+    replayed against wsgsim with the same profile: the paused device answers
+    only as the replay steps its clock, and the check completes."""
+
+    def setUp(self):
+        self.tmp = tempfile.mkdtemp(prefix="wsgtwin-profiled-")
+        self.addCleanup(shutil.rmtree, self.tmp)
+        self.timing = write(os.path.join(self.tmp, "timing.ini"), SMALL_TIMING_INI)
+        self.record = os.path.join(self.tmp, "rec.txt")
+
+    def served(self, ctl, gcl, line, last):
+        """Sends line, runs the clock until it was served (the control line
+        may come first: "idle", sent again), reads up to the line last."""
+        gcl.send(line)
+        for _ in range(100):  # a bound against a control line that never finds it
+            _, why = ctl.run_until_done(5000)
+            if why != "idle":
+                break
+        self.assertEqual(why, "done", line)
+        while gcl.read_line() != last:
+            pass
+
+    def record_sequence(self):
+        with Wsgsim("--record", self.record, binary=WSGSIM, paused=True, timing=self.timing,
+                    seed=5) as sim:
+            with sim.control() as ctl, sim.tcp() as gcl:
+                self.served(ctl, gcl, "DEVTYPE?", 'DEVTYPE="WSG 50-110"')
+                self.served(ctl, gcl, "HOME()", "FIN HOME")
+                for _ in range(POLLS):
+                    self.served(ctl, gcl, "POS?", "POS=110.0")
+                self.served(ctl, gcl, "MOVE(40)", "FIN MOVE")
+                self.served(ctl, gcl, "GRIPSTATE?", "GRIPSTATE=0")
+        return POLLS + 4
+
+    def test_the_replay_completes_on_the_stepped_clock(self):
+        requests = self.record_sequence()
+        result = run(CHECK + [self.record, "--wsgsim", WSGSIM, "--timing", self.timing,
+                              "--seed", "5"], timeout=CHECK_HANG_GUARD_S)
+        self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
+        self.assertIn("wsgcheck: %d requests, 0 text mismatches" % requests, result.stdout)
+        self.assertIn("wsgcheck: passed", result.stdout)
+
+    def test_a_reply_that_never_comes_ends_the_check(self):
+        """A request after BYE() (the session is closed: nothing answers it)
+        is awaited a counted simulated minute, then one clear error."""
+        never = write(os.path.join(self.tmp, "never.txt"),
+                      "# wsgsim record 2\n0.000000 0 s1t > POS?\n0.000000 0 s1t < POS=55.0\n"
+                      "0.001000 0 s1t > BYE()\n0.001000 0 s1t < ACK BYE\n"
+                      "0.002000 0 s1t > POS?\n0.002000 0 s1t < POS=55.0\n")
+        result = run(CHECK + [never, "--wsgsim", WSGSIM, "--timing", self.timing],
+                     timeout=CHECK_HANG_GUARD_S)
+        self.assertEqual(result.returncode, 2, result.stdout + result.stderr)
+        self.assertEqual(result.stderr, "wsgcheck: wsgsim did not answer session s1t within "
+                         "60000 simulated ms after the recording's end\n")
+
+
 class BadInput(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
