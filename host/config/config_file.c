@@ -75,6 +75,7 @@ typedef struct {
     const char *path;  /* one of cf->files */
     int line;
     bool failed;
+    char why[CONFIG_VALUE_WHY_MAX]; /* the last value's reason */
 } parse_state_t;
 
 bool config_file_fail_at(const char *path, int line, const char *section, const char *name,
@@ -94,13 +95,18 @@ static void mark_set(value_t *v, const parse_state_t *st)
 
 /* One value of a key, by its kind (config_value.h); NULL when fine, else
  * why not. */
-static const char *read_value(config_value_kind_t kind, const char *text, value_t *v)
+static const char *read_value(parse_state_t *st, config_value_kind_t kind, const char *text,
+                              value_t *v)
 {
     config_value_t read;
     const char *why = config_value_convert(kind, text, &read);
     v->number = read.number;
     memcpy(v->text, read.text, sizeof(v->text));
-    return why;
+    if (why == NULL) {
+        return NULL;
+    }
+    snprintf(st->why, sizeof(st->why), "%s", why); /* read.why ends with read */
+    return st->why;
 }
 
 /* Surrounding double quotes are optional in the file. */
@@ -161,7 +167,7 @@ static int on_device_key(parse_state_t *st, const char *section, const char *nam
         if (strcasecmp(sec_keys[k].name, name) != 0) {
             continue;
         }
-        const char *why = read_value(sec_keys[k].kind, text, &d->values[k]);
+        const char *why = read_value(st, sec_keys[k].kind, text, &d->values[k]);
         if (why != NULL) {
             st->failed = true;
             return config_file_fail_at(st->path, st->line, section, name, why);
@@ -188,7 +194,7 @@ static int on_setting_key(parse_state_t *st, const char *section, const char *na
             continue;
         }
         config_value_kind_t kind = settings_table_is_switch(row) ? CV_BOOL : CV_NUMBER;
-        const char *why = read_value(kind, text, &st->cf->settings[i]);
+        const char *why = read_value(st, kind, text, &st->cf->settings[i]);
         if (why != NULL) {
             st->failed = true;
             return config_file_fail_at(st->path, st->line, section, name, why);
@@ -209,7 +215,7 @@ static int on_option_key(parse_state_t *st, const char *section, const char *nam
         if (strcasecmp(row->section, section) != 0 || strcasecmp(row->key, name) != 0) {
             continue;
         }
-        const char *why = read_value(row->kind, text, &st->cf->options[i]);
+        const char *why = read_value(st, row->kind, text, &st->cf->options[i]);
         if (why != NULL) {
             st->failed = true;
             return config_file_fail_at(st->path, st->line, section, name, why);
@@ -252,7 +258,7 @@ static int on_key(void *user, const char *section, const char *name, const char 
             continue;
         }
         char range[96];
-        const char *why = read_value(keys[i].kind, text, &st->cf->values[i]);
+        const char *why = read_value(st, keys[i].kind, text, &st->cf->values[i]);
         if (why == NULL) {
             why = out_of_range(i, &st->cf->values[i], range, sizeof(range));
         }

@@ -178,12 +178,11 @@ static const char *convert_text(config_value_kind_t kind, const char *text, conf
                    : "expected up to 8 comma-separated addresses, each ADDR or ADDR/PREFIX";
     }
     case CV_NET: {
-        static char why[160]; /* the configuration is read by one thread */
         wire_spec_t spec = {0};
         if (strlen(text) >= sizeof(v->text)) {
             return "expected wire conditions of at most 127 characters";
         }
-        return wire_spec_parse(&spec, text, why, sizeof(why)) ? NULL : why;
+        return wire_spec_parse(&spec, text, v->why, sizeof(v->why)) ? NULL : v->why;
     }
     case CV_LOOPBACK:
         return is_loopback(text) ? NULL

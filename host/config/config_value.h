@@ -9,6 +9,7 @@
 
 /* A value's text as written, with its NUL. */
 #define CONFIG_VALUE_TEXT_MAX 128
+#define CONFIG_VALUE_WHY_MAX 160
 
 typedef enum {
     CV_TEXT,         /* printable, no '"', shorter than WSG_CONFIG_STRING_MAX */
@@ -38,10 +39,11 @@ typedef enum {
 typedef struct {
     double number;                    /* a number's, a switch's (0/1), a choice's */
     char text[CONFIG_VALUE_TEXT_MAX]; /* as written */
+    char why[CONFIG_VALUE_WHY_MAX];   /* a reason worked out for this text */
 } config_value_t;
 
 /* Reads text as a value of kind into v (its text kept as written); NULL
- * when it is one, else why not. */
+ * when it is one, else why not (a fixed text, or v->why). */
 const char *config_value_convert(config_value_kind_t kind, const char *text, config_value_t *v);
 /* An integer within [min, max] (written as one: "3", not "3.0e0"). */
 bool config_value_int_range(const char *text, double min, double max, double *out);

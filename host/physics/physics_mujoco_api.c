@@ -7,6 +7,9 @@
 #include <dlfcn.h>
 #include <stdio.h>
 
+/* One per process, as the library it points into: dlopen() maps MuJoCo
+ * once, and its error hooks (mju_user_error, mju_user_warning) are the
+ * library's own globals. Written once by the first load, read-only after. */
 physics_mj_api_t physics_mj;
 
 static bool symbol(const char *name, void **out, char *why, size_t cap)

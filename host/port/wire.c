@@ -185,7 +185,7 @@ static unsigned join_due(wire_t *w, uint64_t now, char *out, size_t *len, wsg_ms
 static void release_due(wire_t *w, uint64_t now)
 {
     if (!w->datagram && w->spec.coalesce_us > 0u) {
-        static char joined[JOINED_MAX_BYTES]; /* the loop's one thread */
+        char joined[JOINED_MAX_BYTES];
         size_t len = 0;
         wsg_msg_kind_t kind;
         uint32_t last = 0;
